@@ -1,0 +1,147 @@
+# Vesuvius — one GNU Makefile. `make help` lists the targets.
+#   make            build the library and tools into build/
+#   make test       build and run every test (ends with "N passed, N failed")
+#   make test SAN=1 the same with AddressSanitizer and UBSan (build-san/)
+#   make demo       install what is missing, build, run the main job on samples/
+#   make bench      run the benchmarks in bench/ (results: bench/RESULTS.md)
+#   make install    PREFIX=/usr/local DESTDIR=
+#   make fuzz       build libFuzzer targets with clang (build-fuzz/)
+#   V=1 for verbose commands, WERROR=1 (default under CI) for -Werror.
+
+PREFIX ?= /usr/local
+DESTDIR ?=
+BINDIR = $(PREFIX)/bin
+LIBDIR = $(PREFIX)/lib
+INCDIR = $(PREFIX)/include/vesuvius
+MANDIR = $(PREFIX)/share/man
+
+CC ?= cc
+CXX ?= c++
+PKG_CONFIG ?= pkg-config
+SHARED ?= ../shared
+
+PKGS = libzstd geographiclib netcdf
+ifeq ($(SAN),1)
+  B = build-san
+  SANFLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+  OPT = -O1 -g
+else
+  B = build
+  SANFLAGS =
+  OPT = -O3 -g
+endif
+WERROR ?= $(if $(CI),1,0)
+ifeq ($(WERROR),1)
+  WFLAGS_ERR = -Werror
+endif
+
+ifneq ($(MAKECMDGOALS),clean)
+  MISSING := $(foreach p,$(PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) && echo y),,$(p)))
+  ifneq ($(strip $(MISSING)),)
+    $(error missing libraries (pkg-config): $(MISSING); run: sudo apt-get install -y $(shell sh tools/deps.sh --names))
+  endif
+endif
+
+PKG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(PKGS) 2>/dev/null)
+PKG_LIBS := $(shell $(PKG_CONFIG) --libs $(PKGS) 2>/dev/null)
+
+WARN = -Wall -Wextra -Wshadow $(WFLAGS_ERR)
+CFLAGS_ALL = -std=c11 -D_GNU_SOURCE $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
+             -Iformat -Iconvert $(PKG_CFLAGS) $(CFLAGS)
+CXXFLAGS_ALL = -std=c++17 $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat $(PKG_CFLAGS) $(CXXFLAGS)
+LDLIBS_ALL = $(SANFLAGS) -pthread $(PKG_LIBS) -lstdc++ -lm $(LDLIBS)
+
+ifeq ($(V),1)
+  Q =
+else
+  Q = @
+endif
+
+LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c)
+LIB_CXX = $(wildcard format/vsv_*.cc)
+LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
+LIB = $(B)/libvesuvius.a
+
+TOOLS = vsv-pack vsv-info vsv-extract
+TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
+
+TEST_SRC = $(wildcard tests/test_*.c)
+TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
+TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o
+FUZZ_BIN = $(B)/tests/fuzz_vsv
+
+.PHONY: all test demo bench install uninstall clean fuzz help deps
+all: $(LIB) $(TOOL_BIN)
+
+help:
+	@sed -n '2,10p' Makefile | sed 's/^# *//'
+
+$(B)/%.o: %.c
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(CFLAGS_ALL) -c $< -o $@
+
+$(B)/%.o: %.cc
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CXX     $<")
+	$(Q)$(CXX) $(CXXFLAGS_ALL) -c $< -o $@
+
+$(LIB): $(LIB_OBJ)
+	@$(if $(Q),echo "  AR      $@")
+	$(Q)rm -f $@ && ar rcs $@ $^
+
+$(B)/vsv-%: $(B)/format/vsv-%.o $(LIB)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
+
+$(B)/vsv-%: $(B)/convert/vsv-%.o $(LIB)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
+
+$(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(LIB)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+
+$(B)/tests/fuzz_vsv: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+
+test: all $(TEST_BIN) $(FUZZ_BIN)
+	$(Q)B=$(B) SHARED=$(SHARED) sh tests/run.sh
+
+# The demo: install what is missing (or print the apt-get line), build, then
+# run the main job on the bundled sample.
+demo:
+	$(Q)sh tools/deps.sh --install
+	$(Q)$(MAKE) --no-print-directory all
+	$(Q)B=$(B) sh tools/demo.sh
+
+bench: all
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
+
+deps:
+	$(Q)sh tools/deps.sh --install
+
+fuzz:
+	$(MAKE) B=build-fuzz CC=clang CXX=clang++ \
+	  SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined" build-fuzz/libvesuvius.a build-fuzz/tests/fuzz_vsv.o \
+	  build-fuzz/tests/vsv_refread.o build-fuzz/tests/vsv_testlib.o
+	clang -fsanitize=fuzzer,address,undefined -o build-fuzz/fuzz_vsv_libfuzzer build-fuzz/tests/fuzz_vsv.o \
+	  build-fuzz/libvesuvius.a $(PKG_LIBS) -lstdc++ -lm -pthread
+	@echo "run: build-fuzz/fuzz_vsv_libfuzzer tests/corpus/vsv"
+
+install: all
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
+	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
+	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/
+	install -m 644 format/vsv_format.h $(DESTDIR)$(INCDIR)/
+	install -m 644 man/*.1 $(DESTDIR)$(MANDIR)/man1/
+	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
+
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(TOOLS)) $(DESTDIR)$(LIBDIR)/libvesuvius.a
+	rm -rf $(DESTDIR)$(INCDIR)
+
+clean:
+	rm -rf build build-san build-fuzz
+
+-include $(shell find $(B) -name '*.d' 2>/dev/null)

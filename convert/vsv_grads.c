@@ -1,0 +1,358 @@
+/* vsv_grads.c — GrADS gridded binary data described by a .ctl file (the
+ * GrADS sample model output bundled for the demo): DSET, OPTIONS
+ * little_endian/big_endian, UNDEF, XDEF/YDEF LINEAR (lat/lon), ZDEF
+ * LEVELS/LINEAR, TDEF LINEAR, VARS. Data layout: per time, per variable,
+ * per level, nx*ny float32 with x fastest. */
+#include "vsv_source_internal.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+
+typedef struct grads {
+    char dset[1024];
+    int big_endian;
+    double undef;
+    int nx, ny, nz;
+    long long *var_offset; /* bytes into a time block */
+    long long time_bytes;
+    FILE *fp;
+} grads;
+
+static int grads_probe(const unsigned char *h, size_t n)
+{
+    size_t i = 0;
+    while (i < n && isspace(h[i]))
+        i++;
+    static const char *keys[] = {"dset", "DSET", "*"};
+    for (int k = 0; k < 3; k++)
+        if (n - i >= strlen(keys[k]) && !memcmp(h + i, keys[k], strlen(keys[k])))
+            return k < 2 || memmem(h, n, "DSET", 4) || memmem(h, n, "dset", 4);
+    return 0;
+}
+
+/* "hh[:mm]Zddmmmyyyy" or "ddmmmyyyy" → seconds. */
+static int parse_gtime(const char *s, int64_t *t)
+{
+    static const char *mon[] = {"jan", "feb", "mar", "apr", "may", "jun", "jul", "aug", "sep", "oct", "nov", "dec"};
+    int hh = 0, mm = 0, dd = 1, yyyy, n = 0;
+    const char *z = strpbrk(s, "zZ");
+    if (z) {
+        if (sscanf(s, "%d:%d", &hh, &mm) < 1)
+            return -1;
+        s = z + 1;
+    }
+    char m3[4] = {0};
+    if (isdigit((unsigned char)s[0])) {
+        if (sscanf(s, "%d%n", &dd, &n) != 1)
+            return -1;
+        s += n;
+    }
+    if (strlen(s) < 7)
+        return -1;
+    memcpy(m3, s, 3);
+    int month = 0;
+    for (int i = 0; i < 12; i++)
+        if (!strcasecmp(m3, mon[i]))
+            month = i + 1;
+    if (!month || sscanf(s + 3, "%d", &yyyy) != 1)
+        return -1;
+    *t = vsv_time_from_civil(yyyy, month, dd, hh, mm, 0);
+    return 0;
+}
+
+static int64_t add_months(int64_t t, long months)
+{
+    char buf[40];
+    vsv_time_format(t, buf, sizeof buf);
+    int y, m, d, hh, mi, ss;
+    sscanf(buf, "%d-%d-%dT%d:%d:%d", &y, &m, &d, &hh, &mi, &ss);
+    long total = (long)y * 12 + (m - 1) + months;
+    return vsv_time_from_civil((int)(total / 12), (int)(total % 12) + 1, d, hh, mi, ss);
+}
+
+static int grads_open(vsv_source *s)
+{
+    grads *g = calloc(1, sizeof *g);
+    if (!g)
+        return VSV_ENOMEM;
+    s->priv = g;
+    FILE *fp = fopen(s->path, "r");
+    if (!fp)
+        return vsv_source_fail(s, VSV_EIO, "cannot open: %s", strerror(errno));
+    char line[1024];
+    int lineno = 0, in_vars = 0, nvars = 0;
+    double xs = 0, dx = 1, ys = 0, dy = 1;
+    int64_t t0 = 0, dt = 0;
+    long dmonths = 0;
+    int nt = 0, have_x = 0, have_y = 0, have_z = 0, have_t = 0;
+    double *levels = NULL;
+    char title[256] = "";
+    int rc = 0;
+    while (fgets(line, sizeof line, fp)) {
+        lineno++;
+        char *p = line;
+        while (isspace((unsigned char)*p))
+            p++;
+        if (!*p || *p == '*')
+            continue;
+        char key[32] = "";
+        int n = 0;
+        sscanf(p, "%31s%n", key, &n);
+        char *rest = p + n;
+        if (in_vars) {
+            if (!strcasecmp(key, "endvars")) {
+                in_vars = 0;
+                continue;
+            }
+            vsv_field_info *f = &s->fields[s->nfields];
+            int lev, units_code, k = 0;
+            if (s->nfields >= nvars || sscanf(rest, "%d %d%n", &lev, &units_code, &k) != 2 || lev < 0 || lev > 100000) {
+                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad variable record", lineno);
+                goto done;
+            }
+            memset(f, 0, sizeof *f);
+            snprintf(f->name, sizeof f->name, "%s", key);
+            char *desc = rest + k;
+            while (isspace((unsigned char)*desc))
+                desc++;
+            desc[strcspn(desc, "\r\n")] = 0;
+            snprintf(f->description, sizeof f->description, "%s", desc);
+            f->nlevels = lev;
+            f->is_default = lev > 0;
+            s->nfields++;
+            continue;
+        }
+        if (!strcasecmp(key, "dset")) {
+            char d[900];
+            if (sscanf(rest, "%899s", d) != 1)
+                continue;
+            if (d[0] == '^') {
+                const char *slash = strrchr(s->path, '/');
+                int dir = slash ? (int)(slash - s->path + 1) : 0;
+                snprintf(g->dset, sizeof g->dset, "%.*s%s", dir, s->path, d + 1);
+            } else {
+                snprintf(g->dset, sizeof g->dset, "%s", d);
+            }
+        } else if (!strcasecmp(key, "options")) {
+            if (strcasestr(rest, "big_endian"))
+                g->big_endian = 1;
+            if (strcasestr(rest, "template") || strcasestr(rest, "sequential") || strcasestr(rest, "yrev")) {
+                rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: OPTIONS %s not supported", lineno, rest);
+                goto done;
+            }
+        } else if (!strcasecmp(key, "undef")) {
+            g->undef = strtod(rest, NULL);
+        } else if (!strcasecmp(key, "title")) {
+            snprintf(title, sizeof title, "%s", rest + strspn(rest, " \t"));
+            title[strcspn(title, "\r\n")] = 0;
+        } else if (!strcasecmp(key, "xdef") || !strcasecmp(key, "ydef")) {
+            int cnt;
+            char kind[16];
+            double a, b;
+            if (sscanf(rest, "%d %15s %lf %lf", &cnt, kind, &a, &b) != 4 || strcasecmp(kind, "linear") || cnt < 1) {
+                rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: only %s n LINEAR start step is supported", lineno, key);
+                goto done;
+            }
+            if (tolower((unsigned char)key[0]) == 'x')
+                g->nx = cnt, xs = a, dx = b, have_x = 1;
+            else
+                g->ny = cnt, ys = a, dy = b, have_y = 1;
+        } else if (!strcasecmp(key, "zdef")) {
+            int cnt, k = 0;
+            char kind[16];
+            if (sscanf(rest, "%d %15s%n", &cnt, kind, &k) != 2 || cnt < 1 || cnt > VSV_MAX_DIM) {
+                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad ZDEF", lineno);
+                goto done;
+            }
+            g->nz = cnt;
+            free(levels);
+            levels = calloc((size_t)cnt, sizeof *levels);
+            if (!levels) {
+                rc = VSV_ENOMEM;
+                goto done;
+            }
+            char *q = rest + k;
+            if (!strcasecmp(kind, "linear")) {
+                double a, b;
+                if (sscanf(q, "%lf %lf", &a, &b) != 2) {
+                    rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad ZDEF LINEAR", lineno);
+                    goto done;
+                }
+                for (int i = 0; i < cnt; i++)
+                    levels[i] = a + i * b;
+            } else {
+                int got = 0;
+                while (got < cnt) {
+                    char *end;
+                    double v = strtod(q, &end);
+                    if (end == q) {
+                        if (!fgets(line, sizeof line, fp))
+                            break;
+                        lineno++;
+                        q = line;
+                        continue;
+                    }
+                    levels[got++] = v;
+                    q = end;
+                }
+                if (got < cnt) {
+                    rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: ZDEF lists %d of %d levels", lineno, got, cnt);
+                    goto done;
+                }
+            }
+            have_z = 1;
+        } else if (!strcasecmp(key, "tdef")) {
+            char kind[16], start[32], inc[16];
+            if (sscanf(rest, "%d %15s %31s %15s", &nt, kind, start, inc) != 4 || strcasecmp(kind, "linear") || nt < 1 ||
+                nt > VSV_MAX_STEPS || parse_gtime(start, &t0)) {
+                rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: only TDEF n LINEAR time increment is supported", lineno);
+                goto done;
+            }
+            char *u;
+            long v = strtol(inc, &u, 10);
+            if (v <= 0) {
+                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad time increment %s", lineno, inc);
+                goto done;
+            }
+            if (!strcasecmp(u, "mn"))
+                dt = v * 60;
+            else if (!strcasecmp(u, "hr"))
+                dt = v * 3600;
+            else if (!strcasecmp(u, "dy"))
+                dt = v * 86400;
+            else if (!strcasecmp(u, "mo"))
+                dmonths = v;
+            else if (!strcasecmp(u, "yr"))
+                dmonths = 12 * v;
+            else {
+                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad time increment %s", lineno, inc);
+                goto done;
+            }
+            have_t = 1;
+        } else if (!strcasecmp(key, "vars")) {
+            if (sscanf(rest, "%d", &nvars) != 1 || nvars < 1 || nvars > VSV_MAX_VARS) {
+                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad VARS count", lineno);
+                goto done;
+            }
+            s->fields = calloc((size_t)nvars, sizeof *s->fields);
+            if (!s->fields) {
+                rc = VSV_ENOMEM;
+                goto done;
+            }
+            in_vars = 1;
+        }
+    }
+    if (!g->dset[0] || !have_x || !have_y || !have_z || !have_t || !s->nfields) {
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "not a complete GrADS descriptor (DSET, XDEF, YDEF, ZDEF, TDEF, VARS)");
+        goto done;
+    }
+    /* layout and size check */
+    g->var_offset = calloc((size_t)s->nfields, sizeof *g->var_offset);
+    if (!g->var_offset) {
+        rc = VSV_ENOMEM;
+        goto done;
+    }
+    const long long plane = (long long)g->nx * g->ny * 4;
+    for (int i = 0; i < s->nfields; i++) {
+        g->var_offset[i] = g->time_bytes;
+        g->time_bytes += plane * (s->fields[i].nlevels ? s->fields[i].nlevels : 1);
+        if (s->fields[i].nlevels > g->nz) {
+            rc = vsv_source_fail(s, VSV_ECORRUPT, "variable %s has %d levels, ZDEF %d", s->fields[i].name,
+                                 s->fields[i].nlevels, g->nz);
+            goto done;
+        }
+    }
+    struct stat st;
+    if (stat(g->dset, &st)) {
+        rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, strerror(errno));
+        goto done;
+    }
+    if ((long long)st.st_size != g->time_bytes * nt) {
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "data file %s has %lld bytes, the descriptor implies %lld", g->dset,
+                             (long long)st.st_size, g->time_bytes * nt);
+        goto done;
+    }
+    if (!(g->fp = fopen(g->dset, "rb"))) {
+        rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, strerror(errno));
+        goto done;
+    }
+    s->ntimes = nt;
+    s->times = malloc((size_t)nt * sizeof *s->times);
+    if (!s->times) {
+        rc = VSV_ENOMEM;
+        goto done;
+    }
+    for (int t = 0; t < nt; t++)
+        s->times[t] = dmonths ? add_months(t0, dmonths * t) : t0 + dt * t;
+    vsv_meta *m = &s->grid;
+    m->nx = g->nx;
+    m->ny = g->ny;
+    m->nz = g->nz;
+    m->origin[0] = xs;
+    m->origin[1] = ys;
+    m->spacing[0] = dx;
+    m->spacing[1] = dy;
+    m->proj.kind = VSV_PROJ_LATLON;
+    if ((rc = vsv_meta_alloc_levels(m)))
+        goto done;
+    memcpy(m->levels, levels, (size_t)g->nz * sizeof *levels);
+    /* GrADS does not say what ZDEF measures: decreasing values up to ~1100 are
+     * pressure levels (hPa), otherwise plain level coordinates. */
+    int pressure = g->nz == 1 || (levels[0] <= 1100 && levels[0] > 0);
+    for (int k = 1; k < g->nz; k++)
+        pressure = pressure && levels[k] < levels[k - 1] && levels[k] > 0;
+    m->vert_kind = VSV_VERT_COORD;
+    snprintf(m->vert_units, sizeof m->vert_units, "%s", pressure ? "hPa" : "level");
+    m->origin[2] = 0;
+    m->spacing[2] = 1;
+    snprintf(m->model, sizeof m->model, "GrADS");
+    snprintf(m->run, sizeof m->run, "%s", title);
+done:
+    free(levels);
+    fclose(fp);
+    return rc;
+}
+
+static int grads_read(vsv_source *s, int field, int t, float *out)
+{
+    grads *g = s->priv;
+    const vsv_field_info *f = &s->fields[field];
+    const size_t plane = (size_t)g->nx * g->ny;
+    const int nl = f->nlevels ? f->nlevels : 1;
+    if (fseeko(g->fp, (off_t)(g->time_bytes * t + g->var_offset[field]), SEEK_SET) ||
+        fread(out, 4, plane * nl, g->fp) != plane * nl)
+        return vsv_source_fail(s, VSV_EIO, "reading %s at time %d: %s", f->name, t,
+                               ferror(g->fp) ? strerror(errno) : "file ends early");
+    const double tol = fabs(g->undef) * 1e-6;
+    for (size_t i = 0; i < plane * nl; i++) {
+        unsigned char *b = (unsigned char *)&out[i];
+        uint32_t u = g->big_endian ? ((uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3])
+                                   : vsv_rd32(b);
+        float v;
+        memcpy(&v, &u, 4);
+        if (g->undef != 0 && fabs(v - g->undef) <= tol)
+            v = NAN;
+        out[i] = v;
+    }
+    for (size_t i = plane * nl; i < plane * g->nz; i++)
+        out[i] = NAN;
+    return 0;
+}
+
+static void grads_close(vsv_source *s)
+{
+    grads *g = s->priv;
+    if (!g)
+        return;
+    if (g->fp)
+        fclose(g->fp);
+    free(g->var_offset);
+    free(g);
+}
+
+const vsv_source_ops vsv_grads_ops = {"GrADS", grads_probe, grads_open, grads_read, grads_close};

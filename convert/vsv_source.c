@@ -1,0 +1,78 @@
+/* vsv_source.c — the source interface: detection by content and dispatch
+ * to the readers. */
+#include "vsv_source_internal.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *vsv_source_error(const vsv_source *s) { return s ? s->err : "out of memory"; }
+const char *vsv_source_format(const vsv_source *s) { return s->ops->name; }
+const vsv_meta *vsv_source_grid(const vsv_source *s) { return &s->grid; }
+int vsv_source_nfields(const vsv_source *s) { return s->nfields; }
+const vsv_field_info *vsv_source_field(const vsv_source *s, int i) { return &s->fields[i]; }
+int vsv_source_ntimes(const vsv_source *s) { return s->ntimes; }
+int64_t vsv_source_time(const vsv_source *s, int t) { return s->times[t]; }
+
+int vsv_source_find_field(const vsv_source *s, const char *name)
+{
+    for (int i = 0; i < s->nfields; i++)
+        if (!strcmp(s->fields[i].name, name))
+            return i;
+    return VSV_ENOTFOUND;
+}
+
+int vsv_source_read(vsv_source *s, int field, int t, float *out)
+{
+    if (field < 0 || field >= s->nfields || t < 0 || t >= s->ntimes) {
+        vsv_msg(s->err, sizeof s->err, "%s: field %d, time %d out of range", s->path, field, t);
+        return VSV_ERANGE;
+    }
+    return s->ops->read(s, field, t, out);
+}
+
+int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
+{
+    char m[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(m, sizeof m, fmt, ap);
+    va_end(ap);
+    vsv_msg(s->err, sizeof s->err, "%s: %s", s->path, m);
+    return rc;
+}
+
+static const vsv_source_ops *const readers[] = {&vsv_grads_ops};
+
+int vsv_source_open(const char *path, vsv_source **out)
+{
+    vsv_source *s = *out = calloc(1, sizeof *s);
+    if (!s)
+        return VSV_ENOMEM;
+    snprintf(s->path, sizeof s->path, "%s", path);
+    vsv_meta_init(&s->grid);
+    FILE *fp = fopen(path, "rb");
+    if (!fp)
+        return vsv_source_fail(s, VSV_EIO, "cannot open: %s", strerror(errno));
+    unsigned char head[512];
+    size_t n = fread(head, 1, sizeof head, fp);
+    fclose(fp);
+    for (size_t i = 0; i < sizeof readers / sizeof *readers; i++)
+        if (readers[i]->probe(head, n)) {
+            s->ops = readers[i];
+            return readers[i]->open(s);
+        }
+    return vsv_source_fail(s, VSV_ENOTVSV, "not a model file Vesuvius reads (GrADS .ctl)");
+}
+
+void vsv_source_free(vsv_source *s)
+{
+    if (!s)
+        return;
+    if (s->ops && s->ops->close)
+        s->ops->close(s);
+    vsv_meta_clear(&s->grid);
+    free(s->fields);
+    free(s->times);
+    free(s);
+}

@@ -1,0 +1,34 @@
+/* vsv_source_internal.h — what a model reader implements. Private. */
+#ifndef VSV_SOURCE_INTERNAL_H
+#define VSV_SOURCE_INTERNAL_H
+
+#include "vsv_convert.h"
+#include "vsv_format_internal.h"
+
+typedef struct vsv_source_ops {
+    const char *name;
+    /* 1 if the first n bytes look like this format */
+    int (*probe)(const unsigned char *head, size_t n);
+    int (*open)(vsv_source *s);
+    int (*read)(vsv_source *s, int field, int t, float *out);
+    void (*close)(vsv_source *s);
+} vsv_source_ops;
+
+struct vsv_source {
+    const vsv_source_ops *ops;
+    char path[1024];
+    char err[512];
+    vsv_meta grid;
+    vsv_field_info *fields;
+    int nfields;
+    int64_t *times;
+    int ntimes;
+    void *priv;
+};
+
+/* Sets s->err to "path: message" and returns rc. */
+int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+extern const vsv_source_ops vsv_grads_ops;
+
+#endif

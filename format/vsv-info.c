@@ -1,0 +1,389 @@
+/* vsv-info — tells everything about a .vsv file, for people (text) and for
+ * scripts (--json, -f FIELD); --stats decodes every step, --check verifies
+ * every byte. */
+#include "vsv_cli.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char usage[] =
+    "Usage: vsv-info [OPTIONS] FILE...\n"
+    "Describe .vsv files: grid, projection and corner coordinates, times, species\n"
+    "with units, ranges and quantisation error, bricks stored, compression ratio.\n"
+    "\n"
+    "  -j, --json           one JSON object per file (a stable contract for scripts)\n"
+    "  -f, --field PATH     print one value of the JSON, e.g. grid.nx, times.0,\n"
+    "                       species.1.max_abs_error, bricks.stored\n"
+    "  -s, --stats          add min/max/mean per species and time (decodes all)\n"
+    "  -c, --check          verify every checksum and padding byte, decode\n"
+    "                       everything; exit 1 naming the damage\n"
+    "  -q, --quiet          no progress bar\n"
+    "  -h, --help           this help\n"
+    "  -V, --version        print versions\n";
+
+static const char *scale_name(int s) { return s == VSV_SCALE_LOG ? "log" : "linear"; }
+static const char *vert_name(int k)
+{
+    static const char *n[] = {"even", "native", "index", "coordinate"};
+    return k >= 0 && k <= 3 ? n[k] : "unknown";
+}
+
+typedef struct stat_row {
+    double min, max, mean;
+} stat_row;
+
+/* min/max/mean over the grid of every (species, step). */
+static stat_row *compute_stats(vsv_file *f, const char *path)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    const size_t cells = (size_t)m->nx * m->ny * m->nz;
+    stat_row *rows = calloc((size_t)m->nvars * info.nsteps, sizeof *rows);
+    float *buf = malloc(cells * sizeof *buf);
+    vsv_decoder *d = NULL;
+    if (!rows || !buf || vsv_decoder_create(f, &d))
+        vsv_cli_die(1, "out of memory");
+    for (int s = 0; s < m->nvars; s++)
+        for (int t = 0; t < info.nsteps; t++) {
+            if (vsv_decoder_volume(d, t, s, buf))
+                vsv_cli_die(1, "%s", vsv_decoder_error(d));
+            double mn = INFINITY, mx = -INFINITY, sum = 0;
+            for (size_t i = 0; i < cells; i++) {
+                mn = buf[i] < mn ? buf[i] : mn;
+                mx = buf[i] > mx ? buf[i] : mx;
+                sum += buf[i];
+            }
+            rows[(size_t)s * info.nsteps + t] = (stat_row){mn, mx, sum / (double)cells};
+            vsv_cli_progress((void *)path, s * info.nsteps + t + 1, m->nvars * info.nsteps);
+        }
+    vsv_decoder_free(d);
+    free(buf);
+    return rows;
+}
+
+static void corner(const vsv_meta *m, int c, double *x, double *y)
+{
+    *x = m->origin[0] + (c & 1 ? (m->nx - 1) * m->spacing[0] : 0);
+    *y = m->origin[1] + (c & 2 ? (m->ny - 1) * m->spacing[1] : 0);
+}
+
+static const char *corner_names[4] = {"SW", "SE", "NW", "NE"};
+
+static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    vsv_json *root = vsv_json_object();
+    char buf[64];
+    vsv_json_set(root, "file", vsv_json_string(path));
+    snprintf(buf, sizeof buf, "%d.%d", info.major, info.minor);
+    vsv_json_set(root, "format_version", vsv_json_string(buf));
+    vsv_json *src = vsv_json_object();
+    vsv_json_set(src, "model", vsv_json_string(m->model));
+    vsv_json_set(src, "run", vsv_json_string(m->run));
+    vsv_json_set(root, "source", src);
+
+    vsv_json *grid = vsv_json_object();
+    vsv_json_set(grid, "nx", vsv_json_int(m->nx));
+    vsv_json_set(grid, "ny", vsv_json_int(m->ny));
+    vsv_json_set(grid, "nz", vsv_json_int(m->nz));
+    vsv_json *o = vsv_json_array(), *sp = vsv_json_array();
+    for (int i = 0; i < 3; i++) {
+        vsv_json_push(o, vsv_json_number(m->origin[i]));
+        vsv_json_push(sp, vsv_json_number(m->spacing[i]));
+    }
+    vsv_json_set(grid, "origin", o);
+    vsv_json_set(grid, "spacing", sp);
+    vsv_json *vert = vsv_json_object();
+    vsv_json_set(vert, "kind", vsv_json_string(vert_name(m->vert_kind)));
+    vsv_json_set(vert, "units", vsv_json_string(m->vert_kind == VSV_VERT_INDEX ? "layer index" : m->vert_units[0] ? m->vert_units : "m"));
+    if (m->levels) {
+        vsv_json *lv = vsv_json_array();
+        for (int k = 0; k < m->nz; k++)
+            vsv_json_push(lv, vsv_json_number(m->levels[k]));
+        vsv_json_set(vert, "levels", lv);
+    }
+    vsv_json_set(grid, "vertical", vert);
+    vsv_json_set(grid, "terrain", vsv_json_bool(m->terrain != NULL));
+    vsv_json_set(grid, "landuse", vsv_json_bool(m->landuse != NULL));
+    vsv_json_set(root, "grid", grid);
+
+    vsv_json *proj = vsv_json_object();
+    vsv_json_set(proj, "name", vsv_json_string(vsv_proj_name(m->proj.kind)));
+    if (m->proj.kind >= VSV_PROJ_LCC) {
+        vsv_json_set(proj, "lat0", vsv_json_number(m->proj.lat0));
+        vsv_json_set(proj, "lon0", vsv_json_number(m->proj.lon0));
+        vsv_json_set(proj, "lat1", vsv_json_number(m->proj.lat1));
+        vsv_json_set(proj, "lat2", vsv_json_number(m->proj.lat2));
+        vsv_json_set(proj, "radius", vsv_json_number(m->proj.radius > 0 ? m->proj.radius : 6370000.0));
+    }
+    vsv_json_set(root, "projection", proj);
+
+    vsv_json *corners = vsv_json_array();
+    for (int c = 0; c < 4; c++) {
+        double x, y, lat, lon;
+        corner(m, c, &x, &y);
+        vsv_json *cj = vsv_json_object();
+        vsv_json_set(cj, "name", vsv_json_string(corner_names[c]));
+        if (m->proj.kind != VSV_PROJ_NONE && !vsv_proj_inverse(&m->proj, x, y, &lat, &lon)) {
+            vsv_json_set(cj, "lat", vsv_json_number(lat));
+            vsv_json_set(cj, "lon", vsv_json_number(lon));
+        } else {
+            vsv_json_set(cj, "lat", vsv_json_null());
+            vsv_json_set(cj, "lon", vsv_json_null());
+        }
+        vsv_json_push(corners, cj);
+    }
+    vsv_json_set(root, "corners", corners);
+
+    vsv_json *times = vsv_json_array();
+    for (int t = 0; t < info.nsteps; t++) {
+        vsv_time_format(vsv_file_time(f, t), buf, sizeof buf);
+        vsv_json_push(times, vsv_json_string(buf));
+    }
+    vsv_json_set(root, "times", times);
+
+    vsv_json *species = vsv_json_array();
+    for (int s = 0; s < m->nvars; s++) {
+        const vsv_quant *q = vsv_file_quant(f, s);
+        vsv_json *sj = vsv_json_object();
+        vsv_json_set(sj, "name", vsv_json_string(m->vars[s].name));
+        vsv_json_set(sj, "units", vsv_json_string(m->vars[s].units));
+        vsv_json_set(sj, "description", vsv_json_string(m->vars[s].description));
+        vsv_json_set(sj, "min", vsv_json_number(q->data_min));
+        vsv_json_set(sj, "max", vsv_json_number(q->data_max));
+        vsv_json_set(sj, "bits", vsv_json_int(q->bits));
+        vsv_json_set(sj, "scale", vsv_json_string(scale_name(q->scale)));
+        vsv_json_set(sj, "max_abs_error", vsv_json_number(q->max_abs_error));
+        vsv_json_set(sj, "range_lo", vsv_json_number(q->lo));
+        vsv_json_set(sj, "range_hi", vsv_json_number(q->hi));
+        if (m->tf && m->tf[s])
+            vsv_json_set(sj, "transfer_function", vsv_json_string(m->tf[s]));
+        vsv_json_push(species, sj);
+    }
+    vsv_json_set(root, "species", species);
+
+    vsv_json *bricks = vsv_json_object();
+    vsv_json_set(bricks, "size", vsv_json_int(info.brick));
+    vsv_json *bd = vsv_json_array();
+    for (int a = 0; a < 3; a++)
+        vsv_json_push(bd, vsv_json_int(info.bricks[a]));
+    vsv_json_set(bricks, "grid", bd);
+    const long long total = (long long)info.nbricks * info.nspecies * info.nsteps;
+    vsv_json_set(bricks, "stored", vsv_json_int((long long)info.stored_bricks));
+    vsv_json_set(bricks, "nonempty", vsv_json_int((long long)info.nonempty_bricks));
+    vsv_json_set(bricks, "total", vsv_json_int(total));
+    vsv_json_set(bricks, "octree_levels", vsv_json_int(info.octree_levels));
+    vsv_json_set(root, "bricks", bricks);
+    vsv_json_set(root, "keyframe_interval", vsv_json_int(info.keyframe));
+    vsv_json_set(root, "codec", vsv_json_string(info.codec == VSV_CODEC_ZSTD ? "zstd" : "none"));
+    vsv_json_set(root, "bytes", vsv_json_int((long long)info.file_bytes));
+    const long long raw = (long long)m->nx * m->ny * m->nz * 4LL * m->nvars * info.nsteps;
+    vsv_json_set(root, "raw_bytes", vsv_json_int(raw));
+    vsv_json_set(root, "compression_ratio", vsv_json_number(round((double)raw / (double)info.file_bytes * 100) / 100));
+    if (m->nattrs) {
+        vsv_json *attrs = vsv_json_object();
+        for (int i = 0; i < m->nattrs; i++)
+            vsv_json_set(attrs, m->attr_keys[i], vsv_json_string(m->attr_values[i]));
+        vsv_json_set(root, "attributes", attrs);
+    }
+    if (stats) {
+        vsv_json *st = vsv_json_array();
+        for (int s = 0; s < m->nvars; s++)
+            for (int t = 0; t < info.nsteps; t++) {
+                const stat_row *r = &stats[(size_t)s * info.nsteps + t];
+                vsv_json *rj = vsv_json_object();
+                vsv_json_set(rj, "species", vsv_json_string(m->vars[s].name));
+                vsv_time_format(vsv_file_time(f, t), buf, sizeof buf);
+                vsv_json_set(rj, "time", vsv_json_string(buf));
+                vsv_json_set(rj, "min", vsv_json_number(r->min));
+                vsv_json_set(rj, "max", vsv_json_number(r->max));
+                vsv_json_set(rj, "mean", vsv_json_number(r->mean));
+                vsv_json_push(st, rj);
+            }
+        vsv_json_set(root, "stats", st);
+    }
+    return root;
+}
+
+static void human_bytes(double b, char *out, size_t cap)
+{
+    const char *u[] = {"B", "kB", "MB", "GB", "TB"};
+    int i = 0;
+    while (b >= 1000 && i < 4) {
+        b /= 1000;
+        i++;
+    }
+    snprintf(out, cap, i ? "%.1f %s" : "%.0f %s", b, u[i]);
+}
+
+static void print_human(vsv_file *f, const char *path, const stat_row *stats)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    char a[64], b[64];
+    human_bytes((double)info.file_bytes, a, sizeof a);
+    printf("%s: .vsv format %d.%d, %s\n", path, info.major, info.minor, a);
+    if (m->model[0] || m->run[0])
+        printf("  source      %s%s%s\n", m->model, m->model[0] && m->run[0] ? " — " : "", m->run);
+    printf("  grid        %d x %d x %d cells (x, y, z)\n", m->nx, m->ny, m->nz);
+    const char *hu = m->proj.kind == VSV_PROJ_LATLON ? "deg" : "m";
+    printf("  origin      x %.6g %s, y %.6g %s, z %.6g m (centre of the first cell)\n", m->origin[0], hu, m->origin[1],
+           hu, m->origin[2]);
+    printf("  spacing     dx %.6g %s, dy %.6g %s", m->spacing[0], hu, m->spacing[1], hu);
+    if (m->vert_kind == VSV_VERT_EVEN)
+        printf(", dz %.6g m\n", m->spacing[2]);
+    else
+        printf("\n");
+    if (m->vert_kind == VSV_VERT_INDEX) {
+        printf("  vertical    layer index (no heights: layers drawn evenly stacked)\n");
+    } else if (m->levels) {
+        printf("  vertical    %s levels (%s):", vert_name(m->vert_kind), m->vert_units[0] ? m->vert_units : "m");
+        for (int k = 0; k < m->nz && k < 12; k++)
+            printf(" %.6g", m->levels[k]);
+        printf(m->nz > 12 ? " …\n" : "\n");
+    } else {
+        printf("  vertical    even heights %.6g..%.6g m\n", m->origin[2], m->origin[2] + (m->nz - 1) * m->spacing[2]);
+    }
+    printf("  projection  %s", vsv_proj_name(m->proj.kind));
+    if (m->proj.kind >= VSV_PROJ_LCC)
+        printf(" (lat0 %.6g, lon0 %.6g, true lat %.6g/%.6g, R %.0f m)", m->proj.lat0, m->proj.lon0, m->proj.lat1,
+               m->proj.lat2, m->proj.radius > 0 ? m->proj.radius : 6370000.0);
+    printf("\n");
+    if (m->proj.kind != VSV_PROJ_NONE) {
+        printf("  corners    ");
+        for (int c = 0; c < 4; c++) {
+            double x, y, lat, lon;
+            corner(m, c, &x, &y);
+            if (!vsv_proj_inverse(&m->proj, x, y, &lat, &lon))
+                printf(" %s %.3f%c %.3f%c", corner_names[c], fabs(lat), lat < 0 ? 'S' : 'N', fabs(lon), lon < 0 ? 'W' : 'E');
+        }
+        printf("\n");
+    }
+    if (m->terrain || m->landuse)
+        printf("  surface     %s%s%s\n", m->terrain ? "terrain height" : "", m->terrain && m->landuse ? ", " : "",
+               m->landuse ? "land use" : "");
+    vsv_time_format(vsv_file_time(f, 0), a, sizeof a);
+    vsv_time_format(vsv_file_time(f, info.nsteps - 1), b, sizeof b);
+    printf("  times       %d step%s, %s", info.nsteps, info.nsteps == 1 ? "" : "s", a);
+    if (info.nsteps > 1) {
+        printf(" .. %s", b);
+        int64_t dt = vsv_file_time(f, 1) - vsv_file_time(f, 0);
+        int even = 1;
+        for (int t = 2; t < info.nsteps && even; t++)
+            even = vsv_file_time(f, t) - vsv_file_time(f, t - 1) == dt;
+        if (even)
+            printf(", every %lld s", (long long)dt);
+    }
+    printf("\n  species     %d\n", m->nvars);
+    printf("    %-10s %-12s %12s %12s %5s %7s %12s  %s\n", "name", "units", "min", "max", "bits", "scale", "max error",
+           "description");
+    for (int s = 0; s < m->nvars; s++) {
+        const vsv_quant *q = vsv_file_quant(f, s);
+        printf("    %-10s %-12s %12.5g %12.5g %5d %7s %12.3g  %s\n", m->vars[s].name, m->vars[s].units, q->data_min,
+               q->data_max, q->bits, scale_name(q->scale), q->max_abs_error, m->vars[s].description);
+    }
+    const long long total = (long long)info.nbricks * info.nspecies * info.nsteps;
+    printf("  bricks      %d^3, %d x %d x %d per step and species, %d octree levels\n", info.brick, info.bricks[0],
+           info.bricks[1], info.bricks[2], info.octree_levels);
+    printf("              %llu non-empty of %lld (%.1f %%); %llu payloads stored\n",
+           (unsigned long long)info.nonempty_bricks, total, total ? 100.0 * (double)info.nonempty_bricks / (double)total : 0,
+           (unsigned long long)info.stored_bricks);
+    printf("  keyframes   every %d steps; codec %s\n", info.keyframe, info.codec == VSV_CODEC_ZSTD ? "zstd" : "none");
+    const double raw = (double)m->nx * m->ny * m->nz * 4.0 * m->nvars * info.nsteps;
+    human_bytes(raw, a, sizeof a);
+    human_bytes((double)info.file_bytes, b, sizeof b);
+    printf("  size        %s of %s raw float32 (ratio %.2f)\n", b, a, raw / (double)info.file_bytes);
+    for (int i = 0; i < m->nattrs; i++)
+        printf("  %-11s %s\n", m->attr_keys[i], m->attr_values[i]);
+    if (stats) {
+        printf("  statistics\n    %-10s %-20s %12s %12s %12s\n", "species", "time", "min", "max", "mean");
+        for (int s = 0; s < m->nvars; s++)
+            for (int t = 0; t < info.nsteps; t++) {
+                const stat_row *r = &stats[(size_t)s * info.nsteps + t];
+                vsv_time_format(vsv_file_time(f, t), a, sizeof a);
+                printf("    %-10s %-20s %12.5g %12.5g %12.5g\n", m->vars[s].name, a, r->min, r->max, r->mean);
+            }
+    }
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-info");
+    static const struct option longopts[] = {{"json", no_argument, 0, 'j'},  {"field", required_argument, 0, 'f'},
+                                             {"stats", no_argument, 0, 's'}, {"check", no_argument, 0, 'c'},
+                                             {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
+                                             {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
+    int json = 0, want_stats = 0, check = 0, c;
+    const char *field = NULL;
+    while ((c = getopt_long(argc, argv, "jf:scqhV", longopts, NULL)) != -1) {
+        switch (c) {
+        case 'j': json = 1; break;
+        case 'f': field = optarg; break;
+        case 's': want_stats = 1; break;
+        case 'c': check = 1; break;
+        case 'q': vsv_cli_set_quiet(1); break;
+        case 'h': fputs(usage, stdout); return 0;
+        case 'V': vsv_cli_version();
+        default: vsv_cli_usage_error("unknown option");
+        }
+    }
+    if (optind >= argc)
+        vsv_cli_usage_error("no input file");
+    int status = 0;
+    for (int i = optind; i < argc; i++) {
+        const char *path = argv[i];
+        vsv_file *f = NULL;
+        if (vsv_file_open(path, &f)) {
+            fflush(stdout);
+            fprintf(stderr, "vsv-info: %s\n", vsv_file_error(f));
+            vsv_file_free(f);
+            status = 1;
+            continue;
+        }
+        if (check) {
+            if (vsv_file_check(f, vsv_cli_progress, (void *)path)) {
+                fflush(stdout);
+                fprintf(stderr, "vsv-info: %s\n", vsv_file_error(f));
+                status = 1;
+            } else if (!json && !field && !want_stats) {
+                vsv_file_info info;
+                vsv_file_info_get(f, &info);
+                printf("%s: ok (%d chunks, %llu payloads verified, %llu bytes)\n", path, info.nsteps,
+                       (unsigned long long)info.stored_bricks, (unsigned long long)info.file_bytes);
+            }
+            if (status || (!json && !field && !want_stats)) {
+                vsv_file_free(f);
+                continue;
+            }
+        }
+        stat_row *stats = want_stats ? compute_stats(f, path) : NULL;
+        if (json || field) {
+            vsv_json *root = build_json(f, path, stats);
+            if (!root)
+                vsv_cli_die(1, "out of memory");
+            if (field) {
+                const vsv_json *v = vsv_json_path(root, field);
+                if (!v) {
+                    vsv_json_free(root);
+                    vsv_cli_usage_error("-f %s: no such field (see vsv-info --json)", field);
+                }
+                vsv_json_print_plain(stdout, v);
+            } else {
+                vsv_json_print(stdout, root, 1);
+            }
+            vsv_json_free(root);
+        } else {
+            print_human(f, path, stats);
+        }
+        free(stats);
+        vsv_file_free(f);
+    }
+    return status;
+}

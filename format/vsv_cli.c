@@ -1,0 +1,467 @@
+/* vsv_cli.c — shared support for the command-line tools (see vsv_cli.h). */
+#include "vsv_cli.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+enum { J_NULL, J_BOOL, J_NUM, J_INT, J_STR, J_ARR, J_OBJ };
+
+struct vsv_json {
+    int type;
+    double num;
+    long long i;
+    char *str;       /* J_STR value */
+    char **keys;     /* J_OBJ */
+    vsv_json **items;
+    size_t n, cap;
+};
+
+static vsv_json *jnew(int type)
+{
+    vsv_json *j = calloc(1, sizeof *j);
+    if (j)
+        j->type = type;
+    return j;
+}
+
+vsv_json *vsv_json_object(void) { return jnew(J_OBJ); }
+vsv_json *vsv_json_array(void) { return jnew(J_ARR); }
+vsv_json *vsv_json_null(void) { return jnew(J_NULL); }
+
+vsv_json *vsv_json_number(double v)
+{
+    vsv_json *j = jnew(isfinite(v) ? J_NUM : J_NULL);
+    if (j)
+        j->num = v;
+    return j;
+}
+
+vsv_json *vsv_json_int(long long v)
+{
+    vsv_json *j = jnew(J_INT);
+    if (j)
+        j->i = v;
+    return j;
+}
+
+vsv_json *vsv_json_bool(int v)
+{
+    vsv_json *j = jnew(J_BOOL);
+    if (j)
+        j->i = !!v;
+    return j;
+}
+
+vsv_json *vsv_json_string(const char *s)
+{
+    vsv_json *j = jnew(J_STR);
+    if (j && !(j->str = strdup(s ? s : ""))) {
+        free(j);
+        return NULL;
+    }
+    return j;
+}
+
+static void jadd(vsv_json *c, char *key, vsv_json *v)
+{
+    if (!v || !c) {
+        free(key);
+        vsv_json_free(v);
+        return;
+    }
+    if (c->n == c->cap) {
+        size_t cap = c->cap ? 2 * c->cap : 8;
+        vsv_json **it = realloc(c->items, cap * sizeof *it);
+        char **ks = realloc(c->keys, cap * sizeof *ks);
+        if (it)
+            c->items = it;
+        if (ks)
+            c->keys = ks;
+        if (!it || !ks) {
+            free(key);
+            vsv_json_free(v);
+            return;
+        }
+        c->cap = cap;
+    }
+    c->items[c->n] = v;
+    c->keys[c->n] = key;
+    c->n++;
+}
+
+void vsv_json_set(vsv_json *obj, const char *key, vsv_json *value) { jadd(obj, strdup(key), value); }
+void vsv_json_push(vsv_json *arr, vsv_json *value) { jadd(arr, NULL, value); }
+
+void vsv_json_free(vsv_json *v)
+{
+    if (!v)
+        return;
+    for (size_t i = 0; i < v->n; i++) {
+        vsv_json_free(v->items[i]);
+        free(v->keys[i]);
+    }
+    free(v->items);
+    free(v->keys);
+    free(v->str);
+    free(v);
+}
+
+static void print_string(FILE *fp, const char *s)
+{
+    fputc('"', fp);
+    for (const unsigned char *p = (const unsigned char *)s; *p; p++) {
+        switch (*p) {
+        case '"': fputs("\\\"", fp); break;
+        case '\\': fputs("\\\\", fp); break;
+        case '\n': fputs("\\n", fp); break;
+        case '\t': fputs("\\t", fp); break;
+        case '\r': fputs("\\r", fp); break;
+        default:
+            if (*p < 0x20)
+                fprintf(fp, "\\u%04x", *p);
+            else
+                fputc(*p, fp);
+        }
+    }
+    fputc('"', fp);
+}
+
+static void print_number(FILE *fp, double v)
+{
+    if (v == floor(v) && fabs(v) < 1e15)
+        fprintf(fp, "%.0f", v);
+    else
+        fprintf(fp, "%.9g", v);
+}
+
+static void jprint(FILE *fp, const vsv_json *v, int pretty, int depth)
+{
+    switch (v->type) {
+    case J_NULL: fputs("null", fp); return;
+    case J_BOOL: fputs(v->i ? "true" : "false", fp); return;
+    case J_NUM: print_number(fp, v->num); return;
+    case J_INT: fprintf(fp, "%lld", v->i); return;
+    case J_STR: print_string(fp, v->str); return;
+    default: break;
+    }
+    const int obj = v->type == J_OBJ;
+    /* short arrays of scalars stay on one line */
+    int flat = !pretty;
+    if (!obj && pretty) {
+        flat = v->n <= 8;
+        for (size_t i = 0; i < v->n && flat; i++)
+            flat = v->items[i]->type != J_OBJ && v->items[i]->type != J_ARR;
+    }
+    fputc(obj ? '{' : '[', fp);
+    for (size_t i = 0; i < v->n; i++) {
+        if (i)
+            fputc(',', fp);
+        if (!flat)
+            fprintf(fp, "\n%*s", 2 * (depth + 1), "");
+        else if (i && pretty)
+            fputc(' ', fp);
+        if (obj) {
+            print_string(fp, v->keys[i]);
+            fputs(pretty ? ": " : ":", fp);
+        }
+        jprint(fp, v->items[i], pretty, depth + 1);
+    }
+    if (!flat && v->n)
+        fprintf(fp, "\n%*s", 2 * depth, "");
+    fputc(obj ? '}' : ']', fp);
+}
+
+void vsv_json_print(FILE *fp, const vsv_json *v, int pretty)
+{
+    jprint(fp, v, pretty, 0);
+    fputc('\n', fp);
+}
+
+void vsv_json_print_plain(FILE *fp, const vsv_json *v)
+{
+    if (v->type == J_STR)
+        fprintf(fp, "%s\n", v->str);
+    else
+        vsv_json_print(fp, v, v->type == J_OBJ || v->type == J_ARR);
+}
+
+const vsv_json *vsv_json_path(const vsv_json *root, const char *path)
+{
+    const vsv_json *cur = root;
+    char part[128];
+    const char *p = path;
+    while (*p && cur) {
+        size_t n = 0;
+        if (*p == '[') {
+            p++;
+            while (*p && *p != ']' && n < sizeof part - 1)
+                part[n++] = *p++;
+            if (*p == ']')
+                p++;
+        } else {
+            while (*p && *p != '.' && *p != '[' && n < sizeof part - 1)
+                part[n++] = *p++;
+        }
+        part[n] = 0;
+        if (*p == '.')
+            p++;
+        const vsv_json *next = NULL;
+        if (cur->type == J_OBJ) {
+            for (size_t i = 0; i < cur->n; i++)
+                if (!strcmp(cur->keys[i], part))
+                    next = cur->items[i];
+        } else if (cur->type == J_ARR) {
+            char *end;
+            long idx = strtol(part, &end, 10);
+            if (*part && !*end && idx >= 0 && (size_t)idx < cur->n)
+                next = cur->items[idx];
+        }
+        cur = next;
+    }
+    return cur;
+}
+
+/* ----------------------------------------------------------------- tools */
+
+static const char *tool_name = "vsv";
+static int quiet;
+
+void vsv_cli_init(const char *tool) { tool_name = tool; }
+const char *vsv_cli_tool(void) { return tool_name; }
+int vsv_cli_quiet(void) { return quiet; }
+void vsv_cli_set_quiet(int q) { quiet = q; }
+
+void vsv_cli_die(int code, const char *fmt, ...)
+{
+    va_list ap;
+    fflush(stdout);
+    fprintf(stderr, "%s: ", tool_name);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    exit(code);
+}
+
+void vsv_cli_usage_error(const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "%s: ", tool_name);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "\nTry '%s --help'.\n", tool_name);
+    exit(2);
+}
+
+void vsv_cli_version(void)
+{
+    printf("%s (Vesuvius %s) format %d.%d\n", tool_name, VSV_VERSION_STRING, VSV_FORMAT_MAJOR, VSV_FORMAT_MINOR);
+    exit(0);
+}
+
+void vsv_cli_progress(void *label, int done, int total)
+{
+    if (quiet || !isatty(2) || total <= 0)
+        return;
+    const int width = 40, fill = (int)((long long)done * width / total);
+    fprintf(stderr, "\r%s [%.*s%*s] %d/%d", label ? (const char *)label : "", fill,
+            "########################################", width - fill, "", done, total);
+    if (done >= total)
+        fputc('\n', stderr);
+    fflush(stderr);
+}
+
+int vsv_cli_int(const char *s, long lo, long hi, long *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(s, &end, 10);
+    if (errno || end == s || *end || v < lo || v > hi)
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int vsv_cli_double(const char *s, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(s, &end);
+    if (errno || end == s || *end || !isfinite(v))
+        return -1;
+    *out = v;
+    return 0;
+}
+
+int vsv_cli_duration(const char *s, int64_t *out)
+{
+    char *end;
+    errno = 0;
+    long long v = strtoll(s, &end, 10);
+    if (errno || end == s || v <= 0)
+        return -1;
+    long long mul = 1;
+    if (!strcmp(end, "") || !strcmp(end, "s"))
+        mul = 1;
+    else if (!strcmp(end, "m") || !strcmp(end, "min"))
+        mul = 60;
+    else if (!strcmp(end, "h"))
+        mul = 3600;
+    else if (!strcmp(end, "d"))
+        mul = 86400;
+    else
+        return -1;
+    if (v > INT64_MAX / mul)
+        return -1;
+    *out = v * mul;
+    return 0;
+}
+
+/* ------------------------------------------------------- pack options */
+
+const char vsv_cli_pack_help[] =
+    "Packing:\n"
+    "  --brick N            brick edge in cells: 8, 16, 32 or 64 (default 32)\n"
+    "  --keyframe K         a keyframe every K steps, deltas between (default 8)\n"
+    "  --bits B|LIST        8 or 16 bits per value (default 16); LIST is NAME=B,...\n"
+    "  --scale S|LIST       linear or log quantisation (default linear)\n"
+    "  --threshold V|LIST   values below V are stored as empty\n"
+    "  --range LO:HI|LIST   fixed quantisation range (default: the data's range)\n"
+    "  --log-decades D|LIST log scale spans at most D decades below the maximum\n"
+    "                       (default 3 for 8 bits, 6 for 16 bits)\n"
+    "  --codec C[:LEVEL]    zstd (default, level 3) or none\n"
+    "  --threads N          encoder threads (default: all cores)\n";
+
+void vsv_cli_pack_init(vsv_cli_pack *p)
+{
+    memset(p, 0, sizeof *p);
+    vsv_pack_opts_init(&p->opts);
+}
+
+int vsv_cli_pack_option(vsv_cli_pack *p, int id, const char *arg)
+{
+    long v;
+    switch (id) {
+    case VSV_CLI_PACK_BRICK:
+        if (vsv_cli_int(arg, 8, 64, &v) || (v != 8 && v != 16 && v != 32 && v != 64))
+            vsv_cli_usage_error("--brick %s: must be 8, 16, 32 or 64", arg);
+        p->opts.brick = (int)v;
+        return 1;
+    case VSV_CLI_PACK_KEYFRAME:
+        if (vsv_cli_int(arg, 1, 65535, &v))
+            vsv_cli_usage_error("--keyframe %s: must be an integer 1..65535", arg);
+        p->opts.keyframe = (int)v;
+        return 1;
+    case VSV_CLI_PACK_THREADS:
+        if (vsv_cli_int(arg, 1, 64, &v))
+            vsv_cli_usage_error("--threads %s: must be an integer 1..64", arg);
+        p->opts.threads = (int)v;
+        return 1;
+    case VSV_CLI_PACK_CODEC: {
+        const char *colon = strchr(arg, ':');
+        size_t n = colon ? (size_t)(colon - arg) : strlen(arg);
+        if (n == 4 && !strncmp(arg, "zstd", 4))
+            p->opts.codec = VSV_CODEC_ZSTD;
+        else if (n == 4 && !strncmp(arg, "none", 4))
+            p->opts.codec = VSV_CODEC_NONE;
+        else
+            vsv_cli_usage_error("--codec %s: must be zstd[:LEVEL] or none", arg);
+        if (colon) {
+            if (p->opts.codec != VSV_CODEC_ZSTD || vsv_cli_int(colon + 1, 1, 19, &v))
+                vsv_cli_usage_error("--codec %s: level must be 1..19", arg);
+            p->opts.level = (int)v;
+        }
+        return 1;
+    }
+    case VSV_CLI_PACK_BITS: p->bits = arg; return 1;
+    case VSV_CLI_PACK_SCALE: p->scale = arg; return 1;
+    case VSV_CLI_PACK_THRESHOLD: p->threshold = arg; return 1;
+    case VSV_CLI_PACK_RANGE: p->range = arg; return 1;
+    case VSV_CLI_PACK_DECADES: p->decades = arg; return 1;
+    default: return 0;
+    }
+}
+
+/* Applies one VALUE to species v of the option named opt. */
+static void pack_apply(vsv_pack_var *pv, const char *opt, const char *val)
+{
+    long l;
+    double d, lo, hi;
+    if (!strcmp(opt, "bits")) {
+        if (vsv_cli_int(val, 8, 16, &l) || (l != 8 && l != 16))
+            vsv_cli_usage_error("--bits %s: must be 8 or 16", val);
+        pv->bits = (int)l;
+    } else if (!strcmp(opt, "scale")) {
+        if (!strcmp(val, "linear"))
+            pv->scale = VSV_SCALE_LINEAR;
+        else if (!strcmp(val, "log"))
+            pv->scale = VSV_SCALE_LOG;
+        else
+            vsv_cli_usage_error("--scale %s: must be linear or log", val);
+    } else if (!strcmp(opt, "threshold")) {
+        if (vsv_cli_double(val, &d))
+            vsv_cli_usage_error("--threshold %s: not a number", val);
+        pv->threshold = d;
+    } else if (!strcmp(opt, "log-decades")) {
+        if (vsv_cli_double(val, &d) || !(d > 0 && d <= 30))
+            vsv_cli_usage_error("--log-decades %s: must be a number in (0, 30]", val);
+        pv->log_decades = d;
+    } else {
+        char buf[128];
+        snprintf(buf, sizeof buf, "%s", val);
+        char *colon = strchr(buf, ':');
+        if (!colon)
+            vsv_cli_usage_error("--range %s: must be LO:HI", val);
+        *colon = 0;
+        if (vsv_cli_double(buf, &lo) || vsv_cli_double(colon + 1, &hi) || !(lo < hi))
+            vsv_cli_usage_error("--range %s: must be LO:HI with LO < HI", val);
+        pv->lo = lo;
+        pv->hi = hi;
+    }
+}
+
+static void pack_list(vsv_pack_var *vars, const vsv_meta *m, const char *opt, const char *arg)
+{
+    if (!arg)
+        return;
+    if (!strchr(arg, '=')) {
+        for (int v = 0; v < m->nvars; v++)
+            pack_apply(&vars[v], opt, arg);
+        return;
+    }
+    char *copy = strdup(arg), *save = NULL;
+    if (!copy)
+        vsv_cli_die(1, "out of memory");
+    for (char *item = strtok_r(copy, ",", &save); item; item = strtok_r(NULL, ",", &save)) {
+        char *eq = strchr(item, '=');
+        if (!eq)
+            vsv_cli_usage_error("--%s %s: expected NAME=VALUE items", opt, arg);
+        *eq = 0;
+        int v = vsv_meta_find_var(m, item);
+        if (v < 0)
+            vsv_cli_usage_error("--%s: no species named '%s'", opt, item);
+        pack_apply(&vars[v], opt, eq + 1);
+    }
+    free(copy);
+}
+
+void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta)
+{
+    vsv_pack_var *vars = calloc((size_t)meta->nvars, sizeof *vars);
+    if (!vars)
+        vsv_cli_die(1, "out of memory");
+    for (int v = 0; v < meta->nvars; v++)
+        vsv_pack_var_init(&vars[v]);
+    pack_list(vars, meta, "bits", p->bits);
+    pack_list(vars, meta, "scale", p->scale);
+    pack_list(vars, meta, "threshold", p->threshold);
+    pack_list(vars, meta, "range", p->range);
+    pack_list(vars, meta, "log-decades", p->decades);
+    p->opts.vars = vars;
+}

@@ -1,0 +1,104 @@
+/* vsv_cli.h — what the command-line tools share: a tiny JSON document
+ * builder (vsv-info's machine-readable output and -f lookups), the progress
+ * bar, option-value parsers and the CLI error conventions of DESIGN.md §2
+ * (usage errors exit 2, data errors exit 1 as "tool: file: what, where").
+ * Only tools call the printing functions; the rest of the library never prints. */
+#ifndef VSV_CLI_H
+#define VSV_CLI_H
+
+#include "vsv_format.h"
+
+#include <stdio.h>
+
+/* --------------------------------------------------------------- JSON */
+
+typedef struct vsv_json vsv_json;
+
+/* Constructors; each returns NULL only when out of memory. */
+vsv_json *vsv_json_object(void);
+vsv_json *vsv_json_array(void);
+vsv_json *vsv_json_number(double v);
+vsv_json *vsv_json_int(long long v);
+vsv_json *vsv_json_string(const char *s);
+vsv_json *vsv_json_bool(int v);
+vsv_json *vsv_json_null(void);
+/* Adds `value` (ownership passes to the container; NULL values are ignored). */
+void vsv_json_set(vsv_json *obj, const char *key, vsv_json *value);
+void vsv_json_push(vsv_json *arr, vsv_json *value);
+/* Prints pretty (indent 2) or compact. */
+void vsv_json_print(FILE *fp, const vsv_json *v, int pretty);
+/* Looks up a dotted path ("grid.nx", "species.0.name", "species[0].name");
+ * borrowed, or NULL. */
+const vsv_json *vsv_json_path(const vsv_json *root, const char *path);
+/* Prints a scalar plainly (strings without quotes) or a container as JSON. */
+void vsv_json_print_plain(FILE *fp, const vsv_json *v);
+void vsv_json_free(vsv_json *v);
+
+/* ---------------------------------------------------------- the tools */
+
+/* Set once by main: the tool name used in messages. */
+void vsv_cli_init(const char *tool);
+const char *vsv_cli_tool(void);
+/* "tool: message" on stderr, then exit(code). */
+void vsv_cli_die(int code, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
+/* "tool: message\nTry 'tool --help'." and exit(2). */
+void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
+/* Prints "tool (Vesuvius X) format A.B" and exits 0. */
+void vsv_cli_version(void) __attribute__((noreturn));
+
+/* Progress on stderr: a bar when stderr is a terminal, nothing otherwise.
+ * ctx is a const char* label. Matches the writer's progress callback. */
+void vsv_cli_progress(void *label, int done, int total);
+int vsv_cli_quiet(void);
+void vsv_cli_set_quiet(int q);
+
+/* Parses an integer in [lo, hi]; 0 or -1. */
+int vsv_cli_int(const char *s, long lo, long hi, long *out);
+/* Parses a double; 0 or -1. */
+int vsv_cli_double(const char *s, double *out);
+/* Parses a duration "90", "30s", "10m", "1h", "2d" into seconds (> 0); 0 or -1. */
+int vsv_cli_duration(const char *s, int64_t *out);
+
+
+/* Packing options as the tools take them (--brick, --keyframe, --bits,
+ * --scale, --threshold, --range, --codec, --threads), shared by vsv-pack and
+ * vsv-convert. Per-species options accept "VALUE" (every species) or
+ * "NAME=VALUE,NAME=VALUE" lists. */
+typedef struct vsv_cli_pack {
+    vsv_pack_opts opts;
+    const char *bits, *scale, *threshold, *range, *decades;
+} vsv_cli_pack;
+
+/* Long options of the pack family, for getopt_long tables (ids >= 1000). */
+extern const char vsv_cli_pack_help[];
+void vsv_cli_pack_init(vsv_cli_pack *p);
+/* Handles option `id` (see VSV_CLI_PACK_*), exits 2 on a bad value; returns 1
+ * if the id was a pack option. */
+int vsv_cli_pack_option(vsv_cli_pack *p, int id, const char *arg);
+/* Builds opts.vars for the variables of meta (caller frees opts.vars with
+ * free()); exits 2 naming an unknown species. */
+void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta);
+
+enum {
+    VSV_CLI_PACK_BRICK = 1000,
+    VSV_CLI_PACK_KEYFRAME,
+    VSV_CLI_PACK_BITS,
+    VSV_CLI_PACK_SCALE,
+    VSV_CLI_PACK_THRESHOLD,
+    VSV_CLI_PACK_RANGE,
+    VSV_CLI_PACK_DECADES,
+    VSV_CLI_PACK_CODEC,
+    VSV_CLI_PACK_THREADS
+};
+#define VSV_CLI_PACK_LONGOPTS                                                                      \
+    {"brick", required_argument, 0, VSV_CLI_PACK_BRICK},                                           \
+        {"keyframe", required_argument, 0, VSV_CLI_PACK_KEYFRAME},                                 \
+        {"bits", required_argument, 0, VSV_CLI_PACK_BITS},                                         \
+        {"scale", required_argument, 0, VSV_CLI_PACK_SCALE},                                       \
+        {"threshold", required_argument, 0, VSV_CLI_PACK_THRESHOLD},                               \
+        {"range", required_argument, 0, VSV_CLI_PACK_RANGE},                                       \
+        {"log-decades", required_argument, 0, VSV_CLI_PACK_DECADES},                               \
+        {"codec", required_argument, 0, VSV_CLI_PACK_CODEC},                                       \
+        {"threads", required_argument, 0, VSV_CLI_PACK_THREADS}
+
+#endif

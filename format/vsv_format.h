@@ -1,0 +1,310 @@
+/* vsv_format.h — the public interface of the .vsv file format library:
+ * metadata, the field stream the Unix tools pipe, the streaming writer and the
+ * memory-mapped reader. The bytes are specified in format/SPEC.md. */
+#ifndef VSV_FORMAT_H
+#define VSV_FORMAT_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define VSV_VERSION_STRING "0.1.0"
+#define VSV_FORMAT_MAJOR 1
+#define VSV_FORMAT_MINOR 0
+
+/* Error codes: fallible calls return 0 or one of these. Values never change. */
+enum {
+    VSV_OK = 0,
+    VSV_EIO = -1,          /* operating-system I/O error */
+    VSV_ENOMEM = -2,       /* out of memory */
+    VSV_ENOTVSV = -3,      /* not a .vsv file / not a field stream (wrong magic) */
+    VSV_EVERSION = -4,     /* a major version this library does not read */
+    VSV_ECORRUPT = -5,     /* checksum mismatch or inconsistent structure */
+    VSV_ETRUNC = -6,       /* file or stream ends early */
+    VSV_EINVAL = -7,       /* invalid argument or option */
+    VSV_ERANGE = -8,       /* index (time step, species, brick) out of range */
+    VSV_ECODEC = -9,       /* compressed payload does not decode */
+    VSV_ENOTFOUND = -10,   /* named item does not exist */
+    VSV_EUNSUPPORTED = -11 /* valid but not supported by this build */
+};
+
+/* A short fixed text for an error code; borrowed, static. */
+const char *vsv_strerror(int code);
+
+/* ---------------------------------------------------------------- metadata */
+
+/* Vertical axis kinds (SPEC.md "GRID"). */
+enum {
+    VSV_VERT_EVEN = 0,   /* even heights: z = origin[2] + k * spacing[2], metres ASL */
+    VSV_VERT_NATIVE = 1, /* model levels; levels[k] = mean height of level k (m ASL) */
+    VSV_VERT_INDEX = 2,  /* layer index only: the vertical axis is not a height */
+    VSV_VERT_COORD = 3   /* levels[k] in vert_units (e.g. hPa for pressure levels) */
+};
+
+/* Map projections (SPEC.md "PROJ"). Projected x/y are metres; for LATLON they
+ * are degrees of longitude / latitude. */
+enum {
+    VSV_PROJ_NONE = 0,
+    VSV_PROJ_LATLON = 1,
+    VSV_PROJ_LCC = 2,      /* Lambert conformal conic, true latitudes lat1, lat2 */
+    VSV_PROJ_PSTEREO = 3,  /* polar stereographic, true at lat1, pole by sign of lat0 */
+    VSV_PROJ_MERCATOR = 4, /* Mercator, true at lat1 */
+    VSV_PROJ_COUNT = 5
+};
+
+enum { VSV_SCALE_LINEAR = 0, VSV_SCALE_LOG = 1 };
+
+/* Projection parameters: plain info. x = y = 0 at (lat0, lon0); projected
+ * coordinates are metres on a sphere of radius `radius` (0 = 6370000 m). */
+typedef struct vsv_proj {
+    int kind;
+    double lat0, lon0, lat1, lat2, radius;
+} vsv_proj;
+
+/* One variable (species): plain info. Strings are NUL-terminated. */
+typedef struct vsv_var {
+    char name[64];
+    char units[64];
+    char description[128];
+} vsv_var;
+
+/* Quantisation of one species inside a .vsv (SPEC.md "QUAN"): plain info.
+ * code 0 decodes to `lo` (linear) or to 0 (log); see vsv_quant_value. */
+typedef struct vsv_quant {
+    int bits;          /* 8 or 16 */
+    int scale;         /* VSV_SCALE_* */
+    double lo, hi;     /* the range the codes span */
+    double threshold;  /* values below it were stored as code 0 */
+    double max_abs_error; /* bound on |decoded - original| for finite inputs */
+    double data_min, data_max; /* finite values seen by the writer */
+} vsv_quant;
+
+/* Everything about a data set except its values: plain info that owns its
+ * arrays. Initialise with vsv_meta_init, release with vsv_meta_clear. */
+typedef struct vsv_meta {
+    int nx, ny, nz;
+    double origin[3];   /* centre of cell (0,0,0): projected x, y; height z */
+    double spacing[3];  /* cell size in x, y (projected units) and z (metres) */
+    int vert_kind;      /* VSV_VERT_* */
+    char vert_units[32];
+    double *levels;     /* nz values, or NULL for VSV_VERT_EVEN */
+    vsv_proj proj;
+    char model[64];     /* source model, e.g. "MM5 v3" */
+    char run[256];      /* run description */
+    int nattrs;
+    char (*attr_keys)[64];
+    char (*attr_values)[256];
+    int nvars;
+    vsv_var *vars;
+    char **tf;          /* nvars default transfer functions (text) or NULL entries */
+    float *terrain;     /* nx*ny terrain height (m ASL), x fastest, or NULL */
+    float *landuse;     /* nx*ny land-use category, or NULL */
+} vsv_meta;
+
+void vsv_meta_init(vsv_meta *m);
+/* Frees the arrays the struct owns and re-initialises it. Accepts NULL. */
+void vsv_meta_clear(vsv_meta *m);
+/* Deep copy; dst must be initialised (it is cleared first). */
+int vsv_meta_copy(vsv_meta *dst, const vsv_meta *src);
+/* Append one variable; returns its index or a negative error. */
+int vsv_meta_add_var(vsv_meta *m, const char *name, const char *units, const char *desc);
+int vsv_meta_add_attr(vsv_meta *m, const char *key, const char *value);
+/* Borrowed value of an attribute, or NULL. */
+const char *vsv_meta_attr(const vsv_meta *m, const char *key);
+/* Allocate levels / terrain / landuse arrays (zeroed). */
+int vsv_meta_alloc_levels(vsv_meta *m);
+int vsv_meta_alloc_terrain(vsv_meta *m);
+int vsv_meta_alloc_landuse(vsv_meta *m);
+/* Index of a variable by name, or VSV_ENOTFOUND. */
+int vsv_meta_find_var(const vsv_meta *m, const char *name);
+/* Checks dimensions and values for sanity; fills msg (cap bytes) on error. */
+int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap);
+
+/* Projection names ("none", "latlon", "lcc", "pstereo", "mercator"). */
+const char *vsv_proj_name(int kind);
+/* Latitude/longitude (degrees) of projected point (x, y). */
+int vsv_proj_inverse(const vsv_proj *p, double x, double y, double *lat, double *lon);
+/* Projected point of (lat, lon). */
+int vsv_proj_forward(const vsv_proj *p, double lat, double lon, double *x, double *y);
+
+/* ----------------------------------------------------------------- times */
+
+/* Times are integer seconds since 1970-01-01T00:00:00Z. Writes
+ * "YYYY-MM-DDTHH:MM:SSZ" into buf (cap >= 32). */
+void vsv_time_format(int64_t t, char *buf, size_t cap);
+/* Parses "YYYY-MM-DD[T ]HH[:MM[:SS]][Z]" or "YYYY-MM-DD"; 0 or VSV_EINVAL. */
+int vsv_time_parse(const char *s, int64_t *t);
+/* Seconds of a civil date (proleptic Gregorian, UTC). */
+int64_t vsv_time_from_civil(int year, int month, int day, int hour, int min, int sec);
+
+/* ---------------------------------------------------------- field stream */
+
+/* The field stream (SPEC.md part 2): a header with the metadata, then frames
+ * of dense float32 fields (all variables of one time), then an end marker. */
+typedef struct vsv_stream_reader vsv_stream_reader;
+typedef struct vsv_stream_writer vsv_stream_writer;
+
+/* Reads the header from fp (borrowed, must stay open). `name` is used in
+ * messages. Caller frees with vsv_stream_reader_free. */
+int vsv_stream_reader_open(FILE *fp, const char *name, vsv_stream_reader **out);
+/* Borrowed, valid until the reader is freed. */
+const vsv_meta *vsv_stream_reader_meta(const vsv_stream_reader *r);
+/* Reads the next frame into fields (nvars pointers to nx*ny*nz floats each,
+ * caller buffers). Returns 1 with a frame, 0 at the end marker, < 0 on error. */
+int vsv_stream_reader_next(vsv_stream_reader *r, int64_t *time, float *const *fields);
+/* Message for the last error ("where" included); borrowed. */
+const char *vsv_stream_reader_error(const vsv_stream_reader *r);
+void vsv_stream_reader_free(vsv_stream_reader *r);
+
+/* Writes the header to fp (borrowed). Caller frees with vsv_stream_writer_free. */
+int vsv_stream_writer_open(FILE *fp, const vsv_meta *meta, vsv_stream_writer **out);
+int vsv_stream_writer_frame(vsv_stream_writer *w, int64_t time, const float *const *fields);
+/* Writes the end marker and flushes. */
+int vsv_stream_writer_end(vsv_stream_writer *w);
+void vsv_stream_writer_free(vsv_stream_writer *w);
+
+/* ------------------------------------------------------------------ writer */
+
+enum { VSV_CODEC_NONE = 0, VSV_CODEC_ZSTD = 1 };
+
+/* Per-species packing choices: plain info. */
+typedef struct vsv_pack_var {
+    int bits;          /* 8 or 16 (default 16) */
+    int scale;         /* VSV_SCALE_LINEAR (default) or VSV_SCALE_LOG */
+    double threshold;  /* values below are empty; default 0 = none */
+    double lo, hi;     /* fixed range when lo < hi; else from the data */
+    double log_decades;/* log scale: range spans at most this many decades (0 = default) */
+} vsv_pack_var;
+
+typedef struct vsv_pack_opts {
+    int brick;         /* brick edge in cells: 8, 16, 32 or 64 (default 32) */
+    int keyframe;      /* keyframe interval K >= 1 (default 8) */
+    int codec;         /* VSV_CODEC_* (default zstd) */
+    int level;         /* zstd level (default 3) */
+    int threads;       /* encoder threads; 0 = all cores */
+    vsv_pack_var *vars;/* nvars entries or NULL for defaults; borrowed during create */
+} vsv_pack_opts;
+
+void vsv_pack_opts_init(vsv_pack_opts *o);
+void vsv_pack_var_init(vsv_pack_var *v);
+
+typedef struct vsv_writer vsv_writer;
+
+/* Starts a .vsv at `path`. Nothing appears at `path` until vsv_writer_finish
+ * succeeds: steps are spooled to a temporary file beside it. Caller frees
+ * with vsv_writer_free (which removes temporaries if not finished). */
+int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opts *opts,
+                      vsv_writer **out);
+/* Adds one time step: fields[v] holds nx*ny*nz floats of variable v, x
+ * fastest then y then z (borrowed for the call). Times strictly increase.
+ * Non-finite values are stored as empty (code 0). */
+int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields);
+/* Quantises, encodes, writes, fsyncs and renames into place. An optional
+ * progress callback gets (done, total) steps. */
+int vsv_writer_finish(vsv_writer *w, void (*progress)(void *ctx, int done, int total),
+                      void *ctx);
+const char *vsv_writer_error(const vsv_writer *w);
+void vsv_writer_free(vsv_writer *w);
+
+/* ------------------------------------------------------------------ reader */
+
+typedef struct vsv_file vsv_file;
+
+/* Brick kinds in a chunk's brick table (SPEC.md "Brick entry"). */
+enum { VSV_BRICK_EMPTY = 0, VSV_BRICK_UNCHANGED = 1, VSV_BRICK_ABS = 2, VSV_BRICK_DELTA = 3 };
+
+/* Facts about an open file: plain info filled by vsv_file_info. */
+typedef struct vsv_file_info {
+    int major, minor;
+    int nsteps, nspecies;
+    int brick;                 /* brick edge */
+    int bricks[3];             /* bricks along x, y, z */
+    int nbricks;               /* bricks per (step, species) */
+    int keyframe;
+    int codec;
+    int octree_levels;         /* level 0 = bricks, last = one root node */
+    uint64_t file_bytes;
+    uint64_t stored_bricks;    /* bricks with a payload (ABS or DELTA) */
+    uint64_t nonempty_bricks;  /* bricks whose state is not all code 0 */
+    uint64_t payload_bytes;
+} vsv_file_info;
+
+/* Maps `path` and validates header, metadata, table of contents and end
+ * marker (cost independent of the amount of brick data). Caller frees with
+ * vsv_file_free. On failure *out may hold a handle whose error says why
+ * (free it too), or NULL. */
+int vsv_file_open(const char *path, vsv_file **out);
+/* The same over a caller buffer that must outlive the handle (fuzzing, tests). */
+int vsv_file_open_mem(const void *data, size_t size, const char *name, vsv_file **out);
+void vsv_file_free(vsv_file *f);
+const char *vsv_file_error(const vsv_file *f);
+/* Borrowed, valid until vsv_file_free. */
+const vsv_meta *vsv_file_meta(const vsv_file *f);
+void vsv_file_info_get(const vsv_file *f, vsv_file_info *info);
+int64_t vsv_file_time(const vsv_file *f, int step);
+/* Borrowed quantisation of species s. */
+const vsv_quant *vsv_file_quant(const vsv_file *f, int s);
+/* Step index with exactly this time, or VSV_ENOTFOUND. */
+int vsv_file_find_time(const vsv_file *f, int64_t time);
+
+/* Decoded value of a code under a quantisation. */
+float vsv_quant_value(const vsv_quant *q, unsigned code);
+
+/* Brick geometry: first cell and extent (clipped to the grid) of brick b. */
+void vsv_file_brick_box(const vsv_file *f, int b, int org[3], int ext[3]);
+
+/* Octree of (step, species): node n of level L has min/max codes
+ * nodes[2n], nodes[2n+1]; levels are stored one after another, level 0 (one
+ * node per brick, same order as bricks) first. Node (i,j,k) of level L covers
+ * bricks [i*2^L, (i+1)*2^L) etc. dims receives the node counts per level
+ * (caller array of 3*octree_levels ints, may be NULL). Returns a borrowed
+ * pointer into the mapping (little-endian u16 pairs, read with
+ * vsv_octree_node) or NULL if the chunk index is damaged (see error). */
+const unsigned char *vsv_file_octree(vsv_file *f, int step, int s, int *dims);
+void vsv_octree_node(const unsigned char *nodes, size_t n, unsigned *min, unsigned *max);
+/* Index of the first node of level L within the octree array. */
+size_t vsv_file_octree_level_start(const vsv_file *f, int level);
+
+/* Kind of brick b at (step, species), or a negative error. */
+int vsv_file_brick_kind(vsv_file *f, int step, int s, int b);
+
+/* Verifies every checksum, padding byte and payload; decodes everything.
+ * Returns 0 or an error whose message names chunk, species, brick, offset. */
+int vsv_file_check(vsv_file *f, void (*progress)(void *ctx, int done, int total), void *ctx);
+
+/* A decoder: per-thread scratch for decoding. One per thread; the file
+ * handle may be shared. Caller frees with vsv_decoder_free. */
+typedef struct vsv_decoder vsv_decoder;
+int vsv_decoder_create(vsv_file *f, vsv_decoder **out);
+void vsv_decoder_free(vsv_decoder *d);
+const char *vsv_decoder_error(const vsv_decoder *d);
+
+/* Codes of brick b at (step, s): brick^3 values, x fastest, cells outside
+ * the grid are 0. Caller buffer. Walks back to the brick's last absolute
+ * state (at most K-1 deltas). */
+int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *codes);
+/* Advances codes of brick b from step-1 to step in place (pager use). */
+int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *codes);
+/* Floats of brick b at (step, s): brick^3 values (caller buffer). */
+int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out);
+/* The whole volume (nx*ny*nz floats, x fastest; caller buffer). */
+int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out);
+/* Dequantise n codes of species s into floats. */
+void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t n, float *out);
+
+/* ---------------------------------------------------------------- helpers */
+
+/* CRC-32C (Castagnoli) of buf, continuing from crc (start with 0). */
+uint32_t vsv_crc32c(uint32_t crc, const void *buf, size_t len);
+
+/* Number of online CPUs (>= 1). */
+int vsv_ncpus(void);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

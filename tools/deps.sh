@@ -1,0 +1,24 @@
+#!/bin/sh
+# deps.sh — the Debian packages Vesuvius needs to build and test.
+#   --names    print them
+#   --install  install the missing ones (as root), or print the exact apt-get line
+set -eu
+PKGS="build-essential pkg-config libzstd-dev zstd libgeographiclib-dev libnetcdf-dev netcdf-bin"
+missing=""
+for p in $PKGS; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+case "${1:-}" in
+--names) echo $PKGS ;;
+--install)
+    [ -z "$missing" ] && exit 0
+    if [ "$(id -u)" = 0 ]; then
+        echo "installing:$missing" >&2
+        apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $missing >&2
+    else
+        echo "missing packages; run as root:" >&2
+        echo "  sudo apt-get install -y$missing" >&2
+        exit 1
+    fi ;;
+*) echo "usage: deps.sh --names | --install" >&2; exit 2 ;;
+esac
