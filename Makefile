@@ -67,8 +67,8 @@ TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
-TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o
-FUZZ_BIN = $(B)/tests/fuzz_vsv
+TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
+FUZZ_BIN = $(B)/tests/test_fuzz
 
 .PHONY: all test demo bench install uninstall clean fuzz help deps
 all: $(LIB) $(TOOL_BIN)
@@ -102,7 +102,7 @@ $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
-$(B)/tests/fuzz_vsv: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
+$(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
 test: all $(TEST_BIN) $(FUZZ_BIN)

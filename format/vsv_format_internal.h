@@ -98,13 +98,15 @@ void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(
 
 /* Quantisation shared by writer and reader (SPEC.md "Quantisation"). */
 unsigned vsv_quant_code(const vsv_quant *q, float v);
+/* All 2^bits decoded values, bit-identical to vsv_quant_value. */
+void vsv_quant_table(const vsv_quant *q, float *out);
 /* Fills q from per-species options and the observed finite range. */
 void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos);
 
-/* Brick payload transform (SPEC.md "Brick payload"). n codes of `bits`. */
+/* Brick payload transform (SPEC.md §7) of a B^3 brick of `bits`-bit codes. */
 size_t vsv_brick_raw_bytes(int bits, size_t n);
-void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *prev, size_t n,
-                       unsigned char *out);
-void vsv_brick_inverse(int bits, int kind, const unsigned char *in, size_t n, uint16_t *state);
+void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *prev, int B, unsigned char *out);
+/* Inverse in place: ABS overwrites state, DELTA adds to it. */
+void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, uint16_t *state);
 
 #endif

@@ -478,7 +478,7 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
         }
         src = d->raw;
     }
-    vsv_brick_inverse(bits, kind, src, n, codes);
+    vsv_brick_inverse(bits, kind, src, f->lay.brick, codes);
     return 0;
 }
 
@@ -532,8 +532,7 @@ static const float *lut_of(vsv_file *f, int s)
         const unsigned n = f->quant[s].bits == 8 ? 256u : 65536u;
         l = malloc(n * sizeof *l);
         if (l) {
-            for (unsigned c = 0; c < n; c++)
-                l[c] = vsv_quant_value(&f->quant[s], c);
+            vsv_quant_table(&f->quant[s], l);
             __atomic_store_n(&f->lut[s], l, __ATOMIC_RELEASE);
         }
     }
@@ -546,7 +545,7 @@ void vsv_file_dequantise(const vsv_file *cf, int s, const uint16_t *codes, size_
     vsv_file *f = (vsv_file *)cf;
     const vsv_quant *q = &f->quant[s];
     if (q->scale == VSV_SCALE_LINEAR && q->bits == 16) {
-        const double lo = q->lo, step = (q->hi - q->lo) / 65535.0;
+        const double lo = q->lo, step = (q->hi - q->lo) / 65535.0; /* = vsv_quant_value */
         for (size_t i = 0; i < n; i++)
             out[i] = (float)(lo + codes[i] * step);
         return;

@@ -296,7 +296,7 @@ static int encode_chunk(const vsv_writer *w, scratch *sc, int t)
             if (kind != VSV_BRICK_ABS && kind != VSV_BRICK_DELTA)
                 continue;
             const size_t raw = vsv_brick_raw_bytes(q->bits, n);
-            vsv_brick_forward(q->bits, kind, sc->cur, sc->prev, n, sc->raw);
+            vsv_brick_forward(q->bits, kind, sc->cur, sc->prev, L->brick, sc->raw);
             const unsigned char *payload = sc->raw;
             size_t size = raw;
             if (w->opts.codec == VSV_CODEC_ZSTD) {

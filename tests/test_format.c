@@ -1,0 +1,510 @@
+/* test_format.c — unit and round-trip tests of the .vsv format library on
+ * synthetic series: exactness of deltas, random access, empty bricks,
+ * quantisation bounds, cross-check with the reference reader, damage and
+ * truncation at every byte, golden files. */
+#include "vsv_format_internal.h"
+#include "vsv_refread.h"
+#include "vsv_synth.h"
+#include "vsv_testlib.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void test_basics(void)
+{
+    CHECK(vsv_crc32c(0, "123456789", 9) == 0xE3069283u, "crc32c known vector");
+    uint64_t st = 7;
+    unsigned char buf[1000];
+    for (size_t i = 0; i < sizeof buf; i++)
+        buf[i] = (unsigned char)vsv_test_rand(&st);
+    int same = 1;
+    for (size_t n = 0; n < sizeof buf; n += 37)
+        same &= vsv_crc32c(0, buf, n) == ref_crc32c(buf, n);
+    CHECK(same, "crc32c equals the bitwise reference at many lengths");
+    CHECK(vsv_crc32c(vsv_crc32c(0, buf, 300), buf + 300, 700) == vsv_crc32c(0, buf, 1000), "crc32c continues");
+
+    char t[40];
+    CHECK(vsv_time_from_civil(1970, 1, 1, 0, 0, 0) == 0, "epoch is 0");
+    CHECK(vsv_time_from_civil(2000, 3, 1, 0, 0, 0) == 951868800, "2000-03-01 seconds");
+    vsv_time_format(-1, t, sizeof t);
+    CHECK(!strcmp(t, "1969-12-31T23:59:59Z"), "negative time formats", "got %s", t);
+    vsv_time_format(814492800 + 3 * 3600, t, sizeof t);
+    CHECK(!strcmp(t, "1995-10-24T03:00:00Z"), "MM5 run time formats", "got %s", t);
+    int64_t p = 0;
+    CHECK(!vsv_time_parse("1995-10-24T03:00:00Z", &p) && p == 814492800 + 3 * 3600, "ISO time parses");
+    CHECK(!vsv_time_parse("1995-10-24_03:00", &p) && p == 814492800 + 3 * 3600, "MM5-style time parses");
+    CHECK(vsv_time_parse("1995-13-24", &p) == VSV_EINVAL, "bad month rejected");
+}
+
+static void test_quant(void)
+{
+    vsv_pack_var o;
+    vsv_pack_var_init(&o);
+    vsv_quant q;
+    vsv_quant_plan(&q, &o, 200, 300, 200);
+    int ok = 1;
+    for (double v = 200; v <= 300; v += 0.0137) {
+        unsigned c = vsv_quant_code(&q, (float)v);
+        ok &= fabs(vsv_quant_value(&q, c) - (float)v) <= q.max_abs_error;
+    }
+    CHECK(ok && q.max_abs_error < 100.0 / 65535, "linear 16-bit error within bound", "bound %g", q.max_abs_error);
+    CHECK(vsv_quant_code(&q, NAN) == 0 && vsv_quant_code(&q, INFINITY) == 0, "non-finite values are code 0");
+    o.scale = VSV_SCALE_LOG;
+    o.bits = 8;
+    vsv_quant_plan(&q, &o, 0, 1e-3, 1e-9);
+    CHECK(fabs(q.lo - 1e-6) < 1e-18 && q.hi == 1e-3, "log 8-bit spans 3 decades by default", "lo %g", q.lo);
+    ok = 1;
+    for (double v = 1e-9; v <= 1e-3; v *= 1.07) {
+        unsigned c = vsv_quant_code(&q, (float)v);
+        ok &= fabs(vsv_quant_value(&q, c) - (float)v) <= q.max_abs_error;
+        ok &= v < q.lo ? c == 0 : c >= 1;
+    }
+    CHECK(ok, "log 8-bit error within bound, below floor is empty", "bound %g", q.max_abs_error);
+    CHECK(vsv_quant_code(&q, 0) == 0 && vsv_quant_value(&q, 0) == 0, "log code 0 is zero");
+}
+
+/* Decodes every (step, species) sequentially; checks the bound against the
+ * synthetic truth and remembers a CRC of each volume. */
+static void test_series(void)
+{
+    synth sy = {70, 50, 20, 120, 40, 60};
+    const char *path = vsv_test_tmp("series.vsv");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 16;
+    o.keyframe = 8;
+    vsv_pack_var pv[3];
+    for (int s = 0; s < 3; s++)
+        vsv_pack_var_init(&pv[s]);
+    pv[2].scale = VSV_SCALE_LOG;
+    o.vars = pv;
+    char err[512] = "";
+    int rc = synth_write(&sy, path, &o, err, sizeof err);
+    if (!CHECK(rc == 0, "write a 120-step, 3-species series", "%s", err))
+        return;
+    vsv_file *f = NULL;
+    rc = vsv_file_open(path, &f);
+    if (!CHECK(rc == 0, "open the series", "%s", vsv_file_error(f))) {
+        vsv_file_free(f);
+        return;
+    }
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    CHECK(info.nsteps == 120 && info.nspecies == 3 && info.nbricks == 5 * 4 * 2, "series shape");
+    const size_t cells = (size_t)70 * 50 * 20;
+    float *vol = malloc(cells * 4);
+    uint32_t crcs[120][3];
+    vsv_decoder *d = NULL;
+    vsv_decoder_create(f, &d);
+    double worst[3] = {0, 0, 0};
+    int within = 1, decoded = 1;
+    for (int t = 0; t < 120; t++)
+        for (int s = 0; s < 3; s++) {
+            if (vsv_decoder_volume(d, t, s, vol)) {
+                decoded = 0;
+                continue;
+            }
+            crcs[t][s] = vsv_crc32c(0, vol, cells * 4);
+            const vsv_quant *q = vsv_file_quant(f, s);
+            for (int k = 0; k < 20; k++)
+                for (int j = 0; j < 50; j++)
+                    for (int i = 0; i < 70; i++) {
+                        double e = fabs(vol[((size_t)k * 50 + j) * 70 + i] - synth_value(&sy, s, t, i, j, k));
+                        worst[s] = e > worst[s] ? e : worst[s];
+                        within &= e <= q->max_abs_error;
+                    }
+        }
+    CHECK(decoded, "every step decodes sequentially", "%s", vsv_decoder_error(d));
+    CHECK(within, "no drift: every value of 120 steps within the stated bound",
+          "worst %g %g %g, bounds %g %g %g", worst[0], worst[1], worst[2], vsv_file_quant(f, 0)->max_abs_error,
+          vsv_file_quant(f, 1)->max_abs_error, vsv_file_quant(f, 2)->max_abs_error);
+    printf("  worst errors: CLW %.3g (bound %.3g), T %.3g (bound %.3g), O3 %.3g (bound %.3g)\n", worst[0],
+           vsv_file_quant(f, 0)->max_abs_error, worst[1], vsv_file_quant(f, 1)->max_abs_error, worst[2],
+           vsv_file_quant(f, 2)->max_abs_error);
+
+    /* random access with fresh decoders equals the sequential decode */
+    uint64_t rs = 42;
+    int same = 1;
+    for (int n = 0; n < 60; n++) {
+        int t = (int)(vsv_test_rand(&rs) % 120), s = (int)(vsv_test_rand(&rs) % 3);
+        vsv_decoder *d2 = NULL;
+        vsv_decoder_create(f, &d2);
+        same &= vsv_decoder_volume(d2, t, s, vol) == 0 && vsv_crc32c(0, vol, cells * 4) == crcs[t][s];
+        vsv_decoder_free(d2);
+    }
+    /* and backwards with one decoder */
+    for (int t = 119; t >= 0; t -= 7)
+        same &= vsv_decoder_volume(d, t, 1, vol) == 0 && vsv_crc32c(0, vol, cells * 4) == crcs[t][1];
+    CHECK(same, "random access and backward decode equal sequential decode bit for bit");
+
+    /* one brick equals its part of the volume */
+    float *brick = malloc(16 * 16 * 16 * 4);
+    int bok = 1;
+    for (int n = 0; n < 40; n++) {
+        int t = (int)(vsv_test_rand(&rs) % 120), s = (int)(vsv_test_rand(&rs) % 3),
+            b = (int)(vsv_test_rand(&rs) % (unsigned)info.nbricks);
+        int org[3], ext[3];
+        vsv_file_brick_box(f, b, org, ext);
+        bok &= vsv_decoder_brick(d, t, s, b, brick) == 0 && vsv_decoder_volume(d, t, s, vol) == 0;
+        for (int k = 0; k < ext[2]; k++)
+            for (int j = 0; j < ext[1]; j++)
+                for (int i = 0; i < ext[0]; i++)
+                    bok &= brick[(k * 16 + j) * 16 + i] ==
+                           vol[((size_t)(org[2] + k) * 50 + org[1] + j) * 70 + org[0] + i];
+    }
+    CHECK(bok, "single-brick decode equals the volume");
+
+    /* empty bricks cost nothing; the octree says which */
+    int kinds_ok = 1, empty_seen = 0, unchanged_frozen = 1;
+    for (int t = 0; t < 120; t++) {
+        int dims[3 * 16];
+        const unsigned char *oct = vsv_file_octree(f, t, 0, dims);
+        for (int b = 0; b < info.nbricks; b++) {
+            unsigned mn, mx;
+            vsv_octree_node(oct, (size_t)b, &mn, &mx);
+            int kind = vsv_file_brick_kind(f, t, 0, b);
+            if (mx == 0) {
+                empty_seen++;
+                kinds_ok &= kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_UNCHANGED;
+            }
+            if (t > 40 && t <= 60 && t % 8)
+                unchanged_frozen &= vsv_file_brick_kind(f, t, 2, b) == VSV_BRICK_UNCHANGED;
+        }
+    }
+    CHECK(empty_seen > 0 && kinds_ok, "empty bricks are stored as EMPTY/UNCHANGED", "%d empty", empty_seen);
+    CHECK(info.stored_bricks < (uint64_t)info.nbricks * 3 * 120, "fewer payloads than bricks",
+          "%llu stored", (unsigned long long)info.stored_bricks);
+    CHECK(unchanged_frozen, "unchanged steps store no payload");
+
+    /* the octree root bounds the volume */
+    int dims[3 * 16];
+    const unsigned char *oct = vsv_file_octree(f, 77, 1, dims);
+    unsigned rmn, rmx;
+    vsv_octree_node(oct, vsv_file_octree_level_start(f, info.octree_levels - 1), &rmn, &rmx);
+    vsv_decoder_volume(d, 77, 1, vol);
+    float vmn = INFINITY, vmx = -INFINITY;
+    for (size_t i = 0; i < cells; i++) {
+        vmn = vol[i] < vmn ? vol[i] : vmn;
+        vmx = vol[i] > vmx ? vol[i] : vmx;
+    }
+    CHECK(vsv_quant_value(vsv_file_quant(f, 1), rmn) == vmn && vsv_quant_value(vsv_file_quant(f, 1), rmx) == vmx,
+          "octree root min/max equal the volume's");
+
+    /* reference reader agrees exactly */
+    size_t n = 0;
+    unsigned char *data = vsv_test_slurp(path, &n);
+    ref_file rf;
+    char rerr[200] = "";
+    int refok = data && ref_open(&rf, data, n, rerr, sizeof rerr) == 0;
+    if (refok) {
+        uint16_t *rc16 = malloc(cells * 2);
+        float *rv = malloc(cells * 4);
+        const int ts[] = {0, 7, 8, 9, 45, 63, 119};
+        for (size_t a = 0; a < sizeof ts / sizeof *ts && refok; a++)
+            for (int s = 0; s < 3 && refok; s++) {
+                refok &= ref_decode(&rf, (unsigned)ts[a], (unsigned)s, rc16, rv, rerr, sizeof rerr) == 0;
+                refok &= vsv_crc32c(0, rv, cells * 4) == crcs[ts[a]][s];
+                refok &= ref_time(&rf, (unsigned)ts[a]) == vsv_file_time(f, ts[a]);
+            }
+        free(rc16);
+        free(rv);
+        ref_close(&rf);
+    }
+    CHECK(refok, "reference reader decodes identical values", "%s", rerr);
+    CHECK(info.file_bytes * 4 < cells * 4 * 3 * 120, "file is under a quarter of raw float32",
+          "%llu bytes", (unsigned long long)info.file_bytes);
+    free(data);
+    free(brick);
+    free(vol);
+    vsv_decoder_free(d);
+    vsv_file_free(f);
+
+    /* the thread count does not change a byte */
+    const char *p1 = vsv_test_tmp("series-t1.vsv");
+    o.threads = 1;
+    synth_write(&sy, p1, &o, err, sizeof err);
+    size_t n1, n2;
+    unsigned char *a1 = vsv_test_slurp(p1, &n1), *a2 = vsv_test_slurp(path, &n2);
+    CHECK(a1 && a2 && n1 == n2 && !memcmp(a1, a2, n1), "1 and 2 encoder threads write identical files");
+    free(a1);
+    free(a2);
+    unlink(p1);
+    unlink(path);
+}
+
+/* Other brick sizes, 8 bits, log scale, codec none. */
+static void test_variants(void)
+{
+    synth sy = {37, 29, 11, 10, 3, 5};
+    const int bricks[] = {8, 32, 64};
+    for (int v = 0; v < 6; v++) {
+        vsv_pack_opts o;
+        vsv_pack_opts_init(&o);
+        vsv_pack_var pv[3];
+        for (int s = 0; s < 3; s++) {
+            vsv_pack_var_init(&pv[s]);
+            pv[s].bits = v & 1 ? 8 : 16;
+            pv[s].scale = v >= 2 && s != 1 ? VSV_SCALE_LOG : VSV_SCALE_LINEAR;
+        }
+        o.vars = pv;
+        o.brick = bricks[v % 3];
+        o.keyframe = 1 + v;
+        o.codec = v == 4 ? VSV_CODEC_NONE : VSV_CODEC_ZSTD;
+        char name[64], err[512] = "";
+        snprintf(name, sizeof name, "variant%d.vsv", v);
+        const char *path = vsv_test_tmp(name);
+        int ok = synth_write(&sy, path, &o, err, sizeof err) == 0;
+        vsv_file *f = NULL;
+        ok = ok && vsv_file_open(path, &f) == 0 && vsv_file_check(f, NULL, NULL) == 0;
+        vsv_decoder *d = NULL;
+        float *vol = malloc((size_t)37 * 29 * 11 * 4);
+        ok = ok && vsv_decoder_create(f, &d) == 0;
+        for (int t = 9; ok && t >= 0; t -= 3)
+            for (int s = 0; s < 3 && ok; s++) {
+                ok &= vsv_decoder_volume(d, t, s, vol) == 0;
+                const vsv_quant *q = vsv_file_quant(f, s);
+                for (int k = 0; k < 11; k++)
+                    for (int j = 0; j < 29; j++)
+                        for (int i = 0; i < 37; i++)
+                            ok &= fabs(vol[((size_t)k * 29 + j) * 37 + i] - synth_value(&sy, s, t, i, j, k)) <=
+                                  q->max_abs_error;
+            }
+        char label[128];
+        snprintf(label, sizeof label, "variant brick %d, %d bits, %s, K=%d, codec %s round trips within bound",
+                 o.brick, pv[0].bits, pv[0].scale ? "log" : "linear", o.keyframe, o.codec ? "zstd" : "none");
+        CHECK(ok, label, "%s %s", err, f ? vsv_file_error(f) : "");
+        free(vol);
+        vsv_decoder_free(d);
+        vsv_file_free(f);
+        unlink(path);
+    }
+}
+
+static int dir_has_temp(const char *dir)
+{
+    DIR *dp = opendir(dir);
+    int found = 0;
+    struct dirent *e;
+    while (dp && (e = readdir(dp)))
+        found |= strstr(e->d_name, ".tmp.") || strstr(e->d_name, ".spool.");
+    if (dp)
+        closedir(dp);
+    return found;
+}
+
+static void test_atomic(void)
+{
+    synth sy = {10, 10, 4, 3, 9, 9};
+    vsv_meta m;
+    vsv_meta_init(&m);
+    synth_meta(&sy, &m);
+    const char *path = vsv_test_tmp("atomic.vsv");
+    unlink(path);
+    vsv_writer *w = NULL;
+    float *f[3];
+    for (int s = 0; s < 3; s++)
+        f[s] = calloc(400, 4);
+    int rc = vsv_writer_create(path, &m, NULL, &w);
+    rc |= vsv_writer_add_step(w, 10, (const float *const *)f);
+    CHECK(rc == 0 && access(path, F_OK) != 0, "nothing at the output path before finish");
+    CHECK(vsv_writer_add_step(w, 10, (const float *const *)f) == VSV_EINVAL, "non-increasing time rejected",
+          "%s", vsv_writer_error(w));
+    vsv_writer_free(w);
+    char dir[1024];
+    snprintf(dir, sizeof dir, "%s", path);
+    *strrchr(dir, '/') = 0;
+    CHECK(access(path, F_OK) != 0 && !dir_has_temp(dir), "abandoned writer leaves no file and no temporaries");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 12;
+    CHECK(vsv_writer_create(path, &m, &o, &w) == VSV_EINVAL && strstr(vsv_writer_error(w), "brick size 12"),
+          "bad brick size rejected with a message");
+    vsv_writer_free(w);
+    w = NULL;
+    CHECK(vsv_writer_create("/nonexistent-dir/x.vsv", &m, NULL, &w) == VSV_EIO, "unwritable directory is an I/O error",
+          "%s", vsv_writer_error(w));
+    vsv_writer_free(w);
+    for (int s = 0; s < 3; s++)
+        free(f[s]);
+    vsv_meta_clear(&m);
+}
+
+/* The small file of the damage tests and the golden file. */
+static const synth small = {12, 10, 5, 5, 2, 3};
+
+static void small_opts(vsv_pack_opts *o, vsv_pack_var *pv)
+{
+    vsv_pack_opts_init(o);
+    o->brick = 8;
+    o->keyframe = 3;
+    o->threads = 1;
+    for (int s = 0; s < 3; s++)
+        vsv_pack_var_init(&pv[s]);
+    pv[0].bits = 8;
+    pv[2].scale = VSV_SCALE_LOG;
+    pv[2].bits = 8; /* keeps the per-flip decode table small: 16k flips */
+    o->vars = pv;
+}
+
+/* Every value of every (step, species) of an in-memory file, or -1. */
+static int decode_all(vsv_file *f, float *out)
+{
+    vsv_decoder *d = NULL;
+    if (vsv_decoder_create(f, &d))
+        return -1;
+    const size_t cells = (size_t)small.nx * small.ny * small.nz;
+    int rc = 0;
+    for (int t = 0; t < small.nsteps && !rc; t++)
+        for (int s = 0; s < 3 && !rc; s++)
+            rc = vsv_decoder_volume(d, t, s, out + ((size_t)t * 3 + s) * cells);
+    vsv_decoder_free(d);
+    return rc;
+}
+
+static void test_damage(void)
+{
+    const char *path = vsv_test_tmp("small.vsv");
+    vsv_pack_opts o;
+    vsv_pack_var pv[3];
+    small_opts(&o, pv);
+    char err[512];
+    if (!CHECK(synth_write(&small, path, &o, err, sizeof err) == 0, "write the small file", "%s", err))
+        return;
+    size_t n;
+    unsigned char *good = vsv_test_slurp(path, &n);
+    unsigned char *bad = malloc(n);
+    const size_t total = (size_t)small.nx * small.ny * small.nz * 3 * small.nsteps;
+    float *ref = malloc(total * 4), *got = malloc(total * 4);
+    vsv_file *f = NULL;
+    int ok = vsv_file_open_mem(good, n, "small.vsv", &f) == 0 && decode_all(f, ref) == 0 &&
+             vsv_file_check(f, NULL, NULL) == 0;
+    vsv_file_free(f);
+    CHECK(ok, "the undamaged small file checks clean");
+    printf("  small file: %zu bytes\n", n);
+    /* flip every byte: check must fail; decoding must fail or give the truth */
+    size_t undetected = 0, wrong = 0, first_undetected = 0;
+    for (size_t i = 0; i < n; i++) {
+        memcpy(bad, good, n);
+        bad[i] ^= (unsigned char)(1u << (i % 8));
+        f = NULL;
+        int rc = vsv_file_open_mem(bad, n, "flip.vsv", &f);
+        if (!rc) {
+            int drc = decode_all(f, got);
+            if (!drc && memcmp(got, ref, total * 4))
+                wrong++;
+            if (vsv_file_check(f, NULL, NULL) == 0) {
+                if (!undetected)
+                    first_undetected = i;
+                undetected++;
+            }
+        }
+        vsv_file_free(f);
+    }
+    CHECK(undetected == 0, "every flipped byte is reported by open or check", "%zu undetected, first at %zu",
+          undetected, first_undetected);
+    CHECK(wrong == 0, "no flipped byte yields a wrong value", "%zu wrong", wrong);
+    /* truncation at every length */
+    size_t accepted = 0;
+    for (size_t len = 0; len < n; len++) {
+        f = NULL;
+        if (vsv_file_open_mem(good, len, "cut.vsv", &f) == 0)
+            accepted++;
+        vsv_file_free(f);
+    }
+    CHECK(accepted == 0, "truncation at every offset is an error", "%zu accepted", accepted);
+    f = NULL;
+    int rc = vsv_file_open_mem(good, n - 100, "cut.vsv", &f);
+    CHECK(rc == VSV_ETRUNC && strstr(vsv_file_error(f), "truncated"), "truncation names itself", "%s",
+          vsv_file_error(f));
+    vsv_file_free(f);
+    /* wrong kinds of file */
+    const char *texts[] = {"", "hello world, this is not a vsv file at all\n", "\x89PNG\r\n\x1a\n0000000000000000"};
+    for (int k = 0; k < 3; k++) {
+        f = NULL;
+        rc = vsv_file_open_mem(texts[k], strlen(texts[k]), "other", &f);
+        CHECK(rc == VSV_ENOTVSV && strstr(vsv_file_error(f), "not a .vsv file"), "wrong-kind file is 'not a .vsv file'",
+              "rc %d: %s", rc, vsv_file_error(f));
+        vsv_file_free(f);
+    }
+    memcpy(bad, good, n);
+    bad[8] = 2;
+    f = NULL;
+    rc = vsv_file_open_mem(bad, n, "v2.vsv", &f);
+    CHECK(rc == VSV_EVERSION, "a future major version is refused", "%s", vsv_file_error(f));
+    vsv_file_free(f);
+    free(good);
+    free(bad);
+    free(ref);
+    free(got);
+}
+
+/* Golden files: the writer reproduces the committed file byte for byte, and
+ * each damaged golden file fails with its recorded message. */
+static void test_golden(void)
+{
+    const char *dir = getenv("GOLDEN") ? getenv("GOLDEN") : "tests/golden";
+    char gpath[1024];
+    snprintf(gpath, sizeof gpath, "%s/small.vsv", dir);
+    const char *fresh = vsv_test_tmp("golden-fresh.vsv");
+    vsv_pack_opts o;
+    vsv_pack_var pv[3];
+    small_opts(&o, pv);
+    char err[512];
+    synth_write(&small, fresh, &o, err, sizeof err);
+    size_t ng, nf;
+    unsigned char *g = vsv_test_slurp(gpath, &ng), *fr = vsv_test_slurp(fresh, &nf);
+    if (!g && getenv("VSV_REGEN_GOLDEN")) {
+        vsv_test_write(gpath, fr, nf);
+        g = vsv_test_slurp(gpath, &ng);
+    }
+    CHECK(g && fr && ng == nf && !memcmp(g, fr, ng), "writer reproduces tests/golden/small.vsv byte for byte");
+    vsv_file *f = NULL;
+    CHECK(g && vsv_file_open_mem(g, ng, "small.vsv", &f) == 0 && vsv_file_check(f, NULL, NULL) == 0,
+          "golden file opens and checks");
+    vsv_file_free(f);
+    free(fr);
+    unlink(fresh);
+    /* damaged goldens: "name<TAB>expected message part" lines */
+    char lpath[1024];
+    snprintf(lpath, sizeof lpath, "%s/bad/EXPECTED", dir);
+    FILE *lf = fopen(lpath, "r");
+    char line[512];
+    int count = 0;
+    while (lf && fgets(line, sizeof line, lf)) {
+        line[strcspn(line, "\n")] = 0;
+        char *tab = strchr(line, '\t');
+        if (!tab || line[0] == '#')
+            continue;
+        *tab = 0;
+        char bpath[1024];
+        snprintf(bpath, sizeof bpath, "%s/bad/%s", dir, line);
+        f = NULL;
+        int rc = vsv_file_open(bpath, &f);
+        if (!rc)
+            rc = vsv_file_check(f, NULL, NULL);
+        char label[1100];
+        snprintf(label, sizeof label, "damaged golden %s: %s", line, tab + 1);
+        CHECK(rc != 0 && strstr(vsv_file_error(f), tab + 1), label, "got: %s", vsv_file_error(f));
+        vsv_file_free(f);
+        count++;
+    }
+    if (lf)
+        fclose(lf);
+    CHECK(count >= 6, "damaged golden files present", "%d", count);
+    free(g);
+}
+
+int main(void)
+{
+    test_basics();
+    test_quant();
+    test_series();
+    test_variants();
+    test_atomic();
+    test_damage();
+    test_golden();
+    return vsv_test_done();
+}

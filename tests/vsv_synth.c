@@ -1,0 +1,83 @@
+/* vsv_synth.c — see vsv_synth.h. */
+#include "vsv_synth.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int64_t synth_time(int t) { return 1000000000LL + 600LL * t; }
+
+float synth_value(const synth *sy, int s, int t, int i, int j, int k)
+{
+    if (s == 2 && t >= sy->frozen_from && t <= sy->frozen_to)
+        t = sy->frozen_from;
+    const double x = (double)i / sy->nx, y = (double)j / sy->ny, z = (double)k / sy->nz;
+    if (s == 0) {
+        /* two plumes drifting east and north; exactly 0 far from them */
+        double v = 0;
+        for (int p = 0; p < 2; p++) {
+            double cx = fmod(0.2 + 0.004 * t * (p ? 1 : 1.5), 1.0), cy = 0.3 + 0.4 * p + 0.002 * t, cz = 0.4 + 0.1 * p;
+            double r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / 0.01 + (z - cz) * (z - cz) / 0.04;
+            if (r2 < 4)
+                v += 6e-4 * exp(-r2) * (1 + 0.2 * sin(0.3 * t + p));
+        }
+        return v < 1e-7 ? 0.0f : (float)v;
+    }
+    if (s == 1)
+        return (float)(290 - 60 * z + 5 * sin(6.283 * x + 0.05 * t) * cos(3.1 * y));
+    /* species 2: positive everywhere, five decades */
+    return (float)(1e-6 * pow(10.0, 5 * (0.5 + 0.5 * sin(4 * x + 3 * y + 0.1 * t) * cos(2 * z))));
+}
+
+void synth_meta(const synth *sy, vsv_meta *m)
+{
+    m->nx = sy->nx;
+    m->ny = sy->ny;
+    m->nz = sy->nz;
+    m->origin[0] = -1000e3;
+    m->origin[1] = -800e3;
+    m->origin[2] = 50;
+    m->spacing[0] = m->spacing[1] = 30e3;
+    m->spacing[2] = 500;
+    m->vert_kind = VSV_VERT_EVEN;
+    m->proj = (vsv_proj){VSV_PROJ_LCC, 38, -97, 30, 60, 6370000};
+    snprintf(m->model, sizeof m->model, "synthetic");
+    snprintf(m->run, sizeof m->run, "moving plumes for the tests");
+    vsv_meta_add_attr(m, "PTOP", "10000 Pa");
+    vsv_meta_add_var(m, "CLW", "kg/kg", "cloud water mixing ratio");
+    vsv_meta_add_var(m, "T", "K", "temperature");
+    vsv_meta_add_var(m, "O3", "ppm", "ozone");
+    vsv_meta_alloc_terrain(m);
+    for (int j = 0; j < sy->ny; j++)
+        for (int i = 0; i < sy->nx; i++)
+            m->terrain[(size_t)j * sy->nx + i] = (float)(200 + 10 * i + j);
+}
+
+int synth_write(const synth *sy, const char *path, const vsv_pack_opts *opts, char *err, size_t cap)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    synth_meta(sy, &m);
+    vsv_writer *w = NULL;
+    const size_t cells = (size_t)sy->nx * sy->ny * sy->nz;
+    float *f[3] = {malloc(cells * 4), malloc(cells * 4), malloc(cells * 4)};
+    int rc = vsv_writer_create(path, &m, opts, &w);
+    for (int t = 0; !rc && t < sy->nsteps; t++) {
+        for (int s = 0; s < 3; s++)
+            for (int k = 0; k < sy->nz; k++)
+                for (int j = 0; j < sy->ny; j++)
+                    for (int i = 0; i < sy->nx; i++)
+                        f[s][((size_t)k * sy->ny + j) * sy->nx + i] = synth_value(sy, s, t, i, j, k);
+        rc = vsv_writer_add_step(w, synth_time(t), (const float *const *)f);
+    }
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc)
+        snprintf(err, cap, "%s", vsv_writer_error(w));
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    for (int s = 0; s < 3; s++)
+        free(f[s]);
+    return rc;
+}
