@@ -71,6 +71,7 @@ TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_
 FUZZ_BIN = $(B)/tests/test_fuzz
 
 .PHONY: all test demo bench install uninstall clean fuzz help deps
+.SECONDARY:
 all: $(LIB) $(TOOL_BIN)
 
 help:

@@ -1,0 +1,133 @@
+#!/bin/sh
+# cli_tools.sh — command-line contract of vsv-extract, vsv-pack and vsv-info:
+# exit codes (0 ok, 1 data error, 2 misuse), messages "tool: file: what,
+# where", the JSON contract, atomic output. Prints PASS/FAIL lines.
+B=${B:-build}
+SHARED=${SHARED:-../shared}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+PY=/usr/bin/python3
+CTL=samples/grads/model.ctl
+[ -f "$CTL" ] || CTL="$SHARED/data/grads/model.ctl"
+
+pass() { echo "PASS $1"; }
+fail() { echo "FAIL $1: $2"; }
+# expect NAME CODE CMD... : runs CMD, checks its exit code; stdout in $T/out, stderr in $T/err
+expect() {
+    name=$1; code=$2; shift 2
+    "$@" > "$T/out" 2> "$T/err"
+    rc=$?
+    if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
+}
+# has NAME FILE TEXT : FILE contains TEXT
+has() {
+    if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi
+}
+
+for tool in vsv-extract vsv-pack vsv-info; do
+    expect "$tool --help exits 0" 0 "$B/$tool" --help
+    has "$tool --help prints usage on stdout" "$T/out" "Usage: $tool"
+    expect "$tool --version exits 0" 0 "$B/$tool" --version
+    has "$tool --version names the format" "$T/out" "format 1.0"
+    expect "$tool with an unknown option exits 2" 2 "$B/$tool" --no-such-option
+    has "$tool misuse points to --help" "$T/err" "Try '$tool --help'"
+done
+expect "vsv-pack without -o exits 2" 2 "$B/vsv-pack"
+expect "vsv-info without files exits 2" 2 "$B/vsv-info"
+
+# the pipe
+expect "vsv-extract --list" 0 "$B/vsv-extract" --list "$CTL"
+has "--list shows fields and times" "$T/out" "Geopotential Heights"
+"$B/vsv-extract" "$CTL" > "$T/stream" 2> "$T/err"
+expect "vsv-pack from stdin" 0 sh -c "'$B/vsv-pack' -o '$T/a.vsv' < '$T/stream'"
+expect "vsv-pack from a file argument" 0 "$B/vsv-pack" -q -o "$T/b.vsv" "$T/stream"
+if cmp -s "$T/a.vsv" "$T/b.vsv"; then pass "stdin and file input give identical files"; else fail "stdin and file input give identical files" "differ"; fi
+expect "vsv-info on the packed sample" 0 "$B/vsv-info" "$T/a.vsv"
+has "human summary shows the grid" "$T/out" "72 x 46 x 7 cells"
+has "human summary shows the species" "$T/out" "Geopotential Heights"
+has "human summary shows the compression ratio" "$T/out" "ratio"
+
+# JSON contract
+expect "vsv-info --json" 0 "$B/vsv-info" --json "$T/a.vsv"
+cp "$T/out" "$T/a.json"
+if $PY - "$T/a.json" <<'EOF'
+import json, sys, re
+d = json.load(open(sys.argv[1]))
+need = ["format_version", "grid", "projection", "corners", "times", "species", "bricks", "keyframe_interval", "bytes", "raw_bytes"]
+missing = [k for k in need if k not in d]
+assert not missing, missing
+g = d["grid"]
+assert (g["nx"], g["ny"], g["nz"]) == (72, 46, 7) and len(g["origin"]) == 3 and len(g["spacing"]) == 3
+assert d["projection"]["name"] == "latlon"
+assert len(d["corners"]) == 4 and all("lat" in c and "lon" in c for c in d["corners"])
+assert d["corners"][0]["lat"] == -90 and d["corners"][3]["lon"] == 355
+assert d["times"][0] == "1987-01-02T00:00:00Z" and len(d["times"]) == 5
+assert all(re.match(r"^\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ$", t) for t in d["times"])
+assert [s["name"] for s in d["species"]] == ["U", "V", "Z", "T", "Q"]
+for s in d["species"]:
+    for k in ["name", "units", "description", "min", "max", "bits", "scale", "max_abs_error"]:
+        assert k in s, k
+    assert s["bits"] == 16 and s["scale"] == "linear" and s["max_abs_error"] > 0 and s["min"] <= s["max"]
+b = d["bricks"]
+assert b["size"] == 32 and b["total"] == 6 * 5 * 5 and 0 < b["stored"] <= b["total"]
+assert d["raw_bytes"] == 72 * 46 * 7 * 4 * 5 * 5 and d["bytes"] < d["raw_bytes"]
+EOF
+then pass "JSON has the contract's keys and values"; else fail "JSON has the contract's keys and values" "see above"; fi
+expect "-f grid.nx" 0 "$B/vsv-info" -f grid.nx "$T/a.vsv"
+has "-f grid.nx is 72" "$T/out" "72"
+expect "-f times.0" 0 "$B/vsv-info" -f times.0 "$T/a.vsv"
+has "-f times.0 is the first time" "$T/out" "1987-01-02T00:00:00Z"
+expect "-f species[3].name" 0 "$B/vsv-info" -f 'species[3].name' "$T/a.vsv"
+has "-f species[3].name is T" "$T/out" "T"
+expect "-f of a missing field exits 2" 2 "$B/vsv-info" -f grid.nope "$T/a.vsv"
+expect "vsv-info --json --stats" 0 "$B/vsv-info" --json --stats "$T/a.vsv"
+if $PY -c "
+import json,sys
+d=json.load(open('$T/out'))
+st=d['stats']
+assert len(st)==25 and [r['species'] for r in st[:6]]==['U']*5+['V'] and st[1]['time']==d['times'][1]
+t=[r for r in st if r['species']=='T']
+assert all(180<r['min']<=r['mean']<=r['max']<320 for r in t)
+"; then pass "--stats gives min/max/mean per species then time"; else fail "--stats gives min/max/mean per species then time" "bad stats"; fi
+
+# checks and damage
+expect "vsv-info --check on a good file" 0 "$B/vsv-info" --check "$T/a.vsv"
+has "--check says ok" "$T/out" "ok"
+expect "vsv-info --check on a damaged payload exits 1" 1 "$B/vsv-info" --check tests/golden/bad/payload.vsv
+has "--check names chunk, species, brick and offset" "$T/err" "vsv-info: tests/golden/bad/payload.vsv: chunk 1, species 0, brick 0 (offset 4224): payload checksum mismatch"
+expect "vsv-info on a truncated file exits 1" 1 "$B/vsv-info" tests/golden/bad/truncated.vsv
+has "truncation is named" "$T/err" "truncated"
+echo "just some text" > "$T/text.vsv"
+expect "vsv-info on a text file exits 1" 1 "$B/vsv-info" "$T/text.vsv"
+has "text file is not a .vsv file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv file"
+expect "vsv-info on a missing file exits 1" 1 "$B/vsv-info" "$T/missing.vsv"
+
+# bad streams leave nothing behind
+head -c 300000 "$T/stream" > "$T/cut"
+expect "vsv-pack on a truncated stream exits 1" 1 "$B/vsv-pack" -o "$T/cut.vsv" "$T/cut"
+has "truncated stream is named with its offset" "$T/err" "truncated in frame data at byte"
+if [ ! -e "$T/cut.vsv" ] && ! ls "$T" | grep -q -e '\.tmp\.' -e '\.spool\.'; then pass "failed pack leaves no output and no temporaries"; else fail "failed pack leaves no output and no temporaries" "$(ls "$T")"; fi
+expect "vsv-pack on a .vsv instead of a stream exits 1" 1 "$B/vsv-pack" -o "$T/x.vsv" "$T/a.vsv"
+has "wrong input kind is named" "$T/err" "not a field stream"
+expect "vsv-pack --bits 12 exits 2" 2 "$B/vsv-pack" --bits 12 -o "$T/x.vsv" "$T/stream"
+expect "vsv-pack with an unknown species exits 2" 2 "$B/vsv-pack" --scale NOPE=log -o "$T/x.vsv" "$T/stream"
+has "unknown species is named" "$T/err" "no species named 'NOPE'"
+expect "vsv-pack per-species options" 0 "$B/vsv-pack" -q --bits 8 --scale Q=log --brick 16 --keyframe 2 --codec zstd:9 -o "$T/c.vsv" "$T/stream"
+"$B/vsv-info" -f species.4.scale "$T/c.vsv" > "$T/out"
+has "per-species scale recorded" "$T/out" "log"
+"$B/vsv-info" -f keyframe_interval "$T/c.vsv" > "$T/out"
+has "keyframe interval recorded" "$T/out" "2"
+expect "8-bit file checks" 0 "$B/vsv-info" --check "$T/c.vsv"
+
+# extract options
+expect "vsv-extract --vars with an unknown name exits 1" 1 "$B/vsv-extract" --vars T,NOPE "$CTL"
+has "unknown variable lists the available ones" "$T/err" "available: PS U V Z T Q TS P"
+"$B/vsv-extract" --vars T --times 1:2 "$CTL" | "$B/vsv-pack" -q -o "$T/d.vsv"
+"$B/vsv-info" -f times "$T/d.vsv" > "$T/out"
+has "--times 1:2 selects two steps" "$T/out" '["1987-01-03T00:00:00Z", "1987-01-04T00:00:00Z"]'
+"$B/vsv-extract" --vars T --times 1987-01-05: "$CTL" | "$B/vsv-pack" -q -o "$T/e.vsv"
+"$B/vsv-info" -f times "$T/e.vsv" > "$T/out"
+has "--times with an ISO start" "$T/out" '["1987-01-05T00:00:00Z", "1987-01-06T00:00:00Z"]'
+expect "vsv-extract on a non-model file exits 1" 1 "$B/vsv-extract" "$T/text.vsv"
+has "non-model file is named" "$T/err" "not a model file"
+exit 0
