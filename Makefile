@@ -116,7 +116,11 @@ demo:
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)B=$(B) sh tools/demo.sh
 
-bench: all
+BENCH_BIN = $(B)/bench/bench_format
+$(B)/bench/%: $(B)/bench/%.o $(LIB)
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+
+bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
 
 deps:

@@ -103,10 +103,12 @@ void vsv_quant_table(const vsv_quant *q, float *out);
 /* Fills q from per-species options and the observed finite range. */
 void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos);
 
-/* Brick payload transform (SPEC.md §7) of a B^3 brick of `bits`-bit codes. */
-size_t vsv_brick_raw_bytes(int bits, size_t n);
-void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *prev, int B, unsigned char *out);
-/* Inverse in place: ABS overwrites state, DELTA adds to it. */
-void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, uint16_t *state);
+/* Brick payload transform (SPEC.md §7) of the ext[0] x ext[1] x ext[2] cells
+ * inside the grid of a B^3 brick array of `bits`-bit codes. */
+size_t vsv_brick_raw_bytes(int bits, const int ext[3]);
+void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *prev, int B, const int ext[3],
+                       unsigned char *out);
+/* Inverse in place: ABS overwrites the cells inside the grid, DELTA adds to them. */
+void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state);
 
 #endif

@@ -275,8 +275,10 @@ static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t ca
     const int key = t % f->keyframe == 0;
     for (int s = 0; s < f->meta.nvars; s++) {
         const unsigned char *tab = c + VSV_CHUNK_HEADER_SIZE + (size_t)s * f->lay.species_index_bytes + f->lay.octree_bytes;
-        const size_t raw = vsv_brick_raw_bytes(f->quant[s].bits, (size_t)f->lay.brick * f->lay.brick * f->lay.brick);
         for (int b = 0; b < f->lay.nbricks; b++) {
+            int org[3], ext[3];
+            vsv_layout_box(&f->lay, b, org, ext);
+            const size_t raw = vsv_brick_raw_bytes(f->quant[s].bits, ext);
             const unsigned char *be = tab + (size_t)b * VSV_BRICK_ENTRY_SIZE;
             const int kind = be[0];
             const uint64_t off = vsv_rd64(be + 8);
@@ -458,7 +460,9 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
         return 0;
     }
     const int bits = f->quant[s].bits;
-    const size_t raw = vsv_brick_raw_bytes(bits, n);
+    int org[3], ext[3];
+    vsv_layout_box(&f->lay, b, org, ext);
+    const size_t raw = vsv_brick_raw_bytes(bits, ext);
     const uint64_t off = vsv_rd64(be + 8);
     const uint32_t size = vsv_rd32(be + 16);
     const unsigned char *p = c + off;
@@ -478,7 +482,7 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
         }
         src = d->raw;
     }
-    vsv_brick_inverse(bits, kind, src, f->lay.brick, codes);
+    vsv_brick_inverse(bits, kind, src, f->lay.brick, ext, codes);
     return 0;
 }
 
@@ -500,6 +504,10 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
     int rc = check_args(f, step, s, b, d->err, sizeof d->err);
     if (rc)
         return rc;
+    int org[3], ext[3];
+    vsv_layout_box(&f->lay, b, org, ext);
+    if (ext[0] < f->lay.brick || ext[1] < f->lay.brick || ext[2] < f->lay.brick)
+        memset(codes, 0, (size_t)f->lay.brick * f->lay.brick * f->lay.brick * sizeof *codes);
     /* walk back to the brick's last absolute state (never past a keyframe) */
     int t0 = step;
     for (;;) {
@@ -623,7 +631,7 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
         return bad(f, rc, "out of memory");
     const vsv_layout *L = &f->lay;
     const size_t n = (size_t)L->brick * L->brick * L->brick;
-    uint16_t *state = malloc((size_t)f->meta.nvars * L->nbricks * n * sizeof *state);
+    uint16_t *state = calloc((size_t)f->meta.nvars * L->nbricks * n, sizeof *state);
     if (!state) {
         vsv_decoder_free(d);
         return bad(f, VSV_ENOMEM, "out of memory");

@@ -295,8 +295,10 @@ static int encode_chunk(const vsv_writer *w, scratch *sc, int t)
             e[0] = (unsigned char)kind;
             if (kind != VSV_BRICK_ABS && kind != VSV_BRICK_DELTA)
                 continue;
-            const size_t raw = vsv_brick_raw_bytes(q->bits, n);
-            vsv_brick_forward(q->bits, kind, sc->cur, sc->prev, L->brick, sc->raw);
+            int org[3], ext[3];
+            vsv_layout_box(L, b, org, ext);
+            const size_t raw = vsv_brick_raw_bytes(q->bits, ext);
+            vsv_brick_forward(q->bits, kind, sc->cur, sc->prev, L->brick, ext, sc->raw);
             const unsigned char *payload = sc->raw;
             size_t size = raw;
             if (w->opts.codec == VSV_CODEC_ZSTD) {

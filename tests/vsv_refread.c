@@ -140,9 +140,8 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
     const size_t O = (4 * (size_t)nodes_of(rf) + 7) / 8 * 8, S = O + 24 * (size_t)nb;
     const ref_species *sp = &rf->sp[s];
     const unsigned mask = sp->bits == 8 ? 0xff : 0xffff;
-    const size_t raw = sp->bits == 8 ? cells : 2 * (size_t)cells;
     uint16_t *state = calloc((size_t)nb * cells, 2);
-    unsigned char *buf = malloc(raw);
+    unsigned char *buf = malloc(2 * (size_t)cells);
     if (!state || !buf)
         FAIL("memory");
     for (unsigned u = 0; u <= t; u++) {
@@ -176,6 +175,13 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
                 free(state); free(buf);
                 FAIL("chunk %u brick %u kind %u", u, b, kind);
             }
+            unsigned inside = 1;
+            for (int a = 0; a < 3; a++) {
+                unsigned n = a == 0 ? rf->nx : a == 1 ? rf->ny : rf->nz;
+                unsigned idx = a == 0 ? b % bx : a == 1 ? b / bx % by : b / (bx * by);
+                inside *= n - idx * B < B ? n - idx * B : B;
+            }
+            const size_t raw = sp->bits == 8 ? inside : 2 * (size_t)inside;
             const unsigned char *p = c + get(e + 8, 8);
             size_t size = get(e + 16, 4);
             if (ref_crc32c(p, size) != get(e + 4, 4)) {
@@ -195,15 +201,23 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
                 }
                 memcpy(buf, p, raw);
             }
-            unsigned prev = 0;
-            for (unsigned i = 0; i < cells; i++) {
-                unsigned z = sp->bits == 8 ? buf[i] : (unsigned)buf[i] | ((unsigned)buf[cells + i] << 8);
-                /* undo zigzag: s = (z >> 1) ^ -(z & 1), as a bits-wide integer */
-                unsigned r = ((z >> 1) ^ (0u - (z & 1))) & mask;
-                unsigned v = kind == 2 ? (prev + r) & mask : (st[i] + r) & mask;
-                st[i] = (uint16_t)v;
-                prev = v;
-            }
+            /* the payload covers the brick's cells inside the grid only */
+            unsigned prev = 0, m = 0;
+            for (unsigned k = 0; k < B; k++)
+                for (unsigned j = 0; j < B; j++)
+                    for (unsigned i = 0; i < B; i++) {
+                        if ((b % bx) * B + i >= rf->nx || (b / bx % by) * B + j >= rf->ny ||
+                            (b / (bx * by)) * B + k >= rf->nz)
+                            continue;
+                        unsigned z = sp->bits == 8 ? buf[m] : (unsigned)buf[m] | ((unsigned)buf[inside + m] << 8);
+                        /* undo zigzag: s = (z >> 1) ^ -(z & 1), as a bits-wide integer */
+                        unsigned r = ((z >> 1) ^ (0u - (z & 1))) & mask;
+                        unsigned at = i + B * (j + B * k);
+                        unsigned v = kind == 2 ? (prev + r) & mask : (st[at] + r) & mask;
+                        st[at] = (uint16_t)v;
+                        prev = v;
+                        m++;
+                    }
         }
     }
     for (unsigned k = 0; k < rf->nz; k++)
