@@ -251,6 +251,12 @@ const vsv_quant *vsv_file_quant(const vsv_file *f, int s);
 /* Step index with exactly this time, or VSV_ENOTFOUND. */
 int vsv_file_find_time(const vsv_file *f, int64_t time);
 
+/* The default transfer function text (SPEC.md §14) for a species, chosen by
+ * its name (cloud, rain, ice, snow, ozone, NOx, PM, smoke; others viridis)
+ * over its quantisation range; writes into buf (cap bytes). The writer
+ * stores it for every species that has none. */
+void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap);
+
 /* Decoded value of a code under a quantisation. */
 float vsv_quant_value(const vsv_quant *q, unsigned code);
 

@@ -417,6 +417,16 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
     umask(um);
     fchmod(w->out_fd, 0666 & ~um);
 
+    /* every species carries a default transfer function */
+    if (!w->meta.tf && !(w->meta.tf = calloc((size_t)ns + 1, sizeof(char *))))
+        return VSV_ENOMEM;
+    for (int s = 0; s < ns; s++)
+        if (!w->meta.tf[s]) {
+            char tf[512];
+            vsv_tf_default(w->meta.vars[s].name, &w->quant[s], tf, sizeof tf);
+            if (!(w->meta.tf[s] = strdup(tf)))
+                return VSV_ENOMEM;
+        }
     vsv_buf meta = {0};
     if (vsv_meta_encode(&w->meta, w->quant, &meta)) {
         vsv_buf_free(&meta);

@@ -68,6 +68,7 @@ for s in d["species"]:
     for k in ["name", "units", "description", "min", "max", "bits", "scale", "max_abs_error"]:
         assert k in s, k
     assert s["bits"] == 16 and s["scale"] == "linear" and s["max_abs_error"] > 0 and s["min"] <= s["max"]
+assert all("colormap" in s["transfer_function"] for s in d["species"])
 b = d["bricks"]
 assert b["size"] == 32 and b["total"] == 6 * 5 * 5 and 0 < b["stored"] <= b["total"]
 assert d["raw_bytes"] == 72 * 46 * 7 * 4 * 5 * 5 and d["bytes"] < d["raw_bytes"]
