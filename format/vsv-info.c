@@ -17,7 +17,8 @@ static const char usage[] =
     "  -j, --json           one JSON object per file (a stable contract for scripts)\n"
     "  -f, --field PATH     print one value of the JSON, e.g. grid.nx, times.0,\n"
     "                       species.1.max_abs_error, bricks.stored\n"
-    "  -s, --stats          add min/max/mean per species and time (decodes all)\n"
+    "  -s, --stats          add min/max/mean per species and time over the cells\n"
+    "                       with data (decodes all)\n"
     "  -c, --check          verify every checksum and padding byte, decode\n"
     "                       everything; exit 1 naming the damage\n"
     "  -q, --quiet          no progress bar\n"
@@ -52,12 +53,16 @@ static stat_row *compute_stats(vsv_file *f, const char *path)
             if (vsv_decoder_volume(d, t, s, buf))
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));
             double mn = INFINITY, mx = -INFINITY, sum = 0;
+            size_t n = 0;
             for (size_t i = 0; i < cells; i++) {
+                if (isnan(buf[i]))
+                    continue; /* no-data cells */
                 mn = buf[i] < mn ? buf[i] : mn;
                 mx = buf[i] > mx ? buf[i] : mx;
                 sum += buf[i];
+                n++;
             }
-            rows[(size_t)s * info.nsteps + t] = (stat_row){mn, mx, sum / (double)cells};
+            rows[(size_t)s * info.nsteps + t] = n ? (stat_row){mn, mx, sum / (double)n} : (stat_row){NAN, NAN, NAN};
             vsv_cli_progress((void *)path, s * info.nsteps + t + 1, m->nvars * info.nsteps);
         }
     vsv_decoder_free(d);
@@ -160,6 +165,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
         vsv_json_set(sj, "bits", vsv_json_int(q->bits));
         vsv_json_set(sj, "scale", vsv_json_string(scale_name(q->scale)));
         vsv_json_set(sj, "max_abs_error", vsv_json_number(q->max_abs_error));
+        vsv_json_set(sj, "no_data", vsv_json_bool(q->missing));
         vsv_json_set(sj, "range_lo", vsv_json_number(q->lo));
         vsv_json_set(sj, "range_hi", vsv_json_number(q->hi));
         if (m->tf && m->tf[s])

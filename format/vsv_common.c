@@ -448,7 +448,7 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
 
 static unsigned code_max(int bits) { return bits == 8 ? 255u : 65535u; }
 
-void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos)
+void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos, int missing)
 {
     memset(q, 0, sizeof *q);
     q->bits = opt->bits == 8 ? 8 : 16;
@@ -462,9 +462,10 @@ void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double d
         q->lo = fixed ? opt->lo : (dmin <= dmax ? dmin : 0);
         q->hi = fixed ? opt->hi : (dmin <= dmax ? dmax : 0);
         q->threshold = isnan(opt->threshold) ? -INFINITY : opt->threshold;
-        const double step = (q->hi - q->lo) / M;
+        q->missing = missing != 0;
+        const double step = (q->hi - q->lo) / (q->missing ? M - 1 : M);
         err = step / 2;
-        if (q->threshold > q->lo && dmin < q->threshold)
+        if (q->threshold > q->lo && dmin < q->threshold && !q->missing)
             err = fmax(err, q->threshold - q->lo);
         if (dmin < q->lo)
             err = fmax(err, q->lo - dmin);
@@ -498,11 +499,12 @@ unsigned vsv_quant_code(const vsv_quant *q, float v)
         return 0;
     double c;
     if (q->scale == VSV_SCALE_LINEAR) {
+        const unsigned first = q->missing ? 1 : 0;
         if (!(q->hi > q->lo))
-            return 0;
-        c = floor((v - q->lo) / ((q->hi - q->lo) / M) + 0.5);
-        if (c < 0)
-            c = 0;
+            return first;
+        c = first + floor((v - q->lo) / ((q->hi - q->lo) / (M - first)) + 0.5);
+        if (c < first)
+            c = first;
     } else {
         if (!(v > 0))
             return 0;
@@ -519,8 +521,11 @@ unsigned vsv_quant_code(const vsv_quant *q, float v)
  * give bit-identical floats. */
 static inline float quant_value(const vsv_quant *q, double step_or_d, double lnlo, unsigned code)
 {
-    if (q->scale == VSV_SCALE_LINEAR)
+    if (q->scale == VSV_SCALE_LINEAR) {
+        if (q->missing)
+            return code ? (float)(q->lo + (code - 1) * step_or_d) : NAN;
         return (float)(q->lo + code * step_or_d);
+    }
     if (code == 0)
         return 0.0f;
     return (float)exp(lnlo + (code - 1) * step_or_d);
@@ -529,7 +534,9 @@ static inline float quant_value(const vsv_quant *q, double step_or_d, double lnl
 static double quant_step(const vsv_quant *q)
 {
     const double M = code_max(q->bits);
-    return q->scale == VSV_SCALE_LINEAR ? (q->hi - q->lo) / M : (log(q->hi) - log(q->lo)) / (M - 1);
+    if (q->scale == VSV_SCALE_LINEAR)
+        return (q->hi - q->lo) / (q->missing ? M - 1 : M);
+    return (log(q->hi) - log(q->lo)) / (M - 1);
 }
 
 float vsv_quant_value(const vsv_quant *q, unsigned code)

@@ -72,11 +72,13 @@ typedef struct vsv_var {
     char description[128];
 } vsv_var;
 
-/* Quantisation of one species inside a .vsv (SPEC.md "QUAN"): plain info.
- * code 0 decodes to `lo` (linear) or to 0 (log); see vsv_quant_value. */
+/* Quantisation of one species inside a .vsv (SPEC.md §6): plain info.
+ * Code 0 is "nothing here": it decodes to `lo` (linear), to NaN (linear with
+ * `missing`, when the data had no-data cells) or to 0 (log). */
 typedef struct vsv_quant {
     int bits;          /* 8 or 16 */
     int scale;         /* VSV_SCALE_* */
+    int missing;       /* linear only: code 0 means no data (decodes to NaN) */
     double lo, hi;     /* the range the codes span */
     double threshold;  /* values below it were stored as code 0 */
     double max_abs_error; /* bound on |decoded - original| for finite inputs */

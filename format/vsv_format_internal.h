@@ -101,7 +101,8 @@ unsigned vsv_quant_code(const vsv_quant *q, float v);
 /* All 2^bits decoded values, bit-identical to vsv_quant_value. */
 void vsv_quant_table(const vsv_quant *q, float *out);
 /* Fills q from per-species options and the observed finite range. */
-void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos);
+/* missing: the data had non-finite (no-data) values. */
+void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos, int missing);
 
 /* Brick payload transform (SPEC.md §7) of the ext[0] x ext[1] x ext[2] cells
  * inside the grid of a B^3 brick array of `bits`-bit codes. */

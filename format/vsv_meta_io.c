@@ -77,7 +77,7 @@ int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, vsv_buf *b)
             TRY(vsv_buf_u32(b, (uint32_t)i));
             TRY(vsv_buf_u32(b, (uint32_t)q->bits));
             TRY(vsv_buf_u32(b, (uint32_t)q->scale));
-            TRY(vsv_buf_u32(b, 0));
+            TRY(vsv_buf_u32(b, q->missing ? 1u : 0u));
             TRY(vsv_buf_f64(b, q->lo));
             TRY(vsv_buf_f64(b, q->hi));
             TRY(vsv_buf_f64(b, q->threshold));
@@ -271,7 +271,9 @@ int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **q
             vsv_quant *q = &quant[i];
             q->bits = (int)get32(&c);
             q->scale = (int)get32(&c);
-            if (get32(&c) != 0)
+            const uint32_t flags = get32(&c);
+            q->missing = flags & 1;
+            if (flags > 1 || (q->missing && q->scale != VSV_SCALE_LINEAR))
                 c.bad = 1;
             q->lo = getf64(&c);
             q->hi = getf64(&c);

@@ -552,7 +552,7 @@ void vsv_file_dequantise(const vsv_file *cf, int s, const uint16_t *codes, size_
 {
     vsv_file *f = (vsv_file *)cf;
     const vsv_quant *q = &f->quant[s];
-    if (q->scale == VSV_SCALE_LINEAR && q->bits == 16) {
+    if (q->scale == VSV_SCALE_LINEAR && q->bits == 16 && !q->missing) {
         const double lo = q->lo, step = (q->hi - q->lo) / 65535.0; /* = vsv_quant_value */
         for (size_t i = 0; i < n; i++)
             out[i] = (float)(lo + codes[i] * step);

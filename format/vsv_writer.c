@@ -21,6 +21,7 @@
 
 typedef struct stats {
     double min, max, minpos;
+    uint64_t nonfinite;
 } stats;
 
 typedef struct scratch {
@@ -204,8 +205,10 @@ int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
         stats s = w->st[v];
         for (size_t i = 0; i < w->cells; i++) {
             float x = f[i];
-            if (!isfinite(x))
+            if (!isfinite(x)) {
+                s.nonfinite++;
                 continue;
+            }
             if (x < s.min)
                 s.min = x;
             if (x > s.max)
@@ -401,7 +404,8 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
     }
     for (int s = 0; s < ns; s++) {
         const stats *st = &w->st[s];
-        vsv_quant_plan(&w->quant[s], &w->vars[s], st->min, st->max, st->minpos < INFINITY ? st->minpos : 0);
+        vsv_quant_plan(&w->quant[s], &w->vars[s], st->min, st->max, st->minpos < INFINITY ? st->minpos : 0,
+                       st->nonfinite > 0);
     }
     w->spool_bytes = (size_t)w->nsteps * (size_t)ns * w->cells * 4;
     void *map = mmap(NULL, w->spool_bytes, PROT_READ, MAP_PRIVATE, w->spool_fd, 0);

@@ -88,7 +88,7 @@ d=json.load(open('$T/out'))
 st=d['stats']
 assert len(st)==25 and [r['species'] for r in st[:6]]==['U']*5+['V'] and st[1]['time']==d['times'][1]
 t=[r for r in st if r['species']=='T']
-assert all(180<r['min']<=r['mean']<=r['max']<320 for r in t)
+assert all(180<r['min']<=r['mean']<=r['max']<320 for r in t) and t[0]['min'] > 197, 'no-data cells must not count'
 "; then pass "--stats gives min/max/mean per species then time"; else fail "--stats gives min/max/mean per species then time" "bad stats"; fi
 
 # checks and damage

@@ -44,7 +44,7 @@ static void test_quant(void)
     vsv_pack_var o;
     vsv_pack_var_init(&o);
     vsv_quant q;
-    vsv_quant_plan(&q, &o, 200, 300, 200);
+    vsv_quant_plan(&q, &o, 200, 300, 200, 0);
     int ok = 1;
     for (double v = 200; v <= 300; v += 0.0137) {
         unsigned c = vsv_quant_code(&q, (float)v);
@@ -52,9 +52,14 @@ static void test_quant(void)
     }
     CHECK(ok && q.max_abs_error < 100.0 / 65535, "linear 16-bit error within bound", "bound %g", q.max_abs_error);
     CHECK(vsv_quant_code(&q, NAN) == 0 && vsv_quant_code(&q, INFINITY) == 0, "non-finite values are code 0");
+    vsv_quant_plan(&q, &o, 200, 300, 200, 1);
+    ok = q.missing && vsv_quant_code(&q, 200) == 1 && vsv_quant_code(&q, 300) == 65535 && isnan(vsv_quant_value(&q, 0));
+    for (double v = 200; v <= 300; v += 0.0137)
+        ok &= fabs(vsv_quant_value(&q, vsv_quant_code(&q, (float)v)) - (float)v) <= q.max_abs_error;
+    CHECK(ok, "linear with no-data cells: code 0 decodes to NaN, values within bound");
     o.scale = VSV_SCALE_LOG;
     o.bits = 8;
-    vsv_quant_plan(&q, &o, 0, 1e-3, 1e-9);
+    vsv_quant_plan(&q, &o, 0, 1e-3, 1e-9, 0);
     CHECK(fabs(q.lo - 1e-6) < 1e-18 && q.hi == 1e-3, "log 8-bit spans 3 decades by default", "lo %g", q.lo);
     ok = 1;
     for (double v = 1e-9; v <= 1e-3; v *= 1.07) {

@@ -93,6 +93,7 @@ int ref_open(ref_file *rf, const unsigned char *d, size_t n, char *err, size_t c
                 FAIL("QUAN");
             rf->sp[s].bits = (unsigned)get(r + 12, 4);
             rf->sp[s].scale = (unsigned)get(r + 16, 4);
+            rf->sp[s].missing = (unsigned)get(r + 20, 4) & 1;
             rf->sp[s].lo = getd(r + 24);
             rf->sp[s].hi = getd(r + 32);
             rf->sp[s].threshold = getd(r + 40);
@@ -111,6 +112,8 @@ int64_t ref_time(const ref_file *rf, unsigned t) { return (int64_t)get(rf->d + r
 static float value(const ref_species *sp, unsigned c)
 {
     double M = sp->bits == 8 ? 255 : 65535;
+    if (sp->scale == 0 && sp->missing)
+        return c == 0 ? NAN : (float)(sp->lo + (c - 1) * ((sp->hi - sp->lo) / (M - 1)));
     if (sp->scale == 0)
         return (float)(sp->lo + c * ((sp->hi - sp->lo) / M));
     if (c == 0)

@@ -10,7 +10,7 @@
 
 typedef struct ref_species {
     char name[64];
-    unsigned bits, scale;
+    unsigned bits, scale, missing;
     double lo, hi, threshold, max_abs_error;
 } ref_species;
 
