@@ -42,7 +42,7 @@ static size_t total(const dataset *d) { return cells(d) * d->meta.nvars * d->nt;
 static int load_source(dataset *d, const char *path, const char *const *vars, int nv)
 {
     vsv_source *s = NULL;
-    if (vsv_source_open(path, &s)) {
+    if (vsv_source_open(path, NULL, &s)) {
         fprintf(stderr, "%s\n", vsv_source_error(s));
         vsv_source_free(s);
         return -1;

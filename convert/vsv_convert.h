@@ -13,14 +13,28 @@ typedef struct vsv_field_info {
     char name[64];
     char units[64];
     char description[128];
-    int nlevels;       /* 0 for a 2-D field */
-    int is_default;    /* extracted when no --vars is given */
+    char ordering[16];  /* the model's own layout name, e.g. "YXS", or "" */
+    int nlevels;        /* 0 for a 2-D field */
+    int is_volume;      /* can be extracted onto the 3-D grid */
+    int is_default;     /* extracted when no --vars is given */
 } vsv_field_info;
 
-/* Opens a model file, detecting its format from its content. Caller frees
- * with vsv_source_free; on failure *out may hold a handle whose error says
- * why (free it too). */
-int vsv_source_open(const char *path, vsv_source **out);
+/* How a source builds its grid: plain info. */
+typedef struct vsv_source_opts {
+    int vertical;       /* VSV_VERT_EVEN (default) or VSV_VERT_NATIVE */
+    int nz;             /* even: number of levels (0: 40) */
+    double ztop;        /* even: top of the grid, m above sea level (0: the model top) */
+} vsv_source_opts;
+
+void vsv_source_opts_init(vsv_source_opts *o);
+
+/* Opens a model file, detecting its format from its content. opts may be
+ * NULL for defaults. Caller frees with vsv_source_free; on failure *out may
+ * hold a handle whose error says why (free it too). */
+int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **out);
+/* A human description of the file's own header (e.g. MM5's big header and
+ * field list); caller frees with free(). NULL if the format has none. */
+char *vsv_source_summary(vsv_source *s);
 void vsv_source_free(vsv_source *s);
 const char *vsv_source_error(const vsv_source *s);
 /* Short format name, e.g. "GrADS". */
@@ -36,5 +50,60 @@ int64_t vsv_source_time(const vsv_source *s, int t);
 /* Reads field i at time t into out (nx*ny*nz floats of the grid, x fastest;
  * levels a field lacks and missing values are NaN). */
 int vsv_source_read(vsv_source *s, int field, int t, float *out);
+
+/* Command-line options of the vertical grid (--vertical even|native, --nz,
+ * --ztop), shared by vsv-extract and vsv-convert. */
+enum { VSV_SOURCE_OPT_VERTICAL = 2000, VSV_SOURCE_OPT_NZ, VSV_SOURCE_OPT_ZTOP };
+#define VSV_SOURCE_LONGOPTS                                                                        \
+    {"vertical", required_argument, 0, VSV_SOURCE_OPT_VERTICAL},                                   \
+        {"nz", required_argument, 0, VSV_SOURCE_OPT_NZ}, {"ztop", required_argument, 0, VSV_SOURCE_OPT_ZTOP}
+#define VSV_SOURCE_HELP                                                                            \
+    "Vertical grid:\n"                                                                             \
+    "  --vertical even|native  even heights above sea level (default; cells below\n"              \
+    "                       the ground are empty) or the model's own levels\n"                    \
+    "  --nz N               even: number of levels (default 40)\n"                                \
+    "  --ztop METRES        even: top of the grid (default: the model top)\n"
+/* 1 if id was one of these options, 0 if not, -1 for a bad value. */
+int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg);
+
+/* ------------------------------------------------------------ a run */
+
+/* Several model files forming one run in time order (the extraction both
+ * vsv-extract and vsv-convert do): same grid and fields in every file,
+ * files sorted by their first time, no overlaps, no gaps. */
+typedef struct vsv_run vsv_run;
+
+/* vars: comma-separated names or NULL for the default fields; times: "A:B"
+ * (indices or ISO times, either end may be empty) or NULL. Caller frees with
+ * vsv_run_free; on failure *out may hold a handle whose error says why. */
+int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars,
+                 const char *times, vsv_run **out);
+void vsv_run_free(vsv_run *r);
+const char *vsv_run_error(const vsv_run *r);
+/* Grid and selected variables; borrowed until free. */
+const vsv_meta *vsv_run_meta(const vsv_run *r);
+int vsv_run_nframes(const vsv_run *r);
+int64_t vsv_run_time(const vsv_run *r, int i);
+/* Reads frame i: fields[v] are caller buffers of nx*ny*nz floats. */
+int vsv_run_read(vsv_run *r, int i, float *const *fields);
+/* Bytes of model input the run covers (for throughput figures). */
+uint64_t vsv_run_input_bytes(const vsv_run *r);
+
+/* ------------------------------------------------------- interpolation */
+
+/* Linear interpolation in time between consecutive frames onto the times
+ * t0 + k*dt (t0 = the first frame's time); original frames pass through
+ * unchanged. An interpolated value is
+ *   (float)(a + (b - a) * w),  w = (t - ta) / (tb - ta)  (in double),
+ * NaN where a or b is NaN. */
+typedef struct vsv_interp vsv_interp;
+typedef int (*vsv_frame_fn)(void *ctx, int64_t time, const float *const *fields);
+
+/* nfields fields of cells floats each; emit receives every output frame. */
+int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, void *ctx, vsv_interp **out);
+/* Feeds the next input frame (times strictly increase); returns emit's
+ * first non-zero result, or 0. */
+int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields);
+void vsv_interp_free(vsv_interp *ip);
 
 #endif

@@ -123,6 +123,7 @@ static int grads_open(vsv_source *s)
             desc[strcspn(desc, "\r\n")] = 0;
             snprintf(f->description, sizeof f->description, "%s", desc);
             f->nlevels = lev;
+            f->is_volume = 1;
             f->is_default = lev > 0;
             s->nfields++;
             continue;
@@ -355,4 +356,4 @@ static void grads_close(vsv_source *s)
     free(g);
 }
 
-const vsv_source_ops vsv_grads_ops = {"GrADS", grads_probe, grads_open, grads_read, grads_close};
+const vsv_source_ops vsv_grads_ops = {"GrADS", grads_probe, grads_open, grads_read, grads_close, NULL};

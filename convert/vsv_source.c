@@ -42,13 +42,25 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
     return rc;
 }
 
-static const vsv_source_ops *const readers[] = {&vsv_grads_ops};
+static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_grads_ops};
 
-int vsv_source_open(const char *path, vsv_source **out)
+void vsv_source_opts_init(vsv_source_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->vertical = VSV_VERT_EVEN;
+}
+
+char *vsv_source_summary(vsv_source *s) { return s->ops && s->ops->summary ? s->ops->summary(s) : NULL; }
+
+int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **out)
 {
     vsv_source *s = *out = calloc(1, sizeof *s);
     if (!s)
         return VSV_ENOMEM;
+    if (opts)
+        s->opts = *opts;
+    else
+        vsv_source_opts_init(&s->opts);
     snprintf(s->path, sizeof s->path, "%s", path);
     vsv_meta_init(&s->grid);
     FILE *fp = fopen(path, "rb");
@@ -62,7 +74,7 @@ int vsv_source_open(const char *path, vsv_source **out)
             s->ops = readers[i];
             return readers[i]->open(s);
         }
-    return vsv_source_fail(s, VSV_ENOTVSV, "not a model file Vesuvius reads (GrADS .ctl)");
+    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (GrADS .ctl)");
 }
 
 void vsv_source_free(vsv_source *s)
@@ -75,4 +87,34 @@ void vsv_source_free(vsv_source *s)
     free(s->fields);
     free(s->times);
     free(s);
+}
+
+int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
+{
+    char *end;
+    switch (id) {
+    case VSV_SOURCE_OPT_VERTICAL:
+        if (!strcmp(arg, "even"))
+            o->vertical = VSV_VERT_EVEN;
+        else if (!strcmp(arg, "native"))
+            o->vertical = VSV_VERT_NATIVE;
+        else
+            return -1;
+        return 1;
+    case VSV_SOURCE_OPT_NZ: {
+        long v = strtol(arg, &end, 10);
+        if (*end || v < 1 || v > 4096)
+            return -1;
+        o->nz = (int)v;
+        return 1;
+    }
+    case VSV_SOURCE_OPT_ZTOP: {
+        double v = strtod(arg, &end);
+        if (*end || !(v > 0 && v < 1e6))
+            return -1;
+        o->ztop = v;
+        return 1;
+    }
+    default: return 0;
+    }
 }

@@ -12,6 +12,7 @@ typedef struct vsv_source_ops {
     int (*open)(vsv_source *s);
     int (*read)(vsv_source *s, int field, int t, float *out);
     void (*close)(vsv_source *s);
+    char *(*summary)(vsv_source *s); /* may be NULL */
 } vsv_source_ops;
 
 struct vsv_source {
@@ -23,6 +24,7 @@ struct vsv_source {
     int nfields;
     int64_t *times;
     int ntimes;
+    vsv_source_opts opts;
     void *priv;
 };
 
@@ -30,5 +32,6 @@ struct vsv_source {
 int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
 extern const vsv_source_ops vsv_grads_ops;
+extern const vsv_source_ops vsv_mm5_ops;
 
 #endif

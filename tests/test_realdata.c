@@ -182,7 +182,7 @@ static void test_netcdf(void)
 static void test_grads(void)
 {
     vsv_source *src = NULL;
-    int rc = vsv_source_open(vsv_test_shared("grads/model.ctl"), &src);
+    int rc = vsv_source_open(vsv_test_shared("grads/model.ctl"), NULL, &src);
     if (!CHECK(rc == 0, "GrADS model.ctl opens", "%s", vsv_source_error(src))) {
         vsv_source_free(src);
         return;

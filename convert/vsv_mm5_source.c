@@ -1,0 +1,431 @@
+/* vsv_mm5_source.c — MM5 v3 output as a Vesuvius source: the cross-point
+ * grid (dot fields averaged to cross points, the last row and column of
+ * cross fields dropped), projection metres from the big header, sigma levels
+ * turned into heights with MM5's reference-state formula (fixed in time),
+ * then either kept (native) or resampled per column onto even heights with
+ * cells below the ground empty. INPUT-FORMATS.md §1 has every formula. */
+#include "vsv_mm5.h"
+#include "vsv_source_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define R_DRY 287.04
+#define G0 9.81
+
+typedef struct mm5src {
+    vsv_mm5 *m;
+    int IX, JX, KX, nx, ny;
+    int has_sigma;
+    float *zn;       /* KX*ny*nx heights of the half-sigma levels, k bottom-up */
+    int16_t *lev;    /* even: lower native level per cell, -1 = no data */
+    float *wt;       /* even: weight of the upper level */
+    float *raw;      /* scratch: one record */
+    float *nat;      /* scratch: native cross volume */
+    int *period_of;  /* source time → MM5 period */
+} mm5src;
+
+static int mm5_probe(const unsigned char *h, size_t n) { return vsv_mm5_probe(h, n); }
+
+/* Height (m above sea level) of reference pressure p0 (Pa). */
+static double ref_height(double p0, double P00, double TS0, double A, double TISO)
+{
+    double l = log(p0 / P00);
+    double z = -((R_DRY * A / (2 * G0)) * l * l + (R_DRY * TS0 / G0) * l);
+    if (TISO > 0) {
+        const double piso = P00 * exp((TISO - TS0) / A);
+        if (p0 < piso) {
+            const double li = log(piso / P00);
+            const double ziso = -((R_DRY * A / (2 * G0)) * li * li + (R_DRY * TS0 / G0) * li);
+            z = ziso - (R_DRY * TISO / G0) * log(p0 / piso);
+        }
+    }
+    return z;
+}
+
+/* A cross-point plane (ny*nx) of a YX field of period p, or -1 if absent. */
+static int cross_plane(vsv_source *s, mm5src *x, int p, const char *name, float *out)
+{
+    const int fi = vsv_mm5_find(x->m, p, name);
+    if (fi < 0)
+        return -1;
+    const vsv_mm5_field *f = vsv_mm5_field_at(x->m, fi);
+    if (strcmp(f->order, "YX") || f->end[0] - f->start[0] + 1 != x->IX || f->end[1] - f->start[1] + 1 != x->JX)
+        return vsv_source_fail(s, VSV_ECORRUPT, "record %d: %s is not a %dx%d YX field", f->record, name, x->IX, x->JX);
+    vsv_mm5_read(x->m, f, x->raw);
+    const int dot = !strcmp(f->stag, "D");
+    for (int j = 0; j < x->ny; j++)
+        for (int i = 0; i < x->nx; i++) {
+            /* file order (I fastest): raw[J*IX + I]; here I = j (south-north), J = i */
+            const float *r = x->raw;
+            float v = r[(size_t)i * x->IX + j];
+            if (dot)
+                v = 0.25f * (v + r[(size_t)i * x->IX + j + 1] + r[(size_t)(i + 1) * x->IX + j] +
+                             r[(size_t)(i + 1) * x->IX + j + 1]);
+            out[(size_t)j * x->nx + i] = v;
+        }
+    return 0;
+}
+
+static int period_time(const vsv_mm5 *m, int p, int64_t *t)
+{
+    for (int i = 0; i < vsv_mm5_nfields(m); i++) {
+        const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
+        if (f->period == p)
+            return vsv_mm5_date(f->date, t);
+    }
+    return -1;
+}
+
+static int is_default_name(const char *n)
+{
+    static const char *const d[] = {"CLW", "RNW", "ICE", "SNOW", "GRAUPEL", "Q", NULL};
+    for (int i = 0; d[i]; i++)
+        if (!strcmp(n, d[i]))
+            return 1;
+    return 0;
+}
+
+static int mm5_open(vsv_source *s)
+{
+    mm5src *x = calloc(1, sizeof *x);
+    if (!x)
+        return VSV_ENOMEM;
+    s->priv = x;
+    vsv_mm5 *m = NULL;
+    int rc = vsv_mm5_open(s->path, &m);
+    x->m = m;
+    if (rc) {
+        vsv_msg(s->err, sizeof s->err, "%s", vsv_mm5_error(m));
+        return rc;
+    }
+    x->IX = vsv_mm5_bhi(m, 16, 1);
+    x->JX = vsv_mm5_bhi(m, 17, 1);
+    if (x->IX < 3 || x->JX < 3 || x->IX > VSV_MAX_DIM || x->JX > VSV_MAX_DIM)
+        return vsv_source_fail(s, VSV_ECORRUPT, "big header: domain of %d x %d dot points", x->IX, x->JX);
+    x->nx = x->JX - 1;
+    x->ny = x->IX - 1;
+    /* the vertical: from the first 3-D sigma field, SIGMAH and PSTARCRS */
+    x->KX = 0;
+    for (int i = 0; i < vsv_mm5_nfields(m); i++) {
+        const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
+        if (!strcmp(f->order, "YXS")) {
+            x->KX = f->end[2] - f->start[2] + 1;
+            break;
+        }
+    }
+    const size_t plane = (size_t)x->nx * x->ny;
+    x->raw = malloc((size_t)x->IX * x->JX * (size_t)(x->KX + 2) * sizeof(float));
+    x->nat = malloc(plane * (size_t)(x->KX + 1) * sizeof(float));
+    if (!x->raw || !x->nat)
+        return VSV_ENOMEM;
+    vsv_meta *g = &s->grid;
+    g->nx = x->nx;
+    g->ny = x->ny;
+    /* horizontal position of cross point (0,0), projection metres */
+    const double d = vsv_mm5_bhr(m, 1, 1), ds = vsv_mm5_bhr(m, 9, 1);
+    const int IXc = vsv_mm5_bhi(m, 5, 1), JXc = vsv_mm5_bhi(m, 6, 1);
+    if (!(d > 0) || !(ds > 0))
+        return vsv_source_fail(s, VSV_ECORRUPT, "big header: grid distance %g / %g m", d, ds);
+    g->origin[0] = (vsv_mm5_bhr(m, 11, 1) - (JXc + 1) / 2.0) * d + ds / 2;
+    g->origin[1] = (vsv_mm5_bhr(m, 10, 1) - (IXc + 1) / 2.0) * d + ds / 2;
+    g->spacing[0] = g->spacing[1] = ds;
+    const int proj = vsv_mm5_bhi(m, 7, 1);
+    g->proj.kind = proj == 1 ? VSV_PROJ_LCC : proj == 2 ? VSV_PROJ_PSTEREO : proj == 3 ? VSV_PROJ_MERCATOR : -1;
+    if (g->proj.kind < 0)
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "big header: unknown projection %d", proj);
+    g->proj.lat0 = vsv_mm5_bhr(m, 2, 1);
+    g->proj.lon0 = vsv_mm5_bhr(m, 3, 1);
+    g->proj.lat1 = vsv_mm5_bhr(m, 5, 1);
+    g->proj.lat2 = vsv_mm5_bhr(m, 6, 1);
+    if (g->proj.kind != VSV_PROJ_LCC)
+        g->proj.lat2 = g->proj.lat1;
+    g->proj.radius = 6370000;
+    snprintf(g->model, sizeof g->model, "MM5 v3");
+    const int prog = vsv_mm5_bhi(m, 1, 1);
+    const char *pname = prog == 1 ? "TERRAIN" : prog == 2 ? "REGRID" : prog == 5 ? "INTERPF" : prog == 6 ? "LOWBDY"
+                        : prog == 7 ? "BDYOUT" : prog == 8 ? "INTERPB" : prog >= 11 && prog <= 16 ? "MM5" : "unknown";
+    char start[40] = "unknown";
+    if (vsv_mm5_bhi(m, 5, 11) > 0)
+        snprintf(start, sizeof start, "%04d-%02d-%02dT%02d:%02d:%02dZ", vsv_mm5_bhi(m, 5, 11), vsv_mm5_bhi(m, 6, 11),
+                 vsv_mm5_bhi(m, 7, 11), vsv_mm5_bhi(m, 8, 11), vsv_mm5_bhi(m, 9, 11), vsv_mm5_bhi(m, 10, 11));
+    snprintf(g->run, sizeof g->run, "%s output, domain %d, %d x %d dot points, %.0f km grid, start %s", pname,
+             vsv_mm5_bhi(m, 13, 1), x->IX, x->JX, ds / 1000, start);
+    char buf[160];
+    const double PTOP = vsv_mm5_bhr(m, 2, 2), P00 = vsv_mm5_bhr(m, 2, 5), TS0 = vsv_mm5_bhr(m, 3, 5),
+                 A = vsv_mm5_bhr(m, 4, 5), TISO = vsv_mm5_bhr(m, 5, 5);
+    snprintf(buf, sizeof buf, "%d", prog);
+    vsv_meta_add_attr(g, "MM5 program", buf);
+    snprintf(buf, sizeof buf, "%g Pa", PTOP);
+    vsv_meta_add_attr(g, "PTOP", buf);
+    snprintf(buf, sizeof buf, "P00 %g Pa, TS0 %g K, TLP %g K, TISO %g K", P00, TS0, A, TISO);
+    vsv_meta_add_attr(g, "base state", buf);
+    snprintf(buf, sizeof buf, "%d", vsv_mm5_bhi(m, 3, 13));
+    vsv_meta_add_attr(g, "IMPHYS", buf);
+    /* terrain and land use (period 0) */
+    if (vsv_meta_alloc_terrain(g) || vsv_meta_alloc_landuse(g))
+        return VSV_ENOMEM;
+    if (cross_plane(s, x, 0, "TERRAIN", g->terrain) < 0) {
+        free(g->terrain);
+        g->terrain = NULL;
+    }
+    if (cross_plane(s, x, 0, "LAND USE", g->landuse) < 0) {
+        free(g->landuse);
+        g->landuse = NULL;
+    }
+    /* heights of the half-sigma levels */
+    const int isig = vsv_mm5_find(m, 0, "SIGMAH");
+    x->has_sigma = x->KX > 0 && isig >= 0 && P00 > 0 && A > 0 && TS0 > 0 && PTOP > 0;
+    if (x->has_sigma) {
+        const vsv_mm5_field *fs = vsv_mm5_field_at(m, isig);
+        if ((int)(fs->bytes / 4) != x->KX)
+            return vsv_source_fail(s, VSV_ECORRUPT, "record %d: SIGMAH has %llu levels, 3-D fields %d", fs->record,
+                                   (unsigned long long)(fs->bytes / 4), x->KX);
+        float sig[VSV_MAX_DIM];
+        vsv_mm5_read(m, fs, sig);
+        float *pstar = malloc(plane * sizeof *pstar);
+        x->zn = malloc(plane * (size_t)x->KX * sizeof *x->zn);
+        if (!pstar || !x->zn) {
+            free(pstar);
+            return VSV_ENOMEM;
+        }
+        if (cross_plane(s, x, 0, "PSTARCRS", pstar) < 0) {
+            if (!g->terrain) {
+                free(pstar);
+                return vsv_source_fail(s, VSV_ECORRUPT, "neither PSTARCRS nor TERRAIN: heights unknown");
+            }
+            for (size_t c = 0; c < plane; c++) {
+                double ps0 = P00 * exp(-TS0 / A + sqrt((TS0 / A) * (TS0 / A) - 2 * G0 * g->terrain[c] / (A * R_DRY)));
+                pstar[c] = (float)(ps0 - PTOP);
+            }
+        }
+        for (int k = 0; k < x->KX; k++)
+            for (size_t c = 0; c < plane; c++)
+                x->zn[(size_t)k * plane + c] =
+                    (float)ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, P00, TS0, A, TISO);
+        free(pstar);
+    }
+    /* the vertical axis */
+    if (s->opts.vertical == VSV_VERT_NATIVE || !x->has_sigma) {
+        g->nz = x->KX > 0 ? x->KX : 1;
+        if (vsv_meta_alloc_levels(g))
+            return VSV_ENOMEM;
+        if (x->has_sigma) {
+            g->vert_kind = VSV_VERT_NATIVE;
+            snprintf(g->vert_units, sizeof g->vert_units, "m");
+            for (int k = 0; k < x->KX; k++) {
+                double sum = 0;
+                for (size_t c = 0; c < plane; c++)
+                    sum += x->zn[(size_t)k * plane + c];
+                g->levels[k] = sum / (double)plane;
+            }
+        } else {
+            g->vert_kind = VSV_VERT_INDEX;
+            free(g->levels);
+            g->levels = NULL;
+        }
+    } else {
+        double ztop = s->opts.ztop;
+        if (!(ztop > 0)) {
+            float top = 0;
+            for (size_t c = 0; c < plane; c++)
+                top = fmaxf(top, x->zn[(size_t)(x->KX - 1) * plane + c]);
+            ztop = ceil(top / 100.0) * 100.0;
+        }
+        const int nz = s->opts.nz > 0 ? s->opts.nz : 40;
+        if (nz > VSV_MAX_DIM)
+            return vsv_source_fail(s, VSV_EINVAL, "--nz %d too large", nz);
+        g->nz = nz;
+        g->vert_kind = VSV_VERT_EVEN;
+        g->spacing[2] = ztop / nz;
+        g->origin[2] = g->spacing[2] / 2;
+        x->lev = malloc(plane * (size_t)nz * sizeof *x->lev);
+        x->wt = malloc(plane * (size_t)nz * sizeof *x->wt);
+        if (!x->lev || !x->wt)
+            return VSV_ENOMEM;
+        for (size_t c = 0; c < plane; c++) {
+            const double ground = g->terrain ? g->terrain[c] : -INFINITY;
+            int k0 = 0;
+            for (int k = 0; k < nz; k++) {
+                const double z = g->origin[2] + k * g->spacing[2];
+                const size_t at = (size_t)k * plane + c;
+                int16_t lv = -1;
+                float w = 0;
+                if (z >= ground && z <= x->zn[(size_t)(x->KX - 1) * plane + c]) {
+                    if (z <= x->zn[c]) {
+                        lv = 0; /* between the ground and the lowest level */
+                    } else {
+                        while (k0 + 1 < x->KX - 1 && x->zn[(size_t)(k0 + 1) * plane + c] < z)
+                            k0++;
+                        const double za = x->zn[(size_t)k0 * plane + c], zb = x->zn[(size_t)(k0 + 1) * plane + c];
+                        lv = (int16_t)k0;
+                        w = (float)((z - za) / (zb - za));
+                    }
+                }
+                x->lev[at] = lv;
+                x->wt[at] = w;
+            }
+        }
+    }
+    /* fields: those of the first period that has any; times: one per period */
+    int p0 = 0;
+    while (p0 < vsv_mm5_nperiods(m) && vsv_mm5_find(m, p0, "T") < 0 && vsv_mm5_find(m, p0, "U") < 0 &&
+           vsv_mm5_find(m, p0, "TERRAIN") < 0)
+        p0++;
+    s->fields = calloc((size_t)vsv_mm5_nfields(m) + 1, sizeof *s->fields);
+    s->times = calloc((size_t)vsv_mm5_nperiods(m) + 1, sizeof *s->times);
+    x->period_of = calloc((size_t)vsv_mm5_nperiods(m) + 1, sizeof *x->period_of);
+    if (!s->fields || !s->times || !x->period_of)
+        return VSV_ENOMEM;
+    for (int i = 0; i < vsv_mm5_nfields(m); i++) {
+        const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
+        if (f->period != (p0 < vsv_mm5_nperiods(m) ? p0 : 0))
+            continue;
+        vsv_field_info *fi = &s->fields[s->nfields++];
+        snprintf(fi->name, sizeof fi->name, "%s", f->name);
+        snprintf(fi->units, sizeof fi->units, "%s", f->units);
+        snprintf(fi->description, sizeof fi->description, "%s", f->desc);
+        snprintf(fi->ordering, sizeof fi->ordering, "%s%s%s", f->order, f->stag[0] ? " " : "", f->stag);
+        const int ext2 = f->end[2] - f->start[2] + 1;
+        fi->nlevels = !strcmp(f->order, "YXS") ? ext2 : !strcmp(f->order, "YXW") ? ext2 : !strcmp(f->order, "YXP") ? ext2 : 0;
+        fi->is_volume = x->KX > 0 && ((!strcmp(f->order, "YXS") && ext2 == x->KX) || (!strcmp(f->order, "YXW") && ext2 == x->KX + 1));
+        fi->is_default = fi->is_volume && is_default_name(f->name);
+    }
+    for (int p = 0; p < vsv_mm5_nperiods(m); p++) {
+        int64_t t;
+        if (period_time(m, p, &t))
+            continue; /* TERRAIN-like files carry no dates */
+        if (s->ntimes && t <= s->times[s->ntimes - 1])
+            return vsv_source_fail(s, VSV_ECORRUPT, "output time %d does not follow the one before", p);
+        x->period_of[s->ntimes] = p;
+        s->times[s->ntimes++] = t;
+    }
+    return 0;
+}
+
+static int mm5_read(vsv_source *s, int field, int t, float *out)
+{
+    mm5src *x = s->priv;
+    const vsv_field_info *fi = &s->fields[field];
+    if (!fi->is_volume)
+        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a 3-D field on the %d sigma levels", fi->name,
+                               fi->ordering, x->KX);
+    const int p = x->period_of[t];
+    const int idx = vsv_mm5_find(x->m, p, fi->name);
+    if (idx < 0)
+        return vsv_source_fail(s, VSV_ECORRUPT, "field %s missing from output time %d", fi->name, p);
+    const vsv_mm5_field *f = vsv_mm5_field_at(x->m, idx);
+    if (f->end[0] - f->start[0] + 1 != x->IX || f->end[1] - f->start[1] + 1 != x->JX)
+        return vsv_source_fail(s, VSV_ECORRUPT, "record %d: %s is %dx%d, the domain %dx%d", f->record, f->name,
+                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1, x->IX, x->JX);
+    vsv_mm5_read(x->m, f, x->raw);
+    const int full = !strcmp(f->order, "YXW"), dot = !strcmp(f->stag, "D");
+    const size_t plane = (size_t)x->nx * x->ny, fplane = (size_t)x->IX * x->JX;
+    /* native cross volume, bottom-up: file level kk = KX-1-k (k = 1 is the top) */
+    for (int k = 0; k < x->KX; k++) {
+        const int kk = x->KX - 1 - k;
+        const float *a = x->raw + (size_t)kk * fplane, *b = full ? a + fplane : NULL;
+        float *o = x->nat + (size_t)k * plane;
+        for (int j = 0; j < x->ny; j++)
+            for (int i = 0; i < x->nx; i++) {
+                const size_t c = (size_t)i * x->IX + j;
+                float v = a[c];
+                if (dot)
+                    v = 0.25f * (a[c] + a[c + 1] + a[c + x->IX] + a[c + x->IX + 1]);
+                if (full)
+                    v = 0.5f * (v + b[c]); /* W: mean of the full levels around the half level */
+                o[(size_t)j * x->nx + i] = v;
+            }
+    }
+    const vsv_meta *g = &s->grid;
+    if (!x->lev) {
+        memcpy(out, x->nat, plane * (size_t)x->KX * sizeof *out);
+        return 0;
+    }
+    for (int k = 0; k < g->nz; k++)
+        for (size_t c = 0; c < plane; c++) {
+            const size_t at = (size_t)k * plane + c;
+            const int lv = x->lev[at];
+            if (lv < 0) {
+                out[at] = NAN;
+            } else {
+                const float lo = x->nat[(size_t)lv * plane + c];
+                const float w = x->wt[at];
+                out[at] = w == 0 ? lo : lo + (x->nat[(size_t)(lv + 1) * plane + c] - lo) * w;
+            }
+        }
+    return 0;
+}
+
+static void mm5_close(vsv_source *s)
+{
+    mm5src *x = s->priv;
+    if (!x)
+        return;
+    vsv_mm5_free(x->m);
+    free(x->zn);
+    free(x->lev);
+    free(x->wt);
+    free(x->raw);
+    free(x->nat);
+    free(x->period_of);
+    free(x);
+}
+
+static char *mm5_summary(vsv_source *s)
+{
+    mm5src *x = s->priv;
+    const vsv_mm5 *m = x->m;
+    vsv_buf b = {0};
+    char line[512], desc[96];
+    const int prog = vsv_mm5_bhi(m, 1, 1);
+#define OUT(...) (snprintf(line, sizeof line, __VA_ARGS__), vsv_buf_put(&b, line, strlen(line)))
+    OUT("MM5 v3 file, %s-endian, written by program %d (%s); %d big header%s\n", vsv_mm5_little_endian(m) ? "little" : "big",
+        prog, s->grid.run, vsv_mm5_nbighdr(m), vsv_mm5_nbighdr(m) == 1 ? "" : "s");
+    static const char *pn[] = {"?", "Lambert conformal", "polar stereographic", "Mercator"};
+    const int proj = vsv_mm5_bhi(m, 7, 1);
+    OUT("  domain      %d: %d x %d dot points (IX south-north, JX west-east), nest level %d, ratio %d\n",
+        vsv_mm5_bhi(m, 13, 1), x->IX, x->JX, vsv_mm5_bhi(m, 15, 1), vsv_mm5_bhi(m, 20, 1));
+    OUT("  coarse      %d x %d, %.0f m; this domain starts at coarse (I, J) = (%g, %g)\n", vsv_mm5_bhi(m, 5, 1),
+        vsv_mm5_bhi(m, 6, 1), vsv_mm5_bhr(m, 1, 1), vsv_mm5_bhr(m, 10, 1), vsv_mm5_bhr(m, 11, 1));
+    OUT("  projection  %s, centre %.4g, %.4g, true latitudes %.4g / %.4g, cone factor %.4g, grid %.0f m\n",
+        proj >= 1 && proj <= 3 ? pn[proj] : "unknown", vsv_mm5_bhr(m, 2, 1), vsv_mm5_bhr(m, 3, 1), vsv_mm5_bhr(m, 5, 1),
+        vsv_mm5_bhr(m, 6, 1), vsv_mm5_bhr(m, 4, 1), vsv_mm5_bhr(m, 9, 1));
+    if (vsv_mm5_bhr(m, 2, 2) > 0)
+        OUT("  PTOP        %g Pa\n", vsv_mm5_bhr(m, 2, 2));
+    if (vsv_mm5_bhr(m, 2, 5) > 0)
+        OUT("  base state  P00 %g Pa, TS0 %g K, TLP %g K, TISO %g K\n", vsv_mm5_bhr(m, 2, 5), vsv_mm5_bhr(m, 3, 5),
+            vsv_mm5_bhr(m, 4, 5), vsv_mm5_bhr(m, 5, 5));
+    if (vsv_mm5_bhi(m, 5, 11) > 0)
+        OUT("  MM5 run     start %04d-%02d-%02d %02d:%02d, %d layers, output every %g min, IMPHYS %d\n",
+            vsv_mm5_bhi(m, 5, 11), vsv_mm5_bhi(m, 6, 11), vsv_mm5_bhi(m, 7, 11), vsv_mm5_bhi(m, 8, 11),
+            vsv_mm5_bhi(m, 9, 11), vsv_mm5_bhi(m, 12, 11), vsv_mm5_bhr(m, 4, 12), vsv_mm5_bhi(m, 3, 13));
+    vsv_mm5_bhic(m, 1, 1, desc, sizeof desc);
+    OUT("  periods     %d output time%s", vsv_mm5_nperiods(m), vsv_mm5_nperiods(m) == 1 ? "" : "s");
+    for (int t = 0; t < s->ntimes && t < 12; t++) {
+        char tb[40];
+        vsv_time_format(s->times[t], tb, sizeof tb);
+        OUT("%s%s", t ? ", " : ": ", tb);
+    }
+    OUT("%s\n", s->ntimes > 12 ? ", ..." : "");
+    if (vsv_mm5_skipped(m))
+        OUT("  note        %d boundary-slab records (YSB XSB YWB XWB) skipped\n", vsv_mm5_skipped(m));
+    OUT("  fields      %d per output time\n    %-9s %-7s %-16s %-16s %s\n", s->nfields, "name", "order", "dims", "units",
+        "description");
+    for (int i = 0; i < vsv_mm5_nfields(m); i++) {
+        const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
+        if (f->period != vsv_mm5_field_at(m, 0)->period)
+            break;
+        char dims[32];
+        snprintf(dims, sizeof dims, "%d", f->end[0] - f->start[0] + 1);
+        for (int d = 1; d < f->ndim; d++)
+            snprintf(dims + strlen(dims), sizeof dims - strlen(dims), "x%d", f->end[d] - f->start[d] + 1);
+        OUT("    %-9s %-3s %-3s %-16s %-16s %s\n", f->name, f->order, f->stag, dims, f->units, f->desc);
+    }
+#undef OUT
+    vsv_buf_put(&b, "", 1);
+    return (char *)b.p;
+}
+
+const vsv_source_ops vsv_mm5_ops = {"MM5 v3", mm5_probe, mm5_open, mm5_read, mm5_close, mm5_summary};

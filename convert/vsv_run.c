@@ -1,0 +1,265 @@
+/* vsv_run.c — several model files as one run: sorted by first time, checked
+ * for matching grids, overlaps and gaps; variables and times selected once.
+ * The single extraction path behind vsv-extract and vsv-convert. */
+#include "vsv_convert.h"
+#include "vsv_format_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+struct vsv_run {
+    vsv_source **src;
+    int nsrc;
+    vsv_meta meta;
+    int *sel;        /* field index per selected variable */
+    int nsel;
+    int *fsrc, *ft;  /* per frame: source and its local time index */
+    int64_t *ftime;
+    int nframes;
+    uint64_t bytes;
+    char err[1024];
+};
+
+const char *vsv_run_error(const vsv_run *r) { return r ? r->err : "out of memory"; }
+const vsv_meta *vsv_run_meta(const vsv_run *r) { return &r->meta; }
+int vsv_run_nframes(const vsv_run *r) { return r->nframes; }
+int64_t vsv_run_time(const vsv_run *r, int i) { return r->ftime[i]; }
+uint64_t vsv_run_input_bytes(const vsv_run *r) { return r->bytes; }
+
+static int fail(vsv_run *r, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int fail(vsv_run *r, int rc, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->err, sizeof r->err, fmt, ap);
+    va_end(ap);
+    return rc;
+}
+
+/* One end of --times: an index or an ISO time; -1 if not parseable. */
+static int times_end(const vsv_run *r, const int64_t *all, int n, const char *s, int dflt, int is_end, int *out)
+{
+    (void)r;
+    if (!*s) {
+        *out = dflt;
+        return 0;
+    }
+    char *e;
+    long v = strtol(s, &e, 10);
+    if (!*e && v >= 0) {
+        *out = (int)v;
+        return 0;
+    }
+    int64_t t;
+    if (vsv_time_parse(s, &t))
+        return -1;
+    if (is_end) {
+        int i = n - 1;
+        while (i >= 0 && all[i] > t)
+            i--;
+        *out = i;
+    } else {
+        int i = 0;
+        while (i < n && all[i] < t)
+            i++;
+        *out = i;
+    }
+    return 0;
+}
+
+int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars,
+                 const char *times, vsv_run **out)
+{
+    vsv_run *r = *out = calloc(1, sizeof *r);
+    if (!r)
+        return VSV_ENOMEM;
+    vsv_meta_init(&r->meta);
+    if (npaths < 1)
+        return fail(r, VSV_EINVAL, "no input files");
+    r->src = calloc((size_t)npaths, sizeof *r->src);
+    const char **names = calloc((size_t)npaths, sizeof *names);
+    if (!r->src || !names) {
+        free(names);
+        return VSV_ENOMEM;
+    }
+    int rc = 0;
+    for (int i = 0; i < npaths; i++) {
+        vsv_source *s = NULL;
+        rc = vsv_source_open(paths[i], opts, &s);
+        if (rc) {
+            fail(r, rc, "%s", vsv_source_error(s));
+            vsv_source_free(s);
+            goto done;
+        }
+        if (vsv_source_ntimes(s) < 1) {
+            rc = fail(r, VSV_EINVAL, "%s: no output times (a %s file without time-varying fields)", paths[i],
+                      vsv_source_format(s));
+            vsv_source_free(s);
+            goto done;
+        }
+        /* insertion by first time */
+        int at = r->nsrc;
+        while (at > 0 && vsv_source_time(r->src[at - 1], 0) > vsv_source_time(s, 0)) {
+            r->src[at] = r->src[at - 1];
+            names[at] = names[at - 1];
+            at--;
+        }
+        r->src[at] = s;
+        names[at] = paths[i];
+        r->nsrc++;
+        struct stat st;
+        if (!stat(paths[i], &st))
+            r->bytes += (uint64_t)st.st_size;
+    }
+    const vsv_meta *g0 = vsv_source_grid(r->src[0]);
+    int64_t dt = 0;
+    for (int i = 0; i < r->nsrc && !dt; i++)
+        if (vsv_source_ntimes(r->src[i]) > 1)
+            dt = vsv_source_time(r->src[i], 1) - vsv_source_time(r->src[i], 0);
+    for (int i = 1; i < r->nsrc; i++) {
+        const vsv_meta *g = vsv_source_grid(r->src[i]);
+        if (g->nx != g0->nx || g->ny != g0->ny || g->nz != g0->nz || g->proj.kind != g0->proj.kind ||
+            g->origin[0] != g0->origin[0] || g->origin[1] != g0->origin[1] || g->spacing[0] != g0->spacing[0]) {
+            rc = fail(r, VSV_EINVAL, "%s and %s: different grids (%dx%dx%d vs %dx%dx%d or another position)", names[0],
+                      names[i], g0->nx, g0->ny, g0->nz, g->nx, g->ny, g->nz);
+            goto done;
+        }
+        const int64_t end = vsv_source_time(r->src[i - 1], vsv_source_ntimes(r->src[i - 1]) - 1);
+        const int64_t start = vsv_source_time(r->src[i], 0);
+        char a[40], b[40];
+        vsv_time_format(end, a, sizeof a);
+        vsv_time_format(start, b, sizeof b);
+        if (start <= end) {
+            rc = fail(r, VSV_EINVAL, "%s (ends %s) and %s (starts %s) overlap in time", names[i - 1], a, names[i], b);
+            goto done;
+        }
+        if (dt && start - end != dt) {
+            rc = fail(r, VSV_EINVAL, "gap between %s (ends %s) and %s (starts %s): the run steps every %lld s",
+                      names[i - 1], a, names[i], b, (long long)dt);
+            goto done;
+        }
+    }
+    if ((rc = vsv_meta_copy(&r->meta, g0)))
+        goto done;
+    /* variables */
+    const vsv_source *s0 = r->src[0];
+    const int nf = vsv_source_nfields(s0);
+    r->sel = calloc((size_t)nf + 1, sizeof *r->sel);
+    if (!r->sel) {
+        rc = VSV_ENOMEM;
+        goto done;
+    }
+    if (vars) {
+        char *copy = strdup(vars), *save = NULL;
+        for (char *name = strtok_r(copy, ",", &save); name && !rc; name = strtok_r(NULL, ",", &save)) {
+            const int i = vsv_source_find_field(s0, name);
+            if (i < 0 || !vsv_source_field(s0, i)->is_volume) {
+                size_t n = (size_t)snprintf(r->err, sizeof r->err, "%s: %s '%s'; available:", names[0],
+                                            i < 0 ? "no variable" : "not a 3-D variable", name);
+                for (int k = 0; k < nf && n < sizeof r->err; k++)
+                    if (vsv_source_field(s0, k)->is_volume)
+                        n += (size_t)snprintf(r->err + n, sizeof r->err - n, " %s", vsv_source_field(s0, k)->name);
+                rc = VSV_ENOTFOUND;
+                break;
+            }
+            for (int k = 0; k < r->nsel; k++)
+                if (r->sel[k] == i)
+                    rc = fail(r, VSV_EINVAL, "variable %s named twice", name);
+            if (!rc && r->nsel < nf)
+                r->sel[r->nsel++] = i;
+        }
+        free(copy);
+        if (rc)
+            goto done;
+    } else {
+        for (int i = 0; i < nf; i++)
+            if (vsv_source_field(s0, i)->is_default)
+                r->sel[r->nsel++] = i;
+        if (!r->nsel) {
+            rc = fail(r, VSV_EINVAL, "%s: none of the default variables is present; choose with --vars", names[0]);
+            goto done;
+        }
+    }
+    for (int v = 0; v < r->nsel; v++) {
+        const vsv_field_info *f = vsv_source_field(s0, r->sel[v]);
+        for (int i = 1; i < r->nsrc; i++)
+            if (vsv_source_find_field(r->src[i], f->name) < 0) {
+                rc = fail(r, VSV_EINVAL, "%s has no variable %s (it is in %s)", names[i], f->name, names[0]);
+                goto done;
+            }
+        vsv_meta_add_var(&r->meta, f->name, f->units, f->description);
+    }
+    /* frames */
+    int total = 0;
+    for (int i = 0; i < r->nsrc; i++)
+        total += vsv_source_ntimes(r->src[i]);
+    r->fsrc = malloc((size_t)total * sizeof *r->fsrc);
+    r->ft = malloc((size_t)total * sizeof *r->ft);
+    r->ftime = malloc((size_t)total * sizeof *r->ftime);
+    if (!r->fsrc || !r->ft || !r->ftime) {
+        rc = VSV_ENOMEM;
+        goto done;
+    }
+    for (int i = 0, k = 0; i < r->nsrc; i++)
+        for (int t = 0; t < vsv_source_ntimes(r->src[i]); t++, k++) {
+            r->fsrc[k] = i;
+            r->ft[k] = t;
+            r->ftime[k] = vsv_source_time(r->src[i], t);
+        }
+    int a = 0, b = total - 1;
+    if (times) {
+        const char *colon = strchr(times, ':');
+        char first[64];
+        if (!colon || (size_t)(colon - times) >= sizeof first) {
+            rc = fail(r, VSV_EINVAL, "--times %s: expected A:B", times);
+            goto done;
+        }
+        snprintf(first, sizeof first, "%.*s", (int)(colon - times), times);
+        if (times_end(r, r->ftime, total, first, 0, 0, &a) || times_end(r, r->ftime, total, colon + 1, total - 1, 1, &b)) {
+            rc = fail(r, VSV_EINVAL, "--times %s: each end is a step index or an ISO time", times);
+            goto done;
+        }
+        if (a < 0 || b >= total || a > b) {
+            rc = fail(r, VSV_ERANGE, "--times %s selects no step of 0..%d", times, total - 1);
+            goto done;
+        }
+    }
+    memmove(r->fsrc, r->fsrc + a, (size_t)(b - a + 1) * sizeof *r->fsrc);
+    memmove(r->ft, r->ft + a, (size_t)(b - a + 1) * sizeof *r->ft);
+    memmove(r->ftime, r->ftime + a, (size_t)(b - a + 1) * sizeof *r->ftime);
+    r->nframes = b - a + 1;
+done:
+    free(names);
+    return rc;
+}
+
+int vsv_run_read(vsv_run *r, int i, float *const *fields)
+{
+    if (i < 0 || i >= r->nframes)
+        return fail(r, VSV_ERANGE, "frame %d out of range", i);
+    vsv_source *s = r->src[r->fsrc[i]];
+    const vsv_source *s0 = r->src[0];
+    for (int v = 0; v < r->nsel; v++) {
+        const int f = s == s0 ? r->sel[v] : vsv_source_find_field(s, vsv_source_field(s0, r->sel[v])->name);
+        int rc = vsv_source_read(s, f, r->ft[i], fields[v]);
+        if (rc)
+            return fail(r, rc, "%s", vsv_source_error(s));
+    }
+    return 0;
+}
+
+void vsv_run_free(vsv_run *r)
+{
+    if (!r)
+        return;
+    for (int i = 0; i < r->nsrc; i++)
+        vsv_source_free(r->src[i]);
+    free(r->src);
+    free(r->sel);
+    free(r->fsrc);
+    free(r->ft);
+    free(r->ftime);
+    vsv_meta_clear(&r->meta);
+    free(r);
+}
