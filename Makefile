@@ -62,7 +62,7 @@ LIB_CXX = $(wildcard format/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
 LIB = $(B)/libvesuvius.a
 
-TOOLS = vsv-pack vsv-info vsv-extract
+TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 
 TEST_SRC = $(wildcard tests/test_*.c)

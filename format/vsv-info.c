@@ -2,6 +2,7 @@
  * scripts (--json, -f FIELD); --stats decodes every step, --check verifies
  * every byte. */
 #include "vsv_cli.h"
+#include "vsv_convert.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -13,6 +14,7 @@ static const char usage[] =
     "Usage: vsv-info [OPTIONS] FILE...\n"
     "Describe .vsv files: grid, projection and corner coordinates, times, species\n"
     "with units, ranges and quantisation error, bricks stored, compression ratio.\n"
+    "Given a model file (MM5 v3, GrADS) instead, describe its own header and fields.\n"
     "\n"
     "  -j, --json           one JSON object per file (a stable contract for scripts)\n"
     "  -f, --field PATH     print one value of the JSON, e.g. grid.nx, times.0,\n"
@@ -346,7 +348,34 @@ int main(int argc, char **argv)
     for (int i = optind; i < argc; i++) {
         const char *path = argv[i];
         vsv_file *f = NULL;
-        if (vsv_file_open(path, &f)) {
+        int rc = vsv_file_open(path, &f);
+        if (rc == VSV_ENOTVSV && !check) {
+            /* a model file? describe it */
+            vsv_source *src = NULL;
+            if (vsv_source_open(path, NULL, &src) == 0) {
+                char *text = vsv_source_summary(src);
+                if (json || field) {
+                    vsv_json *root = vsv_json_object();
+                    vsv_json_set(root, "file", vsv_json_string(path));
+                    vsv_json_set(root, "format", vsv_json_string(vsv_source_format(src)));
+                    vsv_json_set(root, "summary", vsv_json_string(text ? text : ""));
+                    const vsv_json *v = field ? vsv_json_path(root, field) : root;
+                    if (v)
+                        field ? vsv_json_print_plain(stdout, v) : vsv_json_print(stdout, v, 1);
+                    else
+                        status = 2;
+                    vsv_json_free(root);
+                } else {
+                    printf("%s: %s", path, text ? text : vsv_source_format(src));
+                }
+                free(text);
+                vsv_source_free(src);
+                vsv_file_free(f);
+                continue;
+            }
+            vsv_source_free(src);
+        }
+        if (rc) {
             fflush(stdout);
             fprintf(stderr, "vsv-info: %s\n", vsv_file_error(f));
             vsv_file_free(f);

@@ -130,5 +130,5 @@ has "--times 1:2 selects two steps" "$T/out" '["1987-01-03T00:00:00Z", "1987-01-
 "$B/vsv-info" -f times "$T/e.vsv" > "$T/out"
 has "--times with an ISO start" "$T/out" '["1987-01-05T00:00:00Z", "1987-01-06T00:00:00Z"]'
 expect "vsv-extract on a non-model file exits 1" 1 "$B/vsv-extract" "$T/text.vsv"
-has "non-model file is named" "$T/err" "not a model file"
+has "non-model file is named" "$T/err" "not an MM5 v3 file"
 exit 0
