@@ -103,10 +103,13 @@ $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
+$(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(LIB)
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+
 $(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
-test: all $(TEST_BIN) $(FUZZ_BIN)
+test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop
 	$(Q)B=$(B) SHARED=$(SHARED) sh tests/run.sh
 
 # The demo: install what is missing (or print the apt-get line), build, then

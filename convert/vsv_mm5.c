@@ -17,7 +17,7 @@
 struct vsv_mm5 {
     const unsigned char *d;
     size_t n;
-    int le;
+    int le, mapped;
     char path[1024];
     char err[512];
     unsigned char big[VSV_MM5_BIGHDR]; /* first big header, normalised to big-endian */
@@ -290,6 +290,21 @@ int vsv_mm5_open(const char *path, vsv_mm5 **out)
     if (p == MAP_FAILED)
         return fail(m, VSV_EIO, "cannot map: %s", strerror(errno));
     m->d = p;
+    m->mapped = 1;
+    if (!vsv_mm5_probe(m->d, m->n))
+        return fail(m, VSV_ENOTVSV, "not an MM5 v3 file (no flag record and big header at byte 0)");
+    m->le = m->d[0] == 4;
+    return index_file(m);
+}
+
+int vsv_mm5_open_mem(const void *data, size_t n, const char *name, vsv_mm5 **out)
+{
+    vsv_mm5 *m = *out = calloc(1, sizeof *m);
+    if (!m)
+        return VSV_ENOMEM;
+    snprintf(m->path, sizeof m->path, "%s", name);
+    m->d = data;
+    m->n = n;
     if (!vsv_mm5_probe(m->d, m->n))
         return fail(m, VSV_ENOTVSV, "not an MM5 v3 file (no flag record and big header at byte 0)");
     m->le = m->d[0] == 4;
@@ -300,7 +315,7 @@ void vsv_mm5_free(vsv_mm5 *m)
 {
     if (!m)
         return;
-    if (m->d)
+    if (m->mapped)
         munmap((void *)m->d, m->n);
     free(m->f);
     free(m);

@@ -35,6 +35,8 @@ typedef struct vsv_mm5 vsv_mm5;
  * Caller frees with vsv_mm5_free; on error *out may hold a handle whose
  * error says why (free it too). */
 int vsv_mm5_open(const char *path, vsv_mm5 **out);
+/* The same over a caller buffer that outlives the handle (fuzzing). */
+int vsv_mm5_open_mem(const void *data, size_t n, const char *name, vsv_mm5 **out);
 /* 1 if these bytes begin like an MM5 v3 file (either byte order). */
 int vsv_mm5_probe(const unsigned char *head, size_t n);
 void vsv_mm5_free(vsv_mm5 *m);

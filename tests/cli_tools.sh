@@ -7,8 +7,7 @@ SHARED=${SHARED:-../shared}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 PY=/usr/bin/python3
-CTL=samples/grads/model.ctl
-[ -f "$CTL" ] || CTL="$SHARED/data/grads/model.ctl"
+CTL="$SHARED/data/grads/model.ctl"
 
 pass() { echo "PASS $1"; }
 fail() { echo "FAIL $1: $2"; }

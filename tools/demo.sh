@@ -1,29 +1,36 @@
 #!/bin/sh
 # demo.sh — the main job end to end on the bundled sample (no ../shared needed):
-# real model output → field stream → .vsv → vsv-info.
+# real MM5 output → field stream → 10-minute frames → .vsv → vsv-info.
 set -eu
 B=${B:-build}
 OUT=${OUT:-demo-out}
+MM5=samples/mm5/MMOUT_DOMAIN1_CROP
 mkdir -p "$OUT"
 step() { printf '\n\033[1m== %s\033[0m\n$ %s\n' "$1" "$2"; }
 
-step "What the sample holds (GrADS model output, 72x46x7, 5 days)" \
-     "vsv-extract --list samples/grads/model.ctl"
-"$B/vsv-extract" --list samples/grads/model.ctl
+step "The sample: real MM5 v3 output (a 40x40 crop of a 3-hour forecast)" "vsv-info $MM5"
+"$B/vsv-info" "$MM5"
 
-step "Convert: extract the 3-D fields and pack them into a .vsv" \
-     "vsv-extract samples/grads/model.ctl | vsv-pack -o $OUT/model.vsv"
-"$B/vsv-extract" samples/grads/model.ctl | "$B/vsv-pack" -o "$OUT/model.vsv"
+step "What can be extracted" "vsv-extract --list $MM5"
+"$B/vsv-extract" --list "$MM5"
 
-step "Inspect" "vsv-info $OUT/model.vsv"
-"$B/vsv-info" "$OUT/model.vsv"
+step "Convert with the Unix tools: clouds, rain, ice, snow, moisture on 40 even heights, every 10 minutes" \
+     "vsv-extract $MM5 | vsv-interp --time-res 10m | vsv-pack -o $OUT/storm-pipe.vsv"
+"$B/vsv-extract" "$MM5" | "$B/vsv-interp" --time-res 10m | "$B/vsv-pack" -o "$OUT/storm-pipe.vsv"
 
-step "Verify every checksum and decode everything" "vsv-info --check $OUT/model.vsv"
-"$B/vsv-info" --check "$OUT/model.vsv"
+step "The same in one process (byte-identical)" "vsv-convert --time-res 10m $MM5 -o $OUT/storm.vsv"
+"$B/vsv-convert" --time-res 10m "$MM5" -o "$OUT/storm.vsv"
+cmp "$OUT/storm.vsv" "$OUT/storm-pipe.vsv" && echo "identical: $OUT/storm.vsv = $OUT/storm-pipe.vsv"
 
-step "For scripts: one value of the JSON description" "vsv-info -f species.3.max_abs_error $OUT/model.vsv"
-"$B/vsv-info" -f species.3.max_abs_error "$OUT/model.vsv"
+step "Inspect" "vsv-info $OUT/storm.vsv"
+"$B/vsv-info" "$OUT/storm.vsv"
 
-step "Statistics of temperature per day" "vsv-info --json --stats $OUT/model.vsv (T rows)"
-"$B/vsv-info" --stats "$OUT/model.vsv" | grep -E '^ +(species|T) '
-printf '\nDone: %s/model.vsv\n' "$OUT"
+step "Verify every checksum and decode everything" "vsv-info --check $OUT/storm.vsv"
+"$B/vsv-info" --check "$OUT/storm.vsv"
+
+step "For scripts: one value of the JSON description" "vsv-info -f corners.0 $OUT/storm.vsv"
+"$B/vsv-info" -f corners.0 "$OUT/storm.vsv"
+
+step "Cloud water through the three hours" "vsv-info --stats $OUT/storm.vsv (CLW rows)"
+"$B/vsv-info" --stats "$OUT/storm.vsv" | grep -E '^ +(species|CLW) '
+printf '\nDone: %s/storm.vsv (rendering and playback come with issues #5 and #6)\n' "$OUT"
