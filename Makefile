@@ -68,7 +68,7 @@ TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
-FUZZ_BIN = $(B)/tests/test_fuzz
+FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5
 
 .PHONY: all test demo bench install uninstall clean fuzz help deps
 .SECONDARY:
@@ -109,6 +109,9 @@ $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(LIB)
 $(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
+$(B)/tests/test_fuzz_mm5: $(B)/tests/fuzz_mm5.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+
 test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop
 	$(Q)B=$(B) SHARED=$(SHARED) sh tests/run.sh
 
@@ -130,12 +133,11 @@ deps:
 	$(Q)sh tools/deps.sh --install
 
 fuzz:
-	$(MAKE) B=build-fuzz CC=clang CXX=clang++ \
-	  SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined" build-fuzz/libvesuvius.a build-fuzz/tests/fuzz_vsv.o \
-	  build-fuzz/tests/vsv_refread.o build-fuzz/tests/vsv_testlib.o
-	clang -fsanitize=fuzzer,address,undefined -o build-fuzz/fuzz_vsv_libfuzzer build-fuzz/tests/fuzz_vsv.o \
-	  build-fuzz/libvesuvius.a $(PKG_LIBS) -lstdc++ -lm -pthread
-	@echo "run: build-fuzz/fuzz_vsv_libfuzzer tests/corpus/vsv"
+	$(MAKE) B=build-fuzz CC=clang CXX=clang++ SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
+	  build-fuzz/libvesuvius.a build-fuzz/tests/fuzz_vsv.o build-fuzz/tests/fuzz_mm5.o
+	for t in vsv mm5; do clang -fsanitize=fuzzer,address,undefined -o build-fuzz/fuzz_$$t build-fuzz/tests/fuzz_$$t.o \
+	  build-fuzz/libvesuvius.a $(PKG_LIBS) -lstdc++ -lm -pthread || exit 1; done
+	@echo "run: build-fuzz/fuzz_vsv tests/golden   or   build-fuzz/fuzz_mm5 tests/corpus/mm5"
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5

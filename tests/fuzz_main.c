@@ -9,20 +9,24 @@
 #include <string.h>
 
 int LLVMFuzzerTestOneInput(const unsigned char *data, size_t size);
+/* The target's corpus directories and label (defined beside the target). */
+extern const char *const fuzz_default_dirs[2];
+extern const char fuzz_label[];
 
 int main(int argc, char **argv)
 {
     int files = 0;
     long mutations = argc > 1 ? atol(argv[1]) : 3000;
     uint64_t rs = 12345;
-    const char *dflt[] = {"tests/golden", "tests/golden/bad"};
     const int ndirs = argc > 2 ? argc - 2 : 2;
     for (int a = 0; a < ndirs; a++) {
-        const char *dir = argc > 2 ? argv[a + 2] : dflt[a];
+        const char *dir = argc > 2 ? argv[a + 2] : fuzz_default_dirs[a];
+        if (!dir)
+            continue;
         DIR *dp = opendir(dir);
         struct dirent *e;
         while (dp && (e = readdir(dp))) {
-            if (e->d_name[0] == '.' || !strstr(e->d_name, ".vsv"))
+            if (e->d_name[0] == '.' || !strcmp(e->d_name, "EXPECTED") || strstr(e->d_name, ".py"))
                 continue;
             char path[2048];
             snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
@@ -59,7 +63,9 @@ int main(int argc, char **argv)
         if (dp)
             closedir(dp);
     }
-    CHECK(files > 0, "fuzz regression corpus ran without a crash", "no corpus files");
+    char name[128];
+    snprintf(name, sizeof name, "%s fuzz regression corpus ran without a crash", fuzz_label);
+    CHECK(files > 0, name, "no corpus files");
     printf("  %d corpus files, %ld mutations each\n", files, mutations);
     return vsv_test_done();
 }

@@ -8,6 +8,8 @@
 #include <stdlib.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+const char *const fuzz_default_dirs[2] = {"tests/golden", "tests/golden/bad"};
+const char fuzz_label[] = ".vsv reader";
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
