@@ -128,6 +128,7 @@ $(B)/bench/%: $(B)/bench/%.o $(LIB)
 
 bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_convert.sh
 
 deps:
 	$(Q)sh tools/deps.sh --install

@@ -3,6 +3,7 @@
  * quantisation and brick-transform rules of SPEC.md. */
 #include "vsv_format_internal.h"
 
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -494,29 +495,61 @@ void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double d
     q->max_abs_error = err;
 }
 
-unsigned vsv_quant_code(const vsv_quant *q, float v)
+/* The encode rule of SPEC.md §6 over a row, with its constants hoisted:
+ * the writer's hot loop. Returns codes and their min/max. */
+void vsv_quant_row(const vsv_quant *q, const float *src, size_t n, uint16_t *dst, unsigned *mn, unsigned *mx)
 {
     const double M = code_max(q->bits);
-    if (!isfinite(v) || !(v >= q->threshold))
-        return 0;
-    double c;
+    const double thr = q->threshold;
+    unsigned lo = *mn, hi = *mx;
     if (q->scale == VSV_SCALE_LINEAR) {
         const unsigned first = q->missing ? 1 : 0;
-        if (!(q->hi > q->lo))
-            return first;
-        c = first + floor((v - q->lo) / ((q->hi - q->lo) / (M - first)) + 0.5);
-        if (c < first)
-            c = first;
+        const int flat = !(q->hi > q->lo);
+        const double base = q->lo, inv = flat ? 0 : (M - first) / (q->hi - q->lo), top = M;
+        for (size_t i = 0; i < n; i++) {
+            const float v = src[i];
+            unsigned c;
+            if (!(fabsf(v) <= FLT_MAX) || !(v >= thr)) {
+                c = 0;
+            } else if (flat) {
+                c = first;
+            } else {
+                double x = first + floor((v - base) * inv + 0.5);
+                c = x < first ? first : x > top ? (unsigned)top : (unsigned)x;
+            }
+            dst[i] = (uint16_t)c;
+            lo = c < lo ? c : lo;
+            hi = c > hi ? c : hi;
+        }
     } else {
-        if (!(v > 0))
-            return 0;
-        if (!(q->hi > q->lo))
-            return 1;
-        c = 1 + floor((log(v) - log(q->lo)) / ((log(q->hi) - log(q->lo)) / (M - 1)) + 0.5);
-        if (c < 1)
-            c = 1;
+        const int flat = !(q->hi > q->lo);
+        const double lnlo = log(q->lo), inv = flat ? 0 : (M - 1) / (log(q->hi) - lnlo);
+        for (size_t i = 0; i < n; i++) {
+            const float v = src[i];
+            unsigned c;
+            if (!(fabsf(v) <= FLT_MAX) || !(v >= thr) || !(v > 0)) {
+                c = 0;
+            } else if (flat) {
+                c = 1;
+            } else {
+                double x = 1 + floor((log(v) - lnlo) * inv + 0.5);
+                c = x < 1 ? 1 : x > M ? (unsigned)M : (unsigned)x;
+            }
+            dst[i] = (uint16_t)c;
+            lo = c < lo ? c : lo;
+            hi = c > hi ? c : hi;
+        }
     }
-    return c > M ? (unsigned)M : (unsigned)c;
+    *mn = lo;
+    *mx = hi;
+}
+
+unsigned vsv_quant_code(const vsv_quant *q, float v)
+{
+    uint16_t c;
+    unsigned mn = 0xffff, mx = 0;
+    vsv_quant_row(q, &v, 1, &c, &mn, &mx);
+    return c;
 }
 
 /* The decode rule of SPEC.md §6, shared by single values and tables so both

@@ -98,6 +98,8 @@ void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(
 
 /* Quantisation shared by writer and reader (SPEC.md "Quantisation"). */
 unsigned vsv_quant_code(const vsv_quant *q, float v);
+/* The same over n values; widens [*mn, *mx] to the codes' extremes. */
+void vsv_quant_row(const vsv_quant *q, const float *src, size_t n, uint16_t *dst, unsigned *mn, unsigned *mx);
 /* All 2^bits decoded values, bit-identical to vsv_quant_value. */
 void vsv_quant_table(const vsv_quant *q, float *out);
 /* Fills q from per-species options and the observed finite range. */

@@ -245,15 +245,7 @@ static void gather(const vsv_writer *w, const vsv_quant *q, const float *f, int 
     for (int k = 0; k < ext[2]; k++)
         for (int j = 0; j < ext[1]; j++) {
             const float *src = f + ((size_t)(org[2] + k) * w->meta.ny + (size_t)(org[1] + j)) * w->meta.nx + org[0];
-            uint16_t *dst = codes + ((size_t)k * B + j) * B;
-            for (int i = 0; i < ext[0]; i++) {
-                unsigned c = vsv_quant_code(q, src[i]);
-                dst[i] = (uint16_t)c;
-                if (c < lo)
-                    lo = c;
-                if (c > hi)
-                    hi = c;
-            }
+            vsv_quant_row(q, src, (size_t)ext[0], codes + ((size_t)k * B + j) * B, &lo, &hi);
         }
     *mn = lo;
     *mx = hi;
