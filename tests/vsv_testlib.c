@@ -57,6 +57,9 @@ const char *vsv_test_tmp(const char *name)
 
 unsigned char *vsv_test_slurp(const char *path, size_t *size)
 {
+    struct stat st;
+    if (stat(path, &st) || !S_ISREG(st.st_mode))
+        return NULL;
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return NULL;
