@@ -6,6 +6,7 @@
  * cells below the ground empty. INPUT-FORMATS.md §1 has every formula. */
 #include "vsv_mm5.h"
 #include "vsv_source_internal.h"
+#include "vsv_vgrid.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -19,8 +20,8 @@ typedef struct mm5src {
     int IX, JX, KX, nx, ny;
     int has_sigma;
     float *zn;       /* KX*ny*nx heights of the half-sigma levels, k bottom-up */
-    int16_t *lev;    /* even: lower native level per cell, -1 = no data */
-    float *wt;       /* even: weight of the upper level */
+    vsv_vgrid vg;    /* even: the resampling (heights are fixed in time) */
+    int even;
     float *raw;      /* scratch: one record */
     float *nat;      /* scratch: native cross volume */
     int *period_of;  /* source time → MM5 period */
@@ -240,33 +241,9 @@ static int mm5_open(vsv_source *s)
         g->vert_kind = VSV_VERT_EVEN;
         g->spacing[2] = ztop / nz;
         g->origin[2] = g->spacing[2] / 2;
-        x->lev = malloc(plane * (size_t)nz * sizeof *x->lev);
-        x->wt = malloc(plane * (size_t)nz * sizeof *x->wt);
-        if (!x->lev || !x->wt)
+        if (vsv_vgrid_plan(&x->vg, x->zn, x->KX, plane, g->terrain, nz, g->origin[2], g->spacing[2]))
             return VSV_ENOMEM;
-        for (size_t c = 0; c < plane; c++) {
-            const double ground = g->terrain ? g->terrain[c] : -INFINITY;
-            int k0 = 0;
-            for (int k = 0; k < nz; k++) {
-                const double z = g->origin[2] + k * g->spacing[2];
-                const size_t at = (size_t)k * plane + c;
-                int16_t lv = -1;
-                float w = 0;
-                if (z >= ground && z <= x->zn[(size_t)(x->KX - 1) * plane + c]) {
-                    if (z <= x->zn[c]) {
-                        lv = 0; /* between the ground and the lowest level */
-                    } else {
-                        while (k0 + 1 < x->KX - 1 && x->zn[(size_t)(k0 + 1) * plane + c] < z)
-                            k0++;
-                        const double za = x->zn[(size_t)k0 * plane + c], zb = x->zn[(size_t)(k0 + 1) * plane + c];
-                        lv = (int16_t)k0;
-                        w = (float)((z - za) / (zb - za));
-                    }
-                }
-                x->lev[at] = lv;
-                x->wt[at] = w;
-            }
-        }
+        x->even = 1;
     }
     /* fields: those of the first period that has any; times: one per period */
     int p0 = 0;
@@ -338,23 +315,10 @@ static int mm5_read(vsv_source *s, int field, int t, float *out)
                 o[(size_t)j * x->nx + i] = v;
             }
     }
-    const vsv_meta *g = &s->grid;
-    if (!x->lev) {
+    if (!x->even)
         memcpy(out, x->nat, plane * (size_t)x->KX * sizeof *out);
-        return 0;
-    }
-    for (int k = 0; k < g->nz; k++)
-        for (size_t c = 0; c < plane; c++) {
-            const size_t at = (size_t)k * plane + c;
-            const int lv = x->lev[at];
-            if (lv < 0) {
-                out[at] = NAN;
-            } else {
-                const float lo = x->nat[(size_t)lv * plane + c];
-                const float w = x->wt[at];
-                out[at] = w == 0 ? lo : lo + (x->nat[(size_t)(lv + 1) * plane + c] - lo) * w;
-            }
-        }
+    else
+        vsv_vgrid_apply(&x->vg, x->nat, out);
     return 0;
 }
 
@@ -365,8 +329,7 @@ static void mm5_close(vsv_source *s)
         return;
     vsv_mm5_free(x->m);
     free(x->zn);
-    free(x->lev);
-    free(x->wt);
+    vsv_vgrid_free(&x->vg);
     free(x->raw);
     free(x->nat);
     free(x->period_of);

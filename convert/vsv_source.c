@@ -42,7 +42,7 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
     return rc;
 }
 
-static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_grads_ops};
+static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_netcdf_ops, &vsv_grads_ops};
 
 void vsv_source_opts_init(vsv_source_opts *o)
 {
@@ -74,7 +74,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
             s->ops = readers[i];
             return readers[i]->open(s);
         }
-    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (GrADS .ctl)");
+    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (WRF netCDF, GrADS .ctl)");
 }
 
 void vsv_source_free(vsv_source *s)

@@ -1,0 +1,408 @@
+/* vsv_wrf.c — netCDF model output: detection (WRF by MAP_PROJ and Times,
+ * IOAPI by its grid globals) and the WRF (wrfout) reader: U, V, W, PH
+ * destaggered to mass points, heights from (PH+PHB)/g (mass levels halfway
+ * between w-levels, varying in time), MAP_PROJ 1/2/3/6, Times, terrain from
+ * HGT (or the lowest w-level). INPUT-FORMATS.md §4. */
+#include "vsv_source_internal.h"
+#include "vsv_vgrid.h"
+
+#include <math.h>
+#include <netcdf.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define G0 9.81
+
+typedef struct wrf {
+    int nc;
+    int nx, ny, nk;     /* mass points */
+    int *varid;         /* per field */
+    int *stag;          /* per field: 0 none, 1 x, 2 y, 3 z */
+    float *zw;          /* scratch: (nk+1)*plane w-level heights */
+    float *zm;          /* scratch: nk*plane mass-level heights */
+    float *raw, *nat;
+    int vgrid_t;        /* time the vgrid was planned for, -1 none */
+    vsv_vgrid vg;
+    int even;
+    double ztop;
+} wrf;
+
+static int nc_probe(const unsigned char *h, size_t n)
+{
+    return n >= 8 && (!memcmp(h, "CDF\x01", 4) || !memcmp(h, "CDF\x02", 4) || !memcmp(h, "CDF\x05", 4) ||
+                      !memcmp(h, "\x89HDF\r\n\x1a\n", 8));
+}
+
+static int has_att(int nc, const char *name)
+{
+    size_t len;
+    return nc_inq_attlen(nc, NC_GLOBAL, name, &len) == NC_NOERR;
+}
+
+static double att_double(int nc, const char *name, double dflt)
+{
+    double v;
+    return nc_get_att_double(nc, NC_GLOBAL, name, &v) == NC_NOERR ? v : dflt;
+}
+
+static int dim_len(int nc, const char *name, size_t *len)
+{
+    int id;
+    return nc_inq_dimid(nc, name, &id) == NC_NOERR && nc_inq_dimlen(nc, id, len) == NC_NOERR ? 0 : -1;
+}
+
+/* Heights of the w-levels at time t: (PH+PHB)/g; 0 or error. */
+static int w_heights(vsv_source *s, wrf *w, int t)
+{
+    const size_t plane = (size_t)w->nx * w->ny;
+    int ph, phb;
+    if (nc_inq_varid(w->nc, "PH", &ph) || nc_inq_varid(w->nc, "PHB", &phb))
+        return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without PH and PHB: heights unknown");
+    size_t start[4] = {(size_t)t, 0, 0, 0}, count[4] = {1, (size_t)w->nk + 1, (size_t)w->ny, (size_t)w->nx};
+    if (nc_get_vara_float(w->nc, ph, start, count, w->zw) || nc_get_vara_float(w->nc, phb, start, count, w->raw))
+        return vsv_source_fail(s, VSV_ECORRUPT, "reading PH/PHB at time %d", t);
+    for (size_t i = 0; i < plane * (size_t)(w->nk + 1); i++)
+        w->zw[i] = (float)((w->zw[i] + w->raw[i]) / G0);
+    for (int k = 0; k < w->nk; k++)
+        for (size_t c = 0; c < plane; c++)
+            w->zm[(size_t)k * plane + c] = 0.5f * (w->zw[(size_t)k * plane + c] + w->zw[(size_t)(k + 1) * plane + c]);
+    return 0;
+}
+
+static int is_default_wrf(const char *n)
+{
+    static const char *const d[] = {"QCLOUD", "QRAIN", "QICE", "QSNOW", "QGRAUP", NULL};
+    for (int i = 0; d[i]; i++)
+        if (!strcmp(n, d[i]))
+            return 1;
+    return 0;
+}
+
+static int wrf_open(vsv_source *s, int nc);
+
+static int netcdf_open(vsv_source *s)
+{
+    int nc;
+    int rc = nc_open(s->path, NC_NOWRITE, &nc);
+    if (rc)
+        return vsv_source_fail(s, VSV_ECORRUPT, "netCDF: %s", nc_strerror(rc));
+    int tv;
+    if (has_att(nc, "MAP_PROJ") && nc_inq_varid(nc, "Times", &tv) == NC_NOERR)
+        return wrf_open(s, nc);
+    if (has_att(nc, "XORIG") && has_att(nc, "YORIG") && has_att(nc, "XCELL") && has_att(nc, "NCOLS")) {
+        const int has_tflag = nc_inq_varid(nc, "TFLAG", &tv) == NC_NOERR;
+        nc_close(nc);
+        if (!has_tflag)
+            return vsv_source_fail(s, VSV_ECORRUPT, "IOAPI file without TFLAG");
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "IOAPI (CMAQ/CAMx) netCDF is not read yet");
+    }
+    nc_close(nc);
+    return vsv_source_fail(s, VSV_ENOTVSV,
+                           "a netCDF file that is none of WRF output (MAP_PROJ, Times), IOAPI/CMAQ or CAMx netCDF");
+}
+
+static int wrf_open(vsv_source *s, int nc)
+{
+    wrf *w = calloc(1, sizeof *w);
+    if (!w) {
+        nc_close(nc);
+        return VSV_ENOMEM;
+    }
+    s->priv = w;
+    w->nc = nc;
+    w->vgrid_t = -1;
+    size_t nx, ny, nk, nt;
+    if (dim_len(nc, "west_east", &nx) || dim_len(nc, "south_north", &ny) || dim_len(nc, "bottom_top", &nk) ||
+        dim_len(nc, "Time", &nt) || nx < 2 || ny < 2 || nk < 1 || nx > VSV_MAX_DIM || ny > VSV_MAX_DIM)
+        return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without west_east, south_north, bottom_top and Time");
+    w->nx = (int)nx;
+    w->ny = (int)ny;
+    w->nk = (int)nk;
+    const size_t plane = nx * ny;
+    w->zw = malloc(plane * (nk + 1) * sizeof(float));
+    w->zm = malloc(plane * nk * sizeof(float));
+    w->raw = malloc((nx + 1) * (ny + 1) * (nk + 1) * sizeof(float));
+    w->nat = malloc(plane * nk * sizeof(float));
+    if (!w->zw || !w->zm || !w->raw || !w->nat)
+        return VSV_ENOMEM;
+    /* times */
+    int tv;
+    nc_inq_varid(nc, "Times", &tv);
+    size_t slen = 0;
+    int tdims[NC_MAX_VAR_DIMS], tnd = 0;
+    if (nc_inq_varndims(nc, tv, &tnd) || tnd != 2 || nc_inq_vardimid(nc, tv, tdims) ||
+        nc_inq_dimlen(nc, tdims[1], &slen) || slen < 19 || slen > 64)
+        return vsv_source_fail(s, VSV_ECORRUPT, "Times is not a (Time, 19-character) variable");
+    char *tbuf = calloc(nt * slen + 1, 1);
+    s->times = calloc(nt + 1, sizeof *s->times);
+    if (!tbuf || !s->times) {
+        free(tbuf);
+        return VSV_ENOMEM;
+    }
+    if (nt && nc_get_var_text(nc, tv, tbuf)) {
+        free(tbuf);
+        return vsv_source_fail(s, VSV_ECORRUPT, "cannot read Times");
+    }
+    for (size_t t = 0; t < nt; t++) {
+        char one[65];
+        memcpy(one, tbuf + t * slen, slen);
+        one[slen] = 0;
+        int y, mo, d, h, mi, se;
+        if (sscanf(one, "%4d-%2d-%2d_%2d:%2d:%2d", &y, &mo, &d, &h, &mi, &se) != 6) {
+            free(tbuf);
+            return vsv_source_fail(s, VSV_ECORRUPT, "Times[%zu] = '%s' is not YYYY-MM-DD_HH:MM:SS", t, one);
+        }
+        s->times[t] = vsv_time_from_civil(y, mo, d, h, mi, se);
+        if (t && s->times[t] <= s->times[t - 1]) {
+            free(tbuf);
+            return vsv_source_fail(s, VSV_ECORRUPT, "Times[%zu] does not follow Times[%zu]", t, t - 1);
+        }
+    }
+    free(tbuf);
+    s->ntimes = (int)nt;
+    /* projection and position: the first cell's lat/lon placed in the projection */
+    vsv_meta *g = &s->grid;
+    g->nx = w->nx;
+    g->ny = w->ny;
+    const int mp = (int)att_double(nc, "MAP_PROJ", -1);
+    const double lat1 = att_double(nc, "TRUELAT1", 0), lat2 = att_double(nc, "TRUELAT2", lat1),
+                 slon = att_double(nc, "STAND_LON", att_double(nc, "CEN_LON", 0)),
+                 clat = att_double(nc, "MOAD_CEN_LAT", att_double(nc, "CEN_LAT", 0));
+    g->proj.radius = 6370000;
+    g->proj.lon0 = slon;
+    g->proj.lat0 = clat;
+    g->proj.lat1 = lat1;
+    g->proj.lat2 = lat2;
+    if (mp == 1)
+        g->proj.kind = VSV_PROJ_LCC;
+    else if (mp == 2)
+        g->proj.kind = VSV_PROJ_PSTEREO;
+    else if (mp == 3) {
+        g->proj.kind = VSV_PROJ_MERCATOR;
+        g->proj.lat2 = lat1;
+        g->proj.lat0 = 0;
+    } else if (mp == 6)
+        g->proj.kind = VSV_PROJ_LATLON;
+    else
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "MAP_PROJ %d is not supported (1, 2, 3 and 6 are)", mp);
+    int vlat, vlon;
+    if (nc_inq_varid(nc, "XLAT", &vlat) || nc_inq_varid(nc, "XLONG", &vlon))
+        return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without XLAT/XLONG: its position is unknown");
+    int nd;
+    nc_inq_varndims(nc, vlat, &nd);
+    float *la = malloc(plane * sizeof *la), *lo = malloc(plane * sizeof *lo);
+    size_t st[3] = {0, 0, 0}, ct[3] = {1, ny, nx};
+    int bad = !la || !lo || nd < 2 || nd > 3 || nc_get_vara_float(nc, vlat, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, la) ||
+              nc_get_vara_float(nc, vlon, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, lo);
+    double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    if (!bad)
+        bad = vsv_proj_forward(&g->proj, la[0], lo[0], &x0, &y0) ||
+              vsv_proj_forward(&g->proj, la[plane - 1], lo[plane - 1], &x1, &y1);
+    free(la);
+    free(lo);
+    if (bad)
+        return vsv_source_fail(s, VSV_ECORRUPT, "cannot place XLAT/XLONG in the projection");
+    double dx = att_double(nc, "DX", 0), dy = att_double(nc, "DY", 0);
+    if (mp == 6 || !(dx > 0) || !(dy > 0)) { /* lat/lon grids: spacing from the corners */
+        dx = (x1 - x0) / (nx - 1);
+        dy = (y1 - y0) / (ny - 1);
+    }
+    g->origin[0] = x0;
+    g->origin[1] = y0;
+    g->spacing[0] = dx;
+    g->spacing[1] = dy;
+    /* the far corner must land where DX and DY put it (a check of the projection) */
+    if (mp != 6 && (fabs(x1 - (x0 + dx * (nx - 1))) > 0.02 * dx * nx || fabs(y1 - (y0 + dy * (ny - 1))) > 0.02 * dy * ny))
+        return vsv_source_fail(s, VSV_ECORRUPT, "XLAT/XLONG do not match MAP_PROJ %d with DX %g, DY %g", mp, dx, dy);
+    snprintf(g->model, sizeof g->model, "WRF");
+    char title[200] = "";
+    size_t tl;
+    if (nc_inq_attlen(nc, NC_GLOBAL, "TITLE", &tl) == NC_NOERR && tl < sizeof title)
+        nc_get_att_text(nc, NC_GLOBAL, "TITLE", title);
+    char *tt = title;
+    while (*tt == ' ')
+        tt++;
+    snprintf(g->run, sizeof g->run, "%s, %zu x %zu x %zu mass points", tt, nx, ny, nk);
+    char buf[64];
+    snprintf(buf, sizeof buf, "%d", mp);
+    vsv_meta_add_attr(g, "MAP_PROJ", buf);
+    snprintf(buf, sizeof buf, "%d", (int)att_double(nc, "MP_PHYSICS", -1));
+    vsv_meta_add_attr(g, "MP_PHYSICS", buf);
+    /* terrain: HGT, else the lowest w-level */
+    if (vsv_meta_alloc_terrain(g))
+        return VSV_ENOMEM;
+    int hv, rc;
+    if (nc_inq_varid(nc, "HGT", &hv) == NC_NOERR) {
+        nc_inq_varndims(nc, hv, &nd);
+        if (nc_get_vara_float(nc, hv, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, g->terrain))
+            return vsv_source_fail(s, VSV_ECORRUPT, "cannot read HGT");
+    } else {
+        if ((rc = w_heights(s, w, 0)))
+            return rc;
+        memcpy(g->terrain, w->zw, plane * sizeof(float));
+    }
+    /* the vertical */
+    if ((rc = w_heights(s, w, 0)))
+        return rc;
+    if (s->opts.vertical == VSV_VERT_NATIVE) {
+        g->nz = w->nk;
+        g->vert_kind = VSV_VERT_NATIVE;
+        snprintf(g->vert_units, sizeof g->vert_units, "m");
+        if (vsv_meta_alloc_levels(g))
+            return VSV_ENOMEM;
+        for (int k = 0; k < w->nk; k++) {
+            double sum = 0;
+            for (size_t c = 0; c < plane; c++)
+                sum += w->zm[(size_t)k * plane + c];
+            g->levels[k] = sum / (double)plane;
+        }
+    } else {
+        /* even: up to the highest mass level of the first time (no invented levels above) */
+        double ztop = s->opts.ztop;
+        if (!(ztop > 0)) {
+            float top = 0;
+            for (size_t c = 0; c < plane; c++)
+                top = fmaxf(top, w->zm[(size_t)(w->nk - 1) * plane + c]);
+            ztop = ceil(top / 100.0) * 100.0;
+        }
+        g->nz = s->opts.nz > 0 ? s->opts.nz : 40;
+        g->vert_kind = VSV_VERT_EVEN;
+        g->spacing[2] = ztop / g->nz;
+        g->origin[2] = g->spacing[2] / 2;
+        w->even = 1;
+    }
+    /* fields: the 4-D float variables on (Time, bottom_top[_stag], south_north[_stag], west_east[_stag]) */
+    int nvars;
+    nc_inq_nvars(nc, &nvars);
+    s->fields = calloc((size_t)nvars + 1, sizeof *s->fields);
+    w->varid = calloc((size_t)nvars + 1, sizeof *w->varid);
+    w->stag = calloc((size_t)nvars + 1, sizeof *w->stag);
+    if (!s->fields || !w->varid || !w->stag)
+        return VSV_ENOMEM;
+    for (int v = 0; v < nvars; v++) {
+        char name[NC_MAX_NAME + 1], dn[4][NC_MAX_NAME + 1];
+        int dims[NC_MAX_VAR_DIMS];
+        nc_type type;
+        if (nc_inq_var(nc, v, name, &type, &nd, dims, NULL) || nd != 4 || (type != NC_FLOAT && type != NC_DOUBLE) ||
+            strlen(name) >= sizeof s->fields[0].name)
+            continue;
+        for (int d = 0; d < 4; d++)
+            nc_inq_dimname(nc, dims[d], dn[d]);
+        int stag = 0;
+        if (strcmp(dn[0], "Time"))
+            continue;
+        if (!strcmp(dn[1], "bottom_top_stag"))
+            stag = 3;
+        else if (strcmp(dn[1], "bottom_top"))
+            continue;
+        if (!strcmp(dn[2], "south_north_stag"))
+            stag = stag ? -1 : 2;
+        else if (strcmp(dn[2], "south_north"))
+            continue;
+        if (!strcmp(dn[3], "west_east_stag"))
+            stag = stag ? -1 : 1;
+        else if (strcmp(dn[3], "west_east"))
+            continue;
+        if (stag < 0)
+            continue;
+        vsv_field_info *f = &s->fields[s->nfields];
+        snprintf(f->name, sizeof f->name, "%s", name);
+        size_t al;
+        if (nc_inq_attlen(nc, v, "units", &al) == NC_NOERR && al < sizeof f->units)
+            nc_get_att_text(nc, v, "units", f->units);
+        if (nc_inq_attlen(nc, v, "description", &al) == NC_NOERR && al < sizeof f->description)
+            nc_get_att_text(nc, v, "description", f->description);
+        static const char *const sn[] = {"mass", "X stag", "Y stag", "Z stag"};
+        snprintf(f->ordering, sizeof f->ordering, "%s", sn[stag]);
+        f->nlevels = stag == 3 ? w->nk + 1 : w->nk;
+        f->is_volume = 1;
+        f->is_default = is_default_wrf(name);
+        w->varid[s->nfields] = v;
+        w->stag[s->nfields] = stag;
+        s->nfields++;
+    }
+    return 0;
+}
+
+static int wrf_read(vsv_source *s, int field, int t, float *out)
+{
+    wrf *w = s->priv;
+    const int nx = w->nx, ny = w->ny, nk = w->nk, stag = w->stag[field];
+    const size_t plane = (size_t)nx * ny;
+    size_t start[4] = {(size_t)t, 0, 0, 0};
+    size_t count[4] = {1, (size_t)nk + (stag == 3), (size_t)ny + (stag == 2), (size_t)nx + (stag == 1)};
+    int rc = nc_get_vara_float(w->nc, w->varid[field], start, count, w->raw);
+    if (rc)
+        return vsv_source_fail(s, VSV_ECORRUPT, "reading %s at time %d: %s", s->fields[field].name, t, nc_strerror(rc));
+    /* destagger onto mass points: the mean of the two faces around each cell */
+    for (int k = 0; k < nk; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                const size_t o = ((size_t)k * ny + j) * nx + i;
+                float v;
+                if (stag == 1) {
+                    const float *r = w->raw + ((size_t)k * ny + j) * (nx + 1) + i;
+                    v = 0.5f * (r[0] + r[1]);
+                } else if (stag == 2) {
+                    const float *r = w->raw + ((size_t)k * (ny + 1) + j) * nx + i;
+                    v = 0.5f * (r[0] + r[nx]);
+                } else if (stag == 3) {
+                    v = 0.5f * (w->raw[o] + w->raw[o + plane]);
+                } else {
+                    v = w->raw[o];
+                }
+                w->nat[o] = v;
+            }
+    if (!w->even) {
+        memcpy(out, w->nat, plane * (size_t)nk * sizeof *out);
+        return 0;
+    }
+    /* heights move with time in WRF: plan the resampling for this time */
+    if (w->vgrid_t != t) {
+        if ((rc = w_heights(s, w, t)))
+            return rc;
+        const vsv_meta *g = &s->grid;
+        if (vsv_vgrid_plan(&w->vg, w->zm, nk, plane, g->terrain, g->nz, g->origin[2], g->spacing[2]))
+            return VSV_ENOMEM;
+        w->vgrid_t = t;
+    }
+    vsv_vgrid_apply(&w->vg, w->nat, out);
+    return 0;
+}
+
+static void wrf_close(vsv_source *s)
+{
+    wrf *w = s->priv;
+    if (!w)
+        return;
+    nc_close(w->nc);
+    free(w->varid);
+    free(w->stag);
+    free(w->zw);
+    free(w->zm);
+    free(w->raw);
+    free(w->nat);
+    vsv_vgrid_free(&w->vg);
+    free(w);
+}
+
+static char *wrf_summary(vsv_source *s)
+{
+    vsv_buf b = {0};
+    char line[512];
+    const vsv_meta *g = &s->grid;
+    snprintf(line, sizeof line, "WRF output: %s\n  projection  %s (MAP_PROJ %s), lat0 %g, lon0 %g, true lat %g/%g\n  grid        %d x %d, %g x %g m\n  times       %d\n  fields      %d 3-D\n",
+             g->run, vsv_proj_name(g->proj.kind), vsv_meta_attr(g, "MAP_PROJ"), g->proj.lat0, g->proj.lon0, g->proj.lat1,
+             g->proj.lat2, g->nx, g->ny, g->spacing[0], g->spacing[1], s->ntimes, s->nfields);
+    vsv_buf_put(&b, line, strlen(line));
+    for (int i = 0; i < s->nfields; i++) {
+        snprintf(line, sizeof line, "    %-10s %-7s %3d %-12s %s\n", s->fields[i].name, s->fields[i].ordering,
+                 s->fields[i].nlevels, s->fields[i].units, s->fields[i].description);
+        vsv_buf_put(&b, line, strlen(line));
+    }
+    vsv_buf_put(&b, "", 1);
+    return (char *)b.p;
+}
+
+/* WRF's read/close/summary; the open of every netCDF file starts here. */
+const vsv_source_ops vsv_netcdf_ops = {"WRF", nc_probe, netcdf_open, wrf_read, wrf_close, wrf_summary};
