@@ -68,7 +68,7 @@ TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
-FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5
+FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5 $(B)/tests/test_fuzz_uamiv
 
 .PHONY: all test demo bench install uninstall clean fuzz help deps
 .SECONDARY:
@@ -109,7 +109,7 @@ $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(LIB)
 $(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
-$(B)/tests/test_fuzz_mm5: $(B)/tests/fuzz_mm5.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
+$(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
 test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop
@@ -135,10 +135,10 @@ deps:
 
 fuzz:
 	$(MAKE) B=build-fuzz CC=clang CXX=clang++ SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
-	  build-fuzz/libvesuvius.a build-fuzz/tests/fuzz_vsv.o build-fuzz/tests/fuzz_mm5.o
-	for t in vsv mm5; do clang -fsanitize=fuzzer,address,undefined -o build-fuzz/fuzz_$$t build-fuzz/tests/fuzz_$$t.o \
+	  build-fuzz/libvesuvius.a build-fuzz/tests/fuzz_vsv.o build-fuzz/tests/fuzz_mm5.o build-fuzz/tests/fuzz_uamiv.o
+	for t in vsv mm5 uamiv; do clang -fsanitize=fuzzer,address,undefined -o build-fuzz/fuzz_$$t build-fuzz/tests/fuzz_$$t.o \
 	  build-fuzz/libvesuvius.a $(PKG_LIBS) -lstdc++ -lm -pthread || exit 1; done
-	@echo "run: build-fuzz/fuzz_vsv tests/golden   or   build-fuzz/fuzz_mm5 tests/corpus/mm5"
+	@echo "run: build-fuzz/fuzz_vsv tests/golden, build-fuzz/fuzz_mm5 tests/corpus/mm5, build-fuzz/fuzz_uamiv tests/corpus/uamiv"
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5

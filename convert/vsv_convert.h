@@ -24,6 +24,8 @@ typedef struct vsv_source_opts {
     int vertical;       /* VSV_VERT_EVEN (default) or VSV_VERT_NATIVE */
     int nz;             /* even: number of levels (0: 40) */
     double ztop;        /* even: top of the grid, m above sea level (0: the model top) */
+    const char *heights;/* CAMx: the height/pressure companion file, or NULL */
+    vsv_proj proj;      /* a projection for files without one (CAMx 5); kind NONE = not given */
 } vsv_source_opts;
 
 void vsv_source_opts_init(vsv_source_opts *o);
@@ -53,16 +55,35 @@ int vsv_source_read(vsv_source *s, int field, int t, float *out);
 
 /* Command-line options of the vertical grid (--vertical even|native, --nz,
  * --ztop), shared by vsv-extract and vsv-convert. */
-enum { VSV_SOURCE_OPT_VERTICAL = 2000, VSV_SOURCE_OPT_NZ, VSV_SOURCE_OPT_ZTOP };
+enum {
+    VSV_SOURCE_OPT_VERTICAL = 2000,
+    VSV_SOURCE_OPT_NZ,
+    VSV_SOURCE_OPT_ZTOP,
+    VSV_SOURCE_OPT_HEIGHTS,
+    VSV_SOURCE_OPT_PROJ,
+    VSV_SOURCE_OPT_LAT0,
+    VSV_SOURCE_OPT_LON0,
+    VSV_SOURCE_OPT_LAT1,
+    VSV_SOURCE_OPT_LAT2
+};
 #define VSV_SOURCE_LONGOPTS                                                                        \
     {"vertical", required_argument, 0, VSV_SOURCE_OPT_VERTICAL},                                   \
-        {"nz", required_argument, 0, VSV_SOURCE_OPT_NZ}, {"ztop", required_argument, 0, VSV_SOURCE_OPT_ZTOP}
+        {"nz", required_argument, 0, VSV_SOURCE_OPT_NZ}, {"ztop", required_argument, 0, VSV_SOURCE_OPT_ZTOP},    \
+        {"heights", required_argument, 0, VSV_SOURCE_OPT_HEIGHTS},                                 \
+        {"proj", required_argument, 0, VSV_SOURCE_OPT_PROJ}, {"lat0", required_argument, 0, VSV_SOURCE_OPT_LAT0}, \
+        {"lon0", required_argument, 0, VSV_SOURCE_OPT_LON0}, {"lat1", required_argument, 0, VSV_SOURCE_OPT_LAT1}, \
+        {"lat2", required_argument, 0, VSV_SOURCE_OPT_LAT2}
 #define VSV_SOURCE_HELP                                                                            \
     "Vertical grid:\n"                                                                             \
     "  --vertical even|native  even heights above sea level (default; cells below\n"              \
     "                       the ground are empty) or the model's own levels\n"                    \
     "  --nz N               even: number of levels (default 40)\n"                                \
-    "  --ztop METRES        even: top of the grid (default: the model top)\n"
+    "  --ztop METRES        even: top of the grid (default: the model top)\n"                     \
+    "CAMx:\n"                                                                                      \
+    "  --heights ZPFILE     layer heights from the height/pressure file (without it the\n"       \
+    "                       vertical axis is the layer index)\n"                                  \
+    "  --proj lcc|pstereo|mercator|latlon --lat0 D --lon0 D --lat1 D --lat2 D\n"                 \
+    "                       the projection of a CAMx 5 file (its header has none)\n"
 /* 1 if id was one of these options, 0 if not, -1 for a bad value. */
 int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg);
 

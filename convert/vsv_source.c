@@ -42,7 +42,7 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
     return rc;
 }
 
-static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_netcdf_ops, &vsv_grads_ops};
+static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_camx_ops, &vsv_netcdf_ops, &vsv_grads_ops};
 
 void vsv_source_opts_init(vsv_source_opts *o)
 {
@@ -74,7 +74,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
             s->ops = readers[i];
             return readers[i]->open(s);
         }
-    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (WRF netCDF, GrADS .ctl)");
+    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF netCDF, GrADS .ctl)");
 }
 
 void vsv_source_free(vsv_source *s)
@@ -113,6 +113,27 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
         if (*end || !(v > 0 && v < 1e6))
             return -1;
         o->ztop = v;
+        return 1;
+    }
+    case VSV_SOURCE_OPT_HEIGHTS: o->heights = arg; return 1;
+    case VSV_SOURCE_OPT_PROJ:
+        for (int k = VSV_PROJ_LATLON; k < VSV_PROJ_COUNT; k++)
+            if (!strcmp(arg, vsv_proj_name(k))) {
+                o->proj.kind = k;
+                if (!o->proj.radius)
+                    o->proj.radius = 6370000;
+                return 1;
+            }
+        return -1;
+    case VSV_SOURCE_OPT_LAT0:
+    case VSV_SOURCE_OPT_LON0:
+    case VSV_SOURCE_OPT_LAT1:
+    case VSV_SOURCE_OPT_LAT2: {
+        double v = strtod(arg, &end);
+        if (*end || !(v >= -360 && v <= 360))
+            return -1;
+        double *dst[] = {&o->proj.lat0, &o->proj.lon0, &o->proj.lat1, &o->proj.lat2};
+        *dst[id - VSV_SOURCE_OPT_LAT0] = v;
         return 1;
     }
     default: return 0;

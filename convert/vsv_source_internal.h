@@ -34,5 +34,6 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...) __attribute__((
 extern const vsv_source_ops vsv_grads_ops;
 extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;
+extern const vsv_source_ops vsv_camx_ops;
 
 #endif

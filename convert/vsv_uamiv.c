@@ -1,0 +1,566 @@
+/* vsv_uamiv.c — CAMx UAM-IV reader and source: Fortran records like MM5's
+ * (big-endian, or little-endian by the first marker); four header records,
+ * then per hour a time record and nspec × nz data records (species outer,
+ * layer inner). The number of hours comes from the file size, which must
+ * divide evenly. Heights come from the companion ZP file (--heights); without
+ * it the vertical axis is the layer index. */
+#include "vsv_uamiv.h"
+#include "vsv_source_internal.h"
+#include "vsv_vgrid.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+struct vsv_uamiv {
+    const unsigned char *d;
+    size_t n;
+    int mapped;
+    char path[1024];
+    char err[512];
+    vsv_uamiv_header h;
+    size_t hdr_bytes, hour_bytes, rec_bytes;
+};
+
+static uint32_t rd(int le, const unsigned char *p)
+{
+    return le ? vsv_rd32(p) : ((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
+}
+
+static float rdf(int le, const unsigned char *p)
+{
+    uint32_t u = rd(le, p);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+
+/* n characters stored one per 4-byte word, blanks trimmed. */
+static void c4(char *dst, const unsigned char *p, int n, int le)
+{
+    int k = 0;
+    for (int i = 0; i < n; i++) {
+        unsigned char ch = le ? p[4 * i] : p[4 * i];
+        dst[k++] = ch >= 32 && ch < 127 ? (char)ch : ' ';
+    }
+    while (k && dst[k - 1] == ' ')
+        k--;
+    dst[k] = 0;
+}
+
+const char *vsv_uamiv_error(const vsv_uamiv *u) { return u ? u->err : "out of memory"; }
+const vsv_uamiv_header *vsv_uamiv_header_get(const vsv_uamiv *u) { return &u->h; }
+
+static int ufail(vsv_uamiv *u, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int ufail(vsv_uamiv *u, int rc, const char *fmt, ...)
+{
+    char m[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(m, sizeof m, fmt, ap);
+    va_end(ap);
+    vsv_msg(u->err, sizeof u->err, "%s: %s", u->path, m);
+    return rc;
+}
+
+int vsv_uamiv_probe(const unsigned char *h, size_t n)
+{
+    static const char *names[] = {"AVERAGE", "INSTANT", "AIRQUALITY", "EMISSIONS", "BOUNDARY", NULL};
+    if (n < 16)
+        return 0;
+    const int le = h[0] == 0x30 && h[1] == 1 && !h[2] && !h[3];
+    const int be = !h[0] && !h[1] && h[2] == 1 && h[3] == 0x30;
+    if (!le && !be)
+        return 0;
+    char name[11];
+    c4(name, h + 4, n >= 44 ? 10 : 2, le);
+    for (int i = 0; names[i]; i++)
+        if (!strncmp(name, names[i], strlen(name)) && name[0])
+            return 1;
+    return 0;
+}
+
+int64_t vsv_uamiv_time(int date, float hour)
+{
+    int year = date / 1000, jday = date % 1000;
+    if (year < 100)
+        year += year >= 70 ? 1900 : 2000;
+    return vsv_time_from_civil(year, 1, 1, 0, 0, 0) + (int64_t)(jday - 1) * 86400 + (int64_t)llround(hour * 3600.0);
+}
+
+/* The record at *at (a whole record must fit); advances *at. */
+static int record(vsv_uamiv *u, size_t *at, int recno, uint32_t want, const unsigned char **p)
+{
+    const int le = u->h.little_endian;
+    if (u->n - *at < 8)
+        return ufail(u, VSV_ETRUNC, "record %d at byte offset %zu: file ends", recno, *at);
+    uint32_t l = rd(le, u->d + *at);
+    if (l != want)
+        return ufail(u, VSV_ECORRUPT, "record %d at byte offset %zu: %u bytes, expected %u", recno, *at, l, want);
+    if ((uint64_t)l + 8 > u->n - *at)
+        return ufail(u, VSV_ETRUNC, "record %d at byte offset %zu: file ends inside the record", recno, *at);
+    if (rd(le, u->d + *at + 4 + l) != l)
+        return ufail(u, VSV_ECORRUPT, "record %d at byte offset %zu: trailing length marker differs", recno, *at);
+    *p = u->d + *at + 4;
+    *at += (size_t)l + 8;
+    return 0;
+}
+
+static int parse(vsv_uamiv *u)
+{
+    if (!vsv_uamiv_probe(u->d, u->n))
+        return ufail(u, VSV_ENOTVSV, "not a CAMx UAM-IV file");
+    vsv_uamiv_header *h = &u->h;
+    const int le = h->little_endian = u->d[0] == 0x30;
+    size_t at = 0;
+    const unsigned char *p;
+    int rc;
+    if ((rc = record(u, &at, 1, 304, &p)))
+        return rc;
+    c4(h->name, p, 10, le);
+    c4(h->note, p + 40, 60, le);
+    h->nseg_or_tz = (int32_t)rd(le, p + 280);
+    h->nspec = (int32_t)rd(le, p + 284);
+    h->bdate = (int32_t)rd(le, p + 288);
+    h->bhour = rdf(le, p + 292);
+    h->edate = (int32_t)rd(le, p + 296);
+    h->ehour = rdf(le, p + 300);
+    if (h->nspec < 1 || h->nspec > 10000)
+        return ufail(u, VSV_ECORRUPT, "header: %d species", h->nspec);
+    if ((rc = record(u, &at, 2, 60, &p)))
+        return rc;
+    h->plon = rdf(le, p);
+    h->plat = rdf(le, p + 4);
+    h->iutm = (int32_t)rd(le, p + 8);
+    h->xorg = rdf(le, p + 12);
+    h->yorg = rdf(le, p + 16);
+    h->dx = rdf(le, p + 20);
+    h->dy = rdf(le, p + 24);
+    h->nx = (int32_t)rd(le, p + 28);
+    h->ny = (int32_t)rd(le, p + 32);
+    h->nz = (int32_t)rd(le, p + 36);
+    h->iproj = (int32_t)rd(le, p + 40);
+    h->istag = (int32_t)rd(le, p + 44);
+    h->tlat1 = rdf(le, p + 48);
+    h->tlat2 = rdf(le, p + 52);
+    h->spare = rdf(le, p + 56);
+    if (h->nx < 1 || h->ny < 1 || h->nz < 1 || h->nx > VSV_MAX_DIM || h->ny > VSV_MAX_DIM || h->nz > 1000 ||
+        !(h->dx > 0) || !(h->dy > 0))
+        return ufail(u, VSV_ECORRUPT, "region record: grid %d x %d x %d, cells %g x %g", h->nx, h->ny, h->nz, h->dx,
+                     h->dy);
+    /* v6+ writes the projection here; CAMx 5 writes zeros (and metres) */
+    const int looks_latlon = fabsf(h->xorg) <= 360 && h->dx < 10;
+    h->v6 = h->iproj != 0 || h->tlat1 != 0 || h->tlat2 != 0 || h->plon != 0 || h->plat != 0 || looks_latlon;
+    if ((rc = record(u, &at, 3, 16, &p)))
+        return rc;
+    for (int i = 0; i < 4; i++)
+        h->rec3[i] = (int32_t)rd(le, p + 4 * i);
+    if ((rc = record(u, &at, 4, (uint32_t)(40 * h->nspec), &p)))
+        return rc;
+    h->species = calloc((size_t)h->nspec, sizeof *h->species);
+    if (!h->species)
+        return VSV_ENOMEM;
+    for (int s = 0; s < h->nspec; s++)
+        c4(h->species[s], p + 40 * s, 10, le);
+    u->hdr_bytes = at;
+    u->rec_bytes = 8 + 44 + 4 * (size_t)h->nx * h->ny;
+    u->hour_bytes = 24 + (size_t)h->nspec * h->nz * u->rec_bytes;
+    const size_t body = u->n - at;
+    if (body == 0 || body % u->hour_bytes)
+        return ufail(u, VSV_ECORRUPT,
+                     "file size %zu does not divide into hours: %zu header bytes + a multiple of %zu (expected %zu or "
+                     "%zu)",
+                     u->n, at, u->hour_bytes, at + (body / u->hour_bytes) * u->hour_bytes,
+                     at + (body / u->hour_bytes + 1) * u->hour_bytes);
+    h->nhours = (int)(body / u->hour_bytes);
+    /* check every time record's framing now (cheap): a damaged file fails at open */
+    for (int hr = 0; hr < h->nhours; hr++) {
+        size_t t_at = at + (size_t)hr * u->hour_bytes;
+        if ((rc = record(u, &t_at, 5 + hr * (1 + h->nspec * h->nz), 16, &p)))
+            return rc;
+    }
+    return 0;
+}
+
+int vsv_uamiv_open_mem(const void *data, size_t n, const char *name, vsv_uamiv **out)
+{
+    vsv_uamiv *u = *out = calloc(1, sizeof *u);
+    if (!u)
+        return VSV_ENOMEM;
+    snprintf(u->path, sizeof u->path, "%s", name);
+    u->d = data;
+    u->n = n;
+    return parse(u);
+}
+
+int vsv_uamiv_open(const char *path, vsv_uamiv **out)
+{
+    vsv_uamiv *u = *out = calloc(1, sizeof *u);
+    if (!u)
+        return VSV_ENOMEM;
+    snprintf(u->path, sizeof u->path, "%s", path);
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return ufail(u, VSV_EIO, "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) || !S_ISREG(st.st_mode) || st.st_size < 16) {
+        close(fd);
+        return ufail(u, VSV_ENOTVSV, "not a CAMx UAM-IV file");
+    }
+    u->n = (size_t)st.st_size;
+    void *p = mmap(NULL, u->n, PROT_READ, MAP_SHARED, fd, 0);
+    close(fd);
+    if (p == MAP_FAILED)
+        return ufail(u, VSV_EIO, "cannot map: %s", strerror(errno));
+    u->d = p;
+    u->mapped = 1;
+    return parse(u);
+}
+
+void vsv_uamiv_free(vsv_uamiv *u)
+{
+    if (!u)
+        return;
+    if (u->mapped)
+        munmap((void *)u->d, u->n);
+    free(u->h.species);
+    free(u);
+}
+
+void vsv_uamiv_hour(const vsv_uamiv *u, int h, int *bdate, float *bhour, int *edate, float *ehour)
+{
+    const unsigned char *p = u->d + u->hdr_bytes + (size_t)h * u->hour_bytes + 4;
+    const int le = u->h.little_endian;
+    *bdate = (int32_t)rd(le, p);
+    *bhour = rdf(le, p + 4);
+    *edate = (int32_t)rd(le, p + 8);
+    *ehour = rdf(le, p + 12);
+}
+
+int vsv_uamiv_read(vsv_uamiv *u, int hour, int spec, int layer, float *out)
+{
+    const vsv_uamiv_header *h = &u->h;
+    if (hour < 0 || hour >= h->nhours || spec < 0 || spec >= h->nspec || layer < 0 || layer >= h->nz)
+        return ufail(u, VSV_ERANGE, "hour %d, species %d, layer %d out of range", hour, spec, layer);
+    size_t at = u->hdr_bytes + (size_t)hour * u->hour_bytes + 24 + ((size_t)spec * h->nz + layer) * u->rec_bytes;
+    const unsigned char *p;
+    const int recno = 5 + hour * (1 + h->nspec * h->nz) + 1 + spec * h->nz + layer;
+    int rc = record(u, &at, recno, (uint32_t)(u->rec_bytes - 8), &p);
+    if (rc)
+        return rc;
+    char name[11];
+    c4(name, p + 4, 10, h->little_endian);
+    if (strcmp(name, h->species[spec]))
+        return ufail(u, VSV_ECORRUPT, "record %d at byte offset %zu: species %s where %s was expected", recno,
+                     at - u->rec_bytes, name, h->species[spec]);
+    const size_t n = (size_t)h->nx * h->ny;
+    for (size_t i = 0; i < n; i++)
+        out[i] = rdf(h->little_endian, p + 44 + 4 * i);
+    return 0;
+}
+
+/* -------------------------------------------------------------- ZP file */
+
+struct vsv_zp {
+    FILE *fp;
+    int nx, ny, nz, nhours, le;
+    size_t rec;
+    char err[512];
+};
+
+const char *vsv_zp_error(const vsv_zp *z) { return z ? z->err : "out of memory"; }
+int vsv_zp_nhours(const vsv_zp *z) { return z->nhours; }
+
+int vsv_zp_open(const char *path, int nx, int ny, int nz, vsv_zp **out)
+{
+    vsv_zp *z = *out = calloc(1, sizeof *z);
+    if (!z)
+        return VSV_ENOMEM;
+    z->nx = nx;
+    z->ny = ny;
+    z->nz = nz;
+    z->rec = 8 + 8 + 4 * (size_t)nx * ny;
+    if (!(z->fp = fopen(path, "rb"))) {
+        vsv_msg(z->err, sizeof z->err, "%s: cannot open: %s", path, strerror(errno));
+        return VSV_EIO;
+    }
+    unsigned char m[4];
+    struct stat st;
+    if (fread(m, 1, 4, z->fp) != 4 || fstat(fileno(z->fp), &st)) {
+        vsv_msg(z->err, sizeof z->err, "%s: not a height/pressure file (too short)", path);
+        return VSV_ECORRUPT;
+    }
+    const uint32_t want = (uint32_t)(z->rec - 8);
+    z->le = vsv_rd32(m) == want;
+    if (rd(z->le, m) != want) {
+        vsv_msg(z->err, sizeof z->err, "%s: first record has %u bytes; a %dx%d grid needs %u (not this grid's ZP file)",
+                path, rd(0, m), nx, ny, want);
+        return VSV_ECORRUPT;
+    }
+    const size_t per_hour = 2 * (size_t)nz * z->rec;
+    if ((size_t)st.st_size % per_hour) {
+        vsv_msg(z->err, sizeof z->err, "%s: size %lld is not a whole number of hours of %d layers (%zu bytes each)", path,
+                (long long)st.st_size, nz, per_hour);
+        return VSV_ECORRUPT;
+    }
+    z->nhours = (int)((size_t)st.st_size / per_hour);
+    return 0;
+}
+
+int vsv_zp_heights(vsv_zp *z, int hour, float *out)
+{
+    const size_t plane = (size_t)z->nx * z->ny;
+    unsigned char *buf = malloc(z->rec);
+    if (!buf)
+        return VSV_ENOMEM;
+    int rc = 0;
+    for (int k = 0; k < z->nz && !rc; k++) {
+        const off_t at = (off_t)(((size_t)hour * z->nz + k) * 2 * z->rec);
+        if (fseeko(z->fp, at, SEEK_SET) || fread(buf, 1, z->rec, z->fp) != z->rec) {
+            vsv_msg(z->err, sizeof z->err, "height record of hour %d, layer %d at byte %lld: file ends", hour, k,
+                    (long long)at);
+            rc = VSV_ETRUNC;
+            break;
+        }
+        for (size_t i = 0; i < plane; i++)
+            out[(size_t)k * plane + i] = rdf(z->le, buf + 4 + 8 + 4 * i);
+    }
+    free(buf);
+    return rc;
+}
+
+void vsv_zp_free(vsv_zp *z)
+{
+    if (!z)
+        return;
+    if (z->fp)
+        fclose(z->fp);
+    free(z);
+}
+
+/* ------------------------------------------------------------- source */
+
+typedef struct camx {
+    vsv_uamiv *u;
+    vsv_zp *zp;
+    float *zm;       /* nz*plane layer-middle heights (m above ground) */
+    float *nat;
+    vsv_vgrid vg;
+    int vg_hour;
+} camx;
+
+static int is_aerosol(const char *n)
+{
+    static const char *const a[] = {"PSO4", "PNO3", "PNH4", "POA", "PEC", "PCL", "NA", "PH2O", "FPRM", "FCRS", "CPRM",
+                                    "CCRS", "SOPA", "SOPB", "SOA1", "SOA2", "SOA3", "SOA4", "SOA5", "SOA6", "SOA7",
+                                    "PM25", "PM10", NULL};
+    for (int i = 0; a[i]; i++)
+        if (!strcmp(n, a[i]))
+            return 1;
+    return !strncmp(n, "PM", 2);
+}
+
+static int camx_probe(const unsigned char *h, size_t n) { return vsv_uamiv_probe(h, n); }
+
+/* Layer-middle heights of hour h from the ZP layer tops. */
+static int camx_heights(vsv_source *s, camx *c, int hour)
+{
+    const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
+    const size_t plane = (size_t)h->nx * h->ny;
+    if (hour >= vsv_zp_nhours(c->zp))
+        return vsv_source_fail(s, VSV_ECORRUPT, "the heights file has %d hours, the data %d", vsv_zp_nhours(c->zp),
+                               h->nhours);
+    int rc = vsv_zp_heights(c->zp, hour, c->nat);
+    if (rc)
+        return vsv_source_fail(s, rc, "%s", vsv_zp_error(c->zp));
+    for (int k = 0; k < h->nz; k++)
+        for (size_t i = 0; i < plane; i++) {
+            const float below = k ? c->nat[(size_t)(k - 1) * plane + i] : 0.0f;
+            c->zm[(size_t)k * plane + i] = 0.5f * (below + c->nat[(size_t)k * plane + i]);
+        }
+    return 0;
+}
+
+static int camx_open(vsv_source *s)
+{
+    camx *c = calloc(1, sizeof *c);
+    if (!c)
+        return VSV_ENOMEM;
+    s->priv = c;
+    c->vg_hour = -1;
+    int rc = vsv_uamiv_open(s->path, &c->u);
+    if (rc) {
+        vsv_msg(s->err, sizeof s->err, "%s", vsv_uamiv_error(c->u));
+        return rc;
+    }
+    const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
+    vsv_meta *g = &s->grid;
+    g->nx = h->nx;
+    g->ny = h->ny;
+    g->origin[0] = h->xorg + h->dx / 2.0;
+    g->origin[1] = h->yorg + h->dy / 2.0;
+    g->spacing[0] = h->dx;
+    g->spacing[1] = h->dy;
+    /* projection: the header's (v6+), else the options', else none */
+    if (s->opts.proj.kind != VSV_PROJ_NONE) {
+        g->proj = s->opts.proj;
+    } else if (h->v6) {
+        g->proj.radius = 6370000;
+        g->proj.lon0 = h->plon;
+        g->proj.lat0 = h->plat;
+        g->proj.lat1 = h->tlat1;
+        g->proj.lat2 = h->tlat2;
+        switch (h->iproj) {
+        case 0: g->proj.kind = VSV_PROJ_LATLON; break;
+        case 2: g->proj.kind = VSV_PROJ_LCC; break;
+        case 4: g->proj.kind = VSV_PROJ_PSTEREO; break;
+        case 5: g->proj.kind = VSV_PROJ_MERCATOR; break;
+        default:
+            return vsv_source_fail(s, VSV_EUNSUPPORTED,
+                                   "projection code %d (%s) is not supported; give one with --proj", h->iproj,
+                                   h->iproj == 1 ? "UTM" : h->iproj == 3 ? "rotated polar stereographic" : "unknown");
+        }
+    } else {
+        vsv_meta_add_attr(g, "projection", "unknown (CAMx 5 header has none; give --proj lcc --lat1 ... )");
+    }
+    snprintf(g->model, sizeof g->model, "CAMx");
+    snprintf(g->run, sizeof g->run, "%s %s", h->name, h->note);
+    char buf[64];
+    snprintf(buf, sizeof buf, "%s", h->v6 ? "6+" : "5");
+    vsv_meta_add_attr(g, "CAMx header", buf);
+    snprintf(buf, sizeof buf, "%d", h->nseg_or_tz);
+    vsv_meta_add_attr(g, h->v6 ? "time zone" : "nseg", buf);
+    const size_t plane = (size_t)h->nx * h->ny;
+    c->nat = malloc(plane * (size_t)h->nz * sizeof *c->nat);
+    c->zm = malloc(plane * (size_t)h->nz * sizeof *c->zm);
+    if (!c->nat || !c->zm)
+        return VSV_ENOMEM;
+    /* vertical */
+    if (s->opts.heights) {
+        if ((rc = vsv_zp_open(s->opts.heights, h->nx, h->ny, h->nz, &c->zp)))
+            return vsv_source_fail(s, rc, "%s", vsv_zp_error(c->zp));
+        if ((rc = camx_heights(s, c, 0)))
+            return rc;
+        if (s->opts.vertical == VSV_VERT_NATIVE) {
+            g->nz = h->nz;
+            g->vert_kind = VSV_VERT_NATIVE;
+            snprintf(g->vert_units, sizeof g->vert_units, "m");
+            if (vsv_meta_alloc_levels(g))
+                return VSV_ENOMEM;
+            for (int k = 0; k < h->nz; k++) {
+                double sum = 0;
+                for (size_t i = 0; i < plane; i++)
+                    sum += c->zm[(size_t)k * plane + i];
+                g->levels[k] = sum / (double)plane;
+            }
+        } else {
+            double ztop = s->opts.ztop;
+            if (!(ztop > 0)) {
+                float top = 0;
+                for (size_t i = 0; i < plane; i++)
+                    top = fmaxf(top, c->zm[(size_t)(h->nz - 1) * plane + i]);
+                ztop = ceil(top / 10.0) * 10.0;
+            }
+            g->nz = s->opts.nz > 0 ? s->opts.nz : 40;
+            g->vert_kind = VSV_VERT_EVEN;
+            g->spacing[2] = ztop / g->nz;
+            g->origin[2] = g->spacing[2] / 2;
+        }
+        vsv_meta_add_attr(g, "heights", "above ground, from the CAMx height/pressure file");
+    } else {
+        g->nz = h->nz;
+        g->vert_kind = VSV_VERT_INDEX;
+    }
+    /* species and hours */
+    s->fields = calloc((size_t)h->nspec, sizeof *s->fields);
+    s->times = calloc((size_t)h->nhours, sizeof *s->times);
+    if (!s->fields || !s->times)
+        return VSV_ENOMEM;
+    const int emis = !strcmp(h->name, "EMISSIONS");
+    for (int i = 0; i < h->nspec; i++) {
+        vsv_field_info *f = &s->fields[i];
+        snprintf(f->name, sizeof f->name, "%s", h->species[i]);
+        const int aero = is_aerosol(f->name);
+        snprintf(f->units, sizeof f->units, "%s", emis ? (aero ? "g/h" : "mol/h") : aero ? "ug/m3" : "ppm");
+        snprintf(f->description, sizeof f->description, "%s %s", aero ? "aerosol" : "gas", h->name);
+        snprintf(f->ordering, sizeof f->ordering, "UAM-IV");
+        f->nlevels = h->nz;
+        f->is_volume = f->is_default = 1;
+    }
+    s->nfields = h->nspec;
+    for (int t = 0; t < h->nhours; t++) {
+        int bd, ed;
+        float bh, eh;
+        vsv_uamiv_hour(c->u, t, &bd, &bh, &ed, &eh);
+        s->times[t] = vsv_uamiv_time(bd, bh);
+        if (t && s->times[t] <= s->times[t - 1])
+            return vsv_source_fail(s, VSV_ECORRUPT, "hour %d (date %d, %.2f h) does not follow hour %d", t, bd, bh, t - 1);
+    }
+    s->ntimes = h->nhours;
+    return 0;
+}
+
+static int camx_read(vsv_source *s, int field, int t, float *out)
+{
+    camx *c = s->priv;
+    const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
+    const size_t plane = (size_t)h->nx * h->ny;
+    const int even = s->grid.vert_kind == VSV_VERT_EVEN;
+    float *dst = even ? c->nat : out;
+    int rc;
+    if (even && c->vg_hour != t) {
+        if ((rc = camx_heights(s, c, t)))
+            return rc;
+        if (vsv_vgrid_plan(&c->vg, c->zm, h->nz, plane, NULL, s->grid.nz, s->grid.origin[2], s->grid.spacing[2]))
+            return VSV_ENOMEM;
+        c->vg_hour = t;
+    }
+    for (int k = 0; k < h->nz; k++)
+        if ((rc = vsv_uamiv_read(c->u, t, field, k, dst + (size_t)k * plane)))
+            return vsv_source_fail(s, rc, "%s", vsv_uamiv_error(c->u) + strlen(s->path) + 2);
+    if (even)
+        vsv_vgrid_apply(&c->vg, c->nat, out);
+    return 0;
+}
+
+static void camx_close(vsv_source *s)
+{
+    camx *c = s->priv;
+    if (!c)
+        return;
+    vsv_uamiv_free(c->u);
+    vsv_zp_free(c->zp);
+    free(c->zm);
+    free(c->nat);
+    vsv_vgrid_free(&c->vg);
+    free(c);
+}
+
+static char *camx_summary(vsv_source *s)
+{
+    camx *c = s->priv;
+    const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
+    vsv_buf b = {0};
+    char line[600];
+    snprintf(line, sizeof line,
+             "CAMx UAM-IV %s file (%s-endian, v%s header)\n  note        %s\n  grid        %d x %d x %d, origin (%g, %g), "
+             "cells %g x %g, projection code %d (true lat %g/%g, centre %g, %g)\n  hours       %d, from date %d %.2f h to "
+             "%d %.2f h\n  species     %d:",
+             h->name, h->little_endian ? "little" : "big", h->v6 ? "6+" : "5", h->note, h->nx, h->ny, h->nz, h->xorg,
+             h->yorg, h->dx, h->dy, h->iproj, h->tlat1, h->tlat2, h->plat, h->plon, h->nhours, h->bdate, h->bhour,
+             h->edate, h->ehour, h->nspec);
+    vsv_buf_put(&b, line, strlen(line));
+    for (int i = 0; i < h->nspec; i++) {
+        snprintf(line, sizeof line, " %s", h->species[i]);
+        vsv_buf_put(&b, line, strlen(line));
+    }
+    vsv_buf_put(&b, "\n", 2);
+    return (char *)b.p;
+}
+
+const vsv_source_ops vsv_camx_ops = {"CAMx UAM-IV", camx_probe, camx_open, camx_read, camx_close, camx_summary};
