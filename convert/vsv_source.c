@@ -74,7 +74,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
             s->ops = readers[i];
             return readers[i]->open(s);
         }
-    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF netCDF, GrADS .ctl)");
+    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF or IOAPI netCDF, GrADS .ctl)");
 }
 
 void vsv_source_free(vsv_source *s)

@@ -35,5 +35,8 @@ extern const vsv_source_ops vsv_grads_ops;
 extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;
 extern const vsv_source_ops vsv_camx_ops;
+extern const vsv_source_ops vsv_ioapi_ops;
+/* Opens an IOAPI netCDF file already open as nc (detected by vsv_netcdf_ops). */
+int vsv_ioapi_open(vsv_source *s, int nc);
 
 #endif

@@ -89,12 +89,10 @@ static int netcdf_open(vsv_source *s)
     int tv;
     if (has_att(nc, "MAP_PROJ") && nc_inq_varid(nc, "Times", &tv) == NC_NOERR)
         return wrf_open(s, nc);
-    if (has_att(nc, "XORIG") && has_att(nc, "YORIG") && has_att(nc, "XCELL") && has_att(nc, "NCOLS")) {
-        const int has_tflag = nc_inq_varid(nc, "TFLAG", &tv) == NC_NOERR;
-        nc_close(nc);
-        if (!has_tflag)
-            return vsv_source_fail(s, VSV_ECORRUPT, "IOAPI file without TFLAG");
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "IOAPI (CMAQ/CAMx) netCDF is not read yet");
+    if (has_att(nc, "XORIG") && has_att(nc, "YORIG") && has_att(nc, "XCELL") && has_att(nc, "YCELL") &&
+        has_att(nc, "NCOLS") && has_att(nc, "NROWS")) {
+        s->ops = &vsv_ioapi_ops;
+        return vsv_ioapi_open(s, nc);
     }
     nc_close(nc);
     return vsv_source_fail(s, VSV_ENOTVSV,
