@@ -264,6 +264,118 @@ int vsv_uamiv_read(vsv_uamiv *u, int hour, int spec, int layer, float *out)
     return 0;
 }
 
+/* ------------------------------------------------------------- writer */
+
+typedef struct uw {
+    FILE *fp;
+    int le, bad;
+} uw;
+
+static void uw32(uw *w, uint32_t v)
+{
+    unsigned char b[4];
+    if (w->le)
+        vsv_wr32(b, v);
+    else
+        b[0] = (unsigned char)(v >> 24), b[1] = (unsigned char)(v >> 16), b[2] = (unsigned char)(v >> 8),
+        b[3] = (unsigned char)v;
+    w->bad |= fwrite(b, 1, 4, w->fp) != 4;
+}
+
+static void uwf(uw *w, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    uw32(w, u);
+}
+
+/* n characters, one per 4-byte word, blank padded (bytes: no byte order) */
+static void uwc4(uw *w, const char *s, int n)
+{
+    const size_t len = strlen(s);
+    for (int i = 0; i < n; i++) {
+        unsigned char b[4] = {' ', ' ', ' ', ' '};
+        if ((size_t)i < len)
+            b[0] = (unsigned char)s[i];
+        w->bad |= fwrite(b, 1, 4, w->fp) != 4;
+    }
+}
+
+int vsv_uamiv_write(const char *path, const vsv_uamiv_header *h, int le, const int *dates, const float *hours,
+                    vsv_uamiv_values fn, void *ctx)
+{
+    uw w = {fopen(path, "wb"), le, 0};
+    if (!w.fp)
+        return VSV_EIO;
+    const size_t plane = (size_t)h->nx * h->ny;
+    float *buf = malloc(plane * sizeof *buf);
+    if (!buf) {
+        fclose(w.fp);
+        return VSV_ENOMEM;
+    }
+    uw32(&w, 304);
+    uwc4(&w, h->name, 10);
+    uwc4(&w, h->note, 60);
+    uw32(&w, (uint32_t)h->nseg_or_tz);
+    uw32(&w, (uint32_t)h->nspec);
+    uw32(&w, (uint32_t)h->bdate);
+    uwf(&w, h->bhour);
+    uw32(&w, (uint32_t)h->edate);
+    uwf(&w, h->ehour);
+    uw32(&w, 304);
+    uw32(&w, 60);
+    uwf(&w, h->plon);
+    uwf(&w, h->plat);
+    uw32(&w, (uint32_t)h->iutm);
+    uwf(&w, h->xorg);
+    uwf(&w, h->yorg);
+    uwf(&w, h->dx);
+    uwf(&w, h->dy);
+    uw32(&w, (uint32_t)h->nx);
+    uw32(&w, (uint32_t)h->ny);
+    uw32(&w, (uint32_t)h->nz);
+    uw32(&w, (uint32_t)h->iproj);
+    uw32(&w, (uint32_t)h->istag);
+    uwf(&w, h->tlat1);
+    uwf(&w, h->tlat2);
+    uwf(&w, h->spare);
+    uw32(&w, 60);
+    uw32(&w, 16);
+    for (int i = 0; i < 4; i++)
+        uw32(&w, (uint32_t)h->rec3[i]);
+    uw32(&w, 16);
+    uw32(&w, (uint32_t)(40 * h->nspec));
+    for (int sp = 0; sp < h->nspec; sp++)
+        uwc4(&w, h->species[sp], 10);
+    uw32(&w, (uint32_t)(40 * h->nspec));
+    for (int t = 0; t < h->nhours && !w.bad; t++) {
+        uw32(&w, 16);
+        uw32(&w, (uint32_t)dates[2 * t]);
+        uwf(&w, hours[2 * t]);
+        uw32(&w, (uint32_t)dates[2 * t + 1]);
+        uwf(&w, hours[2 * t + 1]);
+        uw32(&w, 16);
+        for (int sp = 0; sp < h->nspec; sp++)
+            for (int k = 0; k < h->nz; k++) {
+                const uint32_t n = (uint32_t)(44 + 4 * plane);
+                fn(ctx, t, sp, k, buf);
+                uw32(&w, n);
+                uw32(&w, 1);
+                uwc4(&w, h->species[sp], 10);
+                if (!le) {
+                    for (size_t i = 0; i < plane; i++)
+                        uwf(&w, buf[i]);
+                } else {
+                    w.bad |= fwrite(buf, 4, plane, w.fp) != plane; /* little-endian host */
+                }
+                uw32(&w, n);
+            }
+    }
+    free(buf);
+    const int bad = fclose(w.fp) != 0 || w.bad;
+    return bad ? VSV_EIO : 0;
+}
+
 /* -------------------------------------------------------------- ZP file */
 
 struct vsv_zp {

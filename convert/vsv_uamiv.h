@@ -47,6 +47,14 @@ int64_t vsv_uamiv_time(int date, float hour);
  * whose species name or segment disagrees is named). */
 int vsv_uamiv_read(vsv_uamiv *u, int hour, int spec, int layer, float *out);
 
+/* Writes a UAM-IV file: the header from h (nhours hours), per hour the
+ * dates/decimal hours dates[2t], hours[2t] (begin) and [2t+1] (end), and the
+ * values from fn(ctx, hour, species, layer, plane) filling nx*ny floats.
+ * Big-endian unless le. 0 or an error code. */
+typedef void (*vsv_uamiv_values)(void *ctx, int hour, int spec, int layer, float *plane);
+int vsv_uamiv_write(const char *path, const vsv_uamiv_header *h, int le, const int *dates, const float *hours,
+                    vsv_uamiv_values fn, void *ctx);
+
 /* The companion height/pressure file (no header): per hour and layer a
  * record of layer-top heights (m above ground), then one of pressures (mb). */
 typedef struct vsv_zp vsv_zp;

@@ -13,7 +13,7 @@
 #include <string.h>
 #include <unistd.h>
 
-/* ------------------------------------------------------ a UAM-IV writer */
+/* ------------------------------------------- writers (ZP here, UAM-IV in the library) */
 
 typedef struct w {
     FILE *fp;
@@ -35,82 +35,32 @@ static void wf(w_t *w, float f)
     memcpy(&u, &f, 4);
     w32(w, u);
 }
-/* n characters, one per 4-byte word, blank padded */
-static void wc4(w_t *w, const char *s, int n)
-{
-    for (int i = 0; i < n; i++) {
-        unsigned char b[4] = {' ', ' ', ' ', ' '};
-        if (i < (int)strlen(s))
-            b[0] = (unsigned char)s[i];
-        fwrite(b, 1, 4, w->fp);
-    }
-}
-
 typedef float (*value_fn)(int hour, int spec, int layer, int i, int j);
+
+/* Adapters from the tests' value sources to the library writer. */
+typedef struct src_ctx {
+    value_fn fn;
+    vsv_uamiv *from;
+    int nx, ny;
+} src_ctx;
+
+static void fill(void *p, int hour, int spec, int layer, float *plane)
+{
+    src_ctx *c = p;
+    if (c->from) {
+        vsv_uamiv_read(c->from, hour, spec, layer, plane);
+        return;
+    }
+    for (int j = 0; j < c->ny; j++)
+        for (int i = 0; i < c->nx; i++)
+            plane[j * c->nx + i] = c->fn(hour, spec, layer, i, j);
+}
 
 static void write_uamiv(const char *path, const vsv_uamiv_header *h, int le, const int *dates, const float *hours,
                         value_fn val, vsv_uamiv *copy_from)
 {
-    w_t w = {fopen(path, "wb"), le};
-    w32(&w, 304);
-    wc4(&w, h->name, 10);
-    wc4(&w, h->note, 60);
-    w32(&w, (uint32_t)h->nseg_or_tz);
-    w32(&w, (uint32_t)h->nspec);
-    w32(&w, (uint32_t)h->bdate);
-    wf(&w, h->bhour);
-    w32(&w, (uint32_t)h->edate);
-    wf(&w, h->ehour);
-    w32(&w, 304);
-    w32(&w, 60);
-    wf(&w, h->plon);
-    wf(&w, h->plat);
-    w32(&w, (uint32_t)h->iutm);
-    wf(&w, h->xorg);
-    wf(&w, h->yorg);
-    wf(&w, h->dx);
-    wf(&w, h->dy);
-    w32(&w, (uint32_t)h->nx);
-    w32(&w, (uint32_t)h->ny);
-    w32(&w, (uint32_t)h->nz);
-    w32(&w, (uint32_t)h->iproj);
-    w32(&w, (uint32_t)h->istag);
-    wf(&w, h->tlat1);
-    wf(&w, h->tlat2);
-    wf(&w, h->spare);
-    w32(&w, 60);
-    w32(&w, 16);
-    for (int i = 0; i < 4; i++)
-        w32(&w, (uint32_t)h->rec3[i]);
-    w32(&w, 16);
-    w32(&w, (uint32_t)(40 * h->nspec));
-    for (int s = 0; s < h->nspec; s++)
-        wc4(&w, h->species[s], 10);
-    w32(&w, (uint32_t)(40 * h->nspec));
-    float *plane = malloc((size_t)h->nx * h->ny * 4);
-    for (int t = 0; t < h->nhours; t++) {
-        w32(&w, 16);
-        w32(&w, (uint32_t)dates[2 * t]);
-        wf(&w, hours[2 * t]);
-        w32(&w, (uint32_t)dates[2 * t + 1]);
-        wf(&w, hours[2 * t + 1]);
-        w32(&w, 16);
-        for (int s = 0; s < h->nspec; s++)
-            for (int k = 0; k < h->nz; k++) {
-                const uint32_t n = (uint32_t)(44 + 4 * h->nx * h->ny);
-                w32(&w, n);
-                w32(&w, 1);
-                wc4(&w, h->species[s], 10);
-                if (copy_from)
-                    vsv_uamiv_read(copy_from, t, s, k, plane);
-                for (int j = 0; j < h->ny; j++)
-                    for (int i = 0; i < h->nx; i++)
-                        wf(&w, copy_from ? plane[j * h->nx + i] : val(t, s, k, i, j));
-                w32(&w, n);
-            }
-    }
-    free(plane);
-    fclose(w.fp);
+    src_ctx c = {val, copy_from, h->nx, h->ny};
+    vsv_uamiv_write(path, h, le, dates, hours, fill, &c);
 }
 
 /* ZP: per hour and layer, height (layer top, m above ground) then pressure */
