@@ -199,8 +199,104 @@ static void test_not_wrf(void)
     vsv_source_free(src);
 }
 
+/* A small synthetic wrfout: Lambert 20 km, 12x10x6, times t0.. every 3 h. */
+static void write_wrf(const char *path, int t0, int nt)
+{
+    int nc, dT, dS, dz, dzs, dy, dx, vt, vlat, vlon, vph, vphb, vq, vh;
+    nc_create(path, NC_CLOBBER | NC_NETCDF4, &nc);
+    nc_def_dim(nc, "Time", NC_UNLIMITED, &dT);
+    nc_def_dim(nc, "DateStrLen", 19, &dS);
+    nc_def_dim(nc, "bottom_top", 6, &dz);
+    nc_def_dim(nc, "bottom_top_stag", 7, &dzs);
+    nc_def_dim(nc, "south_north", 10, &dy);
+    nc_def_dim(nc, "west_east", 12, &dx);
+    int td[2] = {dT, dS}, d3[3] = {dT, dy, dx}, d4[4] = {dT, dz, dy, dx}, d4s[4] = {dT, dzs, dy, dx};
+    nc_def_var(nc, "Times", NC_CHAR, 2, td, &vt);
+    nc_def_var(nc, "XLAT", NC_FLOAT, 3, d3, &vlat);
+    nc_def_var(nc, "XLONG", NC_FLOAT, 3, d3, &vlon);
+    nc_def_var(nc, "HGT", NC_FLOAT, 3, d3, &vh);
+    nc_def_var(nc, "PH", NC_FLOAT, 4, d4s, &vph);
+    nc_def_var(nc, "PHB", NC_FLOAT, 4, d4s, &vphb);
+    nc_def_var(nc, "QCLOUD", NC_FLOAT, 4, d4, &vq);
+    int mp = 1;
+    float t1 = 30, t2 = 60, sl = -98, cl = 38, dxv = 20000;
+    nc_put_att_int(nc, NC_GLOBAL, "MAP_PROJ", NC_INT, 1, &mp);
+    nc_put_att_float(nc, NC_GLOBAL, "TRUELAT1", NC_FLOAT, 1, &t1);
+    nc_put_att_float(nc, NC_GLOBAL, "TRUELAT2", NC_FLOAT, 1, &t2);
+    nc_put_att_float(nc, NC_GLOBAL, "STAND_LON", NC_FLOAT, 1, &sl);
+    nc_put_att_float(nc, NC_GLOBAL, "MOAD_CEN_LAT", NC_FLOAT, 1, &cl);
+    nc_put_att_float(nc, NC_GLOBAL, "DX", NC_FLOAT, 1, &dxv);
+    nc_put_att_float(nc, NC_GLOBAL, "DY", NC_FLOAT, 1, &dxv);
+    nc_enddef(nc);
+    vsv_proj p = {VSV_PROJ_LCC, 38, -98, 30, 60, 6370000};
+    float lat[120], lon[120], hgt[120], ph[7 * 120], phb[7 * 120], q[6 * 120];
+    for (int j = 0; j < 10; j++)
+        for (int i = 0; i < 12; i++) {
+            double la, lo;
+            vsv_proj_inverse(&p, -200000.0 + i * 20000, -100000.0 + j * 20000, &la, &lo);
+            lat[j * 12 + i] = (float)la;
+            lon[j * 12 + i] = (float)lo;
+            hgt[j * 12 + i] = (float)(100 + 10 * i);
+        }
+    for (int t = 0; t < nt; t++) {
+        char ts[20];
+        const int h = 3 * (t0 + t);
+        snprintf(ts, sizeof ts, "2020-01-%02d_%02d:00:00", 1 + h / 24, h % 24);
+        size_t s2[2] = {(size_t)t, 0}, c2[2] = {1, 19}, s3[3] = {(size_t)t, 0, 0}, c3[3] = {1, 10, 12};
+        size_t s4[4] = {(size_t)t, 0, 0, 0}, c4s[4] = {1, 7, 10, 12}, c4[4] = {1, 6, 10, 12};
+        nc_put_vara_text(nc, vt, s2, c2, ts);
+        nc_put_vara_float(nc, vlat, s3, c3, lat);
+        nc_put_vara_float(nc, vlon, s3, c3, lon);
+        nc_put_vara_float(nc, vh, s3, c3, hgt);
+        for (int k = 0; k < 7; k++)
+            for (int c = 0; c < 120; c++) {
+                phb[k * 120 + c] = (float)(9.81 * (hgt[c] + 1000.0 * k * k / 2));
+                ph[k * 120 + c] = (float)(9.81 * 5 * (t0 + t));
+            }
+        for (int k = 0; k < 6; k++)
+            for (int c = 0; c < 120; c++)
+                q[k * 120 + c] = (float)(1e-4 * (k == 2) * (1 + c % 7) * (1 + t0 + t));
+        nc_put_vara_float(nc, vph, s4, c4s, ph);
+        nc_put_vara_float(nc, vphb, s4, c4s, phb);
+        nc_put_vara_float(nc, vq, s4, c4, q);
+    }
+    nc_close(nc);
+}
+
+static void test_run(void)
+{
+    const char *a = vsv_test_tmp("wrfout_d01_a"), *b = vsv_test_tmp("wrfout_d01_b"), *all = vsv_test_tmp("wrfout_d01_all");
+    write_wrf(a, 0, 2);
+    write_wrf(b, 2, 2);
+    write_wrf(all, 0, 4);
+    const char *two[] = {b, a}, *one[] = {all};
+    vsv_run *r2 = NULL, *r1 = NULL;
+    int rc2 = vsv_run_open(two, 2, NULL, NULL, NULL, &r2), rc1 = vsv_run_open(one, 1, NULL, NULL, NULL, &r1);
+    int ok = !rc1 && !rc2 && vsv_run_nframes(r2) == 4 && vsv_run_nframes(r1) == 4;
+    const vsv_meta *m = ok ? vsv_run_meta(r2) : NULL;
+    const size_t cells = m ? (size_t)m->nx * m->ny * m->nz : 0;
+    float *f1 = malloc(cells * 4 + 4), *f2 = malloc(cells * 4 + 4);
+    for (int i = 0; ok && i < 4; i++) {
+        ok &= vsv_run_time(r1, i) == vsv_run_time(r2, i) && vsv_run_read(r1, i, &f1) == 0 && vsv_run_read(r2, i, &f2) == 0;
+        ok &= !memcmp(f1, f2, cells * 4);
+    }
+    CHECK(ok && !strcmp(m->vars[0].name, "QCLOUD"), "two wrfout files given out of order are one run equal to the whole",
+          "%s %s", vsv_run_error(r1), vsv_run_error(r2));
+    /* heights move with PH in time: the even grid follows them */
+    free(f1);
+    free(f2);
+    vsv_run_free(r1);
+    vsv_run_free(r2);
+    const char *twice[] = {a, a};
+    vsv_run *r3 = NULL;
+    int rc = vsv_run_open(twice, 2, NULL, NULL, NULL, &r3);
+    CHECK(rc != 0 && strstr(vsv_run_error(r3), "overlap"), "the same wrfout twice overlaps", "%s", vsv_run_error(r3));
+    vsv_run_free(r3);
+}
+
 int main(void)
 {
+    test_run();
     check_file("wrf/wrf_cropped.nc", 26, 26, 12, VSV_PROJ_LCC);
     check_file("wrf/wrf_d01_allvars_cropped.nc", 10, 8, 27, VSV_PROJ_LCC);
     check_file("wrf/katrina_ci_test_file.nc", 48, 48, 14, VSV_PROJ_MERCATOR);
