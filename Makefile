@@ -45,7 +45,8 @@ endif
 PKG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS := $(shell $(PKG_CONFIG) --libs $(PKGS) 2>/dev/null)
 
-WARN = -Wall -Wextra -Wshadow $(WFLAGS_ERR)
+# Truncating text into fixed-size info fields is by design, hence no -Wformat-truncation.
+WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
 CFLAGS_ALL = -std=c11 -D_GNU_SOURCE $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
              -Iformat -Iconvert $(PKG_CFLAGS) $(CFLAGS)
 CXXFLAGS_ALL = -std=c++17 $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat $(PKG_CFLAGS) $(CXXFLAGS)

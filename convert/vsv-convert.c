@@ -36,14 +36,6 @@ static int add(void *p, int64_t time, const float *const *fields)
     return vsv_writer_add_step(c->w, time, fields);
 }
 
-static void writer_die(vsv_writer *w, const char *out)
-{
-    char msg[600];
-    snprintf(msg, sizeof msg, "%s", vsv_writer_error(w));
-    vsv_writer_free(w);
-    vsv_cli_die(1, "%s: %s", out, msg);
-}
-
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-convert");
@@ -98,7 +90,7 @@ int main(int argc, char **argv)
     vsv_cli_pack_resolve(&pack, meta);
     ctx cx = {NULL, 0};
     if (vsv_writer_create(out, meta, &pack.opts, &cx.w))
-        writer_die(cx.w, out);
+        vsv_cli_writer_die(cx.w, out);
     const size_t cells = (size_t)meta->nx * meta->ny * meta->nz;
     float **fields = calloc((size_t)meta->nvars, sizeof *fields);
     for (int v = 0; fields && v < meta->nvars; v++)
@@ -115,11 +107,11 @@ int main(int argc, char **argv)
         }
         const int64_t t = vsv_run_time(run, i);
         if (ip ? vsv_interp_push(ip, t, (const float *const *)fields) : add(&cx, t, (const float *const *)fields))
-            writer_die(cx.w, out);
+            vsv_cli_writer_die(cx.w, out);
         vsv_cli_progress("vsv-convert: reading", i + 1, n);
     }
     if (vsv_writer_finish(cx.w, vsv_cli_progress, "vsv-convert: encoding"))
-        writer_die(cx.w, out);
+        vsv_cli_writer_die(cx.w, out);
     vsv_writer_free(cx.w);
     vsv_interp_free(ip);
     for (int v = 0; v < meta->nvars; v++)

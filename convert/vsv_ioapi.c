@@ -182,31 +182,11 @@ int vsv_ioapi_open(vsv_source *s, int nc)
     if (!have_heights) {
         g->nz = a->nk;
         g->vert_kind = VSV_VERT_INDEX;
-    } else if (s->opts.vertical == VSV_VERT_NATIVE) {
-        g->nz = a->nk;
-        g->vert_kind = VSV_VERT_NATIVE;
-        snprintf(g->vert_units, sizeof g->vert_units, "m");
-        if (vsv_meta_alloc_levels(g))
-            return VSV_ENOMEM;
-        for (int k = 0; k < a->nk; k++) {
-            double sum = 0;
-            for (size_t c = 0; c < plane; c++)
-                sum += a->zm[(size_t)k * plane + c];
-            g->levels[k] = sum / (double)plane;
-        }
     } else {
-        double ztop = s->opts.ztop;
-        if (!(ztop > 0)) {
-            float top = 0;
-            for (size_t c = 0; c < plane; c++)
-                top = fmaxf(top, a->zm[(size_t)(a->nk - 1) * plane + c]);
-            ztop = ceil(top / 10.0) * 10.0;
-        }
-        g->nz = s->opts.nz > 0 ? s->opts.nz : 40;
-        g->vert_kind = VSV_VERT_EVEN;
-        g->spacing[2] = ztop / g->nz;
-        g->origin[2] = g->spacing[2] / 2;
-        a->even = 1;
+        const int even = vsv_source_axis(s, a->zm, a->nk, 10.0);
+        if (even < 0)
+            return even;
+        a->even = even;
     }
     /* species: float (TSTEP, LAY, ROW, COL) variables */
     int nvars;

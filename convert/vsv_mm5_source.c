@@ -207,43 +207,17 @@ static int mm5_open(vsv_source *s)
                     (float)ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, P00, TS0, A, TISO);
         free(pstar);
     }
-    /* the vertical axis */
-    if (s->opts.vertical == VSV_VERT_NATIVE || !x->has_sigma) {
+    /* the vertical axis: levels need heights (sigma files); else the layer index */
+    if (!x->has_sigma) {
         g->nz = x->KX > 0 ? x->KX : 1;
-        if (vsv_meta_alloc_levels(g))
-            return VSV_ENOMEM;
-        if (x->has_sigma) {
-            g->vert_kind = VSV_VERT_NATIVE;
-            snprintf(g->vert_units, sizeof g->vert_units, "m");
-            for (int k = 0; k < x->KX; k++) {
-                double sum = 0;
-                for (size_t c = 0; c < plane; c++)
-                    sum += x->zn[(size_t)k * plane + c];
-                g->levels[k] = sum / (double)plane;
-            }
-        } else {
-            g->vert_kind = VSV_VERT_INDEX;
-            free(g->levels);
-            g->levels = NULL;
-        }
+        g->vert_kind = VSV_VERT_INDEX;
     } else {
-        double ztop = s->opts.ztop;
-        if (!(ztop > 0)) {
-            float top = 0;
-            for (size_t c = 0; c < plane; c++)
-                top = fmaxf(top, x->zn[(size_t)(x->KX - 1) * plane + c]);
-            ztop = ceil(top / 100.0) * 100.0;
-        }
-        const int nz = s->opts.nz > 0 ? s->opts.nz : 40;
-        if (nz > VSV_MAX_DIM)
-            return vsv_source_fail(s, VSV_EINVAL, "--nz %d too large", nz);
-        g->nz = nz;
-        g->vert_kind = VSV_VERT_EVEN;
-        g->spacing[2] = ztop / nz;
-        g->origin[2] = g->spacing[2] / 2;
-        if (vsv_vgrid_plan(&x->vg, x->zn, x->KX, plane, g->terrain, nz, g->origin[2], g->spacing[2]))
+        const int even = vsv_source_axis(s, x->zn, x->KX, 100.0);
+        if (even < 0)
+            return even;
+        if (even && vsv_vgrid_plan(&x->vg, x->zn, x->KX, plane, g->terrain, g->nz, g->origin[2], g->spacing[2]))
             return VSV_ENOMEM;
-        x->even = 1;
+        x->even = even;
     }
     /* fields: those of the first period that has any; times: one per period */
     int p0 = 0;

@@ -3,6 +3,7 @@
 #include "vsv_source_internal.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -138,4 +139,36 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
     }
     default: return 0;
     }
+}
+
+int vsv_source_axis(vsv_source *s, const float *zn, int kx, double round_to)
+{
+    vsv_meta *g = &s->grid;
+    const size_t plane = (size_t)g->nx * g->ny;
+    if (s->opts.vertical == VSV_VERT_NATIVE) {
+        g->nz = kx;
+        g->vert_kind = VSV_VERT_NATIVE;
+        snprintf(g->vert_units, sizeof g->vert_units, "m");
+        if (vsv_meta_alloc_levels(g))
+            return VSV_ENOMEM;
+        for (int k = 0; k < kx; k++) {
+            double sum = 0;
+            for (size_t c = 0; c < plane; c++)
+                sum += zn[(size_t)k * plane + c];
+            g->levels[k] = sum / (double)plane;
+        }
+        return 0;
+    }
+    double ztop = s->opts.ztop;
+    if (!(ztop > 0)) {
+        float top = 0;
+        for (size_t c = 0; c < plane; c++)
+            top = fmaxf(top, zn[(size_t)(kx - 1) * plane + c]);
+        ztop = ceil(top / round_to) * round_to;
+    }
+    g->nz = s->opts.nz > 0 ? s->opts.nz : 40;
+    g->vert_kind = VSV_VERT_EVEN;
+    g->spacing[2] = ztop / g->nz;
+    g->origin[2] = g->spacing[2] / 2;
+    return 1;
 }

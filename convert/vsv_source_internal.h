@@ -31,6 +31,12 @@ struct vsv_source {
 /* Sets s->err to "path: message" and returns rc. */
 int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 
+/* Sets the grid's vertical axis from native heights zn (kx levels of the
+ * grid's plane, increasing upward): --vertical native keeps the levels with
+ * their mean heights (returns 0); else even heights up to --ztop or the
+ * highest top-level height rounded up to round_to metres (returns 1). */
+int vsv_source_axis(vsv_source *s, const float *zn, int kx, double round_to);
+
 extern const vsv_source_ops vsv_grads_ops;
 extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;

@@ -558,31 +558,8 @@ static int camx_open(vsv_source *s)
             return vsv_source_fail(s, rc, "%s", vsv_zp_error(c->zp));
         if ((rc = camx_heights(s, c, 0)))
             return rc;
-        if (s->opts.vertical == VSV_VERT_NATIVE) {
-            g->nz = h->nz;
-            g->vert_kind = VSV_VERT_NATIVE;
-            snprintf(g->vert_units, sizeof g->vert_units, "m");
-            if (vsv_meta_alloc_levels(g))
-                return VSV_ENOMEM;
-            for (int k = 0; k < h->nz; k++) {
-                double sum = 0;
-                for (size_t i = 0; i < plane; i++)
-                    sum += c->zm[(size_t)k * plane + i];
-                g->levels[k] = sum / (double)plane;
-            }
-        } else {
-            double ztop = s->opts.ztop;
-            if (!(ztop > 0)) {
-                float top = 0;
-                for (size_t i = 0; i < plane; i++)
-                    top = fmaxf(top, c->zm[(size_t)(h->nz - 1) * plane + i]);
-                ztop = ceil(top / 10.0) * 10.0;
-            }
-            g->nz = s->opts.nz > 0 ? s->opts.nz : 40;
-            g->vert_kind = VSV_VERT_EVEN;
-            g->spacing[2] = ztop / g->nz;
-            g->origin[2] = g->spacing[2] / 2;
-        }
+        if ((rc = vsv_source_axis(s, c->zm, h->nz, 10.0)) < 0)
+            return rc;
         vsv_meta_add_attr(g, "heights", "above ground, from the CAMx height/pressure file");
     } else {
         g->nz = h->nz;

@@ -242,33 +242,10 @@ static int wrf_open(vsv_source *s, int nc)
     /* the vertical */
     if ((rc = w_heights(s, w, 0)))
         return rc;
-    if (s->opts.vertical == VSV_VERT_NATIVE) {
-        g->nz = w->nk;
-        g->vert_kind = VSV_VERT_NATIVE;
-        snprintf(g->vert_units, sizeof g->vert_units, "m");
-        if (vsv_meta_alloc_levels(g))
-            return VSV_ENOMEM;
-        for (int k = 0; k < w->nk; k++) {
-            double sum = 0;
-            for (size_t c = 0; c < plane; c++)
-                sum += w->zm[(size_t)k * plane + c];
-            g->levels[k] = sum / (double)plane;
-        }
-    } else {
-        /* even: up to the highest mass level of the first time (no invented levels above) */
-        double ztop = s->opts.ztop;
-        if (!(ztop > 0)) {
-            float top = 0;
-            for (size_t c = 0; c < plane; c++)
-                top = fmaxf(top, w->zm[(size_t)(w->nk - 1) * plane + c]);
-            ztop = ceil(top / 100.0) * 100.0;
-        }
-        g->nz = s->opts.nz > 0 ? s->opts.nz : 40;
-        g->vert_kind = VSV_VERT_EVEN;
-        g->spacing[2] = ztop / g->nz;
-        g->origin[2] = g->spacing[2] / 2;
-        w->even = 1;
-    }
+    const int even = vsv_source_axis(s, w->zm, w->nk, 100.0); /* no invented levels above the file's top */
+    if (even < 0)
+        return even;
+    w->even = even;
     /* fields: the 4-D float variables on (Time, bottom_top[_stag], south_north[_stag], west_east[_stag]) */
     int nvars;
     nc_inq_nvars(nc, &nvars);

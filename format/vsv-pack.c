@@ -19,15 +19,6 @@ static const char usage[] =
     "  -V, --version        print versions\n"
     "\n";
 
-/* Removes the writer's temporaries, then exits 1 with its message. */
-static void writer_die(vsv_writer *w, const char *out)
-{
-    char msg[600];
-    snprintf(msg, sizeof msg, "%s", vsv_writer_error(w));
-    vsv_writer_free(w);
-    vsv_cli_die(1, "%s: %s", out, msg);
-}
-
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-pack");
@@ -69,7 +60,7 @@ int main(int argc, char **argv)
     vsv_cli_pack_resolve(&pack, meta);
     vsv_writer *w = NULL;
     if ((rc = vsv_writer_create(out, meta, &pack.opts, &w)))
-        writer_die(w, out);
+        vsv_cli_writer_die(w, out);
     const size_t cells = (size_t)meta->nx * meta->ny * meta->nz;
     float **fields = calloc((size_t)meta->nvars, sizeof *fields);
     for (int v = 0; fields && v < meta->nvars; v++)
@@ -81,7 +72,7 @@ int main(int argc, char **argv)
     int n = 0;
     while ((rc = vsv_stream_reader_next(r, &t, fields)) == 1) {
         if ((rc = vsv_writer_add_step(w, t, (const float *const *)fields)))
-            writer_die(w, out);
+            vsv_cli_writer_die(w, out);
         n++;
         if (!vsv_cli_quiet() && isatty(2))
             fprintf(stderr, "\rvsv-pack: read %d steps", n);
@@ -93,7 +84,7 @@ int main(int argc, char **argv)
         vsv_cli_die(1, "%s", vsv_stream_reader_error(r));
     }
     if ((rc = vsv_writer_finish(w, vsv_cli_progress, "vsv-pack: encoding")))
-        writer_die(w, out);
+        vsv_cli_writer_die(w, out);
     vsv_writer_free(w);
     for (int v = 0; v < meta->nvars; v++)
         free(fields[v]);

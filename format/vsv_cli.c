@@ -259,6 +259,14 @@ void vsv_cli_usage_error(const char *fmt, ...)
     exit(2);
 }
 
+void vsv_cli_writer_die(vsv_writer *w, const char *out)
+{
+    char msg[600];
+    snprintf(msg, sizeof msg, "%s", vsv_writer_error(w));
+    vsv_writer_free(w);
+    vsv_cli_die(1, "%s: %s", out, msg);
+}
+
 void vsv_cli_version(void)
 {
     printf("%s (Vesuvius %s) format %d.%d\n", tool_name, VSV_VERSION_STRING, VSV_FORMAT_MAJOR, VSV_FORMAT_MINOR);

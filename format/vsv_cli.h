@@ -43,6 +43,9 @@ const char *vsv_cli_tool(void);
 void vsv_cli_die(int code, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
 /* "tool: message\nTry 'tool --help'." and exit(2). */
 void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
+/* Frees the writer (removing its temporaries), then exits 1 with
+ * "tool: OUT: the writer's message". */
+void vsv_cli_writer_die(vsv_writer *w, const char *out) __attribute__((noreturn));
 /* Prints "tool (Vesuvius X) format A.B" and exits 0. */
 void vsv_cli_version(void) __attribute__((noreturn));
 
