@@ -1,6 +1,8 @@
 /* vsv_ioapi.c — Models-3 I/O API netCDF: CMAQ CONC/ACONC and CAMx netCDF
  * output. TFLAG times, GDTYP projections (1 lat/lon, 2 Lambert conformal,
- * 6 polar stereographic, 7 equatorial Mercator; others refused by name),
+ * 5 UTM, 6 polar stereographic, 7 equatorial Mercator, 8 transverse Mercator,
+ * 9 Albers; 3, 4 and 10 — rotated/oblique or without a GeographicLib
+ * class — refused by name),
  * heights from CAMx's `z` (layer tops above ground), else from VGTYP/VGLVLS
  * (metres, or sigma-P through the standard atmosphere, stated in the
  * metadata), else the layer index. INPUT-FORMATS.md §2.2 and §3. */
@@ -107,11 +109,18 @@ int vsv_ioapi_open(vsv_source *s, int nc)
     case 2: g->proj = (vsv_proj){VSV_PROJ_LCC, ycent, gam, alp, bet, 6370000}; break;
     case 6: g->proj = (vsv_proj){VSV_PROJ_PSTEREO, ycent, gam, alp >= 0 ? bet : -fabs(bet), alp >= 0 ? bet : -fabs(bet), 6370000}; break;
     case 7: g->proj = (vsv_proj){VSV_PROJ_MERCATOR, ycent, gam, alp, alp, 6370000}; break;
+    case 5: /* UTM: P_ALP is the zone; coordinates carry a 500 km false easting */
+        if (!(alp >= 1 && alp <= 60))
+            return vsv_source_fail(s, VSV_ECORRUPT, "GDTYP 5 (UTM) with zone %g", alp);
+        g->proj = (vsv_proj){VSV_PROJ_TMERC, 0, 6 * alp - 183, 0.9996, 0.9996, 6370000};
+        break;
+    case 8: g->proj = (vsv_proj){VSV_PROJ_TMERC, alp, gam, bet > 0 ? bet : 1, bet > 0 ? bet : 1, 6370000}; break;
+    case 9: g->proj = (vsv_proj){VSV_PROJ_ALBERS, ycent, gam, alp, bet, 6370000}; break;
     default: {
         static const char *names[] = {"?", "lat/lon", "Lambert conformal", "general Mercator", "general stereographic",
                                       "UTM", "polar stereographic", "equatorial Mercator", "transverse Mercator",
                                       "Albers equal-area", "Lambert azimuthal equal-area"};
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "GDTYP %d (%s) is not supported (1, 2, 6 and 7 are)", gdtyp,
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "GDTYP %d (%s) is not supported (1, 2, 5, 6, 7, 8 and 9 are)", gdtyp,
                                gdtyp >= 1 && gdtyp <= 10 ? names[gdtyp] : "unknown");
     }
     }
@@ -119,7 +128,9 @@ int vsv_ioapi_open(vsv_source *s, int nc)
         return vsv_source_fail(s, VSV_ECORRUPT, "XCELL %g, YCELL %g", xcell, ycell);
     /* XORIG/YORIG are relative to (XCENT, YCENT); our origin is (lat0 = YCENT, lon0 = P_GAM) */
     double ox = 0, oy = 0;
-    if (g->proj.kind != VSV_PROJ_LATLON && vsv_proj_forward(&g->proj, ycent, xcent, &ox, &oy))
+    if (gdtyp == 5)
+        ox = -500000; /* UTM false easting; the origin is (equator, central meridian) */
+    else if (g->proj.kind != VSV_PROJ_LATLON && vsv_proj_forward(&g->proj, ycent, xcent, &ox, &oy))
         return vsv_source_fail(s, VSV_ECORRUPT, "projection centre (%g, %g) outside the projection", ycent, xcent);
     g->origin[0] = gatt(nc, "XORIG", 0) + xcell / 2 + ox;
     g->origin[1] = gatt(nc, "YORIG", 0) + ycell / 2 + oy;

@@ -260,7 +260,10 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
         printf("  vertical    even heights %.6g..%.6g m\n", m->origin[2], m->origin[2] + (m->nz - 1) * m->spacing[2]);
     }
     printf("  projection  %s", vsv_proj_name(m->proj.kind));
-    if (m->proj.kind >= VSV_PROJ_LCC)
+    if (m->proj.kind == VSV_PROJ_TMERC)
+        printf(" (lat0 %.6g, central meridian %.6g, scale %.6g, R %.0f m)", m->proj.lat0, m->proj.lon0, m->proj.lat1,
+               m->proj.radius > 0 ? m->proj.radius : 6370000.0);
+    else if (m->proj.kind >= VSV_PROJ_LCC)
         printf(" (lat0 %.6g, lon0 %.6g, true lat %.6g/%.6g, R %.0f m)", m->proj.lat0, m->proj.lon0, m->proj.lat1,
                m->proj.lat2, m->proj.radius > 0 ? m->proj.radius : 6370000.0);
     printf("\n");

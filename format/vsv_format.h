@@ -53,7 +53,9 @@ enum {
     VSV_PROJ_LCC = 2,      /* Lambert conformal conic, true latitudes lat1, lat2 */
     VSV_PROJ_PSTEREO = 3,  /* polar stereographic, true at lat1, pole by sign of lat0 */
     VSV_PROJ_MERCATOR = 4, /* Mercator, true at lat1 */
-    VSV_PROJ_COUNT = 5
+    VSV_PROJ_TMERC = 5,    /* transverse Mercator, central meridian lon0, scale lat1 (k0) */
+    VSV_PROJ_ALBERS = 6,   /* Albers equal-area conic, standard parallels lat1, lat2 */
+    VSV_PROJ_COUNT = 7
 };
 
 enum { VSV_SCALE_LINEAR = 0, VSV_SCALE_LOG = 1 };
@@ -126,7 +128,7 @@ int vsv_meta_find_var(const vsv_meta *m, const char *name);
 /* Checks dimensions and values for sanity; fills msg (cap bytes) on error. */
 int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap);
 
-/* Projection names ("none", "latlon", "lcc", "pstereo", "mercator"). */
+/* Projection names ("none", "latlon", "lcc", "pstereo", "mercator", "tmerc", "albers"). */
 const char *vsv_proj_name(int kind);
 /* Latitude/longitude (degrees) of projected point (x, y). */
 int vsv_proj_inverse(const vsv_proj *p, double x, double y, double *lat, double *lon);

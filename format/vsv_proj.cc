@@ -3,12 +3,16 @@
  * projections are taken on a sphere (MM5, WRF and CAMx all assume one). */
 #include "vsv_format.h"
 
+#include <GeographicLib/AlbersEqualArea.hpp>
 #include <GeographicLib/LambertConformalConic.hpp>
+#include <GeographicLib/TransverseMercator.hpp>
 #include <GeographicLib/PolarStereographic.hpp>
 #include <cmath>
 #include <exception>
 
+using GeographicLib::AlbersEqualArea;
 using GeographicLib::LambertConformalConic;
+using GeographicLib::TransverseMercator;
 using GeographicLib::PolarStereographic;
 
 namespace {
@@ -34,6 +38,15 @@ PolarStereographic stereo(const vsv_proj *p)
     return PolarStereographic(radius_of(p), 0.0, (1 + s) / 2);
 }
 
+AlbersEqualArea albers(const vsv_proj *p)
+{
+    if (std::fabs(p->lat1 - p->lat2) < 1e-9)
+        return AlbersEqualArea(radius_of(p), 0.0, p->lat1, 1.0);
+    return AlbersEqualArea(radius_of(p), 0.0, p->lat1, p->lat2, 1.0);
+}
+
+TransverseMercator tmerc(const vsv_proj *p) { return TransverseMercator(radius_of(p), 0.0, p->lat1 > 0 ? p->lat1 : 1.0); }
+
 double wrap(double lon)
 {
     lon = std::remainder(lon, 360.0);
@@ -44,7 +57,7 @@ double wrap(double lon)
 
 extern "C" const char *vsv_proj_name(int kind)
 {
-    static const char *names[] = {"none", "latlon", "lcc", "pstereo", "mercator"};
+    static const char *names[] = {"none", "latlon", "lcc", "pstereo", "mercator", "tmerc", "albers"};
     return kind >= 0 && kind < VSV_PROJ_COUNT ? names[kind] : "unknown";
 }
 
@@ -68,6 +81,18 @@ extern "C" int vsv_proj_forward(const vsv_proj *p, double lat, double lon, doubl
             const PolarStereographic s = stereo(p);
             s.Forward(north(p), p->lat0, 0.0, x0, y0, g, k);
             s.Forward(north(p), lat, wrap(lon - p->lon0), x1, y1, g, k);
+            break;
+        }
+        case VSV_PROJ_TMERC: {
+            const TransverseMercator t = tmerc(p);
+            t.Forward(p->lon0, p->lat0, p->lon0, x0, y0, g, k);
+            t.Forward(p->lon0, lat, lon, x1, y1, g, k);
+            break;
+        }
+        case VSV_PROJ_ALBERS: {
+            const AlbersEqualArea a = albers(p);
+            a.Forward(p->lon0, p->lat0, p->lon0, x0, y0, g, k);
+            a.Forward(p->lon0, lat, lon, x1, y1, g, k);
             break;
         }
         default:
@@ -102,6 +127,18 @@ extern "C" int vsv_proj_inverse(const vsv_proj *p, double x, double y, double *l
             s.Forward(north(p), p->lat0, 0.0, x0, y0, g, k);
             s.Reverse(north(p), x + x0, y + y0, *lat, *lon, g, k);
             *lon = wrap(*lon + p->lon0);
+            break;
+        }
+        case VSV_PROJ_TMERC: {
+            const TransverseMercator t = tmerc(p);
+            t.Forward(p->lon0, p->lat0, p->lon0, x0, y0, g, k);
+            t.Reverse(p->lon0, x + x0, y + y0, *lat, *lon, g, k);
+            break;
+        }
+        case VSV_PROJ_ALBERS: {
+            const AlbersEqualArea a = albers(p);
+            a.Forward(p->lon0, p->lat0, p->lon0, x0, y0, g, k);
+            a.Reverse(p->lon0, x + x0, y + y0, *lat, *lon, g, k);
             break;
         }
         default:

@@ -121,6 +121,22 @@ static void merc(double pc, double lat0, double lon0, double lat, double lon, do
     *y = R_E * k * (log(tan(M_PI / 4 + lat * D2R / 2)) - log(tan(M_PI / 4 + lat0 * D2R / 2)));
 }
 
+/* spherical transverse Mercator with scale k0, origin (lat0, lon0) */
+static void tm(double k0, double lat0, double lon0, double lat, double lon, double *x, double *y)
+{
+    const double B = cos(lat * D2R) * sin((lon - lon0) * D2R);
+    *x = 0.5 * R_E * k0 * log((1 + B) / (1 - B));
+    *y = R_E * k0 * (atan2(tan(lat * D2R), cos((lon - lon0) * D2R)) - lat0 * D2R);
+}
+/* spherical Albers with standard parallels p1, p2 */
+static void albers(double p1, double p2, double lat0, double lon0, double lat, double lon, double *x, double *y)
+{
+    const double n = (sin(p1 * D2R) + sin(p2 * D2R)) / 2, C = cos(p1 * D2R) * cos(p1 * D2R) + 2 * n * sin(p1 * D2R);
+    const double r = R_E * sqrt(C - 2 * n * sin(lat * D2R)) / n, r0 = R_E * sqrt(C - 2 * n * sin(lat0 * D2R)) / n;
+    *x = r * sin(n * (lon - lon0) * D2R);
+    *y = r0 - r * cos(n * (lon - lon0) * D2R);
+}
+
 static void check(const char *label, const spec *sp)
 {
     char name[256], path[64];
@@ -190,6 +206,13 @@ static void check(const char *label, const spec *sp)
                 ps(sp->bet, sp->ycent, sp->gam, lat, lon, &x, &y);
             else if (sp->gdtyp == 7)
                 merc(sp->alp, sp->ycent, sp->gam, lat, lon, &x, &y);
+            else if (sp->gdtyp == 5) {
+                tm(0.9996, 0, 6 * sp->alp - 183, lat, lon, &x, &y);
+                x += 500000;
+            } else if (sp->gdtyp == 8)
+                tm(sp->bet, sp->alp, sp->gam, lat, lon, &x, &y);
+            else if (sp->gdtyp == 9)
+                albers(sp->alp, sp->bet, sp->ycent, sp->gam, lat, lon, &x, &y);
             else
                 x = lon, y = lat;
             const double wx = sp->xorig + (i + 0.5) * sp->cell, wy = sp->yorig + (j + 0.5) * sp->cell;
@@ -212,14 +235,20 @@ int main(void)
     check("GDTYP 7 equatorial Mercator", &mer);
     spec ll = {1, 0, 0, 0, 0, 0, -120, 20, 0.5, 0, 0, 7};
     check("GDTYP 1 lat/lon", &ll);
-    /* an unsupported GDTYP is named */
     spec utm = {5, 17, 0, 0, 0, 0, 300000, 4000000, 4000, 0, 0, 7};
-    const char *p = vsv_test_tmp("utm.nc");
-    write_ioapi(p, &utm);
+    check("GDTYP 5 UTM zone 17", &utm);
+    spec trm = {8, 35, 0.9999, -90, -90, 35, -200000, -150000, 10000, 0, 0, 7};
+    check("GDTYP 8 transverse Mercator", &trm);
+    spec alb = {9, 29.5, 45.5, -96, -96, 23, -2400000, 200000, 12000, 0, 0, 7};
+    check("GDTYP 9 Albers equal-area", &alb);
+    /* an unsupported GDTYP is named */
+    spec laea = {10, 45, 0, 10, 10, 52, -100000, -100000, 5000, 0, 0, 7};
+    const char *p = vsv_test_tmp("laea.nc");
+    write_ioapi(p, &laea);
     vsv_source *src = NULL;
     int rc = vsv_source_open(p, NULL, &src);
-    CHECK(rc == VSV_EUNSUPPORTED && strstr(vsv_source_error(src), "GDTYP 5 (UTM) is not supported"),
-          "GDTYP 5 (UTM) is refused by name", "%s", vsv_source_error(src));
+    CHECK(rc == VSV_EUNSUPPORTED && strstr(vsv_source_error(src), "GDTYP 10 (Lambert azimuthal equal-area) is not supported"),
+          "GDTYP 10 (Lambert azimuthal) is refused by name", "%s", vsv_source_error(src));
     vsv_source_free(src);
     return vsv_test_done();
 }
