@@ -20,7 +20,7 @@ CXX ?= c++
 PKG_CONFIG ?= pkg-config
 SHARED ?= ../shared
 
-PKGS = libzstd geographiclib netcdf
+PKGS = libzstd geographiclib netcdf libpng
 ifeq ($(SAN),1)
   B = build-san
   SANFLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
@@ -48,7 +48,7 @@ PKG_LIBS := $(shell $(PKG_CONFIG) --libs $(PKGS) 2>/dev/null)
 # Truncating text into fixed-size info fields is by design, hence no -Wformat-truncation.
 WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
 CFLAGS_ALL = -std=c11 -D_GNU_SOURCE $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
-             -Iformat -Iconvert $(PKG_CFLAGS) $(CFLAGS)
+             -Iformat -Iconvert -Irender $(PKG_CFLAGS) $(CFLAGS)
 CXXFLAGS_ALL = -std=c++17 $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat $(PKG_CFLAGS) $(CXXFLAGS)
 LDLIBS_ALL = $(SANFLAGS) -pthread $(PKG_LIBS) -lstdc++ -lm $(LDLIBS)
 
@@ -58,12 +58,12 @@ else
   Q = @
 endif
 
-LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c)
+LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c) $(wildcard render/vsv_*.c)
 LIB_CXX = $(wildcard format/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
 LIB = $(B)/libvesuvius.a
 
-TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert
+TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 
 TEST_SRC = $(wildcard tests/test_*.c)
@@ -97,6 +97,10 @@ $(B)/vsv-%: $(B)/format/vsv-%.o $(LIB)
 	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
 
 $(B)/vsv-%: $(B)/convert/vsv-%.o $(LIB)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
+
+$(B)/vsv-%: $(B)/render/vsv-%.o $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
 
@@ -146,7 +150,7 @@ install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
 	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
 	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/
-	install -m 644 format/vsv_format.h $(DESTDIR)$(INCDIR)/
+	install -m 644 format/vsv_format.h render/vsv_render.h $(DESTDIR)$(INCDIR)/
 	install -m 644 man/*.1 $(DESTDIR)$(MANDIR)/man1/
 	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
 

@@ -690,7 +690,8 @@ void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)
     static const char *const pm[] = {"PM25", "PM2.5", "PM10", "PM", "PSO4", "PNO3", "PNH4", "POA", "PEC", "SOA", "ASO4",
                                      "ANO3", "ANH4", "AEC", "AORG", NULL};
     static const char *const smoke[] = {"SMOKE", "BC", "OC", "CO", NULL};
-    const char *map = "viridis", *kind = "other";
+    static const char *const vapour[] = {"Q", "QVAPOR", "QV", "H2O", NULL};
+    const char *map = "viridis", *kind = "other", *opacity = "0 0.05 0.2 0.45 0.8";
     if (name_is(name, cloud))
         map = "clouds", kind = "cloud";
     else if (name_is(name, rain))
@@ -707,7 +708,9 @@ void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)
         map = "cividis", kind = "pm";
     else if (name_is(name, smoke))
         map = "greys", kind = "smoke";
+    else if (name_is(name, vapour)) /* everywhere in the air: a faint veil */
+        map = "cividis", kind = "vapour", opacity = "0 0.005 0.01 0.02 0.04";
     /* values at the floor are transparent; opacity rises with concentration */
-    snprintf(buf, cap, "kind %s\ncolormap %s\nrange %.9g %.9g\nscale %s\nopacity 0 0.05 0.2 0.45 0.8\n", kind, map,
-             q->scale == VSV_SCALE_LOG ? q->lo : q->lo, q->hi, q->scale == VSV_SCALE_LOG ? "log" : "linear");
+    snprintf(buf, cap, "kind %s\ncolormap %s\nrange %.9g %.9g\nscale %s\nopacity %s\n", kind, map, q->lo,
+             q->hi > q->lo ? q->hi : q->lo + 1, q->scale == VSV_SCALE_LOG ? "log" : "linear", opacity);
 }

@@ -306,6 +306,36 @@ int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out);
 /* Dequantise n codes of species s into floats. */
 void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t n, float *out);
 
+/* ------------------------------------------------------- decoded volumes */
+
+/* One species at one step, decoded brick by brick: what renderers consume.
+ * Plain info over storage the volume owns (create/free). bricks[b] is NULL
+ * for a brick whose cells all hold `empty_value` (an EMPTY brick); otherwise
+ * brick^3 floats, x fastest, cells outside the grid hold empty_value. bmin and
+ * bmax are the brick's value range (from the octree, exact). */
+typedef struct vsv_volume {
+    int nx, ny, nz, brick, bdim[3], nbricks;
+    int step, species;        /* what is loaded; -1 when nothing */
+    float empty_value;        /* value of code 0 (0, lo, or NaN for no data) */
+    float **bricks;
+    float *bmin, *bmax;
+} vsv_volume;
+
+/* Allocates storage for one species of f (all at once: no allocation per
+ * frame). Caller frees with vsv_volume_free. */
+int vsv_volume_create(const vsv_file *f, vsv_volume **out);
+void vsv_volume_free(vsv_volume *v);
+/* Decodes (step, s) into v through decoder d; the next step of the same
+ * species costs one delta per brick. */
+int vsv_volume_load(vsv_volume *v, vsv_decoder *d, int step, int s);
+/* The value at cell (i, j, k) (inside the grid). */
+static inline float vsv_volume_at(const vsv_volume *v, int i, int j, int k)
+{
+    const int B = v->brick;
+    const float *b = v->bricks[(i / B) + v->bdim[0] * ((j / B) + v->bdim[1] * (k / B))];
+    return b ? b[(i % B) + B * ((j % B) + B * (k % B))] : v->empty_value;
+}
+
 /* ---------------------------------------------------------------- helpers */
 
 /* CRC-32C (Castagnoli) of buf, continuing from crc (start with 0). */

@@ -33,4 +33,12 @@ step "For scripts: one value of the JSON description" "vsv-info -f corners.0 $OU
 
 step "Cloud water through the three hours" "vsv-info --stats $OUT/storm.vsv (CLW rows)"
 "$B/vsv-info" --stats "$OUT/storm.vsv" | grep -E '^ +(species|CLW) '
-printf '\nDone: %s/storm.vsv (rendering and playback come with issues #5 and #6)\n' "$OUT"
+step "Render the last frame: clouds, rain, ice, snow and moisture over the terrain, from the south-west" \
+     "vsv-render $OUT/storm.vsv -o $OUT/storm.png"
+"$B/vsv-render" "$OUT/storm.vsv" -o "$OUT/storm.png"
+
+step "Render every 30 minutes, cloud water and snow only, higher cloud opacity" \
+     "vsv-render $OUT/storm.vsv --times 0: --species CLW:2,SNOW -o $OUT/frame%04d.png --size 480x360"
+"$B/vsv-render" "$OUT/storm.vsv" --times 0: --species CLW:2,SNOW --size 480x360 -o "$OUT/frame%04d.png"
+ls "$OUT"/frame*.png | head -3
+printf '\nDone: %s/storm.vsv, %s/storm.png and %s/frame*.png (interactive playback comes with issue #6)\n' "$OUT" "$OUT" "$OUT"

@@ -1,0 +1,301 @@
+/* vsv-render — headless frames of a .vsv file to PNG. */
+#include "vsv_cli.h"
+#include "vsv_render.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <png.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char usage[] =
+    "Usage: vsv-render FILE.vsv -o OUT.png [OPTIONS]\n"
+    "Render the species of a .vsv file over its terrain to PNG images (raycasting).\n"
+    "With %04d (or another printf integer) in OUT, every selected step is rendered,\n"
+    "numbered from 0.\n"
+    "\n"
+    "  -o, --output FILE       the image; %04d for a sequence\n"
+    "  -t, --time T            one step: an index or an ISO time (default: the last)\n"
+    "      --times A:B         steps A..B (indices or ISO times; either end may be empty)\n"
+    "  -s, --species LIST      NAME[:OPACITY],... (default: every species, opacity 1)\n"
+    "      --tf FILE           transfer functions: 'species NAME' blocks of\n"
+    "                          colormap / range / scale / opacity lines\n"
+    "  -c, --camera AZ,EL[,DIST] azimuth clockwise from north, elevation (degrees),\n"
+    "                          distance in world metres (default 225,30: from the\n"
+    "                          south-west, 30 degrees up, framing the whole domain)\n"
+    "      --size WxH          image size (default 800x600)\n"
+    "  -x, --exaggerate N      vertical exaggeration (default: a domain 1/5 as tall as wide)\n"
+    "      --background R,G,B  0..1 (default 0.02,0.03,0.06)\n"
+    "      --no-terrain        do not draw the ground\n"
+    "  -r, --renderer NAME     raycast (shear-warp comes later)\n"
+    "      --threads N         render threads (default: all cores)\n"
+    "  -q, --quiet             no progress\n"
+    "  -h, --help              this help\n"
+    "  -V, --version           print versions\n";
+
+static int write_png(const char *path, const float *rgba, int w, int h, const float bg[3], char *err, size_t cap)
+{
+    char tmp[4200];
+    snprintf(tmp, sizeof tmp, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(tmp);
+    FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
+    if (!fp) {
+        snprintf(err, cap, "%s: cannot create: %s", path, strerror(errno));
+        return -1;
+    }
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png ? png_create_info_struct(png) : NULL;
+    unsigned char *row = malloc((size_t)w * 3);
+    if (!png || !info || !row || setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        free(row);
+        fclose(fp);
+        unlink(tmp);
+        snprintf(err, cap, "%s: PNG encoding failed", path);
+        return -1;
+    }
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            const float *p = rgba + 4 * ((size_t)y * w + x);
+            for (int c = 0; c < 3; c++) {
+                /* premultiplied over the background, then sRGB-ish gamma */
+                float v = p[c] + (1 - p[3]) * bg[c];
+                v = v <= 0 ? 0 : v >= 1 ? 1 : powf(v, 1 / 2.2f);
+                row[3 * x + c] = (unsigned char)lrintf(v * 255);
+            }
+        }
+        png_write_row(png, row);
+    }
+    png_write_end(png, info);
+    png_destroy_write_struct(&png, &info);
+    free(row);
+    if (fclose(fp) || rename(tmp, path)) {
+        unlink(tmp);
+        snprintf(err, cap, "%s: cannot write: %s", path, strerror(errno));
+        return -1;
+    }
+    return 0;
+}
+
+static int parse_step(const vsv_file *f, const char *s, int is_end)
+{
+    long v;
+    if (!vsv_cli_int(s, 0, 100000000, &v))
+        return (int)v;
+    int64_t t;
+    if (vsv_time_parse(s, &t))
+        vsv_cli_usage_error("'%s' is neither a step index nor an ISO time", s);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    if (is_end) {
+        for (int i = info.nsteps - 1; i >= 0; i--)
+            if (vsv_file_time(f, i) <= t)
+                return i;
+        return -1;
+    }
+    for (int i = 0; i < info.nsteps; i++)
+        if (vsv_file_time(f, i) >= t)
+            return i;
+    return info.nsteps;
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-render");
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS };
+    static const struct option longopts[] = {
+        {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
+        {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
+        {"tf", required_argument, 0, O_TF},        {"camera", required_argument, 0, 'c'},
+        {"size", required_argument, 0, O_SIZE},    {"exaggerate", required_argument, 0, 'x'},
+        {"background", required_argument, 0, O_BG}, {"no-terrain", no_argument, 0, O_NOTERRAIN},
+        {"renderer", required_argument, 0, 'r'},   {"threads", required_argument, 0, O_THREADS},
+        {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'},
+        {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
+    const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL;
+    double az = 225, el = 30, dist = 0, exag = 0;
+    float bg[3] = {0.02f, 0.03f, 0.06f};
+    int width = 800, height = 600, terrain = 1, c;
+    vsv_render_opts ro;
+    vsv_render_opts_init(&ro);
+    while ((c = getopt_long(argc, argv, "o:t:s:c:x:r:qhV", longopts, NULL)) != -1) {
+        long v;
+        switch (c) {
+        case 'o': out = optarg; break;
+        case 't': time = optarg; break;
+        case O_TIMES: times = optarg; break;
+        case 's': species = optarg; break;
+        case O_TF: tfpath = optarg; break;
+        case 'c': {
+            int n = sscanf(optarg, "%lf,%lf,%lf", &az, &el, &dist);
+            if (n < 2 || !(el > -90 && el < 90) || dist < 0)
+                vsv_cli_usage_error("--camera %s: expected AZ,EL[,DIST] with -90 < EL < 90", optarg);
+            break;
+        }
+        case O_SIZE:
+            if (sscanf(optarg, "%dx%d", &width, &height) != 2 || width < 1 || height < 1 || width > 16384 || height > 16384)
+                vsv_cli_usage_error("--size %s: expected WxH", optarg);
+            break;
+        case 'x':
+            if (vsv_cli_double(optarg, &exag) || !(exag > 0))
+                vsv_cli_usage_error("--exaggerate %s: a positive number", optarg);
+            break;
+        case O_BG:
+            if (sscanf(optarg, "%f,%f,%f", &bg[0], &bg[1], &bg[2]) != 3)
+                vsv_cli_usage_error("--background %s: expected R,G,B", optarg);
+            break;
+        case O_NOTERRAIN: terrain = 0; break;
+        case 'r':
+            if (strcmp(optarg, "raycast"))
+                vsv_cli_usage_error("--renderer %s: this version has raycast only (shear-warp is issue #5's next part)",
+                                    optarg);
+            break;
+        case O_THREADS:
+            if (vsv_cli_int(optarg, 1, 64, &v))
+                vsv_cli_usage_error("--threads %s: 1..64", optarg);
+            ro.threads = (int)v;
+            break;
+        case 'q': vsv_cli_set_quiet(1); break;
+        case 'h': fputs(usage, stdout); return 0;
+        case 'V': vsv_cli_version();
+        default: vsv_cli_usage_error("unknown option");
+        }
+    }
+    if (!out)
+        vsv_cli_usage_error("no output image (-o OUT.png)");
+    if (optind != argc - 1)
+        vsv_cli_usage_error("one .vsv file");
+    if (time && times)
+        vsv_cli_usage_error("--time and --times exclude each other");
+    const int sequence = strchr(out, '%') != NULL;
+    const char *path = argv[optind];
+    vsv_file *f = NULL;
+    if (vsv_file_open(path, &f))
+        vsv_cli_die(1, "%s", vsv_file_error(f));
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    /* steps */
+    int a = info.nsteps - 1, b = a;
+    if (time) {
+        a = b = parse_step(f, time, 0);
+    } else if (times) {
+        const char *colon = strchr(times, ':');
+        if (!colon)
+            vsv_cli_usage_error("--times %s: expected A:B", times);
+        char first[64];
+        snprintf(first, sizeof first, "%.*s", (int)(colon - times), times);
+        a = *first ? parse_step(f, first, 0) : 0;
+        b = colon[1] ? parse_step(f, colon + 1, 1) : info.nsteps - 1;
+    } else if (sequence) {
+        a = 0;
+    }
+    if (a < 0 || b >= info.nsteps || a > b)
+        vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
+    if (!sequence && a != b)
+        vsv_cli_usage_error("several steps need %%04d in the output name");
+    /* layers: the species asked for (all by default), each with its opacity */
+    vsv_layer *layers = calloc((size_t)m->nvars, sizeof *layers);
+    vsv_tf *tfs = calloc((size_t)m->nvars, sizeof *tfs);
+    vsv_volume **vols = calloc((size_t)m->nvars, sizeof *vols);
+    int *sidx = calloc((size_t)m->nvars, sizeof *sidx);
+    float *opac = calloc((size_t)m->nvars, sizeof *opac);
+    if (!layers || !tfs || !vols || !sidx || !opac)
+        vsv_cli_die(1, "out of memory");
+    for (int s = 0; s < m->nvars; s++)
+        opac[s] = species ? -1 : 1; /* -1: not asked for */
+    if (species) {
+        char *copy = strdup(species), *save = NULL;
+        for (char *it = copy ? strtok_r(copy, ",", &save) : NULL; it; it = strtok_r(NULL, ",", &save)) {
+            char *colon = strchr(it, ':');
+            double op = 1;
+            if (colon) {
+                *colon = 0;
+                if (vsv_cli_double(colon + 1, &op) || op < 0)
+                    vsv_cli_usage_error("--species %s: opacity must be a number >= 0", species);
+            }
+            const int s = vsv_meta_find_var(m, it);
+            if (s < 0)
+                vsv_cli_usage_error("--species: %s has no species '%s'", path, it);
+            opac[s] = (float)op;
+        }
+        free(copy);
+    }
+    int nl = 0;
+    for (int s = 0; s < m->nvars; s++) {
+        if (opac[s] < 0)
+            continue;
+        char text[4096], msg[256], dflt[512];
+        const char *src = m->tf && m->tf[s] ? m->tf[s] : NULL;
+        if (tfpath) {
+            const int rc = vsv_tf_file_block(tfpath, m->vars[s].name, text, sizeof text, msg, sizeof msg);
+            if (rc == VSV_EIO)
+                vsv_cli_die(1, "%s", msg);
+            if (!rc)
+                src = text;
+        }
+        if (!src) {
+            vsv_tf_default(m->vars[s].name, vsv_file_quant(f, s), dflt, sizeof dflt);
+            src = dflt;
+        }
+        if (vsv_tf_parse(&tfs[nl], src, msg, sizeof msg))
+            vsv_cli_die(1, "%s: transfer function of %s: %s", tfpath ? tfpath : path, m->vars[s].name, msg);
+        if (vsv_volume_create(f, &vols[nl]))
+            vsv_cli_die(1, "out of memory");
+        layers[nl] = (vsv_layer){vols[nl], &tfs[nl], opac[s], 1};
+        sidx[nl++] = s;
+    }
+    vsv_scene sc = {m, layers, nl, exag, terrain};
+    if (!(exag > 0)) {
+        double mn[3], mx[3];
+        sc.exaggeration = 1;
+        vsv_scene_bounds(&sc, mn, mx);
+        const double wide = fmax(mx[0] - mn[0], mx[1] - mn[1]), tall = mx[2] - fmin(mn[2], 0);
+        sc.exaggeration = tall > 0 ? fmax(1, round(0.2 * wide / tall)) : 1;
+    }
+    vsv_camera cam;
+    vsv_camera_orbit(&cam, &sc, az, el, dist, width, height);
+    vsv_renderer *r = NULL;
+    if (vsv_renderer_create(&ro, &r))
+        vsv_cli_die(1, "cannot start the renderer");
+    vsv_decoder *d = NULL;
+    float *rgba = malloc((size_t)width * height * 4 * sizeof(float));
+    if (vsv_decoder_create(f, &d) || !rgba)
+        vsv_cli_die(1, "out of memory");
+    for (int t = a; t <= b; t++) {
+        for (int l = 0; l < nl; l++)
+            if (vsv_volume_load(vols[l], d, t, sidx[l]))
+                vsv_cli_die(1, "%s", vsv_decoder_error(d));
+        if (vsv_render(r, &sc, &cam, rgba, NULL))
+            vsv_cli_die(1, "render failed");
+        char name[4096], err[4200];
+        if (sequence)
+            snprintf(name, sizeof name, out, t - a);
+        else
+            snprintf(name, sizeof name, "%s", out);
+        if (write_png(name, rgba, width, height, bg, err, sizeof err))
+            vsv_cli_die(1, "%s", err);
+        vsv_cli_progress("vsv-render", t - a + 1, b - a + 1);
+    }
+    if (!vsv_cli_quiet() && !isatty(2))
+        fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g\n", b - a + 1, b > a ? "s" : "", width, height,
+                sc.exaggeration);
+    free(rgba);
+    vsv_decoder_free(d);
+    vsv_renderer_free(r);
+    for (int l = 0; l < nl; l++)
+        vsv_volume_free(vols[l]);
+    free(vols);
+    free(tfs);
+    free(layers);
+    free(sidx);
+    free(opac);
+    vsv_file_free(f);
+    return 0;
+}

@@ -1,0 +1,574 @@
+/* vsv_render.c — the renderer behind vsv_render.h: a persistent thread pool
+ * that hands out 16x16 tiles, the scene geometry (world box, terrain), the
+ * cameras, and the raycaster. Each pixel depends only on the scene and its
+ * own ray, so the thread count and the tile order cannot change a pixel. */
+#include "vsv_render.h"
+#include "vsv_format_internal.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define TILE 16
+#define MAX_THREADS 64
+#define SIGMA_PER_CELL 3.0 /* extinction of opacity 1 over one horizontal cell: alpha 0.95 */
+
+/* Per-frame geometry, computed once per vsv_render call on the stack. */
+typedef struct geo {
+    double ox, oy, oz, dx, dy, dz, E;
+    double bmin[3], bmax[3];
+    int nx, ny, nz;
+    const float *terrain;
+} geo;
+
+struct vsv_renderer {
+    vsv_render_opts o;
+    int nthreads;
+    pthread_t tid[MAX_THREADS];
+    pthread_mutex_t mu;
+    pthread_cond_t go, done;
+    int generation, running, finished, quit;
+    /* the job */
+    const vsv_scene *sc;
+    const vsv_camera *cam;
+    float *rgba, *depth;
+    geo g;
+    int ntiles, tiles_x, next_tile;
+    /* per-layer skip flags (allocated when the scene grows, not per frame) */
+    unsigned char *skip;
+    size_t skip_cap;
+};
+
+void vsv_render_opts_init(vsv_render_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->kind = VSV_RENDER_RAYCAST;
+    o->step_cells = 0.5;
+}
+
+/* ------------------------------------------------------------- geometry */
+
+static void scene_geo(const vsv_scene *sc, geo *g)
+{
+    const vsv_meta *m = sc->meta;
+    g->nx = m->nx;
+    g->ny = m->ny;
+    g->nz = m->nz;
+    g->ox = m->origin[0];
+    g->oy = m->origin[1];
+    g->dx = m->spacing[0];
+    g->dy = m->spacing[1];
+    /* renderers draw every grid with evenly stacked levels (DESIGN.md §3) */
+    if (m->vert_kind == VSV_VERT_EVEN) {
+        g->oz = m->origin[2];
+        g->dz = m->spacing[2];
+    } else if (m->vert_kind == VSV_VERT_NATIVE && m->levels && m->nz > 1) {
+        g->oz = m->levels[0];
+        g->dz = (m->levels[m->nz - 1] - m->levels[0]) / (m->nz - 1);
+    } else {
+        g->oz = 250;
+        g->dz = 500;
+    }
+    g->E = sc->exaggeration > 0 ? sc->exaggeration : 1;
+    g->bmin[0] = g->ox - g->dx / 2;
+    g->bmax[0] = g->ox + (g->nx - 0.5) * g->dx;
+    g->bmin[1] = g->oy - g->dy / 2;
+    g->bmax[1] = g->oy + (g->ny - 0.5) * g->dy;
+    g->bmin[2] = (g->oz - g->dz / 2) * g->E;
+    g->bmax[2] = (g->oz + (g->nz - 0.5) * g->dz) * g->E;
+    g->terrain = sc->show_terrain && (m->vert_kind == VSV_VERT_EVEN || m->vert_kind == VSV_VERT_NATIVE) ? m->terrain : NULL;
+    if (g->terrain) {
+        /* the box reaches below the lowest ground, so rays meet the sea surface
+         * inside it rather than on its face */
+        float lowest = 0;
+        for (size_t c = 0; c < (size_t)g->nx * g->ny; c++)
+            lowest = g->terrain[c] < lowest ? g->terrain[c] : lowest;
+        const double floor_z = (lowest - 10.0) * g->E;
+        if (g->bmin[2] > floor_z)
+            g->bmin[2] = floor_z;
+    }
+}
+
+void vsv_scene_bounds(const vsv_scene *sc, double mn[3], double mx[3])
+{
+    geo g;
+    scene_geo(sc, &g);
+    memcpy(mn, g.bmin, sizeof g.bmin);
+    memcpy(mx, g.bmax, sizeof g.bmax);
+}
+
+void vsv_camera_orbit(vsv_camera *cam, const vsv_scene *sc, double az, double el, double dist, int width, int height)
+{
+    double mn[3], mx[3], c[3];
+    vsv_scene_bounds(sc, mn, mx);
+    for (int a = 0; a < 3; a++)
+        c[a] = 0.5 * (mn[a] + mx[a]);
+    c[2] = mn[2] + 0.3 * (mx[2] - mn[2]);
+    memset(cam, 0, sizeof *cam);
+    cam->fov_deg = 35;
+    cam->width = width;
+    cam->height = height;
+    if (!(dist > 0)) {
+        const double r = 0.5 * sqrt((mx[0] - mn[0]) * (mx[0] - mn[0]) + (mx[1] - mn[1]) * (mx[1] - mn[1]) +
+                                    (mx[2] - mn[2]) * (mx[2] - mn[2]));
+        dist = 1.15 * r / tan(cam->fov_deg * M_PI / 360);
+    }
+    const double a = az * M_PI / 180, e = el * M_PI / 180;
+    /* azimuth clockwise from north (+y); the camera sits at that bearing from the centre */
+    const double off[3] = {sin(a) * cos(e), cos(a) * cos(e), sin(e)};
+    for (int i = 0; i < 3; i++) {
+        cam->pos[i] = c[i] + dist * off[i];
+        cam->dir[i] = -off[i];
+    }
+    cam->up[0] = cam->up[1] = 0;
+    cam->up[2] = 1;
+    cam->znear = 0;
+    cam->zfar = INFINITY;
+}
+
+static void normalize(double v[3])
+{
+    const double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    if (n > 0)
+        for (int i = 0; i < 3; i++)
+            v[i] /= n;
+}
+
+static void cross(const double a[3], const double b[3], double o[3])
+{
+    o[0] = a[1] * b[2] - a[2] * b[1];
+    o[1] = a[2] * b[0] - a[0] * b[2];
+    o[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* Ray of pixel (px, py). */
+static void pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3])
+{
+    double f[3] = {cam->dir[0], cam->dir[1], cam->dir[2]}, r[3], u[3];
+    normalize(f);
+    cross(f, cam->up, r);
+    if (r[0] == 0 && r[1] == 0 && r[2] == 0) {
+        const double alt[3] = {0, 1, 0};
+        cross(f, alt, r);
+    }
+    normalize(r);
+    cross(r, f, u);
+    const double aspect = (double)cam->width / cam->height;
+    const double sx = 2 * (px + 0.5) / cam->width - 1, sy = 1 - 2 * (py + 0.5) / cam->height;
+    for (int i = 0; i < 3; i++)
+        o[i] = cam->pos[i] + cam->eye_offset * r[i];
+    if (cam->fov_deg > 0) {
+        const double t = tan(cam->fov_deg * M_PI / 360);
+        for (int i = 0; i < 3; i++)
+            d[i] = f[i] + sx * t * aspect * r[i] + sy * t * u[i];
+        normalize(d);
+    } else {
+        const double h = cam->ortho_height / 2;
+        for (int i = 0; i < 3; i++) {
+            o[i] += sx * h * aspect * r[i] + sy * h * u[i];
+            d[i] = f[i];
+        }
+    }
+}
+
+/* Slab intersection of the ray with a box; 0 if missed. */
+static int box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1)
+{
+    double a = -INFINITY, b = INFINITY;
+    for (int i = 0; i < 3; i++) {
+        if (d[i] == 0) {
+            if (o[i] < mn[i] || o[i] > mx[i])
+                return 0;
+            continue;
+        }
+        double ta = (mn[i] - o[i]) / d[i], tb = (mx[i] - o[i]) / d[i];
+        if (ta > tb) {
+            const double t = ta;
+            ta = tb;
+            tb = t;
+        }
+        a = ta > a ? ta : a;
+        b = tb < b ? tb : b;
+    }
+    *t0 = a;
+    *t1 = b;
+    return b >= a && b > 0;
+}
+
+/* Terrain height (exaggerated world z) at world (x, y): bilinear at cell centres. */
+static double terrain_z(const geo *g, double x, double y)
+{
+    double u = (x - g->ox) / g->dx, v = (y - g->oy) / g->dy;
+    u = u < 0 ? 0 : u > g->nx - 1 ? g->nx - 1 : u;
+    v = v < 0 ? 0 : v > g->ny - 1 ? g->ny - 1 : v;
+    int i = (int)u, j = (int)v;
+    if (i > g->nx - 2)
+        i = g->nx > 1 ? g->nx - 2 : 0;
+    if (j > g->ny - 2)
+        j = g->ny > 1 ? g->ny - 2 : 0;
+    const double fu = u - i, fv = v - j;
+    const int i1 = g->nx > 1 ? i + 1 : i, j1 = g->ny > 1 ? j + 1 : j;
+    const float *t = g->terrain;
+    const double a = t[(size_t)j * g->nx + i], b = t[(size_t)j * g->nx + i1], c = t[(size_t)j1 * g->nx + i],
+                 dd = t[(size_t)j1 * g->nx + i1];
+    return ((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + dd * fu) * fv) * g->E;
+}
+
+static void terrain_colour(const geo *g, double x, double y, float rgb[3])
+{
+    const double h = terrain_z(g, x, y) / g->E;
+    const double ex = g->dx, ey = g->dy;
+    const double gx = (terrain_z(g, x + ex, y) - terrain_z(g, x - ex, y)) / (2 * ex);
+    const double gy = (terrain_z(g, x, y + ey) - terrain_z(g, x, y - ey)) / (2 * ey);
+    double n[3] = {-gx, -gy, 1}, l[3] = {-0.5, -0.4, 0.75};
+    normalize(n);
+    normalize(l);
+    const double lam = 0.35 + 0.65 * fmax(0, n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
+    double c[3];
+    if (h <= 0.5) {
+        c[0] = 0.12, c[1] = 0.22, c[2] = 0.42; /* sea */
+    } else {
+        const double t = fmin(h / 3000.0, 1.0), s = fmax(0, fmin((h - 3000) / 2000.0, 1.0));
+        c[0] = 0.22 + 0.33 * t + 0.35 * s;
+        c[1] = 0.42 + 0.03 * t + 0.45 * s;
+        c[2] = 0.22 + 0.13 * t + 0.55 * s;
+    }
+    for (int i = 0; i < 3; i++)
+        rgb[i] = (float)(c[i] * lam);
+}
+
+/* Trilinear sample of a volume at cell coordinates (u, v, w). */
+static float sample(const vsv_volume *vol, double u, double v, double w)
+{
+    u = u < 0 ? 0 : u > vol->nx - 1 ? vol->nx - 1 : u;
+    v = v < 0 ? 0 : v > vol->ny - 1 ? vol->ny - 1 : v;
+    w = w < 0 ? 0 : w > vol->nz - 1 ? vol->nz - 1 : w;
+    const int i = (int)u, j = (int)v, k = (int)w;
+    const int i1 = i + 1 < vol->nx ? i + 1 : i, j1 = j + 1 < vol->ny ? j + 1 : j, k1 = k + 1 < vol->nz ? k + 1 : k;
+    const float fu = (float)(u - i), fv = (float)(v - j), fw = (float)(w - k);
+    const float c000 = vsv_volume_at(vol, i, j, k), c100 = vsv_volume_at(vol, i1, j, k);
+    const float c010 = vsv_volume_at(vol, i, j1, k), c110 = vsv_volume_at(vol, i1, j1, k);
+    const float c001 = vsv_volume_at(vol, i, j, k1), c101 = vsv_volume_at(vol, i1, j, k1);
+    const float c011 = vsv_volume_at(vol, i, j1, k1), c111 = vsv_volume_at(vol, i1, j1, k1);
+    const float a = c000 + (c100 - c000) * fu, b = c010 + (c110 - c010) * fu;
+    const float c = c001 + (c101 - c001) * fu, d = c011 + (c111 - c011) * fu;
+    const float e = a + (b - a) * fv, f = c + (d - c) * fv;
+    return e + (f - e) * fw;
+}
+
+/* Largest opacity of a transfer function over the values [lo, hi]. */
+static float max_opacity(const vsv_tf *tf, float lo, float hi)
+{
+    if (!(hi >= tf->lo))
+        return 0; /* all below the range (or no data): transparent */
+    double t0, t1;
+    if (tf->scale == VSV_SCALE_LOG) {
+        const double l0 = log(tf->lo), l1 = log(tf->hi);
+        t0 = lo > 0 ? (log(lo) - l0) / (l1 - l0) : 0;
+        t1 = (log(hi) - l0) / (l1 - l0);
+    } else {
+        t0 = (lo - tf->lo) / (tf->hi - tf->lo);
+        t1 = (hi - tf->lo) / (tf->hi - tf->lo);
+    }
+    const int i0 = !(t0 > 0) ? 0 : t0 >= 1 ? VSV_TF_LUT - 1 : (int)(t0 * (VSV_TF_LUT - 1));
+    const int i1 = t1 >= 1 ? VSV_TF_LUT - 1 : (int)ceil(t1 * (VSV_TF_LUT - 1));
+    float m = 0;
+    for (int i = i0; i <= i1; i++)
+        m = tf->lut[i][3] > m ? tf->lut[i][3] : m;
+    return m;
+}
+
+/* Empty-space skipping: a brick is skipped when, for every visible layer, the
+ * values of the brick and of every brick around it (a trilinear sample reaches
+ * one cell across, and blends values between those ranges) map to zero
+ * opacity. Computed per frame from the octree's level 0. */
+static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
+{
+    int nb = 0;
+    const vsv_volume *v0 = NULL;
+    for (int l = 0; l < sc->nlayers; l++)
+        if (sc->layers[l].vol) {
+            nb = sc->layers[l].vol->nbricks > nb ? sc->layers[l].vol->nbricks : nb;
+            v0 = sc->layers[l].vol;
+        }
+    if ((size_t)nb > r->skip_cap) {
+        unsigned char *p = realloc(r->skip, (size_t)nb);
+        if (!p)
+            return VSV_ENOMEM;
+        r->skip = p;
+        r->skip_cap = (size_t)nb;
+    }
+    if (!nb)
+        return 0;
+    memset(r->skip, 1, (size_t)nb);
+    const int bx = v0->bdim[0], by = v0->bdim[1], bz = v0->bdim[2];
+    for (int l = 0; l < sc->nlayers; l++) {
+        const vsv_layer *L = &sc->layers[l];
+        if (!L->visible || !(L->opacity > 0) || !L->vol)
+            continue;
+        for (int k = 0; k < bz; k++)
+            for (int j = 0; j < by; j++)
+                for (int i = 0; i < bx; i++) {
+                    const int b = i + bx * (j + by * k);
+                    if (!r->skip[b])
+                        continue;
+                    float lo = INFINITY, hi = -INFINITY;
+                    for (int dk = -1; dk <= 1; dk++)
+                        for (int dj = -1; dj <= 1; dj++)
+                            for (int di = -1; di <= 1; di++) {
+                                const int a = i + di, c = j + dj, e = k + dk;
+                                if (a < 0 || c < 0 || e < 0 || a >= bx || c >= by || e >= bz)
+                                    continue;
+                                const int n = a + bx * (c + by * e);
+                                if (L->vol->bmin[n] < lo)
+                                    lo = L->vol->bmin[n];
+                                if (L->vol->bmax[n] > hi)
+                                    hi = L->vol->bmax[n];
+                            }
+                    if (max_opacity(L->tf, lo, hi) > 0)
+                        r->skip[b] = 0;
+                }
+    }
+    return 0;
+}
+
+/* One ray: the raycaster. */
+static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], float *depth)
+{
+    const geo *g = &r->g;
+    const vsv_scene *sc = r->sc;
+    double o[3], d[3], t0, t1;
+    pixel_ray(r->cam, px, py, o, d);
+    out[0] = out[1] = out[2] = out[3] = 0;
+    *depth = INFINITY;
+    if (!box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
+        return;
+    t0 = fmax(t0, fmax(0, r->cam->znear));
+    if (r->cam->zfar > 0 && t1 > r->cam->zfar)
+        t1 = r->cam->zfar;
+    /* a fixed step in world units: a fraction of the smallest cell edge */
+    const double st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
+    /* the terrain: first point below the ground, refined by bisection */
+    double t_hit = INFINITY;
+    if (g->terrain) {
+        double prev = t0;
+        for (double t = t0;; t += st) {
+            if (t > t1)
+                t = t1; /* the last test sits on the exit, so the far edge of the ground is not missed */
+            const double x = o[0] + t * d[0], y = o[1] + t * d[1], z = o[2] + t * d[2];
+            if (z <= terrain_z(g, x, y)) {
+                double a = prev, b = t;
+                for (int it = 0; it < 20 && t > t0; it++) {
+                    const double m = 0.5 * (a + b);
+                    if (o[2] + m * d[2] <= terrain_z(g, o[0] + m * d[0], o[1] + m * d[1]))
+                        b = m;
+                    else
+                        a = m;
+                }
+                t_hit = b;
+                break;
+            }
+            if (t >= t1)
+                break;
+            prev = t;
+        }
+    }
+    const double tend = fmin(t1, t_hit);
+    /* the volume, front to back */
+    double T = 1, acc[3] = {0, 0, 0};
+    const vsv_volume *v0 = NULL;
+    for (int l = 0; l < sc->nlayers; l++)
+        if (sc->layers[l].visible && sc->layers[l].opacity > 0 && sc->layers[l].vol)
+            v0 = sc->layers[l].vol;
+    const double sigma_unit = SIGMA_PER_CELL / fmin(g->dx, g->dy);
+    const unsigned char *skip = r->skip;
+    const int B = v0 ? v0->brick : 1;
+    for (double t = t0 + 0.5 * st; v0 && t < tend; t += st) {
+        const double x = o[0] + t * d[0], y = o[1] + t * d[1], z = o[2] + t * d[2];
+        const double u = (x - g->ox) / g->dx, v = (y - g->oy) / g->dy, w = (z / g->E - g->oz) / g->dz;
+        if (!r->o.no_skip) {
+            int bi = (int)floor(u + 0.5) / B, bj = (int)floor(v + 0.5) / B, bk = (int)floor(w + 0.5) / B;
+            bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
+            bj = bj < 0 ? 0 : bj >= v0->bdim[1] ? v0->bdim[1] - 1 : bj;
+            bk = bk < 0 ? 0 : bk >= v0->bdim[2] ? v0->bdim[2] - 1 : bk;
+            if (skip[bi + v0->bdim[0] * (bj + v0->bdim[1] * bk)]) {
+                /* jump to the brick's far side, staying on the same sample grid */
+                const double bmn[3] = {g->ox + (bi * B - 0.5) * g->dx, g->oy + (bj * B - 0.5) * g->dy,
+                                       (g->oz + (bk * B - 0.5) * g->dz) * g->E};
+                const double bmx[3] = {g->ox + ((bi + 1) * B - 0.5) * g->dx, g->oy + ((bj + 1) * B - 0.5) * g->dy,
+                                       (g->oz + ((bk + 1) * B - 0.5) * g->dz) * g->E};
+                double e0, e1;
+                if (box_hit(o, d, bmn, bmx, &e0, &e1) && e1 > t) {
+                    const double n = floor((e1 - (t0 + 0.5 * st)) / st);
+                    const double tn = t0 + 0.5 * st + n * st;
+                    if (tn > t)
+                        t = tn;
+                }
+                continue;
+            }
+        }
+        double sig = 0, col[3] = {0, 0, 0};
+        for (int l = 0; l < sc->nlayers; l++) {
+            const vsv_layer *L = &sc->layers[l];
+            if (!L->visible || !(L->opacity > 0) || !L->vol)
+                continue;
+            float rgba[4];
+            vsv_tf_eval(L->tf, sample(L->vol, u, v, w), rgba);
+            const double s = rgba[3] * L->opacity * sigma_unit;
+            if (s > 0) {
+                sig += s;
+                for (int c = 0; c < 3; c++)
+                    col[c] += s * rgba[c];
+            }
+        }
+        if (sig > 0) {
+            const double a = 1 - exp(-sig * st);
+            for (int c = 0; c < 3; c++)
+                acc[c] += T * a * col[c] / sig;
+            T *= 1 - a;
+            if (*depth == INFINITY && 1 - T > 0.1)
+                *depth = (float)t;
+            if (T < 1.0 / 512)
+                break; /* early ray termination */
+        }
+    }
+    if (t_hit < INFINITY && T >= 1.0 / 512) {
+        float rgb[3];
+        terrain_colour(g, o[0] + t_hit * d[0], o[1] + t_hit * d[1], rgb);
+        for (int c = 0; c < 3; c++)
+            acc[c] += T * rgb[c];
+        T = 0;
+        if (*depth == INFINITY)
+            *depth = (float)t_hit;
+    }
+    for (int c = 0; c < 3; c++)
+        out[c] = (float)acc[c];
+    out[3] = (float)(1 - T);
+}
+
+/* --------------------------------------------------------------- threads */
+
+static void run_tiles(vsv_renderer *r)
+{
+    const vsv_camera *cam = r->cam;
+    for (;;) {
+        pthread_mutex_lock(&r->mu);
+        const int tile = r->next_tile < r->ntiles ? r->next_tile++ : -1;
+        pthread_mutex_unlock(&r->mu);
+        if (tile < 0)
+            return;
+        const int tx = tile % r->tiles_x, ty = tile / r->tiles_x;
+        for (int py = ty * TILE; py < (ty + 1) * TILE && py < cam->height; py++)
+            for (int px = tx * TILE; px < (tx + 1) * TILE && px < cam->width; px++) {
+                float rgba[4], dep;
+                raycast_pixel(r, px, py, rgba, &dep);
+                const size_t at = (size_t)py * cam->width + px;
+                if (r->rgba)
+                    memcpy(r->rgba + 4 * at, rgba, sizeof rgba);
+                if (r->depth)
+                    r->depth[at] = dep;
+            }
+    }
+}
+
+static void *worker(void *arg)
+{
+    vsv_renderer *r = arg;
+    int seen = 0;
+    for (;;) {
+        pthread_mutex_lock(&r->mu);
+        while (r->generation == seen && !r->quit)
+            pthread_cond_wait(&r->go, &r->mu);
+        if (r->quit) {
+            pthread_mutex_unlock(&r->mu);
+            return NULL;
+        }
+        seen = r->generation;
+        pthread_mutex_unlock(&r->mu);
+        run_tiles(r);
+        pthread_mutex_lock(&r->mu);
+        r->finished++;
+        pthread_cond_signal(&r->done);
+        pthread_mutex_unlock(&r->mu);
+    }
+}
+
+int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
+{
+    vsv_renderer *r = *out = calloc(1, sizeof *r);
+    if (!r)
+        return VSV_ENOMEM;
+    if (o)
+        r->o = *o;
+    else
+        vsv_render_opts_init(&r->o);
+    if (r->o.kind != VSV_RENDER_RAYCAST)
+        return VSV_EUNSUPPORTED;
+    if (!(r->o.step_cells > 0))
+        r->o.step_cells = 0.5;
+    int n = r->o.threads > 0 ? r->o.threads : vsv_ncpus();
+    r->nthreads = n > MAX_THREADS ? MAX_THREADS : n;
+    pthread_mutex_init(&r->mu, NULL);
+    pthread_cond_init(&r->go, NULL);
+    pthread_cond_init(&r->done, NULL);
+    for (int i = 1; i < r->nthreads; i++) /* the caller's thread is worker 0 */
+        if (pthread_create(&r->tid[i], NULL, worker, r)) {
+            r->nthreads = i;
+            break;
+        }
+    r->running = 1;
+    return 0;
+}
+
+void vsv_renderer_free(vsv_renderer *r)
+{
+    if (!r)
+        return;
+    if (r->running) {
+        pthread_mutex_lock(&r->mu);
+        r->quit = 1;
+        pthread_cond_broadcast(&r->go);
+        pthread_mutex_unlock(&r->mu);
+        for (int i = 1; i < r->nthreads; i++)
+            pthread_join(r->tid[i], NULL);
+        pthread_mutex_destroy(&r->mu);
+        pthread_cond_destroy(&r->go);
+        pthread_cond_destroy(&r->done);
+    }
+    free(r->skip);
+    free(r);
+}
+
+int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth)
+{
+    if (cam->width < 1 || cam->height < 1 || !sc->meta)
+        return VSV_EINVAL;
+    for (int l = 0; l < sc->nlayers; l++) {
+        const vsv_volume *v = sc->layers[l].vol;
+        if (v && (v->nx != sc->meta->nx || v->ny != sc->meta->ny || v->nz != sc->meta->nz))
+            return VSV_EINVAL;
+    }
+    int rc = prepare_skip(r, sc);
+    if (rc)
+        return rc;
+    scene_geo(sc, &r->g);
+    r->sc = sc;
+    r->cam = cam;
+    r->rgba = rgba;
+    r->depth = depth;
+    r->tiles_x = (cam->width + TILE - 1) / TILE;
+    r->ntiles = r->tiles_x * ((cam->height + TILE - 1) / TILE);
+    pthread_mutex_lock(&r->mu);
+    r->next_tile = 0;
+    r->finished = 0;
+    r->generation++;
+    pthread_cond_broadcast(&r->go);
+    pthread_mutex_unlock(&r->mu);
+    run_tiles(r);
+    pthread_mutex_lock(&r->mu);
+    while (r->finished < r->nthreads - 1)
+        pthread_cond_wait(&r->done, &r->mu);
+    pthread_mutex_unlock(&r->mu);
+    return 0;
+}

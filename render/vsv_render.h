@@ -1,0 +1,118 @@
+/* vsv_render.h — the renderer interface (DESIGN.md §5): a camera, the
+ * decoded volumes of the visible species with one transfer function and
+ * opacity each, the terrain and a vertical exaggeration in; an RGBA float
+ * image and a depth image out. Implementations sit behind vsv_renderer.
+ *
+ * Compositing rule, the same in every renderer: at each sample point every
+ * visible species s turns its value into a colour c_s and an extinction
+ * sigma_s (its transfer function's opacity curve times its opacity slider,
+ * per horizontal cell size); the sample's extinction is sum(sigma_s) and its
+ * colour sum(sigma_s * c_s) / sum(sigma_s); samples composite front to back
+ * with alpha = 1 - exp(-sum(sigma_s) * step). The result does not depend on
+ * the order of the species, and hiding a species (or opacity 0) is exactly
+ * removing its term. */
+#ifndef VSV_RENDER_H
+#define VSV_RENDER_H
+
+#include "vsv_format.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------ transfer functions */
+
+#define VSV_TF_LUT 1024
+#define VSV_TF_MAXPTS 16
+
+/* One species' transfer function: plain info. */
+typedef struct vsv_tf {
+    char colormap[32];           /* viridis magma cividis clouds rain ice snow greys */
+    double lo, hi;               /* value range mapped to the colour map */
+    int scale;                   /* VSV_SCALE_LINEAR or VSV_SCALE_LOG */
+    int nopacity;                /* opacity curve: samples evenly over [lo, hi] */
+    float opacity[VSV_TF_MAXPTS];
+    /* derived by vsv_tf_prepare: colour and extinction tables */
+    float lut[VSV_TF_LUT][4];
+} vsv_tf;
+
+/* Names of the colour maps, NULL-terminated; borrowed, static. */
+const char *const *vsv_tf_colormaps(void);
+/* Parses a transfer function from text (SPEC.md §14: lines "colormap NAME",
+ * "range LO HI", "scale linear|log", "opacity P0 P1 ..."; "kind" and unknown
+ * keys are ignored). msg receives the reason on error (line number). */
+int vsv_tf_parse(vsv_tf *tf, const char *text, char *msg, size_t cap);
+/* Formats it back (the same keys); buf of cap bytes. */
+void vsv_tf_format(const vsv_tf *tf, char *buf, size_t cap);
+/* Builds the lookup tables after the fields were set. 0 or VSV_EINVAL. */
+int vsv_tf_prepare(vsv_tf *tf);
+/* Colour (rgb) and opacity-curve value of one data value (NaN: none). */
+void vsv_tf_eval(const vsv_tf *tf, float value, float rgba[4]);
+
+/* Loads a file of transfer functions: "species NAME" lines start a block for
+ * that species; returns the block's text for `species`, or NULL. The text
+ * is copied into buf (cap bytes). */
+int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t cap, char *msg, size_t msgcap);
+
+/* ------------------------------------------------------------------ scene */
+
+typedef struct vsv_camera {
+    double pos[3];        /* world metres (z already exaggerated) */
+    double dir[3], up[3]; /* view direction and up (need not be unit) */
+    double fov_deg;       /* vertical field of view; 0 = orthographic */
+    double ortho_height;  /* orthographic: world height of the image */
+    double eye_offset;    /* stereo: shift along the camera's right axis */
+    double znear, zfar;
+    int width, height;
+} vsv_camera;
+
+typedef struct vsv_layer {
+    const vsv_volume *vol;
+    const vsv_tf *tf;
+    float opacity;        /* slider, 0..; 0 = hidden */
+    int visible;
+} vsv_layer;
+
+typedef struct vsv_scene {
+    const vsv_meta *meta; /* grid, levels, terrain */
+    const vsv_layer *layers;
+    int nlayers;
+    double exaggeration;  /* vertical */
+    int show_terrain;
+} vsv_scene;
+
+/* World box of the scene (metres, z exaggerated): min[3], max[3]. */
+void vsv_scene_bounds(const vsv_scene *sc, double min[3], double max[3]);
+/* A camera looking at the scene's centre from azimuth az (degrees clockwise
+ * from north), elevation el (degrees), distance dist (world metres; 0 = frame
+ * the whole box), perspective fov 35 degrees. */
+void vsv_camera_orbit(vsv_camera *cam, const vsv_scene *sc, double az, double el, double dist, int width, int height);
+
+/* ---------------------------------------------------------------- renderer */
+
+enum { VSV_RENDER_RAYCAST = 0 };
+
+typedef struct vsv_render_opts {
+    int kind;            /* VSV_RENDER_* */
+    int threads;         /* 0 = all cores */
+    double step_cells;   /* sample step in horizontal cells (default 0.5) */
+    int no_skip;         /* disable empty-space skipping (reference renders) */
+} vsv_render_opts;
+
+void vsv_render_opts_init(vsv_render_opts *o);
+
+typedef struct vsv_renderer vsv_renderer;
+
+/* Starts the threads. Caller frees with vsv_renderer_free. */
+int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out);
+void vsv_renderer_free(vsv_renderer *r);
+/* Renders into rgba (w*h*4 floats, premultiplied, row 0 at the top) and
+ * depth (w*h floats: distance along the ray to the first opaque-enough point,
+ * INFINITY where none); either may be NULL. The same pixels whatever the
+ * thread count. */
+int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,217 @@
+/* vsv_tf.c — transfer functions: colour maps, the small text format, and
+ * the lookup tables the renderers sample. */
+#include "vsv_render.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct cmap {
+    const char *name;
+    int n;
+    unsigned rgb[10];
+} cmap;
+
+/* Perceptually uniform maps sampled at ten points (viridis, magma, cividis),
+ * and simple ramps for hydrometeors. */
+static const cmap maps[] = {
+    {"viridis", 10, {0x440154, 0x482878, 0x3e4989, 0x31688e, 0x26828e, 0x1f9e89, 0x35b779, 0x6ece58, 0xb5de2b, 0xfde725}},
+    {"magma", 10, {0x000004, 0x180f3d, 0x440f76, 0x721f81, 0x9e2f7f, 0xcd4071, 0xf1605d, 0xfd9668, 0xfeca8d, 0xfcfdbf}},
+    {"cividis", 10, {0x00224e, 0x123570, 0x3b496c, 0x575d6d, 0x707173, 0x8a8779, 0xa69d75, 0xc4b56c, 0xe4cf5b, 0xfee838}},
+    {"clouds", 2, {0x8c8c99, 0xffffff}},
+    {"rain", 3, {0x1a3399, 0x3366cc, 0x66b3ff}},
+    {"ice", 2, {0x99e6ff, 0xe6ffff}},
+    {"snow", 2, {0xccd9f2, 0xffffff}},
+    {"greys", 2, {0x404040, 0xe0e0e0}},
+};
+
+const char *const *vsv_tf_colormaps(void)
+{
+    static const char *names[sizeof maps / sizeof *maps + 1];
+    for (size_t i = 0; i < sizeof maps / sizeof *maps; i++)
+        names[i] = maps[i].name;
+    return names;
+}
+
+static const cmap *find_map(const char *name)
+{
+    for (size_t i = 0; i < sizeof maps / sizeof *maps; i++)
+        if (!strcmp(maps[i].name, name))
+            return &maps[i];
+    return NULL;
+}
+
+static void map_colour(const cmap *m, double t, float rgb[3])
+{
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    const double x = t * (m->n - 1);
+    int i = (int)x;
+    if (i >= m->n - 1)
+        i = m->n - 2;
+    const double f = x - i;
+    for (int c = 0; c < 3; c++) {
+        const double a = (m->rgb[i] >> (16 - 8 * c) & 0xff) / 255.0, b = (m->rgb[i + 1] >> (16 - 8 * c) & 0xff) / 255.0;
+        rgb[c] = (float)(a + (b - a) * f);
+    }
+}
+
+int vsv_tf_prepare(vsv_tf *tf)
+{
+    const cmap *m = find_map(tf->colormap);
+    if (!m || !(tf->hi > tf->lo) || tf->nopacity < 2 || tf->nopacity > VSV_TF_MAXPTS ||
+        (tf->scale == VSV_SCALE_LOG && !(tf->lo > 0)))
+        return VSV_EINVAL;
+    for (int i = 0; i < VSV_TF_LUT; i++) {
+        const double t = (double)i / (VSV_TF_LUT - 1);
+        map_colour(m, t, tf->lut[i]);
+        const double x = t * (tf->nopacity - 1);
+        int k = (int)x;
+        if (k >= tf->nopacity - 1)
+            k = tf->nopacity - 2;
+        const double f = x - k;
+        tf->lut[i][3] = (float)(tf->opacity[k] + (tf->opacity[k + 1] - tf->opacity[k]) * f);
+    }
+    return 0;
+}
+
+void vsv_tf_eval(const vsv_tf *tf, float v, float rgba[4])
+{
+    double t;
+    if (!(v == v) || (tf->scale == VSV_SCALE_LOG ? !(v >= tf->lo) : !(v >= tf->lo))) {
+        rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0;
+        return;
+    }
+    t = tf->scale == VSV_SCALE_LOG ? (log(v) - log(tf->lo)) / (log(tf->hi) - log(tf->lo)) : (v - tf->lo) / (tf->hi - tf->lo);
+    if (t > 1)
+        t = 1;
+    /* linear interpolation in the table */
+    const double x = t * (VSV_TF_LUT - 1);
+    int i = (int)x;
+    if (i >= VSV_TF_LUT - 1)
+        i = VSV_TF_LUT - 2;
+    const float f = (float)(x - i);
+    for (int c = 0; c < 4; c++)
+        rgba[c] = tf->lut[i][c] + (tf->lut[i + 1][c] - tf->lut[i][c]) * f;
+}
+
+int vsv_tf_parse(vsv_tf *tf, const char *text, char *msg, size_t cap)
+{
+    memset(tf, 0, sizeof *tf);
+    snprintf(tf->colormap, sizeof tf->colormap, "viridis");
+    tf->lo = 0;
+    tf->hi = 1;
+    tf->nopacity = 2;
+    tf->opacity[0] = 0;
+    tf->opacity[1] = 1;
+    int line = 0;
+    const char *p = text;
+    while (*p) {
+        line++;
+        const char *e = strchr(p, '\n');
+        size_t n = e ? (size_t)(e - p) : strlen(p);
+        char buf[512];
+        if (n >= sizeof buf)
+            n = sizeof buf - 1;
+        memcpy(buf, p, n);
+        buf[n] = 0;
+        p = e ? e + 1 : p + strlen(p);
+        char *c = buf;
+        while (isspace((unsigned char)*c))
+            c++;
+        if (!*c || *c == '#')
+            continue;
+        char key[32];
+        int off = 0;
+        if (sscanf(c, "%31s%n", key, &off) != 1)
+            continue;
+        char *rest = c + off;
+        if (!strcmp(key, "colormap")) {
+            char name[32];
+            if (sscanf(rest, "%31s", name) != 1 || !find_map(name)) {
+                snprintf(msg, cap, "line %d: unknown colour map", line);
+                return VSV_EINVAL;
+            }
+            snprintf(tf->colormap, sizeof tf->colormap, "%s", name);
+        } else if (!strcmp(key, "range")) {
+            if (sscanf(rest, "%lf %lf", &tf->lo, &tf->hi) != 2 || !(tf->hi > tf->lo)) {
+                snprintf(msg, cap, "line %d: range needs LO HI with LO < HI", line);
+                return VSV_EINVAL;
+            }
+        } else if (!strcmp(key, "scale")) {
+            if (strstr(rest, "log"))
+                tf->scale = VSV_SCALE_LOG;
+            else if (strstr(rest, "linear"))
+                tf->scale = VSV_SCALE_LINEAR;
+            else {
+                snprintf(msg, cap, "line %d: scale is linear or log", line);
+                return VSV_EINVAL;
+            }
+        } else if (!strcmp(key, "opacity")) {
+            int k = 0;
+            char *q = rest, *end;
+            for (;;) {
+                errno = 0;
+                double v = strtod(q, &end);
+                if (end == q)
+                    break;
+                if (k >= VSV_TF_MAXPTS || !(v >= 0) || !(v <= 1)) {
+                    snprintf(msg, cap, "line %d: opacity takes 2..%d values in [0, 1]", line, VSV_TF_MAXPTS);
+                    return VSV_EINVAL;
+                }
+                tf->opacity[k++] = (float)v;
+                q = end;
+            }
+            if (k < 2) {
+                snprintf(msg, cap, "line %d: opacity takes 2..%d values in [0, 1]", line, VSV_TF_MAXPTS);
+                return VSV_EINVAL;
+            }
+            tf->nopacity = k;
+        }
+        /* other keys ("kind", later additions) are ignored */
+    }
+    if (tf->scale == VSV_SCALE_LOG && !(tf->lo > 0)) {
+        snprintf(msg, cap, "a log scale needs a positive range");
+        return VSV_EINVAL;
+    }
+    return vsv_tf_prepare(tf);
+}
+
+void vsv_tf_format(const vsv_tf *tf, char *buf, size_t cap)
+{
+    int n = snprintf(buf, cap, "colormap %s\nrange %.9g %.9g\nscale %s\nopacity", tf->colormap, tf->lo, tf->hi,
+                     tf->scale == VSV_SCALE_LOG ? "log" : "linear");
+    for (int i = 0; i < tf->nopacity && n > 0 && (size_t)n < cap; i++)
+        n += snprintf(buf + n, cap - (size_t)n, " %g", tf->opacity[i]);
+    if (n > 0 && (size_t)n < cap)
+        snprintf(buf + n, cap - (size_t)n, "\n");
+}
+
+int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t cap, char *msg, size_t msgcap)
+{
+    FILE *fp = fopen(path, "r");
+    if (!fp) {
+        snprintf(msg, msgcap, "%s: cannot open: %s", path, strerror(errno));
+        return VSV_EIO;
+    }
+    char line[512];
+    int in = 0, found = 0;
+    size_t n = 0;
+    buf[0] = 0;
+    while (fgets(line, sizeof line, fp)) {
+        char name[128];
+        if (sscanf(line, " species %127s", name) == 1) {
+            in = !strcmp(name, species);
+            found |= in;
+            continue;
+        }
+        if (in && n + strlen(line) < cap) {
+            memcpy(buf + n, line, strlen(line) + 1);
+            n += strlen(line);
+        }
+    }
+    fclose(fp);
+    return found ? 0 : VSV_ENOTFOUND;
+}

@@ -1,0 +1,47 @@
+#!/bin/sh
+# cli_render.sh — vsv-render from the command line: PNG frames of the MM5
+# sample, sequences, species and transfer-function options, errors.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-render.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+pass() { echo "PASS $1"; }
+fail() { echo "FAIL $1: $2"; }
+expect() {
+    name=$1; code=$2; shift 2
+    "$@" > "$T/out" 2> "$T/err"
+    rc=$?
+    if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
+}
+has() { if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi; }
+# png_size FILE: "W H" from the IHDR chunk
+png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'; }
+
+"$B/vsv-convert" -q --time-res 30m samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/storm.vsv"
+expect "vsv-render --help" 0 "$B/vsv-render" --help
+has "usage printed" "$T/out" "Usage: vsv-render"
+expect "vsv-render without -o exits 2" 2 "$B/vsv-render" "$T/storm.vsv"
+expect "vsv-render --renderer nope exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --renderer nope
+expect "an unknown species exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --species NOPE
+expect "a render of the last step" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/last.png" --size 320x240
+if [ "$(head -c 8 "$T/last.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && [ "$(png_size "$T/last.png")" = "320 240" ]; then
+    pass "a 320x240 PNG is written"; else fail "a 320x240 PNG is written" "$(png_size "$T/last.png")"; fi
+expect "a sequence with %04d" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/f%04d.png" --times 0:2 --size 64x48 --species CLW:2,SNOW
+if [ -f "$T/f0000.png" ] && [ -f "$T/f0002.png" ] && [ ! -f "$T/f0003.png" ]; then pass "three frames numbered from 0"; else fail "three frames numbered from 0" "$(ls "$T")"; fi
+expect "several steps without %04d exit 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --times 0:2
+cat > "$T/tf.txt" <<'TF'
+species CLW
+colormap magma
+range 0 0.0003
+opacity 0 1
+TF
+expect "a transfer-function file" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/tf.png" --tf "$T/tf.txt" --species CLW --size 64x48
+if ! cmp -s "$T/tf.png" "$T/f0006.png" 2>/dev/null; then pass "the transfer function changes the image"; else fail "the transfer function changes the image" "same"; fi
+printf 'species CLW\ncolormap rainbow\n' > "$T/bad.txt"
+expect "a bad transfer-function file exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/bad.txt"
+has "the bad line is named" "$T/err" "line 1: unknown colour map"
+expect "the same frame twice is identical" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/again.png" --size 320x240 --threads 1
+if cmp -s "$T/last.png" "$T/again.png"; then pass "1 thread and all threads write the same PNG"; else fail "1 thread and all threads write the same PNG" "differ"; fi
+expect "a damaged .vsv exits 1" 1 "$B/vsv-render" tests/golden/bad/payload.vsv -o "$T/x.png" --time 1
+has "the damage is named" "$T/err" "payload checksum mismatch"
+if [ ! -e "$T/x.png" ] && ! ls "$T" | grep -q '\.tmp\.'; then pass "no image after a failure"; else fail "no image after a failure" "$(ls "$T")"; fi
+exit 0
