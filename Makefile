@@ -20,7 +20,7 @@ CXX ?= c++
 PKG_CONFIG ?= pkg-config
 SHARED ?= ../shared
 
-PKGS = libzstd geographiclib netcdf libpng
+PKGS = libzstd geographiclib netcdf libpng OpenEXR
 ifeq ($(SAN),1)
   B = build-san
   SANFLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all

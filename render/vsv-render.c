@@ -8,11 +8,13 @@
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 static const char usage[] =
-    "Usage: vsv-render FILE.vsv -o OUT.png [OPTIONS]\n"
-    "Render the species of a .vsv file over its terrain to PNG images (raycasting).\n"
+    "Usage: vsv-render FILE.vsv -o OUT.png|OUT.exr [OPTIONS]\n"
+    "Render the species of a .vsv file over its terrain to PNG images, or to OpenEXR\n"
+    "(RGBA half, premultiplied, plus a float Z depth channel), by raycasting.\n"
     "With %04d (or another printf integer) in OUT, every selected step is rendered,\n"
     "numbered from 0.\n"
     "\n"
@@ -25,6 +27,9 @@ static const char usage[] =
     "  -c, --camera AZ,EL[,DIST] azimuth clockwise from north, elevation (degrees),\n"
     "                          distance in world metres (default 225,30: from the\n"
     "                          south-west, 30 degrees up, framing the whole domain)\n"
+    "      --look-at EX,EY,EZ,TX,TY,TZ  eye and target in metres (projection x, y;\n"
+    "                          height above sea level), instead of --camera\n"
+    "      --stereo            a side-by-side pair, left eye on the left (twice as wide)\n"
     "      --size WxH          image size (default 800x600)\n"
     "  -x, --exaggerate N      vertical exaggeration (default: a domain 1/5 as tall as wide)\n"
     "      --background R,G,B  0..1 (default 0.02,0.03,0.06)\n"
@@ -108,7 +113,7 @@ static int parse_step(const vsv_file *f, const char *s, int is_end)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -116,12 +121,14 @@ int main(int argc, char **argv)
         {"size", required_argument, 0, O_SIZE},    {"exaggerate", required_argument, 0, 'x'},
         {"background", required_argument, 0, O_BG}, {"no-terrain", no_argument, 0, O_NOTERRAIN},
         {"renderer", required_argument, 0, 'r'},   {"threads", required_argument, 0, O_THREADS},
+        {"look-at", required_argument, 0, O_LOOKAT}, {"stereo", no_argument, 0, O_STEREO},
         {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
     const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL;
     double az = 225, el = 30, dist = 0, exag = 0;
     float bg[3] = {0.02f, 0.03f, 0.06f};
-    int width = 800, height = 600, terrain = 1, c;
+    int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0;
+    double la[6] = {0};
     vsv_render_opts ro;
     vsv_render_opts_init(&ro);
     while ((c = getopt_long(argc, argv, "o:t:s:c:x:r:qhV", longopts, NULL)) != -1) {
@@ -151,6 +158,13 @@ int main(int argc, char **argv)
                 vsv_cli_usage_error("--background %s: expected R,G,B", optarg);
             break;
         case O_NOTERRAIN: terrain = 0; break;
+        case O_LOOKAT:
+            if (sscanf(optarg, "%lf,%lf,%lf,%lf,%lf,%lf", &la[0], &la[1], &la[2], &la[3], &la[4], &la[5]) != 6 ||
+                (la[0] == la[3] && la[1] == la[4] && la[2] == la[5]))
+                vsv_cli_usage_error("--look-at %s: expected EX,EY,EZ,TX,TY,TZ with distinct eye and target", optarg);
+            lookat = 1;
+            break;
+        case O_STEREO: stereo = 1; break;
         case 'r':
             if (strcmp(optarg, "raycast"))
                 vsv_cli_usage_error("--renderer %s: this version has raycast only (shear-warp is issue #5's next part)",
@@ -261,25 +275,51 @@ int main(int argc, char **argv)
     }
     vsv_camera cam;
     vsv_camera_orbit(&cam, &sc, az, el, dist, width, height);
+    if (lookat) {
+        for (int i = 0; i < 3; i++) {
+            const double e = i == 2 ? sc.exaggeration : 1;
+            cam.pos[i] = la[i] * e;
+            cam.dir[i] = (la[3 + i] - la[i]) * e;
+        }
+    }
+    /* stereo: two eyes a thirtieth of the viewing distance apart */
+    double target[3] = {0, 0, 0}, mn[3], mx[3];
+    vsv_scene_bounds(&sc, mn, mx);
+    for (int i = 0; i < 3; i++)
+        target[i] = 0.5 * (mn[i] + mx[i]) - cam.pos[i];
+    const double sep = sqrt(target[0] * target[0] + target[1] * target[1] + target[2] * target[2]) / 30;
+    const int ow = stereo ? 2 * width : width;
+    const int exr = strlen(out) > 4 && !strcasecmp(out + strlen(out) - 4, ".exr");
     vsv_renderer *r = NULL;
     if (vsv_renderer_create(&ro, &r))
         vsv_cli_die(1, "cannot start the renderer");
     vsv_decoder *d = NULL;
     float *rgba = malloc((size_t)width * height * 4 * sizeof(float));
-    if (vsv_decoder_create(f, &d) || !rgba)
+    float *depth = malloc((size_t)width * height * sizeof(float));
+    float *img = malloc((size_t)ow * height * 4 * sizeof(float)), *zimg = malloc((size_t)ow * height * sizeof(float));
+    if (vsv_decoder_create(f, &d) || !rgba || !depth || !img || !zimg)
         vsv_cli_die(1, "out of memory");
     for (int t = a; t <= b; t++) {
         for (int l = 0; l < nl; l++)
             if (vsv_volume_load(vols[l], d, t, sidx[l]))
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));
-        if (vsv_render(r, &sc, &cam, rgba, NULL))
-            vsv_cli_die(1, "render failed");
+        for (int eye = 0; eye < (stereo ? 2 : 1); eye++) {
+            cam.eye_offset = stereo ? (eye ? sep / 2 : -sep / 2) : 0;
+            if (vsv_render(r, &sc, &cam, rgba, depth))
+                vsv_cli_die(1, "render failed");
+            for (int y = 0; y < height; y++) {
+                memcpy(img + 4 * ((size_t)y * ow + (size_t)eye * width), rgba + 4 * (size_t)y * width,
+                       4 * sizeof(float) * (size_t)width);
+                memcpy(zimg + (size_t)y * ow + (size_t)eye * width, depth + (size_t)y * width, sizeof(float) * (size_t)width);
+            }
+        }
         char name[4096], err[4200];
         if (sequence)
             snprintf(name, sizeof name, out, t - a);
         else
             snprintf(name, sizeof name, "%s", out);
-        if (write_png(name, rgba, width, height, bg, err, sizeof err))
+        if (exr ? vsv_exr_write(name, img, zimg, ow, height, err, sizeof err)
+                : write_png(name, img, ow, height, bg, err, sizeof err))
             vsv_cli_die(1, "%s", err);
         vsv_cli_progress("vsv-render", t - a + 1, b - a + 1);
     }
@@ -287,6 +327,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g\n", b - a + 1, b > a ? "s" : "", width, height,
                 sc.exaggeration);
     free(rgba);
+    free(depth);
+    free(img);
+    free(zimg);
     vsv_decoder_free(d);
     vsv_renderer_free(r);
     for (int l = 0; l < nl; l++)

@@ -112,6 +112,13 @@ void vsv_renderer_free(vsv_renderer *r);
  * thread count. */
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
 
+/* ------------------------------------------------------------------ files */
+
+/* Writes an OpenEXR image: R, G, B, A as half floats (premultiplied, row 0 at
+ * the top) and Z (depth) as float; depth may not be NULL. Written to a
+ * temporary name and renamed. 0, or -1 with err filled. */
+int vsv_exr_write(const char *path, const float *rgba, const float *depth, int w, int h, char *err, size_t cap);
+
 #ifdef __cplusplus
 }
 #endif

@@ -44,4 +44,10 @@ if cmp -s "$T/last.png" "$T/again.png"; then pass "1 thread and all threads writ
 expect "a damaged .vsv exits 1" 1 "$B/vsv-render" tests/golden/bad/payload.vsv -o "$T/x.png" --time 1
 has "the damage is named" "$T/err" "payload checksum mismatch"
 if [ ! -e "$T/x.png" ] && ! ls "$T" | grep -q '\.tmp\.'; then pass "no image after a failure"; else fail "no image after a failure" "$(ls "$T")"; fi
+expect "an EXR frame" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/frame.exr" --size 64x48
+if [ "$(head -c 4 "$T/frame.exr" | od -An -tx1 | tr -d ' \n')" = "762f3101" ]; then pass "EXR magic written"; else fail "EXR magic written" "no"; fi
+expect "a stereo pair" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/stereo.png" --size 64x48 --stereo
+if [ "$(png_size "$T/stereo.png")" = "128 48" ]; then pass "stereo is side by side, twice as wide"; else fail "stereo is side by side, twice as wide" "$(png_size "$T/stereo.png")"; fi
+expect "a look-at camera" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/look.png" --size 64x48 --look-at -2600000,700000,30000,-1800000,1500000,0
+expect "a look-at camera with eye = target exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x2.png" --look-at 1,2,3,1,2,3
 exit 0

@@ -8,6 +8,7 @@
 #include "vsv_testlib.h"
 
 #include <math.h>
+#include <openexr.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
@@ -231,8 +232,56 @@ static void test_tf(void)
     CHECK(rc != 0 && strstr(msg, "line 3"), "opacity outside [0, 1] is refused", "%s", msg);
 }
 
+static void test_exr(void)
+{
+    enum { EW = 37, EH = 23 };
+    float rgba[EW * EH * 4], depth[EW * EH];
+    for (int i = 0; i < EW * EH; i++) {
+        for (int c = 0; c < 4; c++)
+            rgba[4 * i + c] = (float)(c + 1) / 8;
+        depth[i] = i == 5 ? INFINITY : 1000.0f + i;
+    }
+    const char *p = vsv_test_tmp("frame.exr");
+    char err[256] = "";
+    int rc = vsv_exr_write(p, rgba, depth, EW, EH, err, sizeof err);
+    CHECK(rc == 0, "an EXR frame is written", "%s", err);
+    exr_context_t ctx = NULL;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    int ok = exr_start_read(&ctx, p, &init) == EXR_ERR_SUCCESS;
+    const exr_attr_chlist_t *cl = NULL;
+    ok = ok && exr_get_channels(ctx, 0, &cl) == EXR_ERR_SUCCESS && cl && cl->num_channels == 5;
+    /* channels are stored sorted by name: A B G R Z */
+    static const char *want[5] = {"A", "B", "G", "R", "Z"};
+    for (int c = 0; ok && c < 5; c++)
+        ok &= !strcmp(cl->entries[c].name.str, want[c]) &&
+              cl->entries[c].pixel_type == (c < 4 ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT);
+    exr_attr_box2i_t dw;
+    ok = ok && exr_get_data_window(ctx, 0, &dw) == EXR_ERR_SUCCESS && dw.max.x == EW - 1 && dw.max.y == EH - 1;
+    /* decode the first chunk's Z and A */
+    exr_chunk_info_t ci;
+    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    float z[EW * 16], a[EW * 16];
+    ok = ok && exr_read_scanline_chunk_info(ctx, 0, 0, &ci) == EXR_ERR_SUCCESS &&
+         exr_decoding_initialize(ctx, 0, &ci, &dec) == EXR_ERR_SUCCESS;
+    for (int c = 0; ok && c < dec.channel_count; c++) {
+        exr_coding_channel_info_t *ch = &dec.channels[c];
+        ch->user_data_type = EXR_PIXEL_FLOAT;
+        ch->user_bytes_per_element = 4;
+        ch->user_pixel_stride = 4;
+        ch->user_line_stride = 4 * EW;
+        ch->decode_to_ptr = !strcmp(ch->channel_name, "Z") ? (uint8_t *)z : !strcmp(ch->channel_name, "A") ? (uint8_t *)a : NULL;
+    }
+    ok = ok && exr_decoding_choose_default_routines(ctx, 0, &dec) == EXR_ERR_SUCCESS &&
+         exr_decoding_run(ctx, 0, &dec) == EXR_ERR_SUCCESS;
+    ok = ok && z[0] == 1000.0f && z[7] == 1007.0f && isinf(z[5]) && a[3] == 0.5f;
+    exr_decoding_destroy(ctx, &dec);
+    exr_finish(&ctx);
+    CHECK(ok, "the EXR reads back with R G B A half and Z float, values intact");
+}
+
 int main(void)
 {
+    test_exr();
     test_tf();
     test_synthetic();
     test_mm5();
