@@ -315,6 +315,7 @@ void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t
  * bmax are the brick's value range (from the octree, exact). */
 typedef struct vsv_volume {
     int nx, ny, nz, brick, bdim[3], nbricks;
+    int shift;                /* log2(brick) */
     int step, species;        /* what is loaded; -1 when nothing */
     float empty_value;        /* value of code 0 (0, lo, or NaN for no data) */
     float **bricks;
@@ -331,9 +332,9 @@ int vsv_volume_load(vsv_volume *v, vsv_decoder *d, int step, int s);
 /* The value at cell (i, j, k) (inside the grid). */
 static inline float vsv_volume_at(const vsv_volume *v, int i, int j, int k)
 {
-    const int B = v->brick;
-    const float *b = v->bricks[(i / B) + v->bdim[0] * ((j / B) + v->bdim[1] * (k / B))];
-    return b ? b[(i % B) + B * ((j % B) + B * (k % B))] : v->empty_value;
+    const int s = v->shift, m = v->brick - 1;
+    const float *b = v->bricks[(i >> s) + v->bdim[0] * ((j >> s) + v->bdim[1] * (k >> s))];
+    return b ? b[(i & m) + ((j & m) << s) + ((k & m) << (2 * s))] : v->empty_value;
 }
 
 /* ---------------------------------------------------------------- helpers */

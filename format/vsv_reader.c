@@ -742,6 +742,8 @@ int vsv_volume_create(const vsv_file *f, vsv_volume **out)
     v->pub.ny = f->meta.ny;
     v->pub.nz = f->meta.nz;
     v->pub.brick = L->brick;
+    while ((1 << v->pub.shift) < L->brick)
+        v->pub.shift++;
     for (int a = 0; a < 3; a++)
         v->pub.bdim[a] = L->bdim[a];
     v->pub.nbricks = L->nbricks;

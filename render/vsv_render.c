@@ -238,7 +238,8 @@ static void terrain_colour(const geo *g, double x, double y, float rgb[3])
         rgb[i] = (float)(c[i] * lam);
 }
 
-/* Trilinear sample of a volume at cell coordinates (u, v, w). */
+/* Trilinear sample of a volume at cell coordinates (u, v, w). When the eight
+ * cells share a brick (most samples) they are read from it directly. */
 static float sample(const vsv_volume *vol, double u, double v, double w)
 {
     u = u < 0 ? 0 : u > vol->nx - 1 ? vol->nx - 1 : u;
@@ -247,13 +248,25 @@ static float sample(const vsv_volume *vol, double u, double v, double w)
     const int i = (int)u, j = (int)v, k = (int)w;
     const int i1 = i + 1 < vol->nx ? i + 1 : i, j1 = j + 1 < vol->ny ? j + 1 : j, k1 = k + 1 < vol->nz ? k + 1 : k;
     const float fu = (float)(u - i), fv = (float)(v - j), fw = (float)(w - k);
-    const float c000 = vsv_volume_at(vol, i, j, k), c100 = vsv_volume_at(vol, i1, j, k);
-    const float c010 = vsv_volume_at(vol, i, j1, k), c110 = vsv_volume_at(vol, i1, j1, k);
-    const float c001 = vsv_volume_at(vol, i, j, k1), c101 = vsv_volume_at(vol, i1, j, k1);
-    const float c011 = vsv_volume_at(vol, i, j1, k1), c111 = vsv_volume_at(vol, i1, j1, k1);
-    const float a = c000 + (c100 - c000) * fu, b = c010 + (c110 - c010) * fu;
+    const int s = vol->shift, m = vol->brick - 1;
+    float c000, c100, c010, c110, c001, c101, c011, c111;
+    if ((i >> s) == (i1 >> s) && (j >> s) == (j1 >> s) && (k >> s) == (k1 >> s)) {
+        const float *b = vol->bricks[(i >> s) + vol->bdim[0] * ((j >> s) + vol->bdim[1] * (k >> s))];
+        if (!b)
+            return vol->empty_value;
+        const int di = i1 - i, dj = (j1 - j) << s, dk = (k1 - k) << (2 * s);
+        const float *p = b + (i & m) + ((j & m) << s) + ((k & m) << (2 * s));
+        c000 = p[0], c100 = p[di], c010 = p[dj], c110 = p[di + dj];
+        c001 = p[dk], c101 = p[di + dk], c011 = p[dj + dk], c111 = p[di + dj + dk];
+    } else {
+        c000 = vsv_volume_at(vol, i, j, k), c100 = vsv_volume_at(vol, i1, j, k);
+        c010 = vsv_volume_at(vol, i, j1, k), c110 = vsv_volume_at(vol, i1, j1, k);
+        c001 = vsv_volume_at(vol, i, j, k1), c101 = vsv_volume_at(vol, i1, j, k1);
+        c011 = vsv_volume_at(vol, i, j1, k1), c111 = vsv_volume_at(vol, i1, j1, k1);
+    }
+    const float a = c000 + (c100 - c000) * fu, b2 = c010 + (c110 - c010) * fu;
     const float c = c001 + (c101 - c001) * fu, d = c011 + (c111 - c011) * fu;
-    const float e = a + (b - a) * fv, f = c + (d - c) * fv;
+    const float e = a + (b2 - a) * fv, f = c + (d - c) * fv;
     return e + (f - e) * fw;
 }
 
@@ -292,27 +305,28 @@ static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
             nb = sc->layers[l].vol->nbricks > nb ? sc->layers[l].vol->nbricks : nb;
             v0 = sc->layers[l].vol;
         }
-    if ((size_t)nb > r->skip_cap) {
-        unsigned char *p = realloc(r->skip, (size_t)nb);
+    /* layout: [all layers clear][layer 0 clear][layer 1 clear]... */
+    const size_t need = (size_t)nb * ((size_t)sc->nlayers + 1);
+    if (need > r->skip_cap) {
+        unsigned char *p = realloc(r->skip, need);
         if (!p)
             return VSV_ENOMEM;
         r->skip = p;
-        r->skip_cap = (size_t)nb;
+        r->skip_cap = need;
     }
     if (!nb)
         return 0;
-    memset(r->skip, 1, (size_t)nb);
+    memset(r->skip, 1, need);
     const int bx = v0->bdim[0], by = v0->bdim[1], bz = v0->bdim[2];
     for (int l = 0; l < sc->nlayers; l++) {
         const vsv_layer *L = &sc->layers[l];
+        unsigned char *clear = r->skip + (size_t)nb * (l + 1);
         if (!L->visible || !(L->opacity > 0) || !L->vol)
             continue;
         for (int k = 0; k < bz; k++)
             for (int j = 0; j < by; j++)
                 for (int i = 0; i < bx; i++) {
                     const int b = i + bx * (j + by * k);
-                    if (!r->skip[b])
-                        continue;
                     float lo = INFINITY, hi = -INFINITY;
                     for (int dk = -1; dk <= 1; dk++)
                         for (int dj = -1; dj <= 1; dj++)
@@ -321,13 +335,16 @@ static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
                                 if (a < 0 || c < 0 || e < 0 || a >= bx || c >= by || e >= bz)
                                     continue;
                                 const int n = a + bx * (c + by * e);
-                                if (L->vol->bmin[n] < lo)
-                                    lo = L->vol->bmin[n];
+                                /* a NaN minimum (no-data cells beside data) says nothing
+                                 * about the smallest real value: assume the lowest */
+                                const float bmn = L->vol->bmin[n] == L->vol->bmin[n] ? L->vol->bmin[n] : -INFINITY;
+                                if (bmn < lo)
+                                    lo = bmn;
                                 if (L->vol->bmax[n] > hi)
                                     hi = L->vol->bmax[n];
                             }
                     if (max_opacity(L->tf, lo, hi) > 0)
-                        r->skip[b] = 0;
+                        clear[b] = r->skip[b] = 0;
                 }
     }
     return 0;
@@ -409,9 +426,20 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
             }
         }
         double sig = 0, col[3] = {0, 0, 0};
+        int bsample = 0;
+        if (!r->o.no_skip) {
+            int bi = (int)floor(u + 0.5) / B, bj = (int)floor(v + 0.5) / B, bk = (int)floor(w + 0.5) / B;
+            bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
+            bj = bj < 0 ? 0 : bj >= v0->bdim[1] ? v0->bdim[1] - 1 : bj;
+            bk = bk < 0 ? 0 : bk >= v0->bdim[2] ? v0->bdim[2] - 1 : bk;
+            bsample = bi + v0->bdim[0] * (bj + v0->bdim[1] * bk);
+        }
         for (int l = 0; l < sc->nlayers; l++) {
             const vsv_layer *L = &sc->layers[l];
             if (!L->visible || !(L->opacity > 0) || !L->vol)
+                continue;
+            /* a layer that is transparent around this brick adds nothing */
+            if (!r->o.no_skip && skip[(size_t)v0->nbricks * (l + 1) + bsample])
                 continue;
             float rgba[4];
             vsv_tf_eval(L->tf, sample(L->vol, u, v, w), rgba);

@@ -34,6 +34,7 @@ typedef struct vsv_tf {
     float opacity[VSV_TF_MAXPTS];
     /* derived by vsv_tf_prepare: colour and extinction tables */
     float lut[VSV_TF_LUT][4];
+    double base, inv;            /* table position = (value or ln value - base) * inv */
 } vsv_tf;
 
 /* Names of the colour maps, NULL-terminated; borrowed, static. */

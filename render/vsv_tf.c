@@ -64,6 +64,8 @@ int vsv_tf_prepare(vsv_tf *tf)
     if (!m || !(tf->hi > tf->lo) || tf->nopacity < 2 || tf->nopacity > VSV_TF_MAXPTS ||
         (tf->scale == VSV_SCALE_LOG && !(tf->lo > 0)))
         return VSV_EINVAL;
+    tf->base = tf->scale == VSV_SCALE_LOG ? log(tf->lo) : tf->lo;
+    tf->inv = (VSV_TF_LUT - 1) / (tf->scale == VSV_SCALE_LOG ? log(tf->hi) - log(tf->lo) : tf->hi - tf->lo);
     for (int i = 0; i < VSV_TF_LUT; i++) {
         const double t = (double)i / (VSV_TF_LUT - 1);
         map_colour(m, t, tf->lut[i]);
@@ -79,22 +81,21 @@ int vsv_tf_prepare(vsv_tf *tf)
 
 void vsv_tf_eval(const vsv_tf *tf, float v, float rgba[4])
 {
-    double t;
-    if (!(v == v) || (tf->scale == VSV_SCALE_LOG ? !(v >= tf->lo) : !(v >= tf->lo))) {
+    if (!(v >= tf->lo)) { /* below the range, or no data (NaN) */
         rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0;
         return;
     }
-    t = tf->scale == VSV_SCALE_LOG ? (log(v) - log(tf->lo)) / (log(tf->hi) - log(tf->lo)) : (v - tf->lo) / (tf->hi - tf->lo);
-    if (t > 1)
-        t = 1;
+    double x = ((tf->scale == VSV_SCALE_LOG ? log(v) : (double)v) - tf->base) * tf->inv;
+    if (x > VSV_TF_LUT - 1)
+        x = VSV_TF_LUT - 1;
     /* linear interpolation in the table */
-    const double x = t * (VSV_TF_LUT - 1);
     int i = (int)x;
     if (i >= VSV_TF_LUT - 1)
         i = VSV_TF_LUT - 2;
     const float f = (float)(x - i);
+    const float *a = tf->lut[i], *b = tf->lut[i + 1];
     for (int c = 0; c < 4; c++)
-        rgba[c] = tf->lut[i][c] + (tf->lut[i + 1][c] - tf->lut[i][c]) * f;
+        rgba[c] = a[c] + (b[c] - a[c]) * f;
 }
 
 int vsv_tf_parse(vsv_tf *tf, const char *text, char *msg, size_t cap)

@@ -191,6 +191,14 @@ static void test_mm5(void)
     CHECK(a && b && max_diff(a, b) > 0.05, "hiding cloud water changes the MM5 render");
     free(a);
     free(b);
+    /* all five species, Q with no-data cells below the ground among them */
+    const int all5[5] = {0, 1, 2, 3, 4};
+    const float ones5[5] = {1, 1, 1, 1, 1};
+    float *sk = render(&w, all5, ones5, 5, 2, 0.5, 0, NULL), *nsk = render(&w, all5, ones5, 5, 2, 0.5, 1, NULL);
+    CHECK(sk && nsk && max_diff(sk, nsk) <= 1.0 / 255, "MM5 all species with no-data cells: skipping within 1/255",
+          "%g", sk && nsk ? max_diff(sk, nsk) : -1);
+    free(sk);
+    free(nsk);
     world *pw = &w;
     /* the rules on real data: CLW (1) and ICE (3) in the places of 0 and 2 */
     vsv_volume *v0 = pw->vol[0], *v2 = pw->vol[2];
