@@ -171,6 +171,31 @@ static void test_synthetic(void)
     unlink(path);
 }
 
+/* The whole real MMOUT (Q with no-data cells under the Rockies): skipping
+ * must not change the picture. */
+static void test_mmout(void)
+{
+    const char *path = vsv_test_tmp("render-mmout.vsv");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --times 3:3 %s -o %s", getenv("B") ? getenv("B") : "build",
+             vsv_test_shared("mm5/run1/MMOUT_DOMAIN1"), path);
+    if (!CHECK(system(cmd) == 0, "the real MMOUT converts for rendering"))
+        return;
+    world w;
+    if (!CHECK(load(&w, path, 0) == 0, "MMOUT volumes load"))
+        return;
+    const int all5[5] = {0, 1, 2, 3, 4};
+    const float ones5[5] = {1, 1, 1, 1, 1};
+    float *sk = render(&w, all5, ones5, 5, 2, 0.5, 0, NULL), *nsk = render(&w, all5, ones5, 5, 2, 0.5, 1, NULL);
+    CHECK(sk && nsk && max_diff(sk, nsk) <= 1.0 / 255, "real MMOUT, all species: skipping within 1/255", "%g",
+          sk && nsk ? max_diff(sk, nsk) : -1);
+    CHECK(sk && coverage(sk) > 0.2, "a render of the whole MMOUT domain is not empty", "%.2f", sk ? coverage(sk) : 0);
+    free(sk);
+    free(nsk);
+    unload(&w);
+    unlink(path);
+}
+
 static void test_mm5(void)
 {
     const char *path = vsv_test_tmp("render-mm5.vsv");
@@ -293,5 +318,6 @@ int main(void)
     test_tf();
     test_synthetic();
     test_mm5();
+    test_mmout();
     return vsv_test_done();
 }
