@@ -127,7 +127,7 @@ demo:
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)B=$(B) sh tools/demo.sh
 
-BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc
+BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render
 $(B)/bench/%: $(B)/bench/%.o $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
@@ -135,6 +135,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_convert.sh
 	$(Q)B=$(B) sh bench/bench_camx.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
 
 deps:
 	$(Q)sh tools/deps.sh --install

@@ -405,7 +405,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
         const double x = o[0] + t * d[0], y = o[1] + t * d[1], z = o[2] + t * d[2];
         const double u = (x - g->ox) / g->dx, v = (y - g->oy) / g->dy, w = (z / g->E - g->oz) / g->dz;
         if (!r->o.no_skip) {
-            int bi = (int)floor(u + 0.5) / B, bj = (int)floor(v + 0.5) / B, bk = (int)floor(w + 0.5) / B;
+            int bi = (int)floor(u + 0.5) >> v0->shift, bj = (int)floor(v + 0.5) >> v0->shift, bk = (int)floor(w + 0.5) >> v0->shift;
             bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
             bj = bj < 0 ? 0 : bj >= v0->bdim[1] ? v0->bdim[1] - 1 : bj;
             bk = bk < 0 ? 0 : bk >= v0->bdim[2] ? v0->bdim[2] - 1 : bk;
@@ -428,7 +428,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
         double sig = 0, col[3] = {0, 0, 0};
         int bsample = 0;
         if (!r->o.no_skip) {
-            int bi = (int)floor(u + 0.5) / B, bj = (int)floor(v + 0.5) / B, bk = (int)floor(w + 0.5) / B;
+            int bi = (int)floor(u + 0.5) >> v0->shift, bj = (int)floor(v + 0.5) >> v0->shift, bk = (int)floor(w + 0.5) >> v0->shift;
             bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
             bj = bj < 0 ? 0 : bj >= v0->bdim[1] ? v0->bdim[1] - 1 : bj;
             bk = bk < 0 ? 0 : bk >= v0->bdim[2] ? v0->bdim[2] - 1 : bk;

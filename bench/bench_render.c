@@ -1,0 +1,72 @@
+/* bench_render.c — raycaster frames per second on a .vsv: every species of
+ * one step, the default camera orbiting 8 azimuths, at the given sizes, with
+ * 1 and all threads. Decoding is outside the timing. Usage:
+ *   bench_render FILE.vsv [STEP] */
+#include "vsv_render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+int main(int argc, char **argv)
+{
+    vsv_file *f = NULL;
+    vsv_decoder *d = NULL;
+    if (argc < 2 || vsv_file_open(argv[1], &f) || vsv_decoder_create(f, &d)) {
+        fprintf(stderr, "bench_render: %s\n", f ? vsv_file_error(f) : "usage: bench_render FILE.vsv [STEP]");
+        return 1;
+    }
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    const int step = argc > 2 ? atoi(argv[2]) : info.nsteps - 1;
+    vsv_layer *L = calloc((size_t)m->nvars, sizeof *L);
+    vsv_tf *tf = calloc((size_t)m->nvars, sizeof *tf);
+    for (int s = 0; s < m->nvars; s++) {
+        char text[512], msg[128];
+        vsv_volume *v = NULL;
+        vsv_tf_default(m->vars[s].name, vsv_file_quant(f, s), text, sizeof text);
+        if (vsv_tf_parse(&tf[s], text, msg, sizeof msg) || vsv_volume_create(f, &v) || vsv_volume_load(v, d, step, s))
+            return 1;
+        L[s] = (vsv_layer){v, &tf[s], 1, 1};
+    }
+    vsv_scene sc = {m, L, m->nvars, 1, 1};
+    double mn[3], mx[3];
+    vsv_scene_bounds(&sc, mn, mx);
+    sc.exaggeration = fmax(1, round(0.2 * fmax(mx[0] - mn[0], mx[1] - mn[1]) / (mx[2] - fmin(0, mn[2]))));
+    printf("| image | threads | frames/s | ms/frame |\n|---|---|---|---|\n");
+    const int sizes[2] = {512, 1024};
+    for (int si = 0; si < 2; si++)
+        for (int th = 1; th <= 2; th++) {
+            vsv_render_opts o;
+            vsv_render_opts_init(&o);
+            o.threads = th;
+            vsv_renderer *r = NULL;
+            vsv_renderer_create(&o, &r);
+            const int n = sizes[si];
+            float *img = malloc(sizeof(float) * 4 * (size_t)n * n);
+            vsv_camera cam;
+            vsv_camera_orbit(&cam, &sc, 225, 30, 0, n, n);
+            vsv_render(r, &sc, &cam, img, NULL); /* warm-up */
+            const int frames = si ? 4 : 8;
+            double t0 = now();
+            for (int k = 0; k < frames; k++) {
+                vsv_camera_orbit(&cam, &sc, 225 + 45 * k, 30, 0, n, n);
+                vsv_render(r, &sc, &cam, img, NULL);
+            }
+            const double dt = (now() - t0) / frames;
+            printf("| %dx%d | %d | %.2f | %.0f |\n", n, n, th, 1 / dt, 1000 * dt);
+            fflush(stdout);
+            free(img);
+            vsv_renderer_free(r);
+        }
+    return 0;
+}
