@@ -136,6 +136,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_convert.sh
 	$(Q)B=$(B) sh bench/bench_camx.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vtk.sh || echo "(VTK comparison skipped)"
 
 deps:
 	$(Q)sh tools/deps.sh --install

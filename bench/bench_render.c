@@ -1,7 +1,10 @@
 /* bench_render.c — raycaster frames per second on a .vsv: every species of
  * one step, the default camera orbiting 8 azimuths, at the given sizes, with
  * 1 and all threads. Decoding is outside the timing. Usage:
- *   bench_render FILE.vsv [STEP] */
+ *   bench_render FILE.vsv [STEP [SPECIES]]
+ * With SPECIES (a name) only that species is drawn, and its decoded volume
+ * is written to FILE.vsv.raw (float32, x fastest) with a line of geometry on
+ * stdout, so bench_vtk.py can render the same volume with VTK. */
 #include "vsv_render.h"
 
 #include <math.h>
@@ -38,10 +41,38 @@ int main(int argc, char **argv)
             return 1;
         L[s] = (vsv_layer){v, &tf[s], 1, 1};
     }
-    vsv_scene sc = {m, L, m->nvars, 1, 1};
+    int nl = m->nvars;
+    if (argc > 3) {
+        const int s = vsv_meta_find_var(m, argv[3]);
+        if (s < 0)
+            return 1;
+        L[0] = L[s];
+        nl = 1;
+    }
+    vsv_scene sc = {m, L, nl, 1, 1};
     double mn[3], mx[3];
     vsv_scene_bounds(&sc, mn, mx);
     sc.exaggeration = fmax(1, round(0.2 * fmax(mx[0] - mn[0], mx[1] - mn[1]) / (mx[2] - fmin(0, mn[2]))));
+    if (argc > 3) {
+        /* the volume and the camera for the VTK side */
+        char raw[4096];
+        snprintf(raw, sizeof raw, "%s.raw", argv[1]);
+        FILE *fp = fopen(raw, "wb");
+        for (int k = 0; k < m->nz; k++)
+            for (int j = 0; j < m->ny; j++)
+                for (int i = 0; i < m->nx; i++) {
+                    float v = vsv_volume_at(L[0].vol, i, j, k);
+                    v = v == v ? v : 0;
+                    fwrite(&v, 4, 1, fp);
+                }
+        fclose(fp);
+        vsv_camera cam;
+        vsv_camera_orbit(&cam, &sc, 225, 30, 0, 512, 512);
+        printf("geometry %d %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", m->nx, m->ny,
+               m->nz, m->origin[0], m->origin[1], m->origin[2] * sc.exaggeration, m->spacing[0], m->spacing[1],
+               m->spacing[2] * sc.exaggeration, cam.pos[0], cam.pos[1], cam.pos[2], L[0].tf->lo, L[0].tf->hi,
+               (double)L[0].tf->opacity[L[0].tf->nopacity - 1]);
+    }
     printf("| image | threads | frames/s | ms/frame |\n|---|---|---|---|\n");
     const int sizes[2] = {512, 1024};
     for (int si = 0; si < 2; si++)
