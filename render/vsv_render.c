@@ -401,9 +401,11 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
     const double sigma_unit = SIGMA_PER_CELL / fmin(g->dx, g->dy);
     const unsigned char *skip = r->skip;
     const int B = v0 ? v0->brick : 1;
+    /* cell coordinates are affine in t: u = u0 + t * du (no division per sample) */
+    const double du = d[0] / g->dx, dv = d[1] / g->dy, dw = d[2] / (g->E * g->dz);
+    const double u0 = (o[0] - g->ox) / g->dx, v0c = (o[1] - g->oy) / g->dy, w0 = (o[2] / g->E - g->oz) / g->dz;
     for (double t = t0 + 0.5 * st; v0 && t < tend; t += st) {
-        const double x = o[0] + t * d[0], y = o[1] + t * d[1], z = o[2] + t * d[2];
-        const double u = (x - g->ox) / g->dx, v = (y - g->oy) / g->dy, w = (z / g->E - g->oz) / g->dz;
+        const double u = u0 + t * du, v = v0c + t * dv, w = w0 + t * dw;
         if (!r->o.no_skip) {
             int bi = (int)floor(u + 0.5) >> v0->shift, bj = (int)floor(v + 0.5) >> v0->shift, bk = (int)floor(w + 0.5) >> v0->shift;
             bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
