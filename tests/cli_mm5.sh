@@ -6,18 +6,9 @@ B=${B:-build}
 SHARED=${SHARED:-../shared}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-mm5.XXXXXX")
 trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
 CROP=samples/mm5/MMOUT_DOMAIN1_CROP
 MMOUT="$SHARED/data/mm5/run1/MMOUT_DOMAIN1"
-pass() { echo "PASS $1"; }
-fail() { echo "FAIL $1: $2"; }
-expect() {
-    name=$1; code=$2; shift 2
-    "$@" > "$T/out" 2> "$T/err"
-    rc=$?
-    if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
-}
-has() { if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi; }
-same() { if cmp -s "$2" "$3"; then pass "$1"; else fail "$1" "$2 and $3 differ"; fi; }
 
 for tool in vsv-interp vsv-convert; do
     expect "$tool --help exits 0" 0 "$B/$tool" --help

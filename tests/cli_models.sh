@@ -7,15 +7,7 @@ SHARED=${SHARED:-../shared}
 D="$SHARED/data"
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-models.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-pass() { echo "PASS $1"; }
-fail() { echo "FAIL $1: $2"; }
-expect() {
-    name=$1; code=$2; shift 2
-    "$@" > "$T/out" 2> "$T/err"
-    rc=$?
-    if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
-}
-has() { if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi; }
+. tests/cli_lib.sh
 
 # CAMx UAM-IV: detected by content whatever the name
 cp "$D/camx/test.uamiv" "$T/some-name.bin"

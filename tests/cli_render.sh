@@ -4,15 +4,7 @@
 B=${B:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-render.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-pass() { echo "PASS $1"; }
-fail() { echo "FAIL $1: $2"; }
-expect() {
-    name=$1; code=$2; shift 2
-    "$@" > "$T/out" 2> "$T/err"
-    rc=$?
-    if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
-}
-has() { if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi; }
+. tests/cli_lib.sh
 # png_size FILE: "W H" from the IHDR chunk
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4, $5*16777216+$6*65536+$7*256+$8}'; }
 

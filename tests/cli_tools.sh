@@ -6,22 +6,10 @@ B=${B:-build}
 SHARED=${SHARED:-../shared}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli.XXXXXX")
 trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
 PY=/usr/bin/python3
 CTL="$SHARED/data/grads/model.ctl"
 
-pass() { echo "PASS $1"; }
-fail() { echo "FAIL $1: $2"; }
-# expect NAME CODE CMD... : runs CMD, checks its exit code; stdout in $T/out, stderr in $T/err
-expect() {
-    name=$1; code=$2; shift 2
-    "$@" > "$T/out" 2> "$T/err"
-    rc=$?
-    if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
-}
-# has NAME FILE TEXT : FILE contains TEXT
-has() {
-    if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi
-}
 
 for tool in vsv-extract vsv-pack vsv-info; do
     expect "$tool --help exits 0" 0 "$B/$tool" --help
