@@ -2,8 +2,7 @@
  * that hands out 16x16 tiles, the scene geometry (world box, terrain), the
  * cameras, and the raycaster. Each pixel depends only on the scene and its
  * own ray, so the thread count and the tile order cannot change a pixel. */
-#include "vsv_render.h"
-#include "vsv_format_internal.h"
+#include "vsv_render_internal.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -12,15 +11,6 @@
 
 #define TILE 16
 #define MAX_THREADS 64
-#define SIGMA_PER_CELL 3.0 /* extinction of opacity 1 over one horizontal cell: alpha 0.95 */
-
-/* Per-frame geometry, computed once per vsv_render call on the stack. */
-typedef struct geo {
-    double ox, oy, oz, dx, dy, dz, E;
-    double bmin[3], bmax[3];
-    int nx, ny, nz;
-    const float *terrain;
-} geo;
 
 struct vsv_renderer {
     vsv_render_opts o;
@@ -33,11 +23,12 @@ struct vsv_renderer {
     const vsv_scene *sc;
     const vsv_camera *cam;
     float *rgba, *depth;
-    geo g;
+    vsv_geo g;
     int ntiles, tiles_x, next_tile;
     /* per-layer skip flags (allocated when the scene grows, not per frame) */
     unsigned char *skip;
     size_t skip_cap;
+    vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
 };
 
 void vsv_render_opts_init(vsv_render_opts *o)
@@ -49,7 +40,7 @@ void vsv_render_opts_init(vsv_render_opts *o)
 
 /* ------------------------------------------------------------- geometry */
 
-static void scene_geo(const vsv_scene *sc, geo *g)
+void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
 {
     const vsv_meta *m = sc->meta;
     g->nx = m->nx;
@@ -92,8 +83,8 @@ static void scene_geo(const vsv_scene *sc, geo *g)
 
 void vsv_scene_bounds(const vsv_scene *sc, double mn[3], double mx[3])
 {
-    geo g;
-    scene_geo(sc, &g);
+    vsv_geo g;
+    vsv_scene_geo(sc, &g);
     memcpy(mn, g.bmin, sizeof g.bmin);
     memcpy(mx, g.bmax, sizeof g.bmax);
 }
@@ -143,7 +134,7 @@ static void cross(const double a[3], const double b[3], double o[3])
 }
 
 /* Ray of pixel (px, py). */
-static void pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3])
+void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3])
 {
     double f[3] = {cam->dir[0], cam->dir[1], cam->dir[2]}, r[3], u[3];
     normalize(f);
@@ -173,7 +164,7 @@ static void pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double
 }
 
 /* Slab intersection of the ray with a box; 0 if missed. */
-static int box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1)
+int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1)
 {
     double a = -INFINITY, b = INFINITY;
     for (int i = 0; i < 3; i++) {
@@ -197,7 +188,7 @@ static int box_hit(const double o[3], const double d[3], const double mn[3], con
 }
 
 /* Terrain height (exaggerated world z) at world (x, y): bilinear at cell centres. */
-static double terrain_z(const geo *g, double x, double y)
+double vsv_geo_terrain(const vsv_geo *g, double x, double y)
 {
     double u = (x - g->ox) / g->dx, v = (y - g->oy) / g->dy;
     u = u < 0 ? 0 : u > g->nx - 1 ? g->nx - 1 : u;
@@ -215,12 +206,12 @@ static double terrain_z(const geo *g, double x, double y)
     return ((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + dd * fu) * fv) * g->E;
 }
 
-static void terrain_colour(const geo *g, double x, double y, float rgb[3])
+void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3])
 {
-    const double h = terrain_z(g, x, y) / g->E;
+    const double h = vsv_geo_terrain(g, x, y) / g->E;
     const double ex = g->dx, ey = g->dy;
-    const double gx = (terrain_z(g, x + ex, y) - terrain_z(g, x - ex, y)) / (2 * ex);
-    const double gy = (terrain_z(g, x, y + ey) - terrain_z(g, x, y - ey)) / (2 * ey);
+    const double gx = (vsv_geo_terrain(g, x + ex, y) - vsv_geo_terrain(g, x - ex, y)) / (2 * ex);
+    const double gy = (vsv_geo_terrain(g, x, y + ey) - vsv_geo_terrain(g, x, y - ey)) / (2 * ey);
     double n[3] = {-gx, -gy, 1}, l[3] = {-0.5, -0.4, 0.75};
     normalize(n);
     normalize(l);
@@ -236,6 +227,30 @@ static void terrain_colour(const geo *g, double x, double y, float rgb[3])
     }
     for (int i = 0; i < 3; i++)
         rgb[i] = (float)(c[i] * lam);
+}
+
+double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1, double st)
+{
+    /* march at the sample step, the last test on the exit, then bisect */
+    double prev = t0;
+    for (double t = t0;; t += st) {
+        if (t > t1)
+            t = t1;
+        if (o[2] + t * d[2] <= vsv_geo_terrain(g, o[0] + t * d[0], o[1] + t * d[1])) {
+            double a = prev, b = t;
+            for (int it = 0; it < 20 && t > t0; it++) {
+                const double m = 0.5 * (a + b);
+                if (o[2] + m * d[2] <= vsv_geo_terrain(g, o[0] + m * d[0], o[1] + m * d[1]))
+                    b = m;
+                else
+                    a = m;
+            }
+            return b;
+        }
+        if (t >= t1)
+            return INFINITY;
+        prev = t;
+    }
 }
 
 /* Trilinear sample of a volume at cell coordinates (u, v, w). When the eight
@@ -353,44 +368,20 @@ static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
 /* One ray: the raycaster. */
 static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], float *depth)
 {
-    const geo *g = &r->g;
+    const vsv_geo *g = &r->g;
     const vsv_scene *sc = r->sc;
     double o[3], d[3], t0, t1;
-    pixel_ray(r->cam, px, py, o, d);
+    vsv_pixel_ray(r->cam, px, py, o, d);
     out[0] = out[1] = out[2] = out[3] = 0;
     *depth = INFINITY;
-    if (!box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
+    if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
         return;
     t0 = fmax(t0, fmax(0, r->cam->znear));
     if (r->cam->zfar > 0 && t1 > r->cam->zfar)
         t1 = r->cam->zfar;
     /* a fixed step in world units: a fraction of the smallest cell edge */
     const double st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
-    /* the terrain: first point below the ground, refined by bisection */
-    double t_hit = INFINITY;
-    if (g->terrain) {
-        double prev = t0;
-        for (double t = t0;; t += st) {
-            if (t > t1)
-                t = t1; /* the last test sits on the exit, so the far edge of the ground is not missed */
-            const double x = o[0] + t * d[0], y = o[1] + t * d[1], z = o[2] + t * d[2];
-            if (z <= terrain_z(g, x, y)) {
-                double a = prev, b = t;
-                for (int it = 0; it < 20 && t > t0; it++) {
-                    const double m = 0.5 * (a + b);
-                    if (o[2] + m * d[2] <= terrain_z(g, o[0] + m * d[0], o[1] + m * d[1]))
-                        b = m;
-                    else
-                        a = m;
-                }
-                t_hit = b;
-                break;
-            }
-            if (t >= t1)
-                break;
-            prev = t;
-        }
-    }
+    const double t_hit = g->terrain ? vsv_geo_terrain_hit(g, o, d, t0, t1, st) : INFINITY;
     const double tend = fmin(t1, t_hit);
     /* the volume, front to back */
     double T = 1, acc[3] = {0, 0, 0};
@@ -398,7 +389,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
     for (int l = 0; l < sc->nlayers; l++)
         if (sc->layers[l].visible && sc->layers[l].opacity > 0 && sc->layers[l].vol)
             v0 = sc->layers[l].vol;
-    const double sigma_unit = SIGMA_PER_CELL / fmin(g->dx, g->dy);
+    const double sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
     const unsigned char *skip = r->skip;
     const int B = v0 ? v0->brick : 1;
     /* cell coordinates are affine in t: u = u0 + t * du (no division per sample) */
@@ -418,7 +409,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
                 const double bmx[3] = {g->ox + ((bi + 1) * B - 0.5) * g->dx, g->oy + ((bj + 1) * B - 0.5) * g->dy,
                                        (g->oz + ((bk + 1) * B - 0.5) * g->dz) * g->E};
                 double e0, e1;
-                if (box_hit(o, d, bmn, bmx, &e0, &e1) && e1 > t) {
+                if (vsv_box_hit(o, d, bmn, bmx, &e0, &e1) && e1 > t) {
                     const double n = floor((e1 - (t0 + 0.5 * st)) / st);
                     const double tn = t0 + 0.5 * st + n * st;
                     if (tn > t)
@@ -465,7 +456,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
     }
     if (t_hit < INFINITY && T >= 1.0 / 512) {
         float rgb[3];
-        terrain_colour(g, o[0] + t_hit * d[0], o[1] + t_hit * d[1], rgb);
+        vsv_geo_terrain_colour(g, o[0] + t_hit * d[0], o[1] + t_hit * d[1], rgb);
         for (int c = 0; c < 3; c++)
             acc[c] += T * rgb[c];
         T = 0;
@@ -533,8 +524,10 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
         r->o = *o;
     else
         vsv_render_opts_init(&r->o);
-    if (r->o.kind != VSV_RENDER_RAYCAST)
+    if (r->o.kind != VSV_RENDER_RAYCAST && r->o.kind != VSV_RENDER_SHEARWARP)
         return VSV_EUNSUPPORTED;
+    if (r->o.kind == VSV_RENDER_SHEARWARP && !(r->sw = vsv_sw_create()))
+        return VSV_ENOMEM;
     if (!(r->o.step_cells > 0))
         r->o.step_cells = 0.5;
     int n = r->o.threads > 0 ? r->o.threads : vsv_ncpus();
@@ -567,6 +560,7 @@ void vsv_renderer_free(vsv_renderer *r)
         pthread_cond_destroy(&r->done);
     }
     free(r->skip);
+    vsv_sw_free(r->sw);
     free(r);
 }
 
@@ -579,10 +573,12 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
         if (v && (v->nx != sc->meta->nx || v->ny != sc->meta->ny || v->nz != sc->meta->nz))
             return VSV_EINVAL;
     }
+    vsv_scene_geo(sc, &r->g);
+    if (r->o.kind == VSV_RENDER_SHEARWARP)
+        return vsv_sw_render(r->sw, sc, &r->g, cam, rgba, depth);
     int rc = prepare_skip(r, sc);
     if (rc)
         return rc;
-    scene_geo(sc, &r->g);
     r->sc = sc;
     r->cam = cam;
     r->rgba = rgba;

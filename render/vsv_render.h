@@ -91,7 +91,7 @@ void vsv_camera_orbit(vsv_camera *cam, const vsv_scene *sc, double az, double el
 
 /* ---------------------------------------------------------------- renderer */
 
-enum { VSV_RENDER_RAYCAST = 0 };
+enum { VSV_RENDER_RAYCAST = 0, VSV_RENDER_SHEARWARP = 1 };
 
 typedef struct vsv_render_opts {
     int kind;            /* VSV_RENDER_* */

@@ -42,4 +42,6 @@ expect "a stereo pair" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/stereo.png" --
 if [ "$(png_size "$T/stereo.png")" = "128 48" ]; then pass "stereo is side by side, twice as wide"; else fail "stereo is side by side, twice as wide" "$(png_size "$T/stereo.png")"; fi
 expect "a look-at camera" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/look.png" --size 64x48 --look-at -2600000,700000,30000,-1800000,1500000,0
 expect "a look-at camera with eye = target exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x2.png" --look-at 1,2,3,1,2,3
+expect "the shear-warp renderer" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/sw.png" --renderer shearwarp --size 64x48
+if [ "$(png_size "$T/sw.png")" = "64 48" ]; then pass "shear-warp writes the PNG"; else fail "shear-warp writes the PNG" "$(png_size "$T/sw.png")"; fi
 exit 0

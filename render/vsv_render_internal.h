@@ -1,0 +1,39 @@
+/* vsv_render_internal.h — what the renderers share: the scene's world
+ * geometry, the terrain, camera rays, and the shear-warp entry points.
+ * Private to render/. */
+#ifndef VSV_RENDER_INTERNAL_H
+#define VSV_RENDER_INTERNAL_H
+
+#include "vsv_format_internal.h"
+#include "vsv_render.h"
+
+/* extinction of opacity 1 over one horizontal cell: alpha 0.95 */
+#define VSV_SIGMA_PER_CELL 3.0
+
+/* World geometry of a scene: cell centres at (ox + i dx, oy + j dy, (oz + k dz) E). */
+typedef struct vsv_geo {
+    double ox, oy, oz, dx, dy, dz, E;
+    double bmin[3], bmax[3];
+    int nx, ny, nz;
+    const float *terrain;
+} vsv_geo;
+
+void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g);
+/* Exaggerated terrain height at world (x, y), bilinear between cell centres. */
+double vsv_geo_terrain(const vsv_geo *g, double x, double y);
+/* Ground colour at (x, y): by height, shaded by slope. */
+void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3]);
+/* Slab intersection of a ray with a box: [t0, t1]; 0 if missed. */
+int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1);
+/* Distance along the ray (o, d) where it first meets the ground between t0
+ * and t1, marching at step st and refining by bisection; INFINITY if never. */
+double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1, double st);
+/* Ray origin and unit direction of pixel (px, py). */
+void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3]);
+
+typedef struct vsv_sw vsv_sw;
+vsv_sw *vsv_sw_create(void);
+void vsv_sw_free(vsv_sw *sw);
+int vsv_sw_render(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *rgba, float *depth);
+
+#endif

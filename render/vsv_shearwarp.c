@@ -1,0 +1,325 @@
+/* vsv_shearwarp.c — Lacroute's shear-warp factorisation for parallel
+ * projection. The species rule is applied per voxel (classification: summed
+ * extinction and extinction-weighted colour),
+ * the classified volume is run-length encoded along each axis (transparent /
+ * non-transparent runs per voxel scanline), slices perpendicular to the
+ * principal viewing axis are sheared and composited front to back into an
+ * intermediate image with bilinear interpolation inside each slice, skipping
+ * transparent voxel runs and pixels that are already opaque, and one 2-D
+ * affine warp resamples the intermediate image into the final one. The
+ * ground is the raycaster's height field, met by each final pixel's ray and
+ * composited behind the volume (cells below the ground hold no data). */
+#include "vsv_render_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define OPAQUE 0.998f
+
+/* Classified voxel: extinction per unit of ray length in voxel steps is not
+ * known until the view is; store sigma per world metre and sigma * colour. */
+typedef struct cvox {
+    float s, r, g, b;
+} cvox;
+
+struct vsv_sw {
+    cvox *cls;            /* nx*ny*nz classified voxels */
+    size_t cls_cap;
+    uint64_t key;         /* what the classification was built from */
+    int n[3];
+    /* run lengths per axis: for axis c, scanlines (k along c, ib along b) hold
+     * alternating transparent / opaque-ish run lengths along a, starting with
+     * a transparent run; starts[] indexes them */
+    uint16_t *runs[3];
+    size_t runs_len[3], runs_cap[3];
+    uint32_t *starts[3];
+    size_t starts_cap[3];
+    /* intermediate image and opaque-pixel links */
+    float *img;           /* w*h*4: premultiplied rgb, alpha */
+    int *link;            /* w*h: next pixel of the row that is not opaque */
+    size_t img_cap, link_cap;
+    unsigned char *mask;  /* one voxel scanline's non-transparent footprint */
+    size_t mask_cap;
+    double build_seconds;
+};
+
+static uint64_t mix(uint64_t h, uint64_t v)
+{
+    h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    return h;
+}
+
+/* A key of everything the classification depends on. */
+static uint64_t scene_key(const vsv_scene *sc)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (int l = 0; l < sc->nlayers; l++) {
+        const vsv_layer *L = &sc->layers[l];
+        h = mix(h, (uint64_t)(uintptr_t)L->vol);
+        h = mix(h, L->vol ? (uint64_t)(L->vol->step * 131 + L->vol->species) : 0);
+        h = mix(h, (uint64_t)L->visible);
+        uint32_t u;
+        memcpy(&u, &L->opacity, 4);
+        h = mix(h, u);
+        h = mix(h, L->tf ? vsv_crc32c(0, L->tf, sizeof *L->tf) : 0);
+    }
+    uint64_t e;
+    memcpy(&e, &sc->exaggeration, 8);
+    return mix(mix(h, e), (uint64_t)sc->show_terrain);
+}
+
+static int grow(void **p, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    void *q = realloc(*p, need * elem);
+    if (!q)
+        return -1;
+    *p = q;
+    *cap = need;
+    return 0;
+}
+
+/* Classification and the three run-length encodings. */
+static int classify(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g)
+{
+    const int nx = g->nx, ny = g->ny, nz = g->nz;
+    const size_t n = (size_t)nx * ny * nz;
+    if (grow((void **)&sw->cls, &sw->cls_cap, n, sizeof *sw->cls))
+        return VSV_ENOMEM;
+    sw->n[0] = nx;
+    sw->n[1] = ny;
+    sw->n[2] = nz;
+    const double sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                /* sums in double: exact for a few float terms, so the species
+                 * order cannot change a bit */
+                double cs = 0, cr = 0, cg = 0, cb = 0;
+                for (int l = 0; l < sc->nlayers; l++) {
+                    const vsv_layer *L = &sc->layers[l];
+                    if (!L->visible || !(L->opacity > 0) || !L->vol)
+                        continue;
+                    float rgba[4];
+                    vsv_tf_eval(L->tf, vsv_volume_at(L->vol, i, j, k), rgba);
+                    const float s = (float)(rgba[3] * L->opacity * sigma_unit);
+                    if (s > 0) {
+                        cs += s;
+                        cr += (double)s * rgba[0];
+                        cg += (double)s * rgba[1];
+                        cb += (double)s * rgba[2];
+                    }
+                }
+                const cvox c = {(float)cs, (float)cr, (float)cg, (float)cb};
+                sw->cls[((size_t)k * ny + j) * nx + i] = c;
+            }
+    /* run lengths along axis a for every scanline of every slice, per principal axis c */
+    for (int c = 0; c < 3; c++) {
+        const int a = (c + 1) % 3, b = (c + 2) % 3;
+        const int na = sw->n[a], nb = sw->n[b], nc = sw->n[c];
+        if (grow((void **)&sw->starts[c], &sw->starts_cap[c], (size_t)nc * nb + 1, sizeof(uint32_t)))
+            return VSV_ENOMEM;
+        size_t len = 0;
+        for (int k = 0; k < nc; k++)
+            for (int ib = 0; ib < nb; ib++) {
+                sw->starts[c][(size_t)k * nb + ib] = (uint32_t)len;
+                int ia = 0, want_opaque = 0;
+                while (ia < na) {
+                    int run = 0;
+                    while (ia < na && run < 65535) {
+                        int idx[3];
+                        idx[a] = ia, idx[b] = ib, idx[c] = k;
+                        const int op = sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]].s > 0;
+                        if (op != want_opaque)
+                            break;
+                        run++;
+                        ia++;
+                    }
+                    if (grow((void **)&sw->runs[c], &sw->runs_cap[c], len + 2, sizeof(uint16_t)))
+                        return VSV_ENOMEM;
+                    sw->runs[c][len++] = (uint16_t)run;
+                    want_opaque = !want_opaque;
+                }
+                if (grow((void **)&sw->runs[c], &sw->runs_cap[c], len + 1, sizeof(uint16_t)))
+                    return VSV_ENOMEM;
+                sw->runs[c][len++] = 0; /* terminator */
+            }
+        sw->starts[c][(size_t)nc * nb] = (uint32_t)len;
+        sw->runs_len[c] = len;
+    }
+    return 0;
+}
+
+/* Marks in `mask` (length na + 1) the voxels of scanline (k, ib) that are not
+ * transparent, dilated by one for bilinear footprints. */
+static void scan_mask(const vsv_sw *sw, int c, int k, int ib, unsigned char *mask)
+{
+    const int a = (c + 1) % 3, b = (c + 2) % 3, na = sw->n[a], nb = sw->n[b];
+    if (ib < 0 || ib >= nb)
+        return;
+    const uint16_t *r = sw->runs[c] + sw->starts[c][(size_t)k * nb + ib];
+    int ia = 0, opaque = 0;
+    for (; ia < na; r++) { /* the runs of a scanline add up to na */
+        const int run = *r;
+        if (opaque && run) {
+            const int from = ia > 0 ? ia - 1 : 0, to = ia + run < na ? ia + run : na - 1;
+            memset(mask + from, 1, (size_t)(to - from + 1));
+        }
+        ia += run;
+        opaque = !opaque;
+    }
+}
+
+int vsv_sw_render(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth)
+{
+    if (cam->fov_deg > 0)
+        return VSV_EUNSUPPORTED; /* perspective shear-warp: not yet */
+    const uint64_t key = scene_key(sc);
+    int rc;
+    if (key != sw->key || !sw->cls || sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
+        if ((rc = classify(sw, sc, g)))
+            return rc;
+        sw->key = key;
+    }
+    /* the view in voxel index space */
+    double d[3] = {cam->dir[0], cam->dir[1], cam->dir[2]};
+    const double dl = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    for (int i = 0; i < 3; i++)
+        d[i] /= dl;
+    const double dv[3] = {d[0] / g->dx, d[1] / g->dy, d[2] / (g->dz * g->E)};
+    int c = 0;
+    for (int i = 1; i < 3; i++)
+        if (fabs(dv[i]) > fabs(dv[c]))
+            c = i;
+    const int a = (c + 1) % 3, b = (c + 2) % 3;
+    const int na = sw->n[a], nb = sw->n[b], nc = sw->n[c];
+    const double sa = -dv[a] / dv[c], sb = -dv[b] / dv[c];
+    const double ta = -fmin(0, sa * (nc - 1)), tb = -fmin(0, sb * (nc - 1));
+    const int w = na + (int)ceil(fabs(sa) * (nc - 1)) + 2, h = nb + (int)ceil(fabs(sb) * (nc - 1)) + 2;
+    /* buffers grow with the view and are reused: no allocation per frame */
+    if (grow((void **)&sw->img, &sw->img_cap, (size_t)w * h * 4, sizeof(float)) ||
+        grow((void **)&sw->link, &sw->link_cap, (size_t)w * h, sizeof(int)) ||
+        grow((void **)&sw->mask, &sw->mask_cap, (size_t)na + 2, 1))
+        return VSV_ENOMEM;
+    unsigned char *m0 = sw->mask;
+    memset(sw->img, 0, (size_t)w * h * 4 * sizeof(float));
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        sw->link[i] = (int)(i % (size_t)w);
+    const double delta = 1 / fabs(dv[c]); /* world metres between slices along a ray */
+    const int front = dv[c] > 0 ? 0 : nc - 1, dk = dv[c] > 0 ? 1 : -1;
+    const int nx = g->nx, ny = g->ny;
+    for (int s = 0; s < nc; s++) {
+        const int k = front + s * dk;
+        const double fa = sa * k + ta, fb = sb * k + tb;
+        /* intermediate pixel x samples voxel coordinate u = x - fa; the
+         * fraction is the same for the whole slice */
+        const int oa = (int)floor(fa), ob = (int)floor(fb);
+        const float wa = (float)(fa - oa), wb = (float)(fb - ob);
+        for (int y = ob; y <= ob + nb; y++) {
+            /* voxel rows ib = y - ob - 1 (weight wb) and y - ob (weight 1 - wb) */
+            const int ib0 = y - ob - 1, ib1 = y - ob;
+            memset(m0, 0, (size_t)na + 1);
+            scan_mask(sw, c, k, ib0, m0);
+            scan_mask(sw, c, k, ib1, m0);
+            float *row = sw->img + (size_t)y * w * 4;
+            int *lk = sw->link + (size_t)y * w;
+            for (int x = oa; x <= oa + na; x++) {
+                /* opaque-pixel skipping: follow (and shorten) the links */
+                int xx = x;
+                while (xx < w && lk[xx] != xx)
+                    xx = lk[xx];
+                if (xx != x) {
+                    lk[x] = xx;
+                    x = xx - 1;
+                    continue;
+                }
+                const int ia0 = x - oa - 1, ia1 = x - oa;
+                const int mi0 = ia0 < 0 ? 0 : ia0, mi1 = ia1 >= na ? na - 1 : ia1;
+                if (!m0[mi0] && !m0[mi1])
+                    continue; /* transparent voxels around: nothing to add */
+                float acc[4] = {0, 0, 0, 0};
+                const float wts[4] = {wa * wb, (1 - wa) * wb, wa * (1 - wb), (1 - wa) * (1 - wb)};
+                const int ias[4] = {ia0, ia1, ia0, ia1}, ibs[4] = {ib0, ib0, ib1, ib1};
+                for (int q = 0; q < 4; q++) {
+                    if (ias[q] < 0 || ias[q] >= na || ibs[q] < 0 || ibs[q] >= nb)
+                        continue;
+                    int idx[3];
+                    idx[a] = ias[q], idx[b] = ibs[q], idx[c] = k;
+                    const cvox *v = &sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]];
+                    acc[0] += wts[q] * v->s;
+                    acc[1] += wts[q] * v->r;
+                    acc[2] += wts[q] * v->g;
+                    acc[3] += wts[q] * v->b;
+                }
+                if (!(acc[0] > 0))
+                    continue;
+                float *p = row + 4 * x;
+                const float T = 1 - p[3];
+                const float al = (float)(1 - exp(-acc[0] * delta));
+                p[0] += T * al * acc[1] / acc[0];
+                p[1] += T * al * acc[2] / acc[0];
+                p[2] += T * al * acc[3] / acc[0];
+                p[3] += T * al;
+                if (p[3] >= OPAQUE)
+                    lk[x] = x + 1;
+            }
+        }
+    }
+    /* the warp: each final pixel's ray crosses the slice plane k = 0 at one
+     * intermediate-image point; bilinear there */
+    for (int py = 0; py < cam->height; py++)
+        for (int px = 0; px < cam->width; px++) {
+            double o[3], rd[3];
+            vsv_pixel_ray(cam, px, py, o, rd);
+            const double p[3] = {(o[0] - g->ox) / g->dx, (o[1] - g->oy) / g->dy, (o[2] / g->E - g->oz) / g->dz};
+            const double t = -p[c] / dv[c];
+            const double x = p[a] + t * dv[a] + ta, y = p[b] + t * dv[b] + tb;
+            float *dst = out + 4 * ((size_t)py * cam->width + px);
+            dst[0] = dst[1] = dst[2] = dst[3] = 0;
+            if (depth)
+                depth[(size_t)py * cam->width + px] = INFINITY;
+            double t0b, t1b, t_hit = INFINITY;
+            if (g->terrain && vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
+                t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E));
+            const int x0 = (int)floor(x), y0 = (int)floor(y);
+            const float fx = (float)(x - x0), fy = (float)(y - y0);
+            for (int q = 0; q < 4; q++) {
+                const int xx = x0 + (q & 1), yy = y0 + (q >> 1);
+                if (xx < 0 || yy < 0 || xx >= w || yy >= h)
+                    continue;
+                const float wq = ((q & 1) ? fx : 1 - fx) * ((q >> 1) ? fy : 1 - fy);
+                const float *sp = sw->img + 4 * ((size_t)yy * w + xx);
+                for (int ch = 0; ch < 4; ch++)
+                    dst[ch] += wq * sp[ch];
+            }
+            if (t_hit < INFINITY) {
+                float rgb[3];
+                vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
+                for (int ch = 0; ch < 3; ch++)
+                    dst[ch] += (1 - dst[3]) * rgb[ch];
+                dst[3] = 1;
+                if (depth)
+                    depth[(size_t)py * cam->width + px] = (float)t_hit;
+            }
+        }
+    return 0;
+}
+
+vsv_sw *vsv_sw_create(void) { return calloc(1, sizeof(vsv_sw)); }
+
+void vsv_sw_free(vsv_sw *sw)
+{
+    if (!sw)
+        return;
+    free(sw->cls);
+    for (int c = 0; c < 3; c++) {
+        free(sw->runs[c]);
+        free(sw->starts[c]);
+    }
+    free(sw->img);
+    free(sw->link);
+    free(sw->mask);
+    free(sw);
+}
