@@ -73,28 +73,44 @@ int main(int argc, char **argv)
                m->spacing[2] * sc.exaggeration, cam.pos[0], cam.pos[1], cam.pos[2], L[0].tf->lo, L[0].tf->hi,
                (double)L[0].tf->opacity[L[0].tf->nopacity - 1]);
     }
-    printf("| image | threads | frames/s | ms/frame |\n|---|---|---|---|\n");
+    printf("| renderer | image | threads | frames/s | ms/frame |\n|---|---|---|---|---|\n");
     const int sizes[2] = {512, 1024};
+    for (int kind = 0; kind < 2; kind++)
     for (int si = 0; si < 2; si++)
         for (int th = 1; th <= 2; th++) {
             vsv_render_opts o;
             vsv_render_opts_init(&o);
             o.threads = th;
+            o.kind = kind ? VSV_RENDER_SHEARWARP : VSV_RENDER_RAYCAST;
             vsv_renderer *r = NULL;
             vsv_renderer_create(&o, &r);
             const int n = sizes[si];
             float *img = malloc(sizeof(float) * 4 * (size_t)n * n);
             vsv_camera cam;
             vsv_camera_orbit(&cam, &sc, 225, 30, 0, n, n);
-            vsv_render(r, &sc, &cam, img, NULL); /* warm-up */
+            if (kind) { /* shear-warp: parallel projection */
+                double bmn[3], bmx[3];
+                vsv_scene_bounds(&sc, bmn, bmx);
+                cam.fov_deg = 0;
+                cam.ortho_height = 0.75 * sqrt((bmx[0] - bmn[0]) * (bmx[0] - bmn[0]) + (bmx[1] - bmn[1]) * (bmx[1] - bmn[1]) +
+                                               (bmx[2] - bmn[2]) * (bmx[2] - bmn[2]));
+            }
+            vsv_render(r, &sc, &cam, img, NULL); /* warm-up (and the shear-warp's classification) */
+            const double rebuild = vsv_renderer_rebuild_seconds(r);
             const int frames = si ? 4 : 8;
             double t0 = now();
             for (int k = 0; k < frames; k++) {
+                vsv_camera keep = cam;
                 vsv_camera_orbit(&cam, &sc, 225 + 45 * k, 30, 0, n, n);
+                cam.fov_deg = keep.fov_deg;
+                cam.ortho_height = keep.ortho_height;
                 vsv_render(r, &sc, &cam, img, NULL);
             }
             const double dt = (now() - t0) / frames;
-            printf("| %dx%d | %d | %.2f | %.0f |\n", n, n, th, 1 / dt, 1000 * dt);
+            printf("| %s | %dx%d | %d | %.2f | %.0f |\n", kind ? "shear-warp (parallel)" : "raycast (perspective)", n, n,
+                   th, 1 / dt, 1000 * dt);
+            if (kind && si == 0 && th == 1)
+                printf("| (shear-warp classification + RLE of 3 axes) | | 1 | | %.0f |\n", 1000 * rebuild);
             fflush(stdout);
             free(img);
             vsv_renderer_free(r);

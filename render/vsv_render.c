@@ -24,7 +24,15 @@ struct vsv_renderer {
     const vsv_camera *cam;
     float *rgba, *depth;
     vsv_geo g;
-    int ntiles, tiles_x, next_tile;
+    int ntiles, tiles_x;
+    /* the current job of the pool: items handed out one at a time */
+    void (*job)(void *ctx, int item, int thread);
+    void *job_ctx;
+    int nitems, next_item;
+    struct wslot {
+        struct vsv_renderer *r;
+        int index;
+    } slot[MAX_THREADS];
     /* per-layer skip flags (allocated when the scene grows, not per frame) */
     unsigned char *skip;
     size_t skip_cap;
@@ -470,32 +478,41 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
 
 /* --------------------------------------------------------------- threads */
 
-static void run_tiles(vsv_renderer *r)
+/* One 16x16 tile of the raycaster. */
+static void raycast_tile(void *ctx, int tile, int thread)
 {
+    vsv_renderer *r = ctx;
     const vsv_camera *cam = r->cam;
+    (void)thread;
+    const int tx = tile % r->tiles_x, ty = tile / r->tiles_x;
+    for (int py = ty * TILE; py < (ty + 1) * TILE && py < cam->height; py++)
+        for (int px = tx * TILE; px < (tx + 1) * TILE && px < cam->width; px++) {
+            float rgba[4], dep;
+            raycast_pixel(r, px, py, rgba, &dep);
+            const size_t at = (size_t)py * cam->width + px;
+            if (r->rgba)
+                memcpy(r->rgba + 4 * at, rgba, sizeof rgba);
+            if (r->depth)
+                r->depth[at] = dep;
+        }
+}
+
+static void run_items(vsv_renderer *r, int thread)
+{
     for (;;) {
         pthread_mutex_lock(&r->mu);
-        const int tile = r->next_tile < r->ntiles ? r->next_tile++ : -1;
+        const int item = r->next_item < r->nitems ? r->next_item++ : -1;
         pthread_mutex_unlock(&r->mu);
-        if (tile < 0)
+        if (item < 0)
             return;
-        const int tx = tile % r->tiles_x, ty = tile / r->tiles_x;
-        for (int py = ty * TILE; py < (ty + 1) * TILE && py < cam->height; py++)
-            for (int px = tx * TILE; px < (tx + 1) * TILE && px < cam->width; px++) {
-                float rgba[4], dep;
-                raycast_pixel(r, px, py, rgba, &dep);
-                const size_t at = (size_t)py * cam->width + px;
-                if (r->rgba)
-                    memcpy(r->rgba + 4 * at, rgba, sizeof rgba);
-                if (r->depth)
-                    r->depth[at] = dep;
-            }
+        r->job(r->job_ctx, item, thread);
     }
 }
 
 static void *worker(void *arg)
 {
-    vsv_renderer *r = arg;
+    struct wslot *ws = arg;
+    vsv_renderer *r = ws->r;
     int seen = 0;
     for (;;) {
         pthread_mutex_lock(&r->mu);
@@ -507,12 +524,31 @@ static void *worker(void *arg)
         }
         seen = r->generation;
         pthread_mutex_unlock(&r->mu);
-        run_tiles(r);
+        run_items(r, ws->index);
         pthread_mutex_lock(&r->mu);
         r->finished++;
         pthread_cond_signal(&r->done);
         pthread_mutex_unlock(&r->mu);
     }
+}
+
+/* Runs job(ctx, item, thread) for items 0..n-1 on every thread; returns when done. */
+static void pool_run(vsv_renderer *r, void (*job)(void *, int, int), void *ctx, int n)
+{
+    pthread_mutex_lock(&r->mu);
+    r->job = job;
+    r->job_ctx = ctx;
+    r->nitems = n;
+    r->next_item = 0;
+    r->finished = 0;
+    r->generation++;
+    pthread_cond_broadcast(&r->go);
+    pthread_mutex_unlock(&r->mu);
+    run_items(r, 0);
+    pthread_mutex_lock(&r->mu);
+    while (r->finished < r->nthreads - 1)
+        pthread_cond_wait(&r->done, &r->mu);
+    pthread_mutex_unlock(&r->mu);
 }
 
 int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
@@ -526,7 +562,7 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
         vsv_render_opts_init(&r->o);
     if (r->o.kind != VSV_RENDER_RAYCAST && r->o.kind != VSV_RENDER_SHEARWARP)
         return VSV_EUNSUPPORTED;
-    if (r->o.kind == VSV_RENDER_SHEARWARP && !(r->sw = vsv_sw_create()))
+    if (r->o.kind == VSV_RENDER_SHEARWARP && !(r->sw = vsv_sw_create(MAX_THREADS)))
         return VSV_ENOMEM;
     if (!(r->o.step_cells > 0))
         r->o.step_cells = 0.5;
@@ -535,11 +571,13 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
     pthread_mutex_init(&r->mu, NULL);
     pthread_cond_init(&r->go, NULL);
     pthread_cond_init(&r->done, NULL);
-    for (int i = 1; i < r->nthreads; i++) /* the caller's thread is worker 0 */
-        if (pthread_create(&r->tid[i], NULL, worker, r)) {
+    for (int i = 1; i < r->nthreads; i++) { /* the caller's thread is worker 0 */
+        r->slot[i] = (struct wslot){r, i};
+        if (pthread_create(&r->tid[i], NULL, worker, &r->slot[i])) {
             r->nthreads = i;
             break;
         }
+    }
     r->running = 1;
     return 0;
 }
@@ -574,8 +612,15 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
             return VSV_EINVAL;
     }
     vsv_scene_geo(sc, &r->g);
-    if (r->o.kind == VSV_RENDER_SHEARWARP)
-        return vsv_sw_render(r->sw, sc, &r->g, cam, rgba, depth);
+    if (r->o.kind == VSV_RENDER_SHEARWARP) {
+        int rows = 0;
+        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, &rows);
+        if (rc)
+            return rc;
+        pool_run(r, vsv_sw_composite_row, r->sw, rows);
+        pool_run(r, vsv_sw_warp_row, r->sw, cam->height);
+        return 0;
+    }
     int rc = prepare_skip(r, sc);
     if (rc)
         return rc;
@@ -585,16 +630,8 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     r->depth = depth;
     r->tiles_x = (cam->width + TILE - 1) / TILE;
     r->ntiles = r->tiles_x * ((cam->height + TILE - 1) / TILE);
-    pthread_mutex_lock(&r->mu);
-    r->next_tile = 0;
-    r->finished = 0;
-    r->generation++;
-    pthread_cond_broadcast(&r->go);
-    pthread_mutex_unlock(&r->mu);
-    run_tiles(r);
-    pthread_mutex_lock(&r->mu);
-    while (r->finished < r->nthreads - 1)
-        pthread_cond_wait(&r->done, &r->mu);
-    pthread_mutex_unlock(&r->mu);
+    pool_run(r, raycast_tile, r, r->ntiles);
     return 0;
 }
+
+double vsv_renderer_rebuild_seconds(const vsv_renderer *r) { return r->sw ? vsv_sw_build_seconds(r->sw) : 0; }

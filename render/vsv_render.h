@@ -113,6 +113,11 @@ void vsv_renderer_free(vsv_renderer *r);
  * thread count. */
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
 
+/* Seconds the last rebuild of precomputed state took (shear-warp: classifying
+ * the species and run-length encoding the three axes, redone when a transfer
+ * function, an opacity or the time step changes); 0 for the raycaster. */
+double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
+
 /* ------------------------------------------------------------------ files */
 
 /* Writes an OpenEXR image: R, G, B, A as half floats (premultiplied, row 0 at

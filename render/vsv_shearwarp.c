@@ -14,6 +14,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define OPAQUE 0.998f
 
@@ -39,8 +40,15 @@ struct vsv_sw {
     float *img;           /* w*h*4: premultiplied rgb, alpha */
     int *link;            /* w*h: next pixel of the row that is not opaque */
     size_t img_cap, link_cap;
-    unsigned char *mask;  /* one voxel scanline's non-transparent footprint */
+    unsigned char **mask; /* per thread: a voxel scanline's non-transparent footprint */
     size_t mask_cap;
+    int max_threads;
+    /* the current view (set by begin) */
+    const vsv_geo *g;
+    const vsv_camera *cam;
+    float *out, *depth;
+    int c, a, b, na, nb, nc, w, h, front, dk;
+    double sa, sb, ta, tb, delta, dv[3];
     double build_seconds;
 };
 
@@ -172,15 +180,20 @@ static void scan_mask(const vsv_sw *sw, int c, int k, int ib, unsigned char *mas
     }
 }
 
-int vsv_sw_render(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth)
+int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
+                 int *rows)
 {
     if (cam->fov_deg > 0)
         return VSV_EUNSUPPORTED; /* perspective shear-warp: not yet */
     const uint64_t key = scene_key(sc);
     int rc;
     if (key != sw->key || !sw->cls || sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
         if ((rc = classify(sw, sc, g)))
             return rc;
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        sw->build_seconds = (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9;
         sw->key = key;
     }
     /* the view in voxel index space */
@@ -188,126 +201,175 @@ int vsv_sw_render(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_c
     const double dl = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     for (int i = 0; i < 3; i++)
         d[i] /= dl;
-    const double dv[3] = {d[0] / g->dx, d[1] / g->dy, d[2] / (g->dz * g->E)};
+    sw->dv[0] = d[0] / g->dx;
+    sw->dv[1] = d[1] / g->dy;
+    sw->dv[2] = d[2] / (g->dz * g->E);
     int c = 0;
     for (int i = 1; i < 3; i++)
-        if (fabs(dv[i]) > fabs(dv[c]))
+        if (fabs(sw->dv[i]) > fabs(sw->dv[c]))
             c = i;
-    const int a = (c + 1) % 3, b = (c + 2) % 3;
-    const int na = sw->n[a], nb = sw->n[b], nc = sw->n[c];
-    const double sa = -dv[a] / dv[c], sb = -dv[b] / dv[c];
-    const double ta = -fmin(0, sa * (nc - 1)), tb = -fmin(0, sb * (nc - 1));
-    const int w = na + (int)ceil(fabs(sa) * (nc - 1)) + 2, h = nb + (int)ceil(fabs(sb) * (nc - 1)) + 2;
+    sw->c = c;
+    sw->a = (c + 1) % 3;
+    sw->b = (c + 2) % 3;
+    sw->na = sw->n[sw->a];
+    sw->nb = sw->n[sw->b];
+    sw->nc = sw->n[c];
+    sw->sa = -sw->dv[sw->a] / sw->dv[c];
+    sw->sb = -sw->dv[sw->b] / sw->dv[c];
+    sw->ta = -fmin(0, sw->sa * (sw->nc - 1));
+    sw->tb = -fmin(0, sw->sb * (sw->nc - 1));
+    sw->w = sw->na + (int)ceil(fabs(sw->sa) * (sw->nc - 1)) + 2;
+    sw->h = sw->nb + (int)ceil(fabs(sw->sb) * (sw->nc - 1)) + 2;
+    sw->delta = 1 / fabs(sw->dv[c]); /* world metres between slices along a ray */
+    sw->front = sw->dv[c] > 0 ? 0 : sw->nc - 1;
+    sw->dk = sw->dv[c] > 0 ? 1 : -1;
     /* buffers grow with the view and are reused: no allocation per frame */
-    if (grow((void **)&sw->img, &sw->img_cap, (size_t)w * h * 4, sizeof(float)) ||
-        grow((void **)&sw->link, &sw->link_cap, (size_t)w * h, sizeof(int)) ||
-        grow((void **)&sw->mask, &sw->mask_cap, (size_t)na + 2, 1))
+    const size_t wh = (size_t)sw->w * sw->h;
+    if (grow((void **)&sw->img, &sw->img_cap, wh * 4, sizeof(float)) ||
+        grow((void **)&sw->link, &sw->link_cap, wh, sizeof(int)))
         return VSV_ENOMEM;
-    unsigned char *m0 = sw->mask;
-    memset(sw->img, 0, (size_t)w * h * 4 * sizeof(float));
-    for (size_t i = 0; i < (size_t)w * h; i++)
-        sw->link[i] = (int)(i % (size_t)w);
-    const double delta = 1 / fabs(dv[c]); /* world metres between slices along a ray */
-    const int front = dv[c] > 0 ? 0 : nc - 1, dk = dv[c] > 0 ? 1 : -1;
-    const int nx = g->nx, ny = g->ny;
-    for (int s = 0; s < nc; s++) {
-        const int k = front + s * dk;
-        const double fa = sa * k + ta, fb = sb * k + tb;
-        /* intermediate pixel x samples voxel coordinate u = x - fa; the
-         * fraction is the same for the whole slice */
-        const int oa = (int)floor(fa), ob = (int)floor(fb);
-        const float wa = (float)(fa - oa), wb = (float)(fb - ob);
-        for (int y = ob; y <= ob + nb; y++) {
-            /* voxel rows ib = y - ob - 1 (weight wb) and y - ob (weight 1 - wb) */
-            const int ib0 = y - ob - 1, ib1 = y - ob;
-            memset(m0, 0, (size_t)na + 1);
-            scan_mask(sw, c, k, ib0, m0);
-            scan_mask(sw, c, k, ib1, m0);
-            float *row = sw->img + (size_t)y * w * 4;
-            int *lk = sw->link + (size_t)y * w;
-            for (int x = oa; x <= oa + na; x++) {
-                /* opaque-pixel skipping: follow (and shorten) the links */
-                int xx = x;
-                while (xx < w && lk[xx] != xx)
-                    xx = lk[xx];
-                if (xx != x) {
-                    lk[x] = xx;
-                    x = xx - 1;
-                    continue;
-                }
-                const int ia0 = x - oa - 1, ia1 = x - oa;
-                const int mi0 = ia0 < 0 ? 0 : ia0, mi1 = ia1 >= na ? na - 1 : ia1;
-                if (!m0[mi0] && !m0[mi1])
-                    continue; /* transparent voxels around: nothing to add */
-                float acc[4] = {0, 0, 0, 0};
-                const float wts[4] = {wa * wb, (1 - wa) * wb, wa * (1 - wb), (1 - wa) * (1 - wb)};
-                const int ias[4] = {ia0, ia1, ia0, ia1}, ibs[4] = {ib0, ib0, ib1, ib1};
-                for (int q = 0; q < 4; q++) {
-                    if (ias[q] < 0 || ias[q] >= na || ibs[q] < 0 || ibs[q] >= nb)
-                        continue;
-                    int idx[3];
-                    idx[a] = ias[q], idx[b] = ibs[q], idx[c] = k;
-                    const cvox *v = &sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]];
-                    acc[0] += wts[q] * v->s;
-                    acc[1] += wts[q] * v->r;
-                    acc[2] += wts[q] * v->g;
-                    acc[3] += wts[q] * v->b;
-                }
-                if (!(acc[0] > 0))
-                    continue;
-                float *p = row + 4 * x;
-                const float T = 1 - p[3];
-                const float al = (float)(1 - exp(-acc[0] * delta));
-                p[0] += T * al * acc[1] / acc[0];
-                p[1] += T * al * acc[2] / acc[0];
-                p[2] += T * al * acc[3] / acc[0];
-                p[3] += T * al;
-                if (p[3] >= OPAQUE)
-                    lk[x] = x + 1;
-            }
+    if ((size_t)sw->na + 2 > sw->mask_cap) {
+        for (int t = 0; t < sw->max_threads; t++) {
+            unsigned char *m = realloc(sw->mask[t], (size_t)sw->na + 2);
+            if (!m)
+                return VSV_ENOMEM;
+            sw->mask[t] = m;
         }
+        sw->mask_cap = (size_t)sw->na + 2;
     }
-    /* the warp: each final pixel's ray crosses the slice plane k = 0 at one
-     * intermediate-image point; bilinear there */
-    for (int py = 0; py < cam->height; py++)
-        for (int px = 0; px < cam->width; px++) {
-            double o[3], rd[3];
-            vsv_pixel_ray(cam, px, py, o, rd);
-            const double p[3] = {(o[0] - g->ox) / g->dx, (o[1] - g->oy) / g->dy, (o[2] / g->E - g->oz) / g->dz};
-            const double t = -p[c] / dv[c];
-            const double x = p[a] + t * dv[a] + ta, y = p[b] + t * dv[b] + tb;
-            float *dst = out + 4 * ((size_t)py * cam->width + px);
-            dst[0] = dst[1] = dst[2] = dst[3] = 0;
-            if (depth)
-                depth[(size_t)py * cam->width + px] = INFINITY;
-            double t0b, t1b, t_hit = INFINITY;
-            if (g->terrain && vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
-                t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E));
-            const int x0 = (int)floor(x), y0 = (int)floor(y);
-            const float fx = (float)(x - x0), fy = (float)(y - y0);
-            for (int q = 0; q < 4; q++) {
-                const int xx = x0 + (q & 1), yy = y0 + (q >> 1);
-                if (xx < 0 || yy < 0 || xx >= w || yy >= h)
-                    continue;
-                const float wq = ((q & 1) ? fx : 1 - fx) * ((q >> 1) ? fy : 1 - fy);
-                const float *sp = sw->img + 4 * ((size_t)yy * w + xx);
-                for (int ch = 0; ch < 4; ch++)
-                    dst[ch] += wq * sp[ch];
-            }
-            if (t_hit < INFINITY) {
-                float rgb[3];
-                vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
-                for (int ch = 0; ch < 3; ch++)
-                    dst[ch] += (1 - dst[3]) * rgb[ch];
-                dst[3] = 1;
-                if (depth)
-                    depth[(size_t)py * cam->width + px] = (float)t_hit;
-            }
-        }
+    memset(sw->img, 0, wh * 4 * sizeof(float));
+    for (size_t i = 0; i < wh; i++)
+        sw->link[i] = (int)(i % (size_t)sw->w);
+    sw->g = g;
+    sw->cam = cam;
+    sw->out = out;
+    sw->depth = depth;
+    *rows = sw->h;
     return 0;
 }
 
-vsv_sw *vsv_sw_create(void) { return calloc(1, sizeof(vsv_sw)); }
+/* Intermediate row y through every slice, front to back. */
+void vsv_sw_composite_row(void *p, int y, int thread)
+{
+    vsv_sw *sw = p;
+    const int a = sw->a, b = sw->b, c = sw->c, na = sw->na, nb = sw->nb;
+    const int nx = sw->n[0], ny = sw->n[1];
+    unsigned char *m0 = sw->mask[thread];
+    float *row = sw->img + (size_t)y * sw->w * 4;
+    int *lk = sw->link + (size_t)y * sw->w;
+    for (int s = 0; s < sw->nc; s++) {
+        const int k = sw->front + s * sw->dk;
+        const double fa = sw->sa * k + sw->ta, fb = sw->sb * k + sw->tb;
+        /* intermediate pixel x samples voxel coordinate u = x - fa; the
+         * fraction is the same for the whole slice */
+        const int oa = (int)floor(fa), ob = (int)floor(fb);
+        if (y < ob || y > ob + nb)
+            continue;
+        const float wa = (float)(fa - oa), wb = (float)(fb - ob);
+        /* voxel rows ib0 = y - ob - 1 (weight wb) and ib1 = y - ob (weight 1 - wb) */
+        const int ib0 = y - ob - 1, ib1 = y - ob;
+        memset(m0, 0, (size_t)na + 1);
+        scan_mask(sw, c, k, ib0, m0);
+        scan_mask(sw, c, k, ib1, m0);
+        for (int x = oa; x <= oa + na; x++) {
+            /* opaque-pixel skipping: follow (and shorten) the links */
+            int xx = x;
+            while (xx < sw->w && lk[xx] != xx)
+                xx = lk[xx];
+            if (xx != x) {
+                lk[x] = xx;
+                x = xx - 1;
+                continue;
+            }
+            const int ia0 = x - oa - 1, ia1 = x - oa;
+            const int mi0 = ia0 < 0 ? 0 : ia0, mi1 = ia1 >= na ? na - 1 : ia1;
+            if (!m0[mi0] && !m0[mi1])
+                continue; /* transparent voxels around: nothing to add */
+            float acc[4] = {0, 0, 0, 0};
+            const float wts[4] = {wa * wb, (1 - wa) * wb, wa * (1 - wb), (1 - wa) * (1 - wb)};
+            const int ias[4] = {ia0, ia1, ia0, ia1}, ibs[4] = {ib0, ib0, ib1, ib1};
+            for (int q = 0; q < 4; q++) {
+                if (ias[q] < 0 || ias[q] >= na || ibs[q] < 0 || ibs[q] >= nb)
+                    continue;
+                int idx[3];
+                idx[a] = ias[q], idx[b] = ibs[q], idx[c] = k;
+                const cvox *v = &sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]];
+                acc[0] += wts[q] * v->s;
+                acc[1] += wts[q] * v->r;
+                acc[2] += wts[q] * v->g;
+                acc[3] += wts[q] * v->b;
+            }
+            if (!(acc[0] > 0))
+                continue;
+            float *px = row + 4 * x;
+            const float T = 1 - px[3];
+            const float al = (float)(1 - exp(-acc[0] * sw->delta));
+            px[0] += T * al * acc[1] / acc[0];
+            px[1] += T * al * acc[2] / acc[0];
+            px[2] += T * al * acc[3] / acc[0];
+            px[3] += T * al;
+            if (px[3] >= OPAQUE)
+                lk[x] = x + 1;
+        }
+    }
+}
+
+/* Final row py: each pixel's ray crosses the slice plane k = 0 at one
+ * intermediate-image point; bilinear there; the ground behind. */
+void vsv_sw_warp_row(void *p, int py, int thread)
+{
+    vsv_sw *sw = p;
+    const vsv_geo *g = sw->g;
+    const vsv_camera *cam = sw->cam;
+    const int a = sw->a, b = sw->b, c = sw->c, w = sw->w, h = sw->h;
+    (void)thread;
+    for (int px = 0; px < cam->width; px++) {
+        double o[3], rd[3];
+        vsv_pixel_ray(cam, px, py, o, rd);
+        const double q[3] = {(o[0] - g->ox) / g->dx, (o[1] - g->oy) / g->dy, (o[2] / g->E - g->oz) / g->dz};
+        const double t = -q[c] / sw->dv[c];
+        const double x = q[a] + t * sw->dv[a] + sw->ta, y = q[b] + t * sw->dv[b] + sw->tb;
+        float *dst = sw->out + 4 * ((size_t)py * cam->width + px);
+        dst[0] = dst[1] = dst[2] = dst[3] = 0;
+        if (sw->depth)
+            sw->depth[(size_t)py * cam->width + px] = INFINITY;
+        double t0b, t1b, t_hit = INFINITY;
+        if (g->terrain && vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
+            t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E));
+        const int x0 = (int)floor(x), y0 = (int)floor(y);
+        const float fx = (float)(x - x0), fy = (float)(y - y0);
+        for (int k = 0; k < 4; k++) {
+            const int xx = x0 + (k & 1), yy = y0 + (k >> 1);
+            if (xx < 0 || yy < 0 || xx >= w || yy >= h)
+                continue;
+            const float wq = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
+            const float *sp = sw->img + 4 * ((size_t)yy * w + xx);
+            for (int ch = 0; ch < 4; ch++)
+                dst[ch] += wq * sp[ch];
+        }
+        if (t_hit < INFINITY) {
+            float rgb[3];
+            vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
+            for (int ch = 0; ch < 3; ch++)
+                dst[ch] += (1 - dst[3]) * rgb[ch];
+            dst[3] = 1;
+            if (sw->depth)
+                sw->depth[(size_t)py * cam->width + px] = (float)t_hit;
+        }
+    }
+}
+
+vsv_sw *vsv_sw_create(int max_threads)
+{
+    vsv_sw *sw = calloc(1, sizeof *sw);
+    if (sw && !(sw->mask = calloc((size_t)max_threads, sizeof *sw->mask))) {
+        free(sw);
+        return NULL;
+    }
+    if (sw)
+        sw->max_threads = max_threads;
+    return sw;
+}
 
 void vsv_sw_free(vsv_sw *sw)
 {
@@ -320,6 +382,10 @@ void vsv_sw_free(vsv_sw *sw)
     }
     free(sw->img);
     free(sw->link);
+    for (int t = 0; sw->mask && t < sw->max_threads; t++)
+        free(sw->mask[t]);
     free(sw->mask);
     free(sw);
 }
+
+double vsv_sw_build_seconds(const vsv_sw *sw) { return sw->build_seconds; }

@@ -173,6 +173,10 @@ static void sw_rules(const char *label, world *w, const int *ab, int nab)
     float *z = render(w, ab, hide, nab, 2, 0.5, 0, NULL);
     snprintf(name, sizeof name, "%s shear-warp: hiding a species equals removing it, opacity 0 equals hidden", label);
     CHECK(h && rm && z && max_diff(h, rm) == 0 && max_diff(z, rm) == 0, name);
+    float *one = render(w, ab, ones, nab, 1, 0.5, 0, NULL);
+    snprintf(name, sizeof name, "%s shear-warp: 1 and 2 threads give identical pixels", label);
+    CHECK(one && x && max_diff(one, x) == 0, name);
+    free(one);
     float *ref = render(w, ab, ones, nab, 2, -0.125, 1, NULL);
     const double p = x && ref ? psnr(x, ref) : 0;
     snprintf(name, sizeof name, "%s shear-warp vs reference raycast (parallel view) PSNR >= 30 dB", label);
