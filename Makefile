@@ -131,12 +131,17 @@ BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_
 $(B)/bench/%: $(B)/bench/%.o $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
+$(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(LIB)
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL) -lvolpack
+
 bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_convert.sh
 	$(Q)B=$(B) sh bench/bench_camx.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vtk.sh || echo "(VTK comparison skipped)"
+	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_volpack && \
+	  B=$(B) SHARED=$(SHARED) sh bench/bench_volpack.sh; else echo "(VolPack comparison skipped: apt-get install libvolpack1-dev)"; fi
 
 deps:
 	$(Q)sh tools/deps.sh --install

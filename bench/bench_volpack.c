@@ -1,0 +1,157 @@
+/* bench_volpack.c — the shear-warp renderer beside VolPack, Lacroute's own
+ * shear-warp (Debian libvolpack1-dev), on the same 8-bit volume (one species
+ * of a .vsv quantised to 0..255 over its range), the same linear opacity
+ * ramp, parallel projection, 512x512, orbiting 8 views. VolPack is
+ * single-threaded; Vesuvius runs with 1 and 2 threads. Classification is
+ * outside the timing on both sides (and reported). Usage:
+ *   bench_volpack FILE.vsv SPECIES [STEP] */
+#include "vsv_render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <volpack.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+enum { SIZE = 512, FRAMES = 8 };
+
+int main(int argc, char **argv)
+{
+    vsv_file *f = NULL;
+    vsv_decoder *d = NULL;
+    if (argc < 3 || vsv_file_open(argv[1], &f) || vsv_decoder_create(f, &d)) {
+        fprintf(stderr, "usage: bench_volpack FILE.vsv SPECIES [STEP]\n");
+        return 2;
+    }
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    const int s = vsv_meta_find_var(m, argv[2]), step = argc > 3 ? atoi(argv[3]) : info.nsteps - 1;
+    vsv_volume *vol = NULL;
+    if (s < 0 || vsv_volume_create(f, &vol) || vsv_volume_load(vol, d, step, s))
+        return 1;
+    const vsv_quant *q = vsv_file_quant(f, s);
+    const double lo = q->lo, hi = q->hi > q->lo ? q->hi : q->lo + 1;
+    const int nx = m->nx, ny = m->ny, nz = m->nz;
+    /* the 8-bit volume both renderers see */
+    unsigned char *dens = malloc((size_t)nx * ny * nz);
+    for (int k = 0; k < nz; k++)
+        for (int j = 0; j < ny; j++)
+            for (int i = 0; i < nx; i++) {
+                const float v = vsv_volume_at(vol, i, j, k);
+                const double t = v == v ? (v - lo) / (hi - lo) : 0;
+                dens[((size_t)k * ny + j) * nx + i] = (unsigned char)lrint(255 * fmin(1, fmax(0, t)));
+            }
+    /* ------------------------------------------------------------ VolPack */
+    vpContext *vpc = vpCreateContext();
+    vpSetVolumeSize(vpc, nx, ny, nz);
+    /* voxel = {uint16 shade index, uint8 density, pad}: VolPack wants the
+     * shading field first and two bytes wide */
+    unsigned char *vox = calloc((size_t)nx * ny * nz, 4);
+    for (size_t i = 0; i < (size_t)nx * ny * nz; i++) {
+        const uint16_t si = dens[i];
+        memcpy(vox + 4 * i, &si, 2);
+        vox[4 * i + 2] = dens[i];
+    }
+    vpSetVoxelSize(vpc, 4, 2, 1, 1);
+    vpSetVoxelField(vpc, 0, 2, 0, 255);
+    vpSetVoxelField(vpc, 1, 1, 2, 255);
+    vpSetRawVoxels(vpc, vox, (int)((size_t)nx * ny * nz * 4), 4, 4 * nx, 4 * nx * ny);
+    float ramp[256], shade[256];
+    for (int i = 0; i < 256; i++) {
+        ramp[i] = i / 255.0f;   /* the opacity ramp */
+        shade[i] = 0.4f + 0.6f * i / 255.0f;
+    }
+    vpSetClassifierTable(vpc, 0, 1, ramp, sizeof ramp);
+    if (vpSetLookupShader(vpc, 1, 1, 0, shade, sizeof shade, 0, NULL, 0) != VP_OK)
+        fprintf(stderr, "VolPack shader: %s\n", vpGetErrorString(vpGetError(vpc)));
+    vpSetd(vpc, VP_MIN_VOXEL_OPACITY, 1.0 / 255);
+    vpSetd(vpc, VP_MAX_RAY_OPACITY, 0.998);
+    double t0 = now();
+    if (vpClassifyVolume(vpc) != VP_OK) {
+        fprintf(stderr, "VolPack: %s\n", vpGetErrorString(vpGetError(vpc)));
+        return 1;
+    }
+    const double vp_classify = now() - t0;
+    unsigned char *image = malloc(SIZE * SIZE * 2);
+    vpSetImage(vpc, image, SIZE, SIZE, SIZE * 2, VP_LUMINANCEA);
+    vpCurrentMatrix(vpc, VP_PROJECT);
+    vpIdentityMatrix(vpc);
+    vpWindow(vpc, VP_PARALLEL, -0.75, 0.75, -0.75, 0.75, -0.75, 0.75);
+    vpCurrentMatrix(vpc, VP_MODEL);
+    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_LEFT);
+    vpRotate(vpc, VP_X_AXIS, -60.0);
+    vpRenderClassifiedVolume(vpc); /* warm-up */
+    t0 = now();
+    for (int k = 0; k < FRAMES; k++) {
+        vpRotate(vpc, VP_Z_AXIS, 45.0);
+        if (vpRenderClassifiedVolume(vpc) != VP_OK) {
+            fprintf(stderr, "VolPack: %s\n", vpGetErrorString(vpGetError(vpc)));
+            return 1;
+        }
+    }
+    const double vp_frame = (now() - t0) / FRAMES;
+    /* ------------------------------------------------------------ Vesuvius */
+    vsv_tf tf;
+    char text[256], msg[128];
+    snprintf(text, sizeof text, "colormap greys\nrange %.9g %.9g\nopacity 0 1\n", lo, hi);
+    if (vsv_tf_parse(&tf, text, msg, sizeof msg))
+        return 1;
+    vsv_layer layer = {vol, &tf, 1, 1};
+    vsv_meta iso = *m; /* isotropic cells, as VolPack sees them */
+    iso.spacing[0] = iso.spacing[1] = iso.spacing[2] = 1000;
+    iso.vert_kind = VSV_VERT_EVEN;
+    iso.levels = NULL;
+    iso.terrain = NULL;
+    vsv_scene sc = {&iso, &layer, 1, 1, 0};
+    printf("volume: %s %s step %d, %dx%dx%d 8-bit; image %dx%d, parallel projection, %d orbiting frames\n\n", argv[1],
+           argv[2], step, nx, ny, nz, SIZE, SIZE, FRAMES);
+    printf("| renderer | threads | ms/frame | frames/s | classification ms |\n|---|---|---|---|---|\n");
+    printf("| VolPack vpRenderClassifiedVolume | 1 | %.1f | %.1f | %.0f |\n", 1000 * vp_frame, 1 / vp_frame,
+           1000 * vp_classify);
+    for (int th = 1; th <= 2; th++) {
+        vsv_render_opts o;
+        vsv_render_opts_init(&o);
+        o.kind = VSV_RENDER_SHEARWARP;
+        o.threads = th;
+        vsv_renderer *r = NULL;
+        vsv_renderer_create(&o, &r);
+        float *img = malloc(sizeof(float) * 4 * SIZE * SIZE);
+        vsv_camera cam;
+        double mn[3], mx[3];
+        vsv_scene_bounds(&sc, mn, mx);
+        vsv_camera_orbit(&cam, &sc, 225, 30, 0, SIZE, SIZE);
+        cam.fov_deg = 0;
+        cam.ortho_height = 1.5 * fmax(fmax(mx[0] - mn[0], mx[1] - mn[1]), mx[2] - mn[2]);
+        vsv_render(r, &sc, &cam, img, NULL); /* warm-up + classification */
+        const double cls = vsv_renderer_rebuild_seconds(r);
+        t0 = now();
+        for (int k = 0; k < FRAMES; k++) {
+            vsv_camera c2;
+            vsv_camera_orbit(&c2, &sc, 225 + 45 * k, 30, 0, SIZE, SIZE);
+            c2.fov_deg = 0;
+            c2.ortho_height = cam.ortho_height;
+            vsv_render(r, &sc, &c2, img, NULL);
+        }
+        const double fr = (now() - t0) / FRAMES;
+        printf("| Vesuvius shear-warp | %d | %.1f | %.1f | %.0f |\n", th, 1000 * fr, 1 / fr, 1000 * cls);
+        free(img);
+        vsv_renderer_free(r);
+    }
+    vpDestroyContext(vpc);
+    free(image);
+    free(vox);
+    free(dens);
+    vsv_volume_free(vol);
+    vsv_decoder_free(d);
+    vsv_file_free(f);
+    return 0;
+}
