@@ -314,32 +314,44 @@ void vsv_sw_composite_row(void *p, int y, int thread)
     }
 }
 
-/* Final row py: each pixel's ray crosses the slice plane k = 0 at one
- * intermediate-image point; bilinear there; the ground behind. */
+/* Where the ray of final pixel (px, py) crosses the slice plane k = 0, in
+ * intermediate-image coordinates. */
+static void warp_point(const vsv_sw *sw, double px, double py, double *x, double *y)
+{
+    const vsv_geo *g = sw->g;
+    double o[3], rd[3];
+    vsv_pixel_ray(sw->cam, (int)px, (int)py, o, rd);
+    const double q[3] = {(o[0] - g->ox) / g->dx, (o[1] - g->oy) / g->dy, (o[2] / g->E - g->oz) / g->dz};
+    const double t = -q[sw->c] / sw->dv[sw->c];
+    *x = q[sw->a] + t * sw->dv[sw->a] + sw->ta;
+    *y = q[sw->b] + t * sw->dv[sw->b] + sw->tb;
+}
+
+/* Final row py: the warp is affine (parallel rays), so the intermediate
+ * point moves by a constant step per pixel; bilinear there; the ground
+ * behind. */
 void vsv_sw_warp_row(void *p, int py, int thread)
 {
     vsv_sw *sw = p;
     const vsv_geo *g = sw->g;
     const vsv_camera *cam = sw->cam;
-    const int a = sw->a, b = sw->b, c = sw->c, w = sw->w, h = sw->h;
+    const int w = sw->w, h = sw->h;
     (void)thread;
+    double x0w, y0w, x1w, y1w;
+    warp_point(sw, 0, py, &x0w, &y0w);
+    warp_point(sw, 1, py, &x1w, &y1w);
+    const double ddx = x1w - x0w, ddy = y1w - y0w;
+    const double st = 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E);
     for (int px = 0; px < cam->width; px++) {
-        double o[3], rd[3];
-        vsv_pixel_ray(cam, px, py, o, rd);
-        const double q[3] = {(o[0] - g->ox) / g->dx, (o[1] - g->oy) / g->dy, (o[2] / g->E - g->oz) / g->dz};
-        const double t = -q[c] / sw->dv[c];
-        const double x = q[a] + t * sw->dv[a] + sw->ta, y = q[b] + t * sw->dv[b] + sw->tb;
+        const double x = x0w + px * ddx, y = y0w + px * ddy;
         float *dst = sw->out + 4 * ((size_t)py * cam->width + px);
         dst[0] = dst[1] = dst[2] = dst[3] = 0;
         if (sw->depth)
             sw->depth[(size_t)py * cam->width + px] = INFINITY;
-        double t0b, t1b, t_hit = INFINITY;
-        if (g->terrain && vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
-            t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E));
-        const int x0 = (int)floor(x), y0 = (int)floor(y);
-        const float fx = (float)(x - x0), fy = (float)(y - y0);
+        const int xi = (int)floor(x), yi = (int)floor(y);
+        const float fx = (float)(x - xi), fy = (float)(y - yi);
         for (int k = 0; k < 4; k++) {
-            const int xx = x0 + (k & 1), yy = y0 + (k >> 1);
+            const int xx = xi + (k & 1), yy = yi + (k >> 1);
             if (xx < 0 || yy < 0 || xx >= w || yy >= h)
                 continue;
             const float wq = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
@@ -347,14 +359,20 @@ void vsv_sw_warp_row(void *p, int py, int thread)
             for (int ch = 0; ch < 4; ch++)
                 dst[ch] += wq * sp[ch];
         }
-        if (t_hit < INFINITY) {
-            float rgb[3];
-            vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
-            for (int ch = 0; ch < 3; ch++)
-                dst[ch] += (1 - dst[3]) * rgb[ch];
-            dst[3] = 1;
-            if (sw->depth)
-                sw->depth[(size_t)py * cam->width + px] = (float)t_hit;
+        if (g->terrain) {
+            double o[3], rd[3], t0b, t1b, t_hit = INFINITY;
+            vsv_pixel_ray(cam, px, py, o, rd);
+            if (vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
+                t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, st);
+            if (t_hit < INFINITY) {
+                float rgb[3];
+                vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
+                for (int ch = 0; ch < 3; ch++)
+                    dst[ch] += (1 - dst[3]) * rgb[ch];
+                dst[3] = 1;
+                if (sw->depth)
+                    sw->depth[(size_t)py * cam->width + px] = (float)t_hit;
+            }
         }
     }
 }
