@@ -88,13 +88,6 @@ int main(int argc, char **argv)
             float *img = malloc(sizeof(float) * 4 * (size_t)n * n);
             vsv_camera cam;
             vsv_camera_orbit(&cam, &sc, 225, 30, 0, n, n);
-            if (kind) { /* shear-warp: parallel projection */
-                double bmn[3], bmx[3];
-                vsv_scene_bounds(&sc, bmn, bmx);
-                cam.fov_deg = 0;
-                cam.ortho_height = 0.75 * sqrt((bmx[0] - bmn[0]) * (bmx[0] - bmn[0]) + (bmx[1] - bmn[1]) * (bmx[1] - bmn[1]) +
-                                               (bmx[2] - bmn[2]) * (bmx[2] - bmn[2]));
-            }
             vsv_render(r, &sc, &cam, img, NULL); /* warm-up (and the shear-warp's classification) */
             const double rebuild = vsv_renderer_rebuild_seconds(r);
             const int frames = si ? 4 : 8;
@@ -107,7 +100,7 @@ int main(int argc, char **argv)
                 vsv_render(r, &sc, &cam, img, NULL);
             }
             const double dt = (now() - t0) / frames;
-            printf("| %s | %dx%d | %d | %.2f | %.0f |\n", kind ? "shear-warp (parallel)" : "raycast (perspective)", n, n,
+            printf("| %s | %dx%d | %d | %.2f | %.0f |\n", kind ? "shear-warp" : "raycast", n, n,
                    th, 1 / dt, 1000 * dt);
             if (kind && si == 0 && th == 1)
                 printf("| (shear-warp classification + RLE of 3 axes) | | 1 | | %.0f |\n", 1000 * rebuild);

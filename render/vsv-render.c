@@ -34,8 +34,8 @@ static const char usage[] =
     "  -x, --exaggerate N      vertical exaggeration (default: a domain 1/5 as tall as wide)\n"
     "      --background R,G,B  0..1 (default 0.02,0.03,0.06)\n"
     "      --no-terrain        do not draw the ground\n"
-    "  -r, --renderer NAME     raycast (default) or shearwarp (parallel projection:\n"
-    "                          the camera becomes orthographic)\n"
+    "  -r, --renderer NAME     raycast (default) or shearwarp (faster; frames whose eye\n"
+    "                          is inside the volume are raycast)\n"
     "      --threads N         render threads (default: all cores)\n"
     "  -q, --quiet             no progress\n"
     "  -h, --help              this help\n"
@@ -285,18 +285,6 @@ int main(int argc, char **argv)
             cam.pos[i] = la[i] * e;
             cam.dir[i] = (la[3 + i] - la[i]) * e;
         }
-    }
-    if (ro.kind == VSV_RENDER_SHEARWARP) { /* parallel projection, framing what the perspective view framed */
-        double dx = 0, dd = 0;
-        for (int i = 0; i < 3; i++)
-            dd += cam.dir[i] * cam.dir[i];
-        double mn2[3], mx2[3];
-        vsv_scene_bounds(&sc, mn2, mx2);
-        for (int i = 0; i < 3; i++)
-            dx += (mx2[i] - mn2[i]) * (mx2[i] - mn2[i]);
-        cam.ortho_height = 0.75 * sqrt(dx);
-        cam.fov_deg = 0;
-        (void)dd;
     }
     /* stereo: two eyes a thirtieth of the viewing distance apart */
     double target[3] = {0, 0, 0}, mn[3], mx[3];

@@ -615,11 +615,14 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     if (r->o.kind == VSV_RENDER_SHEARWARP) {
         int rows = 0;
         int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, &rows);
-        if (rc)
+        if (!rc) {
+            pool_run(r, vsv_sw_composite_row, r->sw, rows);
+            pool_run(r, vsv_sw_warp_row, r->sw, cam->height);
+            return 0;
+        }
+        if (rc != VSV_EUNSUPPORTED)
             return rc;
-        pool_run(r, vsv_sw_composite_row, r->sw, rows);
-        pool_run(r, vsv_sw_warp_row, r->sw, cam->height);
-        return 0;
+        /* an eye among the slices has no shear-warp factorisation: raycast this frame */
     }
     int rc = prepare_skip(r, sc);
     if (rc)

@@ -1,5 +1,5 @@
-/* vsv_shearwarp.c — Lacroute's shear-warp factorisation for parallel
- * projection. The species rule is applied per voxel (classification: summed
+/* vsv_shearwarp.c — Lacroute's shear-warp factorisation, for parallel and
+ * perspective projection (slices sheared, or scaled about the eye). The species rule is applied per voxel (classification: summed
  * extinction and extinction-weighted colour),
  * the classified volume is run-length encoded along each axis (transparent /
  * non-transparent runs per voxel scanline), slices perpendicular to the
@@ -49,6 +49,10 @@ struct vsv_sw {
     float *out, *depth;
     int c, a, b, na, nb, nc, w, h, front, dk;
     double sa, sb, ta, tb, delta, dv[3];
+    /* perspective: the eye in voxel coordinates, the reference slice (the one
+     * nearest the eye, scale 1) and the world size of a voxel along a, b, c */
+    int persp, kref;
+    double eye[3], wsz[3];
     double build_seconds;
 };
 
@@ -183,8 +187,6 @@ static void scan_mask(const vsv_sw *sw, int c, int k, int ib, unsigned char *mas
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
                  int *rows)
 {
-    if (cam->fov_deg > 0)
-        return VSV_EUNSUPPORTED; /* perspective shear-warp: not yet */
     const uint64_t key = scene_key(sc);
     int rc;
     if (key != sw->key || !sw->cls || sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
@@ -223,6 +225,37 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     sw->delta = 1 / fabs(sw->dv[c]); /* world metres between slices along a ray */
     sw->front = sw->dv[c] > 0 ? 0 : sw->nc - 1;
     sw->dk = sw->dv[c] > 0 ? 1 : -1;
+    sw->persp = cam->fov_deg > 0;
+    if (sw->persp) {
+        /* Lacroute's perspective factorisation: slice k seen from the eye E
+         * lands on the reference slice scaled by s_k = (kref - E_c)/(k - E_c)
+         * about E; the eye must lie outside the slab of slices. */
+        double o[3], rd[3];
+        vsv_pixel_ray(cam, 0, 0, o, rd);
+        sw->eye[0] = (o[0] - g->ox) / g->dx;
+        sw->eye[1] = (o[1] - g->oy) / g->dy;
+        sw->eye[2] = (o[2] / g->E - g->oz) / g->dz;
+        const double sizes[3] = {g->dx, g->dy, g->dz * g->E};
+        for (int i = 0; i < 3; i++)
+            sw->wsz[i] = sizes[(i == 0 ? sw->a : i == 1 ? sw->b : c)];
+        const double ec = sw->eye[c];
+        if (ec > -0.5 && ec < sw->nc - 0.5)
+            return VSV_EUNSUPPORTED; /* the eye among the slices: the caller raycasts */
+        sw->kref = ec < 0 ? 0 : sw->nc - 1;
+        sw->front = sw->kref;
+        sw->dk = ec < 0 ? 1 : -1;
+        /* the intermediate image bounds: the reference slice at scale 1 and the
+         * farthest slice, both around the eye */
+        const int kfar = sw->kref == 0 ? sw->nc - 1 : 0;
+        const double sfar = (sw->kref - ec) / (kfar - ec);
+        const double ea = sw->eye[sw->a == 0 ? 0 : sw->a], eb = sw->eye[sw->b];
+        double lo_a = fmin(-1.0, ea + (-1 - ea) * sfar), hi_a = fmax((double)sw->na, ea + (sw->na - ea) * sfar);
+        double lo_b = fmin(-1.0, eb + (-1 - eb) * sfar), hi_b = fmax((double)sw->nb, eb + (sw->nb - eb) * sfar);
+        sw->ta = -lo_a;
+        sw->tb = -lo_b;
+        sw->w = (int)ceil(hi_a - lo_a) + 2;
+        sw->h = (int)ceil(hi_b - lo_b) + 2;
+    }
     /* buffers grow with the view and are reused: no allocation per frame */
     const size_t wh = (size_t)sw->w * sw->h;
     if (grow((void **)&sw->img, &sw->img_cap, wh * 4, sizeof(float)) ||
@@ -249,9 +282,90 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
 }
 
 /* Intermediate row y through every slice, front to back. */
+/* One intermediate pixel: the bilinear blend of four classified voxels of
+ * slice k at voxel coordinates (pa, pb), composited over what is there. */
+static void composite(vsv_sw *sw, float *px, int *lk, int x, int k, double pa, double pb, double delta)
+{
+    const int a = sw->a, b = sw->b, c = sw->c, na = sw->na, nb = sw->nb, nx = sw->n[0], ny = sw->n[1];
+    const int ia = (int)floor(pa), ib = (int)floor(pb);
+    const float fu = (float)(pa - ia), fv = (float)(pb - ib);
+    float acc[4] = {0, 0, 0, 0};
+    for (int q = 0; q < 4; q++) {
+        const int ja = ia + (q & 1), jb = ib + (q >> 1);
+        if (ja < 0 || ja >= na || jb < 0 || jb >= nb)
+            continue;
+        const float wq = ((q & 1) ? fu : 1 - fu) * ((q >> 1) ? fv : 1 - fv);
+        int idx[3];
+        idx[a] = ja, idx[b] = jb, idx[c] = k;
+        const cvox *v = &sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]];
+        acc[0] += wq * v->s;
+        acc[1] += wq * v->r;
+        acc[2] += wq * v->g;
+        acc[3] += wq * v->b;
+    }
+    if (!(acc[0] > 0))
+        return;
+    const float T = 1 - px[3];
+    const float al = (float)(1 - exp(-acc[0] * delta));
+    px[0] += T * al * acc[1] / acc[0];
+    px[1] += T * al * acc[2] / acc[0];
+    px[2] += T * al * acc[3] / acc[0];
+    px[3] += T * al;
+    if (px[3] >= OPAQUE)
+        lk[x] = x + 1;
+}
+
+/* Perspective: slice k is the reference slice scaled by s_k about the eye. */
+static void composite_row_persp(vsv_sw *sw, int y, int thread)
+{
+    const int c = sw->c, na = sw->na, nb = sw->nb;
+    unsigned char *m0 = sw->mask[thread];
+    float *row = sw->img + (size_t)y * sw->w * 4;
+    int *lk = sw->link + (size_t)y * sw->w;
+    const double ea = sw->eye[sw->a], eb = sw->eye[sw->b], ec = sw->eye[c];
+    const double yb = y - sw->tb; /* the row on the reference slice, voxel units */
+    for (int s = 0; s < sw->nc; s++) {
+        const int k = sw->front + s * sw->dk;
+        const double sk = (sw->kref - ec) / (k - ec);
+        const double pb = eb + (yb - eb) / sk;
+        if (pb < -1 || pb > nb)
+            continue;
+        const int ib = (int)floor(pb);
+        memset(m0, 0, (size_t)na + 1);
+        scan_mask(sw, c, k, ib, m0);
+        scan_mask(sw, c, k, ib + 1, m0);
+        /* the pixels whose voxel coordinate pa lies in [-1, na] */
+        const int x0 = (int)ceil(sw->ta + ea + (-1 - ea) * sk), x1 = (int)floor(sw->ta + ea + (na - ea) * sk);
+        for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < sw->w; x++) {
+            int xx = x;
+            while (xx < sw->w && lk[xx] != xx)
+                xx = lk[xx];
+            if (xx != x) {
+                lk[x] = xx;
+                x = xx - 1;
+                continue;
+            }
+            const double pa = ea + (x - sw->ta - ea) / sk;
+            const int ia = (int)floor(pa);
+            const int i0 = ia < 0 ? 0 : ia > na - 1 ? na - 1 : ia, i1 = ia + 1 > na - 1 ? na - 1 : ia + 1 < 0 ? 0 : ia + 1;
+            if (!m0[i0] && !m0[i1])
+                continue;
+            /* world length of this ray per slice */
+            const double ua = (x - sw->ta - ea) / (sw->kref - ec), ub = (yb - eb) / (sw->kref - ec);
+            const double delta = sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + ub * ub * sw->wsz[1] * sw->wsz[1] +
+                                      sw->wsz[2] * sw->wsz[2]);
+            composite(sw, row + 4 * x, lk, x, k, pa, pb, delta);
+        }
+    }
+}
+
 void vsv_sw_composite_row(void *p, int y, int thread)
 {
     vsv_sw *sw = p;
+    if (sw->persp) {
+        composite_row_persp(sw, y, thread);
+        return;
+    }
     const int a = sw->a, b = sw->b, c = sw->c, na = sw->na, nb = sw->nb;
     const int nx = sw->n[0], ny = sw->n[1];
     unsigned char *m0 = sw->mask[thread];
@@ -322,6 +436,13 @@ static void warp_point(const vsv_sw *sw, double px, double py, double *x, double
     double o[3], rd[3];
     vsv_pixel_ray(sw->cam, (int)px, (int)py, o, rd);
     const double q[3] = {(o[0] - g->ox) / g->dx, (o[1] - g->oy) / g->dy, (o[2] / g->E - g->oz) / g->dz};
+    if (sw->persp) { /* this ray's crossing with the reference slice */
+        const double dv[3] = {rd[0] / g->dx, rd[1] / g->dy, rd[2] / (g->dz * g->E)};
+        const double t = (sw->kref - q[sw->c]) / dv[sw->c];
+        *x = q[sw->a] + t * dv[sw->a] + sw->ta;
+        *y = q[sw->b] + t * dv[sw->b] + sw->tb;
+        return;
+    }
     const double t = -q[sw->c] / sw->dv[sw->c];
     *x = q[sw->a] + t * sw->dv[sw->a] + sw->ta;
     *y = q[sw->b] + t * sw->dv[sw->b] + sw->tb;
@@ -343,7 +464,9 @@ void vsv_sw_warp_row(void *p, int py, int thread)
     const double ddx = x1w - x0w, ddy = y1w - y0w;
     const double st = 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E);
     for (int px = 0; px < cam->width; px++) {
-        const double x = x0w + px * ddx, y = y0w + px * ddy;
+        double x = x0w + px * ddx, y = y0w + px * ddy;
+        if (sw->persp) /* projective: each ray on its own */
+            warp_point(sw, px, py, &x, &y);
         float *dst = sw->out + 4 * ((size_t)py * cam->width + px);
         dst[0] = dst[1] = dst[2] = dst[3] = 0;
         if (sw->depth)
