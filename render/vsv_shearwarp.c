@@ -366,22 +366,19 @@ void vsv_sw_composite_row(void *p, int y, int thread)
         composite_row_persp(sw, y, thread);
         return;
     }
-    const int a = sw->a, b = sw->b, c = sw->c, na = sw->na, nb = sw->nb;
-    const int nx = sw->n[0], ny = sw->n[1];
+    const int c = sw->c, na = sw->na, nb = sw->nb;
     unsigned char *m0 = sw->mask[thread];
     float *row = sw->img + (size_t)y * sw->w * 4;
     int *lk = sw->link + (size_t)y * sw->w;
     for (int s = 0; s < sw->nc; s++) {
         const int k = sw->front + s * sw->dk;
         const double fa = sw->sa * k + sw->ta, fb = sw->sb * k + sw->tb;
-        /* intermediate pixel x samples voxel coordinate u = x - fa; the
-         * fraction is the same for the whole slice */
+        /* intermediate pixel (x, y) samples voxel coordinates (x - fa, y - fb):
+         * the slice is only sheared, so the fractions are the same everywhere */
         const int oa = (int)floor(fa), ob = (int)floor(fb);
         if (y < ob || y > ob + nb)
             continue;
-        const float wa = (float)(fa - oa), wb = (float)(fb - ob);
-        /* voxel rows ib0 = y - ob - 1 (weight wb) and ib1 = y - ob (weight 1 - wb) */
-        const int ib0 = y - ob - 1, ib1 = y - ob;
+        const int ib0 = y - ob - 1, ib1 = y - ob; /* the two voxel rows under this row */
         memset(m0, 0, (size_t)na + 1);
         scan_mask(sw, c, k, ib0, m0);
         scan_mask(sw, c, k, ib1, m0);
@@ -399,31 +396,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
             const int mi0 = ia0 < 0 ? 0 : ia0, mi1 = ia1 >= na ? na - 1 : ia1;
             if (!m0[mi0] && !m0[mi1])
                 continue; /* transparent voxels around: nothing to add */
-            float acc[4] = {0, 0, 0, 0};
-            const float wts[4] = {wa * wb, (1 - wa) * wb, wa * (1 - wb), (1 - wa) * (1 - wb)};
-            const int ias[4] = {ia0, ia1, ia0, ia1}, ibs[4] = {ib0, ib0, ib1, ib1};
-            for (int q = 0; q < 4; q++) {
-                if (ias[q] < 0 || ias[q] >= na || ibs[q] < 0 || ibs[q] >= nb)
-                    continue;
-                int idx[3];
-                idx[a] = ias[q], idx[b] = ibs[q], idx[c] = k;
-                const cvox *v = &sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]];
-                acc[0] += wts[q] * v->s;
-                acc[1] += wts[q] * v->r;
-                acc[2] += wts[q] * v->g;
-                acc[3] += wts[q] * v->b;
-            }
-            if (!(acc[0] > 0))
-                continue;
-            float *px = row + 4 * x;
-            const float T = 1 - px[3];
-            const float al = (float)(1 - exp(-acc[0] * sw->delta));
-            px[0] += T * al * acc[1] / acc[0];
-            px[1] += T * al * acc[2] / acc[0];
-            px[2] += T * al * acc[3] / acc[0];
-            px[3] += T * al;
-            if (px[3] >= OPAQUE)
-                lk[x] = x + 1;
+            composite(sw, row + 4 * x, lk, x, k, x - fa, y - fb, sw->delta);
         }
     }
 }
