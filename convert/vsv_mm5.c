@@ -4,7 +4,7 @@
  * period := (flag1 subhdr data)* flag2, with a big header accepted anywhere.
  * Every length is checked against the file before use. */
 #include "vsv_mm5.h"
-#include "vsv_format_internal.h"
+#include "vsv_f77.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -28,15 +28,8 @@ struct vsv_mm5 {
     int skipped;
 };
 
-static uint32_t u32(const vsv_mm5 *m, const unsigned char *p)
-{
-    return m->le ? vsv_rd32(p) : ((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
-}
-
-static uint32_t be32(const unsigned char *p)
-{
-    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
-}
+static uint32_t u32(const vsv_mm5 *m, const unsigned char *p) { return vsv_f77_u32(m->le, p); }
+static uint32_t be32(const unsigned char *p) { return vsv_f77_u32(0, p); }
 
 const char *vsv_mm5_error(const vsv_mm5 *m) { return m ? m->err : "out of memory"; }
 int vsv_mm5_little_endian(const vsv_mm5 *m) { return m->le; }
@@ -120,24 +113,12 @@ static int fail(vsv_mm5 *m, int rc, const char *fmt, ...)
     return rc;
 }
 
-/* The record at *at: payload pointer and length; advances *at. */
+/* The record at *at; advances *at. Errors name the record and offset. */
 static int record(vsv_mm5 *m, size_t *at, int recno, const unsigned char **payload, uint32_t *len)
 {
-    if (m->n - *at < 4)
-        return fail(m, VSV_ETRUNC, "record %d at byte offset %zu: file ends inside the record's length marker", recno,
-                    *at);
-    uint32_t l = u32(m, m->d + *at);
-    if ((uint64_t)l + 8 > m->n - *at)
-        return fail(m, VSV_ETRUNC,
-                    "record %d at byte offset %zu: file ends inside the record (%u bytes announced, %zu left)", recno,
-                    *at, l, m->n - *at - 4);
-    if (u32(m, m->d + *at + 4 + l) != l)
-        return fail(m, VSV_ECORRUPT, "record %d at byte offset %zu: trailing length marker %u differs from leading %u",
-                    recno, *at, u32(m, m->d + *at + 4 + l), l);
-    *payload = m->d + *at + 4;
-    *len = l;
-    *at += (size_t)l + 8;
-    return 0;
+    char msg[300];
+    const int rc = vsv_f77_record(m->d, m->n, m->le, at, recno, payload, len, msg, sizeof msg);
+    return rc ? fail(m, rc, "%s", msg) : 0;
 }
 
 static int add_field(vsv_mm5 *m, const vsv_mm5_field *f)

@@ -5,6 +5,7 @@
  * divide evenly. Heights come from the companion ZP file (--heights); without
  * it the vertical axis is the layer index. */
 #include "vsv_uamiv.h"
+#include "vsv_f77.h"
 #include "vsv_source_internal.h"
 #include "vsv_vgrid.h"
 
@@ -27,18 +28,6 @@ struct vsv_uamiv {
     size_t hdr_bytes, hour_bytes, rec_bytes;
 };
 
-static uint32_t rd(int le, const unsigned char *p)
-{
-    return le ? vsv_rd32(p) : ((uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3]);
-}
-
-static float rdf(int le, const unsigned char *p)
-{
-    uint32_t u = rd(le, p);
-    float f;
-    memcpy(&f, &u, 4);
-    return f;
-}
 
 /* n characters stored one per 4-byte word, blanks trimmed. */
 static void c4(char *dst, const unsigned char *p, int n, int le)
@@ -93,21 +82,19 @@ int64_t vsv_uamiv_time(int date, float hour)
     return vsv_time_from_civil(year, 1, 1, 0, 0, 0) + (int64_t)(jday - 1) * 86400 + (int64_t)llround(hour * 3600.0);
 }
 
-/* The record at *at (a whole record must fit); advances *at. */
+/* The record at *at, which must hold `want` bytes; advances *at. */
 static int record(vsv_uamiv *u, size_t *at, int recno, uint32_t want, const unsigned char **p)
 {
-    const int le = u->h.little_endian;
-    if (u->n - *at < 8)
-        return ufail(u, VSV_ETRUNC, "record %d at byte offset %zu: file ends", recno, *at);
-    uint32_t l = rd(le, u->d + *at);
-    if (l != want)
-        return ufail(u, VSV_ECORRUPT, "record %d at byte offset %zu: %u bytes, expected %u", recno, *at, l, want);
-    if ((uint64_t)l + 8 > u->n - *at)
-        return ufail(u, VSV_ETRUNC, "record %d at byte offset %zu: file ends inside the record", recno, *at);
-    if (rd(le, u->d + *at + 4 + l) != l)
-        return ufail(u, VSV_ECORRUPT, "record %d at byte offset %zu: trailing length marker differs", recno, *at);
-    *p = u->d + *at + 4;
-    *at += (size_t)l + 8;
+    char msg[300];
+    uint32_t len = 0;
+    const size_t start = *at;
+    const int rc = vsv_f77_record(u->d, u->n, u->h.little_endian, at, recno, p, &len, msg, sizeof msg);
+    if (rc)
+        return ufail(u, rc, "%s", msg);
+    if (len != want) {
+        *at = start;
+        return ufail(u, VSV_ECORRUPT, "record %d at byte offset %zu: %u bytes, expected %u", recno, start, len, want);
+    }
     return 0;
 }
 
@@ -124,31 +111,31 @@ static int parse(vsv_uamiv *u)
         return rc;
     c4(h->name, p, 10, le);
     c4(h->note, p + 40, 60, le);
-    h->nseg_or_tz = (int32_t)rd(le, p + 280);
-    h->nspec = (int32_t)rd(le, p + 284);
-    h->bdate = (int32_t)rd(le, p + 288);
-    h->bhour = rdf(le, p + 292);
-    h->edate = (int32_t)rd(le, p + 296);
-    h->ehour = rdf(le, p + 300);
+    h->nseg_or_tz = (int32_t)vsv_f77_u32(le, p + 280);
+    h->nspec = (int32_t)vsv_f77_u32(le, p + 284);
+    h->bdate = (int32_t)vsv_f77_u32(le, p + 288);
+    h->bhour = vsv_f77_f32(le, p + 292);
+    h->edate = (int32_t)vsv_f77_u32(le, p + 296);
+    h->ehour = vsv_f77_f32(le, p + 300);
     if (h->nspec < 1 || h->nspec > 10000)
         return ufail(u, VSV_ECORRUPT, "header: %d species", h->nspec);
     if ((rc = record(u, &at, 2, 60, &p)))
         return rc;
-    h->plon = rdf(le, p);
-    h->plat = rdf(le, p + 4);
-    h->iutm = (int32_t)rd(le, p + 8);
-    h->xorg = rdf(le, p + 12);
-    h->yorg = rdf(le, p + 16);
-    h->dx = rdf(le, p + 20);
-    h->dy = rdf(le, p + 24);
-    h->nx = (int32_t)rd(le, p + 28);
-    h->ny = (int32_t)rd(le, p + 32);
-    h->nz = (int32_t)rd(le, p + 36);
-    h->iproj = (int32_t)rd(le, p + 40);
-    h->istag = (int32_t)rd(le, p + 44);
-    h->tlat1 = rdf(le, p + 48);
-    h->tlat2 = rdf(le, p + 52);
-    h->spare = rdf(le, p + 56);
+    h->plon = vsv_f77_f32(le, p);
+    h->plat = vsv_f77_f32(le, p + 4);
+    h->iutm = (int32_t)vsv_f77_u32(le, p + 8);
+    h->xorg = vsv_f77_f32(le, p + 12);
+    h->yorg = vsv_f77_f32(le, p + 16);
+    h->dx = vsv_f77_f32(le, p + 20);
+    h->dy = vsv_f77_f32(le, p + 24);
+    h->nx = (int32_t)vsv_f77_u32(le, p + 28);
+    h->ny = (int32_t)vsv_f77_u32(le, p + 32);
+    h->nz = (int32_t)vsv_f77_u32(le, p + 36);
+    h->iproj = (int32_t)vsv_f77_u32(le, p + 40);
+    h->istag = (int32_t)vsv_f77_u32(le, p + 44);
+    h->tlat1 = vsv_f77_f32(le, p + 48);
+    h->tlat2 = vsv_f77_f32(le, p + 52);
+    h->spare = vsv_f77_f32(le, p + 56);
     if (h->nx < 1 || h->ny < 1 || h->nz < 1 || h->nx > VSV_MAX_DIM || h->ny > VSV_MAX_DIM || h->nz > 1000 ||
         !(h->dx > 0) || !(h->dy > 0))
         return ufail(u, VSV_ECORRUPT, "region record: grid %d x %d x %d, cells %g x %g", h->nx, h->ny, h->nz, h->dx,
@@ -159,7 +146,7 @@ static int parse(vsv_uamiv *u)
     if ((rc = record(u, &at, 3, 16, &p)))
         return rc;
     for (int i = 0; i < 4; i++)
-        h->rec3[i] = (int32_t)rd(le, p + 4 * i);
+        h->rec3[i] = (int32_t)vsv_f77_u32(le, p + 4 * i);
     if ((rc = record(u, &at, 4, (uint32_t)(40 * h->nspec), &p)))
         return rc;
     h->species = calloc((size_t)h->nspec, sizeof *h->species);
@@ -236,10 +223,10 @@ void vsv_uamiv_hour(const vsv_uamiv *u, int h, int *bdate, float *bhour, int *ed
 {
     const unsigned char *p = u->d + u->hdr_bytes + (size_t)h * u->hour_bytes + 4;
     const int le = u->h.little_endian;
-    *bdate = (int32_t)rd(le, p);
-    *bhour = rdf(le, p + 4);
-    *edate = (int32_t)rd(le, p + 8);
-    *ehour = rdf(le, p + 12);
+    *bdate = (int32_t)vsv_f77_u32(le, p);
+    *bhour = vsv_f77_f32(le, p + 4);
+    *edate = (int32_t)vsv_f77_u32(le, p + 8);
+    *ehour = vsv_f77_f32(le, p + 12);
 }
 
 int vsv_uamiv_read(vsv_uamiv *u, int hour, int spec, int layer, float *out)
@@ -260,7 +247,7 @@ int vsv_uamiv_read(vsv_uamiv *u, int hour, int spec, int layer, float *out)
                      at - u->rec_bytes, name, h->species[spec]);
     const size_t n = (size_t)h->nx * h->ny;
     for (size_t i = 0; i < n; i++)
-        out[i] = rdf(h->little_endian, p + 44 + 4 * i);
+        out[i] = vsv_f77_f32(h->little_endian, p + 44 + 4 * i);
     return 0;
 }
 
@@ -409,9 +396,9 @@ int vsv_zp_open(const char *path, int nx, int ny, int nz, vsv_zp **out)
     }
     const uint32_t want = (uint32_t)(z->rec - 8);
     z->le = vsv_rd32(m) == want;
-    if (rd(z->le, m) != want) {
+    if (vsv_f77_u32(z->le, m) != want) {
         vsv_msg(z->err, sizeof z->err, "%s: first record has %u bytes; a %dx%d grid needs %u (not this grid's ZP file)",
-                path, rd(0, m), nx, ny, want);
+                path, vsv_f77_u32(0, m), nx, ny, want);
         return VSV_ECORRUPT;
     }
     const size_t per_hour = 2 * (size_t)nz * z->rec;
@@ -440,7 +427,7 @@ int vsv_zp_heights(vsv_zp *z, int hour, float *out)
             break;
         }
         for (size_t i = 0; i < plane; i++)
-            out[(size_t)k * plane + i] = rdf(z->le, buf + 4 + 8 + 4 * i);
+            out[(size_t)k * plane + i] = vsv_f77_f32(z->le, buf + 4 + 8 + 4 * i);
     }
     free(buf);
     return rc;
