@@ -104,12 +104,10 @@ int vsv_mm5_date(const char *date, int64_t *t)
 static int fail(vsv_mm5 *m, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int fail(vsv_mm5 *m, int rc, const char *fmt, ...)
 {
-    char msg[400];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    vsv_vmsg_path(m->err, sizeof m->err, m->path, fmt, ap);
     va_end(ap);
-    vsv_msg(m->err, sizeof m->err, "%s: %s", m->path, msg);
     return rc;
 }
 

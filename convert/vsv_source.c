@@ -34,12 +34,10 @@ int vsv_source_read(vsv_source *s, int field, int t, float *out)
 
 int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
 {
-    char m[400];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(m, sizeof m, fmt, ap);
+    vsv_vmsg_path(s->err, sizeof s->err, s->path, fmt, ap);
     va_end(ap);
-    vsv_msg(s->err, sizeof s->err, "%s: %s", s->path, m);
     return rc;
 }
 

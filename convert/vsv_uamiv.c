@@ -48,12 +48,10 @@ const vsv_uamiv_header *vsv_uamiv_header_get(const vsv_uamiv *u) { return &u->h;
 static int ufail(vsv_uamiv *u, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int ufail(vsv_uamiv *u, int rc, const char *fmt, ...)
 {
-    char m[400];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(m, sizeof m, fmt, ap);
+    vsv_vmsg_path(u->err, sizeof u->err, u->path, fmt, ap);
     va_end(ap);
-    vsv_msg(u->err, sizeof u->err, "%s: %s", u->path, m);
     return rc;
 }
 

@@ -38,6 +38,13 @@ void vsv_msg(char *buf, size_t cap, const char *fmt, ...)
     va_end(ap);
 }
 
+void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_list ap)
+{
+    char m[512];
+    vsnprintf(m, sizeof m, fmt, ap);
+    snprintf(buf, cap, "%s: %s", path, m);
+}
+
 int vsv_ncpus(void)
 {
     long n = sysconf(_SC_NPROCESSORS_ONLN);

@@ -95,6 +95,10 @@ int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **q
 
 /* printf into a fixed message buffer. */
 void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* "path: " followed by the formatted message: the shape of every error a
+ * reader keeps for its file. */
+void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_list ap)
+    __attribute__((format(printf, 4, 0)));
 
 /* Quantisation shared by writer and reader (SPEC.md "Quantisation"). */
 unsigned vsv_quant_code(const vsv_quant *q, float v);

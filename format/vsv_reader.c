@@ -73,12 +73,10 @@ void vsv_file_brick_box(const vsv_file *f, int b, int org[3], int ext[3]) { vsv_
 static int bad(vsv_file *f, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int bad(vsv_file *f, int rc, const char *fmt, ...)
 {
-    char m[400];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(m, sizeof m, fmt, ap);
+    vsv_vmsg_path(f->err, sizeof f->err, f->name, fmt, ap);
     va_end(ap);
-    vsv_msg(f->err, sizeof f->err, "%s: %s", f->name, m);
     return rc;
 }
 

@@ -282,6 +282,19 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
 }
 
 /* Intermediate row y through every slice, front to back. */
+/* Opaque-pixel skipping: the first pixel at or after x of this row that is
+ * not yet opaque (w when none), following the links and shortening the one
+ * at x to point there. */
+static int open_pixel(int *lk, int x, int w)
+{
+    int xx = x;
+    while (xx < w && lk[xx] != xx)
+        xx = lk[xx];
+    if (xx != x)
+        lk[x] = xx;
+    return xx;
+}
+
 /* One intermediate pixel: the bilinear blend of four classified voxels of
  * slice k at voxel coordinates (pa, pb), composited over what is there. */
 static void composite(vsv_sw *sw, float *px, int *lk, int x, int k, double pa, double pb, double delta)
@@ -337,12 +350,9 @@ static void composite_row_persp(vsv_sw *sw, int y, int thread)
         /* the pixels whose voxel coordinate pa lies in [-1, na] */
         const int x0 = (int)ceil(sw->ta + ea + (-1 - ea) * sk), x1 = (int)floor(sw->ta + ea + (na - ea) * sk);
         for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < sw->w; x++) {
-            int xx = x;
-            while (xx < sw->w && lk[xx] != xx)
-                xx = lk[xx];
-            if (xx != x) {
-                lk[x] = xx;
-                x = xx - 1;
+            const int open = open_pixel(lk, x, sw->w);
+            if (open != x) { /* opaque pixels: skip them */
+                x = open - 1;
                 continue;
             }
             const double pa = ea + (x - sw->ta - ea) / sk;
@@ -383,13 +393,9 @@ void vsv_sw_composite_row(void *p, int y, int thread)
         scan_mask(sw, c, k, ib0, m0);
         scan_mask(sw, c, k, ib1, m0);
         for (int x = oa; x <= oa + na; x++) {
-            /* opaque-pixel skipping: follow (and shorten) the links */
-            int xx = x;
-            while (xx < sw->w && lk[xx] != xx)
-                xx = lk[xx];
-            if (xx != x) {
-                lk[x] = xx;
-                x = xx - 1;
+            const int open = open_pixel(lk, x, sw->w);
+            if (open != x) { /* opaque pixels: skip them */
+                x = open - 1;
                 continue;
             }
             const int ia0 = x - oa - 1, ia1 = x - oa;
