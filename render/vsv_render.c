@@ -8,6 +8,7 @@
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define TILE 16
 #define MAX_THREADS 64
@@ -613,8 +614,15 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     }
     vsv_scene_geo(sc, &r->g);
     if (r->o.kind == VSV_RENDER_SHEARWARP) {
-        int rows = 0;
-        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, &rows);
+        int rows = 0, classify = 0;
+        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, &rows, &classify);
+        if (!rc && classify) {
+            struct timespec t0, t1;
+            clock_gettime(CLOCK_MONOTONIC, &t0);
+            pool_run(r, vsv_sw_classify_slice, r->sw, classify);
+            clock_gettime(CLOCK_MONOTONIC, &t1);
+            vsv_sw_classified(r->sw, (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9);
+        }
         if (!rc) {
             pool_run(r, vsv_sw_composite_row, r->sw, rows);
             pool_run(r, vsv_sw_warp_row, r->sw, cam->height);

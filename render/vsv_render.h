@@ -114,7 +114,8 @@ void vsv_renderer_free(vsv_renderer *r);
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
 
 /* Seconds the last rebuild of precomputed state took (shear-warp: classifying
- * the species and run-length encoding the three axes, redone when a transfer
+ * the species into the copy for one principal viewing axis with its
+ * scanline intervals, redone for an axis's first view after a transfer
  * function, an opacity or the time step changes); 0 for the raycaster. */
 double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
 

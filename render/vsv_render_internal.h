@@ -31,16 +31,21 @@ double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3
 /* Ray origin and unit direction of pixel (px, py). */
 void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3]);
 
-/* Shear-warp in three phases so the pool can run the last two: begin
- * (reclassify when the scene changed, set up the view, clear the
- * intermediate image; *rows = its height), then every intermediate row
- * composited through all slices (rows are independent), then every final row
- * warped. thread indexes per-thread scratch (< the create argument). */
+/* Shear-warp in phases so the pool can run all but begin. begin sets up the
+ * view (*rows = the intermediate image's height; VSV_EUNSUPPORTED when the
+ * eye is among the slices) and, when the principal axis's classified copy is
+ * not current for this scene, *classify = its slice count: the caller runs
+ * vsv_sw_classify_slice for those items, then vsv_sw_classified. Then every
+ * intermediate row composited through all slices (rows are independent),
+ * then every final row warped. thread indexes per-thread scratch (< the
+ * create argument). */
 typedef struct vsv_sw vsv_sw;
 vsv_sw *vsv_sw_create(int max_threads);
 void vsv_sw_free(vsv_sw *sw);
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *rgba, float *depth,
-                 int *rows);
+                 int *rows, int *classify);
+void vsv_sw_classify_slice(void *sw, int k, int thread);
+void vsv_sw_classified(vsv_sw *sw, double seconds);
 void vsv_sw_composite_row(void *sw, int y, int thread);
 void vsv_sw_warp_row(void *sw, int py, int thread);
 double vsv_sw_build_seconds(const vsv_sw *sw);

@@ -1,48 +1,72 @@
 /* vsv_shearwarp.c — Lacroute's shear-warp factorisation, for parallel and
- * perspective projection (slices sheared, or scaled about the eye). The species rule is applied per voxel (classification: summed
- * extinction and extinction-weighted colour),
- * the classified volume is run-length encoded along each axis (transparent /
- * non-transparent runs per voxel scanline), slices perpendicular to the
- * principal viewing axis are sheared and composited front to back into an
- * intermediate image with bilinear interpolation inside each slice, skipping
- * transparent voxel runs and pixels that are already opaque, and one 2-D
- * affine warp resamples the intermediate image into the final one. The
- * ground is the raycaster's height field, met by each final pixel's ray and
- * composited behind the volume (cells below the ground hold no data). */
+ * perspective projection (slices sheared, or scaled about the eye).
+ *
+ * Classification applies the species rule per voxel (summed extinction and
+ * extinction-weighted colour) into a copy of the volume for the principal
+ * viewing axis, built when a view first needs that axis (one copy per axis
+ * at most), with its voxel scanlines contiguous and a border of empty voxels
+ * around every slice (so the bilinear footprint never needs a bounds test),
+ * together with the non-transparent intervals of every scanline. It runs on
+ * the renderer's thread pool, one slice per job.
+ *
+ * A frame composites slices perpendicular to the principal viewing axis front
+ * to back into an intermediate image, one intermediate row per job: each
+ * slice's two voxel scanlines under the row give the pixel intervals that can
+ * receive anything (the union of their non-transparent intervals), pixels
+ * already opaque are skipped through per-row links, samples are bilinear
+ * inside the slice, and opacity comes from a table of (1 - e^-u)/u so no
+ * exponential is evaluated per sample. One 2-D warp (affine for parallel
+ * rays, projective for perspective) resamples the intermediate image into
+ * the final one. The ground is the raycaster's height field, met by each
+ * final pixel's ray and composited behind the volume (cells below the ground
+ * hold no data).
+ *
+ * Memory: 16 bytes per voxel for a classified copy and 2 bytes per voxel for
+ * its intervals: 18 bytes per voxel for one viewing axis, 54 when views have
+ * used all three. */
 #include "vsv_render_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #define OPAQUE 0.998f
+/* (1 - e^-u)/u tabulated on [0, LUT_MAX), read at the nearest entry (the
+ * opacity 1 - e^-u = u f(u) is then off by at most 1.2e-4); beyond, 1/u
+ * (off by e^-12 = 6e-6) */
+#define LUT_N 16384
+#define LUT_MAX 12.0f
 
-/* Classified voxel: extinction per unit of ray length in voxel steps is not
- * known until the view is; store sigma per world metre and sigma * colour. */
-typedef struct cvox {
-    float s, r, g, b;
-} cvox;
+/* A classified voxel: extinction-weighted colour and extinction per world
+ * metre, the same order as an intermediate pixel (premultiplied rgb, alpha),
+ * so a sample is four-wide arithmetic. */
+typedef float v4 __attribute__((vector_size(16)));
+typedef v4 svox;
 
 struct vsv_sw {
-    cvox *cls;            /* nx*ny*nz classified voxels */
-    size_t cls_cap;
-    uint64_t key;         /* what the classification was built from */
+    /* per principal axis c (a = c+1, b = c+2 mod 3): nc slices of nb+2 rows
+     * of na+2 voxels, the outer ring empty */
+    svox *vox[3];
+    size_t vox_cap[3];
+    /* per axis: every scanline (k, ib) owns na+4 uint16: a count n, then n
+     * half-open intervals [lo, hi) of non-transparent voxels */
+    uint16_t *ivl[3];
+    size_t ivl_cap[3];
+    uint64_t key; /* what the classification was built from */
     int n[3];
-    /* run lengths per axis: for axis c, scanlines (k along c, ib along b) hold
-     * alternating transparent / opaque-ish run lengths along a, starting with
-     * a transparent run; starts[] indexes them */
-    uint16_t *runs[3];
-    size_t runs_len[3], runs_cap[3];
-    uint32_t *starts[3];
-    size_t starts_cap[3];
-    /* intermediate image and opaque-pixel links */
-    float *img;           /* w*h*4: premultiplied rgb, alpha */
-    int *link;            /* w*h: next pixel of the row that is not opaque */
+    int valid[3]; /* the copy for this axis is current */
+    const vsv_scene *sc; /* during classification */
+    double sigma_unit;
+    /* intermediate image, one empty pixel of border all round, and its
+     * opaque-pixel links (w + 1 per row) */
+    float *img;
+    int *link;
     size_t img_cap, link_cap;
-    unsigned char **mask; /* per thread: a voxel scanline's non-transparent footprint */
-    size_t mask_cap;
+    int **scratch; /* per thread: merged intervals and perspective deltas */
+    float **dscratch;
+    size_t scratch_cap;
     int max_threads;
+    float lut[LUT_N + 1];
     /* the current view (set by begin) */
     const vsv_geo *g;
     const vsv_camera *cam;
@@ -93,110 +117,121 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem)
     return 0;
 }
 
-/* Classification and the three run-length encodings. */
-static int classify(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g)
+static int axis_a(int c) { return (c + 1) % 3; }
+static int axis_b(int c) { return (c + 2) % 3; }
+
+/* Checks the classification against the scene (invalidating every axis's
+ * copy when anything it depends on changed; begin has checked the grid's
+ * size) and sizes the copy for axis c. */
+static int classification_for(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, int c)
 {
-    const int nx = g->nx, ny = g->ny, nz = g->nz;
-    const size_t n = (size_t)nx * ny * nz;
-    if (grow((void **)&sw->cls, &sw->cls_cap, n, sizeof *sw->cls))
-        return VSV_ENOMEM;
-    sw->n[0] = nx;
-    sw->n[1] = ny;
-    sw->n[2] = nz;
-    const double sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
-    for (int k = 0; k < nz; k++)
-        for (int j = 0; j < ny; j++)
-            for (int i = 0; i < nx; i++) {
-                /* sums in double: exact for a few float terms, so the species
-                 * order cannot change a bit */
-                double cs = 0, cr = 0, cg = 0, cb = 0;
-                for (int l = 0; l < sc->nlayers; l++) {
-                    const vsv_layer *L = &sc->layers[l];
-                    if (!L->visible || !(L->opacity > 0) || !L->vol)
-                        continue;
-                    float rgba[4];
-                    vsv_tf_eval(L->tf, vsv_volume_at(L->vol, i, j, k), rgba);
-                    const float s = (float)(rgba[3] * L->opacity * sigma_unit);
-                    if (s > 0) {
-                        cs += s;
-                        cr += (double)s * rgba[0];
-                        cg += (double)s * rgba[1];
-                        cb += (double)s * rgba[2];
-                    }
-                }
-                const cvox c = {(float)cs, (float)cr, (float)cg, (float)cb};
-                sw->cls[((size_t)k * ny + j) * nx + i] = c;
-            }
-    /* run lengths along axis a for every scanline of every slice, per principal axis c */
-    for (int c = 0; c < 3; c++) {
-        const int a = (c + 1) % 3, b = (c + 2) % 3;
-        const int na = sw->n[a], nb = sw->n[b], nc = sw->n[c];
-        if (grow((void **)&sw->starts[c], &sw->starts_cap[c], (size_t)nc * nb + 1, sizeof(uint32_t)))
-            return VSV_ENOMEM;
-        size_t len = 0;
-        for (int k = 0; k < nc; k++)
-            for (int ib = 0; ib < nb; ib++) {
-                sw->starts[c][(size_t)k * nb + ib] = (uint32_t)len;
-                int ia = 0, want_opaque = 0;
-                while (ia < na) {
-                    int run = 0;
-                    while (ia < na && run < 65535) {
-                        int idx[3];
-                        idx[a] = ia, idx[b] = ib, idx[c] = k;
-                        const int op = sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]].s > 0;
-                        if (op != want_opaque)
-                            break;
-                        run++;
-                        ia++;
-                    }
-                    if (grow((void **)&sw->runs[c], &sw->runs_cap[c], len + 2, sizeof(uint16_t)))
-                        return VSV_ENOMEM;
-                    sw->runs[c][len++] = (uint16_t)run;
-                    want_opaque = !want_opaque;
-                }
-                if (grow((void **)&sw->runs[c], &sw->runs_cap[c], len + 1, sizeof(uint16_t)))
-                    return VSV_ENOMEM;
-                sw->runs[c][len++] = 0; /* terminator */
-            }
-        sw->starts[c][(size_t)nc * nb] = (uint32_t)len;
-        sw->runs_len[c] = len;
+    const uint64_t key = scene_key(sc);
+    if (key != sw->key) {
+        sw->valid[0] = sw->valid[1] = sw->valid[2] = 0;
+        sw->key = key;
     }
+    if (sw->valid[c])
+        return 0;
+    const size_t na = sw->n[axis_a(c)], nb = sw->n[axis_b(c)], nc = sw->n[c];
+    if (grow((void **)&sw->vox[c], &sw->vox_cap[c], nc * (nb + 2) * (na + 2), sizeof(svox)) ||
+        grow((void **)&sw->ivl[c], &sw->ivl_cap[c], nc * nb * (na + 4), sizeof(uint16_t)))
+        return VSV_ENOMEM;
+    sw->sc = sc;
+    sw->sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
     return 0;
 }
 
-/* Marks in `mask` (length na + 1) the voxels of scanline (k, ib) that are not
- * transparent, dilated by one for bilinear footprints. */
-static void scan_mask(const vsv_sw *sw, int c, int k, int ib, unsigned char *mask)
+/* Slice k of the current axis: classified voxels (the empty border too) and
+ * every scanline's non-transparent intervals. */
+void vsv_sw_classify_slice(void *p, int k, int thread)
 {
-    const int a = (c + 1) % 3, b = (c + 2) % 3, na = sw->n[a], nb = sw->n[b];
-    if (ib < 0 || ib >= nb)
-        return;
-    const uint16_t *r = sw->runs[c] + sw->starts[c][(size_t)k * nb + ib];
-    int ia = 0, opaque = 0;
-    for (; ia < na; r++) { /* the runs of a scanline add up to na */
-        const int run = *r;
-        if (opaque && run) {
-            const int from = ia > 0 ? ia - 1 : 0, to = ia + run < na ? ia + run : na - 1;
-            memset(mask + from, 1, (size_t)(to - from + 1));
+    vsv_sw *sw = p;
+    const vsv_scene *sc = sw->sc;
+    const int c = sw->c, a = axis_a(c), b = axis_b(c), na = sw->n[a], nb = sw->n[b];
+    (void)thread;
+    svox *slice = sw->vox[c] + (size_t)k * (nb + 2) * (na + 2);
+    memset(slice, 0, (size_t)(na + 2) * sizeof(svox));                    /* row -1 */
+    memset(slice + (size_t)(nb + 1) * (na + 2), 0, (size_t)(na + 2) * sizeof(svox)); /* row nb */
+    for (int ib = 0; ib < nb; ib++) {
+        svox *row = slice + (size_t)(ib + 1) * (na + 2) + 1;
+        row[-1] = row[na] = (svox){0, 0, 0, 0};
+        uint16_t *iv = sw->ivl[c] + ((size_t)k * nb + ib) * (na + 4);
+        int cnt = 0, open = 0;
+        for (int ia = 0; ia < na; ia++) {
+            int idx[3];
+            idx[a] = ia, idx[b] = ib, idx[c] = k;
+            /* sums in double: exact for a few float terms, so the species
+             * order cannot change a bit */
+            double cs = 0, cr = 0, cg = 0, cb = 0;
+            for (int l = 0; l < sc->nlayers; l++) {
+                const vsv_layer *L = &sc->layers[l];
+                if (!L->visible || !(L->opacity > 0) || !L->vol)
+                    continue;
+                float rgba[4];
+                vsv_tf_eval(L->tf, vsv_volume_at(L->vol, idx[0], idx[1], idx[2]), rgba);
+                const float s = (float)(rgba[3] * L->opacity * sw->sigma_unit);
+                if (s > 0) {
+                    cs += s;
+                    cr += (double)s * rgba[0];
+                    cg += (double)s * rgba[1];
+                    cb += (double)s * rgba[2];
+                }
+            }
+            row[ia] = (svox){(float)cr, (float)cg, (float)cb, (float)cs};
+            if ((cs > 0) != open) { /* an interval opens or closes here */
+                iv[1 + cnt] = (uint16_t)ia;
+                cnt++;
+                open = !open;
+            }
         }
-        ia += run;
-        opaque = !opaque;
+        if (open)
+            iv[1 + cnt++] = (uint16_t)na;
+        iv[0] = (uint16_t)(cnt / 2);
     }
 }
 
-int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
-                 int *rows)
+void vsv_sw_classified(vsv_sw *sw, double seconds)
 {
-    const uint64_t key = scene_key(sc);
-    int rc;
-    if (key != sw->key || !sw->cls || sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
-        struct timespec t0, t1;
-        clock_gettime(CLOCK_MONOTONIC, &t0);
-        if ((rc = classify(sw, sc, g)))
-            return rc;
-        clock_gettime(CLOCK_MONOTONIC, &t1);
-        sw->build_seconds = (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9;
-        sw->key = key;
+    sw->valid[sw->c] = 1;
+    sw->build_seconds = seconds;
+    sw->sc = NULL;
+}
+
+/* The footprint of two voxel scanlines: sample positions pa in [lo - 1, hi)
+ * touch a non-transparent voxel of an interval [lo, hi). Writes the sorted,
+ * merged union of both lists' ranges to out (pairs), returns the count. */
+static int merge_footprints(const uint16_t *A, const uint16_t *B, int *out)
+{
+    int na = A ? A[0] : 0, nb = B ? B[0] : 0, i = 0, j = 0, n = 0;
+    while (i < na || j < nb) {
+        int lo, hi;
+        if (j >= nb || (i < na && A[1 + 2 * i] <= B[1 + 2 * j])) {
+            lo = A[1 + 2 * i] - 1, hi = A[2 + 2 * i];
+            i++;
+        } else {
+            lo = B[1 + 2 * j] - 1, hi = B[2 + 2 * j];
+            j++;
+        }
+        if (n && lo <= out[2 * n - 1]) {
+            if (hi > out[2 * n - 1])
+                out[2 * n - 1] = hi;
+        } else {
+            out[2 * n] = lo;
+            out[2 * n + 1] = hi;
+            n++;
+        }
+    }
+    return n;
+}
+
+int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
+                 int *rows, int *classify)
+{
+    if (sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
+        sw->valid[0] = sw->valid[1] = sw->valid[2] = 0;
+        sw->n[0] = g->nx;
+        sw->n[1] = g->ny;
+        sw->n[2] = g->nz;
     }
     /* the view in voxel index space */
     double d[3] = {cam->dir[0], cam->dir[1], cam->dir[2]};
@@ -211,15 +246,15 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
         if (fabs(sw->dv[i]) > fabs(sw->dv[c]))
             c = i;
     sw->c = c;
-    sw->a = (c + 1) % 3;
-    sw->b = (c + 2) % 3;
+    sw->a = axis_a(c);
+    sw->b = axis_b(c);
     sw->na = sw->n[sw->a];
     sw->nb = sw->n[sw->b];
     sw->nc = sw->n[c];
     sw->sa = -sw->dv[sw->a] / sw->dv[c];
     sw->sb = -sw->dv[sw->b] / sw->dv[c];
-    sw->ta = -fmin(0, sw->sa * (sw->nc - 1));
-    sw->tb = -fmin(0, sw->sb * (sw->nc - 1));
+    sw->ta = -fmin(0, sw->sa * (sw->nc - 1)) + 1;
+    sw->tb = -fmin(0, sw->sb * (sw->nc - 1)) + 1;
     sw->w = sw->na + (int)ceil(fabs(sw->sa) * (sw->nc - 1)) + 2;
     sw->h = sw->nb + (int)ceil(fabs(sw->sb) * (sw->nc - 1)) + 2;
     sw->delta = 1 / fabs(sw->dv[c]); /* world metres between slices along a ray */
@@ -236,8 +271,9 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
         sw->eye[1] = (o[1] - g->oy) / g->dy;
         sw->eye[2] = (o[2] / g->E - g->oz) / g->dz;
         const double sizes[3] = {g->dx, g->dy, g->dz * g->E};
-        for (int i = 0; i < 3; i++)
-            sw->wsz[i] = sizes[(i == 0 ? sw->a : i == 1 ? sw->b : c)];
+        sw->wsz[0] = sizes[sw->a];
+        sw->wsz[1] = sizes[sw->b];
+        sw->wsz[2] = sizes[c];
         const double ec = sw->eye[c];
         if (ec > -0.5 && ec < sw->nc - 0.5)
             return VSV_EUNSUPPORTED; /* the eye among the slices: the caller raycasts */
@@ -248,7 +284,7 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
          * farthest slice, both around the eye */
         const int kfar = sw->kref == 0 ? sw->nc - 1 : 0;
         const double sfar = (sw->kref - ec) / (kfar - ec);
-        const double ea = sw->eye[sw->a == 0 ? 0 : sw->a], eb = sw->eye[sw->b];
+        const double ea = sw->eye[sw->a], eb = sw->eye[sw->b];
         double lo_a = fmin(-1.0, ea + (-1 - ea) * sfar), hi_a = fmax((double)sw->na, ea + (sw->na - ea) * sfar);
         double lo_b = fmin(-1.0, eb + (-1 - eb) * sfar), hi_b = fmax((double)sw->nb, eb + (sw->nb - eb) * sfar);
         sw->ta = -lo_a;
@@ -257,224 +293,259 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
         sw->h = (int)ceil(hi_b - lo_b) + 2;
     }
     /* buffers grow with the view and are reused: no allocation per frame */
-    const size_t wh = (size_t)sw->w * sw->h;
-    if (grow((void **)&sw->img, &sw->img_cap, wh * 4, sizeof(float)) ||
-        grow((void **)&sw->link, &sw->link_cap, wh, sizeof(int)))
+    const size_t W = (size_t)sw->w + 2;
+    if (grow((void **)&sw->img, &sw->img_cap, W * (sw->h + 2) * 4, sizeof(float)) ||
+        grow((void **)&sw->link, &sw->link_cap, ((size_t)sw->w + 1) * sw->h, sizeof(int)))
         return VSV_ENOMEM;
-    if ((size_t)sw->na + 2 > sw->mask_cap) {
+    const size_t need = (size_t)sw->na + 4 > (size_t)sw->w ? (size_t)sw->na + 4 : (size_t)sw->w;
+    if (need > sw->scratch_cap) {
         for (int t = 0; t < sw->max_threads; t++) {
-            unsigned char *m = realloc(sw->mask[t], (size_t)sw->na + 2);
-            if (!m)
+            int *m = realloc(sw->scratch[t], need * 2 * sizeof(int));
+            float *f = realloc(sw->dscratch[t], need * sizeof(float));
+            if (m)
+                sw->scratch[t] = m;
+            if (f)
+                sw->dscratch[t] = f;
+            if (!m || !f)
                 return VSV_ENOMEM;
-            sw->mask[t] = m;
         }
-        sw->mask_cap = (size_t)sw->na + 2;
+        sw->scratch_cap = need;
     }
-    memset(sw->img, 0, wh * 4 * sizeof(float));
-    for (size_t i = 0; i < wh; i++)
-        sw->link[i] = (int)(i % (size_t)sw->w);
+    /* the border rows; each composited row clears itself */
+    memset(sw->img, 0, W * 4 * sizeof(float));
+    memset(sw->img + W * (sw->h + 1) * 4, 0, W * 4 * sizeof(float));
     sw->g = g;
     sw->cam = cam;
     sw->out = out;
     sw->depth = depth;
     *rows = sw->h;
+    int rc = classification_for(sw, sc, g, c);
+    if (rc)
+        return rc;
+    *classify = sw->valid[c] ? 0 : sw->nc;
     return 0;
 }
 
-/* Intermediate row y through every slice, front to back. */
 /* Opaque-pixel skipping: the first pixel at or after x of this row that is
  * not yet opaque (w when none), following the links and shortening the one
  * at x to point there. */
-static int open_pixel(int *lk, int x, int w)
+static int open_pixel(int *lk, int x)
 {
     int xx = x;
-    while (xx < w && lk[xx] != xx)
+    while (lk[xx] != xx)
         xx = lk[xx];
     if (xx != x)
         lk[x] = xx;
     return xx;
 }
 
-/* One intermediate pixel: the bilinear blend of four classified voxels of
- * slice k at voxel coordinates (pa, pb), composited over what is there. */
-static void composite(vsv_sw *sw, float *px, int *lk, int x, int k, double pa, double pb, double delta)
+/* One pixel: the bilinear blend (weights w) of voxels v0[0], v0[1], v1[0],
+ * v1[1] composited over px with d world metres of ray per slice; opaque
+ * pixels are linked past. */
+static inline __attribute__((always_inline)) void sample(const float *lut, v4 *px, int *lk, int x, const svox *v0,
+                                                         const svox *v1, const v4 w, float d)
 {
-    const int a = sw->a, b = sw->b, c = sw->c, na = sw->na, nb = sw->nb, nx = sw->n[0], ny = sw->n[1];
-    const int ia = (int)floor(pa), ib = (int)floor(pb);
-    const float fu = (float)(pa - ia), fv = (float)(pb - ib);
-    float acc[4] = {0, 0, 0, 0};
-    for (int q = 0; q < 4; q++) {
-        const int ja = ia + (q & 1), jb = ib + (q >> 1);
-        if (ja < 0 || ja >= na || jb < 0 || jb >= nb)
-            continue;
-        const float wq = ((q & 1) ? fu : 1 - fu) * ((q >> 1) ? fv : 1 - fv);
-        int idx[3];
-        idx[a] = ja, idx[b] = jb, idx[c] = k;
-        const cvox *v = &sw->cls[((size_t)idx[2] * ny + idx[1]) * nx + idx[0]];
-        acc[0] += wq * v->s;
-        acc[1] += wq * v->r;
-        acc[2] += wq * v->g;
-        acc[3] += wq * v->b;
-    }
-    if (!(acc[0] > 0))
+    const v4 acc = w[0] * v0[0] + w[1] * v0[1] + w[2] * v1[0] + w[3] * v1[1];
+    const float S = acc[3];
+    if (!(S > 0))
         return;
-    const float T = 1 - px[3];
-    const float al = (float)(1 - exp(-acc[0] * delta));
-    px[0] += T * al * acc[1] / acc[0];
-    px[1] += T * al * acc[2] / acc[0];
-    px[2] += T * al * acc[3] / acc[0];
-    px[3] += T * al;
-    if (px[3] >= OPAQUE)
+    const float u = S * d;
+    const float f = u < LUT_MAX ? lut[(int)(u * (LUT_N / LUT_MAX) + 0.5f)] : 1 / u;
+    *px += ((1 - (*px)[3]) * d * f) * acc; /* transmittance x alpha / S */
+    if ((*px)[3] >= OPAQUE)
         lk[x] = x + 1;
 }
 
-/* Perspective: slice k is the reference slice scaled by s_k about the eye. */
-static void composite_row_persp(vsv_sw *sw, int y, int thread)
-{
-    const int c = sw->c, na = sw->na, nb = sw->nb;
-    unsigned char *m0 = sw->mask[thread];
-    float *row = sw->img + (size_t)y * sw->w * 4;
-    int *lk = sw->link + (size_t)y * sw->w;
-    const double ea = sw->eye[sw->a], eb = sw->eye[sw->b], ec = sw->eye[c];
-    const double yb = y - sw->tb; /* the row on the reference slice, voxel units */
-    for (int s = 0; s < sw->nc; s++) {
-        const int k = sw->front + s * sw->dk;
-        const double sk = (sw->kref - ec) / (k - ec);
-        const double pb = eb + (yb - eb) / sk;
-        if (pb < -1 || pb > nb)
-            continue;
-        const int ib = (int)floor(pb);
-        memset(m0, 0, (size_t)na + 1);
-        scan_mask(sw, c, k, ib, m0);
-        scan_mask(sw, c, k, ib + 1, m0);
-        /* the pixels whose voxel coordinate pa lies in [-1, na] */
-        const int x0 = (int)ceil(sw->ta + ea + (-1 - ea) * sk), x1 = (int)floor(sw->ta + ea + (na - ea) * sk);
-        for (int x = x0 < 0 ? 0 : x0; x <= x1 && x < sw->w; x++) {
-            const int open = open_pixel(lk, x, sw->w);
-            if (open != x) { /* opaque pixels: skip them */
-                x = open - 1;
-                continue;
-            }
-            const double pa = ea + (x - sw->ta - ea) / sk;
-            const int ia = (int)floor(pa);
-            const int i0 = ia < 0 ? 0 : ia > na - 1 ? na - 1 : ia, i1 = ia + 1 > na - 1 ? na - 1 : ia + 1 < 0 ? 0 : ia + 1;
-            if (!m0[i0] && !m0[i1])
-                continue;
-            /* world length of this ray per slice */
-            const double ua = (x - sw->ta - ea) / (sw->kref - ec), ub = (yb - eb) / (sw->kref - ec);
-            const double delta = sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + ub * ub * sw->wsz[1] * sw->wsz[1] +
-                                      sw->wsz[2] * sw->wsz[2]);
-            composite(sw, row + 4 * x, lk, x, k, pa, pb, delta);
-        }
-    }
-}
+static v4 weights(float fu, float fv) { return (v4){(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv}; }
 
+/* Intermediate row y through every slice, front to back. Slice k samples
+ * the voxel coordinates pa = pa0 + x dpa, pb along the row (dpa = 1 for
+ * parallel rays, with the same bilinear weights all along; 1/s_k for
+ * perspective). */
 void vsv_sw_composite_row(void *p, int y, int thread)
 {
     vsv_sw *sw = p;
-    if (sw->persp) {
-        composite_row_persp(sw, y, thread);
-        return;
+    const int c = sw->c, na = sw->na, nb = sw->nb, w = sw->w, persp = sw->persp;
+    const size_t W = (size_t)w + 2;
+    float *row = sw->img + ((size_t)y + 1) * W * 4;
+    memset(row, 0, W * 4 * sizeof(float));
+    v4 *const img = (v4 *)row + 1; /* pixel 0 */
+    int *lk = sw->link + (size_t)y * (w + 1);
+    for (int x = 0; x <= w; x++)
+        lk[x] = x;
+    int *span = sw->scratch[thread];
+    float *dl = sw->dscratch[thread];
+    const double ea = sw->eye[sw->a], eb = sw->eye[sw->b], ec = sw->eye[c];
+    if (persp) { /* world length of each pixel's ray per slice */
+        const double ub = (y - sw->tb - eb) / (sw->kref - ec);
+        const double kb = ub * ub * sw->wsz[1] * sw->wsz[1] + sw->wsz[2] * sw->wsz[2];
+        for (int x = 0; x < w; x++) {
+            const double ua = (x - sw->ta - ea) / (sw->kref - ec);
+            dl[x] = (float)sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + kb);
+        }
     }
-    const int c = sw->c, na = sw->na, nb = sw->nb;
-    unsigned char *m0 = sw->mask[thread];
-    float *row = sw->img + (size_t)y * sw->w * 4;
-    int *lk = sw->link + (size_t)y * sw->w;
+    const float delta = (float)sw->delta, *lut = sw->lut;
+    const size_t slice = (size_t)(nb + 2) * (na + 2);
     for (int s = 0; s < sw->nc; s++) {
         const int k = sw->front + s * sw->dk;
-        const double fa = sw->sa * k + sw->ta, fb = sw->sb * k + sw->tb;
-        /* intermediate pixel (x, y) samples voxel coordinates (x - fa, y - fb):
-         * the slice is only sheared, so the fractions are the same everywhere */
-        const int oa = (int)floor(fa), ob = (int)floor(fb);
-        if (y < ob || y > ob + nb)
+        double pa0, dpa, pb;
+        if (persp) {
+            const double sk = (sw->kref - ec) / (k - ec);
+            dpa = 1 / sk;
+            pa0 = ea - (sw->ta + ea) / sk;
+            pb = eb + (y - sw->tb - eb) / sk;
+        } else {
+            dpa = 1;
+            pa0 = -(sw->sa * k + sw->ta);
+            pb = y - (sw->sb * k + sw->tb);
+        }
+        if (!(pb >= -1) || !(pb < nb))
             continue;
-        const int ib0 = y - ob - 1, ib1 = y - ob; /* the two voxel rows under this row */
-        memset(m0, 0, (size_t)na + 1);
-        scan_mask(sw, c, k, ib0, m0);
-        scan_mask(sw, c, k, ib1, m0);
-        for (int x = oa; x <= oa + na; x++) {
-            const int open = open_pixel(lk, x, sw->w);
-            if (open != x) { /* opaque pixels: skip them */
-                x = open - 1;
+        const int ib = (int)(pb + 1) - 1;
+        const float fv = (float)(pb - ib);
+        const uint16_t *A = ib >= 0 ? sw->ivl[c] + ((size_t)k * nb + ib) * (na + 4) : NULL;
+        const uint16_t *B = ib + 1 < nb ? sw->ivl[c] + ((size_t)k * nb + ib + 1) * (na + 4) : NULL;
+        const int nspan = merge_footprints(A, B, span);
+        if (!nspan)
+            continue;
+        const svox *r0 = sw->vox[c] + k * slice + (size_t)(ib + 1) * (na + 2), *r1 = r0 + (na + 2);
+        /* parallel rays: pixel x reads border index x + ip0 with weights wc */
+        const int ip0 = (int)floor(pa0 + 1);
+        const v4 wc = weights((float)(pa0 + 1 - ip0), fv);
+        for (int q = 0; q < nspan; q++) {
+            /* pixels whose pa lies in [lo, hi) */
+            int x = (int)ceil((span[2 * q] - pa0) / dpa), xe = (int)ceil((span[2 * q + 1] - pa0) / dpa) - 1;
+            if (x < 0)
+                x = 0;
+            if (xe > w - 1)
+                xe = w - 1;
+            if (!persp) {
+                for (; x <= xe; x++) {
+                    x = open_pixel(lk, x);
+                    if (x > xe)
+                        break;
+                    sample(lut, img + x, lk, x, r0 + x + ip0, r1 + x + ip0, wc, delta);
+                }
                 continue;
             }
-            const int ia0 = x - oa - 1, ia1 = x - oa;
-            const int mi0 = ia0 < 0 ? 0 : ia0, mi1 = ia1 >= na ? na - 1 : ia1;
-            if (!m0[mi0] && !m0[mi1])
-                continue; /* transparent voxels around: nothing to add */
-            composite(sw, row + 4 * x, lk, x, k, x - fa, y - fb, sw->delta);
+            for (; x <= xe; x++) {
+                x = open_pixel(lk, x);
+                if (x > xe)
+                    break;
+                const float pa = (float)(pa0 + x * dpa) + 1; /* >= 0: the border index */
+                const int ip = (int)pa;
+                sample(lut, img + x, lk, x, r0 + ip, r1 + ip, weights(pa - ip, fv), dl[x]);
+            }
         }
     }
 }
 
-/* Where the ray of final pixel (px, py) crosses the slice plane k = 0, in
- * intermediate-image coordinates. */
-static void warp_point(const vsv_sw *sw, double px, double py, double *x, double *y)
+/* Ray of final pixel px on row py: o(px) = o0 + px o1, direction along
+ * d0 + px d1 (not unit length), in voxel index coordinates. */
+static void row_rays(const vsv_sw *sw, int py, double o0[3], double o1[3], double d0[3], double d1[3])
 {
     const vsv_geo *g = sw->g;
-    double o[3], rd[3];
-    vsv_pixel_ray(sw->cam, (int)px, (int)py, o, rd);
-    const double q[3] = {(o[0] - g->ox) / g->dx, (o[1] - g->oy) / g->dy, (o[2] / g->E - g->oz) / g->dz};
-    if (sw->persp) { /* this ray's crossing with the reference slice */
-        const double dv[3] = {rd[0] / g->dx, rd[1] / g->dy, rd[2] / (g->dz * g->E)};
-        const double t = (sw->kref - q[sw->c]) / dv[sw->c];
-        *x = q[sw->a] + t * dv[sw->a] + sw->ta;
-        *y = q[sw->b] + t * dv[sw->b] + sw->tb;
-        return;
+    double oa[3], ra[3], ob[3], rb[3];
+    vsv_pixel_ray(sw->cam, 0, py, oa, ra);
+    vsv_pixel_ray(sw->cam, 1, py, ob, rb);
+    if (sw->persp) { /* unit directions: undo the normalisation through the forward component */
+        double f[3] = {sw->cam->dir[0], sw->cam->dir[1], sw->cam->dir[2]};
+        const double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        const double na = fl / (ra[0] * f[0] + ra[1] * f[1] + ra[2] * f[2]);
+        const double nb = fl / (rb[0] * f[0] + rb[1] * f[1] + rb[2] * f[2]);
+        for (int i = 0; i < 3; i++) {
+            ra[i] *= na;
+            rb[i] *= nb;
+        }
     }
-    const double t = -q[sw->c] / sw->dv[sw->c];
-    *x = q[sw->a] + t * sw->dv[sw->a] + sw->ta;
-    *y = q[sw->b] + t * sw->dv[sw->b] + sw->tb;
+    const double sc[3] = {g->dx, g->dy, g->dz * g->E};
+    const double qa[3] = {(oa[0] - g->ox) / g->dx, (oa[1] - g->oy) / g->dy, (oa[2] / g->E - g->oz) / g->dz};
+    const double qb[3] = {(ob[0] - g->ox) / g->dx, (ob[1] - g->oy) / g->dy, (ob[2] / g->E - g->oz) / g->dz};
+    for (int i = 0; i < 3; i++) {
+        o0[i] = qa[i];
+        o1[i] = qb[i] - qa[i];
+        d0[i] = ra[i] / sc[i];
+        d1[i] = (rb[i] - ra[i]) / sc[i];
+    }
 }
 
-/* Final row py: the warp is affine (parallel rays), so the intermediate
- * point moves by a constant step per pixel; bilinear there; the ground
- * behind. */
+/* Final row py: each pixel's ray meets the reference plane (k = kref for
+ * perspective, 0 for parallel rays) at an intermediate-image point; bilinear
+ * there (the image has an empty border, so no tap is out of bounds); the
+ * ground behind. */
 void vsv_sw_warp_row(void *p, int py, int thread)
 {
     vsv_sw *sw = p;
     const vsv_geo *g = sw->g;
     const vsv_camera *cam = sw->cam;
-    const int w = sw->w, h = sw->h;
+    const int w = sw->w, h = sw->h, a = sw->a, b = sw->b, c = sw->c;
+    const size_t W = (size_t)w + 2;
     (void)thread;
-    double x0w, y0w, x1w, y1w;
-    warp_point(sw, 0, py, &x0w, &y0w);
-    warp_point(sw, 1, py, &x1w, &y1w);
-    const double ddx = x1w - x0w, ddy = y1w - y0w;
+    double o0[3], o1[3], d0[3], d1[3];
+    row_rays(sw, py, o0, o1, d0, d1);
+    const double kp = sw->persp ? sw->kref : 0;
     const double st = 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E);
-    for (int px = 0; px < cam->width; px++) {
-        double x = x0w + px * ddx, y = y0w + px * ddy;
-        if (sw->persp) /* projective: each ray on its own */
-            warp_point(sw, px, py, &x, &y);
-        float *dst = sw->out + 4 * ((size_t)py * cam->width + px);
-        dst[0] = dst[1] = dst[2] = dst[3] = 0;
-        if (sw->depth)
-            sw->depth[(size_t)py * cam->width + px] = INFINITY;
-        const int xi = (int)floor(x), yi = (int)floor(y);
-        const float fx = (float)(x - xi), fy = (float)(y - yi);
-        for (int k = 0; k < 4; k++) {
-            const int xx = xi + (k & 1), yy = yi + (k >> 1);
-            if (xx < 0 || yy < 0 || xx >= w || yy >= h)
+    float *const out = sw->out + 4 * (size_t)py * cam->width;
+    float *dep = sw->depth ? sw->depth + (size_t)py * cam->width : NULL;
+    memset(out, 0, sizeof(float) * 4 * cam->width);
+    if (dep)
+        for (int px = 0; px < cam->width; px++)
+            dep[px] = INFINITY;
+    /* the pixels whose point can fall inside the image: all of them for
+     * perspective, an interval for parallel rays (the point moves linearly) */
+    int p0 = 0, p1 = cam->width - 1;
+    double x0 = 0, y0 = 0, ddx = 0, ddy = 0;
+    if (!sw->persp) {
+        const double t = (kp - o0[c]) / d0[c];
+        x0 = o0[a] + t * d0[a] + sw->ta, y0 = o0[b] + t * d0[b] + sw->tb;
+        const double tx = (kp - o0[c] - o1[c]) / d0[c];
+        ddx = o0[a] + o1[a] + tx * d0[a] + sw->ta - x0, ddy = o0[b] + o1[b] + tx * d0[b] + sw->tb - y0;
+        double lo = 0, hi = cam->width - 1;
+        const double v0[2] = {x0, y0}, dv[2] = {ddx, ddy}, lim[2] = {w, h};
+        for (int i = 0; i < 2; i++) {
+            if (dv[i] == 0) {
+                if (v0[i] < -1 || v0[i] >= lim[i])
+                    hi = -1;
                 continue;
-            const float wq = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
-            const float *sp = sw->img + 4 * ((size_t)yy * w + xx);
-            for (int ch = 0; ch < 4; ch++)
-                dst[ch] += wq * sp[ch];
-        }
-        if (g->terrain) {
-            double o[3], rd[3], t0b, t1b, t_hit = INFINITY;
-            vsv_pixel_ray(cam, px, py, o, rd);
-            if (vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
-                t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, st);
-            if (t_hit < INFINITY) {
-                float rgb[3];
-                vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
-                for (int ch = 0; ch < 3; ch++)
-                    dst[ch] += (1 - dst[3]) * rgb[ch];
-                dst[3] = 1;
-                if (sw->depth)
-                    sw->depth[(size_t)py * cam->width + px] = (float)t_hit;
             }
+            const double e0 = (-1 - v0[i]) / dv[i], e1 = (lim[i] - v0[i]) / dv[i];
+            lo = fmax(lo, fmin(e0, e1) - 1);
+            hi = fmin(hi, fmax(e0, e1) + 1);
+        }
+        p0 = (int)fmax(0, floor(lo));
+        p1 = (int)fmin(cam->width - 1, ceil(hi));
+    }
+    for (int px = p0; px <= p1; px++) {
+        double x = x0 + px * ddx, y = y0 + px * ddy;
+        if (sw->persp) {
+            const double qa = o0[a], qb = o0[b], qc = o0[c]; /* the eye */
+            const double va = d0[a] + px * d1[a], vb = d0[b] + px * d1[b], vc = d0[c] + px * d1[c];
+            const double t = (kp - qc) / vc;
+            x = qa + t * va + sw->ta, y = qb + t * vb + sw->tb;
+        }
+        if (x >= -1 && x < w && y >= -1 && y < h) {
+            const int xi = (int)(x + 1), yi = (int)(y + 1); /* border indices */
+            const float fx = (float)(x + 1 - xi), fy = (float)(y + 1 - yi);
+            const v4 *s0 = (const v4 *)(sw->img + 4 * ((size_t)yi * W + xi)), *s1 = s0 + W;
+            *(v4 *)(out + 4 * px) = (1 - fy) * ((1 - fx) * s0[0] + fx * s0[1]) + fy * ((1 - fx) * s1[0] + fx * s1[1]);
+        }
+    }
+    if (!g->terrain)
+        return;
+    for (int px = 0; px < cam->width; px++) {
+        float *dst = out + 4 * px;
+        double o[3], rd[3], t0b, t1b, t_hit = INFINITY;
+        vsv_pixel_ray(cam, px, py, o, rd);
+        if (vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
+            t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, st);
+        if (t_hit < INFINITY) {
+            float rgb[3];
+            vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
+            for (int ch = 0; ch < 3; ch++)
+                dst[ch] += (1 - dst[3]) * rgb[ch];
+            dst[3] = 1;
+            if (dep)
+                dep[px] = (float)t_hit;
         }
     }
 }
@@ -482,12 +553,20 @@ void vsv_sw_warp_row(void *p, int py, int thread)
 vsv_sw *vsv_sw_create(int max_threads)
 {
     vsv_sw *sw = calloc(1, sizeof *sw);
-    if (sw && !(sw->mask = calloc((size_t)max_threads, sizeof *sw->mask))) {
-        free(sw);
+    if (!sw)
+        return NULL;
+    sw->scratch = calloc((size_t)max_threads, sizeof *sw->scratch);
+    sw->dscratch = calloc((size_t)max_threads, sizeof *sw->dscratch);
+    if (!sw->scratch || !sw->dscratch) {
+        vsv_sw_free(sw);
         return NULL;
     }
-    if (sw)
-        sw->max_threads = max_threads;
+    sw->max_threads = max_threads;
+    sw->lut[0] = 1;
+    for (int i = 1; i <= LUT_N; i++) {
+        const double u = i * (double)LUT_MAX / LUT_N;
+        sw->lut[i] = (float)(-expm1(-u) / u);
+    }
     return sw;
 }
 
@@ -495,16 +574,20 @@ void vsv_sw_free(vsv_sw *sw)
 {
     if (!sw)
         return;
-    free(sw->cls);
     for (int c = 0; c < 3; c++) {
-        free(sw->runs[c]);
-        free(sw->starts[c]);
+        free(sw->vox[c]);
+        free(sw->ivl[c]);
     }
     free(sw->img);
     free(sw->link);
-    for (int t = 0; sw->mask && t < sw->max_threads; t++)
-        free(sw->mask[t]);
-    free(sw->mask);
+    for (int t = 0; t < sw->max_threads; t++) {
+        if (sw->scratch)
+            free(sw->scratch[t]);
+        if (sw->dscratch)
+            free(sw->dscratch[t]);
+    }
+    free(sw->scratch);
+    free(sw->dscratch);
     free(sw);
 }
 
