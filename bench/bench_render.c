@@ -75,7 +75,7 @@ int main(int argc, char **argv)
     }
     printf("| renderer | image | threads | frames/s | ms/frame |\n|---|---|---|---|---|\n");
     const int sizes[2] = {512, 1024};
-    for (int kind = 0; kind < 2; kind++)
+    for (int kind = getenv("VSV_BENCH_SW_ONLY") ? 1 : 0; kind < 2; kind++)
     for (int si = 0; si < 2; si++)
         for (int th = 1; th <= 2; th++) {
             vsv_render_opts o;

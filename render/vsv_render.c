@@ -38,6 +38,7 @@ struct vsv_renderer {
     unsigned char *skip;
     size_t skip_cap;
     vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
+    vsv_rays rays;        /* the camera's rays, for this frame */
 };
 
 void vsv_render_opts_init(vsv_render_opts *o)
@@ -81,9 +82,12 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
     if (g->terrain) {
         /* the box reaches below the lowest ground, so rays meet the sea surface
          * inside it rather than on its face */
-        float lowest = 0;
-        for (size_t c = 0; c < (size_t)g->nx * g->ny; c++)
+        float lowest = 0, highest = 0;
+        for (size_t c = 0; c < (size_t)g->nx * g->ny; c++) {
             lowest = g->terrain[c] < lowest ? g->terrain[c] : lowest;
+            highest = g->terrain[c] > highest ? g->terrain[c] : highest;
+        }
+        g->ground_top = highest * g->E;
         const double floor_z = (lowest - 10.0) * g->E;
         if (g->bmin[2] > floor_z)
             g->bmin[2] = floor_z;
@@ -142,10 +146,11 @@ static void cross(const double a[3], const double b[3], double o[3])
     o[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* Ray of pixel (px, py). */
-void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3])
+void vsv_rays_init(vsv_rays *R, const vsv_camera *cam)
 {
-    double f[3] = {cam->dir[0], cam->dir[1], cam->dir[2]}, r[3], u[3];
+    double *f = R->f, *r = R->r, *u = R->u;
+    for (int i = 0; i < 3; i++)
+        f[i] = cam->dir[i];
     normalize(f);
     cross(f, cam->up, r);
     if (r[0] == 0 && r[1] == 0 && r[2] == 0) {
@@ -155,21 +160,38 @@ void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[
     normalize(r);
     cross(r, f, u);
     const double aspect = (double)cam->width / cam->height;
-    const double sx = 2 * (px + 0.5) / cam->width - 1, sy = 1 - 2 * (py + 0.5) / cam->height;
     for (int i = 0; i < 3; i++)
-        o[i] = cam->pos[i] + cam->eye_offset * r[i];
-    if (cam->fov_deg > 0) {
-        const double t = tan(cam->fov_deg * M_PI / 360);
-        for (int i = 0; i < 3; i++)
-            d[i] = f[i] + sx * t * aspect * r[i] + sy * t * u[i];
+        R->o[i] = cam->pos[i] + cam->eye_offset * r[i];
+    R->persp = cam->fov_deg > 0;
+    const double t = R->persp ? tan(cam->fov_deg * M_PI / 360) : cam->ortho_height / 2;
+    R->kx = t * aspect;
+    R->ky = t;
+    R->w = cam->width;
+    R->h = cam->height;
+}
+
+void vsv_rays_get(const vsv_rays *R, int px, int py, double o[3], double d[3])
+{
+    const double sx = R->kx * (2 * (px + 0.5) / R->w - 1), sy = R->ky * (1 - 2 * (py + 0.5) / R->h);
+    if (R->persp) {
+        for (int i = 0; i < 3; i++) {
+            o[i] = R->o[i];
+            d[i] = R->f[i] + sx * R->r[i] + sy * R->u[i];
+        }
         normalize(d);
     } else {
-        const double h = cam->ortho_height / 2;
         for (int i = 0; i < 3; i++) {
-            o[i] += sx * h * aspect * r[i] + sy * h * u[i];
-            d[i] = f[i];
+            o[i] = R->o[i] + sx * R->r[i] + sy * R->u[i];
+            d[i] = R->f[i];
         }
     }
+}
+
+void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3])
+{
+    vsv_rays R;
+    vsv_rays_init(&R, cam);
+    vsv_rays_get(&R, px, py, o, d);
 }
 
 /* Slab intersection of the ray with a box; 0 if missed. */
@@ -238,27 +260,63 @@ void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3])
         rgb[i] = (float)(c[i] * lam);
 }
 
-double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1, double st)
+double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1)
 {
-    /* march at the sample step, the last test on the exit, then bisect */
-    double prev = t0;
+    /* only where the ray is below the highest ground can it meet it */
+    if (d[2] < 0) {
+        const double tt = (g->ground_top - o[2]) / d[2];
+        if (tt > t0)
+            t0 = tt;
+    } else if (d[2] > 0) {
+        const double tt = (g->ground_top - o[2]) / d[2];
+        if (tt < t1)
+            t1 = tt;
+    } else if (o[2] > g->ground_top) {
+        return INFINITY;
+    }
+    if (t0 > t1)
+        return INFINITY;
+    /* the ground is bilinear per cell: march half a cell at a time across
+     * it (the whole way at once for a vertical ray), the last test on the
+     * exit, then bisect */
+    const double hs = sqrt(d[0] * d[0] + d[1] * d[1]);
+    const double st = hs > 0 ? 0.5 * fmin(g->dx, g->dy) / hs : t1 - t0 + 1;
+    double prev = t0, fprev = 0;
     for (double t = t0;; t += st) {
         if (t > t1)
             t = t1;
-        if (o[2] + t * d[2] <= vsv_geo_terrain(g, o[0] + t * d[0], o[1] + t * d[1])) {
-            double a = prev, b = t;
-            for (int it = 0; it < 20 && t > t0; it++) {
-                const double m = 0.5 * (a + b);
-                if (o[2] + m * d[2] <= vsv_geo_terrain(g, o[0] + m * d[0], o[1] + m * d[1]))
-                    b = m;
-                else
-                    a = m;
+        /* height of the ray above the ground */
+        const double ft = o[2] + t * d[2] - vsv_geo_terrain(g, o[0] + t * d[0], o[1] + t * d[1]);
+        if (ft <= 0) {
+            if (t == t0)
+                return t;
+            /* regula falsi (Illinois) down to a thousandth of a cell */
+            const double tol = 1e-3 * fmin(g->dx, g->dy);
+            double a = prev, b = t, fa = fprev, fb = ft;
+            int side = 0;
+            for (int it = 0; it < 60 && b - a > tol; it++) {
+                double m = (a * fb - b * fa) / (fb - fa);
+                if (!(m > a && m < b))
+                    m = 0.5 * (a + b);
+                const double fm = o[2] + m * d[2] - vsv_geo_terrain(g, o[0] + m * d[0], o[1] + m * d[1]);
+                if (fm <= 0) {
+                    b = m, fb = fm;
+                    if (side == -1)
+                        fa *= 0.5;
+                    side = -1;
+                } else {
+                    a = m, fa = fm;
+                    if (side == 1)
+                        fb *= 0.5;
+                    side = 1;
+                }
             }
             return b;
         }
         if (t >= t1)
             return INFINITY;
         prev = t;
+        fprev = ft;
     }
 }
 
@@ -380,7 +438,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
     const vsv_geo *g = &r->g;
     const vsv_scene *sc = r->sc;
     double o[3], d[3], t0, t1;
-    vsv_pixel_ray(r->cam, px, py, o, d);
+    vsv_rays_get(&r->rays, px, py, o, d);
     out[0] = out[1] = out[2] = out[3] = 0;
     *depth = INFINITY;
     if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
@@ -390,7 +448,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
         t1 = r->cam->zfar;
     /* a fixed step in world units: a fraction of the smallest cell edge */
     const double st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
-    const double t_hit = g->terrain ? vsv_geo_terrain_hit(g, o, d, t0, t1, st) : INFINITY;
+    const double t_hit = g->terrain ? vsv_geo_terrain_hit(g, o, d, t0, t1) : INFINITY;
     const double tend = fmin(t1, t_hit);
     /* the volume, front to back */
     double T = 1, acc[3] = {0, 0, 0};
@@ -637,6 +695,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
         return rc;
     r->sc = sc;
     r->cam = cam;
+    vsv_rays_init(&r->rays, cam);
     r->rgba = rgba;
     r->depth = depth;
     r->tiles_x = (cam->width + TILE - 1) / TILE;

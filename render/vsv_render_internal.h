@@ -16,6 +16,7 @@ typedef struct vsv_geo {
     double bmin[3], bmax[3];
     int nx, ny, nz;
     const float *terrain;
+    double ground_top; /* the highest ground, exaggerated (with a terrain) */
 } vsv_geo;
 
 void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g);
@@ -26,9 +27,18 @@ void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3]);
 /* Slab intersection of a ray with a box: [t0, t1]; 0 if missed. */
 int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1);
 /* Distance along the ray (o, d) where it first meets the ground between t0
- * and t1, marching at step st and refining by bisection; INFINITY if never. */
-double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1, double st);
+ * and t1 (marching half a cell across it, below the highest ground only, and
+ * refining by bisection); INFINITY if never. */
+double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1);
+/* A camera's rays: the basis worked out once per frame. */
+typedef struct vsv_rays {
+    double o[3], f[3], r[3], u[3], kx, ky, w, h;
+    int persp;
+} vsv_rays;
+void vsv_rays_init(vsv_rays *R, const vsv_camera *cam);
 /* Ray origin and unit direction of pixel (px, py). */
+void vsv_rays_get(const vsv_rays *R, int px, int py, double o[3], double d[3]);
+/* The same, for one pixel (works out the basis each call). */
 void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3]);
 
 /* Shear-warp in phases so the pool can run all but begin. begin sets up the

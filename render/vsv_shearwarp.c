@@ -70,6 +70,7 @@ struct vsv_sw {
     /* the current view (set by begin) */
     const vsv_geo *g;
     const vsv_camera *cam;
+    vsv_rays rays;
     float *out, *depth;
     int c, a, b, na, nb, nc, w, h, front, dk;
     double sa, sb, ta, tb, delta, dv[3];
@@ -316,6 +317,7 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     memset(sw->img + W * (sw->h + 1) * 4, 0, W * 4 * sizeof(float));
     sw->g = g;
     sw->cam = cam;
+    vsv_rays_init(&sw->rays, cam);
     sw->out = out;
     sw->depth = depth;
     *rows = sw->h;
@@ -446,8 +448,8 @@ static void row_rays(const vsv_sw *sw, int py, double o0[3], double o1[3], doubl
 {
     const vsv_geo *g = sw->g;
     double oa[3], ra[3], ob[3], rb[3];
-    vsv_pixel_ray(sw->cam, 0, py, oa, ra);
-    vsv_pixel_ray(sw->cam, 1, py, ob, rb);
+    vsv_rays_get(&sw->rays, 0, py, oa, ra);
+    vsv_rays_get(&sw->rays, 1, py, ob, rb);
     if (sw->persp) { /* unit directions: undo the normalisation through the forward component */
         double f[3] = {sw->cam->dir[0], sw->cam->dir[1], sw->cam->dir[2]};
         const double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
@@ -484,7 +486,6 @@ void vsv_sw_warp_row(void *p, int py, int thread)
     double o0[3], o1[3], d0[3], d1[3];
     row_rays(sw, py, o0, o1, d0, d1);
     const double kp = sw->persp ? sw->kref : 0;
-    const double st = 0.5 * fmin(fmin(g->dx, g->dy), g->dz * g->E);
     float *const out = sw->out + 4 * (size_t)py * cam->width;
     float *dep = sw->depth ? sw->depth + (size_t)py * cam->width : NULL;
     memset(out, 0, sizeof(float) * 4 * cam->width);
@@ -535,9 +536,9 @@ void vsv_sw_warp_row(void *p, int py, int thread)
     for (int px = 0; px < cam->width; px++) {
         float *dst = out + 4 * px;
         double o[3], rd[3], t0b, t1b, t_hit = INFINITY;
-        vsv_pixel_ray(cam, px, py, o, rd);
+        vsv_rays_get(&sw->rays, px, py, o, rd);
         if (vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
-            t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b, st);
+            t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b);
         if (t_hit < INFINITY) {
             float rgb[3];
             vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
