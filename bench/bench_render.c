@@ -103,7 +103,7 @@ int main(int argc, char **argv)
             printf("| %s | %dx%d | %d | %.2f | %.0f |\n", kind ? "shear-warp" : "raycast", n, n,
                    th, 1 / dt, 1000 * dt);
             if (kind && si == 0 && th == 1)
-                printf("| (shear-warp classification + RLE of 3 axes) | | 1 | | %.0f |\n", 1000 * rebuild);
+                printf("| (shear-warp classification, one viewing axis) | | 1 | | %.0f |\n", 1000 * rebuild);
             fflush(stdout);
             free(img);
             vsv_renderer_free(r);
