@@ -48,7 +48,7 @@ PKG_LIBS := $(shell $(PKG_CONFIG) --libs $(PKGS) 2>/dev/null)
 # Truncating text into fixed-size info fields is by design, hence no -Wformat-truncation.
 WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
 CFLAGS_ALL = -std=c11 -D_GNU_SOURCE $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
-             -Iformat -Iconvert -Irender $(PKG_CFLAGS) $(CFLAGS)
+             -Iformat -Iconvert -Irender -Istream $(PKG_CFLAGS) $(CFLAGS)
 CXXFLAGS_ALL = -std=c++17 $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat $(PKG_CFLAGS) $(CXXFLAGS)
 LDLIBS_ALL = $(SANFLAGS) -pthread $(PKG_LIBS) -lstdc++ -lm $(LDLIBS)
 
@@ -58,7 +58,7 @@ else
   Q = @
 endif
 
-LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c) $(wildcard render/vsv_*.c)
+LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c) $(wildcard render/vsv_*.c) $(wildcard stream/vsv_*.c)
 LIB_CXX = $(wildcard format/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
 LIB = $(B)/libvesuvius.a
@@ -157,7 +157,7 @@ install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
 	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
 	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/
-	install -m 644 format/vsv_format.h render/vsv_render.h $(DESTDIR)$(INCDIR)/
+	install -m 644 format/vsv_format.h render/vsv_render.h stream/vsv_pager.h stream/vsv_clock.h $(DESTDIR)$(INCDIR)/
 	install -m 644 man/*.1 $(DESTDIR)$(MANDIR)/man1/
 	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
 

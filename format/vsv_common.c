@@ -26,6 +26,7 @@ const char *vsv_strerror(int code)
     case VSV_ECODEC: return "payload does not decode";
     case VSV_ENOTFOUND: return "not found";
     case VSV_EUNSUPPORTED: return "not supported";
+    case VSV_EAGAIN: return "not ready yet";
     default: return "unknown error";
     }
 }

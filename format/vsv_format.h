@@ -29,7 +29,8 @@ enum {
     VSV_ERANGE = -8,       /* index (time step, species, brick) out of range */
     VSV_ECODEC = -9,       /* compressed payload does not decode */
     VSV_ENOTFOUND = -10,   /* named item does not exist */
-    VSV_EUNSUPPORTED = -11 /* valid but not supported by this build */
+    VSV_EUNSUPPORTED = -11, /* valid but not supported by this build */
+    VSV_EAGAIN = -12        /* not ready yet (try again later) */
 };
 
 /* A short fixed text for an error code; borrowed, static. */

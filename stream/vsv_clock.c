@@ -1,0 +1,152 @@
+/* vsv_clock.c — see vsv_clock.h. */
+#include "vsv_clock.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+static int cmp_i64(const void *a, const void *b)
+{
+    const int64_t x = *(const int64_t *)a, y = *(const int64_t *)b;
+    return x < y ? -1 : x > y;
+}
+
+void vsv_clock_init(vsv_clock *c, const int64_t *times, int nsteps, double rate)
+{
+    c->times = times;
+    c->nsteps = nsteps;
+    c->model = nsteps ? (double)times[0] : 0;
+    c->speed = 1;
+    c->playing = 0;
+    c->ends = VSV_CLOCK_STOP;
+    c->step = 0;
+    c->rate = rate;
+    if (!(rate > 0)) { /* the median interval per quarter second */
+        double med = 3600;
+        if (nsteps > 1) {
+            int64_t *d = malloc((size_t)(nsteps - 1) * sizeof *d);
+            if (d) {
+                for (int i = 0; i + 1 < nsteps; i++)
+                    d[i] = times[i + 1] - times[i];
+                qsort(d, (size_t)nsteps - 1, sizeof *d, cmp_i64);
+                med = (double)d[(nsteps - 1) / 2];
+                free(d);
+            }
+        }
+        c->rate = (med > 0 ? med : 1) * 4;
+    }
+}
+
+int vsv_clock_step_at(const vsv_clock *c, double t)
+{
+    int lo = 0, hi = c->nsteps - 1;
+    if (c->nsteps <= 0)
+        return 0;
+    if (t <= (double)c->times[0])
+        return 0;
+    while (lo < hi) { /* the last step with time <= t */
+        const int mid = (lo + hi + 1) / 2;
+        if ((double)c->times[mid] <= t)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+/* The step shown for the model time: at or before it going forward, at or
+ * after it going backward (so both directions show each step as it is
+ * reached). */
+static void settle(vsv_clock *c)
+{
+    int k = vsv_clock_step_at(c, c->model);
+    if (c->speed < 0 && k + 1 < c->nsteps && (double)c->times[k] < c->model)
+        k++;
+    c->step = k;
+}
+
+int vsv_clock_tick(vsv_clock *c, double dt)
+{
+    if (!c->playing || c->nsteps < 2 || !(dt > 0))
+        return c->step;
+    const double t0 = (double)c->times[0], t1 = (double)c->times[c->nsteps - 1], span = t1 - t0;
+    double m = c->model + dt * c->rate * c->speed;
+    for (int guard = 0; (m > t1 || m < t0) && guard < 64; guard++) {
+        if (c->ends == VSV_CLOCK_LOOP) {
+            m = m > t1 ? t0 + fmod(m - t1, span > 0 ? span : 1) : t1 - fmod(t0 - m, span > 0 ? span : 1);
+        } else if (c->ends == VSV_CLOCK_BOUNCE) {
+            m = m > t1 ? t1 - (m - t1) : t0 + (t0 - m);
+            c->speed = -c->speed;
+        } else {
+            m = m > t1 ? t1 : t0;
+            c->playing = 0;
+        }
+    }
+    c->model = m < t0 ? t0 : m > t1 ? t1 : m;
+    settle(c);
+    return c->step;
+}
+
+void vsv_clock_play(vsv_clock *c)
+{
+    /* playing from an end towards it starts over */
+    if (c->nsteps > 1 && c->ends == VSV_CLOCK_STOP) {
+        if (c->speed > 0 && c->step == c->nsteps - 1)
+            vsv_clock_seek_step(c, 0);
+        else if (c->speed < 0 && c->step == 0)
+            vsv_clock_seek_step(c, c->nsteps - 1);
+    }
+    c->playing = 1;
+}
+
+void vsv_clock_pause(vsv_clock *c) { c->playing = 0; }
+
+void vsv_clock_toggle(vsv_clock *c)
+{
+    if (c->playing)
+        vsv_clock_pause(c);
+    else
+        vsv_clock_play(c);
+}
+
+void vsv_clock_seek_step(vsv_clock *c, int step)
+{
+    if (c->nsteps <= 0)
+        return;
+    step = step < 0 ? 0 : step >= c->nsteps ? c->nsteps - 1 : step;
+    c->model = (double)c->times[step];
+    c->step = step;
+}
+
+void vsv_clock_step(vsv_clock *c, int n)
+{
+    c->playing = 0;
+    if (c->nsteps <= 0)
+        return;
+    long k = (long)c->step + n;
+    if (c->ends == VSV_CLOCK_LOOP)
+        k = ((k % c->nsteps) + c->nsteps) % c->nsteps;
+    vsv_clock_seek_step(c, (int)k);
+}
+
+void vsv_clock_seek_time(vsv_clock *c, int64_t t) { vsv_clock_seek_step(c, vsv_clock_step_at(c, (double)t)); }
+
+void vsv_clock_set_speed(vsv_clock *c, double x)
+{
+    if (!(x != 0) || x != x)
+        return;
+    const double a = fabs(x) < 1.0 / VSV_CLOCK_MAX_SPEED ? 1.0 / VSV_CLOCK_MAX_SPEED
+                     : fabs(x) > VSV_CLOCK_MAX_SPEED     ? VSV_CLOCK_MAX_SPEED
+                                                         : fabs(x);
+    c->speed = x < 0 ? -a : a;
+    settle(c);
+}
+
+void vsv_clock_faster(vsv_clock *c, int dir)
+{
+    const double same = (dir >= 0) == (c->speed > 0);
+    double a = same && c->playing ? fabs(c->speed) * 2 : 2;
+    if (a > VSV_CLOCK_MAX_SPEED)
+        a = VSV_CLOCK_MAX_SPEED;
+    vsv_clock_set_speed(c, dir >= 0 ? a : -a);
+    vsv_clock_play(c);
+}

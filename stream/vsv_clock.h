@@ -1,0 +1,51 @@
+/* vsv_clock.h — the playback clock: model time (seconds) driven by wall
+ * time at a chosen speed, decoupled from it.
+ *
+ * Model time runs continuously between the first and last step times; the
+ * step shown is the last one at or before it (playing backwards: the first
+ * at or after it). At speed x1 the model advances `rate` model seconds per
+ * wall second (by default the median step interval per 1/4 s, so four
+ * steps a second); fast-forward and rewind multiply that by 2, 4 ... 64
+ * (negative speeds play backwards). At an end the clock stops, wraps (loop)
+ * or turns round (bounce). Stepping pauses and moves by whole steps. */
+#ifndef VSV_CLOCK_H
+#define VSV_CLOCK_H
+
+#include <stdint.h>
+
+enum { VSV_CLOCK_STOP = 0, VSV_CLOCK_LOOP = 1, VSV_CLOCK_BOUNCE = 2 };
+
+#define VSV_CLOCK_MAX_SPEED 64
+
+typedef struct vsv_clock {
+    const int64_t *times; /* step times, increasing (borrowed) */
+    int nsteps;
+    double model;   /* model time now, seconds */
+    double rate;    /* model seconds per wall second at speed 1 */
+    double speed;   /* signed multiplier: 1, 2 ... 64 or -1 ... -64 (any non-zero) */
+    int playing;
+    int ends;       /* VSV_CLOCK_STOP, _LOOP or _BOUNCE */
+    int step;       /* the step shown */
+} vsv_clock;
+
+/* Paused at the first step, speed 1, ends STOP; rate 0 = the default. */
+void vsv_clock_init(vsv_clock *c, const int64_t *times, int nsteps, double rate);
+/* Advances by dt wall seconds (no effect while paused). Returns the step. */
+int vsv_clock_tick(vsv_clock *c, double dt);
+void vsv_clock_play(vsv_clock *c);
+void vsv_clock_pause(vsv_clock *c);
+void vsv_clock_toggle(vsv_clock *c);
+/* Pauses and moves n steps (wrapping when looping, else clamped). */
+void vsv_clock_step(vsv_clock *c, int n);
+/* Jumps to a step / to the step at or before a model time (clamped). */
+void vsv_clock_seek_step(vsv_clock *c, int step);
+void vsv_clock_seek_time(vsv_clock *c, int64_t t);
+/* Sets the signed speed (|x| clamped to 1/64 .. 64; 0 is refused). */
+void vsv_clock_set_speed(vsv_clock *c, double x);
+/* Fast-forward / rewind: doubles the speed in that direction (from x1; when
+ * paused or going the other way: x2) up to x64, and plays. */
+void vsv_clock_faster(vsv_clock *c, int dir);
+/* The step at or before model time t (the first step before it all). */
+int vsv_clock_step_at(const vsv_clock *c, double t);
+
+#endif

@@ -1,0 +1,82 @@
+/* vsv_pager.h — the brick pager: decoded bricks of a mapped .vsv in a cache
+ * bounded by a byte budget, pinned while a renderer reads them, decoded ahead
+ * of the playhead on worker threads in the direction of play.
+ *
+ * The unit of caching is one brick of one species in one state: a brick
+ * that a step leaves UNCHANGED is the same cache entry for every step that
+ * shares it, and a brick that is all code 0 (EMPTY, or no data) takes no
+ * memory. Decoding a brick walks back to its last keyframe state, so any
+ * seek costs at most K-1 delta decodes per brick (K = the file's keyframe
+ * interval).
+ *
+ * Budget: the decoded bytes held (cached, pinned or being decoded) stay
+ * within the budget except for bricks that are pinned or being decoded: a
+ * budget smaller than one time step degrades to
+ * decoding on demand, never to a deadlock. Prefetch decodes only what fits
+ * beside the current step (ahead = min(ahead option, budget / step size - 2)).
+ *
+ * Thread safety: every call may be made from any thread; the vsv_file must
+ * outlive the pager. */
+#ifndef VSV_PAGER_H
+#define VSV_PAGER_H
+
+#include "vsv_format.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+typedef struct vsv_pager vsv_pager;
+
+typedef struct vsv_pager_opts {
+    size_t budget; /* bytes of decoded bricks; 0 = a quarter of physical memory */
+    int threads;   /* decode-ahead workers; 0 = one per CPU beyond the first (at least 1); < 0 none */
+    int ahead;     /* most steps decoded ahead of the playhead; 0 = 16 */
+} vsv_pager_opts;
+
+void vsv_pager_opts_init(vsv_pager_opts *o);
+
+typedef struct vsv_pager_stats {
+    uint64_t hits, misses;    /* brick lookups by vsv_pager_get: found decoded / not */
+    uint64_t bricks_decoded;  /* by workers and by callers */
+    uint64_t bytes_decoded;   /* decoded float bytes produced */
+    double decode_seconds;    /* summed over threads */
+    uint64_t stalls;          /* gets that could not be served without waiting */
+    uint64_t evictions;       /* bricks dropped to stay within the budget */
+    int prefetch_depth;       /* steps ahead the workers aim for now */
+    size_t budget;            /* the budget in force */
+    size_t bytes;             /* decoded bytes held now (cached + pinned + decoding) */
+    size_t pinned_bytes;      /* of which pinned or being decoded */
+    size_t peak_bytes;        /* most bytes held at once */
+} vsv_pager_stats;
+
+/* Starts the pager over f (which must outlive it). */
+int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out);
+/* Stops the workers and frees every brick (no volume may still be held). */
+void vsv_pager_free(vsv_pager *p);
+/* The last error's message (names the file, step, species, brick). */
+const char *vsv_pager_error(const vsv_pager *p);
+
+/* Where playback is: the step on screen, the direction (+1, -1, 0 paused),
+ * the steps advanced per shown frame (stride >= 1), whether time wraps at the
+ * ends, and which species are wanted (nspecies flags; NULL = all). Workers
+ * decode ahead from here. Cheap; call it whenever any of these change. */
+void vsv_pager_playhead(vsv_pager *p, int step, int dir, int stride, int loop, const unsigned char *species);
+
+/* A volume shell to receive pinned bricks (no brick storage of its own). */
+vsv_volume *vsv_pager_volume_new(vsv_pager *p);
+void vsv_pager_volume_free(vsv_volume *v);
+
+/* Fills v with species s at step, every brick pinned until vsv_pager_put.
+ * wait: decode what is missing on this thread (and wait for bricks other
+ * threads are decoding); otherwise VSV_EAGAIN when any brick is not decoded
+ * yet (nothing stays pinned then; counted as a stall). A v that holds bricks
+ * is released first. */
+int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v);
+/* Unpins v's bricks (v->step becomes -1). */
+void vsv_pager_put(vsv_pager *p, vsv_volume *v);
+/* 1 when every wanted species of step is decoded (species as in playhead). */
+int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species);
+
+void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st);
+
+#endif

@@ -1,0 +1,325 @@
+/* test_stream.c — the brick pager and the playback clock. */
+#include "vsv_clock.h"
+#include "vsv_pager.h"
+#include "vsv_synth.h"
+#include "vsv_testlib.h"
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static synth SY = {40, 30, 12, 60, 20, 35};
+static float **REF; /* [step * 3 + s] whole volumes decoded directly */
+
+static int write_series(const char *path)
+{
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 8;
+    o.keyframe = 6;
+    char err[512] = "";
+    const int rc = synth_write(&SY, path, &o, err, sizeof err);
+    CHECK(rc == 0, "write a 60-step, 3-species series (brick 8, keyframe 6)", "%s", err);
+    return rc;
+}
+
+/* v equals the direct decode of (v->step, v->species) at every cell. */
+static int same_as_direct(const vsv_volume *v, int step, int s)
+{
+    if (v->step != step || v->species != s)
+        return 0;
+    const float *ref = REF[step * 3 + s];
+    for (int k = 0; k < v->nz; k++)
+        for (int j = 0; j < v->ny; j++)
+            for (int i = 0; i < v->nx; i++) {
+                const float a = vsv_volume_at(v, i, j, k), b = ref[((size_t)k * v->ny + j) * v->nx + i];
+                if (memcmp(&a, &b, sizeof a))
+                    return 0;
+            }
+    return 1;
+}
+
+/* A random walk of seeks, direction and speed changes with gets checked
+ * against direct decodes; the budget bound checked after every operation. */
+static void random_walk(vsv_file *f, size_t budget, int threads, const char *label)
+{
+    vsv_pager_opts o;
+    vsv_pager_opts_init(&o);
+    o.budget = budget;
+    o.threads = threads;
+    vsv_pager *p = NULL;
+    char name[160];
+    if (!CHECK(vsv_pager_open(f, &o, &p) == 0, "pager opens", "(%s)", label))
+        return;
+    vsv_volume *v[2] = {vsv_pager_volume_new(p), vsv_pager_volume_new(p)};
+    uint64_t rng = 12345 + budget + (uint64_t)threads;
+    int bad = 0, over = 0, gets = 0, tries = 0, tried_ok = 0;
+    unsigned char want[3] = {1, 1, 1};
+    for (int op = 0; op < 300 && !bad; op++) {
+        const uint64_t r = vsv_test_rand(&rng);
+        const int step = (int)(r % 60), s = (int)((r >> 8) % 3), h = (int)((r >> 16) & 1);
+        switch ((r >> 20) % 5) {
+        case 0: { /* playhead: any direction, stride, loop, species */
+            want[(r >> 24) % 3] = (r >> 27) & 1;
+            vsv_pager_playhead(p, step, (int)((r >> 28) % 3) - 1, 1 + (int)((r >> 30) % 8), (int)((r >> 33) & 1), want);
+            break;
+        }
+        case 1: /* a non-blocking get: EAGAIN or the right volume */
+            tries++;
+            {
+                const int rc = vsv_pager_get(p, step, s, 0, v[h]);
+                if (rc == 0)
+                    tried_ok++, bad |= !same_as_direct(v[h], step, s);
+                else
+                    bad |= rc != VSV_EAGAIN || v[h]->step != -1;
+            }
+            break;
+        case 2: /* let the workers run a little */
+            usleep(200);
+            break;
+        default: /* a blocking get: always the right volume */
+            gets++;
+            if (vsv_pager_get(p, step, s, 1, v[h]) || !same_as_direct(v[h], step, s))
+                bad = 1;
+            /* the other held volume is still intact */
+            if (v[!h]->step >= 0 && !same_as_direct(v[!h], v[!h]->step, v[!h]->species))
+                bad = 1;
+        }
+        vsv_pager_stats st;
+        vsv_pager_stats_get(p, &st);
+        if (st.bytes > st.budget + st.pinned_bytes)
+            over = 1;
+    }
+    snprintf(name, sizeof name, "%s: every volume equals the direct decode under random seeks", label);
+    CHECK(!bad, name, "(%d blocking gets, %d tries of which %d ready) %s", gets, tries, tried_ok, vsv_pager_error(p));
+    snprintf(name, sizeof name, "%s: the budget is never exceeded by more than the pinned bricks", label);
+    CHECK(!over, name, " ");
+    vsv_pager_volume_free(v[0]);
+    vsv_pager_volume_free(v[1]);
+    vsv_pager_stats st;
+    vsv_pager_stats_get(p, &st);
+    snprintf(name, sizeof name, "%s: statistics add up", label);
+    /* nothing held: only bricks a worker is decoding right now stay pinned */
+    CHECK(st.hits + st.misses > 0 && st.bricks_decoded > 0 &&
+              st.pinned_bytes <= (size_t)(threads > 0 ? threads : 0) * 8 * 8 * 8 * sizeof(float) &&
+              st.bytes_decoded == st.bricks_decoded * 8 * 8 * 8 * sizeof(float),
+          name, "(hits %llu misses %llu decoded %llu stalls %llu evictions %llu)", (unsigned long long)st.hits,
+          (unsigned long long)st.misses, (unsigned long long)st.bricks_decoded, (unsigned long long)st.stalls,
+          (unsigned long long)st.evictions);
+    vsv_pager_free(p);
+}
+
+static void test_pager(const char *path)
+{
+    vsv_file *f = NULL;
+    if (!CHECK(vsv_file_open(path, &f) == 0, "open the series", "%s", f ? vsv_file_error(f) : ""))
+        return;
+    vsv_decoder *d = NULL;
+    vsv_decoder_create(f, &d);
+    REF = calloc(60 * 3, sizeof *REF);
+    for (int t = 0; t < 60; t++)
+        for (int s = 0; s < 3; s++) {
+            REF[t * 3 + s] = malloc(sizeof(float) * 40 * 30 * 12);
+            vsv_decoder_volume(d, t, s, REF[t * 3 + s]);
+        }
+    vsv_decoder_free(d);
+    const size_t brick = 8 * 8 * 8 * sizeof(float);
+    random_walk(f, 64 << 20, 2, "64 MB budget, 2 workers");
+    random_walk(f, 20 * brick, 1, "budget of 20 bricks (under one step), 1 worker");
+    random_walk(f, 1, 2, "budget of 1 byte, 2 workers");
+    random_walk(f, 200 * brick, -1, "no workers");
+
+    /* prefetch: decoded ahead in the direction of play, backwards too */
+    vsv_pager_opts o;
+    vsv_pager_opts_init(&o);
+    o.budget = 64 << 20;
+    o.threads = 1;
+    vsv_pager *p = NULL;
+    vsv_pager_open(f, &o, &p);
+    vsv_pager_playhead(p, 30, -1, 2, 0, NULL);
+    int ready = 0;
+    for (int i = 0; i < 5000 && !ready; i++) {
+        ready = vsv_pager_ready(p, 30, NULL) && vsv_pager_ready(p, 28, NULL) && vsv_pager_ready(p, 20, NULL);
+        if (!ready)
+            usleep(1000);
+    }
+    CHECK(ready, "playing backwards at stride 2, steps 30, 28 ... 20 are decoded ahead", " ");
+    CHECK(!vsv_pager_ready(p, 31, NULL) && !vsv_pager_ready(p, 29, NULL), "steps off the stride are not decoded", " ");
+    vsv_pager_stats st;
+    vsv_pager_stats_get(p, &st);
+    CHECK(st.prefetch_depth == 16, "prefetch depth is the 16-step default with room", "(%d)", st.prefetch_depth);
+    vsv_volume *v = vsv_pager_volume_new(p), *w = vsv_pager_volume_new(p);
+    vsv_pager_stats_get(p, &st);
+    const uint64_t hits0 = st.hits;
+    CHECK(vsv_pager_get(p, 24, 0, 0, v) == 0 && same_as_direct(v, 24, 0), "a prefetched step is there without waiting",
+          " ");
+    vsv_pager_stats_get(p, &st);
+    CHECK(st.hits > hits0 && st.misses == 0, "and counts as hits", "(hits %llu misses %llu)",
+          (unsigned long long)st.hits, (unsigned long long)st.misses);
+    /* species 2 is frozen over steps 20..35: after the keyframe at 30 its
+     * bricks are shared, not copied */
+    vsv_pager_get(p, 31, 2, 1, v);
+    vsv_pager_get(p, 35, 2, 1, w);
+    int shared = 1, any = 0;
+    for (int b = 0; b < v->nbricks; b++) {
+        shared &= v->bricks[b] == w->bricks[b];
+        any |= v->bricks[b] != NULL;
+    }
+    CHECK(shared && any, "an unchanged brick is one cache entry for every step that shares it", " ");
+    vsv_pager_volume_free(v);
+    vsv_pager_volume_free(w);
+    vsv_pager_free(p);
+
+    /* a budget smaller than one step: playback still gets every step */
+    o.budget = 4 * brick;
+    vsv_pager_open(f, &o, &p);
+    v = vsv_pager_volume_new(p);
+    int ok = 1;
+    for (int t = 0; t < 60 && ok; t++) {
+        vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+        for (int s = 0; s < 3 && ok; s++)
+            ok = vsv_pager_get(p, t, s, 1, v) == 0 && same_as_direct(v, t, s);
+    }
+    vsv_pager_stats_get(p, &st);
+    CHECK(ok && st.prefetch_depth == 0 && st.evictions > 0,
+          "a 4-brick budget plays every step correctly (prefetch off, evicting)", "(depth %d, evictions %llu)",
+          st.prefetch_depth, (unsigned long long)st.evictions);
+    vsv_pager_volume_free(v);
+    vsv_pager_free(p);
+    for (int i = 0; i < 180; i++)
+        free(REF[i]);
+    free(REF);
+    vsv_file_free(f);
+}
+
+/* A damaged payload: a clear error from the get, no crash, no hang. */
+static void test_pager_corrupt(const char *path)
+{
+    size_t size = 0;
+    unsigned char *data = vsv_test_slurp(path, &size);
+    vsv_file *f = NULL;
+    if (!data || vsv_file_open_mem(data, size, "series.vsv", &f)) {
+        CHECK(0, "open the series in memory", " ");
+        free(data);
+        return;
+    }
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    /* damage step 7's payload area: the middle of its chunk */
+    vsv_file_free(f);
+    f = NULL;
+    const size_t at = (size_t)(size * 7.5 / 60);
+    data[at] ^= 0x5a;
+    data[at + 1] ^= 0xa5;
+    vsv_file_open_mem(data, size, "series.vsv", &f);
+    vsv_pager_opts o;
+    vsv_pager_opts_init(&o);
+    o.threads = 2;
+    o.budget = 8 << 20;
+    vsv_pager *p = NULL;
+    int failed = 0, crashed = 0;
+    if (f && vsv_pager_open(f, &o, &p) == 0) {
+        vsv_pager_playhead(p, 0, 1, 1, 0, NULL);
+        vsv_volume *v = vsv_pager_volume_new(p);
+        for (int t = 0; t < 60; t++)
+            for (int s = 0; s < 3; s++) {
+                const int rc = vsv_pager_get(p, t, s, 1, v);
+                if (rc) {
+                    failed++;
+                    if (rc != VSV_ECORRUPT || !strstr(vsv_pager_error(p), "series.vsv"))
+                        crashed++;
+                }
+            }
+        vsv_pager_volume_free(v);
+        vsv_pager_free(p);
+    }
+    CHECK(failed > 0 && !crashed, "a damaged brick is a named error from the pager, other steps still play",
+          "(%d failed gets)", failed);
+    vsv_file_free(f);
+    free(data);
+}
+
+static void test_clock(void)
+{
+    int64_t times[10];
+    for (int i = 0; i < 10; i++)
+        times[i] = 1000000 + 3600 * i;
+    vsv_clock c;
+    vsv_clock_init(&c, times, 10, 0);
+    CHECK(c.step == 0 && !c.playing && c.speed == 1 && c.rate == 4 * 3600,
+          "a new clock is paused at the first step, x1, four steps a second", "(rate %g)", c.rate);
+    CHECK(vsv_clock_tick(&c, 1) == 0, "paused: wall time does not move it", " ");
+    vsv_clock_play(&c);
+    CHECK(vsv_clock_tick(&c, 0.25) == 1 && vsv_clock_tick(&c, 0.125) == 1 && vsv_clock_tick(&c, 0.125) == 2,
+          "x1: one step per quarter second, the step at or before model time", "(step %d)", c.step);
+    vsv_clock_set_speed(&c, 4);
+    CHECK(vsv_clock_tick(&c, 0.25) == 6, "x4: four steps per quarter second", "(step %d)", c.step);
+    vsv_clock_tick(&c, 10);
+    CHECK(c.step == 9 && !c.playing, "at the end without loop it stops", "(step %d)", c.step);
+    vsv_clock_play(&c);
+    CHECK(c.step == 0 && c.playing, "play at the end starts over", "(step %d)", c.step);
+    c.ends = VSV_CLOCK_LOOP;
+    vsv_clock_seek_step(&c, 8);
+    vsv_clock_set_speed(&c, 1);
+    vsv_clock_tick(&c, 0.5);
+    CHECK(c.step == 1 && c.playing, "loop: past the end wraps to the start", "(step %d)", c.step);
+    c.ends = VSV_CLOCK_BOUNCE;
+    vsv_clock_seek_step(&c, 8);
+    vsv_clock_tick(&c, 0.5);
+    CHECK(c.step == 8 && c.speed == -1 && c.playing, "bounce: turns round at the end", "(step %d speed %g)", c.step,
+          c.speed);
+    vsv_clock_tick(&c, 0.25);
+    CHECK(c.step == 7, "and plays backwards", "(step %d)", c.step);
+    c.ends = VSV_CLOCK_STOP;
+    vsv_clock_step(&c, 3);
+    CHECK(c.step == 9 && !c.playing, "step +3 pauses and clamps at the end", "(step %d)", c.step);
+    vsv_clock_step(&c, -4);
+    CHECK(c.step == 5 && c.model == (double)times[5], "step -4 goes back four steps", "(step %d)", c.step);
+    vsv_clock_step(&c, -40);
+    CHECK(c.step == 0, "step before the start clamps", "(step %d)", c.step);
+    c.ends = VSV_CLOCK_LOOP;
+    vsv_clock_step(&c, -1);
+    CHECK(c.step == 9, "with loop on, step -1 from the start wraps to the end", "(step %d)", c.step);
+    c.ends = VSV_CLOCK_STOP;
+    vsv_clock_seek_time(&c, times[3] + 1800);
+    CHECK(c.step == 3, "seek to a time between steps shows the step before", "(step %d)", c.step);
+    vsv_clock_seek_time(&c, 0);
+    CHECK(c.step == 0, "seek before the first time clamps", "(step %d)", c.step);
+    vsv_clock_seek_step(&c, 4);
+    vsv_clock_faster(&c, 1);
+    CHECK(c.playing && c.speed == 2, "fast-forward from pause plays at x2", "(speed %g)", c.speed);
+    for (int i = 0; i < 8; i++)
+        vsv_clock_faster(&c, 1);
+    CHECK(c.speed == 64, "fast-forward doubles up to x64", "(speed %g)", c.speed);
+    vsv_clock_faster(&c, -1);
+    CHECK(c.speed == -2 && c.playing, "rewind while going forward plays backwards at x2", "(speed %g)", c.speed);
+    vsv_clock_faster(&c, -1);
+    CHECK(c.speed == -4, "rewind again: x4 backwards", "(speed %g)", c.speed);
+    vsv_clock_seek_step(&c, 6);
+    vsv_clock_set_speed(&c, -1);
+    vsv_clock_tick(&c, 0.125);
+    CHECK(c.step == 6 && c.model < (double)times[6], "backwards, the step at or after model time is shown",
+          "(step %d)", c.step);
+    vsv_clock_tick(&c, 0.125);
+    CHECK(c.step == 5, "and the previous step once it is reached", "(step %d)", c.step);
+    vsv_clock_set_speed(&c, 0);
+    CHECK(c.speed == -1, "speed 0 is refused", "(speed %g)", c.speed);
+    vsv_clock_set_speed(&c, 1000);
+    CHECK(c.speed == 64, "speed is clamped to x64", "(speed %g)", c.speed);
+    vsv_clock_pause(&c);
+    const double m = c.model;
+    vsv_clock_tick(&c, 3);
+    CHECK(c.model == m && !c.playing, "pause holds model time", " ");
+}
+
+int main(void)
+{
+    const char *path = vsv_test_tmp("stream-series.vsv");
+    if (write_series(path) == 0) {
+        test_pager(path);
+        test_pager_corrupt(path);
+    }
+    test_clock();
+    return vsv_test_done();
+}
