@@ -21,6 +21,8 @@ PKG_CONFIG ?= pkg-config
 SHARED ?= ../shared
 
 PKGS = libzstd geographiclib netcdf libpng OpenEXR
+# the desktop viewer (vsv-play) only
+VIEWER_PKGS = glfw3 gl freetype2 fontconfig
 ifeq ($(SAN),1)
   B = build-san
   SANFLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
@@ -36,7 +38,7 @@ ifeq ($(WERROR),1)
 endif
 
 ifneq ($(MAKECMDGOALS),clean)
-  MISSING := $(foreach p,$(PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) && echo y),,$(p)))
+  MISSING := $(foreach p,$(PKGS) $(VIEWER_PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) && echo y),,$(p)))
   ifneq ($(strip $(MISSING)),)
     $(error missing libraries (pkg-config): $(MISSING); run: sudo apt-get install -y $(shell sh tools/deps.sh --names))
   endif
@@ -44,11 +46,13 @@ endif
 
 PKG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(PKGS) 2>/dev/null)
 PKG_LIBS := $(shell $(PKG_CONFIG) --libs $(PKGS) 2>/dev/null)
+VIEWER_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(VIEWER_PKGS) 2>/dev/null)
+VIEWER_LIBS := $(shell $(PKG_CONFIG) --libs $(VIEWER_PKGS) 2>/dev/null)
 
 # Truncating text into fixed-size info fields is by design, hence no -Wformat-truncation.
 WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
 CFLAGS_ALL = -std=c11 -D_GNU_SOURCE $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
-             -Iformat -Iconvert -Irender -Istream $(PKG_CFLAGS) $(CFLAGS)
+             -Iformat -Iconvert -Irender -Istream -Iviewer $(PKG_CFLAGS) $(CFLAGS)
 CXXFLAGS_ALL = -std=c++17 $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat $(PKG_CFLAGS) $(CXXFLAGS)
 LDLIBS_ALL = $(SANFLAGS) -pthread $(PKG_LIBS) -lstdc++ -lm $(LDLIBS)
 
@@ -58,12 +62,13 @@ else
   Q = @
 endif
 
-LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c) $(wildcard render/vsv_*.c) $(wildcard stream/vsv_*.c)
+LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c) $(wildcard render/vsv_*.c) $(wildcard stream/vsv_*.c) \
+        viewer/vsv_player.c
 LIB_CXX = $(wildcard format/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
 LIB = $(B)/libvesuvius.a
 
-TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render
+TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 
 TEST_SRC = $(wildcard tests/test_*.c)
@@ -71,7 +76,7 @@ TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
 FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5 $(B)/tests/test_fuzz_uamiv
 
-.PHONY: all test demo bench install uninstall clean fuzz help deps
+.PHONY: all test demo bench install uninstall clean fuzz help deps freevr-syntax
 .SECONDARY:
 all: $(LIB) $(TOOL_BIN)
 
@@ -103,6 +108,30 @@ $(B)/vsv-%: $(B)/convert/vsv-%.o $(LIB)
 $(B)/vsv-%: $(B)/render/vsv-%.o $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
+
+$(B)/viewer/%.o: viewer/%.c
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -c $< -o $@
+
+$(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(LIB)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL) $(VIEWER_LIBS)
+
+# The FreeVR back end: built against a FreeVR install named by FREEVR_DIR;
+# without one, `make test` still compiles it (syntax only) against the
+# declarations in viewer/freevr/ so it cannot rot.
+FREEVR_LIBS = -lGL -lX11 -lXi -ldl -lm -lpthread
+ifneq ($(FREEVR_DIR),)
+TOOLS += vsv-play-freevr
+endif
+$(B)/vsv-play-freevr: viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(LIB)
+	@$(if $(Q),echo "  CC/LD   $@")
+	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -I$(FREEVR_DIR)/include -o $@ $< $(B)/viewer/vsv_overlay.o $(LIB) \
+	  $(FREEVR_DIR)/lib/libfreevr.a $(LDLIBS_ALL) $(VIEWER_LIBS) $(FREEVR_LIBS)
+
+freevr-syntax:
+	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -Iviewer/freevr -fsyntax-only viewer/vsv-play-freevr.c
 
 $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(LIB)
 	@$(if $(Q),echo "  LD      $@")

@@ -5,7 +5,6 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
-#include <png.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -43,50 +42,15 @@ static const char usage[] =
 
 static int write_png(const char *path, const float *rgba, int w, int h, const float bg[3], char *err, size_t cap)
 {
-    char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(tmp);
-    FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
-    if (!fp) {
-        snprintf(err, cap, "%s: cannot create: %s", path, strerror(errno));
+    unsigned char *rgb = malloc((size_t)w * h * 3);
+    if (!rgb) {
+        snprintf(err, cap, "%s: out of memory", path);
         return -1;
     }
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
-    png_infop info = png ? png_create_info_struct(png) : NULL;
-    unsigned char *row = malloc((size_t)w * 3);
-    if (!png || !info || !row || setjmp(png_jmpbuf(png))) {
-        png_destroy_write_struct(&png, &info);
-        free(row);
-        fclose(fp);
-        unlink(tmp);
-        snprintf(err, cap, "%s: PNG encoding failed", path);
-        return -1;
-    }
-    png_init_io(png, fp);
-    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_write_info(png, info);
-    for (int y = 0; y < h; y++) {
-        for (int x = 0; x < w; x++) {
-            const float *p = rgba + 4 * ((size_t)y * w + x);
-            for (int c = 0; c < 3; c++) {
-                /* premultiplied over the background, then sRGB-ish gamma */
-                float v = p[c] + (1 - p[3]) * bg[c];
-                v = v <= 0 ? 0 : v >= 1 ? 1 : powf(v, 1 / 2.2f);
-                row[3 * x + c] = (unsigned char)lrintf(v * 255);
-            }
-        }
-        png_write_row(png, row);
-    }
-    png_write_end(png, info);
-    png_destroy_write_struct(&png, &info);
-    free(row);
-    if (fclose(fp) || rename(tmp, path)) {
-        unlink(tmp);
-        snprintf(err, cap, "%s: cannot write: %s", path, strerror(errno));
-        return -1;
-    }
-    return 0;
+    vsv_image_rgb8(rgba, w, h, bg, rgb);
+    const int rc = vsv_png_write(path, rgb, w, h, err, cap);
+    free(rgb);
+    return rc;
 }
 
 static int parse_step(const vsv_file *f, const char *s, int is_end)
@@ -249,34 +213,20 @@ int main(int argc, char **argv)
     for (int s = 0; s < m->nvars; s++) {
         if (opac[s] < 0)
             continue;
-        char text[4096], msg[256], dflt[512];
-        const char *src = m->tf && m->tf[s] ? m->tf[s] : NULL;
-        if (tfpath) {
-            const int rc = vsv_tf_file_block(tfpath, m->vars[s].name, text, sizeof text, msg, sizeof msg);
-            if (rc == VSV_EIO)
-                vsv_cli_die(1, "%s", msg);
-            if (!rc)
-                src = text;
-        }
-        if (!src) {
-            vsv_tf_default(m->vars[s].name, vsv_file_quant(f, s), dflt, sizeof dflt);
-            src = dflt;
-        }
-        if (vsv_tf_parse(&tfs[nl], src, msg, sizeof msg))
-            vsv_cli_die(1, "%s: transfer function of %s: %s", tfpath ? tfpath : path, m->vars[s].name, msg);
+        char msg[512];
+        const int trc = vsv_tf_for_species(f, s, tfpath, &tfs[nl], msg, sizeof msg);
+        if (trc == VSV_EIO)
+            vsv_cli_die(1, "%s", msg);
+        if (trc)
+            vsv_cli_die(1, "%s: %s", tfpath ? tfpath : path, msg);
         if (vsv_volume_create(f, &vols[nl]))
             vsv_cli_die(1, "out of memory");
         layers[nl] = (vsv_layer){vols[nl], &tfs[nl], opac[s], 1};
         sidx[nl++] = s;
     }
     vsv_scene sc = {m, layers, nl, exag, terrain};
-    if (!(exag > 0)) {
-        double mn[3], mx[3];
-        sc.exaggeration = 1;
-        vsv_scene_bounds(&sc, mn, mx);
-        const double wide = fmax(mx[0] - mn[0], mx[1] - mn[1]), tall = mx[2] - fmin(mn[2], 0);
-        sc.exaggeration = tall > 0 ? fmax(1, round(0.2 * wide / tall)) : 1;
-    }
+    if (!(exag > 0))
+        sc.exaggeration = vsv_scene_default_exaggeration(&sc);
     vsv_camera cam;
     vsv_camera_orbit(&cam, &sc, az, el, dist, width, height);
     if (lookat) {

@@ -166,13 +166,20 @@ void vsv_rays_init(vsv_rays *R, const vsv_camera *cam)
     const double t = R->persp ? tan(cam->fov_deg * M_PI / 360) : cam->ortho_height / 2;
     R->kx = t * aspect;
     R->ky = t;
+    R->cx = R->cy = 0;
+    if (R->persp && cam->window[0] != cam->window[1] && cam->window[2] != cam->window[3]) {
+        R->kx = 0.5 * (cam->window[1] - cam->window[0]);
+        R->cx = 0.5 * (cam->window[1] + cam->window[0]);
+        R->ky = 0.5 * (cam->window[3] - cam->window[2]);
+        R->cy = 0.5 * (cam->window[3] + cam->window[2]);
+    }
     R->w = cam->width;
     R->h = cam->height;
 }
 
 void vsv_rays_get(const vsv_rays *R, int px, int py, double o[3], double d[3])
 {
-    const double sx = R->kx * (2 * (px + 0.5) / R->w - 1), sy = R->ky * (1 - 2 * (py + 0.5) / R->h);
+    const double sx = R->cx + R->kx * (2 * (px + 0.5) / R->w - 1), sy = R->cy + R->ky * (1 - 2 * (py + 0.5) / R->h);
     if (R->persp) {
         for (int i = 0; i < 3; i++) {
             o[i] = R->o[i];

@@ -55,6 +55,13 @@ void vsv_tf_eval(const vsv_tf *tf, float value, float rgba[4]);
  * is copied into buf (cap bytes). */
 int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t cap, char *msg, size_t msgcap);
 
+/* The transfer function of species s: its block in tfpath (when given and
+ * present), else the one stored in the file, else the default by kind.
+ * 0, or an error with the reason in msg: VSV_EIO (msg names tfpath) or
+ * VSV_EINVAL ("transfer function of NAME: why", from tfpath if given, else
+ * from the file). */
+int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf, char *msg, size_t cap);
+
 /* ------------------------------------------------------------------ scene */
 
 typedef struct vsv_camera {
@@ -65,6 +72,10 @@ typedef struct vsv_camera {
     double eye_offset;    /* stereo: shift along the camera's right axis */
     double znear, zfar;
     int width, height;
+    /* off-axis perspective (a CAVE wall seen from a tracked head): the image's
+     * left, right, bottom, top edges at unit distance along dir; all 0 = the
+     * symmetric frustum of fov_deg */
+    double window[4];
 } vsv_camera;
 
 typedef struct vsv_layer {
@@ -119,7 +130,18 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
  * function, an opacity or the time step changes); 0 for the raycaster. */
 double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
 
+/* The vertical exaggeration that makes the domain a fifth as tall as wide
+ * (at least 1): the tools' default. */
+double vsv_scene_default_exaggeration(const vsv_scene *sc);
+
 /* ------------------------------------------------------------------ files */
+
+/* A rendered image (w*h*4 floats, premultiplied) over a background colour,
+ * gamma 1/2.2, as 8-bit RGB (w*h*3 bytes, row 0 at the top). */
+void vsv_image_rgb8(const float *rgba, int w, int h, const float bg[3], unsigned char *rgb);
+/* Writes 8-bit RGB (row 0 at the top) as a PNG file, through a temporary
+ * name renamed into place; 0, or -1 with the reason in err. */
+int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char *err, size_t cap);
 
 /* Writes an OpenEXR image: R, G, B, A as half floats (premultiplied, row 0 at
  * the top) and Z (depth) as float; depth may not be NULL. Written to a

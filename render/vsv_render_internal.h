@@ -32,7 +32,7 @@ int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const 
 double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1);
 /* A camera's rays: the basis worked out once per frame. */
 typedef struct vsv_rays {
-    double o[3], f[3], r[3], u[3], kx, ky, w, h;
+    double o[3], f[3], r[3], u[3], kx, ky, cx, cy, w, h;
     int persp;
 } vsv_rays;
 void vsv_rays_init(vsv_rays *R, const vsv_camera *cam);

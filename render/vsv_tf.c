@@ -216,3 +216,28 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
     fclose(fp);
     return found ? 0 : VSV_ENOTFOUND;
 }
+
+int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf, char *msg, size_t cap)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    char text[4096], why[256], dflt[512];
+    const char *src = m->tf && m->tf[s] ? m->tf[s] : NULL;
+    if (tfpath) {
+        const int rc = vsv_tf_file_block(tfpath, m->vars[s].name, text, sizeof text, why, sizeof why);
+        if (rc == VSV_EIO) {
+            snprintf(msg, cap, "%s", why);
+            return rc;
+        }
+        if (!rc)
+            src = text;
+    }
+    if (!src) {
+        vsv_tf_default(m->vars[s].name, vsv_file_quant(f, s), dflt, sizeof dflt);
+        src = dflt;
+    }
+    if (vsv_tf_parse(tf, src, why, sizeof why)) {
+        snprintf(msg, cap, "transfer function of %s: %s", m->vars[s].name, why);
+        return VSV_EINVAL;
+    }
+    return 0;
+}

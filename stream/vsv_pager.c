@@ -742,3 +742,10 @@ void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st)
     st->peak_bytes = p->peak;
     pthread_mutex_unlock(&p->mu);
 }
+
+void vsv_pager_stall(vsv_pager *p)
+{
+    pthread_mutex_lock(&p->mu);
+    p->st.stalls++;
+    pthread_mutex_unlock(&p->mu);
+}

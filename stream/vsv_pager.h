@@ -78,5 +78,7 @@ void vsv_pager_put(vsv_pager *p, vsv_volume *v);
 int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species);
 
 void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st);
+/* Counts a stall the caller saw (a step it wanted was not decoded in time). */
+void vsv_pager_stall(vsv_pager *p);
 
 #endif

@@ -1,0 +1,200 @@
+/* test_viewer.c — the player behind vsv-play: the action language, the
+ * status line, playback through the pager, images, shared state, and the
+ * camera an immersive display's matrices give. */
+#include "vsv_player.h"
+#include "vsv_testlib.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int act(vsv_player *p, const char *a)
+{
+    char err[512];
+    return vsv_player_do(p, a, err, sizeof err);
+}
+
+static void test_actions(vsv_player *p)
+{
+    char err[512], st[2048];
+    vsv_player_status(p, st, sizeof st);
+    CHECK(strstr(st, "1995-10-24T00:00:00Z") && strstr(st, "step 1/4") && strstr(st, "PAUSE") &&
+              strstr(st, "[Q 1.0]") && strstr(st, "CLW 1.0"),
+          "status: model time, step, paused, species with opacity", "(%s)", st);
+    struct {
+        const char *action, *why;
+    } bad[] = {{"speed 0", "non-zero"},       {"seek 99", "out of range"},   {"seek yesterday", "neither"},
+               {"toggle NOPE", "NOPE"},        {"opacity Q x", ">= 0"},      {"frobnicate", "unknown action"},
+               {"renderer gpu", "raycast"},    {"camera 10", "AZ EL"},        {"loop sometimes", "on, off"},
+               {"screenshot", "FILE.png"},     {"step many", "not a number"}, {"zoom 0", "> 0"}};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        const int rc = vsv_player_do(p, bad[i].action, err, sizeof err);
+        char name[128];
+        snprintf(name, sizeof name, "'%s' is refused with a reason", bad[i].action);
+        CHECK(rc == -1 && strstr(err, bad[i].why), name, "(%s)", err);
+    }
+    act(p, "hide CLW");
+    act(p, "select ICE");
+    act(p, "opacity - 0.5");
+    act(p, "opacity - +0.2");
+    act(p, "loop bounce");
+    act(p, "speed -4");
+    vsv_player_status(p, st, sizeof st);
+    CHECK(strstr(st, "CLW off") && strstr(st, "[ICE 0.7]") && strstr(st, "bounce") && strstr(st, "-x4"),
+          "status follows hide, select, opacity (absolute and relative), loop and speed", "(%s)", st);
+    act(p, "show CLW");
+    act(p, "opacity ICE 1");
+    act(p, "loop off");
+    act(p, "speed 1");
+    act(p, "select Q");
+    const char *shot = vsv_player_take_screenshot(p);
+    act(p, "screenshot /tmp/x.png");
+    const char *s2 = vsv_player_take_screenshot(p);
+    CHECK(!shot && s2 && !strcmp(s2, "/tmp/x.png") && !vsv_player_take_screenshot(p),
+          "a screenshot action is handed to the display once", " ");
+    CHECK(!vsv_player_quit(p) && !act(p, "quit") && vsv_player_quit(p), "quit", " ");
+}
+
+static void test_playback(vsv_player *p)
+{
+    act(p, "seek 0");
+    CHECK(!vsv_player_update(p, 0, 0) && vsv_player_shown_step(p) == 0, "paused at the start: step 0 shown", " ");
+    act(p, "play");
+    int ok = 1, last = 0;
+    for (int i = 0; i < 40; i++) { /* 40 frames of 1/40 s at 4 steps a second */
+        if (vsv_player_update(p, 1.0 / 40, 0))
+            ok = 0;
+        const int s = vsv_player_shown_step(p);
+        if (s < last || s > vsv_player_clock(p)->step)
+            ok = 0;
+        last = s;
+    }
+    CHECK(ok, "playing: the shown step never runs ahead of the clock or backwards", " ");
+    CHECK(!vsv_player_update(p, 0, 1) && vsv_player_shown_step(p) == 3 && !vsv_player_clock(p)->playing,
+          "after a second at x1 the 4-step run has ended on its last step", "(step %d)", vsv_player_shown_step(p));
+    act(p, "step -2");
+    vsv_player_update(p, 0, 0);
+    CHECK(vsv_player_shown_step(p) == 1, "step -2 shows step 1", "(%d)", vsv_player_shown_step(p));
+    vsv_pager_stats st;
+    vsv_player_pager_stats(p, &st);
+    CHECK(st.bricks_decoded > 0 && st.misses > 0 && st.budget == 1 << 20,
+          "playback went through the pager (a 1 MB budget, under one step)", "(decoded %llu, misses %llu)",
+          (unsigned long long)st.bricks_decoded, (unsigned long long)st.misses);
+}
+
+static void test_images(vsv_player *p)
+{
+    char err[512];
+    vsv_camera cam;
+    vsv_player_camera(p, 96, 64, &cam);
+    const unsigned char *a = vsv_player_image(p, &cam, err, sizeof err);
+    unsigned char *first = a ? malloc(96 * 64 * 3) : NULL;
+    if (!CHECK(first != NULL, "the player renders an image", "(%s)", err))
+        return;
+    memcpy(first, a, 96 * 64 * 3);
+    act(p, "opacity Q 0");
+    act(p, "opacity CLW 4");
+    const unsigned char *b = vsv_player_image(p, &cam, err, sizeof err);
+    CHECK(b && memcmp(first, b, 96 * 64 * 3), "changing opacities changes the image", " ");
+    act(p, "opacity Q 1");
+    act(p, "opacity CLW 1");
+    const unsigned char *c = vsv_player_image(p, &cam, err, sizeof err);
+    CHECK(c && !memcmp(first, c, 96 * 64 * 3), "and setting them back gives the same image", " ");
+    act(p, "renderer raycast");
+    const unsigned char *d = vsv_player_image(p, &cam, err, sizeof err);
+    CHECK(d && memcmp(first, d, 96 * 64 * 3), "the raycaster draws the same scene (not byte for byte)", " ");
+    act(p, "renderer shearwarp");
+    free(first);
+}
+
+static void test_state(vsv_player *p, const char *path)
+{
+    vsv_player_opts o;
+    vsv_player_opts_init(&o);
+    o.path = path;
+    o.clock_only = 1;
+    vsv_player *q = NULL;
+    char err[512], a[2048], b[2048];
+    if (!CHECK(vsv_player_open(&o, &q, err, sizeof err) == 0, "a clock-only player opens", "(%s)", err))
+        return;
+    act(q, "seek 2");
+    act(q, "hide RNW");
+    act(q, "opacity SNOW 0.3");
+    act(q, "select SNOW");
+    act(q, "speed 8");
+    vsv_player_state st;
+    vsv_player_state_get(q, &st);
+    CHECK(!vsv_player_state_apply(p, &st, err, sizeof err) && !vsv_player_update(p, 0, 1) &&
+              vsv_player_shown_step(p) == 2,
+          "state handed from an input process is shown by a display process", "(%s)", err);
+    vsv_player_status(p, a, sizeof a);
+    vsv_player_status(q, b, sizeof b);
+    CHECK(!strcmp(a, b), "both show the same status line", "(%s | %s)", a, b);
+    vsv_player_free(q);
+}
+
+/* An eye whose matrices FreeVR would load: the camera derived from them
+ * sits at that eye, looks where it looks, with its off-axis window. */
+static void test_camera_from_gl(vsv_player *p)
+{
+    const double at[3] = {0, 4, -3}, size = 8;
+    double mn[3], mx[3];
+    vsv_player_bounds(p, mn, mx);
+    const double k = size / fmax(mx[0] - mn[0], mx[1] - mn[1]);
+    /* eye at (1, 5.5, 2) feet looking along -z (into the front wall), y up */
+    const double eye[3] = {1, 5.5, 2};
+    const double MV[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -eye[0], -eye[1], -eye[2], 1};
+    const double l = -0.7, r = 0.4, b = -0.5, t = 0.3, n = 0.1, f = 100;
+    const double P[16] = {2 * n / (r - l), 0, 0, 0, 0, 2 * n / (t - b), 0, 0, (r + l) / (r - l), (t + b) / (t - b),
+                          -(f + n) / (f - n), -1, 0, 0, -2 * f * n / (f - n), 0};
+    vsv_camera cam;
+    vsv_player_camera_from_gl(p, at, size, P, MV, 200, 100, &cam);
+    /* the eye in world metres: east = x, north = -z, up = y */
+    const double cx = 0.5 * (mn[0] + mx[0]), cy = 0.5 * (mn[1] + mx[1]), cz = 0.5 * (mn[2] + mx[2]);
+    const double want[3] = {cx + (eye[0] - at[0]) / k, cy - (eye[2] - at[2]) / k, cz + (eye[1] - at[1]) / k};
+    double err = 0;
+    for (int i = 0; i < 3; i++)
+        err = fmax(err, fabs(cam.pos[i] - want[i]));
+    const double dl = sqrt(cam.dir[0] * cam.dir[0] + cam.dir[1] * cam.dir[1] + cam.dir[2] * cam.dir[2]);
+    CHECK(err < 1e-6 * (mx[0] - mn[0]), "the eye's position in world metres", "(off by %g m)", err);
+    CHECK(fabs(cam.dir[1] / dl - 1) < 1e-9 && fabs(cam.up[2]) > 0 && fabs(cam.up[0]) < 1e-12,
+          "looking into the front wall is looking north, up is up", "(dir %g %g %g)", cam.dir[0], cam.dir[1],
+          cam.dir[2]);
+    CHECK(fabs(cam.window[0] - l / n) < 1e-9 && fabs(cam.window[1] - r / n) < 1e-9 &&
+              fabs(cam.window[2] - b / n) < 1e-9 && fabs(cam.window[3] - t / n) < 1e-9,
+          "the off-axis window comes from the frustum", "(%g %g %g %g)", cam.window[0], cam.window[1], cam.window[2],
+          cam.window[3]);
+    /* and the renderer takes it: an off-axis view renders */
+    char e[256];
+    CHECK(vsv_player_image(p, &cam, e, sizeof e) != NULL, "an off-axis camera renders", "(%s)", e);
+}
+
+int main(void)
+{
+    const char *path = vsv_test_tmp("viewer-crop.vsv");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
+             getenv("B") ? getenv("B") : "build", path);
+    if (!CHECK(system(cmd) == 0, "convert the bundled MM5 sample", " "))
+        return vsv_test_done();
+    vsv_player_opts o;
+    vsv_player_opts_init(&o);
+    o.path = path;
+    o.cache_bytes = 1 << 20; /* smaller than one step */
+    o.threads = 2;
+    vsv_player *p = NULL;
+    char err[512];
+    if (!CHECK(vsv_player_open(&o, &p, err, sizeof err) == 0, "the player opens the sample", "(%s)", err))
+        return vsv_test_done();
+    test_actions(p);
+    test_playback(p);
+    test_images(p);
+    test_state(p, path);
+    test_camera_from_gl(p);
+    vsv_player_free(p);
+    o.path = "/nonexistent/x.vsv";
+    CHECK(vsv_player_open(&o, &p, err, sizeof err) == -1 && strstr(err, "/nonexistent/x.vsv"),
+          "a missing file is an error naming it", "(%s)", err);
+    vsv_player_free(p);
+    return vsv_test_done();
+}

@@ -1,0 +1,377 @@
+/* vsv-play — play a .vsv file in a desktop window (GLFW + OpenGL): the
+ * rendered image on a billboard at the volume's position, keys and mouse
+ * for time, species and camera, and --script for playback without a
+ * person. */
+#include "vsv_cli.h"
+#include "vsv_overlay.h"
+#include "vsv_player.h"
+
+#include <GLFW/glfw3.h>
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char usage[] =
+    "Usage: vsv-play FILE.vsv [OPTIONS]\n"
+    "Play a .vsv file in a window: play, pause, step, rewind and fast-forward through\n"
+    "time, show, hide and fade each species, orbit, pan and zoom. Press h in the\n"
+    "window for the keys.\n"
+    "\n"
+    "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all)\n"
+    "      --tf FILE           transfer functions (as vsv-render)\n"
+    "  -r, --renderer NAME     shearwarp (default, fast) or raycast (detail); m switches\n"
+    "      --cache-mb N        decoded-brick cache budget (default: a quarter of RAM)\n"
+    "      --threads N         render threads (default: all cores)\n"
+    "      --size WxH          window size (default 960x600)\n"
+    "      --render-scale F    render at F times the window size (default 1)\n"
+    "  -x, --exaggerate N      vertical exaggeration (default: as vsv-render)\n"
+    "      --rate SECONDS      model seconds per wall second at x1 (default: 4 steps/s)\n"
+    "      --loop on|off|bounce  at the ends (default off: stop)\n"
+    "      --play              start playing\n"
+    "      --no-terrain        do not draw the ground\n"
+    "      --script FILE       timed actions, one per line: SECONDS ACTION [ARGS]\n"
+    "                          (see vsv-play(1)); quit exits 0\n"
+    "  -q, --quiet             no messages\n"
+    "  -h, --help              this help\n"
+    "  -V, --version           print versions\n";
+
+typedef struct script_line {
+    double at;
+    int line;
+    char action[1024];
+} script_line;
+
+static script_line *load_script(const char *path, int *n)
+{
+    FILE *fp = fopen(path, "r");
+    if (!fp)
+        vsv_cli_die(1, "%s: %s", path, strerror(errno));
+    script_line *v = NULL;
+    int cap = 0, ln = 0;
+    char buf[1200];
+    *n = 0;
+    while (fgets(buf, sizeof buf, fp)) {
+        ln++;
+        char *s = buf + strspn(buf, " \t");
+        if (*s == '#' || *s == '\n' || !*s)
+            continue;
+        char *end;
+        const double at = strtod(s, &end);
+        if (end == s || !(at >= 0) || (*end != ' ' && *end != '\t'))
+            vsv_cli_die(1, "%s: line %d: expected SECONDS ACTION [ARGS]", path, ln);
+        end += strspn(end, " \t");
+        end[strcspn(end, "\r\n")] = 0;
+        if (*n == cap) {
+            cap = cap ? 2 * cap : 16;
+            v = realloc(v, (size_t)cap * sizeof *v);
+            if (!v)
+                vsv_cli_die(1, "out of memory");
+        }
+        if (*n && at < v[*n - 1].at)
+            vsv_cli_die(1, "%s: line %d: times must not go backwards", path, ln);
+        v[*n].at = at;
+        v[*n].line = ln;
+        snprintf(v[*n].action, sizeof v[*n].action, "%s", end);
+        (*n)++;
+    }
+    fclose(fp);
+    return v;
+}
+
+typedef struct app {
+    vsv_player *p;
+    GLFWwindow *win;
+    double mx, my;
+    int drag; /* 1 orbit, 2 pan */
+    int shots;
+} app;
+
+static void run(app *a, const char *action)
+{
+    char err[512];
+    if (vsv_player_do(a->p, action, err, sizeof err) && !vsv_cli_quiet())
+        fprintf(stderr, "vsv-play: %s\n", err);
+}
+
+static void on_key(GLFWwindow *w, int key, int scancode, int act, int mods)
+{
+    app *a = glfwGetWindowUserPointer(w);
+    (void)scancode;
+    if (act == GLFW_RELEASE)
+        return;
+    char buf[64];
+    switch (key) {
+    case GLFW_KEY_SPACE: run(a, "toggle-play"); break;
+    case GLFW_KEY_RIGHT: run(a, "step +1"); break;
+    case GLFW_KEY_LEFT: run(a, "step -1"); break;
+    case GLFW_KEY_F: run(a, "forward"); break;
+    case GLFW_KEY_R: run(a, "rewind"); break;
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD: run(a, "faster"); break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT: run(a, "slower"); break;
+    case GLFW_KEY_L: run(a, "loop"); break;
+    case GLFW_KEY_HOME: run(a, "start"); break;
+    case GLFW_KEY_END: run(a, "end"); break;
+    case GLFW_KEY_TAB: run(a, mods & GLFW_MOD_SHIFT ? "select -1" : "select +1"); break;
+    case GLFW_KEY_V: run(a, "toggle"); break;
+    case GLFW_KEY_UP: run(a, "opacity - +0.1"); break;
+    case GLFW_KEY_DOWN: run(a, "opacity - -0.1"); break;
+    case GLFW_KEY_M: run(a, "renderer switch"); break;
+    case GLFW_KEY_P:
+        snprintf(buf, sizeof buf, "screenshot vsv-play-%04d.png", a->shots++);
+        run(a, buf);
+        break;
+    case GLFW_KEY_H:
+    case GLFW_KEY_F1: run(a, "help"); break;
+    case GLFW_KEY_Q:
+    case GLFW_KEY_ESCAPE: run(a, "quit"); break;
+    default:
+        if (key >= GLFW_KEY_1 && key <= GLFW_KEY_9) {
+            snprintf(buf, sizeof buf, "select #%d", key - GLFW_KEY_1);
+            run(a, buf);
+        }
+    }
+}
+
+static void on_button(GLFWwindow *w, int button, int act, int mods)
+{
+    app *a = glfwGetWindowUserPointer(w);
+    glfwGetCursorPos(w, &a->mx, &a->my);
+    a->drag = act != GLFW_PRESS                                             ? 0
+              : button == GLFW_MOUSE_BUTTON_RIGHT || (mods & GLFW_MOD_SHIFT) ? 2
+                                                                             : 1;
+}
+
+static void on_move(GLFWwindow *w, double x, double y)
+{
+    app *a = glfwGetWindowUserPointer(w);
+    if (!a->drag)
+        return;
+    int ww, wh;
+    glfwGetWindowSize(w, &ww, &wh);
+    char buf[96];
+    if (a->drag == 1)
+        snprintf(buf, sizeof buf, "orbit %g %g", -(x - a->mx) * 0.3, (y - a->my) * 0.3);
+    else
+        snprintf(buf, sizeof buf, "pan %g %g", (x - a->mx) / ww, -(y - a->my) / wh);
+    run(a, buf);
+    a->mx = x, a->my = y;
+}
+
+static void on_scroll(GLFWwindow *w, double dx, double dy)
+{
+    app *a = glfwGetWindowUserPointer(w);
+    (void)dx;
+    char buf[64];
+    snprintf(buf, sizeof buf, "zoom %g", pow(1.1, dy));
+    run(a, buf);
+}
+
+/* The window's picture (the back buffer just drawn) to PNG. */
+static void screenshot(const char *path, int w, int h)
+{
+    unsigned char *px = malloc((size_t)w * h * 3), *flip = malloc((size_t)w * h * 3);
+    char err[512];
+    if (!px || !flip)
+        vsv_cli_die(1, "out of memory");
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadBuffer(GL_BACK);
+    glReadPixels(0, 0, w, h, GL_RGB, GL_UNSIGNED_BYTE, px);
+    for (int y = 0; y < h; y++) /* GL rows go up */
+        memcpy(flip + (size_t)y * w * 3, px + (size_t)(h - 1 - y) * w * 3, (size_t)w * 3);
+    if (vsv_png_write(path, flip, w, h, err, sizeof err))
+        vsv_cli_die(1, "%s", err);
+    if (!vsv_cli_quiet())
+        fprintf(stderr, "vsv-play: wrote %s (%dx%d)\n", path, w, h);
+    free(px);
+    free(flip);
+}
+
+static void glfw_error(int code, const char *what)
+{
+    (void)code;
+    if (!vsv_cli_quiet())
+        fprintf(stderr, "vsv-play: GLFW: %s\n", what);
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-play");
+    enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT };
+    static const struct option longopts[] = {
+        {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
+        {"renderer", required_argument, 0, 'r'},   {"cache-mb", required_argument, 0, O_CACHE},
+        {"threads", required_argument, 0, O_THREADS}, {"size", required_argument, 0, O_SIZE},
+        {"render-scale", required_argument, 0, O_SCALE}, {"exaggerate", required_argument, 0, 'x'},
+        {"rate", required_argument, 0, O_RATE},    {"loop", required_argument, 0, O_LOOP},
+        {"play", no_argument, 0, O_PLAY},          {"no-terrain", no_argument, 0, O_NOTERRAIN},
+        {"script", required_argument, 0, O_SCRIPT}, {"quiet", no_argument, 0, 'q'},
+        {"help", no_argument, 0, 'h'},             {"version", no_argument, 0, 'V'},
+        {0, 0, 0, 0}};
+    vsv_player_opts po;
+    vsv_player_opts_init(&po);
+    int width = 960, height = 600, c;
+    double scale = 1;
+    const char *script = NULL;
+    while ((c = getopt_long(argc, argv, "s:r:x:qhV", longopts, NULL)) != -1) {
+        long v;
+        double d;
+        switch (c) {
+        case 's': po.species = optarg; break;
+        case O_TF: po.tfpath = optarg; break;
+        case 'r':
+            if (!strcmp(optarg, "raycast"))
+                po.renderer = VSV_RENDER_RAYCAST;
+            else if (!strcmp(optarg, "shearwarp"))
+                po.renderer = VSV_RENDER_SHEARWARP;
+            else
+                vsv_cli_usage_error("--renderer: raycast or shearwarp, not '%s'", optarg);
+            break;
+        case O_CACHE:
+            if (vsv_cli_int(optarg, 1, 1 << 30, &v))
+                vsv_cli_usage_error("--cache-mb: a number of megabytes >= 1");
+            po.cache_bytes = (size_t)v << 20;
+            break;
+        case O_THREADS:
+            if (vsv_cli_int(optarg, 1, 64, &v))
+                vsv_cli_usage_error("--threads: 1..64");
+            po.threads = (int)v;
+            break;
+        case O_SIZE:
+            if (sscanf(optarg, "%dx%d", &width, &height) != 2 || width < 16 || height < 16 || width > 16384 ||
+                height > 16384)
+                vsv_cli_usage_error("--size: WxH, 16..16384");
+            break;
+        case O_SCALE:
+            if (vsv_cli_double(optarg, &scale) || !(scale >= 0.05 && scale <= 4))
+                vsv_cli_usage_error("--render-scale: 0.05..4");
+            break;
+        case 'x':
+            if (vsv_cli_double(optarg, &d) || !(d > 0))
+                vsv_cli_usage_error("--exaggerate: a number > 0");
+            po.exaggerate = d;
+            break;
+        case O_RATE:
+            if (vsv_cli_double(optarg, &d) || !(d > 0))
+                vsv_cli_usage_error("--rate: model seconds per wall second, > 0");
+            po.rate = d;
+            break;
+        case O_LOOP:
+            po.loop = !strcmp(optarg, "on") ? VSV_CLOCK_LOOP : !strcmp(optarg, "bounce") ? VSV_CLOCK_BOUNCE : 0;
+            if (!po.loop && strcmp(optarg, "off"))
+                vsv_cli_usage_error("--loop: on, off or bounce");
+            break;
+        case O_PLAY: po.play = 1; break;
+        case O_NOTERRAIN: po.terrain = 0; break;
+        case O_SCRIPT: script = optarg; break;
+        case 'q': vsv_cli_set_quiet(1); break;
+        case 'h': fputs(usage, stdout); return 0;
+        case 'V': vsv_cli_version();
+        default: vsv_cli_usage_error("see --help");
+        }
+    }
+    if (optind != argc - 1)
+        vsv_cli_usage_error(optind < argc ? "one file at a time" : "no input file");
+    po.path = argv[optind];
+    int nscript = 0, next = 0;
+    script_line *lines = script ? load_script(script, &nscript) : NULL;
+    vsv_player *p = NULL;
+    char err[1024];
+    if (vsv_player_open(&po, &p, err, sizeof err))
+        vsv_cli_die(1, "%s", err);
+    glfwSetErrorCallback(glfw_error);
+    if (!glfwInit())
+        vsv_cli_die(1, "cannot open a window: no display (set DISPLAY, or run under xvfb-run)");
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+    char title[1100];
+    snprintf(title, sizeof title, "vsv-play: %s", po.path);
+    app a = {p, NULL, 0, 0, 0, 0};
+    if (!(a.win = glfwCreateWindow(width, height, title, NULL, NULL)))
+        vsv_cli_die(1, "cannot open a window (OpenGL not available)");
+    glfwMakeContextCurrent(a.win);
+    glfwSwapInterval(1);
+    glfwSetWindowUserPointer(a.win, &a);
+    glfwSetKeyCallback(a.win, on_key);
+    glfwSetMouseButtonCallback(a.win, on_button);
+    glfwSetCursorPosCallback(a.win, on_move);
+    glfwSetScrollCallback(a.win, on_scroll);
+    vsv_overlay *ov = vsv_overlay_create(15, err, sizeof err);
+    if (!ov)
+        vsv_cli_die(1, "%s", err);
+    const double t0 = glfwGetTime();
+    double last = t0;
+    int rc = 0;
+    while (!glfwWindowShouldClose(a.win) && !vsv_player_quit(p)) {
+        const double now = glfwGetTime();
+        /* the script's actions that are due, up to a screenshot: it takes
+         * the picture of everything before it, nothing after */
+        while (next < nscript && lines[next].at <= now - t0) {
+            if (vsv_player_do(p, lines[next].action, err, sizeof err))
+                vsv_cli_die(1, "%s: line %d: %s", script, lines[next].line, err);
+            next++;
+            if (vsv_player_quit(p) || !strncmp(lines[next - 1].action, "screenshot", 10))
+                break;
+        }
+        if (vsv_player_quit(p))
+            break;
+        const char *shot = vsv_player_take_screenshot(p);
+        char shot_path[1024];
+        if (shot)
+            snprintf(shot_path, sizeof shot_path, "%s", shot);
+        if (vsv_player_update(p, now - last, shot != NULL))
+            vsv_cli_die(1, "%s", vsv_player_error(p));
+        last = now;
+        int fw, fh;
+        glfwGetFramebufferSize(a.win, &fw, &fh);
+        if (fw < 1 || fh < 1) {
+            glfwWaitEventsTimeout(0.1);
+            continue;
+        }
+        vsv_camera cam;
+        const int rw = (int)fmax(16, lrint(fw * scale)), rh = (int)fmax(16, lrint(fh * scale));
+        vsv_player_camera(p, rw, rh, &cam);
+        const unsigned char *img = vsv_player_image(p, &cam, err, sizeof err);
+        if (!img)
+            vsv_cli_die(1, "%s", err);
+        glViewport(0, 0, fw, fh);
+        const float *bg = vsv_player_background(p);
+        glClearColor(bg[0], bg[1], bg[2], 1);
+        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        double mn[3], mx[3];
+        vsv_player_bounds(p, mn, mx);
+        vsv_billboard_draw(&cam, mn, mx, img, rw, rh, 1);
+        char status[2048];
+        vsv_player_status(p, status, sizeof status);
+        vsv_overlay_text(ov, fw, fh, 8, -8, status);
+        if (vsv_player_help_shown(p))
+            vsv_overlay_text(ov, fw, fh, 8, 8, vsv_player_help_text());
+        if (shot)
+            screenshot(shot_path, fw, fh);
+        glfwSwapBuffers(a.win);
+        /* nothing moves on screen while paused: sleep until input or a due action */
+        if (vsv_player_clock(p)->playing)
+            glfwPollEvents();
+        else
+            glfwWaitEventsTimeout(next < nscript ? fmax(0, fmin(0.1, lines[next].at - (glfwGetTime() - t0))) : 0.1);
+    }
+    if (!vsv_cli_quiet()) {
+        vsv_pager_stats st;
+        vsv_player_pager_stats(p, &st);
+        fprintf(stderr,
+                "vsv-play: %llu bricks decoded (%.1f MB, %.2f s), %llu hits, %llu misses, %llu stalls, cache peak %.1f "
+                "MB of %.0f MB\n",
+                (unsigned long long)st.bricks_decoded, st.bytes_decoded / 1e6, st.decode_seconds,
+                (unsigned long long)st.hits, (unsigned long long)st.misses, (unsigned long long)st.stalls,
+                st.peak_bytes / 1e6, st.budget / 1e6);
+    }
+    vsv_overlay_free(ov);
+    glfwDestroyWindow(a.win);
+    glfwTerminate();
+    vsv_player_free(p);
+    free(lines);
+    return rc;
+}

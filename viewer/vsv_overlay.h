@@ -1,0 +1,33 @@
+/* vsv_overlay.h — what vsv-play draws with OpenGL, shared by every display
+ * back end: the rendered image on a billboard at the volume's position, and
+ * a text overlay (the status line, the help) rasterised with FreeType from
+ * the system's monospace font (fontconfig). */
+#ifndef VSV_OVERLAY_H
+#define VSV_OVERLAY_H
+
+#include "vsv_render.h"
+
+#include <GL/gl.h>
+
+typedef struct vsv_overlay vsv_overlay;
+
+/* Finds and loads the font (px: glyph height in pixels). NULL with the
+ * reason in err. */
+vsv_overlay *vsv_overlay_create(int px, char *err, size_t cap);
+void vsv_overlay_free(vsv_overlay *o);
+
+/* Draws the image (w x h 8-bit RGB, row 0 at the top) rendered for cam as a
+ * textured quad facing the eye at the depth of the box mn..mx's centre,
+ * filling cam's view window there (drawn in eye space, so world coordinates
+ * never meet single-precision GL). set_projection: load cam's frustum first
+ * (the desktop); otherwise keep the projection already loaded (FreeVR loads
+ * each eye's). Needs a current GL context. */
+void vsv_billboard_draw(const vsv_camera *cam, const double mn[3], const double mx[3], const unsigned char *rgb,
+                        int w, int h, int set_projection);
+
+/* Draws text lines ('\n' separated) in window pixels from the top-left
+ * corner (x, y) over a translucent dark box; a negative y places the box's
+ * bottom -y pixels above the window's. */
+void vsv_overlay_text(vsv_overlay *o, int win_w, int win_h, int x, int y, const char *text);
+
+#endif

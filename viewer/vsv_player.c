@@ -1,0 +1,667 @@
+/* vsv_player.c — see vsv_player.h. */
+#include "vsv_player.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+struct vsv_player {
+    vsv_file *f;
+    const vsv_meta *m;
+    char path[1024];
+    int ns;
+    vsv_pager *pager;
+    vsv_clock clock;
+    int64_t *times;
+    vsv_tf *tf;
+    vsv_volume **cur;    /* per species: the volume shown (step -1: none) */
+    vsv_layer *layers;   /* per species */
+    unsigned char *want; /* per species: visible */
+    int selected;
+    int shown;           /* the step on screen; -1 before the first */
+    double exaggeration;
+    int terrain;
+    /* camera: an orbit about the scene centre moved by pan (world metres) */
+    double az, el, dist, pan[3];
+    /* rendering */
+    vsv_render_opts ro;
+    vsv_renderer *r;
+    float *rgba;
+    unsigned char *rgb;
+    int iw, ih;
+    vsv_camera last_cam;
+    int dirty;
+    float bg[3];
+    /* back-end state */
+    int quit, help;
+    char err[1024];
+    char shot[1024];
+    int shot_pending;
+};
+
+void vsv_player_opts_init(vsv_player_opts *o)
+{
+    memset(o, 0, sizeof *o);
+    o->renderer = VSV_RENDER_SHEARWARP;
+    o->terrain = 1;
+}
+
+static vsv_scene scene(const vsv_player *p)
+{
+    return (vsv_scene){p->m, p->layers, p->ns, p->exaggeration, p->terrain};
+}
+
+int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)
+{
+    vsv_player *p = *out = calloc(1, sizeof *p);
+    if (!p) {
+        snprintf(err, cap, "out of memory");
+        return -1;
+    }
+    snprintf(p->path, sizeof p->path, "%s", o->path);
+    p->shown = -1;
+    p->bg[0] = 0.02f, p->bg[1] = 0.03f, p->bg[2] = 0.06f;
+    if (vsv_file_open(o->path, &p->f)) {
+        snprintf(err, cap, "%s", p->f ? vsv_file_error(p->f) : "cannot open");
+        if (!p->f || !strstr(err, o->path)) {
+            char tmp[600];
+            snprintf(tmp, sizeof tmp, "%s: %s", o->path, err[0] ? err : "cannot open");
+            snprintf(err, cap, "%s", tmp);
+        }
+        return -1;
+    }
+    p->m = vsv_file_meta(p->f);
+    vsv_file_info info;
+    vsv_file_info_get(p->f, &info);
+    p->ns = p->m->nvars;
+    p->times = malloc((size_t)info.nsteps * sizeof *p->times);
+    p->tf = calloc((size_t)p->ns, sizeof *p->tf);
+    p->cur = calloc((size_t)p->ns, sizeof *p->cur);
+    p->layers = calloc((size_t)p->ns, sizeof *p->layers);
+    p->want = calloc((size_t)p->ns, 1);
+    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want) {
+        snprintf(err, cap, "out of memory");
+        return -1;
+    }
+    for (int t = 0; t < info.nsteps; t++)
+        p->times[t] = vsv_file_time(p->f, t);
+    vsv_pager_opts po;
+    vsv_pager_opts_init(&po);
+    po.budget = o->cache_bytes;
+    po.threads = o->clock_only ? -1 : 0;
+    if (vsv_pager_open(p->f, &po, &p->pager)) {
+        snprintf(err, cap, "cannot start the pager: out of memory");
+        return -1;
+    }
+    float *opac = malloc((size_t)p->ns * sizeof *opac);
+    if (!opac) {
+        snprintf(err, cap, "out of memory");
+        return -1;
+    }
+    for (int s = 0; s < p->ns; s++)
+        opac[s] = o->species ? -1 : 1;
+    if (o->species) { /* NAME[:OPACITY],... */
+        char *copy = strdup(o->species), *save = NULL;
+        for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
+            char *colon = strchr(it, ':');
+            double op = 1;
+            if (colon) {
+                *colon = 0;
+                char *end;
+                op = strtod(colon + 1, &end);
+                if (*end || !(op >= 0)) {
+                    snprintf(err, cap, "--species %s: opacity must be a number >= 0", o->species);
+                    free(copy);
+                    free(opac);
+                    return -1;
+                }
+            }
+            const int s = vsv_meta_find_var(p->m, it);
+            if (s < 0) {
+                snprintf(err, cap, "--species: %s has no species '%s'", o->path, it);
+                free(copy);
+                free(opac);
+                return -1;
+            }
+            opac[s] = (float)op;
+        }
+        free(copy);
+    }
+    for (int s = 0; s < p->ns; s++) {
+        char msg[512];
+        const int rc = vsv_tf_for_species(p->f, s, o->tfpath, &p->tf[s], msg, sizeof msg);
+        if (rc) {
+            snprintf(err, cap, rc == VSV_EIO ? "%s" : "%s: %s", rc == VSV_EIO ? msg : o->tfpath ? o->tfpath : o->path,
+                     msg);
+            free(opac);
+            return -1;
+        }
+        if (!(p->cur[s] = vsv_pager_volume_new(p->pager))) {
+            snprintf(err, cap, "out of memory");
+            free(opac);
+            return -1;
+        }
+        p->want[s] = opac[s] >= 0;
+        p->layers[s] = (vsv_layer){NULL, &p->tf[s], opac[s] >= 0 ? opac[s] : 1, p->want[s]};
+    }
+    free(opac);
+    p->terrain = o->terrain;
+    vsv_scene sc = scene(p);
+    p->exaggeration = o->exaggerate > 0 ? o->exaggerate : vsv_scene_default_exaggeration(&sc);
+    vsv_clock_init(&p->clock, p->times, info.nsteps, o->rate);
+    p->clock.ends = o->loop;
+    if (o->play)
+        vsv_clock_play(&p->clock);
+    p->az = 225;
+    p->el = 30;
+    vsv_render_opts_init(&p->ro);
+    p->ro.kind = o->renderer;
+    p->ro.threads = o->clock_only ? 1 : o->threads;
+    if (vsv_renderer_create(&p->ro, &p->r)) {
+        snprintf(err, cap, "cannot start the renderer");
+        return -1;
+    }
+    p->dirty = 1;
+    return 0;
+}
+
+void vsv_player_free(vsv_player *p)
+{
+    if (!p)
+        return;
+    for (int s = 0; p->cur && s < p->ns; s++)
+        vsv_pager_volume_free(p->cur[s]);
+    vsv_pager_free(p->pager);
+    vsv_renderer_free(p->r);
+    vsv_file_free(p->f);
+    free(p->times);
+    free(p->tf);
+    free(p->cur);
+    free(p->layers);
+    free(p->want);
+    free(p->rgba);
+    free(p->rgb);
+    free(p);
+}
+
+/* ---------------------------------------------------------------- paging */
+
+/* Steps the pager should expect per shown frame (at ~30 frames a second). */
+static int stride(const vsv_player *p)
+{
+    const vsv_clock *c = &p->clock;
+    if (c->nsteps < 2)
+        return 1;
+    const double span = (double)(c->times[c->nsteps - 1] - c->times[0]) / (c->nsteps - 1);
+    const double per_frame = fabs(c->speed) * c->rate / 30 / (span > 0 ? span : 1);
+    return per_frame < 1.5 ? 1 : (int)lrint(per_frame);
+}
+
+/* Shows step t: every visible species pinned from the pager (waiting for
+ * what is not decoded yet, so all species always show the same step);
+ * hidden ones released. 0 or -1. */
+static int show(vsv_player *p, int t, int wait)
+{
+    for (int s = 0; s < p->ns; s++) {
+        if (!p->want[s]) {
+            if (p->cur[s]->step >= 0)
+                vsv_pager_put(p->pager, p->cur[s]);
+            p->layers[s].vol = NULL;
+            continue;
+        }
+        if (p->cur[s]->step == t)
+            continue;
+        if (vsv_pager_get(p->pager, t, s, wait, p->cur[s])) {
+            p->layers[s].vol = NULL;
+            return -1;
+        }
+        p->layers[s].vol = p->cur[s];
+    }
+    if (t != p->shown)
+        p->dirty = 1;
+    p->shown = t;
+    return 0;
+}
+
+const char *vsv_player_error(const vsv_player *p) { return p->err; }
+
+static int show_checked(vsv_player *p, int t)
+{
+    if (!show(p, t, 1))
+        return 0;
+    snprintf(p->err, sizeof p->err, "%s", vsv_pager_error(p->pager));
+    return -1;
+}
+
+int vsv_player_update(vsv_player *p, double dt, int exact)
+{
+    vsv_clock *c = &p->clock;
+    vsv_clock_tick(c, dt);
+    const int target = c->step;
+    const int dir = !c->playing ? 0 : c->speed > 0 ? 1 : -1;
+    vsv_pager_playhead(p->pager, target, dir, stride(p), c->ends != VSV_CLOCK_STOP, p->want);
+    if (exact || !c->playing || p->shown < 0 || target == p->shown || vsv_pager_ready(p->pager, target, p->want))
+        return show_checked(p, target);
+    /* playing and the clock's step is not decoded yet: the newest decoded
+     * step on the way there, else the one shown stays */
+    vsv_pager_stall(p->pager);
+    const int n = c->nsteps;
+    for (int t = target, i = 0; i < n; i++) {
+        t = ((t - dir) % n + n) % n;
+        if (t == p->shown)
+            break;
+        if (vsv_pager_ready(p->pager, t, p->want))
+            return show_checked(p, t);
+    }
+    return show_checked(p, p->shown); /* the step shown, with any species just switched on */
+}
+
+/* ---------------------------------------------------------------- camera */
+
+void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam)
+{
+    vsv_scene sc = scene(p);
+    vsv_camera_orbit(cam, &sc, p->az, p->el, p->dist, w, h);
+    for (int i = 0; i < 3; i++)
+        cam->pos[i] += p->pan[i];
+}
+
+void vsv_player_bounds(const vsv_player *p, double mn[3], double mx[3])
+{
+    vsv_scene sc = scene(p);
+    vsv_scene_bounds(&sc, mn, mx);
+}
+
+const float *vsv_player_background(const vsv_player *p) { return p->bg; }
+
+void vsv_player_invalidate(vsv_player *p) { p->dirty = 1; }
+
+const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char *err, size_t cap)
+{
+    const int w = cam->width, h = cam->height;
+    if (w != p->iw || h != p->ih) {
+        free(p->rgba);
+        free(p->rgb);
+        p->rgba = malloc((size_t)w * h * 4 * sizeof(float));
+        p->rgb = malloc((size_t)w * h * 3);
+        if (!p->rgba || !p->rgb) {
+            p->iw = p->ih = 0;
+            snprintf(err, cap, "out of memory");
+            return NULL;
+        }
+        p->iw = w, p->ih = h;
+        p->dirty = 1;
+    }
+    if (!p->dirty && !memcmp(cam, &p->last_cam, sizeof *cam))
+        return p->rgb;
+    vsv_scene sc = scene(p);
+    if (vsv_render(p->r, &sc, cam, p->rgba, NULL)) {
+        snprintf(err, cap, "render failed");
+        return NULL;
+    }
+    vsv_image_rgb8(p->rgba, w, h, p->bg, p->rgb);
+    p->last_cam = *cam;
+    p->dirty = 0;
+    return p->rgb;
+}
+
+/* ---------------------------------------------------------------- actions */
+
+static int find_species(const vsv_player *p, const char *name)
+{
+    for (int s = 0; s < p->ns; s++)
+        if (!strcasecmp(p->m->vars[s].name, name))
+            return s;
+    return -1;
+}
+
+static int num(const char *s, double *v)
+{
+    char *end;
+    if (!s)
+        return -1;
+    *v = strtod(s, &end);
+    return end == s || *end || *v != *v ? -1 : 0;
+}
+
+int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
+{
+    char buf[1100], *save = NULL;
+    snprintf(buf, sizeof buf, "%s", action);
+    char *verb = strtok_r(buf, " \t\r\n", &save);
+    char *a1 = strtok_r(NULL, " \t\r\n", &save), *a2 = strtok_r(NULL, " \t\r\n", &save);
+    char *a3 = strtok_r(NULL, " \t\r\n", &save);
+    vsv_clock *c = &p->clock;
+    double v, v2, v3;
+    err[0] = 0;
+    if (!verb)
+        return 0;
+#define NEED(cond, ...)                                                                                                \
+    do {                                                                                                               \
+        if (!(cond)) {                                                                                                 \
+            snprintf(err, cap, __VA_ARGS__);                                                                           \
+            return -1;                                                                                                 \
+        }                                                                                                              \
+    } while (0)
+    if (!strcmp(verb, "play"))
+        vsv_clock_play(c);
+    else if (!strcmp(verb, "pause"))
+        vsv_clock_pause(c);
+    else if (!strcmp(verb, "toggle-play"))
+        vsv_clock_toggle(c);
+    else if (!strcmp(verb, "step")) {
+        v = 1;
+        NEED(!a1 || !num(a1, &v), "step: '%s' is not a number of steps", a1);
+        vsv_clock_step(c, (int)v);
+    } else if (!strcmp(verb, "seek")) {
+        NEED(a1, "seek: needs an ISO time or a step index");
+        int64_t t;
+        if (!num(a1, &v) && v == floor(v)) {
+            NEED(v >= 0 && v < c->nsteps, "seek: step %s out of range 0..%d", a1, c->nsteps - 1);
+            vsv_clock_seek_step(c, (int)v);
+        } else {
+            NEED(!vsv_time_parse(a1, &t), "seek: '%s' is neither a step index nor an ISO time", a1);
+            vsv_clock_seek_time(c, t);
+        }
+    } else if (!strcmp(verb, "speed")) {
+        NEED(!num(a1, &v) && v != 0, "speed: needs a non-zero number (negative plays backwards)");
+        vsv_clock_set_speed(c, v);
+    } else if (!strcmp(verb, "faster") || !strcmp(verb, "slower")) {
+        vsv_clock_set_speed(c, !strcmp(verb, "faster") ? c->speed * 2 : c->speed / 2);
+    } else if (!strcmp(verb, "forward") || !strcmp(verb, "rewind")) {
+        vsv_clock_faster(c, !strcmp(verb, "forward") ? 1 : -1);
+    } else if (!strcmp(verb, "loop")) {
+        if (!a1)
+            c->ends = (c->ends + 1) % 3;
+        else if (!strcmp(a1, "on"))
+            c->ends = VSV_CLOCK_LOOP;
+        else if (!strcmp(a1, "off"))
+            c->ends = VSV_CLOCK_STOP;
+        else if (!strcmp(a1, "bounce"))
+            c->ends = VSV_CLOCK_BOUNCE;
+        else
+            NEED(0, "loop: on, off or bounce");
+    } else if (!strcmp(verb, "start")) {
+        vsv_clock_seek_step(c, 0);
+    } else if (!strcmp(verb, "end")) {
+        vsv_clock_seek_step(c, c->nsteps - 1);
+    } else if (!strcmp(verb, "toggle") || !strcmp(verb, "show") || !strcmp(verb, "hide")) {
+        const int s = a1 ? find_species(p, a1) : p->selected;
+        NEED(s >= 0, "%s: no species '%s' (the file has %d)", verb, a1 ? a1 : "", p->ns);
+        p->want[s] = !strcmp(verb, "toggle") ? !p->want[s] : !strcmp(verb, "show");
+        p->layers[s].visible = p->want[s];
+        p->dirty = 1;
+    } else if (!strcmp(verb, "opacity")) {
+        const int s = a1 && !strcmp(a1, "-") ? p->selected : a1 ? find_species(p, a1) : -1;
+        NEED(s >= 0, "opacity: no species '%s'", a1 ? a1 : "");
+        const int rel = a2 && (a2[0] == '+' || a2[0] == '-');
+        NEED(!num(a2, &v) && (rel || v >= 0), "opacity: needs a value >= 0 (or +D / -D to change it)");
+        v = rel ? p->layers[s].opacity + v : v;
+        p->layers[s].opacity = (float)(v < 0 ? 0 : round(v * 1000) / 1000);
+        p->dirty = 1;
+    } else if (!strcmp(verb, "select")) {
+        NEED(a1, "select: +1, -1 or a species name");
+        if (!strcmp(a1, "+1") || !strcmp(a1, "-1"))
+            p->selected = (p->selected + (a1[0] == '+' ? 1 : p->ns - 1)) % p->ns;
+        else if (a1[0] == '#' && !num(a1 + 1, &v)) {
+            NEED(v >= 0 && v < p->ns, "select: no species number %s", a1 + 1);
+            p->selected = (int)v;
+        } else {
+            const int s = find_species(p, a1);
+            NEED(s >= 0, "select: no species '%s'", a1);
+            p->selected = s;
+        }
+    } else if (!strcmp(verb, "camera")) {
+        NEED(!num(a1, &v) && !num(a2, &v2) && (!a3 || !num(a3, &v3)), "camera: needs AZ EL [DIST]");
+        p->az = v, p->el = fmax(-89.9, fmin(89.9, v2)), p->dist = a3 ? fmax(0, v3) : 0;
+        memset(p->pan, 0, sizeof p->pan);
+    } else if (!strcmp(verb, "orbit")) {
+        NEED(!num(a1, &v) && !num(a2, &v2), "orbit: needs DAZ DEL");
+        p->az = fmod(p->az + v + 360, 360), p->el = fmax(-89.9, fmin(89.9, p->el + v2));
+    } else if (!strcmp(verb, "zoom")) {
+        NEED(!num(a1, &v) && v > 0, "zoom: needs a factor > 0");
+        if (!(p->dist > 0)) {
+            vsv_camera cam;
+            vsv_player_camera(p, 100, 100, &cam);
+            double mn[3], mx[3];
+            vsv_player_bounds(p, mn, mx);
+            double d2 = 0;
+            for (int i = 0; i < 3; i++)
+                d2 += pow(0.5 * (mn[i] + mx[i]) + p->pan[i] - cam.pos[i], 2);
+            p->dist = sqrt(d2);
+        }
+        p->dist /= v;
+    } else if (!strcmp(verb, "pan")) {
+        NEED(!num(a1, &v) && !num(a2, &v2), "pan: needs DX DY (fractions of the view)");
+        vsv_camera cam;
+        vsv_player_camera(p, 100, 100, &cam);
+        double f[3] = {cam.dir[0], cam.dir[1], cam.dir[2]}, r[3], u[3];
+        const double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        for (int i = 0; i < 3; i++)
+            f[i] /= fl;
+        r[0] = f[1] * cam.up[2] - f[2] * cam.up[1], r[1] = f[2] * cam.up[0] - f[0] * cam.up[2],
+        r[2] = f[0] * cam.up[1] - f[1] * cam.up[0];
+        const double rl = sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+        for (int i = 0; i < 3; i++)
+            r[i] /= rl > 0 ? rl : 1;
+        u[0] = r[1] * f[2] - r[2] * f[1], u[1] = r[2] * f[0] - r[0] * f[2], u[2] = r[0] * f[1] - r[1] * f[0];
+        double mn[3], mx[3];
+        vsv_player_bounds(p, mn, mx);
+        const double span = fmax(mx[0] - mn[0], mx[1] - mn[1]);
+        for (int i = 0; i < 3; i++)
+            p->pan[i] -= (v * r[i] + v2 * u[i]) * span;
+    } else if (!strcmp(verb, "renderer")) {
+        int kind = p->ro.kind;
+        if (a1 && !strcmp(a1, "raycast"))
+            kind = VSV_RENDER_RAYCAST;
+        else if (a1 && !strcmp(a1, "shearwarp"))
+            kind = VSV_RENDER_SHEARWARP;
+        else if (a1 && !strcmp(a1, "switch"))
+            kind = !kind;
+        else
+            NEED(0, "renderer: raycast, shearwarp or switch");
+        if (kind != p->ro.kind) {
+            vsv_renderer *r = NULL;
+            vsv_render_opts ro = p->ro;
+            ro.kind = kind;
+            NEED(!vsv_renderer_create(&ro, &r), "renderer: cannot start it");
+            vsv_renderer_free(p->r);
+            p->r = r;
+            p->ro = ro;
+            p->dirty = 1;
+        }
+    } else if (!strcmp(verb, "help")) {
+        p->help = !p->help;
+    } else if (!strcmp(verb, "screenshot")) {
+        NEED(a1, "screenshot: needs a FILE.png");
+        snprintf(p->shot, sizeof p->shot, "%s", a1);
+        p->shot_pending = 1;
+    } else if (!strcmp(verb, "quit")) {
+        p->quit = 1;
+    } else {
+        NEED(0, "unknown action '%s'", verb);
+    }
+    return 0;
+#undef NEED
+}
+
+/* ---------------------------------------------------------------- status */
+
+void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
+{
+    const vsv_clock *c = &p->clock;
+    char when[64] = "-";
+    const int step = p->shown >= 0 ? p->shown : c->step;
+    if (c->nsteps)
+        vsv_time_format(p->times[step], when, sizeof when);
+    static const char *ends[] = {"", "  loop", "  bounce"};
+    size_t n = (size_t)snprintf(buf, cap, "%s  step %d/%d  %s %sx%g%s  %s\n", when, step + 1, c->nsteps,
+                                c->playing ? "PLAY" : "PAUSE", c->speed < 0 ? "-" : "", fabs(c->speed), ends[c->ends],
+                                p->ro.kind == VSV_RENDER_RAYCAST ? "raycast" : "shear-warp");
+    for (int s = 0; s < p->ns && n < cap; s++) {
+        const int sel = s == p->selected;
+        if (p->want[s])
+            n += (size_t)snprintf(buf + n, cap - n, "%s%s%s %.1f%s", s ? " " : "", sel ? "[" : "", p->m->vars[s].name,
+                                  p->layers[s].opacity, sel ? "]" : "");
+        else
+            n += (size_t)snprintf(buf + n, cap - n, "%s%s%s off%s", s ? " " : "", sel ? "[" : "", p->m->vars[s].name,
+                                  sel ? "]" : "");
+    }
+}
+
+const char *vsv_player_help_text(void)
+{
+    return "space      play / pause\n"
+           "right/left step forward / back (pauses)\n"
+           "f / r      fast-forward / rewind: x2, x4 ... x64\n"
+           "+ / -      speed up / slow down\n"
+           "l          loop: off, on, bounce\n"
+           "home / end jump to the start / the end\n"
+           "tab / 1-9  select a species\n"
+           "v          show / hide the selected species\n"
+           "up / down  its opacity up / down\n"
+           "m          switch renderer (shear-warp / raycast)\n"
+           "p          screenshot (vsv-play-NNNN.png)\n"
+           "h          this help\n"
+           "q / esc    quit\n"
+           "mouse      left drag: orbit; right drag: pan; wheel: zoom\n";
+}
+
+int vsv_player_quit(const vsv_player *p) { return p->quit; }
+int vsv_player_help_shown(const vsv_player *p) { return p->help; }
+
+const char *vsv_player_take_screenshot(vsv_player *p)
+{
+    if (!p->shot_pending)
+        return NULL;
+    p->shot_pending = 0;
+    return p->shot;
+}
+
+const vsv_clock *vsv_player_clock(const vsv_player *p) { return &p->clock; }
+int vsv_player_shown_step(const vsv_player *p) { return p->shown; }
+void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st) { vsv_pager_stats_get(p->pager, st); }
+
+void vsv_player_state_get(const vsv_player *p, vsv_player_state *st)
+{
+    memset(st, 0, sizeof *st);
+    st->model = p->clock.model;
+    st->speed = p->clock.speed;
+    st->step = p->clock.step;
+    st->playing = p->clock.playing;
+    st->ends = p->clock.ends;
+    st->renderer = p->ro.kind;
+    st->selected = p->selected;
+    st->help = p->help;
+    for (int s = 0; s < p->ns && s < VSV_PLAYER_MAX_SPECIES; s++) {
+        st->visible[s] = p->want[s];
+        st->opacity[s] = p->layers[s].opacity;
+    }
+}
+
+int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err, size_t cap)
+{
+    for (int s = 0; s < p->ns && s < VSV_PLAYER_MAX_SPECIES; s++) {
+        if (p->want[s] != st->visible[s] || p->layers[s].opacity != st->opacity[s])
+            p->dirty = 1;
+        p->want[s] = p->layers[s].visible = st->visible[s];
+        p->layers[s].opacity = st->opacity[s];
+    }
+    p->clock.model = st->model;
+    p->clock.speed = st->speed;
+    p->clock.step = st->step < 0 ? 0 : st->step >= p->clock.nsteps ? p->clock.nsteps - 1 : st->step;
+    p->clock.playing = st->playing;
+    p->clock.ends = st->ends;
+    p->selected = st->selected >= 0 && st->selected < p->ns ? st->selected : 0;
+    p->help = st->help;
+    if (st->renderer != p->ro.kind)
+        return vsv_player_do(p, st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast" : "renderer shearwarp", err,
+                             cap);
+    return 0;
+}
+
+void vsv_player_tick(vsv_player *p, double dt) { vsv_clock_tick(&p->clock, dt); }
+
+/* 4x4 inverse (column order), Gauss-Jordan with partial pivoting; 0 if singular. */
+static int invert4(const double m[16], double out[16])
+{
+    double a[4][8];
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            a[r][c] = m[c * 4 + r];
+            a[r][c + 4] = r == c;
+        }
+    for (int c = 0; c < 4; c++) {
+        int piv = c;
+        for (int r = c + 1; r < 4; r++)
+            if (fabs(a[r][c]) > fabs(a[piv][c]))
+                piv = r;
+        if (fabs(a[piv][c]) < 1e-300)
+            return 0;
+        for (int k = 0; k < 8; k++) {
+            const double t = a[c][k];
+            a[c][k] = a[piv][k];
+            a[piv][k] = t;
+        }
+        const double d = a[c][c];
+        for (int k = 0; k < 8; k++)
+            a[c][k] /= d;
+        for (int r = 0; r < 4; r++)
+            if (r != c) {
+                const double f = a[r][c];
+                for (int k = 0; k < 8; k++)
+                    a[r][k] -= f * a[c][k];
+            }
+    }
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++)
+            out[c * 4 + r] = a[r][c + 4];
+    return 1;
+}
+
+static void mul4(const double a[16], const double b[16], double out[16])
+{
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            double s = 0;
+            for (int k = 0; k < 4; k++)
+                s += a[k * 4 + r] * b[c * 4 + k];
+            out[c * 4 + r] = s;
+        }
+}
+
+void vsv_player_camera_from_gl(const vsv_player *p, const double at[3], double size, const double P[16],
+                               const double MV[16], int w, int h, vsv_camera *cam)
+{
+    double mn[3], mx[3];
+    vsv_player_bounds(p, mn, mx);
+    const double span = fmax(mx[0] - mn[0], mx[1] - mn[1]);
+    const double k = size / (span > 0 ? span : 1);
+    const double c[3] = {0.5 * (mn[0] + mx[0]), 0.5 * (mn[1] + mx[1]), 0.5 * (mn[2] + mx[2])};
+    /* W: world metres -> display units: x east, y up, -z north */
+    const double W[16] = {k, 0, 0, 0, 0, 0, -k, 0, 0, k, 0, 0,
+                          at[0] - k * c[0], at[1] - k * c[2], at[2] + k * c[1], 1};
+    double M[16], Mi[16];
+    mul4(MV, W, M); /* world -> eye */
+    memset(cam, 0, sizeof *cam);
+    cam->width = w;
+    cam->height = h;
+    cam->zfar = INFINITY;
+    if (!invert4(M, Mi))
+        return;
+    for (int i = 0; i < 3; i++) {
+        cam->pos[i] = Mi[12 + i] / Mi[15];
+        cam->dir[i] = -Mi[8 + i]; /* the eye's -z */
+        cam->up[i] = Mi[4 + i];   /* the eye's +y */
+    }
+    /* the frustum: glFrustum(l, r, b, t, n, f) */
+    cam->window[0] = (P[8] - 1) / P[0];
+    cam->window[1] = (P[8] + 1) / P[0];
+    cam->window[2] = (P[9] - 1) / P[5];
+    cam->window[3] = (P[9] + 1) / P[5];
+    cam->fov_deg = 2 * atan(0.5 * (cam->window[3] - cam->window[2])) * 180 / M_PI;
+    cam->znear = 0;
+}

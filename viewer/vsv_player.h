@@ -1,0 +1,121 @@
+/* vsv_player.h — what vsv-play does, whatever shows it: a file, its pager,
+ * the playback clock, the species' visibility and opacity, the camera and a
+ * renderer, driven by actions in one small language shared by the keyboard,
+ * the wand and --script files:
+ *
+ *   play | pause | toggle-play | step [+N|-N] | seek ISO-TIME|INDEX
+ *   speed X (negative plays backwards) | faster | slower | forward | rewind
+ *   loop on|off|bounce | start | end
+ *   toggle [SPECIES] | show [SPECIES] | hide [SPECIES] (default: the selected)
+ *   opacity SPECIES|- VALUE|+D|-D ('-': the selected; signed: a change)
+ *   select +1|-1|#INDEX|SPECIES | camera AZ EL [DIST] | orbit DAZ DEL | zoom FACTOR
+ *   pan DX DY (fractions of the view) | renderer raycast|shearwarp|switch
+ *   help | screenshot FILE.png | quit
+ *
+ * Display back ends (viewer/vsv-play.c: GLFW; viewer/vsv_freevr.c: FreeVR)
+ * own the window and call update, then render for each eye's camera, then
+ * draw the image on a billboard (vsv_billboard.h). */
+#ifndef VSV_PLAYER_H
+#define VSV_PLAYER_H
+
+#include "vsv_clock.h"
+#include "vsv_pager.h"
+#include "vsv_render.h"
+
+#include <stddef.h>
+
+typedef struct vsv_player_opts {
+    const char *path;
+    size_t cache_bytes;     /* 0 = the pager's default */
+    int threads;            /* render threads; 0 = all cores */
+    int renderer;           /* VSV_RENDER_* */
+    const char *species;    /* NAME[:OPACITY],... visible at start; NULL = all */
+    const char *tfpath;     /* transfer functions file or NULL */
+    double exaggerate;      /* 0 = the default */
+    double rate;            /* model seconds per wall second at x1; 0 = the default */
+    int loop;               /* VSV_CLOCK_STOP / LOOP / BOUNCE */
+    int play;               /* start playing */
+    int terrain;            /* draw the ground */
+    int clock_only;         /* no pager, no renderer: the input process of a
+                               multi-process back end (state and clock only) */
+} vsv_player_opts;
+
+void vsv_player_opts_init(vsv_player_opts *o);
+
+typedef struct vsv_player vsv_player;
+
+/* Opens the file and starts the pager and the renderer. 0, or -1 with the
+ * reason in err ("FILE: what"). */
+int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap);
+void vsv_player_free(vsv_player *p);
+
+/* Runs one action (the language above). 0, or -1 with the reason in err. */
+int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap);
+
+/* Advances the clock by dt wall seconds and brings the shown step up to it:
+ * the clock's step when decoded, else (while playing) the newest decoded
+ * step between the one shown and it (counted as a stall). exact: wait until
+ * the clock's step itself is shown (screenshots, paused seeks). 0, or -1
+ * when a step cannot be decoded (vsv_player_error says why: the file, step,
+ * species and brick); nothing is drawn from a step that failed. */
+int vsv_player_update(vsv_player *p, double dt, int exact);
+const char *vsv_player_error(const vsv_player *p);
+
+/* The camera for a w x h view from the orbit state. */
+void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam);
+/* Renders the scene for cam into 8-bit RGB over the background (w*h*3
+ * bytes, row 0 at the top), re-rendering only when the camera, the step,
+ * a species setting or the renderer changed. Returns the image (owned by
+ * the player, valid until the next call) or NULL with the reason in err. */
+const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char *err, size_t cap);
+/* Renders exactly this frame again on the next vsv_player_image. */
+void vsv_player_invalidate(vsv_player *p);
+
+/* The on-screen lines: model time, step, play state, speed, ends and
+ * renderer; then each species' visibility and opacity (the selected one in
+ * brackets). Nothing in them moves with wall-clock time. */
+void vsv_player_status(const vsv_player *p, char *buf, size_t cap);
+/* The help text (keys and mouse), lines separated by '\n'. */
+const char *vsv_player_help_text(void);
+
+/* What the displays of a multi-process back end (FreeVR forks one render
+ * process per window) need from the process that reads the input: plain
+ * data, fit for shared memory. Species beyond the first 64 keep their
+ * start settings. */
+#define VSV_PLAYER_MAX_SPECIES 64
+typedef struct vsv_player_state {
+    double model, speed;
+    int step, playing, ends, renderer, selected, help;
+    unsigned char visible[VSV_PLAYER_MAX_SPECIES];
+    float opacity[VSV_PLAYER_MAX_SPECIES];
+} vsv_player_state;
+void vsv_player_state_get(const vsv_player *p, vsv_player_state *st);
+/* Takes st over (the clock follows it; it does not tick by itself). 0 or -1
+ * with the reason in err. */
+int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err, size_t cap);
+/* Advances only the clock (the input process of a multi-process back end). */
+void vsv_player_tick(vsv_player *p, double dt);
+
+/* Immersive displays: the volume stands in the display's real-world
+ * coordinates (FreeVR: feet, y up, the floor's centre at 0) with its
+ * largest horizontal extent `size` units wide and the centre of its box at
+ * `at`; east is +x, north is -z, up is +y. From the projection P (a
+ * glFrustum) and model-view MV (real world to eye) that the display loaded
+ * for one eye, both in OpenGL column order, the camera that renders that
+ * eye's view (off-axis frustum, w x h pixels). */
+void vsv_player_camera_from_gl(const vsv_player *p, const double at[3], double size, const double P[16],
+                               const double MV[16], int w, int h, vsv_camera *cam);
+
+/* State the back ends read. */
+int vsv_player_quit(const vsv_player *p);
+int vsv_player_help_shown(const vsv_player *p);
+/* A screenshot asked for by an action: its path (then cleared), or NULL. */
+const char *vsv_player_take_screenshot(vsv_player *p);
+const vsv_clock *vsv_player_clock(const vsv_player *p);
+int vsv_player_shown_step(const vsv_player *p);
+void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st);
+/* The scene's centre and size (world metres), for billboards. */
+void vsv_player_bounds(const vsv_player *p, double mn[3], double mx[3]);
+const float *vsv_player_background(const vsv_player *p);
+
+#endif
