@@ -156,7 +156,8 @@ demo:
 	$(Q)$(MAKE) --no-print-directory all
 	$(Q)B=$(B) sh tools/demo.sh
 
-BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render
+BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
+            $(B)/bench/bench_play
 $(B)/bench/%: $(B)/bench/%.o $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
@@ -168,6 +169,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_convert.sh
 	$(Q)B=$(B) sh bench/bench_camx.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vtk.sh || echo "(VTK comparison skipped)"
 	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_volpack && \
 	  B=$(B) SHARED=$(SHARED) sh bench/bench_volpack.sh; else echo "(VolPack comparison skipped: apt-get install libvolpack1-dev)"; fi
@@ -186,7 +188,8 @@ install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
 	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
 	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/
-	install -m 644 format/vsv_format.h render/vsv_render.h stream/vsv_pager.h stream/vsv_clock.h $(DESTDIR)$(INCDIR)/
+	install -m 644 format/vsv_format.h render/vsv_render.h stream/vsv_pager.h stream/vsv_clock.h viewer/vsv_player.h \
+	  $(DESTDIR)$(INCDIR)/
 	install -m 644 man/*.1 $(DESTDIR)$(MANDIR)/man1/
 	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
 

@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 void vsv_image_rgb8(const float *rgba, int w, int h, const float bg[3], unsigned char *rgb)
@@ -28,6 +29,11 @@ int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char
     char tmp[4200];
     snprintf(tmp, sizeof tmp, "%s.tmp.XXXXXX", path);
     int fd = mkstemp(tmp);
+    if (fd >= 0) { /* the mode a plain create would give, not mkstemp's 0600 */
+        const mode_t um = umask(0);
+        umask(um);
+        fchmod(fd, 0666 & ~um);
+    }
     FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
     if (!fp) {
         snprintf(err, cap, "%s: cannot create: %s", path, strerror(errno));

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 enum { LOADING, READY, FAILED };
@@ -50,6 +51,8 @@ struct vsv_pager {
     size_t step_bytes; /* the largest step seen (all wanted species) */
     int depth;
     int mark, marked_gen; /* entries of the prefetch window carry mark */
+    int scan_d, scan_s, scan_b; /* where the last prefetch scan stopped (this mark) */
+    int focus, focus_dir;       /* the step being decoded ahead: finished before moving on */
     /* workers */
     pthread_t *tid;
     int nthreads, quit;
@@ -58,6 +61,12 @@ struct vsv_pager {
     pthread_mutex_t own_mu;
     vsv_pager_stats st;
     char err[512];
+    /* brick buffers: carved from 2 MB slabs (huge pages where the kernel
+     * gives them: far fewer page faults) and recycled through a free list */
+    void **slabs;
+    int nslabs, capslabs;
+    size_t slab_bytes, slab_used;
+    void *freebuf;
 };
 
 typedef struct shell {
@@ -117,9 +126,49 @@ static int rehash(vsv_pager *p, unsigned n)
     return 0;
 }
 
-/* A new LOADING entry (under the lock); -1 when out of memory. */
+/* A brick buffer (under the lock); NULL when out of memory. */
+static float *buf_get(vsv_pager *p)
+{
+    if (p->freebuf) {
+        void *b = p->freebuf;
+        memcpy(&p->freebuf, b, sizeof(void *));
+        return b;
+    }
+    if (!p->nslabs || p->slab_used + p->brick_bytes > p->slab_bytes) {
+        if (p->nslabs == p->capslabs) {
+            const int cap = p->capslabs ? 2 * p->capslabs : 64;
+            void **ns = realloc(p->slabs, (size_t)cap * sizeof *ns);
+            if (!ns)
+                return NULL;
+            p->slabs = ns;
+            p->capslabs = cap;
+        }
+        void *m = NULL;
+        if (posix_memalign(&m, (size_t)2 << 20, p->slab_bytes))
+            return NULL;
+        madvise(m, p->slab_bytes, MADV_HUGEPAGE);
+        p->slabs[p->nslabs++] = m;
+        p->slab_used = 0;
+    }
+    float *b = (float *)((char *)p->slabs[p->nslabs - 1] + p->slab_used);
+    p->slab_used += p->brick_bytes;
+    return b;
+}
+
+static void buf_put(vsv_pager *p, float *b)
+{
+    if (!b)
+        return;
+    memcpy(b, &p->freebuf, sizeof(void *));
+    p->freebuf = b;
+}
+
+/* A new LOADING entry with its buffer (under the lock); -1 when out of memory. */
 static int insert(vsv_pager *p, int s, int b, int step)
 {
+    float *buf = buf_get(p);
+    if (!buf)
+        return -1;
     int e = p->freelist;
     if (e >= 0) {
         p->freelist = p->ent[e].next;
@@ -127,20 +176,24 @@ static int insert(vsv_pager *p, int s, int b, int step)
         if (p->nent == p->capent) {
             const int cap = p->capent ? 2 * p->capent : 1024;
             entry *ne = realloc(p->ent, (size_t)cap * sizeof *ne);
-            if (!ne)
+            if (!ne) {
+                buf_put(p, buf);
                 return -1;
+            }
             p->ent = ne;
             p->capent = cap;
         }
         e = p->nent++;
         if ((unsigned)p->nent * 2 > p->nbucket) {
             p->ent[e].state = -1;
-            if (rehash(p, p->nbucket * 2))
+            if (rehash(p, p->nbucket * 2)) {
+                buf_put(p, buf);
                 return -1;
+            }
         }
     }
     entry *E = &p->ent[e];
-    *E = (entry){s, b, step, LOADING, 0, p->mark, NULL, ++p->tick, 0};
+    *E = (entry){s, b, step, LOADING, 0, p->mark, buf, ++p->tick, 0};
     const unsigned h = hash3(s, b, step) & (p->nbucket - 1);
     E->next = p->bucket[h];
     p->bucket[h] = e;
@@ -153,7 +206,7 @@ static int insert(vsv_pager *p, int s, int b, int step)
 static void drop(vsv_pager *p, int e)
 {
     unlink_entry(p, e);
-    free(p->ent[e].data);
+    buf_put(p, p->ent[e].data);
     p->ent[e].data = NULL;
     p->ent[e].state = -1;
     p->ent[e].next = p->freelist;
@@ -195,6 +248,7 @@ static int make_room(vsv_pager *p, size_t extra, int window)
     for (size_t i = 0; i < n && p->bytes + extra > p->budget; i++) {
         drop(p, (int)c[2 * i + 1]);
         p->st.evictions++;
+        p->scan_d = p->scan_s = p->scan_b = 0; /* what was there may be gone */
     }
     free(c);
     return p->bytes + extra <= p->budget;
@@ -239,20 +293,14 @@ static const int *defs(vsv_pager *p, int step, int s)
     return r->def = d;
 }
 
-/* Decodes entry e's brick with decoder d (outside the lock); its data or
- * NULL (error text in msg). */
-static float *decode(vsv_pager *p, vsv_decoder *d, int s, int b, int step, char *msg, size_t cap)
+/* Decodes a brick into out with decoder d (outside the lock); 0, or -1
+ * with the error text in msg. */
+static int decode(vsv_pager *p, vsv_decoder *d, int s, int b, int step, float *out, char *msg, size_t cap)
 {
     const int n = p->info.brick;
-    float *out = malloc(p->brick_bytes);
-    if (!out) {
-        snprintf(msg, cap, "out of memory");
-        return NULL;
-    }
     if (vsv_decoder_brick(d, step, s, b, out)) {
         snprintf(msg, cap, "%s", vsv_decoder_error(d));
-        free(out);
-        return NULL;
+        return -1;
     }
     int org[3], ext[3];
     vsv_file_brick_box(p->f, b, org, ext);
@@ -264,17 +312,16 @@ static float *decode(vsv_pager *p, vsv_decoder *d, int s, int b, int step, char 
                     if (i >= ext[0] || j >= ext[1] || k >= ext[2])
                         out[((size_t)k * n + j) * n + i] = ev;
     }
-    return out;
+    return 0;
 }
 
-/* Marks e decoded (under the lock). */
-static void finish(vsv_pager *p, int e, float *data, double secs)
+/* Marks e decoded, or failed (under the lock). */
+static void finish(vsv_pager *p, int e, int ok, double secs)
 {
     entry *E = &p->ent[e];
-    E->data = data;
-    E->state = data ? READY : FAILED;
+    E->state = ok ? READY : FAILED;
     E->tick = ++p->tick;
-    if (data) {
+    if (ok) {
         p->st.bricks_decoded++;
         p->st.bytes_decoded += p->brick_bytes;
     }
@@ -312,6 +359,7 @@ static int mark_window(vsv_pager *p)
         return 1;
     p->marked_gen = p->gen;
     p->mark++;
+    p->scan_d = p->scan_s = p->scan_b = 0;
     size_t unit = 0;
     for (int s = 0; s < p->info.nspecies; s++) {
         const int *def = wanted(p, s) ? defs(p, p->head, s) : NULL;
@@ -349,21 +397,49 @@ static int next_job(vsv_pager *p, int *s_out, int *b_out, int *step_out)
 {
     if (!mark_window(p))
         return -1;
-    for (int d = 0; d <= p->depth; d++) {
+    /* finish the step under way first, even if the playhead has moved past
+     * it: when decoding cannot keep up, complete steps are what the player
+     * can show (the newest complete one), half-decoded ones are not */
+    if (p->focus >= 0 && p->focus_dir == p->dir && p->depth > 0) {
+        for (int s = 0; s < p->info.nspecies; s++) {
+            const int *def = wanted(p, s) ? defs(p, p->focus, s) : NULL;
+            for (int b = 0; def && b < p->info.nbricks; b++) {
+                if (def[b] < 0 || lookup(p, s, b, def[b]) >= 0)
+                    continue;
+                if (!make_room(p, p->brick_bytes, 0))
+                    goto scan;
+                const int ne = insert(p, s, b, def[b]);
+                if (ne < 0)
+                    return -1;
+                p->ent[ne].pins = 1; /* being decoded: never evicted */
+                p->pinned += p->brick_bytes;
+                *s_out = s, *b_out = b, *step_out = def[b];
+                return ne;
+            }
+        }
+        p->focus = -1; /* complete */
+    }
+scan:
+    /* resume where the last scan of this window stopped: what lies before
+     * it was decoded or claimed (an eviction changes the window's mark) */
+    for (int d = p->scan_d; d <= p->depth; d++) {
         const int t = ahead_step(p, d);
         if (t < 0)
             break;
-        for (int s = 0; s < p->info.nspecies; s++) {
+        for (int s = d == p->scan_d ? p->scan_s : 0; s < p->info.nspecies; s++) {
             if (!wanted(p, s))
                 continue;
             const int *def = defs(p, t, s);
             if (!def)
                 return -1;
-            for (int b = 0; b < p->info.nbricks; b++) {
+            for (int b = d == p->scan_d && s == p->scan_s ? p->scan_b : 0; b < p->info.nbricks; b++) {
                 if (def[b] < 0 || lookup(p, s, b, def[b]) >= 0)
                     continue;
+                p->scan_d = d, p->scan_s = s, p->scan_b = b;
                 if (!make_room(p, p->brick_bytes, 0))
                     return -1;
+                p->focus = t;
+                p->focus_dir = p->dir;
                 const int ne = insert(p, s, b, def[b]);
                 if (ne < 0)
                     return -1;
@@ -374,6 +450,7 @@ static int next_job(vsv_pager *p, int *s_out, int *b_out, int *step_out)
             }
         }
     }
+    p->scan_d = p->depth + 1;
     return -1;
 }
 
@@ -399,14 +476,15 @@ static void *worker(void *arg)
                 pthread_cond_wait(&p->work, &p->mu);
             continue;
         }
+        float *out = p->ent[e].data;
         pthread_mutex_unlock(&p->mu);
         const double t0 = now();
-        float *data = decode(p, d, s, b, step, msg, sizeof msg);
+        const int ok = !decode(p, d, s, b, step, out, msg, sizeof msg);
         const double t1 = now();
         pthread_mutex_lock(&p->mu);
-        if (!data)
+        if (!ok)
             set_err(p, "%s", msg);
-        finish(p, e, data, t1 - t0);
+        finish(p, e, ok, t1 - t0);
         p->ent[e].pins = 0;
         p->pinned -= p->brick_bytes;
         make_room(p, 0, 1);
@@ -431,6 +509,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     vsv_file_info_get(f, &p->info);
     p->meta = vsv_file_meta(f);
     p->brick_bytes = (size_t)p->info.brick * p->info.brick * p->info.brick * sizeof(float);
+    p->slab_bytes = p->brick_bytes > ((size_t)2 << 20) ? p->brick_bytes : ((size_t)2 << 20) / p->brick_bytes * p->brick_bytes;
     p->budget = o->budget;
     if (!p->budget) {
         const long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
@@ -440,6 +519,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     p->stride = 1;
     p->dir = 1;
     p->freelist = -1;
+    p->focus = -1;
     pthread_mutex_init(&p->mu, NULL);
     pthread_mutex_init(&p->own_mu, NULL);
     pthread_cond_init(&p->ready, NULL);
@@ -487,9 +567,9 @@ void vsv_pager_free(vsv_pager *p)
     for (int i = 0; p->dec && i < p->nthreads; i++)
         vsv_decoder_free(p->dec[i]);
     vsv_decoder_free(p->own);
-    for (int e = 0; e < p->nent; e++)
-        if (p->ent[e].state >= 0)
-            free(p->ent[e].data);
+    for (int i = 0; i < p->nslabs; i++)
+        free(p->slabs[i]);
+    free(p->slabs);
     if (p->rows)
         for (size_t i = 0; i < (size_t)p->info.nsteps * p->info.nspecies; i++)
             free(p->rows[i].def);
@@ -671,16 +751,17 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
             }
             p->ent[e].pins = 1; /* ours while it decodes: never evicted */
             p->pinned += p->brick_bytes;
+            float *out = p->ent[e].data;
             pthread_mutex_unlock(&p->mu);
             char msg[256];
             pthread_mutex_lock(&p->own_mu);
             const double t0 = now();
-            float *data = decode(p, p->own, s, b, def[b], msg, sizeof msg);
+            const int ok = !decode(p, p->own, s, b, def[b], out, msg, sizeof msg);
             const double t1 = now();
             pthread_mutex_unlock(&p->own_mu);
             pthread_mutex_lock(&p->mu);
-            finish(p, e, data, t1 - t0);
-            if (!data) {
+            finish(p, e, ok, t1 - t0);
+            if (!ok) {
                 set_err(p, "%s", msg);
                 p->ent[e].pins = 0;
                 p->pinned -= p->brick_bytes;

@@ -41,4 +41,31 @@ step "Render every 30 minutes, cloud water and snow only, higher cloud opacity" 
      "vsv-render $OUT/storm.vsv --times 0: --species CLW:2,SNOW -o $OUT/frame%04d.png --size 480x360"
 "$B/vsv-render" "$OUT/storm.vsv" --times 0: --species CLW:2,SNOW --size 480x360 -o "$OUT/frame%04d.png"
 ls "$OUT"/frame*.png | head -3
-printf '\nDone: %s/storm.vsv, %s/storm.png and %s/frame*.png (interactive playback comes with issue #6)\n' "$OUT" "$OUT" "$OUT"
+
+# Playback: in a window when there is a display, else in a virtual one (Xvfb),
+# driven by a script: play, hide the rain, fade the clouds, rewind, screenshots.
+cat > "$OUT/playback.script" <<EOS
+0.5 screenshot $OUT/play-start.png
+0.6 play
+2.0 screenshot $OUT/play-playing.png
+2.1 hide RNW
+2.2 opacity CLW 2
+2.3 camera 200 40
+2.5 screenshot $OUT/play-clouds.png
+2.6 rewind
+3.5 pause
+3.6 screenshot $OUT/play-rewound.png
+4.0 quit
+EOS
+if [ -n "${DISPLAY:-}" ]; then
+    step "Play it back in a window (scripted; run vsv-play $OUT/storm.vsv yourself and press h)" \
+         "vsv-play $OUT/storm.vsv --script $OUT/playback.script"
+    "$B/vsv-play" "$OUT/storm.vsv" --script "$OUT/playback.script"
+elif command -v xvfb-run > /dev/null; then
+    step "No display here: play it back in a virtual one (Xvfb), scripted" \
+         "xvfb-run vsv-play $OUT/storm.vsv --script $OUT/playback.script"
+    xvfb-run -a -s "-screen 0 1280x1024x24" "$B/vsv-play" "$OUT/storm.vsv" --script "$OUT/playback.script"
+else
+    printf '\n(no display and no xvfb-run: playback skipped; apt-get install xvfb xauth)\n'
+fi
+printf '\nDone: %s/storm.vsv, %s/storm.png, %s/frame*.png and %s/play-*.png\n' "$OUT" "$OUT" "$OUT" "$OUT"

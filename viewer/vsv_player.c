@@ -243,7 +243,12 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
     const int target = c->step;
     const int dir = !c->playing ? 0 : c->speed > 0 ? 1 : -1;
     vsv_pager_playhead(p->pager, target, dir, stride(p), c->ends != VSV_CLOCK_STOP, p->want);
-    if (exact || !c->playing || p->shown < 0 || target == p->shown || vsv_pager_ready(p->pager, target, p->want))
+    vsv_pager_stats st;
+    vsv_pager_stats_get(p->pager, &st);
+    /* st.prefetch_depth 0: a step does not fit the budget beside the one
+     * shown, nothing is decoded ahead, so decode on demand */
+    if (exact || !c->playing || p->shown < 0 || target == p->shown || st.prefetch_depth == 0 ||
+        vsv_pager_ready(p->pager, target, p->want))
         return show_checked(p, target);
     /* playing and the clock's step is not decoded yet: the newest decoded
      * step on the way there, else the one shown stays */

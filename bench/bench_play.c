@@ -1,0 +1,276 @@
+/* bench_play.c — streamed playback through the pager: time to the first
+ * frame, steps per second decoded under a 64 MB and a 1 GB budget, stalls
+ * while a 30 frames/s display plays forward and backward at x1 and x8, and
+ * anonymous resident memory against the budget. Usage:
+ *   bench_play FILE.vsv                 measure
+ *   bench_play --make OUT.vsv STEPS     write a synthetic file: 512x512x48, 4 noisy
+ *                                       species, 16-bit, ~84 MB a step on disk */
+#include "vsv_clock.h"
+#include "vsv_pager.h"
+#include "vsv_render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* kB of anonymous resident memory (the decoded cache lives there; the
+ * mapped file is page cache the kernel can drop) */
+static long rss_anon_kb(void)
+{
+    FILE *fp = fopen("/proc/self/status", "r");
+    char line[256];
+    long kb = -1;
+    while (fp && fgets(line, sizeof line, fp))
+        if (!strncmp(line, "RssAnon:", 8))
+            kb = atol(line + 8);
+    if (fp)
+        fclose(fp);
+    return kb;
+}
+
+static uint64_t mix64(uint64_t x)
+{
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdull;
+    x ^= x >> 33;
+    x *= 0xc4ceb9fe1a85ec53ull;
+    return x ^ (x >> 33);
+}
+
+static int make_synthetic(const char *path, int steps)
+{
+    const int nx = 512, ny = 512, nz = 48, ns = 4;
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = nx, m.ny = ny, m.nz = nz;
+    m.spacing[0] = m.spacing[1] = 4000;
+    m.spacing[2] = 300;
+    m.origin[2] = 150;
+    m.vert_kind = VSV_VERT_EVEN;
+    const char *names[4] = {"CLW", "QRAIN", "O3", "PM25"};
+    for (int s = 0; s < ns; s++)
+        vsv_meta_add_var(&m, names[s], "1", "synthetic, noisy");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    vsv_writer *w = NULL;
+    if (vsv_writer_create(path, &m, &o, &w)) {
+        fprintf(stderr, "bench_play: %s\n", w ? vsv_writer_error(w) : "cannot write");
+        return 1;
+    }
+    const size_t cells = (size_t)nx * ny * nz;
+    float *f[4];
+    for (int s = 0; s < ns; s++)
+        f[s] = malloc(cells * sizeof(float));
+    for (int t = 0; t < steps; t++) {
+        for (int s = 0; s < ns; s++)
+            for (size_t c = 0; c < cells; c++) {
+                const int i = (int)(c % nx), j = (int)(c / nx % ny), k = (int)(c / ((size_t)nx * ny));
+                const double smooth = 0.5 + 0.4 * sin(0.02 * i + 0.1 * t + s) * cos(0.03 * j) * exp(-0.05 * k);
+                const double noise = (double)(mix64(c * 131 + (uint64_t)t * 7919 + (uint64_t)s) >> 40) / (1 << 24);
+                f[s][c] = (float)(smooth + 0.02 * noise);
+            }
+        if (vsv_writer_add_step(w, 1000000000LL + 300LL * t, (const float *const *)f)) {
+            fprintf(stderr, "bench_play: %s\n", vsv_writer_error(w));
+            return 1;
+        }
+    }
+    const int rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc)
+        fprintf(stderr, "bench_play: %s\n", vsv_writer_error(w));
+    vsv_writer_free(w);
+    for (int s = 0; s < ns; s++)
+        free(f[s]);
+    vsv_meta_clear(&m);
+    return rc != 0;
+}
+
+/* A 30 frames/s display playing for `frames` frames at speed x: stalls and
+ * steps shown. */
+static void play(vsv_pager *p, vsv_volume **v, int ns, const int64_t *times, int nsteps, double x, int frames,
+                 uint64_t *stalls, int *shown_steps, long *peak_kb)
+{
+    vsv_clock c;
+    vsv_clock_init(&c, times, nsteps, 0);
+    c.ends = VSV_CLOCK_LOOP;
+    vsv_clock_seek_step(&c, x > 0 ? 0 : nsteps - 1);
+    vsv_clock_set_speed(&c, x);
+    vsv_clock_play(&c);
+    vsv_pager_stats st0, st1;
+    vsv_pager_stats_get(p, &st0);
+    int shown = -1, changes = 0;
+    const double frame = 1.0 / 30;
+    double t_next = now();
+    for (int f = 0; f < frames; f++) {
+        vsv_clock_tick(&c, f ? frame : 0);
+        const int target = c.step;
+        const int stride = (int)fmax(1, lrint(fabs(x) * c.rate / 30 / ((double)(times[1] - times[0]))));
+        vsv_pager_playhead(p, target, x > 0 ? 1 : -1, stride, 1, NULL);
+        if (target != shown) {
+            /* as vsv-play: the clock's step when decoded, else the newest
+             * decoded step on the way there, else the one shown stays */
+            vsv_pager_stats ps;
+            vsv_pager_stats_get(p, &ps);
+            int pick = shown < 0 || ps.prefetch_depth == 0 ? target : -1; /* nothing ahead: on demand */
+            if (pick < 0 && vsv_pager_ready(p, target, NULL))
+                pick = target;
+            if (pick < 0) {
+                vsv_pager_stall(p);
+                const int dir = x > 0 ? 1 : -1;
+                for (int t = target, i = 0; i < nsteps; i++) {
+                    t = ((t - dir) % nsteps + nsteps) % nsteps;
+                    if (t == shown)
+                        break;
+                    if (vsv_pager_ready(p, t, NULL)) {
+                        pick = t;
+                        break;
+                    }
+                }
+            }
+            if (pick >= 0) {
+                for (int s = 0; s < ns; s++)
+                    vsv_pager_get(p, pick, s, 1, v[s]);
+                shown = pick;
+                changes++;
+            }
+        }
+        const long kb = rss_anon_kb();
+        if (kb > *peak_kb)
+            *peak_kb = kb;
+        t_next += frame;
+        const double wait = t_next - now();
+        if (wait > 0)
+            usleep((useconds_t)(wait * 1e6));
+    }
+    vsv_pager_stats_get(p, &st1);
+    *stalls = st1.stalls - st0.stalls;
+    *shown_steps = changes;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc == 4 && !strcmp(argv[1], "--make"))
+        return make_synthetic(argv[2], atoi(argv[3]));
+    if (argc != 2) {
+        fprintf(stderr, "usage: bench_play FILE.vsv | --make OUT.vsv STEPS\n");
+        return 2;
+    }
+    const long base_kb = rss_anon_kb();
+    /* time to the first frame: open, start the pager, every species of step 0 */
+    double t0 = now();
+    vsv_file *f = NULL;
+    if (vsv_file_open(argv[1], &f)) {
+        fprintf(stderr, "bench_play: %s\n", f ? vsv_file_error(f) : argv[1]);
+        return 1;
+    }
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_pager_opts po;
+    vsv_pager_opts_init(&po);
+    po.budget = (size_t)1 << 30;
+    vsv_pager *p = NULL;
+    vsv_pager_open(f, &po, &p);
+    vsv_volume **v = calloc((size_t)info.nspecies, sizeof *v);
+    for (int s = 0; s < info.nspecies; s++) {
+        v[s] = vsv_pager_volume_new(p);
+        vsv_pager_get(p, 0, s, 1, v[s]);
+    }
+    const double first = now() - t0;
+    /* ... and its first picture: shear-warp, 512x512, all species */
+    vsv_render_opts ro;
+    vsv_render_opts_init(&ro);
+    ro.kind = VSV_RENDER_SHEARWARP;
+    vsv_renderer *r = NULL;
+    vsv_renderer_create(&ro, &r);
+    vsv_tf *tf = calloc((size_t)info.nspecies, sizeof *tf);
+    vsv_layer *layers = calloc((size_t)info.nspecies, sizeof *layers);
+    char msg[512];
+    for (int s = 0; s < info.nspecies; s++) {
+        vsv_tf_for_species(f, s, NULL, &tf[s], msg, sizeof msg);
+        layers[s] = (vsv_layer){v[s], &tf[s], 1, 1};
+    }
+    vsv_scene sc = {m, layers, info.nspecies, 0, 1};
+    sc.exaggeration = vsv_scene_default_exaggeration(&sc);
+    vsv_camera cam;
+    vsv_camera_orbit(&cam, &sc, 225, 30, 0, 512, 512);
+    float *img = malloc(512 * 512 * 4 * sizeof(float));
+    vsv_render(r, &sc, &cam, img, NULL);
+    const double first_picture = now() - t0;
+    vsv_renderer_free(r);
+    free(img);
+    free(layers);
+    free(tf);
+    for (int s = 0; s < info.nspecies; s++)
+        vsv_pager_put(p, v[s]);
+    vsv_pager_free(p);
+    const double raw_mb = (double)m->nx * m->ny * m->nz * 4 * info.nspecies / 1e6;
+    const double step_mb = raw_mb * 1e6 / 1048576.0;
+    printf("file: %s, %.2f GB, %d steps x %d species of %dx%dx%d (%.0f MB of floats per step)\n\n", argv[1],
+           info.file_bytes / 1e9, info.nsteps, info.nspecies, m->nx, m->ny, m->nz, raw_mb);
+    printf("- time to the first frame: %.0f ms decoded (open, pager, every species of step 0), %.0f ms to the "
+           "first 512x512 shear-warp picture\n\n",
+           1000 * first, 1000 * first_picture);
+    int64_t *times = malloc((size_t)info.nsteps * sizeof *times);
+    for (int t = 0; t < info.nsteps; t++)
+        times[t] = vsv_file_time(f, t);
+    printf("| budget | steps/s, first pass (all species) | steps/s, second pass | play x1 fwd: stalls / steps shown | "
+           "x8 fwd | x1 back | x8 back | peak anonymous RSS above start (pager's own peak; one step of floats) |\n|---|---|---|---|---|---|---|---|\n");
+    const size_t budgets[2] = {(size_t)64 << 20, (size_t)1 << 30};
+    for (int bi = getenv("BENCH_ONLY_1G") ? 1 : 0; bi < 2; bi++) {
+        po.budget = budgets[bi];
+        if (getenv("BENCH_THREADS"))
+            po.threads = atoi(getenv("BENCH_THREADS"));
+        vsv_pager_open(f, &po, &p);
+        for (int s = 0; s < info.nspecies; s++)
+            v[s] = vsv_pager_volume_new(p);
+        long peak = 0;
+        /* decode throughput: every step in order, as fast as it goes */
+        const int n = info.nsteps < 40 ? info.nsteps : 40;
+        t0 = now();
+        for (int t = 0; t < n; t++) {
+            vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+            for (int s = 0; s < info.nspecies; s++)
+                vsv_pager_get(p, t, s, 1, v[s]);
+            const long kb = rss_anon_kb();
+            peak = kb > peak ? kb : peak;
+        }
+        const double sps = n / (now() - t0);
+        /* again: what the cache still holds comes without decoding */
+        t0 = now();
+        for (int t = 0; t < n; t++) {
+            vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+            for (int s = 0; s < info.nspecies; s++)
+                vsv_pager_get(p, t, s, 1, v[s]);
+        }
+        const double sps2 = n / (now() - t0);
+        printf("| %zu MB | %.1f | %.1f |", budgets[bi] >> 20, sps, sps2);
+        const double speeds[4] = {1, 8, -1, -8};
+        for (int k = 0; k < 4; k++) {
+            uint64_t stalls;
+            int shown;
+            play(p, v, info.nspecies, times, info.nsteps, speeds[k], 120, &stalls, &shown, &peak);
+            printf(" %llu / %d |", (unsigned long long)stalls, shown);
+        }
+        vsv_pager_stats st;
+        vsv_pager_stats_get(p, &st);
+        printf(" %.0f MB (cache peak %.0f MB, a step pinned %.0f MB) |\n", (peak - base_kb) / 1024.0,
+               st.peak_bytes / 1048576.0, step_mb);
+        for (int s = 0; s < info.nspecies; s++)
+            vsv_pager_volume_free(v[s]);
+        vsv_pager_free(p);
+    }
+    free(times);
+    free(v);
+    vsv_file_free(f);
+    return 0;
+}
