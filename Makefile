@@ -20,7 +20,10 @@ CXX ?= c++
 PKG_CONFIG ?= pkg-config
 SHARED ?= ../shared
 
-PKGS = libzstd geographiclib netcdf libpng OpenEXR
+PKGS = libzstd geographiclib netcdf libpng OpenEXR tbb blosc Imath
+# OpenVDB (libopenvdb-dev) ships no pkg-config file: its header and -lopenvdb,
+# with its own dependencies (tbb, blosc, Imath) through pkg-config above
+OPENVDB_LIBS = -lopenvdb
 # the desktop viewer (vsv-play) only
 VIEWER_PKGS = glfw3 gl freetype2 fontconfig
 ifeq ($(SAN),1)
@@ -51,10 +54,10 @@ VIEWER_LIBS := $(shell $(PKG_CONFIG) --libs $(VIEWER_PKGS) 2>/dev/null)
 
 # Truncating text into fixed-size info fields is by design, hence no -Wformat-truncation.
 WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
-CFLAGS_ALL = -std=c11 -D_GNU_SOURCE $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
-             -Iformat -Iconvert -Irender -Istream -Iviewer $(PKG_CFLAGS) $(CFLAGS)
-CXXFLAGS_ALL = -std=c++17 $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat $(PKG_CFLAGS) $(CXXFLAGS)
-LDLIBS_ALL = $(SANFLAGS) -pthread $(PKG_LIBS) -lstdc++ -lm $(LDLIBS)
+CFLAGS_ALL = -std=c11 -D_GNU_SOURCE -fPIC $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
+             -Iformat -Iconvert -Irender -Istream -Iviewer -Iinterop $(PKG_CFLAGS) $(CFLAGS)
+CXXFLAGS_ALL = -std=c++17 -fPIC $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat -Iinterop $(PKG_CFLAGS) $(CXXFLAGS)
+LDLIBS_ALL = $(SANFLAGS) -pthread $(OPENVDB_LIBS) $(PKG_LIBS) -lstdc++ -lm $(LDLIBS)
 
 ifeq ($(V),1)
   Q =
@@ -64,11 +67,15 @@ endif
 
 LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c) $(wildcard render/vsv_*.c) $(wildcard stream/vsv_*.c) \
         viewer/vsv_player.c
-LIB_CXX = $(wildcard format/vsv_*.cc)
+LIB_CXX = $(wildcard format/vsv_*.cc) $(wildcard interop/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
 LIB = $(B)/libvesuvius.a
+VERSION := $(shell sed -n 's/^\#define VSV_VERSION_STRING "\(.*\)"/\1/p' format/vsv_format.h)
+SOVERSION = 0
+SHLIB = $(B)/libvesuvius.so.$(VERSION)
+DATADIR = $(PREFIX)/share
 
-TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play
+TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play vsv-export
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 
 TEST_SRC = $(wildcard tests/test_*.c)
@@ -78,7 +85,7 @@ FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5 $(B)/tests/test_fuzz_ua
 
 .PHONY: all test demo bench install uninstall clean fuzz help deps freevr-syntax
 .SECONDARY:
-all: $(LIB) $(TOOL_BIN)
+all: $(LIB) $(SHLIB) $(TOOL_BIN)
 
 help:
 	@sed -n '2,10p' Makefile | sed 's/^# *//'
@@ -97,11 +104,20 @@ $(LIB): $(LIB_OBJ)
 	@$(if $(Q),echo "  AR      $@")
 	$(Q)rm -f $@ && ar rcs $@ $^
 
+# the shared library: versioned file, soname libvesuvius.so.$(SOVERSION)
+$(SHLIB): $(LIB_OBJ)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -shared -Wl,-soname,libvesuvius.so.$(SOVERSION) -o $@ $^ $(LDLIBS_ALL)
+
 $(B)/vsv-%: $(B)/format/vsv-%.o $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
 
 $(B)/vsv-%: $(B)/convert/vsv-%.o $(LIB)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
+
+$(B)/vsv-%: $(B)/interop/vsv-%.o $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
 
@@ -147,7 +163,7 @@ $(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(TEST_HELPER
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
 test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop
-	$(Q)B=$(B) SHARED=$(SHARED) sh tests/run.sh
+	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" sh tests/run.sh
 
 # The demo: install what is missing (or print the apt-get line), build, then
 # run the main job on the bundled sample.
@@ -185,17 +201,26 @@ fuzz:
 	@echo "run: build-fuzz/fuzz_vsv tests/golden, build-fuzz/fuzz_mm5 tests/corpus/mm5, build-fuzz/fuzz_uamiv tests/corpus/uamiv"
 
 install: all
-	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(MANDIR)/man5
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 \
+	  $(DESTDIR)$(MANDIR)/man5 $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(DATADIR)/bash-completion/completions
 	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
 	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(SHLIB) $(DESTDIR)$(LIBDIR)/
+	ln -sf libvesuvius.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libvesuvius.so.$(SOVERSION)
+	ln -sf libvesuvius.so.$(SOVERSION) $(DESTDIR)$(LIBDIR)/libvesuvius.so
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' tools/vesuvius.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/vesuvius.pc
 	install -m 644 format/vsv_format.h render/vsv_render.h stream/vsv_pager.h stream/vsv_clock.h viewer/vsv_player.h \
 	  $(DESTDIR)$(INCDIR)/
 	install -m 644 man/*.1 $(DESTDIR)$(MANDIR)/man1/
 	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
+	install -m 644 share/transfer-functions.tf $(DESTDIR)$(DATADIR)/vesuvius/
+	for t in $(TOOLS); do install -m 644 tools/completion/vesuvius.bash $(DESTDIR)$(DATADIR)/bash-completion/completions/$$t; done
 
 uninstall:
-	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(TOOLS)) $(DESTDIR)$(LIBDIR)/libvesuvius.a
-	rm -rf $(DESTDIR)$(INCDIR)
+	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(TOOLS)) $(DESTDIR)$(LIBDIR)/libvesuvius.a $(DESTDIR)$(LIBDIR)/libvesuvius.so*
+	rm -f $(DESTDIR)$(LIBDIR)/pkgconfig/vesuvius.pc $(addprefix $(DESTDIR)$(DATADIR)/bash-completion/completions/,$(TOOLS))
+	rm -f $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(addsuffix .1,$(TOOLS))) $(DESTDIR)$(MANDIR)/man5/vsv.5
+	rm -rf $(DESTDIR)$(INCDIR) $(DESTDIR)$(DATADIR)/vesuvius
 
 clean:
 	rm -rf build build-san build-fuzz

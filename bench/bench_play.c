@@ -3,8 +3,8 @@
  * while a 30 frames/s display plays forward and backward at x1 and x8, and
  * anonymous resident memory against the budget. Usage:
  *   bench_play FILE.vsv                 measure
- *   bench_play --make OUT.vsv STEPS     write a synthetic file: 512x512x48, 4 noisy
- *                                       species, 16-bit, ~84 MB a step on disk */
+ *   bench_play --make OUT.vsv STEPS     write a synthetic file: 256x256x48, 4 noisy
+ *                                       species, 16-bit, ~21 MB a step on disk */
 #include "vsv_clock.h"
 #include "vsv_pager.h"
 #include "vsv_render.h"
@@ -49,7 +49,7 @@ static uint64_t mix64(uint64_t x)
 
 static int make_synthetic(const char *path, int steps)
 {
-    const int nx = 512, ny = 512, nz = 48, ns = 4;
+    const int nx = 256, ny = 256, nz = 48, ns = 4;
     vsv_meta m;
     vsv_meta_init(&m);
     m.nx = nx, m.ny = ny, m.nz = nz;

@@ -26,6 +26,13 @@ typedef struct vsv_source_opts {
     double ztop;        /* even: top of the grid, m above sea level (0: the model top) */
     const char *heights;/* CAMx: the height/pressure companion file, or NULL */
     vsv_proj proj;      /* a projection for files without one (CAMx 5); kind NONE = not given */
+    /* sequences of one-step files without times of their own (OpenVDB):
+     * time of file i = time_start + i * time_step when time_step > 0 */
+    int64_t time_step, time_start;
+    /* the whole sequence this file belongs to and its place in it (set by
+     * vsv_run; a lone file is a sequence of one) */
+    const char *const *seq;
+    int nseq, seq_index;
 } vsv_source_opts;
 
 void vsv_source_opts_init(vsv_source_opts *o);
@@ -64,7 +71,9 @@ enum {
     VSV_SOURCE_OPT_LAT0,
     VSV_SOURCE_OPT_LON0,
     VSV_SOURCE_OPT_LAT1,
-    VSV_SOURCE_OPT_LAT2
+    VSV_SOURCE_OPT_LAT2,
+    VSV_SOURCE_OPT_TIME_STEP,
+    VSV_SOURCE_OPT_TIME_START
 };
 #define VSV_SOURCE_LONGOPTS                                                                        \
     {"vertical", required_argument, 0, VSV_SOURCE_OPT_VERTICAL},                                   \
@@ -72,7 +81,9 @@ enum {
         {"heights", required_argument, 0, VSV_SOURCE_OPT_HEIGHTS},                                 \
         {"proj", required_argument, 0, VSV_SOURCE_OPT_PROJ}, {"lat0", required_argument, 0, VSV_SOURCE_OPT_LAT0}, \
         {"lon0", required_argument, 0, VSV_SOURCE_OPT_LON0}, {"lat1", required_argument, 0, VSV_SOURCE_OPT_LAT1}, \
-        {"lat2", required_argument, 0, VSV_SOURCE_OPT_LAT2}
+        {"lat2", required_argument, 0, VSV_SOURCE_OPT_LAT2},                                   \
+        {"time-step", required_argument, 0, VSV_SOURCE_OPT_TIME_STEP},                         \
+        {"time-start", required_argument, 0, VSV_SOURCE_OPT_TIME_START}
 #define VSV_SOURCE_HELP                                                                            \
     "Vertical grid:\n"                                                                             \
     "  --vertical even|native  even heights above sea level (default; cells below\n"              \
@@ -83,7 +94,11 @@ enum {
     "  --heights ZPFILE     layer heights from the height/pressure file (without it the\n"       \
     "                       vertical axis is the layer index)\n"                                  \
     "  --proj lcc|pstereo|mercator|latlon --lat0 D --lon0 D --lat1 D --lat2 D\n"                 \
-    "                       the projection of a CAMx 5 file (its header has none)\n"
+    "                       the projection of a CAMx 5 file (its header has none)\n"    \
+    "OpenVDB sequences (one .vdb per step, given in time order):\n"                       \
+    "  --time-step DURATION the spacing of the steps (e.g. 10m, 1h); without it each\n"  \
+    "                       file's \"time\" metadata (files from vsv-export have it)\n"    \
+    "  --time-start ISO     the time of the first file (default 2000-01-01T00:00:00Z)\n"
 /* 1 if id was one of these options, 0 if not, -1 for a bad value. */
 int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg);
 

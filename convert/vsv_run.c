@@ -86,7 +86,13 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
     int rc = 0;
     for (int i = 0; i < npaths; i++) {
         vsv_source *s = NULL;
-        rc = vsv_source_open(paths[i], opts, &s);
+        vsv_source_opts o;
+        if (opts)
+            o = *opts;
+        else
+            vsv_source_opts_init(&o);
+        o.seq = paths, o.nseq = npaths, o.seq_index = i;
+        rc = vsv_source_open(paths[i], &o, &s);
         if (rc) {
             fail(r, rc, "%s", vsv_source_error(s));
             vsv_source_free(s);

@@ -1,5 +1,6 @@
 /* vsv_source.c — the source interface: detection by content and dispatch
  * to the readers. */
+#include "vsv_cli.h"
 #include "vsv_source_internal.h"
 
 #include <errno.h>
@@ -41,12 +42,14 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
     return rc;
 }
 
-static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_camx_ops, &vsv_netcdf_ops, &vsv_grads_ops};
+static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_camx_ops, &vsv_netcdf_ops, &vsv_grads_ops,
+                                                &vsv_vdb_ops};
 
 void vsv_source_opts_init(vsv_source_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->vertical = VSV_VERT_EVEN;
+    o->time_start = 946684800; /* 2000-01-01T00:00:00Z */
 }
 
 char *vsv_source_summary(vsv_source *s) { return s->ops && s->ops->summary ? s->ops->summary(s) : NULL; }
@@ -73,7 +76,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
             s->ops = readers[i];
             return readers[i]->open(s);
         }
-    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF or IOAPI netCDF, GrADS .ctl)");
+    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF or IOAPI netCDF, GrADS .ctl, OpenVDB)");
 }
 
 void vsv_source_free(vsv_source *s)
@@ -115,6 +118,8 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
         return 1;
     }
     case VSV_SOURCE_OPT_HEIGHTS: o->heights = arg; return 1;
+    case VSV_SOURCE_OPT_TIME_STEP: return vsv_cli_duration(arg, &o->time_step) || o->time_step <= 0 ? -1 : 1;
+    case VSV_SOURCE_OPT_TIME_START: return vsv_time_parse(arg, &o->time_start) ? -1 : 1;
     case VSV_SOURCE_OPT_PROJ:
         for (int k = VSV_PROJ_LATLON; k < VSV_PROJ_COUNT; k++)
             if (!strcmp(arg, vsv_proj_name(k))) {

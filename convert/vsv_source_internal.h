@@ -42,6 +42,7 @@ extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;
 extern const vsv_source_ops vsv_camx_ops;
 extern const vsv_source_ops vsv_ioapi_ops;
+extern const vsv_source_ops vsv_vdb_ops;
 /* Opens an IOAPI netCDF file already open as nc (detected by vsv_netcdf_ops). */
 int vsv_ioapi_open(vsv_source *s, int nc);
 

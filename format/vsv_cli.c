@@ -473,3 +473,45 @@ void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta)
     pack_list(vars, meta, "log-decades", p->decades);
     p->opts.vars = vars;
 }
+
+int vsv_cli_step(const vsv_file *f, const char *s, int is_end)
+{
+    long v;
+    if (!vsv_cli_int(s, 0, 100000000, &v))
+        return (int)v;
+    int64_t t;
+    if (vsv_time_parse(s, &t))
+        vsv_cli_usage_error("'%s' is neither a step index nor an ISO time", s);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    if (is_end) {
+        for (int i = info.nsteps - 1; i >= 0; i--)
+            if (vsv_file_time(f, i) <= t)
+                return i;
+        return -1;
+    }
+    for (int i = 0; i < info.nsteps; i++)
+        if (vsv_file_time(f, i) >= t)
+            return i;
+    return info.nsteps;
+}
+
+void vsv_cli_steps(const vsv_file *f, const char *time, const char *times, int all, int *a, int *b)
+{
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    *a = *b = info.nsteps - 1;
+    if (time) {
+        *a = *b = vsv_cli_step(f, time, 0);
+    } else if (times) {
+        const char *colon = strchr(times, ':');
+        if (!colon)
+            vsv_cli_usage_error("--times %s: expected A:B", times);
+        char first[64];
+        snprintf(first, sizeof first, "%.*s", (int)(colon - times), times);
+        *a = *first ? vsv_cli_step(f, first, 0) : 0;
+        *b = colon[1] ? vsv_cli_step(f, colon + 1, 1) : info.nsteps - 1;
+    } else if (all) {
+        *a = 0;
+    }
+}

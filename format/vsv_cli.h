@@ -104,4 +104,11 @@ enum {
         {"codec", required_argument, 0, VSV_CLI_PACK_CODEC},                                       \
         {"threads", required_argument, 0, VSV_CLI_PACK_THREADS}
 
+/* A step of f from an index or an ISO time (is_end: the last step at or
+ * before it, else the first at or after it; -1 / nsteps when none). */
+int vsv_cli_step(const vsv_file *f, const char *s, int is_end);
+/* The steps --time T or --times A:B select (either end of A:B may be
+ * empty); with neither, every step when all, else the last. */
+void vsv_cli_steps(const vsv_file *f, const char *time, const char *times, int all, int *a, int *b);
+
 #endif

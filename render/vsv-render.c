@@ -8,10 +8,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 static const char usage[] =
     "Usage: vsv-render FILE.vsv -o OUT.png|OUT.exr [OPTIONS]\n"
+    "       vsv-render FILE.vsv --movie OUT.mp4 [--fps N] [OPTIONS]\n"
     "Render the species of a .vsv file over its terrain to PNG images, or to OpenEXR\n"
     "(RGBA half, premultiplied, plus a float Z depth channel), by raycasting.\n"
     "With %04d (or another printf integer) in OUT, every selected step is rendered,\n"
@@ -36,6 +39,9 @@ static const char usage[] =
     "  -r, --renderer NAME     raycast (default) or shearwarp (faster; frames whose eye\n"
     "                          is inside the volume are raycast)\n"
     "      --threads N         render threads (default: all cores)\n"
+    "      --movie OUT.mp4     a movie of the selected steps (default: all) through ffmpeg\n"
+    "                          (H.264; the container follows the extension), -o optional\n"
+    "      --fps N             movie frames per second (default 12)\n"
     "  -q, --quiet             no progress\n"
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
@@ -53,32 +59,97 @@ static int write_png(const char *path, const float *rgba, int w, int h, const fl
     return rc;
 }
 
-static int parse_step(const vsv_file *f, const char *s, int is_end)
+/* A movie: frames piped to ffmpeg, written under a temporary name renamed
+ * into place when ffmpeg succeeds. */
+typedef struct movie {
+    pid_t pid;
+    FILE *pipe;
+    char tmp[4200];
+    const char *out;
+} movie;
+
+static char movie_tmp[4200]; /* removed at exit unless renamed into place */
+
+static void movie_cleanup(void)
 {
-    long v;
-    if (!vsv_cli_int(s, 0, 100000000, &v))
-        return (int)v;
-    int64_t t;
-    if (vsv_time_parse(s, &t))
-        vsv_cli_usage_error("'%s' is neither a step index nor an ISO time", s);
-    vsv_file_info info;
-    vsv_file_info_get(f, &info);
-    if (is_end) {
-        for (int i = info.nsteps - 1; i >= 0; i--)
-            if (vsv_file_time(f, i) <= t)
-                return i;
-        return -1;
+    if (movie_tmp[0])
+        unlink(movie_tmp);
+}
+
+static int have_program(const char *name)
+{
+    const char *path = getenv("PATH");
+    if (!path)
+        return 0;
+    char *copy = strdup(path), *save = NULL;
+    int found = 0;
+    for (char *dir = strtok_r(copy, ":", &save); dir && !found; dir = strtok_r(NULL, ":", &save)) {
+        char full[4200];
+        snprintf(full, sizeof full, "%s/%s", *dir ? dir : ".", name);
+        found = access(full, X_OK) == 0;
     }
-    for (int i = 0; i < info.nsteps; i++)
-        if (vsv_file_time(f, i) >= t)
-            return i;
-    return info.nsteps;
+    free(copy);
+    return found;
+}
+
+static void movie_open(movie *mv, const char *out, int w, int h, int fps)
+{
+    if (!have_program("ffmpeg"))
+        vsv_cli_die(1, "--movie needs ffmpeg, which is not installed (apt-get install ffmpeg)");
+    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    const char *ext = dot && (!slash || dot > slash) ? dot : ".mp4";
+    snprintf(mv->tmp, sizeof mv->tmp, "%s.tmp.%d%s", out, (int)getpid(), ext);
+    snprintf(movie_tmp, sizeof movie_tmp, "%s", mv->tmp);
+    atexit(movie_cleanup);
+    mv->out = out;
+    int fd[2];
+    if (pipe(fd))
+        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
+    char size[64], rate[32];
+    snprintf(size, sizeof size, "%dx%d", w, h);
+    snprintf(rate, sizeof rate, "%d", fps);
+    mv->pid = fork();
+    if (mv->pid < 0)
+        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
+    if (mv->pid == 0) {
+        dup2(fd[0], 0);
+        close(fd[0]);
+        close(fd[1]);
+        execlp("ffmpeg", "ffmpeg", "-hide_banner", "-loglevel", "error", "-nostdin", "-y", "-f", "rawvideo",
+               "-pix_fmt", "rgb24", "-s", size, "-r", rate, "-i", "pipe:0", "-an", "-vf",
+               "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18", mv->tmp,
+               (char *)NULL);
+        _exit(127);
+    }
+    close(fd[0]);
+    if (!(mv->pipe = fdopen(fd[1], "wb")))
+        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
+}
+
+static void movie_frame(movie *mv, const unsigned char *rgb, int w, int h)
+{
+    if (fwrite(rgb, 3, (size_t)w * h, mv->pipe) != (size_t)w * h) {
+        unlink(mv->tmp);
+        vsv_cli_die(1, "%s: ffmpeg stopped taking frames", mv->out);
+    }
+}
+
+static void movie_close(movie *mv)
+{
+    int st = 0;
+    const int wrote = fclose(mv->pipe) == 0;
+    waitpid(mv->pid, &st, 0);
+    if (!wrote || !WIFEXITED(st) || WEXITSTATUS(st) || rename(mv->tmp, mv->out)) {
+        unlink(mv->tmp);
+        vsv_cli_die(1, "%s: ffmpeg failed (exit %d)", mv->out, WIFEXITED(st) ? WEXITSTATUS(st) : -1);
+    }
+    movie_tmp[0] = 0;
 }
 
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -87,9 +158,11 @@ int main(int argc, char **argv)
         {"background", required_argument, 0, O_BG}, {"no-terrain", no_argument, 0, O_NOTERRAIN},
         {"renderer", required_argument, 0, 'r'},   {"threads", required_argument, 0, O_THREADS},
         {"look-at", required_argument, 0, O_LOOKAT}, {"stereo", no_argument, 0, O_STEREO},
+        {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
         {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
-    const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL;
+    const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
+    int fps = 12;
     double az = 225, el = 30, dist = 0, exag = 0;
     float bg[3] = {0.02f, 0.03f, 0.06f};
     int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0;
@@ -130,6 +203,12 @@ int main(int argc, char **argv)
             lookat = 1;
             break;
         case O_STEREO: stereo = 1; break;
+        case O_MOVIE: movie_out = optarg; break;
+        case O_FPS:
+            if (vsv_cli_int(optarg, 1, 240, &v))
+                vsv_cli_usage_error("--fps %s: 1..240", optarg);
+            fps = (int)v;
+            break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
                 ro.kind = VSV_RENDER_RAYCAST;
@@ -149,13 +228,13 @@ int main(int argc, char **argv)
         default: vsv_cli_usage_error("unknown option");
         }
     }
-    if (!out)
-        vsv_cli_usage_error("no output image (-o OUT.png)");
+    if (!out && !movie_out)
+        vsv_cli_usage_error("no output image (-o OUT.png) or movie (--movie OUT.mp4)");
     if (optind != argc - 1)
         vsv_cli_usage_error("one .vsv file");
     if (time && times)
         vsv_cli_usage_error("--time and --times exclude each other");
-    const int sequence = strchr(out, '%') != NULL;
+    const int sequence = out ? strchr(out, '%') != NULL : 0;
     const char *path = argv[optind];
     vsv_file *f = NULL;
     if (vsv_file_open(path, &f))
@@ -164,23 +243,11 @@ int main(int argc, char **argv)
     vsv_file_info info;
     vsv_file_info_get(f, &info);
     /* steps */
-    int a = info.nsteps - 1, b = a;
-    if (time) {
-        a = b = parse_step(f, time, 0);
-    } else if (times) {
-        const char *colon = strchr(times, ':');
-        if (!colon)
-            vsv_cli_usage_error("--times %s: expected A:B", times);
-        char first[64];
-        snprintf(first, sizeof first, "%.*s", (int)(colon - times), times);
-        a = *first ? parse_step(f, first, 0) : 0;
-        b = colon[1] ? parse_step(f, colon + 1, 1) : info.nsteps - 1;
-    } else if (sequence) {
-        a = 0;
-    }
+    int a, b;
+    vsv_cli_steps(f, time, times, sequence || movie_out, &a, &b);
     if (a < 0 || b >= info.nsteps || a > b)
         vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
-    if (!sequence && a != b)
+    if (out && !sequence && a != b)
         vsv_cli_usage_error("several steps need %%04d in the output name");
     /* layers: the species asked for (all by default), each with its opacity */
     vsv_layer *layers = calloc((size_t)m->nvars, sizeof *layers);
@@ -243,7 +310,15 @@ int main(int argc, char **argv)
         target[i] = 0.5 * (mn[i] + mx[i]) - cam.pos[i];
     const double sep = sqrt(target[0] * target[0] + target[1] * target[1] + target[2] * target[2]) / 30;
     const int ow = stereo ? 2 * width : width;
-    const int exr = strlen(out) > 4 && !strcasecmp(out + strlen(out) - 4, ".exr");
+    const int exr = out && strlen(out) > 4 && !strcasecmp(out + strlen(out) - 4, ".exr");
+    movie mv = {0};
+    unsigned char *rgb8 = movie_out ? malloc((size_t)ow * height * 3) : NULL;
+    if (movie_out) {
+        if (!rgb8)
+            vsv_cli_die(1, "out of memory");
+        signal(SIGPIPE, SIG_IGN); /* a dying ffmpeg is an error, not a signal */
+        movie_open(&mv, movie_out, ow, height, fps);
+    }
     vsv_renderer *r = NULL;
     if (vsv_renderer_create(&ro, &r))
         vsv_cli_die(1, "cannot start the renderer");
@@ -270,16 +345,23 @@ int main(int argc, char **argv)
         char name[4096], err[4200];
         if (sequence)
             snprintf(name, sizeof name, out, t - a);
-        else
+        else if (out)
             snprintf(name, sizeof name, "%s", out);
-        if (exr ? vsv_exr_write(name, img, zimg, ow, height, err, sizeof err)
-                : write_png(name, img, ow, height, bg, err, sizeof err))
+        if (out && (exr ? vsv_exr_write(name, img, zimg, ow, height, err, sizeof err)
+                        : write_png(name, img, ow, height, bg, err, sizeof err)))
             vsv_cli_die(1, "%s", err);
+        if (movie_out) {
+            vsv_image_rgb8(img, ow, height, bg, rgb8);
+            movie_frame(&mv, rgb8, ow, height);
+        }
         vsv_cli_progress("vsv-render", t - a + 1, b - a + 1);
     }
+    if (movie_out)
+        movie_close(&mv);
+    free(rgb8);
     if (!vsv_cli_quiet() && !isatty(2))
-        fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g\n", b - a + 1, b > a ? "s" : "", width, height,
-                sc.exaggeration);
+        fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g%s%s\n", b - a + 1, b > a ? "s" : "", width,
+                height, sc.exaggeration, movie_out ? ", movie " : "", movie_out ? movie_out : "");
     free(rgba);
     free(depth);
     free(img);

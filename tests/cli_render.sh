@@ -44,4 +44,22 @@ expect "a look-at camera" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/look.png" -
 expect "a look-at camera with eye = target exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x2.png" --look-at 1,2,3,1,2,3
 expect "the shear-warp renderer" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/sw.png" --renderer shearwarp --size 64x48
 if [ "$(png_size "$T/sw.png")" = "64 48" ]; then pass "shear-warp writes the PNG"; else fail "shear-warp writes the PNG" "$(png_size "$T/sw.png")"; fi
+# movies: through ffmpeg, one frame per rendered step
+nsteps=$("$B/vsv-info" -f times "$T/storm.vsv" | tr ',' '\n' | grep -c Z)
+expect "a movie without ffmpeg on the PATH exits 1" 1 env PATH=/nonexistent "$B/vsv-render" "$T/storm.vsv" --movie "$T/none.mp4" --size 64x48
+has "and says ffmpeg is missing" "$T/err" "needs ffmpeg"
+if [ ! -e "$T/none.mp4" ]; then pass "and writes no movie"; else fail "and writes no movie" "found"; fi
+if command -v ffmpeg > /dev/null && command -v ffprobe > /dev/null; then
+    expect "a movie of every step" 0 "$B/vsv-render" -q "$T/storm.vsv" --movie "$T/storm.mp4" --fps 8 --size 97x61 --renderer shearwarp
+    frames=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 "$T/storm.mp4")
+    [ "$frames" = "$nsteps" ] && pass "the movie has one frame per step ($frames)" || fail "the movie has one frame per step" "$frames frames, $nsteps steps"
+    info=$(ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,width,height,r_frame_rate -of csv=p=0 "$T/storm.mp4")
+    [ "$info" = "h264,98,62,8/1" ] && pass "H.264, odd sizes padded to even, 8 frames/s" || fail "H.264, odd sizes padded to even, 8 frames/s" "$info"
+    expect "a movie of a range, with frames too" 0 "$B/vsv-render" -q "$T/storm.vsv" --movie "$T/part.mkv" --times 2:4 -o "$T/m%04d.png" --size 64x48
+    frames=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 "$T/part.mkv")
+    [ "$frames" = 3 ] && [ -f "$T/m0002.png" ] && pass "three steps: three movie frames and three PNGs" || fail "three steps: three movie frames and three PNGs" "$frames"
+    if ! ls "$T" | grep -q '\.tmp\.'; then pass "no temporary files left"; else fail "no temporary files left" "$(ls "$T")"; fi
+else
+    fail "ffmpeg and ffprobe are installed (apt-get install ffmpeg)" "missing"
+fi
 exit 0

@@ -1,0 +1,118 @@
+/* vsv-export — a .vsv file out to other tools: one OpenVDB file per time
+ * step, one FloatGrid per species (Blender, Houdini and the OpenVDB tools
+ * read them). */
+#include "vsv_cli.h"
+#include "vsv_vdb.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static const char usage[] =
+    "Usage: vsv-export FILE.vsv --vdb OUT_%04d.vdb [--times A:B] [--species LIST]\n"
+    "Write each selected time step as an OpenVDB file: one FloatGrid per species,\n"
+    "named after it, in world units (projected metres, height above sea level;\n"
+    "the grid's origin and spacing are the transform), only non-empty cells\n"
+    "active, with units, model time (ISO 8601), source model and projection as\n"
+    "metadata. %04d (or another printf integer) numbers the files from 0; a name\n"
+    "without one takes a single step.\n"
+    "\n"
+    "      --vdb OUT           the files to write\n"
+    "  -t, --time T            one step: an index or an ISO time (default: all steps)\n"
+    "      --times A:B         steps A..B (indices or ISO times; either end may be empty)\n"
+    "  -s, --species LIST      NAME,... (default: every species)\n"
+    "  -q, --quiet             no progress\n"
+    "  -h, --help              this help\n"
+    "  -V, --version           print versions\n";
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-export");
+    enum { O_VDB = 1000, O_TIMES };
+    static const struct option longopts[] = {{"vdb", required_argument, 0, O_VDB},   {"time", required_argument, 0, 't'},
+                                             {"times", required_argument, 0, O_TIMES}, {"species", required_argument, 0, 's'},
+                                             {"quiet", no_argument, 0, 'q'},          {"help", no_argument, 0, 'h'},
+                                             {"version", no_argument, 0, 'V'},        {0, 0, 0, 0}};
+    const char *out = NULL, *time = NULL, *times = NULL, *species = NULL;
+    int c;
+    while ((c = getopt_long(argc, argv, "t:s:qhV", longopts, NULL)) != -1) {
+        switch (c) {
+        case O_VDB: out = optarg; break;
+        case 't': time = optarg; break;
+        case O_TIMES: times = optarg; break;
+        case 's': species = optarg; break;
+        case 'q': vsv_cli_set_quiet(1); break;
+        case 'h': fputs(usage, stdout); return 0;
+        case 'V': vsv_cli_version();
+        default: vsv_cli_usage_error("unknown option");
+        }
+    }
+    if (!out)
+        vsv_cli_usage_error("no output (--vdb OUT_%%04d.vdb)");
+    if (optind != argc - 1)
+        vsv_cli_usage_error(optind < argc ? "one .vsv file" : "no input file");
+    if (time && times)
+        vsv_cli_usage_error("--time and --times exclude each other");
+    const char *path = argv[optind];
+    const int sequence = strchr(out, '%') != NULL;
+    vsv_file *f = NULL;
+    if (vsv_file_open(path, &f))
+        vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    int a, b;
+    vsv_cli_steps(f, time, times, 1, &a, &b);
+    if (a < 0 || b >= info.nsteps || a > b)
+        vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
+    if (!sequence && a != b)
+        vsv_cli_usage_error("several steps need %%04d in the output name (or --time T)");
+    /* species */
+    int *sel = calloc((size_t)m->nvars, sizeof *sel), n = 0;
+    if (!sel)
+        vsv_cli_die(1, "out of memory");
+    if (species) {
+        char *copy = strdup(species), *save = NULL;
+        for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
+            const int s = vsv_meta_find_var(m, it);
+            if (s < 0)
+                vsv_cli_usage_error("--species: %s has no species '%s'", path, it);
+            sel[n++] = s;
+        }
+        free(copy);
+    } else {
+        for (int s = 0; s < m->nvars; s++)
+            sel[n++] = s;
+    }
+    vsv_volume **vols = calloc((size_t)n, sizeof *vols);
+    vsv_decoder *d = NULL;
+    if (!vols || vsv_decoder_create(f, &d))
+        vsv_cli_die(1, "out of memory");
+    for (int l = 0; l < n; l++)
+        if (vsv_volume_create(f, &vols[l]))
+            vsv_cli_die(1, "out of memory");
+    for (int t = a; t <= b; t++) {
+        for (int l = 0; l < n; l++)
+            if (vsv_volume_load(vols[l], d, t, sel[l]))
+                vsv_cli_die(1, "%s", vsv_decoder_error(d));
+        char name[4096], err[4300];
+        if (sequence)
+            snprintf(name, sizeof name, out, t - a);
+        else
+            snprintf(name, sizeof name, "%s", out);
+        if (vsv_vdb_write(name, m, vsv_file_time(f, t), (const vsv_volume *const *)vols, n, err, sizeof err))
+            vsv_cli_die(1, "%s", err);
+        vsv_cli_progress("vsv-export", t - a + 1, b - a + 1);
+    }
+    if (!vsv_cli_quiet() && !isatty(2))
+        fprintf(stderr, "vsv-export: %d file%s, %d species each\n", b - a + 1, b > a ? "s" : "", n);
+    for (int l = 0; l < n; l++)
+        vsv_volume_free(vols[l]);
+    free(vols);
+    free(sel);
+    vsv_decoder_free(d);
+    vsv_file_free(f);
+    return 0;
+}

@@ -1,0 +1,252 @@
+// vsv_vdb.cc — the OpenVDB shim behind vsv_vdb.h (C++17 over libopenvdb).
+// Every OpenVDB call is wrapped: exceptions become "FILE: what" errors.
+#include "vsv_vdb.h"
+
+#include <openvdb/openvdb.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <unistd.h>
+
+namespace {
+
+void say(char *err, size_t cap, const std::string &s) { std::snprintf(err, cap, "%s", s.c_str()); }
+
+std::string iso(int64_t t)
+{
+    char buf[64];
+    vsv_time_format(t, buf, sizeof buf);
+    return buf;
+}
+
+std::string meta_string(const openvdb::MetaMap &m, const char *key)
+{
+    auto v = m.getMetadata<openvdb::StringMetadata>(key);
+    return v ? v->value() : std::string();
+}
+
+}  // namespace
+
+extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, const vsv_volume *const *vols, int n,
+                             char *err, size_t cap)
+{
+    const std::string tmp = std::string(path) + ".tmp." + std::to_string(getpid());
+    try {
+        openvdb::initialize();
+        // the vertical axis: even heights, or the native levels' mean spacing
+        double z0 = m->origin[2], dz = m->spacing[2];
+        if (m->vert_kind != VSV_VERT_EVEN && m->levels && m->nz > 1) {
+            z0 = m->levels[0];
+            dz = (m->levels[m->nz - 1] - m->levels[0]) / (m->nz - 1);
+        }
+        openvdb::math::Mat4d mat = openvdb::math::Mat4d::identity();
+        mat.setToScale(openvdb::Vec3d(m->spacing[0], m->spacing[1], dz));
+        mat.setTranslation(openvdb::Vec3d(m->origin[0], m->origin[1], z0));
+        const auto xf = openvdb::math::Transform::createLinearTransform(mat);
+        openvdb::GridPtrVec grids;
+        for (int l = 0; l < n; l++) {
+            const vsv_volume *v = vols[l];
+            const vsv_var &var = m->vars[v->species];
+            auto g = openvdb::FloatGrid::create(0.0f);
+            g->setName(var.name);
+            g->setGridClass(openvdb::GRID_FOG_VOLUME);
+            g->setTransform(xf->copy());
+            g->insertMeta("units", openvdb::StringMetadata(var.units));
+            g->insertMeta("description", openvdb::StringMetadata(var.description));
+            auto acc = g->getAccessor();
+            const int B = v->brick;
+            for (int b = 0; b < v->nbricks; b++) {
+                const float *d = v->bricks[b];
+                if (!d)
+                    continue;  // EMPTY: stays inactive
+                const int bi = b % v->bdim[0], bj = b / v->bdim[0] % v->bdim[1], bk = b / (v->bdim[0] * v->bdim[1]);
+                for (int k = 0; k < B && bk * B + k < v->nz; k++)
+                    for (int j = 0; j < B && bj * B + j < v->ny; j++)
+                        for (int i = 0; i < B && bi * B + i < v->nx; i++) {
+                            const float x = d[((size_t)k * B + j) * B + i];
+                            if (x == x && x != v->empty_value)
+                                acc.setValueOn(openvdb::Coord(bi * B + i, bj * B + j, bk * B + k), x);
+                        }
+            }
+            grids.push_back(g);
+        }
+        openvdb::MetaMap meta;
+        meta.insertMeta("time", openvdb::StringMetadata(iso(t)));
+        meta.insertMeta("source_model", openvdb::StringMetadata(m->model));
+        meta.insertMeta("run", openvdb::StringMetadata(m->run));
+        char proj[256];
+        std::snprintf(proj, sizeof proj, "%s lat0=%.10g lon0=%.10g lat1=%.10g lat2=%.10g radius=%.10g",
+                      vsv_proj_name(m->proj.kind), m->proj.lat0, m->proj.lon0, m->proj.lat1, m->proj.lat2,
+                      m->proj.radius);
+        meta.insertMeta("projection", openvdb::StringMetadata(proj));
+        meta.insertMeta("vertical", openvdb::StringMetadata(m->vert_kind == VSV_VERT_EVEN
+                                                                ? "even heights above sea level, metres"
+                                                                : "native levels at their mean spacing, metres"));
+        openvdb::io::File file(tmp);
+        file.write(grids, meta);
+        file.close();
+        if (std::rename(tmp.c_str(), path)) {
+            std::remove(tmp.c_str());
+            say(err, cap, std::string(path) + ": cannot write: " + std::strerror(errno));
+            return -1;
+        }
+        return 0;
+    } catch (const std::exception &e) {
+        std::remove(tmp.c_str());
+        say(err, cap, std::string(path) + ": OpenVDB: " + e.what());
+        return -1;
+    }
+}
+
+extern "C" int vsv_vdb_probe(const unsigned char *head, size_t n)
+{
+    // the file starts with the 64-bit magic number 0x56444220 ("VDB "), little-endian
+    return n >= 8 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56 && !head[4] &&
+           !head[5] && !head[6] && !head[7];
+}
+
+extern "C" void vsv_vdb_info_free(vsv_vdb_info *info)
+{
+    std::free(info->names);
+    std::free(info->units);
+    std::free(info->times);
+    std::memset(info, 0, sizeof *info);
+}
+
+extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info, char *err, size_t cap)
+{
+    std::memset(info, 0, sizeof *info);
+    openvdb::CoordBBox box;
+    openvdb::Vec3d voxel(0), origin0(0);
+    std::string at;
+    try {
+        openvdb::initialize();
+        info->times = static_cast<int64_t *>(std::calloc((size_t)(n ? n : 1), sizeof(int64_t)));
+        for (int f = 0; f < n; f++) {
+            at = paths[f];
+            openvdb::io::File file(paths[f]);
+            file.open(false);
+            auto fm = file.getMetadata();
+            const std::string when = fm ? meta_string(*fm, "time") : std::string();
+            int64_t t;
+            info->times[f] = !when.empty() && !vsv_time_parse(when.c_str(), &t) ? t : INT64_MIN;
+            if (f == 0 && fm) {
+                std::snprintf(info->model, sizeof info->model, "%s", meta_string(*fm, "source_model").c_str());
+                std::snprintf(info->projection, sizeof info->projection, "%s",
+                              meta_string(*fm, "projection").c_str());
+            }
+            auto grids = file.readAllGridMetadata();
+            for (const auto &g : *grids) {
+                if (!g->isType<openvdb::FloatGrid>())
+                    continue;
+                // an axis-aligned scale and translation: cell centres on a lattice
+                const auto &xf = g->transform();
+                const openvdb::Vec3d o = xf.indexToWorld(openvdb::Vec3d(0, 0, 0));
+                const openvdb::Vec3d ex = xf.indexToWorld(openvdb::Vec3d(1, 0, 0)) - o,
+                                     ey = xf.indexToWorld(openvdb::Vec3d(0, 1, 0)) - o,
+                                     ez = xf.indexToWorld(openvdb::Vec3d(0, 0, 1)) - o;
+                if (!xf.isLinear() || std::fabs(ex[1]) + std::fabs(ex[2]) > 1e-9 * std::fabs(ex[0]) ||
+                    std::fabs(ey[0]) + std::fabs(ey[2]) > 1e-9 * std::fabs(ey[1]) ||
+                    std::fabs(ez[0]) + std::fabs(ez[1]) > 1e-9 * std::fabs(ez[2]) || !(ex[0] > 0) || !(ey[1] > 0) ||
+                    !(ez[2] > 0)) {
+                    say(err, cap, at + ": grid " + g->getName() + ": only axis-aligned, scaled and translated grids are read");
+                    vsv_vdb_info_free(info);
+                    return -1;
+                }
+                const openvdb::Vec3d vs(ex[0], ey[1], ez[2]);
+                if (voxel == openvdb::Vec3d(0)) {
+                    voxel = vs;
+                    origin0 = o;
+                } else if ((vs - voxel).length() > 1e-9 * voxel.length() ||
+                           (o - origin0).length() > 1e-6 * voxel.length()) {
+                    say(err, cap, at + ": grid " + g->getName() + ": voxel size or lattice differs from the first grid's");
+                    vsv_vdb_info_free(info);
+                    return -1;
+                }
+                openvdb::CoordBBox gb;
+                auto mn = g->getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MIN);
+                auto mx = g->getMetadata<openvdb::Vec3IMetadata>(openvdb::GridBase::META_FILE_BBOX_MAX);
+                if (mn && mx) {
+                    gb = openvdb::CoordBBox(openvdb::Coord(mn->value()), openvdb::Coord(mx->value()));
+                } else {
+                    gb = file.readGrid(g->getName())->evalActiveVoxelBoundingBox();
+                }
+                if (!gb.empty())
+                    box.expand(gb);
+                int known = 0;
+                for (int i = 0; i < info->ngrids; i++)
+                    known |= g->getName() == info->names[i];
+                if (!known) {
+                    const int k = info->ngrids++;
+                    info->names = static_cast<char(*)[64]>(std::realloc(info->names, (size_t)info->ngrids * 64));
+                    info->units = static_cast<char(*)[64]>(std::realloc(info->units, (size_t)info->ngrids * 64));
+                    std::snprintf(info->names[k], 64, "%s", g->getName().c_str());
+                    std::snprintf(info->units[k], 64, "%s", meta_string(*g, "units").c_str());
+                }
+            }
+            file.close();
+        }
+    } catch (const std::exception &e) {
+        say(err, cap, at + ": not a readable OpenVDB file (" + e.what() + ")");
+        vsv_vdb_info_free(info);
+        return -1;
+    }
+    if (!info->ngrids || box.empty()) {
+        say(err, cap, std::string(n ? paths[0] : "") + ": no float grid with active voxels in the sequence");
+        vsv_vdb_info_free(info);
+        return -1;
+    }
+    const openvdb::Coord d = box.dim();
+    info->nx = d.x(), info->ny = d.y(), info->nz = d.z();
+    for (int a = 0; a < 3; a++) {
+        info->imin[a] = box.min()[a];
+        info->voxel[a] = voxel[a];
+        info->origin[a] = origin0[a] + box.min()[a] * voxel[a];
+    }
+    return 0;
+}
+
+extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err,
+                            size_t cap)
+{
+    const size_t nx = info->nx, ny = info->ny, nz = info->nz;
+    try {
+        openvdb::initialize();
+        openvdb::io::File file(path);
+        file.open(false);
+        if (!file.hasGrid(name)) {  // missing from this step: nothing there
+            std::memset(out, 0, nx * ny * nz * sizeof(float));
+            return 0;
+        }
+        auto g = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name));
+        file.close();
+        if (!g) {
+            say(err, cap, std::string(path) + ": grid " + name + " is not a float grid");
+            return -1;
+        }
+        const float bg = g->background();
+        for (size_t c = 0; c < nx * ny * nz; c++)
+            out[c] = bg;
+        const openvdb::Coord lo((int)info->imin[0], (int)info->imin[1], (int)info->imin[2]);
+        const openvdb::CoordBBox dom(lo, lo + openvdb::Coord((int)nx - 1, (int)ny - 1, (int)nz - 1));
+        for (auto it = g->cbeginValueOn(); it; ++it) {
+            openvdb::CoordBBox bb;
+            it.getBoundingBox(bb);  // a voxel, or a whole tile
+            bb.intersect(dom);
+            if (bb.empty())
+                continue;
+            const float v = *it;
+            for (int k = bb.min().z(); k <= bb.max().z(); k++)
+                for (int j = bb.min().y(); j <= bb.max().y(); j++)
+                    for (int i = bb.min().x(); i <= bb.max().x(); i++)
+                        out[((size_t)(k - lo.z()) * ny + (j - lo.y())) * nx + (i - lo.x())] = v;
+        }
+        return 0;
+    } catch (const std::exception &e) {
+        say(err, cap, std::string(path) + ": not a readable OpenVDB file (" + e.what() + ")");
+        return -1;
+    }
+}

@@ -1,0 +1,85 @@
+#!/bin/sh
+# cli_install.sh — `make install` into a staging root: tools, static and shared
+# library (versioned soname), headers, vesuvius.pc, man pages, the default
+# transfer functions, bash completion; then a small C program built against
+# the installed tree with pkg-config alone, run against the shared library.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-install.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+R="$T/root"
+P=/opt/vesuvius
+if make -s --no-print-directory B="$B" install PREFIX=$P DESTDIR="$R" > "$T/log" 2>&1; then
+    pass "make install PREFIX=$P DESTDIR=... succeeds"
+else
+    fail "make install PREFIX=$P DESTDIR=... succeeds" "$(tail -c 400 "$T/log")"
+    exit 0
+fi
+for f in bin/vsv-info bin/vsv-render bin/vsv-play lib/libvesuvius.a lib/libvesuvius.so lib/libvesuvius.so.0 \
+    include/vesuvius/vsv_format.h include/vesuvius/vsv_render.h include/vesuvius/vsv_pager.h \
+    lib/pkgconfig/vesuvius.pc share/man/man1/vsv-play.1 share/man/man1/vsv-info.1 share/man/man5/vsv.5 \
+    share/vesuvius/transfer-functions.tf share/bash-completion/completions/vsv-render; do
+    [ -e "$R$P/$f" ] && pass "installed: $f" || fail "installed: $f" "missing"
+done
+soname=$(readelf -d "$R$P/lib/libvesuvius.so" 2>/dev/null | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')
+[ "$soname" = libvesuvius.so.0 ] && pass "the shared library's soname is libvesuvius.so.0" ||
+    fail "the shared library's soname is libvesuvius.so.0" "'$soname'"
+cat > "$T/hello.c" <<'EOC'
+#include <stdio.h>
+#include <vsv_format.h>
+int main(int argc, char **argv)
+{
+    vsv_file *f = NULL;
+    if (argc < 2 || vsv_file_open(argv[1], &f)) {
+        fprintf(stderr, "%s\n", f ? vsv_file_error(f) : "usage");
+        return 1;
+    }
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    printf("%s %d steps %d species\n", VSV_VERSION_STRING, info.nsteps, info.nspecies);
+    vsv_file_free(f);
+    return 0;
+}
+EOC
+export PKG_CONFIG_PATH="$R$P/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$R"
+if cc $SANFLAGS -o "$T/hello" "$T/hello.c" $(pkg-config --cflags --libs vesuvius) > "$T/cc" 2>&1; then
+    pass "a C program builds against the installed tree with pkg-config alone"
+else
+    fail "a C program builds against the installed tree with pkg-config alone" "$(head -c 400 "$T/cc")"
+fi
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
+expect "and runs on the installed shared library" 0 env LD_LIBRARY_PATH="$R$P/lib" "$T/hello" "$T/crop.vsv"
+has "reading a real converted file" "$T/out" "4 steps 5 species"
+ldd_out=$(LD_LIBRARY_PATH="$R$P/lib" ldd "$T/hello" 2>&1 | grep libvesuvius)
+case $ldd_out in *"$R$P/lib/libvesuvius.so.0"*) pass "linked to libvesuvius.so.0 (shared)" ;;
+*) fail "linked to libvesuvius.so.0 (shared)" "$ldd_out" ;; esac
+# the static archive, with the libraries the .pc names as private (shared ones:
+# Debian's netCDF has no static HDF5 on the default path)
+deps=$(pkg-config --print-requires-private vesuvius | awk '{print $1}')
+private=$(sed -n 's/^Libs.private: //p' "$R$P/lib/pkgconfig/vesuvius.pc")
+if cc $SANFLAGS -o "$T/hello-static" "$T/hello.c" $(pkg-config --cflags vesuvius) "$R$P/lib/libvesuvius.a" \
+    $(pkg-config --libs $deps) $private > "$T/cc" 2>&1 &&
+    "$T/hello-static" "$T/crop.vsv" > /dev/null; then
+    pass "and statically (libvesuvius.a with the .pc's private requirements)"
+else
+    fail "and statically (libvesuvius.a with the .pc's private requirements)" "$(head -c 400 "$T/cc")"
+fi
+# every tool: --version names the tool, the project and the format
+for t in vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play; do
+    v=$("$R$P/bin/$t" --version 2>&1)
+    case $v in "$t (Vesuvius "*") format 1."*) pass "$t --version: $v" ;; *) fail "$t --version" "$v" ;; esac
+done
+# the installed transfer functions parse, block by block
+expect "the installed transfer functions render" 0 "$R$P/bin/vsv-render" "$T/crop.vsv" -o "$T/tf.png" \
+    --tf "$R$P/share/vesuvius/transfer-functions.tf" --size 64x48
+# bash completion: options from --help, species from the file
+if command -v bash > /dev/null; then
+    out=$(PATH="$R$P/bin:$PATH" bash -c ". '$R$P/share/bash-completion/completions/vsv-render'
+        COMP_WORDS=(vsv-render --mov); COMP_CWORD=1; _vsv_complete; echo \"\${COMPREPLY[*]}\"
+        COMP_WORDS=(vsv-render '$T/crop.vsv' --species CLW:2,SN); COMP_CWORD=3; _vsv_complete; echo \"\${COMPREPLY[*]}\"")
+    case $out in *--movie*CLW:2,SNOW*) pass "bash completion: options and species names" ;;
+    *) fail "bash completion: options and species names" "$out" ;; esac
+fi
+make -s --no-print-directory B="$B" uninstall PREFIX=$P DESTDIR="$R" > "$T/log" 2>&1
+left=$(find "$R" -type f | wc -l)
+[ "$left" -eq 0 ] && pass "make uninstall removes every installed file" || fail "make uninstall removes every installed file" "$left left: $(find "$R" -type f | head -3)"

@@ -1,0 +1,38 @@
+#!/bin/sh
+# cli_interop.sh — vsv-export (OpenVDB out) and vsv-extract on .vdb sequences
+# (OpenVDB in): options, errors, and the tools on the real MM5 sample.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-interop.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
+expect "vsv-export --help exits 0" 0 "$B/vsv-export" --help
+has "the help names --vdb" "$T/out" "--vdb OUT"
+expect "vsv-export without --vdb exits 2" 2 "$B/vsv-export" "$T/crop.vsv"
+expect "several steps without %04d exit 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/one.vdb"
+expect "an unknown species exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/x%d.vdb" --species NOPE
+expect "a damaged .vsv exits 1" 1 "$B/vsv-export" tests/golden/bad/payload.vsv --vdb "$T/bad%d.vdb"
+has "naming the damage" "$T/err" "checksum"
+expect "every step of two species" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/s_%04d.vdb" --species CLW,SNOW
+n=$(ls "$T"/s_*.vdb | wc -l)
+[ "$n" = 4 ] && pass "one .vdb per step (4)" || fail "one .vdb per step (4)" "$n"
+vdb_print "$T/s_0003.vdb" > "$T/print" 2>&1
+has "vdb_print reads it: the CLW grid" "$T/print" "CLW"
+has "and the SNOW grid" "$T/print" "SNOW"
+vdb_print -m "$T/s_0003.vdb" > "$T/meta" 2>&1
+has "model time as ISO 8601 metadata" "$T/meta" "1995-10-24T03:00:00Z"
+has "the projection as metadata" "$T/meta" "lcc lat0=38"
+expect "one step with --time" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/t1.vdb" --time 1995-10-24T01:00:00Z
+expect "vsv-extract --list on a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
+has "lists its grids" "$T/out" "CLW"
+has "at its time" "$T/out" "1995-10-24T01:00:00Z"
+"$B/vsv-extract" "$T"/s_*.vdb | "$B/vsv-pack" -q -o "$T/back.vsv"
+expect "a .vdb sequence packs back into a .vsv" 0 "$B/vsv-info" "$T/back.vsv"
+has "with the four steps" "$T/out" "4 steps, 1995-10-24T00:00:00Z"
+"$B/vsv-extract" --time-step 10m --time-start 2020-06-01T12:00:00Z "$T"/s_*.vdb | "$B/vsv-pack" -q -o "$T/spaced.vsv"
+"$B/vsv-info" "$T/spaced.vsv" > "$T/out"
+has "--time-step and --time-start space the sequence" "$T/out" "2020-06-01T12:00:00Z .. 2020-06-01T12:30:00Z, every 600 s"
+head -c 3000 "$T/s_0001.vdb" > "$T/cut.vdb"
+expect "a truncated .vdb exits 1" 1 "$B/vsv-extract" "$T/cut.vdb"
+has "with a clear message" "$T/err" "cut.vdb: not a readable OpenVDB file"
+expect "a rotated or foreign file is not taken for OpenVDB" 1 "$B/vsv-extract" "$T/crop.vsv"

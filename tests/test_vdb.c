@@ -1,0 +1,187 @@
+/* test_vdb.c — OpenVDB out and in through the shim, on the real MM5
+ * sample: every exported value equals the decoded .vsv value, the active
+ * voxels are exactly the non-empty cells, the sequence reads back as the
+ * same grid, and .vsv -> .vdb -> .vsv keeps every value within the bound. */
+#include "vsv_testlib.h"
+#include "vsv_vdb.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int main(void)
+{
+    const char *b = getenv("B") ? getenv("B") : "build";
+    const char *src = vsv_test_tmp("vdb-crop.vsv"), *rt = vsv_test_tmp("vdb-rt.vsv");
+    char cmd[4096];
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s", b, src);
+    if (!CHECK(system(cmd) == 0, "convert the bundled MM5 sample", " "))
+        return vsv_test_done();
+    vsv_file *f = NULL;
+    vsv_file_open(src, &f);
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    vsv_decoder *d = NULL;
+    vsv_decoder_create(f, &d);
+    const int ns = m->nvars, nt = info.nsteps;
+    const size_t cells = (size_t)m->nx * m->ny * m->nz;
+    vsv_volume **vols = calloc((size_t)ns, sizeof *vols);
+    char (*paths)[512] = calloc((size_t)nt, sizeof *paths);
+    const char **pp = calloc((size_t)nt, sizeof *pp);
+    char err[1024] = "";
+    int ok = 1;
+    for (int t = 0; t < nt && ok; t++) {
+        for (int s = 0; s < ns; s++) {
+            if (!vols[s])
+                vsv_volume_create(f, &vols[s]);
+            vsv_volume_load(vols[s], d, t, s);
+        }
+        char name[64];
+        snprintf(name, sizeof name, "vdb-%04d.vdb", t);
+        snprintf(paths[t], sizeof paths[t], "%s", vsv_test_tmp(name));
+        pp[t] = paths[t];
+        ok = !vsv_vdb_write(paths[t], m, vsv_file_time(f, t), (const vsv_volume *const *)vols, ns, err, sizeof err);
+    }
+    CHECK(ok, "every step exports to a .vdb", "(%s)", err);
+    vsv_vdb_info vi;
+    if (!CHECK(!vsv_vdb_scan(pp, nt, &vi, err, sizeof err), "the sequence scans", "(%s)", err))
+        return vsv_test_done();
+    int named = vi.ngrids == ns;
+    for (int s = 0; s < ns && named; s++) {
+        int found = 0;
+        for (int k = 0; k < vi.ngrids; k++)
+            found |= !strcmp(vi.names[k], m->vars[s].name) && !strcmp(vi.units[k], m->vars[s].units);
+        named = found;
+    }
+    CHECK(named, "one float grid per species, named after it, with its units", "(%d grids)", vi.ngrids);
+    CHECK(fabs(vi.voxel[0] - m->spacing[0]) < 1e-9 && fabs(vi.voxel[2] - m->spacing[2]) < 1e-9,
+          "the voxel size is the cell size in metres", "(%g %g %g)", vi.voxel[0], vi.voxel[1], vi.voxel[2]);
+    int times_ok = 1;
+    for (int t = 0; t < nt; t++)
+        times_ok &= vi.times[t] == vsv_file_time(f, t);
+    CHECK(times_ok, "each file carries its model time", " ");
+    /* every value, on the world lattice: cell (i, j, k) of the .vsv at index imin + (i, j, k) of the union box */
+    const long oi = lround((vi.origin[0] - m->origin[0]) / m->spacing[0]),
+               oj = lround((vi.origin[1] - m->origin[1]) / m->spacing[1]),
+               ok_ = lround((vi.origin[2] - m->origin[2]) / m->spacing[2]);
+    float *ref = malloc(cells * sizeof(float)), *got = malloc((size_t)vi.nx * vi.ny * vi.nz * sizeof(float));
+    size_t mism = 0, outside = 0;
+    for (int t = 0; t < nt; t++)
+        for (int s = 0; s < ns; s++) {
+            vsv_decoder_volume(d, t, s, ref);
+            if (vsv_vdb_read(pp[t], m->vars[s].name, &vi, got, err, sizeof err)) {
+                mism++;
+                continue;
+            }
+            const float empty = vsv_quant_value(vsv_file_quant(f, s), 0);
+            for (int k = 0; k < m->nz; k++)
+                for (int j = 0; j < m->ny; j++)
+                    for (int i = 0; i < m->nx; i++) {
+                        const float r = ref[((size_t)k * m->ny + j) * m->nx + i];
+                        const long a = i - oi, bj = j - oj, c = k - ok_;
+                        const int in = a >= 0 && bj >= 0 && c >= 0 && a < vi.nx && bj < vi.ny && c < vi.nz;
+                        const int held = r == r && r != empty;
+                        if (!in) {
+                            outside += held;
+                            continue;
+                        }
+                        const float g = got[((size_t)c * vi.ny + bj) * vi.nx + a];
+                        if (held ? g != r : g != 0)
+                            mism++;
+                    }
+        }
+    CHECK(mism == 0 && outside == 0,
+          "read back through the shim, every cell equals the decoded .vsv (empty and no-data cells inactive: 0)",
+          "(%zu differ, %zu outside the box) %s", mism, outside, err);
+    /* vdb_print's voxel count equals the non-empty cells */
+    long want = 0;
+    vsv_decoder_volume(d, nt - 1, 0, ref);
+    for (size_t c2 = 0; c2 < cells; c2++)
+        want += ref[c2] == ref[c2] && ref[c2] != vsv_quant_value(vsv_file_quant(f, 0), 0);
+    snprintf(cmd, sizeof cmd, "vdb_print -l %s 2>&1", pp[nt - 1]);
+    FILE *p = popen(cmd, "r");
+    char line[512], grid[64] = "";
+    long count = -1;
+    while (p && fgets(line, sizeof line, p)) {
+        if (!strncmp(line, "Name: ", 6))
+            sscanf(line + 6, "%63s", grid);
+        if (!strcmp(grid, m->vars[0].name) && strstr(line, "Number of active voxels:")) {
+            count = 0; /* printed with thousands separators */
+            for (const char *q = strchr(line, ':') + 1; *q; q++)
+                if (*q >= '0' && *q <= '9')
+                    count = count * 10 + (*q - '0');
+        }
+    }
+    if (p)
+        pclose(p);
+    CHECK(count == want, "vdb_print counts the species' non-empty cells as active voxels", "(%s: %ld, want %ld)",
+          m->vars[0].name, count, want);
+    /* .vsv -> .vdb -> .vsv */
+    size_t n = (size_t)snprintf(cmd, sizeof cmd, "%s/vsv-extract", b);
+    for (int t = 0; t < nt; t++)
+        n += (size_t)snprintf(cmd + n, sizeof cmd - n, " %s", pp[t]);
+    snprintf(cmd + n, sizeof cmd - n, " | %s/vsv-pack -q -o %s", b, rt);
+    vsv_file *g = NULL;
+    if (CHECK(system(cmd) == 0 && !vsv_file_open(rt, &g), "vsv-extract reads the .vdb sequence; vsv-pack packs it",
+              " ")) {
+        const vsv_meta *gm = vsv_file_meta(g);
+        vsv_file_info gi;
+        vsv_file_info_get(g, &gi);
+        CHECK(gi.nsteps == nt && gm->proj.kind == m->proj.kind && vsv_file_time(g, nt - 1) == vsv_file_time(f, nt - 1),
+              "the round trip keeps the steps, their times and the projection", "(%d steps)", gi.nsteps);
+        vsv_decoder *gd = NULL;
+        vsv_decoder_create(g, &gd);
+        float *back = malloc((size_t)gm->nx * gm->ny * gm->nz * sizeof(float));
+        double worst = 0;
+        int bad = 0;
+        for (int t = 0; t < nt; t++)
+            for (int s = 0; s < ns; s++) {
+                const int gs = vsv_meta_find_var(gm, m->vars[s].name);
+                vsv_decoder_volume(d, t, s, ref);
+                vsv_decoder_volume(gd, t, gs, back);
+                const double bound = vsv_file_quant(f, s)->max_abs_error + vsv_file_quant(g, gs)->max_abs_error;
+                for (int k = 0; k < gm->nz; k++)
+                    for (int j = 0; j < gm->ny; j++)
+                        for (int i = 0; i < gm->nx; i++) {
+                            const float r = ref[((size_t)(k + ok_) * m->ny + (j + oj)) * m->nx + (i + oi)];
+                            const float v = back[((size_t)k * gm->ny + j) * gm->nx + i];
+                            if (r != r)
+                                continue; /* no data: not exported */
+                            const double e = fabs((double)v - r);
+                            worst = e / bound > worst ? e / bound : worst;
+                            bad += e > bound;
+                        }
+            }
+        CHECK(!bad, ".vsv -> .vdb -> .vsv: every value within the two quantisation bounds",
+              "(%d outside, worst %.2f of the bound)", bad, worst);
+        free(back);
+        vsv_decoder_free(gd);
+    }
+    vsv_file_free(g);
+    /* a damaged .vdb: a clear error */
+    size_t size = 0;
+    unsigned char *bytes = vsv_test_slurp(pp[0], &size);
+    const char *cut = vsv_test_tmp("cut.vdb");
+    vsv_test_write(cut, bytes, size / 2);
+    const char *one[1] = {cut};
+    vsv_vdb_info ci;
+    const int rc = vsv_vdb_scan(one, 1, &ci, err, sizeof err);
+    if (rc)
+        vsv_vdb_info_free(&ci);
+    CHECK(rc == -1 && strstr(err, "cut.vdb") && strstr(err, "OpenVDB"), "a truncated .vdb is a clear error",
+          "(%s)", err);
+    free(bytes);
+    vsv_vdb_info_free(&vi);
+    free(ref);
+    free(got);
+    for (int s = 0; s < ns; s++)
+        vsv_volume_free(vols[s]);
+    free(vols);
+    free(paths);
+    free(pp);
+    vsv_decoder_free(d);
+    vsv_file_free(f);
+    return vsv_test_done();
+}
