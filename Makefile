@@ -186,6 +186,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) sh bench/bench_camx.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vdb.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vtk.sh || echo "(VTK comparison skipped)"
 	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_volpack && \
 	  B=$(B) SHARED=$(SHARED) sh bench/bench_volpack.sh; else echo "(VolPack comparison skipped: apt-get install libvolpack1-dev)"; fi
