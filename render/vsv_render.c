@@ -359,28 +359,6 @@ static float sample(const vsv_volume *vol, double u, double v, double w)
     return e + (f - e) * fw;
 }
 
-/* Largest opacity of a transfer function over the values [lo, hi]. */
-static float max_opacity(const vsv_tf *tf, float lo, float hi)
-{
-    if (!(hi >= tf->lo))
-        return 0; /* all below the range (or no data): transparent */
-    double t0, t1;
-    if (tf->scale == VSV_SCALE_LOG) {
-        const double l0 = log(tf->lo), l1 = log(tf->hi);
-        t0 = lo > 0 ? (log(lo) - l0) / (l1 - l0) : 0;
-        t1 = (log(hi) - l0) / (l1 - l0);
-    } else {
-        t0 = (lo - tf->lo) / (tf->hi - tf->lo);
-        t1 = (hi - tf->lo) / (tf->hi - tf->lo);
-    }
-    const int i0 = !(t0 > 0) ? 0 : t0 >= 1 ? VSV_TF_LUT - 1 : (int)(t0 * (VSV_TF_LUT - 1));
-    const int i1 = t1 >= 1 ? VSV_TF_LUT - 1 : (int)ceil(t1 * (VSV_TF_LUT - 1));
-    float m = 0;
-    for (int i = i0; i <= i1; i++)
-        m = tf->lut[i][3] > m ? tf->lut[i][3] : m;
-    return m;
-}
-
 /* Empty-space skipping: a brick is skipped when, for every visible layer, the
  * values of the brick and of every brick around it (a trilinear sample reaches
  * one cell across, and blends values between those ranges) map to zero
@@ -432,7 +410,7 @@ static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
                                 if (L->vol->bmax[n] > hi)
                                     hi = L->vol->bmax[n];
                             }
-                    if (max_opacity(L->tf, lo, hi) > 0)
+                    if (vsv_tf_max_opacity(L->tf, (float)lo, (float)hi) > 0)
                         clear[b] = r->skip[b] = 0;
                 }
     }

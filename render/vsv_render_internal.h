@@ -10,6 +10,10 @@
 /* extinction of opacity 1 over one horizontal cell: alpha 0.95 */
 #define VSV_SIGMA_PER_CELL 3.0
 
+/* Largest opacity of a transfer function over the values [lo, hi] (a bound:
+ * 0 means every value in there is transparent). */
+float vsv_tf_max_opacity(const vsv_tf *tf, float lo, float hi);
+
 /* World geometry of a scene: cell centres at (ox + i dx, oy + j dy, (oz + k dz) E). */
 typedef struct vsv_geo {
     double ox, oy, oz, dx, dy, dz, E;

@@ -56,6 +56,8 @@ struct vsv_sw {
     int n[3];
     int valid[3]; /* the copy for this axis is current */
     const vsv_scene *sc; /* during classification */
+    unsigned char *clear; /* per layer and brick: every value transparent */
+    size_t clear_cap;
     double sigma_unit;
     /* intermediate image, one empty pixel of border all round, and its
      * opaque-pixel links (w + 1 per row) */
@@ -139,6 +141,21 @@ static int classification_for(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g,
         return VSV_ENOMEM;
     sw->sc = sc;
     sw->sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
+    /* bricks a layer leaves transparent need no transfer-function lookups */
+    const vsv_volume *v0 = NULL;
+    for (int l = 0; l < sc->nlayers && !v0; l++)
+        v0 = sc->layers[l].vol;
+    const size_t nbk = v0 ? (size_t)v0->nbricks : 0;
+    if (grow((void **)&sw->clear, &sw->clear_cap, (size_t)sc->nlayers * nbk + 1, 1))
+        return VSV_ENOMEM;
+    for (int l = 0; l < sc->nlayers; l++) {
+        const vsv_layer *L = &sc->layers[l];
+        for (size_t b = 0; b < nbk; b++) {
+            const float lo = L->vol && L->vol->bmin[b] == L->vol->bmin[b] ? L->vol->bmin[b] : -INFINITY;
+            sw->clear[l * nbk + b] = !L->vol || (size_t)L->vol->nbricks != nbk ||
+                                    !(vsv_tf_max_opacity(L->tf, lo, L->vol->bmax[b]) > 0);
+        }
+    }
     return 0;
 }
 
@@ -167,6 +184,11 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
             for (int l = 0; l < sc->nlayers; l++) {
                 const vsv_layer *L = &sc->layers[l];
                 if (!L->visible || !(L->opacity > 0) || !L->vol)
+                    continue;
+                const int sh = L->vol->shift;
+                const size_t brick =
+                    (size_t)(idx[0] >> sh) + L->vol->bdim[0] * ((idx[1] >> sh) + (size_t)L->vol->bdim[1] * (idx[2] >> sh));
+                if (sw->clear[l * (size_t)L->vol->nbricks + brick])
                     continue;
                 float rgba[4];
                 vsv_tf_eval(L->tf, vsv_volume_at(L->vol, idx[0], idx[1], idx[2]), rgba);
@@ -581,6 +603,7 @@ void vsv_sw_free(vsv_sw *sw)
     }
     free(sw->img);
     free(sw->link);
+    free(sw->clear);
     for (int t = 0; t < sw->max_threads; t++) {
         if (sw->scratch)
             free(sw->scratch[t]);

@@ -1,6 +1,6 @@
 /* vsv_tf.c — transfer functions: colour maps, the small text format, and
  * the lookup tables the renderers sample. */
-#include "vsv_render.h"
+#include "vsv_render_internal.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -241,3 +241,26 @@ int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf,
     }
     return 0;
 }
+
+/* Largest opacity of a transfer function over the values [lo, hi]. */
+float vsv_tf_max_opacity(const vsv_tf *tf, float lo, float hi)
+{
+    if (!(hi >= tf->lo))
+        return 0; /* all below the range (or no data): transparent */
+    double t0, t1;
+    if (tf->scale == VSV_SCALE_LOG) {
+        const double l0 = log(tf->lo), l1 = log(tf->hi);
+        t0 = lo > 0 ? (log(lo) - l0) / (l1 - l0) : 0;
+        t1 = (log(hi) - l0) / (l1 - l0);
+    } else {
+        t0 = (lo - tf->lo) / (tf->hi - tf->lo);
+        t1 = (hi - tf->lo) / (tf->hi - tf->lo);
+    }
+    const int i0 = !(t0 > 0) ? 0 : t0 >= 1 ? VSV_TF_LUT - 1 : (int)(t0 * (VSV_TF_LUT - 1));
+    const int i1 = t1 >= 1 ? VSV_TF_LUT - 1 : (int)ceil(t1 * (VSV_TF_LUT - 1));
+    float m = 0;
+    for (int i = i0; i <= i1; i++)
+        m = tf->lut[i][3] > m ? tf->lut[i][3] : m;
+    return m;
+}
+
