@@ -39,6 +39,12 @@ struct vsv_renderer {
     size_t skip_cap;
     vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
     vsv_rays rays;        /* the camera's rays, for this frame */
+    /* the ground per pixel, for ground_cam and ground_geo */
+    vsv_ground *ground;
+    size_t ground_cap;
+    vsv_camera ground_cam;
+    vsv_geo ground_geo;
+    int ground_valid;
 };
 
 void vsv_render_opts_init(vsv_render_opts *o)
@@ -433,7 +439,8 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
         t1 = r->cam->zfar;
     /* a fixed step in world units: a fraction of the smallest cell edge */
     const double st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
-    const double t_hit = g->terrain ? vsv_geo_terrain_hit(g, o, d, t0, t1) : INFINITY;
+    const vsv_ground *gp = g->terrain ? &r->ground[(size_t)py * r->cam->width + px] : NULL;
+    const double t_hit = gp ? gp->t : INFINITY;
     const double tend = fmin(t1, t_hit);
     /* the volume, front to back */
     double T = 1, acc[3] = {0, 0, 0};
@@ -507,10 +514,8 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
         }
     }
     if (t_hit < INFINITY && T >= 1.0 / 512) {
-        float rgb[3];
-        vsv_geo_terrain_colour(g, o[0] + t_hit * d[0], o[1] + t_hit * d[1], rgb);
         for (int c = 0; c < 3; c++)
-            acc[c] += T * rgb[c];
+            acc[c] += T * gp->rgb[c];
         T = 0;
         if (*depth == INFINITY)
             *depth = (float)t_hit;
@@ -518,6 +523,31 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
     for (int c = 0; c < 3; c++)
         out[c] = (float)acc[c];
     out[3] = (float)(1 - T);
+}
+
+/* One image row of the ground cache. */
+static void ground_row(void *ctx, int py, int thread)
+{
+    vsv_renderer *r = ctx;
+    const vsv_geo *g = &r->g;
+    const vsv_camera *cam = r->cam;
+    (void)thread;
+    for (int px = 0; px < cam->width; px++) {
+        vsv_ground *gp = &r->ground[(size_t)py * cam->width + px];
+        double o[3], d[3], t0, t1;
+        vsv_rays_get(&r->rays, px, py, o, d);
+        gp->t = INFINITY;
+        if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
+            continue;
+        t0 = fmax(t0, fmax(0, cam->znear));
+        if (cam->zfar > 0 && t1 > cam->zfar)
+            t1 = cam->zfar;
+        const double t = vsv_geo_terrain_hit(g, o, d, t0, t1);
+        if (t < INFINITY) {
+            gp->t = (float)t;
+            vsv_geo_terrain_colour(g, o[0] + t * d[0], o[1] + t * d[1], gp->rgb);
+        }
+    }
 }
 
 /* --------------------------------------------------------------- threads */
@@ -642,6 +672,7 @@ void vsv_renderer_free(vsv_renderer *r)
         pthread_cond_destroy(&r->done);
     }
     free(r->skip);
+    free(r->ground);
     vsv_sw_free(r->sw);
     free(r);
 }
@@ -656,9 +687,28 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
             return VSV_EINVAL;
     }
     vsv_scene_geo(sc, &r->g);
+    r->cam = cam;
+    vsv_rays_init(&r->rays, cam);
+    if (r->g.terrain) { /* the ground: again only when the view or the geometry changed */
+        const size_t n = (size_t)cam->width * cam->height;
+        if (n > r->ground_cap) {
+            vsv_ground *ng = realloc(r->ground, n * sizeof *ng);
+            if (!ng)
+                return VSV_ENOMEM;
+            r->ground = ng;
+            r->ground_cap = n;
+            r->ground_valid = 0;
+        }
+        if (!r->ground_valid || memcmp(&r->ground_cam, cam, sizeof *cam) || memcmp(&r->ground_geo, &r->g, sizeof r->g)) {
+            pool_run(r, ground_row, r, cam->height);
+            r->ground_cam = *cam;
+            r->ground_geo = r->g;
+            r->ground_valid = 1;
+        }
+    }
     if (r->o.kind == VSV_RENDER_SHEARWARP) {
         int rows = 0, classify = 0;
-        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, &rows, &classify);
+        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &classify);
         if (!rc && classify) {
             struct timespec t0, t1;
             clock_gettime(CLOCK_MONOTONIC, &t0);

@@ -45,6 +45,14 @@ void vsv_rays_get(const vsv_rays *R, int px, int py, double o[3], double d[3]);
 /* The same, for one pixel (works out the basis each call). */
 void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3]);
 
+/* Where each pixel's ray meets the ground (t, INFINITY when it does not) and
+ * the ground's colour there: worked out once per camera and scene geometry
+ * (the renderer keeps it while only the time step or the species change). */
+typedef struct vsv_ground {
+    float t;
+    float rgb[3];
+} vsv_ground;
+
 /* Shear-warp in phases so the pool can run all but begin. begin sets up the
  * view (*rows = the intermediate image's height; VSV_EUNSUPPORTED when the
  * eye is among the slices) and, when the principal axis's classified copy is
@@ -57,7 +65,7 @@ typedef struct vsv_sw vsv_sw;
 vsv_sw *vsv_sw_create(int max_threads);
 void vsv_sw_free(vsv_sw *sw);
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *rgba, float *depth,
-                 int *rows, int *classify);
+                 const vsv_ground *ground, int *rows, int *classify);
 void vsv_sw_classify_slice(void *sw, int k, int thread);
 void vsv_sw_classified(vsv_sw *sw, double seconds);
 void vsv_sw_composite_row(void *sw, int y, int thread);

@@ -74,6 +74,7 @@ struct vsv_sw {
     const vsv_camera *cam;
     vsv_rays rays;
     float *out, *depth;
+    const vsv_ground *ground;
     int c, a, b, na, nb, nc, w, h, front, dk;
     double sa, sb, ta, tb, delta, dv[3];
     /* perspective: the eye in voxel coordinates, the reference slice (the one
@@ -248,8 +249,9 @@ static int merge_footprints(const uint16_t *A, const uint16_t *B, int *out)
 }
 
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
-                 int *rows, int *classify)
+                 const vsv_ground *ground, int *rows, int *classify)
 {
+    sw->ground = ground;
     if (sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
         sw->valid[0] = sw->valid[1] = sw->valid[2] = 0;
         sw->n[0] = g->nx;
@@ -555,21 +557,16 @@ void vsv_sw_warp_row(void *p, int py, int thread)
     }
     if (!g->terrain)
         return;
+    const vsv_ground *gr = sw->ground + (size_t)py * cam->width;
     for (int px = 0; px < cam->width; px++) {
+        if (!(gr[px].t < INFINITY))
+            continue;
         float *dst = out + 4 * px;
-        double o[3], rd[3], t0b, t1b, t_hit = INFINITY;
-        vsv_rays_get(&sw->rays, px, py, o, rd);
-        if (vsv_box_hit(o, rd, g->bmin, g->bmax, &t0b, &t1b))
-            t_hit = vsv_geo_terrain_hit(g, o, rd, fmax(t0b, 0), t1b);
-        if (t_hit < INFINITY) {
-            float rgb[3];
-            vsv_geo_terrain_colour(g, o[0] + t_hit * rd[0], o[1] + t_hit * rd[1], rgb);
-            for (int ch = 0; ch < 3; ch++)
-                dst[ch] += (1 - dst[3]) * rgb[ch];
-            dst[3] = 1;
-            if (dep)
-                dep[px] = (float)t_hit;
-        }
+        for (int ch = 0; ch < 3; ch++)
+            dst[ch] += (1 - dst[3]) * gr[px].rgb[ch];
+        dst[3] = 1;
+        if (dep)
+            dep[px] = gr[px].t;
     }
 }
 
