@@ -42,6 +42,24 @@ step "Render every 30 minutes, cloud water and snow only, higher cloud opacity" 
 "$B/vsv-render" "$OUT/storm.vsv" --times 0: --species CLW:2,SNOW --size 480x360 -o "$OUT/frame%04d.png"
 ls "$OUT"/frame*.png | head -3
 
+if command -v ffmpeg > /dev/null; then
+    step "A movie of the three hours (every 10-minute frame) through ffmpeg" \
+         "vsv-render $OUT/storm.vsv --movie $OUT/storm.mp4 --fps 8 --renderer shearwarp --size 640x480"
+    "$B/vsv-render" "$OUT/storm.vsv" --movie "$OUT/storm.mp4" --fps 8 --renderer shearwarp --size 640x480
+fi
+
+step "Hand the clouds to Blender or Houdini: one OpenVDB file per step, a grid per species" \
+     "vsv-export $OUT/storm.vsv --vdb $OUT/vdb/storm_%04d.vdb --species CLW,ICE,SNOW"
+mkdir -p "$OUT/vdb"
+"$B/vsv-export" "$OUT/storm.vsv" --vdb "$OUT/vdb/storm_%04d.vdb" --species CLW,ICE,SNOW
+if command -v vdb_print > /dev/null; then
+    vdb_print -l "$OUT/vdb/storm_0018.vdb" | grep -E '^(Name|time)|active voxels:' | head -8
+fi
+step "... and back (OpenVDB in): the sequence becomes a .vsv again" \
+     "vsv-extract $OUT/vdb/storm_*.vdb | vsv-pack -o $OUT/from-vdb.vsv"
+"$B/vsv-extract" "$OUT"/vdb/storm_*.vdb | "$B/vsv-pack" -o "$OUT/from-vdb.vsv"
+"$B/vsv-info" "$OUT/from-vdb.vsv" | sed -n '1,3p;/times/p'
+
 # Playback: in a window when there is a display, else in a virtual one (Xvfb),
 # driven by a script: play, hide the rain, fade the clouds, rewind, screenshots.
 cat > "$OUT/playback.script" <<EOS
@@ -68,4 +86,4 @@ elif command -v xvfb-run > /dev/null; then
 else
     printf '\n(no display and no xvfb-run: playback skipped; apt-get install xvfb xauth)\n'
 fi
-printf '\nDone: %s/storm.vsv, %s/storm.png, %s/frame*.png and %s/play-*.png\n' "$OUT" "$OUT" "$OUT" "$OUT"
+printf '\nDone: %s/storm.vsv, storm.png, frame*.png, storm.mp4, vdb/*.vdb and play-*.png\n' "$OUT"
