@@ -144,4 +144,27 @@ static void close_vdb(vsv_source *s)
     free(v);
 }
 
-const vsv_source_ops vsv_vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, NULL};
+static char *summary(vsv_source *s)
+{
+    vdbsrc *v = s->priv;
+    const vsv_vdb_info *in = v->shared ? &cache.info : &v->info;
+    const vsv_meta *g = &s->grid;
+    char when[64];
+    vsv_time_format(s->times[0], when, sizeof when);
+    size_t cap = 1024 + (size_t)in->ngrids * 160, n = 0;
+    char *t = malloc(cap);
+    if (!t)
+        return NULL;
+    n += (size_t)snprintf(t + n, cap - n,
+                          "OpenVDB%s%s\n  grid        %d x %d x %d voxels (the active bounding box)\n"
+                          "  origin      %g, %g, %g (centre of the first voxel)\n  voxel       %g x %g x %g\n"
+                          "  projection  %s\n  time        %s\n  grids       %d float\n",
+                          in->model[0] ? " from " : "", in->model, g->nx, g->ny, g->nz, g->origin[0], g->origin[1],
+                          g->origin[2], g->spacing[0], g->spacing[1], g->spacing[2], vsv_proj_name(g->proj.kind), when,
+                          in->ngrids);
+    for (int i = 0; i < in->ngrids && n < cap; i++)
+        n += (size_t)snprintf(t + n, cap - n, "    %-12s %s\n", in->names[i], in->units[i][0] ? in->units[i] : "-");
+    return t;
+}
+
+const vsv_source_ops vsv_vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, summary};
