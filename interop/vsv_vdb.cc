@@ -4,11 +4,15 @@
 
 #include <openvdb/openvdb.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 namespace {
@@ -116,7 +120,7 @@ extern "C" void vsv_vdb_info_free(vsv_vdb_info *info)
     std::memset(info, 0, sizeof *info);
 }
 
-extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info, char *err, size_t cap)
+static int scan_impl(const char *const *paths, int n, vsv_vdb_info *info, char *err, size_t cap)
 {
     std::memset(info, 0, sizeof *info);
     openvdb::CoordBBox box;
@@ -209,8 +213,8 @@ extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info,
     return 0;
 }
 
-extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err,
-                            size_t cap)
+static int read_impl(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err,
+                     size_t cap)
 {
     const size_t nx = info->nx, ny = info->ny, nz = info->nz;
     try {
@@ -249,4 +253,135 @@ extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_in
         say(err, cap, std::string(path) + ": not a readable OpenVDB file (" + e.what() + ")");
         return -1;
     }
+}
+
+// ------------------------------------------------------------- isolation
+// OpenVDB files carry no checksums and the library trusts what it reads: a
+// damaged file can crash it. Reading therefore runs in a forked child that
+// writes its results into shared memory; a child killed by a signal is a
+// "damaged file" error, never a crash of the tool.
+
+namespace {
+
+struct shared_head {
+    int rc, nx, ny, nz, ngrids, nfiles;
+    int64_t imin[3];
+    double origin[3], voxel[3];
+    char model[64], projection[256], err[1024];
+};
+
+// Runs fn in a child with `bytes` of shared memory; 0, or -1 with err set.
+template <class F> int isolated(size_t bytes, const char *what, F fn, void **mem, char *err, size_t cap)
+{
+    void *m = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    if (m == MAP_FAILED) {
+        say(err, cap, std::string(what) + ": out of memory");
+        return -1;
+    }
+    std::fflush(nullptr);
+    const pid_t pid = fork();
+    if (pid < 0) {
+        munmap(m, bytes);
+        say(err, cap, std::string(what) + ": cannot fork to read it");
+        return -1;
+    }
+    if (pid == 0) { /* the library's own complaints about a damaged file stay quiet */
+        const int fd = open("/dev/null", O_WRONLY);
+        if (fd >= 0)
+            dup2(fd, 2);
+        _exit(fn(m) ? 1 : 0);
+    }
+    int st = 0;
+    while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
+    }
+    if (WIFSIGNALED(st)) {
+        munmap(m, bytes);
+        say(err, cap, std::string(what) + ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
+                          std::to_string(WTERMSIG(st)) + ")");
+        return -1;
+    }
+    *mem = m;
+    return 0;
+}
+
+}  // namespace
+
+extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info, char *err, size_t cap)
+{
+    enum { MAXG = 1024 };
+    const size_t bytes = sizeof(shared_head) + (size_t)MAXG * 128 + (size_t)(n > 0 ? n : 1) * sizeof(int64_t);
+    void *mem = nullptr;
+    std::memset(info, 0, sizeof *info);
+    if (isolated(bytes, n ? paths[0] : "", [&](void *m) {
+            auto *h = static_cast<shared_head *>(m);
+            vsv_vdb_info in;
+            h->rc = scan_impl(paths, n, &in, h->err, sizeof h->err);
+            if (h->rc)
+                return 1;
+            if (in.ngrids > MAXG) {
+                std::snprintf(h->err, sizeof h->err, "%s: more than %d grids", paths[0], (int)MAXG);
+                h->rc = -1;
+                return 1;
+            }
+            h->nx = in.nx, h->ny = in.ny, h->nz = in.nz, h->ngrids = in.ngrids, h->nfiles = n;
+            for (int a = 0; a < 3; a++)
+                h->imin[a] = in.imin[a], h->origin[a] = in.origin[a], h->voxel[a] = in.voxel[a];
+            std::memcpy(h->model, in.model, sizeof h->model);
+            std::memcpy(h->projection, in.projection, sizeof h->projection);
+            char *p = static_cast<char *>(m) + sizeof(shared_head);
+            std::memcpy(p, in.names, (size_t)in.ngrids * 64);
+            std::memcpy(p + (size_t)MAXG * 64, in.units, (size_t)in.ngrids * 64);
+            std::memcpy(p + (size_t)MAXG * 128, in.times, (size_t)n * sizeof(int64_t));
+            return 0;
+        }, &mem, err, cap))
+        return -1;
+    auto *h = static_cast<shared_head *>(mem);
+    int rc = h->rc;
+    if (rc) {
+        say(err, cap, h->err[0] ? h->err : "OpenVDB: reading failed");
+    } else {
+        const char *p = static_cast<const char *>(mem) + sizeof(shared_head);
+        info->nx = h->nx, info->ny = h->ny, info->nz = h->nz, info->ngrids = h->ngrids;
+        for (int a = 0; a < 3; a++)
+            info->imin[a] = h->imin[a], info->origin[a] = h->origin[a], info->voxel[a] = h->voxel[a];
+        std::memcpy(info->model, h->model, sizeof info->model);
+        std::memcpy(info->projection, h->projection, sizeof info->projection);
+        info->names = static_cast<char(*)[64]>(std::malloc((size_t)h->ngrids * 64));
+        info->units = static_cast<char(*)[64]>(std::malloc((size_t)h->ngrids * 64));
+        info->times = static_cast<int64_t *>(std::malloc((size_t)(n > 0 ? n : 1) * sizeof(int64_t)));
+        if (!info->names || !info->units || !info->times) {
+            vsv_vdb_info_free(info);
+            say(err, cap, "out of memory");
+            rc = -1;
+        } else {
+            std::memcpy(info->names, p, (size_t)h->ngrids * 64);
+            std::memcpy(info->units, p + (size_t)MAXG * 64, (size_t)h->ngrids * 64);
+            std::memcpy(info->times, p + (size_t)MAXG * 128, (size_t)n * sizeof(int64_t));
+        }
+    }
+    munmap(mem, bytes);
+    return rc;
+}
+
+extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err,
+                            size_t cap)
+{
+    const size_t cells = (size_t)info->nx * info->ny * info->nz;
+    const size_t bytes = sizeof(shared_head) + cells * sizeof(float);
+    void *mem = nullptr;
+    if (isolated(bytes, path, [&](void *m) {
+            auto *h = static_cast<shared_head *>(m);
+            h->rc = read_impl(path, name, info, reinterpret_cast<float *>(static_cast<char *>(m) + sizeof(shared_head)),
+                              h->err, sizeof h->err);
+            return h->rc ? 1 : 0;
+        }, &mem, err, cap))
+        return -1;
+    auto *h = static_cast<shared_head *>(mem);
+    const int rc = h->rc;
+    if (rc)
+        say(err, cap, h->err);
+    else
+        std::memcpy(out, static_cast<char *>(mem) + sizeof(shared_head), cells * sizeof(float));
+    munmap(mem, bytes);
+    return rc;
 }
