@@ -729,8 +729,6 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     if (rc)
         return rc;
     r->sc = sc;
-    r->cam = cam;
-    vsv_rays_init(&r->rays, cam);
     r->rgba = rgba;
     r->depth = depth;
     r->tiles_x = (cam->width + TILE - 1) / TILE;

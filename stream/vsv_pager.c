@@ -203,6 +203,18 @@ static int insert(vsv_pager *p, int s, int b, int step)
     return e;
 }
 
+/* A brick this thread will decode (under the lock): a new entry, pinned
+ * while it is decoded so nothing evicts it; -1 when out of memory. */
+static int claim(vsv_pager *p, int s, int b, int step)
+{
+    const int e = insert(p, s, b, step);
+    if (e >= 0) {
+        p->ent[e].pins = 1;
+        p->pinned += p->brick_bytes;
+    }
+    return e;
+}
+
 static void drop(vsv_pager *p, int e)
 {
     unlink_entry(p, e);
@@ -408,12 +420,9 @@ static int next_job(vsv_pager *p, int *s_out, int *b_out, int *step_out)
                     continue;
                 if (!make_room(p, p->brick_bytes, 0))
                     goto scan;
-                const int ne = insert(p, s, b, def[b]);
-                if (ne < 0)
-                    return -1;
-                p->ent[ne].pins = 1; /* being decoded: never evicted */
-                p->pinned += p->brick_bytes;
-                *s_out = s, *b_out = b, *step_out = def[b];
+                const int ne = claim(p, s, b, def[b]);
+                if (ne >= 0)
+                    *s_out = s, *b_out = b, *step_out = def[b];
                 return ne;
             }
         }
@@ -440,12 +449,9 @@ scan:
                     return -1;
                 p->focus = t;
                 p->focus_dir = p->dir;
-                const int ne = insert(p, s, b, def[b]);
-                if (ne < 0)
-                    return -1;
-                p->ent[ne].pins = 1; /* being decoded: never evicted */
-                p->pinned += p->brick_bytes;
-                *s_out = s, *b_out = b, *step_out = def[b];
+                const int ne = claim(p, s, b, def[b]);
+                if (ne >= 0)
+                    *s_out = s, *b_out = b, *step_out = def[b];
                 return ne;
             }
         }
@@ -745,12 +751,10 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
             if (e >= 0)
                 continue; /* a worker decodes it */
             make_room(p, p->brick_bytes, 1);
-            if ((e = insert(p, s, b, def[b])) < 0) {
+            if ((e = claim(p, s, b, def[b])) < 0) {
                 rc = VSV_ENOMEM;
                 break;
             }
-            p->ent[e].pins = 1; /* ours while it decodes: never evicted */
-            p->pinned += p->brick_bytes;
             float *out = p->ent[e].data;
             pthread_mutex_unlock(&p->mu);
             char msg[256];
