@@ -3,6 +3,7 @@
 #include "vsv_vdb.h"
 
 #include <openvdb/openvdb.h>
+#include <tbb/global_control.h>
 
 #include <cerrno>
 #include <cmath>
@@ -18,6 +19,13 @@
 namespace {
 
 void say(char *err, size_t cap, const std::string &s) { std::snprintf(err, cap, "%s", s.c_str()); }
+
+// OpenVDB runs on TBB; the grids here are small and read or written once, so
+// every call runs on the calling thread alone: no worker threads left behind
+// at exit or alive across the fork below.
+struct one_thread {
+    tbb::global_control gc{tbb::global_control::max_allowed_parallelism, 1};
+};
 
 std::string iso(int64_t t)
 {
@@ -39,6 +47,7 @@ extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, con
 {
     const std::string tmp = std::string(path) + ".tmp." + std::to_string(getpid());
     try {
+        const one_thread serial;
         openvdb::initialize();
         // the vertical axis: even heights, or the native levels' mean spacing
         double z0 = m->origin[2], dz = m->spacing[2];
@@ -127,6 +136,7 @@ static int scan_impl(const char *const *paths, int n, vsv_vdb_info *info, char *
     openvdb::Vec3d voxel(0), origin0(0);
     std::string at;
     try {
+        const one_thread serial;
         openvdb::initialize();
         info->times = static_cast<int64_t *>(std::calloc((size_t)(n ? n : 1), sizeof(int64_t)));
         for (int f = 0; f < n; f++) {
@@ -218,6 +228,7 @@ static int read_impl(const char *path, const char *name, const vsv_vdb_info *inf
 {
     const size_t nx = info->nx, ny = info->ny, nz = info->nz;
     try {
+        const one_thread serial;
         openvdb::initialize();
         openvdb::io::File file(path);
         file.open(false);

@@ -16,21 +16,21 @@ has "naming the damage" "$T/err" "checksum"
 expect "every step of two species" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/s_%04d.vdb" --species CLW,SNOW
 n=$(ls "$T"/s_*.vdb | wc -l)
 [ "$n" = 4 ] && pass "one .vdb per step (4)" || fail "one .vdb per step (4)" "$n"
-vdb_print "$T/s_0003.vdb" > "$T/print" 2>&1
+timeout 120 vdb_print "$T/s_0003.vdb" < /dev/null > "$T/print" 2>&1
 has "vdb_print reads it: the CLW grid" "$T/print" "CLW"
 has "and the SNOW grid" "$T/print" "SNOW"
-vdb_print -m "$T/s_0003.vdb" > "$T/meta" 2>&1
+timeout 120 vdb_print -m "$T/s_0003.vdb" < /dev/null > "$T/meta" 2>&1
 has "model time as ISO 8601 metadata" "$T/meta" "1995-10-24T03:00:00Z"
 has "the projection as metadata" "$T/meta" "lcc lat0=38"
 expect "one step with --time" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/t1.vdb" --time 1995-10-24T01:00:00Z
 expect "vsv-extract --list on a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
 has "lists its grids" "$T/out" "CLW"
 has "at its time" "$T/out" "1995-10-24T01:00:00Z"
-"$B/vsv-extract" "$T"/s_*.vdb | "$B/vsv-pack" -q -o "$T/back.vsv"
+timeout 120 "$B/vsv-extract" "$T"/s_*.vdb | timeout 120 "$B/vsv-pack" -q -o "$T/back.vsv"
 expect "a .vdb sequence packs back into a .vsv" 0 "$B/vsv-info" "$T/back.vsv"
 has "with the four steps" "$T/out" "4 steps, 1995-10-24T00:00:00Z"
-"$B/vsv-extract" --time-step 10m --time-start 2020-06-01T12:00:00Z "$T"/s_*.vdb | "$B/vsv-pack" -q -o "$T/spaced.vsv"
-"$B/vsv-info" "$T/spaced.vsv" > "$T/out"
+timeout 120 "$B/vsv-extract" --time-step 10m --time-start 2020-06-01T12:00:00Z "$T"/s_*.vdb | timeout 120 "$B/vsv-pack" -q -o "$T/spaced.vsv"
+timeout 120 "$B/vsv-info" "$T/spaced.vsv" > "$T/out"
 has "--time-step and --time-start space the sequence" "$T/out" "2020-06-01T12:00:00Z .. 2020-06-01T12:30:00Z, every 600 s"
 head -c 3000 "$T/s_0001.vdb" > "$T/cut.vdb"
 expect "a truncated .vdb exits 1" 1 "$B/vsv-extract" "$T/cut.vdb"
@@ -41,7 +41,7 @@ has "its grids and time" "$T/out" "time        1995-10-24T01:00:00Z"
 # damaged .vdb files: OpenVDB has no checksums and can crash on them; the
 # reading runs isolated, so every one is exit 0 (harmless damage) or 1 with a
 # message, never a crash
-"$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/d.vdb" --time 3 --species CLW,ICE,SNOW
+timeout 120 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/d.vdb" --time 3 --species CLW,ICE,SNOW
 size=$(stat -c %s "$T/d.vdb")
 bad=0
 i=1
@@ -49,7 +49,7 @@ while [ $i -le 40 ]; do
     off=$(( (i * 7919 * 31) % size ))
     cp "$T/d.vdb" "$T/x.vdb"
     printf '\377' | dd of="$T/x.vdb" bs=1 seek=$off conv=notrunc 2> /dev/null
-    "$B/vsv-extract" "$T/x.vdb" > /dev/null 2> "$T/xerr"
+    timeout 120 "$B/vsv-extract" "$T/x.vdb" < /dev/null > /dev/null 2> "$T/xerr"
     rc=$?
     if [ $rc -gt 1 ] || { [ $rc = 1 ] && ! grep -q "x.vdb" "$T/xerr"; }; then bad=$((bad + 1)); echo "byte $off: exit $rc: $(head -c 200 "$T/xerr")"; fi
     i=$((i + 1))

@@ -3,10 +3,12 @@
 # Expects $T (a scratch directory).
 pass() { echo "PASS $1"; }
 fail() { echo "FAIL $1: $2"; }
-# expect NAME CODE CMD... : runs CMD, checks its exit code; stdout in $T/out, stderr in $T/err
+# expect NAME CODE CMD... : runs CMD (stdin closed, at most CMD_TIMEOUT
+# seconds: a command that hangs fails with exit 124 instead of stalling the
+# run), checks its exit code; stdout in $T/out, stderr in $T/err
 expect() {
     name=$1; code=$2; shift 2
-    "$@" > "$T/out" 2> "$T/err"
+    timeout -k 5 "${CMD_TIMEOUT:-300}" "$@" < /dev/null > "$T/out" 2> "$T/err"
     rc=$?
     if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
 }

@@ -1,35 +1,56 @@
 #!/bin/sh
 # run.sh — runs every test program and the CLI tests, tallies the PASS/FAIL
 # lines, and ends with "N passed, N failed". Exit status 1 if anything failed.
+# Each test has a time limit (TEST_TIMEOUT seconds, default 900): a test that
+# hangs is a FAIL that shows its last output and the processes it left
+# running, never a stuck run.
 B=${B:-build}
 SHARED=${SHARED:-../shared}
+LIMIT=${TEST_TIMEOUT:-900}
 export SHARED B
 TMPDIR=$(mktemp -d "${TMPDIR:-/tmp}/vsv-run.XXXXXX")
 export TMPDIR
 log="$TMPDIR/all.log"
 : > "$log"
-status=0
-for t in "$B"/tests/test_*; do
-    [ -x "$t" ] || continue
-    echo "== $(basename "$t")"
-    "$t" > "$TMPDIR/one.log" 2>&1
+
+# one NAME CMD... : runs a test with its output in one.log, stdin closed
+one() {
+    name=$1; shift
+    echo "== $name"
+    # a snapshot of the processes just before the limit, for the report
+    ( trap 'kill $z 2> /dev/null; exit 0' TERM
+      sleep "$LIMIT" & z=$!
+      wait $z && ps -eo pid,ppid,etime,args > "$TMPDIR/ps.log" ) > /dev/null 2>&1 &
+    watch=$!
+    t0=$(date +%s)
+    timeout -k 10 $((LIMIT + 5)) "$@" < /dev/null > "$TMPDIR/one.log" 2>&1
     rc=$?
+    echo "   ($(( $(date +%s) - t0 )) s)"
+    kill "$watch" 2> /dev/null
+    wait "$watch" 2> /dev/null
     grep -v '^PASS ' "$TMPDIR/one.log"
     cat "$TMPDIR/one.log" >> "$log"
-    if [ $rc -ne 0 ] && ! grep -q '^FAIL ' "$TMPDIR/one.log"; then
-        echo "FAIL $(basename "$t"): exited $rc without reporting a failure (crash?)" | tee -a "$log"
+    if [ $rc = 124 ] || [ $rc = 137 ]; then
+        echo "  (last lines: $(tail -n 3 "$TMPDIR/one.log" | tr '\n' '|'))"
+        echo "FAIL $name: still running after $LIMIT s, stopped; processes then:" | tee -a "$log"
+        # the test's own processes: descendants of the timeout, not the watcher
+        awk -v top=$$ 'NR > 1 { pp[$1] = $2; line[$1] = $0; n[NR] = $1 }
+            END { for (i in n) { p = n[i]; q = pp[p]; d = 0
+                      while (q != "" && q != 1) { if (pp[q] == top && line[q] ~ / timeout /) d = 1; q = pp[q] }
+                      if (d) print substr(line[p], 1, 300) } }' "$TMPDIR/ps.log" 2> /dev/null | sort -n | head -n 25
+    elif [ $rc -ne 0 ] && ! grep -q '^FAIL ' "$TMPDIR/one.log"; then
+        echo "FAIL $name: exited $rc without reporting a failure (crash?)" | tee -a "$log"
     fi
+    rm -f "$TMPDIR/ps.log"
+}
+
+for t in "$B"/tests/test_*; do
+    [ -x "$t" ] || continue
+    one "$(basename "$t")" "$t"
 done
 for s in tests/cli_*.sh; do
     [ "$s" = tests/cli_lib.sh ] && continue # sourced by the others
-    echo "== $(basename "$s")"
-    sh "$s" > "$TMPDIR/one.log" 2>&1
-    rc=$?
-    grep -v '^PASS ' "$TMPDIR/one.log"
-    cat "$TMPDIR/one.log" >> "$log"
-    if [ $rc -ne 0 ] && ! grep -q '^FAIL ' "$TMPDIR/one.log"; then
-        echo "FAIL $(basename "$s"): exited $rc without reporting a failure" | tee -a "$log"
-    fi
+    one "$(basename "$s")" sh "$s"
 done
 pass=$(grep -c '^PASS ' "$log")
 fail=$(grep -c '^FAIL ' "$log")
