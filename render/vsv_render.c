@@ -333,6 +333,23 @@ double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3
     }
 }
 
+float vsv_opacity_table[VSV_OPACITY_N + 1];
+
+static void opacity_fill(void)
+{
+    vsv_opacity_table[0] = 1;
+    for (int i = 1; i <= VSV_OPACITY_N; i++) {
+        const double u = i * (double)VSV_OPACITY_UMAX / VSV_OPACITY_N;
+        vsv_opacity_table[i] = (float)(-expm1(-u) / u);
+    }
+}
+
+void vsv_opacity_init(void)
+{
+    static pthread_once_t once = PTHREAD_ONCE_INIT;
+    pthread_once(&once, opacity_fill);
+}
+
 /* Trilinear sample of a volume at cell coordinates (u, v, w). When the eight
  * cells share a brick (most samples) they are read from it directly. */
 static float sample(const vsv_volume *vol, double u, double v, double w)
@@ -456,12 +473,14 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
     const double u0 = (o[0] - g->ox) / g->dx, v0c = (o[1] - g->oy) / g->dy, w0 = (o[2] / g->E - g->oz) / g->dz;
     for (double t = t0 + 0.5 * st; v0 && t < tend; t += st) {
         const double u = u0 + t * du, v = v0c + t * dv, w = w0 + t * dw;
+        int bsample = 0;
         if (!r->o.no_skip) {
             int bi = (int)floor(u + 0.5) >> v0->shift, bj = (int)floor(v + 0.5) >> v0->shift, bk = (int)floor(w + 0.5) >> v0->shift;
             bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
             bj = bj < 0 ? 0 : bj >= v0->bdim[1] ? v0->bdim[1] - 1 : bj;
             bk = bk < 0 ? 0 : bk >= v0->bdim[2] ? v0->bdim[2] - 1 : bk;
-            if (skip[bi + v0->bdim[0] * (bj + v0->bdim[1] * bk)]) {
+            bsample = bi + v0->bdim[0] * (bj + v0->bdim[1] * bk);
+            if (skip[bsample]) {
                 /* jump to the brick's far side, staying on the same sample grid */
                 const double bmn[3] = {g->ox + (bi * B - 0.5) * g->dx, g->oy + (bj * B - 0.5) * g->dy,
                                        (g->oz + (bk * B - 0.5) * g->dz) * g->E};
@@ -478,14 +497,6 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
             }
         }
         double sig = 0, col[3] = {0, 0, 0};
-        int bsample = 0;
-        if (!r->o.no_skip) {
-            int bi = (int)floor(u + 0.5) >> v0->shift, bj = (int)floor(v + 0.5) >> v0->shift, bk = (int)floor(w + 0.5) >> v0->shift;
-            bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
-            bj = bj < 0 ? 0 : bj >= v0->bdim[1] ? v0->bdim[1] - 1 : bj;
-            bk = bk < 0 ? 0 : bk >= v0->bdim[2] ? v0->bdim[2] - 1 : bk;
-            bsample = bi + v0->bdim[0] * (bj + v0->bdim[1] * bk);
-        }
         for (int l = 0; l < sc->nlayers; l++) {
             const vsv_layer *L = &sc->layers[l];
             if (!L->visible || !(L->opacity > 0) || !L->vol)
@@ -494,7 +505,7 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
             if (!r->o.no_skip && skip[(size_t)v0->nbricks * (l + 1) + bsample])
                 continue;
             float rgba[4];
-            vsv_tf_eval(L->tf, sample(L->vol, u, v, w), rgba);
+            vsv_tf_lookup(L->tf, sample(L->vol, u, v, w), rgba);
             const double s = rgba[3] * L->opacity * sigma_unit;
             if (s > 0) {
                 sig += s;
@@ -503,9 +514,11 @@ static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], f
             }
         }
         if (sig > 0) {
-            const double a = 1 - exp(-sig * st);
+            const float us = (float)(sig * st);
+            const float f = vsv_opacity_per_u(us);
+            const double a = us * f, k = T * f * st; /* T a / sig */
             for (int c = 0; c < 3; c++)
-                acc[c] += T * a * col[c] / sig;
+                acc[c] += k * col[c];
             T *= 1 - a;
             if (*depth == INFINITY && 1 - T > 0.1)
                 *depth = (float)t;
@@ -630,6 +643,7 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
     vsv_renderer *r = *out = calloc(1, sizeof *r);
     if (!r)
         return VSV_ENOMEM;
+    vsv_opacity_init();
     if (o)
         r->o = *o;
     else

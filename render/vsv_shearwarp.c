@@ -31,11 +31,6 @@
 #include <string.h>
 
 #define OPAQUE 0.998f
-/* (1 - e^-u)/u tabulated on [0, LUT_MAX), read at the nearest entry (the
- * opacity 1 - e^-u = u f(u) is then off by at most 1.2e-4); beyond, 1/u
- * (off by e^-12 = 6e-6) */
-#define LUT_N 16384
-#define LUT_MAX 12.0f
 
 /* A classified voxel: extinction-weighted colour and extinction per world
  * metre, the same order as an intermediate pixel (premultiplied rgb, alpha),
@@ -68,7 +63,6 @@ struct vsv_sw {
     float **dscratch;
     size_t scratch_cap;
     int max_threads;
-    float lut[LUT_N + 1];
     /* the current view (set by begin) */
     const vsv_geo *g;
     const vsv_camera *cam;
@@ -368,7 +362,7 @@ static int open_pixel(int *lk, int x)
 /* One pixel: the bilinear blend (weights w) of voxels v0[0], v0[1], v1[0],
  * v1[1] composited over px with d world metres of ray per slice; opaque
  * pixels are linked past. */
-static inline __attribute__((always_inline)) void sample(const float *lut, v4 *px, int *lk, int x, const svox *v0,
+static inline __attribute__((always_inline)) void sample(v4 *px, int *lk, int x, const svox *v0,
                                                          const svox *v1, const v4 w, float d)
 {
     const v4 acc = w[0] * v0[0] + w[1] * v0[1] + w[2] * v1[0] + w[3] * v1[1];
@@ -376,7 +370,7 @@ static inline __attribute__((always_inline)) void sample(const float *lut, v4 *p
     if (!(S > 0))
         return;
     const float u = S * d;
-    const float f = u < LUT_MAX ? lut[(int)(u * (LUT_N / LUT_MAX) + 0.5f)] : 1 / u;
+    const float f = vsv_opacity_per_u(u);
     *px += ((1 - (*px)[3]) * d * f) * acc; /* transmittance x alpha / S */
     if ((*px)[3] >= OPAQUE)
         lk[x] = x + 1;
@@ -410,7 +404,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
             dl[x] = (float)sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + kb);
         }
     }
-    const float delta = (float)sw->delta, *lut = sw->lut;
+    const float delta = (float)sw->delta;
     const size_t slice = (size_t)(nb + 2) * (na + 2);
     for (int s = 0; s < sw->nc; s++) {
         const int k = sw->front + s * sw->dk;
@@ -450,7 +444,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
                     x = open_pixel(lk, x);
                     if (x > xe)
                         break;
-                    sample(lut, img + x, lk, x, r0 + x + ip0, r1 + x + ip0, wc, delta);
+                    sample(img + x, lk, x, r0 + x + ip0, r1 + x + ip0, wc, delta);
                 }
                 continue;
             }
@@ -460,7 +454,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
                     break;
                 const float pa = (float)(pa0 + x * dpa) + 1; /* >= 0: the border index */
                 const int ip = (int)pa;
-                sample(lut, img + x, lk, x, r0 + ip, r1 + ip, weights(pa - ip, fv), dl[x]);
+                sample(img + x, lk, x, r0 + ip, r1 + ip, weights(pa - ip, fv), dl[x]);
             }
         }
     }
@@ -582,11 +576,7 @@ vsv_sw *vsv_sw_create(int max_threads)
         return NULL;
     }
     sw->max_threads = max_threads;
-    sw->lut[0] = 1;
-    for (int i = 1; i <= LUT_N; i++) {
-        const double u = i * (double)LUT_MAX / LUT_N;
-        sw->lut[i] = (float)(-expm1(-u) / u);
-    }
+    vsv_opacity_init();
     return sw;
 }
 

@@ -79,24 +79,7 @@ int vsv_tf_prepare(vsv_tf *tf)
     return 0;
 }
 
-void vsv_tf_eval(const vsv_tf *tf, float v, float rgba[4])
-{
-    if (!(v >= tf->lo)) { /* below the range, or no data (NaN) */
-        rgba[0] = rgba[1] = rgba[2] = rgba[3] = 0;
-        return;
-    }
-    double x = ((tf->scale == VSV_SCALE_LOG ? log(v) : (double)v) - tf->base) * tf->inv;
-    if (x > VSV_TF_LUT - 1)
-        x = VSV_TF_LUT - 1;
-    /* linear interpolation in the table */
-    int i = (int)x;
-    if (i >= VSV_TF_LUT - 1)
-        i = VSV_TF_LUT - 2;
-    const float f = (float)(x - i);
-    const float *a = tf->lut[i], *b = tf->lut[i + 1];
-    for (int c = 0; c < 4; c++)
-        rgba[c] = a[c] + (b[c] - a[c]) * f;
-}
+void vsv_tf_eval(const vsv_tf *tf, float v, float rgba[4]) { vsv_tf_lookup(tf, v, rgba); }
 
 int vsv_tf_parse(vsv_tf *tf, const char *text, char *msg, size_t cap)
 {
