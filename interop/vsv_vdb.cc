@@ -6,15 +6,21 @@
 #include <tbb/global_control.h>
 
 #include <cerrno>
+#include <mutex>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
 #include <fcntl.h>
+#include <csignal>
 #include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
+
+#define VDB_CPU_SECONDS 20u /* plus a second per 4 MB of input */
 
 namespace {
 
@@ -121,8 +127,40 @@ extern "C" int vsv_vdb_probe(const unsigned char *head, size_t n)
            !head[5] && !head[6] && !head[7];
 }
 
+// The grids of the file read last, kept so the next grids of that file (a
+// converter asks for them one by one) cost no new child and no new parse.
+namespace {
+struct file_cache {
+    std::mutex mu;
+    std::string path;
+    const vsv_vdb_info *info = nullptr;
+    void *mem = nullptr;
+    size_t bytes = 0;
+    int first = 0, count = 0; /* the grids held: info's first .. first + count - 1 */
+    int ok = 0;               /* the file opened: every grid held has its status */
+} cache;
+
+// Forgets what the cache holds; with release, unmaps its memory too (kept
+// otherwise: the next file's child writes into pages already there).
+void cache_drop(bool release)
+{
+    if (release && cache.mem) {
+        munmap(cache.mem, cache.bytes);
+        cache.mem = nullptr;
+        cache.bytes = 0;
+    }
+    cache.info = nullptr;
+    cache.path.clear();
+}
+}  // namespace
+
 extern "C" void vsv_vdb_info_free(vsv_vdb_info *info)
 {
+    {
+        std::lock_guard<std::mutex> lock(cache.mu);
+        if (cache.info == info)
+            cache_drop(true);
+    }
     std::free(info->names);
     std::free(info->units);
     std::free(info->times);
@@ -223,21 +261,17 @@ static int scan_impl(const char *const *paths, int n, vsv_vdb_info *info, char *
     return 0;
 }
 
-static int read_impl(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err,
-                     size_t cap)
+// Grid `name` of an open file onto info's grid.
+static int read_grid(openvdb::io::File &file, const char *path, const char *name, const vsv_vdb_info *info,
+                     float *out, char *err, size_t cap)
 {
     const size_t nx = info->nx, ny = info->ny, nz = info->nz;
     try {
-        const one_thread serial;
-        openvdb::initialize();
-        openvdb::io::File file(path);
-        file.open(false);
         if (!file.hasGrid(name)) {  // missing from this step: nothing there
             std::memset(out, 0, nx * ny * nz * sizeof(float));
             return 0;
         }
         auto g = openvdb::gridPtrCast<openvdb::FloatGrid>(file.readGrid(name));
-        file.close();
         if (!g) {
             say(err, cap, std::string(path) + ": grid " + name + " is not a float grid");
             return -1;
@@ -266,6 +300,34 @@ static int read_impl(const char *path, const char *name, const vsv_vdb_info *inf
     }
 }
 
+// Every grid of info (in its order) from one file: out holds info->ngrids
+// grids one after the other, rc and err one status per grid. 0 when the file
+// opened (each grid then has its own status), else -1 with err[0].
+struct grid_status {
+    int rc;
+    char err[252];
+};
+
+static int read_all_impl(const char *path, const vsv_vdb_info *info, int first, int count, float *out,
+                         grid_status *st)
+{
+    const size_t cells = (size_t)info->nx * info->ny * info->nz;
+    try {
+        const one_thread serial;
+        openvdb::initialize();
+        openvdb::io::File file(path);
+        file.open(false);
+        for (int g = 0; g < count; g++)
+            st[g].rc =
+                read_grid(file, path, info->names[first + g], info, out + g * cells, st[g].err, sizeof st[g].err);
+        file.close();
+        return 0;
+    } catch (const std::exception &e) {
+        say(st[0].err, sizeof st[0].err, std::string(path) + ": not a readable OpenVDB file (" + e.what() + ")");
+        return -1;
+    }
+}
+
 // ------------------------------------------------------------- isolation
 // OpenVDB files carry no checksums and the library trusts what it reads: a
 // damaged file can crash it. Reading therefore runs in a forked child that
@@ -281,10 +343,49 @@ struct shared_head {
     char model[64], projection[256], err[1024];
 };
 
-// Runs fn in a child with `bytes` of shared memory; 0, or -1 with err set.
-template <class F> int isolated(size_t bytes, const char *what, F fn, void **mem, char *err, size_t cap)
+// Runs fn in a child with `bytes` of shared memory (*mem if given, else new,
+// returned in *mem); 0, or -1 with err set.
+// A damaged file can also send the library into reading gigabytes or
+// looping: the child gets limits on CPU time and (outside AddressSanitizer
+// builds, whose shadow memory is address space) on memory, both far above
+// what `input` bytes of files can need.
+static void limit_child(uint64_t input)
 {
-    void *m = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    struct rlimit rl;
+    rl.rlim_cur = rl.rlim_max = VDB_CPU_SECONDS + input / (4u << 20); /* 4 MB/s: OpenVDB reads ~100 */
+    setrlimit(RLIMIT_CPU, &rl);
+#ifndef __SANITIZE_ADDRESS__
+    unsigned long long pages = 0;
+    FILE *f = std::fopen("/proc/self/statm", "r");
+    if (f) {
+        if (std::fscanf(f, "%llu", &pages) != 1)
+            pages = 0;
+        std::fclose(f);
+    }
+    if (pages) {
+        rl.rlim_cur = rl.rlim_max = pages * (uint64_t)sysconf(_SC_PAGESIZE) + ((uint64_t)1 << 30) + 64 * input;
+        setrlimit(RLIMIT_AS, &rl);
+    }
+#endif
+}
+
+// Total size of the files (what a child reads).
+static uint64_t input_bytes(const char *const *paths, int n)
+{
+    uint64_t t = 0;
+    for (int i = 0; i < n; i++) {
+        struct stat st;
+        if (stat(paths[i], &st) == 0)
+            t += (uint64_t)st.st_size;
+    }
+    return t;
+}
+
+template <class F>
+int isolated(size_t bytes, const char *what, uint64_t input, F fn, void **mem, char *err, size_t cap)
+{
+    const bool own = !*mem; /* else the caller's shared memory, of at least `bytes` */
+    void *m = own ? mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0) : *mem;
     if (m == MAP_FAILED) {
         say(err, cap, std::string(what) + ": out of memory");
         return -1;
@@ -292,7 +393,8 @@ template <class F> int isolated(size_t bytes, const char *what, F fn, void **mem
     std::fflush(nullptr);
     const pid_t pid = fork();
     if (pid < 0) {
-        munmap(m, bytes);
+        if (own)
+            munmap(m, bytes);
         say(err, cap, std::string(what) + ": cannot fork to read it");
         return -1;
     }
@@ -300,15 +402,21 @@ template <class F> int isolated(size_t bytes, const char *what, F fn, void **mem
         const int fd = open("/dev/null", O_WRONLY);
         if (fd >= 0)
             dup2(fd, 2);
+        limit_child(input);
         _exit(fn(m) ? 1 : 0);
     }
     int st = 0;
     while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
     }
     if (WIFSIGNALED(st)) {
-        munmap(m, bytes);
-        say(err, cap, std::string(what) + ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
-                          std::to_string(WTERMSIG(st)) + ")");
+        if (own)
+            munmap(m, bytes);
+        if (WTERMSIG(st) == SIGXCPU)
+            say(err, cap, std::string(what) + ": damaged OpenVDB file (reading it took over " +
+                              std::to_string(VDB_CPU_SECONDS + input / (4u << 20)) + " s)");
+        else
+            say(err, cap, std::string(what) + ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
+                              std::to_string(WTERMSIG(st)) + ")");
         return -1;
     }
     *mem = m;
@@ -323,7 +431,7 @@ extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info,
     const size_t bytes = sizeof(shared_head) + (size_t)MAXG * 128 + (size_t)(n > 0 ? n : 1) * sizeof(int64_t);
     void *mem = nullptr;
     std::memset(info, 0, sizeof *info);
-    if (isolated(bytes, n ? paths[0] : "", [&](void *m) {
+    if (isolated(bytes, n ? paths[0] : "", input_bytes(paths, n), [&](void *m) {
             auto *h = static_cast<shared_head *>(m);
             vsv_vdb_info in;
             h->rc = scan_impl(paths, n, &in, h->err, sizeof h->err);
@@ -374,25 +482,55 @@ extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info,
     return rc;
 }
 
+
 extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err,
                             size_t cap)
 {
-    const size_t cells = (size_t)info->nx * info->ny * info->nz;
-    const size_t bytes = sizeof(shared_head) + cells * sizeof(float);
-    void *mem = nullptr;
-    if (isolated(bytes, path, [&](void *m) {
-            auto *h = static_cast<shared_head *>(m);
-            h->rc = read_impl(path, name, info, reinterpret_cast<float *>(static_cast<char *>(m) + sizeof(shared_head)),
-                              h->err, sizeof h->err);
-            return h->rc ? 1 : 0;
-        }, &mem, err, cap))
+    int g = 0;
+    while (g < info->ngrids && std::strcmp(info->names[g], name))
+        g++;
+    if (g == info->ngrids) {
+        say(err, cap, std::string(path) + ": no grid " + name + " in the sequence");
         return -1;
-    auto *h = static_cast<shared_head *>(mem);
-    const int rc = h->rc;
-    if (rc)
-        say(err, cap, h->err);
-    else
-        std::memcpy(out, static_cast<char *>(mem) + sizeof(shared_head), cells * sizeof(float));
-    munmap(mem, bytes);
-    return rc;
+    }
+    /* every grid of the file at once, unless that is over 1 GiB: then this one */
+    const size_t cells = (size_t)info->nx * info->ny * info->nz;
+    const bool all = (size_t)info->ngrids * cells * sizeof(float) <= ((size_t)1 << 30);
+    const int first = all ? 0 : g, count = all ? info->ngrids : 1;
+    const size_t sbytes = sizeof(shared_head) + (size_t)count * sizeof(grid_status);
+    const size_t bytes = sbytes + (size_t)count * cells * sizeof(float);
+    std::lock_guard<std::mutex> lock(cache.mu);
+    if (cache.path != path || cache.info != info || cache.first != first || cache.count != count) {
+        cache_drop(cache.bytes < bytes);
+        void *mem = cache.mem;
+        if (isolated(bytes, path, input_bytes(&path, 1), [&](void *m) {
+                auto *h = static_cast<shared_head *>(m);
+                auto *st = reinterpret_cast<grid_status *>(static_cast<char *>(m) + sizeof(shared_head));
+                h->rc = read_all_impl(path, info, first, count,
+                                      reinterpret_cast<float *>(static_cast<char *>(m) + sbytes), st);
+                return h->rc ? 1 : 0;
+            }, &mem, err, cap))
+            return -1;
+        if (!cache.mem) {
+            cache.mem = mem;
+            cache.bytes = bytes;
+        }
+        cache.path = path;
+        cache.info = info;
+        cache.first = first;
+        cache.count = count;
+        cache.ok = static_cast<shared_head *>(mem)->rc == 0;
+    }
+    const auto *st = reinterpret_cast<const grid_status *>(static_cast<const char *>(cache.mem) + sizeof(shared_head));
+    if (!cache.ok) {
+        say(err, cap, st[0].err);
+        return -1;
+    }
+    if (st[g - first].rc) {
+        say(err, cap, st[g - first].err);
+        return -1;
+    }
+    std::memcpy(out, static_cast<const char *>(cache.mem) + sbytes + (g - first) * cells * sizeof(float),
+                cells * sizeof(float));
+    return 0;
 }
