@@ -127,28 +127,45 @@ extern "C" int vsv_vdb_probe(const unsigned char *head, size_t n)
            !head[5] && !head[6] && !head[7];
 }
 
-// The grids of the file read last, kept so the next grids of that file (a
-// converter asks for them one by one) cost no new child and no new parse.
+// Reading grids: one reader child for a sequence, alive from the first read
+// until the sequence's info is freed (or it dies on a damaged file: the next
+// read starts another). It reads every grid of the file it is sent into the
+// shared memory; the grids of the file read last stay there, so the next
+// grids of that file (a converter asks for them one by one) cost nothing.
 namespace {
 struct file_cache {
     std::mutex mu;
     std::string path;
-    const vsv_vdb_info *info = nullptr;
+    const vsv_vdb_info *info = nullptr; /* what the reader and memory are for */
     void *mem = nullptr;
     size_t bytes = 0;
     int first = 0, count = 0; /* the grids held: info's first .. first + count - 1 */
-    int ok = 0;               /* the file opened: every grid held has its status */
+    int ok = 0;               /* path is held: the file opened, every grid has its status */
+    pid_t pid = 0;            /* the reader, and its request and reply pipes */
+    int req = -1, rep = -1;
 } cache;
 
-// Forgets what the cache holds; with release, unmaps its memory too (kept
-// otherwise: the next file's child writes into pages already there).
-void cache_drop(bool release)
+void reader_stop()
 {
-    if (release && cache.mem) {
-        munmap(cache.mem, cache.bytes);
-        cache.mem = nullptr;
-        cache.bytes = 0;
+    if (cache.pid > 0) {
+        close(cache.req);
+        close(cache.rep);
+        int st;
+        while (waitpid(cache.pid, &st, 0) < 0 && errno == EINTR) {
+        }
     }
+    cache.pid = 0;
+    cache.req = cache.rep = -1;
+}
+
+// Forgets the sequence: stops the reader, unmaps the memory.
+void cache_drop()
+{
+    reader_stop();
+    if (cache.mem)
+        munmap(cache.mem, cache.bytes);
+    cache.mem = nullptr;
+    cache.bytes = 0;
     cache.info = nullptr;
     cache.path.clear();
 }
@@ -159,7 +176,7 @@ extern "C" void vsv_vdb_info_free(vsv_vdb_info *info)
     {
         std::lock_guard<std::mutex> lock(cache.mu);
         if (cache.info == info)
-            cache_drop(true);
+            cache_drop();
     }
     std::free(info->names);
     std::free(info->units);
@@ -343,18 +360,23 @@ struct shared_head {
     char model[64], projection[256], err[1024];
 };
 
-// Runs fn in a child with `bytes` of shared memory (*mem if given, else new,
-// returned in *mem); 0, or -1 with err set.
+// Runs fn in a child with `bytes` of new shared memory, returned in *mem; 0,
+// or -1 with err set.
 // A damaged file can also send the library into reading gigabytes or
-// looping: the child gets limits on CPU time and (outside AddressSanitizer
-// builds, whose shadow memory is address space) on memory, both far above
-// what `input` bytes of files can need.
-static void limit_child(uint64_t input)
+// looping: a child gets limits on CPU time (for `input` bytes of files; the
+// reader times each file itself) and, outside AddressSanitizer builds (whose
+// shadow memory is address space), on memory (1 GiB + `memory` more than it
+// has), both far above what legitimate files need.
+static void limit_child(uint64_t input, uint64_t memory)
 {
     struct rlimit rl;
-    rl.rlim_cur = rl.rlim_max = VDB_CPU_SECONDS + input / (4u << 20); /* 4 MB/s: OpenVDB reads ~100 */
-    setrlimit(RLIMIT_CPU, &rl);
-#ifndef __SANITIZE_ADDRESS__
+    if (input) { /* a one-shot child (the reader times each file itself) */
+        rl.rlim_cur = rl.rlim_max = VDB_CPU_SECONDS + input / (4u << 20); /* 4 MB/s: OpenVDB reads ~100 */
+        setrlimit(RLIMIT_CPU, &rl);
+    }
+#ifdef __SANITIZE_ADDRESS__
+    (void)memory;
+#else
     unsigned long long pages = 0;
     FILE *f = std::fopen("/proc/self/statm", "r");
     if (f) {
@@ -363,7 +385,7 @@ static void limit_child(uint64_t input)
         std::fclose(f);
     }
     if (pages) {
-        rl.rlim_cur = rl.rlim_max = pages * (uint64_t)sysconf(_SC_PAGESIZE) + ((uint64_t)1 << 30) + 64 * input;
+        rl.rlim_cur = rl.rlim_max = pages * (uint64_t)sysconf(_SC_PAGESIZE) + ((uint64_t)1 << 30) + memory;
         setrlimit(RLIMIT_AS, &rl);
     }
 #endif
@@ -384,8 +406,7 @@ static uint64_t input_bytes(const char *const *paths, int n)
 template <class F>
 int isolated(size_t bytes, const char *what, uint64_t input, F fn, void **mem, char *err, size_t cap)
 {
-    const bool own = !*mem; /* else the caller's shared memory, of at least `bytes` */
-    void *m = own ? mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0) : *mem;
+    void *m = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     if (m == MAP_FAILED) {
         say(err, cap, std::string(what) + ": out of memory");
         return -1;
@@ -393,8 +414,7 @@ int isolated(size_t bytes, const char *what, uint64_t input, F fn, void **mem, c
     std::fflush(nullptr);
     const pid_t pid = fork();
     if (pid < 0) {
-        if (own)
-            munmap(m, bytes);
+        munmap(m, bytes);
         say(err, cap, std::string(what) + ": cannot fork to read it");
         return -1;
     }
@@ -402,15 +422,14 @@ int isolated(size_t bytes, const char *what, uint64_t input, F fn, void **mem, c
         const int fd = open("/dev/null", O_WRONLY);
         if (fd >= 0)
             dup2(fd, 2);
-        limit_child(input);
+        limit_child(input, 64 * input);
         _exit(fn(m) ? 1 : 0);
     }
     int st = 0;
     while (waitpid(pid, &st, 0) < 0 && errno == EINTR) {
     }
     if (WIFSIGNALED(st)) {
-        if (own)
-            munmap(m, bytes);
+        munmap(m, bytes);
         if (WTERMSIG(st) == SIGXCPU)
             say(err, cap, std::string(what) + ": damaged OpenVDB file (reading it took over " +
                               std::to_string(VDB_CPU_SECONDS + input / (4u << 20)) + " s)");
@@ -483,6 +502,36 @@ extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info,
 }
 
 
+// The request the reader finds in shared memory before a byte on its pipe.
+struct read_request {
+    char path[4096];
+    int first, count;
+};
+
+// The reader child: waits for requests, answers each with a byte; exits when
+// the request pipe closes.
+[[noreturn]] static void reader_main(const vsv_vdb_info *info, void *m, size_t sbytes, int req, int rep)
+{
+    auto *h = static_cast<shared_head *>(m);
+    auto *rq = reinterpret_cast<read_request *>(h + 1);
+    for (;;) {
+        char c;
+        ssize_t n;
+        while ((n = read(req, &c, 1)) < 0 && errno == EINTR) {
+        }
+        if (n != 1)
+            _exit(0);
+        const char *const one[1] = {rq->path};
+        alarm(VDB_CPU_SECONDS + (unsigned)(input_bytes(one, 1) / (4u << 20))); /* a damaged file must not hang */
+        auto *st = reinterpret_cast<grid_status *>(rq + 1);
+        h->rc = read_all_impl(rq->path, info, rq->first, rq->count,
+                              reinterpret_cast<float *>(static_cast<char *>(m) + sbytes), st);
+        alarm(0);
+        while (write(rep, &c, 1) < 0 && errno == EINTR) {
+        }
+    }
+}
+
 extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err,
                             size_t cap)
 {
@@ -493,35 +542,103 @@ extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_in
         say(err, cap, std::string(path) + ": no grid " + name + " in the sequence");
         return -1;
     }
+    if (std::strlen(path) >= sizeof(read_request::path)) {
+        say(err, cap, std::string(path) + ": path too long");
+        return -1;
+    }
     /* every grid of the file at once, unless that is over 1 GiB: then this one */
     const size_t cells = (size_t)info->nx * info->ny * info->nz;
     const bool all = (size_t)info->ngrids * cells * sizeof(float) <= ((size_t)1 << 30);
     const int first = all ? 0 : g, count = all ? info->ngrids : 1;
-    const size_t sbytes = sizeof(shared_head) + (size_t)count * sizeof(grid_status);
+    const size_t sbytes = sizeof(shared_head) + sizeof(read_request) + (size_t)count * sizeof(grid_status);
     const size_t bytes = sbytes + (size_t)count * cells * sizeof(float);
     std::lock_guard<std::mutex> lock(cache.mu);
-    if (cache.path != path || cache.info != info || cache.first != first || cache.count != count) {
-        cache_drop(cache.bytes < bytes);
-        void *mem = cache.mem;
-        if (isolated(bytes, path, input_bytes(&path, 1), [&](void *m) {
-                auto *h = static_cast<shared_head *>(m);
-                auto *st = reinterpret_cast<grid_status *>(static_cast<char *>(m) + sizeof(shared_head));
-                h->rc = read_all_impl(path, info, first, count,
-                                      reinterpret_cast<float *>(static_cast<char *>(m) + sbytes), st);
-                return h->rc ? 1 : 0;
-            }, &mem, err, cap))
+    auto *h = static_cast<shared_head *>(cache.mem);
+    if (cache.info != info || cache.bytes < bytes) {
+        cache_drop();
+        void *m = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+        if (m == MAP_FAILED) {
+            say(err, cap, std::string(path) + ": out of memory");
             return -1;
-        if (!cache.mem) {
-            cache.mem = mem;
-            cache.bytes = bytes;
+        }
+        cache.mem = m;
+        cache.bytes = bytes;
+        cache.info = info;
+        h = static_cast<shared_head *>(m);
+    }
+    if (cache.path != path || cache.first != first || cache.count != count) {
+        cache.path.clear();
+        if (cache.pid <= 0) { /* start the reader */
+            int q[2], r[2];
+            if (pipe2(q, O_CLOEXEC) || pipe2(r, O_CLOEXEC)) {
+                say(err, cap, std::string(path) + ": cannot start a reader (" + std::strerror(errno) + ")");
+                return -1;
+            }
+            std::fflush(nullptr);
+            const pid_t pid = fork();
+            if (pid == 0) {
+                close(q[1]);
+                close(r[0]);
+                const int fd = open("/dev/null", O_RDWR); /* quiet, and holding no pipe of the caller */
+                if (fd >= 0)
+                    for (int k = 0; k < 3; k++)
+                        dup2(fd, k);
+                limit_child(0, 8 * (uint64_t)bytes);
+                signal(SIGPIPE, SIG_DFL);
+                reader_main(info, cache.mem, sbytes, q[0], r[1]);
+            }
+            close(q[0]);
+            close(r[1]);
+            if (pid < 0) {
+                close(q[1]);
+                close(r[0]);
+                say(err, cap, std::string(path) + ": cannot fork to read it");
+                return -1;
+            }
+            cache.pid = pid;
+            cache.req = q[1];
+            cache.rep = r[0];
+        }
+        auto *rq = reinterpret_cast<read_request *>(h + 1);
+        std::snprintf(rq->path, sizeof rq->path, "%s", path);
+        rq->first = first;
+        rq->count = count;
+        h->rc = -1;
+        char c = 1;
+        ssize_t n;
+        struct sigaction quiet = {}, old;
+        quiet.sa_handler = SIG_IGN;
+        sigaction(SIGPIPE, &quiet, &old); /* a dead reader is a reply of 0 bytes, not a signal */
+        while ((n = write(cache.req, &c, 1)) < 0 && errno == EINTR) {
+        }
+        if (n == 1)
+            while ((n = read(cache.rep, &c, 1)) < 0 && errno == EINTR) {
+            }
+        sigaction(SIGPIPE, &old, nullptr);
+        if (n != 1) { /* the reader died on this file */
+            close(cache.req);
+            close(cache.rep);
+            int st = 0;
+            while (waitpid(cache.pid, &st, 0) < 0 && errno == EINTR) {
+            }
+            cache.pid = 0;
+            cache.req = cache.rep = -1;
+            const int sig = WIFSIGNALED(st) ? WTERMSIG(st) : 0;
+            if (sig == SIGALRM)
+                say(err, cap, std::string(path) + ": damaged OpenVDB file (reading it took over " +
+                                  std::to_string(VDB_CPU_SECONDS + input_bytes(&path, 1) / (4u << 20)) + " s)");
+            else
+                say(err, cap, std::string(path) +
+                                  ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
+                                  std::to_string(sig) + ")");
+            return -1;
         }
         cache.path = path;
-        cache.info = info;
         cache.first = first;
         cache.count = count;
-        cache.ok = static_cast<shared_head *>(mem)->rc == 0;
+        cache.ok = h->rc == 0;
     }
-    const auto *st = reinterpret_cast<const grid_status *>(static_cast<const char *>(cache.mem) + sizeof(shared_head));
+    const auto *st = reinterpret_cast<const grid_status *>(reinterpret_cast<const read_request *>(h + 1) + 1);
     if (!cache.ok) {
         say(err, cap, st[0].err);
         return -1;
