@@ -6,21 +6,20 @@
 #include <tbb/global_control.h>
 
 #include <cerrno>
-#include <mutex>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
 #include <string>
 #include <fcntl.h>
-#include <csignal>
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
-#define VDB_CPU_SECONDS 20u /* plus a second per 4 MB of input */
 
 namespace {
 
@@ -317,9 +316,9 @@ static int read_grid(openvdb::io::File &file, const char *path, const char *name
     }
 }
 
-// Every grid of info (in its order) from one file: out holds info->ngrids
-// grids one after the other, rc and err one status per grid. 0 when the file
-// opened (each grid then has its own status), else -1 with err[0].
+// Grids first .. first+count-1 of info from one file: out holds them one
+// after the other, st one status per grid. 0 when the file opened (each grid
+// then has its own status), else -1 with the reason in st[0].
 struct grid_status {
     int rc;
     char err[252];
@@ -360,18 +359,25 @@ struct shared_head {
     char model[64], projection[256], err[1024];
 };
 
-// Runs fn in a child with `bytes` of new shared memory, returned in *mem; 0,
-// or -1 with err set.
-// A damaged file can also send the library into reading gigabytes or
-// looping: a child gets limits on CPU time (for `input` bytes of files; the
-// reader times each file itself) and, outside AddressSanitizer builds (whose
-// shadow memory is address space), on memory (1 GiB + `memory` more than it
-// has), both far above what legitimate files need.
-static void limit_child(uint64_t input, uint64_t memory)
+// Seconds a child may spend on `input` bytes of files: 20, plus one per 4 MB
+// (OpenVDB reads ~100 MB/s).
+unsigned time_limit(uint64_t input) { return 20u + (unsigned)(input / (4u << 20)); }
+
+// A new child: quiet (the library's complaints about a damaged file, and no
+// pipe of the caller held open) and bounded, since a damaged file can also
+// send the library into reading gigabytes or looping: CPU time for `input`
+// bytes (0: none; the reader times each file itself with alarm) and, outside
+// AddressSanitizer builds (whose shadow memory is address space), memory of
+// 1 GiB + `memory` more than it has; both far above what good files need.
+void child_setup(uint64_t input, uint64_t memory)
 {
+    const int fd = open("/dev/null", O_RDWR);
+    if (fd >= 0)
+        for (int k = 0; k < 3; k++)
+            dup2(fd, k);
     struct rlimit rl;
-    if (input) { /* a one-shot child (the reader times each file itself) */
-        rl.rlim_cur = rl.rlim_max = VDB_CPU_SECONDS + input / (4u << 20); /* 4 MB/s: OpenVDB reads ~100 */
+    if (input) {
+        rl.rlim_cur = rl.rlim_max = time_limit(input);
         setrlimit(RLIMIT_CPU, &rl);
     }
 #ifdef __SANITIZE_ADDRESS__
@@ -391,8 +397,20 @@ static void limit_child(uint64_t input, uint64_t memory)
 #endif
 }
 
+// The error for a child that died reading `what` (wait status st).
+void child_died(const char *what, uint64_t input, int st, char *err, size_t cap)
+{
+    const int sig = WIFSIGNALED(st) ? WTERMSIG(st) : 0;
+    if (sig == SIGXCPU || sig == SIGALRM)
+        say(err, cap, std::string(what) + ": damaged OpenVDB file (reading it took over " +
+                          std::to_string(time_limit(input)) + " s)");
+    else
+        say(err, cap, std::string(what) + ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
+                          std::to_string(sig) + ")");
+}
+
 // Total size of the files (what a child reads).
-static uint64_t input_bytes(const char *const *paths, int n)
+uint64_t input_bytes(const char *const *paths, int n)
 {
     uint64_t t = 0;
     for (int i = 0; i < n; i++) {
@@ -403,6 +421,8 @@ static uint64_t input_bytes(const char *const *paths, int n)
     return t;
 }
 
+// Runs fn in a child with `bytes` of new shared memory, returned in *mem; 0,
+// or -1 with err set.
 template <class F>
 int isolated(size_t bytes, const char *what, uint64_t input, F fn, void **mem, char *err, size_t cap)
 {
@@ -418,11 +438,8 @@ int isolated(size_t bytes, const char *what, uint64_t input, F fn, void **mem, c
         say(err, cap, std::string(what) + ": cannot fork to read it");
         return -1;
     }
-    if (pid == 0) { /* the library's own complaints about a damaged file stay quiet */
-        const int fd = open("/dev/null", O_WRONLY);
-        if (fd >= 0)
-            dup2(fd, 2);
-        limit_child(input, 64 * input);
+    if (pid == 0) {
+        child_setup(input, 64 * input);
         _exit(fn(m) ? 1 : 0);
     }
     int st = 0;
@@ -430,12 +447,7 @@ int isolated(size_t bytes, const char *what, uint64_t input, F fn, void **mem, c
     }
     if (WIFSIGNALED(st)) {
         munmap(m, bytes);
-        if (WTERMSIG(st) == SIGXCPU)
-            say(err, cap, std::string(what) + ": damaged OpenVDB file (reading it took over " +
-                              std::to_string(VDB_CPU_SECONDS + input / (4u << 20)) + " s)");
-        else
-            say(err, cap, std::string(what) + ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
-                              std::to_string(WTERMSIG(st)) + ")");
+        child_died(what, input, st, err, cap);
         return -1;
     }
     *mem = m;
@@ -522,7 +534,7 @@ struct read_request {
         if (n != 1)
             _exit(0);
         const char *const one[1] = {rq->path};
-        alarm(VDB_CPU_SECONDS + (unsigned)(input_bytes(one, 1) / (4u << 20))); /* a damaged file must not hang */
+        alarm(time_limit(input_bytes(one, 1))); /* a damaged file must not hang */
         auto *st = reinterpret_cast<grid_status *>(rq + 1);
         h->rc = read_all_impl(rq->path, info, rq->first, rq->count,
                               reinterpret_cast<float *>(static_cast<char *>(m) + sbytes), st);
@@ -579,12 +591,7 @@ extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_in
             if (pid == 0) {
                 close(q[1]);
                 close(r[0]);
-                const int fd = open("/dev/null", O_RDWR); /* quiet, and holding no pipe of the caller */
-                if (fd >= 0)
-                    for (int k = 0; k < 3; k++)
-                        dup2(fd, k);
-                limit_child(0, 8 * (uint64_t)bytes);
-                signal(SIGPIPE, SIG_DFL);
+                child_setup(0, 8 * (uint64_t)bytes);
                 reader_main(info, cache.mem, sbytes, q[0], r[1]);
             }
             close(q[0]);
@@ -623,14 +630,7 @@ extern "C" int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_in
             }
             cache.pid = 0;
             cache.req = cache.rep = -1;
-            const int sig = WIFSIGNALED(st) ? WTERMSIG(st) : 0;
-            if (sig == SIGALRM)
-                say(err, cap, std::string(path) + ": damaged OpenVDB file (reading it took over " +
-                                  std::to_string(VDB_CPU_SECONDS + input_bytes(&path, 1) / (4u << 20)) + " s)");
-            else
-                say(err, cap, std::string(path) +
-                                  ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
-                                  std::to_string(sig) + ")");
+            child_died(path, input_bytes(&path, 1), st, err, cap);
             return -1;
         }
         cache.path = path;

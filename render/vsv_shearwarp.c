@@ -575,8 +575,7 @@ vsv_sw *vsv_sw_create(int max_threads)
         vsv_sw_free(sw);
         return NULL;
     }
-    sw->max_threads = max_threads;
-    vsv_opacity_init();
+    sw->max_threads = max_threads; /* the opacity table: vsv_renderer_create */
     return sw;
 }
 
