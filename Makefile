@@ -95,6 +95,9 @@ $(B)/%.o: %.c
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(CFLAGS_ALL) -c $< -o $@
 
+# the raycaster's sixteen-ray march: AVX2 + FMA code, called only on CPUs that have them
+$(B)/render/vsv_raycast_simd.o: CFLAGS_ALL += -mavx2 -mfma
+
 $(B)/%.o: %.cc
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  CXX     $<")

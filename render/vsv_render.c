@@ -37,6 +37,11 @@ struct vsv_renderer {
     /* per-layer skip flags (allocated when the scene grows, not per frame) */
     unsigned char *skip;
     size_t skip_cap;
+    /* the visible layers of this frame, as the raycaster reads them */
+    vsv_rc_layer *act;
+    int act_cap;
+    vsv_rc_frame frame;
+    int simd; /* vsv_raycast16 */
     vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
     vsv_rays rays;        /* the camera's rays, for this frame */
     /* the ground per pixel, for ground_cam and ground_geo */
@@ -140,9 +145,11 @@ void vsv_camera_orbit(vsv_camera *cam, const vsv_scene *sc, double az, double el
 static void normalize(double v[3])
 {
     const double n = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    if (n > 0)
+    if (n > 0) {
+        const double k = 1 / n;
         for (int i = 0; i < 3; i++)
-            v[i] /= n;
+            v[i] *= k;
+    }
 }
 
 static void cross(const double a[3], const double b[3], double o[3])
@@ -217,7 +224,8 @@ int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const 
                 return 0;
             continue;
         }
-        double ta = (mn[i] - o[i]) / d[i], tb = (mx[i] - o[i]) / d[i];
+        const double inv = 1 / d[i];
+        double ta = (mn[i] - o[i]) * inv, tb = (mx[i] - o[i]) * inv;
         if (ta > tb) {
             const double t = ta;
             ta = tb;
@@ -350,43 +358,12 @@ void vsv_opacity_init(void)
     pthread_once(&once, opacity_fill);
 }
 
-/* Trilinear sample of a volume at cell coordinates (u, v, w). When the eight
- * cells share a brick (most samples) they are read from it directly. */
-static float sample(const vsv_volume *vol, double u, double v, double w)
-{
-    u = u < 0 ? 0 : u > vol->nx - 1 ? vol->nx - 1 : u;
-    v = v < 0 ? 0 : v > vol->ny - 1 ? vol->ny - 1 : v;
-    w = w < 0 ? 0 : w > vol->nz - 1 ? vol->nz - 1 : w;
-    const int i = (int)u, j = (int)v, k = (int)w;
-    const int i1 = i + 1 < vol->nx ? i + 1 : i, j1 = j + 1 < vol->ny ? j + 1 : j, k1 = k + 1 < vol->nz ? k + 1 : k;
-    const float fu = (float)(u - i), fv = (float)(v - j), fw = (float)(w - k);
-    const int s = vol->shift, m = vol->brick - 1;
-    float c000, c100, c010, c110, c001, c101, c011, c111;
-    if ((i >> s) == (i1 >> s) && (j >> s) == (j1 >> s) && (k >> s) == (k1 >> s)) {
-        const float *b = vol->bricks[(i >> s) + vol->bdim[0] * ((j >> s) + vol->bdim[1] * (k >> s))];
-        if (!b)
-            return vol->empty_value;
-        const int di = i1 - i, dj = (j1 - j) << s, dk = (k1 - k) << (2 * s);
-        const float *p = b + (i & m) + ((j & m) << s) + ((k & m) << (2 * s));
-        c000 = p[0], c100 = p[di], c010 = p[dj], c110 = p[di + dj];
-        c001 = p[dk], c101 = p[di + dk], c011 = p[dj + dk], c111 = p[di + dj + dk];
-    } else {
-        c000 = vsv_volume_at(vol, i, j, k), c100 = vsv_volume_at(vol, i1, j, k);
-        c010 = vsv_volume_at(vol, i, j1, k), c110 = vsv_volume_at(vol, i1, j1, k);
-        c001 = vsv_volume_at(vol, i, j, k1), c101 = vsv_volume_at(vol, i1, j, k1);
-        c011 = vsv_volume_at(vol, i, j1, k1), c111 = vsv_volume_at(vol, i1, j1, k1);
-    }
-    const float a = c000 + (c100 - c000) * fu, b2 = c010 + (c110 - c010) * fu;
-    const float c = c001 + (c101 - c001) * fu, d = c011 + (c111 - c011) * fu;
-    const float e = a + (b2 - a) * fv, f = c + (d - c) * fv;
-    return e + (f - e) * fw;
-}
-
-/* Empty-space skipping: a brick is skipped when, for every visible layer, the
- * values of the brick and of every brick around it (a trilinear sample reaches
- * one cell across, and blends values between those ranges) map to zero
- * opacity. Computed per frame from the octree's level 0. */
-static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
+/* The raycaster's frame: its visible layers, and empty-space skipping: a
+ * brick is skipped when, for every visible layer, the values of the brick and
+ * of every brick around it (a trilinear sample reaches one cell across, and
+ * blends values between those ranges) map to zero opacity. Computed per frame
+ * from the octree's level 0. */
+static int prepare_frame(vsv_renderer *r, const vsv_scene *sc)
 {
     int nb = 0;
     const vsv_volume *v0 = NULL;
@@ -395,8 +372,8 @@ static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
             nb = sc->layers[l].vol->nbricks > nb ? sc->layers[l].vol->nbricks : nb;
             v0 = sc->layers[l].vol;
         }
-    /* layout: [all layers clear][layer 0 clear][layer 1 clear]... */
-    const size_t need = (size_t)nb * ((size_t)sc->nlayers + 1);
+    /* layout: [all layers clear][layer 0 clear][layer 1 clear]...[4 bytes] */
+    const size_t need = (size_t)nb * ((size_t)sc->nlayers + 1) + 4;
     if (need > r->skip_cap) {
         unsigned char *p = realloc(r->skip, need);
         if (!p)
@@ -404,15 +381,36 @@ static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
         r->skip = p;
         r->skip_cap = need;
     }
+    if (sc->nlayers > r->act_cap) {
+        vsv_rc_layer *p = realloc(r->act, (size_t)sc->nlayers * sizeof *p);
+        if (!p)
+            return VSV_ENOMEM;
+        r->act = p;
+        r->act_cap = sc->nlayers;
+    }
+    vsv_rc_frame *F = &r->frame;
+    memset(F, 0, sizeof *F);
+    F->layer = r->act;
     if (!nb)
         return 0;
     memset(r->skip, 1, need);
+    const vsv_geo *g = &r->g;
     const int bx = v0->bdim[0], by = v0->bdim[1], bz = v0->bdim[2];
     for (int l = 0; l < sc->nlayers; l++) {
         const vsv_layer *L = &sc->layers[l];
         unsigned char *clear = r->skip + (size_t)nb * (l + 1);
         if (!L->visible || !(L->opacity > 0) || !L->vol)
             continue;
+        r->act[F->nlayers++] = (vsv_rc_layer){
+            .vol = L->vol,
+            .lut = (const float(*)[4])L->tf->lut,
+            .lo = (float)L->tf->lo,
+            .inv = (float)L->tf->inv,
+            .off = (float)(-L->tf->base * L->tf->inv),
+            .log = L->tf->scale == VSV_SCALE_LOG,
+            .sigma = (float)(L->opacity * VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy)),
+            .clear = clear,
+        };
         for (int k = 0; k < bz; k++)
             for (int j = 0; j < by; j++)
                 for (int i = 0; i < bx; i++) {
@@ -437,105 +435,157 @@ static int prepare_skip(vsv_renderer *r, const vsv_scene *sc)
                         clear[b] = r->skip[b] = 0;
                 }
     }
+    if (!F->nlayers)
+        return 0;
+    const vsv_volume *V = r->act[0].vol;
+    const int n[3] = {V->nx, V->ny, V->nz};
+    for (int a = 0; a < 3; a++) {
+        F->hi[a] = (float)(n[a] - 1);
+        F->last[a] = n[a] > 1 ? n[a] - 2 : 0;
+    }
+    /* a fixed step in world units: a fraction of the smallest cell edge */
+    F->st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
+    F->inv_st = 1 / F->st;
+    F->inv_cell[0] = 1 / g->dx;
+    F->inv_cell[1] = 1 / g->dy;
+    F->inv_cell[2] = 1 / (g->dz * g->E);
+    F->skip = r->o.no_skip ? NULL : r->skip;
+    F->shift = V->shift;
+    F->mask = V->brick - 1;
+    F->brick = V->brick;
+    F->bx = V->bdim[0];
+    F->bxy = V->bdim[0] * V->bdim[1];
+    F->whole = n[0] > 1 && n[1] > 1 && n[2] > 1;
     return 0;
 }
 
-/* One ray: the raycaster. */
-static void raycast_pixel(const vsv_renderer *r, int px, int py, float out[4], float *depth)
+/* One ray through the volume, front to back: trilinear samples classified
+ * per layer, extinction and extinction-weighted colour summed over layers,
+ * composited with the opacity of the step; early ray termination, skipping.
+ * vsv_raycast16 does the same operations in the same order, sixteen rays wide. */
+static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *pT, float acc[3], float *depth)
 {
-    const vsv_geo *g = &r->g;
-    const vsv_scene *sc = r->sc;
-    double o[3], d[3], t0, t1;
-    vsv_rays_get(&r->rays, px, py, o, d);
-    out[0] = out[1] = out[2] = out[3] = 0;
-    *depth = INFINITY;
-    if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
-        return;
-    t0 = fmax(t0, fmax(0, r->cam->znear));
-    if (r->cam->zfar > 0 && t1 > r->cam->zfar)
-        t1 = r->cam->zfar;
-    /* a fixed step in world units: a fraction of the smallest cell edge */
-    const double st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
-    const vsv_ground *gp = g->terrain ? &r->ground[(size_t)py * r->cam->width + px] : NULL;
-    const double t_hit = gp ? gp->t : INFINITY;
-    const double tend = fmin(t1, t_hit);
-    /* the volume, front to back */
-    double T = 1, acc[3] = {0, 0, 0};
-    const vsv_volume *v0 = NULL;
-    for (int l = 0; l < sc->nlayers; l++)
-        if (sc->layers[l].visible && sc->layers[l].opacity > 0 && sc->layers[l].vol)
-            v0 = sc->layers[l].vol;
-    const double sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
-    const unsigned char *skip = r->skip;
-    const int B = v0 ? v0->brick : 1;
-    /* cell coordinates are affine in t: u = u0 + t * du (no division per sample) */
-    const double du = d[0] / g->dx, dv = d[1] / g->dy, dw = d[2] / (g->E * g->dz);
-    const double u0 = (o[0] - g->ox) / g->dx, v0c = (o[1] - g->oy) / g->dy, w0 = (o[2] / g->E - g->oz) / g->dz;
-    for (double t = t0 + 0.5 * st; v0 && t < tend; t += st) {
-        const double u = u0 + t * du, v = v0c + t * dv, w = w0 + t * dw;
-        int bsample = 0;
-        if (!r->o.no_skip) {
-            int bi = (int)floor(u + 0.5) >> v0->shift, bj = (int)floor(v + 0.5) >> v0->shift, bk = (int)floor(w + 0.5) >> v0->shift;
-            bi = bi < 0 ? 0 : bi >= v0->bdim[0] ? v0->bdim[0] - 1 : bi;
-            bj = bj < 0 ? 0 : bj >= v0->bdim[1] ? v0->bdim[1] - 1 : bj;
-            bk = bk < 0 ? 0 : bk >= v0->bdim[2] ? v0->bdim[2] - 1 : bk;
-            bsample = bi + v0->bdim[0] * (bj + v0->bdim[1] * bk);
-            if (skip[bsample]) {
-                /* jump to the brick's far side, staying on the same sample grid */
-                const double bmn[3] = {g->ox + (bi * B - 0.5) * g->dx, g->oy + (bj * B - 0.5) * g->dy,
-                                       (g->oz + (bk * B - 0.5) * g->dz) * g->E};
-                const double bmx[3] = {g->ox + ((bi + 1) * B - 0.5) * g->dx, g->oy + ((bj + 1) * B - 0.5) * g->dy,
-                                       (g->oz + ((bk + 1) * B - 0.5) * g->dz) * g->E};
-                double e0, e1;
-                if (vsv_box_hit(o, d, bmn, bmx, &e0, &e1) && e1 > t) {
-                    const double n = floor((e1 - (t0 + 0.5 * st)) / st);
-                    const double tn = t0 + 0.5 * st + n * st;
-                    if (tn > t)
-                        t = tn;
-                }
-                continue;
-            }
+    const int sh = F->shift, m = F->mask, dj = 1 << sh, dk = 1 << (2 * sh);
+    const float st = (float)ray->st;
+    float T = 1;
+    for (int n = 0; n < ray->ns; n++) {
+        float c[3];
+        int ci[3];
+        for (int a = 0; a < 3; a++) {
+            c[a] = ray->p[a] + n * ray->dp[a];
+            c[a] = c[a] > 0 ? (c[a] < F->hi[a] ? c[a] : F->hi[a]) : 0;
+            ci[a] = (int)c[a];
+            ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
         }
-        double sig = 0, col[3] = {0, 0, 0};
-        for (int l = 0; l < sc->nlayers; l++) {
-            const vsv_layer *L = &sc->layers[l];
-            if (!L->visible || !(L->opacity > 0) || !L->vol)
+        const int bidx = (ci[0] >> sh) + F->bx * (ci[1] >> sh) + F->bxy * (ci[2] >> sh);
+        if (F->skip && F->skip[bidx]) {
+            const int next = vsv_rc_skip_to(F, ray, ci);
+            if (next > n + 1)
+                n = next - 1;
+            continue;
+        }
+        const float fu = c[0] - ci[0], fv = c[1] - ci[1], fw = c[2] - ci[2];
+        const int fast = F->whole && (ci[0] & m) != m && (ci[1] & m) != m && (ci[2] & m) != m;
+        const int off = (ci[0] & m) + ((ci[1] & m) << sh) + ((ci[2] & m) << (2 * sh));
+        float sig = 0, col[3] = {0, 0, 0};
+        for (int l = 0; l < F->nlayers; l++) {
+            const vsv_rc_layer *L = &F->layer[l];
+            if (F->skip && L->clear[bidx])
+                continue; /* transparent around this brick: adds nothing */
+            float cell[8];
+            const float *q = L->vol->bricks[bidx];
+            if (!fast) {
+                vsv_rc_cells(L->vol, ci[0], ci[1], ci[2], cell);
+            } else if (!q) {
+                for (int i = 0; i < 8; i++)
+                    cell[i] = L->vol->empty_value;
+            } else {
+                q += off;
+                const float c8[8] = {q[0], q[1], q[dj], q[dj + 1], q[dk], q[dk + 1], q[dk + dj], q[dk + dj + 1]};
+                memcpy(cell, c8, sizeof cell);
+            }
+            const float v = vsv_rc_trilinear(cell, fu, fv, fw);
+            if (!(v >= L->lo)) /* below the range, or no data (NaN) */
                 continue;
-            /* a layer that is transparent around this brick adds nothing */
-            if (!r->o.no_skip && skip[(size_t)v0->nbricks * (l + 1) + bsample])
-                continue;
-            float rgba[4];
-            vsv_tf_lookup(L->tf, sample(L->vol, u, v, w), rgba);
-            const double s = rgba[3] * L->opacity * sigma_unit;
+            float x = (L->log ? logf(v) : v) * L->inv + L->off;
+            x = x < VSV_TF_LUT - 1 ? x : VSV_TF_LUT - 1;
+            int i = (int)x;
+            i = i < VSV_TF_LUT - 2 ? i : VSV_TF_LUT - 2;
+            const float f = x - i;
+            const float *lo = L->lut[i], *hi = lo + 4;
+            const float s = (lo[3] + (hi[3] - lo[3]) * f) * L->sigma;
             if (s > 0) {
                 sig += s;
-                for (int c = 0; c < 3; c++)
-                    col[c] += s * rgba[c];
+                for (int ch = 0; ch < 3; ch++)
+                    col[ch] += s * (lo[ch] + (hi[ch] - lo[ch]) * f);
             }
         }
         if (sig > 0) {
-            const float us = (float)(sig * st);
+            const float us = sig * st;
             const float f = vsv_opacity_per_u(us);
-            const double a = us * f, k = T * f * st; /* T a / sig */
-            for (int c = 0; c < 3; c++)
-                acc[c] += k * col[c];
+            const float a = us * f, k = T * f * st; /* T a / sig */
+            for (int ch = 0; ch < 3; ch++)
+                acc[ch] += k * col[ch];
             T *= 1 - a;
-            if (*depth == INFINITY && 1 - T > 0.1)
-                *depth = (float)t;
-            if (T < 1.0 / 512)
+            if (*depth == INFINITY && 1 - T > 0.1f)
+                *depth = (float)(ray->ts + n * ray->st);
+            if (T < 1.0f / 512)
                 break; /* early ray termination */
         }
     }
-    if (t_hit < INFINITY && T >= 1.0 / 512) {
-        for (int c = 0; c < 3; c++)
-            acc[c] += T * gp->rgb[c];
-        T = 0;
-        if (*depth == INFINITY)
-            *depth = (float)t_hit;
+    *pT = T;
+}
+
+/* The ray of pixel (px, py): its samples through the volume (none when it
+ * misses), and where it meets the ground (t_hit; INFINITY when it does not). */
+static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray *ray, double *t_hit)
+{
+    const vsv_geo *g = &r->g;
+    double o[3], d[3], t0, t1;
+    ray->ns = 0;
+    *t_hit = INFINITY;
+    vsv_rays_get(&r->rays, px, py, o, d);
+    if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
+        return;
+    const double znear = r->cam->znear > 0 ? r->cam->znear : 0;
+    t0 = t0 > znear ? t0 : znear;
+    if (r->cam->zfar > 0 && t1 > r->cam->zfar)
+        t1 = r->cam->zfar;
+    if (g->terrain)
+        *t_hit = r->ground[(size_t)py * r->cam->width + px].t;
+    const double st = r->frame.st;
+    const double ts = t0 + 0.5 * st, tend = t1 < *t_hit ? t1 : *t_hit;
+    if (!r->frame.nlayers || !(tend > ts))
+        return;
+    ray->ns = (int)ceil((tend - ts) * r->frame.inv_st);
+    ray->ts = ts;
+    ray->st = st;
+    const double pos[3] = {o[0] + ts * d[0], o[1] + ts * d[1], o[2] + ts * d[2]};
+    const double org[3] = {g->ox, g->oy, g->oz * g->E};
+    for (int a = 0; a < 3; a++) {
+        ray->p[a] = (float)((pos[a] - org[a]) * r->frame.inv_cell[a]);
+        ray->dp[a] = (float)(st * d[a] * r->frame.inv_cell[a]);
     }
-    for (int c = 0; c < 3; c++)
-        out[c] = (float)acc[c];
-    out[3] = (float)(1 - T);
+}
+
+/* A pixel from its ray's compositing: the ground behind what is left. */
+static void raycast_finish(const vsv_renderer *r, int px, int py, double t_hit, float T, const float acc[3],
+                           float depth)
+{
+    const size_t at = (size_t)py * r->cam->width + px;
+    float out[4] = {acc[0], acc[1], acc[2], 1 - T};
+    if (t_hit < INFINITY && T >= 1.0f / 512) {
+        const vsv_ground *gp = &r->ground[at];
+        for (int c = 0; c < 3; c++)
+            out[c] += T * gp->rgb[c];
+        out[3] = 1;
+        if (depth == INFINITY)
+            depth = (float)t_hit;
+    }
+    if (r->rgba)
+        memcpy(r->rgba + 4 * at, out, sizeof out);
+    if (r->depth)
+        r->depth[at] = depth;
 }
 
 /* One image row of the ground cache. */
@@ -565,22 +615,46 @@ static void ground_row(void *ctx, int py, int thread)
 
 /* --------------------------------------------------------------- threads */
 
-/* One 16x16 tile of the raycaster. */
+/* One 16x16 tile of the raycaster: a row of the tile at a time, through
+ * vsv_raycast16 where the CPU has AVX2 (unless VSV_SIMD=0 in the
+ * environment), else one ray at a time. */
 static void raycast_tile(void *ctx, int tile, int thread)
 {
+    enum { N = VSV_RC_LANES };
     vsv_renderer *r = ctx;
     const vsv_camera *cam = r->cam;
     (void)thread;
     const int tx = tile % r->tiles_x, ty = tile / r->tiles_x;
+    const int x1 = (tx + 1) * TILE < cam->width ? (tx + 1) * TILE : cam->width;
     for (int py = ty * TILE; py < (ty + 1) * TILE && py < cam->height; py++)
-        for (int px = tx * TILE; px < (tx + 1) * TILE && px < cam->width; px++) {
-            float rgba[4], dep;
-            raycast_pixel(r, px, py, rgba, &dep);
-            const size_t at = (size_t)py * cam->width + px;
-            if (r->rgba)
-                memcpy(r->rgba + 4 * at, rgba, sizeof rgba);
-            if (r->depth)
-                r->depth[at] = dep;
+        for (int px = tx * TILE; px < x1; px += N) {
+            vsv_rc_ray ray[N];
+            double t_hit[N];
+            float T[N], acc[3][N], depth[N];
+            const int n = x1 - px < N ? x1 - px : N;
+            for (int i = 0; i < N; i++) {
+                if (i < n)
+                    raycast_setup(r, px + i, py, &ray[i], &t_hit[i]);
+                else
+                    ray[i].ns = 0;
+                T[i] = 1;
+                acc[0][i] = acc[1][i] = acc[2][i] = 0;
+                depth[i] = INFINITY;
+            }
+            if (r->simd) {
+                vsv_raycast16(&r->frame, ray, T, acc, depth);
+            } else {
+                for (int i = 0; i < n; i++) {
+                    float a[3] = {0, 0, 0};
+                    raycast_march(&r->frame, &ray[i], &T[i], a, &depth[i]);
+                    for (int c = 0; c < 3; c++)
+                        acc[c][i] = a[c];
+                }
+            }
+            for (int i = 0; i < n; i++) {
+                const float a[3] = {acc[0][i], acc[1][i], acc[2][i]};
+                raycast_finish(r, px + i, py, t_hit[i], T[i], a, depth[i]);
+            }
         }
 }
 
@@ -654,6 +728,9 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
         return VSV_ENOMEM;
     if (!(r->o.step_cells > 0))
         r->o.step_cells = 0.5;
+    const char *simd = getenv("VSV_SIMD");
+    __builtin_cpu_init();
+    r->simd = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !(simd && !strcmp(simd, "0"));
     int n = r->o.threads > 0 ? r->o.threads : vsv_ncpus();
     r->nthreads = n > MAX_THREADS ? MAX_THREADS : n;
     pthread_mutex_init(&r->mu, NULL);
@@ -686,6 +763,7 @@ void vsv_renderer_free(vsv_renderer *r)
         pthread_cond_destroy(&r->done);
     }
     free(r->skip);
+    free(r->act);
     free(r->ground);
     vsv_sw_free(r->sw);
     free(r);
@@ -739,7 +817,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
             return rc;
         /* an eye among the slices has no shear-warp factorisation: raycast this frame */
     }
-    int rc = prepare_skip(r, sc);
+    int rc = prepare_frame(r, sc);
     if (rc)
         return rc;
     r->sc = sc;

@@ -107,4 +107,94 @@ void vsv_sw_composite_row(void *sw, int y, int thread);
 void vsv_sw_warp_row(void *sw, int py, int thread);
 double vsv_sw_build_seconds(const vsv_sw *sw);
 
+/* ------------------------------------------------------------ raycaster */
+
+/* A visible layer as the raycaster reads it, set up once per frame. */
+typedef struct vsv_rc_layer {
+    const vsv_volume *vol;
+    const float (*lut)[4];      /* the transfer function's table */
+    float lo, inv, off;         /* table position = (value or ln value) * inv + off */
+    int log;
+    float sigma;                /* extinction per world unit of curve value 1 */
+    const unsigned char *clear; /* per brick: transparent around it (skipping) */
+} vsv_rc_layer;
+
+/* What every ray of a frame reads: the visible layers and their common grid. */
+typedef struct vsv_rc_frame {
+    const vsv_rc_layer *layer;
+    int nlayers;
+    const unsigned char *skip; /* per brick: every layer clear; NULL: no skipping.
+                                  Four readable bytes past the end (for gathers). */
+    float hi[3];               /* the largest cell coordinate per axis */
+    int last[3];               /* the largest lower corner of a trilinear sample */
+    int shift, mask, brick, bx, bxy;
+    int whole;                 /* every axis has two cells or more */
+    double st, inv_st;         /* the step in world units, and 1 / st */
+    double inv_cell[3];        /* 1 / cell edge (exaggerated in z), world units */
+} vsv_rc_frame;
+
+/* One ray through the volume: sample n (0 <= n < ns) sits at world distance
+ * ts + n st, at cell coordinates p + n dp. */
+typedef struct vsv_rc_ray {
+    float p[3], dp[3];
+    int ns;
+    double ts, st;
+} vsv_rc_ray;
+
+/* The first sample of a ray at or past the far side of the brick of cell ci
+ * (one before it at most: the caller tests that sample again), for skipping. */
+static inline int vsv_rc_skip_to(const vsv_rc_frame *F, const vsv_rc_ray *ray, const int ci[3])
+{
+    int next = ray->ns;
+    for (int a = 0; a < 3; a++) {
+        if (ray->dp[a] == 0)
+            continue;
+        const int b = ci[a] >> F->shift;
+        const float edge = (float)(ray->dp[a] > 0 ? b + 1 : b) * F->brick;
+        const float k = (edge - ray->p[a]) / ray->dp[a];
+        const int kn = k < (float)ray->ns ? (int)k : ray->ns;
+        next = kn < next ? kn : next;
+    }
+    return next;
+}
+
+/* The eight cells around a sample whose lower corner is cell (i, j, k), in
+ * the order c000 c100 c010 c110 c001 c101 c011 c111 (c100: one along x),
+ * from whichever bricks hold them. */
+static inline void vsv_rc_cells(const vsv_volume *v, int i, int j, int k, float c[8])
+{
+    const int s = v->shift, m = v->brick - 1;
+    const int i1 = i + 1 < v->nx ? i + 1 : i, j1 = j + 1 < v->ny ? j + 1 : j, k1 = k + 1 < v->nz ? k + 1 : k;
+    const int bi[2] = {i >> s, i1 >> s}, oi[2] = {i & m, i1 & m};
+    const int bj[2] = {(j >> s) * v->bdim[0], (j1 >> s) * v->bdim[0]}, oj[2] = {(j & m) << s, (j1 & m) << s};
+    const int bk[2] = {(k >> s) * v->bdim[0] * v->bdim[1], (k1 >> s) * v->bdim[0] * v->bdim[1]};
+    const int ok[2] = {(k & m) << (2 * s), (k1 & m) << (2 * s)};
+    const float e = v->empty_value;
+    for (int n = 0; n < 4; n++) { /* the four rows along x */
+        const int b = n & 1, d = n >> 1, o = oj[b] + ok[d];
+        const float *p = v->bricks[bi[0] + bj[b] + bk[d]];
+        const float *q = bi[1] == bi[0] ? p : v->bricks[bi[1] + bj[b] + bk[d]];
+        c[2 * n] = p ? p[oi[0] + o] : e;
+        c[2 * n + 1] = q ? q[oi[1] + o] : e;
+    }
+}
+
+/* Trilinear interpolation of those cells (the order of operations both
+ * raycaster loops keep). */
+static inline float vsv_rc_trilinear(const float c[8], float fu, float fv, float fw)
+{
+    const float a0 = c[0] + (c[1] - c[0]) * fu, a1 = c[2] + (c[3] - c[2]) * fu;
+    const float a2 = c[4] + (c[5] - c[4]) * fu, a3 = c[6] + (c[7] - c[6]) * fu;
+    const float e0 = a0 + (a1 - a0) * fv, e1 = a2 + (a3 - a2) * fv;
+    return e0 + (e1 - e0) * fw;
+}
+
+/* VSV_RC_LANES rays at once (AVX2 + FMA; only when the CPU has them): T
+ * (transmittance), acc (colour) and depth, which start at 1, 0, INFINITY, are
+ * composited front to back through every ray's samples, as the one-ray loop
+ * does. A ray with ns 0 is left as it is. */
+#define VSV_RC_LANES 16
+void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[VSV_RC_LANES], float T[VSV_RC_LANES],
+                   float acc[3][VSV_RC_LANES], float depth[VSV_RC_LANES]);
+
 #endif

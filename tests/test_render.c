@@ -133,6 +133,12 @@ static void rules(const char *label, world *w)
     float *t1 = render(w, ab, one2, 2, 1, 0.5, 0, NULL);
     snprintf(name, sizeof name, "%s: 1 and 2 threads give identical pixels", label);
     CHECK(t1 && x && !memcmp(t1, x, sizeof(float) * W * H * 4), name);
+    setenv("VSV_SIMD", "0", 1); /* the one-ray loop, on any CPU */
+    float *one = render(w, ab, one2, 2, 2, 0.5, 0, NULL);
+    unsetenv("VSV_SIMD");
+    snprintf(name, sizeof name, "%s: the sixteen-ray (AVX2) and one-ray loops give identical pixels", label);
+    CHECK(one && x && max_diff(one, x) == 0, name, "max diff %g", one && x ? max_diff(one, x) : -1);
+    free(one);
     float *ns = render(w, ab, one2, 2, 2, 0.5, 1, NULL);
     snprintf(name, sizeof name, "%s: empty-space skipping changes no pixel by more than 1/255", label);
     CHECK(ns && x && max_diff(ns, x) <= 1.0 / 255, name, "max diff %g", ns && x ? max_diff(ns, x) : -1);
