@@ -48,6 +48,7 @@ struct vsv_renderer {
     vsv_ground *ground;
     size_t ground_cap;
     vsv_camera ground_cam;
+    vsv_ground_blocks blocks; /* the highest ground per block, for the ground march */
     vsv_geo ground_geo;
     int ground_valid;
 };
@@ -71,6 +72,8 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
     g->oy = m->origin[1];
     g->dx = m->spacing[0];
     g->dy = m->spacing[1];
+    g->idx = 1 / g->dx;
+    g->idy = 1 / g->dy;
     /* renderers draw every grid with evenly stacked levels (DESIGN.md §3) */
     if (m->vert_kind == VSV_VERT_EVEN) {
         g->oz = m->origin[2];
@@ -188,6 +191,7 @@ void vsv_rays_init(vsv_rays *R, const vsv_camera *cam)
     }
     R->w = cam->width;
     R->h = cam->height;
+    R->x0 = R->y0 = 0, R->x1 = cam->width - 1, R->y1 = cam->height - 1;
 }
 
 void vsv_rays_get(const vsv_rays *R, int px, int py, double o[3], double d[3])
@@ -205,6 +209,46 @@ void vsv_rays_get(const vsv_rays *R, int px, int py, double o[3], double d[3])
             d[i] = R->f[i];
         }
     }
+}
+
+/* The pixels whose rays can meet the box [mn, mx]: the bounding rectangle
+ * of its corners on the screen (a pixel of margin), or every pixel when a
+ * corner is not in front of the eye. */
+static void rays_cull(vsv_rays *R, const double mn[3], const double mx[3])
+{
+    R->x0 = 0, R->x1 = (int)R->w - 1, R->y0 = 0, R->y1 = (int)R->h - 1;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int c = 0; c < 8; c++) {
+        const double p[3] = {c & 1 ? mx[0] : mn[0], c & 2 ? mx[1] : mn[1], c & 4 ? mx[2] : mn[2]};
+        double v[3], z = 0, s[2] = {0, 0};
+        for (int i = 0; i < 3; i++) {
+            v[i] = p[i] - R->o[i];
+            z += v[i] * R->f[i];
+            s[0] += v[i] * R->r[i];
+            s[1] += v[i] * R->u[i];
+        }
+        if (R->persp) {
+            if (!(z > 0))
+                return;
+            s[0] /= z, s[1] /= z;
+        }
+        /* the inverse of vsv_rays_get's screen position */
+        const double px = ((s[0] - R->cx) / R->kx + 1) * R->w / 2 - 0.5, py = (1 - (s[1] - R->cy) / R->ky) * R->h / 2 - 0.5;
+        lo[0] = fmin(lo[0], px), hi[0] = fmax(hi[0], px);
+        lo[1] = fmin(lo[1], py), hi[1] = fmax(hi[1], py);
+    }
+    if (!(hi[0] >= lo[0] && hi[1] >= lo[1]))
+        return;
+    R->x0 = lo[0] - 1 > 0 ? (int)(lo[0] - 1) : 0;
+    R->y0 = lo[1] - 1 > 0 ? (int)(lo[1] - 1) : 0;
+    R->x1 = hi[0] + 1 < R->w - 1 ? (int)ceil(hi[0] + 1) : (int)R->w - 1;
+    R->y1 = hi[1] + 1 < R->h - 1 ? (int)ceil(hi[1] + 1) : (int)R->h - 1;
+}
+
+/* Whether the ray of pixel (px, py) may meet the scene's box. */
+static inline int rays_may_hit(const vsv_rays *R, int px, int py)
+{
+    return px >= R->x0 && px <= R->x1 && py >= R->y0 && py <= R->y1;
 }
 
 void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[3])
@@ -242,7 +286,7 @@ int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const 
 /* Terrain height (exaggerated world z) at world (x, y): bilinear at cell centres. */
 double vsv_geo_terrain(const vsv_geo *g, double x, double y)
 {
-    double u = (x - g->ox) / g->dx, v = (y - g->oy) / g->dy;
+    double u = (x - g->ox) * g->idx, v = (y - g->oy) * g->idy;
     u = u < 0 ? 0 : u > g->nx - 1 ? g->nx - 1 : u;
     v = v < 0 ? 0 : v > g->ny - 1 ? g->ny - 1 : v;
     int i = (int)u, j = (int)v;
@@ -281,27 +325,11 @@ void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3])
         rgb[i] = (float)(c[i] * lam);
 }
 
-double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1)
+/* Where the ray first meets the bilinear ground between t0 and t1 (the ray
+ * above it at t0 unless it starts below): march half a cell at a time, the
+ * last test at t1, then regula falsi (Illinois) down to a thousandth of a cell. */
+static double ground_march(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1, double st)
 {
-    /* only where the ray is below the highest ground can it meet it */
-    if (d[2] < 0) {
-        const double tt = (g->ground_top - o[2]) / d[2];
-        if (tt > t0)
-            t0 = tt;
-    } else if (d[2] > 0) {
-        const double tt = (g->ground_top - o[2]) / d[2];
-        if (tt < t1)
-            t1 = tt;
-    } else if (o[2] > g->ground_top) {
-        return INFINITY;
-    }
-    if (t0 > t1)
-        return INFINITY;
-    /* the ground is bilinear per cell: march half a cell at a time across
-     * it (the whole way at once for a vertical ray), the last test on the
-     * exit, then bisect */
-    const double hs = sqrt(d[0] * d[0] + d[1] * d[1]);
-    const double st = hs > 0 ? 0.5 * fmin(g->dx, g->dy) / hs : t1 - t0 + 1;
     double prev = t0, fprev = 0;
     for (double t = t0;; t += st) {
         if (t > t1)
@@ -311,7 +339,6 @@ double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3
         if (ft <= 0) {
             if (t == t0)
                 return t;
-            /* regula falsi (Illinois) down to a thousandth of a cell */
             const double tol = 1e-3 * fmin(g->dx, g->dy);
             double a = prev, b = t, fa = fprev, fb = ft;
             int side = 0;
@@ -339,6 +366,83 @@ double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3
         prev = t;
         fprev = ft;
     }
+}
+
+int vsv_ground_blocks_build(vsv_ground_blocks *B, const vsv_geo *g)
+{
+    B->nx = (g->nx - 1) / VSV_GROUND_BLOCK + 1;
+    B->ny = (g->ny - 1) / VSV_GROUND_BLOCK + 1;
+    const size_t n = (size_t)B->nx * B->ny;
+    if (n > B->cap) {
+        float *p = realloc(B->top, n * sizeof *p);
+        if (!p)
+            return VSV_ENOMEM;
+        B->top = p;
+        B->cap = n;
+    }
+    for (int bj = 0; bj < B->ny; bj++)
+        for (int bi = 0; bi < B->nx; bi++) {
+            /* the cell centres the block's bilinear pieces reach: its own and the next row and column */
+            float top = -INFINITY;
+            for (int j = bj * VSV_GROUND_BLOCK; j <= (bj + 1) * VSV_GROUND_BLOCK && j < g->ny; j++)
+                for (int i = bi * VSV_GROUND_BLOCK; i <= (bi + 1) * VSV_GROUND_BLOCK && i < g->nx; i++)
+                    top = g->terrain[(size_t)j * g->nx + i] > top ? g->terrain[(size_t)j * g->nx + i] : top;
+            B->top[(size_t)bj * B->nx + bi] = (float)(top * g->E);
+        }
+    return 0;
+}
+
+double vsv_geo_terrain_hit(const vsv_geo *g, const vsv_ground_blocks *B, const double o[3], const double d[3],
+                           double t0, double t1)
+{
+    /* only where the ray is below the highest ground can it meet it */
+    if (d[2] < 0) {
+        const double tt = (g->ground_top - o[2]) / d[2];
+        if (tt > t0)
+            t0 = tt;
+    } else if (d[2] > 0) {
+        const double tt = (g->ground_top - o[2]) / d[2];
+        if (tt < t1)
+            t1 = tt;
+    } else if (o[2] > g->ground_top) {
+        return INFINITY;
+    }
+    if (t0 > t1)
+        return INFINITY;
+    const double hs = sqrt(d[0] * d[0] + d[1] * d[1]);
+    const double st = hs > 0 ? 0.5 * fmin(g->dx, g->dy) / hs : t1 - t0 + 1;
+    if (!B || !(hs > 0))
+        return ground_march(g, o, d, t0, t1, st);
+    /* block by block: a block the ray passes above (its lowest point there
+     * above the block's highest ground) is skipped; the others are marched */
+    const double size[2] = {VSV_GROUND_BLOCK * g->dx, VSV_GROUND_BLOCK * g->dy}, org[2] = {g->ox, g->oy};
+    const double isize[2] = {1 / size[0], 1 / size[1]}, id[2] = {1 / d[0], 1 / d[1]};
+    const int nb[2] = {B->nx, B->ny};
+    for (double t = t0; t < t1;) {
+        int b[2];
+        double te = t1;
+        const double tn = t + 1e-3 * st; /* the block the ray is entering */
+        for (int a = 0; a < 2; a++) {
+            const double u = (o[a] + tn * d[a] - org[a]) * isize[a];
+            b[a] = u < 0 ? 0 : u >= nb[a] ? nb[a] - 1 : (int)u;
+            /* the far side of the block (none beyond the edge blocks: the ground is flat out there) */
+            double tb = INFINITY;
+            if (d[a] > 0 && b[a] < nb[a] - 1)
+                tb = (org[a] + (b[a] + 1) * size[a] - o[a]) * id[a];
+            else if (d[a] < 0 && b[a] > 0)
+                tb = (org[a] + b[a] * size[a] - o[a]) * id[a];
+            te = tb < te ? tb : te;
+        }
+        te = te > tn ? te : tn;
+        const double za = o[2] + t * d[2], zb = o[2] + te * d[2], zlow = za < zb ? za : zb;
+        if (!(zlow > B->top[(size_t)b[1] * B->nx + b[0]])) {
+            const double hit = ground_march(g, o, d, t, te, st);
+            if (hit < INFINITY)
+                return hit;
+        }
+        t = te;
+    }
+    return INFINITY;
 }
 
 float vsv_opacity_table[VSV_OPACITY_N + 1];
@@ -544,6 +648,8 @@ static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray *ray
     double o[3], d[3], t0, t1;
     ray->ns = 0;
     *t_hit = INFINITY;
+    if (!rays_may_hit(&r->rays, px, py))
+        return;
     vsv_rays_get(&r->rays, px, py, o, d);
     if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
         return;
@@ -598,14 +704,16 @@ static void ground_row(void *ctx, int py, int thread)
     for (int px = 0; px < cam->width; px++) {
         vsv_ground *gp = &r->ground[(size_t)py * cam->width + px];
         double o[3], d[3], t0, t1;
-        vsv_rays_get(&r->rays, px, py, o, d);
         gp->t = INFINITY;
+        if (!rays_may_hit(&r->rays, px, py))
+            continue;
+        vsv_rays_get(&r->rays, px, py, o, d);
         if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
             continue;
         t0 = fmax(t0, fmax(0, cam->znear));
         if (cam->zfar > 0 && t1 > cam->zfar)
             t1 = cam->zfar;
-        const double t = vsv_geo_terrain_hit(g, o, d, t0, t1);
+        const double t = vsv_geo_terrain_hit(g, &r->blocks, o, d, t0, t1);
         if (t < INFINITY) {
             gp->t = (float)t;
             vsv_geo_terrain_colour(g, o[0] + t * d[0], o[1] + t * d[1], gp->rgb);
@@ -765,6 +873,7 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r->skip);
     free(r->act);
     free(r->ground);
+    free(r->blocks.top);
     vsv_sw_free(r->sw);
     free(r);
 }
@@ -781,6 +890,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     vsv_scene_geo(sc, &r->g);
     r->cam = cam;
     vsv_rays_init(&r->rays, cam);
+    rays_cull(&r->rays, r->g.bmin, r->g.bmax);
     if (r->g.terrain) { /* the ground: again only when the view or the geometry changed */
         const size_t n = (size_t)cam->width * cam->height;
         if (n > r->ground_cap) {
@@ -792,6 +902,8 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
             r->ground_valid = 0;
         }
         if (!r->ground_valid || memcmp(&r->ground_cam, cam, sizeof *cam) || memcmp(&r->ground_geo, &r->g, sizeof r->g)) {
+            if (vsv_ground_blocks_build(&r->blocks, &r->g))
+                return VSV_ENOMEM;
             pool_run(r, ground_row, r, cam->height);
             r->ground_cam = *cam;
             r->ground_geo = r->g;
