@@ -176,19 +176,23 @@ static inline int vsv_rc_skip_to(const vsv_rc_frame *F, const vsv_rc_ray *ray, c
  * from whichever bricks hold them. */
 static inline void vsv_rc_cells(const vsv_volume *v, int i, int j, int k, float c[8])
 {
-    const int s = v->shift, m = v->brick - 1;
-    const int i1 = i + 1 < v->nx ? i + 1 : i, j1 = j + 1 < v->ny ? j + 1 : j, k1 = k + 1 < v->nz ? k + 1 : k;
-    const int bi[2] = {i >> s, i1 >> s}, oi[2] = {i & m, i1 & m};
-    const int bj[2] = {(j >> s) * v->bdim[0], (j1 >> s) * v->bdim[0]}, oj[2] = {(j & m) << s, (j1 & m) << s};
-    const int bk[2] = {(k >> s) * v->bdim[0] * v->bdim[1], (k1 >> s) * v->bdim[0] * v->bdim[1]};
-    const int ok[2] = {(k & m) << (2 * s), (k1 & m) << (2 * s)};
+    const int s = v->shift, m = v->brick - 1, bx = v->bdim[0], bxy = bx * v->bdim[1];
+    /* brick and offset of cell (i, j, k), and the steps to the next cell along
+     * each axis: into the next brick at its first cell, or none at the grid's end */
+    const int b0 = (i >> s) + bx * (j >> s) + bxy * (k >> s);
+    const int o0 = (i & m) + ((j & m) << s) + ((k & m) << (2 * s));
+    const int ei = (i & m) == m, ej = (j & m) == m, ek = (k & m) == m;
+    const int ni = i + 1 < v->nx, nj = j + 1 < v->ny, nk = k + 1 < v->nz;
+    const int sbi = ni & ei, sbj = (nj & ej) * bx, sbk = (nk & ek) * bxy;
+    const int soi = ni ? (ei ? -m : 1) : 0, soj = nj ? (ej ? -(m << s) : 1 << s) : 0;
+    const int sok = nk ? (ek ? -(m << (2 * s)) : 1 << (2 * s)) : 0;
     const float e = v->empty_value;
+#pragma GCC unroll 4
     for (int n = 0; n < 4; n++) { /* the four rows along x */
-        const int b = n & 1, d = n >> 1, o = oj[b] + ok[d];
-        const float *p = v->bricks[bi[0] + bj[b] + bk[d]];
-        const float *q = bi[1] == bi[0] ? p : v->bricks[bi[1] + bj[b] + bk[d]];
-        c[2 * n] = p ? p[oi[0] + o] : e;
-        c[2 * n + 1] = q ? q[oi[1] + o] : e;
+        const int rb = b0 + (n & 1) * sbj + (n >> 1) * sbk, ro = o0 + (n & 1) * soj + (n >> 1) * sok;
+        const float *p = v->bricks[rb], *q = sbi ? v->bricks[rb + 1] : p;
+        c[2 * n] = p ? p[ro] : e;
+        c[2 * n + 1] = q ? q[ro + soi] : e;
     }
 }
 
