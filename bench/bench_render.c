@@ -4,7 +4,10 @@
  *   bench_render FILE.vsv [STEP [SPECIES]]
  * With SPECIES (a name) only that species is drawn, and its decoded volume
  * is written to FILE.vsv.raw (float32, x fastest) with a line of geometry on
- * stdout, so bench_vtk.py can render the same volume with VTK. */
+ * stdout, so bench_vtk.py can render the same volume with VTK.
+ * VSV_BENCH_NO_TERRAIN=1 leaves the ground out (VTK draws none);
+ * VSV_BENCH_SW_ONLY=1 times the shear-warp alone; VSV_SIMD=0 makes the
+ * raycaster march one ray at a time. */
 #include "vsv_render.h"
 
 #include <math.h>
