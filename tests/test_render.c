@@ -237,6 +237,52 @@ static void test_eye_inside(world *w)
     free(b);
 }
 
+/* The sixteen-ray loop against the one-ray loop where they differ most: a
+ * log-scale transfer function (a logarithm per lane), an image whose width is
+ * not a multiple of sixteen (part-filled packets), depth. */
+static void test_simd_paths(world *w)
+{
+    enum { SW = 101, SH = 67 };
+    const vsv_quant *q = vsv_file_quant(w->f, 0);
+    char text[256], msg[128];
+    snprintf(text, sizeof text, "colormap magma\nrange %.9g %.9g\nscale log\nopacity 0 0.3 1\n",
+             (q->hi > 0 ? q->hi : 1) * 1e-4, q->hi > 0 ? q->hi : 1);
+    vsv_tf tf;
+    if (!CHECK(vsv_tf_parse(&tf, text, msg, sizeof msg) == 0, "a log-scale transfer function parses", "%s", msg))
+        return;
+    const vsv_layer layers[2] = {{w->vol[0], &tf, 1, 1}, {w->vol[1], &w->tf[1], 0.7f, 1}};
+    vsv_scene sc = {vsv_file_meta(w->f), layers, 2, 1, 1};
+    sc.exaggeration = vsv_scene_default_exaggeration(&sc);
+    vsv_camera cam;
+    vsv_camera_orbit(&cam, &sc, 200, 25, 0, SW, SH);
+    float *img[2], *dep[2];
+    for (int k = 0; k < 2; k++) {
+        if (k)
+            setenv("VSV_SIMD", "0", 1);
+        vsv_render_opts o;
+        vsv_render_opts_init(&o);
+        o.threads = 2;
+        vsv_renderer *r = NULL;
+        img[k] = malloc(sizeof(float) * 4 * SW * SH);
+        dep[k] = malloc(sizeof(float) * SW * SH);
+        if (vsv_renderer_create(&o, &r) || vsv_render(r, &sc, &cam, img[k], dep[k]))
+            memset(img[k], 0, sizeof(float) * 4 * SW * SH);
+        vsv_renderer_free(r);
+        unsetenv("VSV_SIMD");
+    }
+    int shown = 0;
+    for (int i = 0; i < SW * SH; i++)
+        shown += img[0][4 * i + 3] > 0.05f;
+    CHECK(shown > 200 && !memcmp(img[0], img[1], sizeof(float) * 4 * SW * SH) &&
+              !memcmp(dep[0], dep[1], sizeof(float) * SW * SH),
+          "log scale, 101x67 image: the sixteen-ray and one-ray loops give identical pixels and depths",
+          "%d pixels shown", shown);
+    for (int k = 0; k < 2; k++) {
+        free(img[k]);
+        free(dep[k]);
+    }
+}
+
 static void test_synthetic(void)
 {
     synth sy = {64, 48, 20, 3, 9, 9};
@@ -251,6 +297,7 @@ static void test_synthetic(void)
     if (!CHECK(load(&w, path, 2) == 0, "synthetic volumes load"))
         return;
     rules("synthetic", &w);
+    test_simd_paths(&w);
     const int sw3[3] = {0, 1, 2};
     sw_rules("synthetic", &w, sw3, 3);
     test_eye_inside(&w);
