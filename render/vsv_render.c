@@ -48,7 +48,6 @@ struct vsv_renderer {
     vsv_ground *ground;
     size_t ground_cap;
     vsv_camera ground_cam;
-    vsv_ground_blocks blocks; /* the highest ground per block, for the ground march */
     vsv_geo ground_geo;
     int ground_valid;
 };
@@ -325,75 +324,27 @@ void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3])
         rgb[i] = (float)(c[i] * lam);
 }
 
-/* Where the ray first meets the bilinear ground between t0 and t1 (the ray
- * above it at t0 unless it starts below): march half a cell at a time, the
- * last test at t1, then regula falsi (Illinois) down to a thousandth of a cell. */
-static double ground_march(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1, double st)
+/* The first s in [0, L] where q2 s^2 + q1 s + q0 falls to 0 (q0 > 0: the
+ * ray above the ground at s = 0); INFINITY if none. */
+static double first_root(double q2, double q1, double q0, double L)
 {
-    double prev = t0, fprev = 0;
-    for (double t = t0;; t += st) {
-        if (t > t1)
-            t = t1;
-        /* height of the ray above the ground */
-        const double ft = o[2] + t * d[2] - vsv_geo_terrain(g, o[0] + t * d[0], o[1] + t * d[1]);
-        if (ft <= 0) {
-            if (t == t0)
-                return t;
-            const double tol = 1e-3 * fmin(g->dx, g->dy);
-            double a = prev, b = t, fa = fprev, fb = ft;
-            int side = 0;
-            for (int it = 0; it < 60 && b - a > tol; it++) {
-                double m = (a * fb - b * fa) / (fb - fa);
-                if (!(m > a && m < b))
-                    m = 0.5 * (a + b);
-                const double fm = o[2] + m * d[2] - vsv_geo_terrain(g, o[0] + m * d[0], o[1] + m * d[1]);
-                if (fm <= 0) {
-                    b = m, fb = fm;
-                    if (side == -1)
-                        fa *= 0.5;
-                    side = -1;
-                } else {
-                    a = m, fa = fm;
-                    if (side == 1)
-                        fb *= 0.5;
-                    side = 1;
-                }
-            }
-            return b;
-        }
-        if (t >= t1)
-            return INFINITY;
-        prev = t;
-        fprev = ft;
+    if (fabs(q2) * L <= 1e-12 * (fabs(q1) + q0 / L)) { /* linear */
+        const double s = q1 < 0 ? -q0 / q1 : INFINITY;
+        return s <= L ? s : INFINITY;
     }
+    const double disc = q1 * q1 - 4 * q2 * q0;
+    if (disc < 0)
+        return INFINITY;
+    const double qq = -0.5 * (q1 + copysign(sqrt(disc), q1));
+    double r1 = qq / q2, r2 = qq != 0 ? q0 / qq : INFINITY;
+    if (r1 > r2) {
+        const double x = r1;
+        r1 = r2, r2 = x;
+    }
+    return r1 >= 0 && r1 <= L ? r1 : r2 >= 0 && r2 <= L ? r2 : INFINITY;
 }
 
-int vsv_ground_blocks_build(vsv_ground_blocks *B, const vsv_geo *g)
-{
-    B->nx = (g->nx - 1) / VSV_GROUND_BLOCK + 1;
-    B->ny = (g->ny - 1) / VSV_GROUND_BLOCK + 1;
-    const size_t n = (size_t)B->nx * B->ny;
-    if (n > B->cap) {
-        float *p = realloc(B->top, n * sizeof *p);
-        if (!p)
-            return VSV_ENOMEM;
-        B->top = p;
-        B->cap = n;
-    }
-    for (int bj = 0; bj < B->ny; bj++)
-        for (int bi = 0; bi < B->nx; bi++) {
-            /* the cell centres the block's bilinear pieces reach: its own and the next row and column */
-            float top = -INFINITY;
-            for (int j = bj * VSV_GROUND_BLOCK; j <= (bj + 1) * VSV_GROUND_BLOCK && j < g->ny; j++)
-                for (int i = bi * VSV_GROUND_BLOCK; i <= (bi + 1) * VSV_GROUND_BLOCK && i < g->nx; i++)
-                    top = g->terrain[(size_t)j * g->nx + i] > top ? g->terrain[(size_t)j * g->nx + i] : top;
-            B->top[(size_t)bj * B->nx + bi] = (float)(top * g->E);
-        }
-    return 0;
-}
-
-double vsv_geo_terrain_hit(const vsv_geo *g, const vsv_ground_blocks *B, const double o[3], const double d[3],
-                           double t0, double t1)
+double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1)
 {
     /* only where the ray is below the highest ground can it meet it */
     if (d[2] < 0) {
@@ -407,42 +358,51 @@ double vsv_geo_terrain_hit(const vsv_geo *g, const vsv_ground_blocks *B, const d
     } else if (o[2] > g->ground_top) {
         return INFINITY;
     }
-    if (t0 > t1)
+    if (!(t0 <= t1))
         return INFINITY;
-    const double hs = sqrt(d[0] * d[0] + d[1] * d[1]);
-    const double st = hs > 0 ? 0.5 * fmin(g->dx, g->dy) / hs : t1 - t0 + 1;
-    if (!B || !(hs > 0))
-        return ground_march(g, o, d, t0, t1, st);
-    /* block by block: a block the ray passes above (its lowest point there
-     * above the block's highest ground) is skipped; the others are marched */
-    const double size[2] = {VSV_GROUND_BLOCK * g->dx, VSV_GROUND_BLOCK * g->dy}, org[2] = {g->ox, g->oy};
-    const double isize[2] = {1 / size[0], 1 / size[1]}, id[2] = {1 / d[0], 1 / d[1]};
-    const int nb[2] = {B->nx, B->ny};
-    for (double t = t0; t < t1;) {
-        int b[2];
-        double te = t1;
-        const double tn = t + 1e-3 * st; /* the block the ray is entering */
-        for (int a = 0; a < 2; a++) {
-            const double u = (o[a] + tn * d[a] - org[a]) * isize[a];
-            b[a] = u < 0 ? 0 : u >= nb[a] ? nb[a] - 1 : (int)u;
-            /* the far side of the block (none beyond the edge blocks: the ground is flat out there) */
-            double tb = INFINITY;
-            if (d[a] > 0 && b[a] < nb[a] - 1)
-                tb = (org[a] + (b[a] + 1) * size[a] - o[a]) * id[a];
-            else if (d[a] < 0 && b[a] > 0)
-                tb = (org[a] + b[a] * size[a] - o[a]) * id[a];
-            te = tb < te ? tb : te;
+    /* The ground is one bilinear patch per square of four cell centres (patch
+     * i spans u in [i, i+1]); beyond the outer centres it is flat (patches -1
+     * and n-1). Walk the patches the ray crosses; in each whose highest corner
+     * the ray comes down to, solve the ray against the patch: a quadratic. */
+    const int nx = g->nx, ny = g->ny;
+    const double uo = (o[0] - g->ox) * g->idx, du = d[0] * g->idx;
+    const double vo = (o[1] - g->oy) * g->idy, dv = d[1] * g->idy;
+    const double u = uo + t0 * du, v = vo + t0 * dv;
+    int i = u < 0 ? -1 : u >= nx - 1 ? nx - 1 : (int)u, j = v < 0 ? -1 : v >= ny - 1 ? ny - 1 : (int)v;
+    const float *h = g->terrain;
+    const double iu = 1 / du, iv = 1 / dv; /* infinite along an axis the ray does not move on */
+    for (double t = t0;;) {
+        const double tu = du > 0 && i < nx - 1 ? (i + 1 - uo) * iu : du < 0 && i > -1 ? (i - uo) * iu : INFINITY;
+        const double tv = dv > 0 && j < ny - 1 ? (j + 1 - vo) * iv : dv < 0 && j > -1 ? (j - vo) * iv : INFINITY;
+        double te = tu < tv ? tu : tv;
+        te = te < t1 ? te : t1;
+        const int i0 = i < 0 ? 0 : i, i1 = i + 1 < nx ? i + 1 : nx - 1, j0 = j < 0 ? 0 : j, j1 = j + 1 < ny ? j + 1 : ny - 1;
+        const double h00 = h[(size_t)j0 * nx + i0] * g->E, h10 = h[(size_t)j0 * nx + i1] * g->E;
+        const double h01 = h[(size_t)j1 * nx + i0] * g->E, h11 = h[(size_t)j1 * nx + i1] * g->E;
+        const double za = o[2] + t * d[2], zb = o[2] + te * d[2];
+        const double top0 = h00 > h10 ? h00 : h10, top1 = h01 > h11 ? h01 : h11;
+        if ((za < zb ? za : zb) <= (top0 > top1 ? top0 : top1)) {
+            /* local coordinates along the ray from t: fu = fua + fu1 s (flat beyond the centres) */
+            const int inu = i >= 0 && i < nx - 1, inv = j >= 0 && j < ny - 1;
+            const double fua = inu ? uo + t * du - i : 0, fu1 = inu ? du : 0;
+            const double fva = inv ? vo + t * dv - j : 0, fv1 = inv ? dv : 0;
+            const double b = h10 - h00, c = h01 - h00, e = h11 - h10 - h01 + h00;
+            const double q0 = za - (h00 + b * fua + c * fva + e * fua * fva);
+            if (q0 <= 0)
+                return t; /* below the ground already: where it starts, or on this patch's edge */
+            const double q1 = d[2] - (b * fu1 + c * fv1 + e * (fua * fv1 + fu1 * fva)), q2 = -e * fu1 * fv1;
+            const double sh = first_root(q2, q1, q0, te - t);
+            if (sh < INFINITY)
+                return t + sh;
         }
-        te = te > tn ? te : tn;
-        const double za = o[2] + t * d[2], zb = o[2] + te * d[2], zlow = za < zb ? za : zb;
-        if (!(zlow > B->top[(size_t)b[1] * B->nx + b[0]])) {
-            const double hit = ground_march(g, o, d, t, te, st);
-            if (hit < INFINITY)
-                return hit;
-        }
+        if (te >= t1)
+            return INFINITY;
+        if (tu <= tv)
+            i += du > 0 ? 1 : -1;
+        if (tv <= tu)
+            j += dv > 0 ? 1 : -1;
         t = te;
     }
-    return INFINITY;
 }
 
 float vsv_opacity_table[VSV_OPACITY_N + 1];
@@ -713,7 +673,7 @@ static void ground_row(void *ctx, int py, int thread)
         t0 = fmax(t0, fmax(0, cam->znear));
         if (cam->zfar > 0 && t1 > cam->zfar)
             t1 = cam->zfar;
-        const double t = vsv_geo_terrain_hit(g, &r->blocks, o, d, t0, t1);
+        const double t = vsv_geo_terrain_hit(g, o, d, t0, t1);
         if (t < INFINITY) {
             gp->t = (float)t;
             vsv_geo_terrain_colour(g, o[0] + t * d[0], o[1] + t * d[1], gp->rgb);
@@ -873,7 +833,6 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r->skip);
     free(r->act);
     free(r->ground);
-    free(r->blocks.top);
     vsv_sw_free(r->sw);
     free(r);
 }
@@ -902,8 +861,6 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
             r->ground_valid = 0;
         }
         if (!r->ground_valid || memcmp(&r->ground_cam, cam, sizeof *cam) || memcmp(&r->ground_geo, &r->g, sizeof r->g)) {
-            if (vsv_ground_blocks_build(&r->blocks, &r->g))
-                return VSV_ENOMEM;
             pool_run(r, ground_row, r, cam->height);
             r->ground_cam = *cam;
             r->ground_geo = r->g;

@@ -66,21 +66,10 @@ double vsv_geo_terrain(const vsv_geo *g, double x, double y);
 void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3]);
 /* Slab intersection of a ray with a box: [t0, t1]; 0 if missed. */
 int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1);
-/* The highest ground (exaggerated) over blocks of VSV_GROUND_BLOCK cells a
- * side, so the ground march can pass over a block at once. */
-#define VSV_GROUND_BLOCK 8
-typedef struct vsv_ground_blocks {
-    float *top;
-    int nx, ny;
-    size_t cap;
-} vsv_ground_blocks;
-int vsv_ground_blocks_build(vsv_ground_blocks *B, const vsv_geo *g);
-/* Distance along the ray (o, d) where it first meets the ground between t0
- * and t1 (below the highest ground only; blocks of B the ray passes above
- * skipped, B may be NULL; the rest marched half a cell at a time and refined
- * by regula falsi); INFINITY if never. */
-double vsv_geo_terrain_hit(const vsv_geo *g, const vsv_ground_blocks *B, const double o[3], const double d[3],
-                           double t0, double t1);
+/* Distance along the ray (o, d) where it first meets the ground (the
+ * bilinear height field through the cell centres, flat beyond them) between
+ * t0 and t1: exact, patch by patch; INFINITY if never. */
+double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3], double t0, double t1);
 /* A camera's rays: the basis worked out once per frame. */
 typedef struct vsv_rays {
     double o[3], f[3], r[3], u[3], kx, ky, cx, cy, w, h;

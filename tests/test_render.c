@@ -4,6 +4,7 @@
  * at PSNR >= 40 dB on synthetic and real MM5 data, transfer-function text. */
 #include "vsv_format.h"
 #include "vsv_render.h"
+#include "vsv_render_internal.h"
 #include "vsv_synth.h"
 #include "vsv_testlib.h"
 
@@ -320,6 +321,51 @@ static void test_synthetic(void)
 
 /* The whole real MMOUT (Q with no-data cells under the Rockies): skipping
  * must not change the picture. */
+/* Where rays meet the real terrain: the exact patch-by-patch intersection
+ * against a march at a sixteenth of a cell: the point found lies on the
+ * ground (or is where the ray enters the box below it), the march finds the
+ * ray below the ground nowhere before it, and nowhere at all on rays that
+ * miss. Four views, one of them 8 degrees up (long grazing rays). */
+static void test_ground(world *w)
+{
+    const vsv_layer none[1] = {{w->vol[0], &w->tf[0], 0, 0}};
+    vsv_scene sc = {vsv_file_meta(w->f), none, 1, 1, 1};
+    sc.exaggeration = vsv_scene_default_exaggeration(&sc);
+    vsv_geo g;
+    vsv_scene_geo(&sc, &g);
+    int hits = 0, rays = 0, bad = 0;
+    for (int view = 0; view < 4; view++) {
+        vsv_camera cam;
+        vsv_camera_orbit(&cam, &sc, 225 + 90 * view, view == 3 ? 8 : 30, 0, W, H);
+        for (int py = 0; py < H; py += 3)
+            for (int px = 0; px < W; px += 3) {
+                double o[3], d[3], t0, t1;
+                vsv_pixel_ray(&cam, px, py, o, d);
+                if (!vsv_box_hit(o, d, g.bmin, g.bmax, &t0, &t1))
+                    continue;
+                t0 = fmax(t0, 0);
+                rays++;
+                const double t = vsv_geo_terrain_hit(&g, o, d, t0, t1);
+                const double hs = sqrt(d[0] * d[0] + d[1] * d[1]), st = hs > 0 ? fmin(g.dx, g.dy) / 16 / hs : 1e3;
+                const double end = t < INFINITY ? t - 1e-6 * (t + 1) : t1;
+                for (double s = t0; s < end; s += st) /* above the ground all the way to the hit */
+                    if (o[2] + s * d[2] < vsv_geo_terrain(&g, o[0] + s * d[0], o[1] + s * d[1])) {
+                        bad++;
+                        break;
+                    }
+                if (t < INFINITY) {
+                    hits++;
+                    const double f = o[2] + t * d[2] - vsv_geo_terrain(&g, o[0] + t * d[0], o[1] + t * d[1]);
+                    /* on the ground, or where the ray enters the box already below it */
+                    bad += !(fabs(f) <= 1e-6 * (g.ground_top + 1) || (t == t0 && f <= 0));
+                }
+            }
+    }
+    CHECK(rays > 1000 && hits > 500 && bad == 0,
+          "real MMOUT terrain: every ray meets the ground where a fine march says, exactly on it", "%d rays, %d hits, %d wrong",
+          rays, hits, bad);
+}
+
 static void test_mmout(void)
 {
     const char *path = vsv_test_tmp("render-mmout.vsv");
@@ -337,6 +383,7 @@ static void test_mmout(void)
     CHECK(sk && nsk && max_diff(sk, nsk) <= 1.0 / 255, "real MMOUT, all species: skipping within 1/255", "%g",
           sk && nsk ? max_diff(sk, nsk) : -1);
     CHECK(sk && coverage(sk) > 0.1, "a render of the whole MMOUT domain is not empty", "%.2f", sk ? coverage(sk) : 0);
+    test_ground(&w);
     free(sk);
     free(nsk);
     unload(&w);
