@@ -12,7 +12,6 @@
 
 #include <immintrin.h>
 #include <limits.h>
-#include <stdint.h>
 
 #define H 2            /* AVX2 registers per packet */
 #define W (8 * H)      /* rays per packet: VSV_RC_LANES */
@@ -36,52 +35,34 @@ static inline vi iset(int x)
     EACH o.r[h] = _mm256_set1_epi32(x);
     return o;
 }
-#define F2(name, op)                                                                                                   \
-    static inline vf name(vf a, vf b)                                                                                  \
+/* name(a, b): op on each register of the pair */
+#define BIN(T, name, op)                                                                                               \
+    static inline T name(T a, T b)                                                                                     \
     {                                                                                                                  \
-        vf o;                                                                                                          \
+        T o;                                                                                                           \
         EACH o.r[h] = op(a.r[h], b.r[h]);                                                                              \
         return o;                                                                                                      \
     }
-#define I2(name, op)                                                                                                   \
-    static inline vi name(vi a, vi b)                                                                                  \
-    {                                                                                                                  \
-        vi o;                                                                                                          \
-        EACH o.r[h] = op(a.r[h], b.r[h]);                                                                              \
-        return o;                                                                                                      \
-    }
-F2(add, _mm256_add_ps)
-F2(sub, _mm256_sub_ps)
-F2(mul, _mm256_mul_ps)
-F2(vmin, _mm256_min_ps)
-F2(vmax, _mm256_max_ps)
-F2(fand, _mm256_and_ps)
-F2(fandnot, _mm256_andnot_ps) /* ~a & b */
-I2(iadd, _mm256_add_epi32)
-I2(iand, _mm256_and_si256)
-I2(ior, _mm256_or_si256)
-I2(imin, _mm256_min_epi32)
-I2(imul, _mm256_mullo_epi32)
-I2(ieq, _mm256_cmpeq_epi32)
-I2(igt, _mm256_cmpgt_epi32)
-static inline vf lt(vf a, vf b)
-{
-    vf o;
-    EACH o.r[h] = _mm256_cmp_ps(a.r[h], b.r[h], _CMP_LT_OQ);
-    return o;
-}
-static inline vf gt(vf a, vf b)
-{
-    vf o;
-    EACH o.r[h] = _mm256_cmp_ps(a.r[h], b.r[h], _CMP_GT_OQ);
-    return o;
-}
-static inline vf ge(vf a, vf b)
-{
-    vf o;
-    EACH o.r[h] = _mm256_cmp_ps(a.r[h], b.r[h], _CMP_GE_OQ);
-    return o;
-}
+#define CMP_LT(a, b) _mm256_cmp_ps(a, b, _CMP_LT_OQ)
+#define CMP_GT(a, b) _mm256_cmp_ps(a, b, _CMP_GT_OQ)
+#define CMP_GE(a, b) _mm256_cmp_ps(a, b, _CMP_GE_OQ)
+BIN(vf, add, _mm256_add_ps)
+BIN(vf, sub, _mm256_sub_ps)
+BIN(vf, mul, _mm256_mul_ps)
+BIN(vf, vmin, _mm256_min_ps)
+BIN(vf, vmax, _mm256_max_ps)
+BIN(vf, fand, _mm256_and_ps)
+BIN(vf, fandnot, _mm256_andnot_ps) /* ~a & b */
+BIN(vf, lt, CMP_LT)
+BIN(vf, gt, CMP_GT)
+BIN(vf, ge, CMP_GE)
+BIN(vi, iadd, _mm256_add_epi32)
+BIN(vi, iand, _mm256_and_si256)
+BIN(vi, ior, _mm256_or_si256)
+BIN(vi, imin, _mm256_min_epi32)
+BIN(vi, imul, _mm256_mullo_epi32)
+BIN(vi, ieq, _mm256_cmpeq_epi32)
+BIN(vi, igt, _mm256_cmpgt_epi32)
 static inline vf blend(vf a, vf b, vf m) /* m ? b : a */
 {
     vf o;
@@ -210,9 +191,6 @@ static vf sample(const vsv_rc_layer *L, unsigned m, unsigned fast, int uni, cons
     if (uni && one && load == ALL) { /* the most common case */
         for (int l = 0; l < W; l++)
             row[l] = cell_row(one + off[l], dj, dk);
-    } else if (uni && one) { /* every lane in one brick */
-        for (int l = 0; l < W; l++)
-            row[l] = cell_row(load >> l & 1 ? one + off[l] : nothing, dj, dk);
     } else {
         for (int l = 0; l < W; l++) { /* no branch per lane */
             const float *b = vol->bricks[bidx[l]];

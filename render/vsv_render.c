@@ -558,16 +558,11 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
                 continue; /* transparent around this brick: adds nothing */
             float cell[8];
             const float *q = L->vol->bricks[bidx];
-            if (!fast) {
+            if (!fast)
                 vsv_rc_cells(L->vol, ci[0], ci[1], ci[2], cell);
-            } else if (!q) {
+            else /* all eight in this brick (or an empty brick) */
                 for (int i = 0; i < 8; i++)
-                    cell[i] = L->vol->empty_value;
-            } else {
-                q += off;
-                const float c8[8] = {q[0], q[1], q[dj], q[dj + 1], q[dk], q[dk + 1], q[dk + dj], q[dk + dj + 1]};
-                memcpy(cell, c8, sizeof cell);
-            }
+                    cell[i] = q ? q[off + (i & 1) + (i & 2 ? dj : 0) + (i & 4 ? dk : 0)] : L->vol->empty_value;
             const float v = vsv_rc_trilinear(cell, fu, fv, fw);
             if (!(v >= L->lo)) /* below the range, or no data (NaN) */
                 continue;
@@ -600,6 +595,23 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
     *pT = T;
 }
 
+/* The ray of pixel (px, py) and its stretch [t0, t1] inside the scene's box
+ * and the camera's near and far distances; 0 when it has none. */
+static int pixel_span(const vsv_renderer *r, int px, int py, double o[3], double d[3], double *t0, double *t1)
+{
+    if (!rays_may_hit(&r->rays, px, py))
+        return 0;
+    vsv_rays_get(&r->rays, px, py, o, d);
+    if (!vsv_box_hit(o, d, r->g.bmin, r->g.bmax, t0, t1))
+        return 0;
+    const double znear = r->cam->znear > 0 ? r->cam->znear : 0;
+    if (*t0 < znear)
+        *t0 = znear;
+    if (r->cam->zfar > 0 && *t1 > r->cam->zfar)
+        *t1 = r->cam->zfar;
+    return 1;
+}
+
 /* The ray of pixel (px, py): its samples through the volume (none when it
  * misses), and where it meets the ground (t_hit; INFINITY when it does not). */
 static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray *ray, double *t_hit)
@@ -608,15 +620,8 @@ static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray *ray
     double o[3], d[3], t0, t1;
     ray->ns = 0;
     *t_hit = INFINITY;
-    if (!rays_may_hit(&r->rays, px, py))
+    if (!pixel_span(r, px, py, o, d, &t0, &t1))
         return;
-    vsv_rays_get(&r->rays, px, py, o, d);
-    if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
-        return;
-    const double znear = r->cam->znear > 0 ? r->cam->znear : 0;
-    t0 = t0 > znear ? t0 : znear;
-    if (r->cam->zfar > 0 && t1 > r->cam->zfar)
-        t1 = r->cam->zfar;
     if (g->terrain)
         *t_hit = r->ground[(size_t)py * r->cam->width + px].t;
     const double st = r->frame.st;
@@ -665,14 +670,8 @@ static void ground_row(void *ctx, int py, int thread)
         vsv_ground *gp = &r->ground[(size_t)py * cam->width + px];
         double o[3], d[3], t0, t1;
         gp->t = INFINITY;
-        if (!rays_may_hit(&r->rays, px, py))
+        if (!pixel_span(r, px, py, o, d, &t0, &t1))
             continue;
-        vsv_rays_get(&r->rays, px, py, o, d);
-        if (!vsv_box_hit(o, d, g->bmin, g->bmax, &t0, &t1))
-            continue;
-        t0 = fmax(t0, fmax(0, cam->znear));
-        if (cam->zfar > 0 && t1 > cam->zfar)
-            t1 = cam->zfar;
         const double t = vsv_geo_terrain_hit(g, o, d, t0, t1);
         if (t < INFINITY) {
             gp->t = (float)t;
