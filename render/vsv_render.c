@@ -727,11 +727,9 @@ static void raycast_tile(void *ctx, int tile, int thread)
 
 static void run_items(vsv_renderer *r, int thread)
 {
-    for (;;) {
-        pthread_mutex_lock(&r->mu);
-        const int item = r->next_item < r->nitems ? r->next_item++ : -1;
-        pthread_mutex_unlock(&r->mu);
-        if (item < 0)
+    for (;;) { /* one atomic counter hands out the items (a lock per item cost as much as a warp row) */
+        const int item = __atomic_fetch_add(&r->next_item, 1, __ATOMIC_RELAXED);
+        if (item >= r->nitems)
             return;
         r->job(r->job_ctx, item, thread);
     }
@@ -809,13 +807,14 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
         vsv_render_opts_init(&r->o);
     if (r->o.kind != VSV_RENDER_RAYCAST && r->o.kind != VSV_RENDER_SHEARWARP)
         return VSV_EUNSUPPORTED;
-    if (r->o.kind == VSV_RENDER_SHEARWARP && !(r->sw = vsv_sw_create(MAX_THREADS)))
-        return VSV_ENOMEM;
-    if (!(r->o.step_cells > 0))
-        r->o.step_cells = 0.5;
     const char *simd = getenv("VSV_SIMD");
     __builtin_cpu_init();
     r->simd = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !(simd && !strcmp(simd, "0"));
+    if (r->o.kind == VSV_RENDER_SHEARWARP &&
+        !(r->sw = vsv_sw_create(MAX_THREADS, r->simd && __builtin_cpu_supports("f16c"))))
+        return VSV_ENOMEM;
+    if (!(r->o.step_cells > 0))
+        r->o.step_cells = 0.5;
     int n = r->o.threads > 0 ? r->o.threads : vsv_ncpus();
     r->nthreads = n > MAX_THREADS ? MAX_THREADS : n;
     pthread_mutex_init(&r->mu, NULL);
@@ -896,7 +895,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
         }
         if (!rc) {
             pool_run(r, vsv_sw_composite_row, r->sw, rows);
-            pool_run(r, vsv_sw_warp_row, r->sw, cam->height);
+            pool_run(r, vsv_sw_warp_rows, r->sw, vsv_sw_warp_jobs(cam->height));
             return 0;
         }
         if (rc != VSV_EUNSUPPORTED)

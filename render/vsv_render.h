@@ -123,12 +123,15 @@ void vsv_renderer_free(vsv_renderer *r);
  * INFINITY where none); either may be NULL. The same pixels whatever the
  * thread count. The raycaster marches sixteen rays at once on CPUs with AVX2
  * and FMA (chosen when the renderer is created; VSV_SIMD=0 in the environment
- * keeps it to one ray at a time), with the same pixels either way. */
+ * keeps it to one ray at a time), with the same pixels either way; the
+ * shear-warp's parallel-ray compositing is built for any x86-64 and for AVX2,
+ * FMA and F16C, chosen the same way (the two differ by rounding, under
+ * 1e-5). */
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
 
 /* Seconds the last rebuild of precomputed state took (shear-warp: classifying
  * the species into the copy for one principal viewing axis with its
- * scanline intervals, redone for an axis's first view after a transfer
+ * scanline footprints, redone for an axis's first view after a transfer
  * function, an opacity or the time step changes); 0 for the raycaster. */
 double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
 

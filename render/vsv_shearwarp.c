@@ -4,26 +4,30 @@
  * Classification applies the species rule per voxel (summed extinction and
  * extinction-weighted colour) into a copy of the volume for the principal
  * viewing axis, built when a view first needs that axis (one copy per axis
- * at most), with its voxel scanlines contiguous and a border of empty voxels
- * around every slice (so the bilinear footprint never needs a bounds test),
- * together with the non-transparent intervals of every scanline. It runs on
- * the renderer's thread pool, one slice per job.
+ * at most): its scanlines contiguous, each as four planes (red, green, blue,
+ * extinction) with empty voxels around them (so the bilinear footprint never
+ * needs a bounds test), and, for every pair of adjacent scanlines, the
+ * intervals where a sample between them can meet a non-transparent voxel
+ * (the run-length part: the union of both scanlines' non-transparent runs,
+ * each widened by the one voxel a bilinear footprint reaches). Layout in
+ * vsv_render_internal.h. It runs on the renderer's thread pool, one slice per
+ * job.
  *
  * A frame composites slices perpendicular to the principal viewing axis front
- * to back into an intermediate image, one intermediate row per job: each
- * slice's two voxel scanlines under the row give the pixel intervals that can
- * receive anything (the union of their non-transparent intervals), pixels
- * already opaque are skipped through per-row links, samples are bilinear
- * inside the slice, and opacity comes from a table of (1 - e^-u)/u so no
- * exponential is evaluated per sample. One 2-D warp (affine for parallel
- * rays, projective for perspective) resamples the intermediate image into
- * the final one. The ground is the raycaster's height field, met by each
- * final pixel's ray and composited behind the volume (cells below the ground
- * hold no data).
+ * to back into an intermediate image, one intermediate row per job: the
+ * footprints of the scanline pair under the row say which pixels can receive
+ * anything, pixels already opaque are skipped through per-row links, samples
+ * are bilinear inside the slice. For parallel rays a row is eight pixels a
+ * step (vsv_sw_row.c: every pixel of the row has the same bilinear weights);
+ * for perspective one pixel a step, opacity from the table of (1 - e^-u)/u.
+ * One 2-D warp (affine for parallel rays, projective for perspective)
+ * resamples the intermediate image into the final one. The ground is the
+ * raycaster's height field, met by each final pixel's ray and composited
+ * behind the volume (cells below the ground hold no data).
  *
- * Memory: 16 bytes per voxel for a classified copy and 2 bytes per voxel for
- * its intervals: 18 bytes per voxel for one viewing axis, 54 when views have
- * used all three. */
+ * Memory: 16 bytes per voxel (and 16 voxels of padding per scanline) for a
+ * classified copy and 2 bytes per voxel for its footprints: about 19 bytes
+ * per voxel for one viewing axis, 57 when views have used all three. */
 #include "vsv_render_internal.h"
 
 #include <math.h>
@@ -32,21 +36,16 @@
 
 #define OPAQUE 0.998f
 
-/* A classified voxel: extinction-weighted colour and extinction per world
- * metre, the same order as an intermediate pixel (premultiplied rgb, alpha),
- * so a sample is four-wide arithmetic. */
+/* an intermediate pixel: premultiplied rgb, alpha */
 typedef float v4 __attribute__((vector_size(16)));
-typedef v4 svox;
 
 struct vsv_sw {
-    /* per principal axis c (a = c+1, b = c+2 mod 3): nc slices of nb+2 rows
-     * of na+2 voxels, the outer ring empty */
-    svox *vox[3];
+    /* per principal axis c (a = c+1, b = c+2 mod 3): the classified copy
+     * and its footprints (vsv_render_internal.h) */
+    uint16_t *vox[3];
     size_t vox_cap[3];
-    /* per axis: every scanline (k, ib) owns na+4 uint16: a count n, then n
-     * half-open intervals [lo, hi) of non-transparent voxels */
-    uint16_t *ivl[3];
-    size_t ivl_cap[3];
+    uint16_t *fp[3];
+    size_t fp_cap[3];
     uint64_t key; /* what the classification was built from */
     int n[3];
     int valid[3]; /* the copy for this axis is current */
@@ -54,15 +53,18 @@ struct vsv_sw {
     unsigned char *clear; /* per layer and brick: every value transparent */
     size_t clear_cap;
     double sigma_unit;
-    /* intermediate image, one empty pixel of border all round, and its
-     * opaque-pixel links (w + 1 per row) */
+    /* intermediate image (img_stride floats a row), an empty border of one
+     * pixel left and top, two right and bottom, and its opaque-pixel links
+     * (w + 1 per row, perspective) */
     float *img;
     int *link;
     size_t img_cap, link_cap;
-    int **scratch; /* per thread: merged intervals and perspective deltas */
+    /* per thread: a parallel band's group links, or a slice's scanline runs
+     * while classifying; a parallel band's planes, or perspective deltas */
+    int **scratch;
     float **dscratch;
-    size_t scratch_cap;
-    int max_threads;
+    size_t scratch_cap, dscratch_cap;
+    int max_threads, simd;
     /* the current view (set by begin) */
     const vsv_geo *g;
     const vsv_camera *cam;
@@ -116,12 +118,14 @@ static int grow(void **p, size_t *cap, size_t need, size_t elem)
 }
 
 static int axis_a(int c) { return (c + 1) % 3; }
+/* pixels in a row of the intermediate image: border, w pixels, two of border */
+static size_t img_stride(const vsv_sw *sw) { return (size_t)sw->w + 3; }
 static int axis_b(int c) { return (c + 2) % 3; }
 
 /* Checks the classification against the scene (invalidating every axis's
  * copy when anything it depends on changed; begin has checked the grid's
  * size) and sizes the copy for axis c. */
-static int classification_for(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, int c)
+static int classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
 {
     const uint64_t key = scene_key(sc);
     if (key != sw->key) {
@@ -131,11 +135,10 @@ static int classification_for(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g,
     if (sw->valid[c])
         return 0;
     const size_t na = sw->n[axis_a(c)], nb = sw->n[axis_b(c)], nc = sw->n[c];
-    if (grow((void **)&sw->vox[c], &sw->vox_cap[c], nc * (nb + 2) * (na + 2), sizeof(svox)) ||
-        grow((void **)&sw->ivl[c], &sw->ivl_cap[c], nc * nb * (na + 4), sizeof(uint16_t)))
+    if (grow((void **)&sw->vox[c], &sw->vox_cap[c], nc * (nb + 2) * 4 * VSV_SW_PLANE(na), sizeof(uint16_t)) ||
+        grow((void **)&sw->fp[c], &sw->fp_cap[c], nc * (nb + 1) * (na + 4), sizeof(uint16_t)))
         return VSV_ENOMEM;
     sw->sc = sc;
-    sw->sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
     /* bricks a layer leaves transparent need no transfer-function lookups */
     const vsv_volume *v0 = NULL;
     for (int l = 0; l < sc->nlayers && !v0; l++)
@@ -154,21 +157,53 @@ static int classification_for(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g,
     return 0;
 }
 
-/* Slice k of the current axis: classified voxels (the empty border too) and
- * every scanline's non-transparent intervals. */
+/* The footprint of two scanlines' runs (n, then n intervals [lo, hi) of
+ * non-transparent voxels; NULL: none): a sample at pa touches a voxel of
+ * [lo, hi) when floor(pa) lies in [lo - 1, hi - 1], so runs one voxel or
+ * less apart merge. Writes n, then the sorted, merged intervals to out. */
+static void merge_footprints(const uint16_t *A, const uint16_t *B, uint16_t *out)
+{
+    int na = A ? A[0] : 0, nb = B ? B[0] : 0, i = 0, j = 0, n = 0;
+    while (i < na || j < nb) {
+        int lo, hi;
+        if (j >= nb || (i < na && A[1 + 2 * i] <= B[1 + 2 * j])) {
+            lo = A[1 + 2 * i], hi = A[2 + 2 * i];
+            i++;
+        } else {
+            lo = B[1 + 2 * j], hi = B[2 + 2 * j];
+            j++;
+        }
+        if (n && lo <= out[2 * n] + 1) {
+            if (hi > out[2 * n])
+                out[2 * n] = (uint16_t)hi;
+        } else {
+            out[1 + 2 * n] = (uint16_t)lo;
+            out[2 + 2 * n] = (uint16_t)hi;
+            n++;
+        }
+    }
+    out[0] = (uint16_t)n;
+}
+
+/* Slice k of the current axis: classified voxels (the empty scanlines and
+ * padding too) and the footprints of its scanline pairs. */
 void vsv_sw_classify_slice(void *p, int k, int thread)
 {
     vsv_sw *sw = p;
     const vsv_scene *sc = sw->sc;
     const int c = sw->c, a = axis_a(c), b = axis_b(c), na = sw->n[a], nb = sw->n[b];
-    (void)thread;
-    svox *slice = sw->vox[c] + (size_t)k * (nb + 2) * (na + 2);
-    memset(slice, 0, (size_t)(na + 2) * sizeof(svox));                    /* row -1 */
-    memset(slice + (size_t)(nb + 1) * (na + 2), 0, (size_t)(na + 2) * sizeof(svox)); /* row nb */
+    const size_t P = VSV_SW_PLANE(na), scan = 4 * P;
+    uint16_t *slice = sw->vox[c] + (size_t)k * (nb + 2) * scan;
+    memset(slice, 0, scan * sizeof *slice);                   /* scanline -1 */
+    memset(slice + (nb + 1) * scan, 0, scan * sizeof *slice); /* scanline nb */
+    uint16_t *fp = sw->fp[c] + (size_t)k * (nb + 1) * (na + 4);
+    /* this scanline's runs and the previous one's */
+    uint16_t *runs[2] = {(uint16_t *)sw->scratch[thread], (uint16_t *)sw->scratch[thread] + na + 4};
+    runs[1][0] = 0;
     for (int ib = 0; ib < nb; ib++) {
-        svox *row = slice + (size_t)(ib + 1) * (na + 2) + 1;
-        row[-1] = row[na] = (svox){0, 0, 0, 0};
-        uint16_t *iv = sw->ivl[c] + ((size_t)k * nb + ib) * (na + 4);
+        uint16_t *const row = slice + (size_t)(ib + 1) * scan;
+        memset(row, 0, scan * sizeof *row);
+        uint16_t *iv = runs[ib & 1];
         int cnt = 0, open = 0;
         for (int ia = 0; ia < na; ia++) {
             int idx[3];
@@ -187,7 +222,7 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
                     continue;
                 float rgba[4];
                 vsv_tf_eval(L->tf, vsv_volume_at(L->vol, idx[0], idx[1], idx[2]), rgba);
-                const float s = (float)(rgba[3] * L->opacity * sw->sigma_unit);
+                const float s = rgba[3] * L->opacity; /* in units of sigma_unit */
                 if (s > 0) {
                     cs += s;
                     cr += (double)s * rgba[0];
@@ -195,8 +230,10 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
                     cb += (double)s * rgba[2];
                 }
             }
-            row[ia] = (svox){(float)cr, (float)cg, (float)cb, (float)cs};
-            if ((cs > 0) != open) { /* an interval opens or closes here */
+            uint16_t *const v = row + VSV_SW_PAD + ia;
+            v[0] = vsv_half((float)cr), v[P] = vsv_half((float)cg), v[2 * P] = vsv_half((float)cb);
+            v[3 * P] = vsv_half((float)cs);
+            if ((v[3 * P] > 0) != open) { /* a run opens or closes here */
                 iv[1 + cnt] = (uint16_t)ia;
                 cnt++;
                 open = !open;
@@ -205,7 +242,9 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
         if (open)
             iv[1 + cnt++] = (uint16_t)na;
         iv[0] = (uint16_t)(cnt / 2);
+        merge_footprints(runs[(ib + 1) & 1], iv, fp + (size_t)ib * (na + 4)); /* pair (ib - 1, ib) */
     }
+    merge_footprints(runs[(nb + 1) & 1], NULL, fp + (size_t)nb * (na + 4)); /* pair (nb - 1, nb) */
 }
 
 void vsv_sw_classified(vsv_sw *sw, double seconds)
@@ -213,33 +252,6 @@ void vsv_sw_classified(vsv_sw *sw, double seconds)
     sw->valid[sw->c] = 1;
     sw->build_seconds = seconds;
     sw->sc = NULL;
-}
-
-/* The footprint of two voxel scanlines: sample positions pa in [lo - 1, hi)
- * touch a non-transparent voxel of an interval [lo, hi). Writes the sorted,
- * merged union of both lists' ranges to out (pairs), returns the count. */
-static int merge_footprints(const uint16_t *A, const uint16_t *B, int *out)
-{
-    int na = A ? A[0] : 0, nb = B ? B[0] : 0, i = 0, j = 0, n = 0;
-    while (i < na || j < nb) {
-        int lo, hi;
-        if (j >= nb || (i < na && A[1 + 2 * i] <= B[1 + 2 * j])) {
-            lo = A[1 + 2 * i] - 1, hi = A[2 + 2 * i];
-            i++;
-        } else {
-            lo = B[1 + 2 * j] - 1, hi = B[2 + 2 * j];
-            j++;
-        }
-        if (n && lo <= out[2 * n - 1]) {
-            if (hi > out[2 * n - 1])
-                out[2 * n - 1] = hi;
-        } else {
-            out[2 * n] = lo;
-            out[2 * n + 1] = hi;
-            n++;
-        }
-    }
-    return n;
 }
 
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
@@ -312,34 +324,34 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
         sw->h = (int)ceil(hi_b - lo_b) + 2;
     }
     /* buffers grow with the view and are reused: no allocation per frame */
-    const size_t W = (size_t)sw->w + 2;
-    if (grow((void **)&sw->img, &sw->img_cap, W * (sw->h + 2) * 4, sizeof(float)) ||
+    const size_t W = img_stride(sw);
+    if (grow((void **)&sw->img, &sw->img_cap, W * (sw->h + 3) * 4, sizeof(float)) ||
         grow((void **)&sw->link, &sw->link_cap, ((size_t)sw->w + 1) * sw->h, sizeof(int)))
         return VSV_ENOMEM;
-    const size_t need = (size_t)sw->na + 4 > (size_t)sw->w ? (size_t)sw->na + 4 : (size_t)sw->w;
-    if (need > sw->scratch_cap) {
-        for (int t = 0; t < sw->max_threads; t++) {
-            int *m = realloc(sw->scratch[t], need * 2 * sizeof(int));
-            float *f = realloc(sw->dscratch[t], need * sizeof(float));
-            if (m)
-                sw->scratch[t] = m;
-            if (f)
-                sw->dscratch[t] = f;
-            if (!m || !f)
-                return VSV_ENOMEM;
-        }
-        sw->scratch_cap = need;
+    /* per thread: two scanlines' runs (uint16) or a band's group links; a
+     * band's planes or a row's perspective deltas */
+    const size_t ng = vsv_sw_par_groups(sw->w), nl = VSV_SW_BAND * (ng + 1);
+    const size_t ni = (size_t)sw->na + 4 > nl ? (size_t)sw->na + 4 : nl, nf = VSV_SW_BAND * 4 * ng * VSV_SW_LANES;
+    for (int t = 0; t < sw->max_threads; t++) {
+        size_t ci = sw->scratch_cap, cf = sw->dscratch_cap;
+        if (grow((void **)&sw->scratch[t], &ci, ni, sizeof(int)) || grow((void **)&sw->dscratch[t], &cf, nf, sizeof(float)))
+            return VSV_ENOMEM;
     }
+    if (ni > sw->scratch_cap)
+        sw->scratch_cap = ni;
+    if (nf > sw->dscratch_cap)
+        sw->dscratch_cap = nf;
     /* the border rows; each composited row clears itself */
     memset(sw->img, 0, W * 4 * sizeof(float));
-    memset(sw->img + W * (sw->h + 1) * 4, 0, W * 4 * sizeof(float));
+    memset(sw->img + W * (sw->h + 1) * 4, 0, 2 * W * 4 * sizeof(float));
     sw->g = g;
+    sw->sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
     sw->cam = cam;
     vsv_rays_init(&sw->rays, cam);
     sw->out = out;
     sw->depth = depth;
-    *rows = sw->h;
-    int rc = classification_for(sw, sc, g, c);
+    *rows = sw->persp ? sw->h : (sw->h + VSV_SW_BAND - 1) / VSV_SW_BAND;
+    int rc = classification_for(sw, sc, c);
     if (rc)
         return rc;
     *classify = sw->valid[c] ? 0 : sw->nc;
@@ -359,18 +371,25 @@ static int open_pixel(int *lk, int x)
     return xx;
 }
 
-/* One pixel: the bilinear blend (weights w) of voxels v0[0], v0[1], v1[0],
- * v1[1] composited over px with d world metres of ray per slice; opaque
- * pixels are linked past. */
-static inline __attribute__((always_inline)) void sample(v4 *px, int *lk, int x, const svox *v0,
-                                                         const svox *v1, const v4 w, float d)
+/* The bilinear blend (weights w) of plane ch of voxels t0[0], t0[1],
+ * t1[0], t1[1]. */
+static inline float blend(const uint16_t *t0, const uint16_t *t1, size_t ch, const v4 w)
 {
-    const v4 acc = w[0] * v0[0] + w[1] * v0[1] + w[2] * v1[0] + w[3] * v1[1];
-    const float S = acc[3];
+    return w[0] * vsv_half_float(t0[ch]) + w[1] * vsv_half_float(t0[ch + 1]) + w[2] * vsv_half_float(t1[ch]) +
+           w[3] * vsv_half_float(t1[ch + 1]);
+}
+
+/* One pixel: the blend of voxels t0[0], t0[1], t1[0], t1[1] (each four
+ * planes P apart) composited over px with d units of ray per slice; opaque
+ * pixels are linked past. */
+static inline __attribute__((always_inline)) void sample(v4 *px, int *lk, int x, const uint16_t *t0,
+                                                         const uint16_t *t1, size_t P, const v4 w, float d)
+{
+    const float S = blend(t0, t1, 3 * P, w);
     if (!(S > 0))
         return;
-    const float u = S * d;
-    const float f = vsv_opacity_per_u(u);
+    const v4 acc = {blend(t0, t1, 0, w), blend(t0, t1, P, w), blend(t0, t1, 2 * P, w), S};
+    const float f = vsv_opacity_per_u(S * d);
     *px += ((1 - (*px)[3]) * d * f) * acc; /* transmittance x alpha / S */
     if ((*px)[3] >= OPAQUE)
         lk[x] = x + 1;
@@ -378,83 +397,69 @@ static inline __attribute__((always_inline)) void sample(v4 *px, int *lk, int x,
 
 static v4 weights(float fu, float fv) { return (v4){(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv}; }
 
-/* Intermediate row y through every slice, front to back. Slice k samples
- * the voxel coordinates pa = pa0 + x dpa, pb along the row (dpa = 1 for
- * parallel rays, with the same bilinear weights all along; 1/s_k for
- * perspective). */
+/* Intermediate row y (perspective), or band y of VSV_SW_BAND rows (parallel
+ * rays: vsv_sw_row.c), through every slice, front to back. For perspective,
+ * slice k samples the voxel coordinates pa = pa0 + x / s_k, pb along the
+ * row, one pixel a step. */
 void vsv_sw_composite_row(void *p, int y, int thread)
 {
     vsv_sw *sw = p;
-    const int c = sw->c, na = sw->na, nb = sw->nb, w = sw->w, persp = sw->persp;
-    const size_t W = (size_t)w + 2;
+    const int c = sw->c, na = sw->na, nb = sw->nb, w = sw->w;
+    const size_t W = img_stride(sw);
+    if (!sw->persp) {
+        const vsv_sw_par par = {sw->vox[c], sw->fp[c], VSV_SW_PLANE(na), na, nb, sw->nc, w, sw->front, sw->dk,
+                                sw->sa, sw->sb, sw->ta, sw->tb, (float)(sw->delta * sw->sigma_unit)};
+        const int y0 = y * VSV_SW_BAND, n = sw->h - y0 < VSV_SW_BAND ? sw->h - y0 : VSV_SW_BAND;
+        float *const row = sw->img + ((size_t)y0 + 1) * W * 4;
+        for (int j = 0; j < n; j++) { /* the border pixels */
+            memset(row + j * W * 4, 0, 4 * sizeof(float));
+            memset(row + (j * W + w + 1) * 4, 0, 2 * 4 * sizeof(float));
+        }
+        (sw->simd ? vsv_sw_par_rows_avx2 : vsv_sw_par_rows)(&par, y0, n, sw->dscratch[thread], sw->scratch[thread],
+                                                             row + 4, W * 4);
+        return;
+    }
     float *row = sw->img + ((size_t)y + 1) * W * 4;
     memset(row, 0, W * 4 * sizeof(float));
     v4 *const img = (v4 *)row + 1; /* pixel 0 */
     int *lk = sw->link + (size_t)y * (w + 1);
     for (int x = 0; x <= w; x++)
         lk[x] = x;
-    int *span = sw->scratch[thread];
     float *dl = sw->dscratch[thread];
     const double ea = sw->eye[sw->a], eb = sw->eye[sw->b], ec = sw->eye[c];
-    if (persp) { /* world length of each pixel's ray per slice */
-        const double ub = (y - sw->tb - eb) / (sw->kref - ec);
-        const double kb = ub * ub * sw->wsz[1] * sw->wsz[1] + sw->wsz[2] * sw->wsz[2];
-        for (int x = 0; x < w; x++) {
-            const double ua = (x - sw->ta - ea) / (sw->kref - ec);
-            dl[x] = (float)sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + kb);
-        }
+    /* each pixel's ray per slice, in the extinction's units */
+    const double ub = (y - sw->tb - eb) / (sw->kref - ec);
+    const double kb = ub * ub * sw->wsz[1] * sw->wsz[1] + sw->wsz[2] * sw->wsz[2];
+    for (int x = 0; x < w; x++) {
+        const double ua = (x - sw->ta - ea) / (sw->kref - ec);
+        dl[x] = (float)(sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + kb) * sw->sigma_unit);
     }
-    const float delta = (float)sw->delta;
-    const size_t slice = (size_t)(nb + 2) * (na + 2);
+    const size_t P = VSV_SW_PLANE(na), scan = 4 * P, slice = (size_t)(nb + 2) * scan;
     for (int s = 0; s < sw->nc; s++) {
         const int k = sw->front + s * sw->dk;
-        double pa0, dpa, pb;
-        if (persp) {
-            const double sk = (sw->kref - ec) / (k - ec);
-            dpa = 1 / sk;
-            pa0 = ea - (sw->ta + ea) / sk;
-            pb = eb + (y - sw->tb - eb) / sk;
-        } else {
-            dpa = 1;
-            pa0 = -(sw->sa * k + sw->ta);
-            pb = y - (sw->sb * k + sw->tb);
-        }
+        const double sk = (sw->kref - ec) / (k - ec);
+        const double dpa = 1 / sk, pa0 = ea - (sw->ta + ea) / sk, pb = eb + (y - sw->tb - eb) / sk;
         if (!(pb >= -1) || !(pb < nb))
             continue;
         const int ib = (int)(pb + 1) - 1;
         const float fv = (float)(pb - ib);
-        const uint16_t *A = ib >= 0 ? sw->ivl[c] + ((size_t)k * nb + ib) * (na + 4) : NULL;
-        const uint16_t *B = ib + 1 < nb ? sw->ivl[c] + ((size_t)k * nb + ib + 1) * (na + 4) : NULL;
-        const int nspan = merge_footprints(A, B, span);
-        if (!nspan)
-            continue;
-        const svox *r0 = sw->vox[c] + k * slice + (size_t)(ib + 1) * (na + 2), *r1 = r0 + (na + 2);
-        /* parallel rays: pixel x reads border index x + ip0 with weights wc */
-        const int ip0 = (int)floor(pa0 + 1);
-        const v4 wc = weights((float)(pa0 + 1 - ip0), fv);
-        for (int q = 0; q < nspan; q++) {
-            /* pixels whose pa lies in [lo, hi) */
-            int x = (int)ceil((span[2 * q] - pa0) / dpa), xe = (int)ceil((span[2 * q + 1] - pa0) / dpa) - 1;
+        const uint16_t *fp = sw->fp[c] + ((size_t)k * (nb + 1) + ib + 1) * (na + 4);
+        /* voxel ia of scanline ib at r0 + ia, of ib + 1 at r1 + ia */
+        const uint16_t *r0 = sw->vox[c] + k * slice + (size_t)(ib + 1) * scan + VSV_SW_PAD, *r1 = r0 + scan;
+        for (int q = 0; q < fp[0]; q++) {
+            /* pixels whose pa lies in [lo - 1, hi) */
+            int x = (int)ceil((fp[1 + 2 * q] - 1 - pa0) / dpa), xe = (int)ceil((fp[2 + 2 * q] - pa0) / dpa) - 1;
             if (x < 0)
                 x = 0;
             if (xe > w - 1)
                 xe = w - 1;
-            if (!persp) {
-                for (; x <= xe; x++) {
-                    x = open_pixel(lk, x);
-                    if (x > xe)
-                        break;
-                    sample(img + x, lk, x, r0 + x + ip0, r1 + x + ip0, wc, delta);
-                }
-                continue;
-            }
             for (; x <= xe; x++) {
                 x = open_pixel(lk, x);
                 if (x > xe)
                     break;
-                const float pa = (float)(pa0 + x * dpa) + 1; /* >= 0: the border index */
-                const int ip = (int)pa;
-                sample(img + x, lk, x, r0 + ip, r1 + ip, weights(pa - ip, fv), dl[x]);
+                const float pa = (float)(pa0 + x * dpa);
+                const int ip = (int)(pa + 1) - 1; /* pa >= -1 */
+                sample(img + x, lk, x, r0 + ip, r1 + ip, P, weights(pa - ip, fv), dl[x]);
             }
         }
     }
@@ -491,27 +496,25 @@ static void row_rays(const vsv_sw *sw, int py, double o0[3], double o1[3], doubl
 
 /* Final row py: each pixel's ray meets the reference plane (k = kref for
  * perspective, 0 for parallel rays) at an intermediate-image point; bilinear
- * there (the image has an empty border, so no tap is out of bounds); the
- * ground behind. */
-void vsv_sw_warp_row(void *p, int py, int thread)
+ * there, the point clamped into the image's empty border (no test per
+ * pixel); the ground behind. */
+static void warp_row(vsv_sw *sw, int py)
 {
-    vsv_sw *sw = p;
     const vsv_geo *g = sw->g;
     const vsv_camera *cam = sw->cam;
     const int w = sw->w, h = sw->h, a = sw->a, b = sw->b, c = sw->c;
-    const size_t W = (size_t)w + 2;
-    (void)thread;
+    const size_t W = img_stride(sw);
     double o0[3], o1[3], d0[3], d1[3];
     row_rays(sw, py, o0, o1, d0, d1);
     const double kp = sw->persp ? sw->kref : 0;
     float *const out = sw->out + 4 * (size_t)py * cam->width;
     float *dep = sw->depth ? sw->depth + (size_t)py * cam->width : NULL;
-    memset(out, 0, sizeof(float) * 4 * cam->width);
     if (dep)
         for (int px = 0; px < cam->width; px++)
             dep[px] = INFINITY;
     /* the pixels whose point can fall inside the image: all of them for
-     * perspective, an interval for parallel rays (the point moves linearly) */
+     * perspective, an interval for parallel rays (the point moves linearly;
+     * the others are cleared) */
     int p0 = 0, p1 = cam->width - 1;
     double x0 = 0, y0 = 0, ddx = 0, ddy = 0;
     if (!sw->persp) {
@@ -534,6 +537,13 @@ void vsv_sw_warp_row(void *p, int py, int thread)
         p0 = (int)fmax(0, floor(lo));
         p1 = (int)fmin(cam->width - 1, ceil(hi));
     }
+    if (p1 < p0)
+        p0 = cam->width, p1 = cam->width - 1;
+    memset(out, 0, sizeof(float) * 4 * p0);
+    memset(out + 4 * (p1 + 1), 0, sizeof(float) * 4 * (cam->width - 1 - p1));
+    /* border coordinates (pixel i at i + 1) within [0, w + 1] x [0, h + 1]:
+     * a point outside the image reads only border pixels (NaN too) */
+    const float xmax = (float)w + 1, ymax = (float)h + 1;
     for (int px = p0; px <= p1; px++) {
         double x = x0 + px * ddx, y = y0 + px * ddy;
         if (sw->persp) {
@@ -542,12 +552,13 @@ void vsv_sw_warp_row(void *p, int py, int thread)
             const double t = (kp - qc) / vc;
             x = qa + t * va + sw->ta, y = qb + t * vb + sw->tb;
         }
-        if (x >= -1 && x < w && y >= -1 && y < h) {
-            const int xi = (int)(x + 1), yi = (int)(y + 1); /* border indices */
-            const float fx = (float)(x + 1 - xi), fy = (float)(y + 1 - yi);
-            const v4 *s0 = (const v4 *)(sw->img + 4 * ((size_t)yi * W + xi)), *s1 = s0 + W;
-            *(v4 *)(out + 4 * px) = (1 - fy) * ((1 - fx) * s0[0] + fx * s0[1]) + fy * ((1 - fx) * s1[0] + fx * s1[1]);
-        }
+        float fx = (float)(x + 1), fy = (float)(y + 1);
+        fx = !(fx > 0) ? 0 : fx < xmax ? fx : xmax;
+        fy = !(fy > 0) ? 0 : fy < ymax ? fy : ymax;
+        const int xi = (int)fx, yi = (int)fy;
+        fx -= xi, fy -= yi;
+        const v4 *s0 = (const v4 *)(sw->img + 4 * ((size_t)yi * W + xi)), *s1 = s0 + W;
+        *(v4 *)(out + 4 * px) = (1 - fy) * ((1 - fx) * s0[0] + fx * s0[1]) + fy * ((1 - fx) * s1[0] + fx * s1[1]);
     }
     if (!g->terrain)
         return;
@@ -564,7 +575,17 @@ void vsv_sw_warp_row(void *p, int py, int thread)
     }
 }
 
-vsv_sw *vsv_sw_create(int max_threads)
+/* Final rows job * VSV_SW_WARP_ROWS onwards: a thread's rows adjacent, so
+ * the intermediate pixels one row reads are in its cache for the next. */
+void vsv_sw_warp_rows(void *p, int job, int thread)
+{
+    vsv_sw *sw = p;
+    (void)thread;
+    for (int py = job * VSV_SW_WARP_ROWS; py < (job + 1) * VSV_SW_WARP_ROWS && py < sw->cam->height; py++)
+        warp_row(sw, py);
+}
+
+vsv_sw *vsv_sw_create(int max_threads, int simd)
 {
     vsv_sw *sw = calloc(1, sizeof *sw);
     if (!sw)
@@ -576,6 +597,7 @@ vsv_sw *vsv_sw_create(int max_threads)
         return NULL;
     }
     sw->max_threads = max_threads; /* the opacity table: vsv_renderer_create */
+    sw->simd = simd;
     return sw;
 }
 
@@ -585,7 +607,7 @@ void vsv_sw_free(vsv_sw *sw)
         return;
     for (int c = 0; c < 3; c++) {
         free(sw->vox[c]);
-        free(sw->ivl[c]);
+        free(sw->fp[c]);
     }
     free(sw->img);
     free(sw->link);
