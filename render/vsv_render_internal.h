@@ -122,9 +122,15 @@ double vsv_sw_build_seconds(const vsv_sw *sw);
  * VSV_SW_PLANE(na) half floats (IEEE binary16, vsv_half), voxel ia at
  * VSV_SW_PAD + ia, the padding empty. Beside it, for every pair of adjacent
  * scanlines (ib, ib + 1), ib = -1 .. nb - 1, where a sample between them can
- * meet a non-transparent voxel: n, then n sorted half-open intervals [lo,
- * hi) of voxel indices (a sample at pa touches it when floor(pa) lies in
- * [lo - 1, hi - 1]); na + 4 uint16 a pair. */
+ * meet a non-transparent voxel: n sorted half-open intervals [lo, hi) of
+ * voxel indices (a sample at pa touches it when floor(pa) lies in [lo - 1,
+ * hi - 1]), its footprint. Slice k's footprints are packed together from
+ * ivl + k (nb + 1)(na + 4) (uint16 pairs lo, hi), pair ib's found through
+ * the entry (nb + 1) k + ib + 1 of fps: a frame reads only a few kilobytes
+ * of them a slice. */
+typedef struct vsv_sw_fp {
+    uint32_t at, n; /* from the slice's first, n intervals */
+} vsv_sw_fp;
 #define VSV_SW_LANES 8
 /* half floats for values >= 0: rounded to nearest (up at ties), 65504 at
  * most; through float arithmetic only (the float's exponent rebased by
@@ -152,7 +158,8 @@ static inline float vsv_half_float(uint16_t h)
  * bilinear weights all along the row, VSV_SW_LANES pixels a step. */
 typedef struct vsv_sw_par {
     const uint16_t *vox; /* the classified copy (above) */
-    const uint16_t *fp;  /* its footprints */
+    const vsv_sw_fp *fps; /* its footprints */
+    const uint16_t *ivl;
     size_t plane;        /* VSV_SW_PLANE(na) */
     int na, nb, nc, w, front, dk;
     double sa, sb, ta, tb;
@@ -167,6 +174,15 @@ typedef struct vsv_sw_par {
 static inline int vsv_sw_par_groups(int w) { return (w + VSV_SW_LANES - 1) / VSV_SW_LANES; }
 void vsv_sw_par_rows(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride);
 void vsv_sw_par_rows_avx2(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride);
+/* Final pixels p0 .. p1 of a row for parallel rays: pixel px is the
+ * bilinear blend of the intermediate image (stride W pixels of four floats,
+ * w x h inside an empty border of one pixel left and top, two right and
+ * bottom) at border coordinates (x0 + px dx, y0 + px dy), clamped into the
+ * border. Built the same two ways. */
+void vsv_sw_par_warp(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0, int p1,
+                     float *out);
+void vsv_sw_par_warp_avx2(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0,
+                          int p1, float *out);
 
 /* ------------------------------------------------------------ raycaster */
 

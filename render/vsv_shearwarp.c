@@ -44,8 +44,9 @@ struct vsv_sw {
      * and its footprints (vsv_render_internal.h) */
     uint16_t *vox[3];
     size_t vox_cap[3];
-    uint16_t *fp[3];
-    size_t fp_cap[3];
+    vsv_sw_fp *fps[3];
+    uint16_t *ivl[3];
+    size_t fps_cap[3], ivl_cap[3];
     uint64_t key; /* what the classification was built from */
     int n[3];
     int valid[3]; /* the copy for this axis is current */
@@ -136,7 +137,8 @@ static int classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
         return 0;
     const size_t na = sw->n[axis_a(c)], nb = sw->n[axis_b(c)], nc = sw->n[c];
     if (grow((void **)&sw->vox[c], &sw->vox_cap[c], nc * (nb + 2) * 4 * VSV_SW_PLANE(na), sizeof(uint16_t)) ||
-        grow((void **)&sw->fp[c], &sw->fp_cap[c], nc * (nb + 1) * (na + 4), sizeof(uint16_t)))
+        grow((void **)&sw->fps[c], &sw->fps_cap[c], nc * (nb + 1), sizeof(vsv_sw_fp)) ||
+        grow((void **)&sw->ivl[c], &sw->ivl_cap[c], nc * (nb + 1) * (na + 4), sizeof(uint16_t)))
         return VSV_ENOMEM;
     sw->sc = sc;
     /* bricks a layer leaves transparent need no transfer-function lookups */
@@ -160,8 +162,9 @@ static int classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
 /* The footprint of two scanlines' runs (n, then n intervals [lo, hi) of
  * non-transparent voxels; NULL: none): a sample at pa touches a voxel of
  * [lo, hi) when floor(pa) lies in [lo - 1, hi - 1], so runs one voxel or
- * less apart merge. Writes n, then the sorted, merged intervals to out. */
-static void merge_footprints(const uint16_t *A, const uint16_t *B, uint16_t *out)
+ * less apart merge. Writes the sorted, merged intervals to out (lo, hi
+ * pairs), returns their count. */
+static int merge_footprints(const uint16_t *A, const uint16_t *B, uint16_t *out)
 {
     int na = A ? A[0] : 0, nb = B ? B[0] : 0, i = 0, j = 0, n = 0;
     while (i < na || j < nb) {
@@ -173,16 +176,16 @@ static void merge_footprints(const uint16_t *A, const uint16_t *B, uint16_t *out
             lo = B[1 + 2 * j], hi = B[2 + 2 * j];
             j++;
         }
-        if (n && lo <= out[2 * n] + 1) {
-            if (hi > out[2 * n])
-                out[2 * n] = (uint16_t)hi;
+        if (n && lo <= out[2 * n - 1] + 1) {
+            if (hi > out[2 * n - 1])
+                out[2 * n - 1] = (uint16_t)hi;
         } else {
-            out[1 + 2 * n] = (uint16_t)lo;
-            out[2 + 2 * n] = (uint16_t)hi;
+            out[2 * n] = (uint16_t)lo;
+            out[2 * n + 1] = (uint16_t)hi;
             n++;
         }
     }
-    out[0] = (uint16_t)n;
+    return n;
 }
 
 /* Slice k of the current axis: classified voxels (the empty scanlines and
@@ -196,7 +199,9 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
     uint16_t *slice = sw->vox[c] + (size_t)k * (nb + 2) * scan;
     memset(slice, 0, scan * sizeof *slice);                   /* scanline -1 */
     memset(slice + (nb + 1) * scan, 0, scan * sizeof *slice); /* scanline nb */
-    uint16_t *fp = sw->fp[c] + (size_t)k * (nb + 1) * (na + 4);
+    vsv_sw_fp *fps = sw->fps[c] + (size_t)k * (nb + 1);
+    uint16_t *const ivl = sw->ivl[c] + (size_t)k * (nb + 1) * (na + 4);
+    uint32_t at = 0;
     /* this scanline's runs and the previous one's */
     uint16_t *runs[2] = {(uint16_t *)sw->scratch[thread], (uint16_t *)sw->scratch[thread] + na + 4};
     runs[1][0] = 0;
@@ -242,9 +247,10 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
         if (open)
             iv[1 + cnt++] = (uint16_t)na;
         iv[0] = (uint16_t)(cnt / 2);
-        merge_footprints(runs[(ib + 1) & 1], iv, fp + (size_t)ib * (na + 4)); /* pair (ib - 1, ib) */
+        fps[ib] = (vsv_sw_fp){at, (uint32_t)merge_footprints(runs[(ib + 1) & 1], iv, ivl + at)}; /* pair (ib - 1, ib) */
+        at += 2 * fps[ib].n;
     }
-    merge_footprints(runs[(nb + 1) & 1], NULL, fp + (size_t)nb * (na + 4)); /* pair (nb - 1, nb) */
+    fps[nb] = (vsv_sw_fp){at, (uint32_t)merge_footprints(runs[(nb + 1) & 1], NULL, ivl + at)}; /* pair (nb - 1, nb) */
 }
 
 void vsv_sw_classified(vsv_sw *sw, double seconds)
@@ -407,7 +413,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
     const int c = sw->c, na = sw->na, nb = sw->nb, w = sw->w;
     const size_t W = img_stride(sw);
     if (!sw->persp) {
-        const vsv_sw_par par = {sw->vox[c], sw->fp[c], VSV_SW_PLANE(na), na, nb, sw->nc, w, sw->front, sw->dk,
+        const vsv_sw_par par = {sw->vox[c], sw->fps[c], sw->ivl[c], VSV_SW_PLANE(na), na, nb, sw->nc, w, sw->front, sw->dk,
                                 sw->sa, sw->sb, sw->ta, sw->tb, (float)(sw->delta * sw->sigma_unit)};
         const int y0 = y * VSV_SW_BAND, n = sw->h - y0 < VSV_SW_BAND ? sw->h - y0 : VSV_SW_BAND;
         float *const row = sw->img + ((size_t)y0 + 1) * W * 4;
@@ -443,12 +449,13 @@ void vsv_sw_composite_row(void *p, int y, int thread)
             continue;
         const int ib = (int)(pb + 1) - 1;
         const float fv = (float)(pb - ib);
-        const uint16_t *fp = sw->fp[c] + ((size_t)k * (nb + 1) + ib + 1) * (na + 4);
+        const vsv_sw_fp fp = sw->fps[c][(size_t)k * (nb + 1) + ib + 1];
+        const uint16_t *iv = sw->ivl[c] + (size_t)k * (nb + 1) * (na + 4) + fp.at;
         /* voxel ia of scanline ib at r0 + ia, of ib + 1 at r1 + ia */
         const uint16_t *r0 = sw->vox[c] + k * slice + (size_t)(ib + 1) * scan + VSV_SW_PAD, *r1 = r0 + scan;
-        for (int q = 0; q < fp[0]; q++) {
+        for (uint32_t q = 0; q < fp.n; q++) {
             /* pixels whose pa lies in [lo - 1, hi) */
-            int x = (int)ceil((fp[1 + 2 * q] - 1 - pa0) / dpa), xe = (int)ceil((fp[2 + 2 * q] - pa0) / dpa) - 1;
+            int x = (int)ceil((iv[2 * q] - 1 - pa0) / dpa), xe = (int)ceil((iv[2 * q + 1] - pa0) / dpa) - 1;
             if (x < 0)
                 x = 0;
             if (xe > w - 1)
@@ -541,17 +548,17 @@ static void warp_row(vsv_sw *sw, int py)
         p0 = cam->width, p1 = cam->width - 1;
     memset(out, 0, sizeof(float) * 4 * p0);
     memset(out + 4 * (p1 + 1), 0, sizeof(float) * 4 * (cam->width - 1 - p1));
-    /* border coordinates (pixel i at i + 1) within [0, w + 1] x [0, h + 1]:
-     * a point outside the image reads only border pixels (NaN too) */
+    if (!sw->persp) /* eight pixels a step (vsv_sw_row.c) */
+        (sw->simd ? vsv_sw_par_warp_avx2 : vsv_sw_par_warp)(sw->img, W, w, h, x0 + 1, y0 + 1, ddx, ddy, p0, p1, out);
+    /* perspective: border coordinates (pixel i at i + 1) clamped into [0, w +
+     * 1] x [0, h + 1], so a point outside the image reads only border pixels
+     * (NaN too) */
     const float xmax = (float)w + 1, ymax = (float)h + 1;
-    for (int px = p0; px <= p1; px++) {
-        double x = x0 + px * ddx, y = y0 + px * ddy;
-        if (sw->persp) {
-            const double qa = o0[a], qb = o0[b], qc = o0[c]; /* the eye */
-            const double va = d0[a] + px * d1[a], vb = d0[b] + px * d1[b], vc = d0[c] + px * d1[c];
-            const double t = (kp - qc) / vc;
-            x = qa + t * va + sw->ta, y = qb + t * vb + sw->tb;
-        }
+    for (int px = 0; px < cam->width && sw->persp; px++) {
+        const double qa = o0[a], qb = o0[b], qc = o0[c]; /* the eye */
+        const double va = d0[a] + px * d1[a], vb = d0[b] + px * d1[b], vc = d0[c] + px * d1[c];
+        const double t = (kp - qc) / vc;
+        const double x = qa + t * va + sw->ta, y = qb + t * vb + sw->tb;
         float fx = (float)(x + 1), fy = (float)(y + 1);
         fx = !(fx > 0) ? 0 : fx < xmax ? fx : xmax;
         fy = !(fy > 0) ? 0 : fy < ymax ? fy : ymax;
@@ -607,7 +614,8 @@ void vsv_sw_free(vsv_sw *sw)
         return;
     for (int c = 0; c < 3; c++) {
         free(sw->vox[c]);
-        free(sw->fp[c]);
+        free(sw->fps[c]);
+        free(sw->ivl[c]);
     }
     free(sw->img);
     free(sw->link);

@@ -23,6 +23,7 @@
 
 #ifndef VSV_SW_PAR_ROWS
 #define VSV_SW_PAR_ROWS vsv_sw_par_rows
+#define VSV_SW_PAR_WARP vsv_sw_par_warp
 #endif
 
 #define OPAQUE 0.998f
@@ -31,6 +32,7 @@ typedef float vf __attribute__((vector_size(4 * VSV_SW_LANES)));
 typedef int vi __attribute__((vector_size(4 * VSV_SW_LANES)));
 typedef float vfu __attribute__((vector_size(4 * VSV_SW_LANES), aligned(4))); /* unaligned */
 typedef uint16_t vhu __attribute__((vector_size(2 * VSV_SW_LANES), aligned(2)));
+typedef float v4 __attribute__((vector_size(16)));
 
 static inline vf load(const float *p) { return *(const vfu *)p; }
 
@@ -92,18 +94,18 @@ static inline int open_group(int *link, int g)
 }
 
 /* One row (accumulating in acc, its links in link) through one slice:
- * fp the footprints of the scanline pair under the row, r0 and r1 the pair
- * (pixel x's left taps at r0 + x), w00 .. w11 the bilinear weights. */
-static inline void row_slice(const vsv_sw_par *p, const uint16_t *fp, const uint16_t *r0, const uint16_t *r1, int ip0,
-                             vf w00, vf w01, vf w10, vf w11, float *acc, int *link)
+ * iv the nfp footprint intervals of the scanline pair under the row, r0 and
+ * r1 the pair (pixel x's left taps at r0 + x), w00 .. w11 the bilinear
+ * weights. */
+static inline void row_slice(const vsv_sw_par *p, const uint16_t *iv, int nfp, const uint16_t *r0, const uint16_t *r1,
+                             int ip0, vf w00, vf w01, vf w10, vf w11, float *acc, int *link)
 {
-    const int nfp = fp[0];
     const int span = vsv_sw_par_groups(p->w) * VSV_SW_LANES;
     float *const ar = acc, *const ag = acc + span, *const ab = acc + 2 * span, *const aa = acc + 3 * span;
     const size_t P = p->plane;
     const vf d = splat(p->delta);
     for (int q = 0; q < nfp; q++) {
-        int x0 = fp[1 + 2 * q] - ip0, x1 = fp[2 + 2 * q] - ip0;
+        int x0 = iv[2 * q] - ip0, x1 = iv[2 * q + 1] - ip0;
         if (x0 < 0)
             x0 = 0;
         if (x1 > p->w - 1)
@@ -133,6 +135,24 @@ static inline void row_slice(const vsv_sw_par *p, const uint16_t *fp, const uint
     }
 }
 
+/* Prefetches slice k's scanlines ib0 .. ib0 + n (clipped), which rows y0 ..
+ * y0 + n - 1 will read, unless their footprints are all empty. */
+static inline void prefetch_band(const vsv_sw_par *p, int k, int ib0, int n)
+{
+    const int lo = ib0 < -1 ? -1 : ib0, hi = ib0 + n > p->nb ? p->nb : ib0 + n;
+    const vsv_sw_fp *fps = p->fps + (size_t)k * (p->nb + 1);
+    int any = 0;
+    for (int ib = lo; ib < hi; ib++)
+        any |= fps[ib + 1].n != 0;
+    if (!any)
+        return;
+    const size_t scan = 4 * p->plane;
+    for (const char *a = (const char *)(p->vox + ((size_t)k * (p->nb + 2) + lo + 1) * scan),
+                    *e = (const char *)(p->vox + ((size_t)k * (p->nb + 2) + hi + 2) * scan);
+         a < e; a += 64)
+        __builtin_prefetch(a);
+}
+
 void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride)
 {
     const int ng = vsv_sw_par_groups(p->w), span = ng * VSV_SW_LANES;
@@ -142,21 +162,14 @@ void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, 
     /* slice by slice, the band's rows in turn: the band's scanlines of a
      * slice are adjacent and read from memory once. Row y0 + j of slice k
      * lies between scanlines ib0 + j and ib0 + j + 1, all at fraction fv. */
-    const size_t scan = 4 * p->plane, fpn = (size_t)p->na + 4;
+    const size_t scan = 4 * p->plane, ivn = (size_t)(p->nb + 1) * (p->na + 4);
     for (int s = 0; s < p->nc; s++) {
         const int k = p->front + s * p->dk;
         const double pb0 = y0 - (p->sb * k + p->tb);
         const int ib0 = (int)floor(pb0);
         const int j0 = -1 - ib0 > 0 ? -1 - ib0 : 0, j1 = p->nb - 1 - ib0 < n - 1 ? p->nb - 1 - ib0 : n - 1;
-        if (s + 1 < p->nc) { /* the next slice's scanlines under the band, on their way to the cache */
-            const int kn = k + p->dk, lo0 = (int)floor(y0 - (p->sb * kn + p->tb));
-            const int lo = lo0 < -1 ? -1 : lo0, hi = lo0 + n > p->nb ? p->nb : lo0 + n;
-            if (lo <= hi)
-                for (const char *a = (const char *)(p->vox + ((size_t)kn * (p->nb + 2) + lo + 1) * scan),
-                                *e = (const char *)(p->vox + ((size_t)kn * (p->nb + 2) + hi + 2) * scan);
-                     a < e; a += 64)
-                    __builtin_prefetch(a);
-        }
+        if (s + 1 < p->nc) /* the next slice's voxels under the band, on their way to the cache */
+            prefetch_band(p, k + p->dk, (int)floor(y0 - (p->sb * (k + p->dk) + p->tb)), n);
         if (j0 > j1)
             continue;
         const double pa1 = 1 - (p->sa * k + p->ta);
@@ -164,11 +177,13 @@ void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, 
         const float fu = (float)(pa1 - ip0), fv = (float)(pb0 - ib0);
         const vf w00 = splat((1 - fu) * (1 - fv)), w01 = splat(fu * (1 - fv)), w10 = splat((1 - fu) * fv),
                  w11 = splat(fu * fv);
-        const uint16_t *fp = p->fp + ((size_t)k * (p->nb + 1) + ib0 + 1) * fpn;
+        const vsv_sw_fp *fps = p->fps + (size_t)k * (p->nb + 1) + ib0 + 1;
+        const uint16_t *iv = p->ivl + k * ivn;
         const uint16_t *r = p->vox + ((size_t)k * (p->nb + 2) + ib0 + 1) * scan + VSV_SW_PAD + ip0 - 1;
         for (int j = j0; j <= j1; j++)
-            row_slice(p, fp + j * fpn, r + j * scan, r + (j + 1) * scan, ip0, w00, w01, w10, w11,
-                      acc + (size_t)4 * span * j, link + (ng + 1) * j);
+            if (fps[j].n)
+                row_slice(p, iv + fps[j].at, (int)fps[j].n, r + j * scan, r + (j + 1) * scan, ip0, w00, w01, w10, w11,
+                          acc + (size_t)4 * span * j, link + (ng + 1) * j);
     }
     for (int j = 0; j < n; j++) {
         const float *a = acc + (size_t)4 * span * j;
@@ -178,6 +193,33 @@ void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, 
             out[4 * x + 1] = a[span + x];
             out[4 * x + 2] = a[2 * span + x];
             out[4 * x + 3] = a[3 * span + x];
+        }
+    }
+}
+
+void VSV_SW_PAR_WARP(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0, int p1,
+                     float *out)
+{
+    const vf xmax = splat((float)w + 1), ymax = splat((float)h + 1), zero = splat(0);
+    vf lane;
+    for (int i = 0; i < VSV_SW_LANES; i++)
+        lane[i] = (float)i;
+    for (int px = p0; px <= p1; px += VSV_SW_LANES) {
+        /* eight pixels' points, clamped (NaN too) into [0, w + 1] x [0, h + 1] */
+        vf x = splat((float)(x0 + px * dx)) + lane * (float)dx, y = splat((float)(y0 + px * dy)) + lane * (float)dy;
+        x = pick(x > zero, x, zero);
+        x = pick(x < xmax, x, xmax);
+        y = pick(y > zero, y, zero);
+        y = pick(y < ymax, y, ymax);
+        const vi xi = __builtin_convertvector(x, vi), yi = __builtin_convertvector(y, vi);
+        const vf fx = x - __builtin_convertvector(xi, vf), fy = y - __builtin_convertvector(yi, vf);
+        /* then each pixel's four taps, one vector of four channels each */
+        const vi off = (yi * (int)W + xi) * 4;
+        const vf w00 = (1 - fx) * (1 - fy), w01 = fx * (1 - fy), w10 = (1 - fx) * fy, w11 = fx * fy;
+        const int n = p1 - px + 1 < VSV_SW_LANES ? p1 - px + 1 : VSV_SW_LANES;
+        for (int i = 0; i < n; i++) {
+            const v4 *s0 = (const v4 *)(img + off[i]), *s1 = s0 + W;
+            *(v4 *)(out + 4 * (px + i)) = s0[0] * w00[i] + s0[1] * w01[i] + s1[0] * w10[i] + s1[1] * w11[i];
         }
     }
 }
