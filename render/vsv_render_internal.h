@@ -118,8 +118,9 @@ double vsv_sw_build_seconds(const vsv_sw *sw);
  * the order a frame reads it: slice k holds scanlines ib = -1 .. nb (the
  * first and last empty), each scanline four planes (extinction-weighted red,
  * green, blue, then extinction, the extinction in units of
- * VSV_SIGMA_PER_CELL over the smaller horizontal cell size) of
- * VSV_SW_PLANE(na) half floats (IEEE binary16, vsv_half), voxel ia at
+ * VSV_SIGMA_PER_CELL over the smaller horizontal cell size, times a power
+ * of two that brings the largest possible to 2^14) of VSV_SW_PLANE(na) half
+ * floats (IEEE binary16, vsv_half: normal or 0), voxel ia at
  * VSV_SW_PAD + ia, the padding empty. Beside it, for every pair of adjacent
  * scanlines (ib, ib + 1), ib = -1 .. nb - 1, where a sample between them can
  * meet a non-transparent voxel: n sorted half-open intervals [lo, hi) of
@@ -132,20 +133,24 @@ typedef struct vsv_sw_fp {
     uint32_t at, n; /* from the slice's first, n intervals */
 } vsv_sw_fp;
 #define VSV_SW_LANES 8
-/* half floats for values >= 0: rounded to nearest (up at ties), 65504 at
- * most; through float arithmetic only (the float's exponent rebased by
- * 2^-112, its mantissa's top 10 bits kept), so every CPU gives the same
- * bits and the subnormal halves come out right */
+/* Half floats for values >= 0, normal or 0 only: rounded to nearest (up at
+ * ties), below 2^-14 to 0, 65504 at most. Integer work on the bits, float
+ * arithmetic on normal numbers only (a subnormal operand or result costs a
+ * microcode assist of a hundred cycles or more on x86), so every CPU gives
+ * the same bits. */
 static inline uint16_t vsv_half(float f)
 {
-    f = (f < 65504.0f ? f : 65504.0f) * 0x1p-112f;
     uint32_t u;
     memcpy(&u, &f, 4);
-    return (uint16_t)((u + 0x1000) >> 13);
+    if (u >= 0x477FE000u) /* 65504 and above (or NaN, which never comes) */
+        return 0x7BFF;
+    if (u < 0x38800000u) /* below 2^-14 */
+        return 0;
+    return (uint16_t)((u - 0x38000000u + 0x1000u) >> 13); /* the exponent rebased by -112 */
 }
 static inline float vsv_half_float(uint16_t h)
 {
-    const uint32_t u = (uint32_t)h << 13;
+    const uint32_t u = (uint32_t)h << 13; /* 0 or normal */
     float f;
     memcpy(&f, &u, 4);
     return f * 0x1p112f;

@@ -54,6 +54,7 @@ struct vsv_sw {
     unsigned char *clear; /* per layer and brick: every value transparent */
     size_t clear_cap;
     double sigma_unit;
+    float scale; /* the classified copy holds extinction in units of sigma_unit, times scale */
     /* intermediate image (img_stride floats a row), an empty border of one
      * pixel left and top, two right and bottom, and its opaque-pixel links
      * (w + 1 per row, perspective) */
@@ -132,6 +133,18 @@ static int classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
     if (key != sw->key) {
         sw->valid[0] = sw->valid[1] = sw->valid[2] = 0;
         sw->key = key;
+        /* the largest extinction a voxel can have, scaled to 2^14 at most: the
+         * half floats keep 2^-28 of it and up, and need no subnormal */
+        double smax = 0;
+        for (int l = 0; l < sc->nlayers; l++) {
+            const vsv_layer *L = &sc->layers[l];
+            if (L->visible && L->opacity > 0 && L->vol)
+                smax += L->opacity * vsv_tf_max_opacity(L->tf, -INFINITY, INFINITY);
+        }
+        int e = 0;
+        if (smax > 0)
+            frexp(smax, &e);
+        sw->scale = ldexpf(1, 14 - (e < -40 ? -40 : e > 40 ? 40 : e));
     }
     if (sw->valid[c])
         return 0;
@@ -227,7 +240,7 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
                     continue;
                 float rgba[4];
                 vsv_tf_eval(L->tf, vsv_volume_at(L->vol, idx[0], idx[1], idx[2]), rgba);
-                const float s = rgba[3] * L->opacity; /* in units of sigma_unit */
+                const float s = rgba[3] * L->opacity * sw->scale; /* in units of sigma_unit / scale */
                 if (s > 0) {
                     cs += s;
                     cr += (double)s * rgba[0];
@@ -414,7 +427,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
     const size_t W = img_stride(sw);
     if (!sw->persp) {
         const vsv_sw_par par = {sw->vox[c], sw->fps[c], sw->ivl[c], VSV_SW_PLANE(na), na, nb, sw->nc, w, sw->front, sw->dk,
-                                sw->sa, sw->sb, sw->ta, sw->tb, (float)(sw->delta * sw->sigma_unit)};
+                                sw->sa, sw->sb, sw->ta, sw->tb, (float)(sw->delta * sw->sigma_unit / sw->scale)};
         const int y0 = y * VSV_SW_BAND, n = sw->h - y0 < VSV_SW_BAND ? sw->h - y0 : VSV_SW_BAND;
         float *const row = sw->img + ((size_t)y0 + 1) * W * 4;
         for (int j = 0; j < n; j++) { /* the border pixels */
@@ -438,7 +451,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
     const double kb = ub * ub * sw->wsz[1] * sw->wsz[1] + sw->wsz[2] * sw->wsz[2];
     for (int x = 0; x < w; x++) {
         const double ua = (x - sw->ta - ea) / (sw->kref - ec);
-        dl[x] = (float)(sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + kb) * sw->sigma_unit);
+        dl[x] = (float)(sqrt(ua * ua * sw->wsz[0] * sw->wsz[0] + kb) * sw->sigma_unit / sw->scale);
     }
     const size_t P = VSV_SW_PLANE(na), scan = 4 * P, slice = (size_t)(nb + 2) * scan;
     for (int s = 0; s < sw->nc; s++) {

@@ -39,7 +39,8 @@ static inline vf load(const float *p) { return *(const vfu *)p; }
 static inline void store(float *p, vf v) { *(vfu *)p = v; }
 static inline vf splat(float x) { return (vf){} + x; }
 static inline vf pick(vi m, vf a, vf b) { return (vf)(((vi)a & m) | ((vi)b & ~m)); } /* m ? a : b */
-/* half floats (vsv_half_float, lanewise; one instruction with F16C) */
+/* half floats, normal or 0 (vsv_half_float, lanewise; one instruction with
+ * F16C) */
 static inline vf load_half(const uint16_t *p)
 {
 #if defined __F16C__ && VSV_SW_LANES == 8

@@ -451,15 +451,14 @@ static void test_mm5(void)
 static void test_half(void)
 {
     CHECK(vsv_half(0) == 0 && vsv_half(1) == 0x3C00 && vsv_half(0.5f) == 0x3800 && vsv_half(65504) == 0x7BFF &&
-              vsv_half(1e9f) == 0x7BFF && vsv_half(0x1p-24f) == 1 && vsv_half(0x1p-14f) == 0x0400 &&
-              vsv_half(1 + 0x1p-11f + 0x1p-20f) == 0x3C01 && vsv_half(1 + 0x1p-11f - 0x1p-20f) == 0x3C00,
-          "half floats: exact values and rounding to nearest");
+              vsv_half(1e9f) == 0x7BFF && vsv_half(0x1p-14f) == 0x0400 && vsv_half(0x1p-15f) == 0 &&
+              vsv_half(1 + 0x1p-11f + 0x1p-20f) == 0x3C01 && vsv_half(1 + 0x1p-11f - 0x1p-20f) == 0x3C00 &&
+              vsv_half_float(0) == 0 && vsv_half_float(0x0400) == 0x1p-14f && vsv_half_float(0x7BFF) == 65504,
+          "half floats: exact values, rounding to nearest, nothing below 2^-14");
     double worst = 0;
-    for (float f = 0x1p-26f; f < 60000; f *= 1.0007f) {
+    for (float f = 0x1p-14f; f < 65000; f *= 1.0007f) {
         const float back = vsv_half_float(vsv_half(f));
-        /* half an ulp: 2^-11 relative for normal halves, 2^-25 absolute below 2^-14 */
-        const double err = fabs(back - (double)f) / fmax(f * 0x1p-11, 0x1p-25);
-        worst = fmax(worst, err);
+        worst = fmax(worst, fabs(back - (double)f) / (f * 0x1p-11)); /* half an ulp: 2^-11 relative */
     }
     CHECK(worst <= 1.0001, "half floats: every value within half a unit in the last place", "worst %g", worst);
 }
