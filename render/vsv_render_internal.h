@@ -171,14 +171,17 @@ typedef struct vsv_sw_par {
     float delta;         /* ray between slices, in the extinction's units */
 } vsv_sw_par;
 /* Composites rows y0 .. y0 + n - 1 front to back, row y0 + j into img +
- * j stride (w pixels of premultiplied rgb, alpha); acc (n times 4 planes of
+ * j stride (w pixels of premultiplied rgb, alpha), the smallest box holding
+ * every pixel with alpha > 0 into box (x0, x1, y0, y1, inclusive; x0 > x1
+ * when none); acc (n times 4 planes of
  * vsv_sw_par_groups(w) * VSV_SW_LANES floats) and link (n times
  * vsv_sw_par_groups(w) + 1 ints) are the caller's scratch. The same source
  * built twice: for any x86-64 and for AVX2 + FMA. */
 #define VSV_SW_BAND 8 /* rows a call */
 static inline int vsv_sw_par_groups(int w) { return (w + VSV_SW_LANES - 1) / VSV_SW_LANES; }
-void vsv_sw_par_rows(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride);
-void vsv_sw_par_rows_avx2(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride);
+void vsv_sw_par_rows(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride, int box[4]);
+void vsv_sw_par_rows_avx2(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride,
+                          int box[4]);
 /* Final pixels p0 .. p1 of a row for parallel rays: pixel px is the
  * bilinear blend of the intermediate image (stride W pixels of four floats,
  * w x h inside an empty border of one pixel left and top, two right and

@@ -30,6 +30,7 @@
  * per voxel for one viewing axis, 57 when views have used all three. */
 #include "vsv_render_internal.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -60,7 +61,8 @@ struct vsv_sw {
      * (w + 1 per row, perspective) */
     float *img;
     int *link;
-    size_t img_cap, link_cap;
+    int *boxes; /* parallel rays: each band's box of pixels with alpha > 0 */
+    size_t img_cap, link_cap, boxes_cap;
     /* per thread: a parallel band's group links, or a slice's scanline runs
      * while classifying; a parallel band's planes, or perspective deltas */
     int **scratch;
@@ -345,7 +347,8 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     /* buffers grow with the view and are reused: no allocation per frame */
     const size_t W = img_stride(sw);
     if (grow((void **)&sw->img, &sw->img_cap, W * (sw->h + 3) * 4, sizeof(float)) ||
-        grow((void **)&sw->link, &sw->link_cap, ((size_t)sw->w + 1) * sw->h, sizeof(int)))
+        grow((void **)&sw->link, &sw->link_cap, ((size_t)sw->w + 1) * sw->h, sizeof(int)) ||
+        grow((void **)&sw->boxes, &sw->boxes_cap, 4 * ((size_t)sw->h / VSV_SW_BAND + 1), sizeof(int)))
         return VSV_ENOMEM;
     /* per thread: two scanlines' runs (uint16) or a band's group links; a
      * band's planes or a row's perspective deltas */
@@ -435,7 +438,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
             memset(row + (j * W + w + 1) * 4, 0, 2 * 4 * sizeof(float));
         }
         (sw->simd ? vsv_sw_par_rows_avx2 : vsv_sw_par_rows)(&par, y0, n, sw->dscratch[thread], sw->scratch[thread],
-                                                             row + 4, W * 4);
+                                                             row + 4, W * 4, sw->boxes + 4 * y);
         return;
     }
     float *row = sw->img + ((size_t)y + 1) * W * 4;
@@ -532,25 +535,36 @@ static void warp_row(vsv_sw *sw, int py)
     if (dep)
         for (int px = 0; px < cam->width; px++)
             dep[px] = INFINITY;
-    /* the pixels whose point can fall inside the image: all of them for
-     * perspective, an interval for parallel rays (the point moves linearly;
-     * the others are cleared) */
+    /* the pixels whose point can fall where the image is not empty: all of
+     * them for perspective, an interval for parallel rays (the point moves
+     * linearly; the others are cleared): a point (x, y) reads pixels floor(x),
+     * floor(x) + 1, so it can meet the box of pixels with alpha > 0, [bx0,
+     * bx1] x [by0, by1], when bx0 - 1 <= x < bx1 + 1 and likewise y */
     int p0 = 0, p1 = cam->width - 1;
     double x0 = 0, y0 = 0, ddx = 0, ddy = 0;
     if (!sw->persp) {
+        int box[4] = {INT_MAX, -1, INT_MAX, -1};
+        for (int i = 0; i < (h + VSV_SW_BAND - 1) / VSV_SW_BAND; i++) {
+            const int *bb = sw->boxes + 4 * i;
+            box[0] = bb[0] < box[0] ? bb[0] : box[0];
+            box[1] = bb[1] > box[1] ? bb[1] : box[1];
+            box[2] = bb[2] < box[2] ? bb[2] : box[2];
+            box[3] = bb[3] > box[3] ? bb[3] : box[3];
+        }
         const double t = (kp - o0[c]) / d0[c];
         x0 = o0[a] + t * d0[a] + sw->ta, y0 = o0[b] + t * d0[b] + sw->tb;
         const double tx = (kp - o0[c] - o1[c]) / d0[c];
         ddx = o0[a] + o1[a] + tx * d0[a] + sw->ta - x0, ddy = o0[b] + o1[b] + tx * d0[b] + sw->tb - y0;
-        double lo = 0, hi = cam->width - 1;
-        const double v0[2] = {x0, y0}, dv[2] = {ddx, ddy}, lim[2] = {w, h};
+        double lo = 0, hi = box[0] <= box[1] ? cam->width - 1 : -1;
+        const double v0[2] = {x0, y0}, dv[2] = {ddx, ddy};
+        const double lim0[2] = {box[0] - 1.0, box[2] - 1.0}, lim1[2] = {box[1] + 1.0, box[3] + 1.0};
         for (int i = 0; i < 2; i++) {
             if (dv[i] == 0) {
-                if (v0[i] < -1 || v0[i] >= lim[i])
+                if (v0[i] < lim0[i] || v0[i] >= lim1[i])
                     hi = -1;
                 continue;
             }
-            const double e0 = (-1 - v0[i]) / dv[i], e1 = (lim[i] - v0[i]) / dv[i];
+            const double e0 = (lim0[i] - v0[i]) / dv[i], e1 = (lim1[i] - v0[i]) / dv[i];
             lo = fmax(lo, fmin(e0, e1) - 1);
             hi = fmin(hi, fmax(e0, e1) + 1);
         }
@@ -632,6 +646,7 @@ void vsv_sw_free(vsv_sw *sw)
     }
     free(sw->img);
     free(sw->link);
+    free(sw->boxes);
     free(sw->clear);
     for (int t = 0; t < sw->max_threads; t++) {
         if (sw->scratch)

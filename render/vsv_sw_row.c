@@ -17,6 +17,7 @@
 #include "vsv_render_internal.h"
 
 #include <stddef.h>
+#include <limits.h>
 #include <string.h>
 #ifdef __AVX2__
 #include <immintrin.h>
@@ -71,13 +72,12 @@ static inline vf exp_neg(vf u)
     return pick(u < splat(87), r, splat(0));
 }
 
-/* every lane at least OPAQUE */
-static inline int opaque(vf a)
+/* every lane of a comparison's mask true */
+static inline int all_lanes(vi m)
 {
 #if defined __AVX__ && VSV_SW_LANES == 8
-    return _mm256_movemask_ps((__m256)(a >= splat(OPAQUE))) == 0xff;
+    return _mm256_movemask_ps((__m256)m) == 0xff;
 #endif
-    const vi m = a >= splat(OPAQUE);
     int all = -1;
     for (int i = 0; i < VSV_SW_LANES; i++)
         all &= m[i];
@@ -131,7 +131,7 @@ static inline void row_slice(const vsv_sw_par *p, const uint16_t *iv, int nfp, c
             store(ab + x, load(ab + x) + kk * c[2]);
             const vf a2 = a + kk * S;
             store(aa + x, a2);
-            if (opaque(a2))
+            if (all_lanes(a2 >= splat(OPAQUE)))
                 link[g] = g + 1;
         }
     }
@@ -154,7 +154,7 @@ static inline void band_bytes(const vsv_sw_par *p, int k, int ib0, int n, const 
     *pa = (const char *)(p->vox + ((size_t)k * (p->nb + 2) + lo + 1) * scan);
     *pe = (const char *)(p->vox + ((size_t)k * (p->nb + 2) + hi + 2) * scan);
 }
-void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride)
+void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, float *img, size_t stride, int box[4])
 {
     const int ng = vsv_sw_par_groups(p->w), span = ng * VSV_SW_LANES;
     memset(acc, 0, sizeof(float) * 4 * span * n);
@@ -199,14 +199,40 @@ void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, 
         for (; pa < pe; pa += 64)
             __builtin_prefetch(pa);
     }
+    box[0] = box[2] = INT_MAX, box[1] = box[3] = -1;
     for (int j = 0; j < n; j++) {
         const float *a = acc + (size_t)4 * span * j;
         float *out = img + stride * j;
-        for (int x = 0; x < p->w; x++) {
+        int x0 = p->w, x1 = -1, x = 0;
+        for (; x + VSV_SW_LANES <= p->w; x += VSV_SW_LANES) { /* four planes to pixels, eight at a time */
+            const vf r = load(a + x), g = load(a + span + x), b = load(a + 2 * span + x), al = load(a + 3 * span + x);
+            const vf rg0 = __builtin_shufflevector(r, g, 0, 8, 1, 9, 2, 10, 3, 11);
+            const vf rg1 = __builtin_shufflevector(r, g, 4, 12, 5, 13, 6, 14, 7, 15);
+            const vf ba0 = __builtin_shufflevector(b, al, 0, 8, 1, 9, 2, 10, 3, 11);
+            const vf ba1 = __builtin_shufflevector(b, al, 4, 12, 5, 13, 6, 14, 7, 15);
+            store(out + 4 * x, __builtin_shufflevector(rg0, ba0, 0, 1, 8, 9, 2, 3, 10, 11));
+            store(out + 4 * x + 8, __builtin_shufflevector(rg0, ba0, 4, 5, 12, 13, 6, 7, 14, 15));
+            store(out + 4 * x + 16, __builtin_shufflevector(rg1, ba1, 0, 1, 8, 9, 2, 3, 10, 11));
+            store(out + 4 * x + 24, __builtin_shufflevector(rg1, ba1, 4, 5, 12, 13, 6, 7, 14, 15));
+        }
+        for (; x < p->w; x++) {
             out[4 * x] = a[x];
             out[4 * x + 1] = a[span + x];
             out[4 * x + 2] = a[2 * span + x];
             out[4 * x + 3] = a[3 * span + x];
+        }
+        for (x = 0; x < p->w; x += VSV_SW_LANES) /* where alpha > 0, eight at a time */
+            if (!all_lanes(load(a + 3 * span + x) <= splat(0)))
+                for (int i = x; i < x + VSV_SW_LANES && i < p->w; i++)
+                    if (a[3 * span + i] > 0) {
+                        x0 = i < x0 ? i : x0;
+                        x1 = i;
+                    }
+        if (x1 >= 0) {
+            box[0] = x0 < box[0] ? x0 : box[0];
+            box[1] = x1 > box[1] ? x1 : box[1];
+            box[2] = y0 + j < box[2] ? y0 + j : box[2];
+            box[3] = y0 + j;
         }
     }
 }
