@@ -105,8 +105,10 @@ int main(int argc, char **argv)
             const double dt = (now() - t0) / frames;
             printf("| %s | %dx%d | %d | %.2f | %.0f |\n", kind ? "shear-warp" : "raycast", n, n,
                    th, 1 / dt, 1000 * dt);
-            if (kind && si == 0 && th == 1)
-                printf("| (shear-warp classification, one viewing axis) | | 1 | | %.0f |\n", 1000 * rebuild);
+            if (si == 0)
+                printf("| (%s) | | %d | | %.1f |\n",
+                       kind ? "shear-warp classification, one viewing axis" : "raycast sampling copy", th,
+                       1000 * rebuild);
             fflush(stdout);
             free(img);
             vsv_renderer_free(r);

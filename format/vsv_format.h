@@ -318,6 +318,10 @@ typedef struct vsv_volume {
     int nx, ny, nz, brick, bdim[3], nbricks;
     int shift;                /* log2(brick) */
     int step, species;        /* what is loaded; -1 when nothing */
+    uint64_t gen;             /* new on every load, unique in the process: what
+                                 a renderer keys the copies it derives on (a
+                                 volume freed and another allocated at the same
+                                 address may hold the same step and species) */
     float empty_value;        /* value of code 0 (0, lo, or NaN for no data) */
     float **bricks;
     float *bmin, *bmax;
@@ -330,6 +334,9 @@ void vsv_volume_free(vsv_volume *v);
 /* Decodes (step, s) into v through decoder d; the next step of the same
  * species costs one delta per brick. */
 int vsv_volume_load(vsv_volume *v, vsv_decoder *d, int step, int s);
+/* A new vsv_volume.gen (1, 2, ...: unique in the process), for whatever
+ * fills a volume. */
+uint64_t vsv_volume_new_gen(void);
 /* The value at cell (i, j, k) (inside the grid). */
 static inline float vsv_volume_at(const vsv_volume *v, int i, int j, int k)
 {

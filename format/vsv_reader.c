@@ -728,6 +728,12 @@ typedef struct volume_impl {
     float *store;     /* nbricks * B^3 floats */
 } volume_impl;
 
+uint64_t vsv_volume_new_gen(void)
+{
+    static uint64_t gens;
+    return __atomic_add_fetch(&gens, 1, __ATOMIC_RELAXED);
+}
+
 int vsv_volume_create(const vsv_file *f, vsv_volume **out)
 {
     *out = NULL;
@@ -784,6 +790,7 @@ int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
     const int seq = pv->species == s && pv->step >= 0 && pv->step < step && step - pv->step <= f->keyframe;
     const int prev = pv->step;
     pv->step = pv->species = -1;
+    pv->gen = 0;
     const unsigned char *oct = vsv_file_octree(f, step, s, NULL);
     if (!oct) {
         vsv_msg(d->err, sizeof d->err, "%s", f->err);
@@ -824,5 +831,6 @@ int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
     }
     pv->step = step;
     pv->species = s;
+    pv->gen = vsv_volume_new_gen();
     return 0;
 }

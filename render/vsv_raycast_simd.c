@@ -172,40 +172,19 @@ static inline __m256 cell_row(const float *q, int dj, int dk)
     return _mm256_set_m128(hi, lo);
 }
 
-/* Sixteen cells of zeros: where lanes that load nothing read (the largest
- * brick's rows and planes are 64 and 4096 cells apart). */
-static const float nothing[4096 + 64 + 2];
-
-/* Trilinear samples of layer L in the lanes of m (0 in the others): each
- * lane's eight cells loaded (four pairs along x from its brick; one by one
- * when they straddle bricks: not in fast), transposed, interpolated. A lane
- * in an empty brick is its empty value. uni: every lane is in brick bidx[0]. */
-static vf sample(const vsv_rc_layer *L, unsigned m, unsigned fast, int uni, const int *bidx, const int *off,
-                 const int ci[3][W], int dj, int dk, const vf f[3])
+/* Trilinear samples of layer L in every lane (the caller masks them): each
+ * lane's eight cells loaded from the brick's sampling copy (four pairs along
+ * x), transposed, interpolated. uni: every lane is in brick bidx[0]. */
+static vf sample(const vsv_rc_layer *L, int uni, const int *bidx, const int *off, int ey, int ez, const vf f[3])
 {
-    const vsv_volume *vol = L->vol;
     __m256 row[W];
-    const float *one = vol->bricks[bidx[0]];
-    unsigned empty = 0;
-    const unsigned load = m & fast;
-    if (uni && one && load == ALL) { /* the most common case */
+    if (uni) { /* the most common case */
+        const float *one = L->cells[bidx[0]];
         for (int l = 0; l < W; l++)
-            row[l] = cell_row(one + off[l], dj, dk);
+            row[l] = cell_row(one + off[l], ey, ez);
     } else {
-        for (int l = 0; l < W; l++) { /* no branch per lane */
-            const float *b = vol->bricks[bidx[l]];
-            const int use = (load >> l & 1) && b;
-            empty |= (unsigned)((load >> l & 1) && !b) << l;
-            row[l] = cell_row(use ? b + off[l] : nothing, dj, dk);
-        }
-    }
-    if (load != m) {
-        for (unsigned slow = m & ~fast; slow; slow &= slow - 1) {
-            const int l = __builtin_ctz(slow);
-            float c[8];
-            vsv_rc_cells(vol, ci[0][l], ci[1][l], ci[2][l], c);
-            row[l] = _mm256_loadu_ps(c);
-        }
+        for (int l = 0; l < W; l++)
+            row[l] = cell_row(L->cells[bidx[l]] + off[l], ey, ez);
     }
     vf v;
     EACH { /* eight lanes at a time: fewer registers live */
@@ -217,14 +196,7 @@ static vf sample(const vsv_rc_layer *L, unsigned m, unsigned fast, int uni, cons
         const __m256 e0 = lerp1(a0, a1, fv), e1 = lerp1(a2, a3, fv);
         v.r[h] = lerp1(e0, e1, fw);
     }
-    if (!empty)
-        return v;
-    /* eight equal cells interpolate to themselves */
-    vf e;
-    EACH e.r[h] = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
-        _mm256_and_si256(_mm256_set1_epi32((int)(empty >> (8 * h))), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
-        _mm256_setzero_si256()));
-    return blend(v, fset(vol->empty_value), e);
+    return v;
 }
 
 void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W], float acc_out[3][W],
@@ -252,8 +224,8 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         HI[a] = fset(F->hi[a]);
         LAST[a] = iset(F->last[a]);
     }
-    const vi NS = iload(ns), M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy);
-    const int sh = F->shift, dj = 1 << sh, dk = 1 << (2 * sh);
+    const vi NS = iload(ns), M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy), EY = iset(F->ey), EZ = iset(F->ez);
+    const int sh = F->shift;
     const vf ST = fset((float)st_d), ONE = fset(1), ZERO = fset(0);
     const vf TERM = fset(1.0f / 512), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
     const vi LUTI = iset(VSV_TF_LUT - 2);
@@ -300,15 +272,9 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         }
         for (int a = 0; a < 3; a++)
             f[a] = sub(c[a], to_f(ci[a]));
-        unsigned fast = 0;
-        if (F->whole) /* no axis at a brick's last cell */
-            fast = ~bits(as_f(ior(ior(ieq(iand(ci[0], M), M), ieq(iand(ci[1], M), M)), ieq(iand(ci[2], M), M)))) & ALL;
-        const vi off = iadd(iadd(iand(ci[0], M), sll(iand(ci[1], M), sh)), sll(iand(ci[2], M), 2 * sh));
-        int off_a[W], ci_a[3][W];
+        const vi off = iadd(iadd(iand(ci[0], M), imul(iand(ci[1], M), EY)), imul(iand(ci[2], M), EZ));
+        int off_a[W];
         istore(off_a, off);
-        if (fast != ALL)
-            for (int a = 0; a < 3; a++)
-                istore(ci_a[a], ci[a]);
         vf sig = ZERO, col[3] = {ZERO, ZERO, ZERO};
         for (int li = 0; li < F->nlayers; li++) {
             const vsv_rc_layer *L = &F->layer[li];
@@ -317,7 +283,7 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
                 m = uni ? (L->clear[bidx_a[0]] ? ZERO : m) : fandnot(flags(L->clear, bidx), m);
             if (!bits(m))
                 continue;
-            const vf v = sample(L, bits(m), fast, uni, bidx_a, off_a, ci_a, dj, dk, f);
+            const vf v = sample(L, uni, bidx_a, off_a, F->ey, F->ez, f);
             const vf valid = fand(m, ge(v, fset(L->lo)));
             const unsigned vb = bits(valid);
             if (!vb)

@@ -41,6 +41,19 @@ struct vsv_renderer {
     vsv_rc_layer *act;
     int act_cap;
     vsv_rc_frame frame;
+    /* the sampling copies, one per scene layer (vsv_rc_cells), and those
+     * this frame rebuilds */
+    struct rc_copy {
+        const vsv_volume *vol;
+        uint64_t gen;
+        float *store; /* the bricks whose copy holds data, then the shared empty one */
+        size_t store_cap;
+        float *empty;
+        const float **cells; /* per brick */
+        int cells_cap;
+    } *copy, **build;
+    int copy_cap, nbuild;
+    double copy_seconds; /* the last rebuild of sampling copies */
     int simd; /* vsv_raycast16 */
     vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
     vsv_rays rays;        /* the camera's rays, for this frame */
@@ -422,6 +435,90 @@ void vsv_opacity_init(void)
     pthread_once(&once, opacity_fill);
 }
 
+/* Whether brick b's sampling copy holds data: one of the eight bricks
+ * whose cells it copies has some. */
+static int copy_has_data(const vsv_volume *v, int b)
+{
+    const int bx = v->bdim[0], by = v->bdim[1], bz = v->bdim[2];
+    const int bi = b % bx, bj = b / bx % by, bk = b / (bx * by);
+    for (int n = 0; n < 8; n++) {
+        const int i = bi + (n & 1), j = bj + (n >> 1 & 1), k = bk + (n >> 2);
+        if (i < bx && j < by && k < bz && v->bricks[i + bx * (j + by * k)])
+            return 1;
+    }
+    return 0;
+}
+
+/* Sets c up to hold v's sampling copy (vsv_rc_cells): room for the bricks
+ * whose copy holds data and for the shared empty brick, which is filled
+ * here; copy_brick fills the others. */
+static int copy_prepare(struct rc_copy *c, const vsv_volume *v)
+{
+    const size_t n3 = (size_t)(v->brick + 1) * (v->brick + 1) * (v->brick + 1);
+    if (v->nbricks > c->cells_cap) {
+        const float **p = realloc(c->cells, (size_t)v->nbricks * sizeof *p);
+        if (!p)
+            return -1;
+        c->cells = p;
+        c->cells_cap = v->nbricks;
+    }
+    size_t own = 0;
+    for (int b = 0; b < v->nbricks; b++)
+        own += (size_t)copy_has_data(v, b);
+    if ((own + 1) * n3 > c->store_cap) {
+        float *p = realloc(c->store, (own + 1) * n3 * sizeof *p);
+        if (!p)
+            return -1;
+        c->store = p;
+        c->store_cap = (own + 1) * n3;
+    }
+    c->empty = c->store + own * n3;
+    for (size_t i = 0; i < n3; i++)
+        c->empty[i] = v->empty_value;
+    own = 0;
+    for (int b = 0; b < v->nbricks; b++)
+        c->cells[b] = copy_has_data(v, b) ? c->store + own++ * n3 : c->empty;
+    c->vol = v;
+    c->gen = v->gen;
+    return 0;
+}
+
+void vsv_rc_copy_fill(const vsv_volume *v, int b, float *dst)
+{
+    const int B = v->brick, e = B + 1, s = v->shift, m = B - 1, bx = v->bdim[0], by = v->bdim[1];
+    const int i0 = b % bx * B, j0 = b / bx % by * B, k0 = b / (bx * by) * B;
+    for (int k = 0; k < e; k++) {
+        const int gk = k0 + k < v->nz ? k0 + k : v->nz - 1;
+        for (int j = 0; j < e; j++) {
+            const int gj = j0 + j < v->ny ? j0 + j : v->ny - 1;
+            float *row = dst + ((size_t)k * e + j) * e;
+            if (i0 + B < v->nx) { /* the brick's row and the next cell inside the grid */
+                const float *src = v->bricks[b % bx + bx * ((gj >> s) + by * (gk >> s))];
+                if (src)
+                    memcpy(row, src + ((gj & m) << s) + ((gk & m) << (2 * s)), (size_t)B * sizeof *row);
+                else
+                    for (int i = 0; i < B; i++)
+                        row[i] = v->empty_value;
+                row[B] = vsv_volume_at(v, i0 + B, gj, gk);
+            } else {
+                for (int i = 0; i < e; i++)
+                    row[i] = vsv_volume_at(v, i0 + i < v->nx ? i0 + i : v->nx - 1, gj, gk);
+            }
+        }
+    }
+}
+
+/* Brick item % nbricks of the copy item / nbricks being rebuilt. */
+static void copy_brick(void *ctx, int item, int thread)
+{
+    const vsv_renderer *r = ctx;
+    (void)thread;
+    const struct rc_copy *c = r->build[item / r->build[0]->vol->nbricks];
+    const int b = item % c->vol->nbricks;
+    if (c->cells[b] != c->empty)
+        vsv_rc_copy_fill(c->vol, b, (float *)c->cells[b]);
+}
+
 /* The raycaster's frame: its visible layers, and empty-space skipping: a
  * brick is skipped when, for every visible layer, the values of the brick and
  * of every brick around it (a trilinear sample reaches one cell across, and
@@ -452,6 +549,18 @@ static int prepare_frame(vsv_renderer *r, const vsv_scene *sc)
         r->act = p;
         r->act_cap = sc->nlayers;
     }
+    if (sc->nlayers > r->copy_cap) {
+        struct rc_copy *c = realloc(r->copy, (size_t)sc->nlayers * sizeof *c);
+        struct rc_copy **b = c ? realloc(r->build, (size_t)sc->nlayers * sizeof *b) : NULL;
+        if (c)
+            r->copy = c;
+        if (!b)
+            return VSV_ENOMEM;
+        r->build = b;
+        memset(c + r->copy_cap, 0, (size_t)(sc->nlayers - r->copy_cap) * sizeof *c);
+        r->copy_cap = sc->nlayers;
+    }
+    r->nbuild = 0;
     vsv_rc_frame *F = &r->frame;
     memset(F, 0, sizeof *F);
     F->layer = r->act;
@@ -465,8 +574,15 @@ static int prepare_frame(vsv_renderer *r, const vsv_scene *sc)
         unsigned char *clear = r->skip + (size_t)nb * (l + 1);
         if (!L->visible || !(L->opacity > 0) || !L->vol)
             continue;
+        struct rc_copy *cp = &r->copy[l];
+        if (cp->vol != L->vol || cp->gen != L->vol->gen || !cp->gen) {
+            if (copy_prepare(cp, L->vol))
+                return VSV_ENOMEM;
+            r->build[r->nbuild++] = cp;
+        }
         r->act[F->nlayers++] = (vsv_rc_layer){
             .vol = L->vol,
+            .cells = cp->cells,
             .lut = (const float(*)[4])L->tf->lut,
             .lo = (float)L->tf->lo,
             .inv = (float)L->tf->inv,
@@ -519,7 +635,8 @@ static int prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     F->brick = V->brick;
     F->bx = V->bdim[0];
     F->bxy = V->bdim[0] * V->bdim[1];
-    F->whole = n[0] > 1 && n[1] > 1 && n[2] > 1;
+    F->ey = V->brick + 1;
+    F->ez = F->ey * F->ey;
     return 0;
 }
 
@@ -529,7 +646,7 @@ static int prepare_frame(vsv_renderer *r, const vsv_scene *sc)
  * vsv_raycast16 does the same operations in the same order, sixteen rays wide. */
 static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *pT, float acc[3], float *depth)
 {
-    const int sh = F->shift, m = F->mask, dj = 1 << sh, dk = 1 << (2 * sh);
+    const int sh = F->shift, m = F->mask, ey = F->ey, ez = F->ez;
     const float st = (float)ray->st;
     float T = 1;
     for (int n = 0; n < ray->ns; n++) {
@@ -549,20 +666,16 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             continue;
         }
         const float fu = c[0] - ci[0], fv = c[1] - ci[1], fw = c[2] - ci[2];
-        const int fast = F->whole && (ci[0] & m) != m && (ci[1] & m) != m && (ci[2] & m) != m;
-        const int off = (ci[0] & m) + ((ci[1] & m) << sh) + ((ci[2] & m) << (2 * sh));
+        const int off = (ci[0] & m) + (ci[1] & m) * ey + (ci[2] & m) * ez;
         float sig = 0, col[3] = {0, 0, 0};
         for (int l = 0; l < F->nlayers; l++) {
             const vsv_rc_layer *L = &F->layer[l];
             if (F->skip && L->clear[bidx])
                 continue; /* transparent around this brick: adds nothing */
             float cell[8];
-            const float *q = L->vol->bricks[bidx];
-            if (!fast)
-                vsv_rc_cells(L->vol, ci[0], ci[1], ci[2], cell);
-            else /* all eight in this brick (or an empty brick) */
-                for (int i = 0; i < 8; i++)
-                    cell[i] = q ? q[off + (i & 1) + (i & 2 ? dj : 0) + (i & 4 ? dk : 0)] : L->vol->empty_value;
+            const float *q = L->cells[bidx] + off;
+            for (int i = 0; i < 8; i++)
+                cell[i] = q[(i & 1) + (i & 2 ? ey : 0) + (i & 4 ? ez : 0)];
             const float v = vsv_rc_trilinear(cell, fu, fv, fw);
             if (!(v >= L->lo)) /* below the range, or no data (NaN) */
                 continue;
@@ -848,6 +961,12 @@ void vsv_renderer_free(vsv_renderer *r)
     }
     free(r->skip);
     free(r->act);
+    for (int l = 0; l < r->copy_cap; l++) {
+        free(r->copy[l].store);
+        free(r->copy[l].cells);
+    }
+    free(r->copy);
+    free(r->build);
     free(r->ground);
     vsv_sw_free(r->sw);
     free(r);
@@ -905,6 +1024,13 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     int rc = prepare_frame(r, sc);
     if (rc)
         return rc;
+    if (r->nbuild) {
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        pool_run(r, copy_brick, r, r->nbuild * r->build[0]->vol->nbricks);
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        r->copy_seconds = (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9;
+    }
     r->sc = sc;
     r->rgba = rgba;
     r->depth = depth;
@@ -914,4 +1040,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     return 0;
 }
 
-double vsv_renderer_rebuild_seconds(const vsv_renderer *r) { return r->sw ? vsv_sw_build_seconds(r->sw) : 0; }
+double vsv_renderer_rebuild_seconds(const vsv_renderer *r)
+{
+    return r->o.kind == VSV_RENDER_SHEARWARP ? vsv_sw_build_seconds(r->sw) : r->copy_seconds;
+}

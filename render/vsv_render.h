@@ -129,10 +129,13 @@ void vsv_renderer_free(vsv_renderer *r);
  * 1e-5). */
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
 
-/* Seconds the last rebuild of precomputed state took (shear-warp: classifying
- * the species into the copy for one principal viewing axis with its
- * scanline footprints, redone for an axis's first view after a transfer
- * function, an opacity or the time step changes); 0 for the raycaster. */
+/* Seconds the last rebuild of precomputed state took, redone when the time
+ * step changes. Shear-warp: classifying the species into the copy for one
+ * principal viewing axis with its scanline footprints (also redone for an
+ * axis's first view after a transfer function or an opacity changes).
+ * Raycaster: the sampling copies of the visible species (each brick with one
+ * more cell along each axis, so a trilinear sample never straddles bricks:
+ * 1.1 times the memory of the decoded volumes for bricks of 32). */
 double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
 
 /* The vertical exaggeration that makes the domain a fifth as tall as wide

@@ -194,9 +194,22 @@ void vsv_sw_par_warp_avx2(const float *img, size_t W, int w, int h, double x0, d
 
 /* ------------------------------------------------------------ raycaster */
 
+/* The raycaster's sampling copy of a layer's volume: every brick with one
+ * more cell along each axis (the first cells of the bricks after it; past
+ * the grid, its last cell again), so that the eight cells of any trilinear
+ * sample lie in one brick of the copy: (brick + 1)^3 floats, cell (i, j, k)
+ * of the brick at i + e j + e^2 k with e = brick + 1 (vsv_rc_frame ey, ez).
+ * Bricks whose copy holds nothing but the empty value share one. Built
+ * brick by brick on the renderer's threads when the volume's generation
+ * (vsv_volume.gen: a load) differs from the copy's, kept across frames. */
+typedef const float *const *vsv_rc_cells;
+/* Fills brick b's sampling copy into dst ((brick + 1)^3 floats). */
+void vsv_rc_copy_fill(const vsv_volume *v, int b, float *dst);
+
 /* A visible layer as the raycaster reads it, set up once per frame. */
 typedef struct vsv_rc_layer {
     const vsv_volume *vol;
+    vsv_rc_cells cells;         /* per brick: its sampling copy */
     const float (*lut)[4];      /* the transfer function's table */
     float lo, inv, off;         /* table position = (value or ln value) * inv + off */
     int log;
@@ -213,7 +226,7 @@ typedef struct vsv_rc_frame {
     float hi[3];               /* the largest cell coordinate per axis */
     int last[3];               /* the largest lower corner of a trilinear sample */
     int shift, mask, brick, bx, bxy;
-    int whole;                 /* every axis has two cells or more */
+    int ey, ez;                /* the sampling copy's strides: brick + 1, (brick + 1)^2 */
     double st, inv_st;         /* the step in world units, and 1 / st */
     double inv_cell[3];        /* 1 / cell edge (exaggerated in z), world units */
 } vsv_rc_frame;
@@ -243,33 +256,9 @@ static inline int vsv_rc_skip_to(const vsv_rc_frame *F, const vsv_rc_ray *ray, c
     return next;
 }
 
-/* The eight cells around a sample whose lower corner is cell (i, j, k), in
- * the order c000 c100 c010 c110 c001 c101 c011 c111 (c100: one along x),
- * from whichever bricks hold them. */
-static inline void vsv_rc_cells(const vsv_volume *v, int i, int j, int k, float c[8])
-{
-    const int s = v->shift, m = v->brick - 1, bx = v->bdim[0], bxy = bx * v->bdim[1];
-    /* brick and offset of cell (i, j, k), and the steps to the next cell along
-     * each axis: into the next brick at its first cell, or none at the grid's end */
-    const int b0 = (i >> s) + bx * (j >> s) + bxy * (k >> s);
-    const int o0 = (i & m) + ((j & m) << s) + ((k & m) << (2 * s));
-    const int ei = (i & m) == m, ej = (j & m) == m, ek = (k & m) == m;
-    const int ni = i + 1 < v->nx, nj = j + 1 < v->ny, nk = k + 1 < v->nz;
-    const int sbi = ni & ei, sbj = (nj & ej) * bx, sbk = (nk & ek) * bxy;
-    const int soi = ni ? (ei ? -m : 1) : 0, soj = nj ? (ej ? -(m << s) : 1 << s) : 0;
-    const int sok = nk ? (ek ? -(m << (2 * s)) : 1 << (2 * s)) : 0;
-    const float e = v->empty_value;
-#pragma GCC unroll 4
-    for (int n = 0; n < 4; n++) { /* the four rows along x */
-        const int rb = b0 + (n & 1) * sbj + (n >> 1) * sbk, ro = o0 + (n & 1) * soj + (n >> 1) * sok;
-        const float *p = v->bricks[rb], *q = sbi ? v->bricks[rb + 1] : p;
-        c[2 * n] = p ? p[ro] : e;
-        c[2 * n + 1] = q ? q[ro + soi] : e;
-    }
-}
-
-/* Trilinear interpolation of those cells (the order of operations both
- * raycaster loops keep). */
+/* Trilinear interpolation of the eight cells around a sample, in the order
+ * c000 c100 c010 c110 c001 c101 c011 c111 (c100: one along x; the order of
+ * operations both raycaster loops keep). */
 static inline float vsv_rc_trilinear(const float c[8], float fu, float fv, float fw)
 {
     const float a0 = c[0] + (c[1] - c[0]) * fu, a1 = c[2] + (c[3] - c[2]) * fu;

@@ -97,7 +97,7 @@ static uint64_t scene_key(const vsv_scene *sc)
     for (int l = 0; l < sc->nlayers; l++) {
         const vsv_layer *L = &sc->layers[l];
         h = mix(h, (uint64_t)(uintptr_t)L->vol);
-        h = mix(h, L->vol ? (uint64_t)(L->vol->step * 131 + L->vol->species) : 0);
+        h = mix(h, L->vol ? L->vol->gen : 0);
         h = mix(h, (uint64_t)L->visible);
         uint32_t u;
         memcpy(&u, &L->opacity, 4);

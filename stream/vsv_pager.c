@@ -664,6 +664,7 @@ static void unpin(vsv_pager *p, shell *sh)
             sh->held[b] = -1;
         }
     sh->v.step = sh->v.species = -1;
+    sh->v.gen = 0;
 }
 
 void vsv_pager_put(vsv_pager *p, vsv_volume *v)
@@ -785,6 +786,7 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
     } else {
         v->step = step;
         v->species = s;
+        v->gen = vsv_volume_new_gen();
     }
     make_room(p, 0, 1);
     pthread_mutex_unlock(&p->mu);

@@ -293,6 +293,55 @@ static void test_simd_paths(world *w)
     }
 }
 
+/* The raycaster's sampling copy: every brick with one more cell along each
+ * axis holds the cells of the grid (past its end, the last cell again); a
+ * volume loaded with another step is sampled anew by the same renderer. */
+static void test_sampling_copy(world *w)
+{
+    const vsv_volume *v = w->vol[0];
+    const int e = v->brick + 1;
+    float *copy = malloc(sizeof(float) * e * e * e);
+    long bad = 0, cells = 0;
+    for (int b = 0; copy && b < v->nbricks; b++) {
+        vsv_rc_copy_fill(v, b, copy);
+        const int i0 = b % v->bdim[0] * v->brick, j0 = b / v->bdim[0] % v->bdim[1] * v->brick;
+        const int k0 = b / (v->bdim[0] * v->bdim[1]) * v->brick;
+        for (int k = 0; k < e; k++)
+            for (int j = 0; j < e; j++)
+                for (int i = 0; i < e; i++, cells++) {
+                    const int gi = i0 + i < v->nx ? i0 + i : v->nx - 1, gj = j0 + j < v->ny ? j0 + j : v->ny - 1;
+                    const int gk = k0 + k < v->nz ? k0 + k : v->nz - 1;
+                    const float want = vsv_volume_at(v, gi, gj, gk), got = copy[(k * e + j) * e + i];
+                    bad += !(got == want || (got != got && want != want));
+                }
+    }
+    CHECK(copy && bad == 0 && cells > 10000, "the raycaster's sampling copy holds the grid's cells, the last again past it",
+          "%ld of %ld differ", bad, cells);
+    free(copy);
+    /* the same renderer after the volume is loaded with another step */
+    vsv_layer L = {w->vol[0], &w->tf[0], 1, 1};
+    vsv_scene sc = {vsv_file_meta(w->f), &L, 1, 1, 0};
+    vsv_camera cam;
+    vsv_camera_orbit(&cam, &sc, 225, 30, 0, W, H);
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    vsv_renderer *r = NULL, *fresh = NULL;
+    float *a = malloc(sizeof(float) * 4 * W * H), *b = malloc(sizeof(float) * 4 * W * H);
+    float *c = malloc(sizeof(float) * 4 * W * H);
+    int ok = !vsv_renderer_create(&o, &r) && !vsv_renderer_create(&o, &fresh) && a && b && c &&
+             !vsv_render(r, &sc, &cam, a, NULL) && !vsv_volume_load(w->vol[0], w->d, 1, 0) &&
+             !vsv_render(r, &sc, &cam, b, NULL) && !vsv_render(fresh, &sc, &cam, c, NULL);
+    CHECK(ok && max_diff(a, b) > 0.01 && max_diff(b, c) == 0,
+          "a volume loaded with another step: the renderer samples the new step", "%g %g", ok ? max_diff(a, b) : -1,
+          ok ? max_diff(b, c) : -1);
+    vsv_volume_load(w->vol[0], w->d, 2, 0);
+    vsv_renderer_free(r);
+    vsv_renderer_free(fresh);
+    free(a);
+    free(b);
+    free(c);
+}
+
 static void test_synthetic(void)
 {
     synth sy = {64, 48, 20, 3, 9, 9};
@@ -307,6 +356,7 @@ static void test_synthetic(void)
     if (!CHECK(load(&w, path, 2) == 0, "synthetic volumes load"))
         return;
     rules("synthetic", &w);
+    test_sampling_copy(&w);
     test_simd_paths(&w);
     const int sw3[3] = {0, 1, 2};
     sw_rules("synthetic", &w, sw3, 3);
