@@ -230,6 +230,8 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
     const vf TERM = fset(1.0f / 512), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
     const vi LUTI = iset(VSV_TF_LUT - 2);
     const vf UMAX = fset(VSV_OPACITY_UMAX), UK = fset(VSV_OPACITY_N / VSV_OPACITY_UMAX), HALF = fset(0.5f);
+    const vf SMALL = fset(VSV_OPACITY_SMALL);
+    const vf SERIES[5] = {fset(1.0f / 120), fset(-1.0f / 24), fset(1.0f / 6), fset(-1.0f / 2), ONE};
     vf T = ONE, acc[3] = {ZERO, ZERO, ZERO};
     unsigned deep_set = 0; /* lanes whose depth is set */
     for (int n = 0; n < nmax; n++) {
@@ -320,16 +322,23 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         const unsigned cb = bits(cm);
         if (!cb)
             continue;
-        /* the step's opacity from the table, as vsv_opacity_per_u */
+        /* the step's opacity as vsv_opacity_per_u: the series, the table, 1/u */
         const vf us = mul(sig, ST);
-        const vf in = fand(cm, lt(us, UMAX));
-        const vi ti = to_i(fand(in, add(mul(us, UK), HALF)));
-        vf fo;
-        EACH fo.r[h] = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), vsv_opacity_table, ti.r[h], in.r[h], 4);
-        if (bits(in) != cb) { /* beyond the table: 1/u */
-            vf inv;
-            EACH inv.r[h] = _mm256_div_ps(ONE.r[h], us.r[h]);
-            fo = blend(inv, fo, in);
+        vf fo = fset(-1.0f / 720);
+        for (int t = 0; t < 5; t++)
+            fo = add(SERIES[t], mul(us, fo));
+        const vf thick = fand(cm, ge(us, SMALL));
+        if (bits(thick)) {
+            const vf in = fand(thick, lt(us, UMAX));
+            const vi ti = to_i(fand(in, add(mul(us, UK), HALF)));
+            vf tab;
+            EACH tab.r[h] = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), vsv_opacity_table, ti.r[h], in.r[h], 4);
+            fo = blend(fo, tab, in);
+            if (bits(in) != bits(thick)) { /* beyond the table: 1/u */
+                vf inv;
+                EACH inv.r[h] = _mm256_div_ps(ONE.r[h], us.r[h]);
+                fo = blend(fo, inv, fandnot(in, thick));
+            }
         }
         const vf a = mul(us, fo), k = mul(mul(T, fo), ST);
         for (int ch = 0; ch < 3; ch++)
