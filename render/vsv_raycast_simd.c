@@ -177,19 +177,17 @@ static inline __m256 cell_row(const float *q, int dj, int dk)
  * x), transposed, interpolated. uni: every lane is in brick bidx[0]. */
 static vf sample(const vsv_rc_layer *L, int uni, const int *bidx, const int *off, int ey, int ez, const vf f[3])
 {
-    __m256 row[W];
-    if (uni) { /* the most common case */
-        const float *one = L->cells[bidx[0]];
-        for (int l = 0; l < W; l++)
-            row[l] = cell_row(one + off[l], ey, ez);
-    } else {
-        for (int l = 0; l < W; l++)
-            row[l] = cell_row(L->cells[bidx[l]] + off[l], ey, ez);
-    }
     vf v;
-    EACH { /* eight lanes at a time: fewer registers live */
-        __m256 *r = row + 8 * h; /* c000 c100 c010 c110 c001 c101 c011 c111, lane by lane */
-        transpose8(r);
+    const float *one = L->cells[bidx[0]];
+    EACH { /* eight lanes at a time: their rows stay in registers */
+        __m256 r[8];
+        if (uni) /* the most common case */
+            for (int l = 0; l < 8; l++)
+                r[l] = cell_row(one + off[8 * h + l], ey, ez);
+        else
+            for (int l = 0; l < 8; l++)
+                r[l] = cell_row(L->cells[bidx[8 * h + l]] + off[8 * h + l], ey, ez);
+        transpose8(r); /* c000 c100 c010 c110 c001 c101 c011 c111, lane by lane */
         const __m256 fu = f[0].r[h], fv = f[1].r[h], fw = f[2].r[h];
         const __m256 a0 = lerp1(r[0], r[1], fu), a1 = lerp1(r[2], r[3], fu);
         const __m256 a2 = lerp1(r[4], r[5], fu), a3 = lerp1(r[6], r[7], fu);
@@ -304,12 +302,11 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
             /* each lane's two table entries (eight floats in a row), transposed */
             int ia[W];
             istore(ia, iand(i, as_i(valid)));
-            __m256 row[W];
-            for (int l = 0; l < W; l++)
-                row[l] = _mm256_loadu_ps(L->lut[ia[l]]);
             const __m256 sigma = _mm256_set1_ps(L->sigma);
             EACH { /* eight lanes at a time */
-                __m256 *e = row + 8 * h; /* r g b a of entry i, then of entry i + 1 */
+                __m256 e[8]; /* r g b a of entry i, then of entry i + 1 */
+                for (int l = 0; l < 8; l++)
+                    e[l] = _mm256_loadu_ps(L->lut[ia[8 * h + l]]);
                 transpose8(e);
                 const __m256 t = fx.r[h], s = _mm256_mul_ps(lerp1(e[3], e[7], t), sigma);
                 const __m256 sm = _mm256_and_ps(valid.r[h], _mm256_cmp_ps(s, _mm256_setzero_ps(), _CMP_GT_OQ));
