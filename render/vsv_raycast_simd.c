@@ -131,7 +131,13 @@ static inline vi iload(const int *p)
     EACH o.r[h] = _mm256_loadu_si256((const __m256i *)(p + 8 * h));
     return o;
 }
-static inline __m256 lerp1(__m256 a, __m256 b, __m256 f) { return _mm256_add_ps(a, _mm256_mul_ps(_mm256_sub_ps(b, a), f)); }
+static inline __m256 lerp1(__m256 a, __m256 b, __m256 f) { return _mm256_fmadd_ps(_mm256_sub_ps(b, a), f, a); }
+static inline vf fma3(vf a, vf b, vf c)
+{
+    vf o;
+    EACH o.r[h] = _mm256_fmadd_ps(a.r[h], b.r[h], c.r[h]);
+    return o;
+}
 #define ALL ((1u << W) - 1)
 
 /* r[l] holds eight values of lane l (of 8); afterwards r[k] holds value k of
@@ -241,7 +247,7 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         vf c[3], f[3];
         vi ci[3];
         for (int a = 0; a < 3; a++) {
-            c[a] = add(P[a], mul(NF, DP[a]));
+            c[a] = fma3(NF, DP[a], P[a]);
             c[a] = vmax(vmin(c[a], HI[a]), ZERO);
             ci[a] = imin(to_i(c[a]), LAST[a]);
         }
@@ -296,7 +302,7 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
                     t[l] = vb >> l & 1 ? logf(t[l]) : 0;
                 xv = fload(t);
             }
-            const vf x = vmin(add(mul(xv, fset(L->inv)), fset(L->off)), LUTMAX);
+            const vf x = vmin(fma3(xv, fset(L->inv), fset(L->off)), LUTMAX);
             const vi i = imin(to_i(x), LUTI);
             const vf fx = sub(x, to_f(i));
             /* each lane's two table entries (eight floats in a row), transposed */
@@ -319,11 +325,11 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         const unsigned cb = bits(cm);
         if (!cb)
             continue;
-        /* the step's opacity as vsv_opacity_per_u: the series, the table, 1/u */
+        /* the step's opacity as vsv_rc_opacity_per_u: the series, the table, 1/u */
         const vf us = mul(sig, ST);
         vf fo = fset(-1.0f / 720);
         for (int t = 0; t < 5; t++)
-            fo = add(SERIES[t], mul(us, fo));
+            fo = fma3(us, fo, SERIES[t]);
         const vf thick = fand(cm, ge(us, SMALL));
         if (bits(thick)) {
             const vf in = fand(thick, lt(us, UMAX));

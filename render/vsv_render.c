@@ -653,7 +653,7 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
         float c[3];
         int ci[3];
         for (int a = 0; a < 3; a++) {
-            c[a] = ray->p[a] + n * ray->dp[a];
+            c[a] = fmaf((float)n, ray->dp[a], ray->p[a]);
             c[a] = c[a] > 0 ? (c[a] < F->hi[a] ? c[a] : F->hi[a]) : 0;
             ci[a] = (int)c[a];
             ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
@@ -679,22 +679,22 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             const float v = vsv_rc_trilinear(cell, fu, fv, fw);
             if (!(v >= L->lo)) /* below the range, or no data (NaN) */
                 continue;
-            float x = (L->log ? logf(v) : v) * L->inv + L->off;
+            float x = fmaf(L->log ? logf(v) : v, L->inv, L->off);
             x = x < VSV_TF_LUT - 1 ? x : VSV_TF_LUT - 1;
             int i = (int)x;
             i = i < VSV_TF_LUT - 2 ? i : VSV_TF_LUT - 2;
             const float f = x - i;
             const float *lo = L->lut[i], *hi = lo + 4;
-            const float s = (lo[3] + (hi[3] - lo[3]) * f) * L->sigma;
+            const float s = vsv_rc_lerp(lo[3], hi[3], f) * L->sigma;
             if (s > 0) {
                 sig += s;
                 for (int ch = 0; ch < 3; ch++)
-                    col[ch] += s * (lo[ch] + (hi[ch] - lo[ch]) * f);
+                    col[ch] += s * vsv_rc_lerp(lo[ch], hi[ch], f);
             }
         }
         if (sig > 0) {
             const float us = sig * st;
-            const float f = vsv_opacity_per_u(us);
+            const float f = vsv_rc_opacity_per_u(us);
             const float a = us * f, k = T * f * st; /* T a / sig */
             for (int ch = 0; ch < 3; ch++)
                 acc[ch] += k * col[ch];

@@ -18,8 +18,7 @@
  * VSV_OPACITY_SMALL (the thin samples of most species) by the first six
  * terms of its series (off by under 5e-8), up to VSV_OPACITY_UMAX read from
  * a table at the nearest entry (off by at most 1.2e-4), 1/u beyond (off by
- * e^-12 = 6e-6): no exponential per sample. Both renderers use it; the
- * raycaster's sixteen-ray loop does the same float operations. */
+ * e^-12 = 6e-6): no exponential per sample. */
 #define VSV_OPACITY_N 16384
 #define VSV_OPACITY_UMAX 12.0f
 #define VSV_OPACITY_SMALL 0.25f
@@ -34,6 +33,19 @@ static inline float vsv_opacity_per_u(float u)
     return u < VSV_OPACITY_SMALL ? vsv_opacity_series(u)
            : u < VSV_OPACITY_UMAX ? vsv_opacity_table[(int)(u * (VSV_OPACITY_N / VSV_OPACITY_UMAX) + 0.5f)]
                                   : 1 / u;
+}
+/* The raycaster's: the series by fused multiply-adds (one rounding each,
+ * as the sixteen-ray loop's FMA instructions: both loops give the same bits). */
+static inline float vsv_rc_opacity_per_u(float u)
+{
+    if (!(u < VSV_OPACITY_SMALL))
+        return vsv_opacity_per_u(u);
+    float f = -1.0f / 720;
+    f = fmaf(u, f, 1.0f / 120);
+    f = fmaf(u, f, -1.0f / 24);
+    f = fmaf(u, f, 1.0f / 6);
+    f = fmaf(u, f, -1.0f / 2);
+    return fmaf(u, f, 1.0f);
 }
 
 /* Colour and opacity-curve value of one data value, inline (vsv_tf_eval). */
@@ -268,12 +280,12 @@ static inline int vsv_rc_skip_to(const vsv_rc_frame *F, const vsv_rc_ray *ray, c
 /* Trilinear interpolation of the eight cells around a sample, in the order
  * c000 c100 c010 c110 c001 c101 c011 c111 (c100: one along x; the order of
  * operations both raycaster loops keep). */
+static inline float vsv_rc_lerp(float a, float b, float f) { return fmaf(b - a, f, a); }
 static inline float vsv_rc_trilinear(const float c[8], float fu, float fv, float fw)
 {
-    const float a0 = c[0] + (c[1] - c[0]) * fu, a1 = c[2] + (c[3] - c[2]) * fu;
-    const float a2 = c[4] + (c[5] - c[4]) * fu, a3 = c[6] + (c[7] - c[6]) * fu;
-    const float e0 = a0 + (a1 - a0) * fv, e1 = a2 + (a3 - a2) * fv;
-    return e0 + (e1 - e0) * fw;
+    const float a0 = vsv_rc_lerp(c[0], c[1], fu), a1 = vsv_rc_lerp(c[2], c[3], fu);
+    const float a2 = vsv_rc_lerp(c[4], c[5], fu), a3 = vsv_rc_lerp(c[6], c[7], fu);
+    return vsv_rc_lerp(vsv_rc_lerp(a0, a1, fv), vsv_rc_lerp(a2, a3, fv), fw);
 }
 
 /* VSV_RC_LANES rays at once (AVX2 + FMA; only when the CPU has them): T
