@@ -629,7 +629,12 @@ static int prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     F->inv_cell[0] = 1 / g->dx;
     F->inv_cell[1] = 1 / g->dy;
     F->inv_cell[2] = 1 / (g->dz * g->E);
-    F->skip = r->o.no_skip ? NULL : r->skip;
+    /* nothing to skip (a dense species): no tests per sample */
+    int any = 0;
+    for (int l = -1; l < F->nlayers; l++)
+        for (int b = 0; b < nb && !any; b++)
+            any = (l < 0 ? r->skip : r->act[l].clear)[b];
+    F->skip = r->o.no_skip || !any ? NULL : r->skip;
     F->shift = V->shift;
     F->mask = V->brick - 1;
     F->brick = V->brick;
