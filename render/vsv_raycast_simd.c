@@ -132,10 +132,16 @@ static inline vi iload(const int *p)
     return o;
 }
 static inline __m256 lerp1(__m256 a, __m256 b, __m256 f) { return _mm256_fmadd_ps(_mm256_sub_ps(b, a), f, a); }
-static inline vf fma3(vf a, vf b, vf c)
+static inline vf fma3(vf a, vf b, vf c) /* a b + c */
 {
     vf o;
     EACH o.r[h] = _mm256_fmadd_ps(a.r[h], b.r[h], c.r[h]);
+    return o;
+}
+static inline vf fnma3(vf a, vf b, vf c) /* c - a b */
+{
+    vf o;
+    EACH o.r[h] = _mm256_fnmadd_ps(a.r[h], b.r[h], c.r[h]);
     return o;
 }
 #define ALL ((1u << W) - 1)
@@ -314,14 +320,15 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
                 for (int l = 0; l < 8; l++)
                     e[l] = _mm256_loadu_ps(L->lut[ia[8 * h + l]]);
                 transpose8(e);
-                const __m256 t = fx.r[h], s = _mm256_mul_ps(lerp1(e[3], e[7], t), sigma);
-                const __m256 sm = _mm256_and_ps(valid.r[h], _mm256_cmp_ps(s, _mm256_setzero_ps(), _CMP_GT_OQ));
-                sig.r[h] = _mm256_add_ps(sig.r[h], _mm256_and_ps(s, sm));
+                /* s <= 0 (a hair below the table) and lanes without a value add 0 */
+                const __m256 t = fx.r[h], s0 = _mm256_mul_ps(lerp1(e[3], e[7], t), sigma);
+                const __m256 s = _mm256_and_ps(_mm256_max_ps(s0, _mm256_setzero_ps()), valid.r[h]);
+                sig.r[h] = _mm256_add_ps(sig.r[h], s);
                 for (int ch = 0; ch < 3; ch++)
-                    col[ch].r[h] = _mm256_add_ps(col[ch].r[h], _mm256_and_ps(_mm256_mul_ps(s, lerp1(e[ch], e[ch + 4], t)), sm));
+                    col[ch].r[h] = _mm256_fmadd_ps(s, lerp1(e[ch], e[ch + 4], t), col[ch].r[h]);
             }
         }
-        const vf cm = fand(comp, gt(sig, ZERO));
+        const vf cm = gt(sig, ZERO); /* only lanes of comp have added anything */
         const unsigned cb = bits(cm);
         if (!cb)
             continue;
@@ -343,10 +350,11 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
                 fo = blend(fo, inv, fandnot(in, thick));
             }
         }
+        /* the other lanes have sig = 0, so us = 0, fo = 1, a = 0, col = 0: no change */
         const vf a = mul(us, fo), k = mul(mul(T, fo), ST);
         for (int ch = 0; ch < 3; ch++)
-            acc[ch] = add(acc[ch], fand(mul(k, col[ch]), cm));
-        T = blend(T, mul(T, sub(ONE, a)), cm);
+            acc[ch] = fma3(k, col[ch], acc[ch]);
+        T = fnma3(T, a, T);
         const unsigned deep = bits(fand(cm, gt(sub(ONE, T), DEPTH))) & ~deep_set;
         for (int l = 0; deep && l < W; l++)
             if (deep >> l & 1 && depth[l] == INFINITY)

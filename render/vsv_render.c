@@ -694,7 +694,7 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             if (s > 0) {
                 sig += s;
                 for (int ch = 0; ch < 3; ch++)
-                    col[ch] += s * vsv_rc_lerp(lo[ch], hi[ch], f);
+                    col[ch] = fmaf(s, vsv_rc_lerp(lo[ch], hi[ch], f), col[ch]);
             }
         }
         if (sig > 0) {
@@ -702,8 +702,8 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             const float f = vsv_rc_opacity_per_u(us);
             const float a = us * f, k = T * f * st; /* T a / sig */
             for (int ch = 0; ch < 3; ch++)
-                acc[ch] += k * col[ch];
-            T *= 1 - a;
+                acc[ch] = fmaf(k, col[ch], acc[ch]);
+            T = fmaf(-T, a, T);
             if (*depth == INFINITY && 1 - T > 0.1f)
                 *depth = (float)(ray->ts + n * ray->st);
             if (T < 1.0f / 512)
