@@ -320,12 +320,14 @@ void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
                 for (int l = 0; l < 8; l++)
                     e[l] = _mm256_loadu_ps(L->lut[ia[8 * h + l]]);
                 transpose8(e);
-                /* s <= 0 (a hair below the table) and lanes without a value add 0 */
+                /* s <= 0 (a hair below the table) and lanes without a value add 0;
+                 * products summed by plain additions: two species give the
+                 * same bits in either order */
                 const __m256 t = fx.r[h], s0 = _mm256_mul_ps(lerp1(e[3], e[7], t), sigma);
                 const __m256 s = _mm256_and_ps(_mm256_max_ps(s0, _mm256_setzero_ps()), valid.r[h]);
                 sig.r[h] = _mm256_add_ps(sig.r[h], s);
                 for (int ch = 0; ch < 3; ch++)
-                    col[ch].r[h] = _mm256_fmadd_ps(s, lerp1(e[ch], e[ch + 4], t), col[ch].r[h]);
+                    col[ch].r[h] = _mm256_add_ps(col[ch].r[h], _mm256_mul_ps(s, lerp1(e[ch], e[ch + 4], t)));
             }
         }
         const vf cm = gt(sig, ZERO); /* only lanes of comp have added anything */

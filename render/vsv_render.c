@@ -694,7 +694,7 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             if (s > 0) {
                 sig += s;
                 for (int ch = 0; ch < 3; ch++)
-                    col[ch] = fmaf(s, vsv_rc_lerp(lo[ch], hi[ch], f), col[ch]);
+                    col[ch] += s * vsv_rc_lerp(lo[ch], hi[ch], f);
             }
         }
         if (sig > 0) {
