@@ -270,31 +270,6 @@ void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[
     vsv_rays_get(&R, px, py, o, d);
 }
 
-/* Slab intersection of the ray with a box; 0 if missed. */
-int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1)
-{
-    double a = -INFINITY, b = INFINITY;
-    for (int i = 0; i < 3; i++) {
-        if (d[i] == 0) {
-            if (o[i] < mn[i] || o[i] > mx[i])
-                return 0;
-            continue;
-        }
-        const double inv = 1 / d[i];
-        double ta = (mn[i] - o[i]) * inv, tb = (mx[i] - o[i]) * inv;
-        if (ta > tb) {
-            const double t = ta;
-            ta = tb;
-            tb = t;
-        }
-        a = ta > a ? ta : a;
-        b = tb < b ? tb : b;
-    }
-    *t0 = a;
-    *t1 = b;
-    return b >= a && b > 0;
-}
-
 /* Terrain height (exaggerated world z) at world (x, y): bilinear at cell centres. */
 double vsv_geo_terrain(const vsv_geo *g, double x, double y)
 {
@@ -713,47 +688,74 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
     *pT = T;
 }
 
-/* The ray of pixel (px, py) and its stretch [t0, t1] inside the scene's box
- * and the camera's near and far distances; 0 when it has none. */
-static int pixel_span(const vsv_renderer *r, int px, int py, double o[3], double d[3], double *t0, double *t1)
+/* The rays of pixels px .. px + SPAN - 1 of row py and their stretches
+ * [t0, t1] inside the scene's box and the camera's near and far distances
+ * (hit 0 where a ray has none, or its pixel is past the image's width w):
+ * vsv_rays_get's arithmetic and vsv_box_hit, lane by lane without branches
+ * so that the compiler works on several rays at once. */
+enum { SPAN = VSV_RC_LANES };
+typedef struct spans {
+    double o[3][SPAN], d[3][SPAN], t0[SPAN], t1[SPAN];
+    int hit[SPAN];
+} spans;
+
+static void pixel_spans(const vsv_renderer *r, int px, int py, int w, spans *S)
 {
-    if (!rays_may_hit(&r->rays, px, py))
-        return 0;
-    vsv_rays_get(&r->rays, px, py, o, d);
-    if (!vsv_box_hit(o, d, r->g.bmin, r->g.bmax, t0, t1))
-        return 0;
-    const double znear = r->cam->znear > 0 ? r->cam->znear : 0;
-    if (*t0 < znear)
-        *t0 = znear;
-    if (r->cam->zfar > 0 && *t1 > r->cam->zfar)
-        *t1 = r->cam->zfar;
-    return 1;
+    const vsv_rays *R = &r->rays;
+    const double sy = R->cy + R->ky * (1 - 2 * (py + 0.5) / R->h);
+    double sx[SPAN];
+    for (int i = 0; i < SPAN; i++)
+        sx[i] = R->cx + R->kx * (2 * (px + i + 0.5) / R->w - 1);
+    if (R->persp) {
+        for (int i = 0; i < SPAN; i++) {
+            double d[3];
+            for (int a = 0; a < 3; a++)
+                d[a] = R->f[a] + sx[i] * R->r[a] + sy * R->u[a];
+            const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), k = 1 / n;
+            for (int a = 0; a < 3; a++) {
+                S->o[a][i] = R->o[a];
+                S->d[a][i] = n > 0 ? d[a] * k : d[a];
+            }
+        }
+    } else {
+        for (int i = 0; i < SPAN; i++)
+            for (int a = 0; a < 3; a++) {
+                S->o[a][i] = R->o[a] + sx[i] * R->r[a] + sy * R->u[a];
+                S->d[a][i] = R->f[a];
+            }
+    }
+    const double *mn = r->g.bmin, *mx = r->g.bmax;
+    const double znear = r->cam->znear > 0 ? r->cam->znear : 0, zfar = r->cam->zfar > 0 ? r->cam->zfar : INFINITY;
+    const int row = py >= R->y0 && py <= R->y1;
+    for (int i = 0; i < SPAN; i++) {
+        const double o[3] = {S->o[0][i], S->o[1][i], S->o[2][i]}, d[3] = {S->d[0][i], S->d[1][i], S->d[2][i]};
+        double lo, hi;
+        const int box = vsv_box_hit(o, d, mn, mx, &lo, &hi);
+        S->hit[i] = row & (px + i >= R->x0) & (px + i <= R->x1) & (px + i < w) & box;
+        S->t0[i] = lo < znear ? znear : lo;
+        S->t1[i] = hi > zfar ? zfar : hi;
+    }
 }
 
-/* The ray of pixel (px, py): its samples through the volume (none when it
- * misses), and where it meets the ground (t_hit; INFINITY when it does not). */
-static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray *ray, double *t_hit)
+/* The rays of pixels px .. px + SPAN - 1 of row py: their samples through
+ * the volume (none when a ray misses, or its pixel is past the image), and
+ * where they meet the ground (t_hit; INFINITY when they do not). */
+static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray ray[SPAN], double t_hit[SPAN])
 {
     const vsv_geo *g = &r->g;
-    double o[3], d[3], t0, t1;
-    ray->ns = 0;
-    *t_hit = INFINITY;
-    if (!pixel_span(r, px, py, o, d, &t0, &t1))
-        return;
-    if (g->terrain)
-        *t_hit = r->ground[(size_t)py * r->cam->width + px].t;
-    const double st = r->frame.st;
-    const double ts = t0 + 0.5 * st, tend = t1 < *t_hit ? t1 : *t_hit;
-    if (!r->frame.nlayers || !(tend > ts))
-        return;
-    ray->ns = (int)ceil((tend - ts) * r->frame.inv_st);
-    ray->ts = ts;
-    ray->st = st;
-    const double pos[3] = {o[0] + ts * d[0], o[1] + ts * d[1], o[2] + ts * d[2]};
-    const double org[3] = {g->ox, g->oy, g->oz * g->E};
-    for (int a = 0; a < 3; a++) {
-        ray->p[a] = (float)((pos[a] - org[a]) * r->frame.inv_cell[a]);
-        ray->dp[a] = (float)(st * d[a] * r->frame.inv_cell[a]);
+    spans S;
+    pixel_spans(r, px, py, r->cam->width, &S);
+    const double st = r->frame.st, org[3] = {g->ox, g->oy, g->oz * g->E};
+    for (int i = 0; i < SPAN; i++) {
+        t_hit[i] = S.hit[i] && g->terrain ? r->ground[(size_t)py * r->cam->width + px + i].t : INFINITY;
+        const double ts = S.t0[i] + 0.5 * st, tend = S.t1[i] < t_hit[i] ? S.t1[i] : t_hit[i];
+        ray[i].ns = S.hit[i] && r->frame.nlayers && tend > ts ? (int)ceil((tend - ts) * r->frame.inv_st) : 0;
+        ray[i].ts = ts;
+        ray[i].st = st;
+        for (int a = 0; a < 3; a++) {
+            ray[i].p[a] = (float)((S.o[a][i] + ts * S.d[a][i] - org[a]) * r->frame.inv_cell[a]);
+            ray[i].dp[a] = (float)(st * S.d[a][i] * r->frame.inv_cell[a]);
+        }
     }
 }
 
@@ -784,16 +786,20 @@ static void ground_row(void *ctx, int py, int thread)
     const vsv_geo *g = &r->g;
     const vsv_camera *cam = r->cam;
     (void)thread;
-    for (int px = 0; px < cam->width; px++) {
-        vsv_ground *gp = &r->ground[(size_t)py * cam->width + px];
-        double o[3], d[3], t0, t1;
-        gp->t = INFINITY;
-        if (!pixel_span(r, px, py, o, d, &t0, &t1))
-            continue;
-        const double t = vsv_geo_terrain_hit(g, o, d, t0, t1);
-        if (t < INFINITY) {
-            gp->t = (float)t;
-            vsv_geo_terrain_colour(g, o[0] + t * d[0], o[1] + t * d[1], gp->rgb);
+    for (int px0 = 0; px0 < cam->width; px0 += SPAN) {
+        spans S;
+        pixel_spans(r, px0, py, cam->width, &S);
+        for (int i = 0; i < SPAN && px0 + i < cam->width; i++) {
+            vsv_ground *gp = &r->ground[(size_t)py * cam->width + px0 + i];
+            gp->t = INFINITY;
+            if (!S.hit[i])
+                continue;
+            const double o[3] = {S.o[0][i], S.o[1][i], S.o[2][i]}, d[3] = {S.d[0][i], S.d[1][i], S.d[2][i]};
+            const double t = vsv_geo_terrain_hit(g, o, d, S.t0[i], S.t1[i]);
+            if (t < INFINITY) {
+                gp->t = (float)t;
+                vsv_geo_terrain_colour(g, o[0] + t * d[0], o[1] + t * d[1], gp->rgb);
+            }
         }
     }
 }
@@ -817,10 +823,9 @@ static void raycast_tile(void *ctx, int tile, int thread)
             double t_hit[N];
             float T[N], acc[3][N], depth[N];
             const int n = x1 - px < N ? x1 - px : N;
+            raycast_setup(r, px, py, ray, t_hit);
             for (int i = 0; i < N; i++) {
-                if (i < n)
-                    raycast_setup(r, px + i, py, &ray[i], &t_hit[i]);
-                else
+                if (i >= n) /* the next tile's */
                     ray[i].ns = 0;
                 T[i] = 1;
                 acc[0][i] = acc[1][i] = acc[2][i] = 0;

@@ -87,8 +87,25 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g);
 double vsv_geo_terrain(const vsv_geo *g, double x, double y);
 /* Ground colour at (x, y): by height, shaded by slope. */
 void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3]);
-/* Slab intersection of a ray with a box: [t0, t1]; 0 if missed. */
-int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0, double *t1);
+/* Slab intersection of a ray with a box: [t0, t1]; 0 if missed. Without
+ * branches: the renderer runs it over several rays at once. */
+static inline int vsv_box_hit(const double o[3], const double d[3], const double mn[3], const double mx[3], double *t0,
+                              double *t1)
+{
+    double lo = -INFINITY, hi = INFINITY;
+    int out = 0;
+    for (int a = 0; a < 3; a++) {
+        const double inv = 1 / d[a], ta = (mn[a] - o[a]) * inv, tb = (mx[a] - o[a]) * inv;
+        const double near = ta > tb ? tb : ta, far = ta > tb ? ta : tb;
+        const int flat = d[a] == 0; /* parallel to the slab: in it or not */
+        out |= flat & (o[a] < mn[a] || o[a] > mx[a]);
+        lo = !flat && near > lo ? near : lo;
+        hi = !flat && far < hi ? far : hi;
+    }
+    *t0 = lo;
+    *t1 = hi;
+    return !out & (hi >= lo) & (hi > 0);
+}
 /* Distance along the ray (o, d) where it first meets the ground (the
  * bilinear height field through the cell centres, flat beyond them) between
  * t0 and t1: exact, patch by patch; INFINITY if never. */
