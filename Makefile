@@ -97,6 +97,7 @@ $(B)/%.o: %.c
 
 # the raycaster's sixteen-ray march: AVX2 + FMA code, called only on CPUs that have them
 $(B)/render/vsv_raycast_simd.o: CFLAGS_ALL += -mavx2 -mfma
+$(B)/render/vsv_raycast_avx512.o: CFLAGS_ALL += -mavx2 -mfma -mavx512f
 # the shear-warp's eight-pixel rows, built for any x86-64 (its eight-float
 # vectors never cross a call, so -Wpsabi's ABI note is moot) and for AVX2 + FMA
 $(B)/render/vsv_sw_row.o: CFLAGS_ALL += -Wno-psabi

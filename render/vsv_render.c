@@ -54,7 +54,8 @@ struct vsv_renderer {
     } *copy, **build;
     int copy_cap, nbuild;
     double copy_seconds; /* the last rebuild of sampling copies */
-    int simd; /* vsv_raycast16 */
+    int simd;              /* the CPU has AVX2 and FMA (and VSV_SIMD is not 0) */
+    vsv_rc_kernel *kernel; /* sixteen rays at once, or NULL: one at a time */
     vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
     vsv_rays rays;        /* the camera's rays, for this frame */
     /* the ground per pixel, for ground_cam and ground_geo */
@@ -806,9 +807,10 @@ static void ground_row(void *ctx, int py, int thread)
 
 /* --------------------------------------------------------------- threads */
 
-/* One 16x16 tile of the raycaster: a row of the tile at a time, through
- * vsv_raycast16 where the CPU has AVX2 (unless VSV_SIMD=0 in the
- * environment), else one ray at a time. */
+/* One 16x16 tile of the raycaster: a row of the tile at a time, sixteen rays
+ * at once where the CPU has AVX2 (in one AVX-512 register where it has that;
+ * VSV_SIMD=0 in the environment: one ray at a time, VSV_SIMD=avx2: never
+ * AVX-512), else one ray at a time. */
 static void raycast_tile(void *ctx, int tile, int thread)
 {
     enum { N = VSV_RC_LANES };
@@ -831,8 +833,8 @@ static void raycast_tile(void *ctx, int tile, int thread)
                 acc[0][i] = acc[1][i] = acc[2][i] = 0;
                 depth[i] = INFINITY;
             }
-            if (r->simd) {
-                vsv_raycast16(&r->frame, ray, T, acc, depth);
+            if (r->kernel) {
+                r->kernel(&r->frame, ray, T, acc, depth);
             } else {
                 for (int i = 0; i < n; i++) {
                     float a[3] = {0, 0, 0};
@@ -933,6 +935,9 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
     const char *simd = getenv("VSV_SIMD");
     __builtin_cpu_init();
     r->simd = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !(simd && !strcmp(simd, "0"));
+    r->kernel = !r->simd                                                                     ? NULL
+                : __builtin_cpu_supports("avx512f") && !(simd && !strcmp(simd, "avx2")) ? vsv_raycast16_avx512
+                                                                                          : vsv_raycast16;
     if (r->o.kind == VSV_RENDER_SHEARWARP &&
         !(r->sw = vsv_sw_create(MAX_THREADS, r->simd && __builtin_cpu_supports("f16c"))))
         return VSV_ENOMEM;

@@ -122,8 +122,10 @@ void vsv_renderer_free(vsv_renderer *r);
  * depth (w*h floats: distance along the ray to the first opaque-enough point,
  * INFINITY where none); either may be NULL. The same pixels whatever the
  * thread count. The raycaster marches sixteen rays at once on CPUs with AVX2
- * and FMA (chosen when the renderer is created; VSV_SIMD=0 in the environment
- * keeps it to one ray at a time), with the same pixels either way; the
+ * and FMA, in one AVX-512 register where the CPU has AVX-512F (chosen when
+ * the renderer is created; VSV_SIMD=0 in the environment keeps it to one ray
+ * at a time, VSV_SIMD=avx2 to the AVX2 build), with the same pixels either
+ * way; the
  * shear-warp's parallel-ray compositing is built for any x86-64 and for AVX2,
  * FMA and F16C, chosen the same way (the two differ by rounding, under
  * 1e-5). */

@@ -305,12 +305,14 @@ static inline float vsv_rc_trilinear(const float c[8], float fu, float fv, float
     return vsv_rc_lerp(vsv_rc_lerp(a0, a1, fv), vsv_rc_lerp(a2, a3, fv), fw);
 }
 
-/* VSV_RC_LANES rays at once (AVX2 + FMA; only when the CPU has them): T
- * (transmittance), acc (colour) and depth, which start at 1, 0, INFINITY, are
- * composited front to back through every ray's samples, as the one-ray loop
- * does. A ray with ns 0 is left as it is. */
+/* VSV_RC_LANES rays at once: T (transmittance), acc (colour) and depth, which
+ * start at 1, 0, INFINITY, are composited front to back through every ray's
+ * samples, as the one-ray loop does. A ray with ns 0 is left as it is. One
+ * source, two builds: vsv_raycast16 for AVX2 + FMA, vsv_raycast16_avx512 for
+ * AVX-512F; call each only on a CPU that has them. */
 #define VSV_RC_LANES 16
-void vsv_raycast16(const vsv_rc_frame *F, const vsv_rc_ray ray[VSV_RC_LANES], float T[VSV_RC_LANES],
-                   float acc[3][VSV_RC_LANES], float depth[VSV_RC_LANES]);
+typedef void vsv_rc_kernel(const vsv_rc_frame *F, const vsv_rc_ray ray[VSV_RC_LANES], float T[VSV_RC_LANES],
+                           float acc[3][VSV_RC_LANES], float depth[VSV_RC_LANES]);
+vsv_rc_kernel vsv_raycast16, vsv_raycast16_avx512;
 
 #endif

@@ -115,6 +115,13 @@ static double coverage(const float *a)
     return (double)n / (W * H);
 }
 
+/* which sixteen-ray build the renderer picks here */
+static const char *simd_name(void)
+{
+    __builtin_cpu_init();
+    return __builtin_cpu_supports("avx512f") ? "AVX-512" : "AVX2";
+}
+
 static void rules(const char *label, world *w)
 {
     char name[256];
@@ -136,10 +143,15 @@ static void rules(const char *label, world *w)
     CHECK(t1 && x && !memcmp(t1, x, sizeof(float) * W * H * 4), name);
     setenv("VSV_SIMD", "0", 1); /* the one-ray loop, on any CPU */
     float *one = render(w, ab, one2, 2, 2, 0.5, 0, NULL);
+    setenv("VSV_SIMD", "avx2", 1); /* the AVX2 build of the sixteen-ray loop, on a CPU with AVX-512 too */
+    float *avx2 = render(w, ab, one2, 2, 2, 0.5, 0, NULL);
     unsetenv("VSV_SIMD");
-    snprintf(name, sizeof name, "%s: the sixteen-ray (AVX2) and one-ray loops give identical pixels", label);
+    snprintf(name, sizeof name, "%s: the sixteen-ray (%s) and one-ray loops give identical pixels", label, simd_name());
     CHECK(one && x && max_diff(one, x) == 0, name, "max diff %g", one && x ? max_diff(one, x) : -1);
+    snprintf(name, sizeof name, "%s: the sixteen-ray loop's AVX2 build gives the same pixels too", label);
+    CHECK(avx2 && x && max_diff(avx2, x) == 0, name, "max diff %g", avx2 && x ? max_diff(avx2, x) : -1);
     free(one);
+    free(avx2);
     float *ns = render(w, ab, one2, 2, 2, 0.5, 1, NULL);
     snprintf(name, sizeof name, "%s: empty-space skipping changes no pixel by more than 1/255", label);
     CHECK(ns && x && max_diff(ns, x) <= 1.0 / 255, name, "max diff %g", ns && x ? max_diff(ns, x) : -1);
@@ -265,10 +277,10 @@ static void test_simd_paths(world *w)
     sc.exaggeration = vsv_scene_default_exaggeration(&sc);
     vsv_camera cam;
     vsv_camera_orbit(&cam, &sc, 200, 25, 0, SW, SH);
-    float *img[2], *dep[2];
-    for (int k = 0; k < 2; k++) {
+    float *img[3], *dep[3];
+    for (int k = 0; k < 3; k++) { /* the default kernel, the one-ray loop, the AVX2 build */
         if (k)
-            setenv("VSV_SIMD", "0", 1);
+            setenv("VSV_SIMD", k == 1 ? "0" : "avx2", 1);
         vsv_render_opts o;
         vsv_render_opts_init(&o);
         o.threads = 2;
@@ -284,10 +296,12 @@ static void test_simd_paths(world *w)
     for (int i = 0; i < SW * SH; i++)
         shown += img[0][4 * i + 3] > 0.05f;
     CHECK(shown > 200 && !memcmp(img[0], img[1], sizeof(float) * 4 * SW * SH) &&
-              !memcmp(dep[0], dep[1], sizeof(float) * SW * SH),
-          "log scale, 101x67 image: the sixteen-ray and one-ray loops give identical pixels and depths",
+              !memcmp(dep[0], dep[1], sizeof(float) * SW * SH) && !memcmp(img[0], img[2], sizeof(float) * 4 * SW * SH) &&
+              !memcmp(dep[0], dep[2], sizeof(float) * SW * SH),
+          "log scale, 101x67 image: the sixteen-ray loop (both builds) and the one-ray loop give identical pixels "
+          "and depths",
           "%d pixels shown", shown);
-    for (int k = 0; k < 2; k++) {
+    for (int k = 0; k < 3; k++) {
         free(img[k]);
         free(dep[k]);
     }
