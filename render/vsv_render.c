@@ -703,6 +703,10 @@ typedef struct spans {
 static void pixel_spans(const vsv_renderer *r, int px, int py, int w, spans *S)
 {
     const vsv_rays *R = &r->rays;
+    if (py < R->y0 || py > R->y1 || px + SPAN <= R->x0 || px > R->x1) {
+        memset(S, 0, sizeof *S); /* all sixteen outside the scene's rectangle on screen: no hits */
+        return;
+    }
     const double sy = R->cy + R->ky * (1 - 2 * (py + 0.5) / R->h);
     double sx[SPAN];
     for (int i = 0; i < SPAN; i++)
