@@ -46,7 +46,7 @@ static inline vf sel(vf a, vf b, vm m) { return _mm512_mask_blend_ps(m, a, b); }
 static inline vf to_f(vi x) { return _mm512_cvtepi32_ps(x); }
 static inline vi to_i(vf x) { return _mm512_cvttps_epi32(x); } /* truncating */
 static inline vi srl(vi x, int s) { return _mm512_srl_epi32(x, _mm_cvtsi32_si128(s)); }
-static inline void istore(int *p, vi x) { _mm512_storeu_si512(p, x); }
+static inline void istore(void *p, vi x) { _mm512_storeu_si512(p, x); }
 static inline void fstore(float *p, vf x) { _mm512_storeu_ps(p, x); }
 static inline vf fload(const float *p) { return _mm512_loadu_ps(p); }
 static inline vi iload(const int *p) { return _mm512_loadu_si512(p); }
@@ -191,9 +191,9 @@ static inline vi srl(vi x, int s)
     EACH o.r[h] = _mm256_srl_epi32(x.r[h], _mm_cvtsi32_si128(s));
     return o;
 }
-static inline void istore(int *p, vi x)
+static inline void istore(void *p, vi x)
 {
-    EACH _mm256_storeu_si256((__m256i *)(p + 8 * h), x.r[h]);
+    EACH _mm256_storeu_si256((__m256i *)p + h, x.r[h]);
 }
 static inline void fstore(float *p, vf x)
 {
@@ -264,7 +264,8 @@ static inline __m256 cell_row(const float *q, int dj, int dk)
 /* Trilinear samples of layer L in every lane (the caller masks them): each
  * lane's eight cells loaded from the brick's sampling copy (four pairs along
  * x), transposed, interpolated. uni: every lane is in brick bidx[0]. */
-static vf sample(const vsv_rc_layer *L, int uni, const int *bidx, const int *off, int ey, int ez, const vf f[3])
+static vf sample(const vsv_rc_layer *L, int uni, const unsigned *bidx, const unsigned *off, int ey, int ez,
+                 const vf f[3])
 {
     __m256 v[2];
     const float *one = L->cells[bidx[0]];
@@ -335,10 +336,10 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
             ci[a] = imin(to_i(c[a]), LAST[a]);
         }
         const vi bidx = iadd(iadd(srl(ci[0], sh), imul(BX, srl(ci[1], sh))), imul(BXY, srl(ci[2], sh)));
-        int bidx_a[W];
+        unsigned bidx_a[W]; /* indices unsigned: a 32-bit load is its own zero extension */
         istore(bidx_a, bidx);
         /* every lane in one brick? */
-        const int uni = bits(ieq(bidx, iset(bidx_a[0]))) == ALL;
+        const int uni = bits(ieq(bidx, iset((int)bidx_a[0]))) == ALL;
         vm comp = act;
         if (F->skip) {
             comp = uni ? (F->skip[bidx_a[0]] ? MNONE : act) : mandnot(flags(F->skip, bidx), act);
@@ -362,7 +363,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         for (int a = 0; a < 3; a++)
             f[a] = sub(c[a], to_f(ci[a]));
         const vi off = iadd(iadd(iand(ci[0], M), imul(iand(ci[1], M), EY)), imul(iand(ci[2], M), EZ));
-        int off_a[W];
+        unsigned off_a[W];
         istore(off_a, off);
         vf sig = ZERO, col[3] = {ZERO, ZERO, ZERO};
         for (int li = 0; li < F->nlayers; li++) {
@@ -389,7 +390,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
             const vi i = imin(to_i(x), LUTI);
             const vf fx = sub(x, to_f(i));
             /* each lane's two table entries (eight floats in a row), transposed */
-            int ia[W];
+            unsigned ia[W];
             istore(ia, ikeep(valid, i));
             __m256 la[2], lc[3][2];
             for (int h = 0; h < 2; h++) { /* eight lanes at a time */
