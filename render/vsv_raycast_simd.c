@@ -19,23 +19,114 @@
 #include <immintrin.h>
 #include <limits.h>
 
+/* Each build lifts its intrinsics into the layer's operations with the same
+ * macros: TRI (three float operands), BIN (two), UN (one), SPLAT (a scalar
+ * to every lane), LOAD (sixteen values from memory); V(op) names the build's
+ * intrinsic. The operations both builds spell alike are listed once, after
+ * the two. */
 #if VSV_RC_AVX512
 /* AVX-512F: the sixteen rays in one register, comparisons into mask registers */
 #define VSV_RC_KERNEL vsv_raycast16_avx512
 typedef __m512 vf;
 typedef __m512i vi;
 typedef __mmask16 vm;
-#define F1(name, op)                                                                                                   \
-    static inline vf name(vf a, vf b) { return op(a, b); }
-#define I1(name, op)                                                                                                   \
-    static inline vi name(vi a, vi b) { return op(a, b); }
-static inline vf fset(float x) { return _mm512_set1_ps(x); }
-static inline vi iset(int x) { return _mm512_set1_epi32(x); }
-static inline vm lt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ); }
-static inline vm gt(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ); }
-static inline vm ge(vf a, vf b) { return _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ); }
-static inline vm igt(vi a, vi b) { return _mm512_cmpgt_epi32_mask(a, b); }
-static inline vm ieq(vi a, vi b) { return _mm512_cmpeq_epi32_mask(a, b); }
+#define V(op) _mm512_##op
+#define BIN(To, Ti, name, op)                                                                                          \
+    static inline To name(Ti a, Ti b) { return op(a, b); }
+#define UN(To, Ti, name, op)                                                                                           \
+    static inline To name(Ti a) { return op(a); }
+#define TRI(name, op)                                                                                                  \
+    static inline vf name(vf a, vf b, vf c) { return op(a, b, c); }
+#define SPLAT UN
+#define LOAD(To, Ts, name, op)                                                                                         \
+    static inline To name(const Ts *p) { return op(p); }
+#define CMP_LT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)
+#define CMP_GT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ)
+#define CMP_GE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)
+#define IGT _mm512_cmpgt_epi32_mask
+#define IEQ _mm512_cmpeq_epi32_mask
+#define IAND _mm512_and_si512
+#define ILOAD _mm512_loadu_si512
+#else
+/* AVX2: the sixteen rays in two registers, comparisons as all-ones lanes */
+#define VSV_RC_KERNEL vsv_raycast16
+#define H 2 /* AVX2 registers per packet */
+typedef struct {
+    __m256 r[H];
+} vf;
+typedef struct {
+    __m256i r[H];
+} vi;
+typedef vf vm;
+#define V(op) _mm256_##op
+#define EACH for (int h = 0; h < H; h++)
+#define BIN(To, Ti, name, op)                                                                                          \
+    static inline To name(Ti a, Ti b)                                                                                  \
+    {                                                                                                                  \
+        To o;                                                                                                          \
+        EACH o.r[h] = op(a.r[h], b.r[h]);                                                                              \
+        return o;                                                                                                      \
+    }
+#define UN(To, Ti, name, op)                                                                                           \
+    static inline To name(Ti a)                                                                                        \
+    {                                                                                                                  \
+        To o;                                                                                                          \
+        EACH o.r[h] = op(a.r[h]);                                                                                      \
+        return o;                                                                                                      \
+    }
+#define TRI(name, op)                                                                                                  \
+    static inline vf name(vf a, vf b, vf c)                                                                            \
+    {                                                                                                                  \
+        vf o;                                                                                                          \
+        EACH o.r[h] = op(a.r[h], b.r[h], c.r[h]);                                                                      \
+        return o;                                                                                                      \
+    }
+#define SPLAT(To, Ts, name, op)                                                                                        \
+    static inline To name(Ts x)                                                                                        \
+    {                                                                                                                  \
+        To o;                                                                                                          \
+        EACH o.r[h] = op(x);                                                                                           \
+        return o;                                                                                                      \
+    }
+#define LOAD(To, Ts, name, op)                                                                                         \
+    static inline To name(const Ts *p)                                                                                 \
+    {                                                                                                                  \
+        To o;                                                                                                          \
+        EACH o.r[h] = op(p + 8 * h);                                                                                   \
+        return o;                                                                                                      \
+    }
+#define CMP_LT(a, b) _mm256_cmp_ps(a, b, _CMP_LT_OQ)
+#define CMP_GT(a, b) _mm256_cmp_ps(a, b, _CMP_GT_OQ)
+#define CMP_GE(a, b) _mm256_cmp_ps(a, b, _CMP_GE_OQ)
+#define IGT(a, b) _mm256_castsi256_ps(_mm256_cmpgt_epi32(a, b))
+#define IEQ(a, b) _mm256_castsi256_ps(_mm256_cmpeq_epi32(a, b))
+#define IAND _mm256_and_si256
+#define ILOAD(p) _mm256_loadu_si256((const __m256i *)(p))
+#endif
+BIN(vf, vf, add, V(add_ps))
+BIN(vf, vf, sub, V(sub_ps))
+BIN(vf, vf, mul, V(mul_ps))
+BIN(vf, vf, vdiv, V(div_ps))
+BIN(vf, vf, vmin, V(min_ps))
+BIN(vf, vf, vmax, V(max_ps))
+BIN(vm, vf, lt, CMP_LT)
+BIN(vm, vf, gt, CMP_GT)
+BIN(vm, vf, ge, CMP_GE)
+BIN(vi, vi, iadd, V(add_epi32))
+BIN(vi, vi, iand, IAND)
+BIN(vi, vi, imin, V(min_epi32))
+BIN(vi, vi, imul, V(mullo_epi32))
+BIN(vm, vi, igt, IGT)
+BIN(vm, vi, ieq, IEQ)
+TRI(fma3, V(fmadd_ps))   /* a b + c */
+TRI(fnma3, V(fnmadd_ps)) /* c - a b */
+UN(vf, vi, to_f, V(cvtepi32_ps))
+UN(vi, vf, to_i, V(cvttps_epi32)) /* truncating */
+SPLAT(vf, float, fset, V(set1_ps))
+SPLAT(vi, int, iset, V(set1_epi32))
+LOAD(vf, float, fload, V(loadu_ps))
+LOAD(vi, int, iload, ILOAD)
+#if VSV_RC_AVX512
 static inline vm mand(vm a, vm b) { return a & b; }
 static inline vm mandnot(vm a, vm b) { return (vm)(~a & b); } /* ~a & b */
 static const vm MNONE = 0;
@@ -43,16 +134,9 @@ static inline unsigned bits(vm m) { return m; }
 static inline vf keep(vm m, vf x) { return _mm512_maskz_mov_ps(m, x); } /* m ? x : 0 */
 static inline vi ikeep(vm m, vi x) { return _mm512_maskz_mov_epi32(m, x); }
 static inline vf sel(vf a, vf b, vm m) { return _mm512_mask_blend_ps(m, a, b); } /* m ? b : a */
-static inline vf to_f(vi x) { return _mm512_cvtepi32_ps(x); }
-static inline vi to_i(vf x) { return _mm512_cvttps_epi32(x); } /* truncating */
 static inline vi srl(vi x, int s) { return _mm512_srl_epi32(x, _mm_cvtsi32_si128(s)); }
 static inline void istore(void *p, vi x) { _mm512_storeu_si512(p, x); }
 static inline void fstore(float *p, vf x) { _mm512_storeu_ps(p, x); }
-static inline vf fload(const float *p) { return _mm512_loadu_ps(p); }
-static inline vi iload(const int *p) { return _mm512_loadu_si512(p); }
-static inline vf fma3(vf a, vf b, vf c) { return _mm512_fmadd_ps(a, b, c); }  /* a b + c */
-static inline vf fnma3(vf a, vf b, vf c) { return _mm512_fnmadd_ps(a, b, c); } /* c - a b */
-static inline vf vdiv(vf a, vf b) { return _mm512_div_ps(a, b); }
 /* table[idx] where m, else 0 */
 static inline vf mgather(const float *table, vi idx, vm m)
 {
@@ -72,88 +156,10 @@ static inline vf join(__m256 lo, __m256 hi)
 {
     return _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castps_pd(_mm512_castps256_ps512(lo)), _mm256_castps_pd(hi), 1));
 }
-F1(add, _mm512_add_ps)
-F1(sub, _mm512_sub_ps)
-F1(mul, _mm512_mul_ps)
-F1(vmin, _mm512_min_ps)
-F1(vmax, _mm512_max_ps)
-I1(iadd, _mm512_add_epi32)
-I1(iand, _mm512_and_si512)
-I1(imin, _mm512_min_epi32)
-I1(imul, _mm512_mullo_epi32)
 #else
-/* AVX2: the sixteen rays in two registers, comparisons as all-ones lanes */
-#define VSV_RC_KERNEL vsv_raycast16
-#define H 2 /* AVX2 registers per packet */
-typedef struct {
-    __m256 r[H];
-} vf;
-typedef struct {
-    __m256i r[H];
-} vi;
-typedef vf vm;
-#define EACH for (int h = 0; h < H; h++)
-#define F1(T, name, op)                                                                                                \
-    static inline T name(T a, T b)                                                                                     \
-    {                                                                                                                  \
-        T o;                                                                                                           \
-        EACH o.r[h] = op(a.r[h], b.r[h]);                                                                              \
-        return o;                                                                                                      \
-    }
-#define F3(name, op)                                                                                                   \
-    static inline vf name(vf a, vf b, vf c)                                                                            \
-    {                                                                                                                  \
-        vf o;                                                                                                          \
-        EACH o.r[h] = op(a.r[h], b.r[h], c.r[h]);                                                                      \
-        return o;                                                                                                      \
-    }
-#define CMP_LT(a, b) _mm256_cmp_ps(a, b, _CMP_LT_OQ)
-#define CMP_GT(a, b) _mm256_cmp_ps(a, b, _CMP_GT_OQ)
-#define CMP_GE(a, b) _mm256_cmp_ps(a, b, _CMP_GE_OQ)
-#define IGT(a, b) _mm256_castsi256_ps(_mm256_cmpgt_epi32(a, b))
-#define IEQ(a, b) _mm256_castsi256_ps(_mm256_cmpeq_epi32(a, b))
-static inline vf fset(float x)
-{
-    vf o;
-    EACH o.r[h] = _mm256_set1_ps(x);
-    return o;
-}
-static inline vi iset(int x)
-{
-    vi o;
-    EACH o.r[h] = _mm256_set1_epi32(x);
-    return o;
-}
-F1(vf, add, _mm256_add_ps)
-F1(vf, sub, _mm256_sub_ps)
-F1(vf, mul, _mm256_mul_ps)
-F1(vf, vdiv, _mm256_div_ps)
-F1(vf, vmin, _mm256_min_ps)
-F1(vf, vmax, _mm256_max_ps)
-F1(vf, mand, _mm256_and_ps)
-F1(vf, mandnot, _mm256_andnot_ps) /* ~a & b */
-F1(vf, keep, _mm256_and_ps)       /* keep(m, x): m ? x : 0 */
-F1(vf, lt, CMP_LT)
-F1(vf, gt, CMP_GT)
-F1(vf, ge, CMP_GE)
-F1(vi, iadd, _mm256_add_epi32)
-F1(vi, iand, _mm256_and_si256)
-F1(vi, imin, _mm256_min_epi32)
-F1(vi, imul, _mm256_mullo_epi32)
-F3(fma3, _mm256_fmadd_ps)   /* a b + c */
-F3(fnma3, _mm256_fnmadd_ps) /* c - a b */
-static inline vm igt(vi a, vi b)
-{
-    vm o;
-    EACH o.r[h] = IGT(a.r[h], b.r[h]);
-    return o;
-}
-static inline vm ieq(vi a, vi b)
-{
-    vm o;
-    EACH o.r[h] = IEQ(a.r[h], b.r[h]);
-    return o;
-}
+BIN(vf, vf, mand, _mm256_and_ps)
+BIN(vf, vf, mandnot, _mm256_andnot_ps) /* ~a & b */
+BIN(vf, vf, keep, _mm256_and_ps)       /* keep(m, x): m ? x : 0 */
 static const vm MNONE;
 static inline unsigned bits(vm m)
 {
@@ -173,18 +179,6 @@ static inline vf sel(vf a, vf b, vm m) /* m ? b : a */
     EACH o.r[h] = _mm256_blendv_ps(a.r[h], b.r[h], m.r[h]);
     return o;
 }
-static inline vf to_f(vi x)
-{
-    vf o;
-    EACH o.r[h] = _mm256_cvtepi32_ps(x.r[h]);
-    return o;
-}
-static inline vi to_i(vf x) /* truncating */
-{
-    vi o;
-    EACH o.r[h] = _mm256_cvttps_epi32(x.r[h]);
-    return o;
-}
 static inline vi srl(vi x, int s)
 {
     vi o;
@@ -198,18 +192,6 @@ static inline void istore(void *p, vi x)
 static inline void fstore(float *p, vf x)
 {
     EACH _mm256_storeu_ps(p + 8 * h, x.r[h]);
-}
-static inline vf fload(const float *p)
-{
-    vf o;
-    EACH o.r[h] = _mm256_loadu_ps(p + 8 * h);
-    return o;
-}
-static inline vi iload(const int *p)
-{
-    vi o;
-    EACH o.r[h] = _mm256_loadu_si256((const __m256i *)(p + 8 * h));
-    return o;
 }
 static inline vf mgather(const float *table, vi idx, vm m) /* table[idx] where m, else 0 */
 {

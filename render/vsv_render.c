@@ -731,12 +731,11 @@ static void pixel_spans(const vsv_renderer *r, int px, int py, int w, spans *S)
     }
     const double *mn = r->g.bmin, *mx = r->g.bmax;
     const double znear = r->cam->znear > 0 ? r->cam->znear : 0, zfar = r->cam->zfar > 0 ? r->cam->zfar : INFINITY;
-    const int row = py >= R->y0 && py <= R->y1;
-    for (int i = 0; i < SPAN; i++) {
+    for (int i = 0; i < SPAN; i++) { /* py is inside the rectangle (above) */
         const double o[3] = {S->o[0][i], S->o[1][i], S->o[2][i]}, d[3] = {S->d[0][i], S->d[1][i], S->d[2][i]};
         double lo, hi;
         const int box = vsv_box_hit(o, d, mn, mx, &lo, &hi);
-        S->hit[i] = row & (px + i >= R->x0) & (px + i <= R->x1) & (px + i < w) & box;
+        S->hit[i] = (px + i >= R->x0) & (px + i <= R->x1) & (px + i < w) & box;
         S->t0[i] = lo < znear ? znear : lo;
         S->t1[i] = hi > zfar ? zfar : hi;
     }
@@ -939,8 +938,9 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
     const char *simd = getenv("VSV_SIMD");
     __builtin_cpu_init();
     r->simd = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && !(simd && !strcmp(simd, "0"));
-    r->kernel = !r->simd                                                                     ? NULL
-                : __builtin_cpu_supports("avx512f") && !(simd && !strcmp(simd, "avx2")) ? vsv_raycast16_avx512
+    r->kernel = NULL;
+    if (r->simd)
+        r->kernel = __builtin_cpu_supports("avx512f") && !(simd && !strcmp(simd, "avx2")) ? vsv_raycast16_avx512
                                                                                           : vsv_raycast16;
     if (r->o.kind == VSV_RENDER_SHEARWARP &&
         !(r->sw = vsv_sw_create(MAX_THREADS, r->simd && __builtin_cpu_supports("f16c"))))

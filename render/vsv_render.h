@@ -125,10 +125,9 @@ void vsv_renderer_free(vsv_renderer *r);
  * and FMA, in one AVX-512 register where the CPU has AVX-512F (chosen when
  * the renderer is created; VSV_SIMD=0 in the environment keeps it to one ray
  * at a time, VSV_SIMD=avx2 to the AVX2 build), with the same pixels either
- * way; the
- * shear-warp's parallel-ray compositing is built for any x86-64 and for AVX2,
- * FMA and F16C, chosen the same way (the two differ by rounding, under
- * 1e-5). */
+ * way; the shear-warp's parallel-ray compositing is built for any x86-64 and
+ * for AVX2, FMA and F16C, chosen the same way (the two differ by rounding,
+ * under 1e-5). */
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
 
 /* Seconds the last rebuild of precomputed state took, redone when the time
