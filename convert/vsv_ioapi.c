@@ -37,10 +37,10 @@ static double std_height(double p) { return 44330.8 * (1 - pow(p / 101325.0, 0.1
 static int z_heights(vsv_source *s, ioapi *a, int t)
 {
     const size_t plane = (size_t)a->nx * a->ny;
-    size_t st[4] = {(size_t)t, 0, 0, 0}, ct[4] = {1, (size_t)a->nk, (size_t)a->ny, (size_t)a->nx};
-    int rc = nc_get_vara_float(a->nc, a->zvar, st, ct, a->tmp);
+    const size_t shape[3] = {(size_t)a->nk, (size_t)a->ny, (size_t)a->nx};
+    int rc = vsv_nc_read(s, a->nc, a->zvar, "z", t, shape, 3, a->tmp);
     if (rc)
-        return vsv_source_fail(s, VSV_ECORRUPT, "reading z at time %d: %s", t, nc_strerror(rc));
+        return rc;
     for (int k = 0; k < a->nk; k++)
         for (size_t c = 0; c < plane; c++)
             a->zm[(size_t)k * plane + c] = 0.5f * ((k ? a->tmp[(size_t)(k - 1) * plane + c] : 0.0f) + a->tmp[(size_t)k * plane + c]);
@@ -150,10 +150,12 @@ int vsv_ioapi_open(vsv_source *s, int nc)
     /* terrain */
     int topo;
     if (nc_inq_varid(nc, "topo", &topo) == NC_NOERR) {
-        if (vsv_meta_alloc_terrain(g) || nc_get_var_float(nc, topo, g->terrain)) {
-            free(g->terrain);
-            g->terrain = NULL;
-        }
+        if (vsv_meta_alloc_terrain(g))
+            return VSV_ENOMEM;
+        const size_t pshape[2] = {(size_t)a->ny, (size_t)a->nx};
+        const int rc = vsv_nc_read(s, nc, topo, "topo", 0, pshape, 2, g->terrain);
+        if (rc)
+            return rc;
     }
     /* heights */
     const int vgtyp = (int)gatt(nc, "VGTYP", -1);
@@ -248,10 +250,10 @@ static int ioapi_read(vsv_source *s, int field, int t, float *out)
 {
     ioapi *a = s->priv;
     const size_t plane = (size_t)a->nx * a->ny;
-    size_t st[4] = {(size_t)t, 0, 0, 0}, ct[4] = {1, (size_t)a->nk, (size_t)a->ny, (size_t)a->nx};
-    int rc = nc_get_vara_float(a->nc, a->varid[field], st, ct, a->even ? a->nat : out);
+    const size_t shape[3] = {(size_t)a->nk, (size_t)a->ny, (size_t)a->nx};
+    int rc = vsv_nc_read(s, a->nc, a->varid[field], s->fields[field].name, t, shape, 3, a->even ? a->nat : out);
     if (rc)
-        return vsv_source_fail(s, VSV_ECORRUPT, "reading %s at time %d: %s", s->fields[field].name, t, nc_strerror(rc));
+        return rc;
     if (!a->even)
         return 0;
     if (a->vg_t != t && !(a->static_heights && a->vg_t >= 0)) {

@@ -62,7 +62,8 @@ int vsv_mm5_skipped(const vsv_mm5 *m);
  * field->bytes/4 floats). */
 void vsv_mm5_read(const vsv_mm5 *m, const vsv_mm5_field *f, float *out);
 
-/* Seconds since 1970 of an MM5 date "YYYY-MM-DD_HH:MM:SS", or -1. */
+/* Seconds since 1970 of an MM5 date "YYYY-MM-DD_HH:MM:SS" in *t: 0; 1 for
+ * the all-zero date of set-up files (no time); -1 for anything else. */
 int vsv_mm5_date(const char *date, int64_t *t);
 
 /* -------------------------------------------------------------- writer */

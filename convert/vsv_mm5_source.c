@@ -45,15 +45,19 @@ static double ref_height(double p0, double P00, double TS0, double A, double TIS
     return z;
 }
 
-/* A cross-point plane (ny*nx) of a YX field of period p, or -1 if absent. */
+/* A cross-point plane (ny*nx) of a YX field of period p: 0, 1 if absent, or
+ * a negative error when the record is not one plane of the domain. */
 static int cross_plane(vsv_source *s, mm5src *x, int p, const char *name, float *out)
 {
     const int fi = vsv_mm5_find(x->m, p, name);
     if (fi < 0)
-        return -1;
+        return 1;
     const vsv_mm5_field *f = vsv_mm5_field_at(x->m, fi);
-    if (strcmp(f->order, "YX") || f->end[0] - f->start[0] + 1 != x->IX || f->end[1] - f->start[1] + 1 != x->JX)
-        return vsv_source_fail(s, VSV_ECORRUPT, "record %d: %s is not a %dx%d YX field", f->record, name, x->IX, x->JX);
+    if (strcmp(f->order, "YX") || f->end[0] - f->start[0] + 1 != x->IX || f->end[1] - f->start[1] + 1 != x->JX ||
+        f->bytes != (uint64_t)x->IX * x->JX * 4)
+        return vsv_source_fail(s, VSV_ECORRUPT, "record %d at byte offset %llu: %s is not a %dx%d YX field (%llu bytes)",
+                               f->record, (unsigned long long)f->offset, name, x->IX, x->JX,
+                               (unsigned long long)f->bytes);
     vsv_mm5_read(x->m, f, x->raw);
     const int dot = !strcmp(f->stag, "D");
     for (int j = 0; j < x->ny; j++)
@@ -69,14 +73,21 @@ static int cross_plane(vsv_source *s, mm5src *x, int p, const char *name, float 
     return 0;
 }
 
-static int period_time(const vsv_mm5 *m, int p, int64_t *t)
+/* The time of period p: 0, 1 when it has no date (set-up files), or an error
+ * naming the record whose date is not a date. */
+static int period_time(vsv_source *s, const vsv_mm5 *m, int p, int64_t *t)
 {
     for (int i = 0; i < vsv_mm5_nfields(m); i++) {
         const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
-        if (f->period == p)
-            return vsv_mm5_date(f->date, t);
+        if (f->period == p) {
+            const int rc = vsv_mm5_date(f->date, t);
+            if (rc < 0)
+                return vsv_source_fail(s, VSV_ECORRUPT, "record %d (%s, output time %d): date \"%s\" is not a date",
+                                       f->record, f->name, p, f->date);
+            return rc;
+        }
     }
-    return -1;
+    return 1;
 }
 
 static int is_default_name(const char *n)
@@ -113,6 +124,9 @@ static int mm5_open(vsv_source *s)
         const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
         if (!strcmp(f->order, "YXS")) {
             x->KX = f->end[2] - f->start[2] + 1;
+            if (x->KX > VSV_MAX_DIM)
+                return vsv_source_fail(s, VSV_ECORRUPT, "record %d: %s has %d sigma levels, more than %d", f->record,
+                                       f->name, x->KX, VSV_MAX_DIM);
             break;
         }
     }
@@ -167,11 +181,15 @@ static int mm5_open(vsv_source *s)
     /* terrain and land use (period 0) */
     if (vsv_meta_alloc_terrain(g) || vsv_meta_alloc_landuse(g))
         return VSV_ENOMEM;
-    if (cross_plane(s, x, 0, "TERRAIN", g->terrain) < 0) {
+    if ((rc = cross_plane(s, x, 0, "TERRAIN", g->terrain)) < 0)
+        return rc;
+    if (rc) {
         free(g->terrain);
         g->terrain = NULL;
     }
-    if (cross_plane(s, x, 0, "LAND USE", g->landuse) < 0) {
+    if ((rc = cross_plane(s, x, 0, "LAND USE", g->landuse)) < 0)
+        return rc;
+    if (rc) {
         free(g->landuse);
         g->landuse = NULL;
     }
@@ -191,7 +209,11 @@ static int mm5_open(vsv_source *s)
             free(pstar);
             return VSV_ENOMEM;
         }
-        if (cross_plane(s, x, 0, "PSTARCRS", pstar) < 0) {
+        if ((rc = cross_plane(s, x, 0, "PSTARCRS", pstar)) < 0) {
+            free(pstar);
+            return rc;
+        }
+        if (rc) {
             if (!g->terrain) {
                 free(pstar);
                 return vsv_source_fail(s, VSV_ECORRUPT, "neither PSTARCRS nor TERRAIN: heights unknown");
@@ -245,7 +267,10 @@ static int mm5_open(vsv_source *s)
     }
     for (int p = 0; p < vsv_mm5_nperiods(m); p++) {
         int64_t t;
-        if (period_time(m, p, &t))
+        const int dated = period_time(s, m, p, &t);
+        if (dated < 0)
+            return dated;
+        if (dated)
             continue; /* TERRAIN-like files carry no dates */
         if (s->ntimes && t <= s->times[s->ntimes - 1])
             return vsv_source_fail(s, VSV_ECORRUPT, "output time %d does not follow the one before", p);
@@ -267,11 +292,19 @@ static int mm5_read(vsv_source *s, int field, int t, float *out)
     if (idx < 0)
         return vsv_source_fail(s, VSV_ECORRUPT, "field %s missing from output time %d", fi->name, p);
     const vsv_mm5_field *f = vsv_mm5_field_at(x->m, idx);
-    if (f->end[0] - f->start[0] + 1 != x->IX || f->end[1] - f->start[1] + 1 != x->JX)
-        return vsv_source_fail(s, VSV_ECORRUPT, "record %d: %s is %dx%d, the domain %dx%d", f->record, f->name,
-                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1, x->IX, x->JX);
+    const int full = !strncmp(fi->ordering, "YXW", 3), dot = !strcmp(f->stag, "D");
+    /* the first period's shape is the field's: a later period must match it
+     * before any byte is copied (its record may be larger) */
+    const int want = x->KX + full;
+    if (strcmp(f->order, full ? "YXW" : "YXS") || f->end[0] - f->start[0] + 1 != x->IX ||
+        f->end[1] - f->start[1] + 1 != x->JX || f->bytes != (uint64_t)x->IX * x->JX * (uint64_t)want * 4)
+        return vsv_source_fail(s, VSV_ECORRUPT,
+                               "record %d at byte offset %llu: %s (output time %d) is %s %dx%d, %llu bytes; "
+                               "the first output time's is %s %dx%dx%d",
+                               f->record, (unsigned long long)f->offset, f->name, p, f->order,
+                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1,
+                               (unsigned long long)f->bytes, full ? "YXW" : "YXS", x->IX, x->JX, want);
     vsv_mm5_read(x->m, f, x->raw);
-    const int full = !strcmp(f->order, "YXW"), dot = !strcmp(f->stag, "D");
     const size_t plane = (size_t)x->nx * x->ny, fplane = (size_t)x->IX * x->JX;
     /* native cross volume, bottom-up: file level kk = KX-1-k (k = 1 is the top) */
     for (int k = 0; k < x->KX; k++) {

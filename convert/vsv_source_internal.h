@@ -43,6 +43,12 @@ extern const vsv_source_ops vsv_netcdf_ops;
 extern const vsv_source_ops vsv_camx_ops;
 extern const vsv_source_ops vsv_ioapi_ops;
 extern const vsv_source_ops vsv_vdb_ops;
+/* Reads time t of netCDF variable var (named name in errors) whose last n
+ * dimensions are shape[0..n-1], after at most one leading (time) dimension:
+ * prod(shape) floats into out (caller buffer of that many). Nothing is read
+ * unless the variable has exactly that shape; the error names the variable
+ * and both shapes. */
+int vsv_nc_read(vsv_source *s, int nc, int var, const char *name, int t, const size_t *shape, int n, float *out);
 /* Opens an IOAPI netCDF file already open as nc (detected by vsv_netcdf_ops). */
 int vsv_ioapi_open(vsv_source *s, int nc);
 

@@ -51,6 +51,44 @@ static int dim_len(int nc, const char *name, size_t *len)
     return nc_inq_dimid(nc, name, &id) == NC_NOERR && nc_inq_dimlen(nc, id, len) == NC_NOERR ? 0 : -1;
 }
 
+int vsv_nc_read(vsv_source *s, int nc, int var, const char *name, int t, const size_t *shape, int n, float *out)
+{
+    int nd = 0, dims[NC_MAX_VAR_DIMS];
+    size_t start[5] = {0}, count[5], len[5] = {0};
+    char have[96] = "", want[96] = "";
+    for (int d = 0; d < n; d++)
+        snprintf(want + strlen(want), sizeof want - strlen(want), "%s%zu", d ? " x " : "", shape[d]);
+    if (nc_inq_varndims(nc, var, &nd) || nd < 0 || nd > NC_MAX_VAR_DIMS || nc_inq_vardimid(nc, var, dims))
+        return vsv_source_fail(s, VSV_ECORRUPT, "variable %s: its dimensions cannot be read", name);
+    for (int d = 0; d < nd; d++) {
+        size_t l = 0;
+        nc_inq_dimlen(nc, dims[d], &l);
+        if (d < 5)
+            len[d] = l;
+        snprintf(have + strlen(have), sizeof have - strlen(have), "%s%zu", d ? " x " : "", l);
+    }
+    if (nd < n || nd > n + 1)
+        return vsv_source_fail(s, VSV_ECORRUPT, "variable %s is %s, expected [time x] %s", name, nd ? have : "a scalar",
+                               want);
+    const int lead = nd - n;
+    int ok = !lead || (t >= 0 && (size_t)t < len[0]);
+    for (int d = 0; d < n; d++)
+        ok &= len[lead + d] == shape[d];
+    if (!ok)
+        return vsv_source_fail(s, VSV_ECORRUPT, "variable %s is %s, expected [time x] %s%s", name, have, want,
+                               lead ? "" : " (no time dimension)");
+    if (lead) {
+        start[0] = (size_t)t;
+        count[0] = 1;
+    }
+    for (int d = 0; d < n; d++)
+        count[lead + d] = shape[d];
+    const int rc = nc_get_vara_float(nc, var, start, count, out);
+    if (rc)
+        return vsv_source_fail(s, VSV_ECORRUPT, "reading variable %s at time %d: %s", name, t, nc_strerror(rc));
+    return 0;
+}
+
 /* Heights of the w-levels at time t: (PH+PHB)/g; 0 or error. */
 static int w_heights(vsv_source *s, wrf *w, int t)
 {
@@ -58,9 +96,11 @@ static int w_heights(vsv_source *s, wrf *w, int t)
     int ph, phb;
     if (nc_inq_varid(w->nc, "PH", &ph) || nc_inq_varid(w->nc, "PHB", &phb))
         return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without PH and PHB: heights unknown");
-    size_t start[4] = {(size_t)t, 0, 0, 0}, count[4] = {1, (size_t)w->nk + 1, (size_t)w->ny, (size_t)w->nx};
-    if (nc_get_vara_float(w->nc, ph, start, count, w->zw) || nc_get_vara_float(w->nc, phb, start, count, w->raw))
-        return vsv_source_fail(s, VSV_ECORRUPT, "reading PH/PHB at time %d", t);
+    const size_t shape[3] = {(size_t)w->nk + 1, (size_t)w->ny, (size_t)w->nx};
+    int rc;
+    if ((rc = vsv_nc_read(s, w->nc, ph, "PH", t, shape, 3, w->zw)) ||
+        (rc = vsv_nc_read(s, w->nc, phb, "PHB", t, shape, 3, w->raw)))
+        return rc;
     for (size_t i = 0; i < plane * (size_t)(w->nk + 1); i++)
         w->zw[i] = (float)((w->zw[i] + w->raw[i]) / G0);
     for (int k = 0; k < w->nk; k++)
@@ -128,8 +168,9 @@ static int wrf_open(vsv_source *s, int nc)
     nc_inq_varid(nc, "Times", &tv);
     size_t slen = 0;
     int tdims[NC_MAX_VAR_DIMS], tnd = 0;
+    size_t tlen = 0;
     if (nc_inq_varndims(nc, tv, &tnd) || tnd != 2 || nc_inq_vardimid(nc, tv, tdims) ||
-        nc_inq_dimlen(nc, tdims[1], &slen) || slen < 19 || slen > 64)
+        nc_inq_dimlen(nc, tdims[1], &slen) || slen < 19 || slen > 64 || nc_inq_dimlen(nc, tdims[0], &tlen) || tlen != nt)
         return vsv_source_fail(s, VSV_ECORRUPT, "Times is not a (Time, 19-character) variable");
     char *tbuf = calloc(nt * slen + 1, 1);
     s->times = calloc(nt + 1, sizeof *s->times);
@@ -186,12 +227,16 @@ static int wrf_open(vsv_source *s, int nc)
     int vlat, vlon;
     if (nc_inq_varid(nc, "XLAT", &vlat) || nc_inq_varid(nc, "XLONG", &vlon))
         return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without XLAT/XLONG: its position is unknown");
-    int nd;
-    nc_inq_varndims(nc, vlat, &nd);
     float *la = malloc(plane * sizeof *la), *lo = malloc(plane * sizeof *lo);
-    size_t st[3] = {0, 0, 0}, ct[3] = {1, ny, nx};
-    int bad = !la || !lo || nd < 2 || nd > 3 || nc_get_vara_float(nc, vlat, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, la) ||
-              nc_get_vara_float(nc, vlon, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, lo);
+    const size_t pshape[2] = {ny, nx};
+    int rc = 0;
+    if (!la || !lo || (rc = vsv_nc_read(s, nc, vlat, "XLAT", 0, pshape, 2, la)) ||
+        (rc = vsv_nc_read(s, nc, vlon, "XLONG", 0, pshape, 2, lo))) {
+        free(la);
+        free(lo);
+        return la && lo ? rc : VSV_ENOMEM;
+    }
+    int bad = 0;
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     if (!bad)
         bad = vsv_proj_forward(&g->proj, la[0], lo[0], &x0, &y0) ||
@@ -229,11 +274,10 @@ static int wrf_open(vsv_source *s, int nc)
     /* terrain: HGT, else the lowest w-level */
     if (vsv_meta_alloc_terrain(g))
         return VSV_ENOMEM;
-    int hv, rc;
+    int hv;
     if (nc_inq_varid(nc, "HGT", &hv) == NC_NOERR) {
-        nc_inq_varndims(nc, hv, &nd);
-        if (nc_get_vara_float(nc, hv, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, g->terrain))
-            return vsv_source_fail(s, VSV_ECORRUPT, "cannot read HGT");
+        if ((rc = vsv_nc_read(s, nc, hv, "HGT", 0, pshape, 2, g->terrain)))
+            return rc;
     } else {
         if ((rc = w_heights(s, w, 0)))
             return rc;
@@ -258,6 +302,7 @@ static int wrf_open(vsv_source *s, int nc)
         char name[NC_MAX_NAME + 1], dn[4][NC_MAX_NAME + 1];
         int dims[NC_MAX_VAR_DIMS];
         nc_type type;
+        int nd;
         if (nc_inq_var(nc, v, name, &type, &nd, dims, NULL) || nd != 4 || (type != NC_FLOAT && type != NC_DOUBLE) ||
             strlen(name) >= sizeof s->fields[0].name)
             continue;
@@ -304,11 +349,10 @@ static int wrf_read(vsv_source *s, int field, int t, float *out)
     wrf *w = s->priv;
     const int nx = w->nx, ny = w->ny, nk = w->nk, stag = w->stag[field];
     const size_t plane = (size_t)nx * ny;
-    size_t start[4] = {(size_t)t, 0, 0, 0};
-    size_t count[4] = {1, (size_t)nk + (stag == 3), (size_t)ny + (stag == 2), (size_t)nx + (stag == 1)};
-    int rc = nc_get_vara_float(w->nc, w->varid[field], start, count, w->raw);
+    const size_t shape[3] = {(size_t)nk + (stag == 3), (size_t)ny + (stag == 2), (size_t)nx + (stag == 1)};
+    int rc = vsv_nc_read(s, w->nc, w->varid[field], s->fields[field].name, t, shape, 3, w->raw);
     if (rc)
-        return vsv_source_fail(s, VSV_ECORRUPT, "reading %s at time %d: %s", s->fields[field].name, t, nc_strerror(rc));
+        return rc;
     /* destagger onto mass points: the mean of the two faces around each cell */
     for (int k = 0; k < nk; k++)
         for (int j = 0; j < ny; j++)

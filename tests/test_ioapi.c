@@ -25,6 +25,9 @@ enum { NX = 30, NY = 20, NZ = 5, NT = 3 };
 
 static float value(int v, int t, int k, int j, int i) { return (float)((v + 1) * 0.01 * (1 + 0.1 * k) + 0.001 * i + 0.0001 * j + t * 0.5); }
 
+/* 1: topo written as ROW x COL x LAY, five times the grid's plane (crafted) */
+static int big_topo;
+
 static int write_ioapi(const char *path, const spec *sp)
 {
     int nc, d[6], tflag, vars[2], z = -1, topo = -1;
@@ -47,7 +50,8 @@ static int write_ioapi(const char *path, const spec *sp)
     }
     if (sp->camx) {
         nc_def_var(nc, "z", NC_FLOAT, 4, vdims, &z);
-        nc_def_var(nc, "topo", NC_FLOAT, 2, pdims, &topo);
+        int bdims[3] = {d[4], d[5], d[2]};
+        nc_def_var(nc, "topo", NC_FLOAT, big_topo ? 3 : 2, big_topo ? bdims : pdims, &topo);
         nc_put_att_text(nc, NC_GLOBAL, "CAMx_NAME", 7, "AVERAGE");
     }
     int ncols = NX, nrows = NY, nlays = NZ, gd = sp->gdtyp, sdate = 2016182, stime = 0, tstep = 10000, vgtyp = sp->vgtyp;
@@ -89,7 +93,7 @@ static int write_ioapi(const char *path, const spec *sp)
         }
     }
     if (topo >= 0) {
-        for (int p = 0; p < NX * NY; p++)
+        for (int p = 0; p < NX * NY * (big_topo ? NZ : 1); p++)
             buf[p] = (float)(100 + p % NX);
         nc_put_var_float(nc, topo, buf);
     }
@@ -223,8 +227,26 @@ static void check(const char *label, const spec *sp)
     vsv_source_free(src);
 }
 
+/* A topo variable larger than the grid (issue 18: read whole into an nx*ny
+ * buffer, a heap overflow) is an error naming it and both shapes. */
+static void test_big_topo(void)
+{
+    spec camx = {2, 30, 60, -100, -100, 40, -792000, -1656000, 36000, 1, 1, 6};
+    const char *path = vsv_test_tmp("bigtopo.nc");
+    big_topo = 1;
+    write_ioapi(path, &camx);
+    big_topo = 0;
+    vsv_source *src = NULL;
+    const int rc = vsv_source_open(path, NULL, &src);
+    CHECK(rc == VSV_ECORRUPT && strstr(vsv_source_error(src), "bigtopo.nc: variable topo is 20 x 30 x 5, expected [time x] 20 x 30"),
+          "IOAPI topo larger than the grid: an error naming the variable and shapes", "rc %d: %s", rc,
+          vsv_source_error(src));
+    vsv_source_free(src);
+}
+
 int main(void)
 {
+    test_big_topo();
     spec cmaq = {2, 33, 45, -97, -97, 40, -2556000, -1728000, 12000, 0, 0, 7};
     check("CMAQ CONC, GDTYP 2 Lambert, classic", &cmaq);
     spec camx = {2, 30, 60, -100, -100, 40, -792000, -1656000, 36000, 1, 1, 6};

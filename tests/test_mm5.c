@@ -482,6 +482,135 @@ static void test_bad(void)
     free(d);
 }
 
+/* Crafted files (issue 18): the sample rewritten with one field changed by a
+ * hook; each case crashed or misread before the shape checks. */
+static int craft_case;
+static void craft_hook_fn(vsv_mm5_field *f, int *skip)
+{
+    *skip = 0;
+    switch (craft_case) {
+    case 1: /* a later period's T with 30 levels, not 15 */
+        if (f->period == 1 && !strcmp(f->name, "T"))
+            f->end[2] = f->start[2] + 29;
+        break;
+    case 2: /* a later period's T with a fourth dimension of 3 */
+        if (f->period == 1 && !strcmp(f->name, "T"))
+            f->end[3] = f->start[3] + 2;
+        break;
+    case 3: /* TERRAIN (YX) with 40 extra levels */
+        if (!strcmp(f->name, "TERRAIN"))
+            f->end[2] = f->start[2] + 39;
+        break;
+    case 4: /* PSTARCRS (YX) with a fourth dimension */
+        if (!strcmp(f->name, "PSTARCRS"))
+            f->end[3] = f->start[3] + 19;
+        break;
+    case 5: /* a garbage date in the second period */
+        if (f->period == 1)
+            snprintf(f->date, sizeof f->date, "1995-13-45_99:00:00.0000");
+        break;
+    }
+}
+
+static int craft(const char *out)
+{
+    vsv_mm5 *m = NULL;
+    if (vsv_mm5_open("samples/mm5/MMOUT_DOMAIN1_CROP", &m))
+        return -1;
+    FILE *fp = fopen(out, "wb");
+    vsv_mm5_writer w = {fp, 0};
+    vsv_mm5_write_flag(&w, 0);
+    vsv_mm5_write_bighdr(&w, vsv_mm5_bighdr_bytes(m));
+    int period = 0;
+    for (int i = 0; i < vsv_mm5_nfields(m); i++) {
+        vsv_mm5_field f = *vsv_mm5_field_at(m, i);
+        if (f.period != period) {
+            vsv_mm5_write_flag(&w, 2);
+            period = f.period;
+        }
+        int skip = 0;
+        craft_hook_fn(&f, &skip);
+        uint64_t count = 1;
+        for (int d = 0; d < 4; d++)
+            count *= (uint64_t)(f.end[d] - f.start[d] + 1);
+        float *buf = calloc(count > f.bytes / 4 ? count : f.bytes / 4, 4);
+        vsv_mm5_read(m, vsv_mm5_field_at(m, i), buf);
+        vsv_mm5_write_field(&w, &f, buf);
+        free(buf);
+    }
+    vsv_mm5_write_flag(&w, 2);
+    vsv_mm5_free(m);
+    return fclose(fp);
+}
+
+/* A file whose first 3-D field and SIGMAH have n levels on a 1x1 patch. */
+static int craft_levels(const char *out, int n)
+{
+    vsv_mm5 *m = NULL;
+    if (vsv_mm5_open("samples/mm5/MMOUT_DOMAIN1_CROP", &m))
+        return -1;
+    FILE *fp = fopen(out, "wb");
+    vsv_mm5_writer w = {fp, 0};
+    vsv_mm5_write_flag(&w, 0);
+    vsv_mm5_write_bighdr(&w, vsv_mm5_bighdr_bytes(m));
+    vsv_mm5_field t = *vsv_mm5_field_at(m, vsv_mm5_find(m, 0, "T"));
+    vsv_mm5_field sg = *vsv_mm5_field_at(m, vsv_mm5_find(m, 0, "SIGMAH"));
+    t.end[0] = t.start[0];
+    t.end[1] = t.start[1];
+    t.end[2] = t.start[2] + n - 1;
+    sg.end[0] = sg.start[0] + n - 1;
+    float *v = calloc((size_t)n, 4);
+    for (int k = 0; k < n; k++)
+        v[k] = (k + 0.5f) / n;
+    vsv_mm5_write_field(&w, &t, v);
+    vsv_mm5_write_field(&w, &sg, v);
+    vsv_mm5_write_flag(&w, 2);
+    free(v);
+    vsv_mm5_free(m);
+    return fclose(fp);
+}
+
+static void test_crafted(void)
+{
+    static const char *const what[] = {NULL, "a later period's T with 30 levels", "a later period's T with 4 dimensions",
+                                       "TERRAIN with 40 levels", "PSTARCRS with a fourth dimension",
+                                       "a period with the date 1995-13-45_99"};
+    static const char *const want[] = {NULL, "the first output time's is YXS 40x40x15",
+                                       "the first output time's is YXS 40x40x15", "TERRAIN is not a 40x40 YX field",
+                                       "PSTARCRS is not a 40x40 YX field", "is not a date"};
+    float *vol = malloc((size_t)40 * 40 * 64 * 4);
+    for (craft_case = 1; craft_case <= 5; craft_case++) {
+        char name[32];
+        snprintf(name, sizeof name, "craft%d.mm5", craft_case);
+        const char *path = vsv_test_tmp(name);
+        craft(path);
+        vsv_source *src = NULL;
+        vsv_source_opts o;
+        vsv_source_opts_init(&o);
+        o.vertical = VSV_VERT_NATIVE;
+        int rc = vsv_source_open(path, &o, &src);
+        if (rc == 0) {
+            const int fT = vsv_source_find_field(src, "T");
+            rc = fT < 0 ? -1 : vsv_source_read(src, fT, 0, vol);
+            if (rc == 0)
+                rc = vsv_source_read(src, fT, 1, vol);
+        }
+        char label[160];
+        snprintf(label, sizeof label, "crafted MM5, %s: an error naming it, no overflow", what[craft_case]);
+        CHECK(rc != 0 && strstr(vsv_source_error(src), want[craft_case]) && strstr(vsv_source_error(src), name), label,
+              "rc %d: %s", rc, vsv_source_error(src));
+        vsv_source_free(src);
+    }
+    free(vol);
+    const char *deep = vsv_test_tmp("deep.mm5");
+    craft_levels(deep, 100000);
+    vsv_source *src = NULL;
+    int rc = vsv_source_open(deep, NULL, &src);
+    CHECK(rc != 0 && strstr(vsv_source_error(src), "100000 sigma levels, more than 16384"),
+          "crafted MM5 with KX 100000: an error, no stack overflow", "rc %d: %s", rc, vsv_source_error(src));
+    vsv_source_free(src);
+}
+
 int main(void)
 {
     test_terrain();
@@ -489,5 +618,6 @@ int main(void)
     test_interp();
     test_split();
     test_bad();
+    test_crafted();
     return vsv_test_done();
 }

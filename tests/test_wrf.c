@@ -199,6 +199,9 @@ static void test_not_wrf(void)
     vsv_source_free(src);
 }
 
+/* 1: HGT written 4-D (Time, bottom_top, south_north, west_east) (crafted) */
+static int hgt4;
+
 /* A small synthetic wrfout: Lambert 20 km, 12x10x6, times t0.. every 3 h. */
 static void write_wrf(const char *path, int t0, int nt)
 {
@@ -214,7 +217,7 @@ static void write_wrf(const char *path, int t0, int nt)
     nc_def_var(nc, "Times", NC_CHAR, 2, td, &vt);
     nc_def_var(nc, "XLAT", NC_FLOAT, 3, d3, &vlat);
     nc_def_var(nc, "XLONG", NC_FLOAT, 3, d3, &vlon);
-    nc_def_var(nc, "HGT", NC_FLOAT, 3, d3, &vh);
+    nc_def_var(nc, "HGT", NC_FLOAT, hgt4 ? 4 : 3, hgt4 ? d4 : d3, &vh);
     nc_def_var(nc, "PH", NC_FLOAT, 4, d4s, &vph);
     nc_def_var(nc, "PHB", NC_FLOAT, 4, d4s, &vphb);
     nc_def_var(nc, "QCLOUD", NC_FLOAT, 4, d4, &vq);
@@ -247,7 +250,13 @@ static void write_wrf(const char *path, int t0, int nt)
         nc_put_vara_text(nc, vt, s2, c2, ts);
         nc_put_vara_float(nc, vlat, s3, c3, lat);
         nc_put_vara_float(nc, vlon, s3, c3, lon);
-        nc_put_vara_float(nc, vh, s3, c3, hgt);
+        if (hgt4) {
+            float h4[6 * 120];
+            for (int c = 0; c < 6 * 120; c++)
+                h4[c] = hgt[c % 120];
+            nc_put_vara_float(nc, vh, (size_t[4]){(size_t)t, 0, 0, 0}, (size_t[4]){1, 6, 10, 12}, h4);
+        } else
+            nc_put_vara_float(nc, vh, s3, c3, hgt);
         for (int k = 0; k < 7; k++)
             for (int c = 0; c < 120; c++) {
                 phb[k * 120 + c] = (float)(9.81 * (hgt[c] + 1000.0 * k * k / 2));
@@ -294,8 +303,24 @@ static void test_run(void)
     vsv_run_free(r3);
 }
 
+/* A 4-D HGT (issue 18: 3-element start/count passed for 4 dimensions, read
+ * past their end) is an error naming the variable and its shape. */
+static void test_hgt4(void)
+{
+    const char *path = vsv_test_tmp("hgt4.nc");
+    hgt4 = 1;
+    write_wrf(path, 0, 1);
+    hgt4 = 0;
+    vsv_source *src = NULL;
+    const int rc = vsv_source_open(path, NULL, &src);
+    CHECK(rc == VSV_ECORRUPT && strstr(vsv_source_error(src), "hgt4.nc: variable HGT is 1 x 6 x 10 x 12, expected [time x] 10 x 12"),
+          "WRF with a 4-D HGT: an error naming the variable and shapes", "rc %d: %s", rc, vsv_source_error(src));
+    vsv_source_free(src);
+}
+
 int main(void)
 {
+    test_hgt4();
     test_run();
     check_file("wrf/wrf_cropped.nc", 26, 26, 12, VSV_PROJ_LCC);
     check_file("wrf/wrf_d01_allvars_cropped.nc", 10, 8, 27, VSV_PROJ_LCC);
