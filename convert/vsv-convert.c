@@ -17,9 +17,14 @@ static const char usage[] =
     "and appears only when the conversion succeeded.\n"
     "\n"
     "  -o, --output FILE    the .vsv to write (required)\n"
-    "  -r, --time-res D     interpolate to frames every D (30s, 10m, 1h)\n"
+    "  -r, --time-res D     regular frames every D (30s, 10m, 1h, 1d; a unit is\n"
+    "                       required) from the first time, interpolated linearly;\n"
+    "                       model times on that grid pass through unchanged, those\n"
+    "                       between its steps are not kept (a D coarser than the\n"
+    "                       model's keeps every k-th output)\n"
     "  -v, --vars LIST      variables (default: CLW RNW ICE SNOW GRAUPEL Q present)\n"
-    "  -t, --times A:B      steps A..B (indices or ISO times)\n"
+    "  -t, --times A:B      steps A..B: indices or ISO times (which may hold colons);\n"
+    "                       either end may be empty; one index or time: that step\n"
     "  -q, --quiet          no progress bar\n"
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n" VSV_SOURCE_HELP;
@@ -55,6 +60,7 @@ int main(int argc, char **argv)
     vsv_source_opts_init(&so);
     const char *out = NULL, *vars = NULL, *times = NULL;
     int64_t dt = 0;
+    const char *res_text = NULL;
     int c;
     while ((c = getopt_long(argc, argv, "o:r:v:t:qhV", longopts, NULL)) != -1) {
         int h = vsv_source_cli_option(&so, c, optarg);
@@ -65,8 +71,9 @@ int main(int argc, char **argv)
         switch (c) {
         case 'o': out = optarg; break;
         case 'r':
+            res_text = optarg;
             if (vsv_cli_duration(optarg, &dt))
-                vsv_cli_usage_error("--time-res %s: expected a duration like 30s, 10m, 1h", optarg);
+                vsv_cli_usage_error("--time-res %s: expected a duration with its unit: 30s, 10m, 1h, 1d", optarg);
             break;
         case 'v': vars = optarg; break;
         case 't': times = optarg; break;
@@ -83,6 +90,9 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("no output file (-o OUT.vsv)");
     if (optind >= argc)
         vsv_cli_usage_error("no input file");
+    char tmsg[300];
+    if (times && vsv_timesel_parse(times, NULL, 0, 0, &(vsv_timesel){0}, tmsg, sizeof tmsg))
+        vsv_cli_usage_error("--times %s: %s", times, tmsg);
     vsv_run *run = NULL;
     if (vsv_run_open((const char *const *)argv + optind, argc - optind, &so, vars, times, &run))
         vsv_cli_die(1, "%s", vsv_run_error(run));
@@ -110,6 +120,9 @@ int main(int argc, char **argv)
             vsv_cli_writer_die(cx.w, out);
         vsv_cli_progress("vsv-convert: reading", i + 1, n);
     }
+    if (vsv_interp_dropped(ip) && !vsv_cli_quiet())
+        fprintf(stderr, "vsv-convert: note: %d of %d model times lie between the steps every %s from the first "
+                "and are not kept themselves\n", vsv_interp_dropped(ip), n, res_text);
     if (vsv_writer_finish(cx.w, vsv_cli_progress, "vsv-convert: encoding"))
         vsv_cli_writer_die(cx.w, out);
     vsv_writer_free(cx.w);

@@ -18,8 +18,9 @@ static const char usage[] =
     "  -v, --vars LIST      comma-separated variable names (default: the particulate\n"
     "                       and moisture fields present: CLW RNW ICE SNOW GRAUPEL Q;\n"
     "                       for GrADS every 3-D field)\n"
-    "  -t, --times A:B      steps A..B inclusive, as 0-based indices or ISO times;\n"
-    "                       either end may be empty\n"
+    "  -t, --times A:B      steps A..B inclusive, as 0-based indices or ISO times\n"
+    "                       (which may hold colons: 1995-10-24T01:00Z:1995-10-24T02:00Z);\n"
+    "                       either end may be empty; outside the file is an error\n"
     "  -l, --list           list each file's fields (ordering, units, description)\n"
     "                       and times, and exit\n"
     "  -h, --help           this help\n"
@@ -58,6 +59,9 @@ int main(int argc, char **argv)
     }
     if (optind >= argc)
         vsv_cli_usage_error("no input file");
+    char tmsg[300];
+    if (times && vsv_timesel_parse(times, NULL, 0, 0, &(vsv_timesel){0}, tmsg, sizeof tmsg))
+        vsv_cli_usage_error("--times %s: %s", times, tmsg);
     if (list) {
         int status = 0;
         for (int a = optind; a < argc; a++) {

@@ -11,8 +11,11 @@
 static const char usage[] =
     "Usage: vsv-interp --time-res DURATION [STREAM]\n"
     "Read a field stream (stdin by default) and write it with frames every DURATION\n"
-    "(e.g. 30s, 10m, 1h, 1d), counted from the first frame: values are linear in time\n"
-    "between consecutive model outputs; the original frames pass through unchanged.\n"
+    "(30s, 10m, 1h, 1d: a unit is required), at the first frame's time + k*DURATION:\n"
+    "values are linear in time between consecutive model outputs. Input frames on\n"
+    "that grid pass through unchanged; those between its steps are not written\n"
+    "(said on stderr), so every output step is exactly DURATION apart and a\n"
+    "DURATION coarser than the input's keeps every k-th frame.\n"
     "\n"
     "  -r, --time-res D     the output time step (required)\n"
     "  -h, --help           this help\n"
@@ -31,12 +34,14 @@ int main(int argc, char **argv)
                                              {"version", no_argument, 0, 'V'},
                                              {0, 0, 0, 0}};
     int64_t dt = 0;
+    const char *res_text = "";
     int c;
     while ((c = getopt_long(argc, argv, "r:hV", longopts, NULL)) != -1) {
         switch (c) {
         case 'r':
+            res_text = optarg;
             if (vsv_cli_duration(optarg, &dt))
-                vsv_cli_usage_error("--time-res %s: expected a duration like 30s, 10m, 1h", optarg);
+                vsv_cli_usage_error("--time-res %s: expected a duration with its unit: 30s, 10m, 1h, 1d", optarg);
             break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
@@ -73,6 +78,9 @@ int main(int argc, char **argv)
             vsv_cli_die(1, "writing to stdout: %s", strerror(errno));
     if (rc < 0)
         vsv_cli_die(1, "%s", vsv_stream_reader_error(r));
+    if (vsv_interp_dropped(ip))
+        fprintf(stderr, "vsv-interp: note: %d input frame%s between the steps every %s from the first, not kept\n",
+                vsv_interp_dropped(ip), vsv_interp_dropped(ip) == 1 ? " lies" : "s lie", res_text);
     if (vsv_stream_writer_end(w))
         vsv_cli_die(1, "writing to stdout: %s", strerror(errno));
     vsv_interp_free(ip);

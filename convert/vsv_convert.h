@@ -127,9 +127,14 @@ uint64_t vsv_run_input_bytes(const vsv_run *r);
 
 /* ------------------------------------------------------- interpolation */
 
-/* Linear interpolation in time between consecutive frames onto the times
- * t0 + k*dt (t0 = the first frame's time); original frames pass through
- * unchanged. An interpolated value is
+/* Linear interpolation in time between consecutive frames onto the regular
+ * times t0 + k*dt (t0 = the first frame's time), every output step exactly
+ * dt apart. An input frame at a grid time passes through unchanged; one
+ * between grid times is not output itself (it only bounds the interpolation
+ * of the grid times around it; vsv_interp_dropped counts them), so a dt
+ * coarser than the input's and a multiple of it keeps every k-th frame.
+ * The last output is the last grid time at or before the last input. An
+ * interpolated value is
  *   (float)(a + (b - a) * w),  w = (t - ta) / (tb - ta)  (in double),
  * NaN where a or b is NaN. */
 typedef struct vsv_interp vsv_interp;
@@ -140,6 +145,8 @@ int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, 
 /* Feeds the next input frame (times strictly increase); returns emit's
  * first non-zero result, or 0. */
 int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields);
+/* Input frames so far that fell between grid times (not output). */
+int vsv_interp_dropped(const vsv_interp *ip);
 void vsv_interp_free(vsv_interp *ip);
 
 #endif

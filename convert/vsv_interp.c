@@ -9,7 +9,7 @@
 
 struct vsv_interp {
     int64_t dt, t0, prev_t;
-    int nf, have;
+    int nf, have, dropped;
     size_t cells;
     float **prev, **tmp;
     vsv_frame_fn emit;
@@ -58,14 +58,22 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
     } else {
         ip->t0 = time;
     }
-    if ((rc = ip->emit(ip->ctx, time, fields)))
-        return rc;
+    /* an input frame on the grid passes through unchanged; one between grid
+     * times only feeds the interpolation (every step stays dt apart) */
+    if ((time - ip->t0) % ip->dt == 0) {
+        if ((rc = ip->emit(ip->ctx, time, fields)))
+            return rc;
+    } else {
+        ip->dropped++;
+    }
     for (int v = 0; v < ip->nf; v++)
         memcpy(ip->prev[v], fields[v], ip->cells * sizeof(float));
     ip->prev_t = time;
     ip->have = 1;
     return 0;
 }
+
+int vsv_interp_dropped(const vsv_interp *ip) { return ip ? ip->dropped : 0; }
 
 void vsv_interp_free(vsv_interp *ip)
 {

@@ -37,37 +37,6 @@ static int fail(vsv_run *r, int rc, const char *fmt, ...)
     return rc;
 }
 
-/* One end of --times: an index or an ISO time; -1 if not parseable. */
-static int times_end(const vsv_run *r, const int64_t *all, int n, const char *s, int dflt, int is_end, int *out)
-{
-    (void)r;
-    if (!*s) {
-        *out = dflt;
-        return 0;
-    }
-    char *e;
-    long v = strtol(s, &e, 10);
-    if (!*e && v >= 0) {
-        *out = (int)v;
-        return 0;
-    }
-    int64_t t;
-    if (vsv_time_parse(s, &t))
-        return -1;
-    if (is_end) {
-        int i = n - 1;
-        while (i >= 0 && all[i] > t)
-            i--;
-        *out = i;
-    } else {
-        int i = 0;
-        while (i < n && all[i] < t)
-            i++;
-        *out = i;
-    }
-    return 0;
-}
-
 int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars,
                  const char *times, vsv_run **out)
 {
@@ -215,21 +184,13 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
         }
     int a = 0, b = total - 1;
     if (times) {
-        const char *colon = strchr(times, ':');
-        char first[64];
-        if (!colon || (size_t)(colon - times) >= sizeof first) {
-            rc = fail(r, VSV_EINVAL, "--times %s: expected A:B", times);
+        vsv_timesel sel;
+        char msg[400];
+        if ((rc = vsv_timesel_parse(times, r->ftime, total, 0, &sel, msg, sizeof msg))) {
+            fail(r, rc, "%s: --times %s: %s", names[0], times, msg);
             goto done;
         }
-        snprintf(first, sizeof first, "%.*s", (int)(colon - times), times);
-        if (times_end(r, r->ftime, total, first, 0, 0, &a) || times_end(r, r->ftime, total, colon + 1, total - 1, 1, &b)) {
-            rc = fail(r, VSV_EINVAL, "--times %s: each end is a step index or an ISO time", times);
-            goto done;
-        }
-        if (a < 0 || b >= total || a > b) {
-            rc = fail(r, VSV_ERANGE, "--times %s selects no step of 0..%d", times, total - 1);
-            goto done;
-        }
+        a = sel.first, b = sel.last;
     }
     memmove(r->fsrc, r->fsrc + a, (size_t)(b - a + 1) * sizeof *r->fsrc);
     memmove(r->ft, r->ft + a, (size_t)(b - a + 1) * sizeof *r->ft);

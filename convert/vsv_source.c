@@ -1,6 +1,5 @@
 /* vsv_source.c — the source interface: detection by content and dispatch
  * to the readers. */
-#include "vsv_cli.h"
 #include "vsv_source_internal.h"
 
 #include <errno.h>
@@ -118,7 +117,7 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
         return 1;
     }
     case VSV_SOURCE_OPT_HEIGHTS: o->heights = arg; return 1;
-    case VSV_SOURCE_OPT_TIME_STEP: return vsv_cli_duration(arg, &o->time_step) || o->time_step <= 0 ? -1 : 1;
+    case VSV_SOURCE_OPT_TIME_STEP: return vsv_duration_parse(arg, &o->time_step) ? -1 : 1;
     case VSV_SOURCE_OPT_TIME_START: return vsv_time_parse(arg, &o->time_start) ? -1 : 1;
     case VSV_SOURCE_OPT_PROJ:
         for (int k = VSV_PROJ_LATLON; k < VSV_PROJ_COUNT; k++)

@@ -154,6 +154,12 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
         vsv_json_push(times, vsv_json_string(buf));
     }
     vsv_json_set(root, "times", times);
+    /* the interval of regular steps, null when irregular or a single step */
+    int64_t step = info.nsteps > 1 ? vsv_file_time(f, 1) - vsv_file_time(f, 0) : 0;
+    for (int t = 2; t < info.nsteps && step; t++)
+        if (vsv_file_time(f, t) - vsv_file_time(f, t - 1) != step)
+            step = 0;
+    vsv_json_set(root, "time_step", step ? vsv_json_int(step) : vsv_json_null());
 
     vsv_json *species = vsv_json_array();
     for (int s = 0; s < m->nvars; s++) {
@@ -289,8 +295,12 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
         int even = 1;
         for (int t = 2; t < info.nsteps && even; t++)
             even = vsv_file_time(f, t) - vsv_file_time(f, t - 1) == dt;
+        char d[32];
+        vsv_duration_format(dt, d, sizeof d);
         if (even)
-            printf(", every %lld s", (long long)dt);
+            printf(", every %lld s (%s)", (long long)dt, d);
+        else
+            printf(", irregular steps");
     }
     printf("\n  species     %d\n", m->nvars);
     printf("    %-10s %-12s %12s %12s %5s %7s %12s  %s\n", "name", "units", "min", "max", "bits", "scale", "max error",

@@ -307,29 +307,7 @@ int vsv_cli_double(const char *s, double *out)
     return 0;
 }
 
-int vsv_cli_duration(const char *s, int64_t *out)
-{
-    char *end;
-    errno = 0;
-    long long v = strtoll(s, &end, 10);
-    if (errno || end == s || v <= 0)
-        return -1;
-    long long mul = 1;
-    if (!strcmp(end, "") || !strcmp(end, "s"))
-        mul = 1;
-    else if (!strcmp(end, "m") || !strcmp(end, "min"))
-        mul = 60;
-    else if (!strcmp(end, "h"))
-        mul = 3600;
-    else if (!strcmp(end, "d"))
-        mul = 86400;
-    else
-        return -1;
-    if (v > INT64_MAX / mul)
-        return -1;
-    *out = v * mul;
-    return 0;
-}
+int vsv_cli_duration(const char *s, int64_t *out) { return vsv_duration_parse(s, out) ? -1 : 0; }
 
 /* ------------------------------------------------------- pack options */
 
@@ -474,44 +452,44 @@ void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta)
     p->opts.vars = vars;
 }
 
-int vsv_cli_step(const vsv_file *f, const char *s, int is_end)
+void vsv_cli_timesel(const char *path, const char *opt, const char *spec, const int64_t *times, int n, int flags,
+                     int *a, int *b)
 {
-    long v;
-    if (!vsv_cli_int(s, 0, 100000000, &v))
-        return (int)v;
-    int64_t t;
-    if (vsv_time_parse(s, &t))
-        vsv_cli_usage_error("'%s' is neither a step index nor an ISO time", s);
-    vsv_file_info info;
-    vsv_file_info_get(f, &info);
-    if (is_end) {
-        for (int i = info.nsteps - 1; i >= 0; i--)
-            if (vsv_file_time(f, i) <= t)
-                return i;
-        return -1;
+    vsv_timesel sel;
+    char msg[400];
+    const int rc = vsv_timesel_parse(spec, times, n, flags, &sel, msg, sizeof msg);
+    if (rc == VSV_EINVAL)
+        vsv_cli_usage_error("%s %s: %s", opt, spec, msg);
+    if (rc)
+        vsv_cli_die(1, "%s: %s %s: %s", path, opt, spec, msg);
+    if (!sel.exact) {
+        char when[40];
+        vsv_time_format(times[sel.first], when, sizeof when);
+        fprintf(stderr, "%s: %s %s: no step at that time; the nearest is step %d, %s\n", tool_name, opt, spec,
+                sel.first, when);
     }
-    for (int i = 0; i < info.nsteps; i++)
-        if (vsv_file_time(f, i) >= t)
-            return i;
-    return info.nsteps;
+    *a = sel.first;
+    *b = sel.last;
 }
 
-void vsv_cli_steps(const vsv_file *f, const char *time, const char *times, int all, int *a, int *b)
+void vsv_cli_steps(const vsv_file *f, const char *path, const char *time, const char *times, int all, int *a, int *b)
 {
     vsv_file_info info;
     vsv_file_info_get(f, &info);
     *a = *b = info.nsteps - 1;
-    if (time) {
-        *a = *b = vsv_cli_step(f, time, 0);
-    } else if (times) {
-        const char *colon = strchr(times, ':');
-        if (!colon)
-            vsv_cli_usage_error("--times %s: expected A:B", times);
-        char first[64];
-        snprintf(first, sizeof first, "%.*s", (int)(colon - times), times);
-        *a = *first ? vsv_cli_step(f, first, 0) : 0;
-        *b = colon[1] ? vsv_cli_step(f, colon + 1, 1) : info.nsteps - 1;
-    } else if (all) {
-        *a = 0;
+    if (!time && !times) {
+        if (all)
+            *a = 0;
+        return;
     }
+    int64_t *t = malloc((size_t)info.nsteps * sizeof *t);
+    if (!t)
+        vsv_cli_die(1, "out of memory");
+    for (int i = 0; i < info.nsteps; i++)
+        t[i] = vsv_file_time(f, i);
+    if (time)
+        vsv_cli_timesel(path, "--time", time, t, info.nsteps, VSV_TIMESEL_ONE, a, b);
+    else
+        vsv_cli_timesel(path, "--times", times, t, info.nsteps, 0, a, b);
+    free(t);
 }

@@ -59,7 +59,8 @@ void vsv_cli_set_quiet(int q);
 int vsv_cli_int(const char *s, long lo, long hi, long *out);
 /* Parses a double; 0 or -1. */
 int vsv_cli_double(const char *s, double *out);
-/* Parses a duration "90", "30s", "10m", "1h", "2d" into seconds (> 0); 0 or -1. */
+/* Parses a duration with its unit, "30s", "10m", "1h", "2d", into seconds
+ * (> 0; vsv_duration_parse); 0 or -1. */
 int vsv_cli_duration(const char *s, int64_t *out);
 
 
@@ -104,11 +105,14 @@ enum {
         {"codec", required_argument, 0, VSV_CLI_PACK_CODEC},                                       \
         {"threads", required_argument, 0, VSV_CLI_PACK_THREADS}
 
-/* A step of f from an index or an ISO time (is_end: the last step at or
- * before it, else the first at or after it; -1 / nsteps when none). */
-int vsv_cli_step(const vsv_file *f, const char *s, int is_end);
-/* The steps --time T or --times A:B select (either end of A:B may be
- * empty); with neither, every step when all, else the last. */
-void vsv_cli_steps(const vsv_file *f, const char *time, const char *times, int all, int *a, int *b);
+/* Resolves SPEC of option opt (e.g. "--times") by the one time grammar
+ * (vsv_timesel_parse) against n times of path: exits 2 on a malformed SPEC,
+ * 1 on one out of range ("tool: path: opt SPEC: why (the valid range)");
+ * says on stderr which step a time between steps picked. */
+void vsv_cli_timesel(const char *path, const char *opt, const char *spec, const int64_t *times, int n, int flags,
+                     int *a, int *b);
+/* The steps --time T or --times A:B select in f (opened from path); with
+ * neither, every step when all, else the last. */
+void vsv_cli_steps(const vsv_file *f, const char *path, const char *time, const char *times, int all, int *a, int *b);
 
 #endif

@@ -146,6 +146,32 @@ int vsv_time_parse(const char *s, int64_t *t);
 /* Seconds of a civil date (proleptic Gregorian, UTC). */
 int64_t vsv_time_from_civil(int year, int month, int day, int hour, int min, int sec);
 
+/* The one time grammar of every tool (--time, --times, the player's seek):
+ *   ELEM := a 0-based step index | an ISO time (vsv_time_parse)
+ *   SPEC := ELEM | [ELEM]:[ELEM]   (a range; both ends of one kind; ISO
+ *                                   times may hold colons of their own)
+ * One ELEM selects one step: an index exactly, a time the nearest step
+ * (exact = 0 when no step is at that time; halfway goes to the earlier).
+ * A range selects the first step at or after A to the last at or before B;
+ * an empty end is the first / last step. An index outside 0..n-1 or a time
+ * outside [times[0], times[n-1]] is VSV_ERANGE and a range that selects
+ * nothing too, a malformed SPEC VSV_EINVAL; msg (caller buffer of cap
+ * bytes) then says why and names the valid steps and times. With times
+ * NULL only the syntax is checked. */
+typedef struct vsv_timesel {
+    int first, last; /* the selected steps, first <= last */
+    int exact;       /* 0: a single time that fell between steps */
+    int range;       /* 1: SPEC was a range */
+} vsv_timesel;
+enum { VSV_TIMESEL_ONE = 1 /* refuse ranges */ };
+int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, vsv_timesel *out, char *msg,
+                      size_t cap);
+/* Parses a duration with its unit, "30s", "10m" (or "10min"), "1h", "2d",
+ * into seconds (> 0); a bare number is VSV_EINVAL. */
+int vsv_duration_parse(const char *s, int64_t *out);
+/* Writes d seconds in the largest whole unit ("10m", "1h", "90s"). */
+void vsv_duration_format(int64_t d, char *buf, size_t cap);
+
 /* ---------------------------------------------------------- field stream */
 
 /* The field stream (SPEC.md part 2): a header with the metadata, then frames

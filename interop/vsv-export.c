@@ -20,8 +20,10 @@ static const char usage[] =
     "without one takes a single step.\n"
     "\n"
     "      --vdb OUT           the files to write\n"
-    "  -t, --time T            one step: an index or an ISO time (default: all steps)\n"
-    "      --times A:B         steps A..B (indices or ISO times; either end may be empty)\n"
+    "  -t, --time T            one step: an index or an ISO time, the nearest step\n"
+    "                          (said on stderr when not exact; default: all steps)\n"
+    "      --times A:B         steps A..B (indices or ISO times, which may hold colons;\n"
+    "                          either end may be empty; outside the file is an error)\n"
     "  -s, --species LIST      NAME,... (default: every species)\n"
     "  -q, --quiet             no progress\n"
     "  -h, --help              this help\n"
@@ -64,7 +66,7 @@ int main(int argc, char **argv)
     vsv_file_info info;
     vsv_file_info_get(f, &info);
     int a, b;
-    vsv_cli_steps(f, time, times, 1, &a, &b);
+    vsv_cli_steps(f, path, time, times, 1, &a, &b);
     if (a < 0 || b >= info.nsteps || a > b)
         vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
     if (!sequence && a != b)

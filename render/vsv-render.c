@@ -21,8 +21,11 @@ static const char usage[] =
     "numbered from 0.\n"
     "\n"
     "  -o, --output FILE       the image; %04d for a sequence\n"
-    "  -t, --time T            one step: an index or an ISO time (default: the last)\n"
-    "      --times A:B         steps A..B (indices or ISO times; either end may be empty)\n"
+    "  -t, --time T            one step: an index or an ISO time, the nearest step\n"
+    "                          (said on stderr when not exact; default: the last)\n"
+    "      --times A:B         steps A..B (indices or ISO times, which may hold colons:\n"
+    "                          1995-10-24T01:00Z:1995-10-24T02:00Z; either end may be\n"
+    "                          empty; outside the file's steps is an error)\n"
     "  -s, --species LIST      NAME[:OPACITY],... (default: every species, opacity 1)\n"
     "      --tf FILE           transfer functions: 'species NAME' blocks of\n"
     "                          colormap / range / scale / opacity lines\n"
@@ -244,7 +247,7 @@ int main(int argc, char **argv)
     vsv_file_info_get(f, &info);
     /* steps */
     int a, b;
-    vsv_cli_steps(f, time, times, sequence || movie_out, &a, &b);
+    vsv_cli_steps(f, path, time, times, sequence || movie_out, &a, &b);
     if (a < 0 || b >= info.nsteps || a > b)
         vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
     if (out && !sequence && a != b)

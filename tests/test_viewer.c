@@ -26,7 +26,9 @@ static void test_actions(vsv_player *p)
     } bad[] = {{"speed 0", "non-zero"},       {"seek 99", "out of range"},   {"seek yesterday", "neither"},
                {"toggle NOPE", "NOPE"},        {"opacity Q x", ">= 0"},      {"frobnicate", "unknown action"},
                {"renderer gpu", "raycast"},    {"camera 10", "AZ EL"},        {"loop sometimes", "on, off"},
-               {"screenshot", "FILE.png"},     {"step many", "not a number"}, {"zoom 0", "> 0"}};
+               {"screenshot", "FILE.png"},     {"step many", "not a number"}, {"zoom 0", "> 0"},
+               {"seek 1995-10-25T00:00:00Z", "after the last step (steps 0..3"},
+               {"seek 1995-10-23T00:00:00Z", "before the first step"}, {"seek 0:2", "one step is wanted"}};
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         const int rc = vsv_player_do(p, bad[i].action, err, sizeof err);
         char name[128];

@@ -363,14 +363,11 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         vsv_clock_step(c, (int)v);
     } else if (!strcmp(verb, "seek")) {
         NEED(a1, "seek: needs an ISO time or a step index");
-        int64_t t;
-        if (!num(a1, &v) && v == floor(v)) {
-            NEED(v >= 0 && v < c->nsteps, "seek: step %s out of range 0..%d", a1, c->nsteps - 1);
-            vsv_clock_seek_step(c, (int)v);
-        } else {
-            NEED(!vsv_time_parse(a1, &t), "seek: '%s' is neither a step index nor an ISO time", a1);
-            vsv_clock_seek_time(c, t);
-        }
+        vsv_timesel sel;
+        char why[300];
+        NEED(!vsv_timesel_parse(a1, p->times, c->nsteps, VSV_TIMESEL_ONE, &sel, why, sizeof why), "seek %s: %s", a1,
+             why);
+        vsv_clock_seek_step(c, sel.first);
     } else if (!strcmp(verb, "speed")) {
         NEED(!num(a1, &v) && v != 0, "speed: needs a non-zero number (negative plays backwards)");
         vsv_clock_set_speed(c, v);

@@ -1,0 +1,60 @@
+#!/bin/sh
+# cli_times.sh — the one time grammar (an index, an ISO time, a range A:B of
+# either where ISO times hold colons) in every tool that takes times, and
+# --time-res: a unit required, regular steps t0 + k*res, coarser keeps every
+# k-th step. Prints PASS/FAIL lines.
+B=${B:-build}
+SHARED=${SHARED:-../shared}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-times.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+CROP=samples/mm5/MMOUT_DOMAIN1_CROP # hourly, 1995-10-24 00..03 UTC
+
+# --times with ISO ends that hold colons (was split at the first colon)
+"$B/vsv-extract" --times 1995-10-24T01:00:00Z:1995-10-24T02:00:00Z "$CROP" | "$B/vsv-pack" -q -o "$T/r.vsv"
+"$B/vsv-info" -f times "$T/r.vsv" > "$T/out"
+has "vsv-extract --times ISO:ISO with colons" "$T/out" '["1995-10-24T01:00:00Z", "1995-10-24T02:00:00Z"]'
+expect "vsv-convert --times T01:30Z:" 0 "$B/vsv-convert" -q --times 1995-10-24T01:30Z: "$CROP" -o "$T/c.vsv"
+"$B/vsv-info" -f times "$T/c.vsv" > "$T/out"
+has "a range from between two steps starts at the next" "$T/out" '["1995-10-24T02:00:00Z", "1995-10-24T03:00:00Z"]'
+expect "--times ending after the last step exits 1" 1 "$B/vsv-extract" --times 1995-10-24T01:00Z:1995-10-24T05:00Z "$CROP"
+has "out-of-range end names the valid range" "$T/err" "is after the last step (steps 0..3, 1995-10-24T00:00:00Z .. 1995-10-24T03:00:00Z)"
+expect "--times 2:9 exits 1" 1 "$B/vsv-extract" --times 2:9 "$CROP"
+has "an index out of range is named" "$T/err" "step 9 is out of range (steps 0..3"
+expect "--times of mixed kinds exits 2" 2 "$B/vsv-extract" --times 1:1995-10-24T02:00Z "$CROP"
+expect "--times nonsense exits 2" 2 "$B/vsv-extract" --times yesterday "$CROP"
+has "a malformed time names the grammar" "$T/err" "neither a step index, an ISO time"
+
+# --time-res: a unit, regular steps, coarser keeps every k-th step
+expect "--time-res 15 (no unit) exits 2" 2 "$B/vsv-convert" --time-res 15 "$CROP" -o "$T/x.vsv"
+has "--time-res without a unit is named" "$T/err" "expected a duration with its unit"
+if [ ! -e "$T/x.vsv" ]; then pass "nothing written after --time-res 15"; else fail "nothing written after --time-res 15" "exists"; fi
+expect "vsv-interp --time-res 90 exits 2" 2 "$B/vsv-interp" --time-res 90
+expect "--time-res 7m converts" 0 "$B/vsv-convert" --time-res 7m "$CROP" -o "$T/r7.vsv"
+has "model times off the 7m grid are reported" "$T/err" "3 of 4 model times lie between the steps every 7m"
+"$B/vsv-info" "$T/r7.vsv" > "$T/out"
+has "vsv-info: 7m steps all 420 s apart" "$T/out" "26 steps, 1995-10-24T00:00:00Z .. 1995-10-24T02:55:00Z, every 420 s (7m)"
+"$B/vsv-info" -f time_step "$T/r7.vsv" > "$T/out"
+has "vsv-info --json time_step" "$T/out" "420"
+expect "--time-res 2h on hourly data" 0 "$B/vsv-convert" -q --time-res 2h "$CROP" -o "$T/r2h.vsv"
+"$B/vsv-info" -f times "$T/r2h.vsv" > "$T/out"
+has "2h keeps every second hour" "$T/out" '["1995-10-24T00:00:00Z", "1995-10-24T02:00:00Z"]'
+"$B/vsv-extract" --vars T --times 2:2 "$CROP" | "$B/vsv-pack" -q -o "$T/h2.vsv"
+"$B/vsv-extract" --vars T --times 2 "$CROP" | "$B/vsv-pack" -q -o "$T/h2b.vsv"
+same "--times 2 is --times 2:2" "$T/h2.vsv" "$T/h2b.vsv"
+
+# vsv-render / vsv-export --time: the nearest step, said when not exact
+"$B/vsv-convert" -q --time-res 10m --vars CLW "$CROP" -o "$T/s.vsv"
+expect "vsv-render --time between steps" 0 "$B/vsv-render" -q "$T/s.vsv" --time 1995-10-24T00:01 -o "$T/a.png" --size 32x24
+has "vsv-render says which step it took" "$T/err" "no step at that time; the nearest is step 0, 1995-10-24T00:00:00Z"
+expect "vsv-render --time after the end exits 1" 1 "$B/vsv-render" -q "$T/s.vsv" --time 1995-10-24T04:00 -o "$T/b.png"
+has "vsv-render names the valid range" "$T/err" "after the last step (steps 0..18"
+if [ ! -e "$T/b.png" ]; then pass "no image after a time out of range"; else fail "no image after a time out of range" "exists"; fi
+expect "vsv-render --times ISO:ISO" 0 "$B/vsv-render" -q "$T/s.vsv" --times 1995-10-24T00:10:00Z:1995-10-24T00:30:00Z -o "$T/f%02d.png" --size 32x24
+if [ -f "$T/f02.png" ] && [ ! -e "$T/f03.png" ]; then pass "three frames for 00:10..00:30"; else fail "three frames for 00:10..00:30" "$(ls "$T")"; fi
+expect "vsv-render --time with a range exits 2" 2 "$B/vsv-render" "$T/s.vsv" --time 0:3 -o "$T/c.png"
+if "$B/vsv-export" --help > /dev/null 2>&1 && "$B/vsv-export" --help | grep -q vdb; then
+    expect "vsv-export --times after the end exits 1" 1 "$B/vsv-export" -q "$T/s.vsv" --vdb "$T/v%02d.vdb" --times 1995-10-24T02:00Z:1995-10-25T00:00Z
+    has "vsv-export names the valid range" "$T/err" "is after the last step"
+fi
+exit 0
