@@ -241,15 +241,39 @@ static int wrf_open(vsv_source *s, int nc)
     if (!bad)
         bad = vsv_proj_forward(&g->proj, la[0], lo[0], &x0, &y0) ||
               vsv_proj_forward(&g->proj, la[plane - 1], lo[plane - 1], &x1, &y1);
-    free(la);
-    free(lo);
-    if (bad)
+    if (bad) {
+        free(la);
+        free(lo);
         return vsv_source_fail(s, VSV_ECORRUPT, "cannot place XLAT/XLONG in the projection");
+    }
     double dx = att_double(nc, "DX", 0), dy = att_double(nc, "DY", 0);
     if (mp == 6 || !(dx > 0) || !(dy > 0)) { /* lat/lon grids: spacing from the corners */
         dx = (x1 - x0) / (nx - 1);
         dy = (y1 - y0) / (ny - 1);
     }
+    /* The origin that fits every cell best: WRF rounded each XLAT/XLONG to
+     * float32 (about a metre), so one cell alone places the grid that far
+     * off; the mean over all cells of (projected cell - its offset) does not. */
+    if (mp != 6) {
+        double sx = 0, sy = 0;
+        size_t used = 0;
+        for (size_t c = 0; c < plane; c++) {
+            double x, y;
+            if (vsv_proj_forward(&g->proj, la[c], lo[c], &x, &y))
+                continue;
+            sx += x - (double)(c % nx) * dx;
+            sy += y - (double)(c / nx) * dy;
+            used++;
+        }
+        if (used == plane) {
+            x1 += sx / (double)used - x0;
+            y1 += sy / (double)used - y0;
+            x0 = sx / (double)used;
+            y0 = sy / (double)used;
+        }
+    }
+    free(la);
+    free(lo);
     g->origin[0] = x0;
     g->origin[1] = y0;
     g->spacing[0] = dx;
