@@ -75,7 +75,7 @@ SOVERSION = 0
 SHLIB = $(B)/libvesuvius.so.$(VERSION)
 DATADIR = $(PREFIX)/share
 
-TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play vsv-export
+TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play vsv-export vsv-query
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 
 TEST_SRC = $(wildcard tests/test_*.c)

@@ -452,6 +452,32 @@ void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta)
     p->opts.vars = vars;
 }
 
+int vsv_cli_species(const vsv_meta *m, const char *list, const char *path, int *sel)
+{
+    int n = 0;
+    if (!list) {
+        for (int s = 0; s < m->nvars; s++)
+            sel[n++] = s;
+        return n;
+    }
+    char *copy = strdup(list), *save = NULL;
+    if (!copy)
+        vsv_cli_die(1, "out of memory");
+    for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
+        const int s = vsv_meta_find_var(m, it);
+        if (s < 0)
+            vsv_cli_usage_error("--species: %s has no species '%s'", path, it);
+        for (int l = 0; l < n; l++)
+            if (sel[l] == s)
+                vsv_cli_usage_error("--species: '%s' named twice", it);
+        sel[n++] = s;
+    }
+    free(copy);
+    if (!n)
+        vsv_cli_usage_error("--species: no species named");
+    return n;
+}
+
 void vsv_cli_timesel(const char *path, const char *opt, const char *spec, const int64_t *times, int n, int flags,
                      int *a, int *b)
 {

@@ -105,6 +105,11 @@ enum {
         {"codec", required_argument, 0, VSV_CLI_PACK_CODEC},                                       \
         {"threads", required_argument, 0, VSV_CLI_PACK_THREADS}
 
+/* The species --species LIST names (comma-separated; NULL: every species)
+ * as indices into sel (caller array of m->nvars ints); returns how many.
+ * Exits 2 naming a species the file (path) lacks or one named twice. */
+int vsv_cli_species(const vsv_meta *m, const char *list, const char *path, int *sel);
+
 /* Resolves SPEC of option opt (e.g. "--times") by the one time grammar
  * (vsv_timesel_parse) against n times of path: exits 2 on a malformed SPEC,
  * 1 on one out of range ("tool: path: opt SPEC: why (the valid range)");

@@ -371,6 +371,59 @@ static inline float vsv_volume_at(const vsv_volume *v, int i, int j, int k)
     return b ? b[(i & m) + ((j & m) << s) + ((k & m) << (2 * s))] : v->empty_value;
 }
 
+/* ---------------------------------------------------------------- queries */
+
+/* Where cells are. Cell (i, j, k) is the cell's centre; fractional indices
+ * name points between centres (the grid covers -0.5 .. n-0.5 along each axis). */
+
+/* Projected (x, y) of (fractional) column (i, j). */
+void vsv_meta_cell_xy(const vsv_meta *m, double i, double j, double *x, double *y);
+/* Latitude/longitude (degrees) of (fractional) column (i, j); VSV_EUNSUPPORTED
+ * when the grid has no projection. */
+int vsv_meta_cell_latlon(const vsv_meta *m, double i, double j, double *lat, double *lon);
+/* Height of the centre of cell (i, j, k): metres above sea level (even and
+ * native levels), the level coordinate in vert_units (VSV_VERT_COORD) or the
+ * index k (VSV_VERT_INDEX). */
+double vsv_meta_cell_height(const vsv_meta *m, int i, int j, int k);
+/* The unit of vsv_meta_cell_height: "m", vert_units, or "" for an index. */
+const char *vsv_meta_height_units(const vsv_meta *m);
+
+/* A point of a grid: plain info filled by vsv_point_locate / vsv_point_cell. */
+typedef struct vsv_point {
+    double pos[3];              /* fractional cell coordinates of the point */
+    int cell[3];                /* the nearest cell */
+    double lat, lon, height;    /* the nearest cell's centre (height as
+                                   vsv_meta_cell_height; lat/lon NaN without
+                                   a projection) */
+} vsv_point;
+
+/* The point at (lat, lon) and `height` (units of vsv_meta_cell_height); a
+ * NaN height means the lowest level above the ground (the lowest whose
+ * centre is at or above the column's terrain; level 0 without terrain or
+ * heights). VSV_ERANGE, with msg naming the grid's valid range, when the
+ * point lies outside the grid; VSV_EUNSUPPORTED without a projection. */
+int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, vsv_point *p, char *msg,
+                     size_t cap);
+/* The point at cell (i, j, k); k < 0 means the lowest level above the
+ * ground. VSV_ERANGE (msg names the range) outside the grid. */
+int vsv_point_cell(const vsv_meta *m, int i, int j, int k, vsv_point *p, char *msg, size_t cap);
+
+/* Values at points: a brick cache over a decoder. One per thread. Caller
+ * frees with vsv_query_free. */
+typedef struct vsv_query vsv_query;
+int vsv_query_create(vsv_file *f, vsv_query **out);
+void vsv_query_free(vsv_query *q);
+const char *vsv_query_error(const vsv_query *q);
+/* The decoded value of species s at step and cell (i, j, k) (exactly what
+ * vsv_decoder_volume gives for that cell). */
+int vsv_query_cell(vsv_query *q, int step, int s, int i, int j, int k, float *v);
+/* The value at fractional cell coordinates pos: VSV_INTERP_NEAREST takes
+ * the nearest cell; VSV_INTERP_LINEAR blends the eight cells around pos
+ * trilinearly (clamped to the edge cells; NaN when a cell with weight is
+ * NaN, i.e. no data). */
+enum { VSV_INTERP_NEAREST = 0, VSV_INTERP_LINEAR = 1 };
+int vsv_query_sample(vsv_query *q, int step, int s, const double pos[3], int interp, float *v);
+
 /* ---------------------------------------------------------------- helpers */
 
 /* CRC-32C (Castagnoli) of buf, continuing from crc (start with 0). */

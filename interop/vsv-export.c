@@ -72,22 +72,10 @@ int main(int argc, char **argv)
     if (!sequence && a != b)
         vsv_cli_usage_error("several steps need %%04d in the output name (or --time T)");
     /* species */
-    int *sel = calloc((size_t)m->nvars, sizeof *sel), n = 0;
+    int *sel = calloc((size_t)m->nvars, sizeof *sel);
     if (!sel)
         vsv_cli_die(1, "out of memory");
-    if (species) {
-        char *copy = strdup(species), *save = NULL;
-        for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
-            const int s = vsv_meta_find_var(m, it);
-            if (s < 0)
-                vsv_cli_usage_error("--species: %s has no species '%s'", path, it);
-            sel[n++] = s;
-        }
-        free(copy);
-    } else {
-        for (int s = 0; s < m->nvars; s++)
-            sel[n++] = s;
-    }
+    const int n = vsv_cli_species(m, species, path, sel);
     vsv_volume **vols = calloc((size_t)n, sizeof *vols);
     vsv_decoder *d = NULL;
     if (!vols || vsv_decoder_create(f, &d))

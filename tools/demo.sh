@@ -33,6 +33,12 @@ step "For scripts: one value of the JSON description" "vsv-info -f corners.0 $OU
 
 step "Cloud water through the three hours" "vsv-info --stats $OUT/storm.vsv (CLW rows)"
 "$B/vsv-info" --stats "$OUT/storm.vsv" | grep -E '^ +(species|CLW) '
+step "Ask for numbers: cloud and snow over Idaho at 3000 m (the on-the-hour rows)" \
+     "vsv-query $OUT/storm.vsv --at 46,-116,3000 --species CLW,SNOW | awk 'NR == 1 || /:00:00Z/'"
+"$B/vsv-query" "$OUT/storm.vsv" --at 46,-116,3000 --species CLW,SNOW | awk 'NR == 1 || /:00:00Z/'
+step "... and the column above it at 02:00, as CSV" \
+     "vsv-query $OUT/storm.vsv --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv"
+"$B/vsv-query" "$OUT/storm.vsv" --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv | sed -n '1p;9,18p'
 step "Render the last frame: clouds, rain, ice, snow and moisture over the terrain, from the south-west" \
      "vsv-render $OUT/storm.vsv -o $OUT/storm.png"
 "$B/vsv-render" "$OUT/storm.vsv" -o "$OUT/storm.png"

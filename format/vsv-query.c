@@ -1,0 +1,267 @@
+/* vsv-query — numbers out of a .vsv: the values of species at a point
+ * (latitude/longitude[/height] or a cell) or down a column, at one time, a
+ * range of times or all, as an aligned table, CSV or JSON. The locating and
+ * sampling live in the library (vsv_point_*, vsv_query_*). */
+#include "vsv_cli.h"
+
+#include <getopt.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char usage[] =
+    "Usage: vsv-query FILE.vsv (--at LAT,LON[,HEIGHT] | --cell I,J[,K] | --profile LAT,LON)\n"
+    "                 [--species LIST] [--time T | --times A:B] [--interp] [--csv | --json]\n"
+    "Print the decoded values of species at a point of the grid: one row per time\n"
+    "(every step unless --time/--times), or one row per level and time with\n"
+    "--profile. Each row names the cell (i, j, k), its centre's latitude,\n"
+    "longitude and height, and each species' value with its units.\n"
+    "\n"
+    "      --at LAT,LON[,H]    a point: degrees north, degrees east, and a height in\n"
+    "                          metres above sea level (the grid's level unit when\n"
+    "                          its levels are not heights); without H the lowest\n"
+    "                          level above the ground\n"
+    "      --cell I,J[,K]      a cell by index (0-based, x east, y north, z up);\n"
+    "                          without K the lowest level above the ground\n"
+    "      --profile LAT,LON   every level of the column at the point\n"
+    "  -s, --species LIST      NAME,... (default: every species)\n"
+    "  -t, --time T            one step: an index or an ISO time (the nearest step)\n"
+    "      --times A:B         steps A..B (indices or ISO times; either end may be empty)\n"
+    "      --interp            trilinear between the eight cells around the point\n"
+    "                          (default: the nearest cell's value, exactly as decoded)\n"
+    "      --csv               comma-separated values, a header row first\n"
+    "      --json              one JSON document\n"
+    "  -h, --help              this help\n"
+    "  -V, --version           print versions\n"
+    "Values are the file's decoded values (within each species' stated quantisation\n"
+    "bound of the model's); no data is NaN (null in JSON). Times are ISO 8601 UTC.\n";
+
+enum { FMT_TABLE, FMT_CSV, FMT_JSON };
+
+/* "A,B[,C]" into up to 3 doubles; returns how many, or -1. */
+static int parse_list(const char *s, double *v)
+{
+    int n = 0;
+    const char *p = s;
+    while (n < 3) {
+        char *end;
+        v[n] = strtod(p, &end);
+        if (end == p || !isfinite(v[n]))
+            return -1;
+        n++;
+        if (*end == 0)
+            return n;
+        if (*end != ',')
+            return -1;
+        p = end + 1;
+    }
+    return -1;
+}
+
+static void print_value(FILE *fp, float v, int fmt)
+{
+    if (isnan(v))
+        fputs(fmt == FMT_CSV ? "NaN" : "nan", fp);
+    else
+        fprintf(fp, fmt == FMT_TABLE ? "%.6g" : "%.9g", v);
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-query");
+    enum { O_AT = 1000, O_CELL, O_PROFILE, O_TIMES, O_INTERP, O_CSV, O_JSON };
+    static const struct option longopts[] = {
+        {"at", required_argument, 0, O_AT},       {"cell", required_argument, 0, O_CELL},
+        {"profile", required_argument, 0, O_PROFILE}, {"species", required_argument, 0, 's'},
+        {"time", required_argument, 0, 't'},      {"times", required_argument, 0, O_TIMES},
+        {"interp", no_argument, 0, O_INTERP},     {"csv", no_argument, 0, O_CSV},
+        {"json", no_argument, 0, O_JSON},         {"help", no_argument, 0, 'h'},
+        {"version", no_argument, 0, 'V'},         {0, 0, 0, 0}};
+    const char *at = NULL, *cellarg = NULL, *profile = NULL, *species = NULL, *time = NULL, *times = NULL;
+    int interp = VSV_INTERP_NEAREST, fmt = FMT_TABLE, c;
+    while ((c = getopt_long(argc, argv, "s:t:hV", longopts, NULL)) != -1) {
+        switch (c) {
+        case O_AT: at = optarg; break;
+        case O_CELL: cellarg = optarg; break;
+        case O_PROFILE: profile = optarg; break;
+        case 's': species = optarg; break;
+        case 't': time = optarg; break;
+        case O_TIMES: times = optarg; break;
+        case O_INTERP: interp = VSV_INTERP_LINEAR; break;
+        case O_CSV: fmt = FMT_CSV; break;
+        case O_JSON: fmt = FMT_JSON; break;
+        case 'h': fputs(usage, stdout); return 0;
+        case 'V': vsv_cli_version();
+        default: vsv_cli_usage_error("unknown option");
+        }
+    }
+    if (!!at + !!cellarg + !!profile != 1)
+        vsv_cli_usage_error("give one of --at LAT,LON[,HEIGHT], --cell I,J[,K] or --profile LAT,LON");
+    if (optind != argc - 1)
+        vsv_cli_usage_error(optind < argc ? "one .vsv file" : "no input file");
+    if (time && times)
+        vsv_cli_usage_error("--time and --times exclude each other");
+    double arg[3] = {NAN, NAN, NAN};
+    const int nargs = parse_list(at ? at : cellarg ? cellarg : profile, arg);
+    if (at && nargs < 2)
+        vsv_cli_usage_error("--at %s: expected LAT,LON or LAT,LON,HEIGHT", at);
+    if (profile && nargs != 2)
+        vsv_cli_usage_error("--profile %s: expected LAT,LON", profile);
+    if (cellarg && (nargs < 2 || arg[0] != floor(arg[0]) || arg[1] != floor(arg[1]) || (nargs == 3 && arg[2] != floor(arg[2]))))
+        vsv_cli_usage_error("--cell %s: expected I,J or I,J,K (whole numbers)", cellarg);
+    if (at && (fabs(arg[0]) > 90 || fabs(arg[1]) > 360))
+        vsv_cli_usage_error("--at %s: latitude must be within -90..90 and longitude within -360..360", at);
+
+    const char *path = argv[optind];
+    vsv_file *f = NULL;
+    if (vsv_file_open(path, &f))
+        vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+
+    /* the steps (the one time grammar: a time outside the run exits 1 naming it) */
+    int a, b;
+    vsv_cli_steps(f, path, time, times, 1, &a, &b);
+
+    /* the species */
+    int *sel = calloc((size_t)m->nvars, sizeof *sel);
+    if (!sel)
+        vsv_cli_die(1, "out of memory");
+    const int n = vsv_cli_species(m, species, path, sel);
+
+    /* the point */
+    vsv_point pt;
+    char msg[512];
+    int rc = cellarg ? vsv_point_cell(m, (int)arg[0], (int)arg[1], nargs == 3 ? (int)arg[2] : -1, &pt, msg, sizeof msg)
+                     : vsv_point_locate(m, arg[0], arg[1], at ? arg[2] : NAN, &pt, msg, sizeof msg);
+    if (rc)
+        vsv_cli_die(1, "%s: %s", path, msg);
+    const int k0 = profile ? 0 : -1, k1 = profile ? m->nz - 1 : -1;
+
+    vsv_query *q = NULL;
+    if (vsv_query_create(f, &q))
+        vsv_cli_die(1, "%s: %s", path, vsv_query_error(q));
+    const char *hu = vsv_meta_height_units(m);
+    char hname[48];
+    if (m->vert_kind == VSV_VERT_EVEN || m->vert_kind == VSV_VERT_NATIVE)
+        snprintf(hname, sizeof hname, "height");
+    else
+        snprintf(hname, sizeof hname, "level");
+
+    vsv_json *root = NULL, *rows = NULL;
+    int *width = calloc((size_t)n, sizeof *width);
+    if (!width)
+        vsv_cli_die(1, "out of memory");
+    if (fmt == FMT_JSON) {
+        root = vsv_json_object();
+        vsv_json_set(root, "file", vsv_json_string(path));
+        vsv_json *pj = vsv_json_object();
+        if (!cellarg) {
+            vsv_json_set(pj, "lat", vsv_json_number(arg[0]));
+            vsv_json_set(pj, "lon", vsv_json_number(arg[1]));
+            if (at && !isnan(arg[2]))
+                vsv_json_set(pj, "height", vsv_json_number(arg[2]));
+        }
+        vsv_json *pos = vsv_json_array();
+        for (int d = 0; d < 3; d++)
+            vsv_json_push(pos, vsv_json_number(pt.pos[d]));
+        vsv_json_set(pj, "position", pos);
+        vsv_json_set(root, "point", pj);
+        vsv_json_set(root, "interp", vsv_json_string(interp ? "trilinear" : "nearest"));
+        vsv_json_set(root, "height_units", vsv_json_string(hu));
+        vsv_json *sp = vsv_json_array();
+        for (int l = 0; l < n; l++) {
+            vsv_json *o = vsv_json_object();
+            vsv_json_set(o, "name", vsv_json_string(m->vars[sel[l]].name));
+            vsv_json_set(o, "units", vsv_json_string(m->vars[sel[l]].units));
+            vsv_json_set(o, "max_abs_error", vsv_json_number(vsv_file_quant(f, sel[l])->max_abs_error));
+            vsv_json_push(sp, o);
+        }
+        vsv_json_set(root, "species", sp);
+        rows = vsv_json_array();
+    } else {
+        /* the header row */
+        char hcol[64];
+        snprintf(hcol, sizeof hcol, *hu ? "%s (%s)" : "%s%s", hname, hu);
+        if (fmt == FMT_CSV)
+            printf("time,i,j,k,lat,lon,%s", hcol);
+        else
+            printf("%-20s %5s %5s %4s %10s %11s %12s", "time", "i", "j", "k", "lat", "lon", hcol);
+        for (int l = 0; l < n; l++) {
+            char name[160];
+            snprintf(name, sizeof name, "%s (%s)", m->vars[sel[l]].name, m->vars[sel[l]].units);
+            width[l] = (int)strlen(name) > 13 ? (int)strlen(name) : 13;
+            if (fmt == FMT_CSV)
+                printf(",%s", name);
+            else
+                printf(" %*s", width[l], name);
+        }
+        putchar('\n');
+    }
+
+    for (int t = a; t <= b; t++) {
+        char iso[32];
+        vsv_time_format(vsv_file_time(f, t), iso, sizeof iso);
+        for (int k = k0; k <= k1; k++) {
+            double pos[3] = {pt.pos[0], pt.pos[1], pt.pos[2]};
+            int cell[3] = {pt.cell[0], pt.cell[1], pt.cell[2]};
+            if (k >= 0)
+                pos[2] = cell[2] = k;
+            const double h = vsv_meta_cell_height(m, cell[0], cell[1], cell[2]);
+            vsv_json *row = NULL, *vals = NULL;
+            if (fmt == FMT_JSON) {
+                row = vsv_json_object();
+                vsv_json_set(row, "time", vsv_json_string(iso));
+                vsv_json_set(row, "i", vsv_json_int(cell[0]));
+                vsv_json_set(row, "j", vsv_json_int(cell[1]));
+                vsv_json_set(row, "k", vsv_json_int(cell[2]));
+                vsv_json_set(row, "lat", isnan(pt.lat) ? vsv_json_null() : vsv_json_number(pt.lat));
+                vsv_json_set(row, "lon", isnan(pt.lon) ? vsv_json_null() : vsv_json_number(pt.lon));
+                vsv_json_set(row, hname, vsv_json_number(h));
+                vals = vsv_json_object();
+            } else if (fmt == FMT_CSV) {
+                printf("%s,%d,%d,%d,%.6f,%.6f,%.9g", iso, cell[0], cell[1], cell[2], pt.lat, pt.lon, h);
+            } else {
+                printf("%-20s %5d %5d %4d %10.4f %11.4f %12.6g", iso, cell[0], cell[1], cell[2], pt.lat, pt.lon, h);
+            }
+            for (int l = 0; l < n; l++) {
+                float v;
+                if (vsv_query_sample(q, t, sel[l], pos, interp, &v))
+                    vsv_cli_die(1, "%s", vsv_query_error(q));
+                if (fmt == FMT_JSON) {
+                    vsv_json_set(vals, m->vars[sel[l]].name, isnan(v) ? vsv_json_null() : vsv_json_number(v));
+                } else if (fmt == FMT_CSV) {
+                    putchar(',');
+                    print_value(stdout, v, fmt);
+                } else {
+                    char cellv[64];
+                    if (isnan(v))
+                        snprintf(cellv, sizeof cellv, "nan");
+                    else
+                        snprintf(cellv, sizeof cellv, "%.6g", v);
+                    printf(" %*s", width[l], cellv);
+                }
+            }
+            if (fmt == FMT_JSON) {
+                vsv_json_set(row, "values", vals);
+                vsv_json_push(rows, row);
+            } else {
+                putchar('\n');
+            }
+        }
+    }
+    if (fmt == FMT_JSON) {
+        vsv_json_set(root, "rows", rows);
+        vsv_json_print(stdout, root, 1);
+        vsv_json_free(root);
+    }
+    if (fflush(stdout) || ferror(stdout))
+        vsv_cli_die(1, "writing the output failed");
+    free(width);
+    free(sel);
+    vsv_query_free(q);
+    vsv_file_free(f);
+    return 0;
+}

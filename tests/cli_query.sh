@@ -1,0 +1,70 @@
+#!/bin/sh
+# cli_query.sh — vsv-query: options, errors naming the valid range, the three
+# output forms agreeing, profiles and time series on the real MM5 sample and
+# the full MM5 run (../shared), and the Chicago series of the issue.
+B=${B:-build}
+SHARED=${SHARED:-../shared}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-query.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+Q="$B/vsv-query"
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
+expect "vsv-query --help exits 0" 0 "$Q" --help
+has "the help names --profile" "$T/out" "--profile LAT,LON"
+expect "no point exits 2" 2 "$Q" "$T/crop.vsv"
+expect "two points exit 2" 2 "$Q" "$T/crop.vsv" --at 46,-116 --cell 1,2
+expect "a malformed --at exits 2" 2 "$Q" "$T/crop.vsv" --at 46
+expect "a fractional --cell exits 2" 2 "$Q" "$T/crop.vsv" --cell 1.5,2
+expect "an unknown species exits 2" 2 "$Q" "$T/crop.vsv" --at 46,-116 -s NOPE
+expect "a point outside the grid exits 1" 1 "$Q" "$T/crop.vsv" --at 41.88,-87.63
+has "naming the grid's range" "$T/err" "41.88,-87.63 is outside the grid (39 x 39 cells spanning latitude 42.515..56.454, longitude -133.825..-112.199)"
+expect "a height above the grid exits 1" 1 "$Q" "$T/crop.vsv" --at 46,-116,30000
+has "naming the levels" "$T/err" "height 30000 m is outside the grid's levels"
+expect "a time after the run exits 1" 1 "$Q" "$T/crop.vsv" --at 46,-116 --time 1995-10-25T00:00:00Z
+has "naming the run" "$T/err" "is after the last step (steps 0..3, 1995-10-24T00:00:00Z .. 1995-10-24T03:00:00Z)"
+expect "a time before the run exits 1" 1 "$Q" "$T/crop.vsv" --at 46,-116 --time 1995-10-23T12:00:00Z
+expect "a step past the end exits 1" 1 "$Q" "$T/crop.vsv" --at 46,-116 --time 9
+expect "a cell outside the grid exits 1" 1 "$Q" "$T/crop.vsv" --cell 39,0
+has "naming the cells" "$T/err" "i 0..38, j 0..38, k 0..39"
+expect "a damaged .vsv exits 1" 1 "$Q" tests/golden/bad/payload.vsv --cell 0,0
+
+# a time series: one row per step, the nearest cell and its centre
+expect "a series at 46N 116W, 3000 m" 0 "$Q" "$T/crop.vsv" --at 46,-116,3000 -s CLW,SNOW --csv
+cp "$T/out" "$T/series.csv"
+has "a header with units" "$T/series.csv" "time,i,j,k,lat,lon,height (m),CLW (kg/kg),SNOW (kg/kg)"
+[ "$(wc -l < "$T/series.csv")" = 5 ] && pass "one row per step (4 + header)" || fail "one row per step" "$(cat "$T/series.csv")"
+has "the nearest cell, its centre 46.0054N 115.9526W at 3017.5 m" "$T/series.csv" "1995-10-24T02:00:00Z,30,3,8,46.005"
+# MM5 writes its hydrometeors before the first step: all zero in period 0
+has "no snow in the first period" "$T/series.csv" "1995-10-24T00:00:00Z,30,3,8,46.005392,-115.952608,3017.5,0,0"
+snow2=$(awk -F, 'NR == 4 { print $9 }' "$T/series.csv")
+awk -v v="$snow2" "BEGIN { exit !(v + 0 > 0) }" && pass "snow at 02:00 (${snow2})" || fail "snow at 02:00" "$snow2"
+expect "the same series as JSON" 0 "$Q" "$T/crop.vsv" --at 46,-116,3000 -s CLW,SNOW --json
+has "JSON: the same snow value" "$T/out" "\"SNOW\": $snow2"
+has "JSON: the method" "$T/out" '"interp": "nearest"'
+has "JSON: the species' bound" "$T/out" '"max_abs_error"'
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert len(d["rows"]) == 4' "$T/out" 2> "$T/err" &&
+    pass "JSON parses, 4 rows" || fail "JSON parses" "$(cat "$T/err")"
+expect "the same as a table" 0 "$Q" "$T/crop.vsv" --at 46,-116,3000 -s CLW,SNOW
+has "table: aligned columns, the same value" "$T/out" "1995-10-24T02:00:00Z    30     3    8    46.0054   -115.9526       3017.5             0   7.00689e-09"
+expect "one time by ISO" 0 "$Q" "$T/crop.vsv" --at 46,-116,3000 -s SNOW --csv --time 1995-10-24T02:00:00Z
+[ "$(sed -n 2p "$T/out" | cut -d, -f8)" = "$snow2" ] && [ "$(wc -l < "$T/out")" = 2 ] && pass "--time picks that step" || fail "--time" "$(cat "$T/out")"
+expect "--cell gives the same cell" 0 "$Q" "$T/crop.vsv" --cell 30,3,8 -s CLW,SNOW --csv
+same "--cell 30,3,8 = --at 46,-116,3000" "$T/out" "$T/series.csv"
+# trilinear: between the nearest values of its neighbours, and differs
+expect "--interp" 0 "$Q" "$T/crop.vsv" --at 46,-116,3000 -s SNOW --csv --interp --time 3
+snow_i=$(sed -n 2p "$T/out" | cut -d, -f8)
+awk -v v="$snow_i" "BEGIN { exit !(v + 0 > 0) }" && pass "trilinear snow at 03:00 is non-zero where the nearest cell is 0 ($snow_i)" || fail "trilinear" "$snow_i"
+# a profile: every level, heights 177.5 m apart by 355 m
+expect "--profile" 0 "$Q" "$T/crop.vsv" --profile 46,-116 -s SNOW --csv --time 2
+[ "$(wc -l < "$T/out")" = 41 ] && pass "40 levels + header" || fail "40 levels" "$(wc -l < "$T/out")"
+has "level 0 at 177.5 m" "$T/out" ",30,3,0,46.005392,-115.952608,177.5,"
+has "level 39 at 14022.5 m" "$T/out" ",30,3,39,46.005392,-115.952608,14022.5,"
+has "level 8 the series' value" "$T/out" ",30,3,8,46.005392,-115.952608,3017.5,$snow2"
+
+# the issue's example on the full run: Chicago, one row per step
+if [ -f "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" ]; then
+    "$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/run.vsv"
+    expect "Chicago on the full MM5 run" 0 "$Q" --at 41.88,-87.63 --species CLW,SNOW --csv "$T/run.vsv"
+    [ "$(wc -l < "$T/out")" = 5 ] && pass "one row per step" || fail "one row per step" "$(cat "$T/out")"
+    has "Chicago is cell 127,85 (41.8363N 87.6066W)" "$T/out" "1995-10-24T03:00:00Z,127,85,"
+fi

@@ -1,0 +1,261 @@
+/* test_query.c — the query library (vsv_point_*, vsv_query_*): every cell's
+ * latitude/longitude, read back through a .vsv, against the models' own
+ * fields (MM5 LATITCRS/LONGICRS, WRF XLAT/XLONG) within 1 m plus the float
+ * rounding of those fields; lat/lon back to the same cell; values equal the
+ * decoder's; trilinear blends; points, heights and cells outside the grid. */
+#include "vsv_convert.h"
+#include "vsv_format.h"
+#include "vsv_mm5.h"
+#include "vsv_testlib.h"
+
+#include <math.h>
+#include <netcdf.h>
+#include <stdlib.h>
+#include <string.h>
+
+static double dist_m(double lat1, double lon1, double lat2, double lon2)
+{
+    const double r = M_PI / 180, R = 6370000;
+    double dlat = (lat2 - lat1) * r, dlon = (lon2 - lon1) * r;
+    double a = sin(dlat / 2) * sin(dlat / 2) + cos(lat1 * r) * cos(lat2 * r) * sin(dlon / 2) * sin(dlon / 2);
+    return 2 * R * asin(sqrt(a));
+}
+
+/* The float rounding of a model's latitude/longitude, in metres: two units
+ * in the last place of each float32 (the models compute them in float32,
+ * one rounding, then store them, another). With one unit MM5's own
+ * LATITCRS/LONGICRS exceed 1 m + rounding by 0.16 m and wrf_cropped.nc's
+ * XLAT/XLONG by 0.54 m: the scatter of the models' own arithmetic. */
+static double float_rounding_m(float lat, float lon)
+{
+    const double m_per_deg = 6370000 * M_PI / 180;
+    const double ulat = nextafterf(fabsf(lat), INFINITY) - fabsf(lat), ulon = nextafterf(fabsf(lon), INFINITY) - fabsf(lon);
+    return 2 * (ulat * m_per_deg + ulon * m_per_deg * cos(lat * M_PI / 180));
+}
+
+/* The grid of a source, written to a one-step .vsv and opened again, so the
+ * positions checked are those a reader of the file gets. */
+static vsv_file *through_file(const vsv_meta *grid, const char *name)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    vsv_meta_copy(&m, grid);
+    vsv_meta_add_var(&m, "ZERO", "1", "zeros");
+    const size_t cells = (size_t)m.nx * m.ny * m.nz;
+    float *z = calloc(cells, sizeof *z);
+    const char *path = vsv_test_tmp(name);
+    vsv_writer *w = NULL;
+    const float *fields[1] = {z};
+    vsv_file *f = NULL;
+    if (!vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) && !vsv_writer_finish(w, NULL, NULL))
+        vsv_file_open(path, &f);
+    vsv_writer_free(w);
+    free(z);
+    vsv_meta_clear(&m);
+    return f;
+}
+
+/* Every cell of the grid against lat/lon fields la/lo (nx*ny, x fastest):
+ * within 1 m plus their rounding, and each field's lat/lon locates its cell. */
+static void check_positions(const char *what, const vsv_meta *m, const float *la, const float *lo)
+{
+    double worst = 0, worst_excess = -1e9;
+    long located = 0, n = 0;
+    char msg[256], name[256];
+    for (int j = 0; j < m->ny; j++)
+        for (int i = 0; i < m->nx; i++) {
+            const size_t c = (size_t)j * m->nx + i;
+            vsv_point p;
+            if (vsv_point_cell(m, i, j, 0, &p, msg, sizeof msg))
+                continue;
+            const double e = dist_m(p.lat, p.lon, la[c], lo[c]);
+            worst = fmax(worst, e);
+            worst_excess = fmax(worst_excess, e - (1.0 + float_rounding_m(la[c], lo[c])));
+            vsv_point q;
+            located += !vsv_point_locate(m, la[c], lo[c], NAN, &q, msg, sizeof msg) && q.cell[0] == i && q.cell[1] == j;
+            n++;
+        }
+    snprintf(name, sizeof name, "%s: every cell's lat/lon within 1 m + float rounding of the model's own fields", what);
+    CHECK(n == (long)m->nx * m->ny && worst_excess <= 0, name, "worst %.3f m, %.3f m beyond the bound", worst,
+          worst_excess);
+    snprintf(name, sizeof name, "%s: each cell's own lat/lon locates that cell", what);
+    CHECK(located == n, name, "%ld of %ld", located, n);
+    printf("  %s: worst %.3f m (bound 1 m + rounding; margin %.3f m)\n", what, worst, -worst_excess);
+}
+
+static void test_mm5_positions(void)
+{
+    const char *path = vsv_test_shared("mm5/run1/MMOUT_DOMAIN1");
+    vsv_mm5 *mm = NULL;
+    vsv_source *src = NULL;
+    if (!CHECK(vsv_mm5_open(path, &mm) == 0 && vsv_source_open(path, NULL, &src) == 0, "MMOUT_DOMAIN1 opens")) {
+        vsv_mm5_free(mm);
+        vsv_source_free(src);
+        return;
+    }
+    vsv_file *f = through_file(vsv_source_grid(src), "mm5grid.vsv");
+    if (CHECK(f != NULL, "MM5 grid through a .vsv")) {
+        const vsv_meta *m = vsv_file_meta(f);
+        const int IX = vsv_mm5_bhi(mm, 16, 1), JX = vsv_mm5_bhi(mm, 17, 1);
+        float *raw_la = malloc((size_t)IX * JX * 4), *raw_lo = malloc((size_t)IX * JX * 4);
+        float *la = malloc((size_t)m->nx * m->ny * 4), *lo = malloc((size_t)m->nx * m->ny * 4);
+        vsv_mm5_read(mm, vsv_mm5_field_at(mm, vsv_mm5_find(mm, 0, "LATITCRS")), raw_la);
+        vsv_mm5_read(mm, vsv_mm5_field_at(mm, vsv_mm5_find(mm, 0, "LONGICRS")), raw_lo);
+        /* MM5 file order: I (south-north) fastest; cross points fill all but the last row and column */
+        for (int j = 0; j < m->ny; j++)
+            for (int i = 0; i < m->nx; i++) {
+                la[(size_t)j * m->nx + i] = raw_la[(size_t)i * IX + j];
+                lo[(size_t)j * m->nx + i] = raw_lo[(size_t)i * IX + j];
+            }
+        check_positions("MM5 MMOUT_DOMAIN1 (LATITCRS/LONGICRS)", m, la, lo);
+        free(raw_la);
+        free(raw_lo);
+        free(la);
+        free(lo);
+    }
+    vsv_file_free(f);
+    vsv_source_free(src);
+    vsv_mm5_free(mm);
+}
+
+static void test_wrf_positions(const char *rel)
+{
+    const char *path = vsv_test_shared(rel);
+    vsv_source_opts so;
+    vsv_source_opts_init(&so);
+    so.vertical = VSV_VERT_NATIVE;
+    vsv_source *src = NULL;
+    char name[256];
+    snprintf(name, sizeof name, "%s opens", rel);
+    if (!CHECK(vsv_source_open(path, &so, &src) == 0, name, "%s", vsv_source_error(src))) {
+        vsv_source_free(src);
+        return;
+    }
+    vsv_file *f = through_file(vsv_source_grid(src), "wrfgrid.vsv");
+    int nc;
+    if (f && nc_open(path, NC_NOWRITE, &nc) == NC_NOERR) {
+        const vsv_meta *m = vsv_file_meta(f);
+        float *la = malloc((size_t)m->nx * m->ny * 4), *lo = malloc((size_t)m->nx * m->ny * 4);
+        int id, nd;
+        size_t st[3] = {0, 0, 0}, ct[3] = {1, (size_t)m->ny, (size_t)m->nx};
+        nc_inq_varid(nc, "XLAT", &id);
+        nc_inq_varndims(nc, id, &nd);
+        nc_get_vara_float(nc, id, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, la);
+        nc_inq_varid(nc, "XLONG", &id);
+        nc_get_vara_float(nc, id, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, lo);
+        snprintf(name, sizeof name, "WRF %s (XLAT/XLONG)", rel);
+        check_positions(name, m, la, lo);
+        free(la);
+        free(lo);
+        nc_close(nc);
+    }
+    vsv_file_free(f);
+    vsv_source_free(src);
+}
+
+/* Values: every cell of two species at two steps equals the decoder's
+ * volume; trilinear at known fractions; out-of-range errors. */
+static void test_values(void)
+{
+    vsv_source *src = NULL;
+    if (!CHECK(vsv_source_open(vsv_test_shared("mm5/run1/MMOUT_DOMAIN1"), NULL, &src) == 0, "MMOUT opens for values")) {
+        vsv_source_free(src);
+        return;
+    }
+    vsv_meta m;
+    vsv_meta_init(&m);
+    vsv_meta_copy(&m, vsv_source_grid(src));
+    const int fq = vsv_source_find_field(src, "Q"), fc = vsv_source_find_field(src, "CLW");
+    vsv_meta_add_var(&m, "Q", "kg/kg", "");
+    vsv_meta_add_var(&m, "CLW", "kg/kg", "");
+    const size_t cells = (size_t)m.nx * m.ny * m.nz;
+    float *q = malloc(cells * 4), *c = malloc(cells * 4), *vol = malloc(cells * 4);
+    const char *path = vsv_test_tmp("mm5q.vsv");
+    vsv_writer *w = NULL;
+    int ok = !vsv_writer_create(path, &m, NULL, &w);
+    for (int t = 0; ok && t < 4; t++) {
+        const float *fields[2] = {q, c};
+        ok = !vsv_source_read(src, fq, t, q) && !vsv_source_read(src, fc, t, c) &&
+             !vsv_writer_add_step(w, vsv_source_time(src, t), fields);
+    }
+    ok = ok && !vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    vsv_file *f = NULL;
+    vsv_query *qy = NULL;
+    vsv_decoder *d = NULL;
+    if (CHECK(ok && !vsv_file_open(path, &f) && !vsv_query_create(f, &qy) && !vsv_decoder_create(f, &d),
+              "MM5 Q and CLW written and opened")) {
+        long same = 0, n = 0;
+        for (int t = 1; t < 4; t += 2)
+            for (int s = 0; s < 2; s++) {
+                vsv_decoder_volume(d, t, s, vol);
+                for (int k = 0; k < m.nz; k++)
+                    for (int j = 0; j < m.ny; j++)
+                        for (int i = 0; i < m.nx; i++) {
+                            float v = -1;
+                            const float want = vol[((size_t)k * m.ny + j) * m.nx + i];
+                            vsv_query_cell(qy, t, s, i, j, k, &v);
+                            same += v == want || (isnan(v) && isnan(want));
+                            n++;
+                        }
+            }
+        CHECK(same == n, "every cell's value equals the decoder's volume (Q, CLW; steps 1, 3)", "%ld of %ld", same, n);
+        /* trilinear at (100.25, 60.5, 20.75): the weighted eight cells */
+        vsv_decoder_volume(d, 3, 0, vol);
+        const double pos[3] = {100.25, 60.5, 20.75};
+        double want = 0;
+        for (int cc = 0; cc < 8; cc++) {
+            const int i = 100 + (cc & 1), j = 60 + !!(cc & 2), k = 20 + !!(cc & 4);
+            const double wt = (cc & 1 ? 0.25 : 0.75) * 0.5 * (cc & 4 ? 0.75 : 0.25);
+            want += wt * vol[((size_t)k * m.ny + j) * m.nx + i];
+        }
+        float v = 0, near = 0;
+        vsv_query_sample(qy, 3, 0, pos, VSV_INTERP_LINEAR, &v);
+        vsv_query_sample(qy, 3, 0, pos, VSV_INTERP_NEAREST, &near);
+        CHECK(v == (float)want && want > 0, "trilinear Q at (100.25, 60.5, 20.75) is the weighted eight cells", "%.9g vs %.9g",
+              v, want);
+        CHECK(near == vol[((size_t)21 * m.ny + 61) * m.nx + 100], "nearest Q at (100.25, 60.5, 20.75) is cell 100,61,21",
+              "%.9g", near);
+        CHECK(vsv_query_cell(qy, 4, 0, 0, 0, 0, &v) == VSV_ERANGE && vsv_query_cell(qy, 0, 0, m.nx, 0, 0, &v) == VSV_ERANGE,
+              "a step or cell outside the file is VSV_ERANGE");
+        /* points */
+        const vsv_meta *fm = vsv_file_meta(f);
+        vsv_point p;
+        char msg[256];
+        int rc = vsv_point_locate(fm, 41.88, -87.63, 3000, &p, msg, sizeof msg);
+        CHECK(rc == 0 && p.cell[0] == 127 && p.cell[1] == 85 && p.cell[2] == 8 && fabs(p.height - 3060) < 1e-9,
+              "Chicago at 3000 m is cell 127,85,8 (centre 3060 m)", "%d %d,%d,%d %g", rc, p.cell[0], p.cell[1], p.cell[2],
+              p.height);
+        rc = vsv_point_locate(fm, 41.88, -87.63, NAN, &p, msg, sizeof msg);
+        const double ground = fm->terrain[(size_t)85 * fm->nx + 127];
+        CHECK(rc == 0 && p.cell[2] == (int)ceil((ground - 180) / 360) && p.height >= ground && p.height - 360 < ground,
+              "without a height: the lowest level above Chicago's ground", "k %d, %g m over %g m", p.cell[2], p.height,
+              ground);
+        rc = vsv_point_locate(fm, 10, 0, NAN, &p, msg, sizeof msg);
+        CHECK(rc == VSV_ERANGE && strstr(msg, "outside the grid") && strstr(msg, "latitude 13.4"),
+              "a point outside the grid names the range", "%s", msg);
+        rc = vsv_point_locate(fm, 41.88, -87.63, 20000, &p, msg, sizeof msg);
+        CHECK(rc == VSV_ERANGE && strstr(msg, "0..14400 m"), "a height above the grid names the levels", "%s", msg);
+        rc = vsv_point_cell(fm, 207, 0, 0, &p, msg, sizeof msg);
+        CHECK(rc == VSV_ERANGE && strstr(msg, "i 0..206, j 0..141, k 0..39"), "a cell outside the grid names the range",
+              "%s", msg);
+    }
+    vsv_decoder_free(d);
+    vsv_query_free(qy);
+    vsv_file_free(f);
+    vsv_meta_clear(&m);
+    free(q);
+    free(c);
+    free(vol);
+    vsv_source_free(src);
+}
+
+int main(void)
+{
+    test_mm5_positions();
+    test_wrf_positions("wrf/wrf_cropped.nc");
+    test_wrf_positions("wrf/wrf_d01_allvars_cropped.nc");
+    test_wrf_positions("wrf/katrina_ci_test_file.nc");
+    test_values();
+    return vsv_test_done();
+}
