@@ -83,9 +83,44 @@ TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
 FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5 $(B)/tests/test_fuzz_uamiv
 
+# The Python module `vesuvius` (python/): the CPython and NumPy C APIs from
+# Debian's python3-dev and python3-numpy, the library linked in statically.
+# Skipped, with a note, where they are missing, and under SAN=1 (an ASan
+# build cannot be loaded into a python3 that was not started with it).
+PYTHON ?= /usr/bin/python3
+PY_INC := $(shell $(PYTHON) -c "import sysconfig; print(sysconfig.get_paths()['include'])" 2>/dev/null)
+PY_NUMPY_INC := $(shell $(PYTHON) -c "import numpy; print(numpy.get_include())" 2>/dev/null)
+PY_EXT := $(shell $(PYTHON) -c "import sysconfig; print(sysconfig.get_config_var('EXT_SUFFIX'))" 2>/dev/null)
+PY_MISSING := $(if $(wildcard $(PY_INC)/Python.h),,python3-dev )$(if $(PY_NUMPY_INC),,python3-numpy)
+PY_MISSING := $(if $(strip $(PY_MISSING)),apt-get install $(PY_MISSING))
+PYDIR = $(PREFIX)/lib/python3/dist-packages
+ifeq ($(SAN),1)
+  PY_MISSING := not under SAN=1
+endif
+ifeq ($(strip $(PY_MISSING)),)
+  PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
+endif
+
 .PHONY: all test demo bench install uninstall clean fuzz help deps freevr-syntax
 .SECONDARY:
-all: $(LIB) $(SHLIB) $(TOOL_BIN)
+all: $(LIB) $(SHLIB) $(TOOL_BIN) $(PYMOD)
+ifneq ($(strip $(PY_MISSING)),)
+	@echo "note: the Python module is not built: $(PY_MISSING)"
+endif
+
+$(B)/python/vsv_python.o: python/vsv_python.c
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CC      $<")
+	$(Q)$(CC) $(CFLAGS_ALL) -I$(PY_INC) -I$(PY_NUMPY_INC) -c $< -o $@
+
+$(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(LIB)
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -shared -o $@ $< $(LIB) -Wl,--as-needed $(LDLIBS_ALL)
+
+$(B)/python/vesuvius/%.py: python/vesuvius/%.py
+	@mkdir -p $(dir $@)
+	$(Q)cp $< $@
 
 help:
 	@sed -n '2,10p' Makefile | sed 's/^# *//'
@@ -171,7 +206,7 @@ $(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(TEST_HELPER
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
 test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop
-	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" sh tests/run.sh
+	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
 
 # The demo: install what is missing (or print the apt-get line), build, then
 # run the main job on the bundled sample.
@@ -223,13 +258,14 @@ install: all
 	install -m 644 man/*.1 $(DESTDIR)$(MANDIR)/man1/
 	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
 	install -m 644 share/transfer-functions.tf $(DESTDIR)$(DATADIR)/vesuvius/
+	if [ -n "$(PYMOD)" ]; then install -d $(DESTDIR)$(PYDIR)/vesuvius && install -m 644 $(PYMOD) $(DESTDIR)$(PYDIR)/vesuvius/; fi
 	for t in $(TOOLS); do install -m 644 tools/completion/vesuvius.bash $(DESTDIR)$(DATADIR)/bash-completion/completions/$$t; done
 
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(TOOLS)) $(DESTDIR)$(LIBDIR)/libvesuvius.a $(DESTDIR)$(LIBDIR)/libvesuvius.so*
 	rm -f $(DESTDIR)$(LIBDIR)/pkgconfig/vesuvius.pc $(addprefix $(DESTDIR)$(DATADIR)/bash-completion/completions/,$(TOOLS))
 	rm -f $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(addsuffix .1,$(TOOLS))) $(DESTDIR)$(MANDIR)/man5/vsv.5
-	rm -rf $(DESTDIR)$(INCDIR) $(DESTDIR)$(DATADIR)/vesuvius
+	rm -rf $(DESTDIR)$(INCDIR) $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(PYDIR)/vesuvius
 
 clean:
 	rm -rf build build-san build-fuzz

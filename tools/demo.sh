@@ -39,6 +39,21 @@ step "Ask for numbers: cloud and snow over Idaho at 3000 m (the on-the-hour rows
 step "... and the column above it at 02:00, as CSV" \
      "vsv-query $OUT/storm.vsv --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv"
 "$B/vsv-query" "$OUT/storm.vsv" --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv | sed -n '1p;9,18p'
+if ls "$B"/python/vesuvius/_vesuvius*.so > /dev/null 2>&1; then
+    step "The same numbers from Python (import vesuvius)" \
+         "PYTHONPATH=$B/python python3 $OUT/snow.py"
+    cat > "$OUT/snow.py" <<EOP
+import vesuvius
+f = vesuvius.open("$OUT/storm.vsv")
+snow = f.read("SNOW", time="1995-10-24T02:00:00Z")      # float32 (nz, ny, nx)
+print(f.times[0], "..", f.times[-1], "| SNOW", snow.shape, "max %.3g kg/kg" % snow.max(),
+      "| at 46N 116W 3017.5 m: %.6g" % snow[8, 3, 30])
+EOP
+    cat "$OUT/snow.py"
+    PYTHONPATH="$B/python" /usr/bin/python3 "$OUT/snow.py"
+else
+    printf '\n(the Python module is not built: apt-get install python3-dev python3-numpy)\n'
+fi
 step "Render the last frame: clouds, rain, ice, snow and moisture over the terrain, from the south-west" \
      "vsv-render $OUT/storm.vsv -o $OUT/storm.png"
 "$B/vsv-render" "$OUT/storm.vsv" -o "$OUT/storm.png"

@@ -1,0 +1,201 @@
+"""vesuvius — read and write Vesuvius .vsv volume files from Python.
+
+    import vesuvius
+    f = vesuvius.open("storm.vsv")
+    f.times                      # numpy datetime64[s], one per step
+    f.species                    # [Species(name, units, description, max_abs_error, ...)]
+    clw = f.read("CLW", time=3)  # float32 (nz, ny, nx), decoded straight into the array
+    f.query(41.88, -87.63)       # the values at a point, every step
+    ds = f.to_xarray()           # an xarray.Dataset (when xarray is installed)
+    vesuvius.write("x.vsv", grid=..., projection=..., times=..., fields={...})
+
+A thin layer over the C library (libvesuvius): the same decoder, the same
+point location and sampling as the vsv-* tools. Errors are vesuvius.Error
+carrying the library's message.
+"""
+from collections import namedtuple
+
+import numpy as np
+
+from . import _vesuvius
+from ._vesuvius import Error
+
+__all__ = ["open", "write", "Error", "File", "Species", "Point", "version"]
+version = _vesuvius.version
+
+Species = namedtuple("Species", "name units description max_abs_error data_min data_max threshold bits scale empty")
+Species.__doc__ = """One species: its name and units, the quantisation's bound on |decoded - model value|
+(max_abs_error), the finite range the writer saw, bits (8/16), scale (linear/log) and what
+an empty cell decodes to ("zero", or "nan" for no data)."""
+Point = namedtuple("Point", "cell lat lon height position times values")
+Point.__doc__ = """A point query: the nearest cell (i, j, k) and its centre's lat/lon/height, the
+point's fractional cell position (i, j, k), the times, and {species: float32 array over times}."""
+
+_VERT = {"even": 0, "native": 1, "index": 2, "coord": 3}
+
+
+class File:
+    """An open .vsv file (memory-mapped; opening reads only the header and index)."""
+
+    def __init__(self, path):
+        self.path = path
+        self._f = _vesuvius.open(path)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __repr__(self):
+        g = self.grid
+        return "<vesuvius.File %r: %d x %d x %d, %d steps, species %s>" % (
+            self.path, g["nx"], g["ny"], g["nz"], len(self.times), ",".join(s.name for s in self.species))
+
+    def close(self):
+        """Releases the mapping; further calls raise vesuvius.Error."""
+        self._f.close()
+
+    @property
+    def times(self):
+        """The time of each step, numpy datetime64[s] (UTC)."""
+        return self._f._times.astype("datetime64[s]")
+
+    @property
+    def species(self):
+        """The species, in file order: a list of Species."""
+        return [Species(*t) for t in self._f._species]
+
+    @property
+    def names(self):
+        return [s.name for s in self.species]
+
+    grid = property(lambda self: self._f.grid, doc="nx, ny, nz, origin, spacing (projected units, metres), vertical axis")
+    projection = property(lambda self: self._f.projection, doc="kind (lcc, pstereo, ...) and parameters (degrees, metres)")
+    lat = property(lambda self: self._f.lat, doc="latitude of every column's centre, float64 (ny, nx)")
+    lon = property(lambda self: self._f.lon, doc="longitude of every column's centre, float64 (ny, nx)")
+    height = property(lambda self: self._f.height, doc="height of every level's centre, float64 (nz,)")
+    terrain = property(lambda self: self._f.terrain, doc="terrain height, float32 (ny, nx), or None")
+    attrs = property(lambda self: self._f.attrs, doc="run metadata (key: value)")
+
+    def _step(self, time):
+        if isinstance(time, (np.datetime64,)):
+            time = str(time.astype("datetime64[s]")) + "Z"
+        elif hasattr(time, "isoformat"):  # datetime.datetime
+            time = time.strftime("%Y-%m-%dT%H:%M:%SZ")
+        elif isinstance(time, (np.integer,)):
+            time = int(time)
+        return time
+
+    def read(self, species, time=0):
+        """The decoded volume of species (name or index) at time (a step index, an
+        ISO time string, a numpy datetime64 or a datetime: the nearest step):
+        float32 (nz, ny, nx), decoded straight into the array."""
+        return self._f.read(species, self._step(time))
+
+    def read_brick(self, species, time, brick):
+        """One brick: (float32 (ez, ey, ex) of the cells inside the grid, (k0, j0, i0)
+        of its first cell). Bricks are numbered x fastest; grid["nbricks"] of them."""
+        a, org, ext = self._f._read_brick(species, self._step(time), brick)
+        return a[: ext[0], : ext[1], : ext[2]], org
+
+    def bricks(self, species, time):
+        """Streams the non-empty bricks of (species, time): yields ((k0, j0, i0), array)
+        without ever holding the whole volume."""
+        t = self._step(time)
+        for b in range(self.grid["nbricks"]):
+            if self._f.brick_kind(species, t, b) == 0:  # EMPTY: every cell holds code 0
+                continue
+            a, org = self.read_brick(species, t, b)
+            yield org, a
+
+    def query(self, lat=None, lon=None, height=None, cell=None, interp=False):
+        """The values of every species at a point, every step: lat/lon (degrees) and an
+        optional height (metres; None = the lowest level above the ground), or
+        cell=(i, j[, k]). interp=True blends the eight cells around the point
+        trilinearly; the default is the nearest cell's decoded value. Returns a Point."""
+        if cell is not None:
+            c, la, lo, h, vals, pos = self._f._query(cell=tuple(cell), interp=interp)
+        else:
+            if lat is None or lon is None:
+                raise TypeError("query: lat and lon, or cell=(i, j[, k])")
+            c, la, lo, h, vals, pos = self._f._query(float(lat), float(lon), height, interp=interp)
+        return Point(c, la, lo, h, pos, self.times, vals)
+
+    def to_xarray(self, species=None):
+        """An xarray.Dataset of every (or the named) species over (time, z, y, x), with
+        2-D lat/lon coordinates, heights, units and each species' max_abs_error.
+        Needs xarray (Debian: python3-xarray). Reads every step into memory."""
+        try:
+            import xarray as xr
+        except ImportError as e:
+            raise ImportError("to_xarray needs xarray (apt-get install python3-xarray)") from e
+        g = self.grid
+        names = species or self.names
+        sp = {s.name: s for s in self.species}
+        nt = len(self.times)
+        data = {}
+        for n in names:
+            a = np.empty((nt, g["nz"], g["ny"], g["nx"]), np.float32)
+            for t in range(nt):
+                a[t] = self.read(n, t)
+            s = sp[n]
+            data[n] = (("time", "z", "y", "x"), a,
+                       {"units": s.units, "long_name": s.description or s.name, "max_abs_error": s.max_abs_error})
+        x = g["origin"][0] + g["spacing"][0] * np.arange(g["nx"])
+        y = g["origin"][1] + g["spacing"][1] * np.arange(g["ny"])
+        coords = {"time": self.times.astype("datetime64[ns]"), "x": x, "y": y,
+                  "z": ("z", self.height, {"units": "m" if g["vertical"] in ("even", "native") else g["vert_units"]}),
+                  "lat": (("y", "x"), self.lat, {"units": "degrees_north"}),
+                  "lon": (("y", "x"), self.lon, {"units": "degrees_east"})}
+        attrs = {"source": "vesuvius", "model": g["model"], "run": g["run"], "projection": self.projection["kind"]}
+        return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def open(path):
+    """Opens a .vsv file: a File (use `with vesuvius.open(p) as f:` to close it)."""
+    return File(path)
+
+
+def write(path, grid, times, fields, projection=None, units=None, descriptions=None, terrain=None,
+          levels=None, bits=16, scale="linear"):
+    """Writes a .vsv with the library's writer (quantised, bricked, compressed; the file
+    appears only when complete).
+
+    grid: {"nx", "ny", "nz", "origin": (x0, y0, z0), "spacing": (dx, dy, dz),
+           "vertical": "even" (default) | "native" | "index"} — or a File's grid
+    projection: {"kind": "lcc"|"pstereo"|"mercator"|"tmerc"|"albers"|"latlon"|"none",
+                 "lat0", "lon0", "lat1", "lat2", "radius"} (default: none)
+    times: datetime64 values, ISO strings or integer seconds since 1970, increasing
+    fields: {name: array (ntimes, nz, ny, nx)}, non-finite = no data
+    units, descriptions: {name: text}; terrain: (ny, nx) metres; levels: (nz,) heights
+    for vertical="native"; bits 8 or 16; scale "linear" or "log".
+    """
+    if not fields:
+        raise Error("write: no fields")
+    t = np.asarray(times)
+    if t.dtype.kind in "UO":
+        t = np.array([np.datetime64(str(s).rstrip("Z"), "s") for s in t])
+    if t.dtype.kind == "M":
+        t = t.astype("datetime64[s]").astype(np.int64)
+    t = np.ascontiguousarray(t, dtype=np.int64)
+    vk = _VERT.get(grid.get("vertical", "even"))
+    if vk is None:
+        raise Error("write: vertical must be even, native or index")
+    g = (int(grid["nx"]), int(grid["ny"]), int(grid["nz"]), tuple(float(v) for v in grid["origin"]),
+         tuple(float(v) for v in grid["spacing"]), vk)
+    p = projection or {"kind": "none"}
+    pj = (_vesuvius._proj_kind(p.get("kind", "none")), float(p.get("lat0", 0)), float(p.get("lon0", 0)),
+          float(p.get("lat1", 0)), float(p.get("lat2", p.get("lat1", 0))), float(p.get("radius", 0)))
+    if levels is None and vk in (1, 3):
+        levels = grid.get("levels")
+    names = list(fields)
+    arrays = [np.ascontiguousarray(fields[n], dtype=np.float32) for n in names]
+    arrays = [a[np.newaxis] if a.ndim == 3 and len(t) == 1 else a for a in arrays]
+    units = units or {}
+    descriptions = descriptions or {}
+    if scale not in ("linear", "log"):
+        raise Error("write: scale must be linear or log")
+    _vesuvius._write(path, g, pj, t, names, [units.get(n, "") for n in names],
+                     [descriptions.get(n, "") for n in names], arrays, terrain, levels, int(bits),
+                     1 if scale == "log" else 0)

@@ -1,0 +1,638 @@
+/* vsv_python.c — the C core of the Python module `vesuvius`: a thin layer
+ * over the public API of vsv_format.h (the reader, decoder, query and
+ * writer) with NumPy arrays in and out. Volumes decode straight into the
+ * array handed back (no copy beyond the decode); errors are vesuvius.Error
+ * carrying the library's message. The friendly layer (namedtuples, xarray,
+ * datetime64 conversions) is vesuvius/__init__.py. */
+#define PY_SSIZE_T_CLEAN
+#include <Python.h>
+#define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#include <numpy/arrayobject.h>
+
+#include "vsv_format.h"
+
+#include <math.h>
+#include <string.h>
+
+static PyObject *VsvError;
+
+typedef struct {
+    PyObject_HEAD
+    vsv_file *f;
+    vsv_decoder *d;
+    vsv_query *q;
+    vsv_file_info info;
+} FileObject;
+
+static PyObject *fail(const char *msg)
+{
+    PyErr_SetString(VsvError, msg);
+    return NULL;
+}
+
+static int check_open(FileObject *self)
+{
+    if (!self->f) {
+        PyErr_SetString(VsvError, "the file is closed");
+        return -1;
+    }
+    return 0;
+}
+
+/* The metadata of an open file, or NULL with the exception set. */
+static const vsv_meta *meta_of(FileObject *self)
+{
+    return check_open(self) ? NULL : vsv_file_meta(self->f);
+}
+
+static void File_dealloc(FileObject *self)
+{
+    vsv_query_free(self->q);
+    vsv_decoder_free(self->d);
+    vsv_file_free(self->f);
+    Py_TYPE(self)->tp_free((PyObject *)self);
+}
+
+static PyObject *File_close(FileObject *self, PyObject *unused)
+{
+    (void)unused;
+    vsv_query_free(self->q);
+    vsv_decoder_free(self->d);
+    vsv_file_free(self->f);
+    self->q = NULL;
+    self->d = NULL;
+    self->f = NULL;
+    Py_RETURN_NONE;
+}
+
+/* A species by name or index; -1 with an exception set. */
+static int species_of(FileObject *self, PyObject *o)
+{
+    const vsv_meta *m = vsv_file_meta(self->f);
+    if (PyLong_Check(o)) {
+        long s = PyLong_AsLong(o);
+        if (s < 0 || s >= m->nvars) {
+            PyErr_Format(VsvError, "species %ld out of range (0..%d)", s, m->nvars - 1);
+            return -1;
+        }
+        return (int)s;
+    }
+    const char *name = PyUnicode_Check(o) ? PyUnicode_AsUTF8(o) : NULL;
+    if (!name) {
+        PyErr_SetString(PyExc_TypeError, "species: a name or an index");
+        return -1;
+    }
+    const int s = vsv_meta_find_var(m, name);
+    if (s < 0) {
+        PyErr_Format(VsvError, "no species '%s' in the file", name);
+        return -1;
+    }
+    return s;
+}
+
+/* A step from an index or a time string (the library's one time grammar:
+ * an ISO time picks the nearest step). -1 with an exception set. */
+static int step_of(FileObject *self, PyObject *o)
+{
+    const int n = self->info.nsteps;
+    if (PyLong_Check(o)) {
+        long t = PyLong_AsLong(o);
+        if (t < 0)
+            t += n;
+        if (t < 0 || t >= n) {
+            PyErr_Format(VsvError, "time step %ld out of range (0..%d)", PyLong_AsLong(o), n - 1);
+            return -1;
+        }
+        return (int)t;
+    }
+    const char *spec = PyUnicode_Check(o) ? PyUnicode_AsUTF8(o) : NULL;
+    if (!spec) {
+        PyErr_SetString(PyExc_TypeError, "time: a step index or an ISO time string");
+        return -1;
+    }
+    int64_t *times = PyMem_Malloc((size_t)n * sizeof *times);
+    if (!times)
+        return (PyErr_NoMemory(), -1);
+    for (int i = 0; i < n; i++)
+        times[i] = vsv_file_time(self->f, i);
+    vsv_timesel sel;
+    char msg[400];
+    const int rc = vsv_timesel_parse(spec, times, n, VSV_TIMESEL_ONE, &sel, msg, sizeof msg);
+    PyMem_Free(times);
+    if (rc) {
+        PyErr_Format(VsvError, "time %s: %s", spec, msg);
+        return -1;
+    }
+    return sel.first;
+}
+
+static PyObject *File_read(FileObject *self, PyObject *args, PyObject *kw)
+{
+    static char *kwlist[] = {"species", "time", NULL};
+    PyObject *sp, *tm = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "O|O", kwlist, &sp, &tm) || check_open(self))
+        return NULL;
+    const int s = species_of(self, sp);
+    if (s < 0)
+        return NULL;
+    int t = 0;
+    if (tm && (t = step_of(self, tm)) < 0)
+        return NULL;
+    const vsv_meta *m = vsv_file_meta(self->f);
+    npy_intp dims[3] = {m->nz, m->ny, m->nx};
+    PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(3, dims, NPY_FLOAT32);
+    if (!a)
+        return NULL;
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = vsv_decoder_volume(self->d, t, s, (float *)PyArray_DATA(a));
+    Py_END_ALLOW_THREADS
+    if (rc) {
+        Py_DECREF(a);
+        return fail(vsv_decoder_error(self->d));
+    }
+    return (PyObject *)a;
+}
+
+static PyObject *File_read_brick(FileObject *self, PyObject *args, PyObject *kw)
+{
+    static char *kwlist[] = {"species", "time", "brick", NULL};
+    PyObject *sp, *tm;
+    int b;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "OOi", kwlist, &sp, &tm, &b) || check_open(self))
+        return NULL;
+    const int s = species_of(self, sp), t = s < 0 ? -1 : step_of(self, tm);
+    if (t < 0)
+        return NULL;
+    if (b < 0 || b >= self->info.nbricks)
+        return PyErr_Format(VsvError, "brick %d out of range (0..%d)", b, self->info.nbricks - 1);
+    const int B = self->info.brick;
+    npy_intp dims[3] = {B, B, B};
+    PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(3, dims, NPY_FLOAT32);
+    if (!a)
+        return NULL;
+    if (vsv_decoder_brick(self->d, t, s, b, (float *)PyArray_DATA(a))) {
+        Py_DECREF(a);
+        return fail(vsv_decoder_error(self->d));
+    }
+    /* the caller keeps the cells inside the grid: [:ez, :ey, :ex] */
+    int org[3], ext[3];
+    vsv_file_brick_box(self->f, b, org, ext);
+    return Py_BuildValue("(N(iii)(iii))", (PyObject *)a, org[2], org[1], org[0], ext[2], ext[1], ext[0]);
+}
+
+static PyObject *File_brick_kind(FileObject *self, PyObject *args)
+{
+    PyObject *sp, *tm;
+    int b;
+    if (!PyArg_ParseTuple(args, "OOi", &sp, &tm, &b) || check_open(self))
+        return NULL;
+    const int s = species_of(self, sp), t = s < 0 ? -1 : step_of(self, tm);
+    if (t < 0)
+        return NULL;
+    if (b < 0 || b >= self->info.nbricks)
+        return PyErr_Format(VsvError, "brick %d out of range (0..%d)", b, self->info.nbricks - 1);
+    const int k = vsv_file_brick_kind(self->f, t, s, b);
+    if (k < 0)
+        return fail(vsv_file_error(self->f));
+    return PyLong_FromLong(k);
+}
+
+/* The values of species at a point, every step: (cell, lat, lon, height,
+ * {name: float32 array over steps}). */
+static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
+{
+    static char *kwlist[] = {"lat", "lon", "height", "cell", "interp", NULL};
+    double lat = NAN, lon = NAN;
+    PyObject *hobj = Py_None, *cobj = Py_None;
+    int interp = 0;
+    if (!PyArg_ParseTupleAndKeywords(args, kw, "|ddOOp", kwlist, &lat, &lon, &hobj, &cobj, &interp) || check_open(self))
+        return NULL;
+    const vsv_meta *m = vsv_file_meta(self->f);
+    vsv_point p;
+    char msg[512];
+    int rc;
+    if (cobj != Py_None) {
+        int i, j, k = -1;
+        if (!PyArg_ParseTuple(cobj, "ii|i", &i, &j, &k))
+            return NULL;
+        rc = vsv_point_cell(m, i, j, k, &p, msg, sizeof msg);
+    } else {
+        if (isnan(lat) || isnan(lon))
+            return PyErr_Format(PyExc_TypeError, "query: lat and lon, or cell=(i, j[, k])");
+        const double h = hobj == Py_None ? NAN : PyFloat_AsDouble(hobj);
+        if (PyErr_Occurred())
+            return NULL;
+        rc = vsv_point_locate(m, lat, lon, h, &p, msg, sizeof msg);
+    }
+    if (rc)
+        return fail(msg);
+    PyObject *vals = PyDict_New();
+    if (!vals)
+        return NULL;
+    npy_intp n = self->info.nsteps;
+    for (int s = 0; s < m->nvars; s++) {
+        PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_FLOAT32);
+        if (!a) {
+            Py_DECREF(vals);
+            return NULL;
+        }
+        float *out = PyArray_DATA(a);
+        for (int t = 0; t < n; t++)
+            if (vsv_query_sample(self->q, t, s, p.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t])) {
+                Py_DECREF(a);
+                Py_DECREF(vals);
+                return fail(vsv_query_error(self->q));
+            }
+        PyDict_SetItemString(vals, m->vars[s].name, (PyObject *)a);
+        Py_DECREF(a);
+    }
+    return Py_BuildValue("((iii)dddN(ddd))", p.cell[0], p.cell[1], p.cell[2], p.lat, p.lon, p.height, vals, p.pos[0],
+                         p.pos[1], p.pos[2]);
+}
+
+static PyObject *File_times(FileObject *self, void *unused)
+{
+    (void)unused;
+    if (check_open(self))
+        return NULL;
+    npy_intp n = self->info.nsteps;
+    PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_INT64);
+    if (!a)
+        return NULL;
+    int64_t *t = PyArray_DATA(a);
+    for (npy_intp i = 0; i < n; i++)
+        t[i] = vsv_file_time(self->f, (int)i);
+    return (PyObject *)a;
+}
+
+static PyObject *File_species(FileObject *self, void *unused)
+{
+    (void)unused;
+    const vsv_meta *m = meta_of(self);
+    if (!m)
+        return NULL;
+    PyObject *l = PyList_New(m->nvars);
+    if (!l)
+        return NULL;
+    for (int s = 0; s < m->nvars; s++) {
+        const vsv_quant *q = vsv_file_quant(self->f, s);
+        PyObject *o = Py_BuildValue("(sssddddiss)", m->vars[s].name, m->vars[s].units, m->vars[s].description,
+                                    q->max_abs_error, q->data_min, q->data_max, q->threshold, q->bits,
+                                    q->scale == VSV_SCALE_LOG ? "log" : "linear", q->missing ? "nan" : "zero");
+        if (!o) {
+            Py_DECREF(l);
+            return NULL;
+        }
+        PyList_SET_ITEM(l, s, o);
+    }
+    return l;
+}
+
+static const char *vert_name(int k)
+{
+    static const char *const n[] = {"even", "native", "index", "coord"};
+    return k >= 0 && k < 4 ? n[k] : "unknown";
+}
+
+static PyObject *File_grid(FileObject *self, void *unused)
+{
+    (void)unused;
+    const vsv_meta *m = meta_of(self);
+    if (!m)
+        return NULL;
+    PyObject *levels = Py_None;
+    Py_INCREF(Py_None);
+    if (m->levels) {
+        Py_DECREF(Py_None);
+        npy_intp n = m->nz;
+        levels = PyArray_SimpleNew(1, &n, NPY_FLOAT64);
+        if (!levels)
+            return NULL;
+        memcpy(PyArray_DATA((PyArrayObject *)levels), m->levels, (size_t)n * sizeof(double));
+    }
+    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:N,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny", m->ny, "nz",
+                         m->nz, "origin", m->origin[0], m->origin[1], m->origin[2], "spacing", m->spacing[0],
+                         m->spacing[1], m->spacing[2], "vertical", vert_name(m->vert_kind), "vert_units",
+                         m->vert_units, "levels", levels, "model", m->model, "run", m->run, "brick",
+                         self->info.brick, "nbricks", self->info.nbricks);
+}
+
+static PyObject *File_projection(FileObject *self, void *unused)
+{
+    (void)unused;
+    if (check_open(self))
+        return NULL;
+    const vsv_proj *p = &vsv_file_meta(self->f)->proj;
+    return Py_BuildValue("{s:s,s:d,s:d,s:d,s:d,s:d}", "kind", vsv_proj_name(p->kind), "lat0", p->lat0, "lon0", p->lon0,
+                         "lat1", p->lat1, "lat2", p->lat2, "radius", p->radius > 0 ? p->radius : 6370000.0);
+}
+
+/* lat (0) or lon (1) of every column: float64 (ny, nx). */
+static PyObject *latlon(FileObject *self, int which)
+{
+    const vsv_meta *m = meta_of(self);
+    if (!m)
+        return NULL;
+    npy_intp dims[2] = {m->ny, m->nx};
+    PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(2, dims, NPY_FLOAT64);
+    if (!a)
+        return NULL;
+    double *o = PyArray_DATA(a);
+    for (int j = 0; j < m->ny; j++)
+        for (int i = 0; i < m->nx; i++) {
+            double la = NAN, lo = NAN;
+            if (vsv_meta_cell_latlon(m, i, j, &la, &lo))
+                la = lo = NAN;
+            o[(size_t)j * m->nx + i] = which ? lo : la;
+        }
+    return (PyObject *)a;
+}
+static PyObject *File_lat(FileObject *self, void *unused) { (void)unused; return latlon(self, 0); }
+static PyObject *File_lon(FileObject *self, void *unused) { (void)unused; return latlon(self, 1); }
+
+/* Heights of the levels: (nz,) (the same in every column). */
+static PyObject *File_height(FileObject *self, void *unused)
+{
+    (void)unused;
+    const vsv_meta *m = meta_of(self);
+    if (!m)
+        return NULL;
+    npy_intp n = m->nz;
+    PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(1, &n, NPY_FLOAT64);
+    if (!a)
+        return NULL;
+    double *o = PyArray_DATA(a);
+    for (int k = 0; k < m->nz; k++)
+        o[k] = vsv_meta_cell_height(m, 0, 0, k);
+    return (PyObject *)a;
+}
+
+static PyObject *File_terrain(FileObject *self, void *unused)
+{
+    (void)unused;
+    const vsv_meta *m = meta_of(self);
+    if (!m)
+        return NULL;
+    if (!m->terrain)
+        Py_RETURN_NONE;
+    npy_intp dims[2] = {m->ny, m->nx};
+    PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(2, dims, NPY_FLOAT32);
+    if (a)
+        memcpy(PyArray_DATA(a), m->terrain, (size_t)m->nx * m->ny * sizeof(float));
+    return (PyObject *)a;
+}
+
+static PyObject *File_attrs(FileObject *self, void *unused)
+{
+    (void)unused;
+    const vsv_meta *m = meta_of(self);
+    if (!m)
+        return NULL;
+    PyObject *d = PyDict_New();
+    for (int i = 0; d && i < m->nattrs; i++) {
+        PyObject *v = PyUnicode_FromString(m->attr_values[i]);
+        if (!v || PyDict_SetItemString(d, m->attr_keys[i], v)) {
+            Py_XDECREF(v);
+            Py_DECREF(d);
+            return NULL;
+        }
+        Py_DECREF(v);
+    }
+    return d;
+}
+
+static PyMethodDef File_methods[] = {
+    {"read", (PyCFunction)(void (*)(void))File_read, METH_VARARGS | METH_KEYWORDS,
+     "read(species, time=0) -> float32 array (nz, ny, nx): the decoded volume"},
+    {"_read_brick", (PyCFunction)(void (*)(void))File_read_brick, METH_VARARGS | METH_KEYWORDS,
+     "read_brick(species, time, brick) -> (float32 array (B, B, B), (k0, j0, i0), (ez, ey, ex))"},
+    {"brick_kind", (PyCFunction)File_brick_kind, METH_VARARGS, "brick_kind(species, time, brick) -> 0 EMPTY .. 3 DELTA"},
+    {"_query", (PyCFunction)(void (*)(void))File_query, METH_VARARGS | METH_KEYWORDS, "the point query core"},
+    {"close", (PyCFunction)File_close, METH_NOARGS, "close() releases the mapping"},
+    {NULL, NULL, 0, NULL}};
+
+static PyGetSetDef File_getset[] = {
+    {"_times", (getter)File_times, NULL, "seconds since 1970 of each step", NULL},
+    {"_species", (getter)File_species, NULL, "species tuples", NULL},
+    {"grid", (getter)File_grid, NULL, "the grid: sizes, origin, spacing, vertical axis", NULL},
+    {"projection", (getter)File_projection, NULL, "the map projection", NULL},
+    {"lat", (getter)File_lat, NULL, "latitude of every column's centre, (ny, nx)", NULL},
+    {"lon", (getter)File_lon, NULL, "longitude of every column's centre, (ny, nx)", NULL},
+    {"height", (getter)File_height, NULL, "height of every level's centre, (nz,)", NULL},
+    {"terrain", (getter)File_terrain, NULL, "terrain height (ny, nx) or None", NULL},
+    {"attrs", (getter)File_attrs, NULL, "run metadata", NULL},
+    {NULL, NULL, NULL, NULL, NULL}};
+
+static PyTypeObject FileType = {
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "vesuvius._vesuvius.File",
+    .tp_basicsize = sizeof(FileObject),
+    .tp_dealloc = (destructor)File_dealloc,
+    .tp_flags = Py_TPFLAGS_DEFAULT | Py_TPFLAGS_BASETYPE,
+    .tp_doc = "An open .vsv file (memory-mapped).",
+    .tp_methods = File_methods,
+    .tp_getset = File_getset,
+    .tp_new = PyType_GenericNew,
+};
+
+static PyObject *mod_open(PyObject *mod, PyObject *args)
+{
+    (void)mod;
+    PyObject *pathobj;
+    if (!PyArg_ParseTuple(args, "O&", PyUnicode_FSConverter, &pathobj))
+        return NULL;
+    FileObject *self = (FileObject *)PyObject_CallObject((PyObject *)&FileType, NULL);
+    if (!self) {
+        Py_DECREF(pathobj);
+        return NULL;
+    }
+    vsv_file *f = NULL;
+    int rc;
+    Py_BEGIN_ALLOW_THREADS
+    rc = vsv_file_open(PyBytes_AS_STRING(pathobj), &f);
+    Py_END_ALLOW_THREADS
+    if (rc) {
+        PyErr_SetString(VsvError, f ? vsv_file_error(f) : vsv_strerror(rc));
+        vsv_file_free(f);
+        Py_DECREF(pathobj);
+        Py_DECREF(self);
+        return NULL;
+    }
+    Py_DECREF(pathobj);
+    self->f = f;
+    vsv_file_info_get(f, &self->info);
+    if (vsv_decoder_create(f, &self->d) || vsv_query_create(f, &self->q)) {
+        Py_DECREF(self);
+        return PyErr_NoMemory();
+    }
+    return (PyObject *)self;
+}
+
+/* _write(path, grid, projection, times, names, units, descriptions, arrays,
+ *        terrain, bits, scale): arrays are C-contiguous float32 (nt, nz, ny, nx). */
+static PyObject *mod_write(PyObject *mod, PyObject *args)
+{
+    (void)mod;
+    PyObject *pathobj, *grid, *proj, *times, *names, *units, *descs, *arrays, *terrain, *levels;
+    int bits, scale;
+    if (!PyArg_ParseTuple(args, "O&O!O!OO!O!O!O!OOii", PyUnicode_FSConverter, &pathobj, &PyTuple_Type, &grid,
+                          &PyTuple_Type, &proj, &times, &PyList_Type, &names, &PyList_Type, &units, &PyList_Type,
+                          &descs, &PyList_Type, &arrays, &terrain, &levels, &bits, &scale))
+        return NULL;
+    vsv_meta m;
+    vsv_meta_init(&m);
+    vsv_writer *w = NULL;
+    PyArrayObject *tarr = NULL;
+    PyObject *result = NULL;
+    const float **fields = NULL;
+    vsv_pack_var *vars = NULL;
+    int vk = 0;
+    if (!PyArg_ParseTuple(grid, "iii(ddd)(ddd)i", &m.nx, &m.ny, &m.nz, &m.origin[0], &m.origin[1], &m.origin[2],
+                          &m.spacing[0], &m.spacing[1], &m.spacing[2], &vk) ||
+        !PyArg_ParseTuple(proj, "iddddd", &m.proj.kind, &m.proj.lat0, &m.proj.lon0, &m.proj.lat1, &m.proj.lat2,
+                          &m.proj.radius))
+        goto done;
+    m.vert_kind = vk;
+    snprintf(m.vert_units, sizeof m.vert_units, "%s", vk == VSV_VERT_INDEX ? "" : "m");
+    snprintf(m.model, sizeof m.model, "Python");
+    snprintf(m.run, sizeof m.run, "written by vesuvius.write");
+    const Py_ssize_t nv = PyList_GET_SIZE(names);
+    for (Py_ssize_t v = 0; v < nv; v++) {
+        const char *n = PyUnicode_AsUTF8(PyList_GET_ITEM(names, v)), *u = PyUnicode_AsUTF8(PyList_GET_ITEM(units, v)),
+                   *d = PyUnicode_AsUTF8(PyList_GET_ITEM(descs, v));
+        if (!n || !u || !d)
+            goto done;
+        if (vsv_meta_add_var(&m, n, u, d) < 0) {
+            PyErr_Format(VsvError, "cannot add species '%s'", n);
+            goto done;
+        }
+    }
+    if (levels != Py_None) {
+        PyArrayObject *la = (PyArrayObject *)PyArray_FROMANY(levels, NPY_FLOAT64, 1, 1, NPY_ARRAY_CARRAY);
+        if (!la)
+            goto done;
+        if (PyArray_DIM(la, 0) != m.nz || vsv_meta_alloc_levels(&m)) {
+            Py_DECREF(la);
+            PyErr_SetString(VsvError, "levels: one height per level (nz)");
+            goto done;
+        }
+        memcpy(m.levels, PyArray_DATA(la), (size_t)m.nz * sizeof(double));
+        Py_DECREF(la);
+    }
+    if (terrain != Py_None) {
+        PyArrayObject *ta = (PyArrayObject *)PyArray_FROMANY(terrain, NPY_FLOAT32, 2, 2, NPY_ARRAY_CARRAY);
+        if (!ta)
+            goto done;
+        if (PyArray_DIM(ta, 0) != m.ny || PyArray_DIM(ta, 1) != m.nx || vsv_meta_alloc_terrain(&m)) {
+            Py_DECREF(ta);
+            PyErr_SetString(VsvError, "terrain: an (ny, nx) array");
+            goto done;
+        }
+        memcpy(m.terrain, PyArray_DATA(ta), (size_t)m.nx * m.ny * sizeof(float));
+        Py_DECREF(ta);
+    }
+    char msg[512];
+    if (vsv_meta_validate(&m, msg, sizeof msg)) {
+        PyErr_SetString(VsvError, msg);
+        goto done;
+    }
+    tarr = (PyArrayObject *)PyArray_FROMANY(times, NPY_INT64, 1, 1, NPY_ARRAY_CARRAY);
+    if (!tarr)
+        goto done;
+    const npy_intp nt = PyArray_DIM(tarr, 0);
+    const size_t cells = (size_t)m.nx * m.ny * m.nz;
+    for (Py_ssize_t v = 0; v < nv; v++) {
+        PyArrayObject *a = (PyArrayObject *)PyList_GET_ITEM(arrays, v);
+        if (!PyArray_Check(a) || PyArray_TYPE(a) != NPY_FLOAT32 || !PyArray_IS_C_CONTIGUOUS(a) || PyArray_NDIM(a) != 4 ||
+            PyArray_DIM(a, 0) != nt || PyArray_DIM(a, 1) != m.nz || PyArray_DIM(a, 2) != m.ny ||
+            PyArray_DIM(a, 3) != m.nx) {
+            PyErr_Format(VsvError, "field '%s': expected float32 (%ld, %d, %d, %d) (times, nz, ny, nx)", m.vars[v].name,
+                         (long)nt, m.nz, m.ny, m.nx);
+            goto done;
+        }
+    }
+    fields = PyMem_Calloc((size_t)nv + 1, sizeof *fields);
+    vars = PyMem_Calloc((size_t)nv + 1, sizeof *vars);
+    if (!fields || !vars) {
+        PyErr_NoMemory();
+        goto done;
+    }
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    for (Py_ssize_t v = 0; v < nv; v++) {
+        vsv_pack_var_init(&vars[v]);
+        vars[v].bits = bits;
+        vars[v].scale = scale;
+    }
+    o.vars = vars;
+    const char *path = PyBytes_AS_STRING(pathobj);
+    int rc = vsv_writer_create(path, &m, &o, &w);
+    const int64_t *tv = PyArray_DATA(tarr);
+    for (npy_intp t = 0; !rc && t < nt; t++) {
+        for (Py_ssize_t v = 0; v < nv; v++)
+            fields[v] = (const float *)PyArray_DATA((PyArrayObject *)PyList_GET_ITEM(arrays, v)) + (size_t)t * cells;
+        Py_BEGIN_ALLOW_THREADS
+        rc = vsv_writer_add_step(w, tv[t], fields);
+        Py_END_ALLOW_THREADS
+    }
+    if (!rc) {
+        Py_BEGIN_ALLOW_THREADS
+        rc = vsv_writer_finish(w, NULL, NULL);
+        Py_END_ALLOW_THREADS
+    }
+    if (rc) {
+        PyErr_SetString(VsvError, w ? vsv_writer_error(w) : vsv_strerror(rc));
+        goto done;
+    }
+    result = Py_None;
+    Py_INCREF(result);
+done:
+    vsv_writer_free(w);
+    PyMem_Free(fields);
+    PyMem_Free(vars);
+    Py_XDECREF(tarr);
+    vsv_meta_clear(&m);
+    Py_DECREF(pathobj);
+    return result;
+}
+
+static PyObject *mod_proj_kind(PyObject *mod, PyObject *arg)
+{
+    (void)mod;
+    const char *name = PyUnicode_AsUTF8(arg);
+    if (!name)
+        return NULL;
+    for (int k = 0; k < VSV_PROJ_COUNT; k++)
+        if (!strcmp(name, vsv_proj_name(k)))
+            return PyLong_FromLong(k);
+    return PyErr_Format(VsvError, "unknown projection '%s' (none, latlon, lcc, pstereo, mercator, tmerc, albers)", name);
+}
+
+static PyMethodDef mod_methods[] = {
+    {"open", mod_open, METH_VARARGS, "open(path) -> File"},
+    {"_write", mod_write, METH_VARARGS, "the writer core (see vesuvius.write)"},
+    {"_proj_kind", mod_proj_kind, METH_O, "projection kind of a name"},
+    {NULL, NULL, 0, NULL}};
+
+static struct PyModuleDef moddef = {PyModuleDef_HEAD_INIT, "_vesuvius", "The C core of vesuvius.", -1, mod_methods,
+                                    NULL, NULL, NULL, NULL};
+
+PyMODINIT_FUNC PyInit__vesuvius(void)
+{
+    import_array();
+    if (PyType_Ready(&FileType) < 0)
+        return NULL;
+    PyObject *m = PyModule_Create(&moddef);
+    if (!m)
+        return NULL;
+    VsvError = PyErr_NewExceptionWithDoc("vesuvius.Error", "An error of the Vesuvius library (its message says where).",
+                                         NULL, NULL);
+    Py_INCREF(&FileType);
+    if (!VsvError || PyModule_AddObject(m, "Error", VsvError) || PyModule_AddObject(m, "File", (PyObject *)&FileType) ||
+        PyModule_AddStringConstant(m, "version", VSV_VERSION_STRING)) {
+        Py_DECREF(m);
+        return NULL;
+    }
+    Py_INCREF(VsvError);
+    return m;
+}

@@ -1,0 +1,270 @@
+"""test_python.py — the Python module `vesuvius` (unittest), on the bundled MM5
+sample and, when ../shared is beside the checkout, the full MM5 run: f.read against
+vsv-info --stats, vsv-query's CSV/JSON against f.read and f.query, lat/lon, bricks,
+the writer's round trip, to_xarray, and errors carrying the library's message.
+Prints "PASS name" / "FAIL name: why" lines for tests/run.sh.
+Run: PYTHONPATH=build/python B=build python3 tests/test_python.py"""
+import csv
+import io
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import numpy as np
+
+import vesuvius
+
+B = os.environ.get("B", "build")
+SHARED = os.environ.get("SHARED", "../shared")
+TMP = tempfile.mkdtemp(prefix="vsv-py-")
+FULL = os.path.join(SHARED, "data/mm5/run1/MMOUT_DOMAIN1")
+
+
+def tool(*args):
+    return subprocess.run([os.path.join(B, args[0])] + list(args[1:]), check=True, capture_output=True,
+                          text=True).stdout
+
+
+def convert(src, out):
+    path = os.path.join(TMP, out)
+    if not os.path.exists(path):
+        tool("vsv-convert", "-q", src, "-o", path)
+    return path
+
+
+class Sample(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.path = convert("samples/mm5/MMOUT_DOMAIN1_CROP", "crop.vsv")
+        cls.f = vesuvius.open(cls.path)
+
+    def test_times_are_datetime64(self):
+        t = self.f.times
+        self.assertEqual(t.dtype, np.dtype("datetime64[s]"))
+        self.assertEqual(list(t.astype(str)), ["1995-10-24T00:00:00", "1995-10-24T01:00:00",
+                                               "1995-10-24T02:00:00", "1995-10-24T03:00:00"])
+
+    def test_species_names_units_bounds(self):
+        sp = self.f.species
+        self.assertEqual([s.name for s in sp], ["Q", "CLW", "RNW", "ICE", "SNOW"])
+        self.assertTrue(all(s.units == "kg/kg" and s.bits == 16 and 0 < s.max_abs_error < 1e-6 for s in sp))
+        info = json.loads(tool("vsv-info", "--json", self.path))
+        for s, j in zip(sp, info["species"]):
+            self.assertAlmostEqual(s.max_abs_error, j["max_abs_error"], delta=s.max_abs_error * 1e-8)
+
+    def test_grid_and_projection(self):
+        g, p = self.f.grid, self.f.projection
+        self.assertEqual((g["nx"], g["ny"], g["nz"], g["vertical"]), (39, 39, 40, "even"))
+        self.assertEqual((p["kind"], p["lat0"], p["lon0"], p["lat1"], p["lat2"]), ("lcc", 38, -97, 50, 33))
+        self.assertEqual(self.f.height.shape, (40,))
+        self.assertAlmostEqual(self.f.height[0], 177.5)
+        self.assertAlmostEqual(self.f.height[39], 14022.5)
+
+    def test_read_matches_vsv_info_stats(self):
+        """f.read of every species and step: min, max exactly and the mean as vsv-info --stats prints them."""
+        stats = json.loads(tool("vsv-info", "--stats", "--json", self.path))["stats"]
+        self.assertEqual(len(stats), 20)
+        for row in stats:
+            a = self.f.read(row["species"], time=row["time"])
+            self.assertEqual(a.shape, (40, 39, 39))
+            self.assertEqual(a.dtype, np.float32)
+            fin = a[np.isfinite(a)]
+            self.assertEqual(float(np.float32(row["min"])), float(fin.min()), row)
+            self.assertEqual(float(np.float32(row["max"])), float(fin.max()), row)
+            self.assertAlmostEqual(row["mean"], float(fin.astype(np.float64).mean()), delta=abs(row["mean"]) * 1e-6)
+
+    def test_read_decodes_into_the_array_it_returns(self):
+        a = self.f.read("Q", 2)
+        self.assertTrue(a.flags["OWNDATA"] and a.flags["C_CONTIGUOUS"] and a.flags["WRITEABLE"])
+        self.assertIsNone(a.base)
+
+    def test_read_by_time_kinds(self):
+        want = self.f.read("SNOW", 2)
+        for t in (2, -2, "1995-10-24T02:00:00Z", np.datetime64("1995-10-24T02:00:00"), "1995-10-24T01:50:00Z"):
+            np.testing.assert_array_equal(self.f.read("SNOW", t), want, err_msg=str(t))
+        np.testing.assert_array_equal(self.f.read(4, 2), want)
+
+    def test_query_csv_equals_read(self):
+        """vsv-query --csv at a snowy point: every row equals f.read at the same cell."""
+        out = tool("vsv-query", self.path, "--at", "46,-116,3000", "--species", "CLW,SNOW", "--csv")
+        rows = list(csv.DictReader(io.StringIO(out)))
+        self.assertEqual(len(rows), 4)
+        nonzero = 0
+        for t, r in enumerate(rows):
+            i, j, k = int(r["i"]), int(r["j"]), int(r["k"])
+            for s in ("CLW", "SNOW"):
+                v = np.float32(float(r["%s (kg/kg)" % s]))
+                self.assertEqual(v, self.f.read(s, t)[k, j, i], (t, s))
+                nonzero += v != 0
+        self.assertGreater(nonzero, 0)
+
+    def test_profile_equals_read_column(self):
+        out = tool("vsv-query", self.path, "--profile", "46,-116", "--species", "SNOW", "--csv", "--time", "2")
+        rows = list(csv.DictReader(io.StringIO(out)))
+        i, j = int(rows[0]["i"]), int(rows[0]["j"])
+        col = self.f.read("SNOW", 2)[:, j, i]
+        self.assertEqual([np.float32(float(r["SNOW (kg/kg)"])) for r in rows], list(col))
+        self.assertEqual([float(r["height (m)"]) for r in rows], list(self.f.height))
+
+    def test_f_query_equals_vsv_query_json(self):
+        for interp in (False, True):
+            args = ["vsv-query", self.path, "--at", "46,-116,3000", "--json"] + (["--interp"] if interp else [])
+            doc = json.loads(tool(*args))
+            p = self.f.query(46, -116, 3000, interp=interp)
+            r0 = doc["rows"][0]
+            self.assertEqual(p.cell, (r0["i"], r0["j"], r0["k"]))
+            self.assertAlmostEqual(p.lat, r0["lat"], places=6)
+            for t, r in enumerate(doc["rows"]):
+                for s, v in r["values"].items():
+                    self.assertEqual(np.float32(v), p.values[s][t], (interp, t, s))
+        c = self.f.query(cell=(30, 3, 8))
+        self.assertEqual(c.cell, (30, 3, 8))
+        np.testing.assert_array_equal(c.values["SNOW"], self.f.query(46, -116, 3000).values["SNOW"])
+
+    def test_lat_lon_arrays(self):
+        lat, lon = self.f.lat, self.f.lon
+        self.assertEqual(lat.shape, (39, 39))
+        corners = json.loads(tool("vsv-info", "--json", self.path))["corners"]
+        sw = corners[0]
+        self.assertAlmostEqual(lat[0, 0], sw["lat"], places=5)
+        self.assertAlmostEqual(lon[0, 0], sw["lon"], places=5)
+        doc = json.loads(tool("vsv-query", self.path, "--cell", "30,3,8", "--json", "-t", "0"))
+        self.assertAlmostEqual(lat[3, 30], doc["rows"][0]["lat"], places=6)
+        self.assertAlmostEqual(lon[3, 30], doc["rows"][0]["lon"], places=6)
+
+    def test_bricks_stream_the_volume(self):
+        vol = self.f.read("SNOW", 3)
+        got = np.zeros_like(vol)
+        n = 0
+        for (k0, j0, i0), a in self.f.bricks("SNOW", 3):
+            got[k0:k0 + a.shape[0], j0:j0 + a.shape[1], i0:i0 + a.shape[2]] = a
+            n += 1
+        np.testing.assert_array_equal(got, vol)
+        self.assertTrue(0 < n < self.f.grid["nbricks"])
+
+    def test_errors_carry_the_library_message(self):
+        with self.assertRaisesRegex(vesuvius.Error, "no species 'NOPE'"):
+            self.f.read("NOPE")
+        with self.assertRaisesRegex(vesuvius.Error, r"time step 9 out of range \(0..3\)"):
+            self.f.read("Q", 9)
+        with self.assertRaisesRegex(vesuvius.Error, "after the last step"):
+            self.f.read("Q", "1996-01-01T00:00:00Z")
+        with self.assertRaisesRegex(vesuvius.Error, r"41.88,-87.63 is outside the grid \(39 x 39 cells"):
+            self.f.query(41.88, -87.63)
+        with self.assertRaisesRegex(vesuvius.Error, "not a .vsv file"):
+            vesuvius.open("samples/mm5/MMOUT_DOMAIN1_CROP")
+        with self.assertRaisesRegex(vesuvius.Error, "checksum"):
+            g = vesuvius.open("tests/golden/bad/payload.vsv")
+            for s in range(len(g.species)):
+                for t in range(len(g.times)):
+                    g.read(s, t)
+
+    def test_to_xarray(self):
+        try:
+            import xarray  # noqa: F401
+        except ImportError:
+            self.skipTest("xarray not installed")
+        ds = self.f.to_xarray(["CLW", "SNOW"])
+        self.assertEqual(dict(ds.sizes), {"time": 4, "z": 40, "y": 39, "x": 39})
+        self.assertEqual(ds["SNOW"].attrs["units"], "kg/kg")
+        np.testing.assert_array_equal(ds["SNOW"].values[2], self.f.read("SNOW", 2))
+        self.assertEqual(ds["lat"].shape, (39, 39))
+        self.assertEqual(str(ds["time"].values[3])[:19], "1995-10-24T03:00:00")
+
+    def test_write_round_trip(self):
+        """A file written from numpy with a File's grid and projection reads back within the
+        stated bound, with the same lat/lon and times."""
+        rng = np.random.default_rng(7)
+        g = self.f.grid
+        shape = (3, g["nz"], g["ny"], g["nx"])
+        a = rng.random(shape, dtype=np.float32) * 1e-3
+        a[:, :5] = np.nan
+        b = np.zeros(shape, np.float32)
+        b[1, 10:20, 5:9, 7:30] = 2.5
+        times = np.array(["2020-06-01T00:00", "2020-06-01T00:10", "2020-06-01T00:20"], dtype="datetime64[s]")
+        out = os.path.join(TMP, "written.vsv")
+        vesuvius.write(out, grid=g, projection=self.f.projection, times=times, fields={"A": a, "B": b},
+                       units={"A": "kg/kg", "B": "ppm"}, terrain=self.f.terrain)
+        w = vesuvius.open(out)
+        np.testing.assert_array_equal(w.times, times)
+        self.assertEqual([(s.name, s.units) for s in w.species], [("A", "kg/kg"), ("B", "ppm")])
+        np.testing.assert_array_equal(w.lat, self.f.lat)
+        np.testing.assert_array_equal(w.lon, self.f.lon)
+        for t in range(3):
+            ra, rb = w.read("A", t), w.read("B", t)
+            self.assertTrue(np.array_equal(np.isnan(ra), np.isnan(a[t])))
+            fin = np.isfinite(a[t])
+            self.assertLessEqual(np.abs(ra[fin] - a[t][fin]).max(), w.species[0].max_abs_error)
+            self.assertLessEqual(np.abs(rb - b[t]).max(), w.species[1].max_abs_error)
+        subprocess.run([os.path.join(B, "vsv-info"), "--check", out], check=True, capture_output=True)
+
+    def test_write_refuses_bad_input(self):
+        g = {"nx": 4, "ny": 3, "nz": 2, "origin": (0, 0, 100), "spacing": (1000, 1000, 200)}
+        out = os.path.join(TMP, "bad.vsv")
+        with self.assertRaisesRegex(vesuvius.Error, r"expected float32 \(2, 2, 3, 4\)"):
+            vesuvius.write(out, grid=g, times=[0, 60], fields={"X": np.zeros((2, 2, 4, 3))})
+        with self.assertRaisesRegex(vesuvius.Error, "unknown projection 'utm'"):
+            vesuvius.write(out, grid=g, times=[0], projection={"kind": "utm"}, fields={"X": np.zeros((1, 2, 3, 4))})
+        with self.assertRaisesRegex(vesuvius.Error, "increase|order|time"):
+            vesuvius.write(out, grid=g, times=[60, 0], fields={"X": np.zeros((2, 2, 3, 4))})
+        self.assertFalse(os.path.exists(out))
+        vesuvius.write(out, grid=g, times=["2001-02-03T04:05:06Z"], fields={"X": np.ones((2, 3, 4))})
+        self.assertEqual(str(vesuvius.open(out).times[0]), "2001-02-03T04:05:06")
+
+
+@unittest.skipUnless(os.path.exists(FULL), "../shared/data not present")
+class FullRun(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.path = convert(FULL, "run.vsv")
+        cls.f = vesuvius.open(cls.path)
+
+    def test_chicago_csv_equals_read(self):
+        """The issue's example: one row per step, values equal f.read at the same cell."""
+        out = tool("vsv-query", "--at", "41.88,-87.63", "--species", "CLW,SNOW", "--csv", self.path)
+        rows = list(csv.DictReader(io.StringIO(out)))
+        self.assertEqual(len(rows), 4)
+        for t, r in enumerate(rows):
+            i, j, k = int(r["i"]), int(r["j"]), int(r["k"])
+            self.assertEqual((i, j), (127, 85))
+            for s in ("CLW", "SNOW"):
+                self.assertEqual(np.float32(float(r["%s (kg/kg)" % s])), self.f.read(s, t)[k, j, i])
+            q = float(tool("vsv-query", "--cell", "%d,%d,%d" % (i, j, k), "-s", "Q", "--csv", "-t", str(t),
+                           self.path).splitlines()[1].split(",")[-1])
+            self.assertEqual(np.float32(q), self.f.read("Q", t)[k, j, i])
+
+    def test_read_matches_vsv_info_stats(self):
+        stats = json.loads(tool("vsv-info", "--stats", "--json", self.path))["stats"]
+        for row in stats:
+            a = self.f.read(row["species"], time=row["time"])
+            fin = a[np.isfinite(a)]
+            self.assertEqual(float(np.float32(row["min"])), float(fin.min()), row)
+            self.assertEqual(float(np.float32(row["max"])), float(fin.max()), row)
+
+
+class Reporter(unittest.TextTestResult):
+    def addSuccess(self, test):
+        super().addSuccess(test)
+        print("PASS python %s" % test.id().split(".", 1)[1], flush=True)
+
+    def addFailure(self, test, err):
+        super().addFailure(test, err)
+        print("FAIL python %s: %s" % (test.id().split(".", 1)[1], str(err[1]).splitlines()[0][:300]), flush=True)
+
+    def addError(self, test, err):
+        super().addError(test, err)
+        print("FAIL python %s: %s: %s" % (test.id().split(".", 1)[1], err[0].__name__, str(err[1])[:300]), flush=True)
+
+    def addSkip(self, test, reason):
+        super().addSkip(test, reason)
+        print("  (skipped: %s: %s)" % (test.id().split(".", 1)[1], reason), flush=True)
+
+
+if __name__ == "__main__":
+    r = unittest.TextTestRunner(stream=sys.stderr, resultclass=Reporter, verbosity=0).run(
+        unittest.defaultTestLoader.loadTestsFromModule(sys.modules[__name__]))
+    sys.exit(0 if r.wasSuccessful() else 1)
