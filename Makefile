@@ -65,8 +65,11 @@ else
   Q = @
 endif
 
-LIB_C = $(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c) $(wildcard render/vsv_*.c) $(wildcard stream/vsv_*.c) \
-        viewer/vsv_player.c
+# program code that is not part of the library: vsv-convert's command line,
+# shared with vsv-convert-mpi
+CONVERT_CLI = convert/vsv_convert_cli.c
+LIB_C = $(filter-out $(CONVERT_CLI),$(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c)) $(wildcard render/vsv_*.c) \
+        $(wildcard stream/vsv_*.c) viewer/vsv_player.c
 LIB_CXX = $(wildcard format/vsv_*.cc) $(wildcard interop/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
 LIB = $(B)/libvesuvius.a
@@ -159,6 +162,10 @@ $(B)/vsv-%: $(B)/format/vsv-%.o $(LIB)
 $(B)/vsv-%: $(B)/convert/vsv-%.o $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
+
+$(B)/vsv-convert: $(B)/convert/vsv-convert.o $(B)/convert/vsv_convert_cli.o $(LIB)
+	@$(if $(Q),echo "  LD      $@")
+	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
 $(B)/vsv-%: $(B)/interop/vsv-%.o $(LIB)
 	@$(if $(Q),echo "  LD      $@")

@@ -140,8 +140,14 @@ uint64_t vsv_run_input_bytes(const vsv_run *r);
 typedef struct vsv_interp vsv_interp;
 typedef int (*vsv_frame_fn)(void *ctx, int64_t time, const float *const *fields);
 
-/* nfields fields of cells floats each; emit receives every output frame. */
+/* nfields fields of cells floats each; emit receives every output frame.
+ * With nfields 0 only the times are emitted (the output times of a run,
+ * found without reading it). */
 int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, void *ctx, vsv_interp **out);
+/* Sets t0 to the first frame of the whole run, when the frames pushed are
+ * a later part of it (call before the first push): the part then gets
+ * exactly the frames the whole run gives at its times. */
+void vsv_interp_set_origin(vsv_interp *ip, int64_t t0);
 /* Feeds the next input frame (times strictly increase); returns emit's
  * first non-zero result, or 0. */
 int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields);

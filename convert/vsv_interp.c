@@ -9,7 +9,7 @@
 
 struct vsv_interp {
     int64_t dt, t0, prev_t;
-    int nf, have, dropped;
+    int nf, have, dropped, origin_set;
     size_t cells;
     float **prev, **tmp;
     vsv_frame_fn emit;
@@ -26,8 +26,8 @@ int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, 
     ip->cells = cells;
     ip->emit = emit;
     ip->ctx = ctx;
-    ip->prev = calloc((size_t)nfields, sizeof *ip->prev);
-    ip->tmp = calloc((size_t)nfields, sizeof *ip->tmp);
+    ip->prev = calloc((size_t)nfields + 1, sizeof *ip->prev);
+    ip->tmp = calloc((size_t)nfields + 1, sizeof *ip->tmp);
     if (!ip->prev || !ip->tmp)
         return VSV_ENOMEM;
     for (int v = 0; v < nfields; v++)
@@ -55,7 +55,7 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
             if ((rc = ip->emit(ip->ctx, t, (const float *const *)ip->tmp)))
                 return rc;
         }
-    } else {
+    } else if (!ip->origin_set) {
         ip->t0 = time;
     }
     /* an input frame on the grid passes through unchanged; one between grid
@@ -74,6 +74,12 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
 }
 
 int vsv_interp_dropped(const vsv_interp *ip) { return ip ? ip->dropped : 0; }
+
+void vsv_interp_set_origin(vsv_interp *ip, int64_t t0)
+{
+    ip->t0 = t0;
+    ip->origin_set = 1;
+}
 
 void vsv_interp_free(vsv_interp *ip)
 {

@@ -241,6 +241,70 @@ int vsv_writer_finish(vsv_writer *w, void (*progress)(void *ctx, int done, int t
 const char *vsv_writer_error(const vsv_writer *w);
 void vsv_writer_free(vsv_writer *w);
 
+/* --------------------------------------------------------- writing in parts */
+
+/* The writer's work as pieces that need not run in one process (vsv-convert-mpi
+ * runs them on many): the value statistics of every step, merged, fix the
+ * quantisation (a pack plan); the chunk of step t depends only on the fields
+ * of steps t and t-1 (only t's at a keyframe, t mod K = 0), so keyframe groups
+ * encode independently; the header and the tail (table of contents and end
+ * marker) depend only on the plan and the chunks' sizes and times. A file put
+ * together from them, chunks in step order from vsv_pack_plan_first_chunk(),
+ * is byte for byte the file vsv_writer writes from the same steps. */
+
+/* Statistics of one species' values over the steps seen: plain info. */
+typedef struct vsv_pack_stats {
+    double min, max;    /* finite extremes (+inf / -inf before any) */
+    double minpos;      /* smallest positive finite value (+inf before any) */
+    uint64_t nonfinite; /* count of non-finite values */
+} vsv_pack_stats;
+
+/* nvars entries to "nothing seen". */
+void vsv_pack_stats_init(vsv_pack_stats *st, int nvars);
+/* Adds one step: fields[v] holds `cells` floats of variable v. */
+void vsv_pack_stats_add(vsv_pack_stats *st, int nvars, size_t cells, const float *const *fields);
+/* into[v] becomes the statistics of both sets of steps. */
+void vsv_pack_stats_merge(vsv_pack_stats *into, const vsv_pack_stats *from, int nvars);
+
+typedef struct vsv_pack_plan vsv_pack_plan;
+
+/* Plans a file of meta's variables from the statistics of all its steps
+ * (stats: nvars entries), with the writer's options (opts may be NULL; its
+ * vars are borrowed during the call). Caller frees with vsv_pack_plan_free;
+ * on failure *out may hold a handle whose error says why (free it too). */
+int vsv_pack_plan_create(const vsv_meta *meta, const vsv_pack_opts *opts, const vsv_pack_stats *stats,
+                         vsv_pack_plan **out);
+const char *vsv_pack_plan_error(const vsv_pack_plan *p);
+void vsv_pack_plan_free(vsv_pack_plan *p);
+/* Borrowed quantisation of species s. */
+const vsv_quant *vsv_pack_plan_quant(const vsv_pack_plan *p, int s);
+/* Offset of the first chunk: the header (128 bytes), the metadata, padding. */
+uint64_t vsv_pack_plan_first_chunk(const vsv_pack_plan *p);
+/* The bytes at [128, first_chunk): metadata records and zero padding;
+ * borrowed, valid until the plan is freed. */
+const unsigned char *vsv_pack_plan_meta_bytes(const vsv_pack_plan *p);
+/* Bytes of the tail (table of contents + end marker) of nsteps steps. */
+size_t vsv_pack_tail_bytes(int nsteps);
+/* The header (caller buffer of 128 bytes, written at offset 0) and the tail
+ * (caller buffer of vsv_pack_tail_bytes(nsteps), written at *tail_offset,
+ * the end of the last chunk) of a file whose chunk t has sizes[t] bytes and
+ * times[t] (strictly increasing). */
+int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, const uint64_t *sizes,
+                         unsigned char *header, unsigned char *tail, uint64_t *tail_offset);
+
+/* A chunk encoder: per-thread scratch over a shared plan (which must outlive
+ * it). Caller frees with vsv_chunk_encoder_free. */
+typedef struct vsv_chunk_encoder vsv_chunk_encoder;
+int vsv_chunk_encoder_create(const vsv_pack_plan *p, vsv_chunk_encoder **out);
+/* Encodes the chunk of step t at `time`: fields[v] and prev[v] hold the
+ * cells of variable v at steps t and t-1 (prev is unused, and may be NULL,
+ * at a keyframe). *bytes (borrowed, valid until the next call or free) and
+ * *size (a multiple of 64) receive the chunk. */
+int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *const *fields,
+                     const float *const *prev, const unsigned char **bytes, size_t *size);
+const char *vsv_chunk_encoder_error(const vsv_chunk_encoder *e);
+void vsv_chunk_encoder_free(vsv_chunk_encoder *e);
+
 /* ------------------------------------------------------------------ reader */
 
 typedef struct vsv_file vsv_file;

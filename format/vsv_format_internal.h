@@ -110,6 +110,9 @@ void vsv_quant_table(const vsv_quant *q, float *out);
 /* missing: the data had non-finite (no-data) values. */
 void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos, int missing);
 
+/* Checks packing options against a grid; fills err (cap bytes) on error. */
+int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err, size_t cap);
+
 /* Brick payload transform (SPEC.md §7) of the ext[0] x ext[1] x ext[2] cells
  * inside the grid of a B^3 brick array of `bits`-bit codes. */
 size_t vsv_brick_raw_bytes(int bits, const int ext[3]);

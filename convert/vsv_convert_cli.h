@@ -1,0 +1,41 @@
+/* vsv_convert_cli.h — vsv-convert's command line and its read loop, shared
+ * by vsv-convert and vsv-convert-mpi so that both take the same options and
+ * make the same frames. Program code: linked into those tools, never into a
+ * library (it prints and exits). */
+#ifndef VSV_CONVERT_CLI_H
+#define VSV_CONVERT_CLI_H
+
+#include "vsv_cli.h"
+#include "vsv_convert.h"
+
+/* What the command line asked for: plain info over argv's strings. */
+typedef struct vsv_convert_args {
+    const char *out, *vars, *times;
+    int64_t dt;                 /* --time-res in seconds, 0 for none */
+    const char *res_text;       /* --time-res as given */
+    vsv_cli_pack pack;          /* packing options (opts.vars set by resolve) */
+    vsv_source_opts so;         /* vertical grid, CAMx, OpenVDB options */
+    const char *const *inputs;  /* the model files, borrowed from argv */
+    int ninputs;
+    int stats;                  /* --stats (vsv-convert-mpi only) */
+} vsv_convert_args;
+
+/* The option list of --help, shared by both tools. */
+extern const char vsv_convert_options_help[];
+
+/* Parses argv as vsv-convert does. `head` is the tool's usage text before
+ * the option list; with `mpi`, --stats is an option too. Prints the help
+ * (exit 0), the version (exit 0) or a usage error (exit 2) itself. */
+void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi);
+
+/* Feeds input frames first..last of the run through the time
+ * interpolation (when dt > 0, its grid starting at the run's first time) to
+ * emit; fields: nvars caller buffers of nx*ny*nz floats. Progress goes to
+ * label (NULL: none); *dropped (may be NULL) receives the count of input
+ * frames between grid times (vsv_interp_dropped). Returns 0; or a negative code with *bad_frame the
+ * input frame that did not read (vsv_run_error says why), -1 when emit
+ * failed, -2 when memory ran out. */
+int vsv_convert_frames(vsv_run *run, int64_t dt, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
+                       const char *label, int *bad_frame, int *dropped);
+
+#endif
