@@ -78,8 +78,10 @@ int main(int argc, char **argv)
             printf("  %-10s %-8s %6s %-16s %s\n", "field", "order", "levels", "units", "description");
             for (int i = 0; i < vsv_source_nfields(src); i++) {
                 const vsv_field_info *f = vsv_source_field(src, i);
+                char note[80];
+                snprintf(note, sizeof note, "  (%s)", f->role[0] ? f->role : "2-D or not on the grid");
                 printf("  %-10s %-8s %6d %-16s %s%s\n", f->name, f->ordering, f->nlevels, f->units, f->description,
-                       f->is_default ? "  [default]" : f->is_volume ? "" : "  (2-D or not on the grid)");
+                       f->is_default ? "  [default]" : f->is_volume ? "" : note);
             }
             printf("  times:");
             for (int t = 0; t < vsv_source_ntimes(src); t++) {

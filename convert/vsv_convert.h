@@ -17,6 +17,8 @@ typedef struct vsv_field_info {
     int nlevels;        /* 0 for a 2-D field */
     int is_volume;      /* can be extracted onto the 3-D grid */
     int is_default;     /* extracted when no --vars is given */
+    char role[48];      /* what a field that is not a volume is, e.g.
+                         * "boundary slab", or "" (2-D or not on the grid) */
 } vsv_field_info;
 
 /* How a source builds its grid: plain info. */
@@ -56,6 +58,14 @@ const vsv_field_info *vsv_source_field(const vsv_source *s, int i);
 int vsv_source_find_field(const vsv_source *s, const char *name);
 int vsv_source_ntimes(const vsv_source *s);
 int64_t vsv_source_time(const vsv_source *s, int t);
+/* With --vertical native (opts.vertical VSV_VERT_NATIVE): the height (m
+ * above sea level) of every cell's level at time t, per column, into out
+ * (nx*ny*nz floats, x fastest), for models whose levels move in time (WRF
+ * eta, MM5 pressure levels by H, CAMx layers by the ZP file) or vary by
+ * column (MM5 sigma). The .vsv itself records each level's mean height;
+ * this is the data a per-column, per-time height axis needs.
+ * VSV_EUNSUPPORTED on even grids and formats without such heights. */
+int vsv_source_heights(vsv_source *s, int t, float *out);
 /* Reads field i at time t into out (nx*ny*nz floats of the grid, x fastest;
  * levels a field lacks and missing values are NaN). */
 int vsv_source_read(vsv_source *s, int field, int t, float *out);

@@ -226,10 +226,8 @@ static int index_file(vsv_mm5 *m)
             f.record = recno;
             f.period = period;
             f.bighdr = m->nbig;
-            if (is_slab(f.order)) {
-                m->skipped++;
-                continue;
-            }
+            if (is_slab(f.order))
+                m->skipped++; /* listed, never a volume */
             if ((rc = add_field(m, &f)))
                 return rc;
             in_period = 1;

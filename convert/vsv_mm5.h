@@ -56,7 +56,8 @@ const vsv_mm5_field *vsv_mm5_field_at(const vsv_mm5 *m, int i);
 int vsv_mm5_nperiods(const vsv_mm5 *m);
 /* Index of field `name` in period p, or -1. */
 int vsv_mm5_find(const vsv_mm5 *m, int period, const char *name);
-/* Number of boundary-slab records skipped. */
+/* Number of boundary-slab records (YSB XSB YWB XWB; indexed like any
+ * field, never volumes). */
 int vsv_mm5_skipped(const vsv_mm5 *m);
 /* Reads a field's values as native floats in file order (caller buffer of
  * field->bytes/4 floats). */

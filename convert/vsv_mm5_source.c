@@ -18,6 +18,12 @@
 typedef struct mm5src {
     vsv_mm5 *m;
     int IX, JX, KX, nx, ny;
+    /* pressure levels (REGRID, INTERPB: YXP): KP levels bottom-up, the first
+     * the surface; placed by each column's geopotential height H, which
+     * changes with time, so the even plan is redone per output time */
+    int KP, plev, plan_t;
+    int16_t *zidx;   /* KP*plane: file level of each above-ground level, bottom-up */
+    float *hraw;     /* KP*plane: H of the planned time, cross points */
     int has_sigma;
     float *zn;       /* KX*ny*nx heights of the half-sigma levels, k bottom-up */
     vsv_vgrid vg;    /* even: the resampling (heights are fixed in time) */
@@ -90,6 +96,90 @@ static int period_time(vsv_source *s, const vsv_mm5 *m, int p, int64_t *t)
     return 1;
 }
 
+/* A YXP field of period p as a native cross volume (KP*plane, bottom-up as
+ * in the file: level 0 is the surface), after checking its shape. */
+static int plev_volume(vsv_source *s, mm5src *x, int p, const char *name, float *nat)
+{
+    const int idx = vsv_mm5_find(x->m, p, name);
+    if (idx < 0)
+        return vsv_source_fail(s, VSV_ECORRUPT, "field %s missing from output time %d", name, p);
+    const vsv_mm5_field *f = vsv_mm5_field_at(x->m, idx);
+    if (strcmp(f->order, "YXP") || f->end[0] - f->start[0] + 1 != x->IX || f->end[1] - f->start[1] + 1 != x->JX ||
+        f->bytes != (uint64_t)x->IX * x->JX * (uint64_t)x->KP * 4)
+        return vsv_source_fail(s, VSV_ECORRUPT,
+                               "record %d at byte offset %llu: %s (output time %d) is %s %dx%d, %llu bytes; "
+                               "expected YXP %dx%dx%d",
+                               f->record, (unsigned long long)f->offset, f->name, p, f->order,
+                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1,
+                               (unsigned long long)f->bytes, x->IX, x->JX, x->KP);
+    vsv_mm5_read(x->m, f, x->raw);
+    const int dot = !strcmp(f->stag, "D");
+    const size_t plane = (size_t)x->nx * x->ny, fplane = (size_t)x->IX * x->JX;
+    for (int k = 0; k < x->KP; k++) {
+        const float *a = x->raw + (size_t)k * fplane;
+        float *o = nat + (size_t)k * plane;
+        for (int j = 0; j < x->ny; j++)
+            for (int i = 0; i < x->nx; i++) {
+                const size_t c = (size_t)i * x->IX + j;
+                o[(size_t)j * x->nx + i] = dot ? 0.25f * (a[c] + a[c + 1] + a[c + x->IX] + a[c + x->IX + 1]) : a[c];
+            }
+    }
+    return 0;
+}
+
+/* The heights of output time t's pressure levels: H into hraw; per column the
+ * levels above the ground (level 0, the surface, first) into zidx/zn, the
+ * column's top repeated above its last level, so heights never decrease. */
+static int plev_heights(vsv_source *s, mm5src *x, int t)
+{
+    const int p = x->period_of ? x->period_of[t] : 0;
+    int rc = plev_volume(s, x, p, "H", x->hraw);
+    if (rc)
+        return rc;
+    const size_t plane = (size_t)x->nx * x->ny;
+    for (size_t c = 0; c < plane; c++) {
+        int n = 0;
+        float top = x->hraw[c];
+        for (int k = 0; k < x->KP; k++) {
+            const float h = x->hraw[(size_t)k * plane + c];
+            if (k == 0 || h > top) {
+                x->zidx[(size_t)n * plane + c] = (int16_t)k;
+                x->zn[(size_t)n * plane + c] = top = h;
+                n++;
+            }
+        }
+        for (int k = n; k < x->KP; k++) {
+            x->zidx[(size_t)k * plane + c] = x->zidx[(size_t)(n - 1) * plane + c];
+            x->zn[(size_t)k * plane + c] = top;
+        }
+    }
+    x->plan_t = t;
+    return 0;
+}
+
+static int plev_read(vsv_source *s, mm5src *x, const vsv_field_info *fi, int t, float *out)
+{
+    const size_t plane = (size_t)x->nx * x->ny;
+    int rc;
+    if (!x->even)
+        return plev_volume(s, x, x->period_of[t], fi->name, out);
+    if (x->plan_t != t) {
+        if ((rc = plev_heights(s, x, t)))
+            return rc;
+        if (vsv_vgrid_plan(&x->vg, x->zn, x->KP, plane, s->grid.terrain, s->grid.nz, s->grid.origin[2],
+                           s->grid.spacing[2]))
+            return VSV_ENOMEM;
+    }
+    float *nat = x->nat, *col = x->raw; /* raw is free again once nat is built */
+    if ((rc = plev_volume(s, x, x->period_of[t], fi->name, nat)))
+        return rc;
+    for (int k = 0; k < x->KP; k++)
+        for (size_t c = 0; c < plane; c++)
+            col[(size_t)k * plane + c] = nat[(size_t)x->zidx[(size_t)k * plane + c] * plane + c];
+    vsv_vgrid_apply(&x->vg, col, out);
+    return 0;
+}
+
 static int is_default_name(const char *n)
 {
     static const char *const d[] = {"CLW", "RNW", "ICE", "SNOW", "GRAUPEL", "Q", NULL};
@@ -130,9 +220,23 @@ static int mm5_open(vsv_source *s)
             break;
         }
     }
+    /* no sigma levels: pressure levels placed by H (REGRID, INTERPB) */
+    x->plan_t = -1;
+    if (!x->KX)
+        for (int i = 0; i < vsv_mm5_nfields(m); i++) {
+            const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
+            if (!strcmp(f->order, "YXP") && !strcmp(f->name, "H")) {
+                x->KP = f->end[2] - f->start[2] + 1;
+                if (x->KP < 2 || x->KP > 1000 || f->ndim != 3)
+                    return vsv_source_fail(s, VSV_ECORRUPT, "record %d: H has %d pressure levels", f->record, x->KP);
+                x->plev = 1;
+                break;
+            }
+        }
     const size_t plane = (size_t)x->nx * x->ny;
-    x->raw = malloc((size_t)x->IX * x->JX * (size_t)(x->KX + 2) * sizeof(float));
-    x->nat = malloc(plane * (size_t)(x->KX + 1) * sizeof(float));
+    const int kmax = x->KX > x->KP ? x->KX : x->KP;
+    x->raw = malloc((size_t)x->IX * x->JX * (size_t)(kmax + 2) * sizeof(float));
+    x->nat = malloc(plane * (size_t)(kmax + 1) * sizeof(float));
     if (!x->raw || !x->nat)
         return VSV_ENOMEM;
     vsv_meta *g = &s->grid;
@@ -175,9 +279,11 @@ static int mm5_open(vsv_source *s)
     snprintf(buf, sizeof buf, "%g Pa", PTOP);
     vsv_meta_add_attr(g, "PTOP", buf);
     snprintf(buf, sizeof buf, "P00 %g Pa, TS0 %g K, TLP %g K, TISO %g K", P00, TS0, A, TISO);
-    vsv_meta_add_attr(g, "base state", buf);
+    if (P00 > 0) /* -999: not filled by the program that wrote the file */
+        vsv_meta_add_attr(g, "base state", buf);
     snprintf(buf, sizeof buf, "%d", vsv_mm5_bhi(m, 3, 13));
-    vsv_meta_add_attr(g, "IMPHYS", buf);
+    if (vsv_mm5_bhi(m, 3, 13) != -999)
+        vsv_meta_add_attr(g, "IMPHYS", buf);
     /* terrain and land use (period 0) */
     if (vsv_meta_alloc_terrain(g) || vsv_meta_alloc_landuse(g))
         return VSV_ENOMEM;
@@ -229,8 +335,36 @@ static int mm5_open(vsv_source *s)
                     (float)ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, P00, TS0, A, TISO);
         free(pstar);
     }
-    /* the vertical axis: levels need heights (sigma files); else the layer index */
-    if (!x->has_sigma) {
+    /* the vertical axis: levels need heights (sigma files, or H on pressure
+     * levels); else the layer index */
+    if (x->plev) {
+        x->hraw = malloc(plane * (size_t)x->KP * sizeof *x->hraw);
+        x->zn = malloc(plane * (size_t)x->KP * sizeof *x->zn);
+        x->zidx = malloc(plane * (size_t)x->KP * sizeof *x->zidx);
+        if (!x->hraw || !x->zn || !x->zidx)
+            return VSV_ENOMEM;
+        if (!g->terrain)
+            return vsv_source_fail(s, VSV_ECORRUPT, "pressure levels without TERRAIN: the ground is unknown");
+        if ((rc = plev_heights(s, x, 0)))
+            return rc;
+        x->plan_t = -1; /* heights known, no even plan yet */
+        const int even = vsv_source_axis(s, x->hraw, x->KP, 100.0);
+        if (even < 0)
+            return even;
+        x->even = even;
+        float pl[1000];
+        const int ip = vsv_mm5_find(m, 0, "PRESSURE");
+        const vsv_mm5_field *fp = ip >= 0 ? vsv_mm5_field_at(m, ip) : NULL;
+        if (fp && fp->bytes == (uint64_t)x->KP * 4) {
+            vsv_mm5_read(m, fp, pl);
+            snprintf(buf, sizeof buf, "%d pressure levels, %g hPa (surface) to %g hPa, placed by the geopotential "
+                     "height H of each column and time", x->KP, pl[0] / 100, pl[x->KP - 1] / 100);
+        } else {
+            snprintf(buf, sizeof buf, "%d pressure levels placed by the geopotential height H of each column and time",
+                     x->KP);
+        }
+        vsv_meta_add_attr(g, "vertical", buf);
+    } else if (!x->has_sigma) {
         g->nz = x->KX > 0 ? x->KX : 1;
         g->vert_kind = VSV_VERT_INDEX;
     } else {
@@ -262,8 +396,23 @@ static int mm5_open(vsv_source *s)
         snprintf(fi->ordering, sizeof fi->ordering, "%s%s%s", f->order, f->stag[0] ? " " : "", f->stag);
         const int ext2 = f->end[2] - f->start[2] + 1;
         fi->nlevels = !strcmp(f->order, "YXS") ? ext2 : !strcmp(f->order, "YXW") ? ext2 : !strcmp(f->order, "YXP") ? ext2 : 0;
-        fi->is_volume = x->KX > 0 && ((!strcmp(f->order, "YXS") && ext2 == x->KX) || (!strcmp(f->order, "YXW") && ext2 == x->KX + 1));
-        fi->is_default = fi->is_volume && is_default_name(f->name);
+        fi->is_volume = (x->KX > 0 && ((!strcmp(f->order, "YXS") && ext2 == x->KX) ||
+                                       (!strcmp(f->order, "YXW") && ext2 == x->KX + 1))) ||
+                        (x->plev && !strcmp(f->order, "YXP") && ext2 == x->KP && f->ndim == 3);
+        /* pressure-level files hold no particulates: their fields are the point */
+        fi->is_default = fi->is_volume && (is_default_name(f->name) || x->plev);
+        if (f->order[0] && (!strcmp(f->order + 1, "SB") || !strcmp(f->order + 1, "WB")))
+            fi->nlevels = f->end[1] - f->start[1] + 1; /* (IX or JX, levels, width) */
+        if (f->order[0] && !strcmp(f->order + 1, "SB"))
+            snprintf(fi->role, sizeof fi->role, "boundary slab, not a volume");
+        else if (f->order[0] && !strcmp(f->order + 1, "WB"))
+            snprintf(fi->role, sizeof fi->role, "boundary slab (W levels), not a volume");
+        else if (!strcmp(f->order, "YX"))
+            snprintf(fi->role, sizeof fi->role, "2-D");
+        else if (!strcmp(f->order, "S") || !strcmp(f->order, "P"))
+            snprintf(fi->role, sizeof fi->role, "1-D levels");
+        else if (!strcmp(f->order, "CA"))
+            snprintf(fi->role, sizeof fi->role, "table");
     }
     for (int p = 0; p < vsv_mm5_nperiods(m); p++) {
         int64_t t;
@@ -284,9 +433,15 @@ static int mm5_read(vsv_source *s, int field, int t, float *out)
 {
     mm5src *x = s->priv;
     const vsv_field_info *fi = &s->fields[field];
+    if (!fi->is_volume && !x->KX && !x->plev)
+        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a volume (%s); this file has no 3-D levels", fi->name,
+                               fi->ordering, fi->role[0] ? fi->role : "2-D");
     if (!fi->is_volume)
-        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a 3-D field on the %d sigma levels", fi->name,
-                               fi->ordering, x->KX);
+        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a 3-D field on the %d %s levels%s%s", fi->name,
+                               fi->ordering, x->plev ? x->KP : x->KX, x->plev ? "pressure" : "sigma",
+                               fi->role[0] ? ": " : "", fi->role);
+    if (x->plev)
+        return plev_read(s, x, fi, t, out);
     const int p = x->period_of[t];
     const int idx = vsv_mm5_find(x->m, p, fi->name);
     if (idx < 0)
@@ -329,6 +484,24 @@ static int mm5_read(vsv_source *s, int field, int t, float *out)
     return 0;
 }
 
+/* Native heights: sigma levels are fixed in time; pressure levels are where
+ * H puts them at time t (below the ground too, as the file has them). */
+static int mm5_heights(vsv_source *s, int t, float *out)
+{
+    mm5src *x = s->priv;
+    const size_t plane = (size_t)x->nx * x->ny;
+    if (x->plev) {
+        int rc = plev_heights(s, x, t);
+        if (!rc)
+            memcpy(out, x->hraw, plane * (size_t)x->KP * sizeof *out);
+        return rc;
+    }
+    if (!x->has_sigma)
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "no level heights (no SIGMAH and base state)");
+    memcpy(out, x->zn, plane * (size_t)x->KX * sizeof *out);
+    return 0;
+}
+
 static void mm5_close(vsv_source *s)
 {
     mm5src *x = s->priv;
@@ -336,6 +509,8 @@ static void mm5_close(vsv_source *s)
         return;
     vsv_mm5_free(x->m);
     free(x->zn);
+    free(x->zidx);
+    free(x->hraw);
     vsv_vgrid_free(&x->vg);
     free(x->raw);
     free(x->nat);
@@ -380,7 +555,8 @@ static char *mm5_summary(vsv_source *s)
     }
     OUT("%s\n", s->ntimes > 12 ? ", ..." : "");
     if (vsv_mm5_skipped(m))
-        OUT("  note        %d boundary-slab records (YSB XSB YWB XWB) skipped\n", vsv_mm5_skipped(m));
+        OUT("  note        %d boundary-slab records (YSB XSB YWB XWB): lateral boundary values, not volumes\n",
+            vsv_mm5_skipped(m));
     OUT("  fields      %d per output time\n    %-9s %-7s %-16s %-16s %s\n", s->nfields, "name", "order", "dims", "units",
         "description");
     for (int i = 0; i < vsv_mm5_nfields(m); i++) {
@@ -398,4 +574,4 @@ static char *mm5_summary(vsv_source *s)
     return (char *)b.p;
 }
 
-const vsv_source_ops vsv_mm5_ops = {"MM5 v3", mm5_probe, mm5_open, mm5_read, mm5_close, mm5_summary};
+const vsv_source_ops vsv_mm5_ops = {"MM5 v3", mm5_probe, mm5_open, mm5_read, mm5_close, mm5_summary, mm5_heights};

@@ -151,6 +151,15 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
         for (int i = 0; i < nf; i++)
             if (vsv_source_field(s0, i)->is_default)
                 r->sel[r->nsel++] = i;
+        int nvol = 0;
+        for (int i = 0; i < nf; i++)
+            nvol += vsv_source_field(s0, i)->is_volume;
+        if (!nvol) {
+            rc = fail(r, VSV_EINVAL, "%s: no field of this %s file is a volume on the 3-D grid (%s); "
+                      "vsv-extract --list shows what it holds", names[0], vsv_source_format(s0),
+                      nf && vsv_source_field(s0, 0)->role[0] ? vsv_source_field(s0, 0)->role : "2-D fields only");
+            goto done;
+        }
         if (!r->nsel) {
             rc = fail(r, VSV_EINVAL, "%s: none of the default variables is present; choose with --vars", names[0]);
             goto done;

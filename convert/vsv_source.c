@@ -32,6 +32,16 @@ int vsv_source_read(vsv_source *s, int field, int t, float *out)
     return s->ops->read(s, field, t, out);
 }
 
+int vsv_source_heights(vsv_source *s, int t, float *out)
+{
+    if (t < 0 || t >= s->ntimes)
+        return vsv_source_fail(s, VSV_ERANGE, "time %d out of range 0..%d", t, s->ntimes - 1);
+    if (s->grid.vert_kind != VSV_VERT_NATIVE || !s->ops->heights)
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "no per-column heights of native levels (%s grid, %s)",
+                               s->grid.vert_kind == VSV_VERT_NATIVE ? "native" : "not a native", s->ops->name);
+    return s->ops->heights(s, t, out);
+}
+
 int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
 {
     va_list ap;

@@ -13,6 +13,9 @@ typedef struct vsv_source_ops {
     int (*read)(vsv_source *s, int field, int t, float *out);
     void (*close)(vsv_source *s);
     char *(*summary)(vsv_source *s); /* may be NULL */
+    /* --vertical native only: the levels' heights at time t per column
+     * (nx*ny*nz, m above sea level); may be NULL (no per-column heights) */
+    int (*heights)(vsv_source *s, int t, float *out);
 } vsv_source_ops;
 
 struct vsv_source {

@@ -637,4 +637,4 @@ static char *camx_summary(vsv_source *s)
     return (char *)b.p;
 }
 
-const vsv_source_ops vsv_camx_ops = {"CAMx UAM-IV", camx_probe, camx_open, camx_read, camx_close, camx_summary};
+const vsv_source_ops vsv_camx_ops = {"CAMx UAM-IV", camx_probe, camx_open, camx_read, camx_close, camx_summary, NULL};

@@ -167,4 +167,4 @@ static char *summary(vsv_source *s)
     return t;
 }
 
-const vsv_source_ops vsv_vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, summary};
+const vsv_source_ops vsv_vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, summary, NULL};

@@ -111,7 +111,8 @@ static int w_heights(vsv_source *s, wrf *w, int t)
 
 static int is_default_wrf(const char *n)
 {
-    static const char *const d[] = {"QCLOUD", "QRAIN", "QICE", "QSNOW", "QGRAUP", NULL};
+    /* the hydrometeors, and water vapour as MM5's default has Q */
+    static const char *const d[] = {"QVAPOR", "QCLOUD", "QRAIN", "QICE", "QSNOW", "QGRAUP", NULL};
     for (int i = 0; d[i]; i++)
         if (!strcmp(n, d[i]))
             return 1;
@@ -220,9 +221,16 @@ static int wrf_open(vsv_source *s, int nc)
         g->proj.kind = VSV_PROJ_MERCATOR;
         g->proj.lat2 = lat1;
         g->proj.lat0 = 0;
-    } else if (mp == 6)
+    } else if (mp == 6) {
+        /* a cylindrical equidistant grid; with its pole moved (POLE_LAT not
+         * 90) the grid's own latitudes are not the Earth's */
+        const double plat = att_double(nc, "POLE_LAT", 90), plon = att_double(nc, "POLE_LON", 0);
+        if (fabs(plat - 90) > 1e-6)
+            return vsv_source_fail(s, VSV_EUNSUPPORTED,
+                                   "MAP_PROJ 6 with POLE_LAT %g, POLE_LON %g: a rotated-pole lat/lon grid is not "
+                                   "supported (only POLE_LAT 90)", plat, plon);
         g->proj.kind = VSV_PROJ_LATLON;
-    else
+    } else
         return vsv_source_fail(s, VSV_EUNSUPPORTED, "MAP_PROJ %d is not supported (1, 2, 3 and 6 are)", mp);
     int vlat, vlon;
     if (nc_inq_varid(nc, "XLAT", &vlat) || nc_inq_varid(nc, "XLONG", &vlon))
@@ -413,6 +421,15 @@ static int wrf_read(vsv_source *s, int field, int t, float *out)
     return 0;
 }
 
+static int wrf_heights(vsv_source *s, int t, float *out)
+{
+    wrf *w = s->priv;
+    int rc = w_heights(s, w, t);
+    if (!rc)
+        memcpy(out, w->zm, (size_t)w->nx * w->ny * (size_t)w->nk * sizeof *out);
+    return rc;
+}
+
 static void wrf_close(vsv_source *s)
 {
     wrf *w = s->priv;
@@ -448,4 +465,4 @@ static char *wrf_summary(vsv_source *s)
 }
 
 /* WRF's read/close/summary; the open of every netCDF file starts here. */
-const vsv_source_ops vsv_netcdf_ops = {"WRF", nc_probe, netcdf_open, wrf_read, wrf_close, wrf_summary};
+const vsv_source_ops vsv_netcdf_ops = {"WRF", nc_probe, netcdf_open, wrf_read, wrf_close, wrf_summary, wrf_heights};

@@ -43,16 +43,16 @@ has "cut CAMx names sizes" "$T/err" "does not divide into hours"
 W="$D/wrf/wrf_d01_allvars_cropped.nc"
 expect "vsv-info on a wrfout file" 0 "$B/vsv-info" "$W"
 has "WRF summary" "$T/out" "WRF output"
-expect "wrfout converts (hydrometeors by default)" 0 "$B/vsv-convert" -q --time-res 1h "$W" -o "$T/wrf.vsv"
+expect "wrfout converts (hydrometeors and vapour by default)" 0 "$B/vsv-convert" -q --time-res 1h "$W" -o "$T/wrf.vsv"
 "$B/vsv-info" --json "$T/wrf.vsv" > "$T/wrf.json"
 if /usr/bin/python3 - "$T/wrf.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert [s["name"] for s in d["species"]] == ["QCLOUD", "QGRAUP", "QICE", "QRAIN", "QSNOW"]
+assert [s["name"] for s in d["species"]] == ["QCLOUD", "QGRAUP", "QICE", "QRAIN", "QSNOW", "QVAPOR"]
 assert len(d["times"]) == 10 and d["times"][1] == "2005-09-21T01:00:00Z"
 assert d["projection"]["name"] == "lcc" and d["grid"]["terrain"]
 PY
-then pass "WRF .vsv: default hydrometeors, hourly frames, lcc, terrain"; else fail "WRF .vsv: default hydrometeors, hourly frames, lcc, terrain" "see above"; fi
+then pass "WRF .vsv: default hydrometeors and QVAPOR, hourly frames, lcc, terrain"; else fail "WRF .vsv: default hydrometeors and QVAPOR, hourly frames, lcc, terrain" "see above"; fi
 "$B/vsv-extract" "$W" | "$B/vsv-interp" --time-res 1h | "$B/vsv-pack" -q -o "$T/wrf-pipe.vsv"
 if cmp -s "$T/wrf.vsv" "$T/wrf-pipe.vsv"; then pass "WRF: vsv-convert = the pipe, byte for byte"; else fail "WRF: vsv-convert = the pipe, byte for byte" "differ"; fi
 expect "any 3-D WRF variable by name" 0 "$B/vsv-convert" -q --vars U,W,T "$W" -o "$T/wrf-uwt.vsv"
