@@ -68,7 +68,7 @@ endif
 # program code that is not part of the library: vsv-convert's command line,
 # shared with vsv-convert-mpi
 CONVERT_CLI = convert/vsv_convert_cli.c
-LIB_C = $(filter-out $(CONVERT_CLI),$(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c)) $(wildcard render/vsv_*.c) \
+LIB_C = $(filter-out $(CONVERT_CLI),$(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c)) $(wildcard interop/vsv_*.c) $(wildcard render/vsv_*.c) \
         $(wildcard stream/vsv_*.c) viewer/vsv_player.c
 LIB_CXX = $(wildcard format/vsv_*.cc) $(wildcard interop/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))

@@ -52,6 +52,11 @@ extern const vsv_source_ops vsv_vdb_ops;
  * unless the variable has exactly that shape; the error names the variable
  * and both shapes. */
 int vsv_nc_read(vsv_source *s, int nc, int var, const char *name, int t, const size_t *shape, int n, float *out);
+/* CF netCDF (convert/vsv_cf.c): 1 if the open file nc says Conventions
+ * "CF-…"; the open of such a file (detected by vsv_netcdf_ops). */
+extern const vsv_source_ops vsv_cf_ops;
+int vsv_cf_detect(int nc);
+int vsv_cf_open(vsv_source *s, int nc);
 /* Opens an IOAPI netCDF file already open as nc (detected by vsv_netcdf_ops). */
 int vsv_ioapi_open(vsv_source *s, int nc);
 

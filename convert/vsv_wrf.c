@@ -135,9 +135,14 @@ static int netcdf_open(vsv_source *s)
         s->ops = &vsv_ioapi_ops;
         return vsv_ioapi_open(s, nc);
     }
+    if (vsv_cf_detect(nc)) {
+        s->ops = &vsv_cf_ops;
+        return vsv_cf_open(s, nc);
+    }
     nc_close(nc);
     return vsv_source_fail(s, VSV_ENOTVSV,
-                           "a netCDF file that is none of WRF output (MAP_PROJ, Times), IOAPI/CMAQ or CAMx netCDF");
+                           "a netCDF file that is none of WRF output (MAP_PROJ, Times), IOAPI/CMAQ, CAMx netCDF or "
+                           "CF-convention netCDF (Conventions \"CF-...\")");
 }
 
 static int wrf_open(vsv_source *s, int nc)

@@ -1,8 +1,11 @@
 /* vsv-export — a .vsv file out to other tools: one OpenVDB file per time
  * step, one FloatGrid per species (Blender, Houdini and the OpenVDB tools
- * read them). */
+ * read them), or one CF-1.8 netCDF-4 file (xarray, ncview, CDO, NCL). */
+#include "vsv_cf.h"
 #include "vsv_cli.h"
 #include "vsv_vdb.h"
+
+#include <sys/stat.h>
 
 #include <getopt.h>
 #include <stdio.h>
@@ -11,15 +14,20 @@
 #include <unistd.h>
 
 static const char usage[] =
-    "Usage: vsv-export FILE.vsv --vdb OUT_%04d.vdb [--times A:B] [--species LIST]\n"
+    "Usage: vsv-export FILE.vsv (--vdb OUT_%04d.vdb | --netcdf OUT.nc) [--times A:B] [--species LIST]\n"
     "Write each selected time step as an OpenVDB file: one FloatGrid per species,\n"
     "named after it, in world units (projected metres, height above sea level;\n"
     "the grid's origin and spacing are the transform), only non-empty cells\n"
     "active, with units, model time (ISO 8601), source model and projection as\n"
     "metadata. %04d (or another printf integer) numbers the files from 0; a name\n"
     "without one takes a single step.\n"
+    "--netcdf writes every selected step into one CF-1.8 netCDF-4 file: the\n"
+    "projection as a grid_mapping, 2-D lat/lon, heights, time in seconds since the\n"
+    "first step, units, long_name and the quantisation bound (vsv_max_abs_error)\n"
+    "per variable, chunked by step and deflated; vsv-extract reads it back.\n"
     "\n"
-    "      --vdb OUT           the files to write\n"
+    "      --vdb OUT           the OpenVDB files to write\n"
+    "      --netcdf OUT.nc     the netCDF file to write\n"
     "  -t, --time T            one step: an index or an ISO time, the nearest step\n"
     "                          (said on stderr when not exact; default: all steps)\n"
     "      --times A:B         steps A..B (indices or ISO times, which may hold colons;\n"
@@ -32,16 +40,18 @@ static const char usage[] =
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-export");
-    enum { O_VDB = 1000, O_TIMES };
-    static const struct option longopts[] = {{"vdb", required_argument, 0, O_VDB},   {"time", required_argument, 0, 't'},
+    enum { O_VDB = 1000, O_TIMES, O_NETCDF };
+    static const struct option longopts[] = {{"vdb", required_argument, 0, O_VDB},   {"netcdf", required_argument, 0, O_NETCDF},
+                                             {"time", required_argument, 0, 't'},
                                              {"times", required_argument, 0, O_TIMES}, {"species", required_argument, 0, 's'},
                                              {"quiet", no_argument, 0, 'q'},          {"help", no_argument, 0, 'h'},
                                              {"version", no_argument, 0, 'V'},        {0, 0, 0, 0}};
-    const char *out = NULL, *time = NULL, *times = NULL, *species = NULL;
+    const char *out = NULL, *ncout = NULL, *time = NULL, *times = NULL, *species = NULL;
     int c;
     while ((c = getopt_long(argc, argv, "t:s:qhV", longopts, NULL)) != -1) {
         switch (c) {
         case O_VDB: out = optarg; break;
+        case O_NETCDF: ncout = optarg; break;
         case 't': time = optarg; break;
         case O_TIMES: times = optarg; break;
         case 's': species = optarg; break;
@@ -51,14 +61,14 @@ int main(int argc, char **argv)
         default: vsv_cli_usage_error("unknown option");
         }
     }
-    if (!out)
-        vsv_cli_usage_error("no output (--vdb OUT_%%04d.vdb)");
+    if (!out == !ncout)
+        vsv_cli_usage_error(out ? "--vdb and --netcdf exclude each other" : "no output (--vdb OUT_%%04d.vdb or --netcdf OUT.nc)");
     if (optind != argc - 1)
         vsv_cli_usage_error(optind < argc ? "one .vsv file" : "no input file");
     if (time && times)
         vsv_cli_usage_error("--time and --times exclude each other");
     const char *path = argv[optind];
-    const int sequence = strchr(out, '%') != NULL;
+    const int sequence = out && strchr(out, '%') != NULL;
     vsv_file *f = NULL;
     if (vsv_file_open(path, &f))
         vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
@@ -69,13 +79,28 @@ int main(int argc, char **argv)
     vsv_cli_steps(f, path, time, times, 1, &a, &b);
     if (a < 0 || b >= info.nsteps || a > b)
         vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
-    if (!sequence && a != b)
+    if (out && !sequence && a != b)
         vsv_cli_usage_error("several steps need %%04d in the output name (or --time T)");
     /* species */
     int *sel = calloc((size_t)m->nvars, sizeof *sel);
     if (!sel)
         vsv_cli_die(1, "out of memory");
     const int n = vsv_cli_species(m, species, path, sel);
+    if (ncout) {
+        struct stat si, so;
+        if (!stat(path, &si) && !stat(ncout, &so) && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
+            vsv_cli_usage_error("--netcdf %s is the input file", ncout);
+        char history[1024] = "vsv-export", err[4300];
+        for (int i = 1; i < argc; i++)
+            snprintf(history + strlen(history), sizeof history - strlen(history), " %s", argv[i]);
+        if (vsv_cf_write(ncout, f, sel, n, a, b, history, vsv_cli_progress, (void *)"vsv-export", err, sizeof err))
+            vsv_cli_die(1, "%s", err);
+        if (!vsv_cli_quiet() && !isatty(2))
+            fprintf(stderr, "vsv-export: %s: %d step%s, %d species\n", ncout, b - a + 1, b > a ? "s" : "", n);
+        free(sel);
+        vsv_file_free(f);
+        return 0;
+    }
     vsv_volume **vols = calloc((size_t)n, sizeof *vols);
     vsv_decoder *d = NULL;
     if (!vols || vsv_decoder_create(f, &d))

@@ -216,6 +216,119 @@ class Sample(unittest.TestCase):
         self.assertEqual(str(vesuvius.open(out).times[0]), "2001-02-03T04:05:06")
 
 
+def xarray_open(path):
+    """xarray.open_dataset with every warning an error (after a first open that
+    lets xarray import its lazy dependencies, whose own deprecation notes are
+    not about the file)."""
+    import warnings
+    import netCDF4  # noqa: F401
+    import xarray as xr
+    xr.open_dataset(path).close()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        return xr.open_dataset(path).load()
+
+
+PROJECTIONS = [dict(kind="lcc", lat0=38, lon0=-97, lat1=50, lat2=33),
+               dict(kind="lcc", lat0=29.04, lon0=89.8, lat1=29.04, lat2=29.04),
+               dict(kind="pstereo", lat0=60, lon0=-105, lat1=60),
+               dict(kind="pstereo", lat0=-71, lon0=0, lat1=-71),
+               dict(kind="mercator", lat0=0, lon0=-89, lat1=20),
+               dict(kind="tmerc", lat0=0, lon0=-87, lat1=0.9996),
+               dict(kind="albers", lat0=23, lon0=-96, lat1=29.5, lat2=45.5),
+               dict(kind="latlon")]
+
+
+class NetCDF(unittest.TestCase):
+    """vsv-export --netcdf: xarray reads it without warnings and gets the .vsv's decoded
+    values; every projection the format carries survives the round trip through the
+    CF reader, and PROJ (pyproj) reads the grid_mapping as the library does."""
+
+    @classmethod
+    def setUpClass(cls):
+        try:
+            import xarray  # noqa: F401
+        except ImportError:
+            raise unittest.SkipTest("xarray not installed")
+        cls.path = convert("samples/mm5/MMOUT_DOMAIN1_CROP", "crop.vsv")
+        cls.nc = os.path.join(TMP, "crop.nc")
+        tool("vsv-export", "-q", cls.path, "--netcdf", cls.nc)
+        cls.f = vesuvius.open(cls.path)
+
+    def test_xarray_values_equal_decoded(self):
+        ds = xarray_open(self.nc)
+        self.assertEqual(dict(ds.sizes), {"time": 4, "z": 40, "y": 39, "x": 39})
+        np.testing.assert_array_equal(ds["time"].values.astype("datetime64[s]"), self.f.times)
+        for s in self.f.species:
+            self.assertEqual(ds[s.name].attrs["units"], s.units)
+            self.assertEqual(ds[s.name].attrs["long_name"], s.description)
+            self.assertEqual(ds[s.name].attrs["vsv_max_abs_error"], s.max_abs_error)
+            self.assertEqual(ds[s.name].dtype, np.float32)
+            for t in range(4):
+                np.testing.assert_array_equal(ds[s.name].values[t], self.f.read(s.name, t), err_msg=s.name)
+        np.testing.assert_array_equal(ds["lat"].values, self.f.lat)
+        np.testing.assert_array_equal(ds["lon"].values, self.f.lon)
+        np.testing.assert_array_equal(ds["z"].values, self.f.height)
+        np.testing.assert_array_equal(ds["terrain"].values, self.f.terrain)
+        self.assertEqual(ds["SNOW"].encoding["chunksizes"], (1, 40, 39, 39))
+        self.assertTrue(ds["SNOW"].encoding["zlib"])
+
+    def test_every_projection_round_trips(self):
+        rng = np.random.default_rng(1)
+        try:
+            import pyproj
+        except ImportError:
+            pyproj = None
+            print("  (pyproj not installed: the PROJ cross-check is skipped)")
+        for p in PROJECTIONS:
+            if p["kind"] == "latlon":
+                g = dict(nx=20, ny=15, nz=3, origin=(-100, 30, 100), spacing=(0.25, 0.25, 200))
+            else:
+                g = dict(nx=20, ny=15, nz=3, origin=(-3e5, -2e5, 100), spacing=(30000, 30000, 200))
+            a = rng.random((2, 3, 15, 20), dtype=np.float32)
+            a[:, 0, :3] = np.nan
+            src, nc, back = (os.path.join(TMP, "p." + e) for e in ("vsv", "nc", "back.vsv"))
+            vesuvius.write(src, grid=g, projection=p, times=[0, 3600], fields={"A": a}, units={"A": "1"})
+            tool("vsv-export", "-q", src, "--netcdf", nc)
+            tool("vsv-convert", "-q", nc, "-o", back)
+            f, f2 = vesuvius.open(src), vesuvius.open(back)
+            self.assertEqual(f2.projection["kind"], p["kind"])
+            np.testing.assert_allclose(f2.lat, f.lat, rtol=0, atol=1e-9, err_msg=p["kind"])
+            np.testing.assert_allclose(f2.lon, f.lon, rtol=0, atol=1e-9, err_msg=p["kind"])
+            for t in range(2):
+                np.testing.assert_array_equal(f2.read("A", t), f.read("A", t), err_msg=p["kind"])
+            ds = xarray_open(nc)
+            np.testing.assert_array_equal(ds["A"].values[1], f.read("A", 1))
+            if pyproj and p["kind"] != "latlon":
+                crs = pyproj.CRS.from_cf(ds["crs"].attrs)
+                tr = pyproj.Transformer.from_crs(crs, crs.geodetic_crs, always_xy=True)
+                X, Y = np.meshgrid(ds["x"].values, ds["y"].values)
+                lon, lat = tr.transform(X, Y)
+                d = np.hypot((lat - f.lat) * 111195, (lon - f.lon) * 111195 * np.cos(np.radians(lat)))
+                self.assertLess(d.max(), 1e-3, p["kind"])
+
+    @unittest.skipUnless(os.path.exists(os.path.join(SHARED, "data/wrf")), "../shared/data not present")
+    def test_wrf_native_levels(self):
+        """Real WRF output on its own (native) levels: z holds the levels' mean heights,
+        the values come back equal."""
+        src = os.path.join(TMP, "wrf.vsv")
+        tool("vsv-convert", "-q", "--vertical", "native", "--vars", "QCLOUD,QVAPOR",
+             os.path.join(SHARED, "data/wrf/wrf_d01_allvars_cropped.nc"), "-o", src)
+        nc = os.path.join(TMP, "wrf.nc")
+        tool("vsv-export", "-q", src, "--netcdf", nc)
+        f = vesuvius.open(src)
+        ds = xarray_open(nc)
+        self.assertEqual(ds["z"].attrs["long_name"], "mean height above sea level of the model level")
+        np.testing.assert_array_equal(ds["z"].values, f.grid["levels"])
+        np.testing.assert_array_equal(ds["QVAPOR"].values[3], f.read("QVAPOR", 3))
+        back = os.path.join(TMP, "wrf-back.vsv")
+        tool("vsv-convert", "-q", nc, "-o", back, "--vertical", "native")
+        f2 = vesuvius.open(back)
+        self.assertEqual(f2.grid["vertical"], "native")
+        np.testing.assert_array_equal(f2.grid["levels"], f.grid["levels"])
+        np.testing.assert_array_equal(f2.read("QVAPOR", 3), f.read("QVAPOR", 3))
+
+
 @unittest.skipUnless(os.path.exists(FULL), "../shared/data not present")
 class FullRun(unittest.TestCase):
     @classmethod

@@ -39,6 +39,12 @@ step "Ask for numbers: cloud and snow over Idaho at 3000 m (the on-the-hour rows
 step "... and the column above it at 02:00, as CSV" \
      "vsv-query $OUT/storm.vsv --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv"
 "$B/vsv-query" "$OUT/storm.vsv" --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv | sed -n '1p;9,18p'
+step "Hand the numbers to xarray, CDO or NCL: one CF-1.8 netCDF-4 file" \
+     "vsv-export $OUT/storm.vsv --netcdf $OUT/storm.nc --species CLW,SNOW --times 1995-10-24T01:00:00Z:"
+"$B/vsv-export" "$OUT/storm.vsv" --netcdf "$OUT/storm.nc" --species CLW,SNOW --times 1995-10-24T01:00:00Z:
+if command -v ncdump > /dev/null; then
+    ncdump -h "$OUT/storm.nc" | grep -E 'grid_mapping_name|standard_parallel|time:units|float SNOW|SNOW:(units|vsv_max)|Conventions'
+fi
 if ls "$B"/python/vesuvius/_vesuvius*.so > /dev/null 2>&1; then
     step "The same numbers from Python (import vesuvius)" \
          "PYTHONPATH=$B/python python3 $OUT/snow.py"

@@ -1,0 +1,69 @@
+#!/bin/sh
+# cli_netcdf.sh — vsv-export --netcdf (CF-1.8 netCDF-4) and the CF reader:
+# options, the file's structure as ncdump sees it (no warnings), atomic output
+# that never destroys what was there, and the round trip back through
+# vsv-extract / vsv-convert on the real MM5 sample.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-netcdf.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
+expect "vsv-export --help names --netcdf" 0 "$B/vsv-export" --help
+has "--netcdf OUT.nc" "$T/out" "--netcdf OUT.nc"
+expect "--vdb and --netcdf together exit 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/a%d.vdb" --netcdf "$T/a.nc"
+expect "--netcdf onto the input exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/crop.vsv"
+has "naming it" "$T/err" "is the input file"
+expect "into a missing folder exits 1" 1 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/nope/x.nc"
+has "saying why" "$T/err" "cannot create a temporary file beside it"
+echo "keep me" > "$T/old.nc"
+expect "a damaged .vsv exits 1" 1 "$B/vsv-export" tests/golden/bad/payload.vsv --netcdf "$T/old.nc"
+has "the old file is untouched" "$T/old.nc" "keep me"
+[ "$(ls "$T" | grep -c tmp)" = 0 ] && pass "no temporary left behind" || fail "no temporary left behind" "$(ls "$T")"
+
+expect "every step and species" 0 "$B/vsv-export" -q "$T/crop.vsv" --netcdf "$T/crop.nc"
+timeout 120 ncdump -hs "$T/crop.nc" > "$T/h" 2> "$T/herr"
+[ $? = 0 ] && [ ! -s "$T/herr" ] && pass "ncdump -h reads it without a warning" || fail "ncdump -h" "$(cat "$T/herr")"
+has "netCDF-4" "$T/h" '_Format = "netCDF-4"'
+has "CF-1.8" "$T/h" ':Conventions = "CF-1.8"'
+has "time in seconds since the first step" "$T/h" 'time:units = "seconds since 1995-10-24 00:00:00"'
+has "the projection as a grid_mapping" "$T/h" 'crs:grid_mapping_name = "lambert_conformal_conic"'
+has "with its parallels" "$T/h" 'crs:standard_parallel = 50., 33.'
+has "2-D latitude" "$T/h" "double lat(y, x)"
+has "heights as altitude" "$T/h" 'z:standard_name = "altitude"'
+has "a species on (time, z, y, x)" "$T/h" "float SNOW(time, z, y, x)"
+has "its units" "$T/h" 'SNOW:units = "kg/kg"'
+has "its long_name" "$T/h" 'SNOW:long_name = "SNOW MIXING RATIO"'
+has "its auxiliary coordinates" "$T/h" 'SNOW:coordinates = "lat lon"'
+has "the quantisation bound" "$T/h" "SNOW:vsv_max_abs_error = 1.77909152"
+has "chunked by step" "$T/h" "SNOW:_ChunkSizes = 1, 40, 39, 39"
+has "deflated" "$T/h" "SNOW:_DeflateLevel = 4"
+has "no data as NaN where the species has it" "$T/h" "Q:_FillValue = NaNf"
+has "terrain" "$T/h" 'terrain:standard_name = "surface_altitude"'
+timeout 120 ncdump "$T/crop.nc" > /dev/null 2> "$T/herr"
+[ $? = 0 ] && [ ! -s "$T/herr" ] && pass "ncdump reads all the data without a warning" || fail "ncdump" "$(cat "$T/herr")"
+mode=$(stat -c %a "$T/crop.nc")
+[ "$mode" = "$(printf '%o' $(( 0666 & ~$(umask) )))" ] && pass "the file has the umask's mode ($mode)" || fail "mode" "$mode"
+
+# back through the CF reader: the same values
+expect "vsv-info describes it" 0 "$B/vsv-info" "$T/crop.nc"
+has "as CF netCDF, projection restored" "$T/out" "projection  lcc, lat0 38, lon0 -97, lat1 50, lat2 33"
+expect "vsv-extract --list reads it" 0 "$B/vsv-extract" --list "$T/crop.nc"
+has "its variables" "$T/out" "SNOW       CF           40 kg/kg"
+timeout 120 "$B/vsv-extract" "$T/crop.nc" | timeout 120 "$B/vsv-pack" -q -o "$T/back.vsv"
+expect "packs back into a .vsv" 0 "$B/vsv-info" "$T/back.vsv"
+has "same grid" "$T/out" "grid        39 x 39 x 40 cells"
+has "same projection" "$T/out" "projection  lcc (lat0 38, lon0 -97, true lat 50/33, R 6370000 m)"
+has "same times" "$T/out" "4 steps, 1995-10-24T00:00:00Z .. 1995-10-24T03:00:00Z"
+for at in 46,-116,3000 50,-125,1000 48,-120,6000; do
+    "$B/vsv-query" "$T/crop.vsv" --at $at --csv > "$T/a" 2>&1
+    "$B/vsv-query" "$T/back.vsv" --at $at --csv > "$T/b" 2>&1
+    same "vsv-query at $at: the round trip's values equal the original's" "$T/a" "$T/b"
+done
+"$B/vsv-info" --stats "$T/crop.vsv" | sed -n '/statistics/,$p' > "$T/s1"
+"$B/vsv-info" --stats "$T/back.vsv" | sed -n '/statistics/,$p' > "$T/s2"
+same "and every species' min/max/mean at every step" "$T/s1" "$T/s2"
+expect "one step, two species" 0 "$B/vsv-export" -q "$T/crop.vsv" --netcdf "$T/one.nc" --time 2 --species SNOW,CLW
+timeout 120 ncdump -h "$T/one.nc" > "$T/h"
+has "time = 1" "$T/h" "time = 1 ;"
+has "from that step" "$T/h" 'time:units = "seconds since 1995-10-24 02:00:00"'
+grep -q "float Q(" "$T/h" && fail "only the species asked for" "Q is there" || pass "only the species asked for"
