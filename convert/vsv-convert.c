@@ -23,10 +23,14 @@ int main(int argc, char **argv)
     vsv_run *run = NULL;
     if (vsv_run_open(a.inputs, a.ninputs, &a.so, a.vars, a.times, &run))
         vsv_cli_die(1, "%s", vsv_run_error(run));
+    /* with advect the run reads the winds too; the file gets only what the
+     * interpolation emits */
+    vsv_meta out;
+    vsv_convert_setup(&a, run, &out);
     const vsv_meta *meta = vsv_run_meta(run);
-    vsv_cli_pack_resolve(&a.pack, meta);
+    vsv_cli_pack_resolve(&a.pack, &out);
     vsv_writer *w = NULL;
-    if (vsv_writer_create(a.out, meta, &a.pack.opts, &w))
+    if (vsv_writer_create(a.out, &out, &a.pack.opts, &w))
         vsv_cli_writer_die(w, a.out);
     const size_t cells = (size_t)meta->nx * meta->ny * meta->nz;
     float **fields = calloc((size_t)meta->nvars, sizeof *fields);
@@ -49,6 +53,7 @@ int main(int argc, char **argv)
     if (vsv_writer_finish(w, vsv_cli_progress, "vsv-convert: encoding"))
         vsv_cli_writer_die(w, a.out);
     vsv_writer_free(w);
+    vsv_meta_clear(&out);
     for (int v = 0; v < meta->nvars; v++)
         free(fields[v]);
     free(fields);

@@ -21,6 +21,11 @@ static const char usage[] =
     "  -t, --times A:B      steps A..B inclusive, as 0-based indices or ISO times\n"
     "                       (which may hold colons: 1995-10-24T01:00Z:1995-10-24T02:00Z);\n"
     "                       either end may be empty; outside the file is an error\n"
+    "  -w, --add-winds      also the model's winds U V (W) as the auxiliary fields\n"
+    "                       wind.u wind.v (wind.w), for vsv-interp --interp advect\n"
+    "                       (which uses them and drops them)\n"
+    "      --winds FILE     the same, the winds taken from FILE (a model file on the\n"
+    "                       same grid with U and V at every time)\n"
     "  -l, --list           list each file's fields (ordering, units, description)\n"
     "                       and times, and exit\n"
     "  -h, --help           this help\n"
@@ -34,15 +39,20 @@ static int emit(void *ctx, int64_t time, const float *const *fields)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-extract");
-    static const struct option longopts[] = {{"vars", required_argument, 0, 'v'}, {"times", required_argument, 0, 't'},
-                                             {"list", no_argument, 0, 'l'},       {"help", no_argument, 0, 'h'},
-                                             {"version", no_argument, 0, 'V'},    VSV_SOURCE_LONGOPTS,
+    static const struct option longopts[] = {{"vars", required_argument, 0, 'v'},
+                                             {"times", required_argument, 0, 't'},
+                                             {"list", no_argument, 0, 'l'},
+                                             {"add-winds", no_argument, 0, 'w'},
+                                             {"winds", required_argument, 0, 'W'},
+                                             {"help", no_argument, 0, 'h'},
+                                             {"version", no_argument, 0, 'V'},
+                                             VSV_SOURCE_LONGOPTS,
                                              {0, 0, 0, 0}};
-    const char *vars = NULL, *times = NULL;
-    int list = 0, c;
+    const char *vars = NULL, *times = NULL, *winds = NULL;
+    int list = 0, c, add_winds = 0;
     vsv_source_opts so;
     vsv_source_opts_init(&so);
-    while ((c = getopt_long(argc, argv, "v:t:lhV", longopts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "v:t:lwhV", longopts, NULL)) != -1) {
         int h = vsv_source_cli_option(&so, c, optarg);
         if (h < 0)
             vsv_cli_usage_error("bad value '%s' for a vertical-grid option", optarg);
@@ -52,6 +62,8 @@ int main(int argc, char **argv)
         case 'v': vars = optarg; break;
         case 't': times = optarg; break;
         case 'l': list = 1; break;
+        case 'w': add_winds = 1; break;
+        case 'W': winds = optarg, add_winds = 1; break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
@@ -96,6 +108,8 @@ int main(int argc, char **argv)
     }
     vsv_run *run = NULL;
     if (vsv_run_open((const char *const *)argv + optind, argc - optind, &so, vars, times, &run))
+        vsv_cli_die(1, "%s", vsv_run_error(run));
+    if (add_winds && vsv_run_add_winds(run, winds, &so))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (isatty(1))
         vsv_cli_usage_error("refusing to write a binary field stream to a terminal; pipe it into vsv-pack");

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 static const char usage[] =
-    "Usage: vsv-interp --time-res DURATION [STREAM]\n"
+    "Usage: vsv-interp --time-res DURATION [--interp linear|advect] [STREAM]\n"
     "Read a field stream (stdin by default) and write it with frames every DURATION\n"
     "(30s, 10m, 1h, 1d: a unit is required), at the first frame's time + k*DURATION:\n"
     "values are linear in time between consecutive model outputs. Input frames on\n"
@@ -18,26 +18,50 @@ static const char usage[] =
     "DURATION coarser than the input's keeps every k-th frame.\n"
     "\n"
     "  -r, --time-res D     the output time step (required)\n"
+    "  -i, --interp M       linear (default): a blend of the two outputs around each\n"
+    "                       frame; advect: the earlier output carried forward and the\n"
+    "                       later one carried back along the winds, then blended the\n"
+    "                       same way, so clouds move instead of cross-fading. Needs the\n"
+    "                       winds in the stream: vsv-extract --add-winds\n"
+    "  -j, --threads N      advect: threads (default: all cores)\n"
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n";
 
+/* emit's context: the writer, opened once the emitted variables are known */
+typedef struct out {
+    vsv_stream_writer *w;
+} out;
+
 static int emit(void *ctx, int64_t time, const float *const *fields)
 {
-    return vsv_stream_writer_frame(ctx, time, fields);
+    return vsv_stream_writer_frame(((out *)ctx)->w, time, fields);
 }
 
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-interp");
     static const struct option longopts[] = {{"time-res", required_argument, 0, 'r'},
+                                             {"interp", required_argument, 0, 'i'},
+                                             {"threads", required_argument, 0, 'j'},
                                              {"help", no_argument, 0, 'h'},
                                              {"version", no_argument, 0, 'V'},
                                              {0, 0, 0, 0}};
     int64_t dt = 0;
     const char *res_text = "";
     int c;
-    while ((c = getopt_long(argc, argv, "r:hV", longopts, NULL)) != -1) {
+    vsv_interp_opts io = {VSV_TIME_LINEAR, 0};
+    long nth;
+    while ((c = getopt_long(argc, argv, "r:i:j:hV", longopts, NULL)) != -1) {
         switch (c) {
+        case 'i':
+            if ((io.method = vsv_interp_method(optarg)) < 0)
+                vsv_cli_usage_error("--interp %s: expected linear or advect", optarg);
+            break;
+        case 'j':
+            if (vsv_cli_int(optarg, 1, 64, &nth))
+                vsv_cli_usage_error("--threads %s: must be an integer 1..64", optarg);
+            io.threads = (int)nth;
+            break;
         case 'r':
             res_text = optarg;
             if (vsv_cli_duration(optarg, &dt))
@@ -63,9 +87,17 @@ int main(int argc, char **argv)
         vsv_cli_die(1, "%s", vsv_stream_reader_error(r));
     const vsv_meta *m = vsv_stream_reader_meta(r);
     const size_t cells = (size_t)m->nx * m->ny * m->nz;
-    vsv_stream_writer *w = NULL;
+    out o = {NULL};
     vsv_interp *ip = NULL;
-    if (vsv_stream_writer_open(stdout, m, &w) || vsv_interp_create(dt, m->nvars, cells, emit, w, &ip))
+    /* the stream out carries the species; the winds (if any) stay here */
+    vsv_meta om;
+    vsv_meta_init(&om);
+    int orc = vsv_interp_open(dt, m, &io, emit, &o, &ip);
+    if (orc == VSV_ENOTFOUND)
+        vsv_cli_die(1, "%s: %s; extract them with vsv-extract --add-winds", name, vsv_interp_error(ip));
+    if (orc)
+        vsv_cli_die(1, "%s: %s", name, vsv_interp_error(ip));
+    if (vsv_interp_meta(ip, m, &om) || vsv_stream_writer_open(stdout, &om, &o.w))
         vsv_cli_die(1, "cannot start: %s", strerror(errno));
     float **fields = calloc((size_t)m->nvars, sizeof *fields);
     for (int v = 0; fields && v < m->nvars; v++)
@@ -81,10 +113,11 @@ int main(int argc, char **argv)
     if (vsv_interp_dropped(ip))
         fprintf(stderr, "vsv-interp: note: %d input frame%s between the steps every %s from the first, not kept\n",
                 vsv_interp_dropped(ip), vsv_interp_dropped(ip) == 1 ? " lies" : "s lie", res_text);
-    if (vsv_stream_writer_end(w))
+    if (vsv_stream_writer_end(o.w))
         vsv_cli_die(1, "writing to stdout: %s", strerror(errno));
     vsv_interp_free(ip);
-    vsv_stream_writer_free(w);
+    vsv_stream_writer_free(o.w);
+    vsv_meta_clear(&om);
     for (int v = 0; v < m->nvars; v++)
         free(fields[v]);
     free(fields);

@@ -132,6 +132,12 @@ int vsv_run_nframes(const vsv_run *r);
 int64_t vsv_run_time(const vsv_run *r, int i);
 /* Reads frame i: fields[v] are caller buffers of nx*ny*nz floats. */
 int vsv_run_read(vsv_run *r, int i, float *const *fields);
+/* Appends the winds as the variables wind.u, wind.v (and wind.w when there
+ * is a vertical wind) and the attribute "winds" saying whence (see
+ * VSV_WIND_U): from companion (a model file on the same grid, with U and V,
+ * or UWIND and VWIND, at every time of the run; opened with opts) or, when
+ * NULL, from the run's own files. VSV_ENOTFOUND naming what is missing. */
+int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *opts);
 /* Bytes of model input the run covers (for throughput figures). */
 uint64_t vsv_run_input_bytes(const vsv_run *r);
 
@@ -146,9 +152,32 @@ uint64_t vsv_run_input_bytes(const vsv_run *r);
  * The last output is the last grid time at or before the last input. An
  * interpolated value is
  *   (float)(a + (b - a) * w),  w = (t - ta) / (tb - ta)  (in double),
- * NaN where a or b is NaN. */
+ * NaN where a or b is NaN. With VSV_TIME_ADVECT, a and b are instead the
+ * earlier frame carried forward to t and the later one carried back to t
+ * along the winds (semi-Lagrangian trajectories, see vsv_advect.c). */
 typedef struct vsv_interp vsv_interp;
 typedef int (*vsv_frame_fn)(void *ctx, int64_t time, const float *const *fields);
+
+/* Methods of time interpolation (vsv_interp_opts.method). */
+enum { VSV_TIME_LINEAR = 0, VSV_TIME_ADVECT = 1 };
+
+/* Auxiliary wind fields: variables of these names travel with the species
+ * (vsv_run_add_winds puts them last; the attribute VSV_WINDS_ATTR says where
+ * they came from), m/s, u and v along the grid's x and y axes, w upward.
+ * vsv_interp uses them and never emits them. */
+#define VSV_WIND_U "wind.u"
+#define VSV_WIND_V "wind.v"
+#define VSV_WIND_W "wind.w"
+#define VSV_WINDS_ATTR "winds"
+
+/* How to interpolate: plain info. */
+typedef struct vsv_interp_opts {
+    int method;  /* VSV_TIME_LINEAR (default) or VSV_TIME_ADVECT */
+    int threads; /* advect: threads a frame uses, 0 = one per online CPU */
+} vsv_interp_opts;
+
+/* "linear" / "advect" to a method; -1 if neither. */
+int vsv_interp_method(const char *name);
 
 /* nfields fields of cells floats each; emit receives every output frame.
  * With nfields 0 only the times are emitted (the output times of a run,
@@ -158,6 +187,18 @@ int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, 
  * a later part of it (call before the first push): the part then gets
  * exactly the frames the whole run gives at its times. */
 void vsv_interp_set_origin(vsv_interp *ip, int64_t t0);
+/* Frames of the variables of meta (borrowed for the call); the wind
+ * variables among them are consumed, emit receives the others in order
+ * (vsv_interp_meta describes them). opts NULL = linear. Caller frees with
+ * vsv_interp_free; on failure *out may hold a handle whose vsv_interp_error
+ * says why (advect without wind.u and wind.v: VSV_ENOTFOUND). */
+int vsv_interp_open(int64_t dt, const vsv_meta *meta, const vsv_interp_opts *opts, vsv_frame_fn emit, void *ctx,
+                    vsv_interp **out);
+const char *vsv_interp_error(const vsv_interp *ip);
+/* The metadata of the emitted frames: meta without the wind variables and
+ * their attribute; advect records itself in the attribute
+ * "time interpolation". dst must be initialised. */
+int vsv_interp_meta(const vsv_interp *ip, const vsv_meta *meta, vsv_meta *dst);
 /* Feeds the next input frame (times strictly increase); returns emit's
  * first non-zero result, or 0. */
 int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields);

@@ -12,6 +12,10 @@ const char vsv_convert_options_help[] =
     "                       model times on that grid pass through unchanged, those\n"
     "                       between its steps are not kept (a D coarser than the\n"
     "                       model's keeps every k-th output)\n"
+    "  -i, --interp M       how: linear (default) or advect (carried along the model's\n"
+    "                       own winds U V W; see vsv-interp(1))\n"
+    "      --winds FILE     advect: the winds from FILE (a model file on the same grid\n"
+    "                       with U and V at every time) instead of the input\n"
     "  -v, --vars LIST      variables (default: CLW RNW ICE SNOW GRAUPEL Q present)\n"
     "  -t, --times A:B      steps A..B: indices or ISO times (which may hold colons);\n"
     "                       either end may be empty; one index or time: that step\n"
@@ -19,12 +23,14 @@ const char vsv_convert_options_help[] =
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n" VSV_SOURCE_HELP;
 
-enum { OPT_STATS = 3000 };
+enum { OPT_STATS = 3000, OPT_WINDS };
 
 void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi)
 {
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"time-res", required_argument, 0, 'r'},
+                                             {"interp", required_argument, 0, 'i'},
+                                             {"winds", required_argument, 0, OPT_WINDS},
                                              {"vars", required_argument, 0, 'v'},
                                              {"times", required_argument, 0, 't'},
                                              {"quiet", no_argument, 0, 'q'},
@@ -38,7 +44,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
     vsv_cli_pack_init(&a->pack);
     vsv_source_opts_init(&a->so);
     int c;
-    while ((c = getopt_long(argc, argv, "o:r:v:t:qhV", longopts, NULL)) != -1) {
+    while ((c = getopt_long(argc, argv, "o:r:i:v:t:qhV", longopts, NULL)) != -1) {
         int h = vsv_source_cli_option(&a->so, c, optarg);
         if (h < 0)
             vsv_cli_usage_error("bad value '%s' for a vertical-grid option", optarg);
@@ -51,6 +57,11 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
             if (vsv_cli_duration(optarg, &a->dt))
                 vsv_cli_usage_error("--time-res %s: expected a duration with its unit: 30s, 10m, 1h, 1d", optarg);
             break;
+        case 'i':
+            if ((a->method = vsv_interp_method(optarg)) < 0)
+                vsv_cli_usage_error("--interp %s: expected linear or advect", optarg);
+            break;
+        case OPT_WINDS: a->winds = optarg; break;
         case 'v': a->vars = optarg; break;
         case 't': a->times = optarg; break;
         case 'q': vsv_cli_set_quiet(1); break;
@@ -77,19 +88,44 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
     char tmsg[300];
     if (a->times && vsv_timesel_parse(a->times, NULL, 0, 0, &(vsv_timesel){0}, tmsg, sizeof tmsg))
         vsv_cli_usage_error("--times %s: %s", a->times, tmsg);
+    if (a->method == VSV_TIME_ADVECT && !a->dt)
+        vsv_cli_usage_error("--interp advect needs --time-res");
+    if (a->winds && a->method != VSV_TIME_ADVECT)
+        vsv_cli_usage_error("--winds is for --interp advect");
     a->inputs = (const char *const *)argv + optind;
     a->ninputs = argc - optind;
+}
+
+void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
+{
+    vsv_meta_init(out);
+    if (a->method == VSV_TIME_ADVECT && vsv_run_add_winds(run, a->winds, &a->so))
+        vsv_cli_die(1, "%s", vsv_run_error(run));
+    const vsv_meta *m = vsv_run_meta(run);
+    if (!a->dt) {
+        if (vsv_meta_copy(out, m))
+            vsv_cli_die(1, "out of memory");
+        return;
+    }
+    const vsv_interp_opts io = {a->method, 0};
+    vsv_interp *ip = NULL;
+    if (vsv_interp_open(a->dt, m, &io, NULL, NULL, &ip))
+        vsv_cli_die(1, "%s", vsv_interp_error(ip));
+    if (vsv_interp_meta(ip, m, out))
+        vsv_cli_die(1, "out of memory");
+    vsv_interp_free(ip);
 }
 
 int vsv_convert_frames(vsv_run *run, int64_t dt, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
                        const char *label, int *bad_frame, int *dropped)
 {
     const vsv_meta *meta = vsv_run_meta(run);
-    const size_t cells = (size_t)meta->nx * meta->ny * meta->nz;
     vsv_interp *ip = NULL;
     int rc = 0;
     *bad_frame = -1;
-    if (dt && (rc = vsv_interp_create(dt, meta->nvars, cells, emit, ctx, &ip))) {
+    /* winds in the run (vsv_convert_setup put them there) mean advect */
+    const vsv_interp_opts io = {vsv_meta_find_var(meta, VSV_WIND_U) >= 0 ? VSV_TIME_ADVECT : VSV_TIME_LINEAR, 0};
+    if (dt && (rc = vsv_interp_open(dt, meta, &io, emit, ctx, &ip))) {
         *bad_frame = -2;
         goto done;
     }

@@ -18,6 +18,8 @@ typedef struct vsv_convert_args {
     const char *const *inputs;  /* the model files, borrowed from argv */
     int ninputs;
     int stats;                  /* --stats (vsv-convert-mpi only) */
+    int method;                 /* --interp: VSV_TIME_LINEAR or VSV_TIME_ADVECT */
+    const char *winds;          /* --winds FILE, or NULL */
 } vsv_convert_args;
 
 /* The option list of --help, shared by both tools. */
@@ -28,8 +30,15 @@ extern const char vsv_convert_options_help[];
  * (exit 0), the version (exit 0) or a usage error (exit 2) itself. */
 void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi);
 
+/* After vsv_run_open: with --interp advect adds the winds to the run (or
+ * exits 1 naming what is missing); fills out (uninitialised) with the
+ * metadata of the frames vsv_convert_frames emits: the run's without the
+ * winds. Caller clears out with vsv_meta_clear. */
+void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out);
+
 /* Feeds input frames first..last of the run through the time
- * interpolation (when dt > 0, its grid starting at the run's first time) to
+ * interpolation (when dt > 0, its grid starting at the run's first time;
+ * along the winds when the run has them, see vsv_convert_setup) to
  * emit; fields: nvars caller buffers of nx*ny*nz floats. Progress goes to
  * label (NULL: none); *dropped (may be NULL) receives the count of input
  * frames between grid times (vsv_interp_dropped). Returns 0; or a negative code with *bad_frame the

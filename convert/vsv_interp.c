@@ -1,7 +1,11 @@
-/* vsv_interp.c — linear interpolation of frames in time (vsv-interp and
- * vsv-convert --time-res). Keeps one previous frame; allocates at creation
- * only. */
+/* vsv_interp.c — frames in time (vsv-interp and vsv-convert --time-res):
+ * keeps the previous frame, emits the times between it and the next one,
+ * linear or along the winds (vsv_advect.c), and passes the originals
+ * through untouched. Wind variables are consumed, never emitted. Allocates
+ * at creation only. */
+#include "vsv_advect.h"
 #include "vsv_convert.h"
+#include "vsv_format_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -9,18 +13,37 @@
 
 struct vsv_interp {
     int64_t dt, t0, prev_t;
-    int nf, have, dropped, origin_set;
+    int nf, nout, have, method, dropped, origin_set;
+    int wind[3];      /* input index of wind.u, wind.v, wind.w (-1 absent) */
+    int *keep;        /* nout input indices of the emitted fields */
     size_t cells;
     float **prev, **tmp;
+    const float **in0, **in1, **outp; /* nout pointers: scratch for each frame */
+    vsv_advect *adv;
     vsv_frame_fn emit;
     void *ctx;
+    char err[256];
 };
 
-int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, void *ctx, vsv_interp **out)
+int vsv_interp_method(const char *name)
 {
-    vsv_interp *ip = *out = calloc(1, sizeof *ip);
-    if (!ip || dt <= 0)
-        return ip ? VSV_EINVAL : VSV_ENOMEM;
+    return !strcmp(name, "linear") ? VSV_TIME_LINEAR : !strcmp(name, "advect") ? VSV_TIME_ADVECT : -1;
+}
+
+const char *vsv_interp_error(const vsv_interp *ip) { return ip ? ip->err : "out of memory"; }
+
+static int is_wind(const char *name)
+{
+    return !strcmp(name, VSV_WIND_U) || !strcmp(name, VSV_WIND_V) || !strcmp(name, VSV_WIND_W);
+}
+
+/* The common set-up: nfields inputs of which keep[0..nout) are emitted. */
+static int setup(vsv_interp *ip, int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, void *ctx)
+{
+    if (dt <= 0 || nfields < 0) {
+        vsv_msg(ip->err, sizeof ip->err, "a time step of %lld s and %d fields", (long long)dt, nfields);
+        return VSV_EINVAL;
+    }
     ip->dt = dt;
     ip->nf = nfields;
     ip->cells = cells;
@@ -28,12 +51,109 @@ int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, 
     ip->ctx = ctx;
     ip->prev = calloc((size_t)nfields + 1, sizeof *ip->prev);
     ip->tmp = calloc((size_t)nfields + 1, sizeof *ip->tmp);
-    if (!ip->prev || !ip->tmp)
+    ip->in0 = calloc((size_t)nfields + 1, sizeof *ip->in0);
+    ip->in1 = calloc((size_t)nfields + 1, sizeof *ip->in1);
+    ip->outp = calloc((size_t)nfields + 1, sizeof *ip->outp);
+    if (!ip->prev || !ip->tmp || !ip->in0 || !ip->in1 || !ip->outp)
         return VSV_ENOMEM;
     for (int v = 0; v < nfields; v++)
         if (!(ip->prev[v] = malloc(cells * sizeof(float))) || !(ip->tmp[v] = malloc(cells * sizeof(float))))
             return VSV_ENOMEM;
     return 0;
+}
+
+int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, void *ctx, vsv_interp **out)
+{
+    vsv_interp *ip = *out = calloc(1, sizeof *ip);
+    if (!ip)
+        return VSV_ENOMEM;
+    ip->wind[0] = ip->wind[1] = ip->wind[2] = -1;
+    ip->keep = malloc((size_t)(nfields > 0 ? nfields : 1) * sizeof *ip->keep);
+    if (!ip->keep)
+        return VSV_ENOMEM;
+    for (int v = 0; v < nfields; v++) /* nfields 0: the times only */
+        ip->keep[v] = v;
+    ip->nout = nfields;
+    return setup(ip, dt, nfields, cells, emit, ctx);
+}
+
+int vsv_interp_open(int64_t dt, const vsv_meta *m, const vsv_interp_opts *o, vsv_frame_fn emit, void *ctx,
+                    vsv_interp **out)
+{
+    vsv_interp *ip = *out = calloc(1, sizeof *ip);
+    if (!ip)
+        return VSV_ENOMEM;
+    ip->method = o ? o->method : VSV_TIME_LINEAR;
+    ip->keep = malloc((size_t)(m->nvars > 0 ? m->nvars : 1) * sizeof *ip->keep);
+    if (!ip->keep)
+        return VSV_ENOMEM;
+    ip->wind[0] = vsv_meta_find_var(m, VSV_WIND_U);
+    ip->wind[1] = vsv_meta_find_var(m, VSV_WIND_V);
+    ip->wind[2] = vsv_meta_find_var(m, VSV_WIND_W);
+    for (int d = 0; d < 3; d++)
+        if (ip->wind[d] < 0)
+            ip->wind[d] = -1;
+    for (int v = 0; v < m->nvars; v++)
+        if (!is_wind(m->vars[v].name))
+            ip->keep[ip->nout++] = v;
+    if (!ip->nout) {
+        vsv_msg(ip->err, sizeof ip->err, "no fields to interpolate besides the winds");
+        return VSV_EINVAL;
+    }
+    const size_t cells = (size_t)m->nx * m->ny * m->nz;
+    int rc = setup(ip, dt, m->nvars, cells, emit, ctx);
+    if (rc || ip->method != VSV_TIME_ADVECT)
+        return rc;
+    if (ip->wind[0] < 0 || ip->wind[1] < 0) {
+        vsv_msg(ip->err, sizeof ip->err,
+                "--interp advect needs the winds, and the input has no %s%s%s (horizontal wind along the grid's "
+                "x and y axes)",
+                ip->wind[0] < 0 ? VSV_WIND_U : "", ip->wind[0] < 0 && ip->wind[1] < 0 ? " and no " : "",
+                ip->wind[1] < 0 ? VSV_WIND_V : "");
+        return VSV_ENOTFOUND;
+    }
+    return vsv_advect_create(m, o->threads, &ip->adv);
+}
+
+int vsv_interp_meta(const vsv_interp *ip, const vsv_meta *m, vsv_meta *dst)
+{
+    int rc = vsv_meta_copy(dst, m);
+    if (rc)
+        return rc;
+    /* drop the wind variables (their transfer functions too) */
+    int n = 0;
+    for (int v = 0; v < dst->nvars; v++) {
+        if (is_wind(dst->vars[v].name)) {
+            if (dst->tf)
+                free(dst->tf[v]);
+            continue;
+        }
+        dst->vars[n] = dst->vars[v];
+        if (dst->tf)
+            dst->tf[n] = dst->tf[v];
+        n++;
+    }
+    dst->nvars = n;
+    /* and the attribute that described them */
+    const char *winds = vsv_meta_attr(m, VSV_WINDS_ATTR);
+    int a = 0;
+    for (int i = 0; i < dst->nattrs; i++) {
+        if (!strcmp(dst->attr_keys[i], VSV_WINDS_ATTR))
+            continue;
+        if (a != i) {
+            memcpy(dst->attr_keys[a], dst->attr_keys[i], sizeof dst->attr_keys[a]);
+            memcpy(dst->attr_values[a], dst->attr_values[i], sizeof dst->attr_values[a]);
+        }
+        a++;
+    }
+    dst->nattrs = a;
+    if (ip->method == VSV_TIME_ADVECT) {
+        char buf[256];
+        snprintf(buf, sizeof buf, "advect: semi-Lagrangian along %s%s", winds ? winds : "the input's winds",
+                 ip->wind[2] < 0 || !vsv_advect_has_vertical(ip->adv) ? " (horizontal only)" : "");
+        rc = vsv_meta_add_attr(dst, "time interpolation", buf);
+    }
+    return rc;
 }
 
 int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
@@ -42,17 +162,33 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
     if (ip->have) {
         if (time <= ip->prev_t)
             return VSV_EINVAL;
+        for (int v = 0; v < ip->nout; v++) {
+            ip->in0[v] = ip->prev[ip->keep[v]];
+            ip->in1[v] = fields[ip->keep[v]];
+            ip->outp[v] = ip->tmp[v];
+        }
         /* grid times strictly between the previous frame and this one */
+        int winds_set = 0;
         int64_t k = (ip->prev_t - ip->t0) / ip->dt + 1;
         for (int64_t t = ip->t0 + k * ip->dt; t < time; t += ip->dt) {
-            const double w = (double)(t - ip->prev_t) / (double)(time - ip->prev_t);
-            for (int v = 0; v < ip->nf; v++) {
-                const float *a = ip->prev[v], *b = fields[v];
-                float *o = ip->tmp[v];
-                for (size_t i = 0; i < ip->cells; i++)
-                    o[i] = (float)(a[i] + ((double)b[i] - a[i]) * w);
+            if (ip->method == VSV_TIME_ADVECT) {
+                if (!winds_set) {
+                    const int *w = ip->wind;
+                    vsv_advect_winds(ip->adv, ip->prev[w[0]], ip->prev[w[1]], w[2] >= 0 ? ip->prev[w[2]] : NULL,
+                                     fields[w[0]], fields[w[1]], w[2] >= 0 ? fields[w[2]] : NULL);
+                    winds_set = 1;
+                }
+                vsv_advect_frame(ip->adv, ip->prev_t, time, t, ip->nout, ip->in0, ip->in1, ip->tmp);
+            } else {
+                const double w = (double)(t - ip->prev_t) / (double)(time - ip->prev_t);
+                for (int v = 0; v < ip->nout; v++) {
+                    const float *a = ip->in0[v], *b = ip->in1[v];
+                    float *o = ip->tmp[v];
+                    for (size_t i = 0; i < ip->cells; i++)
+                        o[i] = (float)(a[i] + ((double)b[i] - a[i]) * w);
+                }
             }
-            if ((rc = ip->emit(ip->ctx, t, (const float *const *)ip->tmp)))
+            if ((rc = ip->emit(ip->ctx, t, ip->outp)))
                 return rc;
         }
     } else if (!ip->origin_set) {
@@ -61,7 +197,9 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
     /* an input frame on the grid passes through unchanged; one between grid
      * times only feeds the interpolation (every step stays dt apart) */
     if ((time - ip->t0) % ip->dt == 0) {
-        if ((rc = ip->emit(ip->ctx, time, fields)))
+        for (int v = 0; v < ip->nout; v++)
+            ip->outp[v] = fields[ip->keep[v]];
+        if ((rc = ip->emit(ip->ctx, time, ip->outp)))
             return rc;
     } else {
         ip->dropped++;
@@ -93,5 +231,10 @@ void vsv_interp_free(vsv_interp *ip)
     }
     free(ip->prev);
     free(ip->tmp);
+    free(ip->in0);
+    free(ip->in1);
+    free(ip->outp);
+    free(ip->keep);
+    vsv_advect_free(ip->adv);
     free(ip);
 }

@@ -18,6 +18,11 @@ struct vsv_run {
     int64_t *ftime;
     int nframes;
     uint64_t bytes;
+    char **path;     /* per source, in time order */
+    int nwind;       /* wind variables appended to meta (0, 2 or 3) */
+    char wname[3][16]; /* their fields' names in the model files */
+    vsv_source *wsrc;  /* a companion wind file, or NULL for the run's own */
+    int *wt;           /* companion: its time index per frame */
     char err[1024];
 };
 
@@ -117,6 +122,15 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
     }
     if ((rc = vsv_meta_copy(&r->meta, g0)))
         goto done;
+    if (!(r->path = calloc((size_t)r->nsrc, sizeof *r->path))) {
+        rc = VSV_ENOMEM;
+        goto done;
+    }
+    for (int i = 0; i < r->nsrc; i++)
+        if (!(r->path[i] = strdup(names[i]))) {
+            rc = VSV_ENOMEM;
+            goto done;
+        }
     /* variables */
     const vsv_source *s0 = r->src[0];
     const int nf = vsv_source_nfields(s0);
@@ -222,6 +236,107 @@ int vsv_run_read(vsv_run *r, int i, float *const *fields)
         if (rc)
             return fail(r, rc, "%s", vsv_source_error(s));
     }
+    for (int d = 0; d < r->nwind; d++) {
+        vsv_source *ws = r->wsrc ? r->wsrc : s;
+        const int f = vsv_source_find_field(ws, r->wname[d]);
+        int rc = f < 0 ? fail(r, VSV_ENOTFOUND, "%s: no wind %s", r->path[r->fsrc[i]], r->wname[d])
+                       : vsv_source_read(ws, f, r->wsrc ? r->wt[i] : r->ft[i], fields[r->nsel + d]);
+        if (rc)
+            return f < 0 ? rc : fail(r, rc, "%s", vsv_source_error(ws));
+    }
+    return 0;
+}
+
+/* The wind components a source offers: U and V (or UWIND and VWIND, as
+ * MCIP names them) on its 3-D grid, and W (WWIND) when it has one. Returns
+ * how many (0 when U or V is missing) and their names. */
+static int find_winds(const vsv_source *s, char names[3][16])
+{
+    static const char *const sets[][3] = {{"U", "V", "W"}, {"UWIND", "VWIND", "WWIND"}};
+    for (size_t k = 0; k < sizeof sets / sizeof *sets; k++) {
+        int n = 0;
+        for (int d = 0; d < 3; d++) {
+            const int f = vsv_source_find_field(s, sets[k][d]);
+            if (f < 0 || !vsv_source_field(s, f)->is_volume)
+                break;
+            snprintf(names[d], sizeof names[d], "%s", sets[k][d]);
+            n++;
+        }
+        if (n >= 2)
+            return n;
+    }
+    return 0;
+}
+
+int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *opts)
+{
+    if (r->nwind)
+        return 0;
+    const char *from = r->path[0];
+    int n;
+    if (companion) {
+        vsv_source_opts o;
+        if (opts)
+            o = *opts;
+        else
+            vsv_source_opts_init(&o);
+        o.seq = &companion, o.nseq = 1, o.seq_index = 0;
+        int rc = vsv_source_open(companion, &o, &r->wsrc);
+        if (rc)
+            return fail(r, rc, "--winds: %s", vsv_source_error(r->wsrc));
+        const vsv_meta *g = vsv_source_grid(r->wsrc);
+        if (g->nx != r->meta.nx || g->ny != r->meta.ny || g->nz != r->meta.nz || g->origin[0] != r->meta.origin[0] ||
+            g->origin[1] != r->meta.origin[1] || g->spacing[0] != r->meta.spacing[0] ||
+            g->spacing[1] != r->meta.spacing[1])
+            return fail(r, VSV_EINVAL, "--winds %s: its grid (%d x %d x %d) is not the grid of %s (%d x %d x %d)",
+                        companion, g->nx, g->ny, g->nz, from, r->meta.nx, r->meta.ny, r->meta.nz);
+        if (!(n = find_winds(r->wsrc, r->wname)))
+            return fail(r, VSV_ENOTFOUND, "--winds %s: no wind in it (3-D fields U and V, or UWIND and VWIND)",
+                        companion);
+        if (!(r->wt = malloc((size_t)r->nframes * sizeof *r->wt)))
+            return VSV_ENOMEM;
+        for (int i = 0, t = 0; i < r->nframes; i++) {
+            while (t < vsv_source_ntimes(r->wsrc) && vsv_source_time(r->wsrc, t) < r->ftime[i])
+                t++;
+            if (t >= vsv_source_ntimes(r->wsrc) || vsv_source_time(r->wsrc, t) != r->ftime[i]) {
+                char when[40];
+                vsv_time_format(r->ftime[i], when, sizeof when);
+                return fail(r, VSV_ENOTFOUND, "--winds %s: no winds at %s (frame %d of the run)", companion, when, i);
+            }
+            r->wt[i] = t;
+        }
+        from = companion;
+    } else {
+        if (!(n = find_winds(r->src[0], r->wname)))
+            return fail(r, VSV_ENOTFOUND,
+                        "%s: advection needs winds, and this %s file has no 3-D U and V (nor UWIND and VWIND); "
+                        "name a file with them: --winds FILE",
+                        from, vsv_source_format(r->src[0]));
+        for (int i = 1; i < r->nsrc; i++)
+            for (int d = 0; d < n; d++)
+                if (vsv_source_find_field(r->src[i], r->wname[d]) < 0)
+                    return fail(r, VSV_ENOTFOUND, "%s has no wind %s (it is in %s)", r->path[i], r->wname[d],
+                                from);
+    }
+    static const char *const vname[3] = {VSV_WIND_U, VSV_WIND_V, VSV_WIND_W};
+    static const char *const what[3] = {"wind along the grid's x axis", "wind along the grid's y axis",
+                                        "vertical wind"};
+    for (int d = 0; d < n; d++) {
+        char desc[128];
+        snprintf(desc, sizeof desc, "%s (%s), auxiliary: used by --interp advect", what[d], r->wname[d]);
+        const int v = vsv_meta_add_var(&r->meta, vname[d], "m s-1", desc);
+        if (v < 0)
+            return v;
+    }
+    const char *base = strrchr(from, '/');
+    char buf[256];
+    snprintf(buf, sizeof buf, "%s %s%s%s of %s (%s; grid-relative, m/s)", r->wname[0], r->wname[1], n > 2 ? " " : "",
+             n > 2 ? r->wname[2] : "", base ? base + 1 : from,
+             vsv_source_format(r->wsrc ? r->wsrc : r->src[0]));
+    int rc = vsv_meta_add_attr(&r->meta, VSV_WINDS_ATTR, buf);
+    if (rc < 0)
+        return rc;
+    r->nwind = n;
     return 0;
 }
 
@@ -236,6 +351,11 @@ void vsv_run_free(vsv_run *r)
     free(r->fsrc);
     free(r->ft);
     free(r->ftime);
+    free(r->wt);
+    vsv_source_free(r->wsrc);
+    for (int i = 0; r->path && i < r->nsrc; i++)
+        free(r->path[i]);
+    free(r->path);
     vsv_meta_clear(&r->meta);
     free(r);
 }

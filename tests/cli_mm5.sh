@@ -59,7 +59,7 @@ fi
 
 # selections and bad input
 expect "a 2-D field is refused, listing the 3-D ones" 1 "$B/vsv-extract" --vars TERRAIN "$CROP"
-has "2-D refusal lists 3-D variables" "$T/err" "not a 3-D variable 'TERRAIN'; available: T Q CLW RNW ICE SNOW"
+has "2-D refusal lists 3-D variables" "$T/err" "not a 3-D variable 'TERRAIN'; available: U V T Q CLW RNW ICE SNOW W"
 expect "an unknown variable is refused" 1 "$B/vsv-extract" --vars NOPE "$CROP"
 head -c 200000 "$CROP" > "$T/MMOUT_CUT"
 expect "a cut file exits 1" 1 "$B/vsv-convert" "$T/MMOUT_CUT" -o "$T/cut.vsv"

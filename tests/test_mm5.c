@@ -467,7 +467,7 @@ static void test_bad(void)
     vsv_test_write(badp, bad, n);
     m = NULL;
     rc = vsv_mm5_open(badp, &m);
-    CHECK(rc == VSV_ECORRUPT && strstr(vsv_mm5_error(m), "field T has 96000 bytes of data, its sub-header implies 102400"),
+    CHECK(rc == VSV_ECORRUPT && strstr(vsv_mm5_error(m), "field U has 96000 bytes of data, its sub-header implies 102400"),
           "a field whose size disagrees with its sub-header is an error", "%s", vsv_mm5_error(m));
     vsv_mm5_free(m);
     /* every truncation length and many flips: errors or success, never a crash */

@@ -22,6 +22,14 @@ step "The same in one process (byte-identical)" "vsv-convert --time-res 10m $MM5
 "$B/vsv-convert" --time-res 10m "$MM5" -o "$OUT/storm.vsv"
 cmp "$OUT/storm.vsv" "$OUT/storm-pipe.vsv" && echo "identical: $OUT/storm.vsv = $OUT/storm-pipe.vsv"
 
+step "Frames between the hourly outputs carried along the model's own winds (U V W) instead of cross-faded" \
+     "vsv-convert --time-res 10m --interp advect $MM5 -o $OUT/moving.vsv"
+"$B/vsv-convert" --time-res 10m --interp advect "$MM5" -o "$OUT/moving.vsv"
+"$B/vsv-info" "$OUT/moving.vsv" | grep 'time interpolation'
+echo "01:30, half way between two outputs: cross-faded $OUT/half-linear.png, carried $OUT/half-advect.png"
+"$B/vsv-render" "$OUT/storm.vsv" --time 9 --species CLW:2,SNOW --size 480x360 -o "$OUT/half-linear.png"
+"$B/vsv-render" "$OUT/moving.vsv" --time 9 --species CLW:2,SNOW --size 480x360 -o "$OUT/half-advect.png"
+
 step "Inspect" "vsv-info $OUT/storm.vsv"
 "$B/vsv-info" "$OUT/storm.vsv"
 

@@ -1,0 +1,37 @@
+/* vsv_advect.h — interpolation in time along the model's winds
+ * (--interp advect): a frame between two outputs is the blend of the earlier
+ * output carried forward and the later one carried back along
+ * semi-Lagrangian trajectories through the 3-D wind. Private to convert/;
+ * vsv_interp drives it. */
+#ifndef VSV_ADVECT_H
+#define VSV_ADVECT_H
+
+#include "vsv_format.h"
+
+typedef struct vsv_advect vsv_advect;
+
+/* For the grid of `grid` (nx, ny, nz, origin, spacing, projection, vertical
+ * axis; borrowed for the call only). threads: workers a frame uses, 0 = one
+ * per online CPU. Caller frees with vsv_advect_free. 0 or VSV_ENOMEM. */
+int vsv_advect_create(const vsv_meta *grid, int threads, vsv_advect **out);
+/* 1 if the vertical axis gives vertical motion a length (even heights or
+ * native levels with heights); 0 when W is ignored (layer index, pressure). */
+int vsv_advect_has_vertical(const vsv_advect *a);
+/* The winds at the two ends of the interval: u0, v0 (and w0, or NULL for no
+ * vertical motion) at its start, u1, v1, w1 at its end; m/s, u and v along
+ * the grid's x and y axes, w upward. NaN (below ground) counts as calm. */
+void vsv_advect_winds(vsv_advect *a, const float *u0, const float *v0, const float *w0, const float *u1,
+                      const float *v1, const float *w1);
+/* out[s] (caller buffers of nx*ny*nz floats) for the ns fields at time t of
+ * [t0, t1]: (float)(A + (B - A) * w), w = (t - t0) / (t1 - t0) in double,
+ * A = f0[s] at the point whose trajectory reaches the cell at t, B = f1[s] at
+ * the point the trajectory reaches at t1, each sampled trilinearly from the 8
+ * cells around it (cells without data skipped) and clamped to their range.
+ * NaN where f0 or f1 is NaN at the cell itself (as linear interpolation).
+ * Uses the winds last given. Threads that cannot start leave their share
+ * to the caller's thread. Returns 0. */
+int vsv_advect_frame(vsv_advect *a, int64_t t0, int64_t t1, int64_t t, int ns, const float *const *f0,
+                     const float *const *f1, float *const *out);
+void vsv_advect_free(vsv_advect *a);
+
+#endif

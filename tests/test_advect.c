@@ -1,0 +1,298 @@
+/* test_advect.c — time interpolation along the winds (--interp advect):
+ * a cloud carried by a uniform wind comes out whole where linear
+ * interpolation shows two ghosts; a calm gives linear interpolation bit for
+ * bit; originals pass through exactly; no new extremes; winds never
+ * emitted; advect without winds is an error naming them. */
+#include "vsv_convert.h"
+#include "vsv_format.h"
+#include "vsv_testlib.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { NX = 40, NY = 6, NZ = 16, NC = NX * NY * NZ, MAXF = 16 };
+
+typedef struct frames {
+    int n, nf;
+    int64_t t[MAXF];
+    float *f[MAXF][4];
+} frames;
+
+static int keep(void *ctx, int64_t t, const float *const *f)
+{
+    frames *fr = ctx;
+    if (fr->n >= MAXF)
+        return -1;
+    fr->t[fr->n] = t;
+    for (int v = 0; v < fr->nf; v++) {
+        fr->f[fr->n][v] = malloc(NC * sizeof(float));
+        memcpy(fr->f[fr->n][v], f[v], NC * sizeof(float));
+    }
+    fr->n++;
+    return 0;
+}
+
+static void frames_free(frames *fr)
+{
+    for (int i = 0; i < fr->n; i++)
+        for (int v = 0; v < fr->nf; v++)
+            free(fr->f[i][v]);
+    fr->n = 0;
+}
+
+/* A grid of NX x NY x NZ cells, 1 km x 1 km x 500 m, no projection, and
+ * the variables named. */
+static void grid(vsv_meta *m, const char *const *names, int n)
+{
+    vsv_meta_init(m);
+    m->nx = NX, m->ny = NY, m->nz = NZ;
+    m->spacing[0] = m->spacing[1] = 1000;
+    m->spacing[2] = 500;
+    m->vert_kind = VSV_VERT_EVEN;
+    for (int i = 0; i < n; i++)
+        vsv_meta_add_var(m, names[i], "", "");
+}
+
+/* A round cloud of peak 1 centred at (x, 3, z) cells. */
+static void cloud(float *f, double x, double z)
+{
+    for (int k = 0; k < NZ; k++)
+        for (int j = 0; j < NY; j++)
+            for (int i = 0; i < NX; i++) {
+                const double r2 = (i - x) * (i - x) + (j - 3.0) * (j - 3.0) + (k - z) * (k - z);
+                f[(k * NY + j) * NX + i] = (float)exp(-r2 / 8);
+            }
+}
+
+static void fill(float *f, float v)
+{
+    for (int i = 0; i < NC; i++)
+        f[i] = v;
+}
+
+static float maxval(const float *f)
+{
+    float m = -INFINITY;
+    for (int i = 0; i < NC; i++)
+        m = f[i] > m ? f[i] : m;
+    return m;
+}
+
+/* Cells whose trajectories of up to 9 cells along x and 3 along z stay in
+ * the grid (elsewhere the air came from outside it). */
+static int inside(int c)
+{
+    const int i = c % NX, k = c / (NX * NY);
+    return i >= 9 && i <= NX - 10 && k >= 3 && k <= NZ - 4;
+}
+
+/* Runs two frames (0 s and 3600 s) through an interpolator every 900 s. */
+static int run(int method, const vsv_meta *m, const float *const *a, const float *const *b, frames *fr)
+{
+    vsv_interp_opts o = {method, 2};
+    vsv_interp *ip = NULL;
+    int rc = vsv_interp_open(900, m, &o, keep, fr, &ip);
+    if (!rc)
+        rc = vsv_interp_push(ip, 0, a);
+    if (!rc)
+        rc = vsv_interp_push(ip, 3600, b);
+    vsv_interp_free(ip);
+    return rc;
+}
+
+static void test_uniform_wind(void)
+{
+    static const char *const names[] = {"CLW", VSV_WIND_U, VSV_WIND_V, VSV_WIND_W};
+    vsv_meta m;
+    grid(&m, names, 4);
+    float *a[4], *b[4], *truth = malloc(NC * sizeof(float));
+    for (int v = 0; v < 4; v++) {
+        a[v] = malloc(NC * sizeof(float));
+        b[v] = malloc(NC * sizeof(float));
+    }
+    /* the cloud moves 12 cells east (12 km) and 4 cells up (2 km) in an hour */
+    cloud(a[0], 10, 4);
+    cloud(b[0], 22, 8);
+    fill(a[1], 12000 / 3600.0f), fill(b[1], 12000 / 3600.0f);
+    fill(a[2], 0), fill(b[2], 0);
+    fill(a[3], 2000 / 3600.0f), fill(b[3], 2000 / 3600.0f);
+    frames adv = {0, 1, {0}, {{0}}}, lin = {0, 1, {0}, {{0}}};
+    const int rc = run(VSV_TIME_ADVECT, &m, (const float *const *)a, (const float *const *)b, &adv);
+    run(VSV_TIME_LINEAR, &m, (const float *const *)a, (const float *const *)b, &lin);
+    if (CHECK(rc == 0 && adv.n == 5 && lin.n == 5, "advect: five frames from two an hour apart at 15 min", "rc %d, %d frames",
+              rc, adv.n)) {
+        /* half way: the cloud at (16, 6), whole */
+        cloud(truth, 16, 6);
+        double e_adv = 0, e_lin = 0;
+        for (int i = 0; i < NC; i++) {
+            if (!inside(i))
+                continue;
+            e_adv = fmax(e_adv, fabs(adv.f[2][0][i] - truth[i]));
+            e_lin = fmax(e_lin, fabs(lin.f[2][0][i] - truth[i]));
+        }
+        CHECK(e_adv < 1e-4, "advect: a cloud in a uniform 3-D wind is rebuilt exactly half way", "max error %.3g", e_adv);
+        CHECK(maxval(lin.f[2][0]) < 0.51f && e_lin > 0.9,
+              "linear: the same cloud is two half-bright ghosts half way", "peak %.3f, max error %.3g",
+              maxval(lin.f[2][0]), e_lin);
+        CHECK(maxval(adv.f[2][0]) > 0.999f && maxval(adv.f[2][0]) <= 1.0f, "advect: the cloud keeps its peak",
+              "%.4f", maxval(adv.f[2][0]));
+        /* a quarter of the way: 3 cells east, 1 up; off-grid samples smooth it a little */
+        cloud(truth, 13, 5);
+        double e1 = 0;
+        for (int i = 0; i < NC; i++)
+            if (inside(i))
+                e1 = fmax(e1, fabs(adv.f[1][0][i] - truth[i]));
+        CHECK(e1 < 1e-4, "advect: rebuilt a quarter of the way too", "max error %.3g", e1);
+        CHECK(!memcmp(adv.f[0][0], a[0], NC * 4) && !memcmp(adv.f[4][0], b[0], NC * 4) && adv.t[4] == 3600,
+              "advect: the originals pass through bit for bit");
+    }
+    frames_free(&adv);
+    frames_free(&lin);
+    /* a sheared, turning wind: values stay within the inputs' range, none negative */
+    for (int i = 0; i < NC; i++) {
+        const int x = i % NX, k = i / (NX * NY);
+        a[1][i] = 20 * sinf(0.3f * k), b[1][i] = 15 * cosf(0.2f * x);
+        a[2][i] = 8 * cosf(0.4f * x), b[2][i] = -6;
+        a[3][i] = 0.3f * sinf(0.1f * x), b[3][i] = 0.1f;
+        a[0][i] = (x * 7919 + k * 104729) % 13 == 0 ? NAN : (float)((i * 2654435761u) % 1000) / 1000;
+        b[0][i] = (float)((i * 40503u) % 997) / 997;
+    }
+    run(VSV_TIME_ADVECT, &m, (const float *const *)a, (const float *const *)b, &adv);
+    int bad = 0, nans = 0;
+    for (int f = 1; f < 4 && adv.n == 5; f++)
+        for (int i = 0; i < NC; i++) {
+            const float v = adv.f[f][0][i];
+            if (isnan(a[0][i]))
+                nans += isnan(v);
+            else
+                bad += !(v >= 0 && v <= 1);
+        }
+    int nan_in = 0;
+    for (int i = 0; i < NC; i++)
+        nan_in += isnan(a[0][i]);
+    CHECK(adv.n == 5 && !bad && nans == 3 * nan_in,
+          "advect in a sheared wind: no value outside the inputs' range, none negative, NaN where linear has it",
+          "%d bad, %d NaN of %d", bad, nans, 3 * nan_in);
+    frames_free(&adv);
+    for (int v = 0; v < 4; v++)
+        free(a[v]), free(b[v]);
+    free(truth);
+    vsv_meta_clear(&m);
+}
+
+static void test_calm(void)
+{
+    static const char *const names[] = {VSV_WIND_U, "Q", VSV_WIND_V, "SNOW"};
+    vsv_meta m;
+    grid(&m, names, 4);
+    float *a[4], *b[4];
+    uint64_t st = 7;
+    for (int v = 0; v < 4; v++) {
+        a[v] = malloc(NC * sizeof(float));
+        b[v] = malloc(NC * sizeof(float));
+        for (int i = 0; i < NC; i++) {
+            a[v][i] = (float)(vsv_test_rand(&st) % 100000) / 7;
+            b[v][i] = (float)(vsv_test_rand(&st) % 100000) / 3;
+        }
+    }
+    fill(a[0], 0), fill(b[0], 0), fill(a[2], 0), fill(b[2], 0);
+    a[1][5] = NAN, b[3][77] = NAN;
+    frames adv = {0, 2, {0}, {{0}}}, lin = {0, 2, {0}, {{0}}};
+    run(VSV_TIME_ADVECT, &m, (const float *const *)a, (const float *const *)b, &adv);
+    run(VSV_TIME_LINEAR, &m, (const float *const *)a, (const float *const *)b, &lin);
+    int same = adv.n == 5 && lin.n == 5;
+    for (int f = 0; same && f < 5; f++)
+        same = adv.t[f] == lin.t[f] && !memcmp(adv.f[f][0], lin.f[f][0], NC * 4) && !memcmp(adv.f[f][1], lin.f[f][1], NC * 4);
+    CHECK(same, "advect in a calm equals linear interpolation bit for bit (NaN cells too)");
+    CHECK(adv.n == 5 && isnan(adv.f[2][0][5]) && isnan(adv.f[2][1][77]) && adv.f[2][1][78] == lin.f[2][1][78],
+          "only Q and SNOW are emitted, in order; the winds are consumed");
+    frames_free(&adv);
+    frames_free(&lin);
+    for (int v = 0; v < 4; v++)
+        free(a[v]), free(b[v]);
+    vsv_meta_clear(&m);
+}
+
+static void test_meta_and_errors(void)
+{
+    static const char *const names[] = {"CLW", "SNOW", VSV_WIND_U, VSV_WIND_V};
+    vsv_meta m, out;
+    grid(&m, names, 4);
+    vsv_meta_add_attr(&m, "model run", "x");
+    vsv_meta_add_attr(&m, VSV_WINDS_ATTR, "U V of test");
+    vsv_meta_init(&out);
+    vsv_interp_opts o = {VSV_TIME_ADVECT, 1};
+    vsv_interp *ip = NULL;
+    frames fr = {0, 2, {0}, {{0}}};
+    int rc = vsv_interp_open(600, &m, &o, keep, &fr, &ip);
+    CHECK(rc == 0, "advect opens with wind.u and wind.v (no wind.w)", "%s", vsv_interp_error(ip));
+    rc = vsv_interp_meta(ip, &m, &out);
+    CHECK(!rc && out.nvars == 2 && !strcmp(out.vars[1].name, "SNOW") && !vsv_meta_attr(&out, VSV_WINDS_ATTR) &&
+              vsv_meta_attr(&out, "model run") && vsv_meta_attr(&out, "time interpolation") &&
+              strstr(vsv_meta_attr(&out, "time interpolation"), "U V of test (horizontal only)"),
+          "emitted metadata: species only, the winds' origin recorded as the interpolation",
+          "%d vars, %s", out.nvars, vsv_meta_attr(&out, "time interpolation") ? vsv_meta_attr(&out, "time interpolation") : "-");
+    vsv_interp_free(ip);
+    vsv_meta_clear(&out);
+    vsv_meta_clear(&m);
+    static const char *const nowind[] = {"CLW", VSV_WIND_V};
+    grid(&m, nowind, 2);
+    rc = vsv_interp_open(600, &m, &o, keep, &fr, &ip);
+    CHECK(rc == VSV_ENOTFOUND && strstr(vsv_interp_error(ip), "no wind.u") && !strstr(vsv_interp_error(ip), "no wind.v"),
+          "advect without wind.u is an error naming it", "%d: %s", rc, vsv_interp_error(ip));
+    vsv_interp_free(ip);
+    o.method = VSV_TIME_LINEAR;
+    rc = vsv_interp_open(600, &m, &o, keep, &fr, &ip);
+    CHECK(rc == 0, "linear needs no winds");
+    vsv_interp_free(ip);
+    vsv_meta_clear(&m);
+    CHECK(vsv_interp_method("advect") == VSV_TIME_ADVECT && vsv_interp_method("linear") == VSV_TIME_LINEAR &&
+              vsv_interp_method("cubic") < 0,
+          "method names");
+}
+
+/* On a map projection a metre of wind is m/dx cells: on a latitude/
+ * longitude grid at 60N a degree of longitude is half as long as at the
+ * equator, so an east wind of 18.53 m/s crosses 12 cells of 0.1 degree in
+ * an hour. */
+static void test_map_scale(void)
+{
+    static const char *const names[] = {"CLW", VSV_WIND_U, VSV_WIND_V};
+    vsv_meta m;
+    grid(&m, names, 3);
+    m.proj.kind = VSV_PROJ_LATLON;
+    m.spacing[0] = m.spacing[1] = 0.1;
+    m.origin[0] = 10, m.origin[1] = 59.7; /* row 3 at 60N */
+    float *a[3], *b[3], *truth = malloc(NC * sizeof(float));
+    for (int v = 0; v < 3; v++) {
+        a[v] = malloc(NC * sizeof(float));
+        b[v] = malloc(NC * sizeof(float));
+    }
+    const float u = (float)(12 * 0.1 * M_PI / 180 * 6370000 * 0.5 / 3600);
+    cloud(a[0], 10, 8), cloud(b[0], 22, 8), cloud(truth, 16, 8);
+    fill(a[1], u), fill(b[1], u), fill(a[2], 0), fill(b[2], 0);
+    frames adv = {0, 1, {0}, {{0}}};
+    run(VSV_TIME_ADVECT, &m, (const float *const *)a, (const float *const *)b, &adv);
+    double e = 1;
+    if (adv.n == 5) {
+        e = 0;
+        for (int i = 0; i < NC; i++)
+            e = fmax(e, fabs(adv.f[2][0][i] - truth[i]));
+    }
+    CHECK(e < 0.03, "advect on a latitude/longitude grid: the wind in m/s is scaled to degrees at 60N", "max error %.3g", e);
+    frames_free(&adv);
+    for (int v = 0; v < 3; v++)
+        free(a[v]), free(b[v]);
+    free(truth);
+    vsv_meta_clear(&m);
+}
+
+int main(void)
+{
+    test_uniform_wind();
+    test_calm();
+    test_meta_and_errors();
+    test_map_scale();
+    return vsv_test_done();
+}
