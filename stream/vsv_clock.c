@@ -64,16 +64,31 @@ static void settle(vsv_clock *c)
     c->step = k;
 }
 
+/* Looping, the last step is shown for as long as the one before it (and,
+ * backwards, the first as long as the second): model time runs over
+ * [t0, t1 + dl) forward and (t0 - df, t1] backward, so every step, the last
+ * included, is on screen once per lap. */
 int vsv_clock_tick(vsv_clock *c, double dt)
 {
     if (!c->playing || c->nsteps < 2 || !(dt > 0))
         return c->step;
-    const double t0 = (double)c->times[0], t1 = (double)c->times[c->nsteps - 1], span = t1 - t0;
+    const int n = c->nsteps;
+    const double t0 = (double)c->times[0], t1 = (double)c->times[n - 1];
     double m = c->model + dt * c->rate * c->speed;
+    if (c->ends == VSV_CLOCK_LOOP) {
+        const double dl = (double)(c->times[n - 1] - c->times[n - 2]), df = (double)(c->times[1] - c->times[0]);
+        const double lo = c->speed < 0 ? t0 - df : t0, hi = c->speed < 0 ? t1 : t1 + dl, lap = hi - lo;
+        if (lap > 0 && c->speed > 0 && m >= hi)
+            m = lo + fmod(m - lo, lap);
+        else if (lap > 0 && c->speed < 0 && m <= lo)
+            m = hi - fmod(hi - m, lap);
+        c->model = m;
+        settle(c);
+        return c->step;
+    }
+    const double span = t1 - t0;
     for (int guard = 0; (m > t1 || m < t0) && guard < 64; guard++) {
-        if (c->ends == VSV_CLOCK_LOOP) {
-            m = m > t1 ? t0 + fmod(m - t1, span > 0 ? span : 1) : t1 - fmod(t0 - m, span > 0 ? span : 1);
-        } else if (c->ends == VSV_CLOCK_BOUNCE) {
+        if (c->ends == VSV_CLOCK_BOUNCE && span > 0) {
             m = m > t1 ? t1 - (m - t1) : t0 + (t0 - m);
             c->speed = -c->speed;
         } else {

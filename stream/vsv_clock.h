@@ -7,7 +7,11 @@
  * wall second (by default the median step interval per 1/4 s, so four
  * steps a second); fast-forward and rewind multiply that by 2, 4 ... 64
  * (negative speeds play backwards). At an end the clock stops, wraps (loop)
- * or turns round (bounce). Stepping pauses and moves by whole steps. */
+ * or turns round (bounce). Looping, the last step stays on screen as long as
+ * the one before it (backwards: the first as long as the second) before the
+ * wrap, so every step is shown once a lap; model time then runs up to one
+ * interval past the last step (before the first). Stepping pauses and moves
+ * by whole steps. */
 #ifndef VSV_CLOCK_H
 #define VSV_CLOCK_H
 

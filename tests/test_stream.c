@@ -262,8 +262,24 @@ static void test_clock(void)
     c.ends = VSV_CLOCK_LOOP;
     vsv_clock_seek_step(&c, 8);
     vsv_clock_set_speed(&c, 1);
-    vsv_clock_tick(&c, 0.5);
-    CHECK(c.step == 1 && c.playing, "loop: past the end wraps to the start", "(step %d)", c.step);
+    vsv_clock_tick(&c, 0.375);
+    CHECK(c.step == 9 && c.playing, "loop: the last step is shown before the wrap", "(step %d)", c.step);
+    vsv_clock_tick(&c, 0.25);
+    CHECK(c.step == 0 && c.playing, "loop: past the end wraps to the start", "(step %d)", c.step);
+    /* four laps in ticks of 0.1 s (2.5 ticks a step): every step, the last
+     * included, is on screen about as long as every other, both ways */
+    for (int dir = 1; dir >= -1; dir -= 2) {
+        int seen[10] = {0}, lo = 1000, hi = 0;
+        vsv_clock_set_speed(&c, dir);
+        for (int i = 0; i < 100; i++)
+            seen[vsv_clock_tick(&c, 0.1)]++;
+        for (int k = 0; k < 10; k++)
+            lo = seen[k] < lo ? seen[k] : lo, hi = seen[k] > hi ? seen[k] : hi;
+        CHECK(lo >= 8 && hi <= 12, dir > 0 ? "loop forward: every step is shown, the last as long as the others"
+                                           : "loop backward: every step is shown, the first as long as the others",
+              "(ticks per step: first %d, last %d, fewest %d, most %d)", seen[0], seen[9], lo, hi);
+    }
+    vsv_clock_set_speed(&c, 1);
     c.ends = VSV_CLOCK_BOUNCE;
     vsv_clock_seek_step(&c, 8);
     vsv_clock_tick(&c, 0.5);
