@@ -69,7 +69,7 @@ endif
 # shared with vsv-convert-mpi
 CONVERT_CLI = convert/vsv_convert_cli.c
 LIB_C = $(filter-out $(CONVERT_CLI),$(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c)) $(wildcard interop/vsv_*.c) $(wildcard render/vsv_*.c) \
-        $(wildcard stream/vsv_*.c) viewer/vsv_player.c
+        $(wildcard stream/vsv_*.c) viewer/vsv_player.c viewer/vsv_freevr_conf.c
 LIB_CXX = $(wildcard format/vsv_*.cc) $(wildcard interop/vsv_*.cc)
 LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
 LIB = $(B)/libvesuvius.a
@@ -104,7 +104,7 @@ ifeq ($(strip $(PY_MISSING)),)
   PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
 endif
 
-.PHONY: all test demo bench install uninstall clean fuzz help deps freevr-syntax
+.PHONY: all test demo bench install uninstall clean fuzz help deps freevr freevr-syntax
 .SECONDARY:
 all: $(LIB) $(SHLIB) $(TOOL_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
@@ -184,20 +184,48 @@ $(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(LIB)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL) $(VIEWER_LIBS)
 
-# The FreeVR back end: built against a FreeVR install named by FREEVR_DIR;
-# without one, `make test` still compiles it (syntax only) against the
-# declarations in viewer/freevr/ so it cannot rot.
+# The FreeVR back end: `make FREEVR_DIR=DIR freevr` builds it against a
+# FreeVR install (DIR/include/freevr.h, DIR/lib/libfreevr.a; its headers as
+# system headers, which -Wstrict-prototypes would reject). `make test` builds
+# it against the project's stand-in (tests/freevr-standin/, never installed)
+# and checks its syntax against the declarations in viewer/freevr/.
 FREEVR_LIBS = -lGL -lX11 -lXi -ldl -lm -lpthread
 ifneq ($(FREEVR_DIR),)
 TOOLS += vsv-play-freevr
 endif
+# $(call freevr_link,OUTPUT,FREEVR-DIR)
+define freevr_link
+	@mkdir -p $(dir $(1))
+	@$(if $(Q),echo "  CC/LD   $(1)")
+	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) viewer/vsv-play-freevr.c \
+	  $(B)/viewer/vsv_overlay.o $(LIB) $(2)/lib/libfreevr.a $(LDLIBS_ALL) $(VIEWER_LIBS) $(FREEVR_LIBS)
+endef
+freevr: $(B)/vsv-play-freevr
 $(B)/vsv-play-freevr: viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(LIB)
-	@$(if $(Q),echo "  CC/LD   $@")
-	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -I$(FREEVR_DIR)/include -o $@ $< $(B)/viewer/vsv_overlay.o $(LIB) \
-	  $(FREEVR_DIR)/lib/libfreevr.a $(LDLIBS_ALL) $(VIEWER_LIBS) $(FREEVR_LIBS)
+	@test -n "$(FREEVR_DIR)" || { echo "vsv-play-freevr needs FreeVR: make FREEVR_DIR=DIR freevr" \
+	  "(DIR/include/freevr.h, DIR/lib/libfreevr.a)" >&2; exit 2; }
+	@test -f "$(FREEVR_DIR)/include/freevr.h" -a -f "$(FREEVR_DIR)/lib/libfreevr.a" || { echo "FREEVR_DIR=$(FREEVR_DIR):" \
+	  "no include/freevr.h or lib/libfreevr.a there" >&2; exit 2; }
+	$(call freevr_link,$@,$(FREEVR_DIR))
 
+# the stand-in: FreeVR's calls and conventions (../shared/docs/FREEVR.md)
+# written by the project for tests, laid out like an install
+STANDIN = $(B)/tests/freevr-standin
+$(B)/tests/freevr-standin/freevr.o: CFLAGS_ALL += -isystem viewer/freevr
+$(STANDIN)/include/freevr.h: viewer/freevr/freevr.h
+	@mkdir -p $(dir $@)
+	$(Q)cp $< $@
+$(STANDIN)/lib/libfreevr.a: $(B)/tests/freevr-standin/freevr.o
+	@mkdir -p $(dir $@)
+	$(Q)rm -f $@ && ar rcs $@ $^
+$(B)/tests/vsv-play-freevr: viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(LIB) $(STANDIN)/include/freevr.h \
+                            $(STANDIN)/lib/libfreevr.a
+	$(call freevr_link,$@,$(STANDIN))
+
+# syntax only, no dependency file (it would land in the source tree)
 freevr-syntax:
-	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -Iviewer/freevr -fsyntax-only viewer/vsv-play-freevr.c
+	$(Q)$(CC) $(filter-out -MMD -MP,$(CFLAGS_ALL)) $(VIEWER_CFLAGS) -isystem viewer/freevr -fsyntax-only \
+	  viewer/vsv-play-freevr.c
 
 $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(LIB)
 	@$(if $(Q),echo "  LD      $@")
@@ -212,14 +240,14 @@ $(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPER
 $(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
-test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop
+test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/vsv-play-freevr
 	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
 
 # The demo: install what is missing (or print the apt-get line), build, then
 # run the main job on the bundled sample.
 demo:
 	$(Q)sh tools/deps.sh --install
-	$(Q)$(MAKE) --no-print-directory all
+	$(Q)$(MAKE) --no-print-directory all $(B)/tests/vsv-play-freevr
 	$(Q)B=$(B) sh tools/demo.sh
 
 BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
@@ -262,7 +290,7 @@ install: all
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' tools/vesuvius.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/vesuvius.pc
 	install -m 644 format/vsv_format.h render/vsv_render.h stream/vsv_pager.h stream/vsv_clock.h viewer/vsv_player.h \
 	  $(DESTDIR)$(INCDIR)/
-	install -m 644 man/*.1 $(DESTDIR)$(MANDIR)/man1/
+	install -m 644 $(filter-out $(if $(FREEVR_DIR),,man/vsv-play-freevr.1),$(wildcard man/*.1)) $(DESTDIR)$(MANDIR)/man1/
 	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
 	install -m 644 share/transfer-functions.tf $(DESTDIR)$(DATADIR)/vesuvius/
 	if [ -n "$(PYMOD)" ]; then install -d $(DESTDIR)$(PYDIR)/vesuvius && install -m 644 $(PYMOD) $(DESTDIR)$(PYDIR)/vesuvius/; fi

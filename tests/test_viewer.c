@@ -1,6 +1,8 @@
 /* test_viewer.c — the player behind vsv-play: the action language, the
- * status line, playback through the pager, images, shared state, and the
- * camera an immersive display's matrices give. */
+ * status line, playback through the pager, images, shared state, the
+ * camera an immersive display's matrices give, and the window count the
+ * FreeVR back end reads from FreeVR's configuration. */
+#include "vsv_freevr_conf.h"
 #include "vsv_player.h"
 #include "vsv_testlib.h"
 
@@ -171,8 +173,48 @@ static void test_camera_from_gl(vsv_player *p)
     CHECK(vsv_player_image(p, &cam, e, sizeof e) != NULL, "an off-axis camera renders", "(%s)", e);
 }
 
+/* FreeVR configurations in FreeVR's syntax, read in FreeVR's order. */
+static void test_freevr_layout(void)
+{
+    vsv_freevr_layout l;
+    vsv_freevr_layout_count(NULL, 0, &l);
+    CHECK(l.windows == 1 && l.visren == 1 && !l.explicit, "no configuration: FreeVR's simulator, one window",
+          "(%d %d)", l.windows, l.visren);
+    const char *cave =
+        "# four walls\n"
+        "system \"cave\" = { type = \"cave\"; procs = \"pf\", \"pl\", \"pr\", \"pb\", \"pin\"; }\n"
+        "window \"front\" = { mount = \"fixed\"; args = \"geometry=300x300+320+10; decoration=window\";\n"
+        "  rw2w_coords = -5,0,-5, 5,0,-5, -5,10,-5; }\n"
+        "process \"pf\" = { type = visren; objects = \"front\"; }\n"
+        "process \"pl\" = { type = visren; objects = \"left\"; }\n"
+        "process \"pr\" = { type = visren; objects = \"right\"; }\n"
+        "process \"pb\" = { type = \"visren\"; objects = \"floor\"; } // the floor\n"
+        "process \"pin\" = { type = input; usecmin = 15000; objects = \"xin\"; }\n"
+        "inputdevice \"xin\" = { type = \"xwindows\"; input \"Escape Key\" = \"2switch(keyboard:key[Escape])\"; }\n";
+    const char *texts[3] = {cave, NULL, "usesystem \"cave\";"};
+    vsv_freevr_layout_count(texts, 3, &l);
+    CHECK(l.windows == 4 && l.visren == 4 && l.explicit, "a four-wall system chosen by a later string: 4 and 4",
+          "(%d %d %d)", l.windows, l.visren, l.explicit);
+    const char *more[3] = {cave, "usesystem \"cave\"; process \"pb\" = { type = visren; objects = \"floor, ceil\"; }",
+                           "process \"pl\" = { type = input; }"};
+    vsv_freevr_layout_count(more, 3, &l);
+    CHECK(l.windows == 4 && l.visren == 3, "later definitions override: two windows in one process, one not visren",
+          "(%d %d)", l.windows, l.visren);
+    const char *nosys[1] = {"usesystem \"none\"; window \"a\" = {} window \"b\" = {}\n"
+                            "process \"p\" = { type = visren; objects = \"a\"; }"};
+    vsv_freevr_layout_count(nosys, 1, &l);
+    CHECK(l.windows == 2 && l.visren == 1 && !l.explicit, "an unknown system: a bound from every definition",
+          "(%d %d)", l.windows, l.visren);
+    l = (vsv_freevr_layout){8, 8, 1};
+    CHECK(vsv_freevr_arena_bytes(&l, 1000) == 16ul << 20, "eight windows: FreeVR's default arena, 16 MiB", " ");
+    l = (vsv_freevr_layout){100, 100, 1};
+    CHECK(vsv_freevr_arena_bytes(&l, 1000) == (1ul << 20) + 100 * (256ul << 10) + 1000,
+          "a hundred windows: 1 MiB + 256 KiB a window", " ");
+}
+
 int main(void)
 {
+    test_freevr_layout();
     const char *path = vsv_test_tmp("viewer-crop.vsv");
     char cmd[2048];
     snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s",

@@ -121,4 +121,47 @@ elif command -v xvfb-run > /dev/null; then
 else
     printf '\n(no display and no xvfb-run: playback skipped; apt-get install xvfb xauth)\n'
 fi
-printf '\nDone: %s/storm.vsv, storm.png, frame*.png, storm.mp4, vdb/*.vdb and play-*.png\n' "$OUT"
+
+# The FreeVR back end in a four-wall CAVE, run against the project's FreeVR
+# stand-in (tests/freevr-standin/, built by make demo; it is not FreeVR) in a
+# virtual display: each wall's frame as the stand-in read it back, then Escape.
+if [ -x "$B/tests/vsv-play-freevr" ] && command -v xvfb-run > /dev/null && command -v xdotool > /dev/null; then
+    step "A four-wall CAVE (FreeVR stand-in under Xvfb): left, front, right and floor walls" \
+         "FREEVR='usesystem \"cave4\"; ...' vsv-play-freevr $OUT/storm.vsv --play --loop"
+    mkdir -p "$OUT/cave"
+    rm -f "$OUT"/cave/*.ppm
+    FREEVR='usesystem "cave4";
+system "cave4" = { type = "cave"; procs = "pf", "pl", "pr", "pb", "pin"; }
+window "front" = { mount = "fixed"; args = "geometry=320x320+330+0"; rw2w_coords = -5,0,-5, 5,0,-5, -5,10,-5; }
+window "left" = { mount = "fixed"; args = "geometry=320x320+0+0"; rw2w_coords = -5,0,5, -5,0,-5, -5,10,5; }
+window "right" = { mount = "fixed"; args = "geometry=320x320+660+0"; rw2w_coords = 5,0,-5, 5,0,5, 5,10,-5; }
+window "floor" = { mount = "fixed"; args = "geometry=320x320+330+330"; rw2w_coords = -5,0,5, 5,0,5, -5,0,-5; }
+process "pf" = { type = visren; objects = "front"; }
+process "pl" = { type = visren; objects = "left"; }
+process "pr" = { type = visren; objects = "right"; }
+process "pb" = { type = visren; objects = "floor"; }
+process "pin" = { type = input; usecmin = 15000; objects = "xin"; }
+inputdevice "xin" = { type = "xwindows"; input "Escape Key" = "2switch(keyboard:key[Escape])"; }'
+    cat > "$OUT/cave/session.sh" << 'EOS'
+FREEVR_STANDIN_DUMP=$OUT/cave "$B/tests/vsv-play-freevr" "$OUT/storm.vsv" --play --loop --rate 1200 2> "$OUT/cave/log" &
+pid=$!
+end=$(($(date +%s) + 30))
+while [ "$(date +%s)" -lt $end ] && kill -0 $pid 2> /dev/null; do
+    n=0
+    for w in left front right floor; do
+        [ "$(sed -n '2s/^# frame //p;2q' "$OUT/cave/$w.ppm" 2> /dev/null)" -ge 5 ] 2> /dev/null && n=$((n + 1))
+    done
+    [ $n = 4 ] && break
+    sleep 0.2
+done
+xdotool keydown Escape; sleep 0.3; xdotool keyup Escape
+wait $pid
+EOS
+    OUT=$OUT B=$B FREEVR=$FREEVR HOME=$OUT/cave FREEVR_HOME=$OUT/cave \
+        xvfb-run -a -s "-screen 0 1024x768x24" sh "$OUT/cave/session.sh" &&
+        /usr/bin/python3 tests/freevr_shot.py png "$OUT/cave.png" "$OUT"/cave/left.ppm "$OUT"/cave/front.ppm \
+            "$OUT"/cave/right.ppm "$OUT"/cave/floor.ppm && echo "the four walls: $OUT/cave.png"
+else
+    printf '\n(the FreeVR stand-in demo needs xvfb-run and xdotool: sh tools/deps.sh --install)\n'
+fi
+printf '\nDone: %s/storm.vsv, storm.png, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"

@@ -343,7 +343,7 @@ int main(int argc, char **argv)
         glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         double mn[3], mx[3];
         vsv_player_bounds(p, mn, mx);
-        vsv_billboard_draw(&cam, mn, mx, img, rw, rh, 1);
+        vsv_billboard_draw(&cam, vsv_billboard_depth(&cam, mn, mx), img, rw, rh, 1);
         char status[2048];
         vsv_player_status(p, status, sizeof status);
         vsv_overlay_text(ov, fw, fh, 8, -8, status);

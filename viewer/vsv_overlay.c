@@ -159,8 +159,16 @@ void vsv_overlay_text(vsv_overlay *o, int win_w, int win_h, int x0, int y0, cons
     glPopMatrix();
 }
 
-void vsv_billboard_draw(const vsv_camera *cam, const double mn[3], const double mx[3], const unsigned char *rgb,
-                        int w, int h, int set_projection)
+double vsv_billboard_depth(const vsv_camera *cam, const double mn[3], const double mx[3])
+{
+    const double fl = sqrt(cam->dir[0] * cam->dir[0] + cam->dir[1] * cam->dir[1] + cam->dir[2] * cam->dir[2]);
+    double d = 0;
+    for (int i = 0; i < 3; i++)
+        d += (0.5 * (mn[i] + mx[i]) - cam->pos[i]) * cam->dir[i] / (fl > 0 ? fl : 1);
+    return d > 0 ? d : 1;
+}
+
+void vsv_billboard_draw(const vsv_camera *cam, double d, const unsigned char *rgb, int w, int h, int set_projection)
 {
     static GLuint tex;
     /* the image's window at unit distance */
@@ -171,13 +179,6 @@ void vsv_billboard_draw(const vsv_camera *cam, const double mn[3], const double 
         t = cam->fov_deg > 0 ? tan(cam->fov_deg * M_PI / 360) : 1;
         b = -t, r = t * w / h, l = -r;
     }
-    /* the depth of the volume's centre along the view */
-    double f[3] = {cam->dir[0], cam->dir[1], cam->dir[2]}, d = 0;
-    const double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-    for (int i = 0; i < 3; i++)
-        d += (0.5 * (mn[i] + mx[i]) - cam->pos[i]) * f[i] / (fl > 0 ? fl : 1);
-    if (!(d > 0))
-        d = 1;
     if (set_projection) {
         const double n = d / 100;
         glMatrixMode(GL_PROJECTION);

@@ -1,8 +1,9 @@
 /* freevr.h — declarations only, written by the Vesuvius project from the
- * facts in ../shared/docs/FREEVR.md (FreeVR 0.6f / 0.7 API), so that
- * `make test` can compile the FreeVR back end with -fsyntax-only where
- * FreeVR is not installed. It is not FreeVR's header and is never used to
- * build a program: real builds use $FREEVR_DIR/include/freevr.h. */
+ * facts in ../shared/docs/FREEVR.md (FreeVR 0.6f / 0.7 API): `make test`
+ * compiles the FreeVR back end with -fsyntax-only against them, and they are
+ * the header of the project's FreeVR stand-in (tests/freevr-standin/), which
+ * `make test` builds the back end against. It is not FreeVR's header: builds
+ * for a real FreeVR use $FREEVR_DIR/include/freevr.h. */
 #ifndef VSV_FREEVR_DECLS_H
 #define VSV_FREEVR_DECLS_H
 #pragma GCC system_header /* FreeVR's own C style (unprototyped callbacks) */
