@@ -27,6 +27,7 @@ typedef struct vsv_source_opts {
     int nz;             /* even: number of levels (0: 40) */
     double ztop;        /* even: top of the grid, m above sea level (0: the model top) */
     const char *heights;/* CAMx: the height/pressure companion file, or NULL */
+    const char *met;    /* CAMx: a folder of met companions (found by content), or NULL */
     vsv_proj proj;      /* a projection for files without one (CAMx 5); kind NONE = not given */
     /* sequences of one-step files without times of their own (OpenVDB):
      * time of file i = time_start + i * time_step when time_step > 0 */
@@ -83,7 +84,8 @@ enum {
     VSV_SOURCE_OPT_LAT1,
     VSV_SOURCE_OPT_LAT2,
     VSV_SOURCE_OPT_TIME_STEP,
-    VSV_SOURCE_OPT_TIME_START
+    VSV_SOURCE_OPT_TIME_START,
+    VSV_SOURCE_OPT_MET
 };
 #define VSV_SOURCE_LONGOPTS                                                                        \
     {"vertical", required_argument, 0, VSV_SOURCE_OPT_VERTICAL},                                   \
@@ -93,7 +95,8 @@ enum {
         {"lon0", required_argument, 0, VSV_SOURCE_OPT_LON0}, {"lat1", required_argument, 0, VSV_SOURCE_OPT_LAT1}, \
         {"lat2", required_argument, 0, VSV_SOURCE_OPT_LAT2},                                   \
         {"time-step", required_argument, 0, VSV_SOURCE_OPT_TIME_STEP},                         \
-        {"time-start", required_argument, 0, VSV_SOURCE_OPT_TIME_START}
+        {"time-start", required_argument, 0, VSV_SOURCE_OPT_TIME_START},                       \
+        {"met", required_argument, 0, VSV_SOURCE_OPT_MET}
 #define VSV_SOURCE_HELP                                                                            \
     "Vertical grid:\n"                                                                             \
     "  --vertical even|native  even heights above sea level (default; cells below\n"              \
@@ -103,6 +106,10 @@ enum {
     "CAMx:\n"                                                                                      \
     "  --heights ZPFILE     layer heights from the height/pressure file (without it the\n"       \
     "                       vertical axis is the layer index)\n"                                  \
+    "  --met DIR            the met input files in DIR, found by their content: the\n"         \
+    "                       height/pressure file as the vertical coordinate, wind as U\n"      \
+    "                       and V, TEMP, HUMIDITY, KV, cloud/rain (CWC RWC ...), PRESS;\n"    \
+    "                       each checked against the file's grid, layers and hours\n"          \
     "  --proj lcc|pstereo|mercator|latlon --lat0 D --lon0 D --lat1 D --lat2 D\n"                 \
     "                       the projection of a CAMx 5 file (its header has none)\n"    \
     "OpenVDB sequences (one .vdb per step, given in time order):\n"                       \

@@ -127,6 +127,7 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
         return 1;
     }
     case VSV_SOURCE_OPT_HEIGHTS: o->heights = arg; return 1;
+    case VSV_SOURCE_OPT_MET: o->met = arg; return 1;
     case VSV_SOURCE_OPT_TIME_STEP: return vsv_duration_parse(arg, &o->time_step) ? -1 : 1;
     case VSV_SOURCE_OPT_TIME_START: return vsv_time_parse(arg, &o->time_start) ? -1 : 1;
     case VSV_SOURCE_OPT_PROJ:

@@ -9,6 +9,7 @@
 #include "vsv_source_internal.h"
 #include "vsv_vgrid.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -361,90 +362,14 @@ int vsv_uamiv_write(const char *path, const vsv_uamiv_header *h, int le, const i
     return bad ? VSV_EIO : 0;
 }
 
-/* -------------------------------------------------------------- ZP file */
-
-struct vsv_zp {
-    FILE *fp;
-    int nx, ny, nz, nhours, le;
-    size_t rec;
-    char err[512];
-};
-
-const char *vsv_zp_error(const vsv_zp *z) { return z ? z->err : "out of memory"; }
-int vsv_zp_nhours(const vsv_zp *z) { return z->nhours; }
-
-int vsv_zp_open(const char *path, int nx, int ny, int nz, vsv_zp **out)
-{
-    vsv_zp *z = *out = calloc(1, sizeof *z);
-    if (!z)
-        return VSV_ENOMEM;
-    z->nx = nx;
-    z->ny = ny;
-    z->nz = nz;
-    z->rec = 8 + 8 + 4 * (size_t)nx * ny;
-    if (!(z->fp = fopen(path, "rb"))) {
-        vsv_msg(z->err, sizeof z->err, "%s: cannot open: %s", path, strerror(errno));
-        return VSV_EIO;
-    }
-    unsigned char m[4];
-    struct stat st;
-    if (fread(m, 1, 4, z->fp) != 4 || fstat(fileno(z->fp), &st)) {
-        vsv_msg(z->err, sizeof z->err, "%s: not a height/pressure file (too short)", path);
-        return VSV_ECORRUPT;
-    }
-    const uint32_t want = (uint32_t)(z->rec - 8);
-    z->le = vsv_rd32(m) == want;
-    if (vsv_f77_u32(z->le, m) != want) {
-        vsv_msg(z->err, sizeof z->err, "%s: first record has %u bytes; a %dx%d grid needs %u (not this grid's ZP file)",
-                path, vsv_f77_u32(0, m), nx, ny, want);
-        return VSV_ECORRUPT;
-    }
-    const size_t per_hour = 2 * (size_t)nz * z->rec;
-    if ((size_t)st.st_size % per_hour) {
-        vsv_msg(z->err, sizeof z->err, "%s: size %lld is not a whole number of hours of %d layers (%zu bytes each)", path,
-                (long long)st.st_size, nz, per_hour);
-        return VSV_ECORRUPT;
-    }
-    z->nhours = (int)((size_t)st.st_size / per_hour);
-    return 0;
-}
-
-int vsv_zp_heights(vsv_zp *z, int hour, float *out)
-{
-    const size_t plane = (size_t)z->nx * z->ny;
-    unsigned char *buf = malloc(z->rec);
-    if (!buf)
-        return VSV_ENOMEM;
-    int rc = 0;
-    for (int k = 0; k < z->nz && !rc; k++) {
-        const off_t at = (off_t)(((size_t)hour * z->nz + k) * 2 * z->rec);
-        if (fseeko(z->fp, at, SEEK_SET) || fread(buf, 1, z->rec, z->fp) != z->rec) {
-            vsv_msg(z->err, sizeof z->err, "height record of hour %d, layer %d at byte %lld: file ends", hour, k,
-                    (long long)at);
-            rc = VSV_ETRUNC;
-            break;
-        }
-        for (size_t i = 0; i < plane; i++)
-            out[(size_t)k * plane + i] = vsv_f77_f32(z->le, buf + 4 + 8 + 4 * i);
-    }
-    free(buf);
-    return rc;
-}
-
-void vsv_zp_free(vsv_zp *z)
-{
-    if (!z)
-        return;
-    if (z->fp)
-        fclose(z->fp);
-    free(z);
-}
-
 /* ------------------------------------------------------------- source */
 
 typedef struct camx {
     vsv_uamiv *u;
-    vsv_zp *zp;
+    vsv_camxmet *zp;    /* the vertical coordinate, or NULL; also in met[] */
+    vsv_camxmet **met;  /* companions, each offering fields */
+    int nmet;
+    int *fmet, *fidx;   /* per field beyond the species: companion, its field */
     float *zm;       /* nz*plane layer-middle heights (m above ground) */
     float *nat;
     vsv_vgrid vg;
@@ -464,23 +389,133 @@ static int is_aerosol(const char *n)
 
 static int camx_probe(const unsigned char *h, size_t n) { return vsv_uamiv_probe(h, n); }
 
+static int cmp_names(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
+
 /* Layer-middle heights of hour h from the ZP layer tops. */
 static int camx_heights(vsv_source *s, camx *c, int hour)
 {
     const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
     const size_t plane = (size_t)h->nx * h->ny;
-    if (hour >= vsv_zp_nhours(c->zp))
-        return vsv_source_fail(s, VSV_ECORRUPT, "the heights file has %d hours, the data %d", vsv_zp_nhours(c->zp),
-                               h->nhours);
-    int rc = vsv_zp_heights(c->zp, hour, c->nat);
+    int rc = vsv_camxmet_heights(c->zp, hour, c->nat);
     if (rc)
-        return vsv_source_fail(s, rc, "%s", vsv_zp_error(c->zp));
+        return vsv_source_fail(s, rc, "%s", vsv_camxmet_error(c->zp));
     for (int k = 0; k < h->nz; k++)
         for (size_t i = 0; i < plane; i++) {
             const float below = k ? c->nat[(size_t)(k - 1) * plane + i] : 0.0f;
             c->zm[(size_t)k * plane + i] = 0.5f * (below + c->nat[(size_t)k * plane + i]);
         }
     return 0;
+}
+
+/* Adds companion path (kind want, or -1: detect; quiet: skip files that are
+ * no met file) after checking its hours against the average file's. */
+static int camx_add_met(vsv_source *s, camx *c, const char *path, int want, int quiet)
+{
+    const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
+    vsv_camxmet *m = NULL;
+    int rc = vsv_camxmet_open(path, want, h->nx, h->ny, h->nz, s->path, &m);
+    if (rc == VSV_ENOTVSV && quiet) {
+        vsv_camxmet_free(m);
+        return 0;
+    }
+    if (rc) {
+        vsv_source_fail(s, rc, "companion %s", vsv_camxmet_error(m));
+        vsv_camxmet_free(m);
+        return rc;
+    }
+    const int kind = vsv_camxmet_kind(m), nh = vsv_camxmet_nhours(m);
+    for (int i = 0; i < c->nmet; i++)
+        if (vsv_camxmet_kind(c->met[i]) == kind) {
+            rc = vsv_source_fail(s, VSV_EINVAL, "two %s files: %s and %s", vsv_camxmet_kind_name(kind),
+                                 vsv_camxmet_path(c->met[i]), path);
+            vsv_camxmet_free(m);
+            return rc;
+        }
+    /* hours: the met file's hour i is the instant the average's hour i
+     * begins (one more, the last hour's end, is allowed); both local */
+    if (nh != h->nhours && nh != h->nhours + 1)
+        rc = vsv_source_fail(s, VSV_EINVAL, "%s has %d hour%s, this file %d (a companion has as many, or one more)",
+                             path, nh, nh == 1 ? "" : "s", h->nhours);
+    for (int t = 0; !rc && t < h->nhours; t++) {
+        int bd, ed, md;
+        float bh, eh, mt;
+        vsv_uamiv_hour(c->u, t, &bd, &bh, &ed, &eh);
+        vsv_camxmet_stamp(m, t, &md, &mt);
+        const float mh = floorf(mt / 100) + fmodf(mt, 100) / 60;
+        if (vsv_uamiv_time(md, mh) != vsv_uamiv_time(bd, bh))
+            rc = vsv_source_fail(s, VSV_EINVAL, "hour %d begins at date %d %.2f h, but %s's hour %d is date %d, %04.0f",
+                                 t, bd, bh, path, t, md, mt);
+    }
+    if (rc) {
+        vsv_camxmet_free(m);
+        return rc;
+    }
+    vsv_camxmet **grown = realloc(c->met, (size_t)(c->nmet + 1) * sizeof *grown);
+    if (!grown) {
+        vsv_camxmet_free(m);
+        return VSV_ENOMEM;
+    }
+    c->met = grown;
+    c->met[c->nmet++] = m;
+    if (kind == VSV_MET_ZP)
+        c->zp = m;
+    return 0;
+}
+
+static int camx_companions(vsv_source *s, camx *c)
+{
+    int rc;
+    if (s->opts.heights && (rc = camx_add_met(s, c, s->opts.heights, VSV_MET_ZP, 0)))
+        return rc;
+    if (!s->opts.met)
+        return 0;
+    DIR *dir = opendir(s->opts.met);
+    if (!dir)
+        return vsv_source_fail(s, VSV_EIO, "--met %s: cannot read the folder: %s", s->opts.met, strerror(errno));
+    /* names sorted, so the order of fields does not depend on the folder */
+    char **names = NULL;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(dir))) {
+        if (e->d_name[0] == '.')
+            continue;
+        char **g = realloc(names, (size_t)(n + 1) * sizeof *g);
+        if (!g || !(g[n] = strdup(e->d_name))) {
+            free(g ? g : names);
+            closedir(dir);
+            return VSV_ENOMEM;
+        }
+        names = g;
+        n++;
+    }
+    closedir(dir);
+    qsort(names, (size_t)n, sizeof *names, cmp_names);
+    struct stat self;
+    rc = stat(s->path, &self) ? VSV_EIO : 0;
+    for (int i = 0; i < n && !rc; i++) {
+        char path[2048];
+        snprintf(path, sizeof path, "%s/%s", s->opts.met, names[i]);
+        struct stat st;
+        unsigned char head[512];
+        if (stat(path, &st) || !S_ISREG(st.st_mode) || (st.st_dev == self.st_dev && st.st_ino == self.st_ino))
+            continue;
+        if (s->opts.heights && c->zp) {
+            struct stat zs;
+            if (!stat(s->opts.heights, &zs) && zs.st_dev == st.st_dev && zs.st_ino == st.st_ino)
+                continue;
+        }
+        FILE *fp = fopen(path, "rb");
+        const size_t got = fp ? fread(head, 1, sizeof head, fp) : 0;
+        if (fp)
+            fclose(fp);
+        if (vsv_uamiv_probe(head, got))
+            continue; /* other CAMx output, boundary or emission files */
+        rc = camx_add_met(s, c, path, -1, 1);
+    }
+    for (int i = 0; i < n; i++)
+        free(names[i]);
+    free(names);
+    return rc;
 }
 
 static int camx_open(vsv_source *s)
@@ -530,28 +565,48 @@ static int camx_open(vsv_source *s)
     char buf[64];
     snprintf(buf, sizeof buf, "%s", h->v6 ? "6+" : "5");
     vsv_meta_add_attr(g, "CAMx header", buf);
-    snprintf(buf, sizeof buf, "%d", h->nseg_or_tz);
-    vsv_meta_add_attr(g, h->v6 ? "time zone" : "nseg", buf);
+    if (h->v6) {
+        if (h->nseg_or_tz < -12 || h->nseg_or_tz > 14)
+            return vsv_source_fail(s, VSV_ECORRUPT, "header record 1: time zone %d is not an hour offset (-12..14)",
+                                   h->nseg_or_tz);
+        snprintf(buf, sizeof buf, "%d (the file's hours are UTC%+d; times here are UTC)", h->nseg_or_tz,
+                 -h->nseg_or_tz);
+        vsv_meta_add_attr(g, "time zone", buf);
+    } else {
+        snprintf(buf, sizeof buf, "%d", h->nseg_or_tz);
+        vsv_meta_add_attr(g, "nseg", buf);
+        vsv_meta_add_attr(g, "time zone", "none in a v5 header: hours taken as UTC");
+    }
     const size_t plane = (size_t)h->nx * h->ny;
     c->nat = malloc(plane * (size_t)h->nz * sizeof *c->nat);
     c->zm = malloc(plane * (size_t)h->nz * sizeof *c->zm);
     if (!c->nat || !c->zm)
         return VSV_ENOMEM;
+    /* companions: --heights, and the met files of --met DIR */
+    if ((rc = camx_companions(s, c)))
+        return rc;
     /* vertical */
-    if (s->opts.heights) {
-        if ((rc = vsv_zp_open(s->opts.heights, h->nx, h->ny, h->nz, &c->zp)))
-            return vsv_source_fail(s, rc, "%s", vsv_zp_error(c->zp));
+    if (c->zp) {
         if ((rc = camx_heights(s, c, 0)))
             return rc;
         if ((rc = vsv_source_axis(s, c->zm, h->nz, 10.0)) < 0)
             return rc;
-        vsv_meta_add_attr(g, "heights", "above ground, from the CAMx height/pressure file");
+        char note[1200];
+        snprintf(note, sizeof note, "above ground, from the CAMx height/pressure file %s", vsv_camxmet_path(c->zp));
+        vsv_meta_add_attr(g, "heights", note);
     } else {
         g->nz = h->nz;
         g->vert_kind = VSV_VERT_INDEX;
     }
-    /* species and hours */
-    s->fields = calloc((size_t)h->nspec, sizeof *s->fields);
+    /* species and hours, then the companions' fields */
+    int nmf = 0;
+    for (int i = 0; i < c->nmet; i++)
+        nmf += vsv_camxmet_nfields(c->met[i]);
+    s->fields = calloc((size_t)h->nspec + (size_t)nmf, sizeof *s->fields);
+    c->fmet = calloc((size_t)nmf + 1, sizeof *c->fmet);
+    c->fidx = calloc((size_t)nmf + 1, sizeof *c->fidx);
+    if (!c->fmet || !c->fidx)
+        return VSV_ENOMEM;
     s->times = calloc((size_t)h->nhours, sizeof *s->times);
     if (!s->fields || !s->times)
         return VSV_ENOMEM;
@@ -567,11 +622,32 @@ static int camx_open(vsv_source *s)
         f->is_volume = f->is_default = 1;
     }
     s->nfields = h->nspec;
+    for (int i = 0; i < c->nmet; i++)
+        for (int f = 0; f < vsv_camxmet_nfields(c->met[i]); f++) {
+            const char *name, *units, *desc;
+            vsv_camxmet_field(c->met[i], f, &name, &units, &desc);
+            if (vsv_source_find_field(s, name) >= 0)
+                return vsv_source_fail(s, VSV_EINVAL, "%s and a species both are %s", vsv_camxmet_path(c->met[i]),
+                                       name);
+            vsv_field_info *fi = &s->fields[s->nfields];
+            snprintf(fi->name, sizeof fi->name, "%s", name);
+            snprintf(fi->units, sizeof fi->units, "%s", units);
+            snprintf(fi->description, sizeof fi->description, "%s", desc);
+            snprintf(fi->ordering, sizeof fi->ordering, "CAMx met");
+            fi->nlevels = h->nz;
+            fi->is_volume = 1;
+            c->fmet[s->nfields - h->nspec] = i;
+            c->fidx[s->nfields - h->nspec] = f;
+            s->nfields++;
+        }
+    /* times: the file's hours are in its time zone (v6+: hours behind UTC);
+     * every time in a .vsv is UTC */
+    const int zone = h->v6 ? h->nseg_or_tz : 0;
     for (int t = 0; t < h->nhours; t++) {
         int bd, ed;
         float bh, eh;
         vsv_uamiv_hour(c->u, t, &bd, &bh, &ed, &eh);
-        s->times[t] = vsv_uamiv_time(bd, bh);
+        s->times[t] = vsv_uamiv_time(bd, bh) + (int64_t)zone * 3600;
         if (t && s->times[t] <= s->times[t - 1])
             return vsv_source_fail(s, VSV_ECORRUPT, "hour %d (date %d, %.2f h) does not follow hour %d", t, bd, bh, t - 1);
     }
@@ -594,7 +670,13 @@ static int camx_read(vsv_source *s, int field, int t, float *out)
             return VSV_ENOMEM;
         c->vg_hour = t;
     }
-    for (int k = 0; k < h->nz; k++)
+    if (field >= h->nspec) {
+        vsv_camxmet *m = c->met[c->fmet[field - h->nspec]];
+        for (int k = 0; k < h->nz; k++)
+            if ((rc = vsv_camxmet_read(m, t, c->fidx[field - h->nspec], k, dst + (size_t)k * plane)))
+                return vsv_source_fail(s, rc, "%s", vsv_camxmet_error(m));
+    }
+    for (int k = 0; k < h->nz && field < h->nspec; k++)
         if ((rc = vsv_uamiv_read(c->u, t, field, k, dst + (size_t)k * plane)))
             return vsv_source_fail(s, rc, "%s", vsv_uamiv_error(c->u) + strlen(s->path) + 2);
     if (even)
@@ -608,7 +690,11 @@ static void camx_close(vsv_source *s)
     if (!c)
         return;
     vsv_uamiv_free(c->u);
-    vsv_zp_free(c->zp);
+    for (int i = 0; i < c->nmet; i++)
+        vsv_camxmet_free(c->met[i]);
+    free(c->met);
+    free(c->fmet);
+    free(c->fidx);
     free(c->zm);
     free(c->nat);
     vsv_vgrid_free(&c->vg);

@@ -55,14 +55,33 @@ typedef void (*vsv_uamiv_values)(void *ctx, int hour, int spec, int layer, float
 int vsv_uamiv_write(const char *path, const vsv_uamiv_header *h, int le, const int *dates, const float *hours,
                     vsv_uamiv_values fn, void *ctx);
 
-/* The companion height/pressure file (no header): per hour and layer a
- * record of layer-top heights (m above ground), then one of pressures (mb). */
-typedef struct vsv_zp vsv_zp;
-int vsv_zp_open(const char *path, int nx, int ny, int nz, vsv_zp **out);
-void vsv_zp_free(vsv_zp *z);
-const char *vsv_zp_error(const vsv_zp *z);
-int vsv_zp_nhours(const vsv_zp *z);
-/* Layer-top heights (nz*nx*ny, layer-major) of hour h. */
-int vsv_zp_heights(vsv_zp *z, int hour, float *out);
+/* The CAMx met input files beside an average file (INPUT-FORMATS.md
+ * §2.1b), read against its grid (nx, ny, nz): kinds below. */
+enum { VSV_MET_ZP, VSV_MET_WIND, VSV_MET_TEMP, VSV_MET_HUMID, VSV_MET_KV, VSV_MET_CLOUD };
+typedef struct vsv_camxmet vsv_camxmet;
+/* Opens and indexes path; want is the kind required (VSV_MET_ZP for
+ * --heights) or -1 to detect it (VSV_ENOTVSV: not a met file at all).
+ * main_name names the average file in messages about layers and grid.
+ * Caller frees with vsv_camxmet_free; on error *out holds the reason. */
+int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const char *main_name, vsv_camxmet **out);
+void vsv_camxmet_free(vsv_camxmet *m);
+const char *vsv_camxmet_error(const vsv_camxmet *m);
+const char *vsv_camxmet_path(const vsv_camxmet *m);
+const char *vsv_camxmet_kind_name(int kind);
+int vsv_camxmet_kind(const vsv_camxmet *m);
+int vsv_camxmet_nhours(const vsv_camxmet *m);
+/* Fields the file offers (height/pressure: PRESS; wind: U, V; ...): name,
+ * units and description are static strings. */
+int vsv_camxmet_nfields(const vsv_camxmet *m);
+void vsv_camxmet_field(const vsv_camxmet *m, int i, const char **name, const char **units, const char **desc);
+/* The time stamp of hour h as written: YYJJJ and HHMM. */
+void vsv_camxmet_stamp(const vsv_camxmet *m, int hour, int *date, float *hhmm);
+/* Index of the record of (hour, field, layer) and the bytes before its plane. */
+int vsv_camxmet_record(const vsv_camxmet *m, int hour, int field, int layer, size_t *skip);
+/* nx*ny floats of field f at (hour, layer 0 = surface); winds staggered to
+ * cell faces are averaged to centres. 0 or an error. */
+int vsv_camxmet_read(vsv_camxmet *m, int hour, int field, int layer, float *out);
+/* Height/pressure files: layer-top heights (m above ground, nz*nx*ny). */
+int vsv_camxmet_heights(vsv_camxmet *m, int hour, float *out);
 
 #endif

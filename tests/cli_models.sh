@@ -30,9 +30,9 @@ PY
 then pass "CAMx .vsv: projection, species, units, layer index, time, NO2 max"; else fail "CAMx .vsv: projection, species, units, layer index, time, NO2 max" "see above"; fi
 expect "vsv-info says the vertical axis is layer index" 0 "$B/vsv-info" "$T/camx.vsv"
 has "layer index said" "$T/out" "layer index"
-expect "CAMx with its height/pressure file" 0 "$B/vsv-convert" -q --vertical native --heights "$D/camx/test.height_pressure" --vars O3 "$T/some-name.bin" -o "$T/camx-z.vsv"
-"$B/vsv-info" -f grid.vertical.kind "$T/camx-z.vsv" > "$T/out"
-has "heights make native levels" "$T/out" "native"
+# the real height/pressure sample has 3 layers and 2 hours; test.uamiv 1 and 1
+expect "a height/pressure file of other layers is refused" 1 "$B/vsv-convert" -q --vertical native --heights "$D/camx/test.height_pressure" --vars O3 "$T/some-name.bin" -o "$T/camx-z.vsv"
+has "layer mismatch names both files" "$T/err" "test.height_pressure: 6 plane records an hour, which fits no CAMx met file of the 1 layer of $T/some-name.bin"
 expect "a wrong heights file is refused" 1 "$B/vsv-convert" -q --heights "$D/camx/test.wind" "$T/some-name.bin" -o "$T/x.vsv"
 expect "--proj with a bad name exits 2" 2 "$B/vsv-convert" --proj nowhere "$T/some-name.bin" -o "$T/x.vsv"
 head -c 3000 "$D/camx/test.uamiv" > "$T/cut.avrg"

@@ -64,7 +64,8 @@ static void write_uamiv(const char *path, const vsv_uamiv_header *h, int le, con
 }
 
 /* ZP: per hour and layer, height (layer top, m above ground) then pressure */
-static void write_zp(const char *path, int nx, int ny, int nz, int nh, int le)
+/* Stamped like CAMx: hour t at the average's begin time (HHMM, YYJJJ). */
+static void write_zp(const char *path, int nx, int ny, int nz, int nh, int le, const int *dates, const float *hours)
 {
     w_t w = {fopen(path, "wb"), le};
     for (int t = 0; t < nh; t++)
@@ -72,8 +73,9 @@ static void write_zp(const char *path, int nx, int ny, int nz, int nh, int le)
             for (int what = 0; what < 2; what++) {
                 const uint32_t n = (uint32_t)(8 + 4 * nx * ny);
                 w32(&w, n);
-                wf(&w, (float)(t * 100));
-                w32(&w, 2154);
+                const float h = hours[2 * t];
+                wf(&w, floorf(h) * 100 + roundf((h - floorf(h)) * 60));
+                w32(&w, (uint32_t)dates[2 * t]);
                 for (int j = 0; j < ny; j++)
                     for (int i = 0; i < nx; i++)
                         wf(&w, what ? 1000.0f - 50 * k : (float)(50.0 * (k + 1) * (k + 1) + i + j + t));
@@ -188,7 +190,7 @@ static void test_written(void)
         char label[200];
         const char *path = vsv_test_tmp(le ? "big-le.avrg" : "big-be.avrg"), *zp = vsv_test_tmp("big.zp");
         write_uamiv(path, &h, le, dates, hours, synth, NULL);
-        write_zp(zp, h.nx, h.ny, h.nz, 25, le);
+        write_zp(zp, h.nx, h.ny, h.nz, 25, le, dates, hours);
         vsv_source_opts so;
         vsv_source_opts_init(&so);
         so.heights = zp;
@@ -202,9 +204,10 @@ static void test_written(void)
             continue;
         }
         const vsv_meta *g = vsv_source_grid(src);
+        const int64_t zone = v6 ? 5 * 3600 : 0; /* v6: hours in zone 5, times UTC */
         int ok = vsv_source_ntimes(src) == 25 && g->nz == 6 && g->vert_kind == VSV_VERT_NATIVE &&
-                 vsv_source_time(src, 3) == vsv_time_from_civil(2002, 6, 3, 3, 30, 0) &&
-                 vsv_source_time(src, 24) == vsv_time_from_civil(2002, 6, 4, 0, 0, 0) &&
+                 vsv_source_time(src, 3) == vsv_time_from_civil(2002, 6, 3, 3, 30, 0) + zone &&
+                 vsv_source_time(src, 24) == vsv_time_from_civil(2002, 6, 4, 0, 0, 0) + zone &&
                  g->proj.kind == (v6 ? VSV_PROJ_LCC : VSV_PROJ_NONE) && g->origin[0] == -894000;
         /* mean layer-middle height of layer 2: tops 50*k^2 + i + j */
         double mean_top1 = 50 * 4 + (39 + 29) / 2.0, mean_top0 = 50 * 1 + (39 + 29) / 2.0;

@@ -1,0 +1,203 @@
+/* test_camx_met.c — a CAMx average file with the real met companions in
+ * ../shared/data/camx (5 x 4 cells, 3 layers, 2 hours): the average file is
+ * written by the project's own UAM-IV writer to match them (no real
+ * multi-layer CAMx output exists), read with --met DIR and --heights; the
+ * real 1-layer test.uamiv against them is refused naming both files; a v6
+ * header's time zone turns every time into UTC. */
+#include "vsv_convert.h"
+#include "vsv_format.h"
+#include "vsv_testlib.h"
+#include "vsv_uamiv.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void values(void *ctx, int hour, int spec, int layer, float *plane)
+{
+    (void)ctx;
+    for (int i = 0; i < 20; i++)
+        plane[i] = (float)(1e-3 * (1 + spec) + 1e-4 * layer + 1e-5 * hour + 1e-6 * i);
+}
+
+/* A 5 x 4 x nz AVERAGE file of nh hours from 2002-06-03 00:00 (local). */
+static const char *write_avrg(const char *name, int nz, int nh, int v6, int zone)
+{
+    vsv_uamiv_header h;
+    memset(&h, 0, sizeof h);
+    snprintf(h.name, sizeof h.name, "AVERAGE");
+    snprintf(h.note, sizeof h.note, "Vesuvius test: beside the real met samples");
+    char sp[2][11] = {"O3", "NO2"};
+    h.species = sp;
+    h.nspec = 2;
+    h.nseg_or_tz = v6 ? zone : 1;
+    h.bdate = h.edate = 2154;
+    h.bhour = 0;
+    h.ehour = (float)nh;
+    h.xorg = 0;
+    h.yorg = 0;
+    h.dx = h.dy = 4000;
+    h.nx = 5;
+    h.ny = 4;
+    h.nz = nz;
+    h.nhours = nh;
+    if (v6) {
+        h.iproj = 2, h.plon = -97, h.plat = 40, h.tlat1 = 33, h.tlat2 = 45;
+    }
+    h.rec3[0] = h.rec3[1] = 1, h.rec3[2] = 5, h.rec3[3] = 4;
+    int dates[20];
+    float hours[20];
+    for (int t = 0; t < nh; t++) {
+        dates[2 * t] = dates[2 * t + 1] = 2154;
+        hours[2 * t] = (float)t;
+        hours[2 * t + 1] = (float)t + 1;
+    }
+    const char *path = vsv_test_tmp(name);
+    return vsv_uamiv_write(path, &h, 0, dates, hours, values, NULL) ? NULL : path;
+}
+
+/* Field f of a real companion: layer k, hour t, cell c, read here directly
+ * from its big-endian records (rec: record index; skip: bytes before the plane). */
+static float raw(const char *rel, int rec, int skip, int c)
+{
+    size_t n;
+    unsigned char *d = vsv_test_slurp(vsv_test_shared(rel), &n);
+    size_t at = 0;
+    float v = NAN;
+    for (int r = 0; d && at + 8 <= n; r++) {
+        const uint32_t len = (uint32_t)d[at] << 24 | d[at + 1] << 16 | d[at + 2] << 8 | d[at + 3];
+        if (r == rec) {
+            const unsigned char *p = d + at + 4 + skip + 4 * c;
+            const uint32_t u = (uint32_t)p[0] << 24 | p[1] << 16 | p[2] << 8 | p[3];
+            memcpy(&v, &u, 4);
+            break;
+        }
+        at += 8 + len;
+    }
+    free(d);
+    return v;
+}
+
+static void test_met_dir(void)
+{
+    const char *avrg = write_avrg("met.avrg", 3, 2, 0, 0);
+    vsv_source_opts o;
+    vsv_source_opts_init(&o);
+    o.met = vsv_test_shared("camx");
+    o.vertical = VSV_VERT_NATIVE;
+    vsv_source *s = NULL;
+    int rc = vsv_source_open(avrg, &o, &s);
+    CHECK(rc == 0, "an average file with --met ../shared/data/camx opens", "(%s)", vsv_source_error(s));
+    if (rc) {
+        vsv_source_free(s);
+        return;
+    }
+    /* the cloud/rain sample holds 5 fields per layer (INPUT-FORMATS.md says 4):
+     * cloud, rain, snow, graupel water and the optical depth */
+    const char *want[] = {"O3", "NO2", "CWC", "RWC", "SWC", "GWC", "COD", "PRESS", "HUMIDITY", "TEMP", "KV", "U", "V"};
+    int ok = vsv_source_nfields(s) == 13;
+    for (int i = 0; i < 13 && ok; i++)
+        ok &= vsv_source_find_field(s, want[i]) >= 0 && vsv_source_field(s, vsv_source_find_field(s, want[i]))->is_volume;
+    CHECK(ok, "companions found by content: cloud/rain, height/pressure, humidity, temperature, Kv, wind",
+          "%d fields", vsv_source_nfields(s));
+    const vsv_meta *g = vsv_source_grid(s);
+    /* layer-middle heights from the real ZP file: layer 0 is half its top */
+    const float top0 = raw("camx/test.height_pressure", 0, 8, 0);
+    CHECK(g->vert_kind == VSV_VERT_NATIVE && g->nz == 3 && g->levels && g->levels[0] > 10 && g->levels[0] < 20 &&
+              fabsf(top0 - 33.87f) < 0.01f && vsv_meta_attr(g, "heights"),
+          "real layer heights from test.height_pressure", "levels %g (top0 %g)", g->levels ? g->levels[0] : 0, top0);
+    float vol[60];
+    /* U of hour 1, layer 2, cell 7: wind record 8 (time) + 1 + 2*2 */
+    rc = vsv_source_read(s, vsv_source_find_field(s, "U"), 1, vol);
+    const float u = raw("camx/test.wind", 8 + 1 + 4, 0, 7);
+    CHECK(rc == 0 && vol[2 * 20 + 7] == u && isfinite(u), "U (hour 1, layer 2) is the wind file's", "%g vs %g",
+          vol[2 * 20 + 7], u);
+    rc = vsv_source_read(s, vsv_source_find_field(s, "TEMP"), 0, vol);
+    const float tk = raw("camx/test.temperature", 1 + 1, 8, 3); /* after Tsurf */
+    CHECK(rc == 0 && vol[20 + 3] == tk && tk > 250 && tk < 320, "TEMP (hour 0, layer 1) skips the surface record",
+          "%g vs %g", vol[23], tk);
+    rc = vsv_source_read(s, vsv_source_find_field(s, "COD"), 1, vol);
+    const float rw = raw("camx/test.cloud_rain", 1 + 16 + 1 + 0 * 5 + 4, 0, 1);
+    CHECK(rc == 0 && vol[1] == rw && rw > 2, "COD (hour 1, layer 0) is the cloud/rain file's fifth field", "%g vs %g", vol[1], rw);
+    CHECK(vsv_source_time(s, 1) == vsv_time_from_civil(2002, 6, 3, 1, 0, 0), "v5 hours stay as written");
+    vsv_source_free(s);
+    /* the same through a run, on even heights: U and V by name */
+    vsv_source_opts_init(&o);
+    o.met = vsv_test_shared("camx");
+    vsv_run *r = NULL;
+    const char *paths[] = {avrg};
+    rc = vsv_run_open(paths, 1, &o, "O3,U,V", NULL, &r);
+    CHECK(rc == 0 && vsv_run_meta(r)->nvars == 3 && vsv_run_meta(r)->vert_kind == VSV_VERT_EVEN,
+          "O3 with U and V on even heights found by --met", "(%s)", vsv_run_error(r));
+    vsv_run_free(r);
+}
+
+static void test_mismatch(void)
+{
+    vsv_source_opts o;
+    vsv_source_opts_init(&o);
+    vsv_source *s = NULL;
+    /* the real 1-layer, 1-hour average beside 3-layer companions */
+    const char *real = vsv_test_shared("camx/test.uamiv");
+    o.heights = vsv_test_shared("camx/test.height_pressure");
+    int rc = vsv_source_open(real, &o, &s);
+    CHECK(rc == VSV_EINVAL && strstr(vsv_source_error(s), "test.height_pressure") &&
+              strstr(vsv_source_error(s), "test.uamiv") && strstr(vsv_source_error(s), "layer"),
+          "--heights with 3 layers for a 1-layer file is refused naming both", "(%s)", vsv_source_error(s));
+    vsv_source_free(s);
+    o.heights = NULL;
+    o.met = vsv_test_shared("camx");
+    rc = vsv_source_open(real, &o, &s);
+    CHECK(rc == VSV_EINVAL && strstr(vsv_source_error(s), "test.uamiv") && strstr(vsv_source_error(s), "companion"),
+          "--met with 3-layer companions for a 1-layer file is refused naming both", "(%s)", vsv_source_error(s));
+    vsv_source_free(s);
+    /* right layers, wrong hours: 3 hours against 2 */
+    const char *three = write_avrg("three.avrg", 3, 4, 0, 0);
+    o.met = NULL;
+    o.heights = vsv_test_shared("camx/test.height_pressure");
+    rc = vsv_source_open(three, &o, &s);
+    CHECK(rc == VSV_EINVAL && strstr(vsv_source_error(s), "test.height_pressure has 2 hours, this file 4"),
+          "a height/pressure file of other hours is refused", "(%s)", vsv_source_error(s));
+    vsv_source_free(s);
+    /* the ZP file given where a wind file is: --heights wants height/pressure */
+    o.heights = vsv_test_shared("camx/test.wind");
+    rc = vsv_source_open(write_avrg("met2.avrg", 3, 2, 0, 0), &o, &s);
+    CHECK(rc == VSV_EINVAL && strstr(vsv_source_error(s), "a wind file, not a height/pressure file"),
+          "--heights given a wind file is refused by kind", "(%s)", vsv_source_error(s));
+    vsv_source_free(s);
+}
+
+static void test_zone(void)
+{
+    const char *v6 = write_avrg("zone6.avrg", 3, 2, 1, 6);
+    vsv_source *s = NULL;
+    int rc = vsv_source_open(v6, NULL, &s);
+    CHECK(rc == 0 && vsv_source_time(s, 0) == vsv_time_from_civil(2002, 6, 3, 6, 0, 0) &&
+              vsv_source_time(s, 1) == vsv_time_from_civil(2002, 6, 3, 7, 0, 0),
+          "v6 header with time zone 6: local 00:00 is 06:00 UTC", "(%s) %lld", vsv_source_error(s),
+          rc ? 0LL : (long long)vsv_source_time(s, 0));
+    const char *z = rc ? NULL : vsv_meta_attr(vsv_source_grid(s), "time zone");
+    CHECK(z && strstr(z, "6 (the file's hours are UTC-6"), "the zone is recorded", "%s", z ? z : "(none)");
+    vsv_source_free(s);
+    /* and with companions: their stamps are local like the file's */
+    vsv_source_opts o;
+    vsv_source_opts_init(&o);
+    o.met = vsv_test_shared("camx");
+    rc = vsv_source_open(v6, &o, &s);
+    CHECK(rc == 0 && vsv_source_time(s, 1) == vsv_time_from_civil(2002, 6, 3, 7, 0, 0),
+          "v6 zone 6 with its companions: hours matched locally, times UTC", "(%s)", vsv_source_error(s));
+    vsv_source_free(s);
+    const char *bad = write_avrg("zone99.avrg", 3, 2, 1, 99);
+    rc = vsv_source_open(bad, NULL, &s);
+    CHECK(rc == VSV_ECORRUPT && strstr(vsv_source_error(s), "time zone 99"), "a time zone of 99 hours is refused",
+          "(%s)", vsv_source_error(s));
+    vsv_source_free(s);
+}
+
+int main(void)
+{
+    test_met_dir();
+    test_mismatch();
+    test_zone();
+    return vsv_test_done();
+}
