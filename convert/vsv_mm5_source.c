@@ -35,22 +35,6 @@ typedef struct mm5src {
 
 static int mm5_probe(const unsigned char *h, size_t n) { return vsv_mm5_probe(h, n); }
 
-/* Height (m above sea level) of reference pressure p0 (Pa). */
-static double ref_height(double p0, double P00, double TS0, double A, double TISO)
-{
-    double l = log(p0 / P00);
-    double z = -((R_DRY * A / (2 * G0)) * l * l + (R_DRY * TS0 / G0) * l);
-    if (TISO > 0) {
-        const double piso = P00 * exp((TISO - TS0) / A);
-        if (p0 < piso) {
-            const double li = log(piso / P00);
-            const double ziso = -((R_DRY * A / (2 * G0)) * li * li + (R_DRY * TS0 / G0) * li);
-            z = ziso - (R_DRY * TISO / G0) * log(p0 / piso);
-        }
-    }
-    return z;
-}
-
 /* A cross-point plane (ny*nx) of a YX field of period p: 0, 1 if absent, or
  * a negative error when the record is not one plane of the domain. */
 static int cross_plane(vsv_source *s, mm5src *x, int p, const char *name, float *out)
@@ -302,12 +286,12 @@ static int mm5_open(vsv_source *s)
     /* heights of the half-sigma levels */
     const int isig = vsv_mm5_find(m, 0, "SIGMAH");
     x->has_sigma = x->KX > 0 && isig >= 0 && P00 > 0 && A > 0 && TS0 > 0 && PTOP > 0;
+    float sig[VSV_MAX_DIM];
     if (x->has_sigma) {
         const vsv_mm5_field *fs = vsv_mm5_field_at(m, isig);
         if ((int)(fs->bytes / 4) != x->KX)
             return vsv_source_fail(s, VSV_ECORRUPT, "record %d: SIGMAH has %llu levels, 3-D fields %d", fs->record,
                                    (unsigned long long)(fs->bytes / 4), x->KX);
-        float sig[VSV_MAX_DIM];
         vsv_mm5_read(m, fs, sig);
         float *pstar = malloc(plane * sizeof *pstar);
         x->zn = malloc(plane * (size_t)x->KX * sizeof *x->zn);
@@ -329,10 +313,10 @@ static int mm5_open(vsv_source *s)
                 pstar[c] = (float)(ps0 - PTOP);
             }
         }
+        const double ref[4] = {P00, TS0, A, TISO};
         for (int k = 0; k < x->KX; k++)
             for (size_t c = 0; c < plane; c++)
-                x->zn[(size_t)k * plane + c] =
-                    (float)ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, P00, TS0, A, TISO);
+                x->zn[(size_t)k * plane + c] = (float)vsv_mm5_ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, ref);
         free(pstar);
     }
     /* the vertical axis: levels need heights (sigma files, or H on pressure
@@ -371,6 +355,20 @@ static int mm5_open(vsv_source *s)
         const int even = vsv_source_axis(s, x->zn, x->KX, 100.0);
         if (even < 0)
             return even;
+        if (!even && g->terrain) {
+            /* native levels: their heights in every column, as MM5's formula over the terrain */
+            const double mm5[5] = {P00, TS0, A, TISO, PTOP};
+            double *sigma = malloc((size_t)x->KX * sizeof *sigma);
+            if (!sigma)
+                return VSV_ENOMEM;
+            for (int k = 0; k < x->KX; k++)
+                sigma[k] = sig[x->KX - 1 - k];
+            const int hrc = vsv_meta_add_heights(g, INT64_MIN, NULL, mm5, sigma);
+            free(sigma);
+            if (hrc)
+                return hrc == VSV_ENOMEM ? hrc
+                                         : vsv_source_fail(s, VSV_ECORRUPT, "SIGMAH does not give heights increasing upward");
+        }
         if (even && vsv_vgrid_plan(&x->vg, x->zn, x->KX, plane, g->terrain, g->nz, g->origin[2], g->spacing[2]))
             return VSV_ENOMEM;
         x->even = even;

@@ -185,3 +185,21 @@ int vsv_source_axis(vsv_source *s, const float *zn, int kx, double round_to)
     g->origin[2] = g->spacing[2] / 2;
     return 1;
 }
+
+int vsv_source_native_heights(vsv_source *s, int t, const float *zn)
+{
+    vsv_meta *g = &s->grid;
+    const size_t n = (size_t)g->nx * g->ny * g->nz;
+    if (g->nheights) {
+        const float *last = g->heights[g->nheights - 1].z;
+        size_t i = 0;
+        while (i < n && fabsf(zn[i] - last[i]) <= 0.5f)
+            i++;
+        if (i == n)
+            return 0;
+    }
+    const int rc = vsv_meta_add_heights(g, t ? s->times[t] : INT64_MIN, zn, NULL, NULL);
+    if (rc == VSV_EINVAL)
+        return vsv_source_fail(s, VSV_ECORRUPT, "the model levels' heights at time %d are not increasing upward", t);
+    return rc;
+}

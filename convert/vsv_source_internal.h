@@ -40,6 +40,11 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...) __attribute__((
  * highest top-level height rounded up to round_to metres (returns 1). */
 int vsv_source_axis(vsv_source *s, const float *zn, int kx, double round_to);
 
+/* --vertical native: records the heights zn (the grid's nz levels of its
+ * plane, increasing upward, m above sea level) in force from time t on,
+ * unless they are within half a metre of the last ones recorded. 0 or error. */
+int vsv_source_native_heights(vsv_source *s, int t, const float *zn);
+
 extern const vsv_source_ops vsv_grads_ops;
 extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;

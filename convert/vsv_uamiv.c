@@ -652,6 +652,10 @@ static int camx_open(vsv_source *s)
             return vsv_source_fail(s, VSV_ECORRUPT, "hour %d (date %d, %.2f h) does not follow hour %d", t, bd, bh, t - 1);
     }
     s->ntimes = h->nhours;
+    /* native levels with heights: their heights in every column, every hour they move */
+    for (int t = 0; c->zp && g->vert_kind == VSV_VERT_NATIVE && t < s->ntimes; t++)
+        if ((rc = camx_heights(s, c, t)) || (rc = vsv_source_native_heights(s, t, c->zm)))
+            return rc;
     return 0;
 }
 

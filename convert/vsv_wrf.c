@@ -327,6 +327,10 @@ static int wrf_open(vsv_source *s, int nc)
     if (even < 0)
         return even;
     w->even = even;
+    /* native: the levels' heights in every column, at every time they move */
+    for (int t = 0; !even && t < s->ntimes; t++)
+        if ((rc = w_heights(s, w, t)) || (rc = vsv_source_native_heights(s, t, w->zm)))
+            return rc;
     /* fields: the 4-D float variables on (Time, bottom_top[_stag], south_north[_stag], west_east[_stag]) */
     int nvars;
     nc_inq_nvars(nc, &nvars);

@@ -115,6 +115,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
             vsv_json_push(lv, vsv_json_number(m->levels[k]));
         vsv_json_set(vert, "levels", lv);
     }
+    vsv_json_set(vert, "column_heights", vsv_json_number(m->nheights));
     vsv_json_set(grid, "vertical", vert);
     vsv_json_set(grid, "terrain", vsv_json_bool(m->terrain != NULL));
     vsv_json_set(grid, "landuse", vsv_json_bool(m->landuse != NULL));
@@ -262,6 +263,16 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
         for (int k = 0; k < m->nz && k < 12; k++)
             printf(" %.6g", m->levels[k]);
         printf(m->nz > 12 ? " …\n" : "\n");
+        if (m->nheights) {
+            int enz;
+            double z0, dz;
+            vsv_heights_axis(m, &enz, &z0, &dz);
+            printf("              per-column heights %s%s, %d record%s; drawn on %d even levels of %.0f m\n",
+                   m->heights[0].form == VSV_HEIGHTS_MM5 ? "from MM5's formula over the terrain" : "stored",
+                   m->nheights > 1 ? " (moving in time)" : "", m->nheights, m->nheights > 1 ? "s" : "", enz, dz);
+        } else if (m->vert_kind == VSV_VERT_NATIVE) {
+            printf("              mean heights only (format 1.0): drawn evenly stacked\n");
+        }
     } else {
         printf("  vertical    even heights %.6g..%.6g m\n", m->origin[2], m->origin[2] + (m->nz - 1) * m->spacing[2]);
     }

@@ -277,6 +277,7 @@ void vsv_meta_clear(vsv_meta *m)
     free(m->vars);
     free(m->terrain);
     free(m->landuse);
+    vsv_heights_clear_all(m);
     vsv_meta_init(m);
 }
 
@@ -302,13 +303,15 @@ int vsv_meta_copy(vsv_meta *dst, const vsv_meta *src)
     dst->vars = NULL;
     dst->tf = NULL;
     dst->terrain = dst->landuse = NULL;
+    dst->heights = NULL;
+    dst->nheights = 0;
     size_t plane = (size_t)src->nx * (size_t)src->ny * sizeof(float);
     if (dup_array((void **)&dst->levels, src->levels, (size_t)src->nz * sizeof(double)) ||
         dup_array((void **)&dst->attr_keys, src->attr_keys, (size_t)src->nattrs * 64) ||
         dup_array((void **)&dst->attr_values, src->attr_values, (size_t)src->nattrs * 256) ||
         dup_array((void **)&dst->vars, src->vars, (size_t)src->nvars * sizeof(vsv_var)) ||
         dup_array((void **)&dst->terrain, src->terrain, plane) ||
-        dup_array((void **)&dst->landuse, src->landuse, plane))
+        dup_array((void **)&dst->landuse, src->landuse, plane) || vsv_heights_copy_all(dst, src))
         goto fail;
     if (src->tf) {
         dst->tf = calloc((size_t)src->nvars + 1, sizeof(char *));

@@ -211,7 +211,7 @@ int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, con
     memset(h, 0, VSV_HEADER_SIZE);
     memcpy(h, VSV_MAGIC, 8);
     vsv_wr16(h + 8, VSV_FORMAT_MAJOR);
-    vsv_wr16(h + 10, VSV_FORMAT_MINOR);
+    vsv_wr16(h + 10, p->meta.nheights ? 1 : 0); /* the lowest minor that has what the file uses */
     vsv_wr32(h + 12, VSV_HEADER_SIZE);
     vsv_wr64(h + 16, file_size);
     vsv_wr64(h + 24, VSV_HEADER_SIZE);

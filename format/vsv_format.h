@@ -14,7 +14,7 @@ extern "C" {
 
 #define VSV_VERSION_STRING "0.1.0"
 #define VSV_FORMAT_MAJOR 1
-#define VSV_FORMAT_MINOR 0
+#define VSV_FORMAT_MINOR 1
 
 /* Error codes: fallible calls return 0 or one of these. Values never change. */
 enum {
@@ -88,6 +88,19 @@ typedef struct vsv_quant {
     double data_min, data_max; /* finite values seen by the writer */
 } vsv_quant;
 
+/* The height of every native level in every column from one time on
+ * (SPEC.md "HGTS"): plain info a vsv_meta owns. */
+enum { VSV_HEIGHTS_STORED = 0, VSV_HEIGHTS_MM5 = 1 };
+typedef struct vsv_heights {
+    int64_t time;     /* valid for steps at or after this time (the first record
+                         also before it) */
+    int form;         /* VSV_HEIGHTS_*: stored, or MM5's reference-state formula */
+    double mm5[5];    /* MM5: P00 (Pa), TS0 (K), TLP (K), TISO (K, 0 none), PTOP (Pa) */
+    double *sigma;    /* MM5: nz half-sigma values, bottom level first */
+    float *z;         /* nx*ny*nz heights, m above sea level, x fastest, then y,
+                         then level (for MM5 derived from the terrain) */
+} vsv_heights;
+
 /* Everything about a data set except its values: plain info that owns its
  * arrays. Initialise with vsv_meta_init, release with vsv_meta_clear. */
 typedef struct vsv_meta {
@@ -108,6 +121,8 @@ typedef struct vsv_meta {
     char **tf;          /* nvars default transfer functions (text) or NULL entries */
     float *terrain;     /* nx*ny terrain height (m ASL), x fastest, or NULL */
     float *landuse;     /* nx*ny land-use category, or NULL */
+    int nheights;       /* VSV_VERT_NATIVE: per-column level heights, in time */
+    vsv_heights *heights; /* order (0 = none: levels[] only) */
 } vsv_meta;
 
 void vsv_meta_init(vsv_meta *m);
@@ -124,6 +139,23 @@ const char *vsv_meta_attr(const vsv_meta *m, const char *key);
 int vsv_meta_alloc_levels(vsv_meta *m);
 int vsv_meta_alloc_terrain(vsv_meta *m);
 int vsv_meta_alloc_landuse(vsv_meta *m);
+/* Adds per-column heights of the native levels valid from `time` on (times
+ * strictly increase from record to record): z is nx*ny*nz heights (m above
+ * sea level, copied), or NULL with mm5 (P00, TS0, TLP, TISO, PTOP) and sigma
+ * (nz half-sigma values, bottom first) for MM5's formula over the terrain
+ * (which must be set). 0, VSV_EINVAL (not increasing upward, not finite,
+ * no terrain) or VSV_ENOMEM. */
+int vsv_meta_add_heights(vsv_meta *m, int64_t time, const float *z, const double mm5[5], const double *sigma);
+/* The heights (nx*ny*nz) in force at `time`, or NULL when the file has none. */
+const float *vsv_meta_heights_at(const vsv_meta *m, int64_t time);
+/* MM5's reference-state height (m above sea level) of pressure p (Pa) for
+ * mm5 = P00, TS0, TLP, TISO. */
+double vsv_mm5_ref_height(double p, const double mm5[4]);
+/* The even vertical axis on which renderers and exporters place a file's
+ * per-column native levels: nz levels centred at z0 + k*dz (m above sea
+ * level). 0, or VSV_EINVAL when the file has no per-column heights. */
+int vsv_heights_axis(const vsv_meta *m, int *nz, double *z0, double *dz);
+
 /* Index of a variable by name, or VSV_ENOTFOUND. */
 int vsv_meta_find_var(const vsv_meta *m, const char *name);
 /* Checks dimensions and values for sanity; fills msg (cap bytes) on error. */
@@ -413,6 +445,7 @@ typedef struct vsv_volume {
                                  volume freed and another allocated at the same
                                  address may hold the same step and species) */
     float empty_value;        /* value of code 0 (0, lo, or NaN for no data) */
+    int64_t time;             /* time of `step` */
     float **bricks;
     float *bmin, *bmax;
 } vsv_volume;
@@ -427,6 +460,23 @@ int vsv_volume_load(vsv_volume *v, vsv_decoder *d, int step, int s);
 /* A new vsv_volume.gen (1, 2, ...: unique in the process), for whatever
  * fills a volume. */
 uint64_t vsv_volume_new_gen(void);
+/* Native levels placed at their heights: a volume of a file with per-column
+ * heights resampled, column by column and linearly in height, onto the even
+ * axis of vsv_heights_axis (cells below the ground or above the top level
+ * hold the empty value). One resampler per species; it owns its output. */
+typedef struct vsv_resampler vsv_resampler;
+/* m: the file's metadata (borrowed, must outlive the resampler). */
+int vsv_resampler_create(const vsv_meta *m, vsv_resampler **out);
+void vsv_resampler_free(vsv_resampler *r);
+/* The metadata of the even grid: m with vert_kind even, the axis's nz,
+ * origin and spacing, no levels and no heights (borrowed; its arrays are
+ * m's: never clear it). */
+const vsv_meta *vsv_resampler_meta(const vsv_resampler *r);
+/* Resamples nat (a volume of m, with its time) unless it is the one done
+ * last (same gen); *out is the even volume (borrowed, valid until the next
+ * call). 0 or VSV_EINVAL/VSV_ENOMEM. */
+int vsv_resampler_run(vsv_resampler *r, const vsv_volume *nat, const vsv_volume **out);
+
 /* The value at cell (i, j, k) (inside the grid). */
 static inline float vsv_volume_at(const vsv_volume *v, int i, int j, int k)
 {

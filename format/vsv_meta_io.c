@@ -105,6 +105,11 @@ int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, vsv_buf *b)
         b->len += plane * 4;
         TRY(rec_end(b, at));
     }
+    for (int i = 0; i < m->nheights; i++) {
+        TRY(rec_begin(b, "HGTS", &at));
+        TRY(vsv_heights_encode(m, &m->heights[i], b));
+        TRY(rec_end(b, at));
+    }
     TRY(rec_begin(b, "END ", &at));
     TRY(rec_end(b, at));
 #undef TRY
@@ -305,6 +310,15 @@ int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **q
                     goto fail;
                 }
             }
+        } else if (!strcmp(tag, "HGTS")) {
+            if (!have_grid) {
+                vsv_msg(msg, cap, "'HGTS' record before GRID");
+                goto fail;
+            }
+            if ((rc = vsv_heights_decode(m, c.p, len, msg, cap)))
+                goto fail;
+            rc = VSV_ECORRUPT;
+            c.at = len;
         } else if (!strcmp(tag, "END ")) {
             have_end = 1;
         } else {

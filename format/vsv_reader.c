@@ -831,6 +831,7 @@ int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
     }
     pv->step = step;
     pv->species = s;
+    pv->time = vsv_file_time(f, step);
     pv->gen = vsv_volume_new_gen();
     return 0;
 }

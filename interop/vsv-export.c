@@ -108,24 +108,44 @@ int main(int argc, char **argv)
     for (int l = 0; l < n; l++)
         if (vsv_volume_create(f, &vols[l]))
             vsv_cli_die(1, "out of memory");
+    /* native levels with per-column heights: placed at their heights, on an
+     * even axis (as the renderers draw them) */
+    vsv_resampler **rs = calloc((size_t)n, sizeof *rs);
+    const vsv_volume **out_vols = calloc((size_t)n, sizeof *out_vols);
+    const vsv_meta *out_meta = m;
+    if (!rs || !out_vols)
+        vsv_cli_die(1, "out of memory");
+    for (int l = 0; l < n && m->vert_kind == VSV_VERT_NATIVE && m->nheights; l++) {
+        if (vsv_resampler_create(m, &rs[l]))
+            vsv_cli_die(1, "out of memory");
+        out_meta = vsv_resampler_meta(rs[l]);
+    }
     for (int t = a; t <= b; t++) {
-        for (int l = 0; l < n; l++)
+        for (int l = 0; l < n; l++) {
             if (vsv_volume_load(vols[l], d, t, sel[l]))
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));
+            out_vols[l] = vols[l];
+            if (rs[l] && vsv_resampler_run(rs[l], vols[l], &out_vols[l]))
+                vsv_cli_die(1, "out of memory");
+        }
         char name[4096], err[4300];
         if (sequence)
             snprintf(name, sizeof name, out, t - a);
         else
             snprintf(name, sizeof name, "%s", out);
-        if (vsv_vdb_write(name, m, vsv_file_time(f, t), (const vsv_volume *const *)vols, n, err, sizeof err))
+        if (vsv_vdb_write(name, out_meta, vsv_file_time(f, t), out_vols, n, err, sizeof err))
             vsv_cli_die(1, "%s", err);
         vsv_cli_progress("vsv-export", t - a + 1, b - a + 1);
     }
     if (!vsv_cli_quiet() && !isatty(2))
         fprintf(stderr, "vsv-export: %d file%s, %d species each\n", b - a + 1, b > a ? "s" : "", n);
-    for (int l = 0; l < n; l++)
+    for (int l = 0; l < n; l++) {
         vsv_volume_free(vols[l]);
+        vsv_resampler_free(rs[l]);
+    }
     free(vols);
+    free(rs);
+    free(out_vols);
     free(sel);
     vsv_decoder_free(d);
     vsv_file_free(f);

@@ -54,7 +54,8 @@ extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, con
     try {
         const one_thread serial;
         openvdb::initialize();
-        // the vertical axis: even heights, or the native levels' mean spacing
+        // the vertical axis: even heights, or (a file of format 1.0, which has
+        // no per-column heights) the native levels' mean spacing
         double z0 = m->origin[2], dz = m->spacing[2];
         if (m->vert_kind != VSV_VERT_EVEN && m->levels && m->nz > 1) {
             z0 = m->levels[0];

@@ -64,6 +64,7 @@ struct vsv_renderer {
     vsv_camera ground_cam;
     vsv_geo ground_geo;
     int ground_valid;
+    vsv_native native;    /* native levels placed at their heights */
 };
 
 void vsv_render_opts_init(vsv_render_opts *o)
@@ -91,6 +92,9 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
     if (m->vert_kind == VSV_VERT_EVEN) {
         g->oz = m->origin[2];
         g->dz = m->spacing[2];
+    } else if (m->vert_kind == VSV_VERT_NATIVE && m->nheights) {
+        /* per-column heights: the even axis the volumes are resampled onto */
+        vsv_heights_axis(m, &g->nz, &g->oz, &g->dz);
     } else if (m->vert_kind == VSV_VERT_NATIVE && m->levels && m->nz > 1) {
         g->oz = m->levels[0];
         g->dz = (m->levels[m->nz - 1] - m->levels[0]) / (m->nz - 1);
@@ -988,6 +992,7 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r->build);
     free(r->ground);
     vsv_sw_free(r->sw);
+    vsv_native_free(&r->native);
     free(r);
 }
 
@@ -995,6 +1000,9 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
 {
     if (cam->width < 1 || cam->height < 1 || !sc->meta)
         return VSV_EINVAL;
+    int nrc = vsv_native_scene(&r->native, sc, &sc);
+    if (nrc)
+        return nrc;
     for (int l = 0; l < sc->nlayers; l++) {
         const vsv_volume *v = sc->layers[l].vol;
         if (v && (v->nx != sc->meta->nx || v->ny != sc->meta->ny || v->nz != sc->meta->nz))

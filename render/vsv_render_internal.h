@@ -83,6 +83,20 @@ typedef struct vsv_geo {
 } vsv_geo;
 
 void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g);
+
+/* Native levels at their heights (vsv_native.c): for a scene whose file has
+ * per-column heights, *out is the same scene over the volumes resampled
+ * onto the even axis of vsv_heights_axis (valid until the next call);
+ * otherwise *out is in. */
+typedef struct vsv_native {
+    const vsv_meta *m;
+    vsv_resampler **rs; /* per layer */
+    vsv_layer *layers;
+    int cap;
+    vsv_scene sc;
+} vsv_native;
+int vsv_native_scene(vsv_native *n, const vsv_scene *in, const vsv_scene **out);
+void vsv_native_free(vsv_native *n);
 /* Exaggerated terrain height at world (x, y), bilinear between cell centres. */
 double vsv_geo_terrain(const vsv_geo *g, double x, double y);
 /* Ground colour at (x, y): by height, shaded by slope. */

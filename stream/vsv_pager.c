@@ -786,6 +786,7 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
     } else {
         v->step = step;
         v->species = s;
+        v->time = vsv_file_time(p->f, step);
         v->gen = vsv_volume_new_gen();
     }
     make_room(p, 0, 1);

@@ -605,6 +605,143 @@ static void test_parts(void)
     free(f);
 }
 
+/* Per-column heights (SPEC.md HGTS, format 1.1): both forms round-trip, the
+ * file says 1.1 (and a file without them still 1.0), the reference reader
+ * (which knows nothing of HGTS) still reads it, bad heights are refused, and
+ * the resampler puts a field equal to each cell's height at the even cell's
+ * own height. */
+static void test_heights(void)
+{
+    enum { NX = 12, NY = 10, NZ = 6, NT = 3 };
+    const size_t plane = NX * NY, n = plane * NZ;
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = NX, m.ny = NY, m.nz = NZ;
+    m.vert_kind = VSV_VERT_NATIVE;
+    m.spacing[0] = m.spacing[1] = 1000;
+    vsv_meta_alloc_levels(&m);
+    vsv_meta_alloc_terrain(&m);
+    for (size_t c = 0; c < plane; c++)
+        m.terrain[c] = (float)(100.0 * (double)(c % NX)); /* a slope, 0..1100 m */
+    const double mm5[5] = {100000, 290, 50, 0, 10000};
+    const double sigma[NZ] = {0.99, 0.95, 0.85, 0.6, 0.3, 0.05};
+    CHECK(vsv_meta_add_heights(&m, INT64_MIN, NULL, mm5, sigma) == 0, "MM5 heights from the formula");
+    /* a lowest level ~80 m above the ground whatever the ground */
+    CHECK(m.nheights == 1 && fabsf(m.heights[0].z[0] - m.heights[0].z[NX - 1] + 1100.0f) < 80, "MM5 levels follow the terrain",
+          "%g %g", m.heights[0].z[0], m.heights[0].z[NX - 1]);
+    for (int k = 0; k < NZ; k++)
+        m.levels[k] = m.heights[0].z[(size_t)k * plane];
+    float *z = malloc(n * sizeof *z);
+    for (size_t i = 0; i < n; i++)
+        z[i] = m.heights[0].z[i] + 50.0f;
+    CHECK(vsv_meta_add_heights(&m, 3600, z, NULL, NULL) == 0, "stored heights from the second step on");
+    CHECK(vsv_meta_add_heights(&m, 3600, z, NULL, NULL) == VSV_EINVAL, "heights out of time order refused");
+    z[plane] = z[0] - 1; /* level 1 below level 0 */
+    CHECK(vsv_meta_add_heights(&m, 7200, z, NULL, NULL) == VSV_EINVAL, "heights not increasing upward refused");
+    z[plane] = m.heights[0].z[plane] + 50.0f;
+    vsv_meta_add_var(&m, "HGT", "m", "the height of the cell");
+    /* the field is the height of its own cell */
+    float *v[NT];
+    for (int t = 0; t < NT; t++) {
+        v[t] = malloc(n * sizeof *v[t]);
+        const float *h = vsv_meta_heights_at(&m, t * 3600);
+        for (size_t i = 0; i < n; i++)
+            v[t][i] = h[i];
+    }
+    CHECK(vsv_meta_heights_at(&m, -5) == m.heights[0].z && vsv_meta_heights_at(&m, 7200) == m.heights[1].z,
+          "the heights in force at a time");
+    vsv_pack_opts o;
+    vsv_pack_var pv;
+    vsv_pack_opts_init(&o);
+    vsv_pack_var_init(&pv);
+    o.brick = 8;
+    o.threads = 1;
+    o.vars = &pv;
+    const char *path = vsv_test_tmp("heights.vsv");
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(path, &m, &o, &w);
+    for (int t = 0; t < NT && !rc; t++)
+        rc = vsv_writer_add_step(w, t * 3600, (const float *const *)&v[t]);
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    CHECK(rc == 0, "a file with heights is written");
+    size_t sz = 0;
+    unsigned char *d = vsv_test_slurp(path, &sz);
+    CHECK(d && sz > 16 && d[10] == 1 && d[11] == 0, "its header says format 1.1");
+    ref_file rf;
+    char err[256];
+    uint16_t *codes = malloc(n * sizeof *codes);
+    float *vals = malloc(n * sizeof *vals);
+    CHECK(d && ref_open(&rf, d, sz, err, sizeof err) == 0 && ref_decode(&rf, 2, 0, codes, vals, err, sizeof err) == 0 &&
+              fabsf(vals[n - 1] - v[2][n - 1]) < 1,
+          "the reference reader reads a 1.1 file", "%s", err);
+    if (d)
+        ref_close(&rf);
+    vsv_file *f = NULL;
+    CHECK(vsv_file_open(path, &f) == 0, "it reads back", "%s", f ? vsv_file_error(f) : "");
+    const vsv_meta *r = f ? vsv_file_meta(f) : NULL;
+    int same = r && r->nheights == 2 && r->heights[0].form == VSV_HEIGHTS_MM5 && r->heights[1].form == VSV_HEIGHTS_STORED &&
+               r->heights[0].time == INT64_MIN && r->heights[1].time == 3600;
+    for (size_t i = 0; same && i < n; i++)
+        same = r->heights[0].z[i] == m.heights[0].z[i] && r->heights[1].z[i] == m.heights[1].z[i];
+    CHECK(same, "both records come back exactly");
+    /* the resampler: value = height, so each even cell holds its own height */
+    vsv_resampler *rs = NULL;
+    vsv_volume *vol = NULL;
+    vsv_decoder *dec = NULL;
+    const vsv_volume *e = NULL;
+    double worst = 0;
+    int inside = 0;
+    if (r && vsv_resampler_create(r, &rs) == 0 && vsv_volume_create(f, &vol) == 0 && vsv_decoder_create(f, &dec) == 0 &&
+        vsv_volume_load(vol, dec, 1, 0) == 0 && vsv_resampler_run(rs, vol, &e) == 0) {
+        const vsv_meta *em = vsv_resampler_meta(rs);
+        const float *h = vsv_meta_heights_at(r, vol->time);
+        for (int k = 0; k < e->nz; k++)
+            for (int j = 0; j < NY; j++)
+                for (int i = 0; i < NX; i++) {
+                    const size_t c = (size_t)j * NX + i;
+                    const double zc = em->origin[2] + k * em->spacing[2];
+                    if (zc < h[c] || zc > h[(size_t)(NZ - 1) * plane + c])
+                        continue;
+                    inside++;
+                    const double err1 = fabs(vsv_volume_at(e, i, j, k) - zc);
+                    worst = err1 > worst ? err1 : worst;
+                }
+        CHECK(em->vert_kind == VSV_VERT_EVEN && em->nz == 40 && e->nz == 40, "the even axis: 40 levels", "%d", em->nz);
+    }
+    CHECK(inside > 1000 && worst < 1.0, "resampled: every cell between the levels holds its own height",
+          "%d cells, worst %g m", inside, worst);
+    vsv_resampler_free(rs);
+    vsv_volume_free(vol);
+    vsv_decoder_free(dec);
+    vsv_file_free(f);
+    /* a file without heights stays 1.0 */
+    vsv_meta plain;
+    vsv_meta_init(&plain);
+    vsv_meta_copy(&plain, &m);
+    vsv_heights_clear_all(&plain);
+    plain.vert_kind = VSV_VERT_EVEN;
+    w = NULL;
+    rc = vsv_writer_create(path, &plain, &o, &w);
+    if (!rc)
+        rc = vsv_writer_add_step(w, 0, (const float *const *)&v[0]);
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    free(d);
+    d = vsv_test_slurp(path, &sz);
+    CHECK(rc == 0 && d && d[10] == 0, "a file without heights stays format 1.0");
+    vsv_meta_clear(&plain);
+    free(d);
+    free(codes);
+    free(vals);
+    free(z);
+    for (int t = 0; t < NT; t++)
+        free(v[t]);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_basics();
@@ -615,5 +752,6 @@ int main(void)
     test_damage();
     test_golden();
     test_parts();
+    test_heights();
     return vsv_test_done();
 }

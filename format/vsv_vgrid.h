@@ -2,7 +2,8 @@
  * per cell of the even grid, the native level below it and a weight; cells
  * below the ground or above the column's top level hold no data (NaN), cells
  * between the ground and the lowest level take the lowest level's value.
- * Shared by the MM5, WRF and CAMx readers. Private to convert/. */
+ * Shared by the MM5, WRF and CAMx readers and by the resampler that places
+ * native levels at their heights (vsv_heights.c). Private to the library. */
 #ifndef VSV_VGRID_H
 #define VSV_VGRID_H
 
