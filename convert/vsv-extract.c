@@ -72,6 +72,9 @@ int main(int argc, char **argv)
     if (optind >= argc)
         vsv_cli_usage_error("no input file");
     char tmsg[300];
+    char smsg[200];
+    if (vsv_source_opts_check(&so, smsg, sizeof smsg))
+        vsv_cli_usage_error("%s", smsg);
     if (times && vsv_timesel_parse(times, NULL, 0, 0, &(vsv_timesel){0}, tmsg, sizeof tmsg))
         vsv_cli_usage_error("--times %s: %s", times, tmsg);
     if (list) {

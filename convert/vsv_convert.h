@@ -29,8 +29,10 @@ typedef struct vsv_source_opts {
     const char *heights;/* CAMx: the height/pressure companion file, or NULL */
     const char *met;    /* CAMx: a folder of met companions (found by content), or NULL */
     vsv_proj proj;      /* a projection for files without one (CAMx 5); kind NONE = not given */
+    unsigned proj_set;  /* which of --lat0 --lon0 --lat1 --lat2 were given (bits 0..3) */
     /* sequences of one-step files without times of their own (OpenVDB):
-     * time of file i = time_start + i * time_step when time_step > 0 */
+     * time of file i = time_start + i * time_step when time_step > 0
+     * (time_start INT64_MIN: not given) */
     int64_t time_step, time_start;
     /* the whole sequence this file belongs to and its place in it (set by
      * vsv_run; a lone file is a sequence of one) */
@@ -113,11 +115,16 @@ enum {
     "  --proj lcc|pstereo|mercator|latlon --lat0 D --lon0 D --lat1 D --lat2 D\n"                 \
     "                       the projection of a CAMx 5 file (its header has none)\n"    \
     "OpenVDB sequences (one .vdb per step, given in time order):\n"                       \
-    "  --time-step DURATION the spacing of the steps (e.g. 10m, 1h); without it each\n"  \
-    "                       file's \"time\" metadata (files from vsv-export have it)\n"    \
-    "  --time-start ISO     the time of the first file (default 2000-01-01T00:00:00Z)\n"
+    "  --time-step DURATION the spacing of the steps (e.g. 10m, 1h) of files without\n"  \
+    "                       \"time\" metadata (files from vsv-export have it; a file\n"  \
+    "                       with its own time and --time-step is an error)\n"             \
+    "  --time-start ISO     the time of the first file (required with --time-step)\n"
 /* 1 if id was one of these options, 0 if not, -1 for a bad value. */
 int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg);
+/* Checks the options together once all are given (a projection with the
+ * parameters it needs, --time-step with --time-start); 0, or VSV_EINVAL with
+ * the reason in msg (caller buffer of cap bytes). */
+int vsv_source_opts_check(const vsv_source_opts *o, char *msg, size_t cap);
 
 /* ------------------------------------------------------------ a run */
 

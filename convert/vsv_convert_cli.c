@@ -86,6 +86,9 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
     if (optind >= argc)
         vsv_cli_usage_error("no input file");
     char tmsg[300];
+    char smsg[200];
+    if (vsv_source_opts_check(&a->so, smsg, sizeof smsg))
+        vsv_cli_usage_error("%s", smsg);
     if (a->times && vsv_timesel_parse(a->times, NULL, 0, 0, &(vsv_timesel){0}, tmsg, sizeof tmsg))
         vsv_cli_usage_error("--times %s: %s", a->times, tmsg);
     if (a->method == VSV_TIME_ADVECT && !a->dt)

@@ -75,6 +75,27 @@ static int64_t add_months(int64_t t, long months)
     return vsv_time_from_civil((int)(total / 12), (int)(total % 12) + 1, d, hh, mi, ss);
 }
 
+/* t plus d seconds counted in a calendar of 365-day years (no 29
+ * February), as the model's clock runs, back as the civil date it names. */
+static int64_t noleap_add(int64_t t, int64_t d)
+{
+    static const int cum[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
+    char buf[40];
+    vsv_time_format(t, buf, sizeof buf);
+    int y, m, dd, hh, mi, ss;
+    sscanf(buf, "%d-%d-%dT%d:%d:%d", &y, &m, &dd, &hh, &mi, &ss);
+    if (m == 2 && dd == 29)
+        dd = 28;
+    int64_t secs = (((int64_t)y * 365 + cum[m - 1] + dd - 1) * 86400) + hh * 3600 + mi * 60 + ss + d;
+    int64_t days = secs / 86400, rem = secs % 86400;
+    y = (int)(days / 365);
+    int doy = (int)(days % 365);
+    m = 12;
+    while (cum[m - 1] > doy)
+        m--;
+    return vsv_time_from_civil(y, m, doy - cum[m - 1] + 1, (int)(rem / 3600), (int)(rem / 60 % 60), (int)(rem % 60));
+}
+
 static int grads_open(vsv_source *s)
 {
     grads *g = calloc(1, sizeof *g);
@@ -89,7 +110,7 @@ static int grads_open(vsv_source *s)
     double xs = 0, dx = 1, ys = 0, dy = 1;
     int64_t t0 = 0, dt = 0;
     long dmonths = 0;
-    int nt = 0, have_x = 0, have_y = 0, have_z = 0, have_t = 0;
+    int nt = 0, cal365 = 0, have_x = 0, have_y = 0, have_z = 0, have_t = 0;
     double *levels = NULL;
     char title[256] = "";
     int rc = 0;
@@ -140,11 +161,27 @@ static int grads_open(vsv_source *s)
                 snprintf(g->dset, sizeof g->dset, "%s", d);
             }
         } else if (!strcasecmp(key, "options")) {
-            if (strcasestr(rest, "big_endian"))
-                g->big_endian = 1;
-            if (strcasestr(rest, "template") || strcasestr(rest, "sequential") || strcasestr(rest, "yrev")) {
-                rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: OPTIONS %s not supported", lineno, rest);
-                goto done;
+            /* every keyword honoured or refused by name */
+            char *save = NULL;
+            for (char *o = strtok_r(rest, " \t\r\n", &save); o; o = strtok_r(NULL, " \t\r\n", &save)) {
+                if (!strcasecmp(o, "big_endian"))
+                    g->big_endian = 1;
+                else if (!strcasecmp(o, "little_endian"))
+                    g->big_endian = 0;
+                else if (!strcasecmp(o, "byteswapped"))
+                    g->big_endian = 1; /* the other order than this (little-endian) machine's */
+                else if (!strcasecmp(o, "365_day_calendar"))
+                    cal365 = 1;
+                else {
+                    const int known = !strcasecmp(o, "template") || !strcasecmp(o, "sequential") ||
+                                      !strcasecmp(o, "yrev") || !strcasecmp(o, "zrev") || !strcasecmp(o, "pascals") ||
+                                      !strcasecmp(o, "cray_32bit_ieee");
+                    rc = vsv_source_fail(s, VSV_EUNSUPPORTED,
+                                         "line %d: OPTIONS %s %s (little_endian, big_endian, byteswapped and "
+                                         "365_day_calendar are)",
+                                         lineno, o, known ? "is not supported" : "is unknown");
+                    goto done;
+                }
             }
         } else if (!strcasecmp(key, "undef")) {
             g->undef = strtod(rest, NULL);
@@ -289,7 +326,9 @@ static int grads_open(vsv_source *s)
         goto done;
     }
     for (int t = 0; t < nt; t++)
-        s->times[t] = dmonths ? add_months(t0, dmonths * t) : t0 + dt * t;
+        s->times[t] = dmonths ? add_months(t0, dmonths * t) : cal365 ? noleap_add(t0, dt * t) : t0 + dt * t;
+    if (cal365)
+        vsv_meta_add_attr(&s->grid, "calendar", "365_day (no 29 February; times are the model's dates)");
     vsv_meta *m = &s->grid;
     m->nx = g->nx;
     m->ny = g->ny;

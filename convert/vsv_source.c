@@ -58,7 +58,7 @@ void vsv_source_opts_init(vsv_source_opts *o)
 {
     memset(o, 0, sizeof *o);
     o->vertical = VSV_VERT_EVEN;
-    o->time_start = 946684800; /* 2000-01-01T00:00:00Z */
+    o->time_start = INT64_MIN; /* not given: no invented start */
 }
 
 char *vsv_source_summary(vsv_source *s) { return s->ops && s->ops->summary ? s->ops->summary(s) : NULL; }
@@ -83,6 +83,13 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
     for (size_t i = 0; i < sizeof readers / sizeof *readers; i++)
         if (readers[i]->probe(head, n)) {
             s->ops = readers[i];
+            const int camx = readers[i] == &vsv_camx_ops, vdb = readers[i] == &vsv_vdb_ops;
+            if (!camx && (s->opts.heights || s->opts.met || s->opts.proj.kind != VSV_PROJ_NONE))
+                return vsv_source_fail(s, VSV_EINVAL, "--%s is for CAMx files; this is a %s file",
+                                       s->opts.heights ? "heights" : s->opts.met ? "met" : "proj", readers[i]->name);
+            if (!vdb && s->opts.time_step > 0)
+                return vsv_source_fail(s, VSV_EINVAL, "--time-step is for OpenVDB sequences; this is a %s file",
+                                       readers[i]->name);
             return readers[i]->open(s);
         }
     return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF or IOAPI netCDF, GrADS .ctl, OpenVDB)");
@@ -148,10 +155,57 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
             return -1;
         double *dst[] = {&o->proj.lat0, &o->proj.lon0, &o->proj.lat1, &o->proj.lat2};
         *dst[id - VSV_SOURCE_OPT_LAT0] = v;
+        o->proj_set |= 1u << (id - VSV_SOURCE_OPT_LAT0);
         return 1;
     }
     default: return 0;
     }
+}
+
+int vsv_source_opts_check(const vsv_source_opts *o, char *msg, size_t cap)
+{
+    static const char *const pn[] = {"--lat0", "--lon0", "--lat1", "--lat2"};
+    if (o->proj.kind == VSV_PROJ_NONE) {
+        for (int i = 0; i < 4; i++)
+            if (o->proj_set & (1u << i)) {
+                vsv_msg(msg, cap, "%s without --proj", pn[i]);
+                return VSV_EINVAL;
+            }
+    } else {
+        /* what each projection needs: lcc lat0 lon0 lat1 (lat2 = lat1 when
+         * absent: tangent); pstereo lat0 (the pole's side) lon0 lat1;
+         * mercator lon0 lat1; tmerc lon0 lat1 (k0); albers all four */
+        unsigned need = 0;
+        switch (o->proj.kind) {
+        case VSV_PROJ_LCC: need = 7; break;
+        case VSV_PROJ_PSTEREO: need = 7; break;
+        case VSV_PROJ_MERCATOR: need = 6; break;
+        case VSV_PROJ_TMERC: need = 6; break;
+        case VSV_PROJ_ALBERS: need = 15; break;
+        default: need = 0; break;
+        }
+        if ((o->proj_set & need) != need) {
+            char list[64] = "";
+            for (int i = 0; i < 4; i++)
+                if (need & ~o->proj_set & (1u << i))
+                    snprintf(list + strlen(list), sizeof list - strlen(list), " %s", pn[i]);
+            vsv_msg(msg, cap, "--proj %s needs%s (no default puts a grid on the map)", vsv_proj_name(o->proj.kind), list);
+            return VSV_EINVAL;
+        }
+        if (o->proj.kind == VSV_PROJ_LATLON && o->proj_set) {
+            vsv_msg(msg, cap, "--proj latlon takes no --lat0/--lon0/--lat1/--lat2");
+            return VSV_EINVAL;
+        }
+    }
+    if (o->time_step > 0 && o->time_start == INT64_MIN) {
+        vsv_msg(msg, cap, "--time-step needs --time-start (the time of the first file)");
+        return VSV_EINVAL;
+    }
+    if (!(o->time_step > 0) && o->time_start != INT64_MIN) {
+        vsv_msg(msg, cap, "--time-start without --time-step");
+        return VSV_EINVAL;
+    }
+    return 0;
 }
 
 int vsv_source_axis(vsv_source *s, const float *zn, int kx, double round_to)

@@ -541,6 +541,8 @@ static int camx_open(vsv_source *s)
     /* projection: the header's (v6+), else the options', else none */
     if (s->opts.proj.kind != VSV_PROJ_NONE) {
         g->proj = s->opts.proj;
+        if (!(s->opts.proj_set & 8)) /* no --lat2: a tangent (or one-parallel) projection */
+            g->proj.lat2 = g->proj.lat1;
     } else if (h->v6) {
         g->proj.radius = 6370000;
         g->proj.lon0 = h->plon;

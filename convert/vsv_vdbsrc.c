@@ -102,12 +102,19 @@ have:;
         f->is_volume = f->is_default = 1;
     }
     s->ntimes = 1;
+    if (s->opts.time_step > 0 && in->times[idx] != INT64_MIN) {
+        char when[40];
+        vsv_time_format(in->times[idx], when, sizeof when);
+        return vsv_source_fail(s, VSV_EINVAL,
+                               "has its own time %s (\"time\" metadata); --time-step would replace it: drop "
+                               "--time-step and --time-start", when);
+    }
     if (s->opts.time_step > 0) {
         s->times[0] = s->opts.time_start + (int64_t)idx * s->opts.time_step;
     } else if (in->times[idx] != INT64_MIN) {
         s->times[0] = in->times[idx];
     } else {
-        return vsv_source_fail(s, VSV_EINVAL, "no \"time\" metadata: give the sequence's spacing with --time-step");
+        return vsv_source_fail(s, VSV_EINVAL, "no \"time\" metadata: give the sequence's spacing and start with --time-step and --time-start");
     }
     return 0;
 }

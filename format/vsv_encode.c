@@ -90,6 +90,10 @@ int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err,
         vsv_msg(err, cap, "unknown codec %d", o->codec);
         return VSV_EINVAL;
     }
+    if (o->codec == VSV_CODEC_ZSTD && (o->level < 1 || o->level > ZSTD_maxCLevel())) {
+        vsv_msg(err, cap, "zstd level %d: must be 1..%d", o->level, ZSTD_maxCLevel());
+        return VSV_EINVAL;
+    }
     for (int v = 0; o->vars && v < meta->nvars; v++)
         if (o->vars[v].bits != 8 && o->vars[v].bits != 16) {
             vsv_msg(err, cap, "%s: %d bits: must be 8 or 16", meta->vars[v].name, o->vars[v].bits);
@@ -124,8 +128,6 @@ int vsv_pack_plan_create(const vsv_meta *meta, const vsv_pack_opts *opts, const 
     int rc = vsv_pack_opts_check(&p->opts, meta, p->err, sizeof p->err);
     if (rc)
         return rc;
-    if (p->opts.level < 1 || p->opts.level > ZSTD_maxCLevel())
-        p->opts.level = 3;
     if ((rc = vsv_meta_copy(&p->meta, meta)))
         return rc;
     const int ns = meta->nvars;

@@ -237,6 +237,11 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("one .vsv file");
     if (time && times)
         vsv_cli_usage_error("--time and --times exclude each other");
+    if (out) { /* the format is the extension's: never PNG bytes in a .jpg */
+        const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+        if (!dot || (slash && dot < slash) || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr")))
+            vsv_cli_usage_error("-o %s: the image format comes from the extension: .png or .exr", out);
+    }
     const int sequence = out ? strchr(out, '%') != NULL : 0;
     const char *path = argv[optind];
     vsv_file *f = NULL;

@@ -153,8 +153,10 @@ int vsv_tf_parse(vsv_tf *tf, const char *text, char *msg, size_t cap)
                 return VSV_EINVAL;
             }
             tf->nopacity = k;
+        } else if (strcmp(key, "kind")) { /* "kind" (the default's origin) carries nothing to draw */
+            snprintf(msg, cap, "line %d: unknown key '%s' (colormap, range, scale, opacity)", line, key);
+            return VSV_EINVAL;
         }
-        /* other keys ("kind", later additions) are ignored */
     }
     if (tf->scale == VSV_SCALE_LOG && !(tf->lo > 0)) {
         snprintf(msg, cap, "a log scale needs a positive range");
@@ -181,15 +183,22 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
         return VSV_EIO;
     }
     char line[512];
-    int in = 0, found = 0;
+    int in = 0, found = 0, any = 0, lineno = 0;
     size_t n = 0;
     buf[0] = 0;
     while (fgets(line, sizeof line, fp)) {
-        char name[128];
+        char name[128], word[64];
+        lineno++;
         if (sscanf(line, " species %127s", name) == 1) {
             in = !strcmp(name, species);
             found |= in;
+            any = 1;
             continue;
+        }
+        if (!any && sscanf(line, " %63s", word) == 1 && word[0] != '#') {
+            snprintf(msg, msgcap, "line %d: '%s' before any 'species NAME' line", lineno, word);
+            fclose(fp);
+            return VSV_EINVAL;
         }
         if (in && n + strlen(line) < cap) {
             memcpy(buf + n, line, strlen(line) + 1);
@@ -207,7 +216,7 @@ int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf,
     const char *src = m->tf && m->tf[s] ? m->tf[s] : NULL;
     if (tfpath) {
         const int rc = vsv_tf_file_block(tfpath, m->vars[s].name, text, sizeof text, why, sizeof why);
-        if (rc == VSV_EIO) {
+        if (rc == VSV_EIO || rc == VSV_EINVAL) {
             snprintf(msg, cap, "%s", why);
             return rc;
         }

@@ -39,4 +39,50 @@ fi
 expect "wrf_cropped.nc converts by default" 0 "$B/vsv-convert" -q "$D/wrf/wrf_cropped.nc" -o "$T/wrfc.vsv"
 "$B/vsv-info" -f species.0.name "$T/wrfc.vsv" > "$T/out"
 has "wrf_cropped.nc: QVAPOR" "$T/out" "QVAPOR"
+
+# --proj needs its parameters; they need --proj; options for another format
+C="$D/camx/test.uamiv"
+expect "--proj lcc without parameters exits 2" 2 "$B/vsv-convert" --proj lcc "$C" -o "$T/p.vsv"
+has "--proj names what it needs" "$T/err" "--proj lcc needs --lat0 --lon0 --lat1"
+if [ ! -e "$T/p.vsv" ]; then pass "nothing written after --proj lcc alone"; else fail "nothing written after --proj lcc alone" "exists"; fi
+expect "--lat1 without --proj exits 2" 2 "$B/vsv-extract" --lat1 33 "$C"
+expect "--proj lcc with its parameters converts" 0 "$B/vsv-convert" -q --proj lcc --lat0 40 --lon0 -97 --lat1 33 --lat2 45 "$C" -o "$T/p.vsv"
+expect "--heights on an MM5 file exits 1" 1 "$B/vsv-convert" --heights "$D/camx/test.height_pressure" samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/h.vsv"
+has "--heights is named as CAMx-only" "$T/err" "--heights is for CAMx files; this is a MM5 v3 file"
+
+# vsv-render: the image format is the extension's
+"$B/vsv-convert" -q --vars CLW samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
+expect "vsv-render -o x.jpg exits 2" 2 "$B/vsv-render" "$T/s.vsv" -o "$T/x.jpg" --size 32x24
+has "the extension is named" "$T/err" "the image format comes from the extension: .png or .exr"
+if [ ! -e "$T/x.jpg" ]; then pass "no .jpg of PNG bytes"; else fail "no .jpg of PNG bytes" "exists"; fi
+expect "vsv-render -o x.EXR works" 0 "$B/vsv-render" -q "$T/s.vsv" -o "$T/x.EXR" --size 32x24
+printf 'species CLW\ncolourmap hot\n' > "$T/bad.tf"
+expect "an unknown transfer-function key exits 1" 1 "$B/vsv-render" "$T/s.vsv" -o "$T/y.png" --tf "$T/bad.tf"
+has "the unknown key is named" "$T/err" "unknown key 'colourmap'"
+printf 'specie CLW\ncolormap hot\n' > "$T/bad2.tf"
+expect "a line outside any species block exits 1" 1 "$B/vsv-render" "$T/s.vsv" -o "$T/y.png" --tf "$T/bad2.tf"
+has "the stray line is named" "$T/err" "line 1: 'specie' before any 'species NAME' line"
+
+# GrADS OPTIONS: byteswapped and 365_day_calendar honoured, unknown refused
+G="$D/grads"
+if [ -f "$G/model.ctl" ] && /usr/bin/python3 - "$G" "$T" <<'PY'
+import sys, numpy as np
+g, t = sys.argv[1], sys.argv[2]
+np.fromfile(g + "/model.dat", "<f4").astype(">f4").tofile(t + "/swapped.dat")
+ctl = open(g + "/model.ctl").read().replace("^model.dat", "^swapped.dat")
+open(t + "/swapped.ctl", "w").write(ctl.replace("OPTIONS little_endian", "OPTIONS byteswapped"))
+open(t + "/cal.ctl", "w").write(ctl.replace("OPTIONS little_endian", "OPTIONS byteswapped 365_day_calendar").replace("02JAN1987", "27FEB1988"))
+open(t + "/unk.ctl", "w").write(ctl.replace("OPTIONS little_endian", "OPTIONS little_endian frobnicate"))
+PY
+then
+    "$B/vsv-extract" --vars T "$G/model.ctl" | "$B/vsv-pack" -q --codec none -o "$T/g1.vsv"
+    "$B/vsv-extract" --vars T "$T/swapped.ctl" | "$B/vsv-pack" -q --codec none -o "$T/g2.vsv"
+    "$B/vsv-info" -f species.0.max "$T/g1.vsv" > "$T/m1"
+    "$B/vsv-info" -f species.0.max "$T/g2.vsv" > "$T/m2"
+    if cmp -s "$T/m1" "$T/m2" && grep -q '^303' "$T/m1"; then pass "OPTIONS byteswapped: a big-endian copy reads the same T"; else fail "OPTIONS byteswapped: a big-endian copy reads the same T" "$(cat "$T/m1") vs $(cat "$T/m2")"; fi
+    expect "OPTIONS 365_day_calendar" 0 "$B/vsv-extract" --list "$T/cal.ctl"
+    has "no 29 February in a 365-day calendar" "$T/out" "1988-02-28T00:00:00Z 1988-03-01T00:00:00Z"
+    expect "an unknown OPTIONS keyword exits 1" 1 "$B/vsv-extract" --list "$T/unk.ctl"
+    has "the keyword is named" "$T/err" "OPTIONS frobnicate is unknown"
+fi
 exit 0

@@ -29,9 +29,11 @@ has "at its time" "$T/out" "1995-10-24T01:00:00Z"
 timeout 120 "$B/vsv-extract" "$T"/s_*.vdb | timeout 120 "$B/vsv-pack" -q -o "$T/back.vsv"
 expect "a .vdb sequence packs back into a .vsv" 0 "$B/vsv-info" "$T/back.vsv"
 has "with the four steps" "$T/out" "4 steps, 1995-10-24T00:00:00Z"
-timeout 120 "$B/vsv-extract" --time-step 10m --time-start 2020-06-01T12:00:00Z "$T"/s_*.vdb | timeout 120 "$B/vsv-pack" -q -o "$T/spaced.vsv"
-timeout 120 "$B/vsv-info" "$T/spaced.vsv" > "$T/out"
-has "--time-step and --time-start space the sequence" "$T/out" "2020-06-01T12:00:00Z .. 2020-06-01T12:30:00Z, every 600 s"
+# files with their own times: --time-step would replace them, so it is refused
+expect "--time-step on .vdb files with times exits 1" 1 "$B/vsv-extract" --time-step 10m --time-start 2020-06-01T12:00:00Z "$T"/s_*.vdb
+has "--time-step refusal names the file and its time" "$T/err" "s_0000.vdb: has its own time 1995-10-24T00:00:00Z (\"time\" metadata); --time-step would replace it"
+expect "--time-step without --time-start exits 2" 2 "$B/vsv-extract" --time-step 10m "$T"/s_*.vdb
+has "no silent start in 2000" "$T/err" "--time-step needs --time-start"
 head -c 3000 "$T/s_0001.vdb" > "$T/cut.vdb"
 expect "a truncated .vdb exits 1" 1 "$B/vsv-extract" "$T/cut.vdb"
 has "with a clear message" "$T/err" "cut.vdb: not a readable OpenVDB file"

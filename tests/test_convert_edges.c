@@ -133,8 +133,27 @@ static void test_native_heights(void)
     vsv_source_free(s);
 }
 
+static void test_zstd_level(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = m.ny = m.nz = 8;
+    vsv_meta_add_var(&m, "X", "1", "test");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.level = 40;
+    vsv_writer *w = NULL;
+    const char *out = vsv_test_tmp("level.vsv");
+    const int rc = vsv_writer_create(out, &m, &o, &w);
+    CHECK(rc == VSV_EINVAL && strstr(vsv_writer_error(w), "zstd level 40: must be 1.."),
+          "an invalid zstd level is refused by name (was silently 3)", "rc %d (%s)", rc, vsv_writer_error(w));
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
+    test_zstd_level();
     test_wrf_default();
     test_rotated_pole();
     test_native_heights();
