@@ -33,6 +33,13 @@ echo "01:30, half way between two outputs: cross-faded $OUT/half-linear.png, car
 step "Inspect" "vsv-info $OUT/storm.vsv"
 "$B/vsv-info" "$OUT/storm.vsv"
 
+step "One time grammar in every tool: a range of ISO times (colons and all), regular 20-minute steps" \
+     "vsv-convert --time-res 20m --times 1995-10-24T01:00:00Z:1995-10-24T03:00:00Z --vars CLW $MM5 -o $OUT/hours.vsv"
+"$B/vsv-convert" -q --time-res 20m --times 1995-10-24T01:00:00Z:1995-10-24T03:00:00Z --vars CLW "$MM5" -o "$OUT/hours.vsv"
+"$B/vsv-info" "$OUT/hours.vsv" | grep '  times'
+echo "a time between steps takes the nearest, and says so:"
+"$B/vsv-render" -q "$OUT/hours.vsv" --time 1995-10-24T01:07 --size 160x120 -o "$OUT/nearest.png"
+
 step "Verify every checksum and decode everything" "vsv-info --check $OUT/storm.vsv"
 "$B/vsv-info" --check "$OUT/storm.vsv"
 
