@@ -251,7 +251,7 @@ demo:
 	$(Q)B=$(B) sh tools/demo.sh
 
 BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
-            $(B)/bench/bench_play
+            $(B)/bench/bench_play $(B)/bench/bench_advect
 $(B)/bench/%: $(B)/bench/%.o $(LIB)
 	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
 
@@ -262,6 +262,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_convert.sh
 	$(Q)B=$(B) sh bench/bench_camx.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_advect.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vdb.sh

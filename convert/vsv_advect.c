@@ -22,7 +22,9 @@
  * data (NaN, below ground) left out and the weights renormalised, the
  * result clamped to the range of those cells — no new maxima, no
  * negative concentrations. Not mass-conserving (nor is linear
- * interpolation); the original outputs are never touched.
+ * interpolation); the original outputs are never touched. A trajectory
+ * that leaves the grid sideways met air nobody knows: that end takes the
+ * cell's own value, as linear interpolation would.
  *
  * Threads: rows of the output frame are handed out through an atomic
  * counter to threads started per frame; nothing is allocated per cell. */
@@ -203,8 +205,10 @@ static inline float fmax3abs(const float k[3])
 }
 
 /* Moves p along the wind from interval time s over dur (> 0) of the
- * interval, forward (dir 1) or back (dir -1); k1 is the wind at p and s. */
-static void trajectory(const vsv_advect *a, float p[3], const float k1_in[3], float s, float dur, float dir)
+ * interval, forward (dir 1) or back (dir -1); k1 is the wind at p and s.
+ * Returns 0, or 1 when the trajectory left the grid sideways (the air came
+ * from, or goes to, outside it: nothing there is known). */
+static int trajectory(const vsv_advect *a, float p[3], const float k1_in[3], float s, float dur, float dir)
 {
     const float hi[3] = {(float)(a->nx - 1), (float)(a->ny - 1), (float)(a->nz - 1)};
     float k1[3] = {k1_in[0], k1_in[1], k1_in[2]};
@@ -219,11 +223,14 @@ static void trajectory(const vsv_advect *a, float p[3], const float k1_in[3], fl
         wind_at(a, m, s + dir * h / 2, k2);
         for (int d = 0; d < 3; d++) {
             const float q = p[d] + dir * k2[d] * h;
+            if (d < 2 && (q < 0 || q > hi[d]) && hi[d] > 0)
+                return 1;
             p[d] = q < 0 ? 0 : q > hi[d] ? hi[d] : q;
         }
         s += dir * h;
         dur = h < dur ? dur - h : 0;
     }
+    return 0;
 }
 
 /* Trilinear value of f at the corners, clamped to the range of the 8
@@ -280,10 +287,12 @@ static void do_row(const job *jb, int row)
         const float *w = a->wind + c * 8;
         const float k1[3] = {w[0] + s * (w[4] - w[0]), w[1] + s * (w[5] - w[1]), w[2] + s * (w[6] - w[2])};
         float pb[3] = {(float)i, (float)j, (float)k}, pf[3] = {(float)i, (float)j, (float)k};
-        if (s > 0)
-            trajectory(a, pb, k1, s, s, -1);
-        if (s < 1)
-            trajectory(a, pf, k1, s, 1 - s, 1);
+        /* a trajectory that leaves the grid sideways: that end falls back to
+         * the cell's own value, as linear interpolation has it */
+        if (s > 0 && trajectory(a, pb, k1, s, s, -1))
+            pb[0] = (float)i, pb[1] = (float)j, pb[2] = (float)k;
+        if (s < 1 && trajectory(a, pf, k1, s, 1 - s, 1))
+            pf[0] = (float)i, pf[1] = (float)j, pf[2] = (float)k;
         size_t ob[8], of[8];
         f8 wb, wf;
         corners(a, pb, ob, &wb);
