@@ -194,9 +194,61 @@ static void test_zone(void)
     vsv_source_free(s);
 }
 
+static int count_frames(void *ctx, int64_t t, const float *const *f)
+{
+    (void)t, (void)f;
+    ++*(int *)ctx;
+    return 0;
+}
+
+/* --interp advect with CAMx: the wind companion's U and V are the winds
+ * (no vertical wind in CAMx: horizontal motion only). */
+static void test_advect_winds(void)
+{
+    const char *avrg = write_avrg("adv.avrg", 3, 2, 0, 0);
+    const char *paths[1] = {avrg};
+    vsv_source_opts o;
+    vsv_source_opts_init(&o);
+    o.met = vsv_test_shared("camx");
+    o.vertical = VSV_VERT_NATIVE;
+    vsv_run *r = NULL;
+    int rc = vsv_run_open(paths, 1, &o, "O3,NO2", NULL, &r);
+    if (!rc)
+        rc = vsv_run_add_winds(r, NULL, &o);
+    const vsv_meta *m = rc ? NULL : vsv_run_meta(r);
+    CHECK(m && m->nvars == 4 && !strcmp(m->vars[2].name, VSV_WIND_U) && !strcmp(m->vars[3].name, VSV_WIND_V) &&
+              strstr(vsv_meta_attr(m, VSV_WINDS_ATTR), "U V of adv.avrg (CAMx"),
+          "advect: CAMx winds from the real wind companion (U, V; no W)", "(%s)", rc ? vsv_run_error(r) : "");
+    if (m) {
+        float *f[2][4];
+        for (int t = 0; t < 2; t++)
+            for (int v = 0; v < 4; v++)
+                f[t][v] = malloc(60 * sizeof(float));
+        int frames = 0, ok = !vsv_run_read(r, 0, f[0]) && !vsv_run_read(r, 1, f[1]);
+        const float u = raw("camx/test.wind", 8 + 1 + 4, 0, 7); /* hour 1, layer 2, cell 7 */
+        ok &= f[1][2][2 * 20 + 7] == u;
+        vsv_interp_opts io = {VSV_TIME_ADVECT, 1};
+        vsv_interp *ip = NULL;
+        vsv_meta out;
+        vsv_meta_init(&out);
+        ok &= !vsv_interp_open(600, m, &io, count_frames, &frames, &ip) && !vsv_interp_meta(ip, m, &out) &&
+              !vsv_interp_push(ip, vsv_run_time(r, 0), (const float *const *)f[0]) &&
+              !vsv_interp_push(ip, vsv_run_time(r, 1), (const float *const *)f[1]);
+        CHECK(ok && frames == 7 && out.nvars == 2 && strstr(vsv_meta_attr(&out, "time interpolation"), "horizontal only"),
+              "advect: CAMx O3, NO2 every 10 minutes along the wind file's U V", "%d frames", frames);
+        vsv_interp_free(ip);
+        vsv_meta_clear(&out);
+        for (int t = 0; t < 2; t++)
+            for (int v = 0; v < 4; v++)
+                free(f[t][v]);
+    }
+    vsv_run_free(r);
+}
+
 int main(void)
 {
     test_met_dir();
+    test_advect_winds();
     test_mismatch();
     test_zone();
     return vsv_test_done();
