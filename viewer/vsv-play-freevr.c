@@ -92,9 +92,15 @@ static void fail(const char *msg)
     vrLockWriteRelease(S->lock);
 }
 
+/* Once per window; a render process that drives several windows keeps one
+ * player (one cache) for them all. */
+static int WINDOWS;
+
 static void display_init(void)
 {
     char err[1024];
+    if (WINDOWS++)
+        return;
     vsv_player_opts o = OPTS;
     o.cache_bytes = PER_PROCESS;
     if (vsv_player_open(&o, &R, err, sizeof err)) {
@@ -105,6 +111,16 @@ static void display_init(void)
     }
     if (!(OV = vsv_overlay_create(18, err, sizeof err)))
         fprintf(stderr, "%s: no status text: %s\n", vsv_cli_tool(), err);
+}
+
+static void display_exit(void)
+{
+    if (--WINDOWS > 0)
+        return;
+    vsv_overlay_free(OV);
+    vsv_player_free(R);
+    OV = NULL;
+    R = NULL;
 }
 
 /* The depth (positive, in the projection's units) at which the billboard
@@ -333,6 +349,7 @@ int main(int argc, char **argv)
     vrInputSet2switchDescription(3, "show / hide the species");
     vrCallbackSet(VRFUNC_DISPLAY_INIT, "vsv_display_init", display_init, 0);
     vrCallbackSet(VRFUNC_DISPLAY, "vsv_display", display, 0);
+    vrCallbackSet(VRFUNC_DISPLAY_EXIT, "vsv_display_exit", display_exit, 0);
     vrStart();
     double last = vrCurrentSimTime();
     int stick = 0; /* joystick x: -1, 0, +1 (edges trigger) */
