@@ -296,7 +296,11 @@ int main(int argc, char **argv)
             break;
         case O_PLAY: OPTS.play = 1; break;
         case O_NOTERRAIN: OPTS.terrain = 0; break;
-        case 'h': fputs(usage, stdout); return 0;
+        case 'h':
+            fputs(usage, stdout);
+            free(ours);
+            free(fv);
+            return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("see --help");
         }
