@@ -3,7 +3,7 @@
  * through its volumes resampled onto an even height axis, redone only when a
  * layer's volume changes (a new time step), so both renderers march the
  * same even grid as for a file converted with even heights. */
-#include "vsv_render_internal.h"
+#include "vsv_geo.h"
 
 #include <stdlib.h>
 

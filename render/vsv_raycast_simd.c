@@ -14,7 +14,7 @@
  * vsv_raycast16_avx512 (one AVX-512 register, masks in mask registers, 32
  * registers: no spills; 5-8 % faster on the Zen 4 this was measured on).
  * The renderer calls each only when the CPU has what it was built for. */
-#include "vsv_render_internal.h"
+#include "vsv_rc.h"
 
 #include <immintrin.h>
 #include <limits.h>

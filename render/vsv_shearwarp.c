@@ -10,7 +10,7 @@
  * intervals where a sample between them can meet a non-transparent voxel
  * (the run-length part: the union of both scanlines' non-transparent runs,
  * each widened by the one voxel a bilinear footprint reaches). Layout in
- * vsv_render_internal.h. It runs on the renderer's thread pool, one slice per
+ * vsv_sw.h. It runs on the renderer's thread pool, one slice per
  * job.
  *
  * A frame composites slices perpendicular to the principal viewing axis front
@@ -28,7 +28,7 @@
  * Memory: 16 bytes per voxel (and 16 voxels of padding per scanline) for a
  * classified copy and 2 bytes per voxel for its footprints: about 19 bytes
  * per voxel for one viewing axis, 57 when views have used all three. */
-#include "vsv_render_internal.h"
+#include "vsv_sw.h"
 
 #include <limits.h>
 #include <math.h>
@@ -42,7 +42,7 @@ typedef float v4 __attribute__((vector_size(16)));
 
 struct vsv_sw {
     /* per principal axis c (a = c+1, b = c+2 mod 3): the classified copy
-     * and its footprints (vsv_render_internal.h) */
+     * and its footprints (vsv_sw.h) */
     uint16_t *vox[3];
     size_t vox_cap[3];
     vsv_sw_fp *fps[3];

@@ -14,7 +14,7 @@
  * Written with GCC's vector extensions only and built twice: as is (for any
  * x86-64, two SSE registers a vector) and by vsv_sw_row_avx2.c for AVX2 and
  * FMA (one register), which vsv_shearwarp.c picks when the CPU has them. */
-#include "vsv_render_internal.h"
+#include "vsv_sw.h"
 
 #include <stddef.h>
 #include <limits.h>

@@ -1,10 +1,11 @@
 /* vsv_tf.c — transfer functions: colour maps, the small text format, and
- * the lookup tables the renderers sample. */
-#include "vsv_render_internal.h"
+ * the lookup tables the renderers sample, and the opacity table. */
+#include "vsv_tf_internal.h"
 
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -256,3 +257,21 @@ float vsv_tf_max_opacity(const vsv_tf *tf, float lo, float hi)
     return m;
 }
 
+
+
+float vsv_opacity_table[VSV_OPACITY_N + 1];
+
+static void opacity_fill(void)
+{
+    vsv_opacity_table[0] = 1;
+    for (int i = 1; i <= VSV_OPACITY_N; i++) {
+        const double u = i * (double)VSV_OPACITY_UMAX / VSV_OPACITY_N;
+        vsv_opacity_table[i] = (float)(-expm1(-u) / u);
+    }
+}
+
+void vsv_opacity_init(void)
+{
+    static pthread_once_t once = PTHREAD_ONCE_INIT;
+    pthread_once(&once, opacity_fill);
+}

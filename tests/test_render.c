@@ -4,7 +4,8 @@
  * at PSNR >= 40 dB on synthetic and real MM5 data, transfer-function text. */
 #include "vsv_format.h"
 #include "vsv_render.h"
-#include "vsv_render_internal.h"
+#include "vsv_rc.h"
+#include "vsv_sw.h"
 #include "vsv_synth.h"
 #include "vsv_testlib.h"
 

@@ -1,0 +1,366 @@
+/* vsv_raycast.c — the raycaster: the frame's visible layers and empty-space
+ * skipping, the one-ray sample loop, the rays of a row of pixels, the
+ * ground cache, and the tiles the pool hands out. Each pixel depends only on
+ * the scene and its own ray, so the thread count and the tile order cannot
+ * change a pixel. */
+#include "vsv_renderer.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The raycaster's frame: its visible layers, and empty-space skipping: a
+ * brick is skipped when, for every visible layer, the values of the brick and
+ * of every brick around it (a trilinear sample reaches one cell across, and
+ * blends values between those ranges) map to zero opacity. Computed per frame
+ * from the octree's level 0. */
+int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
+{
+    int nb = 0;
+    const vsv_volume *v0 = NULL;
+    for (int l = 0; l < sc->nlayers; l++)
+        if (sc->layers[l].vol) {
+            nb = sc->layers[l].vol->nbricks > nb ? sc->layers[l].vol->nbricks : nb;
+            v0 = sc->layers[l].vol;
+        }
+    /* layout: [all layers clear][layer 0 clear][layer 1 clear]...[4 bytes] */
+    const size_t need = (size_t)nb * ((size_t)sc->nlayers + 1) + 4;
+    if (need > r->skip_cap) {
+        unsigned char *p = realloc(r->skip, need);
+        if (!p)
+            return VSV_ENOMEM;
+        r->skip = p;
+        r->skip_cap = need;
+    }
+    if (sc->nlayers > r->act_cap) {
+        vsv_rc_layer *p = realloc(r->act, (size_t)sc->nlayers * sizeof *p);
+        if (!p)
+            return VSV_ENOMEM;
+        r->act = p;
+        r->act_cap = sc->nlayers;
+    }
+    if (sc->nlayers > r->copy_cap) {
+        vsv_rc_copy *c = realloc(r->copy, (size_t)sc->nlayers * sizeof *c);
+        vsv_rc_copy **b = c ? realloc(r->build, (size_t)sc->nlayers * sizeof *b) : NULL;
+        if (c)
+            r->copy = c;
+        if (!b)
+            return VSV_ENOMEM;
+        r->build = b;
+        memset(c + r->copy_cap, 0, (size_t)(sc->nlayers - r->copy_cap) * sizeof *c);
+        r->copy_cap = sc->nlayers;
+    }
+    r->nbuild = 0;
+    vsv_rc_frame *F = &r->frame;
+    memset(F, 0, sizeof *F);
+    F->layer = r->act;
+    if (!nb)
+        return 0;
+    memset(r->skip, 1, need);
+    const vsv_geo *g = &r->g;
+    const int bx = v0->bdim[0], by = v0->bdim[1], bz = v0->bdim[2];
+    for (int l = 0; l < sc->nlayers; l++) {
+        const vsv_layer *L = &sc->layers[l];
+        unsigned char *clear = r->skip + (size_t)nb * (l + 1);
+        if (!L->visible || !(L->opacity > 0) || !L->vol)
+            continue;
+        vsv_rc_copy *cp = &r->copy[l];
+        if (cp->vol != L->vol || cp->gen != L->vol->gen || !cp->gen) {
+            if (vsv_rc_copy_prepare(cp, L->vol))
+                return VSV_ENOMEM;
+            r->build[r->nbuild++] = cp;
+        }
+        r->act[F->nlayers++] = (vsv_rc_layer){
+            .vol = L->vol,
+            .cells = cp->cells,
+            .lut = (const float(*)[4])L->tf->lut,
+            .lo = (float)L->tf->lo,
+            .inv = (float)L->tf->inv,
+            .off = (float)(-L->tf->base * L->tf->inv),
+            .log = L->tf->scale == VSV_SCALE_LOG,
+            .sigma = (float)(L->opacity * VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy)),
+            .clear = clear,
+        };
+        for (int k = 0; k < bz; k++)
+            for (int j = 0; j < by; j++)
+                for (int i = 0; i < bx; i++) {
+                    const int b = i + bx * (j + by * k);
+                    float lo = INFINITY, hi = -INFINITY;
+                    for (int dk = -1; dk <= 1; dk++)
+                        for (int dj = -1; dj <= 1; dj++)
+                            for (int di = -1; di <= 1; di++) {
+                                const int a = i + di, c = j + dj, e = k + dk;
+                                if (a < 0 || c < 0 || e < 0 || a >= bx || c >= by || e >= bz)
+                                    continue;
+                                const int n = a + bx * (c + by * e);
+                                /* a NaN minimum (no-data cells beside data) says nothing
+                                 * about the smallest real value: assume the lowest */
+                                const float bmn = L->vol->bmin[n] == L->vol->bmin[n] ? L->vol->bmin[n] : -INFINITY;
+                                if (bmn < lo)
+                                    lo = bmn;
+                                if (L->vol->bmax[n] > hi)
+                                    hi = L->vol->bmax[n];
+                            }
+                    if (vsv_tf_max_opacity(L->tf, (float)lo, (float)hi) > 0)
+                        clear[b] = r->skip[b] = 0;
+                }
+    }
+    if (!F->nlayers)
+        return 0;
+    const vsv_volume *V = r->act[0].vol;
+    const int n[3] = {V->nx, V->ny, V->nz};
+    for (int a = 0; a < 3; a++) {
+        F->hi[a] = (float)(n[a] - 1);
+        F->last[a] = n[a] > 1 ? n[a] - 2 : 0;
+    }
+    /* a fixed step in world units: a fraction of the smallest cell edge */
+    F->st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
+    F->inv_st = 1 / F->st;
+    F->inv_cell[0] = 1 / g->dx;
+    F->inv_cell[1] = 1 / g->dy;
+    F->inv_cell[2] = 1 / (g->dz * g->E);
+    /* nothing to skip (a dense species): no tests per sample */
+    int any = 0;
+    for (int l = -1; l < F->nlayers; l++)
+        for (int b = 0; b < nb && !any; b++)
+            any = (l < 0 ? r->skip : r->act[l].clear)[b];
+    F->skip = r->o.no_skip || !any ? NULL : r->skip;
+    F->shift = V->shift;
+    F->mask = V->brick - 1;
+    F->brick = V->brick;
+    F->bx = V->bdim[0];
+    F->bxy = V->bdim[0] * V->bdim[1];
+    F->ey = V->brick + 1;
+    F->ez = F->ey * F->ey;
+    return 0;
+}
+
+/* One ray through the volume, front to back: trilinear samples classified
+ * per layer, extinction and extinction-weighted colour summed over layers,
+ * composited with the opacity of the step; early ray termination, skipping.
+ * vsv_raycast16 does the same operations in the same order, sixteen rays wide. */
+static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *pT, float acc[3], float *depth)
+{
+    const int sh = F->shift, m = F->mask, ey = F->ey, ez = F->ez;
+    const float st = (float)ray->st;
+    float T = 1;
+    for (int n = 0; n < ray->ns; n++) {
+        float c[3];
+        int ci[3];
+        for (int a = 0; a < 3; a++) {
+            c[a] = fmaf((float)n, ray->dp[a], ray->p[a]);
+            c[a] = c[a] > 0 ? (c[a] < F->hi[a] ? c[a] : F->hi[a]) : 0;
+            ci[a] = (int)c[a];
+            ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
+        }
+        const int bidx = (ci[0] >> sh) + F->bx * (ci[1] >> sh) + F->bxy * (ci[2] >> sh);
+        if (F->skip && F->skip[bidx]) {
+            const int next = vsv_rc_skip_to(F, ray, ci);
+            if (next > n + 1)
+                n = next - 1;
+            continue;
+        }
+        const float fu = c[0] - ci[0], fv = c[1] - ci[1], fw = c[2] - ci[2];
+        const int off = (ci[0] & m) + (ci[1] & m) * ey + (ci[2] & m) * ez;
+        float sig = 0, col[3] = {0, 0, 0};
+        for (int l = 0; l < F->nlayers; l++) {
+            const vsv_rc_layer *L = &F->layer[l];
+            if (F->skip && L->clear[bidx])
+                continue; /* transparent around this brick: adds nothing */
+            float cell[8];
+            const float *q = L->cells[bidx] + off;
+            for (int i = 0; i < 8; i++)
+                cell[i] = q[(i & 1) + (i & 2 ? ey : 0) + (i & 4 ? ez : 0)];
+            const float v = vsv_rc_trilinear(cell, fu, fv, fw);
+            if (!(v >= L->lo)) /* below the range, or no data (NaN) */
+                continue;
+            float x = fmaf(L->log ? logf(v) : v, L->inv, L->off);
+            x = x < VSV_TF_LUT - 1 ? x : VSV_TF_LUT - 1;
+            int i = (int)x;
+            i = i < VSV_TF_LUT - 2 ? i : VSV_TF_LUT - 2;
+            const float f = x - i;
+            const float *lo = L->lut[i], *hi = lo + 4;
+            const float s = vsv_rc_lerp(lo[3], hi[3], f) * L->sigma;
+            if (s > 0) {
+                sig += s;
+                for (int ch = 0; ch < 3; ch++)
+                    col[ch] += s * vsv_rc_lerp(lo[ch], hi[ch], f);
+            }
+        }
+        if (sig > 0) {
+            const float us = sig * st;
+            const float f = vsv_rc_opacity_per_u(us);
+            const float a = us * f, k = T * f * st; /* T a / sig */
+            for (int ch = 0; ch < 3; ch++)
+                acc[ch] = fmaf(k, col[ch], acc[ch]);
+            T = fmaf(-T, a, T);
+            if (*depth == INFINITY && 1 - T > 0.1f)
+                *depth = (float)(ray->ts + n * ray->st);
+            if (T < 1.0f / 512)
+                break; /* early ray termination */
+        }
+    }
+    *pT = T;
+}
+
+/* The rays of pixels px .. px + SPAN - 1 of row py and their stretches
+ * [t0, t1] inside the scene's box and the camera's near and far distances
+ * (hit 0 where a ray has none, or its pixel is past the image's width w):
+ * vsv_rays_get's arithmetic and vsv_box_hit, lane by lane without branches
+ * so that the compiler works on several rays at once. */
+enum { SPAN = VSV_RC_LANES };
+typedef struct spans {
+    double o[3][SPAN], d[3][SPAN], t0[SPAN], t1[SPAN];
+    int hit[SPAN];
+} spans;
+
+static void pixel_spans(const vsv_renderer *r, int px, int py, int w, spans *S)
+{
+    const vsv_rays *R = &r->rays;
+    if (py < R->y0 || py > R->y1 || px + SPAN <= R->x0 || px > R->x1) {
+        memset(S, 0, sizeof *S); /* all sixteen outside the scene's rectangle on screen: no hits */
+        return;
+    }
+    const double sy = R->cy + R->ky * (1 - 2 * (py + 0.5) / R->h);
+    double sx[SPAN];
+    for (int i = 0; i < SPAN; i++)
+        sx[i] = R->cx + R->kx * (2 * (px + i + 0.5) / R->w - 1);
+    if (R->persp) {
+        for (int i = 0; i < SPAN; i++) {
+            double d[3];
+            for (int a = 0; a < 3; a++)
+                d[a] = R->f[a] + sx[i] * R->r[a] + sy * R->u[a];
+            const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), k = 1 / n;
+            for (int a = 0; a < 3; a++) {
+                S->o[a][i] = R->o[a];
+                S->d[a][i] = n > 0 ? d[a] * k : d[a];
+            }
+        }
+    } else {
+        for (int i = 0; i < SPAN; i++)
+            for (int a = 0; a < 3; a++) {
+                S->o[a][i] = R->o[a] + sx[i] * R->r[a] + sy * R->u[a];
+                S->d[a][i] = R->f[a];
+            }
+    }
+    const double *mn = r->g.bmin, *mx = r->g.bmax;
+    const double znear = r->cam->znear > 0 ? r->cam->znear : 0, zfar = r->cam->zfar > 0 ? r->cam->zfar : INFINITY;
+    for (int i = 0; i < SPAN; i++) { /* py is inside the rectangle (above) */
+        const double o[3] = {S->o[0][i], S->o[1][i], S->o[2][i]}, d[3] = {S->d[0][i], S->d[1][i], S->d[2][i]};
+        double lo, hi;
+        const int box = vsv_box_hit(o, d, mn, mx, &lo, &hi);
+        S->hit[i] = (px + i >= R->x0) & (px + i <= R->x1) & (px + i < w) & box;
+        S->t0[i] = lo < znear ? znear : lo;
+        S->t1[i] = hi > zfar ? zfar : hi;
+    }
+}
+
+/* The rays of pixels px .. px + SPAN - 1 of row py: their samples through
+ * the volume (none when a ray misses, or its pixel is past the image), and
+ * where they meet the ground (t_hit; INFINITY when they do not). */
+static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray ray[SPAN], double t_hit[SPAN])
+{
+    const vsv_geo *g = &r->g;
+    spans S;
+    pixel_spans(r, px, py, r->cam->width, &S);
+    const double st = r->frame.st, org[3] = {g->ox, g->oy, g->oz * g->E};
+    for (int i = 0; i < SPAN; i++) {
+        t_hit[i] = S.hit[i] && g->terrain ? r->ground[(size_t)py * r->cam->width + px + i].t : INFINITY;
+        const double ts = S.t0[i] + 0.5 * st, tend = S.t1[i] < t_hit[i] ? S.t1[i] : t_hit[i];
+        ray[i].ns = S.hit[i] && r->frame.nlayers && tend > ts ? (int)ceil((tend - ts) * r->frame.inv_st) : 0;
+        ray[i].ts = ts;
+        ray[i].st = st;
+        for (int a = 0; a < 3; a++) {
+            ray[i].p[a] = (float)((S.o[a][i] + ts * S.d[a][i] - org[a]) * r->frame.inv_cell[a]);
+            ray[i].dp[a] = (float)(st * S.d[a][i] * r->frame.inv_cell[a]);
+        }
+    }
+}
+
+/* A pixel from its ray's compositing: the ground behind what is left. */
+static void raycast_finish(const vsv_renderer *r, int px, int py, double t_hit, float T, const float acc[3],
+                           float depth)
+{
+    const size_t at = (size_t)py * r->cam->width + px;
+    float out[4] = {acc[0], acc[1], acc[2], 1 - T};
+    if (t_hit < INFINITY && T >= 1.0f / 512) {
+        const vsv_ground *gp = &r->ground[at];
+        for (int c = 0; c < 3; c++)
+            out[c] += T * gp->rgb[c];
+        out[3] = 1;
+        if (depth == INFINITY)
+            depth = (float)t_hit;
+    }
+    if (r->rgba)
+        memcpy(r->rgba + 4 * at, out, sizeof out);
+    if (r->depth)
+        r->depth[at] = depth;
+}
+
+/* One image row of the ground cache. */
+void vsv_rc_ground_row(void *ctx, int py, int thread)
+{
+    vsv_renderer *r = ctx;
+    const vsv_geo *g = &r->g;
+    const vsv_camera *cam = r->cam;
+    (void)thread;
+    for (int px0 = 0; px0 < cam->width; px0 += SPAN) {
+        spans S;
+        pixel_spans(r, px0, py, cam->width, &S);
+        for (int i = 0; i < SPAN && px0 + i < cam->width; i++) {
+            vsv_ground *gp = &r->ground[(size_t)py * cam->width + px0 + i];
+            gp->t = INFINITY;
+            if (!S.hit[i])
+                continue;
+            const double o[3] = {S.o[0][i], S.o[1][i], S.o[2][i]}, d[3] = {S.d[0][i], S.d[1][i], S.d[2][i]};
+            const double t = vsv_geo_terrain_hit(g, o, d, S.t0[i], S.t1[i]);
+            if (t < INFINITY) {
+                gp->t = (float)t;
+                vsv_geo_terrain_colour(g, o[0] + t * d[0], o[1] + t * d[1], gp->rgb);
+            }
+        }
+    }
+}
+
+/* One 16x16 tile of the raycaster: a row of the tile at a time, sixteen rays
+ * at once where the CPU has AVX2 (in one AVX-512 register where it has that;
+ * VSV_SIMD=0 in the environment: one ray at a time, VSV_SIMD=avx2: never
+ * AVX-512), else one ray at a time. */
+void vsv_rc_tile(void *ctx, int tile, int thread)
+{
+    enum { N = VSV_RC_LANES };
+    vsv_renderer *r = ctx;
+    const vsv_camera *cam = r->cam;
+    (void)thread;
+    const int tx = tile % r->tiles_x, ty = tile / r->tiles_x;
+    const int x1 = (tx + 1) * VSV_RC_TILE < cam->width ? (tx + 1) * VSV_RC_TILE : cam->width;
+    for (int py = ty * VSV_RC_TILE; py < (ty + 1) * VSV_RC_TILE && py < cam->height; py++)
+        for (int px = tx * VSV_RC_TILE; px < x1; px += N) {
+            vsv_rc_ray ray[N];
+            double t_hit[N];
+            float T[N], acc[3][N], depth[N];
+            const int n = x1 - px < N ? x1 - px : N;
+            raycast_setup(r, px, py, ray, t_hit);
+            for (int i = 0; i < N; i++) {
+                if (i >= n) /* the next tile's */
+                    ray[i].ns = 0;
+                T[i] = 1;
+                acc[0][i] = acc[1][i] = acc[2][i] = 0;
+                depth[i] = INFINITY;
+            }
+            if (r->kernel) {
+                r->kernel(&r->frame, ray, T, acc, depth);
+            } else {
+                for (int i = 0; i < n; i++) {
+                    float a[3] = {0, 0, 0};
+                    raycast_march(&r->frame, &ray[i], &T[i], a, &depth[i]);
+                    for (int c = 0; c < 3; c++)
+                        acc[c][i] = a[c];
+                }
+            }
+            for (int i = 0; i < n; i++) {
+                const float a[3] = {acc[0][i], acc[1][i], acc[2][i]};
+                raycast_finish(r, px + i, py, t_hit[i], T[i], a, depth[i]);
+            }
+        }
+}

@@ -1,0 +1,110 @@
+/* vsv_rc.h — the raycaster: its sampling copies, the frame and rays every
+ * sample loop reads, and the sixteen-ray kernels (vsv_raycast.c,
+ * vsv_sampling.c, vsv_raycast_simd.c). Private to render/. */
+#ifndef VSV_RC_H
+#define VSV_RC_H
+
+#include "vsv_geo.h"
+#include "vsv_tf_internal.h"
+
+#include <math.h>
+#include <stdint.h>
+
+/* The raycaster's sampling copy of a layer's volume: every brick with one
+ * more cell along each axis (the first cells of the bricks after it; past
+ * the grid, its last cell again), so that the eight cells of any trilinear
+ * sample lie in one brick of the copy: (brick + 1)^3 floats, cell (i, j, k)
+ * of the brick at i + e j + e^2 k with e = brick + 1 (vsv_rc_frame ey, ez).
+ * Bricks whose copy holds nothing but the empty value share one. Built
+ * brick by brick on the renderer's threads when the volume's generation
+ * (vsv_volume.gen: a load) differs from the copy's, kept across frames. */
+typedef const float *const *vsv_rc_cells;
+/* Fills brick b's sampling copy into dst ((brick + 1)^3 floats). */
+void vsv_rc_copy_fill(const vsv_volume *v, int b, float *dst);
+/* A layer's sampling copy as the renderer keeps it across frames. */
+typedef struct vsv_rc_copy {
+    const vsv_volume *vol;
+    uint64_t gen;
+    float *store; /* the bricks whose copy holds data, then the shared empty one */
+    size_t store_cap;
+    float *empty;
+    const float **cells; /* per brick */
+    int cells_cap;
+} vsv_rc_copy;
+/* Sets c up to hold v's sampling copy: room for the bricks whose copy holds
+ * data and for the shared empty brick, which is filled here (the others by
+ * vsv_rc_copy_fill); -1 when out of memory. */
+int vsv_rc_copy_prepare(vsv_rc_copy *c, const vsv_volume *v);
+
+/* A visible layer as the raycaster reads it, set up once per frame. */
+typedef struct vsv_rc_layer {
+    const vsv_volume *vol;
+    vsv_rc_cells cells;         /* per brick: its sampling copy */
+    const float (*lut)[4];      /* the transfer function's table */
+    float lo, inv, off;         /* table position = (value or ln value) * inv + off */
+    int log;
+    float sigma;                /* extinction per world unit of curve value 1 */
+    const unsigned char *clear; /* per brick: transparent around it (skipping) */
+} vsv_rc_layer;
+
+/* What every ray of a frame reads: the visible layers and their common grid. */
+typedef struct vsv_rc_frame {
+    const vsv_rc_layer *layer;
+    int nlayers;
+    const unsigned char *skip; /* per brick: every layer clear; NULL: no skipping.
+                                  Four readable bytes past the end (for gathers). */
+    float hi[3];               /* the largest cell coordinate per axis */
+    int last[3];               /* the largest lower corner of a trilinear sample */
+    int shift, mask, brick, bx, bxy;
+    int ey, ez;                /* the sampling copy's strides: brick + 1, (brick + 1)^2 */
+    double st, inv_st;         /* the step in world units, and 1 / st */
+    double inv_cell[3];        /* 1 / cell edge (exaggerated in z), world units */
+} vsv_rc_frame;
+
+/* One ray through the volume: sample n (0 <= n < ns) sits at world distance
+ * ts + n st, at cell coordinates p + n dp. */
+typedef struct vsv_rc_ray {
+    float p[3], dp[3];
+    int ns;
+    double ts, st;
+} vsv_rc_ray;
+
+/* The first sample of a ray at or past the far side of the brick of cell ci
+ * (one before it at most: the caller tests that sample again), for skipping. */
+static inline int vsv_rc_skip_to(const vsv_rc_frame *F, const vsv_rc_ray *ray, const int ci[3])
+{
+    int next = ray->ns;
+    for (int a = 0; a < 3; a++) {
+        if (ray->dp[a] == 0)
+            continue;
+        const int b = ci[a] >> F->shift;
+        const float edge = (float)(ray->dp[a] > 0 ? b + 1 : b) * F->brick;
+        const float k = (edge - ray->p[a]) / ray->dp[a];
+        const int kn = k < (float)ray->ns ? (int)k : ray->ns;
+        next = kn < next ? kn : next;
+    }
+    return next;
+}
+
+/* Trilinear interpolation of the eight cells around a sample, in the order
+ * c000 c100 c010 c110 c001 c101 c011 c111 (c100: one along x; the order of
+ * operations both raycaster loops keep). */
+static inline float vsv_rc_lerp(float a, float b, float f) { return fmaf(b - a, f, a); }
+static inline float vsv_rc_trilinear(const float c[8], float fu, float fv, float fw)
+{
+    const float a0 = vsv_rc_lerp(c[0], c[1], fu), a1 = vsv_rc_lerp(c[2], c[3], fu);
+    const float a2 = vsv_rc_lerp(c[4], c[5], fu), a3 = vsv_rc_lerp(c[6], c[7], fu);
+    return vsv_rc_lerp(vsv_rc_lerp(a0, a1, fv), vsv_rc_lerp(a2, a3, fv), fw);
+}
+
+/* VSV_RC_LANES rays at once: T (transmittance), acc (colour) and depth, which
+ * start at 1, 0, INFINITY, are composited front to back through every ray's
+ * samples, as the one-ray loop does. A ray with ns 0 is left as it is. One
+ * source, two builds: vsv_raycast16 for AVX2 + FMA, vsv_raycast16_avx512 for
+ * AVX-512F; call each only on a CPU that has them. */
+#define VSV_RC_LANES 16
+typedef void vsv_rc_kernel(const vsv_rc_frame *F, const vsv_rc_ray ray[VSV_RC_LANES], float T[VSV_RC_LANES],
+                           float acc[3][VSV_RC_LANES], float depth[VSV_RC_LANES]);
+vsv_rc_kernel vsv_raycast16, vsv_raycast16_avx512;
+
+#endif

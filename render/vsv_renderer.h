@@ -1,0 +1,58 @@
+/* vsv_renderer.h — the renderer's state, shared by the frame driver
+ * (vsv_render.c), the raycaster (vsv_raycast.c) and its sampling copies
+ * (vsv_sampling.c). Private to render/. */
+#ifndef VSV_RENDERER_H
+#define VSV_RENDERER_H
+
+#include "vsv_pool.h"
+#include "vsv_rc.h"
+#include "vsv_sw.h"
+
+#define VSV_RC_TILE 16 /* the raycaster's tiles: 16x16 pixels an item */
+
+struct vsv_renderer {
+    vsv_render_opts o;
+    vsv_pool pool;
+    /* the job */
+    const vsv_scene *sc;
+    const vsv_camera *cam;
+    float *rgba, *depth;
+    vsv_geo g;
+    int ntiles, tiles_x;
+    /* per-layer skip flags (allocated when the scene grows, not per frame) */
+    unsigned char *skip;
+    size_t skip_cap;
+    /* the visible layers of this frame, as the raycaster reads them */
+    vsv_rc_layer *act;
+    int act_cap;
+    vsv_rc_frame frame;
+    /* the sampling copies, one per scene layer (vsv_rc_cells), and those
+     * this frame rebuilds */
+    vsv_rc_copy *copy, **build;
+    int copy_cap, nbuild;
+    double copy_seconds; /* the last rebuild of sampling copies */
+    int simd;              /* the CPU has AVX2 and FMA (and VSV_SIMD is not 0) */
+    vsv_rc_kernel *kernel; /* sixteen rays at once, or NULL: one at a time */
+    vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
+    vsv_rays rays;        /* the camera's rays, for this frame */
+    /* the ground per pixel, for ground_cam and ground_geo */
+    vsv_ground *ground;
+    size_t ground_cap;
+    vsv_camera ground_cam;
+    vsv_geo ground_geo;
+    int ground_valid;
+    vsv_native native;    /* native levels placed at their heights */
+};
+
+
+/* The raycaster's frame (r->frame, r->act, r->skip, the sampling copies to
+ * rebuild in r->build) for scene sc. */
+int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc);
+/* Pool jobs on the renderer ctx: one tile of the raycaster; one image row of
+ * the ground cache (r->ground); brick item % nbricks of the sampling copy
+ * item / nbricks being rebuilt. */
+void vsv_rc_tile(void *ctx, int tile, int thread);
+void vsv_rc_ground_row(void *ctx, int py, int thread);
+void vsv_rc_copy_brick(void *ctx, int item, int thread);
+
+#endif
