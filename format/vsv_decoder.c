@@ -1,0 +1,213 @@
+/* vsv_decoder.c — decoding a brick: the keyframe and the deltas after it
+ * applied to quantised codes (exact, no drift), then the codes to values. */
+#include "vsv_reader_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
+{
+    vsv_decoder *d = *out = calloc(1, sizeof *d);
+    if (!d)
+        return VSV_ENOMEM;
+    d->f = f;
+    const size_t n = (size_t)f->lay.brick * f->lay.brick * f->lay.brick;
+    d->dctx = ZSTD_createDCtx();
+    d->raw = malloc(2 * n);
+    d->codes = malloc(2 * n);
+    d->state = calloc((size_t)f->meta.nvars, sizeof *d->state);
+    d->state_step = calloc((size_t)f->meta.nvars, sizeof *d->state_step);
+    if (!d->dctx || !d->raw || !d->codes || !d->state || !d->state_step) {
+        vsv_decoder_free(d);
+        *out = NULL;
+        return VSV_ENOMEM;
+    }
+    return 0;
+}
+
+void vsv_decoder_free(vsv_decoder *d)
+{
+    if (!d)
+        return;
+    ZSTD_freeDCtx(d->dctx);
+    free(d->raw);
+    free(d->codes);
+    if (d->state)
+        for (int s = 0; s < d->f->meta.nvars; s++)
+            free(d->state[s]);
+    free(d->state);
+    free(d->state_step);
+    free(d);
+}
+
+const char *vsv_decoder_error(const vsv_decoder *d) { return d ? d->err : "out of memory"; }
+
+/* Applies the brick entry `be` of chunk c (step t) to codes. */
+int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes)
+{
+    vsv_file *f = d->f;
+    const size_t n = (size_t)f->lay.brick * f->lay.brick * f->lay.brick;
+    const int kind = be[0];
+    if (kind == VSV_BRICK_UNCHANGED)
+        return 0;
+    if (kind == VSV_BRICK_EMPTY) {
+        memset(codes, 0, n * sizeof *codes);
+        return 0;
+    }
+    const int bits = f->quant[s].bits;
+    int org[3], ext[3];
+    vsv_layout_box(&f->lay, b, org, ext);
+    const size_t raw = vsv_brick_raw_bytes(bits, ext);
+    const uint64_t off = vsv_rd64(be + 8);
+    const uint32_t size = vsv_rd32(be + 16);
+    const unsigned char *p = c + off;
+    if (vsv_crc32c(0, p, size) != vsv_rd32(be + 4)) {
+        vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d (offset %llu): payload checksum mismatch",
+                f->name, t, s, b, (unsigned long long)(p - f->data));
+        return VSV_ECORRUPT;
+    }
+    const unsigned char *src = p;
+    if (f->codec == VSV_CODEC_ZSTD) {
+        size_t got = ZSTD_decompressDCtx(d->dctx, d->raw, raw, p, size);
+        if (ZSTD_isError(got) || got != raw) {
+            vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d (offset %llu): payload does not decode (%s)",
+                    f->name, t, s, b, (unsigned long long)(p - f->data),
+                    ZSTD_isError(got) ? ZSTD_getErrorName(got) : "wrong size");
+            return VSV_ECODEC;
+        }
+        src = d->raw;
+    }
+    vsv_brick_inverse(bits, kind, src, f->lay.brick, ext, codes);
+    return 0;
+}
+
+int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
+{
+    vsv_file *f = d->f;
+    int rc = vsv_file_check_args(f, step, s, b, d->err, sizeof d->err);
+    if (rc)
+        return rc;
+    const unsigned char *c = vsv_file_chunk_index(f, step, d->err, sizeof d->err);
+    if (!c)
+        return VSV_ECORRUPT;
+    return vsv_decoder_apply(d, c, step, s, b, vsv_file_brick_entry(f, c, s, b), codes);
+}
+
+int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
+{
+    vsv_file *f = d->f;
+    int rc = vsv_file_check_args(f, step, s, b, d->err, sizeof d->err);
+    if (rc)
+        return rc;
+    int org[3], ext[3];
+    vsv_layout_box(&f->lay, b, org, ext);
+    if (ext[0] < f->lay.brick || ext[1] < f->lay.brick || ext[2] < f->lay.brick)
+        memset(codes, 0, (size_t)f->lay.brick * f->lay.brick * f->lay.brick * sizeof *codes);
+    /* walk back to the brick's last absolute state (never past a keyframe) */
+    int t0 = step;
+    for (;;) {
+        const unsigned char *c = vsv_file_chunk_index(f, t0, d->err, sizeof d->err);
+        if (!c)
+            return VSV_ECORRUPT;
+        const int kind = vsv_file_brick_entry(f, c, s, b)[0];
+        if (kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_ABS)
+            break;
+        t0--; /* keyframes hold only absolute kinds (checked), so t0 stays >= 0 */
+    }
+    for (int t = t0; t <= step; t++) {
+        const unsigned char *c = vsv_file_chunk_index(f, t, d->err, sizeof d->err);
+        if (!c)
+            return VSV_ECORRUPT;
+        if ((rc = vsv_decoder_apply(d, c, t, s, b, vsv_file_brick_entry(f, c, s, b), codes)))
+            return rc;
+    }
+    return 0;
+}
+
+static const float *lut_of(vsv_file *f, int s)
+{
+    float *l = __atomic_load_n(&f->lut[s], __ATOMIC_ACQUIRE);
+    if (l)
+        return l;
+    pthread_mutex_lock(&f->lock);
+    l = f->lut[s];
+    if (!l) {
+        const unsigned n = f->quant[s].bits == 8 ? 256u : 65536u;
+        l = malloc(n * sizeof *l);
+        if (l) {
+            vsv_quant_table(&f->quant[s], l);
+            __atomic_store_n(&f->lut[s], l, __ATOMIC_RELEASE);
+        }
+    }
+    pthread_mutex_unlock(&f->lock);
+    return l;
+}
+
+void vsv_file_dequantise(const vsv_file *cf, int s, const uint16_t *codes, size_t n, float *out)
+{
+    vsv_file *f = (vsv_file *)cf;
+    const vsv_quant *q = &f->quant[s];
+    if (q->scale == VSV_SCALE_LINEAR && q->bits == 16 && !q->missing) {
+        const double lo = q->lo, step = (q->hi - q->lo) / 65535.0; /* = vsv_quant_value */
+        for (size_t i = 0; i < n; i++)
+            out[i] = (float)(lo + codes[i] * step);
+        return;
+    }
+    const float *l = lut_of(f, s);
+    if (l) {
+        for (size_t i = 0; i < n; i++)
+            out[i] = l[codes[i]];
+    } else {
+        for (size_t i = 0; i < n; i++)
+            out[i] = vsv_quant_value(q, codes[i]);
+    }
+}
+
+int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out)
+{
+    int rc = vsv_decoder_brick_codes(d, step, s, b, d->codes);
+    if (!rc)
+        vsv_file_dequantise(d->f, s, d->codes, (size_t)d->f->lay.brick * d->f->lay.brick * d->f->lay.brick, out);
+    return rc;
+}
+
+/* The decoder keeps the codes of the last step it decoded per species, so a
+ * forward sequential read costs one delta per brick and step. */
+int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out)
+{
+    vsv_file *f = d->f;
+    int rc = vsv_file_check_args(f, step, s, 0, d->err, sizeof d->err);
+    if (rc)
+        return rc;
+    const vsv_layout *L = &f->lay;
+    const size_t n = (size_t)L->brick * L->brick * L->brick;
+    if (!d->state[s]) {
+        d->state[s] = malloc((size_t)L->nbricks * n * sizeof(uint16_t));
+        if (!d->state[s])
+            return VSV_ENOMEM;
+        d->state_step[s] = -1;
+    }
+    const int prev = d->state_step[s];
+    const int seq = prev >= 0 && prev < step && step - prev <= f->keyframe;
+    d->state_step[s] = -1;
+    for (int b = 0; b < L->nbricks; b++) {
+        uint16_t *codes = d->state[s] + (size_t)b * n;
+        if (seq) {
+            for (int t = prev + 1; t <= step && !rc; t++)
+                rc = vsv_decoder_brick_advance(d, t, s, b, codes);
+        } else if (prev != step) {
+            rc = vsv_decoder_brick_codes(d, step, s, b, codes);
+        }
+        if (rc)
+            return rc;
+        int org[3], ext[3];
+        vsv_layout_box(L, b, org, ext);
+        for (int k = 0; k < ext[2]; k++)
+            for (int j = 0; j < ext[1]; j++)
+                vsv_file_dequantise(f, s, codes + ((size_t)k * L->brick + j) * L->brick, (size_t)ext[0],
+                                    out + ((size_t)(org[2] + k) * f->meta.ny + (size_t)(org[1] + j)) * f->meta.nx + org[0]);
+    }
+    d->state_step[s] = step;
+    return 0;
+}

@@ -1,0 +1,207 @@
+/* vsv_meta.c — the metadata of a file (vsv_meta): its ownership (init,
+ * copy, clear), variables, attributes, levels, terrain and validation. */
+#include "vsv_format_internal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void vsv_meta_init(vsv_meta *m)
+{
+    memset(m, 0, sizeof *m);
+    m->spacing[0] = m->spacing[1] = m->spacing[2] = 1;
+    m->proj.kind = VSV_PROJ_NONE;
+}
+
+void vsv_meta_clear(vsv_meta *m)
+{
+    if (!m)
+        return;
+    free(m->levels);
+    free(m->attr_keys);
+    free(m->attr_values);
+    if (m->tf)
+        for (int i = 0; i < m->nvars; i++)
+            free(m->tf[i]);
+    free(m->tf);
+    free(m->vars);
+    free(m->terrain);
+    free(m->landuse);
+    vsv_heights_clear_all(m);
+    vsv_meta_init(m);
+}
+
+static int dup_array(void **dst, const void *src, size_t bytes)
+{
+    *dst = NULL;
+    if (!src)
+        return 0;
+    *dst = malloc(bytes ? bytes : 1);
+    if (!*dst)
+        return VSV_ENOMEM;
+    memcpy(*dst, src, bytes);
+    return 0;
+}
+
+int vsv_meta_copy(vsv_meta *dst, const vsv_meta *src)
+{
+    vsv_meta_clear(dst);
+    *dst = *src;
+    dst->levels = NULL;
+    dst->attr_keys = NULL;
+    dst->attr_values = NULL;
+    dst->vars = NULL;
+    dst->tf = NULL;
+    dst->terrain = dst->landuse = NULL;
+    dst->heights = NULL;
+    dst->nheights = 0;
+    size_t plane = (size_t)src->nx * (size_t)src->ny * sizeof(float);
+    if (dup_array((void **)&dst->levels, src->levels, (size_t)src->nz * sizeof(double)) ||
+        dup_array((void **)&dst->attr_keys, src->attr_keys, (size_t)src->nattrs * 64) ||
+        dup_array((void **)&dst->attr_values, src->attr_values, (size_t)src->nattrs * 256) ||
+        dup_array((void **)&dst->vars, src->vars, (size_t)src->nvars * sizeof(vsv_var)) ||
+        dup_array((void **)&dst->terrain, src->terrain, plane) ||
+        dup_array((void **)&dst->landuse, src->landuse, plane) || vsv_heights_copy_all(dst, src))
+        goto fail;
+    if (src->tf) {
+        dst->tf = calloc((size_t)src->nvars + 1, sizeof(char *));
+        if (!dst->tf)
+            goto fail;
+        for (int i = 0; i < src->nvars; i++)
+            if (src->tf[i] && !(dst->tf[i] = strdup(src->tf[i])))
+                goto fail;
+    }
+    return 0;
+fail:
+    vsv_meta_clear(dst);
+    return VSV_ENOMEM;
+}
+
+static void copy_str(char *dst, size_t cap, const char *src)
+{
+    snprintf(dst, cap, "%s", src ? src : "");
+}
+
+int vsv_meta_add_var(vsv_meta *m, const char *name, const char *units, const char *desc)
+{
+    if (m->nvars >= VSV_MAX_VARS)
+        return VSV_EINVAL;
+    vsv_var *v = realloc(m->vars, ((size_t)m->nvars + 1) * sizeof *v);
+    if (!v)
+        return VSV_ENOMEM;
+    m->vars = v;
+    if (m->tf) {
+        char **tf = realloc(m->tf, ((size_t)m->nvars + 2) * sizeof *tf);
+        if (!tf)
+            return VSV_ENOMEM;
+        m->tf = tf;
+        m->tf[m->nvars] = NULL;
+    }
+    vsv_var *nv = &m->vars[m->nvars];
+    memset(nv, 0, sizeof *nv);
+    copy_str(nv->name, sizeof nv->name, name);
+    copy_str(nv->units, sizeof nv->units, units);
+    copy_str(nv->description, sizeof nv->description, desc);
+    return m->nvars++;
+}
+
+int vsv_meta_add_attr(vsv_meta *m, const char *key, const char *value)
+{
+    char(*k)[64] = realloc(m->attr_keys, ((size_t)m->nattrs + 1) * 64);
+    if (!k)
+        return VSV_ENOMEM;
+    m->attr_keys = k;
+    char(*v)[256] = realloc(m->attr_values, ((size_t)m->nattrs + 1) * 256);
+    if (!v)
+        return VSV_ENOMEM;
+    m->attr_values = v;
+    memset(k[m->nattrs], 0, 64);
+    memset(v[m->nattrs], 0, 256);
+    copy_str(k[m->nattrs], 64, key);
+    copy_str(v[m->nattrs], 256, value);
+    m->nattrs++;
+    return 0;
+}
+
+const char *vsv_meta_attr(const vsv_meta *m, const char *key)
+{
+    for (int i = 0; i < m->nattrs; i++)
+        if (!strcmp(m->attr_keys[i], key))
+            return m->attr_values[i];
+    return NULL;
+}
+
+int vsv_meta_alloc_levels(vsv_meta *m)
+{
+    free(m->levels);
+    m->levels = calloc((size_t)m->nz ? (size_t)m->nz : 1, sizeof(double));
+    return m->levels ? 0 : VSV_ENOMEM;
+}
+
+int vsv_meta_alloc_terrain(vsv_meta *m)
+{
+    free(m->terrain);
+    m->terrain = calloc((size_t)m->nx * (size_t)m->ny + 1, sizeof(float));
+    return m->terrain ? 0 : VSV_ENOMEM;
+}
+
+int vsv_meta_alloc_landuse(vsv_meta *m)
+{
+    free(m->landuse);
+    m->landuse = calloc((size_t)m->nx * (size_t)m->ny + 1, sizeof(float));
+    return m->landuse ? 0 : VSV_ENOMEM;
+}
+
+int vsv_meta_find_var(const vsv_meta *m, const char *name)
+{
+    for (int i = 0; i < m->nvars; i++)
+        if (!strcmp(m->vars[i].name, name))
+            return i;
+    return VSV_ENOTFOUND;
+}
+
+int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
+{
+    if (m->nx < 1 || m->ny < 1 || m->nz < 1 || m->nx > VSV_MAX_DIM || m->ny > VSV_MAX_DIM ||
+        m->nz > VSV_MAX_DIM) {
+        vsv_msg(msg, cap, "grid %dx%dx%d outside 1..%d", m->nx, m->ny, m->nz, VSV_MAX_DIM);
+        return VSV_EINVAL;
+    }
+    if ((uint64_t)m->nx * (uint64_t)m->ny * (uint64_t)m->nz > VSV_MAX_CELLS) {
+        vsv_msg(msg, cap, "grid has too many cells");
+        return VSV_EINVAL;
+    }
+    if (m->nvars < 1 || m->nvars > VSV_MAX_VARS) {
+        vsv_msg(msg, cap, "%d variables (need 1..%d)", m->nvars, VSV_MAX_VARS);
+        return VSV_EINVAL;
+    }
+    for (int i = 0; i < 3; i++)
+        if (!isfinite(m->origin[i]) || !isfinite(m->spacing[i]) || !(m->spacing[i] > 0)) {
+            vsv_msg(msg, cap, "origin/spacing along axis %d is not finite and positive", i);
+            return VSV_EINVAL;
+        }
+    if (m->vert_kind < 0 || m->vert_kind > VSV_VERT_COORD) {
+        vsv_msg(msg, cap, "unknown vertical kind %d", m->vert_kind);
+        return VSV_EINVAL;
+    }
+    if (m->vert_kind != VSV_VERT_EVEN && m->vert_kind != VSV_VERT_INDEX && !m->levels) {
+        vsv_msg(msg, cap, "vertical kind %d needs levels", m->vert_kind);
+        return VSV_EINVAL;
+    }
+    if (m->proj.kind < 0 || m->proj.kind >= VSV_PROJ_COUNT) {
+        vsv_msg(msg, cap, "unknown projection %d", m->proj.kind);
+        return VSV_EINVAL;
+    }
+    for (int i = 0; i < m->nvars; i++) {
+        if (!m->vars[i].name[0]) {
+            vsv_msg(msg, cap, "variable %d has no name", i);
+            return VSV_EINVAL;
+        }
+        for (int j = 0; j < i; j++)
+            if (!strcmp(m->vars[i].name, m->vars[j].name)) {
+                vsv_msg(msg, cap, "variable name %s appears twice", m->vars[i].name);
+                return VSV_EINVAL;
+            }
+    }
+    return 0;
+}

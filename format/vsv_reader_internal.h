@@ -1,0 +1,56 @@
+/* vsv_reader_internal.h — the reader's handles and what its files share:
+ * opening and chunk indexes (vsv_reader.c), decoding (vsv_decoder.c), the
+ * full check (vsv_check.c) and decoded volumes (vsv_volume.c). Private to
+ * format/. */
+#ifndef VSV_READER_INTERNAL_H
+#define VSV_READER_INTERNAL_H
+
+#include "vsv_format_internal.h"
+#include "vsv_layout.h"
+
+#include <pthread.h>
+#include <zstd.h>
+
+struct vsv_file {
+    const unsigned char *data;
+    size_t size;
+    int mapped;
+    char name[256];
+    char err[512];
+    vsv_meta meta;
+    vsv_quant *quant;
+    vsv_layout lay;
+    int nsteps, keyframe, codec;
+    const unsigned char *toc;
+    uint64_t meta_end, toc_off;
+    signed char *chunk_ok; /* per step: 0 unchecked, 1 index verified */
+    float **lut;           /* per species: 2^bits values, built on first use */
+    pthread_mutex_t lock;
+    int counted;
+    uint64_t stored, nonempty, payload;
+};
+
+struct vsv_decoder {
+    vsv_file *f;
+    ZSTD_DCtx *dctx;
+    unsigned char *raw;
+    uint16_t *codes;
+    uint16_t **state; /* per species: codes of all bricks at state_step */
+    int *state_step;
+    char err[512];
+};
+
+/* Sets f->err to "name: message" and returns rc. */
+int vsv_file_fail(vsv_file *f, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* 1 if the n bytes at p are all zero, else 0 with the first non-zero at *first. */
+int vsv_all_zero(const unsigned char *p, size_t n, size_t *first);
+/* Verified index of chunk t (header included), or NULL with f->err / msg set. */
+const unsigned char *vsv_file_chunk_index(vsv_file *f, int t, char *msg, size_t cap);
+/* The entry of brick b of species s in chunk index c. */
+const unsigned char *vsv_file_brick_entry(const vsv_file *f, const unsigned char *c, int s, int b);
+/* VSV_ERANGE with msg set when (step, s, b) is outside the file. */
+int vsv_file_check_args(vsv_file *f, int step, int s, int b, char *msg, size_t cap);
+/* Applies the brick entry be of chunk c (step t) to codes. */
+int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes);
+
+#endif

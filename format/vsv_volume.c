@@ -1,0 +1,120 @@
+/* vsv_volume.c — decoded volumes of a file: one species at one step, brick
+ * by brick (vsv_volume in vsv_format.h). */
+#include "vsv_reader_internal.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct volume_impl {
+    vsv_volume pub;
+    uint16_t *codes;  /* nbricks * B^3: the decoded codes, kept for deltas */
+    float *store;     /* nbricks * B^3 floats */
+} volume_impl;
+
+uint64_t vsv_volume_new_gen(void)
+{
+    static uint64_t gens;
+    return __atomic_add_fetch(&gens, 1, __ATOMIC_RELAXED);
+}
+
+int vsv_volume_create(const vsv_file *f, vsv_volume **out)
+{
+    *out = NULL;
+    volume_impl *v = calloc(1, sizeof *v);
+    if (!v)
+        return VSV_ENOMEM;
+    const vsv_layout *L = &f->lay;
+    const size_t n = (size_t)L->brick * L->brick * L->brick;
+    v->pub.nx = f->meta.nx;
+    v->pub.ny = f->meta.ny;
+    v->pub.nz = f->meta.nz;
+    v->pub.brick = L->brick;
+    while ((1 << v->pub.shift) < L->brick)
+        v->pub.shift++;
+    for (int a = 0; a < 3; a++)
+        v->pub.bdim[a] = L->bdim[a];
+    v->pub.nbricks = L->nbricks;
+    v->pub.step = v->pub.species = -1;
+    v->pub.bricks = calloc((size_t)L->nbricks, sizeof *v->pub.bricks);
+    v->pub.bmin = calloc((size_t)L->nbricks, sizeof(float));
+    v->pub.bmax = calloc((size_t)L->nbricks, sizeof(float));
+    v->codes = calloc((size_t)L->nbricks * n, sizeof *v->codes);
+    v->store = malloc((size_t)L->nbricks * n * sizeof *v->store);
+    if (!v->pub.bricks || !v->pub.bmin || !v->pub.bmax || !v->codes || !v->store) {
+        vsv_volume_free(&v->pub);
+        return VSV_ENOMEM;
+    }
+    *out = &v->pub;
+    return 0;
+}
+
+void vsv_volume_free(vsv_volume *pv)
+{
+    if (!pv)
+        return;
+    volume_impl *v = (volume_impl *)pv;
+    free(v->pub.bricks);
+    free(v->pub.bmin);
+    free(v->pub.bmax);
+    free(v->codes);
+    free(v->store);
+    free(v);
+}
+
+int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
+{
+    volume_impl *v = (volume_impl *)pv;
+    vsv_file *f = d->f;
+    int rc = vsv_file_check_args(f, step, s, 0, d->err, sizeof d->err);
+    if (rc)
+        return rc;
+    const vsv_layout *L = &f->lay;
+    const size_t n = (size_t)L->brick * L->brick * L->brick;
+    const int seq = pv->species == s && pv->step >= 0 && pv->step < step && step - pv->step <= f->keyframe;
+    const int prev = pv->step;
+    pv->step = pv->species = -1;
+    pv->gen = 0;
+    const unsigned char *oct = vsv_file_octree(f, step, s, NULL);
+    if (!oct) {
+        vsv_msg(d->err, sizeof d->err, "%s", f->err);
+        return VSV_ECORRUPT;
+    }
+    const vsv_quant *q = &f->quant[s];
+    pv->empty_value = vsv_quant_value(q, 0);
+    for (int b = 0; b < L->nbricks; b++) {
+        uint16_t *codes = v->codes + (size_t)b * n;
+        if (seq) {
+            for (int t = prev + 1; t <= step && !rc; t++)
+                rc = vsv_decoder_brick_advance(d, t, s, b, codes);
+        } else {
+            rc = vsv_decoder_brick_codes(d, step, s, b, codes);
+        }
+        if (rc)
+            return rc;
+        unsigned mn, mx;
+        vsv_octree_node(oct, (size_t)b, &mn, &mx);
+        pv->bmin[b] = vsv_quant_value(q, mn);
+        pv->bmax[b] = vsv_quant_value(q, mx);
+        if (mx == 0) {
+            pv->bricks[b] = NULL;
+            continue;
+        }
+        float *dst = v->store + (size_t)b * n;
+        vsv_file_dequantise(f, s, codes, n, dst);
+        /* cells outside the grid read as the empty value */
+        int org[3], ext[3];
+        vsv_layout_box(L, b, org, ext);
+        if (ext[0] < L->brick || ext[1] < L->brick || ext[2] < L->brick)
+            for (int k = 0; k < L->brick; k++)
+                for (int j = 0; j < L->brick; j++)
+                    for (int i = 0; i < L->brick; i++)
+                        if (i >= ext[0] || j >= ext[1] || k >= ext[2])
+                            dst[((size_t)k * L->brick + j) * L->brick + i] = pv->empty_value;
+        pv->bricks[b] = dst;
+    }
+    pv->step = step;
+    pv->species = s;
+    pv->time = vsv_file_time(f, step);
+    pv->gen = vsv_volume_new_gen();
+    return 0;
+}
