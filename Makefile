@@ -1,5 +1,5 @@
 # Vesuvius — one GNU Makefile. `make help` lists the targets.
-#   make            build the library and tools into build/
+#   make            build the libraries and tools into build/ (VIEWER=0: no vsv-play)
 #   make test       build and run every test (ends with "N passed, N failed")
 #   make test SAN=1 the same with AddressSanitizer and UBSan (build-san/)
 #   make demo       install what is missing, build, run the main job on samples/
@@ -40,24 +40,35 @@ ifeq ($(WERROR),1)
   WFLAGS_ERR = -Werror
 endif
 
-ifneq ($(MAKECMDGOALS),clean)
-  MISSING := $(foreach p,$(PKGS) $(VIEWER_PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) && echo y),,$(p)))
+# The dependency step comes first: `make demo` and `make test` run
+# tools/deps.sh --install (as root it installs what is missing, otherwise it
+# prints the one apt-get line and stops) before anything asks pkg-config.
+# Other build goals stop here with that line when a library is missing.
+NODEP_GOALS = demo test deps help clean
+ifneq ($(filter-out $(NODEP_GOALS),$(or $(MAKECMDGOALS),all)),)
+  MISSING := $(foreach p,$(PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) 2>/dev/null && echo y),,$(p)))
   ifneq ($(strip $(MISSING)),)
-    $(error missing libraries (pkg-config): $(MISSING); run: sudo apt-get install -y $(shell sh tools/deps.sh --names))
+    $(error missing libraries (pkg-config): $(MISSING); run `make deps` as root, or: sudo apt-get install -y $(shell sh tools/deps.sh --names))
   endif
 endif
+# The viewer (vsv-play) is built only where GLFW, GL, FreeType and fontconfig
+# are installed; VIEWER=0 leaves it out, and everything else builds and tests
+# headless.
+VIEWER ?= $(shell $(PKG_CONFIG) --exists $(VIEWER_PKGS) 2>/dev/null && echo 1 || echo 0)
 
 PKG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(PKGS) 2>/dev/null)
-PKG_LIBS := $(shell $(PKG_CONFIG) --libs $(PKGS) 2>/dev/null)
-VIEWER_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(VIEWER_PKGS) 2>/dev/null)
-VIEWER_LIBS := $(shell $(PKG_CONFIG) --libs $(VIEWER_PKGS) 2>/dev/null)
+pkglibs = $(shell $(PKG_CONFIG) --libs $(1) 2>/dev/null)
+VIEWER_CFLAGS := $(if $(filter 1,$(VIEWER)),$(shell $(PKG_CONFIG) --cflags $(VIEWER_PKGS) 2>/dev/null))
+VIEWER_LIBS := $(if $(filter 1,$(VIEWER)),$(shell $(PKG_CONFIG) --libs $(VIEWER_PKGS) 2>/dev/null))
 
 # Truncating text into fixed-size info fields is by design, hence no -Wformat-truncation.
 WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
+# INC is each folder's include path (below): a folder sees its own headers
+# and those of the layers under it (DESIGN.md §1), so an include against the
+# arrows does not compile; XINC adds cli/ for the programs.
 CFLAGS_ALL = -std=c11 -D_GNU_SOURCE -fPIC $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
-             -Iformat -Iconvert -Irender -Istream -Iviewer -Iinterop $(PKG_CFLAGS) $(CFLAGS)
-CXXFLAGS_ALL = -std=c++17 -fPIC $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP -Iformat -Iinterop $(PKG_CFLAGS) $(CXXFLAGS)
-LDLIBS_ALL = $(SANFLAGS) -pthread $(OPENVDB_LIBS) $(PKG_LIBS) -lstdc++ -lm $(LDLIBS)
+             $(INC) $(XINC) $(PKG_CFLAGS) $(CFLAGS)
+CXXFLAGS_ALL = -std=c++17 -fPIC $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP $(INC) $(PKG_CFLAGS) $(CXXFLAGS)
 
 ifeq ($(V),1)
   Q =
@@ -65,26 +76,75 @@ else
   Q = @
 endif
 
-# program code that is not part of the library: vsv-convert's command line,
-# shared with vsv-convert-mpi
-CONVERT_CLI = convert/vsv_convert_cli.c
-LIB_C = $(filter-out $(CONVERT_CLI),$(wildcard format/vsv_*.c) $(wildcard convert/vsv_*.c)) $(wildcard interop/vsv_*.c) $(wildcard render/vsv_*.c) \
-        $(wildcard stream/vsv_*.c) viewer/vsv_player.c viewer/vsv_freevr_conf.c
-LIB_CXX = $(wildcard format/vsv_*.cc) $(wildcard interop/vsv_*.cc)
-LIB_OBJ = $(patsubst %.c,$(B)/%.o,$(LIB_C)) $(patsubst %.cc,$(B)/%.o,$(LIB_CXX))
-LIB = $(B)/libvesuvius.a
+# ------------------------------------------------------------- the layers
+# Each library folder is one layer (DESIGN.md §1, "Libraries and programs").
+#   core     format/ + stream/     libc, zstd
+#   convert  convert/              core, netCDF, GeographicLib
+#   render   render/               core, libpng, OpenEXR
+#   interop  interop/              convert, core, OpenVDB
+# cli/ is the programs' own static library (options, JSON, progress, exits):
+# no library links it. viewer/ keeps the player core for its programs.
+$(B)/format/%.o: INC = -Iformat
+$(B)/stream/%.o: INC = -Istream -Iformat
+$(B)/convert/%.o: INC = -Iconvert -Iformat
+$(B)/render/%.o: INC = -Irender -Iformat
+$(B)/interop/%.o: INC = -Iinterop -Iconvert -Iformat
+$(B)/cli/%.o: INC = -Icli -Iformat
+$(B)/viewer/%.o: INC = -Iviewer -Irender -Istream -Iformat -Icli
+ALL_INC = -Iformat -Istream -Iconvert -Irender -Iinterop -Iviewer -Icli
+$(B)/tests/%.o $(B)/bench/%.o: INC = $(ALL_INC)
+
+objs = $(patsubst %.cc,$(B)/%.o,$(patsubst %.c,$(B)/%.o,$(1)))
+# the private helpers every library compiles in (format/vsv_common.h)
+COMMON_OBJ = $(B)/format/vsv_buf.o $(B)/format/vsv_msg.o
+CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard stream/vsv_*.c))
+# vsv_*_cli.c: program code a folder's tools share (never in a library)
+CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c)) $(wildcard convert/vsv_*.cc)) $(COMMON_OBJ)
+RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c))
+INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
+CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
+PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_freevr_conf.o
+
+CORE_A = $(B)/libvesuvius.a
+CONVERT_A = $(B)/libvesuvius-convert.a
+RENDER_A = $(B)/libvesuvius-render.a
+INTEROP_A = $(B)/libvesuvius-interop.a
+CLI_A = $(B)/cli/libvsv-cli.a
+PLAYER_A = $(B)/viewer/libvsv-player.a
+LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(INTEROP_A)
+
+# what each library needs below it (the link lines of programs and of the
+# shared libraries)
+CORE_EXT = $(call pkglibs,libzstd) -lm -pthread $(SANFLAGS)
+CONVERT_EXT = $(call pkglibs,netcdf geographiclib) -lstdc++ $(CORE_EXT)
+RENDER_EXT = $(call pkglibs,libpng OpenEXR) $(CORE_EXT)
+INTEROP_EXT = $(OPENVDB_LIBS) $(call pkglibs,tbb blosc Imath) $(CONVERT_EXT)
+ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS)) -lstdc++ -lm -pthread $(SANFLAGS) $(LDLIBS)
+
 VERSION := $(shell sed -n 's/^\#define VSV_VERSION_STRING "\(.*\)"/\1/p' format/vsv_format.h)
 SOVERSION = 0
-SHLIB = $(B)/libvesuvius.so.$(VERSION)
+so = $(B)/lib$(1).so.$(VERSION)
+SHLIBS = $(call so,vesuvius) $(call so,vesuvius-convert) $(call so,vesuvius-render) $(call so,vesuvius-interop)
 DATADIR = $(PREFIX)/share
 
-TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play vsv-export vsv-query
+TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-export vsv-query
+ifeq ($(VIEWER),1)
+TOOLS += vsv-play
+endif
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
+# the programs: each sees cli/ besides its folder's layers; vsv-extract and
+# vsv-convert read .vdb sequences through interop/
+TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv-query.o $(B)/convert/vsv-info.o $(B)/convert/vsv-extract.o $(B)/convert/vsv-interp.o \
+           $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/interop/vsv-export.o
+$(TOOL_OBJ): XINC = -Icli
+$(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
 
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
 FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5 $(B)/tests/test_fuzz_uamiv
+# tests and benchmarks are white-box: every library, every dependency
+TEST_LIBS = $(PLAYER_A) $(INTEROP_A) $(CONVERT_A) $(RENDER_A) $(CORE_A) $(CLI_A)
 
 # The Python module `vesuvius` (python/): the CPython and NumPy C APIs from
 # Debian's python3-dev and python3-numpy, the library linked in statically.
@@ -104,9 +164,9 @@ ifeq ($(strip $(PY_MISSING)),)
   PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
 endif
 
-.PHONY: all test demo bench install uninstall clean fuzz help deps freevr freevr-syntax
+.PHONY: all test test-run demo bench install uninstall clean fuzz help deps freevr freevr-syntax
 .SECONDARY:
-all: $(LIB) $(SHLIB) $(TOOL_BIN) $(PYMOD)
+all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
 	@echo "note: the Python module is not built: $(PY_MISSING)"
 endif
@@ -116,10 +176,11 @@ $(B)/python/vsv_python.o: python/vsv_python.c
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(CFLAGS_ALL) -I$(PY_INC) -I$(PY_NUMPY_INC) -c $< -o $@
 
-$(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(LIB)
+$(B)/python/vsv_python.o: INC = -Iformat
+$(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(CORE_A)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -shared -o $@ $< $(LIB) -Wl,--as-needed $(LDLIBS_ALL)
+	$(Q)$(CC) -shared -o $@ $^ -Wl,--as-needed $(CORE_EXT)
 
 $(B)/python/vesuvius/%.py: python/vesuvius/%.py
 	@mkdir -p $(dir $@)
@@ -146,43 +207,59 @@ $(B)/%.o: %.cc
 	@$(if $(Q),echo "  CXX     $<")
 	$(Q)$(CXX) $(CXXFLAGS_ALL) -c $< -o $@
 
-$(LIB): $(LIB_OBJ)
+# ------------------------------------------------------------- libraries
+$(CORE_A): $(CORE_OBJ)
+$(CONVERT_A): $(CONVERT_OBJ)
+$(RENDER_A): $(RENDER_OBJ)
+$(INTEROP_A): $(INTEROP_OBJ)
+$(CLI_A): $(CLI_OBJ)
+$(PLAYER_A): $(PLAYER_OBJ)
+$(LIBS_A) $(CLI_A) $(PLAYER_A):
 	@$(if $(Q),echo "  AR      $@")
 	$(Q)rm -f $@ && ar rcs $@ $^
 
-# the shared library: versioned file, soname libvesuvius.so.$(SOVERSION)
-$(SHLIB): $(LIB_OBJ)
+# shared libraries: versioned file, soname lib*.so.$(SOVERSION); each links
+# the one below it and its own dependencies only
+shlib = $(Q)$(CC) -shared -Wl,-soname,$(patsubst %.$(VERSION),%,$(notdir $@)).$(SOVERSION) -o $@ $(1)
+$(call so,vesuvius): $(CORE_OBJ)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -shared -Wl,-soname,libvesuvius.so.$(SOVERSION) -o $@ $^ $(LDLIBS_ALL)
-
-$(B)/vsv-%: $(B)/format/vsv-%.o $(LIB)
+	$(call shlib,$^ $(CORE_EXT))
+$(call so,vesuvius-convert): $(CONVERT_OBJ) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
-
-$(B)/vsv-%: $(B)/convert/vsv-%.o $(LIB)
+	$(call shlib,$^ $(CONVERT_EXT))
+$(call so,vesuvius-render): $(RENDER_OBJ) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
-
-$(B)/vsv-convert: $(B)/convert/vsv-convert.o $(B)/convert/vsv_convert_cli.o $(LIB)
+	$(call shlib,$^ $(RENDER_EXT))
+$(call so,vesuvius-interop): $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+	$(call shlib,$^ $(INTEROP_EXT))
 
-$(B)/vsv-%: $(B)/interop/vsv-%.o $(LIB)
-	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
+# -------------------------------------------------------------- programs
+# each links only the libraries it uses (static archives: the programs stand alone)
+link = @$(if $(Q),echo "  LD      $@")
+$(B)/vsv-pack $(B)/vsv-query: $(B)/vsv-%: $(B)/format/vsv-%.o $(CLI_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(CORE_EXT)
+$(B)/vsv-info $(B)/vsv-interp: $(B)/vsv-%: $(B)/convert/vsv-%.o $(CLI_A) $(CONVERT_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(CONVERT_EXT)
+$(B)/vsv-extract: $(B)/convert/vsv-extract.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+$(B)/vsv-convert: $(B)/convert/vsv-convert.o $(B)/convert/vsv_convert_cli.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+$(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+$(B)/vsv-render: $(B)/render/vsv-render.o $(CLI_A) $(RENDER_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(RENDER_EXT)
 
-$(B)/vsv-%: $(B)/render/vsv-%.o $(LIB)
-	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -o $@ $< $(LIB) $(LDLIBS_ALL)
-
-$(B)/viewer/%.o: viewer/%.c
-	@mkdir -p $(dir $@)
-	@$(if $(Q),echo "  CC      $<")
-	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -c $< -o $@
-
-$(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(LIB)
-	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL) $(VIEWER_LIBS)
+$(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o: CFLAGS_ALL += $(VIEWER_CFLAGS)
+$(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(RENDER_EXT) $(VIEWER_LIBS)
 
 # The FreeVR back end: `make FREEVR_DIR=DIR freevr` builds it against a
 # FreeVR install (DIR/include/freevr.h, DIR/lib/libfreevr.a; its headers as
@@ -193,15 +270,18 @@ FREEVR_LIBS = -lGL -lX11 -lXi -ldl -lm -lpthread
 ifneq ($(FREEVR_DIR),)
 TOOLS += vsv-play-freevr
 endif
+VIEWER_INC = -Iviewer -Irender -Istream -Iformat -Icli
 # $(call freevr_link,OUTPUT,FREEVR-DIR)
 define freevr_link
 	@mkdir -p $(dir $(1))
 	@$(if $(Q),echo "  CC/LD   $(1)")
-	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) viewer/vsv-play-freevr.c \
-	  $(B)/viewer/vsv_overlay.o $(LIB) $(2)/lib/libfreevr.a $(LDLIBS_ALL) $(VIEWER_LIBS) $(FREEVR_LIBS)
+	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) viewer/vsv-play-freevr.c \
+	  $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(CORE_A) $(2)/lib/libfreevr.a $(RENDER_EXT) \
+	  $(VIEWER_LIBS) $(FREEVR_LIBS)
 endef
+FREEVR_DEPS = viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(CORE_A)
 freevr: $(B)/vsv-play-freevr
-$(B)/vsv-play-freevr: viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(LIB)
+$(B)/vsv-play-freevr: $(FREEVR_DEPS)
 	@test -n "$(FREEVR_DIR)" || { echo "vsv-play-freevr needs FreeVR: make FREEVR_DIR=DIR freevr" \
 	  "(DIR/include/freevr.h, DIR/lib/libfreevr.a)" >&2; exit 2; }
 	@test -f "$(FREEVR_DIR)/include/freevr.h" -a -f "$(FREEVR_DIR)/lib/libfreevr.a" || { echo "FREEVR_DIR=$(FREEVR_DIR):" \
@@ -218,45 +298,54 @@ $(STANDIN)/include/freevr.h: viewer/freevr/freevr.h
 $(STANDIN)/lib/libfreevr.a: $(B)/tests/freevr-standin/freevr.o
 	@mkdir -p $(dir $@)
 	$(Q)rm -f $@ && ar rcs $@ $^
-$(B)/tests/vsv-play-freevr: viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(LIB) $(STANDIN)/include/freevr.h \
-                            $(STANDIN)/lib/libfreevr.a
+$(B)/tests/vsv-play-freevr: $(FREEVR_DEPS) $(STANDIN)/include/freevr.h $(STANDIN)/lib/libfreevr.a
 	$(call freevr_link,$@,$(STANDIN))
+# the back end and its stand-in need the viewer's libraries
+FREEVR_TEST = $(if $(filter 1,$(VIEWER)),$(B)/tests/vsv-play-freevr)
 
 # syntax only, no dependency file (it would land in the source tree)
 freevr-syntax:
-	$(Q)$(CC) $(filter-out -MMD -MP,$(CFLAGS_ALL)) $(VIEWER_CFLAGS) -isystem viewer/freevr -fsyntax-only \
+	$(Q)$(CC) $(filter-out -MMD -MP,$(CFLAGS_ALL)) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem viewer/freevr -fsyntax-only \
 	  viewer/vsv-play-freevr.c
 
-$(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(LIB)
-	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+# ----------------------------------------------------------------- tests
+$(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIBS)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
-$(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(LIB)
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+$(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(TEST_LIBS)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
-$(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+$(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(TEST_LIBS)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
-$(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(LIB)
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+$(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(TEST_LIBS)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
-test: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/vsv-play-freevr
-	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
+# `make test` and `make demo` run the dependency step first (see above),
+# then build and run in a second make that can ask pkg-config.
+test:
+	$(Q)sh tools/deps.sh --install
+	$(Q)$(MAKE) --no-print-directory test-run
+
+test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(FREEVR_TEST)
+	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" VIEWER=$(VIEWER) \
+	  PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
 
 # The demo: install what is missing (or print the apt-get line), build, then
 # run the main job on the bundled sample.
 demo:
 	$(Q)sh tools/deps.sh --install
-	$(Q)$(MAKE) --no-print-directory all $(B)/tests/vsv-play-freevr
+	$(Q)$(MAKE) --no-print-directory all $(FREEVR_TEST)
 	$(Q)B=$(B) sh tools/demo.sh
 
 BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
             $(B)/bench/bench_play $(B)/bench/bench_advect
-$(B)/bench/%: $(B)/bench/%.o $(LIB)
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL)
+$(B)/bench/%: $(B)/bench/%.o $(TEST_LIBS)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
-$(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(LIB)
-	$(Q)$(CC) -o $@ $^ $(LDLIBS_ALL) -lvolpack
+$(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(TEST_LIBS)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
 
 bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
@@ -275,22 +364,47 @@ deps:
 
 fuzz:
 	$(MAKE) B=build-fuzz CC=clang CXX=clang++ SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
-	  build-fuzz/libvesuvius.a build-fuzz/tests/fuzz_vsv.o build-fuzz/tests/fuzz_mm5.o build-fuzz/tests/fuzz_uamiv.o
+	  build-fuzz/libvesuvius.a build-fuzz/libvesuvius-convert.a build-fuzz/tests/fuzz_vsv.o \
+	  build-fuzz/tests/fuzz_mm5.o build-fuzz/tests/fuzz_uamiv.o
 	for t in vsv mm5 uamiv; do clang -fsanitize=fuzzer,address,undefined -o build-fuzz/fuzz_$$t build-fuzz/tests/fuzz_$$t.o \
-	  build-fuzz/libvesuvius.a $(PKG_LIBS) -lstdc++ -lm -pthread || exit 1; done
+	  build-fuzz/libvesuvius-convert.a build-fuzz/libvesuvius.a $(CONVERT_EXT) || exit 1; done
 	@echo "run: build-fuzz/fuzz_vsv tests/golden, build-fuzz/fuzz_mm5 tests/corpus/mm5, build-fuzz/fuzz_uamiv tests/corpus/uamiv"
+
+# Installed: each library (static, shared with its soname, a pkg-config file)
+# and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
+# `pkg-config --cflags --libs vesuvius`).
+PUBLIC_H = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
+           render/vsv_render.h interop/vsv_vdb.h
+PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-interop
+pc_desc_vesuvius = The .vsv format (writer, reader, field stream) and the streaming pager
+pc_req_vesuvius =
+pc_reqp_vesuvius = libzstd
+pc_libsp_vesuvius = -lm -pthread
+pc_desc_vesuvius-convert = Vesuvius model readers (MM5, CAMx, WRF, IOAPI, GrADS), time interpolation, projections
+pc_req_vesuvius-convert = vesuvius
+pc_reqp_vesuvius-convert = netcdf geographiclib
+pc_libsp_vesuvius-convert = -lstdc++ -lm
+pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, PNG and EXR output
+pc_req_vesuvius-render = vesuvius
+pc_reqp_vesuvius-render = libpng OpenEXR
+pc_libsp_vesuvius-render = -lm -pthread
+pc_desc_vesuvius-interop = Vesuvius volumes to and from OpenVDB
+pc_req_vesuvius-interop = vesuvius-convert vesuvius
+pc_reqp_vesuvius-interop = tbb blosc Imath
+pc_libsp_vesuvius-interop = $(OPENVDB_LIBS) -lstdc++
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 \
 	  $(DESTDIR)$(MANDIR)/man5 $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(DATADIR)/bash-completion/completions
 	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
-	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/
-	install -m 755 $(SHLIB) $(DESTDIR)$(LIBDIR)/
-	ln -sf libvesuvius.so.$(VERSION) $(DESTDIR)$(LIBDIR)/libvesuvius.so.$(SOVERSION)
-	ln -sf libvesuvius.so.$(SOVERSION) $(DESTDIR)$(LIBDIR)/libvesuvius.so
-	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' tools/vesuvius.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/vesuvius.pc
-	install -m 644 format/vsv_format.h render/vsv_render.h stream/vsv_pager.h stream/vsv_clock.h viewer/vsv_player.h \
-	  $(DESTDIR)$(INCDIR)/
+	install -m 644 $(LIBS_A) $(DESTDIR)$(LIBDIR)/
+	install -m 755 $(SHLIBS) $(DESTDIR)$(LIBDIR)/
+	$(foreach l,$(PC_LIBS),ln -sf lib$(l).so.$(VERSION) $(DESTDIR)$(LIBDIR)/lib$(l).so.$(SOVERSION) && \
+	  ln -sf lib$(l).so.$(SOVERSION) $(DESTDIR)$(LIBDIR)/lib$(l).so && \
+	  sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' -e 's|@NAME@|$(l)|' -e 's|@DESC@|$(pc_desc_$(l))|' \
+	    -e 's|@REQUIRES@|$(pc_req_$(l))|' -e 's|@REQUIRES_PRIVATE@|$(pc_reqp_$(l))|' -e 's|@LIBS_PRIVATE@|$(pc_libsp_$(l))|' \
+	    tools/vesuvius.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/$(l).pc;)
+	install -m 644 $(PUBLIC_H) $(DESTDIR)$(INCDIR)/
 	install -m 644 $(filter-out $(if $(FREEVR_DIR),,man/vsv-play-freevr.1),$(wildcard man/*.1)) $(DESTDIR)$(MANDIR)/man1/
 	install -m 644 man/*.5 $(DESTDIR)$(MANDIR)/man5/
 	install -m 644 share/transfer-functions.tf $(DESTDIR)$(DATADIR)/vesuvius/
@@ -298,8 +412,9 @@ install: all
 	for t in $(TOOLS); do install -m 644 tools/completion/vesuvius.bash $(DESTDIR)$(DATADIR)/bash-completion/completions/$$t; done
 
 uninstall:
-	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(TOOLS)) $(DESTDIR)$(LIBDIR)/libvesuvius.a $(DESTDIR)$(LIBDIR)/libvesuvius.so*
-	rm -f $(DESTDIR)$(LIBDIR)/pkgconfig/vesuvius.pc $(addprefix $(DESTDIR)$(DATADIR)/bash-completion/completions/,$(TOOLS))
+	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(TOOLS))
+	rm -f $(foreach l,$(PC_LIBS),$(DESTDIR)$(LIBDIR)/lib$(l).a $(DESTDIR)$(LIBDIR)/lib$(l).so* $(DESTDIR)$(LIBDIR)/pkgconfig/$(l).pc)
+	rm -f $(addprefix $(DESTDIR)$(DATADIR)/bash-completion/completions/,$(TOOLS))
 	rm -f $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(addsuffix .1,$(TOOLS))) $(DESTDIR)$(MANDIR)/man5/vsv.5
 	rm -rf $(DESTDIR)$(INCDIR) $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(PYDIR)/vesuvius
 

@@ -1,6 +1,7 @@
 /* vsv-convert — model files → .vsv in one process: the same steps and the
  * same bytes as vsv-extract | vsv-interp | vsv-pack. */
 #include "vsv_convert_cli.h"
+#include "vsv_vdb.h"
 
 #include <stdlib.h>
 
@@ -18,6 +19,7 @@ static int add(void *w, int64_t time, const float *const *fields) { return vsv_w
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-convert");
+    vsv_vdb_source_register(); /* .vdb sequences too (interop/) */
     vsv_convert_args a;
     vsv_convert_args_parse(&a, argc, argv, usage, 0);
     vsv_run *run = NULL;

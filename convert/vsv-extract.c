@@ -2,6 +2,7 @@
  * times, vertical grid), or --list what a file holds. */
 #include "vsv_cli.h"
 #include "vsv_convert.h"
+#include "vsv_vdb.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -39,6 +40,7 @@ static int emit(void *ctx, int64_t time, const float *const *fields)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-extract");
+    vsv_vdb_source_register(); /* .vdb sequences too (interop/) */
     static const struct option longopts[] = {{"vars", required_argument, 0, 'v'},
                                              {"times", required_argument, 0, 't'},
                                              {"list", no_argument, 0, 'l'},

@@ -6,6 +6,21 @@
 
 #include "vsv_format.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---------------------------------------------------------- projections */
+
+/* Latitude/longitude (degrees) of projected point (x, y) of a grid's
+ * projection (a thin shim over GeographicLib, on the sphere the models
+ * assume); 0, or VSV_EINVAL / VSV_EUNSUPPORTED. */
+int vsv_proj_inverse(const vsv_proj *p, double x, double y, double *lat, double *lon);
+/* Projected point of (lat, lon). */
+int vsv_proj_forward(const vsv_proj *p, double lat, double lon, double *x, double *y);
+
+/* -------------------------------------------------------------- sources */
+
 typedef struct vsv_source vsv_source;
 
 /* One field a source offers: plain info. */
@@ -219,5 +234,9 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields);
 /* Input frames so far that fell between grid times (not output). */
 int vsv_interp_dropped(const vsv_interp *ip);
 void vsv_interp_free(vsv_interp *ip);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

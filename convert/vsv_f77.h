@@ -4,7 +4,7 @@
 #ifndef VSV_F77_H
 #define VSV_F77_H
 
-#include "vsv_format_internal.h"
+#include "vsv_common.h"
 
 /* A 4-byte word of a big-endian (le = 0) or little-endian file. */
 static inline uint32_t vsv_f77_u32(int le, const unsigned char *p)

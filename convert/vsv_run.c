@@ -2,7 +2,7 @@
  * for matching grids, overlaps and gaps; variables and times selected once.
  * The single extraction path behind vsv-extract and vsv-convert. */
 #include "vsv_convert.h"
-#include "vsv_format_internal.h"
+#include "vsv_common.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -51,8 +51,20 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
     return rc;
 }
 
-static const vsv_source_ops *const readers[] = {&vsv_mm5_ops, &vsv_camx_ops, &vsv_netcdf_ops, &vsv_grads_ops,
-                                                &vsv_vdb_ops};
+static const vsv_source_ops *readers[16] = {&vsv_mm5_ops, &vsv_camx_ops, &vsv_netcdf_ops, &vsv_grads_ops};
+enum { BUILTIN = 4 };
+static int nreaders = BUILTIN;
+
+int vsv_source_register(const vsv_source_ops *ops)
+{
+    if (!ops || !ops->probe || !ops->open || nreaders >= BUILTIN + 8)
+        return VSV_EINVAL;
+    for (int i = 0; i < nreaders; i++)
+        if (readers[i] == ops)
+            return 0;
+    readers[nreaders++] = ops;
+    return 0;
+}
 
 void vsv_source_opts_init(vsv_source_opts *o)
 {
@@ -80,7 +92,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
     unsigned char head[512];
     size_t n = fread(head, 1, sizeof head, fp);
     fclose(fp);
-    for (size_t i = 0; i < sizeof readers / sizeof *readers; i++)
+    for (int i = 0; i < nreaders; i++)
         if (readers[i]->probe(head, n)) {
             s->ops = readers[i];
             const int camx = readers[i] == &vsv_camx_ops, vdb = readers[i] == &vsv_vdb_ops;
@@ -92,7 +104,13 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
                                        readers[i]->name);
             return readers[i]->open(s);
         }
-    return vsv_source_fail(s, VSV_ENOTVSV, "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF or IOAPI netCDF, GrADS .ctl, OpenVDB)");
+    char more[256] = "";
+    for (int i = BUILTIN; i < nreaders; i++)
+        snprintf(more + strlen(more), sizeof more - strlen(more), ", %s", readers[i]->name);
+    return vsv_source_fail(s, VSV_ENOTVSV,
+                           "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF or IOAPI netCDF, "
+                           "GrADS .ctl%s)",
+                           more);
 }
 
 void vsv_source_free(vsv_source *s)

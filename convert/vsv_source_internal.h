@@ -1,38 +1,10 @@
-/* vsv_source_internal.h — what a model reader implements. Private. */
+/* vsv_source_internal.h — what the built-in model readers share beyond
+ * vsv_source_reader.h. Private to convert/. */
 #ifndef VSV_SOURCE_INTERNAL_H
 #define VSV_SOURCE_INTERNAL_H
 
-#include "vsv_convert.h"
-#include "vsv_format_internal.h"
-
-typedef struct vsv_source_ops {
-    const char *name;
-    /* 1 if the first n bytes look like this format */
-    int (*probe)(const unsigned char *head, size_t n);
-    int (*open)(vsv_source *s);
-    int (*read)(vsv_source *s, int field, int t, float *out);
-    void (*close)(vsv_source *s);
-    char *(*summary)(vsv_source *s); /* may be NULL */
-    /* --vertical native only: the levels' heights at time t per column
-     * (nx*ny*nz, m above sea level); may be NULL (no per-column heights) */
-    int (*heights)(vsv_source *s, int t, float *out);
-} vsv_source_ops;
-
-struct vsv_source {
-    const vsv_source_ops *ops;
-    char path[1024];
-    char err[512];
-    vsv_meta grid;
-    vsv_field_info *fields;
-    int nfields;
-    int64_t *times;
-    int ntimes;
-    vsv_source_opts opts;
-    void *priv;
-};
-
-/* Sets s->err to "path: message" and returns rc. */
-int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+#include "vsv_common.h"
+#include "vsv_source_reader.h"
 
 /* Sets the grid's vertical axis from native heights zn (kx levels of the
  * grid's plane, increasing upward): --vertical native keeps the levels with
@@ -50,7 +22,6 @@ extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;
 extern const vsv_source_ops vsv_camx_ops;
 extern const vsv_source_ops vsv_ioapi_ops;
-extern const vsv_source_ops vsv_vdb_ops;
 /* Reads time t of netCDF variable var (named name in errors) whose last n
  * dimensions are shape[0..n-1], after at most one leading (time) dimension:
  * prod(shape) floats into out (caller buffer of that many). Nothing is read

@@ -1,6 +1,6 @@
 /* vsv_buf.c — the growable byte buffer the writer and the readers of model
  * files build records in, little-endian. */
-#include "vsv_format_internal.h"
+#include "vsv_common.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,9 +1,6 @@
-/* vsv_error.c — error texts of the VSV_E* codes and the messages handles
- * keep ("path: what, where"). */
+/* vsv_error.c — error texts of the VSV_E* codes (vsv_strerror). */
 #include "vsv_format_internal.h"
 
-#include <stdarg.h>
-#include <stdio.h>
 
 const char *vsv_strerror(int code)
 {
@@ -23,19 +20,4 @@ const char *vsv_strerror(int code)
     case VSV_EAGAIN: return "not ready yet";
     default: return "unknown error";
     }
-}
-
-void vsv_msg(char *buf, size_t cap, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(buf, cap, fmt, ap);
-    va_end(ap);
-}
-
-void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_list ap)
-{
-    char m[512];
-    vsnprintf(m, sizeof m, fmt, ap);
-    snprintf(buf, cap, "%s: %s", path, m);
 }

@@ -163,10 +163,6 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap);
 
 /* Projection names ("none", "latlon", "lcc", "pstereo", "mercator", "tmerc", "albers"). */
 const char *vsv_proj_name(int kind);
-/* Latitude/longitude (degrees) of projected point (x, y). */
-int vsv_proj_inverse(const vsv_proj *p, double x, double y, double *lat, double *lon);
-/* Projected point of (lat, lon). */
-int vsv_proj_forward(const vsv_proj *p, double lat, double lon, double *x, double *y);
 
 /* ----------------------------------------------------------------- times */
 

@@ -205,3 +205,9 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
     }
     return 0;
 }
+
+const char *vsv_proj_name(int kind)
+{
+    static const char *names[] = {"none", "latlon", "lcc", "pstereo", "mercator", "tmerc", "albers"};
+    return kind >= 0 && kind < VSV_PROJ_COUNT ? names[kind] : "unknown";
+}

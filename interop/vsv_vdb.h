@@ -53,6 +53,11 @@ void vsv_vdb_info_free(vsv_vdb_info *info);
  * inactive cells hold the grid's background). 0, or -1 with err. */
 int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_info *info, float *out, char *err, size_t cap);
 
+/* Makes .vdb sequences a source that vsv_source_open (convert/vsv_convert.h)
+ * reads: each file one time step, every float grid a field. Call once before
+ * opening sources, from one thread; 0 or VSV_EINVAL. */
+int vsv_vdb_source_register(void);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,8 +1,10 @@
 #!/bin/sh
-# cli_install.sh — `make install` into a staging root: tools, static and shared
-# library (versioned soname), headers, vesuvius.pc, man pages, the default
-# transfer functions, bash completion; then a small C program built against
-# the installed tree with pkg-config alone, run against the shared library.
+# cli_install.sh — `make install` into a staging root: tools, each library
+# static and shared (versioned soname) with its pkg-config file, headers
+# under include/vesuvius/, man pages, the default transfer functions, bash
+# completion; then small C programs built against the installed tree with
+# pkg-config alone (`#include <vesuvius/vsv_format.h>`), run against the
+# shared libraries.
 B=${B:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-install.XXXXXX")
 trap 'rm -rf "$T"' EXIT
@@ -15,9 +17,13 @@ else
     fail "make install PREFIX=$P DESTDIR=... succeeds" "$(tail -c 400 "$T/log")"
     exit 0
 fi
-for f in bin/vsv-info bin/vsv-render bin/vsv-play lib/libvesuvius.a lib/libvesuvius.so lib/libvesuvius.so.0 \
+for f in bin/vsv-info bin/vsv-render lib/libvesuvius.a lib/libvesuvius.so lib/libvesuvius.so.0 \
+    lib/libvesuvius-convert.so.0 lib/libvesuvius-render.so.0 lib/libvesuvius-interop.so.0 \
+    lib/libvesuvius-convert.a lib/libvesuvius-render.a lib/libvesuvius-interop.a \
     include/vesuvius/vsv_format.h include/vesuvius/vsv_render.h include/vesuvius/vsv_pager.h \
-    lib/pkgconfig/vesuvius.pc share/man/man1/vsv-play.1 share/man/man1/vsv-info.1 share/man/man5/vsv.5 \
+    include/vesuvius/vsv_convert.h include/vesuvius/vsv_vdb.h \
+    lib/pkgconfig/vesuvius.pc lib/pkgconfig/vesuvius-convert.pc lib/pkgconfig/vesuvius-render.pc \
+    lib/pkgconfig/vesuvius-interop.pc share/man/man1/vsv-play.1 share/man/man1/vsv-info.1 share/man/man5/vsv.5 \
     share/vesuvius/transfer-functions.tf share/bash-completion/completions/vsv-render; do
     [ -e "$R$P/$f" ] && pass "installed: $f" || fail "installed: $f" "missing"
 done
@@ -26,7 +32,7 @@ soname=$(readelf -d "$R$P/lib/libvesuvius.so" 2>/dev/null | sed -n 's/.*SONAME.*
     fail "the shared library's soname is libvesuvius.so.0" "'$soname'"
 cat > "$T/hello.c" <<'EOC'
 #include <stdio.h>
-#include <vsv_format.h>
+#include <vesuvius/vsv_format.h>
 int main(int argc, char **argv)
 {
     vsv_file *f = NULL;
@@ -53,6 +59,35 @@ has "reading a real converted file" "$T/out" "4 steps 5 species"
 ldd_out=$(LD_LIBRARY_PATH="$R$P/lib" ldd "$T/hello" 2>&1 | grep libvesuvius)
 case $ldd_out in *"$R$P/lib/libvesuvius.so.0"*) pass "linked to libvesuvius.so.0 (shared)" ;;
 *) fail "linked to libvesuvius.so.0 (shared)" "$ldd_out" ;; esac
+# the core library loads neither OpenVDB, netCDF nor OpenEXR
+core=$(ldd "$R$P/lib/libvesuvius.so.0" 2>&1)
+case $core in *openvdb* | *netcdf* | *OpenEXR* | *GeographicLib*) fail "libvesuvius.so loads only libc and zstd" "$core" ;;
+*libzstd*) pass "libvesuvius.so loads only libc and zstd" ;; *) fail "libvesuvius.so loads only libc and zstd" "$core" ;; esac
+# a program over the other layers: convert (projections) and render, each
+# through its own .pc, headers as <vesuvius/...>
+cat > "$T/layers.c" <<'EOC'
+#include <stdio.h>
+#include <vesuvius/vsv_convert.h>
+#include <vesuvius/vsv_render.h>
+int main(void)
+{
+    vsv_proj p = {VSV_PROJ_LCC, 40, -100, 30, 60, 0};
+    double lat, lon;
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    if (vsv_proj_inverse(&p, 0, 0, &lat, &lon))
+        return 1;
+    printf("%.1f %.1f %s\n", lat, lon, o.kind == VSV_RENDER_RAYCAST ? "raycast" : "?");
+    return 0;
+}
+EOC
+if cc $SANFLAGS -o "$T/layers" "$T/layers.c" $(pkg-config --cflags --libs vesuvius-convert vesuvius-render) > "$T/cc" 2>&1; then
+    pass "a program over convert and render builds with their .pc files"
+else
+    fail "a program over convert and render builds with their .pc files" "$(head -c 400 "$T/cc")"
+fi
+expect "and runs: the projection's origin is (lat0, lon0)" 0 env LD_LIBRARY_PATH="$R$P/lib" "$T/layers"
+has "and prints it" "$T/out" "40.0 -100.0 raycast"
 # the static archive, with the libraries the .pc names as private (shared ones:
 # Debian's netCDF has no static HDF5 on the default path)
 deps=$(pkg-config --print-requires-private vesuvius | awk '{print $1}')
@@ -65,7 +100,9 @@ else
     fail "and statically (libvesuvius.a with the .pc's private requirements)" "$(head -c 400 "$T/cc")"
 fi
 # every tool: --version names the tool, the project and the format
-for t in vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play; do
+tools="vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-export"
+[ "${VIEWER:-1}" = 1 ] && tools="$tools vsv-play"
+for t in $tools; do
     v=$("$R$P/bin/$t" --version 2>&1)
     case $v in "$t (Vesuvius "*") format 1."*) pass "$t --version: $v" ;; *) fail "$t --version" "$v" ;; esac
 done

@@ -38,8 +38,11 @@ head -c 3000 "$T/s_0001.vdb" > "$T/cut.vdb"
 expect "a truncated .vdb exits 1" 1 "$B/vsv-extract" "$T/cut.vdb"
 has "with a clear message" "$T/err" "cut.vdb: not a readable OpenVDB file"
 expect "a rotated or foreign file is not taken for OpenVDB" 1 "$B/vsv-extract" "$T/crop.vsv"
-expect "vsv-info describes a .vdb" 0 "$B/vsv-info" "$T/t1.vdb"
-has "its grids and time" "$T/out" "time        1995-10-24T01:00:00Z"
+expect "vsv-extract --list describes a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
+has "its grids" "$T/out" "CLW"
+has "and its time" "$T/out" "times: 1995-10-24T01:00:00Z"
+expect "vsv-info (no OpenVDB in it) on a .vdb exits 1" 1 "$B/vsv-info" "$T/t1.vdb"
+has "naming the tool that reads it" "$T/err" "t1.vdb: an OpenVDB file; vsv-extract --list describes it"
 # damaged .vdb files: OpenVDB has no checksums and can crash on them; the
 # reading runs isolated, so every one is exit 0 (harmless damage) or 1 with a
 # message, never a crash

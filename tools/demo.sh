@@ -117,7 +117,9 @@ cat > "$OUT/playback.script" <<EOS
 3.6 screenshot $OUT/play-rewound.png
 4.0 quit
 EOS
-if [ -n "${DISPLAY:-}" ]; then
+if [ ! -x "$B/vsv-play" ]; then
+    printf '\n(vsv-play not built: VIEWER=0, or GLFW/GL/FreeType/fontconfig missing; playback skipped)\n'
+elif [ -n "${DISPLAY:-}" ]; then
     step "Play it back in a window (scripted; run vsv-play $OUT/storm.vsv yourself and press h)" \
          "vsv-play $OUT/storm.vsv --script $OUT/playback.script"
     "$B/vsv-play" "$OUT/storm.vsv" --script "$OUT/playback.script"

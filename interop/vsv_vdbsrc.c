@@ -3,8 +3,10 @@
  * (interop/vsv_vdb.h), every float grid a field. Times come from
  * --time-step/--time-start, else from each file's "time" metadata (what
  * vsv-export writes). */
-#include "vsv_source_internal.h"
+#include "vsv_source_reader.h"
 #include "vsv_vdb.h"
+
+#include <stdio.h>
 
 #include <pthread.h>
 #include <stdlib.h>
@@ -174,4 +176,6 @@ static char *summary(vsv_source *s)
     return t;
 }
 
-const vsv_source_ops vsv_vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, summary, NULL};
+static const vsv_source_ops vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, summary, NULL};
+
+int vsv_vdb_source_register(void) { return vsv_source_register(&vdb_ops); }

@@ -27,6 +27,17 @@ static const char usage[] =
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n";
 
+/* Whether path starts with OpenVDB's magic number (0x56444220, 64 bits LE). */
+static int is_vdb(const char *path)
+{
+    unsigned char h[8] = {0};
+    FILE *fp = fopen(path, "rb");
+    const size_t n = fp ? fread(h, 1, sizeof h, fp) : 0;
+    if (fp)
+        fclose(fp);
+    return n == 8 && !memcmp(h, "\x20\x42\x44\x56\0\0\0\0", 8);
+}
+
 static const char *scale_name(int s) { return s == VSV_SCALE_LOG ? "log" : "linear"; }
 static const char *vert_name(int k)
 {
@@ -398,6 +409,13 @@ int main(int argc, char **argv)
                 continue;
             }
             vsv_source_free(src);
+        }
+        if (rc == VSV_ENOTVSV && is_vdb(path)) { /* interop's format: vsv-info does not load OpenVDB */
+            fflush(stdout);
+            fprintf(stderr, "vsv-info: %s: an OpenVDB file; vsv-extract --list describes it\n", path);
+            vsv_file_free(f);
+            status = 1;
+            continue;
         }
         if (rc) {
             fflush(stdout);

@@ -1,38 +1,15 @@
-/* vsv_cli.h — what the command-line tools share: a tiny JSON document
- * builder (vsv-info's machine-readable output and -f lookups), the progress
- * bar, option-value parsers and the CLI error conventions of DESIGN.md §2
- * (usage errors exit 2, data errors exit 1 as "tool: file: what, where").
- * Only tools call the printing functions; the rest of the library never prints. */
+/* vsv_cli.h — what the command-line tools share: the progress bar,
+ * option-value parsers, the pack options and the CLI error conventions of
+ * DESIGN.md §2 (usage errors exit 2, data errors exit 1 as "tool: file:
+ * what, where"), and the JSON builder (vsv_json.h). A static library of the
+ * programs (cli/): no library links it; these functions print and exit. */
 #ifndef VSV_CLI_H
 #define VSV_CLI_H
 
 #include "vsv_format.h"
+#include "vsv_json.h"
 
 #include <stdio.h>
-
-/* --------------------------------------------------------------- JSON */
-
-typedef struct vsv_json vsv_json;
-
-/* Constructors; each returns NULL only when out of memory. */
-vsv_json *vsv_json_object(void);
-vsv_json *vsv_json_array(void);
-vsv_json *vsv_json_number(double v);
-vsv_json *vsv_json_int(long long v);
-vsv_json *vsv_json_string(const char *s);
-vsv_json *vsv_json_bool(int v);
-vsv_json *vsv_json_null(void);
-/* Adds `value` (ownership passes to the container; NULL values are ignored). */
-void vsv_json_set(vsv_json *obj, const char *key, vsv_json *value);
-void vsv_json_push(vsv_json *arr, vsv_json *value);
-/* Prints pretty (indent 2) or compact. */
-void vsv_json_print(FILE *fp, const vsv_json *v, int pretty);
-/* Looks up a dotted path ("grid.nx", "species.0.name", "species[0].name");
- * borrowed, or NULL. */
-const vsv_json *vsv_json_path(const vsv_json *root, const char *path);
-/* Prints a scalar plainly (strings without quotes) or a container as JSON. */
-void vsv_json_print_plain(FILE *fp, const vsv_json *v);
-void vsv_json_free(vsv_json *v);
 
 /* ---------------------------------------------------------- the tools */
 

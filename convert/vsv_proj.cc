@@ -1,7 +1,7 @@
 /* vsv_proj.cc — the thin C shim over GeographicLib's projections: turns a
  * projected (x, y) of a .vsv grid into latitude/longitude and back. The
  * projections are taken on a sphere (MM5, WRF and CAMx all assume one). */
-#include "vsv_format.h"
+#include "vsv_convert.h"
 
 #include <GeographicLib/AlbersEqualArea.hpp>
 #include <GeographicLib/LambertConformalConic.hpp>
@@ -54,12 +54,6 @@ double wrap(double lon)
 }
 
 } // namespace
-
-extern "C" const char *vsv_proj_name(int kind)
-{
-    static const char *names[] = {"none", "latlon", "lcc", "pstereo", "mercator", "tmerc", "albers"};
-    return kind >= 0 && kind < VSV_PROJ_COUNT ? names[kind] : "unknown";
-}
 
 extern "C" int vsv_proj_forward(const vsv_proj *p, double lat, double lon, double *x, double *y)
 {

@@ -1,0 +1,89 @@
+/* vsv_common.h — the private helpers every library of Vesuvius compiles
+ * into itself, as zstd's lib/common/ (never exported): little-endian byte
+ * helpers, a growable byte buffer (vsv_buf.c), "path: message" texts
+ * (vsv_msg.c) and the sane limits every reader checks sizes against. The one
+ * private header of format/ that the other library folders may include. */
+#ifndef VSV_COMMON_H
+#define VSV_COMMON_H
+
+#include "vsv_format.h"
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+/* Little-endian memcpy helpers: never cast structs onto bytes. */
+static inline uint16_t vsv_rd16(const unsigned char *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
+static inline uint32_t vsv_rd32(const unsigned char *p)
+{
+    return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+static inline uint64_t vsv_rd64(const unsigned char *p)
+{
+    return (uint64_t)vsv_rd32(p) | ((uint64_t)vsv_rd32(p + 4) << 32);
+}
+static inline double vsv_rdf64(const unsigned char *p)
+{
+    uint64_t u = vsv_rd64(p);
+    double d;
+    memcpy(&d, &u, 8);
+    return d;
+}
+static inline float vsv_rdf32(const unsigned char *p)
+{
+    uint32_t u = vsv_rd32(p);
+    float f;
+    memcpy(&f, &u, 4);
+    return f;
+}
+static inline void vsv_wr16(unsigned char *p, uint16_t v) { p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8); }
+static inline void vsv_wr32(unsigned char *p, uint32_t v)
+{
+    p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8);
+    p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24);
+}
+static inline void vsv_wr64(unsigned char *p, uint64_t v) { vsv_wr32(p, (uint32_t)v); vsv_wr32(p + 4, (uint32_t)(v >> 32)); }
+static inline void vsv_wrf64(unsigned char *p, double d)
+{
+    uint64_t u;
+    memcpy(&u, &d, 8);
+    vsv_wr64(p, u);
+}
+static inline void vsv_wrf32(unsigned char *p, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, 4);
+    vsv_wr32(p, u);
+}
+
+#define VSV_MAX_DIM 16384
+#define VSV_MAX_CELLS ((uint64_t)1 << 34)
+#define VSV_MAX_VARS 1024
+#define VSV_MAX_STEPS 10000000
+#define VSV_MAX_STRING 4096
+#define VSV_MAX_META ((uint64_t)1 << 32)
+
+/* A growable byte buffer. */
+typedef struct vsv_buf {
+    unsigned char *p;
+    size_t len, cap;
+} vsv_buf;
+
+int vsv_buf_reserve(vsv_buf *b, size_t extra);
+int vsv_buf_put(vsv_buf *b, const void *data, size_t n);
+int vsv_buf_zeros(vsv_buf *b, size_t n);
+int vsv_buf_u32(vsv_buf *b, uint32_t v);
+int vsv_buf_u64(vsv_buf *b, uint64_t v);
+int vsv_buf_f64(vsv_buf *b, double v);
+int vsv_buf_str(vsv_buf *b, const char *s);
+void vsv_buf_free(vsv_buf *b);
+
+/* printf into a fixed message buffer. */
+void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* "path: " followed by the formatted message: the shape of every error a
+ * reader keeps for its file. */
+void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_list ap)
+    __attribute__((format(printf, 4, 0)));
+
+#endif

@@ -1,0 +1,129 @@
+#!/bin/sh
+# cli_layout.sh — the house rules of DESIGN.md §1 that a compiler alone does
+# not keep: every #include follows the arrows (a folder sees its own headers
+# and the public headers of the layers under it; libraries never see the
+# programs' cli/; each layer includes only its own dependencies' headers), no
+# source file is over 700 lines, and no build output is committed. A copy of
+# the tree with bad includes planted in it must fail the same check.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-layout.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+
+# The public headers: what `make install` installs (PUBLIC_H in the Makefile),
+# plus format/vsv_common.h, the private helpers every library compiles in.
+public=$(awk '/^PUBLIC_H *=/ { on = 1; sub(/^PUBLIC_H *= */, "") }
+              on { c = sub(/\\$/, ""); printf "%s ", $0; if (!c) on = 0 }' Makefile)
+public="$public format/vsv_common.h"
+
+# sees DIR TOOL: the folders whose headers a file of DIR may include
+sees() {
+    case $1 in
+    format) s="format" ;;
+    stream) s="stream format" ;;
+    convert) s="convert format" ;;
+    render) s="render format" ;;
+    interop) s="interop convert format" ;;
+    cli) s="cli format" ;;
+    viewer) s="viewer render stream format" ;;
+    python) s="python format" ;;
+    esac
+    [ "$2" = 1 ] && s="$s cli"
+    echo "$s"
+}
+# the other libraries' headers a layer must not include (its dependencies only)
+foreign() {
+    case $1 in
+    format | stream | cli) echo 'netcdf\.h|GeographicLib/|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
+    convert) echo 'openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
+    render) echo 'netcdf\.h|GeographicLib/|openvdb/|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
+    interop) echo 'png\.h|openexr\.h|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
+    viewer) echo 'netcdf\.h|GeographicLib/|openvdb/' ;;
+    python) echo 'netcdf\.h|GeographicLib/|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
+    esac
+}
+
+# check ROOT: one line per include against the arrows in the tree at ROOT
+check() {
+    root=$1
+    for f in $(cd "$root" && ls format/* stream/* convert/* render/* interop/* cli/* viewer/*.[ch] python/*.c 2>/dev/null); do
+        case $f in *.c | *.h | *.cc) ;; *) continue ;; esac
+        dir=${f%%/*}
+        base=${f#*/}
+        tool=0
+        case $base in vsv-*.c | vsv_*_cli.[ch]) tool=1 ;; esac # programs, and code their tools share
+        folders=$(sees "$dir" $tool)
+        # vsv-extract and vsv-convert read .vdb sequences through interop/
+        case $f in convert/vsv-extract.c | convert/vsv-convert.c) folders="$folders interop" ;; esac
+        bad=$(foreign "$dir")
+        grep -n '^[[:space:]]*#[[:space:]]*include' "$root/$f" | while IFS= read -r line; do
+            n=${line%%:*}
+            h=$(echo "$line" | sed -n 's/.*include[[:space:]]*"\([^"]*\)".*/\1/p')
+            if [ -z "$h" ]; then
+                sys=$(echo "$line" | sed -n 's/.*include[[:space:]]*<\([^>]*\)>.*/\1/p')
+                if [ -n "$sys" ] && echo "$sys" | grep -Eq "^($bad)"; then
+                    echo "$f:$n: <$sys>: not a dependency of $dir/"
+                fi
+                continue
+            fi
+            [ -e "$root/$dir/$h" ] && continue # its own folder
+            [ -e "$root/$dir/freevr/$h" ] && continue
+            owner=""
+            for d in format stream convert render interop cli viewer python; do
+                [ -e "$root/$d/$h" ] && owner=$d
+            done
+            [ -z "$owner" ] && continue # not ours
+            ok=0
+            for d in $folders; do [ "$d" = "$owner" ] && ok=1; done
+            if [ $ok = 0 ]; then
+                echo "$f:$n: \"$h\": $dir/ does not see $owner/"
+                continue
+            fi
+            case " $public " in
+            *" $owner/$h "*) ;;
+            *) [ "$owner" = cli ] || echo "$f:$n: \"$h\": private to $owner/" ;;
+            esac
+        done
+    done
+}
+
+check . > "$T/found"
+if [ -s "$T/found" ]; then
+    fail "every #include follows DESIGN.md's arrows" "$(head -c 600 "$T/found")"
+else
+    pass "every #include follows DESIGN.md's arrows ($(echo $public | wc -w) public headers)"
+fi
+
+# the check itself: a copy of the sources with four bad includes planted
+mkdir -p "$T/tree"
+cp -r format stream convert render interop cli viewer python Makefile "$T/tree/"
+echo '#include "vsv_render.h"' >> "$T/tree/convert/vsv_interp.c"
+echo '#include "vsv_format_internal.h"' >> "$T/tree/render/vsv_tf.c"
+echo '#include <netcdf.h>' >> "$T/tree/format/vsv_crc.c"
+echo '#include "vsv_cli.h"' >> "$T/tree/convert/vsv_source.c"
+(cd "$T/tree" && check .) > "$T/planted"
+has "a planted include of render/ in convert/ is found" "$T/planted" '"vsv_render.h": convert/ does not see render/'
+has "a planted include of format's internals in render/ is found" "$T/planted" '"vsv_format_internal.h": private to format/'
+has "a planted <netcdf.h> in format/ is found" "$T/planted" '<netcdf.h>: not a dependency of format/'
+has "a planted include of cli/ in a library is found" "$T/planted" '"vsv_cli.h": convert/ does not see cli/'
+n=$(wc -l < "$T/planted")
+[ "$n" = 4 ] && pass "and nothing else" || fail "and nothing else" "$(cat "$T/planted")"
+
+# and the compiler agrees: convert/'s include path has no render/
+if cc -fsyntax-only -Iconvert -Iformat -x c - < /dev/null > /dev/null 2>&1 &&
+    ! printf '#include "vsv_render.h"\n' | cc -fsyntax-only -Iconvert -Iformat -x c - > /dev/null 2>&1; then
+    pass "an include of render/ does not compile on convert/'s include path"
+else
+    fail "an include of render/ does not compile on convert/'s include path" "it compiled"
+fi
+inc=$(make -s --no-print-directory -pn B="$B" help 2>/dev/null |
+    awk -v t="$B/convert/%.o :" '$0 == t { on = 1; next } on && /^# INC :?= / { sub(/^# INC :?= /, ""); print; exit }')
+[ "$inc" = "-Iconvert -Iformat" ] && pass "the Makefile gives convert/ that include path" ||
+    fail "the Makefile gives convert/ that include path" "'$inc'"
+
+# no source file over ~700 lines (tables and samples aside)
+long=$(git ls-files '*.c' '*.cc' '*.h' 2>/dev/null | xargs wc -l 2>/dev/null | awk '$2 != "total" && $1 > 700 { print $2 " " $1 }')
+[ -z "$long" ] && pass "no source file over 700 lines" || fail "no source file over 700 lines" "$long"
+# no build output committed
+art=$(git ls-files 2>/dev/null | grep -E '\.(o|a|so|d)$|^build|/build/|\.so\.' | head -n 5)
+[ -z "$art" ] && pass "no build output in git ls-files" || fail "no build output in git ls-files" "$art"
