@@ -78,8 +78,8 @@ endif
 
 # ------------------------------------------------------------- the layers
 # Each library folder is one layer (DESIGN.md §1, "Libraries and programs").
-#   core     format/ + stream/     libc, zstd
-#   convert  convert/              core, netCDF, GeographicLib
+#   core     format/ + stream/     libc, zstd; GeographicLib for projections
+#   convert  convert/              core, netCDF
 #   render   render/               core, libpng, OpenEXR
 #   interop  interop/              convert, core, OpenVDB
 # cli/ is the programs' own static library (options, JSON, progress, exits):
@@ -97,9 +97,9 @@ $(B)/tests/%.o $(B)/bench/%.o: INC = $(ALL_INC)
 objs = $(patsubst %.cc,$(B)/%.o,$(patsubst %.c,$(B)/%.o,$(1)))
 # the private helpers every library compiles in (format/vsv_common.h)
 COMMON_OBJ = $(B)/format/vsv_buf.o $(B)/format/vsv_msg.o
-CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard stream/vsv_*.c))
+CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(wildcard stream/vsv_*.c))
 # vsv_*_cli.c: program code a folder's tools share (never in a library)
-CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c)) $(wildcard convert/vsv_*.cc)) $(COMMON_OBJ)
+CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c))) $(COMMON_OBJ)
 RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c))
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
@@ -115,8 +115,8 @@ LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(INTEROP_A)
 
 # what each library needs below it (the link lines of programs and of the
 # shared libraries)
-CORE_EXT = $(call pkglibs,libzstd) -lm -pthread $(SANFLAGS)
-CONVERT_EXT = $(call pkglibs,netcdf geographiclib) -lstdc++ $(CORE_EXT)
+CORE_EXT = $(call pkglibs,libzstd geographiclib) -lstdc++ -lm -pthread $(SANFLAGS)
+CONVERT_EXT = $(call pkglibs,netcdf) $(CORE_EXT)
 RENDER_EXT = $(call pkglibs,libpng OpenEXR) $(CORE_EXT)
 INTEROP_EXT = $(OPENVDB_LIBS) $(call pkglibs,tbb blosc Imath) $(CONVERT_EXT)
 ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS)) -lstdc++ -lm -pthread $(SANFLAGS) $(LDLIBS)
@@ -376,14 +376,14 @@ fuzz:
 PUBLIC_H = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
            render/vsv_render.h interop/vsv_vdb.h
 PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-interop
-pc_desc_vesuvius = The .vsv format (writer, reader, field stream) and the streaming pager
+pc_desc_vesuvius = The .vsv format (writer, reader, field stream, queries, projections) and the streaming pager
 pc_req_vesuvius =
-pc_reqp_vesuvius = libzstd
-pc_libsp_vesuvius = -lm -pthread
-pc_desc_vesuvius-convert = Vesuvius model readers (MM5, CAMx, WRF, IOAPI, GrADS), time interpolation, projections
+pc_reqp_vesuvius = libzstd geographiclib
+pc_libsp_vesuvius = -lstdc++ -lm -pthread
+pc_desc_vesuvius-convert = Vesuvius model readers (MM5, CAMx, WRF, IOAPI, GrADS) and time interpolation
 pc_req_vesuvius-convert = vesuvius
-pc_reqp_vesuvius-convert = netcdf geographiclib
-pc_libsp_vesuvius-convert = -lstdc++ -lm
+pc_reqp_vesuvius-convert = netcdf
+pc_libsp_vesuvius-convert = -lm
 pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, PNG and EXR output
 pc_req_vesuvius-render = vesuvius
 pc_reqp_vesuvius-render = libpng OpenEXR

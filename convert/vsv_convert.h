@@ -10,15 +10,6 @@
 extern "C" {
 #endif
 
-/* ---------------------------------------------------------- projections */
-
-/* Latitude/longitude (degrees) of projected point (x, y) of a grid's
- * projection (a thin shim over GeographicLib, on the sphere the models
- * assume); 0, or VSV_EINVAL / VSV_EUNSUPPORTED. */
-int vsv_proj_inverse(const vsv_proj *p, double x, double y, double *lat, double *lon);
-/* Projected point of (lat, lon). */
-int vsv_proj_forward(const vsv_proj *p, double lat, double lon, double *x, double *y);
-
 /* -------------------------------------------------------------- sources */
 
 typedef struct vsv_source vsv_source;

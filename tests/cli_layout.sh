@@ -34,7 +34,7 @@ sees() {
 # the other libraries' headers a layer must not include (its dependencies only)
 foreign() {
     case $1 in
-    format | stream | cli) echo 'netcdf\.h|GeographicLib/|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
+    format | stream | cli) echo 'netcdf\.h|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
     convert) echo 'openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
     render) echo 'netcdf\.h|GeographicLib/|openvdb/|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
     interop) echo 'png\.h|openexr\.h|GLFW/|GL/|ft2build\.h|fontconfig/' ;;

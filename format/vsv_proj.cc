@@ -1,7 +1,7 @@
 /* vsv_proj.cc — the thin C shim over GeographicLib's projections: turns a
  * projected (x, y) of a .vsv grid into latitude/longitude and back. The
  * projections are taken on a sphere (MM5, WRF and CAMx all assume one). */
-#include "vsv_convert.h"
+#include "vsv_format.h"
 
 #include <GeographicLib/AlbersEqualArea.hpp>
 #include <GeographicLib/LambertConformalConic.hpp>
