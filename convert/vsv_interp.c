@@ -5,7 +5,7 @@
  * at creation only. */
 #include "vsv_advect.h"
 #include "vsv_convert.h"
-#include "vsv_format_internal.h"
+#include "vsv_common.h"
 
 #include <math.h>
 #include <stdlib.h>
