@@ -15,6 +15,10 @@
 # buffer read just before the swap) rather than grabbed from the screen, so
 # overlapping windows cannot hide each other.
 B=${B:-build}
+if [ "${VIEWER:-1}" != 1 ]; then
+    echo "(the viewer is not built: VIEWER=0 or GLFW/GL/FreeType/fontconfig missing; FreeVR tests skipped)"
+    exit 0
+fi
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-freevr.XXXXXX")
 . tests/cli_lib.sh
 # VSV_PLAY_FREEVR: another build of the back end to test (e.g. an older one)
