@@ -95,7 +95,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
     for (int i = 0; i < nreaders; i++)
         if (readers[i]->probe(head, n)) {
             s->ops = readers[i];
-            const int camx = readers[i] == &vsv_camx_ops, vdb = readers[i] == &vsv_vdb_ops;
+            const int camx = readers[i] == &vsv_camx_ops, vdb = !strcmp(readers[i]->name, "OpenVDB"); /* interop's */
             if (!camx && (s->opts.heights || s->opts.met || s->opts.proj.kind != VSV_PROJ_NONE))
                 return vsv_source_fail(s, VSV_EINVAL, "--%s is for CAMx files; this is a %s file",
                                        s->opts.heights ? "heights" : s->opts.met ? "met" : "proj", readers[i]->name);
