@@ -25,6 +25,8 @@ int main(int argc, char **argv)
     vsv_run *run = NULL;
     if (vsv_run_open(a.inputs, a.ninputs, &a.so, a.vars, a.times, &run))
         vsv_cli_die(1, "%s", vsv_run_error(run));
+    if (*vsv_run_note(run))
+        fprintf(stderr, "vsv-convert: %s\n", vsv_run_note(run));
     /* with advect the run reads the winds too; the file gets only what the
      * interpolation emits */
     vsv_meta out;

@@ -114,6 +114,8 @@ int main(int argc, char **argv)
     vsv_run *run = NULL;
     if (vsv_run_open((const char *const *)argv + optind, argc - optind, &so, vars, times, &run))
         vsv_cli_die(1, "%s", vsv_run_error(run));
+    if (*vsv_run_note(run))
+        fprintf(stderr, "vsv-extract: %s\n", vsv_run_note(run));
     if (add_winds && vsv_run_add_winds(run, winds, &so))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (isatty(1))

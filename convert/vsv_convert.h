@@ -146,6 +146,9 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
                  const char *times, vsv_run **out);
 void vsv_run_free(vsv_run *r);
 const char *vsv_run_error(const vsv_run *r);
+/* "" or a note the caller should show: which step a --times of one time
+ * between steps took (borrowed until free). */
+const char *vsv_run_note(const vsv_run *r);
 /* Grid and selected variables; borrowed until free. */
 const vsv_meta *vsv_run_meta(const vsv_run *r);
 int vsv_run_nframes(const vsv_run *r);

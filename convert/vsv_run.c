@@ -24,9 +24,11 @@ struct vsv_run {
     vsv_source *wsrc;  /* a companion wind file, or NULL for the run's own */
     int *wt;           /* companion: its time index per frame */
     char err[1024];
+    char note[400];  /* a --times of one time between steps: which was taken */
 };
 
 const char *vsv_run_error(const vsv_run *r) { return r ? r->err : "out of memory"; }
+const char *vsv_run_note(const vsv_run *r) { return r->note; }
 const vsv_meta *vsv_run_meta(const vsv_run *r) { return &r->meta; }
 int vsv_run_nframes(const vsv_run *r) { return r->nframes; }
 int64_t vsv_run_time(const vsv_run *r, int i) { return r->ftime[i]; }
@@ -214,6 +216,12 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
             goto done;
         }
         a = sel.first, b = sel.last;
+        if (!sel.exact) {
+            char when[40];
+            vsv_time_format(r->ftime[a], when, sizeof when);
+            snprintf(r->note, sizeof r->note, "--times %s: no step at that time; the nearest is step %d, %s", times, a,
+                     when);
+        }
     }
     memmove(r->fsrc, r->fsrc + a, (size_t)(b - a + 1) * sizeof *r->fsrc);
     memmove(r->ft, r->ft + a, (size_t)(b - a + 1) * sizeof *r->ft);

@@ -42,6 +42,8 @@ has "2h keeps every second hour" "$T/out" '["1995-10-24T00:00:00Z", "1995-10-24T
 "$B/vsv-extract" --vars T --times 2:2 "$CROP" | "$B/vsv-pack" -q -o "$T/h2.vsv"
 "$B/vsv-extract" --vars T --times 2 "$CROP" | "$B/vsv-pack" -q -o "$T/h2b.vsv"
 same "--times 2 is --times 2:2" "$T/h2.vsv" "$T/h2b.vsv"
+expect "vsv-convert --times of one time between steps" 0 "$B/vsv-convert" -q --vars T --times 1995-10-24T01:40Z "$CROP" -o "$T/n.vsv"
+has "vsv-convert says which step it took" "$T/err" "--times 1995-10-24T01:40Z: no step at that time; the nearest is step 2, 1995-10-24T02:00:00Z"
 
 # vsv-render / vsv-export --time: the nearest step, said when not exact
 "$B/vsv-convert" -q --time-res 10m --vars CLW "$CROP" -o "$T/s.vsv"
