@@ -36,6 +36,16 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Eight floats as one value: GCC's and Clang's vector extension, two SSE
+ * registers (or one AVX register) per operation. */
+typedef float f8 __attribute__((vector_size(32)));
+
+/* A cell's two trajectory ends: their 8 cells and trilinear weights. */
+typedef struct ends {
+    size_t ob[8], of[8];
+    f8 wb, wf;
+} ends;
+
 struct vsv_advect {
     int nx, ny, nz, threads, vertical;
     size_t plane, cells;
@@ -45,6 +55,7 @@ struct vsv_advect {
     float *wind;       /* per cell 8 floats: u v w 0 at the start, u v w 0 at the end,
                         * in cells per span seconds */
     double span;
+    ends *scratch;     /* per thread: one row of ends */
 };
 
 /* Earth distance (m) between two points on a sphere of radius r. */
@@ -98,7 +109,10 @@ int vsv_advect_create(const vsv_meta *g, int threads, vsv_advect **out)
     a->sy = malloc(a->plane * sizeof *a->sy);
     a->sz = calloc((size_t)g->nz, sizeof *a->sz);
     a->wind = calloc(a->cells * 8, sizeof *a->wind);
-    if (!a->sx || !a->sy || !a->sz || !a->wind)
+    if (a->threads > 64)
+        a->threads = 64;
+    a->scratch = malloc((size_t)a->threads * (size_t)g->nx * sizeof *a->scratch);
+    if (!a->sx || !a->sy || !a->sz || !a->wind || !a->scratch)
         return VSV_ENOMEM;
     for (int j = 0; j < g->ny; j++)
         for (int i = 0; i < g->nx; i++)
@@ -142,9 +156,6 @@ void vsv_advect_winds(vsv_advect *a, const float *u0, const float *v0, const flo
     }
 }
 
-/* Eight floats as one value: GCC's and Clang's vector extension, two SSE
- * registers (or one AVX register) per operation. */
-typedef float f8 __attribute__((vector_size(32)));
 
 /* Index of the lower cell and the weight of the upper one along an axis of
  * n cells, for position p clamped to [0, n-1]. */
@@ -273,15 +284,22 @@ typedef struct job {
     const float *const *f0, *const *f1;
     float *const *out;
     atomic_int next;   /* next row (j + k*ny) to do */
+    atomic_int tid;    /* next worker's scratch */
 } job;
 
-static void do_row(const job *jb, int row)
+/* One row of the frame in two passes: first every cell's two trajectory
+ * ends (their 8 cells and weights), then species by species, so that a
+ * pass reads a few rows of one field at a time (a handful of streams the
+ * prefetcher follows) instead of every field's at once. e: the thread's
+ * scratch for a row. */
+static void do_row(const job *jb, int row, ends *e)
 {
     const vsv_advect *a = jb->a;
     const int j = row % a->ny, k = row / a->ny;
     const float s = (float)jb->s;
+    const size_t c0 = (size_t)k * a->plane + (size_t)j * a->nx;
     for (int i = 0; i < a->nx; i++) {
-        const size_t c = (size_t)k * a->plane + (size_t)j * a->nx + i;
+        const size_t c = c0 + i;
         /* both trajectories start from the cell's centre, where the wind is
          * the cell's own (no trilinear sum) */
         const float *w = a->wind + c * 8;
@@ -293,19 +311,20 @@ static void do_row(const job *jb, int row)
             pb[0] = (float)i, pb[1] = (float)j, pb[2] = (float)k;
         if (s < 1 && trajectory(a, pf, k1, s, 1 - s, 1))
             pf[0] = (float)i, pf[1] = (float)j, pf[2] = (float)k;
-        size_t ob[8], of[8];
-        f8 wb, wf;
-        corners(a, pb, ob, &wb);
-        corners(a, pf, of, &wf);
-        for (int v = 0; v < jb->ns; v++) {
-            const float *f0 = jb->f0[v], *f1 = jb->f1[v];
-            const float c0 = f0[c], c1 = f1[c];
+        corners(a, pb, e[i].ob, &e[i].wb);
+        corners(a, pf, e[i].of, &e[i].wf);
+    }
+    for (int v = 0; v < jb->ns; v++) {
+        const float *f0 = jb->f0[v], *f1 = jb->f1[v];
+        float *out = jb->out[v] + c0;
+        for (int i = 0; i < a->nx; i++) {
+            const float a0 = f0[c0 + i], a1 = f1[c0 + i];
             float r = NAN;
-            if (c0 == c0 && c1 == c1) {
-                const float A = sample(f0, ob, &wb, c0), B = sample(f1, of, &wf, c1);
+            if (a0 == a0 && a1 == a1) {
+                const float A = sample(f0, e[i].ob, &e[i].wb, a0), B = sample(f1, e[i].of, &e[i].wf, a1);
                 r = (float)(A + ((double)B - A) * jb->w);
             }
-            jb->out[v][c] = r;
+            out[i] = r;
         }
     }
 }
@@ -314,8 +333,9 @@ static void *worker(void *p)
 {
     job *jb = p;
     const int rows = jb->a->ny * jb->a->nz;
+    ends *e = jb->a->scratch + (size_t)atomic_fetch_add(&jb->tid, 1) * jb->a->nx;
     for (int r; (r = atomic_fetch_add(&jb->next, 1)) < rows;)
-        do_row(jb, r);
+        do_row(jb, r, e);
     return NULL;
 }
 
@@ -328,13 +348,14 @@ int vsv_advect_frame(vsv_advect *a, int64_t t0, int64_t t1, int64_t t, int ns, c
             a->wind[i] *= r;
         a->span = (double)(t1 - t0);
     }
-    job jb = {a, 0, 0, ns, f0, f1, out, 0};
+    job jb = {a, 0, 0, ns, f0, f1, out, 0, 0};
     jb.w = (double)(t - t0) / (double)(t1 - t0); /* exactly as linear interpolation weighs */
     jb.s = jb.w;
     atomic_init(&jb.next, 0);
+    atomic_init(&jb.tid, 0);
     pthread_t th[64];
     int n = 0;
-    const int want = a->threads < 64 ? a->threads : 64;
+    const int want = a->threads;
     while (n < want - 1 && !pthread_create(&th[n], NULL, worker, &jb))
         n++;
     worker(&jb);
@@ -351,5 +372,6 @@ void vsv_advect_free(vsv_advect *a)
     free(a->sy);
     free(a->sz);
     free(a->wind);
+    free(a->scratch);
     free(a);
 }
