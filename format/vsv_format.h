@@ -514,9 +514,9 @@ typedef struct vsv_point {
 } vsv_point;
 
 /* The point at (lat, lon) and `height` (units of vsv_meta_cell_height); a
- * NaN height means the lowest level above the ground (the lowest whose
- * centre is at or above the column's terrain; level 0 without terrain or
- * heights). VSV_ERANGE, with msg naming the grid's valid range, when the
+ * NaN height means the lowest level above the ground (on even heights the
+ * lowest whose centre is at or above the column's terrain; level 0 on
+ * native model levels, which follow the terrain, and without terrain). VSV_ERANGE, with msg naming the grid's valid range, when the
  * point lies outside the grid; VSV_EUNSUPPORTED without a projection. */
 int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, vsv_point *p, char *msg,
                      size_t cap);

@@ -45,10 +45,12 @@ const char *vsv_meta_height_units(const vsv_meta *m)
     }
 }
 
-/* The lowest level of column (i, j) whose centre is at or above the ground. */
+/* The lowest level of column (i, j) whose centre is at or above the ground.
+ * Native model levels follow the terrain: their lowest is above the ground
+ * everywhere, whatever its mean height over the grid. */
 static int lowest_above_ground(const vsv_meta *m, int i, int j)
 {
-    if (!m->terrain || (m->vert_kind != VSV_VERT_EVEN && m->vert_kind != VSV_VERT_NATIVE))
+    if (!m->terrain || m->vert_kind != VSV_VERT_EVEN)
         return 0;
     const double ground = m->terrain[(size_t)j * m->nx + i];
     for (int k = 0; k < m->nz; k++)

@@ -145,6 +145,18 @@ static void test_wrf_positions(const char *rel)
         nc_get_vara_float(nc, id, nd == 3 ? st : st + 1, nd == 3 ? ct : ct + 1, lo);
         snprintf(name, sizeof name, "WRF %s (XLAT/XLONG)", rel);
         check_positions(name, m, la, lo);
+        /* native levels follow the terrain: without a height, level 0 in every column */
+        int lowest0 = 0, above_mean = 0;
+        char msg[256];
+        for (int j = 0; j < m->ny; j++)
+            for (int i = 0; i < m->nx; i++) {
+                vsv_point p;
+                lowest0 += !vsv_point_cell(m, i, j, -1, &p, msg, sizeof msg) && p.cell[2] == 0;
+                above_mean += m->terrain && m->terrain[(size_t)j * m->nx + i] > m->levels[0];
+            }
+        snprintf(name, sizeof name, "%s, native levels: no height means level 0 in every column (%d above level 0's mean height)",
+                 rel, above_mean);
+        CHECK(lowest0 == m->nx * m->ny, name, "%d of %d", lowest0, m->nx * m->ny);
         free(la);
         free(lo);
         nc_close(nc);
