@@ -205,7 +205,7 @@ static int cf_open(vsv_source *s, int nc)
     for (int v = 0; v < nvars && dims[0] < 0; v++) {
         nc_type type;
         int dd[NC_MAX_VAR_DIMS];
-        if (nc_inq_var(nc, v, NULL, &type, &nd, dd, NULL) || nd != 4 || (type != NC_FLOAT && type != NC_DOUBLE))
+        if (nc_inq_var(nc, v, NULL, &type, &nd, dd, NULL) || nd != 4 || type == NC_CHAR || type == NC_STRING)
             continue;
         int ok = 1;
         for (int d = 0; d < 4; d++)
@@ -353,6 +353,17 @@ static int cf_open(vsv_source *s, int nc)
     if (!text[0])
         att_str(nc, NC_GLOBAL, "title", text, sizeof text);
     snprintf(g->run, sizeof g->run, "%s", text);
+    /* run metadata vsv-export stored as vsv_attr_KEY (spaces in keys became _) */
+    int natts = 0;
+    nc_inq_natts(nc, &natts);
+    for (int i = 0; i < natts; i++) {
+        char an[NC_MAX_NAME + 1], val[256];
+        if (nc_inq_attname(nc, NC_GLOBAL, i, an) || strncmp(an, "vsv_attr_", 9) || !an[9])
+            continue;
+        att_str(nc, NC_GLOBAL, an, val, sizeof val);
+        if (val[0] && vsv_meta_add_attr(g, an + 9, val) < 0)
+            return VSV_ENOMEM;
+    }
     /* the fields: numeric variables on exactly these four dimensions; terrain */
     const size_t plane = len[2] * len[3];
     c->tmp = malloc(plane * len[1] * sizeof *c->tmp);

@@ -307,6 +307,59 @@ class NetCDF(unittest.TestCase):
                 d = np.hypot((lat - f.lat) * 111195, (lon - f.lon) * 111195 * np.cos(np.radians(lat)))
                 self.assertLess(d.max(), 1e-3, p["kind"])
 
+    def test_reads_cf_from_another_writer(self):
+        """A CF file written by netCDF4-python the way many tools do: a lat/lon grid stored
+        north to south, int16 packed with scale_factor/add_offset and a _FillValue, times
+        in hours since a date, pressure levels. vsv-extract reads the same numbers."""
+        import netCDF4
+        path = os.path.join(TMP, "other.nc")
+        d = netCDF4.Dataset(path, "w")
+        d.Conventions = "CF-1.6"
+        for n, k in (("time", None), ("level", 3), ("lat", 4), ("lon", 5)):
+            d.createDimension(n, k)
+        t = d.createVariable("time", "f8", ("time",))
+        t.units = "hours since 2002-06-03 00:00:00"
+        t.calendar = "gregorian"
+        t[:] = [0, 1.5, 3]
+        lv = d.createVariable("level", "f4", ("level",))
+        lv.units = "hPa"
+        lv.positive = "down"
+        lv[:] = [1000, 850, 700]
+        la = d.createVariable("lat", "f4", ("lat",))
+        la.units = "degrees_north"
+        la[:] = [50, 49, 48, 47]
+        lo = d.createVariable("lon", "f4", ("lon",))
+        lo.units = "degrees_east"
+        lo[:] = [-100, -99, -98, -97, -96]
+        v = d.createVariable("O3", "i2", ("time", "level", "lat", "lon"), fill_value=-32767)
+        v.units = "ppb"
+        v.long_name = "ozone"
+        v.scale_factor = 0.01
+        v.add_offset = 40.0
+        rng = np.random.default_rng(3)
+        want = (rng.random((3, 3, 4, 5)) * 50).astype(np.float32)
+        want[1, 2, 0, 0] = np.nan
+        v[:] = np.ma.masked_invalid(want)
+        d.close()
+        listed = tool("vsv-extract", "--list", path)
+        self.assertIn("O3", listed)
+        self.assertIn("2002-06-03T01:30:00Z", listed)
+        back = os.path.join(TMP, "other.vsv")
+        tool("vsv-convert", "-q", path, "-o", back)
+        f = vesuvius.open(back)
+        self.assertEqual(f.projection["kind"], "latlon")
+        self.assertEqual(f.grid["vertical"], "coord")
+        np.testing.assert_array_equal(f.height, [1000, 850, 700])
+        self.assertEqual(f.lat[0, 0], 47)   # the south row first
+        self.assertEqual(f.lon[0, 0], -100)
+        ref = netCDF4.Dataset(path)["O3"][:].filled(np.nan)  # unpacked by netCDF4-python
+        for s in range(3):
+            got = f.read("O3", s)
+            exp = ref[s][:, ::-1, :]
+            self.assertTrue(np.array_equal(np.isnan(got), np.isnan(exp)), s)
+            fin = np.isfinite(exp)
+            self.assertLessEqual(np.abs(got[fin] - exp[fin]).max(), f.species[0].max_abs_error + 1e-5)
+
     @unittest.skipUnless(os.path.exists(os.path.join(SHARED, "data/wrf")), "../shared/data not present")
     def test_wrf_native_levels(self):
         """Real WRF output on its own (native) levels: z holds the levels' mean heights,
