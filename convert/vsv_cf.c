@@ -397,6 +397,19 @@ static int cf_open(vsv_source *s, int nc)
         }
         if (nd != 4 || memcmp(dd, dims, sizeof dims) || strlen(name) >= sizeof s->fields[0].name)
             continue;
+        if (!strcmp(sn, "altitude")) { /* per-column heights of native levels, by time */
+            if (g->vert_kind == VSV_VERT_NATIVE)
+                for (size_t t = 0; t < len[0]; t++) {
+                    const size_t shape[3] = {len[1], len[2], len[3]};
+                    if ((rc = vsv_nc_read(s, nc, v, name, (int)t, shape, 3, c->tmp)))
+                        return rc;
+                    if (c->flip_y)
+                        return vsv_source_fail(s, VSV_EUNSUPPORTED, "per-column heights with y stored north to south");
+                    if ((rc = vsv_source_native_heights(s, (int)t, c->tmp)))
+                        return rc;
+                }
+            continue;
+        }
         vsv_field_info *f = &s->fields[s->nfields];
         att_str(nc, v, "vsv_name", f->name, sizeof f->name);
         if (!f->name[0])

@@ -135,7 +135,8 @@ int main(int argc, char **argv)
     vsv_point pt;
     char msg[512];
     int rc = cellarg ? vsv_point_cell(m, (int)arg[0], (int)arg[1], nargs == 3 ? (int)arg[2] : -1, &pt, msg, sizeof msg)
-                     : vsv_point_locate(m, arg[0], arg[1], at ? arg[2] : NAN, &pt, msg, sizeof msg);
+                     : vsv_point_locate_at(m, vsv_file_time(f, a), arg[0], arg[1], at ? arg[2] : NAN, &pt, msg,
+                                           sizeof msg);
     if (rc)
         vsv_cli_die(1, "%s: %s", path, msg);
     const int k0 = profile ? 0 : -1, k1 = profile ? m->nz - 1 : -1;
@@ -204,12 +205,16 @@ int main(int argc, char **argv)
     for (int t = a; t <= b; t++) {
         char iso[32];
         vsv_time_format(vsv_file_time(f, t), iso, sizeof iso);
+        /* per-column heights of native levels move in time: a height's level too */
+        if (at && !isnan(arg[2]) && m->nheights > 1 &&
+            vsv_point_locate_at(m, vsv_file_time(f, t), arg[0], arg[1], arg[2], &pt, msg, sizeof msg))
+            vsv_cli_die(1, "%s: at %s: %s", path, iso, msg);
         for (int k = k0; k <= k1; k++) {
             double pos[3] = {pt.pos[0], pt.pos[1], pt.pos[2]};
             int cell[3] = {pt.cell[0], pt.cell[1], pt.cell[2]};
             if (k >= 0)
                 pos[2] = cell[2] = k;
-            const double h = vsv_meta_cell_height(m, cell[0], cell[1], cell[2]);
+            const double h = vsv_meta_cell_height_at(m, vsv_file_time(f, t), cell[0], cell[1], cell[2]);
             vsv_json *row = NULL, *vals = NULL;
             if (fmt == FMT_JSON) {
                 row = vsv_json_object();

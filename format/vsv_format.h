@@ -498,9 +498,12 @@ void vsv_meta_cell_xy(const vsv_meta *m, double i, double j, double *x, double *
  * when the grid has no projection. */
 int vsv_meta_cell_latlon(const vsv_meta *m, double i, double j, double *lat, double *lon);
 /* Height of the centre of cell (i, j, k): metres above sea level (even and
- * native levels), the level coordinate in vert_units (VSV_VERT_COORD) or the
- * index k (VSV_VERT_INDEX). */
+ * native levels; for native levels the level's mean height), the level
+ * coordinate in vert_units (VSV_VERT_COORD) or the index k (VSV_VERT_INDEX). */
 double vsv_meta_cell_height(const vsv_meta *m, int i, int j, int k);
+/* The same at `time`: a file's per-column heights of native levels
+ * (SPEC.md "HGTS", moving in time) where it has them, else as above. */
+double vsv_meta_cell_height_at(const vsv_meta *m, int64_t time, int i, int j, int k);
 /* The unit of vsv_meta_cell_height: "m", vert_units, or "" for an index. */
 const char *vsv_meta_height_units(const vsv_meta *m);
 
@@ -520,6 +523,10 @@ typedef struct vsv_point {
  * point lies outside the grid; VSV_EUNSUPPORTED without a projection. */
 int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, vsv_point *p, char *msg,
                      size_t cap);
+/* The same with the heights in force at `time` (vsv_meta_cell_height_at):
+ * on native levels with per-column heights a height's level moves in time. */
+int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon, double height, vsv_point *p,
+                        char *msg, size_t cap);
 /* The point at cell (i, j, k); k < 0 means the lowest level above the
  * ground. VSV_ERANGE (msg names the range) outside the grid. */
 int vsv_point_cell(const vsv_meta *m, int i, int j, int k, vsv_point *p, char *msg, size_t cap);

@@ -35,6 +35,12 @@ double vsv_meta_cell_height(const vsv_meta *m, int i, int j, int k)
     }
 }
 
+double vsv_meta_cell_height_at(const vsv_meta *m, int64_t time, int i, int j, int k)
+{
+    const float *z = m->vert_kind == VSV_VERT_NATIVE ? vsv_meta_heights_at(m, time) : NULL;
+    return z ? z[((size_t)k * m->ny + j) * m->nx + i] : vsv_meta_cell_height(m, i, j, k);
+}
+
 const char *vsv_meta_height_units(const vsv_meta *m)
 {
     switch (m->vert_kind) {
@@ -62,12 +68,12 @@ static int lowest_above_ground(const vsv_meta *m, int i, int j)
 /* Fractional level of height h in column (i, j): piecewise linear between
  * the levels' centres, half a level beyond the first and last. Levels may
  * increase (heights) or decrease (pressure). */
-static int level_of(const vsv_meta *m, int i, int j, double h, double *kf, double range[2])
+static int level_of(const vsv_meta *m, int64_t time, int i, int j, double h, double *kf, double range[2])
 {
     const int nz = m->nz;
-    const double z0 = vsv_meta_cell_height(m, i, j, 0), z1 = vsv_meta_cell_height(m, i, j, nz - 1);
-    const double g0 = nz > 1 ? vsv_meta_cell_height(m, i, j, 1) - z0 : (m->spacing[2] > 0 ? m->spacing[2] : 1);
-    const double g1 = nz > 1 ? z1 - vsv_meta_cell_height(m, i, j, nz - 2) : g0;
+    const double z0 = vsv_meta_cell_height_at(m, time, i, j, 0), z1 = vsv_meta_cell_height_at(m, time, i, j, nz - 1);
+    const double g0 = nz > 1 ? vsv_meta_cell_height_at(m, time, i, j, 1) - z0 : (m->spacing[2] > 0 ? m->spacing[2] : 1);
+    const double g1 = nz > 1 ? z1 - vsv_meta_cell_height_at(m, time, i, j, nz - 2) : g0;
     double a = z0 - g0 / 2, b = z1 + g1 / 2;
     range[0] = fmin(a, b);
     range[1] = fmax(a, b);
@@ -78,7 +84,7 @@ static int level_of(const vsv_meta *m, int i, int j, double h, double *kf, doubl
         return 0;
     }
     for (int k = 0; k + 1 < nz; k++) {
-        const double lo = vsv_meta_cell_height(m, i, j, k), hi = vsv_meta_cell_height(m, i, j, k + 1);
+        const double lo = vsv_meta_cell_height_at(m, time, i, j, k), hi = vsv_meta_cell_height_at(m, time, i, j, k + 1);
         if ((h - lo) * (hi - lo) >= 0 && (h - hi) * (hi - lo) <= 0) {
             *kf = k + (hi != lo ? (h - lo) / (hi - lo) : 0);
             return 0;
@@ -110,7 +116,7 @@ static void edge_range(const vsv_meta *m, double *la0, double *la1, double *lo0,
     }
 }
 
-static void fill_centre(const vsv_meta *m, vsv_point *p)
+static void fill_centre(const vsv_meta *m, int64_t time, vsv_point *p)
 {
     for (int a = 0; a < 3; a++) {
         const int n = a == 0 ? m->nx : a == 1 ? m->ny : m->nz;
@@ -119,10 +125,16 @@ static void fill_centre(const vsv_meta *m, vsv_point *p)
     }
     if (vsv_meta_cell_latlon(m, p->cell[0], p->cell[1], &p->lat, &p->lon))
         p->lat = p->lon = NAN;
-    p->height = vsv_meta_cell_height(m, p->cell[0], p->cell[1], p->cell[2]);
+    p->height = vsv_meta_cell_height_at(m, time, p->cell[0], p->cell[1], p->cell[2]);
 }
 
 int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, vsv_point *p, char *msg, size_t cap)
+{
+    return vsv_point_locate_at(m, INT64_MIN, lat, lon, height, p, msg, cap);
+}
+
+int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon, double height, vsv_point *p,
+                        char *msg, size_t cap)
 {
     if (m->proj.kind == VSV_PROJ_NONE) {
         vsv_msg(msg, cap, "the grid has no map projection: no latitude/longitude is known (use a cell)");
@@ -150,7 +162,7 @@ int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, v
         p->pos[2] = lowest_above_ground(m, ci, cj);
     } else {
         double kf, r[2];
-        if (level_of(m, ci, cj, height, &kf, r)) {
+        if (level_of(m, time, ci, cj, height, &kf, r)) {
             const char *u = vsv_meta_height_units(m);
             vsv_msg(msg, cap, "height %g%s%s is outside the grid's levels (%g..%g%s%s at this column)", height,
                     *u ? " " : "", u, r[0], r[1], *u ? " " : "", u);
@@ -158,7 +170,7 @@ int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, v
         }
         p->pos[2] = fmin(fmax(kf, 0), m->nz - 1);
     }
-    fill_centre(m, p);
+    fill_centre(m, time, p);
     return 0;
 }
 
@@ -177,7 +189,7 @@ int vsv_point_cell(const vsv_meta *m, int i, int j, int k, vsv_point *p, char *m
     p->pos[0] = i;
     p->pos[1] = j;
     p->pos[2] = k < 0 ? lowest_above_ground(m, i, j) : k;
-    fill_centre(m, p);
+    fill_centre(m, INT64_MIN, p);
     return 0;
 }
 

@@ -13,7 +13,10 @@
  * terrain(y, x) as surface_altitude; one float variable per species on
  * (time, z, y, x) with units, long_name, coordinates "lat lon",
  * grid_mapping "crs", the quantisation bound as `vsv_max_abs_error`, and
- * _FillValue NaN where the species has no-data cells. Each variable is
+ * _FillValue NaN where the species has no-data cells. Native model levels
+ * with per-column heights (SPEC.md "HGTS") add height(time, z, y, x), the
+ * altitude of every cell at every step, named in each species'
+ * coordinates (z then holds the levels' mean heights). Each variable is
  * chunked by step (1, nz, ny, nx), shuffled and deflated. */
 #ifndef VSV_CF_H
 #define VSV_CF_H

@@ -230,7 +230,22 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
             att_text(&w, vlon, "units", "degrees_east");
         }
     }
-    const char *coords = has_proj && !latlon ? "lat lon" : NULL;
+    /* per-column heights of native levels (moving in time): a 4-D auxiliary coordinate */
+    int vh = -1;
+    const int colh = m->vert_kind == VSV_VERT_NATIVE && m->nheights > 0;
+    if (colh) {
+        nc_ok(&w, nc_def_var(w.nc, "height", NC_FLOAT, 4, d4, &vh), "height");
+        const size_t chunk[4] = {1, nz, ny, nx};
+        nc_ok(&w, nc_def_var_chunking(w.nc, vh, NC_CHUNKED, chunk), "chunking");
+        nc_ok(&w, nc_def_var_deflate(w.nc, vh, 1, 1, 4), "deflate");
+        att_text(&w, vh, "standard_name", "altitude");
+        att_text(&w, vh, "long_name", "height above sea level of the cell centre (the model level in this column)");
+        att_text(&w, vh, "units", "m");
+        att_text(&w, vh, "positive", "up");
+        if (has_proj && !latlon)
+            att_text(&w, vh, "coordinates", "lat lon");
+    }
+    const char *coords = has_proj && !latlon ? (colh ? "lat lon height" : "lat lon") : (colh ? "height" : NULL);
     if (m->terrain) {
         nc_ok(&w, nc_def_var(w.nc, "terrain", NC_FLOAT, 2, d2, &vter), "terrain");
         att_text(&w, vter, "standard_name", "surface_altitude");
@@ -330,6 +345,10 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
             }
             const size_t start[4] = {(size_t)(t - a), 0, 0, 0}, count[4] = {1, nz, ny, nx};
             nc_ok(&w, nc_put_vara_float(w.nc, vid[l], start, count, vol), m->vars[sel[l]].name);
+        }
+        if (vh >= 0) {
+            const size_t start[4] = {(size_t)(t - a), 0, 0, 0}, count[4] = {1, nz, ny, nx};
+            nc_ok(&w, nc_put_vara_float(w.nc, vh, start, count, vsv_meta_heights_at(m, vsv_file_time(f, t))), "height");
         }
         if (progress)
             progress(ctx, t - a + 1, (int)nt);

@@ -211,7 +211,8 @@ static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
     const vsv_meta *m = vsv_file_meta(self->f);
     vsv_point p;
     char msg[512];
-    int rc;
+    int rc, relocate = 0;
+    double h = NAN;
     if (cobj != Py_None) {
         int i, j, k = -1;
         if (!PyArg_ParseTuple(cobj, "ii|i", &i, &j, &k))
@@ -220,10 +221,11 @@ static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
     } else {
         if (isnan(lat) || isnan(lon))
             return PyErr_Format(PyExc_TypeError, "query: lat and lon, or cell=(i, j[, k])");
-        const double h = hobj == Py_None ? NAN : PyFloat_AsDouble(hobj);
+        h = hobj == Py_None ? NAN : PyFloat_AsDouble(hobj);
         if (PyErr_Occurred())
             return NULL;
-        rc = vsv_point_locate(m, lat, lon, h, &p, msg, sizeof msg);
+        rc = vsv_point_locate_at(m, vsv_file_time(self->f, 0), lat, lon, h, &p, msg, sizeof msg);
+        relocate = !isnan(h) && m->nheights > 1; /* per-column heights move a height's level in time */
     }
     if (rc)
         return fail(msg);
@@ -238,12 +240,19 @@ static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
             return NULL;
         }
         float *out = PyArray_DATA(a);
-        for (int t = 0; t < n; t++)
-            if (vsv_query_sample(self->q, t, s, p.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t])) {
+        for (int t = 0; t < n; t++) {
+            vsv_point pt = p;
+            if (relocate && vsv_point_locate_at(m, vsv_file_time(self->f, t), lat, lon, h, &pt, msg, sizeof msg)) {
+                Py_DECREF(a);
+                Py_DECREF(vals);
+                return fail(msg);
+            }
+            if (vsv_query_sample(self->q, t, s, pt.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t])) {
                 Py_DECREF(a);
                 Py_DECREF(vals);
                 return fail(vsv_query_error(self->q));
             }
+        }
         PyDict_SetItemString(vals, m->vars[s].name, (PyObject *)a);
         Py_DECREF(a);
     }
@@ -368,6 +377,30 @@ static PyObject *File_height(FileObject *self, void *unused)
     return (PyObject *)a;
 }
 
+/* Heights of every cell at a step: (nz, ny, nx), the file's per-column
+ * heights where it has them, else each level's height in every column. */
+static PyObject *File_heights(FileObject *self, PyObject *args)
+{
+    PyObject *tm;
+    if (!PyArg_ParseTuple(args, "O", &tm) || check_open(self))
+        return NULL;
+    const int t = step_of(self, tm);
+    if (t < 0)
+        return NULL;
+    const vsv_meta *m = vsv_file_meta(self->f);
+    npy_intp dims[3] = {m->nz, m->ny, m->nx};
+    PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(3, dims, NPY_FLOAT64);
+    if (!a)
+        return NULL;
+    double *o = PyArray_DATA(a);
+    const int64_t time = vsv_file_time(self->f, t);
+    for (int k = 0; k < m->nz; k++)
+        for (int j = 0; j < m->ny; j++)
+            for (int i = 0; i < m->nx; i++)
+                *o++ = vsv_meta_cell_height_at(m, time, i, j, k);
+    return (PyObject *)a;
+}
+
 static PyObject *File_terrain(FileObject *self, void *unused)
 {
     (void)unused;
@@ -407,6 +440,8 @@ static PyMethodDef File_methods[] = {
      "read(species, time=0) -> float32 array (nz, ny, nx): the decoded volume"},
     {"_read_brick", (PyCFunction)(void (*)(void))File_read_brick, METH_VARARGS | METH_KEYWORDS,
      "read_brick(species, time, brick) -> (float32 array (B, B, B), (k0, j0, i0), (ez, ey, ex))"},
+    {"heights", (PyCFunction)File_heights, METH_VARARGS,
+     "heights(time) -> float64 (nz, ny, nx): every cell's height at that step (per-column where the file has them)"},
     {"brick_kind", (PyCFunction)File_brick_kind, METH_VARARGS, "brick_kind(species, time, brick) -> 0 EMPTY .. 3 DELTA"},
     {"_query", (PyCFunction)(void (*)(void))File_query, METH_VARARGS | METH_KEYWORDS, "the point query core"},
     {"close", (PyCFunction)File_close, METH_NOARGS, "close() releases the mapping"},

@@ -374,12 +374,26 @@ class NetCDF(unittest.TestCase):
         self.assertEqual(ds["z"].attrs["long_name"], "mean height above sea level of the model level")
         np.testing.assert_array_equal(ds["z"].values, f.grid["levels"])
         np.testing.assert_array_equal(ds["QVAPOR"].values[3], f.read("QVAPOR", 3))
+        # per-column heights, moving in time: height(time, z, y, x) equals f.heights(t)
+        self.assertEqual(ds["height"].dims, ("time", "z", "y", "x"))
+        self.assertIn("height", ds["QVAPOR"].attrs.get("coordinates", "") + " ".join(ds["QVAPOR"].coords))
+        for t in range(4):
+            np.testing.assert_array_equal(ds["height"].values[t], f.heights(t).astype(np.float32))
+        self.assertGreater(np.abs(f.heights(3) - f.heights(0)).max(), 1)
         back = os.path.join(TMP, "wrf-back.vsv")
         tool("vsv-convert", "-q", nc, "-o", back, "--vertical", "native")
         f2 = vesuvius.open(back)
         self.assertEqual(f2.grid["vertical"], "native")
         np.testing.assert_array_equal(f2.grid["levels"], f.grid["levels"])
         np.testing.assert_array_equal(f2.read("QVAPOR", 3), f.read("QVAPOR", 3))
+        for t in range(4):
+            np.testing.assert_array_equal(f2.heights(t), f.heights(t))
+        # a height's level found again at every step, as vsv-query does
+        p = f.query(30, 87, 6000)
+        rows = list(csv.DictReader(io.StringIO(tool("vsv-query", src, "--at", "30,87,6000", "-s", "QVAPOR", "--csv"))))
+        for t, r in enumerate(rows):
+            self.assertEqual(np.float32(float(r["QVAPOR (kg kg-1)"])), p.values["QVAPOR"][t])
+            self.assertAlmostEqual(float(r["height (m)"]), f.heights(t)[int(r["k"]), int(r["j"]), int(r["i"])], places=2)
 
 
 @unittest.skipUnless(os.path.exists(FULL), "../shared/data not present")

@@ -157,6 +157,29 @@ static void test_wrf_positions(const char *rel)
         snprintf(name, sizeof name, "%s, native levels: no height means level 0 in every column (%d above level 0's mean height)",
                  rel, above_mean);
         CHECK(lowest0 == m->nx * m->ny, name, "%d of %d", lowest0, m->nx * m->ny);
+        /* per-column heights at the last time: the mass levels halfway between w-levels (PH+PHB)/g */
+        const int nt = vsv_source_ntimes(src), nk = m->nz;
+        const size_t plane = (size_t)m->nx * m->ny;
+        float *ph = malloc(plane * (nk + 1) * 4), *phb = malloc(plane * (nk + 1) * 4);
+        int vph, vphb;
+        size_t s4[4] = {(size_t)nt - 1, 0, 0, 0}, c4[4] = {1, (size_t)nk + 1, (size_t)m->ny, (size_t)m->nx};
+        double worst = -1;
+        if (!nc_inq_varid(nc, "PH", &vph) && !nc_inq_varid(nc, "PHB", &vphb) && !nc_get_vara_float(nc, vph, s4, c4, ph) &&
+            !nc_get_vara_float(nc, vphb, s4, c4, phb)) {
+            worst = 0;
+            const int64_t tl = vsv_source_time(src, nt - 1);
+            for (int k = 0; k < nk; k++)
+                for (size_t c = 0; c < plane; c++) {
+                    const double zlo = (ph[k * plane + c] + (double)phb[k * plane + c]) / 9.81,
+                                 zhi = (ph[(k + 1) * plane + c] + (double)phb[(k + 1) * plane + c]) / 9.81;
+                    const double h = vsv_meta_cell_height_at(m, tl, (int)(c % m->nx), (int)(c / m->nx), k);
+                    worst = fmax(worst, fabs(h - 0.5 * (zlo + zhi)));
+                }
+        }
+        snprintf(name, sizeof name, "%s: every cell's height at the last time is WRF's mass level from PH+PHB within 0.01 m", rel);
+        CHECK(worst >= 0 && worst < 0.01 && m->nheights > 0, name, "worst %.4f m, %d height records", worst, m->nheights);
+        free(ph);
+        free(phb);
         free(la);
         free(lo);
         nc_close(nc);

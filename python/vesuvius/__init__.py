@@ -74,7 +74,8 @@ class File:
     projection = property(lambda self: self._f.projection, doc="kind (lcc, pstereo, ...) and parameters (degrees, metres)")
     lat = property(lambda self: self._f.lat, doc="latitude of every column's centre, float64 (ny, nx)")
     lon = property(lambda self: self._f.lon, doc="longitude of every column's centre, float64 (ny, nx)")
-    height = property(lambda self: self._f.height, doc="height of every level's centre, float64 (nz,)")
+    height = property(lambda self: self._f.height,
+                      doc="height of every level's centre, float64 (nz,) (native levels: the mean; see heights())")
     terrain = property(lambda self: self._f.terrain, doc="terrain height, float32 (ny, nx), or None")
     attrs = property(lambda self: self._f.attrs, doc="run metadata (key: value)")
 
@@ -109,11 +110,19 @@ class File:
             a, org = self.read_brick(species, t, b)
             yield org, a
 
+    def heights(self, time=0):
+        """Every cell's height at a step, float64 (nz, ny, nx): the file's per-column
+        heights of native levels where it has them (they move in time), else each
+        level's height (f.height) in every column."""
+        return self._f.heights(self._step(time))
+
     def query(self, lat=None, lon=None, height=None, cell=None, interp=False):
         """The values of every species at a point, every step: lat/lon (degrees) and an
         optional height (metres; None = the lowest level above the ground), or
         cell=(i, j[, k]). interp=True blends the eight cells around the point
-        trilinearly; the default is the nearest cell's decoded value. Returns a Point."""
+        trilinearly; the default is the nearest cell's decoded value. Returns a Point
+        (its cell, lat, lon and height those of the first step; on native levels with
+        per-column heights a height's level is found again at every step)."""
         if cell is not None:
             c, la, lo, h, vals, pos = self._f._query(cell=tuple(cell), interp=interp)
         else:
