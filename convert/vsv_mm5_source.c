@@ -282,6 +282,15 @@ static int mm5_open(vsv_source *s)
     if (rc) {
         free(g->landuse);
         g->landuse = NULL;
+    } else {
+        /* which category is water: the big header says (bhi(23,1), "... WATER CATEGORY") */
+        char what[96];
+        vsv_mm5_bhic(m, 23, 1, what, sizeof what);
+        const int water = vsv_mm5_bhi(m, 23, 1);
+        if (strstr(what, "WATER CATEGORY") && water >= 0 && water < 64) {
+            snprintf(buf, sizeof buf, "%d", water);
+            vsv_meta_add_attr(g, "landuse_water", buf);
+        }
     }
     /* heights of the half-sigma levels */
     const int isig = vsv_mm5_find(m, 0, "SIGMAH");

@@ -320,6 +320,27 @@ static int wrf_open(vsv_source *s, int nc)
             return rc;
         memcpy(g->terrain, w->zw, plane * sizeof(float));
     }
+    /* land use, and which categories are water: LU_INDEX with the file's
+     * ISWATER (and ISLAKE), else LANDMASK (0 water), else XLAND (2 water) */
+    static const char *const lu_names[] = {"LU_INDEX", "LANDMASK", "XLAND"};
+    for (int i = 0; i < 3; i++) {
+        int lv;
+        char water[32] = "";
+        const int isw = (int)att_double(nc, "ISWATER", -1), isl = (int)att_double(nc, "ISLAKE", -1);
+        if (i == 0 && isw >= 0 && isw < 64)
+            snprintf(water, sizeof water, isl >= 0 && isl < 64 ? "%d,%d" : "%d", isw, isl);
+        else if (i > 0)
+            snprintf(water, sizeof water, "%d", i == 1 ? 0 : 2);
+        if (!water[0] || nc_inq_varid(nc, lu_names[i], &lv) != NC_NOERR)
+            continue;
+        if (vsv_meta_alloc_landuse(g))
+            return VSV_ENOMEM;
+        if ((rc = vsv_nc_read(s, nc, lv, lu_names[i], 0, pshape, 2, g->landuse)))
+            return rc;
+        vsv_meta_add_attr(g, "landuse_water", water);
+        vsv_meta_add_attr(g, "landuse", lu_names[i]);
+        break;
+    }
     /* the vertical */
     if ((rc = w_heights(s, w, 0)))
         return rc;

@@ -156,6 +156,12 @@ double vsv_mm5_ref_height(double p, const double mm5[4]);
  * level). 0, or VSV_EINVAL when the file has no per-column heights. */
 int vsv_heights_axis(const vsv_meta *m, int *nz, double *z0, double *dz);
 
+/* The land-use categories (0..63) that are water, as a bit mask (bit c set:
+ * category c is water), from the `landuse_water` attribute ("16", "0",
+ * "17,21": the categories the model's land-use scheme calls water or lake);
+ * 0 when the file has no land use or does not say. */
+uint64_t vsv_meta_water(const vsv_meta *m);
+
 /* Index of a variable by name, or VSV_ENOTFOUND. */
 int vsv_meta_find_var(const vsv_meta *m, const char *name);
 /* Checks dimensions and values for sanity; fills msg (cap bytes) on error. */

@@ -31,7 +31,9 @@ static const char usage[] =
     "                          colormap / range / scale / opacity lines\n"
     "  -c, --camera AZ,EL[,DIST] azimuth clockwise from north, elevation (degrees),\n"
     "                          distance in world metres (default 225,30: from the\n"
-    "                          south-west, 30 degrees up, framing the whole domain)\n"
+    "                          south-west, 30 degrees up, the domain filling the image)\n"
+    "      --view NAME         plan (a map: orthographic, north up), south, west\n"
+    "                          (from 8 degrees up) or oblique (225,30)\n"
     "      --look-at EX,EY,EZ,TX,TY,TZ  eye and target in metres (projection x, y;\n"
     "                          height above sea level), instead of --camera\n"
     "      --stereo            a side-by-side pair, left eye on the left (twice as wide)\n"
@@ -152,7 +154,7 @@ static void movie_close(movie *mv)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -163,12 +165,13 @@ int main(int argc, char **argv)
         {"look-at", required_argument, 0, O_LOOKAT}, {"stereo", no_argument, 0, O_STEREO},
         {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
         {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'},
+        {"view", required_argument, 0, O_VIEW},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
     const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
     int fps = 12;
     double az = 225, el = 30, dist = 0, exag = 0;
     float bg[3] = {0.02f, 0.03f, 0.06f};
-    int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0;
+    int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0, plan = 0;
     double la[6] = {0};
     vsv_render_opts ro;
     vsv_render_opts_init(&ro);
@@ -184,8 +187,21 @@ int main(int argc, char **argv)
             int n = sscanf(optarg, "%lf,%lf,%lf", &az, &el, &dist);
             if (n < 2 || !(el > -90 && el < 90) || dist < 0)
                 vsv_cli_usage_error("--camera %s: expected AZ,EL[,DIST] with -90 < EL < 90", optarg);
+            plan = 0;
             break;
         }
+        case O_VIEW:
+            plan = !strcmp(optarg, "plan");
+            if (!strcmp(optarg, "south"))
+                az = 180, el = 8;
+            else if (!strcmp(optarg, "west"))
+                az = 270, el = 8;
+            else if (!strcmp(optarg, "oblique"))
+                az = 225, el = 30;
+            else if (!plan)
+                vsv_cli_usage_error("--view %s: plan, south, west or oblique", optarg);
+            dist = 0;
+            break;
         case O_SIZE:
             if (sscanf(optarg, "%dx%d", &width, &height) != 2 || width < 1 || height < 1 || width > 16384 || height > 16384)
                 vsv_cli_usage_error("--size %s: expected WxH", optarg);
@@ -303,7 +319,12 @@ int main(int argc, char **argv)
     if (!(exag > 0))
         sc.exaggeration = vsv_scene_default_exaggeration(&sc);
     vsv_camera cam;
-    vsv_camera_orbit(&cam, &sc, az, el, dist, width, height);
+    if (plan)
+        vsv_camera_plan(&cam, &sc, width, height);
+    else if (dist > 0)
+        vsv_camera_orbit(&cam, &sc, az, el, dist, width, height);
+    else
+        vsv_camera_fit(&cam, &sc, az, el, width, height);
     if (lookat) {
         for (int i = 0; i < 3; i++) {
             const double e = i == 2 ? sc.exaggeration : 1;

@@ -12,10 +12,14 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
     g->nx = m->nx;
     g->ny = m->ny;
     g->nz = m->nz;
-    g->ox = m->origin[0];
-    g->oy = m->origin[1];
-    g->dx = m->spacing[0];
-    g->dy = m->spacing[1];
+    /* world x, y in metres: projected metres, or for a latitude/longitude
+     * grid degrees turned into metres on the sphere (plate carree, true at
+     * the grid's middle latitude) */
+    vsv_scene_units(m, &g->ux, &g->uy);
+    g->ox = m->origin[0] * g->ux;
+    g->oy = m->origin[1] * g->uy;
+    g->dx = m->spacing[0] * g->ux;
+    g->dy = m->spacing[1] * g->uy;
     g->idx = 1 / g->dx;
     g->idy = 1 / g->dy;
     /* renderers draw every grid with evenly stacked levels (DESIGN.md §3) */
@@ -40,6 +44,8 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
     g->bmin[2] = (g->oz - g->dz / 2) * g->E;
     g->bmax[2] = (g->oz + (g->nz - 0.5) * g->dz) * g->E;
     g->terrain = sc->show_terrain && (m->vert_kind == VSV_VERT_EVEN || m->vert_kind == VSV_VERT_NATIVE) ? m->terrain : NULL;
+    g->water = g->terrain ? vsv_meta_water(m) : 0;
+    g->landuse = g->water ? m->landuse : NULL;
     if (g->terrain) {
         /* the box reaches below the lowest ground, so rays meet the sea surface
          * inside it rather than on its face */
@@ -53,6 +59,34 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
         if (g->bmin[2] > floor_z)
             g->bmin[2] = floor_z;
     }
+}
+
+void vsv_scene_units(const vsv_meta *m, double *ux, double *uy)
+{
+    *ux = *uy = 1;
+    if (m->proj.kind == VSV_PROJ_LATLON) {
+        const double R = m->proj.radius > 0 ? m->proj.radius : 6370000.0;
+        const double mid = m->origin[1] + 0.5 * (m->ny - 1) * m->spacing[1];
+        *uy = R * M_PI / 180;
+        *ux = *uy * fmax(cos(fmin(fabs(mid), 80.0) * M_PI / 180), 0.05);
+    }
+}
+
+int vsv_scene_latlon(const vsv_meta *m, double x, double y, double *lat, double *lon)
+{
+    double ux, uy;
+    vsv_scene_units(m, &ux, &uy);
+    return vsv_proj_inverse(&m->proj, x / ux, y / uy, lat, lon);
+}
+
+int vsv_scene_world(const vsv_meta *m, double lat, double lon, double *x, double *y)
+{
+    double ux, uy;
+    vsv_scene_units(m, &ux, &uy);
+    const int rc = vsv_proj_forward(&m->proj, lat, lon, x, y);
+    *x *= ux;
+    *y *= uy;
+    return rc;
 }
 
 void vsv_scene_bounds(const vsv_scene *sc, double mn[3], double mx[3])
@@ -187,4 +221,68 @@ void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[
     vsv_rays R;
     vsv_rays_init(&R, cam);
     vsv_rays_get(&R, px, py, o, d);
+}
+
+void vsv_camera_fit(vsv_camera *cam, const vsv_scene *sc, double az, double el, int width, int height)
+{
+    vsv_camera_orbit(cam, sc, az, el, 1, width, height);
+    double mn[3], mx[3], c[3], f[3], r[3], u[3];
+    vsv_scene_bounds(sc, mn, mx);
+    for (int a = 0; a < 3; a++) {
+        c[a] = 0.5 * (mn[a] + mx[a]);
+        f[a] = cam->dir[a];
+    }
+    vsv_normalize(f);
+    cross(f, cam->up, r);
+    vsv_normalize(r);
+    cross(r, f, u);
+    const double ky = tan(cam->fov_deg * M_PI / 360), kx = ky * width / height;
+    /* the eye on the view axis through the box's centre, as near as lets
+     * every corner of the box into the frame (with a 4 % margin); the
+     * frame's centre then moves to the middle of the corners' extent */
+    double dist = 0;
+    for (int k = 0; k < 8; k++) {
+        double p[3];
+        for (int a = 0; a < 3; a++)
+            p[a] = ((k >> a & 1) ? mx[a] : mn[a]) - c[a];
+        const double pf = p[0] * f[0] + p[1] * f[1] + p[2] * f[2];
+        const double pr = fabs(p[0] * r[0] + p[1] * r[1] + p[2] * r[2]);
+        const double pu = fabs(p[0] * u[0] + p[1] * u[1] + p[2] * u[2]);
+        const double need = fmax(pr * 1.04 / kx, pu * 1.04 / ky) - pf;
+        dist = need > dist ? need : dist;
+    }
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int k = 0; k < 8; k++) {
+        double p[3];
+        for (int a = 0; a < 3; a++)
+            p[a] = ((k >> a & 1) ? mx[a] : mn[a]) - c[a];
+        const double depth = dist + p[0] * f[0] + p[1] * f[1] + p[2] * f[2];
+        const double sx = (p[0] * r[0] + p[1] * r[1] + p[2] * r[2]) / depth, sy = (p[0] * u[0] + p[1] * u[1] + p[2] * u[2]) / depth;
+        lo[0] = fmin(lo[0], sx), hi[0] = fmax(hi[0], sx);
+        lo[1] = fmin(lo[1], sy), hi[1] = fmax(hi[1], sy);
+    }
+    /* a symmetric frustum aimed at the middle of that extent: turn the view */
+    const double mxs = 0.5 * (lo[0] + hi[0]), mys = 0.5 * (lo[1] + hi[1]);
+    for (int a = 0; a < 3; a++) {
+        cam->pos[a] = c[a] - f[a] * dist;
+        cam->dir[a] = f[a] + mxs * r[a] + mys * u[a];
+    }
+}
+
+void vsv_camera_plan(vsv_camera *cam, const vsv_scene *sc, int width, int height)
+{
+    double mn[3], mx[3];
+    vsv_scene_bounds(sc, mn, mx);
+    memset(cam, 0, sizeof *cam);
+    cam->width = width;
+    cam->height = height;
+    const double w = mx[0] - mn[0], h = mx[1] - mn[1];
+    cam->ortho_height = fmax(h, w * height / width) * 1.02;
+    cam->pos[0] = 0.5 * (mn[0] + mx[0]);
+    cam->pos[1] = 0.5 * (mn[1] + mx[1]);
+    cam->pos[2] = mx[2] + 1000;
+    cam->dir[2] = -1;
+    cam->up[1] = 1;
+    cam->znear = 0;
+    cam->zfar = INFINITY;
 }

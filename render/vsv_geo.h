@@ -22,10 +22,13 @@ static inline void vsv_normalize(double v[3])
 typedef struct vsv_geo {
     double ox, oy, oz, dx, dy, dz, E;
     double idx, idy; /* 1 / dx, 1 / dy */
+    double ux, uy;   /* world metres per unit of the file's x, y (vsv_scene_units) */
     double bmin[3], bmax[3];
     int nx, ny, nz;
     const float *terrain;
     double ground_top; /* the highest ground, exaggerated (with a terrain) */
+    const float *landuse; /* with a terrain and water categories: the land use */
+    uint64_t water;       /* its categories that are water (vsv_meta_water) */
 } vsv_geo;
 
 void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g);

@@ -23,6 +23,12 @@ double vsv_geo_terrain(const vsv_geo *g, double x, double y)
     return ((a * (1 - fu) + b * fu) * (1 - fv) + (c * (1 - fu) + dd * fu) * fv) * g->E;
 }
 
+static int vsv_geo_is_water(const vsv_geo *g, size_t c)
+{
+    const float lu = g->landuse[c];
+    return lu >= 0 && lu < 64 && (g->water >> (int)lu & 1) && lu == (float)(int)lu;
+}
+
 void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3])
 {
     const double h = vsv_geo_terrain(g, x, y) / g->E;
@@ -34,8 +40,24 @@ void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3])
     vsv_normalize(l);
     const double lam = 0.35 + 0.65 * fmax(0, n[0] * l[0] + n[1] * l[1] + n[2] * l[2]);
     double c[3];
-    if (h <= 0.5) {
-        c[0] = 0.12, c[1] = 0.22, c[2] = 0.42; /* sea */
+    int water = h <= 0.5;
+    if (g->landuse) {
+        /* the model's own water: the land-use categories it calls water,
+         * bilinear between cell centres, water where that is at least half */
+        double u = (x - g->ox) * g->idx, v = (y - g->oy) * g->idy;
+        u = u < 0 ? 0 : u > g->nx - 1 ? g->nx - 1 : u;
+        v = v < 0 ? 0 : v > g->ny - 1 ? g->ny - 1 : v;
+        const int i = (int)u < g->nx - 1 ? (int)u : (g->nx > 1 ? g->nx - 2 : 0);
+        const int j = (int)v < g->ny - 1 ? (int)v : (g->ny > 1 ? g->ny - 2 : 0);
+        const int i1 = g->nx > 1 ? i + 1 : i, j1 = g->ny > 1 ? j + 1 : j;
+        const double fu = u - i, fv = v - j;
+#define WET(ii, jj) (vsv_geo_is_water(g, (size_t)(jj) * g->nx + (ii)) ? 1.0 : 0.0)
+        const double w = (WET(i, j) * (1 - fu) + WET(i1, j) * fu) * (1 - fv) + (WET(i, j1) * (1 - fu) + WET(i1, j1) * fu) * fv;
+#undef WET
+        water = w >= 0.5;
+    }
+    if (water) {
+        c[0] = 0.12, c[1] = 0.22, c[2] = 0.42; /* sea and lakes */
     } else {
         const double t = fmin(h / 3000.0, 1.0), s = fmax(0, fmin((h - 3000) / 2000.0, 1.0));
         c[0] = 0.22 + 0.33 * t + 0.35 * s;

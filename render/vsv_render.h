@@ -93,12 +93,28 @@ typedef struct vsv_scene {
     int show_terrain;
 } vsv_scene;
 
+/* World metres per unit of the file's x and y: 1 for projected grids; for a
+ * latitude/longitude grid its degrees as metres on the sphere (plate
+ * carree, true at the grid's middle latitude), so every grid is drawn in
+ * metres. */
+void vsv_scene_units(const vsv_meta *m, double *ux, double *uy);
+/* Latitude/longitude of world (x, y) metres, and back. 0 or an error. */
+int vsv_scene_latlon(const vsv_meta *m, double x, double y, double *lat, double *lon);
+int vsv_scene_world(const vsv_meta *m, double lat, double lon, double *x, double *y);
+
 /* World box of the scene (metres, z exaggerated): min[3], max[3]. */
 void vsv_scene_bounds(const vsv_scene *sc, double min[3], double max[3]);
 /* A camera looking at the scene's centre from azimuth az (degrees clockwise
  * from north), elevation el (degrees), distance dist (world metres; 0 = frame
  * the whole box), perspective fov 35 degrees. */
 void vsv_camera_orbit(vsv_camera *cam, const vsv_scene *sc, double az, double el, double dist, int width, int height);
+
+/* The same from azimuth az and elevation el, placed so that the scene's box
+ * fills the image (its corners within 4 % of the edges). */
+void vsv_camera_fit(vsv_camera *cam, const vsv_scene *sc, double az, double el, int width, int height);
+/* A map view: orthographic, looking straight down, north up, the domain
+ * filling the image. */
+void vsv_camera_plan(vsv_camera *cam, const vsv_scene *sc, int width, int height);
 
 /* ---------------------------------------------------------------- renderer */
 
