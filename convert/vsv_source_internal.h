@@ -17,6 +17,11 @@ int vsv_source_axis(vsv_source *s, const float *zn, int kx, double round_to);
  * unless they are within half a metre of the last ones recorded. 0 or error. */
 int vsv_source_native_heights(vsv_source *s, int t, const float *zn);
 
+/* CAMx land use (vsv_camxlu.c): 1 if the first n bytes start like a
+ * land-use file; reading one into s->grid's land use (0 or error). */
+int vsv_camx_is_landuse(const unsigned char *head, size_t n);
+int vsv_camx_landuse(vsv_source *s, const char *path);
+
 extern const vsv_source_ops vsv_grads_ops;
 extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;
