@@ -18,7 +18,8 @@ void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)
 {
     static const char *const cloud[] = {"CLW", "QCLOUD", "QC", "CLOUD", NULL};
     static const char *const rain[] = {"RNW", "QRAIN", "QR", "RAIN", NULL};
-    static const char *const ice[] = {"ICE", "QICE", "QI", "GRAUPEL", "QGRAUP", "QG", "NCI", NULL};
+    static const char *const ice[] = {"ICE", "QICE", "QI", "NCI", NULL};
+    static const char *const graupel[] = {"GRAUPEL", "QGRAUP", "QG", NULL};
     static const char *const snow[] = {"SNOW", "QSNOW", "QS", NULL};
     static const char *const ozone[] = {"O3", "OZONE", NULL};
     static const char *const nox[] = {"NO", "NO2", "NOX", "NOY", NULL};
@@ -33,6 +34,8 @@ void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)
         map = "rain", kind = "rain";
     else if (name_is(name, ice))
         map = "ice", kind = "ice";
+    else if (name_is(name, graupel))
+        map = "graupel", kind = "graupel";
     else if (name_is(name, snow))
         map = "snow", kind = "snow";
     else if (name_is(name, ozone))

@@ -26,12 +26,15 @@ static const char usage[] =
     "      --times A:B         steps A..B (indices or ISO times, which may hold colons:\n"
     "                          1995-10-24T01:00Z:1995-10-24T02:00Z; either end may be\n"
     "                          empty; outside the file's steps is an error)\n"
-    "  -s, --species LIST      NAME[:OPACITY],... (default: every species, opacity 1)\n"
+    "  -s, --species LIST      NAME[:OPACITY],... (default: every species but water\n"
+    "                          vapour Q/QVAPOR, opacity 1)\n"
     "      --tf FILE           transfer functions: 'species NAME' blocks of\n"
     "                          colormap / range / scale / opacity lines\n"
     "  -c, --camera AZ,EL[,DIST] azimuth clockwise from north, elevation (degrees),\n"
     "                          distance in world metres (default 225,30: from the\n"
     "                          south-west, 30 degrees up, the domain filling the image)\n"
+    "      --range SPECIES=LO:HI  the values the species' colours span (its transfer\n"
+    "                          function's range; repeatable), so files share a scale\n"
     "      --view NAME         plan (a map: orthographic, north up), south, west\n"
     "                          (from 8 degrees up) or oblique (225,30)\n"
     "      --look-at EX,EY,EZ,TX,TY,TZ  eye and target in metres (projection x, y;\n"
@@ -154,7 +157,7 @@ static void movie_close(movie *mv)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -165,13 +168,14 @@ int main(int argc, char **argv)
         {"look-at", required_argument, 0, O_LOOKAT}, {"stereo", no_argument, 0, O_STEREO},
         {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
         {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'},
-        {"view", required_argument, 0, O_VIEW},
+        {"view", required_argument, 0, O_VIEW},    {"range", required_argument, 0, O_RANGE},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
     const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
     int fps = 12;
     double az = 225, el = 30, dist = 0, exag = 0;
     float bg[3] = {0.02f, 0.03f, 0.06f};
-    int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0, plan = 0;
+    int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0, plan = 0, nranges = 0;
+    const char *ranges[64];
     double la[6] = {0};
     vsv_render_opts ro;
     vsv_render_opts_init(&ro);
@@ -188,6 +192,16 @@ int main(int argc, char **argv)
             if (n < 2 || !(el > -90 && el < 90) || dist < 0)
                 vsv_cli_usage_error("--camera %s: expected AZ,EL[,DIST] with -90 < EL < 90", optarg);
             plan = 0;
+            break;
+        }
+        case O_RANGE: {
+            char nm[64];
+            double lo, hi;
+            int used = 0;
+            if (nranges >= 64 || sscanf(optarg, "%63[^=]=%lf:%lf%n", nm, &lo, &hi, &used) != 3 || optarg[used] ||
+                !(lo < hi) || !isfinite(lo) || !isfinite(hi))
+                vsv_cli_usage_error("--range %s: expected SPECIES=LO:HI with LO < HI", optarg);
+            ranges[nranges++] = optarg;
             break;
         }
         case O_VIEW:
@@ -281,8 +295,26 @@ int main(int argc, char **argv)
     float *opac = calloc((size_t)m->nvars, sizeof *opac);
     if (!layers || !tfs || !vols || !sidx || !opac)
         vsv_cli_die(1, "out of memory");
+    /* by default every species but water vapour (a haze over everything),
+     * unless it is all the file has */
+    static const char *const vapour[] = {"Q", "QVAPOR", "QV", "H2O"};
+    int nvap = 0;
+    for (int s = 0; s < m->nvars; s++) {
+        int vap = 0;
+        for (int i = 0; i < 4; i++)
+            vap |= !strcmp(m->vars[s].name, vapour[i]);
+        opac[s] = species ? -1 : vap ? -2 : 1; /* -1: not asked for */
+        nvap += vap;
+    }
     for (int s = 0; s < m->nvars; s++)
-        opac[s] = species ? -1 : 1; /* -1: not asked for */
+        if (opac[s] == -2)
+            opac[s] = nvap == m->nvars ? 1 : -1;
+    for (int i = 0; i < nranges; i++) {
+        char nm[64];
+        sscanf(ranges[i], "%63[^=]", nm);
+        if (vsv_meta_find_var(m, nm) < 0)
+            vsv_cli_usage_error("--range: %s has no species '%s'", path, nm);
+    }
     if (species) {
         char *copy = strdup(species), *save = NULL;
         for (char *it = copy ? strtok_r(copy, ",", &save) : NULL; it; it = strtok_r(NULL, ",", &save)) {
@@ -310,6 +342,18 @@ int main(int argc, char **argv)
             vsv_cli_die(1, "%s", msg);
         if (trc)
             vsv_cli_die(1, "%s: %s", tfpath ? tfpath : path, msg);
+        for (int i = 0; i < nranges; i++) { /* --range: absolute values, shared by files and runs */
+            char nm[64];
+            double lo, hi;
+            if (sscanf(ranges[i], "%63[^=]=%lf:%lf", nm, &lo, &hi) == 3 && !strcmp(nm, m->vars[s].name)) {
+                if (tfs[nl].scale == VSV_SCALE_LOG && !(lo > 0))
+                    vsv_cli_usage_error("--range %s: %s is on a log scale, LO must be > 0", ranges[i], nm);
+                tfs[nl].lo = lo;
+                tfs[nl].hi = hi;
+                if (vsv_tf_prepare(&tfs[nl]))
+                    vsv_cli_usage_error("--range %s: not a usable range", ranges[i]);
+            }
+        }
         if (vsv_volume_create(f, &vols[nl]))
             vsv_cli_die(1, "out of memory");
         layers[nl] = (vsv_layer){vols[nl], &tfs[nl], opac[s], 1};

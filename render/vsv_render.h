@@ -27,7 +27,7 @@ extern "C" {
 
 /* One species' transfer function: plain info. */
 typedef struct vsv_tf {
-    char colormap[32];           /* viridis magma cividis clouds rain ice snow greys */
+    char colormap[32];           /* viridis magma cividis clouds rain ice snow graupel greys */
     double lo, hi;               /* value range mapped to the colour map */
     int scale;                   /* VSV_SCALE_LINEAR or VSV_SCALE_LOG */
     int nopacity;                /* opacity curve: samples evenly over [lo, hi] */

@@ -146,8 +146,35 @@ static void test_water_sources(void)
     rmdir(dir);
 }
 
+
+/* The default colours of the hydrometeors differ: cloud water, rain, ice,
+ * snow and graupel at the top of their ranges are at least 0.2 apart (RGB,
+ * 0..1) from each other. */
+static void test_colours(void)
+{
+    static const char *const names[] = {"CLW", "RNW", "ICE", "SNOW", "GRAUPEL"};
+    float rgb[5][4];
+    for (int i = 0; i < 5; i++) {
+        vsv_quant q = {.bits = 16, .lo = 0, .hi = 1e-3};
+        char text[512], msg[128];
+        vsv_tf tf;
+        vsv_tf_default(names[i], &q, text, sizeof text);
+        vsv_tf_parse(&tf, text, msg, sizeof msg);
+        vsv_tf_prepare(&tf);
+        vsv_tf_eval(&tf, 0.9e-3f, rgb[i]);
+    }
+    double least = 1e9;
+    for (int i = 0; i < 5; i++)
+        for (int j = 0; j < i; j++) {
+            const double d = sqrt(pow(rgb[i][0] - rgb[j][0], 2) + pow(rgb[i][1] - rgb[j][1], 2) + pow(rgb[i][2] - rgb[j][2], 2));
+            least = d < least ? d : least;
+        }
+    CHECK(least >= 0.2, "hydrometeors' default colours are distinct", "closest pair %.3f apart", least);
+}
+
 int main(void)
 {
+    test_colours();
     test_water_sources();
     test_lakes();
     test_latlon();

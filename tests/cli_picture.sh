@@ -1,0 +1,21 @@
+#!/bin/sh
+# cli_picture.sh — vsv-render's picture options (issue 20): --range fixes the
+# values a species' colours span, water vapour is off by default, --view.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-picture.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv" --vars Q,CLW,SNOW
+R="$B/vsv-render -q $T/s.vsv --time 3 --size 160x120"
+expect "a default render" 0 $R -o "$T/default.png"
+expect "CLW and SNOW alone" 0 $R -o "$T/cs.png" --species CLW,SNOW
+same "water vapour is off by default" "$T/default.png" "$T/cs.png"
+expect "--range CLW=0:0.01" 0 $R -o "$T/range.png" --range CLW=0:0.01
+if cmp -s "$T/range.png" "$T/default.png"; then fail "--range changes the colours" "same image"; else pass "--range changes the colours"; fi
+expect "--range with LO >= HI exits 2" 2 $R -o "$T/x.png" --range CLW=1:0
+expect "--range of an unknown species exits 2" 2 $R -o "$T/x.png" --range NOPE=0:1
+expect "--range without a species exits 2" 2 $R -o "$T/x.png" --range 0:1
+expect "--view plan" 0 $R -o "$T/plan.png" --view plan
+expect "--view sideways exits 2" 2 $R -o "$T/x.png" --view sideways
+has "--help names --range" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "--range SPECIES=LO:HI"
