@@ -66,9 +66,9 @@ WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
 # INC is each folder's include path (below): a folder sees its own headers
 # and those of the layers under it (DESIGN.md §1), so an include against the
 # arrows does not compile; XINC adds cli/ for the programs.
-CFLAGS_ALL = -std=c11 -D_GNU_SOURCE -fPIC $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
+CFLAGS_ALL = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
              $(INC) $(XINC) $(PKG_CFLAGS) $(CFLAGS)
-CXXFLAGS_ALL = -std=c++17 -fPIC $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP $(INC) $(PKG_CFLAGS) $(CXXFLAGS)
+CXXFLAGS_ALL = -std=c++17 -fPIC -fvisibility=hidden -fvisibility-inlines-hidden $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP $(INC) $(PKG_CFLAGS) $(CXXFLAGS)
 
 ifeq ($(V),1)
   Q =
@@ -220,20 +220,23 @@ $(LIBS_A) $(CLI_A) $(PLAYER_A):
 	$(Q)rm -f $@ && ar rcs $@ $^
 
 # shared libraries: versioned file, soname lib*.so.$(SOVERSION); each links
-# the one below it and its own dependencies only
-shlib = $(Q)$(CC) -shared -Wl,-soname,$(patsubst %.$(VERSION),%,$(notdir $@)).$(SOVERSION) -o $@ $(1)
-$(call so,vesuvius): $(CORE_OBJ)
+# the one below it and its own dependencies only, and exports only what its
+# public headers declare (-fvisibility=hidden, VSV_API_BEGIN in the headers,
+# tools/vesuvius.map)
+shlib = $(Q)$(CC) -shared -Wl,-soname,$(patsubst %.$(VERSION),%,$(notdir $@)).$(SOVERSION) \
+        -Wl,--version-script=tools/vesuvius.map -o $@ $(1)
+$(call so,vesuvius): $(CORE_OBJ) tools/vesuvius.map
 	@$(if $(Q),echo "  LD      $@")
-	$(call shlib,$^ $(CORE_EXT))
-$(call so,vesuvius-convert): $(CONVERT_OBJ) $(call so,vesuvius)
+	$(call shlib,$(filter-out %.map,$^) $(CORE_EXT))
+$(call so,vesuvius-convert): $(CONVERT_OBJ) $(call so,vesuvius) tools/vesuvius.map
 	@$(if $(Q),echo "  LD      $@")
-	$(call shlib,$^ $(CONVERT_EXT))
-$(call so,vesuvius-render): $(RENDER_OBJ) $(call so,vesuvius)
+	$(call shlib,$(filter-out %.map,$^) $(CONVERT_EXT))
+$(call so,vesuvius-render): $(RENDER_OBJ) $(call so,vesuvius) tools/vesuvius.map
 	@$(if $(Q),echo "  LD      $@")
-	$(call shlib,$^ $(RENDER_EXT))
-$(call so,vesuvius-interop): $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius)
+	$(call shlib,$(filter-out %.map,$^) $(RENDER_EXT))
+$(call so,vesuvius-interop): $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius) tools/vesuvius.map
 	@$(if $(Q),echo "  LD      $@")
-	$(call shlib,$^ $(INTEROP_EXT))
+	$(call shlib,$(filter-out %.map,$^) $(INTEROP_EXT))
 
 # -------------------------------------------------------------- programs
 # each links only the libraries it uses (static archives: the programs stand alone)

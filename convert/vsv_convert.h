@@ -10,6 +10,8 @@
 extern "C" {
 #endif
 
+VSV_API_BEGIN
+
 /* -------------------------------------------------------------- sources */
 
 typedef struct vsv_source vsv_source;
@@ -228,6 +230,8 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields);
 /* Input frames so far that fell between grid times (not output). */
 int vsv_interp_dropped(const vsv_interp *ip);
 void vsv_interp_free(vsv_interp *ip);
+
+VSV_API_END
 
 #ifdef __cplusplus
 }

@@ -11,6 +11,8 @@
 extern "C" {
 #endif
 
+VSV_API_BEGIN
+
 typedef struct vsv_source_ops {
     const char *name;
     /* 1 if the first n bytes look like this format */
@@ -44,6 +46,8 @@ int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...) __attribute__((
  * borrowed, valid for the life of the program; at most 8). Call before
  * opening sources, from one thread. 0, VSV_EINVAL when full. */
 int vsv_source_register(const vsv_source_ops *ops);
+
+VSV_API_END
 
 #ifdef __cplusplus
 }

@@ -8,9 +8,17 @@
 #include <stdint.h>
 #include <stdio.h>
 
+/* The exported API: the libraries are built with -fvisibility=hidden, and
+ * what the public headers declare between VSV_API_BEGIN and VSV_API_END is
+ * what each shared library exports (tests/cli_layout.sh checks it). */
+#define VSV_API_BEGIN _Pragma("GCC visibility push(default)")
+#define VSV_API_END _Pragma("GCC visibility pop")
+
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+VSV_API_BEGIN
 
 #define VSV_VERSION_STRING "0.1.0"
 #define VSV_FORMAT_MAJOR 1
@@ -560,6 +568,8 @@ uint32_t vsv_crc32c(uint32_t crc, const void *buf, size_t len);
 
 /* Number of online CPUs (>= 1). */
 int vsv_ncpus(void);
+
+VSV_API_END
 
 #ifdef __cplusplus
 }

@@ -23,6 +23,8 @@
 extern "C" {
 #endif
 
+VSV_API_BEGIN
+
 /* Writes species[0..n-1] (decoded volumes of m's grid at model time t) to
  * path. 0, or -1 with the reason in err. */
 int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, const vsv_volume *const *vols, int n,
@@ -57,6 +59,8 @@ int vsv_vdb_read(const char *path, const char *name, const vsv_vdb_info *info, f
  * reads: each file one time step, every float grid a field. Call once before
  * opening sources, from one thread; 0 or VSV_EINVAL. */
 int vsv_vdb_source_register(void);
+
+VSV_API_END
 
 #ifdef __cplusplus
 }

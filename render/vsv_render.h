@@ -20,6 +20,8 @@
 extern "C" {
 #endif
 
+VSV_API_BEGIN
+
 /* ------------------------------------------------------ transfer functions */
 
 #define VSV_TF_LUT 1024
@@ -172,6 +174,8 @@ int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char
  * the top) and Z (depth) as float; depth may not be NULL. Written to a
  * temporary name and renamed. 0, or -1 with err filled. */
 int vsv_exr_write(const char *path, const float *rgba, const float *depth, int w, int h, char *err, size_t cap);
+
+VSV_API_END
 
 #ifdef __cplusplus
 }

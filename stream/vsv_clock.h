@@ -15,7 +15,11 @@
 #ifndef VSV_CLOCK_H
 #define VSV_CLOCK_H
 
+#include "vsv_format.h"
+
 #include <stdint.h>
+
+VSV_API_BEGIN
 
 enum { VSV_CLOCK_STOP = 0, VSV_CLOCK_LOOP = 1, VSV_CLOCK_BOUNCE = 2 };
 
@@ -51,5 +55,7 @@ void vsv_clock_set_speed(vsv_clock *c, double x);
 void vsv_clock_faster(vsv_clock *c, int dir);
 /* The step at or before model time t (the first step before it all). */
 int vsv_clock_step_at(const vsv_clock *c, double t);
+
+VSV_API_END
 
 #endif

@@ -25,6 +25,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+VSV_API_BEGIN
+
 typedef struct vsv_pager vsv_pager;
 
 typedef struct vsv_pager_opts {
@@ -80,5 +82,7 @@ int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species);
 void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st);
 /* Counts a stall the caller saw (a step it wanted was not decoded in time). */
 void vsv_pager_stall(vsv_pager *p);
+
+VSV_API_END
 
 #endif

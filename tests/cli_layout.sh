@@ -129,3 +129,29 @@ long=$(git ls-files 2>/dev/null | grep -E '^(format|stream|convert|render|intero
 # no build output committed
 art=$(git ls-files 2>/dev/null | grep -E '\.(o|a|so|d)$|^build|/build/|\.so\.' | head -n 5)
 [ -z "$art" ] && pass "no build output in git ls-files" || fail "no build output in git ls-files" "$art"
+
+# each shared library exports only what its public headers declare
+# (nm -D --defined-only against every vsv_ name the headers mention)
+exports() { # LIB HEADER...: the exported names no header declares
+    lib=$1
+    shift
+    cat "$@" | grep -o 'vsv_[A-Za-z0-9_]*' | sort -u > "$T/declared"
+    nm -D --defined-only "$lib" 2> /dev/null | awk '{ print $NF }' | sort -u > "$T/exported"
+    comm -23 "$T/exported" "$T/declared" | tr '\n' ' '
+}
+for spec in "vesuvius format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h" \
+    "vesuvius-convert convert/vsv_convert.h convert/vsv_source_reader.h" \
+    "vesuvius-render render/vsv_render.h" "vesuvius-interop interop/vsv_vdb.h"; do
+    set -- $spec
+    name=$1
+    shift
+    so=$(ls "$B"/lib$name.so.* 2> /dev/null | head -n 1)
+    if [ -z "$so" ]; then
+        fail "lib$name.so exports only its public API" "not built"
+        continue
+    fi
+    n=$(nm -D --defined-only "$so" | wc -l)
+    extra=$(exports "$so" "$@")
+    [ -z "$extra" ] && pass "lib$name.so exports only its public API ($n names)" ||
+        fail "lib$name.so exports only its public API" "also: $extra"
+done
