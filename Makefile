@@ -66,9 +66,9 @@ WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
 # INC is each folder's include path (below): a folder sees its own headers
 # and those of the layers under it (DESIGN.md §1), so an include against the
 # arrows does not compile; XINC adds cli/ for the programs.
-CFLAGS_ALL = -std=c11 -D_GNU_SOURCE -fPIC -fvisibility=hidden $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
+CFLAGS_ALL = -std=c11 -D_GNU_SOURCE -fPIC $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
              $(INC) $(XINC) $(PKG_CFLAGS) $(CFLAGS)
-CXXFLAGS_ALL = -std=c++17 -fPIC -fvisibility=hidden -fvisibility-inlines-hidden $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP $(INC) $(PKG_CFLAGS) $(CXXFLAGS)
+CXXFLAGS_ALL = -std=c++17 -fPIC $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP $(INC) $(PKG_CFLAGS) $(CXXFLAGS)
 
 ifeq ($(V),1)
   Q =
@@ -220,21 +220,29 @@ $(LIBS_A) $(CLI_A) $(PLAYER_A):
 	$(Q)rm -f $@ && ar rcs $@ $^
 
 # shared libraries: versioned file, soname lib*.so.$(SOVERSION); each links
-# the one below it and its own dependencies only, and exports only what its
-# public headers declare (-fvisibility=hidden, VSV_API_BEGIN in the headers,
-# tools/vesuvius.map)
+# the one below it and its own dependencies only, and exports exactly the
+# vsv_ names its public headers declare: a version script made from them
+# (everything else, internals and OpenVDB's template code, stays local)
+H_libvesuvius = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h
+H_libvesuvius-convert = convert/vsv_convert.h convert/vsv_source_reader.h
+H_libvesuvius-render = render/vsv_render.h
+H_libvesuvius-interop = interop/vsv_vdb.h
+$(foreach l,vesuvius vesuvius-convert vesuvius-render vesuvius-interop,$(eval $(B)/lib$(l).map: $(H_lib$(l))))
+$(B)/%.map:
+	@mkdir -p $(dir $@)
+	$(Q){ echo '{ global:'; grep -ho 'vsv_[A-Za-z0-9_]*' $^ | sort -u | sed 's/$$/;/'; echo 'local: *; };'; } > $@
 shlib = $(Q)$(CC) -shared -Wl,-soname,$(patsubst %.$(VERSION),%,$(notdir $@)).$(SOVERSION) \
-        -Wl,--version-script=tools/vesuvius.map -o $@ $(1)
-$(call so,vesuvius): $(CORE_OBJ) tools/vesuvius.map
+        -Wl,--version-script=$(patsubst %.so.$(VERSION),%.map,$@) -o $@ $(1)
+$(call so,vesuvius): $(B)/libvesuvius.map $(CORE_OBJ)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(CORE_EXT))
-$(call so,vesuvius-convert): $(CONVERT_OBJ) $(call so,vesuvius) tools/vesuvius.map
+$(call so,vesuvius-convert): $(B)/libvesuvius-convert.map $(CONVERT_OBJ) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(CONVERT_EXT))
-$(call so,vesuvius-render): $(RENDER_OBJ) $(call so,vesuvius) tools/vesuvius.map
+$(call so,vesuvius-render): $(B)/libvesuvius-render.map $(RENDER_OBJ) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(RENDER_EXT))
-$(call so,vesuvius-interop): $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius) tools/vesuvius.map
+$(call so,vesuvius-interop): $(B)/libvesuvius-interop.map $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(INTEROP_EXT))
 

@@ -8,9 +8,11 @@
 #include <stdint.h>
 #include <stdio.h>
 
-/* The exported API: the libraries are built with -fvisibility=hidden, and
- * what the public headers declare between VSV_API_BEGIN and VSV_API_END is
- * what each shared library exports (tests/cli_layout.sh checks it). */
+/* The exported API: what the public headers declare between VSV_API_BEGIN
+ * and VSV_API_END. Each shared library exports exactly the vsv_ names of its
+ * public headers (a version script made from them; tests/cli_layout.sh
+ * checks it); the macros keep those declarations visible in a build with
+ * -fvisibility=hidden. */
 #define VSV_API_BEGIN _Pragma("GCC visibility push(default)")
 #define VSV_API_END _Pragma("GCC visibility pop")
 
