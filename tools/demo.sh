@@ -79,6 +79,21 @@ step "Render the last frame: clouds, rain, ice, snow and moisture over the terra
      "vsv-render $OUT/storm.vsv -o $OUT/storm.png"
 "$B/vsv-render" "$OUT/storm.vsv" -o "$OUT/storm.png"
 
+step "A map (plan view, north up): the sea and lakes from the model's own land use" \
+     "vsv-render $OUT/storm.vsv --view plan -o $OUT/map.png"
+"$B/vsv-render" -q "$OUT/storm.vsv" --view plan -o "$OUT/map.png" && echo "$OUT/map.png"
+
+step "The model's own levels at their heights: --vertical native (MM5 sigma over the terrain), seen from the south" \
+     "vsv-convert --vertical native $MM5 -o $OUT/native.vsv; vsv-render $OUT/native.vsv --view south --no-terrain"
+"$B/vsv-convert" -q --vertical native --vars CLW,ICE,SNOW "$MM5" -o "$OUT/native.vsv"
+"$B/vsv-info" "$OUT/native.vsv" | grep -A1 "vertical"
+"$B/vsv-render" -q "$OUT/native.vsv" --view south --no-terrain -x 60 -o "$OUT/native.png" && echo "$OUT/native.png"
+
+step "One colour scale for several files: --range" \
+     "vsv-render $OUT/storm.vsv --species CLW,SNOW --range CLW=0:0.0006 --range SNOW=0:0.0005"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --range CLW=0:0.0006 --range SNOW=0:0.0005 --size 480x360 \
+    -o "$OUT/range.png" && echo "$OUT/range.png"
+
 step "Render every 30 minutes, cloud water and snow only, higher cloud opacity" \
      "vsv-render $OUT/storm.vsv --times 0: --species CLW:2,SNOW -o $OUT/frame%04d.png --size 480x360"
 "$B/vsv-render" "$OUT/storm.vsv" --times 0: --species CLW:2,SNOW --size 480x360 -o "$OUT/frame%04d.png"
