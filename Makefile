@@ -6,6 +6,7 @@
 #   make bench      run the benchmarks in bench/ (results: bench/RESULTS.md)
 #   make install    PREFIX=/usr/local DESTDIR=
 #   make fuzz       build libFuzzer targets with clang (build-fuzz/)
+#   MPI=1 / MPI=0 builds vsv-convert-mpi or not (default: when mpicc is found).
 #   V=1 for verbose commands, WERROR=1 (default under CI) for -Werror.
 
 PREFIX ?= /usr/local
@@ -132,6 +133,15 @@ TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-expo
 ifeq ($(VIEWER),1)
 TOOLS += vsv-play
 endif
+# vsv-convert-mpi: Open MPI (libopenmpi-dev), found through its mpicc wrapper;
+# only that program sees MPI, the libraries never do
+MPICC ?= mpicc
+MPI ?= $(if $(shell command -v $(MPICC) 2>/dev/null),1,0)
+ifeq ($(MPI),1)
+  MPI_CFLAGS := $(shell $(MPICC) --showme:compile 2>/dev/null)
+  MPI_LIBS := $(shell $(MPICC) --showme:link 2>/dev/null)
+  TOOLS += vsv-convert-mpi
+endif
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 # the programs: each sees cli/ besides its folder's layers; vsv-extract and
 # vsv-convert read .vdb sequences through interop/
@@ -139,6 +149,7 @@ TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv
            $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/interop/vsv-export.o
 $(TOOL_OBJ): XINC = -Icli
 $(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
+$(B)/convert/vsv-convert-mpi.o: XINC = -Icli -Iinterop $(MPI_CFLAGS)
 
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
@@ -261,6 +272,10 @@ $(B)/vsv-extract: $(B)/convert/vsv-extract.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) 
 $(B)/vsv-convert: $(B)/convert/vsv-convert.o $(B)/convert/vsv_convert_cli.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+$(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_convert_cli.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) \
+                     $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT) $(MPI_LIBS)
 $(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
@@ -328,6 +343,10 @@ $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIBS)
 $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
+# cuts a netCDF file by time (the multi-file WRF run of tests/cli_mpi.sh)
+$(B)/tests/ncsplit: $(B)/tests/nc_split.o
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
+
 $(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
@@ -340,7 +359,7 @@ test:
 	$(Q)sh tools/deps.sh --install
 	$(Q)$(MAKE) --no-print-directory test-run
 
-test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(FREEVR_TEST)
+test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(FREEVR_TEST)
 	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" VIEWER=$(VIEWER) \
 	  PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
 
@@ -364,6 +383,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_convert.sh
 	$(Q)B=$(B) sh bench/bench_camx.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_advect.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_mpi.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vdb.sh

@@ -22,6 +22,17 @@ step "The same in one process (byte-identical)" "vsv-convert --time-res 10m $MM5
 "$B/vsv-convert" --time-res 10m "$MM5" -o "$OUT/storm.vsv"
 cmp "$OUT/storm.vsv" "$OUT/storm-pipe.vsv" && echo "identical: $OUT/storm.vsv = $OUT/storm-pipe.vsv"
 
+if [ -x "$B/vsv-convert-mpi" ] && command -v mpirun > /dev/null 2>&1; then
+    step "The same on two MPI ranks (each reads and encodes half the steps; byte-identical)" \
+         "mpirun -np 2 vsv-convert-mpi --stats --time-res 10m $MM5 -o $OUT/storm-mpi.vsv"
+    OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 mpirun -q --oversubscribe --mca btl self,vader \
+        --mca btl_vader_single_copy_mechanism none --mca plm_rsh_agent false -np 2 \
+        "$B/vsv-convert-mpi" -q --stats --time-res 10m "$MM5" -o "$OUT/storm-mpi.vsv"
+    cmp "$OUT/storm.vsv" "$OUT/storm-mpi.vsv" && echo "identical: $OUT/storm-mpi.vsv = $OUT/storm.vsv"
+else
+    printf '\n(vsv-convert-mpi is not built: apt-get install libopenmpi-dev openmpi-bin)\n'
+fi
+
 step "Frames between the hourly outputs carried along the model's own winds (U V W) instead of cross-faded" \
      "vsv-convert --time-res 10m --interp advect $MM5 -o $OUT/moving.vsv"
 "$B/vsv-convert" --time-res 10m --interp advect "$MM5" -o "$OUT/moving.vsv"

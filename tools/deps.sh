@@ -3,7 +3,7 @@
 #   --names    print them
 #   --install  install the missing ones (as root), or print the exact apt-get line
 set -eu
-PKGS="build-essential pkg-config python3 python3-dev python3-numpy python3-xarray python3-netcdf4 python3-pyproj bc libzstd-dev zstd libgeographiclib-dev libnetcdf-dev netcdf-bin libpng-dev libopenexr-dev libglfw3-dev libgl-dev libfreetype-dev libfontconfig-dev fonts-dejavu-core xvfb xauth xdotool libx11-dev libxi-dev libopenvdb-dev libboost-dev libopenvdb-tools ffmpeg procps"
+PKGS="build-essential pkg-config python3 python3-dev python3-numpy python3-xarray python3-netcdf4 python3-pyproj bc libopenmpi-dev openmpi-bin libzstd-dev zstd libgeographiclib-dev libnetcdf-dev netcdf-bin libpng-dev libopenexr-dev libglfw3-dev libgl-dev libfreetype-dev libfontconfig-dev fonts-dejavu-core xvfb xauth xdotool libx11-dev libxi-dev libopenvdb-dev libboost-dev libopenvdb-tools ffmpeg procps"
 missing=""
 for p in $PKGS; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"

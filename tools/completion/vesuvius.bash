@@ -37,4 +37,4 @@ _vsv_complete()
         COMPREPLY=($(compgen -f -- "$cur"))
     fi
 }
-complete -F _vsv_complete vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-play vsv-export vsv-query
+complete -F _vsv_complete vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-convert-mpi vsv-render vsv-play vsv-export vsv-query

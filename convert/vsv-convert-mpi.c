@@ -1,0 +1,766 @@
+/* vsv-convert-mpi — vsv-convert across the ranks of an MPI job: the same
+ * options, inputs and output bytes. The output steps are cut into whole
+ * shares of equal length, one a rank (a step's chunk depends only on its
+ * fields and the previous step's, none at a keyframe: a share that starts
+ * inside a keyframe group makes the step before it too, as a share makes
+ * the input frame before its first step for the interpolation); each rank
+ * reads the input frames its steps need, spools its frames locally, and after one reduction of the value ranges
+ * (the quantisation needs them over all steps) encodes its chunks. The
+ * chunks are written once, at their final offsets, by collective MPI-IO
+ * writes into a temporary file beside the output; rank 0 then writes the
+ * table of contents and the header, and renames the file into place. A
+ * failure on any rank stops every rank (a STOP message between steps, an
+ * agreement at the end of each phase): one message names the rank and the
+ * file, nothing is left behind, and every rank exits 1. */
+#include "vsv_convert_cli.h"
+#include "vsv_vdb.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <libgen.h>
+#include <math.h>
+#include <mpi.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+static const char usage[] =
+    "Usage: mpirun -np N vsv-convert-mpi [OPTIONS] FILE... -o OUT.vsv\n"
+    "vsv-convert on the N ranks of an MPI job: the same options and inputs, and\n"
+    "byte for byte the same file. Each rank reads and encodes an equal share of the\n"
+    "output steps; the chunks are written once at their\n"
+    "final offsets by collective MPI-IO into a temporary file beside OUT, which\n"
+    "appears only when every rank succeeded. Frames are spooled in $TMPDIR (or /tmp)\n"
+    "of each rank's node; each rank encodes on one thread (run one rank a core).\n"
+    "\n";
+
+enum { TAG_PROGRESS = 1, TAG_STOP = 2 };
+enum { PHASE_READ = 0, PHASE_ENCODE = 1 };
+#define PIECE ((size_t)64 << 20) /* bytes per collective write */
+
+/* One rank's state. */
+typedef struct rank {
+    int me, np;
+    vsv_convert_args a;
+    vsv_run *run;
+    const vsv_meta *meta;
+    size_t cells;
+    int nsteps;            /* output steps of the whole run */
+    int64_t *times;        /* their times */
+    int s0, s1;            /* this rank's steps [s0, s1) */
+    int lead;              /* 1: step s0-1 is made too (s0 is not a keyframe) */
+    int f0, f1;            /* the input frames they need [f0, f1] */
+    /* reading: frames of [s0, s1) spooled to a local temporary file */
+    int spool_fd, spooled;
+    float *spool;
+    size_t spool_bytes;
+    vsv_pack_stats *st;
+    /* encoding: chunks spooled to a second local file */
+    int chunk_fd;
+    uint64_t *sizes, chunk_bytes;
+    unsigned char *chunks;
+    /* failure: this rank's message, and whether another rank said STOP */
+    char err[1536];
+    int failed, stopped, stops_in;
+    /* progress: rank 0's view of every rank */
+    int sent, *done, *received;
+    double t_start, t_phase, secs[3]; /* read, encode, write seconds */
+    double last_line;
+    double step_bytes;     /* input bytes per output step (for MB/s) */
+    char *tmp;             /* rank 0: the temporary output */
+} rank;
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void fail(rank *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void fail(rank *r, const char *fmt, ...)
+{
+    if (r->failed)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(r->err, sizeof r->err, fmt, ap);
+    va_end(ap);
+    r->failed = 1;
+    /* tell every other rank to stop at its next step */
+    for (int p = 0; p < r->np; p++)
+        if (p != r->me) {
+            MPI_Request q;
+            MPI_Isend(&r->me, 1, MPI_INT, p, TAG_STOP, MPI_COMM_WORLD, &q);
+            MPI_Request_free(&q);
+        }
+}
+
+/* ------------------------------------------------------------ progress */
+
+static void show(rank *r, int phase, int final)
+{
+    if (r->me || phase < 0 || vsv_cli_quiet())
+        return;
+    int done = 0;
+    for (int p = 0; p < r->np; p++)
+        done += r->done[p];
+    const double el = now() - r->t_phase, t = now();
+    const int tty = isatty(2);
+    /* a bar on a terminal; a line every 30 s in a batch job's log */
+    if (!tty && !final && t - r->last_line < 30)
+        return;
+    if (!tty && final && t - r->t_start < 30)
+        return;
+    r->last_line = t;
+    /* MB/s of model input converted (the run's bytes per output step) */
+    const double mb = (double)done * r->step_bytes;
+    char rate[64] = "", eta[32] = "";
+    if (el > 0 && done > 0) {
+        snprintf(rate, sizeof rate, ", %.1f MB/s", mb / el / 1e6);
+        const double left = el / done * (r->nsteps - done);
+        snprintf(eta, sizeof eta, ", %d:%02d left", (int)left / 60, (int)left % 60);
+    }
+    const char *what = phase == PHASE_READ ? "reading" : "encoding";
+    if (tty) {
+        const int width = 30, fill = r->nsteps ? (int)((long long)done * width / r->nsteps) : width;
+        fprintf(stderr, "\rvsv-convert-mpi: %-8s [%.*s%*s] %d/%d steps%s%s   ", what, fill,
+                "##############################", width - fill, "", done, r->nsteps, rate, final ? "" : eta);
+        if (final)
+            fputc('\n', stderr);
+    } else {
+        fprintf(stderr, "vsv-convert-mpi: %s %d/%d steps%s%s\n", what, done, r->nsteps, rate, final ? "" : eta);
+    }
+    fflush(stderr);
+}
+
+/* Rank 0 takes in the progress messages waiting; every rank notices STOP. */
+static void poll(rank *r, int phase)
+{
+    int flag;
+    MPI_Status st;
+    for (;;) {
+        MPI_Iprobe(MPI_ANY_SOURCE, TAG_STOP, MPI_COMM_WORLD, &flag, &st);
+        if (!flag)
+            break;
+        int who;
+        MPI_Recv(&who, 1, MPI_INT, st.MPI_SOURCE, TAG_STOP, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        r->stopped = 1;
+        r->stops_in++;
+    }
+    if (r->me)
+        return;
+    int any = 0;
+    for (;;) {
+        MPI_Iprobe(MPI_ANY_SOURCE, TAG_PROGRESS, MPI_COMM_WORLD, &flag, &st);
+        if (!flag)
+            break;
+        int n;
+        MPI_Recv(&n, 1, MPI_INT, st.MPI_SOURCE, TAG_PROGRESS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        r->done[st.MPI_SOURCE] = n;
+        r->received[st.MPI_SOURCE]++;
+        any = 1;
+    }
+    if (any)
+        show(r, phase, 0);
+}
+
+/* A step of this rank is done: tell rank 0 (its own count it keeps). */
+static void step_done(rank *r, int phase, int n)
+{
+    if (r->me) {
+        MPI_Request q;
+        static int counts[2][4096]; /* send buffers stay valid until the message went */
+        int *slot = &counts[phase][r->sent % 4096];
+        *slot = n;
+        MPI_Isend(slot, 1, MPI_INT, 0, TAG_PROGRESS, MPI_COMM_WORLD, &q);
+        MPI_Request_free(&q);
+        r->sent++;
+    } else {
+        r->done[0] = n;
+        show(r, phase, 0);
+    }
+    poll(r, phase);
+}
+
+/* The end of a phase: every rank says whether it failed and how many
+ * progress messages it sent; rank 0 keeps taking them in while it waits, and
+ * every message still under way is received before anyone goes on (none
+ * is left behind). Returns the lowest rank that failed, or -1. */
+static int agree(rank *r, int phase)
+{
+    int mine[2] = {r->failed, r->sent}, *all = malloc(2 * (size_t)r->np * sizeof *all);
+    MPI_Request q;
+    MPI_Iallgather(mine, 2, MPI_INT, all, 2, MPI_INT, MPI_COMM_WORLD, &q);
+    for (;;) {
+        int flag;
+        MPI_Test(&q, &flag, MPI_STATUS_IGNORE);
+        if (flag)
+            break;
+        poll(r, phase);
+        usleep(1000);
+    }
+    int first = -1;
+    for (int p = r->np - 1; p >= 0; p--)
+        if (all[2 * p])
+            first = p;
+    /* the rest of the progress messages, and one STOP from each failed rank */
+    if (!r->me)
+        for (int p = 1; p < r->np; p++)
+            while (r->received[p] < all[2 * p + 1]) {
+                MPI_Recv(&r->done[p], 1, MPI_INT, p, TAG_PROGRESS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+                r->received[p]++;
+            }
+    int stops = 0;
+    for (int p = 0; p < r->np; p++)
+        stops += p != r->me && all[2 * p];
+    while (r->stops_in < stops) {
+        int who;
+        MPI_Recv(&who, 1, MPI_INT, MPI_ANY_SOURCE, TAG_STOP, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
+        r->stops_in++;
+    }
+    free(all);
+    if (first < 0)
+        show(r, phase, 1);
+    for (int p = 0; p < r->np; p++)
+        r->done[p] = 0;
+    return first;
+}
+
+/* ------------------------------------------------------------- helpers */
+
+/* Exits 1 on every rank after a failure the agreement found: the first
+ * failed rank says what went wrong, rank 0 removes the temporary output. */
+_Noreturn static void give_up(rank *r, int first)
+{
+    if (r->me == first) {
+        fflush(stdout);
+        fprintf(stderr, "vsv-convert-mpi: rank %d: %s\n", first, r->err);
+    }
+    if (!r->me && r->tmp)
+        unlink(r->tmp);
+    exit(1);
+}
+
+static void check(rank *r, int phase)
+{
+    const int first = agree(r, phase);
+    if (first >= 0)
+        give_up(r, first);
+}
+
+static void finalize_at_exit(void)
+{
+    int done = 0;
+    MPI_Finalized(&done);
+    if (!done)
+        MPI_Finalize();
+}
+
+/* Ranks other than 0 keep quiet while the command line is read: every rank
+ * parses it (and exits alike on --help or a usage error), one speaks. */
+static void quiet_others(int me, int on)
+{
+    static int saved[2] = {-1, -1};
+    if (!me)
+        return;
+    fflush(stdout);
+    fflush(stderr);
+    for (int fd = 1; fd <= 2; fd++)
+        if (on) {
+            saved[fd - 1] = dup(fd);
+            int nul = open("/dev/null", O_WRONLY);
+            if (nul >= 0) {
+                dup2(nul, fd);
+                close(nul);
+            }
+        } else if (saved[fd - 1] >= 0) {
+            dup2(saved[fd - 1], fd);
+            close(saved[fd - 1]);
+        }
+}
+
+/* An unlinked temporary file in $TMPDIR (node-local on most clusters). */
+static int local_temp(rank *r, const char *what)
+{
+    const char *dir = getenv("TMPDIR");
+    if (!dir || !*dir)
+        dir = "/tmp";
+    char name[4096];
+    snprintf(name, sizeof name, "%s/vsv-convert-mpi.%s.XXXXXX", dir, what);
+    int fd = mkstemp(name);
+    if (fd < 0) {
+        fail(r, "%s: cannot create a %s file: %s", dir, what, strerror(errno));
+        return -1;
+    }
+    unlink(name);
+    return fd;
+}
+
+static int write_all(int fd, const void *p, size_t n)
+{
+    const unsigned char *c = p;
+    while (n) {
+        ssize_t k = write(fd, c, n > (1u << 30) ? (1u << 30) : n);
+        if (k < 0) {
+            if (errno == EINTR)
+                continue;
+            return -1;
+        }
+        c += k;
+        n -= (size_t)k;
+    }
+    return 0;
+}
+
+static void mpi_fail(rank *r, int code, const char *what)
+{
+    char msg[MPI_MAX_ERROR_STRING];
+    int len = 0;
+    MPI_Error_string(code, msg, &len);
+    fail(r, "%s: %s: %s", r->a.out, what, msg);
+}
+
+/* ------------------------------------------------------ the steps' plan */
+
+typedef struct steps {
+    int64_t *t;
+    int n, cap;
+} steps;
+
+static int add_time(void *p, int64_t t, const float *const *fields)
+{
+    (void)fields;
+    steps *s = p;
+    if (s->n == s->cap) {
+        int cap = s->cap ? 2 * s->cap : 1024;
+        int64_t *nt = cap > 0 ? realloc(s->t, (size_t)cap * sizeof *nt) : NULL;
+        if (!nt)
+            return VSV_ENOMEM;
+        s->t = nt;
+        s->cap = cap;
+    }
+    s->t[s->n++] = t;
+    return s->n > 10000000 ? VSV_ERANGE : 0;
+}
+
+/* The output times of the whole run, from the interpolation itself run
+ * over the input times alone (no data read), so they are vsv-convert's;
+ * then this rank's share of the steps and the input frames
+ * they need. */
+static void plan_steps(rank *r, int *dropped)
+{
+    const int n = vsv_run_nframes(r->run);
+    steps s = {0};
+    int rc = 0;
+    *dropped = 0;
+    if (!r->a.dt) {
+        for (int i = 0; i < n && !rc; i++)
+            rc = add_time(&s, vsv_run_time(r->run, i), NULL);
+    } else {
+        vsv_interp *ip = NULL;
+        rc = vsv_interp_create(r->a.dt, 0, 0, add_time, &s, &ip);
+        if (!rc)
+            vsv_interp_set_origin(ip, vsv_run_time(r->run, 0));
+        for (int i = 0; i < n && !rc; i++)
+            rc = vsv_interp_push(ip, vsv_run_time(r->run, i), NULL);
+        *dropped = vsv_interp_dropped(ip);
+        vsv_interp_free(ip);
+    }
+    if (rc) {
+        free(s.t);
+        fail(r, "%s", rc == VSV_ERANGE ? "more than 10000000 output steps" : "out of memory");
+        return;
+    }
+    r->times = s.t;
+    r->nsteps = s.n;
+    /* an even share of the steps; a share that starts inside a keyframe
+     * group also makes the step before it (its first chunk is a delta) */
+    const int K = r->a.pack.opts.keyframe > 0 ? r->a.pack.opts.keyframe : 8;
+    r->s0 = (int)((long long)r->nsteps * r->me / r->np);
+    r->s1 = (int)((long long)r->nsteps * (r->me + 1) / r->np);
+    r->lead = r->s0 < r->s1 && r->s0 % K ? 1 : 0;
+    r->f0 = 0;
+    r->f1 = -1;
+    if (r->s0 < r->s1) {
+        /* the last input at or before the first step, the first at or after the last */
+        int a = 0, b = n - 1;
+        while (a + 1 < n && vsv_run_time(r->run, a + 1) <= r->times[r->s0 - r->lead])
+            a++;
+        while (b > 0 && vsv_run_time(r->run, b - 1) >= r->times[r->s1 - 1])
+            b--;
+        r->f0 = a;
+        r->f1 = b;
+    }
+    r->step_bytes = r->nsteps ? (double)vsv_run_input_bytes(r->run) / r->nsteps : 0;
+}
+
+/* --------------------------------------------------------------- phases */
+
+/* Receives the frames of the rank's input range: keeps those of its steps. */
+static int keep(void *p, int64_t t, const float *const *fields)
+{
+    rank *r = p;
+    if (r->stopped)
+        return VSV_EAGAIN;
+    if (t < r->times[r->s0 - r->lead] || t > r->times[r->s1 - 1])
+        return 0;
+    const int s = r->s0 - r->lead + r->spooled;
+    if (s >= r->s1 || r->times[s] != t) {
+        fail(r, "internal error: frame at %lld is not step %d", (long long)t, s);
+        return VSV_EINVAL;
+    }
+    if (s >= r->s0) /* the step before the share is another rank's */
+        vsv_pack_stats_add(r->st, r->meta->nvars, r->cells, fields);
+    for (int v = 0; v < r->meta->nvars; v++)
+        if (write_all(r->spool_fd, fields[v], r->cells * sizeof(float))) {
+            fail(r, "writing the spool file: %s", strerror(errno));
+            return VSV_EIO;
+        }
+    r->spooled++;
+    if (s >= r->s0)
+        step_done(r, PHASE_READ, s - r->s0 + 1);
+    return r->stopped ? VSV_EAGAIN : 0;
+}
+
+static void read_phase(rank *r)
+{
+    r->t_phase = now();
+    const int nv = r->meta->nvars;
+    r->st = calloc((size_t)nv, sizeof *r->st);
+    float **fields = calloc((size_t)nv, sizeof *fields);
+    if (!r->st || !fields)
+        fail(r, "out of memory");
+    for (int v = 0; !r->failed && v < nv; v++)
+        if (!(fields[v] = malloc(r->cells * sizeof(float))))
+            fail(r, "out of memory");
+    if (!r->failed) {
+        vsv_pack_stats_init(r->st, nv);
+        r->spool_fd = local_temp(r, "spool");
+    }
+    if (!r->failed && r->s0 < r->s1) {
+        int bad, dropped;
+        if (vsv_convert_frames(r->run, r->a.dt, r->f0, r->f1, fields, keep, r, NULL, &bad, &dropped) &&
+            !r->stopped) {
+            if (bad >= 0)
+                fail(r, "%s", vsv_run_error(r->run));
+            else if (bad == -2)
+                fail(r, "out of memory");
+        }
+        if (!r->failed && !r->stopped && r->spooled != r->s1 - r->s0 + r->lead)
+            fail(r, "internal error: %d of steps %d..%d made", r->spooled, r->s0, r->s1 - 1);
+    }
+    for (int v = 0; fields && v < nv; v++)
+        free(fields[v]);
+    free(fields);
+    r->secs[0] = now() - r->t_phase;
+}
+
+/* The value ranges of every rank's steps, merged on all ranks. */
+static void merge_stats(rank *r)
+{
+    const int nv = r->meta->nvars;
+    double *d = malloc(3 * (size_t)nv * sizeof *d);
+    uint64_t *u = malloc((size_t)nv * sizeof *u);
+    for (int v = 0; v < nv; v++) {
+        d[v] = r->st[v].min;
+        d[nv + v] = -r->st[v].max;
+        d[2 * nv + v] = r->st[v].minpos;
+        u[v] = r->st[v].nonfinite;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, d, 3 * nv, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD);
+    MPI_Allreduce(MPI_IN_PLACE, u, nv, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    for (int v = 0; v < nv; v++)
+        r->st[v] = (vsv_pack_stats){d[v], -d[nv + v], d[2 * nv + v], u[v]};
+    free(d);
+    free(u);
+}
+
+static void encode_phase(rank *r, const vsv_pack_plan *plan)
+{
+    r->t_phase = now();
+    const int nv = r->meta->nvars, n = r->s1 - r->s0;
+    r->sizes = calloc((size_t)n + 1, sizeof *r->sizes);
+    const float **cur = malloc(2 * ((size_t)nv + 1) * sizeof *cur), **prev = cur ? cur + nv + 1 : NULL;
+    vsv_chunk_encoder *e = NULL;
+    if (!r->sizes || !cur || vsv_chunk_encoder_create(plan, &e))
+        fail(r, "out of memory");
+    if (!r->failed)
+        r->chunk_fd = local_temp(r, "chunks");
+    if (!r->failed && n > 0) {
+        r->spool_bytes = (size_t)(n + r->lead) * nv * r->cells * sizeof(float);
+        void *map = mmap(NULL, r->spool_bytes, PROT_READ, MAP_PRIVATE, r->spool_fd, 0);
+        if (map == MAP_FAILED)
+            fail(r, "mapping the spool file: %s", strerror(errno));
+        else
+            r->spool = map;
+    }
+    for (int i = 0; !r->failed && !r->stopped && i < n; i++) {
+        const int k = i + r->lead; /* the step's frame in the spool */
+        for (int v = 0; v < nv; v++) {
+            cur[v] = r->spool + ((size_t)k * nv + v) * r->cells;
+            prev[v] = k ? cur[v] - (size_t)nv * r->cells : NULL;
+        }
+        const unsigned char *bytes;
+        size_t size;
+        if (vsv_chunk_encode(e, r->s0 + i, r->times[r->s0 + i], cur, k ? prev : NULL, &bytes, &size)) {
+            fail(r, "encoding step %d: %s", r->s0 + i, vsv_chunk_encoder_error(e));
+            break;
+        }
+        if (write_all(r->chunk_fd, bytes, size)) {
+            fail(r, "writing the chunk spool file: %s", strerror(errno));
+            break;
+        }
+        r->sizes[i] = size;
+        r->chunk_bytes += size;
+        step_done(r, PHASE_ENCODE, i + 1);
+    }
+    vsv_chunk_encoder_free(e);
+    free(cur);
+    if (r->spool) {
+        munmap(r->spool, r->spool_bytes);
+        r->spool = NULL;
+    }
+    r->secs[1] = now() - r->t_phase;
+}
+
+/* Every rank writes its chunks at their offsets (collective writes of at
+ * most PIECE bytes, as many rounds on every rank), then rank 0 the
+ * metadata, the table of contents and the header. */
+static void write_phase(rank *r, vsv_pack_plan *plan)
+{
+    r->t_phase = now();
+    const int n = r->s1 - r->s0;
+    uint64_t base = 0;
+    MPI_Exscan(&r->chunk_bytes, &base, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
+    if (!r->me)
+        base = 0;
+    base += vsv_pack_plan_first_chunk(plan);
+    /* rank 0 gathers every chunk's size for the table of contents */
+    int *counts = NULL, *displs = NULL;
+    uint64_t *all = NULL;
+    if (!r->me) {
+        counts = calloc((size_t)r->np, sizeof *counts);
+        displs = calloc((size_t)r->np, sizeof *displs);
+        all = calloc((size_t)r->nsteps + 1, sizeof *all);
+    }
+    MPI_Gather(&n, 1, MPI_INT, counts, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!r->me)
+        for (int p = 1; p < r->np; p++)
+            displs[p] = displs[p - 1] + counts[p - 1];
+    MPI_Gatherv(r->sizes, n, MPI_UINT64_T, all, counts, displs, MPI_UINT64_T, 0, MPI_COMM_WORLD);
+
+    MPI_File fh;
+    int rc = MPI_File_open(MPI_COMM_WORLD, r->tmp ? r->tmp : "", MPI_MODE_WRONLY, MPI_INFO_NULL, &fh);
+    if (rc != MPI_SUCCESS) {
+        mpi_fail(r, rc, "opening the temporary output");
+        free(counts);
+        free(displs);
+        free(all);
+        return;
+    }
+    MPI_File_set_errhandler(fh, MPI_ERRORS_RETURN);
+    unsigned char *chunks = NULL;
+    if (r->chunk_bytes) {
+        void *map = mmap(NULL, r->chunk_bytes, PROT_READ, MAP_PRIVATE, r->chunk_fd, 0);
+        if (map == MAP_FAILED)
+            fail(r, "mapping the chunk spool file: %s", strerror(errno));
+        else
+            chunks = map;
+    }
+    long long rounds = chunks ? (long long)((r->chunk_bytes + PIECE - 1) / PIECE) : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &rounds, 1, MPI_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
+    for (long long i = 0; i < rounds; i++) {
+        const uint64_t at = (uint64_t)i * PIECE;
+        size_t len = chunks && at < r->chunk_bytes ? (size_t)(r->chunk_bytes - at) : 0;
+        if (len > PIECE)
+            len = PIECE;
+        if (r->failed)
+            len = 0; /* still in every round, so no rank waits for it */
+        MPI_Status st;
+        rc = MPI_File_write_at_all(fh, (MPI_Offset)(base + at), chunks ? chunks + at : NULL, (int)len, MPI_BYTE, &st);
+        int got = 0;
+        if (rc == MPI_SUCCESS)
+            MPI_Get_count(&st, MPI_BYTE, &got);
+        if (rc != MPI_SUCCESS)
+            mpi_fail(r, rc, "writing the chunks");
+        else if ((size_t)got != len)
+            fail(r, "%s: writing the chunks: %d of %zu bytes written", r->a.out, got, len);
+    }
+    if (chunks)
+        munmap(chunks, r->chunk_bytes);
+    if ((rc = MPI_File_sync(fh)) != MPI_SUCCESS)
+        mpi_fail(r, rc, "syncing the chunks");
+    if (!r->me && !r->failed) {
+        /* the table of contents last, then the header that points to it */
+        const size_t tail_bytes = vsv_pack_tail_bytes(r->nsteps);
+        unsigned char *tail = malloc(tail_bytes), head[128];
+        uint64_t tail_off = 0;
+        if (!tail)
+            fail(r, "out of memory");
+        else if (vsv_pack_plan_finish(plan, r->nsteps, r->times, all, head, tail, &tail_off))
+            fail(r, "%s: %s", r->a.out, vsv_pack_plan_error(plan));
+        const uint64_t first = vsv_pack_plan_first_chunk(plan);
+        MPI_Status st;
+        if (!r->failed &&
+            ((rc = MPI_File_write_at(fh, 128, vsv_pack_plan_meta_bytes(plan), (int)(first - 128), MPI_BYTE, &st)) ||
+             (rc = MPI_File_write_at(fh, (MPI_Offset)tail_off, tail, (int)tail_bytes, MPI_BYTE, &st)) ||
+             (rc = MPI_File_write_at(fh, 0, head, 128, MPI_BYTE, &st))))
+            mpi_fail(r, rc, "writing the table of contents and the header");
+        free(tail);
+    }
+    if ((rc = MPI_File_sync(fh)) != MPI_SUCCESS)
+        mpi_fail(r, rc, "syncing the file");
+    if ((rc = MPI_File_close(&fh)) != MPI_SUCCESS)
+        mpi_fail(r, rc, "closing the file");
+    free(counts);
+    free(displs);
+    free(all);
+    r->secs[2] = now() - r->t_phase;
+}
+
+/* Rank 0 renames the complete file into place. */
+static void publish(rank *r)
+{
+    int ok = 1;
+    if (!r->me) {
+        if (rename(r->tmp, r->a.out)) {
+            fail(r, "%s: renaming the temporary output into place: %s", r->a.out, strerror(errno));
+            ok = 0;
+        } else {
+            free(r->tmp);
+            r->tmp = NULL;
+            char *dir = strdup(r->a.out);
+            int dfd = dir ? open(dirname(dir), O_RDONLY | O_DIRECTORY) : -1;
+            if (dfd >= 0) {
+                fsync(dfd);
+                close(dfd);
+            }
+            free(dir);
+        }
+    }
+    MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (!ok)
+        give_up(r, 0);
+}
+
+static void print_stats(rank *r, double wall)
+{
+    double mine[4] = {r->secs[0], r->secs[1], r->secs[2], (double)(r->s1 - r->s0)};
+    double *all = r->me ? NULL : malloc(4 * (size_t)r->np * sizeof *all);
+    MPI_Gather(mine, 4, MPI_DOUBLE, all, 4, MPI_DOUBLE, 0, MPI_COMM_WORLD);
+    uint64_t out = 0;
+    MPI_Reduce(&r->chunk_bytes, &out, 1, MPI_UINT64_T, MPI_SUM, 0, MPI_COMM_WORLD);
+    if (r->me)
+        return;
+    printf("rank  steps   read s  encode s  write s\n");
+    for (int p = 0; p < r->np; p++)
+        printf("%4d  %5.0f  %7.2f  %8.2f  %7.2f\n", p, all[4 * p + 3], all[4 * p], all[4 * p + 1], all[4 * p + 2]);
+    printf("%d steps on %d ranks in %.2f s: %.1f MB of model input, %.1f MB of chunks, %.2f steps/s\n", r->nsteps,
+           r->np, wall, (double)vsv_run_input_bytes(r->run) / 1e6, (double)out / 1e6, r->nsteps / wall);
+    free(all);
+}
+
+/* Rank 0 makes the temporary output beside OUT (so the rename is atomic)
+ * and tells the others its name. */
+static void make_output(rank *r)
+{
+    int len = 0;
+    char *name = NULL;
+    if (!r->me) {
+        size_t n = strlen(r->a.out) + 16;
+        name = malloc(n);
+        snprintf(name, n, "%s.tmp.XXXXXX", r->a.out);
+        int fd = mkstemp(name);
+        if (fd < 0) {
+            fail(r, "%s: cannot create a temporary file beside it: %s", r->a.out, strerror(errno));
+            free(name);
+            name = NULL;
+        } else {
+            mode_t um = umask(0);
+            umask(um);
+            fchmod(fd, 0666 & ~um);
+            close(fd);
+            r->tmp = name;
+            len = (int)strlen(name) + 1;
+        }
+    }
+    MPI_Bcast(&len, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (r->me && len) {
+        r->tmp = malloc((size_t)len); /* every rank opens it; rank 0 removes it */
+        if (!r->tmp)
+            MPI_Abort(MPI_COMM_WORLD, 1);
+    }
+    if (len)
+        MPI_Bcast(r->tmp, len, MPI_CHAR, 0, MPI_COMM_WORLD);
+}
+
+int main(int argc, char **argv)
+{
+    MPI_Init(&argc, &argv);
+    atexit(finalize_at_exit);
+    static rank R;
+    rank *r = &R;
+    MPI_Comm_rank(MPI_COMM_WORLD, &r->me);
+    MPI_Comm_size(MPI_COMM_WORLD, &r->np);
+    r->spool_fd = r->chunk_fd = -1;
+    r->t_start = now();
+    r->done = calloc((size_t)r->np, sizeof *r->done);
+    r->received = calloc((size_t)r->np, sizeof *r->received);
+    vsv_cli_init("vsv-convert-mpi");
+    vsv_vdb_source_register(); /* .vdb sequences too (interop/), as vsv-convert */
+    quiet_others(r->me, 1);
+    vsv_convert_args_parse(&r->a, argc, argv, usage, 1);
+    quiet_others(r->me, 0);
+    if (r->me)
+        vsv_cli_set_quiet(1);
+
+    if (vsv_run_open(r->a.inputs, r->a.ninputs, &r->a.so, r->a.vars, r->a.times, &r->run))
+        fail(r, "%s", vsv_run_error(r->run));
+    check(r, -1);
+    r->meta = vsv_run_meta(r->run);
+    r->cells = (size_t)r->meta->nx * r->meta->ny * r->meta->nz;
+    quiet_others(r->me, 1);
+    vsv_cli_pack_resolve(&r->a.pack, r->meta);
+    quiet_others(r->me, 0);
+    int dropped = 0;
+    plan_steps(r, &dropped);
+    make_output(r);
+    check(r, -1);
+    if (!r->me && dropped && !vsv_cli_quiet())
+        fprintf(stderr, "vsv-convert-mpi: note: %d of %d model times lie between the steps every %s from the first "
+                "and are not kept themselves\n", dropped, vsv_run_nframes(r->run), r->a.res_text);
+
+    read_phase(r);
+    check(r, PHASE_READ);
+    merge_stats(r);
+    vsv_pack_plan *plan = NULL;
+    if (vsv_pack_plan_create(r->meta, &r->a.pack.opts, r->st, &plan))
+        fail(r, "%s: %s", r->a.out, vsv_pack_plan_error(plan));
+    check(r, -1);
+    encode_phase(r, plan);
+    check(r, PHASE_ENCODE);
+    write_phase(r, plan);
+    check(r, -1);
+    publish(r);
+    if (r->a.stats)
+        print_stats(r, now() - r->t_start);
+    vsv_pack_plan_free(plan);
+    if (r->spool_fd >= 0)
+        close(r->spool_fd);
+    if (r->chunk_fd >= 0)
+        close(r->chunk_fd);
+    free(r->a.pack.opts.vars);
+    free(r->times);
+    free(r->sizes);
+    free(r->st);
+    free(r->done);
+    free(r->received);
+    free(r->tmp);
+    vsv_run_free(r->run);
+    return 0;
+}
