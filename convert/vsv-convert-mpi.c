@@ -47,7 +47,9 @@ typedef struct rank {
     int me, np;
     vsv_convert_args a;
     vsv_run *run;
-    const vsv_meta *meta;
+    const vsv_meta *in;    /* the run's variables (with advect, the winds too) */
+    vsv_meta out;          /* those of the frames made: the file's */
+    const vsv_meta *meta;  /* = &out */
     size_t cells;
     int nsteps;            /* output steps of the whole run */
     int64_t *times;        /* their times */
@@ -430,8 +432,8 @@ static int keep(void *p, int64_t t, const float *const *fields)
 static void read_phase(rank *r)
 {
     r->t_phase = now();
-    const int nv = r->meta->nvars;
-    r->st = calloc((size_t)nv, sizeof *r->st);
+    const int nv = r->in->nvars;
+    r->st = calloc((size_t)r->meta->nvars, sizeof *r->st);
     float **fields = calloc((size_t)nv, sizeof *fields);
     if (!r->st || !fields)
         fail(r, "out of memory");
@@ -439,7 +441,7 @@ static void read_phase(rank *r)
         if (!(fields[v] = malloc(r->cells * sizeof(float))))
             fail(r, "out of memory");
     if (!r->failed) {
-        vsv_pack_stats_init(r->st, nv);
+        vsv_pack_stats_init(r->st, r->meta->nvars);
         r->spool_fd = local_temp(r, "spool");
     }
     if (!r->failed && r->s0 < r->s1) {
@@ -722,9 +724,13 @@ int main(int argc, char **argv)
     if (vsv_run_open(r->a.inputs, r->a.ninputs, &r->a.so, r->a.vars, r->a.times, &r->run))
         fail(r, "%s", vsv_run_error(r->run));
     check(r, -1);
-    r->meta = vsv_run_meta(r->run);
-    r->cells = (size_t)r->meta->nx * r->meta->ny * r->meta->nz;
+    /* with --interp advect the run reads the winds too; the frames made, and
+     * the file, have the species only (vsv_convert_setup, as vsv-convert) */
     quiet_others(r->me, 1);
+    vsv_convert_setup(&r->a, r->run, &r->out);
+    r->in = vsv_run_meta(r->run);
+    r->meta = &r->out;
+    r->cells = (size_t)r->meta->nx * r->meta->ny * r->meta->nz;
     vsv_cli_pack_resolve(&r->a.pack, r->meta);
     quiet_others(r->me, 0);
     int dropped = 0;
@@ -761,6 +767,7 @@ int main(int argc, char **argv)
     free(r->done);
     free(r->received);
     free(r->tmp);
+    vsv_meta_clear(&r->out);
     vsv_run_free(r->run);
     return 0;
 }
