@@ -149,7 +149,7 @@ TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv
            $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/interop/vsv-export.o
 $(TOOL_OBJ): XINC = -Icli
 $(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
-$(B)/convert/vsv-convert-mpi.o: XINC = -Icli -Iinterop $(MPI_CFLAGS)
+$(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o: XINC = -Icli -Iinterop $(MPI_CFLAGS)
 
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
@@ -272,8 +272,8 @@ $(B)/vsv-extract: $(B)/convert/vsv-extract.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) 
 $(B)/vsv-convert: $(B)/convert/vsv-convert.o $(B)/convert/vsv_convert_cli.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
-$(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_convert_cli.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) \
-                     $(CORE_A)
+$(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o $(B)/convert/vsv_convert_cli.o $(CLI_A) \
+                     $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT) $(MPI_LIBS)
 $(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)

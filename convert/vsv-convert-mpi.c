@@ -12,21 +12,19 @@
  * failure on any rank stops every rank (a STOP message between steps, an
  * agreement at the end of each phase): one message names the rank and the
  * file, nothing is left behind, and every rank exits 1. */
-#include "vsv_convert_cli.h"
+#include "vsv_mpi_cli.h"
 #include "vsv_vdb.h"
 
 #include <errno.h>
 #include <fcntl.h>
 #include <libgen.h>
-#include <math.h>
-#include <mpi.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
-#include <time.h>
 #include <unistd.h>
+
+#define PIECE ((size_t)64 << 20) /* bytes per collective write */
 
 static const char usage[] =
     "Usage: mpirun -np N vsv-convert-mpi [OPTIONS] FILE... -o OUT.vsv\n"
@@ -38,294 +36,6 @@ static const char usage[] =
     "of each rank's node; each rank encodes on one thread (run one rank a core).\n"
     "\n";
 
-enum { TAG_PROGRESS = 1, TAG_STOP = 2 };
-enum { PHASE_READ = 0, PHASE_ENCODE = 1 };
-#define PIECE ((size_t)64 << 20) /* bytes per collective write */
-
-/* One rank's state. */
-typedef struct rank {
-    int me, np;
-    vsv_convert_args a;
-    vsv_run *run;
-    const vsv_meta *in;    /* the run's variables (with advect, the winds too) */
-    vsv_meta out;          /* those of the frames made: the file's */
-    const vsv_meta *meta;  /* = &out */
-    size_t cells;
-    int nsteps;            /* output steps of the whole run */
-    int64_t *times;        /* their times */
-    int s0, s1;            /* this rank's steps [s0, s1) */
-    int lead;              /* 1: step s0-1 is made too (s0 is not a keyframe) */
-    int f0, f1;            /* the input frames they need [f0, f1] */
-    /* reading: frames of [s0, s1) spooled to a local temporary file */
-    int spool_fd, spooled;
-    float *spool;
-    size_t spool_bytes;
-    vsv_pack_stats *st;
-    /* encoding: chunks spooled to a second local file */
-    int chunk_fd;
-    uint64_t *sizes, chunk_bytes;
-    unsigned char *chunks;
-    /* failure: this rank's message, and whether another rank said STOP */
-    char err[1536];
-    int failed, stopped, stops_in;
-    /* progress: rank 0's view of every rank */
-    int sent, *done, *received;
-    double t_start, t_phase, secs[3]; /* read, encode, write seconds */
-    double last_line;
-    double step_bytes;     /* input bytes per output step (for MB/s) */
-    char *tmp;             /* rank 0: the temporary output */
-} rank;
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static void fail(rank *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void fail(rank *r, const char *fmt, ...)
-{
-    if (r->failed)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(r->err, sizeof r->err, fmt, ap);
-    va_end(ap);
-    r->failed = 1;
-    /* tell every other rank to stop at its next step */
-    for (int p = 0; p < r->np; p++)
-        if (p != r->me) {
-            MPI_Request q;
-            MPI_Isend(&r->me, 1, MPI_INT, p, TAG_STOP, MPI_COMM_WORLD, &q);
-            MPI_Request_free(&q);
-        }
-}
-
-/* ------------------------------------------------------------ progress */
-
-static void show(rank *r, int phase, int final)
-{
-    if (r->me || phase < 0 || vsv_cli_quiet())
-        return;
-    int done = 0;
-    for (int p = 0; p < r->np; p++)
-        done += r->done[p];
-    const double el = now() - r->t_phase, t = now();
-    const int tty = isatty(2);
-    /* a bar on a terminal; a line every 30 s in a batch job's log */
-    if (!tty && !final && t - r->last_line < 30)
-        return;
-    if (!tty && final && t - r->t_start < 30)
-        return;
-    r->last_line = t;
-    /* MB/s of model input converted (the run's bytes per output step) */
-    const double mb = (double)done * r->step_bytes;
-    char rate[64] = "", eta[32] = "";
-    if (el > 0 && done > 0) {
-        snprintf(rate, sizeof rate, ", %.1f MB/s", mb / el / 1e6);
-        const double left = el / done * (r->nsteps - done);
-        snprintf(eta, sizeof eta, ", %d:%02d left", (int)left / 60, (int)left % 60);
-    }
-    const char *what = phase == PHASE_READ ? "reading" : "encoding";
-    if (tty) {
-        const int width = 30, fill = r->nsteps ? (int)((long long)done * width / r->nsteps) : width;
-        fprintf(stderr, "\rvsv-convert-mpi: %-8s [%.*s%*s] %d/%d steps%s%s   ", what, fill,
-                "##############################", width - fill, "", done, r->nsteps, rate, final ? "" : eta);
-        if (final)
-            fputc('\n', stderr);
-    } else {
-        fprintf(stderr, "vsv-convert-mpi: %s %d/%d steps%s%s\n", what, done, r->nsteps, rate, final ? "" : eta);
-    }
-    fflush(stderr);
-}
-
-/* Rank 0 takes in the progress messages waiting; every rank notices STOP. */
-static void poll(rank *r, int phase)
-{
-    int flag;
-    MPI_Status st;
-    for (;;) {
-        MPI_Iprobe(MPI_ANY_SOURCE, TAG_STOP, MPI_COMM_WORLD, &flag, &st);
-        if (!flag)
-            break;
-        int who;
-        MPI_Recv(&who, 1, MPI_INT, st.MPI_SOURCE, TAG_STOP, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        r->stopped = 1;
-        r->stops_in++;
-    }
-    if (r->me)
-        return;
-    int any = 0;
-    for (;;) {
-        MPI_Iprobe(MPI_ANY_SOURCE, TAG_PROGRESS, MPI_COMM_WORLD, &flag, &st);
-        if (!flag)
-            break;
-        int n;
-        MPI_Recv(&n, 1, MPI_INT, st.MPI_SOURCE, TAG_PROGRESS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        r->done[st.MPI_SOURCE] = n;
-        r->received[st.MPI_SOURCE]++;
-        any = 1;
-    }
-    if (any)
-        show(r, phase, 0);
-}
-
-/* A step of this rank is done: tell rank 0 (its own count it keeps). */
-static void step_done(rank *r, int phase, int n)
-{
-    if (r->me) {
-        MPI_Request q;
-        static int counts[2][4096]; /* send buffers stay valid until the message went */
-        int *slot = &counts[phase][r->sent % 4096];
-        *slot = n;
-        MPI_Isend(slot, 1, MPI_INT, 0, TAG_PROGRESS, MPI_COMM_WORLD, &q);
-        MPI_Request_free(&q);
-        r->sent++;
-    } else {
-        r->done[0] = n;
-        show(r, phase, 0);
-    }
-    poll(r, phase);
-}
-
-/* The end of a phase: every rank says whether it failed and how many
- * progress messages it sent; rank 0 keeps taking them in while it waits, and
- * every message still under way is received before anyone goes on (none
- * is left behind). Returns the lowest rank that failed, or -1. */
-static int agree(rank *r, int phase)
-{
-    int mine[2] = {r->failed, r->sent}, *all = malloc(2 * (size_t)r->np * sizeof *all);
-    MPI_Request q;
-    MPI_Iallgather(mine, 2, MPI_INT, all, 2, MPI_INT, MPI_COMM_WORLD, &q);
-    for (;;) {
-        int flag;
-        MPI_Test(&q, &flag, MPI_STATUS_IGNORE);
-        if (flag)
-            break;
-        poll(r, phase);
-        usleep(1000);
-    }
-    int first = -1;
-    for (int p = r->np - 1; p >= 0; p--)
-        if (all[2 * p])
-            first = p;
-    /* the rest of the progress messages, and one STOP from each failed rank */
-    if (!r->me)
-        for (int p = 1; p < r->np; p++)
-            while (r->received[p] < all[2 * p + 1]) {
-                MPI_Recv(&r->done[p], 1, MPI_INT, p, TAG_PROGRESS, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-                r->received[p]++;
-            }
-    int stops = 0;
-    for (int p = 0; p < r->np; p++)
-        stops += p != r->me && all[2 * p];
-    while (r->stops_in < stops) {
-        int who;
-        MPI_Recv(&who, 1, MPI_INT, MPI_ANY_SOURCE, TAG_STOP, MPI_COMM_WORLD, MPI_STATUS_IGNORE);
-        r->stops_in++;
-    }
-    free(all);
-    if (first < 0)
-        show(r, phase, 1);
-    for (int p = 0; p < r->np; p++)
-        r->done[p] = 0;
-    return first;
-}
-
-/* ------------------------------------------------------------- helpers */
-
-/* Exits 1 on every rank after a failure the agreement found: the first
- * failed rank says what went wrong, rank 0 removes the temporary output. */
-_Noreturn static void give_up(rank *r, int first)
-{
-    if (r->me == first) {
-        fflush(stdout);
-        fprintf(stderr, "vsv-convert-mpi: rank %d: %s\n", first, r->err);
-    }
-    if (!r->me && r->tmp)
-        unlink(r->tmp);
-    exit(1);
-}
-
-static void check(rank *r, int phase)
-{
-    const int first = agree(r, phase);
-    if (first >= 0)
-        give_up(r, first);
-}
-
-static void finalize_at_exit(void)
-{
-    int done = 0;
-    MPI_Finalized(&done);
-    if (!done)
-        MPI_Finalize();
-}
-
-/* Ranks other than 0 keep quiet while the command line is read: every rank
- * parses it (and exits alike on --help or a usage error), one speaks. */
-static void quiet_others(int me, int on)
-{
-    static int saved[2] = {-1, -1};
-    if (!me)
-        return;
-    fflush(stdout);
-    fflush(stderr);
-    for (int fd = 1; fd <= 2; fd++)
-        if (on) {
-            saved[fd - 1] = dup(fd);
-            int nul = open("/dev/null", O_WRONLY);
-            if (nul >= 0) {
-                dup2(nul, fd);
-                close(nul);
-            }
-        } else if (saved[fd - 1] >= 0) {
-            dup2(saved[fd - 1], fd);
-            close(saved[fd - 1]);
-        }
-}
-
-/* An unlinked temporary file in $TMPDIR (node-local on most clusters). */
-static int local_temp(rank *r, const char *what)
-{
-    const char *dir = getenv("TMPDIR");
-    if (!dir || !*dir)
-        dir = "/tmp";
-    char name[4096];
-    snprintf(name, sizeof name, "%s/vsv-convert-mpi.%s.XXXXXX", dir, what);
-    int fd = mkstemp(name);
-    if (fd < 0) {
-        fail(r, "%s: cannot create a %s file: %s", dir, what, strerror(errno));
-        return -1;
-    }
-    unlink(name);
-    return fd;
-}
-
-static int write_all(int fd, const void *p, size_t n)
-{
-    const unsigned char *c = p;
-    while (n) {
-        ssize_t k = write(fd, c, n > (1u << 30) ? (1u << 30) : n);
-        if (k < 0) {
-            if (errno == EINTR)
-                continue;
-            return -1;
-        }
-        c += k;
-        n -= (size_t)k;
-    }
-    return 0;
-}
-
-static void mpi_fail(rank *r, int code, const char *what)
-{
-    char msg[MPI_MAX_ERROR_STRING];
-    int len = 0;
-    MPI_Error_string(code, msg, &len);
-    fail(r, "%s: %s: %s", r->a.out, what, msg);
-}
 
 /* ------------------------------------------------------ the steps' plan */
 
@@ -375,7 +85,7 @@ static void plan_steps(rank *r, int *dropped)
     }
     if (rc) {
         free(s.t);
-        fail(r, "%s", rc == VSV_ERANGE ? "more than 10000000 output steps" : "out of memory");
+        rank_fail(r, "%s", rc == VSV_ERANGE ? "more than 10000000 output steps" : "out of memory");
         return;
     }
     r->times = s.t;
@@ -413,33 +123,33 @@ static int keep(void *p, int64_t t, const float *const *fields)
         return 0;
     const int s = r->s0 - r->lead + r->spooled;
     if (s >= r->s1 || r->times[s] != t) {
-        fail(r, "internal error: frame at %lld is not step %d", (long long)t, s);
+        rank_fail(r, "internal error: frame at %lld is not step %d", (long long)t, s);
         return VSV_EINVAL;
     }
     if (s >= r->s0) /* the step before the share is another rank's */
         vsv_pack_stats_add(r->st, r->meta->nvars, r->cells, fields);
     for (int v = 0; v < r->meta->nvars; v++)
         if (write_all(r->spool_fd, fields[v], r->cells * sizeof(float))) {
-            fail(r, "writing the spool file: %s", strerror(errno));
+            rank_fail(r, "writing the spool file: %s", strerror(errno));
             return VSV_EIO;
         }
     r->spooled++;
     if (s >= r->s0)
-        step_done(r, PHASE_READ, s - r->s0 + 1);
+        rank_step_done(r, PHASE_READ, s - r->s0 + 1);
     return r->stopped ? VSV_EAGAIN : 0;
 }
 
 static void read_phase(rank *r)
 {
-    r->t_phase = now();
+    r->t_phase = mpi_now();
     const int nv = r->in->nvars;
     r->st = calloc((size_t)r->meta->nvars, sizeof *r->st);
     float **fields = calloc((size_t)nv, sizeof *fields);
     if (!r->st || !fields)
-        fail(r, "out of memory");
+        rank_fail(r, "out of memory");
     for (int v = 0; !r->failed && v < nv; v++)
         if (!(fields[v] = malloc(r->cells * sizeof(float))))
-            fail(r, "out of memory");
+            rank_fail(r, "out of memory");
     if (!r->failed) {
         vsv_pack_stats_init(r->st, r->meta->nvars);
         r->spool_fd = local_temp(r, "spool");
@@ -449,17 +159,17 @@ static void read_phase(rank *r)
         if (vsv_convert_frames(r->run, r->a.dt, r->f0, r->f1, fields, keep, r, NULL, &bad, &dropped) &&
             !r->stopped) {
             if (bad >= 0)
-                fail(r, "%s", vsv_run_error(r->run));
+                rank_fail(r, "%s", vsv_run_error(r->run));
             else if (bad == -2)
-                fail(r, "out of memory");
+                rank_fail(r, "out of memory");
         }
         if (!r->failed && !r->stopped && r->spooled != r->s1 - r->s0 + r->lead)
-            fail(r, "internal error: %d of steps %d..%d made", r->spooled, r->s0, r->s1 - 1);
+            rank_fail(r, "internal error: %d of steps %d..%d made", r->spooled, r->s0, r->s1 - 1);
     }
     for (int v = 0; fields && v < nv; v++)
         free(fields[v]);
     free(fields);
-    r->secs[0] = now() - r->t_phase;
+    r->secs[0] = mpi_now() - r->t_phase;
 }
 
 /* The value ranges of every rank's steps, merged on all ranks. */
@@ -484,20 +194,20 @@ static void merge_stats(rank *r)
 
 static void encode_phase(rank *r, const vsv_pack_plan *plan)
 {
-    r->t_phase = now();
+    r->t_phase = mpi_now();
     const int nv = r->meta->nvars, n = r->s1 - r->s0;
     r->sizes = calloc((size_t)n + 1, sizeof *r->sizes);
     const float **cur = malloc(2 * ((size_t)nv + 1) * sizeof *cur), **prev = cur ? cur + nv + 1 : NULL;
     vsv_chunk_encoder *e = NULL;
     if (!r->sizes || !cur || vsv_chunk_encoder_create(plan, &e))
-        fail(r, "out of memory");
+        rank_fail(r, "out of memory");
     if (!r->failed)
         r->chunk_fd = local_temp(r, "chunks");
     if (!r->failed && n > 0) {
         r->spool_bytes = (size_t)(n + r->lead) * nv * r->cells * sizeof(float);
         void *map = mmap(NULL, r->spool_bytes, PROT_READ, MAP_PRIVATE, r->spool_fd, 0);
         if (map == MAP_FAILED)
-            fail(r, "mapping the spool file: %s", strerror(errno));
+            rank_fail(r, "mapping the spool file: %s", strerror(errno));
         else
             r->spool = map;
     }
@@ -510,16 +220,16 @@ static void encode_phase(rank *r, const vsv_pack_plan *plan)
         const unsigned char *bytes;
         size_t size;
         if (vsv_chunk_encode(e, r->s0 + i, r->times[r->s0 + i], cur, k ? prev : NULL, &bytes, &size)) {
-            fail(r, "encoding step %d: %s", r->s0 + i, vsv_chunk_encoder_error(e));
+            rank_fail(r, "encoding step %d: %s", r->s0 + i, vsv_chunk_encoder_error(e));
             break;
         }
         if (write_all(r->chunk_fd, bytes, size)) {
-            fail(r, "writing the chunk spool file: %s", strerror(errno));
+            rank_fail(r, "writing the chunk spool file: %s", strerror(errno));
             break;
         }
         r->sizes[i] = size;
         r->chunk_bytes += size;
-        step_done(r, PHASE_ENCODE, i + 1);
+        rank_step_done(r, PHASE_ENCODE, i + 1);
     }
     vsv_chunk_encoder_free(e);
     free(cur);
@@ -527,7 +237,7 @@ static void encode_phase(rank *r, const vsv_pack_plan *plan)
         munmap(r->spool, r->spool_bytes);
         r->spool = NULL;
     }
-    r->secs[1] = now() - r->t_phase;
+    r->secs[1] = mpi_now() - r->t_phase;
 }
 
 /* Every rank writes its chunks at their offsets (collective writes of at
@@ -535,7 +245,7 @@ static void encode_phase(rank *r, const vsv_pack_plan *plan)
  * metadata, the table of contents and the header. */
 static void write_phase(rank *r, vsv_pack_plan *plan)
 {
-    r->t_phase = now();
+    r->t_phase = mpi_now();
     const int n = r->s1 - r->s0;
     uint64_t base = 0;
     MPI_Exscan(&r->chunk_bytes, &base, 1, MPI_UINT64_T, MPI_SUM, MPI_COMM_WORLD);
@@ -559,7 +269,7 @@ static void write_phase(rank *r, vsv_pack_plan *plan)
     MPI_File fh;
     int rc = MPI_File_open(MPI_COMM_WORLD, r->tmp ? r->tmp : "", MPI_MODE_WRONLY, MPI_INFO_NULL, &fh);
     if (rc != MPI_SUCCESS) {
-        mpi_fail(r, rc, "opening the temporary output");
+        rank_mpi_fail(r, rc, "opening the temporary output");
         free(counts);
         free(displs);
         free(all);
@@ -570,7 +280,7 @@ static void write_phase(rank *r, vsv_pack_plan *plan)
     if (r->chunk_bytes) {
         void *map = mmap(NULL, r->chunk_bytes, PROT_READ, MAP_PRIVATE, r->chunk_fd, 0);
         if (map == MAP_FAILED)
-            fail(r, "mapping the chunk spool file: %s", strerror(errno));
+            rank_fail(r, "mapping the chunk spool file: %s", strerror(errno));
         else
             chunks = map;
     }
@@ -589,40 +299,40 @@ static void write_phase(rank *r, vsv_pack_plan *plan)
         if (rc == MPI_SUCCESS)
             MPI_Get_count(&st, MPI_BYTE, &got);
         if (rc != MPI_SUCCESS)
-            mpi_fail(r, rc, "writing the chunks");
+            rank_mpi_fail(r, rc, "writing the chunks");
         else if ((size_t)got != len)
-            fail(r, "%s: writing the chunks: %d of %zu bytes written", r->a.out, got, len);
+            rank_fail(r, "%s: writing the chunks: %d of %zu bytes written", r->a.out, got, len);
     }
     if (chunks)
         munmap(chunks, r->chunk_bytes);
     if ((rc = MPI_File_sync(fh)) != MPI_SUCCESS)
-        mpi_fail(r, rc, "syncing the chunks");
+        rank_mpi_fail(r, rc, "syncing the chunks");
     if (!r->me && !r->failed) {
         /* the table of contents last, then the header that points to it */
         const size_t tail_bytes = vsv_pack_tail_bytes(r->nsteps);
         unsigned char *tail = malloc(tail_bytes), head[128];
         uint64_t tail_off = 0;
         if (!tail)
-            fail(r, "out of memory");
+            rank_fail(r, "out of memory");
         else if (vsv_pack_plan_finish(plan, r->nsteps, r->times, all, head, tail, &tail_off))
-            fail(r, "%s: %s", r->a.out, vsv_pack_plan_error(plan));
+            rank_fail(r, "%s: %s", r->a.out, vsv_pack_plan_error(plan));
         const uint64_t first = vsv_pack_plan_first_chunk(plan);
         MPI_Status st;
         if (!r->failed &&
             ((rc = MPI_File_write_at(fh, 128, vsv_pack_plan_meta_bytes(plan), (int)(first - 128), MPI_BYTE, &st)) ||
              (rc = MPI_File_write_at(fh, (MPI_Offset)tail_off, tail, (int)tail_bytes, MPI_BYTE, &st)) ||
              (rc = MPI_File_write_at(fh, 0, head, 128, MPI_BYTE, &st))))
-            mpi_fail(r, rc, "writing the table of contents and the header");
+            rank_mpi_fail(r, rc, "writing the table of contents and the header");
         free(tail);
     }
     if ((rc = MPI_File_sync(fh)) != MPI_SUCCESS)
-        mpi_fail(r, rc, "syncing the file");
+        rank_mpi_fail(r, rc, "syncing the file");
     if ((rc = MPI_File_close(&fh)) != MPI_SUCCESS)
-        mpi_fail(r, rc, "closing the file");
+        rank_mpi_fail(r, rc, "closing the file");
     free(counts);
     free(displs);
     free(all);
-    r->secs[2] = now() - r->t_phase;
+    r->secs[2] = mpi_now() - r->t_phase;
 }
 
 /* Rank 0 renames the complete file into place. */
@@ -631,7 +341,7 @@ static void publish(rank *r)
     int ok = 1;
     if (!r->me) {
         if (rename(r->tmp, r->a.out)) {
-            fail(r, "%s: renaming the temporary output into place: %s", r->a.out, strerror(errno));
+            rank_fail(r, "%s: renaming the temporary output into place: %s", r->a.out, strerror(errno));
             ok = 0;
         } else {
             free(r->tmp);
@@ -647,7 +357,7 @@ static void publish(rank *r)
     }
     MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
     if (!ok)
-        give_up(r, 0);
+        rank_give_up(r, 0);
 }
 
 static void print_stats(rank *r, double wall)
@@ -679,7 +389,7 @@ static void make_output(rank *r)
         snprintf(name, n, "%s.tmp.XXXXXX", r->a.out);
         int fd = mkstemp(name);
         if (fd < 0) {
-            fail(r, "%s: cannot create a temporary file beside it: %s", r->a.out, strerror(errno));
+            rank_fail(r, "%s: cannot create a temporary file beside it: %s", r->a.out, strerror(errno));
             free(name);
             name = NULL;
         } else {
@@ -704,13 +414,13 @@ static void make_output(rank *r)
 int main(int argc, char **argv)
 {
     MPI_Init(&argc, &argv);
-    atexit(finalize_at_exit);
+    atexit(mpi_finalize_at_exit);
     static rank R;
     rank *r = &R;
     MPI_Comm_rank(MPI_COMM_WORLD, &r->me);
     MPI_Comm_size(MPI_COMM_WORLD, &r->np);
     r->spool_fd = r->chunk_fd = -1;
-    r->t_start = now();
+    r->t_start = mpi_now();
     r->done = calloc((size_t)r->np, sizeof *r->done);
     r->received = calloc((size_t)r->np, sizeof *r->received);
     vsv_cli_init("vsv-convert-mpi");
@@ -722,8 +432,8 @@ int main(int argc, char **argv)
         vsv_cli_set_quiet(1);
 
     if (vsv_run_open(r->a.inputs, r->a.ninputs, &r->a.so, r->a.vars, r->a.times, &r->run))
-        fail(r, "%s", vsv_run_error(r->run));
-    check(r, -1);
+        rank_fail(r, "%s", vsv_run_error(r->run));
+    rank_check(r, -1);
     /* with --interp advect the run reads the winds too; the frames made, and
      * the file, have the species only (vsv_convert_setup, as vsv-convert) */
     quiet_others(r->me, 1);
@@ -736,25 +446,25 @@ int main(int argc, char **argv)
     int dropped = 0;
     plan_steps(r, &dropped);
     make_output(r);
-    check(r, -1);
+    rank_check(r, -1);
     if (!r->me && dropped && !vsv_cli_quiet())
         fprintf(stderr, "vsv-convert-mpi: note: %d of %d model times lie between the steps every %s from the first "
                 "and are not kept themselves\n", dropped, vsv_run_nframes(r->run), r->a.res_text);
 
     read_phase(r);
-    check(r, PHASE_READ);
+    rank_check(r, PHASE_READ);
     merge_stats(r);
     vsv_pack_plan *plan = NULL;
     if (vsv_pack_plan_create(r->meta, &r->a.pack.opts, r->st, &plan))
-        fail(r, "%s: %s", r->a.out, vsv_pack_plan_error(plan));
-    check(r, -1);
+        rank_fail(r, "%s: %s", r->a.out, vsv_pack_plan_error(plan));
+    rank_check(r, -1);
     encode_phase(r, plan);
-    check(r, PHASE_ENCODE);
+    rank_check(r, PHASE_ENCODE);
     write_phase(r, plan);
-    check(r, -1);
+    rank_check(r, -1);
     publish(r);
     if (r->a.stats)
-        print_stats(r, now() - r->t_start);
+        print_stats(r, mpi_now() - r->t_start);
     vsv_pack_plan_free(plan);
     if (r->spool_fd >= 0)
         close(r->spool_fd);

@@ -54,8 +54,10 @@ check() {
         tool=0
         case $base in vsv-*.c | vsv_*_cli.[ch]) tool=1 ;; esac # programs, and code their tools share
         folders=$(sees "$dir" $tool)
-        # vsv-extract and vsv-convert read .vdb sequences through interop/
-        case $f in convert/vsv-extract.c | convert/vsv-convert.c) folders="$folders interop" ;; esac
+        # vsv-extract, vsv-convert (and -mpi) read .vdb sequences through interop/
+        case $f in convert/vsv-extract.c | convert/vsv-convert.c | convert/vsv-convert-mpi.c)
+            folders="$folders interop" ;;
+        esac
         bad=$(foreign "$dir")
         grep -n '^[[:space:]]*#[[:space:]]*include' "$root/$f" | while IFS= read -r line; do
             n=${line%%:*}
