@@ -406,7 +406,7 @@ fuzz:
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
 # `pkg-config --cflags --libs vesuvius`).
 PUBLIC_H = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
-           render/vsv_render.h interop/vsv_vdb.h
+           render/vsv_render.h interop/vsv_vdb.h interop/vsv_cf.h
 PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-interop
 pc_desc_vesuvius = The .vsv format (writer, reader, field stream, queries, projections) and the streaming pager
 pc_req_vesuvius =
@@ -420,7 +420,7 @@ pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, PNG and E
 pc_req_vesuvius-render = vesuvius
 pc_reqp_vesuvius-render = libpng OpenEXR
 pc_libsp_vesuvius-render = -lm -pthread
-pc_desc_vesuvius-interop = Vesuvius volumes to and from OpenVDB
+pc_desc_vesuvius-interop = Vesuvius volumes to and from OpenVDB, and out as CF netCDF
 pc_req_vesuvius-interop = vesuvius-convert vesuvius
 pc_reqp_vesuvius-interop = tbb blosc Imath
 pc_libsp_vesuvius-interop = $(OPENVDB_LIBS) -lstdc++

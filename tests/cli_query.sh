@@ -68,3 +68,40 @@ if [ -f "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" ]; then
     [ "$(wc -l < "$T/out")" = 5 ] && pass "one row per step" || fail "one row per step" "$(cat "$T/out")"
     has "Chicago is cell 127,85 (41.8363N 87.6066W)" "$T/out" "1995-10-24T03:00:00Z,127,85,"
 fi
+
+# the query API from the installed tree: <vesuvius/vsv_format.h> and pkg-config alone
+if make -s --no-print-directory B="$B" install PREFIX="$T/inst" > "$T/log" 2>&1; then
+    cat > "$T/q.c" <<'EOC'
+#include <vesuvius/vsv_format.h>
+#include <stdio.h>
+int main(int argc, char **argv)
+{
+    vsv_file *f = NULL;
+    vsv_query *q = NULL;
+    vsv_point p;
+    char msg[256];
+    float v = -1;
+    if (argc < 2 || vsv_file_open(argv[1], &f))
+        return 1;
+    const vsv_meta *m = vsv_file_meta(f);
+    if (vsv_point_locate(m, 46, -116, 3000, &p, msg, sizeof msg) || vsv_query_create(f, &q) ||
+        vsv_query_sample(q, 2, vsv_meta_find_var(m, "SNOW"), p.pos, VSV_INTERP_NEAREST, &v))
+        return 1;
+    printf("%d,%d,%d,%.9g\n", p.cell[0], p.cell[1], p.cell[2], v);
+    vsv_query_free(q);
+    vsv_file_free(f);
+    return 0;
+}
+EOC
+    if PKG_CONFIG_PATH="$T/inst/lib/pkgconfig" cc $SANFLAGS -o "$T/q" "$T/q.c" \
+        $(PKG_CONFIG_PATH="$T/inst/lib/pkgconfig" pkg-config --cflags --libs vesuvius) > "$T/cc" 2>&1; then
+        pass "a program using the query API builds against the installed tree with pkg-config alone"
+        expect "and runs" 0 env LD_LIBRARY_PATH="$T/inst/lib" "$T/q" "$T/crop.vsv"
+        has "giving vsv-query's cell and value" "$T/out" "30,3,8,$snow2"
+    else
+        fail "a program using the query API builds against the installed tree" "$(head -c 400 "$T/cc")"
+    fi
+    [ -f "$T/inst/include/vesuvius/vsv_cf.h" ] && pass "the netCDF export's header is installed" || fail "vsv_cf.h installed" "missing"
+else
+    fail "make install PREFIX=$T/inst" "$(tail -c 300 "$T/log")"
+fi
