@@ -440,6 +440,16 @@ int main(int argc, char **argv)
                 continue;
             }
         }
+        vsv_file_info di;
+        vsv_file_info_get(f, &di);
+        if (di.damaged_chunks) {
+            fflush(stdout);
+            fprintf(stderr, "vsv-info: %s (%d of %d chunks damaged)\n", vsv_file_error(f), di.damaged_chunks,
+                    di.nsteps);
+            vsv_file_free(f);
+            status = 1;
+            continue;
+        }
         stat_row *stats = want_stats ? compute_stats(f, path) : NULL;
         if (json || field) {
             vsv_json *root = build_json(f, path, stats);

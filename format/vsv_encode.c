@@ -104,6 +104,16 @@ int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err,
         vsv_msg(err, cap, "grid too large for the octree");
         return VSV_EINVAL;
     }
+    /* a file the reader would reject is never written: the chunk header
+     * stores the index size in 32 bits (SPEC.md §5, §12) */
+    const uint64_t index_bytes = (uint64_t)meta->nvars * lay.species_index_bytes;
+    if (index_bytes > UINT32_MAX) {
+        vsv_msg(err, cap,
+                "a chunk index of %llu bytes (%d species of %d bricks of %d cells) exceeds the format's 4 GiB limit: "
+                "use larger bricks, fewer species or a smaller grid",
+                (unsigned long long)index_bytes, meta->nvars, lay.nbricks, o->brick);
+        return VSV_EINVAL;
+    }
     return 0;
 }
 

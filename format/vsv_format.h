@@ -376,6 +376,8 @@ typedef struct vsv_file_info {
     uint64_t stored_bricks;    /* bricks with a payload (ABS or DELTA) */
     uint64_t nonempty_bricks;  /* bricks whose state is not all code 0 */
     uint64_t payload_bytes;
+    int damaged_chunks;        /* chunks whose index failed its checks (not
+                                * counted above); vsv_file_error names the first */
 } vsv_file_info;
 
 /* Maps `path` and validates header, metadata, table of contents and end

@@ -90,17 +90,25 @@ static int parse(vsv_file *f)
         return vsv_file_fail(f, VSV_ECORRUPT, "end marker damaged at offset %zu", n - VSV_TRAILER_SIZE);
     if (vsv_rd64(tr + 8) != toc_off || vsv_rd64(tr + 16) != fsize || vsv_rd32(tr + 24) != vsv_rd32(d + 64))
         return vsv_file_fail(f, VSV_ECORRUPT, "end marker disagrees with the header");
-    if (meta_off != VSV_HEADER_SIZE || meta_size > n || meta_size > VSV_MAX_META ||
+    /* The layout rule (SPEC.md §2): header, metadata, padding, chunks, table
+     * of contents and end marker follow one another in that order, each inside
+     * the file, none overlapping the next; checked here before any of them is
+     * read, with no sum that can wrap. */
+    if (meta_off != VSV_HEADER_SIZE || meta_size > n || meta_size > VSV_MAX_META || meta_size % 8 ||
         meta_off + meta_size > n - VSV_TRAILER_SIZE)
-        return vsv_file_fail(f, VSV_ECORRUPT, "metadata section (offset %llu, %llu bytes) outside the file",
+        return vsv_file_fail(f, VSV_ECORRUPT, "metadata section (offset %llu, %llu bytes) outside the file or not a multiple of 8",
                    (unsigned long long)meta_off, (unsigned long long)meta_size);
     if (vsv_crc32c(0, d + meta_off, meta_size) != vsv_rd32(d + 40))
         return vsv_file_fail(f, VSV_ECORRUPT, "metadata checksum mismatch (offset %llu, %llu bytes)",
                    (unsigned long long)meta_off, (unsigned long long)meta_size);
     if (nsteps < 1 || nsteps > VSV_MAX_STEPS || toc_size != (uint64_t)nsteps * VSV_TOC_ENTRY_SIZE ||
-        toc_off % 8 || toc_off > n || toc_off + toc_size != n - VSV_TRAILER_SIZE)
+        toc_off % 8 || toc_off > n || toc_size > n || toc_off + toc_size != n - VSV_TRAILER_SIZE)
         return vsv_file_fail(f, VSV_ECORRUPT, "table of contents (offset %llu, %u steps) does not fit the file",
                    (unsigned long long)toc_off, nsteps);
+    if (toc_off < vsv_align_up(meta_off + meta_size, VSV_ALIGN))
+        return vsv_file_fail(f, VSV_ECORRUPT,
+                   "table of contents (offset %llu) overlaps the metadata and its padding (offsets 128 to %llu)",
+                   (unsigned long long)toc_off, (unsigned long long)vsv_align_up(meta_off + meta_size, VSV_ALIGN));
     if (vsv_crc32c(0, d + toc_off, toc_size) != vsv_rd32(d + 64))
         return vsv_file_fail(f, VSV_ECORRUPT, "table of contents checksum mismatch (offset %llu)", (unsigned long long)toc_off);
     char msg[300];
@@ -123,12 +131,16 @@ static int parse(vsv_file *f)
     f->toc_off = toc_off;
     f->meta_end = meta_off + meta_size;
     const uint64_t index_bytes = (uint64_t)nspec * f->lay.species_index_bytes;
-    uint64_t expect = vsv_align_up(f->meta_end, VSV_ALIGN);
+    if (index_bytes > UINT32_MAX)
+        return vsv_file_fail(f, VSV_ECORRUPT, "a chunk index of %llu bytes (%u species of %d bricks) exceeds the 32-bit limit",
+                   (unsigned long long)index_bytes, nspec, f->lay.nbricks);
+    uint64_t expect = vsv_align_up(f->meta_end, VSV_ALIGN); /* <= toc_off, checked above */
     int64_t last_time = 0;
     for (uint32_t t = 0; t < nsteps; t++) {
         const unsigned char *e = f->toc + (size_t)t * VSV_TOC_ENTRY_SIZE;
         const uint64_t off = vsv_rd64(e), size = vsv_rd64(e + 8);
         const int64_t time = (int64_t)vsv_rd64(e + 16);
+        /* off == expect <= toc_off, so toc_off - off cannot wrap */
         if (off != expect || size % VSV_ALIGN || size < VSV_CHUNK_HEADER_SIZE + index_bytes || size > toc_off - off)
             return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: chunk at %llu (%llu bytes) out of place", t,
                        (unsigned long long)off, (unsigned long long)size);
@@ -329,11 +341,14 @@ static void count_bricks(vsv_file *f)
 {
     pthread_mutex_lock(&f->lock);
     if (!f->counted) {
-        char msg[256];
+        char msg[512];
         for (int t = 0; t < f->nsteps; t++) {
             const unsigned char *c = vsv_file_chunk_index(f, t, msg, sizeof msg);
-            if (!c)
+            if (!c) { /* counted and reported, never silently fewer bricks */
+                if (!f->damaged++)
+                    snprintf(f->err, sizeof f->err, "%s", msg);
                 continue;
+            }
             for (int s = 0; s < f->meta.nvars; s++) {
                 const unsigned char *oct = c + VSV_CHUNK_HEADER_SIZE + (size_t)s * f->lay.species_index_bytes;
                 for (int b = 0; b < f->lay.nbricks; b++) {
@@ -372,4 +387,5 @@ void vsv_file_info_get(const vsv_file *cf, vsv_file_info *info)
     info->stored_bricks = f->stored;
     info->nonempty_bricks = f->nonempty;
     info->payload_bytes = f->payload;
+    info->damaged_chunks = f->damaged;
 }

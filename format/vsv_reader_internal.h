@@ -26,7 +26,7 @@ struct vsv_file {
     signed char *chunk_ok; /* per step: 0 unchecked, 1 index verified */
     float **lut;           /* per species: 2^bits values, built on first use */
     pthread_mutex_t lock;
-    int counted;
+    int counted, damaged;
     uint64_t stored, nonempty, payload;
 };
 

@@ -83,6 +83,10 @@ expect "vsv-info --check on a good file" 0 "$B/vsv-info" --check "$T/a.vsv"
 has "--check says ok" "$T/out" "ok"
 expect "vsv-info --check on a damaged payload exits 1" 1 "$B/vsv-info" --check tests/golden/bad/payload.vsv
 has "--check names chunk, species, brick and offset" "$T/err" "vsv-info: tests/golden/bad/payload.vsv: $(grep '^payload.vsv' tests/golden/bad/EXPECTED | cut -f2)"
+expect "vsv-info on a damaged chunk index exits 1 (not fewer bricks)" 1 "$B/vsv-info" tests/golden/bad/index.vsv
+has "the damaged index is named, with the count" "$T/err" "vsv-info: tests/golden/bad/index.vsv: chunk 2 (offset 5120): index checksum mismatch (1 of 5 chunks damaged)"
+expect "vsv-info on a file whose TOC hides in its metadata exits 1" 1 "$B/vsv-info" tests/golden/bad/s-toc-in-meta.vsv
+has "the overlap is named" "$T/err" "overlaps the metadata"
 expect "vsv-info on a truncated file exits 1" 1 "$B/vsv-info" tests/golden/bad/truncated.vsv
 has "truncation is named" "$T/err" "truncated"
 echo "just some text" > "$T/text.vsv"

@@ -329,6 +329,27 @@ static void test_atomic(void)
           "bad brick size rejected with a message");
     vsv_writer_free(w);
     w = NULL;
+    /* a grid whose chunk index does not fit the 32-bit index size: refused
+     * at create (issue 18: it was written, and the reader rejected it) */
+    vsv_meta big;
+    vsv_meta_init(&big);
+    big.nx = 16384, big.ny = 8192, big.nz = 128;
+    big.spacing[0] = big.spacing[1] = big.spacing[2] = 1;
+    for (int s = 0; s < 5; s++) {
+        char nm[8];
+        snprintf(nm, sizeof nm, "S%d", s);
+        vsv_meta_add_var(&big, nm, "1", "");
+    }
+    vsv_pack_opts_init(&o);
+    o.brick = 8;
+    rc = vsv_writer_create(path, &big, &o, &w);
+    CHECK(rc == VSV_EINVAL &&
+              strstr(vsv_writer_error(w), "a chunk index of 4793521520 bytes (5 species of 33554432 bricks of 8 cells) "
+                                          "exceeds the format's 4 GiB limit"),
+          "a grid whose chunk index exceeds 32 bits is refused at create", "%s", w ? vsv_writer_error(w) : "(no handle)");
+    vsv_writer_free(w);
+    vsv_meta_clear(&big);
+    w = NULL;
     CHECK(vsv_writer_create("/nonexistent-dir/x.vsv", &m, NULL, &w) == VSV_EIO, "unwritable directory is an I/O error",
           "%s", vsv_writer_error(w));
     vsv_writer_free(w);

@@ -64,6 +64,96 @@ pad = 128 + meta_size
 if pad < toc[0][0]:
     cases.append(("padding.vsv", flip(good, pad), "non-zero padding after the metadata at offset %d" % pad))
 
+# ---- valid checksums, invalid structure: each file's CRCs are recomputed
+# after the change, so only the structure checks can catch it.
+def crc32c(data, crc=0):
+    crc ^= 0xFFFFFFFF
+    for byte in data:
+        crc ^= byte
+        for _ in range(8):
+            crc = (crc >> 1) ^ (0x82F63B78 & -(crc & 1))
+    return crc ^ 0xFFFFFFFF
+
+def reseal(b, chunks=()):
+    """Recomputes every CRC of file b (bytearray): the given chunks' index
+    CRCs, then metadata, TOC, header and end marker."""
+    for c in chunks:
+        ib = struct.unpack_from("<I", b, c + 16)[0]
+        struct.pack_into("<I", b, c + 28, crc32c(bytes(b[c + 32:c + 32 + ib]), crc32c(bytes(b[c:c + 28]))))
+    msize, toff, tsize = struct.unpack_from("<Q", b, 32)[0], struct.unpack_from("<Q", b, 48)[0], struct.unpack_from("<Q", b, 56)[0]
+    struct.pack_into("<I", b, 40, crc32c(bytes(b[128:128 + msize])))
+    tcrc = crc32c(bytes(b[toff:toff + tsize]))
+    struct.pack_into("<I", b, 64, tcrc)
+    struct.pack_into("<I", b, 124, crc32c(bytes(b[0:124])))
+    n = len(b)
+    struct.pack_into("<QQI", b, n - 24, toff, n, tcrc)
+    struct.pack_into("<I", b, n - 4, crc32c(bytes(b[n - 32:n - 4])))
+    return bytes(b)
+
+assert crc32c(b"123456789") == 0xE3069283
+g = bytearray(good)
+struct.pack_into("<q", g, toc_off + 24 + 16, toc[0][2])
+cases.append(("s-toc-time.vsv", reseal(g), "table of contents entry 1: time does not increase"))
+g = bytearray(good)
+struct.pack_into("<Q", g, toc_off + 24, toc[1][0] + 64)
+cases.append(("s-toc-entry.vsv", reseal(g), "table of contents entry 1: chunk at %d (%d bytes) out of place" % (toc[1][0] + 64, toc[1][1])))
+g = bytearray(good)
+struct.pack_into("<I", g, 72, nx + 1)
+cases.append(("s-header-dims.vsv", reseal(g), "header dimensions disagree with the metadata"))
+g = bytearray(good)
+struct.pack_into("<Q", g, 32, meta_size - 4)
+cases.append(("s-meta-size.vsv", reseal(g), "metadata section (offset 128, %d bytes) outside the file or not a multiple of 8" % (meta_size - 4)))
+# chunk 1's first stored brick: its payload offset moved by 64
+g = bytearray(good)
+e = c1 + 32 + s * S + O + 24 * b
+struct.pack_into("<Q", g, e + 8, struct.unpack_from("<Q", g, e + 8)[0] + 64)
+cases.append(("s-brick-offset.vsv", reseal(g, [c1]), "chunk 1, species %d, brick %d (offset %d): invalid brick entry" % (s, b, e)))
+# chunk 2 claims to be step 7
+g = bytearray(good)
+struct.pack_into("<I", g, c2 + 4, 7)
+cases.append(("s-chunk-step.vsv", reseal(g, [c2]), "chunk 2 (offset %d): bad chunk header" % c2))
+# an EMPTY brick of keyframe chunk 0 marked UNCHANGED
+c0 = toc[0][0]
+g = bytearray(good)
+for sp in range(nspec):
+    done = False
+    for br in range(nb):
+        e0 = c0 + 32 + sp * S + O + 24 * br
+        if g[e0] == 0:
+            g[e0] = 1
+            done = True
+            break
+    if done:
+        break
+cases.append(("s-keyframe-kind.vsv", reseal(g, [c0]), "chunk 0, species %d, brick %d (offset %d): invalid brick entry" % (sp, br, e0)))
+# the octree's level-0 maximum of chunk 1's stored brick off by one
+g = bytearray(good)
+on = c1 + 32 + s * S + 4 * b + 2
+struct.pack_into("<H", g, on, struct.unpack_from("<H", g, on)[0] ^ 1)
+cases.append(("s-octree.vsv", reseal(g, [c1]), "chunk 1, species %d, brick %d: decoded codes disagree with the octree" % (s, b)))
+# The table of contents inside the metadata (issue 18, found by fuzzing):
+# one step; an unknown metadata record covers everything up to the TOC,
+# whose last 8 bytes (the time) double as the END record; chunk 0 "starts"
+# past the end of the file with a size that wraps back to the TOC.
+recs = good[128:128 + meta_size - 8]
+assert good[128 + meta_size - 8:128 + meta_size] == b"END \0\0\0\0"
+R = 128 + len(recs)
+n = R + 8 + 8 + 56
+n += (56 - n) % 64
+g = bytearray(n)
+g[0:128] = good[0:128]
+g[128:R] = recs
+toff = n - 56
+struct.pack_into("<4sI", g, R, b"XPAD", n - 48 - R)
+struct.pack_into("<QQ", g, toff, n + 8, (toff - (n + 8)) % (1 << 64))
+g[n - 40:n - 32] = b"END \0\0\0\0"
+g[n - 32:n - 24] = good[len(good) - 32:len(good) - 24]
+struct.pack_into("<Q", g, 16, n)
+struct.pack_into("<Q", g, 32, n - 32 - 128)
+struct.pack_into("<I", g, 44, 1)
+struct.pack_into("<QQ", g, 48, toff, 24)
+cases.append(("s-toc-in-meta.vsv", reseal(g), "table of contents (offset %d) overlaps the metadata and its padding (offsets 128 to %d)" % (toff, n + 8)))
+
 with open(os.path.join(out, "EXPECTED"), "w") as f:
     f.write("# file<TAB>part of the message vsv-info --check must print\n")
     for name, data, msg in cases:
