@@ -387,7 +387,17 @@ int main(int argc, char **argv)
         if (rc == VSV_ENOTVSV && !check) {
             /* a model file? describe it */
             vsv_source *src = NULL;
-            if (vsv_source_open(path, NULL, &src) == 0) {
+            const int src_rc = vsv_source_open(path, NULL, &src);
+            if (src_rc != 0 && src_rc != VSV_ENOTVSV && src_rc != VSV_EIO) {
+                /* a model file, damaged: its reader's message, not ".vsv" */
+                fflush(stdout);
+                fprintf(stderr, "vsv-info: %s\n", vsv_source_error(src));
+                vsv_source_free(src);
+                vsv_file_free(f);
+                status = 1;
+                continue;
+            }
+            if (src_rc == 0) {
                 char *text = vsv_source_summary(src);
                 if (json || field) {
                     vsv_json *root = vsv_json_object();

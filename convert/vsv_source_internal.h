@@ -38,6 +38,11 @@ int vsv_nc_read(vsv_source *s, int nc, int var, const char *name, int t, const s
 extern const vsv_source_ops vsv_cf_ops;
 int vsv_cf_detect(int nc);
 int vsv_cf_open(vsv_source *s, int nc);
+/* Opens and reads the netCDF-4/HDF5 file s->path in a child process that may
+ * run limit_s seconds: 0 when it read cleanly, else an error in s saying
+ * whether the library failed (and where), crashed or ran out of time. */
+int vsv_nc_guard(vsv_source *s, int limit_s);
+#define VSV_NC_GUARD_LIMIT 600
 /* Opens an IOAPI netCDF file already open as nc (detected by vsv_netcdf_ops). */
 int vsv_ioapi_open(vsv_source *s, int nc);
 

@@ -123,10 +123,18 @@ static int wrf_open(vsv_source *s, int nc);
 
 static int netcdf_open(vsv_source *s)
 {
-    int nc;
-    int rc = nc_open(s->path, NC_NOWRITE, &nc);
-    if (rc)
-        return vsv_source_fail(s, VSV_ECORRUPT, "netCDF: %s", nc_strerror(rc));
+    int nc, rc;
+    /* netCDF-4 (HDF5): a damaged file can crash the library, so a child
+     * reads it first (vsv_nc_guard.c) */
+    unsigned char head[8] = {0};
+    FILE *fp = fopen(s->path, "rb");
+    const size_t got = fp ? fread(head, 1, sizeof head, fp) : 0;
+    if (fp)
+        fclose(fp);
+    if (got == 8 && !memcmp(head, "\x89HDF\r\n\x1a\n", 8) && (rc = vsv_nc_guard(s, VSV_NC_GUARD_LIMIT)))
+        return rc;
+    if ((rc = nc_open(s->path, NC_NOWRITE, &nc)))
+        return vsv_source_fail(s, VSV_ECORRUPT, "netCDF: %s (opening it)", nc_strerror(rc));
     int tv;
     if (has_att(nc, "MAP_PROJ") && nc_inq_varid(nc, "Times", &tv) == NC_NOERR)
         return wrf_open(s, nc);
