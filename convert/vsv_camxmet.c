@@ -121,11 +121,12 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
         return VSV_ENOMEM;
     snprintf(m->path, sizeof m->path, "%s", path);
     m->nx = nx, m->ny = ny, m->nz = nz, m->kind = -1;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    char why[160];
+    int fd = vsv_input_open(path, why, sizeof why);
     if (fd < 0)
-        return mfail(m, VSV_EIO, "cannot open: %s", strerror(errno));
+        return mfail(m, VSV_EIO, "%s", why);
     struct stat st;
-    if (fstat(fd, &st) || !S_ISREG(st.st_mode) || st.st_size < 12) {
+    if (fstat(fd, &st) || st.st_size < 12) {
         close(fd);
         return mfail(m, VSV_ENOTVSV, "not a CAMx met file (too short or not a file)");
     }

@@ -102,9 +102,10 @@ static int grads_open(vsv_source *s)
     if (!g)
         return VSV_ENOMEM;
     s->priv = g;
-    FILE *fp = fopen(s->path, "r");
+    char why[160];
+    FILE *fp = vsv_input_fopen(s->path, "r", why, sizeof why);
     if (!fp)
-        return vsv_source_fail(s, VSV_EIO, "cannot open: %s", strerror(errno));
+        return vsv_source_fail(s, VSV_EIO, "%s", why);
     char line[1024];
     int lineno = 0, in_vars = 0, nvars = 0;
     double xs = 0, dx = 1, ys = 0, dy = 1;
@@ -315,8 +316,8 @@ static int grads_open(vsv_source *s)
                              (long long)st.st_size, g->time_bytes * nt);
         goto done;
     }
-    if (!(g->fp = fopen(g->dset, "rb"))) {
-        rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, strerror(errno));
+    if (!(g->fp = vsv_input_fopen(g->dset, "rb", why, sizeof why))) {
+        rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, why);
         goto done;
     }
     s->ntimes = nt;

@@ -254,13 +254,14 @@ int vsv_mm5_open(const char *path, vsv_mm5 **out)
     if (!m)
         return VSV_ENOMEM;
     snprintf(m->path, sizeof m->path, "%s", path);
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    char why[160];
+    int fd = vsv_input_open(path, why, sizeof why);
     if (fd < 0)
-        return fail(m, VSV_EIO, "cannot open: %s", strerror(errno));
+        return fail(m, VSV_EIO, "%s", why);
     struct stat st;
-    if (fstat(fd, &st) || !S_ISREG(st.st_mode)) {
+    if (fstat(fd, &st)) {
         close(fd);
-        return fail(m, VSV_EIO, "not a regular file");
+        return fail(m, VSV_EIO, "cannot open: %s", strerror(errno));
     }
     m->n = (size_t)st.st_size;
     if (m->n < 16) {

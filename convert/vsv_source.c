@@ -86,9 +86,10 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
         vsv_source_opts_init(&s->opts);
     snprintf(s->path, sizeof s->path, "%s", path);
     vsv_meta_init(&s->grid);
-    FILE *fp = fopen(path, "rb");
+    char why[160];
+    FILE *fp = vsv_input_fopen(path, "rb", why, sizeof why);
     if (!fp)
-        return vsv_source_fail(s, VSV_EIO, "cannot open: %s", strerror(errno));
+        return vsv_source_fail(s, VSV_EIO, "%s", why);
     unsigned char head[512];
     size_t n = fread(head, 1, sizeof head, fp);
     fclose(fp);

@@ -190,11 +190,12 @@ int vsv_uamiv_open(const char *path, vsv_uamiv **out)
     if (!u)
         return VSV_ENOMEM;
     snprintf(u->path, sizeof u->path, "%s", path);
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    char why[160];
+    int fd = vsv_input_open(path, why, sizeof why);
     if (fd < 0)
-        return ufail(u, VSV_EIO, "cannot open: %s", strerror(errno));
+        return ufail(u, VSV_EIO, "%s", why);
     struct stat st;
-    if (fstat(fd, &st) || !S_ISREG(st.st_mode) || st.st_size < 16) {
+    if (fstat(fd, &st) || st.st_size < 16) {
         close(fd);
         return ufail(u, VSV_ENOTVSV, "not a CAMx UAM-IV file");
     }

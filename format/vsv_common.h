@@ -86,4 +86,11 @@ void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(
 void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_list ap)
     __attribute__((format(printf, 4, 0)));
 
+/* Opens an input file read-only, refusing (without blocking) anything but a
+ * regular file: a FIFO, device, socket or directory. The descriptor, or -1
+ * with the reason in why (e.g. "a FIFO, not a regular file: refused"). */
+int vsv_input_open(const char *path, char *why, size_t cap);
+/* The same as a stdio stream (mode "r" or "rb"); NULL with why set. */
+FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap);
+
 #endif

@@ -185,13 +185,14 @@ int vsv_file_open(const char *path, vsv_file **out)
     vsv_file *f = *out = file_new(path);
     if (!f)
         return VSV_ENOMEM;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    char why[160];
+    int fd = vsv_input_open(path, why, sizeof why);
     if (fd < 0)
-        return vsv_file_fail(f, VSV_EIO, "cannot open: %s", strerror(errno));
+        return vsv_file_fail(f, VSV_EIO, "%s", why);
     struct stat st;
-    if (fstat(fd, &st) || !S_ISREG(st.st_mode)) {
+    if (fstat(fd, &st)) {
         close(fd);
-        return vsv_file_fail(f, VSV_EIO, "not a regular file");
+        return vsv_file_fail(f, VSV_EIO, "cannot open: %s", strerror(errno));
     }
     f->size = (size_t)st.st_size;
     if (f->size == 0) {

@@ -89,6 +89,30 @@ expect "vsv-info on a file whose TOC hides in its metadata exits 1" 1 "$B/vsv-in
 has "the overlap is named" "$T/err" "overlaps the metadata"
 expect "vsv-info on a truncated file exits 1" 1 "$B/vsv-info" tests/golden/bad/truncated.vsv
 has "truncation is named" "$T/err" "truncated"
+# netCDF-4/HDF5 files that crash libhdf5 (one flipped bit in a deflated
+# chunk; ncdump dies too): read in a child first, so an error naming the file
+expect "a netCDF-4 file that segfaults libhdf5 exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/hdf5-segv.nc
+has "the crash is an error naming the file" "$T/err" "vsv-info: tests/corpus/netcdf/hdf5-segv.nc: damaged netCDF-4/HDF5 file: the HDF5 library crashed reading it"
+expect "a netCDF-4 file that aborts libhdf5 exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/hdf5-abort.nc
+has "the abort is an error naming the file" "$T/err" "vsv-info: tests/corpus/netcdf/hdf5-abort.nc: damaged netCDF-4/HDF5 file: the HDF5 library crashed reading it"
+expect "vsv-convert on it exits 1" 1 "$B/vsv-convert" tests/corpus/netcdf/hdf5-segv.nc -o "$T/hdf5.vsv"
+has "vsv-convert names the input" "$T/err" "vsv-convert: tests/corpus/netcdf/hdf5-segv.nc: damaged netCDF-4/HDF5 file"
+[ ! -e "$T/hdf5.vsv" ] && pass "nothing written for it" || fail "nothing written for it" "$T/hdf5.vsv exists"
+# inputs that are not regular files: refused at open, never a hang (issue 18)
+mkfifo "$T/fifo.vsv"
+for tool in vsv-info vsv-convert vsv-render vsv-export; do
+    case $tool in
+    vsv-info) args="$T/fifo.vsv" ;; vsv-convert) args="$T/fifo.vsv -o $T/fifo-out.vsv" ;;
+    vsv-render) args="$T/fifo.vsv -o $T/fifo-out.png" ;; vsv-export) args="$T/fifo.vsv --vdb $T/fifo-out%d.vdb" ;;
+    esac
+    CMD_TIMEOUT=20 expect "$tool refuses a FIFO input (no hang)" 1 "$B/$tool" $args
+    has "$tool names the FIFO" "$T/err" "$tool: $T/fifo.vsv: a FIFO, not a regular file: refused"
+done
+expect "vsv-info refuses a character device" 1 "$B/vsv-info" /dev/zero
+has "the device is named" "$T/err" "vsv-info: /dev/zero: a character device, not a regular file: refused"
+mkdir -p "$T/adir.vsv"
+expect "vsv-info refuses a directory" 1 "$B/vsv-info" "$T/adir.vsv"
+has "the directory is named" "$T/err" "a directory, not a regular file: refused"
 echo "just some text" > "$T/text.vsv"
 expect "vsv-info on a text file exits 1" 1 "$B/vsv-info" "$T/text.vsv"
 has "text file is not a .vsv file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv file"

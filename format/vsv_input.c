@@ -1,0 +1,56 @@
+/* vsv_input.c — opening an input file: only regular files. A FIFO would
+ * block open() and read() forever (every tool hung on one), a device or a
+ * directory has no size to check reads against; each is refused at open,
+ * without blocking (O_NONBLOCK until the type is known). */
+#include "vsv_common.h"
+
+#include <stdio.h>
+
+#include <errno.h>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+static const char *kind(mode_t m)
+{
+    return S_ISFIFO(m) ? "a FIFO" : S_ISDIR(m) ? "a directory" : S_ISCHR(m) ? "a character device"
+         : S_ISBLK(m) ? "a block device" : S_ISSOCK(m) ? "a socket" : "not a regular file";
+}
+
+int vsv_input_open(const char *path, char *why, size_t cap)
+{
+    const int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK | O_NOCTTY);
+    if (fd < 0) {
+        snprintf(why, cap, "cannot open: %s", strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    if (fstat(fd, &st)) {
+        snprintf(why, cap, "cannot open: %s", strerror(errno));
+        close(fd);
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
+        snprintf(why, cap, "%s, not a regular file: refused", kind(st.st_mode));
+        close(fd);
+        errno = EINVAL;
+        return -1;
+    }
+    const int fl = fcntl(fd, F_GETFL);
+    if (fl >= 0)
+        fcntl(fd, F_SETFL, fl & ~O_NONBLOCK);
+    return fd;
+}
+
+FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap)
+{
+    const int fd = vsv_input_open(path, why, cap);
+    if (fd < 0)
+        return NULL;
+    FILE *fp = fdopen(fd, mode);
+    if (!fp) {
+        snprintf(why, cap, "cannot open: %s", strerror(errno));
+        close(fd);
+    }
+    return fp;
+}
