@@ -7,6 +7,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 /* ----------------------------------------------------------------- tools */
@@ -40,6 +41,19 @@ void vsv_cli_usage_error(const char *fmt, ...)
     va_end(ap);
     fprintf(stderr, "\nTry '%s --help'.\n", tool_name);
     exit(2);
+}
+
+void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n)
+{
+    struct stat so, si;
+    if (!out || stat(out, &so))
+        return;
+    for (int i = 0; i < n; i++)
+        if (inputs[i] && !stat(inputs[i], &si) && si.st_dev == so.st_dev && si.st_ino == so.st_ino) {
+            fprintf(stderr, "%s: output %s is the input %s (the same file%s): refusing to overwrite it\n", tool_name,
+                    out, inputs[i], strcmp(out, inputs[i]) ? ", through a link" : "");
+            exit(2);
+        }
 }
 
 void vsv_cli_writer_die(vsv_writer *w, const char *out)

@@ -20,6 +20,10 @@ const char *vsv_cli_tool(void);
 void vsv_cli_die(int code, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
 /* "tool: message\nTry 'tool --help'." and exit(2). */
 void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
+/* Refuses (exit 2, before anything is written) an output that is one of the
+ * inputs: the same path, a hard link or a symlink to it (same device and
+ * inode); NULL inputs are skipped. A missing output is never an input. */
+void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n);
 /* Frees the writer (removing its temporaries), then exits 1 with
  * "tool: OUT: the writer's message". */
 void vsv_cli_writer_die(vsv_writer *w, const char *out) __attribute__((noreturn));

@@ -22,6 +22,8 @@ int main(int argc, char **argv)
     vsv_vdb_source_register(); /* .vdb sequences too (interop/) */
     vsv_convert_args a;
     vsv_convert_args_parse(&a, argc, argv, usage, 0);
+    vsv_cli_refuse_input(a.out, (const char *const *)a.inputs, a.ninputs);
+    vsv_cli_refuse_input(a.out, &a.so.heights, 1);
     vsv_run *run = NULL;
     if (vsv_run_open(a.inputs, a.ninputs, &a.so, a.vars, a.times, &run))
         vsv_cli_die(1, "%s", vsv_run_error(run));

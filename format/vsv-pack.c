@@ -49,6 +49,8 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("one input stream at most");
     const char *in_name = optind < argc ? argv[optind] : "(stdin)";
     FILE *in = stdin;
+    if (optind < argc && strcmp(argv[optind], "-"))
+        vsv_cli_refuse_input(out, (const char *const *)&argv[optind], 1);
     if (optind < argc && strcmp(argv[optind], "-") && !(in = fopen(argv[optind], "rb")))
         vsv_cli_die(1, "%s: cannot open: %s", argv[optind], strerror(errno));
 

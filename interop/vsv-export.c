@@ -120,6 +120,14 @@ int main(int argc, char **argv)
             vsv_cli_die(1, "out of memory");
         out_meta = vsv_resampler_meta(rs[l]);
     }
+    for (int t = a; t <= b; t++) { /* every name, before any is written */
+        char name[4096];
+        if (sequence)
+            snprintf(name, sizeof name, out, t - a);
+        else
+            snprintf(name, sizeof name, "%s", out);
+        vsv_cli_refuse_input(name, (const char *const *)&path, 1);
+    }
     for (int t = a; t <= b; t++) {
         for (int l = 0; l < n; l++) {
             if (vsv_volume_load(vols[l], d, t, sel[l]))

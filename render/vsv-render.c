@@ -274,6 +274,10 @@ int main(int argc, char **argv)
     }
     const int sequence = out ? strchr(out, '%') != NULL : 0;
     const char *path = argv[optind];
+    const char *const ins[2] = {path, tfpath};
+    if (out && !sequence)
+        vsv_cli_refuse_input(out, ins, 2);
+    vsv_cli_refuse_input(movie_out, ins, 2);
     vsv_file *f = NULL;
     if (vsv_file_open(path, &f))
         vsv_cli_die(1, "%s", vsv_file_error(f));
@@ -287,6 +291,11 @@ int main(int argc, char **argv)
         vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
     if (out && !sequence && a != b)
         vsv_cli_usage_error("several steps need %%04d in the output name");
+    for (int t = a; sequence && t <= b; t++) { /* every name, before any is written */
+        char name[4096];
+        snprintf(name, sizeof name, out, t - a);
+        vsv_cli_refuse_input(name, ins, 2);
+    }
     /* layers: the species asked for (all by default), each with its opacity */
     vsv_layer *layers = calloc((size_t)m->nvars, sizeof *layers);
     vsv_tf *tfs = calloc((size_t)m->nvars, sizeof *tfs);

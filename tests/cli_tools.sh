@@ -98,6 +98,30 @@ has "the abort is an error naming the file" "$T/err" "vsv-info: tests/corpus/net
 expect "vsv-convert on it exits 1" 1 "$B/vsv-convert" tests/corpus/netcdf/hdf5-segv.nc -o "$T/hdf5.vsv"
 has "vsv-convert names the input" "$T/err" "vsv-convert: tests/corpus/netcdf/hdf5-segv.nc: damaged netCDF-4/HDF5 file"
 [ ! -e "$T/hdf5.vsv" ] && pass "nothing written for it" || fail "nothing written for it" "$T/hdf5.vsv exists"
+expect "a WRF file whose XLAT chunk segfaults libhdf5 exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/wrf-xlat-segv.nc
+has "the WRF crash is an error naming the file" "$T/err" "vsv-info: tests/corpus/netcdf/wrf-xlat-segv.nc: damaged netCDF-4/HDF5 file: the HDF5 library crashed reading it"
+
+# an output that is an input (same path, hard link, symlink) is refused
+# before anything is written; the input stays intact (issue 18)
+cp samples/mm5/MMOUT_DOMAIN1_CROP "$T/in.mm5"
+ln "$T/in.mm5" "$T/in-hard.vsv"
+ln -s "$T/in.mm5" "$T/in-sym.vsv"
+for o in in.mm5 in-hard.vsv in-sym.vsv; do
+    expect "vsv-convert refuses -o $o (the input)" 2 "$B/vsv-convert" "$T/in.mm5" -o "$T/$o"
+    has "the refusal names output and input" "$T/err" "vsv-convert: output $T/$o is the input $T/in.mm5 (the same file"
+done
+same "the model input is intact" samples/mm5/MMOUT_DOMAIN1_CROP "$T/in.mm5"
+cp "$T/a.vsv" "$T/keep.vsv"
+ln "$T/a.vsv" "$T/a-hard.png"
+expect "vsv-render refuses -o a hard link of its input" 2 "$B/vsv-render" "$T/a.vsv" -o "$T/a-hard.png" --time 0
+has "vsv-render names both" "$T/err" "vsv-render: output $T/a-hard.png is the input $T/a.vsv (the same file, through a link)"
+expect "vsv-render refuses --movie onto its input" 2 "$B/vsv-render" "$T/a.vsv" --movie "$T/a.vsv"
+ln "$T/a.vsv" "$T/a-hard.vdb"
+expect "vsv-export refuses --vdb onto its input" 2 "$B/vsv-export" "$T/a.vsv" --vdb "$T/a-hard.vdb" --time 0
+has "vsv-export names both" "$T/err" "vsv-export: output $T/a-hard.vdb is the input $T/a.vsv"
+same "the .vsv input is intact" "$T/keep.vsv" "$T/a.vsv"
+rm -f "$T/a-hard.png" "$T/a-hard.vdb"
+
 # inputs that are not regular files: refused at open, never a hang (issue 18)
 mkfifo "$T/fifo.vsv"
 for tool in vsv-info vsv-convert vsv-render vsv-export; do
