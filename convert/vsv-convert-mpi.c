@@ -427,6 +427,8 @@ int main(int argc, char **argv)
     vsv_vdb_source_register(); /* .vdb sequences too (interop/), as vsv-convert */
     quiet_others(r->me, 1);
     vsv_convert_args_parse(&r->a, argc, argv, usage, 1);
+    vsv_cli_refuse_input(r->a.out, (const char *const *)r->a.inputs, r->a.ninputs);
+    vsv_cli_refuse_input(r->a.out, &r->a.so.heights, 1);
     quiet_others(r->me, 0);
     if (r->me)
         vsv_cli_set_quiet(1);

@@ -38,6 +38,9 @@ has "--version names the tool" "$T/out" "vsv-convert-mpi (Vesuvius"
 expect "a bad option exits 2" 2 $MPIRUN -np 2 "$MPI" --bogus -o "$T/x.vsv" samples/mm5/MMOUT_DOMAIN1_CROP
 n=$(grep -c "unknown option" "$T/err")
 [ "$n" = 1 ] && pass "the usage error is said once" || fail "the usage error is said once" "$n times: $(cat "$T/err")"
+cp samples/mm5/MMOUT_DOMAIN1_CROP "$T/in.mm5"
+expect "an output that is an input exits 2" 2 $MPIRUN -np 2 "$MPI" "$T/in.mm5" -o "$T/in.mm5"
+same "... and the input is intact" samples/mm5/MMOUT_DOMAIN1_CROP "$T/in.mm5"
 expect "vsv-convert has no --stats" 2 "$B/vsv-convert" --stats -o "$T/x.vsv" samples/mm5/MMOUT_DOMAIN1_CROP
 
 # ranks against vsv-convert: NAME REF "NP..." ARGS...
