@@ -367,7 +367,8 @@ unsigned time_limit(uint64_t input) { return 20u + (unsigned)(input / (4u << 20)
 // A new child: quiet (the library's complaints about a damaged file, and no
 // pipe of the caller held open) and bounded, since a damaged file can also
 // send the library into reading gigabytes or looping: CPU time for `input`
-// bytes (0: none; the reader times each file itself with alarm) and, outside
+// bytes, also as wall-clock time (0: none; the reader times each file itself
+// with alarm) and, outside
 // AddressSanitizer builds (whose shadow memory is address space), memory of
 // 1 GiB + `memory` more than it has; both far above what good files need.
 void child_setup(uint64_t input, uint64_t memory)
@@ -380,6 +381,9 @@ void child_setup(uint64_t input, uint64_t memory)
     if (input) {
         rl.rlim_cur = rl.rlim_max = time_limit(input);
         setrlimit(RLIMIT_CPU, &rl);
+        /* and wall-clock time: a child stuck without spending CPU (a lock
+         * held at the fork by another thread) must not hang the caller */
+        alarm(time_limit(input));
     }
 #ifdef __SANITIZE_ADDRESS__
     (void)memory;
