@@ -88,6 +88,15 @@ static double now_s(void)
 
 int vsv_nc_guard(vsv_source *s, int limit_s)
 {
+#ifdef __SANITIZE_ADDRESS__
+    /* GCC 12's AddressSanitizer allocator is not fork-safe: a child forked
+     * while another thread allocates (log4cplus, loaded with OpenVDB, starts
+     * four threads at load) can wait for ever on its lock. The sanitizer
+     * build reads in process; the child check is tested in the plain build. */
+    (void)s;
+    (void)limit_s;
+    return 0;
+#endif
     int fd[2];
     if (pipe2(fd, O_CLOEXEC))
         return vsv_source_fail(s, VSV_EIO, "cannot check the netCDF-4/HDF5 file: pipe: %s", strerror(errno));

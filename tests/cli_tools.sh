@@ -91,6 +91,8 @@ expect "vsv-info on a truncated file exits 1" 1 "$B/vsv-info" tests/golden/bad/t
 has "truncation is named" "$T/err" "truncated"
 # netCDF-4/HDF5 files that crash libhdf5 (one flipped bit in a deflated
 # chunk; ncdump dies too): read in a child first, so an error naming the file
+# the sanitizer build reads netCDF-4 in process (vsv_nc_guard.c): no crash checks there
+case "${SANFLAGS:-}" in *address*) ;; *)
 expect "a netCDF-4 file that segfaults libhdf5 exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/hdf5-segv.nc
 has "the crash is an error naming the file" "$T/err" "vsv-info: tests/corpus/netcdf/hdf5-segv.nc: damaged netCDF-4/HDF5 file: the HDF5 library crashed reading it"
 expect "a netCDF-4 file that aborts libhdf5 exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/hdf5-abort.nc
@@ -100,6 +102,7 @@ has "vsv-convert names the input" "$T/err" "vsv-convert: tests/corpus/netcdf/hdf
 [ ! -e "$T/hdf5.vsv" ] && pass "nothing written for it" || fail "nothing written for it" "$T/hdf5.vsv exists"
 expect "a WRF file whose XLAT chunk segfaults libhdf5 exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/wrf-xlat-segv.nc
 has "the WRF crash is an error naming the file" "$T/err" "vsv-info: tests/corpus/netcdf/wrf-xlat-segv.nc: damaged netCDF-4/HDF5 file: the HDF5 library crashed reading it"
+;; esac
 
 # an output that is an input (same path, hard link, symlink) is refused
 # before anything is written; the input stays intact (issue 18)
