@@ -176,7 +176,7 @@ ifeq ($(strip $(PY_MISSING)),)
   PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
 endif
 
-.PHONY: all test test-run demo bench install uninstall clean fuzz help deps freevr freevr-syntax
+.PHONY: demo-bin all test test-run demo bench install uninstall clean fuzz help deps freevr freevr-syntax
 .SECONDARY:
 all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
@@ -367,8 +367,12 @@ test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(FR
 # run the main job on the bundled sample.
 demo:
 	$(Q)sh tools/deps.sh --install
-	$(Q)$(MAKE) --no-print-directory all $(FREEVR_TEST)
+	$(Q)$(MAKE) --no-print-directory all demo-bin
 	$(Q)B=$(B) sh tools/demo.sh
+
+# what the demo needs beyond `all`, decided by the sub-make above, which sees
+# the packages deps.sh has just installed (this make was parsed before them)
+demo-bin: $(FREEVR_TEST)
 
 BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
             $(B)/bench/bench_play $(B)/bench/bench_advect
