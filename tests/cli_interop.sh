@@ -46,6 +46,8 @@ has "naming the tool that reads it" "$T/err" "t1.vdb: an OpenVDB file; vsv-extra
 # damaged .vdb files: OpenVDB has no checksums and can crash on them; the
 # reading runs isolated, so every one is exit 0 (harmless damage) or 1 with a
 # message, never a crash
+# (not under AddressSanitizer: that build reads in process, see vsv_vdb.cc)
+case "${SANFLAGS:-}" in *address*) ;; *)
 timeout 120 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/d.vdb" --time 3 --species CLW,ICE,SNOW
 size=$(stat -c %s "$T/d.vdb")
 bad=0
@@ -60,3 +62,5 @@ while [ $i -le 40 ]; do
     i=$((i + 1))
 done
 [ $bad = 0 ] && pass "40 damaged .vdb files: never a crash, errors name the file" || fail "40 damaged .vdb files: never a crash, errors name the file" "$bad"
+;;
+esac
