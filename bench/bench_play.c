@@ -199,7 +199,7 @@ int main(int argc, char **argv)
         vsv_tf_for_species(f, s, NULL, &tf[s], msg, sizeof msg);
         layers[s] = (vsv_layer){v[s], &tf[s], 1, 1};
     }
-    vsv_scene sc = {m, layers, info.nspecies, 0, 1};
+    vsv_scene sc = {.meta = m, .layers = layers, .nlayers = info.nspecies, .exaggeration = 0, .show_terrain = 1};
     sc.exaggeration = vsv_scene_default_exaggeration(&sc);
     vsv_camera cam;
     vsv_camera_orbit(&cam, &sc, 225, 30, 0, 512, 512);

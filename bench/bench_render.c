@@ -56,7 +56,7 @@ int main(int argc, char **argv)
         L[0] = L[s];
         nl = 1;
     }
-    vsv_scene sc = {m, L, nl, 1, !getenv("VSV_BENCH_NO_TERRAIN")};
+    vsv_scene sc = {.meta = m, .layers = L, .nlayers = nl, .exaggeration = 1, .show_terrain = !getenv("VSV_BENCH_NO_TERRAIN")};
     double mn[3], mx[3];
     vsv_scene_bounds(&sc, mn, mx);
     sc.exaggeration = fmax(1, round(0.2 * fmax(mx[0] - mn[0], mx[1] - mn[1]) / (mx[2] - fmin(0, mn[2]))));

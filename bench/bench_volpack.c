@@ -112,7 +112,7 @@ int main(int argc, char **argv)
     iso.vert_kind = VSV_VERT_EVEN;
     iso.levels = NULL;
     iso.terrain = NULL;
-    vsv_scene sc = {&iso, &layer, 1, 1, 0};
+    vsv_scene sc = {.meta = &iso, .layers = &layer, .nlayers = 1, .exaggeration = 1, .show_terrain = 0};
     double mn[3], mx[3];
     vsv_scene_bounds(&sc, mn, mx);
     vsv_camera cams[FRAMES];

@@ -44,6 +44,18 @@ static const char usage[] =
     "  -x, --exaggerate N      vertical exaggeration (default: a domain 1/5 as tall as wide)\n"
     "      --background R,G,B  0..1 (default 0.02,0.03,0.06)\n"
     "      --no-terrain        do not draw the ground\n"
+    "      --light[=AZ,EL]     shade the clouds by their gradient, lit by a sun at\n"
+    "                          azimuth AZ, elevation EL degrees (default 315,45: from\n"
+    "                          the north-west, as hill shading is)\n"
+    "      --no-light          no shading (the default)\n"
+    "      --slice SPEC        an opaque section in a species' colours: z=HEIGHT\n"
+    "                          (metres above sea level), lat=DEG, lon=DEG, or\n"
+    "                          line=LAT1,LON1:LAT2,LON2 (a vertical section between\n"
+    "                          two points); repeatable (8 at most)\n"
+    "      --slice-species NAME  the species the slices show (default: the first\n"
+    "                          drawn); drawn as a slice only when not in --species\n"
+    "      --slice-colormap NAME  the slices' colour map over the species' range\n"
+    "                          (default viridis; see --tf for the names)\n"
     "  -r, --renderer NAME     raycast (default) or shearwarp (faster; frames whose eye\n"
     "                          is inside the volume are raycast)\n"
     "      --threads N         render threads (default: all cores)\n"
@@ -157,7 +169,7 @@ static void movie_close(movie *mv)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -169,13 +181,19 @@ int main(int argc, char **argv)
         {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
         {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'},
         {"view", required_argument, 0, O_VIEW},    {"range", required_argument, 0, O_RANGE},
+        {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
+        {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
+        {"slice-colormap", required_argument, 0, O_SLICECM},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
     const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
     int fps = 12;
     double az = 225, el = 30, dist = 0, exag = 0;
     float bg[3] = {0.02f, 0.03f, 0.06f};
     int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0, plan = 0, nranges = 0;
-    const char *ranges[64];
+    const char *ranges[64], *slice_specs[8], *slice_species = NULL;
+    const char *slice_cmap = "viridis";
+    int nslice_specs = 0, light = 0;
+    double sun_az = 315, sun_el = 45;
     double la[6] = {0};
     vsv_render_opts ro;
     vsv_render_opts_init(&ro);
@@ -229,6 +247,28 @@ int main(int argc, char **argv)
                 vsv_cli_usage_error("--background %s: expected R,G,B", optarg);
             break;
         case O_NOTERRAIN: terrain = 0; break;
+        case O_LIGHT:
+            light = 1;
+            if (optarg && (sscanf(optarg, "%lf,%lf", &sun_az, &sun_el) != 2 || !isfinite(sun_az) ||
+                           !(sun_el >= -90 && sun_el <= 90)))
+                vsv_cli_usage_error("--light=%s: expected AZ,EL in degrees with -90 <= EL <= 90", optarg);
+            break;
+        case O_NOLIGHT: light = 0; break;
+        case O_SLICE:
+            if (nslice_specs >= 8)
+                vsv_cli_usage_error("--slice %s: at most 8 slices", optarg);
+            slice_specs[nslice_specs++] = optarg;
+            break;
+        case O_SLICESP: slice_species = optarg; break;
+        case O_SLICECM: {
+            int known = 0;
+            for (const char *const *cm = vsv_tf_colormaps(); *cm; cm++)
+                known |= !strcmp(*cm, optarg);
+            if (!known)
+                vsv_cli_usage_error("--slice-colormap %s: not a colour map name", optarg);
+            slice_cmap = optarg;
+            break;
+        }
         case O_LOOKAT:
             if (sscanf(optarg, "%lf,%lf,%lf,%lf,%lf,%lf", &la[0], &la[1], &la[2], &la[3], &la[4], &la[5]) != 6 ||
                 (la[0] == la[3] && la[1] == la[4] && la[2] == la[5]))
@@ -341,9 +381,18 @@ int main(int argc, char **argv)
         }
         free(copy);
     }
-    int nl = 0;
+    int slice_var = -1;
+    if (nslice_specs) { /* the slices' species: named, or the first drawn */
+        for (int s = 0; s < m->nvars && slice_var < 0 && !slice_species; s++)
+            slice_var = opac[s] >= 0 ? s : -1;
+        if (slice_species && (slice_var = vsv_meta_find_var(m, slice_species)) < 0)
+            vsv_cli_usage_error("--slice-species: %s has no species '%s'", path, slice_species);
+        if (slice_var < 0)
+            vsv_cli_usage_error("--slice: no species to colour the slices (--slice-species NAME)");
+    }
+    int nl = 0, slice_layer = 0;
     for (int s = 0; s < m->nvars; s++) {
-        if (opac[s] < 0)
+        if (opac[s] < 0 && s != slice_var)
             continue;
         char msg[512];
         const int trc = vsv_tf_for_species(f, s, tfpath, &tfs[nl], msg, sizeof msg);
@@ -365,10 +414,25 @@ int main(int argc, char **argv)
         }
         if (vsv_volume_create(f, &vols[nl]))
             vsv_cli_die(1, "out of memory");
-        layers[nl] = (vsv_layer){vols[nl], &tfs[nl], opac[s], 1};
+        layers[nl] = (vsv_layer){vols[nl], &tfs[nl], opac[s] >= 0 ? opac[s] : 0, opac[s] >= 0};
+        if (s == slice_var)
+            slice_layer = nl;
         sidx[nl++] = s;
     }
-    vsv_scene sc = {m, layers, nl, exag, terrain};
+    vsv_slice slices[8];
+    for (int i = 0; i < nslice_specs; i++) {
+        char msg[512];
+        if (vsv_slice_parse(m, slice_specs[i], &slices[i], msg, sizeof msg))
+            vsv_cli_usage_error("--%s in %s", msg, path);
+    }
+    vsv_tf slice_tf = tfs[slice_layer]; /* the species' range and scale, the slices' colour map */
+    snprintf(slice_tf.colormap, sizeof slice_tf.colormap, "%s", slice_cmap);
+    if (nslice_specs && vsv_tf_prepare(&slice_tf))
+        vsv_cli_die(1, "%s: the slices' colours cannot be made", path);
+    vsv_scene sc = {.meta = m, .layers = layers, .nlayers = nl, .exaggeration = exag, .show_terrain = terrain,
+                    .slices = slices, .nslices = nslice_specs, .slice_layer = slice_layer, .slice_tf = &slice_tf};
+    if (light)
+        vsv_scene_sun(&sc, sun_az, sun_el);
     if (!(exag > 0))
         sc.exaggeration = vsv_scene_default_exaggeration(&sc);
     vsv_camera cam;

@@ -25,8 +25,12 @@ int vsv_native_scene(vsv_native *n, const vsv_scene *in, const vsv_scene **out)
     const vsv_meta *even = NULL;
     for (int l = 0; l < in->nlayers; l++) {
         n->layers[l] = in->layers[l];
-        if (!in->layers[l].vol || !in->layers[l].visible)
+        /* the layers drawn and the one colouring the slices; the others
+         * (native levels, not the even grid) are left out */
+        if (!in->layers[l].vol || !(in->layers[l].visible || (in->nslices && l == in->slice_layer))) {
+            n->layers[l].vol = NULL;
             continue;
+        }
         int rc;
         if (!n->rs[l] && (rc = vsv_resampler_create(m, &n->rs[l])))
             return rc;
@@ -38,9 +42,6 @@ int vsv_native_scene(vsv_native *n, const vsv_scene *in, const vsv_scene **out)
         if (!n->rs[0] && vsv_resampler_create(m, &n->rs[0]))
             return VSV_ENOMEM;
         even = vsv_resampler_meta(n->rs[0]);
-        for (int l = 0; l < in->nlayers; l++)
-            if (!in->layers[l].visible)
-                n->layers[l].vol = NULL;
     }
     n->sc = *in;
     n->sc.meta = even;

@@ -80,6 +80,7 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
             .log = L->tf->scale == VSV_SCALE_LOG,
             .sigma = (float)(L->opacity * VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy)),
             .clear = clear,
+            .inv_span = vsv_light_inv_span(L->tf),
         };
         for (int k = 0; k < bz; k++)
             for (int j = 0; j < by; j++)
@@ -119,6 +120,7 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     F->inv_cell[0] = 1 / g->dx;
     F->inv_cell[1] = 1 / g->dy;
     F->inv_cell[2] = 1 / (g->dz * g->E);
+    vsv_light_init(&F->light, sc, g);
     /* nothing to skip (a dense species): no tests per sample */
     int any = 0;
     for (int l = -1; l < F->nlayers; l++)
@@ -133,6 +135,44 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     F->ey = V->brick + 1;
     F->ez = F->ey * F->ey;
     return 0;
+}
+
+/* Layer L's trilinear value at cell coordinates p, clamped into the grid. */
+static float rc_value(const vsv_rc_frame *F, const vsv_rc_layer *L, const float p[3])
+{
+    int ci[3];
+    float f[3];
+    for (int a = 0; a < 3; a++) {
+        const float c = p[a] > 0 ? (p[a] < F->hi[a] ? p[a] : F->hi[a]) : 0;
+        ci[a] = (int)c;
+        ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
+        f[a] = c - ci[a];
+    }
+    const int sh = F->shift, m = F->mask;
+    const int bidx = (ci[0] >> sh) + F->bx * (ci[1] >> sh) + F->bxy * (ci[2] >> sh);
+    const float *q = L->cells[bidx] + (ci[0] & m) + (ci[1] & m) * F->ey + (ci[2] & m) * F->ez;
+    float cell[8];
+    for (int i = 0; i < 8; i++)
+        cell[i] = q[(i & 1) + (i & 2 ? F->ey : 0) + (i & 4 ? F->ez : 0)];
+    return vsv_rc_trilinear(cell, f[0], f[1], f[2]);
+}
+
+/* The lighting factor of layer L's value v at cell coordinates c: central
+ * differences one cell either way (a neighbour without data counts as v). */
+static float rc_shade(const vsv_rc_frame *F, const vsv_rc_layer *L, const float c[3], float v)
+{
+    float d[3];
+    for (int a = 0; a < 3; a++) {
+        float p[3] = {c[0], c[1], c[2]};
+        p[a] = c[a] + 1;
+        float hi = rc_value(F, L, p);
+        p[a] = c[a] - 1;
+        float lo = rc_value(F, L, p);
+        hi = hi == hi ? hi : v;
+        lo = lo == lo ? lo : v;
+        d[a] = 0.5f * (hi - lo);
+    }
+    return vsv_light_shade(&F->light, v, d, L->log, L->inv_span);
 }
 
 /* One ray through the volume, front to back: trilinear samples classified
@@ -183,8 +223,9 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             const float s = vsv_rc_lerp(lo[3], hi[3], f) * L->sigma;
             if (s > 0) {
                 sig += s;
+                const float k = F->light.on ? s * rc_shade(F, L, c, v) : s;
                 for (int ch = 0; ch < 3; ch++)
-                    col[ch] += s * vsv_rc_lerp(lo[ch], hi[ch], f);
+                    col[ch] += k * vsv_rc_lerp(lo[ch], hi[ch], f);
             }
         }
         if (sig > 0) {
@@ -265,7 +306,7 @@ static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray ray[
     pixel_spans(r, px, py, r->cam->width, &S);
     const double st = r->frame.st, org[3] = {g->ox, g->oy, g->oz * g->E};
     for (int i = 0; i < SPAN; i++) {
-        t_hit[i] = S.hit[i] && g->terrain ? r->ground[(size_t)py * r->cam->width + px + i].t : INFINITY;
+        t_hit[i] = S.hit[i] && r->surf_read ? r->surf_read[(size_t)py * r->cam->width + px + i].t : INFINITY;
         const double ts = S.t0[i] + 0.5 * st, tend = S.t1[i] < t_hit[i] ? S.t1[i] : t_hit[i];
         ray[i].ns = S.hit[i] && r->frame.nlayers && tend > ts ? (int)ceil((tend - ts) * r->frame.inv_st) : 0;
         ray[i].ts = ts;
@@ -284,7 +325,7 @@ static void raycast_finish(const vsv_renderer *r, int px, int py, double t_hit, 
     const size_t at = (size_t)py * r->cam->width + px;
     float out[4] = {acc[0], acc[1], acc[2], 1 - T};
     if (t_hit < INFINITY && T >= 1.0f / 512) {
-        const vsv_ground *gp = &r->ground[at];
+        const vsv_ground *gp = &r->surf_read[at];
         for (int c = 0; c < 3; c++)
             out[c] += T * gp->rgb[c];
         out[3] = 1;
@@ -348,7 +389,7 @@ void vsv_rc_tile(void *ctx, int tile, int thread)
                 acc[0][i] = acc[1][i] = acc[2][i] = 0;
                 depth[i] = INFINITY;
             }
-            if (r->kernel) {
+            if (r->kernel && !r->frame.light.on) {
                 r->kernel(&r->frame, ray, T, acc, depth);
             } else {
                 for (int i = 0; i < n; i++) {

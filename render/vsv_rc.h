@@ -5,6 +5,7 @@
 #define VSV_RC_H
 
 #include "vsv_geo.h"
+#include "vsv_light.h"
 #include "vsv_tf_internal.h"
 
 #include <math.h>
@@ -45,6 +46,7 @@ typedef struct vsv_rc_layer {
     int log;
     float sigma;                /* extinction per world unit of curve value 1 */
     const unsigned char *clear; /* per brick: transparent around it (skipping) */
+    float inv_span;             /* lighting: vsv_light_inv_span of its transfer function */
 } vsv_rc_layer;
 
 /* What every ray of a frame reads: the visible layers and their common grid. */
@@ -59,6 +61,7 @@ typedef struct vsv_rc_frame {
     int ey, ez;                /* the sampling copy's strides: brick + 1, (brick + 1)^2 */
     double st, inv_st;         /* the step in world units, and 1 / st */
     double inv_cell[3];        /* 1 / cell edge (exaggerated in z), world units */
+    vsv_light light;           /* lit frames march one ray at a time */
 } vsv_rc_frame;
 
 /* One ray through the volume: sample n (0 <= n < ns) sits at world distance

@@ -57,6 +57,7 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r->copy);
     free(r->build);
     free(r->ground);
+    free(r->surf);
     vsv_sw_free(r->sw);
     vsv_native_free(&r->native);
     free(r);
@@ -95,7 +96,25 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
             r->ground_valid = 1;
         }
     }
-    if (r->o.kind == VSV_RENDER_SHEARWARP) {
+    r->surf_read = r->g.terrain ? r->ground : NULL;
+    const int sliced = sc->nslices > 0;
+    if (sliced) { /* the slices in front of the ground: every frame (their colours are the data's) */
+        if (sc->slice_layer < 0 || sc->slice_layer >= sc->nlayers || !sc->layers[sc->slice_layer].vol ||
+            !sc->layers[sc->slice_layer].tf || !sc->slices)
+            return VSV_EINVAL;
+        const size_t n = (size_t)cam->width * cam->height;
+        if (n > r->surf_cap) {
+            vsv_ground *ns = realloc(r->surf, n * sizeof *ns);
+            if (!ns)
+                return VSV_ENOMEM;
+            r->surf = ns;
+            r->surf_cap = n;
+        }
+        r->sc = sc;
+        vsv_pool_run(&r->pool, vsv_rc_slice_row, r, cam->height);
+        r->surf_read = r->surf;
+    }
+    if (r->o.kind == VSV_RENDER_SHEARWARP && !sliced) {
         int rows = 0, classify = 0;
         int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &classify);
         if (!rc && classify) {

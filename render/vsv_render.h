@@ -10,7 +10,25 @@
  * colour sum(sigma_s * c_s) / sum(sigma_s); samples composite front to back
  * with alpha = 1 - exp(-sum(sigma_s) * step). The result does not depend on
  * the order of the species, and hiding a species (or opacity 0) is exactly
- * removing its term. */
+ * removing its term.
+ *
+ * Lighting (vsv_scene.light, off unless set), the same in every renderer:
+ * each species' colour at a sample is multiplied by a factor from the
+ * gradient of its value there (central differences one cell either way, on
+ * ln value for a log-scale transfer function, in fractions of its range per
+ * cell; the normal n points down the gradient, out of the cloud, in world
+ * metres with z exaggerated): 1 - w + w (VSV_LIGHT_AMBIENT +
+ * VSV_LIGHT_DIFFUSE max(0, n . L)), L toward the light, w = min(1, |gradient|
+ * / VSV_LIGHT_GFULL). Extinction, so transmittance and depth, never change,
+ * and where a value does not change the colour does not either. The
+ * raycaster shades every sample, the shear-warp every voxel it classifies
+ * (the light is fixed in the world, so a view change does not reclassify).
+ *
+ * Slices (vsv_scene.slices): horizontal planes and vertical curtains drawn
+ * as opaque surfaces in the colours of one layer's values through
+ * vsv_scene.slice_tf (values clamped into its range; no data and the part below the ground not drawn),
+ * behind the volume in front of them and hiding what is behind, as the
+ * ground does. Frames with slices are raycast whatever the renderer. */
 #ifndef VSV_RENDER_H
 #define VSV_RENDER_H
 
@@ -87,13 +105,50 @@ typedef struct vsv_layer {
     int visible;
 } vsv_layer;
 
+/* The lighting rule's constants (top of this file). */
+#define VSV_LIGHT_AMBIENT 0.35f
+#define VSV_LIGHT_DIFFUSE 0.75f
+#define VSV_LIGHT_GFULL 0.05f
+
+/* A slice: plain info (vsv_slice_parse fills it). A horizontal plane at
+ * height z (metres above sea level), or a vertical curtain standing on the
+ * polyline of npts world points (x, y metres), from the ground to the top. */
+enum { VSV_SLICE_Z = 0, VSV_SLICE_CURTAIN = 1 };
+#define VSV_SLICE_MAXPTS 65
+typedef struct vsv_slice {
+    int kind;
+    double z;
+    int npts;
+    double xy[VSV_SLICE_MAXPTS][2];
+} vsv_slice;
+
 typedef struct vsv_scene {
     const vsv_meta *meta; /* grid, levels, terrain */
     const vsv_layer *layers;
     int nlayers;
     double exaggeration;  /* vertical */
     int show_terrain;
+    int light;            /* lighting (top of this file); 0: unlit */
+    double light_dir[3];  /* toward the light, world axes (vsv_scene_sun) */
+    const vsv_slice *slices; /* nslices of them, borrowed; coloured by */
+    int nslices;
+    int slice_layer;      /* the layer (index in layers) whose values colour
+                             the slices; its volume must be loaded,
+                             visible or not */
+    const vsv_tf *slice_tf; /* the slices' colours: colour map, range and
+                             scale (NULL: the layer's transfer function) */
 } vsv_scene;
+
+/* Lights the scene from a sun at azimuth az (degrees clockwise from north)
+ * and elevation el (degrees). */
+void vsv_scene_sun(vsv_scene *sc, double az, double el);
+
+/* Parses a slice: "z=HEIGHT" (metres above sea level; a trailing m allowed),
+ * "lat=DEG" or "lon=DEG" (a curtain along that parallel or meridian across
+ * the grid), "line=LAT1,LON1:LAT2,LON2" (a curtain on the straight line
+ * between two points in the grid's projection). 0, or VSV_EINVAL with the
+ * reason in msg (the grid's range when the slice misses it). */
+int vsv_slice_parse(const vsv_meta *m, const char *spec, vsv_slice *s, char *msg, size_t cap);
 
 /* World metres per unit of the file's x and y: 1 for projected grids; for a
  * latitude/longitude grid its degrees as metres on the sphere (plate

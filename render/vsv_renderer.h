@@ -41,6 +41,12 @@ struct vsv_renderer {
     vsv_camera ground_cam;
     vsv_geo ground_geo;
     int ground_valid;
+    /* the surfaces this frame's rays end on: the ground cache, or with
+     * slices the ground merged with them (sliced, redone every frame);
+     * NULL: none */
+    const vsv_ground *surf_read;
+    vsv_ground *surf;
+    size_t surf_cap;
     vsv_native native;    /* native levels placed at their heights */
 };
 
@@ -54,5 +60,8 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc);
 void vsv_rc_tile(void *ctx, int tile, int thread);
 void vsv_rc_ground_row(void *ctx, int py, int thread);
 void vsv_rc_copy_brick(void *ctx, int item, int thread);
+/* Pool job: one image row of r->surf, the ground and the scene's slices
+ * (vsv_slice.c), for r->sc, r->cam, r->g and r->rays. */
+void vsv_rc_slice_row(void *ctx, int py, int thread);
 
 #endif

@@ -28,6 +28,7 @@
  * Memory: 16 bytes per voxel (and 16 voxels of padding per scanline) for a
  * classified copy and 2 bytes per voxel for its footprints: about 19 bytes
  * per voxel for one viewing axis, 57 when views have used all three. */
+#include "vsv_light.h"
 #include "vsv_sw.h"
 
 #include <limits.h>
@@ -55,6 +56,7 @@ struct vsv_sw {
     unsigned char *clear; /* per layer and brick: every value transparent */
     size_t clear_cap;
     double sigma_unit;
+    vsv_light light; /* the classification's lighting */
     float scale; /* the classified copy holds extinction in units of sigma_unit, times scale */
     /* intermediate image (img_stride floats a row), an empty border of one
      * pixel left and top, two right and bottom, and its opaque-pixel links
@@ -105,6 +107,12 @@ static uint64_t scene_key(const vsv_scene *sc)
         h = mix(h, L->tf ? vsv_crc32c(0, L->tf, sizeof *L->tf) : 0);
     }
     uint64_t e;
+    memcpy(&e, &sc->exaggeration, 8);
+    h = mix(h, (uint64_t)sc->light);
+    for (int a = 0; a < 3 && sc->light; a++) {
+        memcpy(&e, &sc->light_dir[a], 8);
+        h = mix(h, e);
+    }
     memcpy(&e, &sc->exaggeration, 8);
     return mix(mix(h, e), (uint64_t)sc->show_terrain);
 }
@@ -203,6 +211,27 @@ static int merge_footprints(const uint16_t *A, const uint16_t *B, uint16_t *out)
     return n;
 }
 
+/* The lighting factor of layer L's value v at cell idx: central
+ * differences one cell either way, clamped into the grid (a neighbour
+ * without data counts as v), as the raycaster's. */
+static float sw_shade(const vsv_sw *sw, const vsv_layer *L, const int idx[3], float v)
+{
+    const vsv_volume *V = L->vol;
+    const int n[3] = {V->nx, V->ny, V->nz};
+    float d[3];
+    for (int a = 0; a < 3; a++) {
+        int p[3] = {idx[0], idx[1], idx[2]};
+        p[a] = idx[a] + 1 < n[a] ? idx[a] + 1 : n[a] - 1;
+        float hi = vsv_volume_at(V, p[0], p[1], p[2]);
+        p[a] = idx[a] > 0 ? idx[a] - 1 : 0;
+        float lo = vsv_volume_at(V, p[0], p[1], p[2]);
+        hi = hi == hi ? hi : v;
+        lo = lo == lo ? lo : v;
+        d[a] = 0.5f * (hi - lo);
+    }
+    return vsv_light_shade(&sw->light, v, d, L->tf->scale == VSV_SCALE_LOG, vsv_light_inv_span(L->tf));
+}
+
 /* Slice k of the current axis: classified voxels (the empty scanlines and
  * padding too) and the footprints of its scanline pairs. */
 void vsv_sw_classify_slice(void *p, int k, int thread)
@@ -241,13 +270,15 @@ void vsv_sw_classify_slice(void *p, int k, int thread)
                 if (sw->clear[l * (size_t)L->vol->nbricks + brick])
                     continue;
                 float rgba[4];
-                vsv_tf_eval(L->tf, vsv_volume_at(L->vol, idx[0], idx[1], idx[2]), rgba);
+                const float val = vsv_volume_at(L->vol, idx[0], idx[1], idx[2]);
+                vsv_tf_eval(L->tf, val, rgba);
                 const float s = rgba[3] * L->opacity * sw->scale; /* in units of sigma_unit / scale */
                 if (s > 0) {
                     cs += s;
-                    cr += (double)s * rgba[0];
-                    cg += (double)s * rgba[1];
-                    cb += (double)s * rgba[2];
+                    const double ks = sw->light.on ? (double)s * sw_shade(sw, L, idx, val) : s;
+                    cr += ks * rgba[0];
+                    cg += ks * rgba[1];
+                    cb += ks * rgba[2];
                 }
             }
             uint16_t *const v = row + VSV_SW_PAD + ia;
@@ -368,6 +399,7 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     memset(sw->img + W * (sw->h + 1) * 4, 0, 2 * W * 4 * sizeof(float));
     sw->g = g;
     sw->sigma_unit = VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy);
+    vsv_light_init(&sw->light, sc, g);
     sw->cam = cam;
     vsv_rays_init(&sw->rays, cam);
     sw->out = out;

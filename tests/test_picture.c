@@ -35,7 +35,7 @@ static void test_lakes(void)
         return;
     }
     const vsv_meta *m = vsv_source_grid(src);
-    vsv_scene sc = {m, NULL, 0, 20, 1};
+    vsv_scene sc = {.meta = m, .layers = NULL, .nlayers = 0, .exaggeration = 20, .show_terrain = 1};
     enum { PW = 1200, PH = 900 };
     vsv_camera cam;
     vsv_camera_plan(&cam, &sc, PW, PH);
@@ -87,7 +87,7 @@ static void test_latlon(void)
         return;
     }
     const vsv_meta *m = vsv_source_grid(src);
-    vsv_scene sc = {m, NULL, 0, 20, 0};
+    vsv_scene sc = {.meta = m, .layers = NULL, .nlayers = 0, .exaggeration = 20, .show_terrain = 0};
     double mn[3], mx[3];
     vsv_scene_bounds(&sc, mn, mx);
     const double circ = 2 * M_PI * 6370000.0;

@@ -58,7 +58,7 @@ static float *render(world *w, const int *idx, const float *op, int n, int threa
     vsv_layer layers[8];
     for (int i = 0; i < n; i++)
         layers[i] = (vsv_layer){w->vol[idx[i]], &w->tf[idx[i]], op[i], op[i] >= 0};
-    vsv_scene sc = {vsv_file_meta(w->f), layers, n, 0, 1};
+    vsv_scene sc = {.meta = vsv_file_meta(w->f), .layers = layers, .nlayers = n, .exaggeration = 0, .show_terrain = 1};
     double mn[3], mx[3];
     sc.exaggeration = 1;
     vsv_scene_bounds(&sc, mn, mx);
@@ -236,7 +236,7 @@ static void test_eye_inside(world *w)
 {
     const vsv_meta *m = vsv_file_meta(w->f);
     vsv_layer layer = {w->vol[0], &w->tf[0], 1, 1};
-    vsv_scene sc = {m, &layer, 1, 1, 1};
+    vsv_scene sc = {.meta = m, .layers = &layer, .nlayers = 1, .exaggeration = 1, .show_terrain = 1};
     double mn[3], mx[3];
     vsv_scene_bounds(&sc, mn, mx);
     vsv_camera cam;
@@ -274,7 +274,7 @@ static void test_simd_paths(world *w)
     if (!CHECK(vsv_tf_parse(&tf, text, msg, sizeof msg) == 0, "a log-scale transfer function parses", "%s", msg))
         return;
     const vsv_layer layers[2] = {{w->vol[0], &tf, 1, 1}, {w->vol[1], &w->tf[1], 0.7f, 1}};
-    vsv_scene sc = {vsv_file_meta(w->f), layers, 2, 1, 1};
+    vsv_scene sc = {.meta = vsv_file_meta(w->f), .layers = layers, .nlayers = 2, .exaggeration = 1, .show_terrain = 1};
     sc.exaggeration = vsv_scene_default_exaggeration(&sc);
     vsv_camera cam;
     vsv_camera_orbit(&cam, &sc, 200, 25, 0, SW, SH);
@@ -335,7 +335,7 @@ static void test_sampling_copy(world *w)
     free(copy);
     /* the same renderer after the volume is loaded with another step */
     vsv_layer L = {w->vol[0], &w->tf[0], 1, 1};
-    vsv_scene sc = {vsv_file_meta(w->f), &L, 1, 1, 0};
+    vsv_scene sc = {.meta = vsv_file_meta(w->f), .layers = &L, .nlayers = 1, .exaggeration = 1, .show_terrain = 0};
     vsv_camera cam;
     vsv_camera_orbit(&cam, &sc, 225, 30, 0, W, H);
     vsv_render_opts o;
@@ -403,7 +403,7 @@ static void test_synthetic(void)
 static void test_ground(world *w)
 {
     const vsv_layer none[1] = {{w->vol[0], &w->tf[0], 0, 0}};
-    vsv_scene sc = {vsv_file_meta(w->f), none, 1, 1, 1};
+    vsv_scene sc = {.meta = vsv_file_meta(w->f), .layers = none, .nlayers = 1, .exaggeration = 1, .show_terrain = 1};
     sc.exaggeration = vsv_scene_default_exaggeration(&sc);
     vsv_geo g;
     vsv_scene_geo(&sc, &g);

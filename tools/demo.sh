@@ -100,6 +100,11 @@ step "The model's own levels at their heights: --vertical native (MM5 sigma over
 "$B/vsv-info" "$OUT/native.vsv" | grep -A1 "vertical"
 "$B/vsv-render" -q "$OUT/native.vsv" --view south --no-terrain -x 60 -o "$OUT/native.png" && echo "$OUT/native.png"
 
+step "Lit clouds (gradient shading, a sun in the north-west) over a section of moisture at 1500 m" \
+     "vsv-render $OUT/storm.vsv --species CLW,SNOW --light --slice z=1500 --slice-species Q"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --slice z=1500 --slice-species Q --size 480x360 \
+    -o "$OUT/lit.png" && echo "$OUT/lit.png"
+
 step "One colour scale for several files: --range" \
      "vsv-render $OUT/storm.vsv --species CLW,SNOW --range CLW=0:0.0006 --range SNOW=0:0.0005"
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --range CLW=0:0.0006 --range SNOW=0:0.0005 --size 480x360 \

@@ -51,7 +51,7 @@ void vsv_player_opts_init(vsv_player_opts *o)
 
 static vsv_scene scene(const vsv_player *p)
 {
-    return (vsv_scene){p->m, p->layers, p->ns, p->exaggeration, p->terrain};
+    return (vsv_scene){.meta = p->m, .layers = p->layers, .nlayers = p->ns, .exaggeration = p->exaggeration, .show_terrain = p->terrain};
 }
 
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)
