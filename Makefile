@@ -374,7 +374,7 @@ demo:
 # the packages deps.sh has just installed (this make was parsed before them)
 demo-bin: $(FREEVR_TEST)
 
-BENCH_BIN = $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
+BENCH_BIN = $(B)/bench/bench_rc_peer $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
             $(B)/bench/bench_play $(B)/bench/bench_advect
 $(B)/bench/%: $(B)/bench/%.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)

@@ -1,9 +1,10 @@
 #!/bin/sh
-# bench_vtk.sh — the raycaster beside VTK's vtkFixedPointVolumeRayCastMapper and
-# OpenVDB's vdb_render on the same volume (one species of the converted real MM5
-# run), same camera, same sizes. Needs python3-vtk9 and xvfb (Debian); says so when
-# they are missing. vdb_render (libopenvdb-tools) runs when it and python3-openvdb
-# are installed.
+# bench_vtk.sh — the raycaster beside VTK's vtkFixedPointVolumeRayCastMapper on
+# the suite of bench_peers.py (MM5 Q, CLW, SNOW, WRF QCLOUD, gen-plume's plume and
+# haze; matched settings, interleaved rounds, PSNR and ratios printed), then
+# beside OpenVDB's vdb_render on MM5 Q. Needs python3-vtk9 and xvfb (Debian); says
+# so when they are missing. vdb_render (libopenvdb-tools) runs when it and
+# python3-openvdb are installed.
 set -eu
 B=${B:-build}
 SHARED=${SHARED:-../shared}
@@ -14,17 +15,12 @@ if ! /usr/bin/python3 -c 'import vtk' 2>/dev/null || ! command -v xvfb-run >/dev
 fi
 W=$(mktemp -d "${TMPDIR:-/tmp}/vsv-bench-vtk.XXXXXX")
 trap 'rm -rf "$W"' EXIT
-"$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
-printf 'data: MMOUT_DOMAIN1 at 3 h, species %s alone, 207x142x40; %s cores; %s\n\n' \
-    "$SPECIES" "$(nproc)" "$(date -u +%Y-%m-%d)"
-printf 'Vesuvius, no terrain (the work VTK does: the volume alone):\n\n'
-VSV_BENCH_NO_TERRAIN=1 "$B/bench/bench_render" "$W/mm5.vsv" 3 "$SPECIES" | grep -v '^geometry'
-printf '\nVesuvius with the terrain (its default picture; the ground is found again every frame as the camera moves):\n\n'
-"$B/bench/bench_render" "$W/mm5.vsv" 3 "$SPECIES" > "$W/ours.txt"
-grep -v '^geometry' "$W/ours.txt"
-printf '\nVTK vtkFixedPointVolumeRayCastMapper (offscreen, Xvfb):\n\n'
-xvfb-run -a /usr/bin/python3 bench/bench_vtk.py "$W/mm5.vsv.raw" "$(grep '^geometry' "$W/ours.txt")" 2>/dev/null
+# the suite: Vesuvius beside VTK on six volumes at matched settings (bench_peers.py)
+xvfb-run -a /usr/bin/python3 bench/bench_peers.py --build "$B" --shared "$SHARED"
 if command -v vdb_render >/dev/null && /usr/bin/python3 -c 'import pyopenvdb' 2>/dev/null; then
+    # OpenVDB's vdb_render on Q alone: bench_render writes the decoded volume and the camera
+    "$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
+    VSV_BENCH_NO_TERRAIN=1 "$B/bench/bench_render" "$W/mm5.vsv" 3 "$SPECIES" > "$W/ours.txt"
     # one process per frame: the time is the one vdb_render reports for ray-tracing
     # (reading the file and writing the image are outside it); one shadow-ray
     # sample per primary sample (-shadowstep far beyond the volume), no density or

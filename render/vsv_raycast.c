@@ -117,6 +117,7 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     /* a fixed step in world units: a fraction of the smallest cell edge */
     F->st = r->o.step_cells * fmin(fmin(g->dx, g->dy), g->dz * g->E);
     F->inv_st = 1 / F->st;
+    F->term = (float)r->o.term;
     F->inv_cell[0] = 1 / g->dx;
     F->inv_cell[1] = 1 / g->dy;
     F->inv_cell[2] = 1 / (g->dz * g->E);
@@ -237,7 +238,7 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             T = fmaf(-T, a, T);
             if (*depth == INFINITY && 1 - T > 0.1f)
                 *depth = (float)(ray->ts + n * ray->st);
-            if (T < 1.0f / 512)
+            if (T < F->term)
                 break; /* early ray termination */
         }
     }
@@ -324,7 +325,7 @@ static void raycast_finish(const vsv_renderer *r, int px, int py, double t_hit, 
 {
     const size_t at = (size_t)py * r->cam->width + px;
     float out[4] = {acc[0], acc[1], acc[2], 1 - T};
-    if (t_hit < INFINITY && T >= 1.0f / 512) {
+    if (t_hit < INFINITY && T >= r->frame.term) {
         const vsv_ground *gp = &r->surf_read[at];
         for (int c = 0; c < 3; c++)
             out[c] += T * gp->rgb[c];

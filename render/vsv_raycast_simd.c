@@ -297,7 +297,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
     const vi NS = iload(ns), M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy), EY = iset(F->ey), EZ = iset(F->ez);
     const int sh = F->shift;
     const vf ST = fset((float)st_d), ONE = fset(1), ZERO = fset(0);
-    const vf TERM = fset(1.0f / 512), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
+    const vf TERM = fset(F->term), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
     const vi LUTI = iset(VSV_TF_LUT - 2);
     const vf UMAX = fset(VSV_OPACITY_UMAX), UK = fset(VSV_OPACITY_N / VSV_OPACITY_UMAX), HALF = fset(0.5f);
     const vf SMALL = fset(VSV_OPACITY_SMALL);

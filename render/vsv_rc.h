@@ -60,6 +60,7 @@ typedef struct vsv_rc_frame {
     int shift, mask, brick, bx, bxy;
     int ey, ez;                /* the sampling copy's strides: brick + 1, (brick + 1)^2 */
     double st, inv_st;         /* the step in world units, and 1 / st */
+    float term;                /* early ray termination: T below this */
     double inv_cell[3];        /* 1 / cell edge (exaggerated in z), world units */
     vsv_light light;           /* lit frames march one ray at a time */
 } vsv_rc_frame;

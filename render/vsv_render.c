@@ -12,6 +12,7 @@ void vsv_render_opts_init(vsv_render_opts *o)
     memset(o, 0, sizeof *o);
     o->kind = VSV_RENDER_RAYCAST;
     o->step_cells = 0.5;
+    o->term = 1.0 / 512;
 }
 
 
@@ -39,6 +40,8 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
         return VSV_ENOMEM;
     if (!(r->o.step_cells > 0))
         r->o.step_cells = 0.5;
+    if (!(r->o.term > 0 && r->o.term < 1))
+        r->o.term = 1.0 / 512;
     vsv_pool_start(&r->pool, r->o.threads > 0 ? r->o.threads : vsv_ncpus());
     return 0;
 }

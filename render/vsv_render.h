@@ -182,6 +182,8 @@ typedef struct vsv_render_opts {
     int threads;         /* 0 = all cores */
     double step_cells;   /* sample step in horizontal cells (default 0.5) */
     int no_skip;         /* disable empty-space skipping (reference renders) */
+    double term;         /* raycaster: a ray ends once its transmittance is
+                            below this (0 or out of (0, 1): 1/512) */
 } vsv_render_opts;
 
 void vsv_render_opts_init(vsv_render_opts *o);
