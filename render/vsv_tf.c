@@ -63,7 +63,7 @@ static void map_colour(const cmap *m, double t, float rgb[3])
 int vsv_tf_prepare(vsv_tf *tf)
 {
     const cmap *m = find_map(tf->colormap);
-    if (!m || !(tf->hi > tf->lo) || tf->nopacity < 2 || tf->nopacity > VSV_TF_MAXPTS ||
+    if (!m || !(tf->hi > tf->lo) || !isfinite(tf->hi - tf->lo) || tf->nopacity < 2 || tf->nopacity > VSV_TF_MAXPTS ||
         (tf->scale == VSV_SCALE_LOG && !(tf->lo > 0)))
         return VSV_EINVAL;
     tf->base = tf->scale == VSV_SCALE_LOG ? log(tf->lo) : tf->lo;
@@ -122,8 +122,8 @@ int vsv_tf_parse(vsv_tf *tf, const char *text, char *msg, size_t cap)
             }
             snprintf(tf->colormap, sizeof tf->colormap, "%s", name);
         } else if (!strcmp(key, "range")) {
-            if (sscanf(rest, "%lf %lf", &tf->lo, &tf->hi) != 2 || !(tf->hi > tf->lo)) {
-                snprintf(msg, cap, "line %d: range needs LO HI with LO < HI", line);
+            if (sscanf(rest, "%lf %lf", &tf->lo, &tf->hi) != 2 || !(tf->hi > tf->lo) || !isfinite(tf->hi - tf->lo)) {
+                snprintf(msg, cap, "line %d: range needs finite LO HI with LO < HI", line);
                 return VSV_EINVAL;
             }
         } else if (!strcmp(key, "scale")) {

@@ -52,7 +52,7 @@ static inline void vsv_tf_lookup(const vsv_tf *tf, float v, float rgba[4])
         return;
     }
     double x = ((tf->scale == VSV_SCALE_LOG ? log(v) : (double)v) - tf->base) * tf->inv;
-    if (x > VSV_TF_LUT - 1)
+    if (!(x <= VSV_TF_LUT - 1)) /* above the range, or NaN (an infinite value) */
         x = VSV_TF_LUT - 1;
     /* linear interpolation in the table */
     int i = (int)x;

@@ -550,6 +550,18 @@ static void test_tf(void)
     CHECK(rc != 0 && strstr(msg, "line 1: unknown colour map"), "an unknown colour map is named with its line", "%s", msg);
     rc = vsv_tf_parse(&tf, "range 1 2\nscale log\nopacity 0 2\n", msg, sizeof msg);
     CHECK(rc != 0 && strstr(msg, "line 3"), "opacity outside [0, 1] is refused", "%s", msg);
+    /* found by fuzzing (tests/corpus/text/crash-tf-infinite-range): an
+     * infinite end made the table position NaN, converted to int */
+    rc = vsv_tf_parse(&tf, "colormap magma\nrange 1e-9 1e8400\nscale log\nopacity 0 1\n", msg, sizeof msg);
+    CHECK(rc != 0 && strstr(msg, "line 2: range needs finite"), "an infinite range end is refused", "%s", msg);
+    rc = vsv_tf_parse(&tf, "colormap magma\nrange -1e308 1e308\nopacity 0 1\n", msg, sizeof msg);
+    CHECK(rc != 0 && strstr(msg, "line 2"), "a range whose width overflows is refused", "%s", msg);
+    tf.lo = 0, tf.hi = 1, tf.scale = VSV_SCALE_LINEAR, tf.nopacity = 2, tf.opacity[0] = 0, tf.opacity[1] = 1;
+    snprintf(tf.colormap, sizeof tf.colormap, "magma");
+    vsv_tf_prepare(&tf);
+    tf.inv = 0; /* as a range of infinite width made it */
+    vsv_tf_eval(&tf, INFINITY, rgba);
+    CHECK(rgba[3] == 1, "an infinite value reads as the top of the range");
 }
 
 static void test_exr(void)
