@@ -30,7 +30,11 @@ static void test_actions(vsv_player *p)
                {"renderer gpu", "raycast"},    {"camera 10", "AZ EL"},        {"loop sometimes", "on, off"},
                {"screenshot", "FILE.png"},     {"step many", "not a number"}, {"zoom 0", "> 0"},
                {"seek 1995-10-25T00:00:00Z", "after the last step (steps 0..3"},
-               {"seek 1995-10-23T00:00:00Z", "before the first step"}, {"seek 0:2", "one step is wanted"}};
+               {"seek 1995-10-23T00:00:00Z", "before the first step"}, {"seek 0:2", "one step is wanted"},
+               /* found by fuzzing (tests/corpus/player/edge-values): an int
+                * conversion out of range, infinities taken as numbers */
+               {"step 1e300", "not a number of steps"}, {"speed inf", "non-zero number"},
+               {"camera 10 nan", "AZ EL"}, {"pan inf 0", "DX DY"}};
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         const int rc = vsv_player_do(p, bad[i].action, err, sizeof err);
         char name[128];

@@ -329,7 +329,7 @@ static int num(const char *s, double *v)
     if (!s)
         return -1;
     *v = strtod(s, &end);
-    return end == s || *end || *v != *v ? -1 : 0;
+    return end == s || *end || !isfinite(*v) ? -1 : 0; /* inf, nan: not numbers here */
 }
 
 int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
@@ -359,7 +359,7 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         vsv_clock_toggle(c);
     else if (!strcmp(verb, "step")) {
         v = 1;
-        NEED(!a1 || !num(a1, &v), "step: '%s' is not a number of steps", a1);
+        NEED(!a1 || (!num(a1, &v) && fabs(v) <= 1e9), "step: '%s' is not a number of steps", a1);
         vsv_clock_step(c, (int)v);
     } else if (!strcmp(verb, "seek")) {
         NEED(a1, "seek: needs an ISO time or a step index");
