@@ -5,7 +5,7 @@
 #   make demo       install what is missing, build, run the main job on samples/
 #   make bench      run the benchmarks in bench/ (results: bench/RESULTS.md)
 #   make install    PREFIX=/usr/local DESTDIR=
-#   make fuzz       build libFuzzer targets with clang (build-fuzz/)
+#   make fuzz       build the libFuzzer targets with clang (build-fuzz/), run each FUZZ_SECONDS
 #   MPI=1 / MPI=0 builds vsv-convert-mpi or not (default: when mpicc is found).
 #   V=1 for verbose commands, WERROR=1 (default under CI) for -Werror.
 
@@ -45,7 +45,7 @@ endif
 # tools/deps.sh --install (as root it installs what is missing, otherwise it
 # prints the one apt-get line and stops) before anything asks pkg-config.
 # Other build goals stop here with that line when a library is missing.
-NODEP_GOALS = demo test deps help clean
+NODEP_GOALS = demo test deps help clean fuzz
 ifneq ($(filter-out $(NODEP_GOALS),$(or $(MAKECMDGOALS),all)),)
   MISSING := $(foreach p,$(PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) 2>/dev/null && echo y),,$(p)))
   ifneq ($(strip $(MISSING)),)
@@ -154,7 +154,10 @@ $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o: XINC = -Icli -Iintero
 TEST_SRC = $(wildcard tests/test_*.c)
 TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
-FUZZ_BIN = $(B)/tests/test_fuzz $(B)/tests/test_fuzz_mm5 $(B)/tests/test_fuzz_uamiv
+# the fuzz targets (tests/fuzz_*.c, tests/FUZZING.md): each runs in `make
+# test` over its corpus as test_fuzz_NAME, and under libFuzzer in `make fuzz`
+FUZZ_TARGETS = vsv mm5 uamiv camxmet netcdf grads stream text player
+FUZZ_BIN = $(patsubst %,$(B)/tests/test_fuzz_%,$(FUZZ_TARGETS))
 # tests and benchmarks are white-box: every library, every dependency
 TEST_LIBS = $(PLAYER_A) $(INTEROP_A) $(CONVERT_A) $(RENDER_A) $(CORE_A) $(CLI_A)
 
@@ -176,7 +179,7 @@ ifeq ($(strip $(PY_MISSING)),)
   PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
 endif
 
-.PHONY: demo-bin all test test-run demo bench install uninstall clean fuzz help deps freevr freevr-syntax
+.PHONY: fuzz-bin demo-bin all test test-run demo bench install uninstall clean fuzz help deps freevr freevr-syntax
 .SECONDARY:
 all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
@@ -347,10 +350,8 @@ $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(TEST_LIBS)
 $(B)/tests/ncsplit: $(B)/tests/nc_split.o
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
-$(B)/tests/test_fuzz: $(B)/tests/fuzz_vsv.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(TEST_LIBS)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
-
-$(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(TEST_HELPERS) $(TEST_LIBS)
+$(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(B)/tests/fuzz_source.o $(TEST_HELPERS) $(TEST_LIBS)
+	$(link)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
 # `make test` and `make demo` run the dependency step first (see above),
@@ -398,13 +399,26 @@ bench: all $(BENCH_BIN)
 deps:
 	$(Q)sh tools/deps.sh --install
 
+# `make fuzz`: every target built with clang's libFuzzer, ASan and UBSan
+# (build-fuzz/), then run FUZZ_SECONDS each from its seed corpus
+# (tests/fuzz.sh prints executions, coverage and any crash). FUZZ=NAME...
+# runs only those. Needs clang (tools/deps.sh --install-fuzz installs it).
+FUZZ_SECONDS ?= 60
+FUZZ ?= $(FUZZ_TARGETS)
+FUZZ_MAKE = B=build-fuzz CC=clang CXX=clang++ OPT="-O1 -g" VIEWER=0 MPI=0 \
+  WARN="-Wall -Wextra -Wshadow -Wno-unknown-warning-option $(WFLAGS_ERR)" \
+  SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
+FUZZ_LIBS = $(PLAYER_A) $(CONVERT_A) $(RENDER_A) $(CORE_A) $(CLI_A)
 fuzz:
-	$(MAKE) B=build-fuzz CC=clang CXX=clang++ SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined" \
-	  build-fuzz/libvesuvius.a build-fuzz/libvesuvius-convert.a build-fuzz/tests/fuzz_vsv.o \
-	  build-fuzz/tests/fuzz_mm5.o build-fuzz/tests/fuzz_uamiv.o
-	for t in vsv mm5 uamiv; do clang -fsanitize=fuzzer,address,undefined -o build-fuzz/fuzz_$$t build-fuzz/tests/fuzz_$$t.o \
-	  build-fuzz/libvesuvius-convert.a build-fuzz/libvesuvius.a $(CONVERT_EXT) || exit 1; done
-	@echo "run: build-fuzz/fuzz_vsv tests/golden, build-fuzz/fuzz_mm5 tests/corpus/mm5, build-fuzz/fuzz_uamiv tests/corpus/uamiv"
+	$(Q)sh tools/deps.sh --install-fuzz
+	$(Q)$(MAKE) --no-print-directory $(FUZZ_MAKE) fuzz-bin
+	$(Q)FUZZ_SECONDS=$(FUZZ_SECONDS) sh tests/fuzz.sh $(FUZZ)
+
+fuzz-bin: $(patsubst %,$(B)/fuzz/fuzz_%,$(FUZZ))
+$(B)/fuzz/fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_source.o $(FUZZ_LIBS)
+	@mkdir -p $(dir $@)
+	$(link)
+	$(Q)$(CC) -fsanitize=fuzzer -o $@ $^ $(RENDER_EXT) $(CONVERT_EXT)
 
 # Installed: each library (static, shared with its soname, a pkg-config file)
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,

@@ -3,6 +3,7 @@
  * cache, the shear-warp's phases or the raycaster's tiles on the pool. */
 #include "vsv_renderer.h"
 
+#include <cpuid.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -15,6 +16,12 @@ void vsv_render_opts_init(vsv_render_opts *o)
     o->term = 1.0 / 512;
 }
 
+/* F16C from CPUID (leaf 1, ECX): clang 14 has no __builtin_cpu_supports("f16c") */
+static int cpu_f16c(void)
+{
+    unsigned a, b, c, d;
+    return __get_cpuid(1, &a, &b, &c, &d) && (c & bit_F16C);
+}
 
 int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
 {
@@ -36,7 +43,7 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
         r->kernel = __builtin_cpu_supports("avx512f") && !(simd && !strcmp(simd, "avx2")) ? vsv_raycast16_avx512
                                                                                           : vsv_raycast16;
     if (r->o.kind == VSV_RENDER_SHEARWARP &&
-        !(r->sw = vsv_sw_create(VSV_POOL_MAX, r->simd && __builtin_cpu_supports("f16c"))))
+        !(r->sw = vsv_sw_create(VSV_POOL_MAX, r->simd && cpu_f16c())))
         return VSV_ENOMEM;
     if (!(r->o.step_cells > 0))
         r->o.step_cells = 0.5;

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-const char *const fuzz_default_dirs[2] = {"tests/corpus/mm5", NULL};
+const char *const fuzz_default_dirs[4] = {"tests/corpus/mm5", NULL, NULL, NULL};
 const char fuzz_label[] = "MM5 reader";
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-const char *const fuzz_default_dirs[2] = {"tests/corpus/uamiv", NULL};
+const char *const fuzz_default_dirs[4] = {"tests/corpus/uamiv", NULL, NULL, NULL};
 const char fuzz_label[] = "UAM-IV reader";
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

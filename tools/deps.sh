@@ -4,11 +4,16 @@
 #   --install  install the missing ones (as root), or print the exact apt-get line
 #   --bench    print the packages only `make bench` needs (its peers), and
 #              --install-bench installs those (CI needs neither)
+#   --fuzz     the same for `make fuzz`: Debian 12's clang, whose libFuzzer and
+#              sanitizer runtimes are in libclang-rt-14-dev (--install-fuzz)
 set -eu
 PKGS="build-essential pkg-config python3 python3-dev python3-numpy python3-xarray python3-netcdf4 python3-pyproj bc libopenmpi-dev openmpi-bin libzstd-dev zstd libgeographiclib-dev libnetcdf-dev netcdf-bin libpng-dev libopenexr-dev libglfw3-dev libgl-dev libfreetype-dev libfontconfig-dev fonts-dejavu-core xvfb xauth xdotool libx11-dev libxi-dev libopenvdb-dev libboost-dev libopenvdb-tools ffmpeg procps"
 BENCH_PKGS="python3-vtk9"
+FUZZ_PKGS="clang libclang-rt-14-dev"
 case "${1:-}" in --bench | --install-bench) [ "$1" = --bench ] && { echo $BENCH_PKGS; exit 0; }
     PKGS=$BENCH_PKGS; set -- --install ;; esac
+case "${1:-}" in --fuzz | --install-fuzz) [ "$1" = --fuzz ] && { echo $FUZZ_PKGS; exit 0; }
+    PKGS=$FUZZ_PKGS; set -- --install ;; esac
 missing=""
 for p in $PKGS; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
@@ -25,5 +30,5 @@ case "${1:-}" in
         echo "  sudo apt-get install -y$missing" >&2
         exit 1
     fi ;;
-*) echo "usage: deps.sh --names | --install | --bench | --install-bench" >&2; exit 2 ;;
+*) echo "usage: deps.sh --names | --install | --bench | --install-bench | --fuzz | --install-fuzz" >&2; exit 2 ;;
 esac
