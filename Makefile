@@ -98,7 +98,8 @@ $(B)/tests/%.o $(B)/bench/%.o: INC = $(ALL_INC)
 objs = $(patsubst %.cc,$(B)/%.o,$(patsubst %.c,$(B)/%.o,$(1)))
 # the private helpers every library compiles in (format/vsv_common.h) and
 # the even-height resampler the core and the model readers share (vsv_vgrid.h)
-COMMON_OBJ = $(B)/format/vsv_buf.o $(B)/format/vsv_msg.o $(B)/format/vsv_vgrid.o $(B)/format/vsv_input.o
+COMMON_OBJ = $(B)/format/vsv_buf.o $(B)/format/vsv_msg.o $(B)/format/vsv_vgrid.o $(B)/format/vsv_input.o \
+             $(B)/format/vsv_helper.o
 CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(wildcard stream/vsv_*.c))
 # vsv_*_cli.c: program code a folder's tools share (never in a library)
 CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c))) $(COMMON_OBJ)
@@ -143,6 +144,12 @@ ifeq ($(MPI),1)
   TOOLS += vsv-convert-mpi
 endif
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
+# private helper programs (format/vsv_helper.c): the libraries exec them to
+# read files with a library that can crash on them; beside the tools in the
+# build tree, in $(LIBDIR)/vesuvius/ when installed
+HELPERS = vsv-nc-check vsv-vdb-reader
+HELPER_BIN = $(addprefix $(B)/,$(HELPERS))
+HELPER_DIR = $(LIBDIR)/vesuvius
 # the programs: each sees cli/ besides its folder's layers; vsv-extract and
 # vsv-convert read .vdb sequences through interop/
 TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv-query.o $(B)/convert/vsv-info.o $(B)/convert/vsv-extract.o $(B)/convert/vsv-interp.o \
@@ -181,7 +188,7 @@ endif
 
 .PHONY: fuzz-bin demo-bin all test test-run demo bench install uninstall clean fuzz help deps freevr freevr-syntax
 .SECONDARY:
-all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(PYMOD)
+all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(HELPER_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
 	@echo "note: the Python module is not built: $(PY_MISSING)"
 endif
@@ -216,6 +223,8 @@ $(B)/render/vsv_raycast_avx512.o: CFLAGS_ALL += -mavx2 -mfma -mavx512f
 # vectors never cross a call, so -Wpsabi's ABI note is moot) and for AVX2 + FMA
 $(B)/render/vsv_sw_row.o: CFLAGS_ALL += -Wno-psabi
 $(B)/render/vsv_sw_row_avx2.o: CFLAGS_ALL += -mavx2 -mfma -mf16c -ffp-contract=fast
+
+$(B)/format/vsv_helper.o: CFLAGS_ALL += -DVSV_HELPER_DIR='"$(HELPER_DIR)"'
 
 $(B)/%.o: %.cc
 	@mkdir -p $(dir $@)
@@ -285,6 +294,13 @@ $(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(
 $(B)/vsv-render: $(B)/render/vsv-render.o $(CLI_A) $(RENDER_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(RENDER_EXT)
+
+$(B)/vsv-nc-check: $(B)/convert/vsv-nc-check.o
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(CONVERT_EXT)
+$(B)/vsv-vdb-reader: $(B)/interop/vsv-vdb-reader.o $(INTEROP_A) $(CONVERT_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
 
 $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o: CFLAGS_ALL += $(VIEWER_CFLAGS)
 $(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(CORE_A)
@@ -447,6 +463,8 @@ install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 \
 	  $(DESTDIR)$(MANDIR)/man5 $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(DATADIR)/bash-completion/completions
 	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
+	install -d $(DESTDIR)$(HELPER_DIR)
+	install -m 755 $(HELPER_BIN) $(DESTDIR)$(HELPER_DIR)/
 	install -m 644 $(LIBS_A) $(DESTDIR)$(LIBDIR)/
 	install -m 755 $(SHLIBS) $(DESTDIR)$(LIBDIR)/
 	$(foreach l,$(PC_LIBS),ln -sf lib$(l).so.$(VERSION) $(DESTDIR)$(LIBDIR)/lib$(l).so.$(SOVERSION) && \
@@ -463,6 +481,7 @@ install: all
 
 uninstall:
 	rm -f $(addprefix $(DESTDIR)$(BINDIR)/,$(TOOLS))
+	rm -rf $(DESTDIR)$(HELPER_DIR)
 	rm -f $(foreach l,$(PC_LIBS),$(DESTDIR)$(LIBDIR)/lib$(l).a $(DESTDIR)$(LIBDIR)/lib$(l).so* $(DESTDIR)$(LIBDIR)/pkgconfig/$(l).pc)
 	rm -f $(addprefix $(DESTDIR)$(DATADIR)/bash-completion/completions/,$(TOOLS))
 	rm -f $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(addsuffix .1,$(TOOLS))) $(DESTDIR)$(MANDIR)/man5/vsv.5

@@ -12,6 +12,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
+#include <sys/types.h>
 
 /* Little-endian memcpy helpers: never cast structs onto bytes. */
 static inline uint16_t vsv_rd16(const unsigned char *p) { return (uint16_t)(p[0] | (p[1] << 8)); }
@@ -92,5 +93,31 @@ void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_
 int vsv_input_open(const char *path, char *why, size_t cap);
 /* The same as a stdio stream (mode "r" or "rb"); NULL with why set. */
 FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap);
+
+/* Private helper programs (vsv_helper.c): reading untrusted files with a
+ * library that can crash on them happens in an exec'd helper, never in a
+ * fork of a process that may have threads. */
+/* The helper's path into out (caller buffer of cap bytes): $VSV_HELPER_DIR,
+ * else next to this library or program (build tree, install), else the
+ * compiled-in $(libdir)/vesuvius. 0, or -1 when it is nowhere. */
+int vsv_helper_path(const char *name, char *out, size_t cap);
+/* Starts helper `name` with argv (argv[0] included, NULL-terminated), its
+ * stdin and stdout on in and out (-1: /dev/null), `extra` as its fd 3 (-1:
+ * none), stderr on /dev/null, default signal dispositions. The caller's
+ * descriptors stay its own. The pid, or -1 with the reason in why. */
+pid_t vsv_helper_spawn(const char *name, char *const argv[], int in, int out, int extra, char *why, size_t cap);
+/* Waits up to limit_s seconds for fd to become readable: 1, 0 on time out,
+ * -1 on error. */
+int vsv_helper_poll(int fd, double limit_s);
+/* Waits for pid at most limit_s seconds of wall clock, then kills it
+ * (SIGKILL) and waits. Its wait status in *status; 1 when it was killed for
+ * time, else 0. */
+int vsv_helper_reap(pid_t pid, double limit_s, int *status);
+/* Runs a helper to completion with at most limit_s seconds of wall clock:
+ * what it writes to stdout (up to cap - 1 bytes, NUL-terminated) in out,
+ * its wait status in *status. 0; 1 when killed for time; -1 when it could
+ * not be started (the reason in why, wcap bytes). */
+int vsv_helper_run(const char *name, char *const argv[], int extra, double limit_s, char *out, size_t cap,
+                   int *status, char *why, size_t wcap);
 
 #endif

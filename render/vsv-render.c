@@ -8,7 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <fcntl.h>
 #include <signal.h>
+#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -88,6 +90,8 @@ typedef struct movie {
     const char *out;
 } movie;
 
+extern char **environ;
+
 static char movie_tmp[4200]; /* removed at exit unless renamed into place */
 
 static void movie_cleanup(void)
@@ -123,25 +127,39 @@ static void movie_open(movie *mv, const char *out, int w, int h, int fps)
     atexit(movie_cleanup);
     mv->out = out;
     int fd[2];
-    if (pipe(fd))
+    if (pipe2(fd, O_CLOEXEC))
         vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
     char size[64], rate[32];
     snprintf(size, sizeof size, "%dx%d", w, h);
     snprintf(rate, sizeof rate, "%d", fps);
-    mv->pid = fork();
-    if (mv->pid < 0)
-        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
-    if (mv->pid == 0) {
-        dup2(fd[0], 0);
-        close(fd[0]);
-        close(fd[1]);
-        execlp("ffmpeg", "ffmpeg", "-hide_banner", "-loglevel", "error", "-nostdin", "-y", "-f", "rawvideo",
-               "-pix_fmt", "rgb24", "-s", size, "-r", rate, "-i", "pipe:0", "-an", "-vf",
-               "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18", mv->tmp,
-               (char *)NULL);
-        _exit(127);
-    }
+    char *const args[] = {"ffmpeg", "-hide_banner", "-loglevel", "error", "-nostdin", "-y", "-f", "rawvideo",
+                          "-pix_fmt", "rgb24", "-s", size, "-r", rate, "-i", "pipe:0", "-an", "-vf",
+                          "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18",
+                          mv->tmp, NULL};
+    /* posix_spawnp: nothing of ours runs between fork and exec (the
+     * renderer's threads may exist; a forked copy must not touch a lock) */
+    posix_spawn_file_actions_t fa;
+    posix_spawnattr_t at;
+    sigset_t dfl;
+    sigemptyset(&dfl);
+    sigaddset(&dfl, SIGPIPE); /* ignored here (below), not in ffmpeg */
+    int rc = posix_spawn_file_actions_init(&fa);
+    if (!rc && (rc = posix_spawnattr_init(&at)))
+        posix_spawn_file_actions_destroy(&fa);
+    if (rc)
+        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(rc));
+    rc = posix_spawn_file_actions_adddup2(&fa, fd[0], 0);
+    if (!rc)
+        rc = posix_spawnattr_setsigdefault(&at, &dfl);
+    if (!rc)
+        rc = posix_spawnattr_setflags(&at, POSIX_SPAWN_SETSIGDEF);
+    if (!rc)
+        rc = posix_spawnp(&mv->pid, "ffmpeg", &fa, &at, args, environ);
+    posix_spawnattr_destroy(&at);
+    posix_spawn_file_actions_destroy(&fa);
     close(fd[0]);
+    if (rc)
+        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(rc));
     if (!(mv->pipe = fdopen(fd[1], "wb")))
         vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
 }

@@ -108,6 +108,13 @@ for t in $tools; do
     v=$("$R$P/bin/$t" --version 2>&1)
     case $v in "$t (Vesuvius "*") format 1."*) pass "$t --version: $v" ;; *) fail "$t --version" "$v" ;; esac
 done
+# the private helpers in lib/vesuvius/, found by the installed tools (the
+# library's isolation of libhdf5 and OpenVDB; issue 18)
+for h in vsv-nc-check vsv-vdb-reader; do
+    [ -x "$R$P/lib/vesuvius/$h" ] && pass "installed: lib/vesuvius/$h" || fail "installed: lib/vesuvius/$h" "missing"
+done
+expect "an installed tool finds its helper: a libhdf5 crash is an error" 1 "$R$P/bin/vsv-info" tests/corpus/netcdf/hdf5-segv.nc
+has "naming the file" "$T/err" "tests/corpus/netcdf/hdf5-segv.nc: damaged netCDF-4/HDF5 file: the HDF5 library crashed reading it"
 # the installed transfer functions parse, block by block
 expect "the installed transfer functions render" 0 "$R$P/bin/vsv-render" "$T/crop.vsv" -o "$T/tf.png" \
     --tf "$R$P/share/vesuvius/transfer-functions.tf" --size 64x48

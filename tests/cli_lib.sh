@@ -16,3 +16,22 @@ expect() {
 has() { if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi; }
 # same NAME A B : the files are identical
 same() { if cmp -s "$2" "$3"; then pass "$1"; else fail "$1" "$2 and $3 differ"; fi; }
+# execs_only NAME CMD... : every child process CMD starts runs a program
+# (exec) first: none is a bare fork of a process that may have threads
+# (issue 18). Needs strace (tools/deps.sh); at least one child must be seen.
+execs_only() {
+    name=$1; shift
+    if ! command -v strace > /dev/null; then echo "note: $name: strace missing, not checked"; return; fi
+    # LeakSanitizer cannot run under ptrace; the trace is what is checked
+    ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" timeout -k 5 "${CMD_TIMEOUT:-300}" \
+        strace -f -qq -e trace=execve -o "$T/strace" "$@" < /dev/null > "$T/out" 2> "$T/err"
+    r=$(awk '/--- SIGCHLD/ { if (match($0, /si_pid=[0-9]+/)) kid[substr($0, RSTART + 7, RLENGTH - 7)] = 1 }
+             / execve\(/ { ex[$1] = 1 }
+             END { n = 0; bad = ""; for (k in kid) { n++; if (!(k in ex)) bad = bad " " k }
+                   print n, (bad == "" ? "ok" : "never exec:" bad) }' "$T/strace")
+    case "$r" in
+    0\ *) fail "$name" "no child process seen" ;;
+    *\ ok) pass "$name" ;;
+    *) fail "$name" "$r" ;;
+    esac
+}
