@@ -122,8 +122,12 @@ int vsv_tf_parse(vsv_tf *tf, const char *text, char *msg, size_t cap)
             }
             snprintf(tf->colormap, sizeof tf->colormap, "%s", name);
         } else if (!strcmp(key, "range")) {
-            if (sscanf(rest, "%lf %lf", &tf->lo, &tf->hi) != 2 || !(tf->hi > tf->lo) || !isfinite(tf->hi - tf->lo)) {
-                snprintf(msg, cap, "line %d: range needs finite LO HI with LO < HI", line);
+            /* absolute values in the species' units: two finite numbers, nothing after */
+            int used = 0;
+            if (sscanf(rest, "%lf %lf %n", &tf->lo, &tf->hi, &used) != 2 || rest[used] || !(tf->hi > tf->lo) ||
+                !isfinite(tf->hi - tf->lo)) {
+                snprintf(msg, cap, "line %d: range needs finite LO HI with LO < HI (the species' units, nothing after)",
+                         line);
                 return VSV_EINVAL;
             }
         } else if (!strcmp(key, "scale")) {
@@ -185,7 +189,7 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
         return VSV_EIO;
     }
     char line[512];
-    int in = 0, found = 0, any = 0, lineno = 0;
+    int in = 0, found = 0, any = 0, lineno = 0, emitted = 0;
     size_t n = 0;
     buf[0] = 0;
     while (fgets(line, sizeof line, fp)) {
@@ -202,9 +206,21 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
             fclose(fp);
             return VSV_EINVAL;
         }
-        if (in && n + strlen(line) < cap) {
+        /* the block's lines at their line numbers in the file (empty lines
+         * before them), so that a parse error names the file's line */
+        while (in && emitted < lineno - 1 && n + 1 < cap) {
+            buf[n++] = '\n';
+            buf[n] = 0;
+            emitted++;
+        }
+        if (in && n + strlen(line) + 1 < cap) {
             memcpy(buf + n, line, strlen(line) + 1);
             n += strlen(line);
+            if (!n || buf[n - 1] != '\n') {
+                buf[n++] = '\n';
+                buf[n] = 0;
+            }
+            emitted = lineno;
         }
     }
     fclose(fp);
