@@ -32,6 +32,12 @@ static const char usage[] =
     "      --loop on|off|bounce  at the ends (default off: stop)\n"
     "      --play              start playing\n"
     "      --no-terrain        do not draw the ground\n"
+    "      --view NAME         start in a view: plan, south, west or oblique (default)\n"
+    "      --light[=AZ,EL]     start lit: gradient shading, sun at AZ,EL (default\n"
+    "                          315,45); g switches it\n"
+    "      --slice SPEC        a section, as vsv-render: z=HEIGHT, lat=DEG, lon=DEG\n"
+    "                          or line=LAT1,LON1:LAT2,LON2 (repeatable); c switches\n"
+    "      --slice-species NAME, --slice-colormap NAME  as vsv-render\n"
     "      --script FILE       timed actions, one per line: SECONDS ACTION [ARGS]\n"
     "                          (see vsv-play(1)); quit exits 0\n"
     "  -q, --quiet             no messages\n"
@@ -121,6 +127,12 @@ static void on_key(GLFWwindow *w, int key, int scancode, int act, int mods)
     case GLFW_KEY_UP: run(a, "opacity - +0.1"); break;
     case GLFW_KEY_DOWN: run(a, "opacity - -0.1"); break;
     case GLFW_KEY_M: run(a, "renderer switch"); break;
+    case GLFW_KEY_F2: run(a, "view plan"); break;
+    case GLFW_KEY_F3: run(a, "view south"); break;
+    case GLFW_KEY_F4: run(a, "view west"); break;
+    case GLFW_KEY_F5: run(a, "view oblique"); break;
+    case GLFW_KEY_G: run(a, "light"); break;
+    case GLFW_KEY_C: run(a, "slices"); break;
     case GLFW_KEY_P:
         snprintf(buf, sizeof buf, "screenshot vsv-play-%04d.png", a->shots++);
         run(a, buf);
@@ -201,7 +213,8 @@ static void glfw_error(int code, const char *what)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-play");
-    enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT };
+    enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
+           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM };
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
         {"renderer", required_argument, 0, 'r'},   {"cache-mb", required_argument, 0, O_CACHE},
@@ -211,12 +224,15 @@ int main(int argc, char **argv)
         {"play", no_argument, 0, O_PLAY},          {"no-terrain", no_argument, 0, O_NOTERRAIN},
         {"script", required_argument, 0, O_SCRIPT}, {"quiet", no_argument, 0, 'q'},
         {"help", no_argument, 0, 'h'},             {"version", no_argument, 0, 'V'},
+        {"view", required_argument, 0, O_VIEW},    {"light", optional_argument, 0, O_LIGHT},
+        {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
+        {"slice-colormap", required_argument, 0, O_SLICECM},
         {0, 0, 0, 0}};
     vsv_player_opts po;
     vsv_player_opts_init(&po);
     int width = 960, height = 600, c;
     double scale = 1;
-    const char *script = NULL;
+    const char *script = NULL, *view = NULL;
     while ((c = getopt_long(argc, argv, "s:r:x:qhV", longopts, NULL)) != -1) {
         long v;
         double d;
@@ -268,6 +284,24 @@ int main(int argc, char **argv)
         case O_PLAY: po.play = 1; break;
         case O_NOTERRAIN: po.terrain = 0; break;
         case O_SCRIPT: script = optarg; break;
+        case O_VIEW:
+            if (strcmp(optarg, "plan") && strcmp(optarg, "south") && strcmp(optarg, "west") && strcmp(optarg, "oblique"))
+                vsv_cli_usage_error("--view %s: plan, south, west or oblique", optarg);
+            view = optarg;
+            break;
+        case O_LIGHT:
+            po.light = 1;
+            if (optarg && (sscanf(optarg, "%lf,%lf", &po.sun_az, &po.sun_el) != 2 || !isfinite(po.sun_az) ||
+                           !(po.sun_el >= -90 && po.sun_el <= 90)))
+                vsv_cli_usage_error("--light=%s: expected AZ,EL in degrees with -90 <= EL <= 90", optarg);
+            break;
+        case O_SLICE:
+            if (po.nslices >= 8)
+                vsv_cli_usage_error("--slice %s: at most 8 slices", optarg);
+            po.slices[po.nslices++] = optarg;
+            break;
+        case O_SLICESP: po.slice_species = optarg; break;
+        case O_SLICECM: po.slice_colormap = optarg; break;
         case 'q': vsv_cli_set_quiet(1); break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
@@ -283,6 +317,11 @@ int main(int argc, char **argv)
     char err[1024];
     if (vsv_player_open(&po, &p, err, sizeof err))
         vsv_cli_die(1, "%s", err);
+    if (view) {
+        char act[64];
+        snprintf(act, sizeof act, "view %s", view);
+        vsv_player_do(p, act, err, sizeof err);
+    }
     glfwSetErrorCallback(glfw_error);
     if (!glfwInit())
         vsv_cli_die(1, "cannot open a window: no display (set DISPLAY, or run under xvfb-run)");

@@ -24,8 +24,16 @@ struct vsv_player {
     int shown;           /* the step on screen; -1 before the first */
     double exaggeration;
     int terrain;
-    /* camera: an orbit about the scene centre moved by pan (world metres) */
-    double az, el, dist, pan[3];
+    /* camera: an orbit about the scene centre (dist 0: the box filling the
+     * view), or a plan view zoomed by plan_zoom; moved by pan (world metres) */
+    double az, el, dist, pan[3], plan_zoom;
+    int plan;
+    /* lighting and slices */
+    int light, slices_on, nslices, slice_var;
+    double sun_az, sun_el;
+    vsv_slice slices[8];
+    vsv_tf slice_tf;
+    unsigned char *need; /* per species: pinned (drawn, or the slices' species) */
     /* rendering */
     vsv_render_opts ro;
     vsv_renderer *r;
@@ -47,11 +55,31 @@ void vsv_player_opts_init(vsv_player_opts *o)
     memset(o, 0, sizeof *o);
     o->renderer = VSV_RENDER_SHEARWARP;
     o->terrain = 1;
+    o->sun_az = 315;
+    o->sun_el = 45;
 }
 
 static vsv_scene scene(const vsv_player *p)
 {
-    return (vsv_scene){.meta = p->m, .layers = p->layers, .nlayers = p->ns, .exaggeration = p->exaggeration, .show_terrain = p->terrain};
+    vsv_scene sc = {.meta = p->m, .layers = p->layers, .nlayers = p->ns, .exaggeration = p->exaggeration,
+                    .show_terrain = p->terrain};
+    if (p->light)
+        vsv_scene_sun(&sc, p->sun_az, p->sun_el);
+    if (p->slices_on && p->nslices) {
+        sc.slices = p->slices;
+        sc.nslices = p->nslices;
+        sc.slice_layer = p->slice_var;
+        sc.slice_tf = &p->slice_tf;
+    }
+    return sc;
+}
+
+/* The species to pin: those drawn, and the slices' while they show. */
+static const unsigned char *needed(vsv_player *p)
+{
+    for (int s = 0; s < p->ns; s++)
+        p->need[s] = p->want[s] || (p->slices_on && p->nslices && s == p->slice_var);
+    return p->need;
 }
 
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)
@@ -82,7 +110,8 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     p->cur = calloc((size_t)p->ns, sizeof *p->cur);
     p->layers = calloc((size_t)p->ns, sizeof *p->layers);
     p->want = calloc((size_t)p->ns, 1);
-    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want) {
+    p->need = calloc((size_t)p->ns, 1);
+    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need) {
         snprintf(err, cap, "out of memory");
         return -1;
     }
@@ -148,6 +177,37 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         p->layers[s] = (vsv_layer){NULL, &p->tf[s], opac[s] >= 0 ? opac[s] : 1, p->want[s]};
     }
     free(opac);
+    /* slices: parsed against the grid, coloured by a species' range */
+    p->slice_var = -1;
+    for (int s = 0; s < p->ns && p->slice_var < 0; s++)
+        p->slice_var = p->want[s] ? s : -1;
+    if (o->slice_species && (p->slice_var = vsv_meta_find_var(p->m, o->slice_species)) < 0) {
+        snprintf(err, cap, "--slice-species: %s has no species '%s'", o->path, o->slice_species);
+        return -1;
+    }
+    if (p->slice_var < 0)
+        p->slice_var = 0;
+    for (int i = 0; i < o->nslices && i < 8; i++) {
+        char msg[512];
+        if (vsv_slice_parse(p->m, o->slices[i], &p->slices[i], msg, sizeof msg)) {
+            snprintf(err, cap, "%s: --%s", o->path, msg);
+            return -1;
+        }
+        p->nslices++;
+    }
+    p->slices_on = p->nslices > 0;
+    if (p->ns) {
+        p->slice_tf = p->tf[p->slice_var];
+        snprintf(p->slice_tf.colormap, sizeof p->slice_tf.colormap, "%s",
+                 o->slice_colormap ? o->slice_colormap : "viridis");
+        if (vsv_tf_prepare(&p->slice_tf)) {
+            snprintf(err, cap, "--slice-colormap %s: not a colour map name", o->slice_colormap ? o->slice_colormap : "");
+            return -1;
+        }
+    }
+    p->light = o->light;
+    p->sun_az = o->sun_az;
+    p->sun_el = o->sun_el;
     p->terrain = o->terrain;
     vsv_scene sc = scene(p);
     p->exaggeration = o->exaggerate > 0 ? o->exaggerate : vsv_scene_default_exaggeration(&sc);
@@ -182,6 +242,7 @@ void vsv_player_free(vsv_player *p)
     free(p->cur);
     free(p->layers);
     free(p->want);
+    free(p->need);
     free(p->rgba);
     free(p->rgb);
     free(p);
@@ -205,8 +266,9 @@ static int stride(const vsv_player *p)
  * hidden ones released. 0 or -1. */
 static int show(vsv_player *p, int t, int wait)
 {
+    needed(p);
     for (int s = 0; s < p->ns; s++) {
-        if (!p->want[s]) {
+        if (!p->need[s]) {
             if (p->cur[s]->step >= 0)
                 vsv_pager_put(p->pager, p->cur[s]);
             p->layers[s].vol = NULL;
@@ -242,13 +304,14 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
     vsv_clock_tick(c, dt);
     const int target = c->step;
     const int dir = !c->playing ? 0 : c->speed > 0 ? 1 : -1;
-    vsv_pager_playhead(p->pager, target, dir, stride(p), c->ends != VSV_CLOCK_STOP, p->want);
+    const unsigned char *need = needed(p);
+    vsv_pager_playhead(p->pager, target, dir, stride(p), c->ends != VSV_CLOCK_STOP, need);
     vsv_pager_stats st;
     vsv_pager_stats_get(p->pager, &st);
     /* st.prefetch_depth 0: a step does not fit the budget beside the one
      * shown, nothing is decoded ahead, so decode on demand */
     if (exact || !c->playing || p->shown < 0 || target == p->shown || st.prefetch_depth == 0 ||
-        vsv_pager_ready(p->pager, target, p->want))
+        vsv_pager_ready(p->pager, target, need))
         return show_checked(p, target);
     /* playing and the clock's step is not decoded yet: the newest decoded
      * step on the way there, else the one shown stays */
@@ -258,7 +321,7 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
         t = ((t - dir) % n + n) % n;
         if (t == p->shown)
             break;
-        if (vsv_pager_ready(p->pager, t, p->want))
+        if (vsv_pager_ready(p->pager, t, need))
             return show_checked(p, t);
     }
     return show_checked(p, p->shown); /* the step shown, with any species just switched on */
@@ -269,7 +332,14 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
 void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam)
 {
     vsv_scene sc = scene(p);
-    vsv_camera_orbit(cam, &sc, p->az, p->el, p->dist, w, h);
+    if (p->plan) {
+        vsv_camera_plan(cam, &sc, w, h);
+        cam->ortho_height /= p->plan_zoom > 0 ? p->plan_zoom : 1;
+    } else if (p->dist > 0) {
+        vsv_camera_orbit(cam, &sc, p->az, p->el, p->dist, w, h);
+    } else {
+        vsv_camera_fit(cam, &sc, p->az, p->el, w, h);
+    }
     for (int i = 0; i < 3; i++)
         cam->pos[i] += p->pan[i];
 }
@@ -419,13 +489,36 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
     } else if (!strcmp(verb, "camera")) {
         NEED(!num(a1, &v) && !num(a2, &v2) && (!a3 || !num(a3, &v3)), "camera: needs AZ EL [DIST]");
         p->az = v, p->el = fmax(-89.9, fmin(89.9, v2)), p->dist = a3 ? fmax(0, v3) : 0;
+        p->plan = 0;
         memset(p->pan, 0, sizeof p->pan);
+    } else if (!strcmp(verb, "view")) {
+        /* vsv-render's --view presets */
+        static const struct { const char *name; double az, el; } views[] = {
+            {"plan", 0, 89.9}, {"south", 180, 8}, {"west", 270, 8}, {"oblique", 225, 30}};
+        int i = 0;
+        while (i < 4 && (!a1 || strcmp(a1, views[i].name)))
+            i++;
+        NEED(i < 4, "view: plan, south, west or oblique");
+        p->plan = i == 0;
+        p->plan_zoom = 1;
+        p->az = views[i].az, p->el = views[i].el, p->dist = 0;
+        memset(p->pan, 0, sizeof p->pan);
+    } else if (!strcmp(verb, "light") || !strcmp(verb, "slices")) {
+        int *on = !strcmp(verb, "light") ? &p->light : &p->slices_on;
+        NEED(!a1 || !strcmp(a1, "on") || !strcmp(a1, "off"), "%s: on or off (nothing: switch)", verb);
+        NEED(on == &p->light || p->nslices, "slices: none given (vsv-play --slice SPEC)");
+        *on = a1 ? !strcmp(a1, "on") : !*on;
+        p->dirty = 1;
     } else if (!strcmp(verb, "orbit")) {
         NEED(!num(a1, &v) && !num(a2, &v2), "orbit: needs DAZ DEL");
+        if (p->plan) /* out of the map view: from straight above */
+            p->plan = 0, p->az = 0, p->el = 89.9;
         p->az = fmod(p->az + v + 360, 360), p->el = fmax(-89.9, fmin(89.9, p->el + v2));
     } else if (!strcmp(verb, "zoom")) {
         NEED(!num(a1, &v) && v > 0, "zoom: needs a factor > 0");
-        if (!(p->dist > 0)) {
+        if (p->plan) {
+            p->plan_zoom *= v;
+        } else if (!(p->dist > 0)) {
             vsv_camera cam;
             vsv_player_camera(p, 100, 100, &cam);
             double mn[3], mx[3];
@@ -435,7 +528,8 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
                 d2 += pow(0.5 * (mn[i] + mx[i]) + p->pan[i] - cam.pos[i], 2);
             p->dist = sqrt(d2);
         }
-        p->dist /= v;
+        if (!p->plan)
+            p->dist /= v;
     } else if (!strcmp(verb, "pan")) {
         NEED(!num(a1, &v) && !num(a2, &v2), "pan: needs DX DY (fractions of the view)");
         vsv_camera cam;
@@ -500,9 +594,11 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
     if (c->nsteps)
         vsv_time_format(p->times[step], when, sizeof when);
     static const char *ends[] = {"", "  loop", "  bounce"};
-    size_t n = (size_t)snprintf(buf, cap, "%s  step %d/%d  %s %sx%g%s  %s\n", when, step + 1, c->nsteps,
+    size_t n = (size_t)snprintf(buf, cap, "%s  step %d/%d  %s %sx%g%s  %s%s%s%s%s\n", when, step + 1, c->nsteps,
                                 c->playing ? "PLAY" : "PAUSE", c->speed < 0 ? "-" : "", fabs(c->speed), ends[c->ends],
-                                p->ro.kind == VSV_RENDER_RAYCAST ? "raycast" : "shear-warp");
+                                p->ro.kind == VSV_RENDER_RAYCAST ? "raycast" : "shear-warp", p->plan ? "  plan" : "",
+                                p->light ? "  lit" : "", p->slices_on && p->nslices ? "  slices of " : "",
+                                p->slices_on && p->nslices ? p->m->vars[p->slice_var].name : "");
     for (int s = 0; s < p->ns && n < cap; s++) {
         const int sel = s == p->selected;
         if (p->want[s])
@@ -526,6 +622,9 @@ const char *vsv_player_help_text(void)
            "v          show / hide the selected species\n"
            "up / down  its opacity up / down\n"
            "m          switch renderer (shear-warp / raycast)\n"
+           "F2 F3 F4 F5 view: plan (map) / from the south / west / oblique\n"
+           "g          lighting on / off\n"
+           "c          slices on / off (given with --slice)\n"
            "p          screenshot (vsv-play-NNNN.png)\n"
            "h          this help\n"
            "q / esc    quit\n"
@@ -558,6 +657,8 @@ void vsv_player_state_get(const vsv_player *p, vsv_player_state *st)
     st->renderer = p->ro.kind;
     st->selected = p->selected;
     st->help = p->help;
+    st->light = p->light;
+    st->slices = p->slices_on;
     for (int s = 0; s < p->ns && s < VSV_PLAYER_MAX_SPECIES; s++) {
         st->visible[s] = p->want[s];
         st->opacity[s] = p->layers[s].opacity;
@@ -579,6 +680,10 @@ int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err,
     p->clock.ends = st->ends;
     p->selected = st->selected >= 0 && st->selected < p->ns ? st->selected : 0;
     p->help = st->help;
+    if (p->light != st->light || p->slices_on != st->slices)
+        p->dirty = 1;
+    p->light = st->light;
+    p->slices_on = st->slices;
     if (st->renderer != p->ro.kind)
         return vsv_player_do(p, st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast" : "renderer shearwarp", err,
                              cap);

@@ -10,6 +10,8 @@
  *   opacity SPECIES|- VALUE|+D|-D ('-': the selected; signed: a change)
  *   select +1|-1|#INDEX|SPECIES | camera AZ EL [DIST] | orbit DAZ DEL | zoom FACTOR
  *   pan DX DY (fractions of the view) | renderer raycast|shearwarp|switch
+ *   view plan|south|west|oblique (vsv-render's --view, the domain filling
+ *   the view) | light [on|off] | slices [on|off] (no argument: switch)
  *   help | screenshot FILE.png | quit
  *
  * Display back ends (viewer/vsv-play.c: GLFW; viewer/vsv_freevr.c: FreeVR)
@@ -38,6 +40,12 @@ typedef struct vsv_player_opts {
     int terrain;            /* draw the ground */
     int clock_only;         /* no pager, no renderer: the input process of a
                                multi-process back end (state and clock only) */
+    int light;              /* gradient shading at start */
+    double sun_az, sun_el;  /* its sun (degrees; default 315, 45) */
+    const char *slices[8];  /* --slice specs (vsv_slice_parse), shown at start */
+    int nslices;
+    const char *slice_species; /* the slices' species (NULL: the first visible) */
+    const char *slice_colormap; /* their colour map (NULL: viridis) */
 } vsv_player_opts;
 
 void vsv_player_opts_init(vsv_player_opts *o);
@@ -85,7 +93,7 @@ const char *vsv_player_help_text(void);
 #define VSV_PLAYER_MAX_SPECIES 64
 typedef struct vsv_player_state {
     double model, speed;
-    int step, playing, ends, renderer, selected, help;
+    int step, playing, ends, renderer, selected, help, light, slices;
     unsigned char visible[VSV_PLAYER_MAX_SPECIES];
     float opacity[VSV_PLAYER_MAX_SPECIES];
 } vsv_player_state;
