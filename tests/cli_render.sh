@@ -30,7 +30,7 @@ expect "a transfer-function file" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/tf.
 if ! cmp -s "$T/tf.png" "$T/f0006.png" 2>/dev/null; then pass "the transfer function changes the image"; else fail "the transfer function changes the image" "same"; fi
 printf 'species CLW\ncolormap rainbow\n' > "$T/bad.txt"
 expect "a bad transfer-function file exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/bad.txt"
-has "the bad line is named" "$T/err" "line 1: unknown colour map"
+has "the bad line is named" "$T/err" "line 2: unknown colour map"
 expect "the same frame twice is identical" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/again.png" --size 320x240 --threads 1
 if cmp -s "$T/last.png" "$T/again.png"; then pass "1 thread and all threads write the same PNG"; else fail "1 thread and all threads write the same PNG" "differ"; fi
 expect "a damaged .vsv exits 1" 1 "$B/vsv-render" tests/golden/bad/payload.vsv -o "$T/x.png" --time 1
