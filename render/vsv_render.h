@@ -218,6 +218,26 @@ double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
  * (at least 1): the tools' default. */
 double vsv_scene_default_exaggeration(const vsv_scene *sc);
 
+/* ------------------------------------------------------------- annotation */
+
+/* A font for text drawn into frames (FreeType). */
+typedef struct vsv_font vsv_font;
+/* Loads the TrueType font at path (NULL or "": $VSV_FONT, else DejaVu Sans
+ * of fonts-dejavu-core) at px pixels per em. Caller frees with
+ * vsv_font_free. 0, or VSV_ENOTFOUND / VSV_EINVAL with the reason in err
+ * (caller buffer of cap bytes). */
+int vsv_font_open(const char *path, int px, vsv_font **out, char *err, size_t cap);
+void vsv_font_free(vsv_font *f);
+/* Pixels from one line of text to the next. */
+int vsv_font_line(const vsv_font *f);
+/* Width in pixels of one line of UTF-8 text. */
+int vsv_text_width(vsv_font *f, const char *text);
+/* Draws one line of UTF-8 text into rgba (w*h*4 floats, premultiplied, row
+ * 0 at the top), its top-left corner at pixel (x, y), in colour rgb at
+ * opacity alpha (0..1), blended over what is there; clipped to the image. */
+void vsv_text_draw(vsv_font *f, float *rgba, int w, int h, int x, int y, const char *text, const float rgb[3],
+                   float alpha);
+
 /* ------------------------------------------------------------------ files */
 
 /* A rendered image (w*h*4 floats, premultiplied) over a background colour,
