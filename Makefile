@@ -81,7 +81,7 @@ endif
 # Each library folder is one layer (DESIGN.md §1, "Libraries and programs").
 #   core     format/ + stream/     libc, zstd; GeographicLib for projections
 #   convert  convert/              core, netCDF
-#   render   render/               core, libpng, OpenEXR, FreeType
+#   render   render/               core, libpng, OpenEXR, FreeType, netCDF (GSHHG outlines)
 #   interop  interop/              convert, core, OpenVDB
 # cli/ is the programs' own static library (options, JSON, progress, exits):
 # no library links it. viewer/ keeps the player core for its programs.
@@ -120,7 +120,7 @@ LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(INTEROP_A)
 # shared libraries)
 CORE_EXT = $(call pkglibs,libzstd geographiclib) -lstdc++ -lm -pthread $(SANFLAGS)
 CONVERT_EXT = $(call pkglibs,netcdf) $(CORE_EXT)
-RENDER_EXT = $(call pkglibs,libpng OpenEXR freetype2) $(CORE_EXT)
+RENDER_EXT = $(call pkglibs,libpng OpenEXR freetype2 netcdf) $(CORE_EXT)
 INTEROP_EXT = $(OPENVDB_LIBS) $(call pkglibs,tbb blosc Imath) $(CONVERT_EXT)
 ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS)) -lstdc++ -lm -pthread $(SANFLAGS) $(LDLIBS)
 
@@ -450,9 +450,9 @@ pc_desc_vesuvius-convert = Vesuvius model readers (MM5, CAMx, WRF, IOAPI, GrADS)
 pc_req_vesuvius-convert = vesuvius
 pc_reqp_vesuvius-convert = netcdf
 pc_libsp_vesuvius-convert = -lm
-pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, text, PNG and EXR output
+pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, annotation, PNG and EXR output
 pc_req_vesuvius-render = vesuvius
-pc_reqp_vesuvius-render = libpng OpenEXR freetype2
+pc_reqp_vesuvius-render = libpng OpenEXR freetype2 netcdf
 pc_libsp_vesuvius-render = -lm -pthread
 pc_desc_vesuvius-interop = Vesuvius volumes to and from OpenVDB, and out as CF netCDF
 pc_req_vesuvius-interop = vesuvius-convert vesuvius

@@ -64,9 +64,39 @@ static const char usage[] =
     "      --movie OUT.mp4     a movie of the selected steps (default: all) through ffmpeg\n"
     "                          (H.264; the container follows the extension), -o optional\n"
     "      --fps N             movie frames per second (default 12)\n"
+    "      --no-annotate       the bare image: no time, colour bars, scale, graticule\n"
+    "                          or outlines\n"
+    "      --annotate PARTS    only these: time,bars,exaggeration,scale,graticule,\n"
+    "                          outlines (default: all; outlines need gmt-gshhg-low)\n"
     "  -q, --quiet             no progress\n"
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
+
+/* --annotate's list of parts */
+static unsigned annot_parts(const char *list)
+{
+    static const struct {
+        const char *name;
+        unsigned bit;
+    } names[] = {{"time", VSV_ANNOT_TIME},           {"bars", VSV_ANNOT_COLOURBAR}, {"exaggeration", VSV_ANNOT_EXAGGERATION},
+                 {"scale", VSV_ANNOT_SCALEBAR},      {"graticule", VSV_ANNOT_GRATICULE},
+                 {"outlines", VSV_ANNOT_OUTLINES},   {"all", VSV_ANNOT_ALL}};
+    unsigned parts = 0;
+    const char *p = list;
+    while (*p) {
+        const size_t n = strcspn(p, ",");
+        size_t i = 0;
+        while (i < sizeof names / sizeof *names && (strlen(names[i].name) != n || strncmp(names[i].name, p, n)))
+            i++;
+        if (i == sizeof names / sizeof *names)
+            vsv_cli_usage_error("--annotate %s: parts are time, bars, exaggeration, scale, graticule, outlines, all", list);
+        parts |= names[i].bit;
+        p += n + (p[n] == ',');
+    }
+    if (!parts)
+        vsv_cli_usage_error("--annotate %s: no part named (--no-annotate for none)", list);
+    return parts;
+}
 
 static int write_png(const char *path, const float *rgba, int w, int h, const float bg[3], char *err, size_t cap)
 {
@@ -187,7 +217,7 @@ static void movie_close(movie *mv)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -202,6 +232,7 @@ int main(int argc, char **argv)
         {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
         {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
         {"slice-colormap", required_argument, 0, O_SLICECM},
+        {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
     const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
     int fps = 12;
@@ -212,6 +243,7 @@ int main(int argc, char **argv)
     const char *slice_cmap = "viridis";
     int nslice_specs = 0, light = 0;
     double sun_az = 315, sun_el = 45;
+    unsigned parts = VSV_ANNOT_ALL;
     double la[6] = {0};
     vsv_render_opts ro;
     vsv_render_opts_init(&ro);
@@ -287,6 +319,8 @@ int main(int argc, char **argv)
             slice_cmap = optarg;
             break;
         }
+        case O_NOANNOT: parts = 0; break;
+        case O_ANNOT: parts = annot_parts(optarg); break;
         case O_LOOKAT:
             if (sscanf(optarg, "%lf,%lf,%lf,%lf,%lf,%lf", &la[0], &la[1], &la[2], &la[3], &la[4], &la[5]) != 6 ||
                 (la[0] == la[3] && la[1] == la[4] && la[2] == la[5]))
@@ -483,6 +517,26 @@ int main(int argc, char **argv)
         signal(SIGPIPE, SIG_IGN); /* a dying ffmpeg is an error, not a signal */
         movie_open(&mv, movie_out, ow, height, fps);
     }
+    /* annotation: the font and, for a map, the outlines (a note, not an
+     * error, where a package is missing) */
+    vsv_font *font = NULL;
+    vsv_outlines *outlines = NULL;
+    if (parts) {
+        char err[512];
+        const int px = height / 40 < 11 ? 11 : height / 40 > 32 ? 32 : height / 40;
+        if (vsv_font_open(NULL, px, &font, err, sizeof err))
+            fprintf(stderr, "vsv-render: note: %s: frames without text\n", err);
+        if (parts & VSV_ANNOT_OUTLINES) {
+            const double km = (mx[0] - mn[0]) / width / 1000;
+            const int orc = vsv_outlines_load(m, NULL, vsv_outlines_resolution(km), &outlines, err, sizeof err);
+            if (orc == VSV_ENOTFOUND || orc == VSV_EUNSUPPORTED)
+                fprintf(stderr, "vsv-render: note: %s\n", err);
+            else if (orc)
+                vsv_cli_die(1, "%s", err);
+        }
+    }
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    const vsv_annot annot = {parts, font, 0, base, sidx, outlines};
     vsv_renderer *r = NULL;
     if (vsv_renderer_create(&ro, &r))
         vsv_cli_die(1, "cannot start the renderer");
@@ -500,6 +554,10 @@ int main(int argc, char **argv)
             cam.eye_offset = stereo ? (eye ? sep / 2 : -sep / 2) : 0;
             if (vsv_render(r, &sc, &cam, rgba, depth))
                 vsv_cli_die(1, "render failed");
+            vsv_annot an = annot;
+            an.time = vsv_file_time(f, t);
+            if (parts && vsv_annotate(&an, &sc, &cam, rgba, depth))
+                vsv_cli_die(1, "out of memory");
             for (int y = 0; y < height; y++) {
                 memcpy(img + 4 * ((size_t)y * ow + (size_t)eye * width), rgba + 4 * (size_t)y * width,
                        4 * sizeof(float) * (size_t)width);
@@ -532,6 +590,8 @@ int main(int argc, char **argv)
     free(zimg);
     vsv_decoder_free(d);
     vsv_renderer_free(r);
+    vsv_font_free(font);
+    vsv_outlines_free(outlines);
     for (int l = 0; l < nl; l++)
         vsv_volume_free(vols[l]);
     free(vols);

@@ -238,6 +238,62 @@ int vsv_text_width(vsv_font *f, const char *text);
 void vsv_text_draw(vsv_font *f, float *rgba, int w, int h, int x, int y, const char *text, const float rgb[3],
                    float alpha);
 
+/* Coast, lake and border lines under a grid (GSHHG, Debian's gmt-gshhg-low). */
+typedef struct vsv_outlines vsv_outlines;
+enum { VSV_OUTLINE_COAST = 1, VSV_OUTLINE_LAKE = 2, VSV_OUTLINE_BORDER = 3, VSV_OUTLINE_STATE = 4 };
+/* The GSHHG resolution ('c' crude, 'l' low, 'i' intermediate) for a map of
+ * km kilometres per pixel. */
+char vsv_outlines_resolution(double km);
+/* Reads the shorelines (coast; lakes with their islands and ponds) and the
+ * national and state/province borders of the lat/lon box under m's grid
+ * from the GSHHG binned netCDF files in dir (NULL or "": $VSV_GSHHG, else
+ * /usr/share/gmt-gshhg) at resolution res, projected to world metres with
+ * the grid's projection (vsv_scene_world). Caller frees with
+ * vsv_outlines_free. 0; VSV_ENOTFOUND when the files are not there,
+ * VSV_EUNSUPPORTED for a grid without a map projection, VSV_ECORRUPT or
+ * VSV_ENOMEM; msg (cap bytes) says why. */
+int vsv_outlines_load(const vsv_meta *m, const char *dir, char res, vsv_outlines **out, char *msg, size_t cap);
+void vsv_outlines_free(vsv_outlines *o);
+/* Number of polylines (0 for NULL), and polyline i: its kind
+ * (VSV_OUTLINE_*) and n world (x, y) pairs, borrowed until the free. */
+int vsv_outlines_count(const vsv_outlines *o);
+const double *vsv_outlines_line(const vsv_outlines *o, int i, int *kind, int *n);
+
+/* What vsv_annotate draws: bits of vsv_annot.parts. */
+enum {
+    VSV_ANNOT_TIME = 1,         /* model time (UTC, and the file's time zone) and the run */
+    VSV_ANNOT_COLOURBAR = 2,    /* per visible species: name, units, colours over its range */
+    VSV_ANNOT_EXAGGERATION = 4, /* "vertical xN" */
+    VSV_ANNOT_SCALEBAR = 8,     /* kilometres at the ground under the image's centre */
+    VSV_ANNOT_GRATICULE = 16,   /* latitude/longitude lines on the ground, labelled */
+    VSV_ANNOT_OUTLINES = 32,    /* the outlines given, on the ground */
+    VSV_ANNOT_ALL = 63
+};
+
+/* Annotation of one frame: plain info, everything borrowed for the call. */
+typedef struct vsv_annot {
+    unsigned parts;                 /* VSV_ANNOT_* */
+    vsv_font *font;                 /* NULL: the lines only, no text */
+    int64_t time;                   /* the frame's model time */
+    const char *source;             /* the file's name, shown with the run */
+    const int *species;             /* per scene layer: its variable in the meta */
+    const vsv_outlines *outlines;   /* or NULL */
+} vsv_annot;
+
+/* Draws the annotation into a frame rendered for (sc, cam): rgba as
+ * vsv_render wrote it (cam->width x cam->height), depth its depth image or
+ * NULL. Lines on the ground are hidden by the terrain in front of them and
+ * dimmed behind clouds (depth); text and bars go on top. The colour bar of
+ * each visible layer, and of the slices, shows its transfer function's
+ * colours from lo to hi (evenly in value, or in log value on a log scale).
+ * 0, or VSV_ENOMEM. */
+int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth);
+/* Where vsv_annotate draws the colour bar of layer l (l = sc->nlayers: the
+ * slices' bar, of slice_tf, when the scene has slices): box = pixels x0,
+ * x1 (lo to hi), y0, y1; for tests and callers that label it further. 0,
+ * or VSV_ERANGE when there is no such bar. */
+int vsv_annotate_bar_box(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, int l, int box[4]);
+
 /* ------------------------------------------------------------------ files */
 
 /* A rendered image (w*h*4 floats, premultiplied) over a background colour,

@@ -17,7 +17,7 @@ side() {
         "$B/vsv-convert" -q "$src" -o "$T/even.vsv" --vars "$vars" || { fail "$name: converts" "$(cat "$T/err" 2> /dev/null)"; return; }
     for r in raycast shearwarp; do
         for f in nat even; do
-            "$B/vsv-render" -q "$T/$f.vsv" -o "$T/$f.png" --no-terrain --camera 180,5 --exaggerate 60 \
+            "$B/vsv-render" -q "$T/$f.vsv" -o "$T/$f.png" --no-terrain --no-annotate --camera 180,5 --exaggerate 60 \
                 --size 400x300 -r $r ${step:+--time $step} 2> "$T/err"
         done
         got=$(/usr/bin/python3 tests/imgcmp.py "$T/nat.png" "$T/even.png")

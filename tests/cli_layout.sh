@@ -37,7 +37,7 @@ foreign() {
     case $1 in
     format | stream | cli) echo 'netcdf\.h|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
     convert) echo 'openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
-    render) echo 'netcdf\.h|GeographicLib/|openvdb/|GLFW/|GL/|fontconfig/' ;;
+    render) echo 'GeographicLib/|openvdb/|GLFW/|GL/|fontconfig/' ;;
     interop) echo 'png\.h|openexr\.h|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
     viewer) echo 'netcdf\.h|GeographicLib/|openvdb/' ;;
     python) echo 'netcdf\.h|GeographicLib/|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;

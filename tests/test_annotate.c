@@ -1,5 +1,11 @@
 /* test_annotate.c — what a frame says about itself: text drawn by FreeType
- * covers its box and nothing else. */
+ * covers its box and nothing else; a colour bar's pixels are its transfer
+ * function's colours at their values (linear and log); the GSHHG outlines,
+ * projected with the real MM5 domain's Lambert grid, pass within a cell of
+ * the Lake Michigan shore at Chicago (drawn, in the lake/coast colour) and
+ * not through western Kansas; on the GrADS global lat/lon grid they are
+ * split at the seam and pass the Cape of Good Hope. */
+#include "vsv_annot_internal.h"
 #include "vsv_format.h"
 #include "vsv_render.h"
 #include "vsv_testlib.h"
@@ -50,8 +56,231 @@ static void test_text(void)
           "a missing font is VSV_ENOTFOUND naming it", "%s", err);
 }
 
+/* The MM5 run's domain (../shared/data/mm5/run1: 32 km Lambert conformal
+ * centred on 38N 97W, true at 33 and 50N), its 207 x 142 cross points. */
+static void mm5_meta(vsv_meta *m)
+{
+    vsv_meta_init(m);
+    m->nx = 207, m->ny = 142, m->nz = 2;
+    m->origin[0] = -3296000, m->origin[1] = -2256000, m->origin[2] = 500;
+    m->spacing[0] = m->spacing[1] = 32000, m->spacing[2] = 1000;
+    m->proj = (vsv_proj){VSV_PROJ_LCC, 38, -97, 50, 33, 6370000};
+    snprintf(m->model, sizeof m->model, "MM5 v3");
+}
+
+static void test_colour_bar(void)
+{
+    vsv_meta m;
+    mm5_meta(&m);
+    vsv_meta_add_var(&m, "CLW", "kg/kg", "cloud water");
+    vsv_meta_add_var(&m, "O3", "ppm", "ozone");
+    vsv_tf tf[2];
+    char msg[128];
+    const int p0 = vsv_tf_parse(&tf[0], "colormap viridis\nrange 0 10\nscale linear\nopacity 0 1\n", msg, sizeof msg);
+    const int p1 = vsv_tf_parse(&tf[1], "colormap magma\nrange 1e-6 1e-3\nscale log\nopacity 0 1\n", msg, sizeof msg);
+    if (!CHECK(!p0 && !p1 && !vsv_tf_prepare(&tf[0]) && !vsv_tf_prepare(&tf[1]), "transfer functions parse", "%s", msg))
+        return;
+    const vsv_layer layers[2] = {{NULL, &tf[0], 1, 1}, {NULL, &tf[1], 1, 1}};
+    vsv_scene sc = {.meta = &m, .layers = layers, .nlayers = 2, .exaggeration = 20};
+    vsv_camera cam;
+    vsv_camera_plan(&cam, &sc, 640, 480);
+    vsv_font *font = NULL;
+    char err[256];
+    vsv_font_open(NULL, 13, &font, err, sizeof err);
+    const int species[2] = {0, 1};
+    const vsv_annot a = {VSV_ANNOT_COLOURBAR, font, 0, "test.vsv", species, NULL};
+    float *img = calloc((size_t)640 * 480 * 4, sizeof *img);
+    CHECK(vsv_annotate(&a, &sc, &cam, img, NULL) == 0, "vsv_annotate draws the colour bars", "");
+    for (int l = 0; l < 2; l++) {
+        int box[4];
+        if (!CHECK(vsv_annotate_bar_box(&a, &sc, &cam, l, box) == 0 && box[1] - box[0] >= 100, "a bar is placed",
+                   "layer %d: %d..%d", l, box[0], box[1]))
+            continue;
+        const int n = box[1] - box[0] + 1;
+        double worst = 0;
+        for (int k = 1; k < 4; k++) { /* a quarter, half and three quarters along */
+            const int c = n * k / 4;
+            const double f = (c + 0.5) / n;
+            const double v = l == 0 ? 10 * f : 1e-6 * pow(1e3, f);
+            float want[4];
+            vsv_tf_eval(&tf[l], (float)v, want);
+            for (int y = box[2]; y <= box[3]; y++) {
+                const float *q = img + 4 * ((size_t)y * 640 + box[0] + c);
+                for (int i = 0; i < 3; i++)
+                    worst = fmax(worst, fabs(q[i] - want[i]));
+                worst = fmax(worst, fabs(q[3] - 1));
+            }
+        }
+        CHECK(worst < 1e-6, l == 0 ? "linear colour bar = transfer function at 2.5, 5, 7.5"
+                                   : "log colour bar = transfer function at 5.6e-6, 3.2e-5, 1.8e-4",
+              "worst channel error %g", worst);
+        /* the ends differ: the bar spans the colour map */
+        const float *lo = img + 4 * ((size_t)box[2] * 640 + box[0]), *hi = img + 4 * ((size_t)box[2] * 640 + box[1]);
+        CHECK(fabs(lo[0] - hi[0]) + fabs(lo[1] - hi[1]) + fabs(lo[2] - hi[2]) > 0.3, "a bar runs from lo to hi colours",
+              "");
+    }
+    /* a hidden layer has no bar, and the other keeps one */
+    vsv_layer hidden[2] = {layers[0], layers[1]};
+    hidden[0].visible = 0;
+    sc.layers = hidden;
+    int box[4];
+    CHECK(vsv_annotate_bar_box(&a, &sc, &cam, 0, box) == VSV_ERANGE && vsv_annotate_bar_box(&a, &sc, &cam, 1, box) == 0,
+          "a hidden species has no colour bar", "");
+    /* slices coloured by the hidden layer with their own colour map: a bar of their own */
+    const vsv_slice slice = {VSV_SLICE_Z, 2000, 0, {{0, 0}}};
+    vsv_tf stf = tf[0];
+    snprintf(stf.colormap, sizeof stf.colormap, "magma");
+    vsv_tf_prepare(&stf);
+    sc.slices = &slice, sc.nslices = 1, sc.slice_layer = 0, sc.slice_tf = &stf;
+    memset(img, 0, (size_t)640 * 480 * 4 * sizeof *img);
+    vsv_annotate(&a, &sc, &cam, img, NULL);
+    if (CHECK(vsv_annotate_bar_box(&a, &sc, &cam, 2, box) == 0, "the slices have a colour bar", "")) {
+        const int n = box[1] - box[0] + 1, c = n / 2;
+        float want[4];
+        vsv_tf_eval(&stf, (float)(10 * (c + 0.5) / n), want);
+        const float *q = img + 4 * ((size_t)box[2] * 640 + box[0] + c);
+        CHECK(fabsf(q[0] - want[0]) + fabsf(q[1] - want[1]) + fabsf(q[2] - want[2]) < 1e-6,
+              "the slices' bar = their transfer function at 5", "");
+    }
+    free(img);
+    vsv_font_free(font);
+    vsv_meta_clear(&m);
+}
+
+/* Coast/lake-coloured pixels (blue as bright as the line: not the orange of
+ * a border) within r pixels of screen point (x, y). */
+static int shore_near(const float *img, int w, int h, double x, double y, double r)
+{
+    int n = 0;
+    for (int py = (int)(y - r); py <= (int)(y + r); py++)
+        for (int px = (int)(x - r); px <= (int)(x + r); px++) {
+            if (px < 0 || py < 0 || px >= w || py >= h || hypot(px + 0.5 - x, py + 0.5 - y) > r)
+                continue;
+            const float *q = img + 4 * ((size_t)py * w + px);
+            n += q[3] > 0.3f && q[2] > 0.9f * q[3];
+        }
+    return n;
+}
+
+/* The smallest distance (world metres) from (x, y) to a vertex of the outlines of one kind. */
+static double nearest(const vsv_outlines *o, int want, double x, double y)
+{
+    double best = INFINITY;
+    for (int i = 0; i < vsv_outlines_count(o); i++) {
+        int kind, n;
+        const double *xy = vsv_outlines_line(o, i, &kind, &n);
+        for (int k = 0; want == kind && k < n; k++)
+            best = fmin(best, hypot(xy[2 * k] - x, xy[2 * k + 1] - y));
+    }
+    return best;
+}
+
+static void test_outlines_mm5(void)
+{
+    if (access("/usr/share/gmt-gshhg/binned_GSHHS_l.nc", R_OK)) {
+        CHECK(0, "GSHHG outlines are installed", "apt-get install gmt-gshhg-low (tools/deps.sh)");
+        return;
+    }
+    vsv_meta m;
+    mm5_meta(&m);
+    vsv_outlines *o = NULL;
+    char msg[512];
+    if (!CHECK(vsv_outlines_load(&m, NULL, 'l', &o, msg, sizeof msg) == 0 && vsv_outlines_count(o) > 100,
+               "GSHHG coast, lakes and borders load for the MM5 domain", "%s (%d lines)", msg, vsv_outlines_count(o)))
+        return;
+    /* Chicago's lake front, 41.88N 87.62W: the Lake Michigan shore (a lake,
+     * level 2) within a cell (32 km) of it, and the coast (level 1) far */
+    double cx, cy;
+    vsv_scene_world(&m, 41.88, -87.62, &cx, &cy);
+    const double dl = nearest(o, VSV_OUTLINE_LAKE, cx, cy), dc = nearest(o, VSV_OUTLINE_COAST, cx, cy);
+    CHECK(dl < 32000, "the Lake Michigan shore passes within a cell of Chicago's lake front", "%.1f km", dl / 1000);
+    CHECK(dc > 500000, "the sea coast is far from Chicago", "%.1f km", dc / 1000);
+    double sx, sy;
+    vsv_scene_world(&m, 32.78, -79.93, &sx, &sy); /* Charleston harbour: the Atlantic coast */
+    CHECK(nearest(o, VSV_OUTLINE_COAST, sx, sy) < 32000, "the Atlantic coast passes within a cell of Charleston", "");
+    double bx, by;
+    vsv_scene_world(&m, 49.0, -105.0, &bx, &by); /* the 49th parallel: the US-Canada border */
+    CHECK(nearest(o, VSV_OUTLINE_BORDER, bx, by) < 32000, "the national border passes 49N 105W", "");
+
+    /* drawn: a plan view of the domain, the shore's pixels at Chicago and none in western Kansas */
+    const vsv_scene sc = {.meta = &m, .exaggeration = 20};
+    vsv_camera cam;
+    const int w = 828, h = 568;
+    vsv_camera_plan(&cam, &sc, w, h);
+    float *img = calloc((size_t)w * h * 4, sizeof *img);
+    const vsv_annot a = {VSV_ANNOT_OUTLINES, NULL, 0, NULL, NULL, o};
+    CHECK(vsv_annotate(&a, &sc, &cam, img, NULL) == 0, "outlines drawn", "");
+    vsv_rays R;
+    vsv_rays_init(&R, &cam);
+    const double cell_px = 32000 / (cam.ortho_height / h);
+    double px, py, t;
+    const double chicago[3] = {cx, cy, 0};
+    vsv_rays_project(&R, chicago, &px, &py, &t);
+    const int nc = shore_near(img, w, h, px, py, cell_px);
+    CHECK(nc > 0, "the drawn shore passes within a cell of Chicago", "%d pixels within %.1f px of (%.1f, %.1f)", nc,
+          cell_px, px, py);
+    double kx, ky;
+    vsv_scene_world(&m, 38.9, -101.3, &kx, &ky); /* western Kansas: no sea, no big lake */
+    const double kansas[3] = {kx, ky, 0};
+    vsv_rays_project(&R, kansas, &px, &py, &t);
+    CHECK(shore_near(img, w, h, px, py, cell_px) == 0, "no shore drawn in western Kansas", "");
+    free(img);
+    vsv_outlines_free(o);
+    vsv_meta_clear(&m);
+}
+
+static void test_outlines_latlon(void)
+{
+    if (access("/usr/share/gmt-gshhg/binned_GSHHS_c.nc", R_OK))
+        return;
+    /* the GrADS sample's grid (../shared/data/grads/model.ctl): 72 x 46, 5 x 4 degrees from 0E 90S */
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = 72, m.ny = 46, m.nz = 7;
+    m.origin[0] = 0, m.origin[1] = -90;
+    m.spacing[0] = 5, m.spacing[1] = 4, m.spacing[2] = 1000;
+    m.proj.kind = VSV_PROJ_LATLON;
+    vsv_outlines *o = NULL;
+    char msg[512];
+    if (!CHECK(vsv_outlines_load(&m, NULL, 'c', &o, msg, sizeof msg) == 0, "outlines load on a global lat/lon grid", "%s",
+               msg))
+        return;
+    double ux, uy, longest = 0, xmin = INFINITY, xmax = -INFINITY;
+    vsv_scene_units(&m, &ux, &uy);
+    for (int i = 0; i < vsv_outlines_count(o); i++) {
+        int kind, n;
+        const double *xy = vsv_outlines_line(o, i, &kind, &n);
+        for (int k = 0; k < n; k++) {
+            xmin = fmin(xmin, xy[2 * k] / ux), xmax = fmax(xmax, xy[2 * k] / ux);
+            if (k)
+                longest = fmax(longest, fabs(xy[2 * k] - xy[2 * k - 2]) / ux);
+        }
+    }
+    CHECK(longest < 90, "no outline jumps across the grid's seam", "longest step %.1f degrees", longest);
+    CHECK(xmin >= -2.5 - 1e-9 && xmax <= 357.5 + 1e-9, "outline longitudes lie on the grid's span (-2.5..357.5)",
+          "%.3f..%.3f", xmin, xmax);
+    double x, y;
+    vsv_scene_world(&m, -34.36, 18.47, &x, &y); /* Cape of Good Hope */
+    CHECK(nearest(o, VSV_OUTLINE_COAST, x, y) < 5 * ux, "the coast passes the Cape of Good Hope", "%.2f degrees",
+          nearest(o, VSV_OUTLINE_COAST, x, y) / ux);
+    vsv_outlines_free(o);
+    vsv_meta_clear(&m);
+    /* a missing data set is VSV_ENOTFOUND with the package named */
+    vsv_meta_init(&m);
+    m.nx = m.ny = m.nz = 2;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1;
+    m.proj.kind = VSV_PROJ_LATLON;
+    const int rc = vsv_outlines_load(&m, "/nonexistent", 'l', &o, msg, sizeof msg);
+    CHECK(rc == VSV_ENOTFOUND && !o && strstr(msg, "gmt-gshhg-low"), "missing GSHHG files: VSV_ENOTFOUND naming the package",
+          "%d %s", rc, msg);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_text();
+    test_colour_bar();
+    test_outlines_mm5();
+    test_outlines_latlon();
     return vsv_test_done();
 }

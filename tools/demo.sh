@@ -94,6 +94,11 @@ step "A map (plan view, north up): the sea and lakes from the model's own land u
      "vsv-render $OUT/storm.vsv --view plan -o $OUT/map.png"
 "$B/vsv-render" -q "$OUT/storm.vsv" --view plan -o "$OUT/map.png" && echo "$OUT/map.png"
 
+step "What a frame says about itself: time and run, colour bars with units and range, vertical exaggeration, scale bar, graticule, GSHHG coasts, lakes and borders (gmt-gshhg-low); --no-annotate for the bare frame" \
+     "vsv-render $OUT/storm.vsv --species CLW,SNOW --view plan -o $OUT/annotated.png; ... --no-annotate -o $OUT/bare.png"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --view plan -o "$OUT/annotated.png" && echo "$OUT/annotated.png"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --view plan --no-annotate -o "$OUT/bare.png" && echo "$OUT/bare.png"
+
 step "The model's own levels at their heights: --vertical native (MM5 sigma over the terrain), seen from the south" \
      "vsv-convert --vertical native $MM5 -o $OUT/native.vsv; vsv-render $OUT/native.vsv --view south --no-terrain"
 "$B/vsv-convert" -q --vertical native --vars CLW,ICE,SNOW "$MM5" -o "$OUT/native.vsv"

@@ -1,0 +1,25 @@
+/* vsv_annot_internal.h — what the annotation's parts share (vsv_annotate.c,
+ * vsv_mapdraw.c, vsv_outlines.c). Private to render/. */
+#ifndef VSV_ANNOT_INTERNAL_H
+#define VSV_ANNOT_INTERNAL_H
+
+#include "vsv_geo.h"
+
+/* The latitude/longitude box under a grid, with a degree of margin:
+ * box = south, north, west, east (longitudes unwrapped around the grid's
+ * centre; the whole circle when a pole is inside). 0 or VSV_EUNSUPPORTED. */
+int vsv_grid_latlon_box(const vsv_meta *m, double box[4]);
+
+/* Screen position (px, py: pixel centres at +0.5) of world point p and its
+ * distance along the pixel's ray (the units of the depth image); 0 when p
+ * is not in front of the eye. */
+int vsv_rays_project(const vsv_rays *R, const double p[3], double *px, double *py, double *t);
+
+/* A translucent dark box behind text: pixels x0..x1, y0..y1 (clipped). */
+void vsv_annot_box(float *rgba, int w, int h, int x0, int y0, int x1, int y1, float alpha);
+
+/* Draws the graticule and the outlines on the ground (the parts of a that
+ * ask for them), labels with a's font. 0 or VSV_ENOMEM. */
+int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth);
+
+#endif

@@ -1,0 +1,298 @@
+/* vsv_annotate.c — what a frame says about itself, drawn into it: the model
+ * time and run (top left), a colour bar per visible species with its name,
+ * units and range (bottom right), the vertical exaggeration and a scale bar
+ * (bottom left), over the ground lines of vsv_mapdraw.c. */
+#include "vsv_annot_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void vsv_annot_box(float *rgba, int w, int h, int x0, int y0, int x1, int y1, float alpha)
+{
+    x0 = x0 < 0 ? 0 : x0, y0 = y0 < 0 ? 0 : y0;
+    x1 = x1 >= w ? w - 1 : x1, y1 = y1 >= h ? h - 1 : y1;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            float *q = rgba + 4 * ((size_t)y * w + x);
+            for (int i = 0; i < 3; i++)
+                q[i] *= 1 - alpha;
+            q[3] = alpha + q[3] * (1 - alpha);
+        }
+}
+
+/* Where the legend goes: sizes from the font and the image. */
+typedef struct layout {
+    int lh, pad, margin;
+    int bar_w, bar_h, block;
+    int x0, x1;  /* the bars' columns */
+    int nvis;
+} layout;
+
+static int visible(const vsv_layer *l)
+{
+    return l->visible && l->opacity > 0 && l->tf;
+}
+
+/* Bar k (0..nlayers): layer k's when it is visible, the slices' for
+ * k = nlayers when the scene has slices; its transfer function, or NULL. */
+static const vsv_tf *bar_tf(const vsv_scene *sc, int k)
+{
+    if (k < sc->nlayers)
+        return visible(&sc->layers[k]) ? sc->layers[k].tf : NULL;
+    if (k == sc->nlayers && sc->nslices > 0 && sc->slice_layer >= 0 && sc->slice_layer < sc->nlayers)
+        return sc->slice_tf ? sc->slice_tf : sc->layers[sc->slice_layer].tf;
+    return NULL;
+}
+
+static void lay_out(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, layout *L)
+{
+    const int w = cam->width;
+    L->lh = a->font ? vsv_font_line(a->font) : 12;
+    L->pad = L->lh / 4 + 2;
+    L->margin = L->lh / 2 + 2;
+    L->bar_w = w / 4 < 80 ? 80 : w / 4 > 360 ? 360 : w / 4;
+    if (L->bar_w > w - 2 * (L->margin + L->pad))
+        L->bar_w = w - 2 * (L->margin + L->pad);
+    L->bar_h = L->lh * 7 / 10 > 6 ? L->lh * 7 / 10 : 6;
+    L->block = (a->font ? 2 * L->lh : 0) + L->bar_h + 2 * L->pad;
+    L->x1 = w - 1 - L->margin - L->pad;
+    L->x0 = L->x1 - L->bar_w + 1;
+    L->nvis = 0;
+    for (int l = 0; l <= sc->nlayers; l++)
+        L->nvis += bar_tf(sc, l) != NULL;
+}
+
+/* The bar of the k-th visible layer: its top row. */
+static int bar_top(const vsv_annot *a, const layout *L, int h, int k)
+{
+    const int block_top = h - L->margin - (L->nvis - k) * (L->block + L->pad);
+    return block_top + L->pad + (a->font ? L->lh : 0);
+}
+
+int vsv_annotate_bar_box(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, int l, int box[4])
+{
+    if (!(a->parts & VSV_ANNOT_COLOURBAR) || l < 0 || l > sc->nlayers || !bar_tf(sc, l))
+        return VSV_ERANGE;
+    layout L;
+    lay_out(a, sc, cam, &L);
+    int k = 0;
+    for (int i = 0; i < l; i++)
+        k += bar_tf(sc, i) != NULL;
+    const int top = bar_top(a, &L, cam->height, k);
+    if (L.bar_w < 8 || top < 0)
+        return VSV_ERANGE;
+    box[0] = L.x0, box[1] = L.x1, box[2] = top, box[3] = top + L.bar_h - 1;
+    return 0;
+}
+
+static void fmt_value(double v, char *buf, size_t cap)
+{
+    if (v == 0)
+        snprintf(buf, cap, "0");
+    else
+        snprintf(buf, cap, "%.3g", v);
+}
+
+static void text(const vsv_annot *a, float *rgba, int w, int h, int x, int y, const char *s)
+{
+    static const float fg[3] = {0.95f, 0.95f, 0.95f};
+    if (a->font)
+        vsv_text_draw(a->font, rgba, w, h, x, y, s, fg, 1);
+}
+
+static int width(const vsv_annot *a, const char *s)
+{
+    return a->font ? vsv_text_width(a->font, s) : 0;
+}
+
+static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
+{
+    const int w = cam->width, h = cam->height;
+    const vsv_meta *m = sc->meta;
+    for (int l = 0, k = 0; l <= sc->nlayers; l++) {
+        const vsv_tf *tf = bar_tf(sc, l);
+        if (!tf)
+            continue;
+        const int top = bar_top(a, L, h, k++);
+        if (L->bar_w < 8 || top - (a->font ? L->lh : 0) - L->pad < 0)
+            continue;
+        const int slices = l == sc->nlayers;
+        const int s = a->species ? a->species[slices ? sc->slice_layer : l] : -1;
+        const vsv_var *v = s >= 0 && s < m->nvars ? &m->vars[s] : NULL;
+        char name[256], units[80] = "", lo[32], hi[32];
+        if (v && v->units[0])
+            snprintf(units, sizeof units, " (%s)", v->units);
+        const char *what = tf->scale == VSV_SCALE_LOG ? (slices ? ", log, slices" : ", log") : slices ? ", slices" : "";
+        snprintf(name, sizeof name, "%s%s%s", v ? v->name : "?", units, what);
+        if (v && v->description[0]) { /* the description too, where it fits */
+            char longer[512];
+            snprintf(longer, sizeof longer, "%s: %s%s%s", v->name, v->description, units, what);
+            if (width(a, longer) <= L->bar_w + 4 * L->lh)
+                snprintf(name, sizeof name, "%s", longer);
+        }
+        fmt_value(tf->lo, lo, sizeof lo);
+        fmt_value(tf->hi, hi, sizeof hi);
+        const int nw = width(a, name);
+        const int bx0 = (L->x1 + 1 - nw < L->x0 ? L->x1 + 1 - nw : L->x0) - L->pad;
+        vsv_annot_box(rgba, w, h, bx0, top - (a->font ? L->lh : 0) - L->pad, L->x1 + L->pad,
+                      top + L->bar_h - 1 + (a->font ? L->lh : 0) + L->pad, 0.55f);
+        text(a, rgba, w, h, L->x1 + 1 - nw, top - L->lh, name);
+        /* the colours: pixel column c at value lo + (c + 0.5) / n (hi - lo), or
+         * geometrically on a log scale */
+        const int n = L->x1 - L->x0 + 1;
+        for (int c = 0; c < n; c++) {
+            const double f = (c + 0.5) / n;
+            const double val = tf->scale == VSV_SCALE_LOG && tf->lo > 0 ? tf->lo * pow(tf->hi / tf->lo, f)
+                                                                        : tf->lo + f * (tf->hi - tf->lo);
+            float col[4];
+            vsv_tf_eval(tf, (float)val, col);
+            for (int y = top; y < top + L->bar_h; y++) {
+                if (y < 0 || y >= h)
+                    continue;
+                float *q = rgba + 4 * ((size_t)y * w + L->x0 + c);
+                q[0] = col[0], q[1] = col[1], q[2] = col[2], q[3] = 1;
+            }
+        }
+        text(a, rgba, w, h, L->x0, top + L->bar_h + 1, lo);
+        text(a, rgba, w, h, L->x1 + 1 - width(a, hi), top + L->bar_h + 1, hi);
+    }
+}
+
+/* The model time, in UTC and in the file's own time zone when it names one
+ * (the "time zone" attribute: hours behind UTC, as CAMx writes it). */
+static void time_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
+{
+    const vsv_meta *m = sc->meta;
+    char line1[160], line2[512], iso[40];
+    vsv_time_format(a->time, iso, sizeof iso);
+    snprintf(line1, sizeof line1, "%s", iso);
+    const char *tz = vsv_meta_attr(m, "time zone");
+    char *end = NULL;
+    const long behind = tz ? strtol(tz, &end, 10) : 0;
+    if (tz && end != tz && behind != 0 && behind >= -14 && behind <= 14) {
+        char local[40];
+        vsv_time_format(a->time - behind * 3600, local, sizeof local);
+        local[16] = 0; /* YYYY-MM-DDTHH:MM */
+        snprintf(line1 + strlen(line1), sizeof line1 - strlen(line1), "   local %s UTC%+ld", local, -behind);
+    }
+    snprintf(line2, sizeof line2, "%s%s%s%s%s", a->source ? a->source : "",
+             a->source && (m->model[0] || m->run[0]) ? " \xc2\xb7 " : "", m->model, m->model[0] && m->run[0] ? ": " : "",
+             m->run);
+    /* no wider than the image */
+    const int w = cam->width, h = cam->height, room = w - 2 * (L->margin + L->pad);
+    if (width(a, line2) > room) { /* cut to whole characters, with an ellipsis */
+        char full[512];
+        snprintf(full, sizeof full, "%s", line2);
+        for (size_t len = strlen(full); len > 0 && width(a, line2) > room; len--) {
+            if ((full[len] & 0xc0) == 0x80)
+                continue;
+            snprintf(line2, sizeof line2, "%.*s\xe2\x80\xa6", (int)len, full);
+        }
+    }
+    const int tw = width(a, line1) > width(a, line2) ? width(a, line1) : width(a, line2);
+    vsv_annot_box(rgba, w, h, L->margin, L->margin, L->margin + tw + 2 * L->pad - 1, L->margin + 2 * L->lh + 2 * L->pad - 1,
+                  0.55f);
+    text(a, rgba, w, h, L->margin + L->pad, L->margin + L->pad, line1);
+    text(a, rgba, w, h, L->margin + L->pad, L->margin + L->pad + L->lh, line2);
+}
+
+/* The ground's scale at the image's centre: metres per pixel along the
+ * screen's horizontal, from where the centre's ray meets sea level; 0 when
+ * it does not. */
+static double metres_per_pixel(const vsv_camera *cam)
+{
+    vsv_rays R;
+    vsv_rays_init(&R, cam);
+    double o[3], d[3];
+    vsv_rays_get(&R, cam->width / 2, cam->height / 2, o, d);
+    if (!(d[2] < -1e-6))
+        return 0;
+    const double t = -o[2] / d[2];
+    const double p[3] = {o[0] + t * d[0], o[1] + t * d[1], 0};
+    double hx[3] = {R.r[0], R.r[1], 0};
+    vsv_normalize(hx);
+    const double L = 1000;
+    const double q[3] = {p[0] + L * hx[0], p[1] + L * hx[1], 0};
+    double x0, y0, x1, y1, t0, t1;
+    if (!vsv_rays_project(&R, p, &x0, &y0, &t0) || !vsv_rays_project(&R, q, &x1, &y1, &t1))
+        return 0;
+    const double px = hypot(x1 - x0, y1 - y0);
+    return px > 0 ? L / px : 0;
+}
+
+static void scale_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
+{
+    const int w = cam->width, h = cam->height;
+    char ex[64] = "", km[64] = "";
+    if (a->parts & VSV_ANNOT_EXAGGERATION)
+{
+        const double e = sc->exaggeration > 0 ? sc->exaggeration : 1;
+        snprintf(ex, sizeof ex, e >= 100 ? "vertical \xc3\x97%.0f" : "vertical \xc3\x97%.3g", e);
+    }
+    double len_px = 0;
+    if (a->parts & VSV_ANNOT_SCALEBAR) {
+        const double mpp = metres_per_pixel(cam);
+        if (mpp > 0) {
+            /* a round length near a sixth of the image's width */
+            const double want = mpp * w / 6;
+            const double p10 = pow(10, floor(log10(want)));
+            const double len = want >= 5 * p10 ? 5 * p10 : want >= 2 * p10 ? 2 * p10 : p10;
+            len_px = len / mpp;
+            if (len >= 1000)
+                snprintf(km, sizeof km, "%g km%s", len / 1000, cam->fov_deg > 0 ? " (at centre)" : "");
+            else
+                snprintf(km, sizeof km, "%g m%s", len, cam->fov_deg > 0 ? " (at centre)" : "");
+        }
+    }
+    if (!ex[0] && !km[0])
+        return;
+    const int lines = (ex[0] != 0) + (km[0] ? 2 : 0);
+    int bw = width(a, ex) > width(a, km) ? width(a, ex) : width(a, km);
+    if ((int)len_px > bw)
+        bw = (int)len_px;
+    const int y1 = h - 1 - L->margin, y0 = y1 - lines * L->lh - 2 * L->pad + 1;
+    const int x0 = L->margin;
+    if (y0 < 0)
+        return;
+    vsv_annot_box(rgba, w, h, x0, y0, x0 + bw + 2 * L->pad, y1, 0.55f);
+    int y = y0 + L->pad;
+    if (ex[0]) {
+        text(a, rgba, w, h, x0 + L->pad, y, ex);
+        y += L->lh;
+    }
+    if (km[0]) {
+        text(a, rgba, w, h, x0 + L->pad, y, km);
+        y += L->lh;
+        /* the bar: a white line with end ticks, half a line high */
+        const int by = y + L->lh / 2, bx0 = x0 + L->pad, bx1 = bx0 + (int)lround(len_px);
+        for (int yy = by - L->lh / 4; yy <= by + 1; yy++)
+            for (int xx = bx0; xx <= bx1; xx++) {
+                if (xx >= w || yy < 0 || yy >= h)
+                    continue;
+                const int on = yy >= by || xx <= bx0 + 1 || xx >= bx1 - 1;
+                if (!on)
+                    continue;
+                float *q = rgba + 4 * ((size_t)yy * w + xx);
+                q[0] = q[1] = q[2] = 0.95f;
+                q[3] = 1;
+            }
+    }
+}
+
+int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth)
+{
+    const int rc = vsv_annot_ground(a, sc, cam, rgba, depth);
+    if (rc)
+        return rc;
+    layout L;
+    lay_out(a, sc, cam, &L);
+    if (a->parts & VSV_ANNOT_COLOURBAR)
+        colour_bars(a, sc, cam, &L, rgba);
+    if ((a->parts & VSV_ANNOT_TIME) && a->font)
+        time_block(a, sc, cam, &L, rgba);
+    if (a->parts & (VSV_ANNOT_EXAGGERATION | VSV_ANNOT_SCALEBAR))
+        scale_block(a, sc, cam, &L, rgba);
+    return 0;
+}

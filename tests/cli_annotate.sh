@@ -1,0 +1,68 @@
+#!/bin/sh
+# cli_annotate.sh — vsv-render's annotation (issue 20): on by default,
+# --no-annotate gives the bare frame that vsv-render drew before annotation
+# (tests/golden/bare-160x120.png, written by the tool of commit dc7c091 from
+# the same sample), --annotate picks parts, a missing font or GSHHG data set
+# is a note and not a failure, and the GrADS global lat/lon sample gets its
+# coastlines.
+B=${B:-build}
+SHARED=${SHARED:-../shared}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-annotate.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+
+# pixels: the largest channel difference of two PNGs, and how many pixels differ
+pixdiff() {
+    /usr/bin/python3 -c "
+import sys, numpy as np
+from PIL import Image
+a = np.asarray(Image.open(sys.argv[1]).convert('RGB'), dtype=np.int32)
+b = np.asarray(Image.open(sys.argv[2]).convert('RGB'), dtype=np.int32)
+d = np.abs(a - b).max(axis=2) if a.shape == b.shape else np.full((1, 1), 999)
+print(int(d.max()), int((d > 0).sum()))" "$1" "$2"
+}
+
+"$B/vsv-convert" -q --vars CLW,SNOW,ICE samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
+R="$B/vsv-render -q $T/s.vsv --size 160x120"
+expect "--no-annotate renders" 0 $R --no-annotate -o "$T/bare.png"
+set -- $(pixdiff "$T/bare.png" tests/golden/bare-160x120.png)
+if [ "$1" -le 2 ]; then
+    pass "--no-annotate gives the frame of the tool before annotation ($2 pixels differ, by at most $1/255)"
+else
+    fail "--no-annotate gives the frame of the tool before annotation" "pixels differ by up to $1/255 ($2 pixels)"
+fi
+expect "annotated by default" 0 $R -o "$T/ann.png"
+set -- $(pixdiff "$T/bare.png" "$T/ann.png")
+if [ "$2" -gt 1500 ]; then pass "the default frame carries annotation ($2 pixels changed)"; else
+    fail "the default frame carries annotation" "$2 pixels changed"; fi
+expect "--annotate time,bars" 0 $R --annotate time,bars -o "$T/tb.png"
+set -- $(pixdiff "$T/ann.png" "$T/tb.png")
+if [ "$2" -gt 0 ]; then pass "--annotate time,bars leaves out the other parts"; else
+    fail "--annotate time,bars leaves out the other parts" "same image as all parts"; fi
+expect "--annotate with an unknown part exits 2" 2 $R --annotate time,compass -o "$T/x.png"
+has "... naming the parts" "$T/err" "time, bars, exaggeration, scale, graticule, outlines"
+expect "--annotate '' exits 2" 2 $R --annotate "" -o "$T/x.png"
+
+# no font: frames without text, said once; no GSHHG files: no outlines, said
+VSV_FONT=/nonexistent/font.ttf expect "a missing font is a note, not a failure" 0 $R -o "$T/nofont.png"
+has "... naming the font" "$T/err" "note: /nonexistent/font.ttf: no such font"
+VSV_GSHHG=$T/none expect "missing GSHHG files are a note, not a failure" 0 $R -o "$T/nomap.png"
+has "... naming the package" "$T/err" "apt-get install gmt-gshhg-low"
+set -- $(pixdiff "$T/nomap.png" "$T/ann.png")
+if [ "$2" -gt 0 ]; then pass "without GSHHG the outlines are left out"; else fail "without GSHHG the outlines are left out" "same image"; fi
+
+has "--help names --no-annotate" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "--no-annotate"
+
+# the GrADS global lat/lon sample: coastlines over the globe
+CTL=$SHARED/data/grads/model.ctl
+if [ -f "$CTL" ] && [ -f /usr/share/gmt-gshhg/binned_GSHHS_c.nc ]; then
+    "$B/vsv-convert" -q "$CTL" -o "$T/g.vsv"
+    G="$B/vsv-render -q $T/g.vsv --view plan --size 400x300"
+    expect "model.ctl renders in plan view" 0 $G --no-annotate -o "$T/g-bare.png"
+    expect "... with its outlines" 0 $G --annotate outlines -o "$T/g-coast.png"
+    set -- $(pixdiff "$T/g-bare.png" "$T/g-coast.png")
+    if [ "$2" -gt 1500 ]; then pass "coastlines drawn over the globe ($2 pixels)"; else
+        fail "coastlines drawn over the globe" "$2 pixels changed"; fi
+else
+    echo "(GrADS sample or GSHHG absent: the global coastline check is skipped)"
+fi
