@@ -19,7 +19,9 @@ int vsv_rays_project(const vsv_rays *R, const double p[3], double *px, double *p
 void vsv_annot_box(float *rgba, int w, int h, int x0, int y0, int x1, int y1, float alpha);
 
 /* Draws the graticule and the outlines on the ground (the parts of a that
- * ask for them), labels with a's font. 0 or VSV_ENOMEM. */
-int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth);
+ * ask for them), labels with a's font where the legend, an RGBA overlay of
+ * the frame's size, leaves the frame clear (alpha 0). 0 or VSV_ENOMEM. */
+int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth,
+                     const float *legend);
 
 #endif

@@ -283,16 +283,30 @@ static void scale_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camer
 
 int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth)
 {
-    const int rc = vsv_annot_ground(a, sc, cam, rgba, depth);
-    if (rc)
-        return rc;
+    /* the legend first, as a layer of its own, so the ground's labels keep
+     * out of it; then laid over the frame (the same pixels as drawing it
+     * there: "over" is associative) */
+    const size_t n = (size_t)cam->width * cam->height;
+    float *legend = calloc(4 * n, sizeof *legend);
+    if (!legend)
+        return VSV_ENOMEM;
     layout L;
     lay_out(a, sc, cam, &L);
     if (a->parts & VSV_ANNOT_COLOURBAR)
-        colour_bars(a, sc, cam, &L, rgba);
+        colour_bars(a, sc, cam, &L, legend);
     if ((a->parts & VSV_ANNOT_TIME) && a->font)
-        time_block(a, sc, cam, &L, rgba);
+        time_block(a, sc, cam, &L, legend);
     if (a->parts & (VSV_ANNOT_EXAGGERATION | VSV_ANNOT_SCALEBAR))
-        scale_block(a, sc, cam, &L, rgba);
-    return 0;
+        scale_block(a, sc, cam, &L, legend);
+    const int rc = vsv_annot_ground(a, sc, cam, rgba, depth, legend);
+    for (size_t p = 0; !rc && p < n; p++) {
+        const float *o = legend + 4 * p;
+        if (o[3] <= 0)
+            continue;
+        float *q = rgba + 4 * p;
+        for (int i = 0; i < 4; i++)
+            q[i] = o[i] + q[i] * (1 - o[3]);
+    }
+    free(legend);
+    return rc;
 }

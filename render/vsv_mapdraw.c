@@ -168,7 +168,8 @@ static void degrees(double v, int lat, double step, char *buf, size_t cap)
         snprintf(buf, cap, "%.2f°%s", a, hemi);
 }
 
-static void label(const vsv_annot *a, float *rgba, int w, int h, double x, double y, const char *text, int below)
+static void label(const vsv_annot *a, float *rgba, int w, int h, double x, double y, const char *text, int below,
+                  const float *legend)
 {
     if (!a->font)
         return;
@@ -176,13 +177,17 @@ static void label(const vsv_annot *a, float *rgba, int w, int h, double x, doubl
     int tx = below ? (int)(x - tw / 2.0) : (int)x + 3, ty = below ? (int)y - lh - 2 : (int)(y - lh / 2.0);
     tx = tx < 2 ? 2 : tx + tw > w - 2 ? w - 2 - tw : tx;
     ty = ty < 2 ? 2 : ty + lh > h - 2 ? h - 2 - lh : ty;
+    for (int yy = ty; legend && yy < ty + lh && yy < h; yy++) /* not under the legend */
+        for (int xx = tx; xx < tx + tw && xx < w; xx++)
+            if (yy >= 0 && xx >= 0 && legend[4 * ((size_t)yy * w + xx) + 3] > 0)
+                return;
     const float shadow[3] = {0, 0, 0}, fg[3] = {0.85f, 0.85f, 0.85f};
     vsv_text_draw(a->font, rgba, w, h, tx + 1, ty + 1, text, shadow, 0.8f);
     vsv_text_draw(a->font, rgba, w, h, tx, ty, text, fg, 1);
 }
 
 /* Latitude and longitude lines every `step` degrees over the grid. */
-static int graticule(const vsv_annot *a, const vsv_scene *sc, pen *P, float *rgba)
+static int graticule(const vsv_annot *a, const vsv_scene *sc, pen *P, float *rgba, const float *legend)
 {
     double box[4];
     const vsv_meta *m = sc->meta;
@@ -252,11 +257,12 @@ static int graticule(const vsv_annot *a, const vsv_scene *sc, pen *P, float *rgb
     const float grey[3] = {0.85f, 0.85f, 0.85f};
     ink(P, rgba, grey, 0.45f);
     for (int i = 0; i < nlab; i++)
-        label(a, rgba, P->w, P->h, labs[i].x, labs[i].y, labs[i].text, labs[i].below);
+        label(a, rgba, P->w, P->h, labs[i].x, labs[i].y, labs[i].text, labs[i].below, legend);
     return 0;
 }
 
-int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth)
+int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth,
+                     const float *legend)
 {
     if (!(a->parts & (VSV_ANNOT_GRATICULE | VSV_ANNOT_OUTLINES)))
         return 0;
@@ -277,7 +283,7 @@ int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *
     int rc = 0;
     if (a->parts & VSV_ANNOT_GRATICULE) {
         P.half = 0.45;
-        rc = graticule(a, sc, &P, rgba);
+        rc = graticule(a, sc, &P, rgba, legend);
     }
     if (!rc && (a->parts & VSV_ANNOT_OUTLINES) && a->outlines) {
         /* thin state lines, then borders, then the shore on top */
