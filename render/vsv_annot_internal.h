@@ -18,6 +18,12 @@ int vsv_rays_project(const vsv_rays *R, const double p[3], double *px, double *p
 /* A translucent dark box behind text: pixels x0..x1, y0..y1 (clipped). */
 void vsv_annot_box(float *rgba, int w, int h, int x0, int y0, int x1, int y1, float alpha);
 
+/* The frame's time line: t as ISO UTC, then local time where m's "time
+ * zone" attribute starts with the hours its file is behind UTC (as CAMx's
+ * reader records it): "2002-06-03T17:00:00Z   local 2002-06-03T12:00 UTC-5".
+ * buf of cap bytes. */
+void vsv_annot_time_line(const vsv_meta *m, int64_t t, char *buf, size_t cap);
+
 /* Draws the graticule and the outlines on the ground (the parts of a that
  * ask for them), labels with a's font where the legend, an RGBA overlay of
  * the frame's size, leaves the frame clear (alpha 0). 0 or VSV_ENOMEM. */

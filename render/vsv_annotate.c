@@ -160,23 +160,29 @@ static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camer
     }
 }
 
-/* The model time, in UTC and in the file's own time zone when it names one
- * (the "time zone" attribute: hours behind UTC, as CAMx writes it). */
-static void time_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
+void vsv_annot_time_line(const vsv_meta *m, int64_t t, char *buf, size_t cap)
 {
-    const vsv_meta *m = sc->meta;
-    char line1[160], line2[512], iso[40];
-    vsv_time_format(a->time, iso, sizeof iso);
-    snprintf(line1, sizeof line1, "%s", iso);
+    char iso[40];
+    vsv_time_format(t, iso, sizeof iso);
+    snprintf(buf, cap, "%s", iso);
     const char *tz = vsv_meta_attr(m, "time zone");
     char *end = NULL;
     const long behind = tz ? strtol(tz, &end, 10) : 0;
     if (tz && end != tz && behind != 0 && behind >= -14 && behind <= 14) {
         char local[40];
-        vsv_time_format(a->time - behind * 3600, local, sizeof local);
+        vsv_time_format(t - behind * 3600, local, sizeof local);
         local[16] = 0; /* YYYY-MM-DDTHH:MM */
-        snprintf(line1 + strlen(line1), sizeof line1 - strlen(line1), "   local %s UTC%+ld", local, -behind);
+        const size_t n = strlen(buf);
+        snprintf(buf + n, cap - n, "   local %s UTC%+ld", local, -behind);
     }
+}
+
+/* The time line and the file, model and run under it. */
+static void time_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
+{
+    const vsv_meta *m = sc->meta;
+    char line1[160], line2[512];
+    vsv_annot_time_line(m, a->time, line1, sizeof line1);
     snprintf(line2, sizeof line2, "%s%s%s%s%s", a->source ? a->source : "",
              a->source && (m->model[0] || m->run[0]) ? " \xc2\xb7 " : "", m->model, m->model[0] && m->run[0] ? ": " : "",
              m->run);

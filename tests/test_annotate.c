@@ -408,8 +408,30 @@ static void test_coast_vs_landuse(void)
     vsv_source_free(src);
 }
 
+static void test_time_line(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    char buf[160];
+    const int64_t t = vsv_time_from_civil(2002, 6, 3, 17, 0, 0);
+    vsv_annot_time_line(&m, t, buf, sizeof buf);
+    CHECK(!strcmp(buf, "2002-06-03T17:00:00Z"), "the time line: ISO, UTC", "'%s'", buf);
+    /* CAMx v6+: the file's hours are 5 behind UTC */
+    vsv_meta_add_attr(&m, "time zone", "5 (the file's hours are UTC-5; times here are UTC)");
+    vsv_annot_time_line(&m, t, buf, sizeof buf);
+    CHECK(!strcmp(buf, "2002-06-03T17:00:00Z   local 2002-06-03T12:00 UTC-5"), "the time line: the file's time zone too",
+          "'%s'", buf);
+    vsv_meta_clear(&m);
+    vsv_meta_init(&m);
+    vsv_meta_add_attr(&m, "time zone", "none in a v5 header: hours taken as UTC");
+    vsv_annot_time_line(&m, t, buf, sizeof buf);
+    CHECK(!strcmp(buf, "2002-06-03T17:00:00Z"), "no local time where the file names no zone", "'%s'", buf);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
+    test_time_line();
     test_text();
     test_colour_bar();
     test_outlines_mm5();
