@@ -51,7 +51,7 @@ EOS
 ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
 expect "vsv-play switches views, light and slices by script (Xvfb)" 0 \
     xvfb-run -a -s "-screen 0 1024x768x24" $P -q --script "$T/views.script"
-R="$B/vsv-render -q $T/s.vsv -t 3 -r shearwarp --size 480x320 --species CLW,SNOW"
+R="$B/vsv-render -q $T/s.vsv -t 3 -r shearwarp --size 480x320 --species CLW,SNOW --no-annotate"
 for v in plan south west oblique; do
     $R --view $v --slice z=2000 --slice-species Q -o "$T/r_$v.png"
 done
