@@ -398,6 +398,8 @@ $(B)/bench/%: $(B)/bench/%.o $(TEST_LIBS)
 
 $(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
+$(B)/bench/bench_classify: $(B)/bench/bench_classify.o $(TEST_LIBS)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
 
 bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
@@ -411,6 +413,8 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vtk.sh || echo "(VTK comparison skipped)"
 	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_volpack && \
 	  B=$(B) SHARED=$(SHARED) sh bench/bench_volpack.sh; else echo "(VolPack comparison skipped: apt-get install libvolpack1-dev)"; fi
+	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_classify && \
+	  B=$(B) SHARED=$(SHARED) sh bench/bench_classify.sh; else echo "(classification vs VolPack skipped: apt-get install libvolpack1-dev)"; fi
 
 deps:
 	$(Q)sh tools/deps.sh --install

@@ -468,6 +468,10 @@ typedef struct vsv_volume {
     int64_t time;             /* time of `step` */
     float **bricks;
     float *bmin, *bmax;
+    uint64_t *bkey;           /* per brick, or NULL: a key of the brick's
+                                 values (equal non-zero keys, equal values, in
+                                 any volume of the process: vsv_file_brick_key),
+                                 so a renderer redoes only bricks that changed */
 } vsv_volume;
 
 /* Allocates storage for one species of f (all at once: no allocation per
@@ -480,6 +484,11 @@ int vsv_volume_load(vsv_volume *v, vsv_decoder *d, int step, int s);
 /* A new vsv_volume.gen (1, 2, ...: unique in the process), for whatever
  * fills a volume. */
 uint64_t vsv_volume_new_gen(void);
+/* The key of a brick of species s of f whose codes were last set at step
+ * def (its last entry other than UNCHANGED; -1 for an EMPTY brick): every
+ * brick with the same key holds the same values, for as long as f is open
+ * (keys of different open files differ). Never 0. */
+uint64_t vsv_file_brick_key(const vsv_file *f, int s, int def);
 /* Native levels placed at their heights: a volume of a file with per-column
  * heights resampled, column by column and linearly in height, onto the even
  * axis of vsv_heights_axis (cells below the ground or above the top level

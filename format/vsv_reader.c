@@ -167,6 +167,7 @@ static vsv_file *file_new(const char *name)
     snprintf(f->name, sizeof f->name, "%s", name ? name : "(memory)");
     vsv_meta_init(&f->meta);
     pthread_mutex_init(&f->lock, NULL);
+    f->uid = vsv_volume_new_gen();
     return f;
 }
 

@@ -28,6 +28,7 @@ struct vsv_file {
     pthread_mutex_t lock;
     int counted, damaged;
     uint64_t stored, nonempty, payload;
+    uint64_t uid; /* unique in the process: brick keys (vsv_file_brick_key) */
 };
 
 struct vsv_decoder {

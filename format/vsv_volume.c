@@ -17,6 +17,14 @@ uint64_t vsv_volume_new_gen(void)
     return __atomic_add_fetch(&gens, 1, __ATOMIC_RELAXED);
 }
 
+/* Bit 63 set (a volume's gen, a small count, never has it), then 29 bits
+ * of the file's uid, 10 of the species (< 1024), 24 of the step (< 10^7;
+ * all ones for EMPTY). */
+uint64_t vsv_file_brick_key(const vsv_file *f, int s, int def)
+{
+    return 1ull << 63 | (f->uid & 0x1FFFFFFFu) << 34 | (uint64_t)(s & 0x3FF) << 24 | (uint64_t)(def < 0 ? 0xFFFFFF : def);
+}
+
 int vsv_volume_create(const vsv_file *f, vsv_volume **out)
 {
     *out = NULL;
@@ -38,9 +46,10 @@ int vsv_volume_create(const vsv_file *f, vsv_volume **out)
     v->pub.bricks = calloc((size_t)L->nbricks, sizeof *v->pub.bricks);
     v->pub.bmin = calloc((size_t)L->nbricks, sizeof(float));
     v->pub.bmax = calloc((size_t)L->nbricks, sizeof(float));
+    v->pub.bkey = calloc((size_t)L->nbricks, sizeof *v->pub.bkey);
     v->codes = calloc((size_t)L->nbricks * n, sizeof *v->codes);
     v->store = malloc((size_t)L->nbricks * n * sizeof *v->store);
-    if (!v->pub.bricks || !v->pub.bmin || !v->pub.bmax || !v->codes || !v->store) {
+    if (!v->pub.bricks || !v->pub.bmin || !v->pub.bmax || !v->pub.bkey || !v->codes || !v->store) {
         vsv_volume_free(&v->pub);
         return VSV_ENOMEM;
     }
@@ -56,6 +65,7 @@ void vsv_volume_free(vsv_volume *pv)
     free(v->pub.bricks);
     free(v->pub.bmin);
     free(v->pub.bmax);
+    free(v->pub.bkey);
     free(v->codes);
     free(v->store);
     free(v);
@@ -95,6 +105,15 @@ int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
         vsv_octree_node(oct, (size_t)b, &mn, &mx);
         pv->bmin[b] = vsv_quant_value(q, mn);
         pv->bmax[b] = vsv_quant_value(q, mx);
+        /* the step that last set the codes (keyframes hold no UNCHANGED) */
+        int t = step, kind;
+        while ((kind = vsv_file_brick_kind(f, t, s, b)) == VSV_BRICK_UNCHANGED && t > 0)
+            t--;
+        if (kind < 0) {
+            vsv_msg(d->err, sizeof d->err, "%s", f->err);
+            return VSV_ECORRUPT;
+        }
+        pv->bkey[b] = vsv_file_brick_key(f, s, mx == 0 || kind == VSV_BRICK_EMPTY ? -1 : t);
         if (mx == 0) {
             pv->bricks[b] = NULL;
             continue;

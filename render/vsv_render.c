@@ -125,11 +125,13 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
         r->surf_read = r->surf;
     }
     if (r->o.kind == VSV_RENDER_SHEARWARP && !sliced) {
-        int rows = 0, classify = 0;
-        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &classify);
+        int rows = 0, bricks = 0, classify = 0;
+        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &bricks, &classify);
         if (!rc && classify) {
             struct timespec t0, t1;
             clock_gettime(CLOCK_MONOTONIC, &t0);
+            if (bricks)
+                vsv_pool_run(&r->pool, vsv_sw_classify_brick, r->sw, bricks);
             vsv_pool_run(&r->pool, vsv_sw_classify_slice, r->sw, classify);
             clock_gettime(CLOCK_MONOTONIC, &t1);
             vsv_sw_classified(r->sw, (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9);
@@ -165,4 +167,9 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
 double vsv_renderer_rebuild_seconds(const vsv_renderer *r)
 {
     return r->o.kind == VSV_RENDER_SHEARWARP ? vsv_sw_build_seconds(r->sw) : r->copy_seconds;
+}
+
+int vsv_renderer_rebuild_bricks(const vsv_renderer *r)
+{
+    return r->o.kind == VSV_RENDER_SHEARWARP ? vsv_sw_build_bricks(r->sw) : 0;
 }

@@ -208,11 +208,16 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
 /* Seconds the last rebuild of precomputed state took, redone when the time
  * step changes. Shear-warp: classifying the species into the copy for one
  * principal viewing axis with its scanline footprints (also redone for an
- * axis's first view after a transfer function or an opacity changes).
+ * axis's first view after a transfer function or an opacity changes; after
+ * a new step only for the bricks whose values changed).
  * Raycaster: the sampling copies of the visible species (each brick with one
  * more cell along each axis, so a trilinear sample never straddles bricks:
  * 1.1 times the memory of the decoded volumes for bricks of 32). */
 double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
+/* Shear-warp: how many bricks the last rebuild classified (all of them the
+ * first time; after a new step only those whose values changed, as the
+ * volumes' brick keys tell: vsv_volume.bkey). 0 for the raycaster. */
+int vsv_renderer_rebuild_bricks(const vsv_renderer *r);
 
 /* The vertical exaggeration that makes the domain a fifth as tall as wide
  * (at least 1): the tools' default. */

@@ -1,17 +1,14 @@
 /* vsv_shearwarp.c — Lacroute's shear-warp factorisation, for parallel and
  * perspective projection (slices sheared, or scaled about the eye).
  *
- * Classification applies the species rule per voxel (summed extinction and
- * extinction-weighted colour) into a copy of the volume for the principal
- * viewing axis, built when a view first needs that axis (one copy per axis
- * at most): its scanlines contiguous, each as four planes (red, green, blue,
- * extinction) with empty voxels around them (so the bilinear footprint never
- * needs a bounds test), and, for every pair of adjacent scanlines, the
- * intervals where a sample between them can meet a non-transparent voxel
- * (the run-length part: the union of both scanlines' non-transparent runs,
- * each widened by the one voxel a bilinear footprint reaches). Layout in
- * vsv_sw.h. It runs on the renderer's thread pool, one slice per
- * job.
+ * Classification (vsv_sw_classify.c) applies the species rule per voxel
+ * (summed extinction and extinction-weighted colour) into a copy of the
+ * volume for the principal viewing axis, built when a view first needs that
+ * axis (one copy per axis at most): its scanlines contiguous, each as four
+ * planes (red, green, blue, extinction) with empty voxels around them (so
+ * the bilinear footprint never needs a bounds test), and, for every pair of
+ * adjacent scanlines, the intervals where a sample between them can meet a
+ * non-transparent voxel (the run-length part). Layout in vsv_sw.h.
  *
  * A frame composites slices perpendicular to the principal viewing axis front
  * to back into an intermediate image, one intermediate row per job: the
@@ -25,10 +22,10 @@
  * raycaster's height field, met by each final pixel's ray and composited
  * behind the volume (cells below the ground hold no data).
  *
- * Memory: 16 bytes per voxel (and 16 voxels of padding per scanline) for a
- * classified copy and 2 bytes per voxel for its footprints: about 19 bytes
- * per voxel for one viewing axis, 57 when views have used all three. */
-#include "vsv_light.h"
+ * Memory: 8 bytes per voxel (and 16 voxels of padding per scanline) for a
+ * classified copy and 2 bytes per voxel for its footprints, about 11 bytes
+ * per voxel for one viewing axis, 33 when views have used all three; and
+ * 8 bytes per cell of the bricks for the classified bricks. */
 #include "vsv_sw.h"
 
 #include <limits.h>
@@ -41,273 +38,12 @@
 /* an intermediate pixel: premultiplied rgb, alpha */
 typedef float v4 __attribute__((vector_size(16)));
 
-struct vsv_sw {
-    /* per principal axis c (a = c+1, b = c+2 mod 3): the classified copy
-     * and its footprints (vsv_sw.h) */
-    uint16_t *vox[3];
-    size_t vox_cap[3];
-    vsv_sw_fp *fps[3];
-    uint16_t *ivl[3];
-    size_t fps_cap[3], ivl_cap[3];
-    uint64_t key; /* what the classification was built from */
-    int n[3];
-    int valid[3]; /* the copy for this axis is current */
-    const vsv_scene *sc; /* during classification */
-    unsigned char *clear; /* per layer and brick: every value transparent */
-    size_t clear_cap;
-    double sigma_unit;
-    vsv_light light; /* the classification's lighting */
-    float scale; /* the classified copy holds extinction in units of sigma_unit, times scale */
-    /* intermediate image (img_stride floats a row), an empty border of one
-     * pixel left and top, two right and bottom, and its opaque-pixel links
-     * (w + 1 per row, perspective) */
-    float *img;
-    int *link;
-    int *boxes; /* parallel rays: each band's box of pixels with alpha > 0 */
-    size_t img_cap, link_cap, boxes_cap;
-    /* per thread: a parallel band's group links, or a slice's scanline runs
-     * while classifying; a parallel band's planes, or perspective deltas */
-    int **scratch;
-    float **dscratch;
-    size_t scratch_cap, dscratch_cap;
-    int max_threads, simd;
-    /* the current view (set by begin) */
-    const vsv_geo *g;
-    const vsv_camera *cam;
-    vsv_rays rays;
-    float *out, *depth;
-    const vsv_ground *ground;
-    int c, a, b, na, nb, nc, w, h, front, dk;
-    double sa, sb, ta, tb, delta, dv[3];
-    /* perspective: the eye in voxel coordinates, the reference slice (the one
-     * nearest the eye, scale 1) and the world size of a voxel along a, b, c */
-    int persp, kref;
-    double eye[3], wsz[3];
-    double build_seconds;
-};
-
-static uint64_t mix(uint64_t h, uint64_t v)
-{
-    h ^= v + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
-    return h;
-}
-
-/* A key of everything the classification depends on. */
-static uint64_t scene_key(const vsv_scene *sc)
-{
-    uint64_t h = 1469598103934665603ull;
-    for (int l = 0; l < sc->nlayers; l++) {
-        const vsv_layer *L = &sc->layers[l];
-        h = mix(h, (uint64_t)(uintptr_t)L->vol);
-        h = mix(h, L->vol ? L->vol->gen : 0);
-        h = mix(h, (uint64_t)L->visible);
-        uint32_t u;
-        memcpy(&u, &L->opacity, 4);
-        h = mix(h, u);
-        h = mix(h, L->tf ? vsv_crc32c(0, L->tf, sizeof *L->tf) : 0);
-    }
-    uint64_t e;
-    memcpy(&e, &sc->exaggeration, 8);
-    h = mix(h, (uint64_t)sc->light);
-    for (int a = 0; a < 3 && sc->light; a++) {
-        memcpy(&e, &sc->light_dir[a], 8);
-        h = mix(h, e);
-    }
-    memcpy(&e, &sc->exaggeration, 8);
-    return mix(mix(h, e), (uint64_t)sc->show_terrain);
-}
-
-static int grow(void **p, size_t *cap, size_t need, size_t elem)
-{
-    if (need <= *cap)
-        return 0;
-    void *q = realloc(*p, need * elem);
-    if (!q)
-        return -1;
-    *p = q;
-    *cap = need;
-    return 0;
-}
-
-static int axis_a(int c) { return (c + 1) % 3; }
 /* pixels in a row of the intermediate image: border, w pixels, two of border */
 static size_t img_stride(const vsv_sw *sw) { return (size_t)sw->w + 3; }
-static int axis_b(int c) { return (c + 2) % 3; }
 
-/* Checks the classification against the scene (invalidating every axis's
- * copy when anything it depends on changed; begin has checked the grid's
- * size) and sizes the copy for axis c. */
-static int classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
-{
-    const uint64_t key = scene_key(sc);
-    if (key != sw->key) {
-        sw->valid[0] = sw->valid[1] = sw->valid[2] = 0;
-        sw->key = key;
-        /* the largest extinction a voxel can have, scaled to 2^14 at most: the
-         * half floats keep 2^-28 of it and up, and need no subnormal */
-        double smax = 0;
-        for (int l = 0; l < sc->nlayers; l++) {
-            const vsv_layer *L = &sc->layers[l];
-            if (L->visible && L->opacity > 0 && L->vol)
-                smax += L->opacity * vsv_tf_max_opacity(L->tf, -INFINITY, INFINITY);
-        }
-        int e = 0;
-        if (smax > 0)
-            frexp(smax, &e);
-        sw->scale = ldexpf(1, 14 - (e < -40 ? -40 : e > 40 ? 40 : e));
-    }
-    if (sw->valid[c])
-        return 0;
-    const size_t na = sw->n[axis_a(c)], nb = sw->n[axis_b(c)], nc = sw->n[c];
-    if (grow((void **)&sw->vox[c], &sw->vox_cap[c], nc * (nb + 2) * 4 * VSV_SW_PLANE(na), sizeof(uint16_t)) ||
-        grow((void **)&sw->fps[c], &sw->fps_cap[c], nc * (nb + 1), sizeof(vsv_sw_fp)) ||
-        grow((void **)&sw->ivl[c], &sw->ivl_cap[c], nc * (nb + 1) * (na + 4), sizeof(uint16_t)))
-        return VSV_ENOMEM;
-    sw->sc = sc;
-    /* bricks a layer leaves transparent need no transfer-function lookups */
-    const vsv_volume *v0 = NULL;
-    for (int l = 0; l < sc->nlayers && !v0; l++)
-        v0 = sc->layers[l].vol;
-    const size_t nbk = v0 ? (size_t)v0->nbricks : 0;
-    if (grow((void **)&sw->clear, &sw->clear_cap, (size_t)sc->nlayers * nbk + 1, 1))
-        return VSV_ENOMEM;
-    for (int l = 0; l < sc->nlayers; l++) {
-        const vsv_layer *L = &sc->layers[l];
-        for (size_t b = 0; b < nbk; b++) {
-            const float lo = L->vol && L->vol->bmin[b] == L->vol->bmin[b] ? L->vol->bmin[b] : -INFINITY;
-            sw->clear[l * nbk + b] = !L->vol || (size_t)L->vol->nbricks != nbk ||
-                                    !(vsv_tf_max_opacity(L->tf, lo, L->vol->bmax[b]) > 0);
-        }
-    }
-    return 0;
-}
-
-/* The footprint of two scanlines' runs (n, then n intervals [lo, hi) of
- * non-transparent voxels; NULL: none): a sample at pa touches a voxel of
- * [lo, hi) when floor(pa) lies in [lo - 1, hi - 1], so runs one voxel or
- * less apart merge. Writes the sorted, merged intervals to out (lo, hi
- * pairs), returns their count. */
-static int merge_footprints(const uint16_t *A, const uint16_t *B, uint16_t *out)
-{
-    int na = A ? A[0] : 0, nb = B ? B[0] : 0, i = 0, j = 0, n = 0;
-    while (i < na || j < nb) {
-        int lo, hi;
-        if (j >= nb || (i < na && A[1 + 2 * i] <= B[1 + 2 * j])) {
-            lo = A[1 + 2 * i], hi = A[2 + 2 * i];
-            i++;
-        } else {
-            lo = B[1 + 2 * j], hi = B[2 + 2 * j];
-            j++;
-        }
-        if (n && lo <= out[2 * n - 1] + 1) {
-            if (hi > out[2 * n - 1])
-                out[2 * n - 1] = (uint16_t)hi;
-        } else {
-            out[2 * n] = (uint16_t)lo;
-            out[2 * n + 1] = (uint16_t)hi;
-            n++;
-        }
-    }
-    return n;
-}
-
-/* The lighting factor of layer L's value v at cell idx: central
- * differences one cell either way, clamped into the grid (a neighbour
- * without data counts as v), as the raycaster's. */
-static float sw_shade(const vsv_sw *sw, const vsv_layer *L, const int idx[3], float v)
-{
-    const vsv_volume *V = L->vol;
-    const int n[3] = {V->nx, V->ny, V->nz};
-    float d[3];
-    for (int a = 0; a < 3; a++) {
-        int p[3] = {idx[0], idx[1], idx[2]};
-        p[a] = idx[a] + 1 < n[a] ? idx[a] + 1 : n[a] - 1;
-        float hi = vsv_volume_at(V, p[0], p[1], p[2]);
-        p[a] = idx[a] > 0 ? idx[a] - 1 : 0;
-        float lo = vsv_volume_at(V, p[0], p[1], p[2]);
-        hi = hi == hi ? hi : v;
-        lo = lo == lo ? lo : v;
-        d[a] = 0.5f * (hi - lo);
-    }
-    return vsv_light_shade(&sw->light, v, d, L->tf->scale == VSV_SCALE_LOG, vsv_light_inv_span(L->tf));
-}
-
-/* Slice k of the current axis: classified voxels (the empty scanlines and
- * padding too) and the footprints of its scanline pairs. */
-void vsv_sw_classify_slice(void *p, int k, int thread)
-{
-    vsv_sw *sw = p;
-    const vsv_scene *sc = sw->sc;
-    const int c = sw->c, a = axis_a(c), b = axis_b(c), na = sw->n[a], nb = sw->n[b];
-    const size_t P = VSV_SW_PLANE(na), scan = 4 * P;
-    uint16_t *slice = sw->vox[c] + (size_t)k * (nb + 2) * scan;
-    memset(slice, 0, scan * sizeof *slice);                   /* scanline -1 */
-    memset(slice + (nb + 1) * scan, 0, scan * sizeof *slice); /* scanline nb */
-    vsv_sw_fp *fps = sw->fps[c] + (size_t)k * (nb + 1);
-    uint16_t *const ivl = sw->ivl[c] + (size_t)k * (nb + 1) * (na + 4);
-    uint32_t at = 0;
-    /* this scanline's runs and the previous one's */
-    uint16_t *runs[2] = {(uint16_t *)sw->scratch[thread], (uint16_t *)sw->scratch[thread] + na + 4};
-    runs[1][0] = 0;
-    for (int ib = 0; ib < nb; ib++) {
-        uint16_t *const row = slice + (size_t)(ib + 1) * scan;
-        memset(row, 0, scan * sizeof *row);
-        uint16_t *iv = runs[ib & 1];
-        int cnt = 0, open = 0;
-        for (int ia = 0; ia < na; ia++) {
-            int idx[3];
-            idx[a] = ia, idx[b] = ib, idx[c] = k;
-            /* sums in double: exact for a few float terms, so the species
-             * order cannot change a bit */
-            double cs = 0, cr = 0, cg = 0, cb = 0;
-            for (int l = 0; l < sc->nlayers; l++) {
-                const vsv_layer *L = &sc->layers[l];
-                if (!L->visible || !(L->opacity > 0) || !L->vol)
-                    continue;
-                const int sh = L->vol->shift;
-                const size_t brick =
-                    (size_t)(idx[0] >> sh) + L->vol->bdim[0] * ((idx[1] >> sh) + (size_t)L->vol->bdim[1] * (idx[2] >> sh));
-                if (sw->clear[l * (size_t)L->vol->nbricks + brick])
-                    continue;
-                float rgba[4];
-                const float val = vsv_volume_at(L->vol, idx[0], idx[1], idx[2]);
-                vsv_tf_eval(L->tf, val, rgba);
-                const float s = rgba[3] * L->opacity * sw->scale; /* in units of sigma_unit / scale */
-                if (s > 0) {
-                    cs += s;
-                    const double ks = sw->light.on ? (double)s * sw_shade(sw, L, idx, val) : s;
-                    cr += ks * rgba[0];
-                    cg += ks * rgba[1];
-                    cb += ks * rgba[2];
-                }
-            }
-            uint16_t *const v = row + VSV_SW_PAD + ia;
-            v[0] = vsv_half((float)cr), v[P] = vsv_half((float)cg), v[2 * P] = vsv_half((float)cb);
-            v[3 * P] = vsv_half((float)cs);
-            if ((v[3 * P] > 0) != open) { /* a run opens or closes here */
-                iv[1 + cnt] = (uint16_t)ia;
-                cnt++;
-                open = !open;
-            }
-        }
-        if (open)
-            iv[1 + cnt++] = (uint16_t)na;
-        iv[0] = (uint16_t)(cnt / 2);
-        fps[ib] = (vsv_sw_fp){at, (uint32_t)merge_footprints(runs[(ib + 1) & 1], iv, ivl + at)}; /* pair (ib - 1, ib) */
-        at += 2 * fps[ib].n;
-    }
-    fps[nb] = (vsv_sw_fp){at, (uint32_t)merge_footprints(runs[(nb + 1) & 1], NULL, ivl + at)}; /* pair (nb - 1, nb) */
-}
-
-void vsv_sw_classified(vsv_sw *sw, double seconds)
-{
-    sw->valid[sw->c] = 1;
-    sw->build_seconds = seconds;
-    sw->sc = NULL;
-}
 
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
-                 const vsv_ground *ground, int *rows, int *classify)
+                 const vsv_ground *ground, int *rows, int *bricks, int *classify)
 {
     sw->ground = ground;
     if (sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
@@ -329,8 +65,8 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
         if (fabs(sw->dv[i]) > fabs(sw->dv[c]))
             c = i;
     sw->c = c;
-    sw->a = axis_a(c);
-    sw->b = axis_b(c);
+    sw->a = vsv_sw_axis_a(c);
+    sw->b = vsv_sw_axis_b(c);
     sw->na = sw->n[sw->a];
     sw->nb = sw->n[sw->b];
     sw->nc = sw->n[c];
@@ -377,9 +113,9 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     }
     /* buffers grow with the view and are reused: no allocation per frame */
     const size_t W = img_stride(sw);
-    if (grow((void **)&sw->img, &sw->img_cap, W * (sw->h + 3) * 4, sizeof(float)) ||
-        grow((void **)&sw->link, &sw->link_cap, ((size_t)sw->w + 1) * sw->h, sizeof(int)) ||
-        grow((void **)&sw->boxes, &sw->boxes_cap, 4 * ((size_t)sw->h / VSV_SW_BAND + 1), sizeof(int)))
+    if (vsv_sw_grow((void **)&sw->img, &sw->img_cap, W * (sw->h + 3) * 4, sizeof(float)) ||
+        vsv_sw_grow((void **)&sw->link, &sw->link_cap, ((size_t)sw->w + 1) * sw->h, sizeof(int)) ||
+        vsv_sw_grow((void **)&sw->boxes, &sw->boxes_cap, 4 * ((size_t)sw->h / VSV_SW_BAND + 1), sizeof(int)))
         return VSV_ENOMEM;
     /* per thread: two scanlines' runs (uint16) or a band's group links; a
      * band's planes or a row's perspective deltas */
@@ -387,7 +123,7 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     const size_t ni = (size_t)sw->na + 4 > nl ? (size_t)sw->na + 4 : nl, nf = VSV_SW_BAND * 4 * ng * VSV_SW_LANES;
     for (int t = 0; t < sw->max_threads; t++) {
         size_t ci = sw->scratch_cap, cf = sw->dscratch_cap;
-        if (grow((void **)&sw->scratch[t], &ci, ni, sizeof(int)) || grow((void **)&sw->dscratch[t], &cf, nf, sizeof(float)))
+        if (vsv_sw_grow((void **)&sw->scratch[t], &ci, ni, sizeof(int)) || vsv_sw_grow((void **)&sw->dscratch[t], &cf, nf, sizeof(float)))
             return VSV_ENOMEM;
     }
     if (ni > sw->scratch_cap)
@@ -405,10 +141,19 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     sw->out = out;
     sw->depth = depth;
     *rows = sw->persp ? sw->h : (sw->h + VSV_SW_BAND - 1) / VSV_SW_BAND;
-    int rc = classification_for(sw, sc, c);
+    int rc = vsv_sw_classification_for(sw, sc, c);
     if (rc)
         return rc;
-    *classify = sw->valid[c] ? 0 : sw->nc;
+    const size_t B = (size_t)1 << sw->shift;
+    for (int t = 0; t < sw->max_threads; t++) {
+        size_t ca = sw->cacc_cap;
+        if (vsv_sw_grow((void **)&sw->cacc[t], &ca, 4 * B, sizeof(double)))
+            return VSV_ENOMEM;
+    }
+    if (4 * B > sw->cacc_cap)
+        sw->cacc_cap = 4 * B;
+    *bricks = sw->ncjobs;
+    *classify = sw->njobs;
     return 0;
 }
 
@@ -658,7 +403,8 @@ vsv_sw *vsv_sw_create(int max_threads, int simd)
         return NULL;
     sw->scratch = calloc((size_t)max_threads, sizeof *sw->scratch);
     sw->dscratch = calloc((size_t)max_threads, sizeof *sw->dscratch);
-    if (!sw->scratch || !sw->dscratch) {
+    sw->cacc = calloc((size_t)max_threads, sizeof *sw->cacc);
+    if (!sw->scratch || !sw->dscratch || !sw->cacc) {
         vsv_sw_free(sw);
         return NULL;
     }
@@ -680,15 +426,28 @@ void vsv_sw_free(vsv_sw *sw)
     free(sw->link);
     free(sw->boxes);
     free(sw->clear);
+    free(sw->cur);
+    free(sw->jobs);
+    for (int c = 0; c < 3; c++)
+        free(sw->keys[c]);
     for (int t = 0; t < sw->max_threads; t++) {
         if (sw->scratch)
             free(sw->scratch[t]);
         if (sw->dscratch)
             free(sw->dscratch[t]);
+        if (sw->cacc)
+            free(sw->cacc[t]);
     }
+    free(sw->cacc);
+    free(sw->cls);
+    free(sw->ckeys);
+    free(sw->cok);
+    free(sw->ltab);
+    free(sw->cjobs);
     free(sw->scratch);
     free(sw->dscratch);
     free(sw);
 }
 
 double vsv_sw_build_seconds(const vsv_sw *sw) { return sw->build_seconds; }
+int vsv_sw_build_bricks(const vsv_sw *sw) { return sw->built_bricks; }

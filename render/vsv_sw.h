@@ -4,17 +4,22 @@
 #define VSV_SW_H
 
 #include "vsv_geo.h"
+#include "vsv_light.h"
 #include "vsv_tf_internal.h"
 
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* Shear-warp in phases so the pool can run all but begin. begin sets up the
  * view (*rows = the compositing jobs: intermediate rows, or bands of
  * VSV_SW_BAND of them for parallel rays; VSV_EUNSUPPORTED when the eye is
  * among the slices) and, when the principal axis's classified copy is not
- * current for this scene, *classify = its slice count: the caller runs
- * vsv_sw_classify_slice for those items, then vsv_sw_classified. Then every
+ * current for this scene, *bricks = the bricks to classify (once for all
+ * axes) and *classify = the slices to copy them into (all of them the
+ * first time, then those of slabs where a brick changed): the caller runs
+ * vsv_sw_classify_brick for the first items, then vsv_sw_classify_slice
+ * for the second, then vsv_sw_classified. Then every
  * compositing job (they are independent), then every job of final rows
  * warped (vsv_sw_warp_jobs). thread indexes per-thread scratch (< the
  * create argument). */
@@ -22,14 +27,16 @@ typedef struct vsv_sw vsv_sw;
 vsv_sw *vsv_sw_create(int max_threads, int simd);
 void vsv_sw_free(vsv_sw *sw);
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *rgba, float *depth,
-                 const vsv_ground *ground, int *rows, int *classify);
-void vsv_sw_classify_slice(void *sw, int k, int thread);
+                 const vsv_ground *ground, int *rows, int *bricks, int *classify);
+void vsv_sw_classify_brick(void *sw, int j, int thread);
+void vsv_sw_classify_slice(void *sw, int j, int thread);
 void vsv_sw_classified(vsv_sw *sw, double seconds);
 void vsv_sw_composite_row(void *sw, int y, int thread);
 #define VSV_SW_WARP_ROWS 32 /* final rows a warp job */
 static inline int vsv_sw_warp_jobs(int height) { return (height + VSV_SW_WARP_ROWS - 1) / VSV_SW_WARP_ROWS; }
 void vsv_sw_warp_rows(void *sw, int job, int thread);
 double vsv_sw_build_seconds(const vsv_sw *sw);
+int vsv_sw_build_bricks(const vsv_sw *sw); /* bricks the last build classified */
 
 /* The classified copy for a principal axis c (a = c+1, b = c+2 mod 3), in
  * the order a frame reads it: slice k holds scanlines ib = -1 .. nb (the
@@ -108,5 +115,102 @@ void vsv_sw_par_warp(const float *img, size_t W, int w, int h, double x0, double
                      float *out);
 void vsv_sw_par_warp_avx2(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0,
                           int p1, float *out);
+
+
+/* a layer's classification table: VSV_SW_SUB entries per step of the
+ * transfer function's */
+#define VSV_SW_SUB 16
+/* slices a classification job copies into (B is a multiple) */
+#define VSV_SW_GROUP 8
+#define VSV_SW_NTAB ((VSV_TF_LUT - 1) * VSV_SW_SUB + 1)
+
+/* The renderer's state (vsv_shearwarp.c: the frame; vsv_sw_classify.c: the
+ * classification). */
+struct vsv_sw {
+    /* per principal axis c (a = c+1, b = c+2 mod 3): the classified copy
+     * and its footprints (vsv_sw.h) */
+    uint16_t *vox[3];
+    size_t vox_cap[3];
+    vsv_sw_fp *fps[3];
+    uint16_t *ivl[3];
+    size_t fps_cap[3], ivl_cap[3];
+    uint64_t key; /* what the classification was built from */
+    int n[3];
+    int valid[3]; /* the copy for this axis is current */
+    const vsv_scene *sc; /* during classification */
+    /* per layer and brick: every value transparent; then per brick: to be
+     * classified in this build */
+    unsigned char *clear;
+    size_t clear_cap;
+    /* per axis: the brick keys (per layer and brick) its copy was built
+     * from; the scene's now */
+    uint64_t *keys[3], *cur;
+    size_t keys_cap[3], nkeys[3], cur_cap;
+    int nbk, shift, bdim[3]; /* the brick layout */
+    int *jobs, njobs, full;  /* the slices to copy bricks into; all of them */
+    size_t jobs_cap;
+    /* the classified bricks (per brick B^3 cells of four half floats, in
+     * the volume's order) shared by the three axes, the keys they were
+     * classified from (valid: cvalid), the bricks to classify */
+    uint64_t *cls, *ckeys;
+    size_t cls_cap, ckeys_cap, cnkeys, cjobs_cap;
+    int cvalid, *cjobs, ncjobs;
+    unsigned char *cok; /* per brick: classified under this scene */
+    size_t cok_cap;
+    uint64_t *ltab; /* per layer, VSV_SW_NTAB classified positions */
+    size_t ltab_cap;
+    /* per thread: sums of four channels over a brick's row */
+    double **cacc;
+    size_t cacc_cap;
+    int nclassified, built_bricks; /* bricks classified in this build, the last */
+    double sigma_unit;
+    vsv_light light; /* the classification's lighting */
+    float scale; /* the classified copy holds extinction in units of sigma_unit, times scale */
+    /* intermediate image (img_stride floats a row), an empty border of one
+     * pixel left and top, two right and bottom, and its opaque-pixel links
+     * (w + 1 per row, perspective) */
+    float *img;
+    int *link;
+    int *boxes; /* parallel rays: each band's box of pixels with alpha > 0 */
+    size_t img_cap, link_cap, boxes_cap;
+    /* per thread: a parallel band's group links, or a slice's scanline runs
+     * while classifying; a parallel band's planes, or perspective deltas */
+    int **scratch;
+    float **dscratch;
+    size_t scratch_cap, dscratch_cap;
+    int max_threads, simd;
+    /* the current view (set by begin) */
+    const vsv_geo *g;
+    const vsv_camera *cam;
+    vsv_rays rays;
+    float *out, *depth;
+    const vsv_ground *ground;
+    int c, a, b, na, nb, nc, w, h, front, dk;
+    double sa, sb, ta, tb, delta, dv[3];
+    /* perspective: the eye in voxel coordinates, the reference slice (the one
+     * nearest the eye, scale 1) and the world size of a voxel along a, b, c */
+    int persp, kref;
+    double eye[3], wsz[3];
+    double build_seconds;
+};
+
+/* Grows *p (of *cap elements of elem bytes) to need: 0, or -1 out of memory. */
+static inline int vsv_sw_grow(void **p, size_t *cap, size_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    void *q = realloc(*p, need * elem);
+    if (!q)
+        return -1;
+    *p = q;
+    *cap = need;
+    return 0;
+}
+/* The axes of a slice of principal axis c */
+static inline int vsv_sw_axis_a(int c) { return (c + 1) % 3; }
+static inline int vsv_sw_axis_b(int c) { return (c + 2) % 3; }
+/* Checks the classification against the scene for principal axis c and
+ * plans the work (vsv_sw_classify.c): 0 or VSV_ENOMEM. */
+int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c);
 
 #endif

@@ -134,8 +134,9 @@ vsv_volume *vsv_pager_volume_new(vsv_pager *p)
     sh->v.bricks = calloc((size_t)nb, sizeof *sh->v.bricks);
     sh->v.bmin = calloc((size_t)nb, sizeof(float));
     sh->v.bmax = calloc((size_t)nb, sizeof(float));
+    sh->v.bkey = calloc((size_t)nb, sizeof *sh->v.bkey);
     sh->held = malloc((size_t)nb * sizeof *sh->held);
-    if (!sh->v.bricks || !sh->v.bmin || !sh->v.bmax || !sh->held) {
+    if (!sh->v.bricks || !sh->v.bmin || !sh->v.bmax || !sh->v.bkey || !sh->held) {
         vsv_pager_volume_free(&sh->v);
         return NULL;
     }
@@ -165,6 +166,7 @@ void vsv_pager_volume_free(vsv_volume *v)
     free(v->bricks);
     free(v->bmin);
     free(v->bmax);
+    free(v->bkey);
     free(sh->held);
     free(sh);
 }
@@ -227,6 +229,7 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
         vsv_octree_node(oct, (size_t)b, &mn, &mx);
         v->bmin[b] = vsv_quant_value(q, mn);
         v->bmax[b] = vsv_quant_value(q, mx);
+        v->bkey[b] = vsv_file_brick_key(p->f, s, def[b]);
         v->bricks[b] = NULL;
         if (def[b] < 0)
             continue;

@@ -440,6 +440,93 @@ static void test_ground(world *w)
           rays, hits, bad);
 }
 
+/* The shear-warp while playing: one renderer shown steps in turn (forward,
+ * back to the start, a jump), two views with different principal axes each
+ * step, classifies again only the bricks whose values changed (the volumes'
+ * brick keys), and every picture equals, bit for bit, a new renderer's
+ * (every brick classified) of the same step and view. */
+static void test_sw_playing(const char *label, world *w, int nsteps, int first, int light)
+{
+    const vsv_meta *m = vsv_file_meta(w->f);
+    vsv_layer layers[8];
+    for (int i = first; i < w->n; i++)
+        layers[i - first] = (vsv_layer){w->vol[i], &w->tf[i], 1, 1};
+    vsv_scene sc;
+    memset(&sc, 0, sizeof sc);
+    sc.meta = m;
+    sc.layers = layers;
+    sc.nlayers = w->n - first;
+    sc.exaggeration = 4;
+    if (light) /* shading reads across brick faces: a change reaches the neighbours */
+        vsv_scene_sun(&sc, 135, 40);
+    double mn[3], mx[3];
+    vsv_scene_bounds(&sc, mn, mx);
+    vsv_camera cam[2];
+    vsv_camera_orbit(&cam[0], &sc, 225, 30, 0, W, H);
+    vsv_camera_orbit(&cam[1], &sc, 200, 80, 0, W, H);
+    for (int v = 0; v < 2; v++) {
+        cam[v].fov_deg = 0;
+        cam[v].ortho_height = 0.75 * (mx[0] - mn[0]);
+    }
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    o.kind = VSV_RENDER_SHEARWARP;
+    o.threads = 2;
+    vsv_renderer *r = NULL;
+    float *a = malloc(sizeof(float) * 4 * W * H), *b = malloc(sizeof(float) * 4 * W * H);
+    int ok = !vsv_renderer_create(&o, &r) && a && b, same = 1, fewest = INT32_MAX, most = 0, frames = 0;
+    const int order[] = {1, 2, 3, 0, 1, 3, 2}, nb = w->vol[0]->nbricks;
+    double diff = 0;
+    for (size_t i = 0; ok && i < sizeof order / sizeof order[0]; i++) {
+        const int t = order[i] % nsteps;
+        for (int s = 0; s < w->n && ok; s++)
+            ok = !vsv_volume_load(w->vol[s], w->d, t, s);
+        for (int v = 0; v < 2 && ok; v++) {
+            vsv_renderer *fresh = NULL;
+            ok = !vsv_render(r, &sc, &cam[v], a, NULL) && !vsv_renderer_create(&o, &fresh) &&
+                 !vsv_render(fresh, &sc, &cam[v], b, NULL);
+            if (ok && i > 0) { /* the first frame of each axis classifies every brick */
+                const int n = vsv_renderer_rebuild_bricks(r);
+                fewest = n < fewest ? n : fewest;
+                most = n > most ? n : most;
+                frames++;
+            }
+            if (ok && max_diff(a, b) > diff)
+                diff = max_diff(a, b);
+            same &= ok && max_diff(a, b) == 0;
+            vsv_renderer_free(fresh);
+        }
+    }
+    char name[200];
+    snprintf(name, sizeof name, "%s: shear-warp playing steps, each picture equals a full classification's", label);
+    CHECK(ok && same, name, "largest difference %g", diff);
+    snprintf(name, sizeof name, "%s: shear-warp playing re-classifies only changed bricks", label);
+    /* (Q, species 0, changes everywhere: checked for the pictures only) */
+    CHECK(ok && frames > 0 && most > 0 && (first == 0 || fewest < nb), name, "%d..%d of %d bricks", fewest, most, nb);
+    printf("  %s: bricks classified again per frame while playing %d..%d of %d\n", label, fewest, most, nb);
+    vsv_renderer_free(r);
+    free(a);
+    free(b);
+}
+
+static void test_mmout_playing(void)
+{
+    const char *path = vsv_test_tmp("render-mmout-play.vsv");
+    char cmd[2048];
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q %s -o %s", getenv("B") ? getenv("B") : "build",
+             vsv_test_shared("mm5/run1/MMOUT_DOMAIN1"), path);
+    if (!CHECK(system(cmd) == 0, "the real MMOUT converts, four periods"))
+        return;
+    world w;
+    if (CHECK(load(&w, path, 0) == 0, "MMOUT volumes load (4 periods)")) {
+        test_sw_playing("real MMOUT, all species", &w, 4, 0, 0);
+        test_sw_playing("real MMOUT, hydrometeors", &w, 4, 1, 0);
+        test_sw_playing("real MMOUT, hydrometeors, lit", &w, 4, 1, 1);
+        unload(&w);
+    }
+    unlink(path);
+}
+
 static void test_mmout(void)
 {
     const char *path = vsv_test_tmp("render-mmout.vsv");
@@ -507,6 +594,8 @@ static void test_mm5(void)
     pw->vol[2] = v2;
     pw->tf[0] = t0;
     pw->tf[2] = t2;
+    test_sw_playing("MM5 sample, all species", pw, 4, 0, 0);
+    test_sw_playing("MM5 sample, hydrometeors", pw, 4, 1, 0);
     unload(&w);
     unlink(path);
 }
@@ -619,5 +708,6 @@ int main(void)
     test_synthetic();
     test_mm5();
     test_mmout();
+    test_mmout_playing();
     return vsv_test_done();
 }

@@ -185,6 +185,32 @@ static void test_pager(const char *path)
     CHECK(ok && st.prefetch_depth == 0 && st.evictions > 0,
           "a 4-brick budget plays every step correctly (prefetch off, evicting)", "(depth %d, evictions %llu)",
           st.prefetch_depth, (unsigned long long)st.evictions);
+    /* brick keys (what a renderer re-derives only for bricks that changed):
+     * the pager's volumes carry the loader's, and a step changes some */
+    vsv_decoder *dec = NULL;
+    vsv_volume *ref = NULL;
+    ok = !vsv_decoder_create(f, &dec) && !vsv_volume_create(f, &ref);
+    const int nb = ok ? ref->nbricks : 0;
+    uint64_t *before = calloc((size_t)nb * 3 + 1, sizeof *before);
+    long changed = 0, kept = 0;
+    for (int t = 0; t < 60 && ok; t++) {
+        vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+        for (int s = 0; s < 3 && ok; s++) {
+            ok = vsv_pager_get(p, t, s, 1, v) == 0 && vsv_volume_load(ref, dec, t, s) == 0 && v->bkey && ref->bkey &&
+                 !memcmp(v->bkey, ref->bkey, (size_t)nb * sizeof *v->bkey);
+            for (int b = 0; b < nb && ok && t > 0; b++) {
+                changed += v->bkey[b] != before[s * nb + b];
+                kept += v->bkey[b] == before[s * nb + b];
+            }
+            if (ok)
+                memcpy(before + (size_t)s * nb, v->bkey, (size_t)nb * sizeof *before);
+        }
+    }
+    CHECK(ok && changed > 0 && kept > 0, "the pager's volumes carry the loader's brick keys; a step changes some",
+          "(%ld changed, %ld kept)", changed, kept);
+    free(before);
+    vsv_volume_free(ref);
+    vsv_decoder_free(dec);
     vsv_pager_volume_free(v);
     vsv_pager_free(p);
     for (int i = 0; i < 180; i++)

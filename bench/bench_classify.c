@@ -1,0 +1,408 @@
+/* bench_classify.c — the shear-warp's classification and its frame rate
+ * while playing, beside VolPack (Debian libvolpack1-dev) on the same
+ * volumes in the same run: the real MM5 run's Q (dense) and CLW (sparse),
+ * gen-plume's plume and haze (../shared/tools/gen-plume).
+ *
+ * Both sides see the same 8-bit volume of each step (the species quantised
+ * to 0..255 over the series' range: VolPack's density, and on our side the
+ * float values it stands for). Opacity is matched per unit length: VolPack
+ * composites one sample per voxel step with opacity a(d) = 0.95 d / 255;
+ * ours is 1 - e^(-3 o L) over L cells (VSV_SIGMA_PER_CELL = 3), so our
+ * opacity curve is o(t) = -ln(1 - 0.95 t) / 3 (16 samples, linear between)
+ * and the cells are cubes on both sides. Ray termination 0.998 on both;
+ * VolPack skips voxels of opacity below 1/255. Image 512x512, parallel
+ * projection, the same orbit views as bench_volpack.
+ *
+ * Classification: VolPack's vpClassifyVolume (it builds its run-length
+ * encoded copy for all three axes) against ours for all three axes, first
+ * time (every brick). Playing: the steps in turn, each frame a new step at
+ * a fixed view, 4 views: VolPack classifies the new step and renders
+ * (vpClassifyVolume + vpRenderClassifiedVolume; its other path for
+ * changing data, vpRenderRawVolume, is timed too and the faster taken);
+ * ours renders the new step's volume, re-classifying only bricks whose
+ * values changed (decoded volumes held ready, as the player's pager holds
+ * them: decoding is outside both timings). One thread on both sides. Times
+ * are the thread's CPU time (the machine is shared; wall time moves with
+ * other load), interleaved: each round times VolPack then us; medians and
+ * ranges over rounds. Usage:
+ *   bench_classify MM5.vsv PLUME_DIR [ROUNDS [ONLY]]  (ONLY: volumes whose name has it) */
+#include "vsv_render.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <volpack.h>
+
+enum { SIZE = 512, VIEWS = 4, MAXSTEPS = 4 };
+
+static double cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static int cmp(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* median, min, max of n values (sorted in place) */
+static void stats(double *v, int n, double out[3])
+{
+    qsort(v, (size_t)n, sizeof *v, cmp);
+    out[0] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    out[1] = v[0];
+    out[2] = v[n - 1];
+}
+
+/* A series: nsteps volumes of one species of a .vsv. */
+typedef struct series {
+    const char *name;
+    vsv_file *f;
+    vsv_decoder *d;
+    vsv_meta iso;
+    int nsteps;
+    vsv_volume *vol[MAXSTEPS];
+    unsigned char *vox[MAXSTEPS]; /* VolPack's voxels {u16 shade index, u8 density, pad} */
+    double lo, hi;
+} series;
+
+static int series_open(series *S, const char *name, const char *path, const char *species, int first, int n)
+{
+    memset(S, 0, sizeof *S);
+    S->name = name;
+    if (vsv_file_open(path, &S->f) || vsv_decoder_create(S->f, &S->d)) {
+        fprintf(stderr, "bench_classify: %s: %s\n", path, vsv_file_error(S->f));
+        return -1;
+    }
+    const vsv_meta *m = vsv_file_meta(S->f);
+    const int s = vsv_meta_find_var(m, species);
+    if (s < 0)
+        return -1;
+    const vsv_quant *q = vsv_file_quant(S->f, s);
+    S->lo = q->lo;
+    S->hi = q->hi > q->lo ? q->hi : q->lo + 1;
+    S->nsteps = n;
+    const size_t nv = (size_t)m->nx * m->ny * m->nz;
+    for (int t = 0; t < n; t++) {
+        if (vsv_volume_create(S->f, &S->vol[t]) || vsv_volume_load(S->vol[t], S->d, first + t, s))
+            return -1;
+        S->vox[t] = calloc(nv, 4);
+        for (int k = 0; k < m->nz; k++)
+            for (int j = 0; j < m->ny; j++)
+                for (int i = 0; i < m->nx; i++) {
+                    const float v = vsv_volume_at(S->vol[t], i, j, k);
+                    const double u = v == v ? (v - S->lo) / (S->hi - S->lo) : 0;
+                    const unsigned char dv = (unsigned char)lrint(255 * fmin(1, fmax(0, u)));
+                    const uint16_t si = dv;
+                    unsigned char *p = S->vox[t] + 4 * (((size_t)k * m->ny + j) * m->nx + i);
+                    memcpy(p, &si, 2);
+                    p[2] = dv;
+                }
+    }
+    S->iso = *m; /* cubic cells, as VolPack sees them */
+    S->iso.spacing[0] = S->iso.spacing[1] = S->iso.spacing[2] = 1000;
+    S->iso.vert_kind = VSV_VERT_EVEN;
+    S->iso.levels = NULL;
+    S->iso.terrain = NULL;
+    S->iso.landuse = NULL;
+    S->iso.nheights = 0;
+    S->iso.heights = NULL;
+    return 0;
+}
+
+static void series_free(series *S)
+{
+    for (int t = 0; t < S->nsteps; t++) {
+        vsv_volume_free(S->vol[t]);
+        free(S->vox[t]);
+    }
+    vsv_decoder_free(S->d);
+    vsv_file_free(S->f);
+}
+
+/* VolPack set up on step 0 with the matched opacity ramp. */
+static vpContext *vp_setup(const series *S, unsigned char *image)
+{
+    const vsv_meta *m = &S->iso;
+    vpContext *vpc = vpCreateContext();
+    vpSetVolumeSize(vpc, m->nx, m->ny, m->nz);
+    vpSetVoxelSize(vpc, 4, 2, 1, 1);
+    vpSetVoxelField(vpc, 0, 2, 0, 255);
+    vpSetVoxelField(vpc, 1, 1, 2, 255);
+    vpSetRawVoxels(vpc, S->vox[0], (int)((size_t)m->nx * m->ny * m->nz * 4), 4, 4 * m->nx, 4 * m->nx * m->ny);
+    static float ramp[256], shade[256];
+    for (int i = 0; i < 256; i++) {
+        ramp[i] = 0.95f * i / 255.0f;
+        shade[i] = 0.4f + 0.6f * i / 255.0f;
+    }
+    vpSetClassifierTable(vpc, 0, 1, ramp, sizeof ramp);
+    vpSetLookupShader(vpc, 1, 1, 0, shade, sizeof shade, 0, NULL, 0);
+    vpSetd(vpc, VP_MIN_VOXEL_OPACITY, 1.0 / 255);
+    vpSetd(vpc, VP_MAX_RAY_OPACITY, 0.998);
+    vpSetImage(vpc, image, SIZE, SIZE, SIZE * 2, VP_LUMINANCEA);
+    vpCurrentMatrix(vpc, VP_PROJECT);
+    vpIdentityMatrix(vpc);
+    vpWindow(vpc, VP_PARALLEL, -0.75, 0.75, -0.75, 0.75, -0.75, 0.75);
+    return vpc;
+}
+
+/* VolPack's view v: tilted 60 degrees, turned 45 (v + 1) about the vertical
+ * (bench_volpack's orbit frame v). */
+static void vp_view(vpContext *vpc, int v)
+{
+    vpCurrentMatrix(vpc, VP_MODEL);
+    vpIdentityMatrix(vpc);
+    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_LEFT);
+    vpRotate(vpc, VP_X_AXIS, -60.0);
+    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_RIGHT);
+    vpRotate(vpc, VP_Z_AXIS, 45.0 * (v + 1));
+}
+
+static int vp_check(vpContext *vpc, int rc)
+{
+    if (rc != VP_OK) {
+        fprintf(stderr, "bench_classify: VolPack: %s\n", vpGetErrorString(vpGetError(vpc)));
+        exit(1);
+    }
+    return 0;
+}
+
+static void run(series *S, int rounds)
+{
+    unsigned char *image = malloc(SIZE * SIZE * 2);
+    vpContext *vpc = vp_setup(S, image);
+    /* our transfer function: the matched opacity curve over the 8-bit range */
+    char text[512], msg[128];
+    int n = snprintf(text, sizeof text, "colormap greys\nrange %.9g %.9g\nopacity", S->lo, S->hi);
+    for (int i = 0; i < 16; i++)
+        n += snprintf(text + n, sizeof text - (size_t)n, " %.6f", -log(1 - 0.95 * i / 15.0) / 3);
+    snprintf(text + n, sizeof text - (size_t)n, "\n");
+    vsv_tf tf;
+    if (vsv_tf_parse(&tf, text, msg, sizeof msg)) {
+        fprintf(stderr, "bench_classify: %s\n", msg);
+        exit(1);
+    }
+    vsv_layer layer = {S->vol[0], &tf, 1, 1};
+    vsv_scene sc = {&S->iso, &layer, 1, 1, 0};
+    double mn[3], mx[3];
+    vsv_scene_bounds(&sc, mn, mx);
+    vsv_camera cams[VIEWS];
+    for (int k = 0; k < VIEWS; k++) {
+        vsv_camera_orbit(&cams[k], &sc, 225 + 45 * k, 30, 0, SIZE, SIZE);
+        cams[k].fov_deg = 0;
+        cams[k].ortho_height = 1.5 * fmax(fmax(mx[0] - mn[0], mx[1] - mn[1]), mx[2] - mn[2]);
+    }
+    float *img = malloc(sizeof(float) * 4 * SIZE * SIZE);
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    o.kind = VSV_RENDER_SHEARWARP;
+    o.threads = 1;
+    /* principal axes: views whose copies differ (the orbit meets x and y;
+     * a view from above meets z) */
+    vsv_camera axes[3];
+    vsv_camera_orbit(&axes[0], &sc, 180, 10, 0, SIZE, SIZE);
+    vsv_camera_orbit(&axes[1], &sc, 270, 10, 0, SIZE, SIZE);
+    vsv_camera_orbit(&axes[2], &sc, 180, 85, 0, SIZE, SIZE);
+    for (int i = 0; i < 3; i++) {
+        axes[i].fov_deg = 0;
+        axes[i].ortho_height = cams[0].ortho_height;
+    }
+    double *vc = malloc(sizeof(double) * rounds), *oc = malloc(sizeof(double) * rounds);
+    double *vp = malloc(sizeof(double) * rounds), *vr = malloc(sizeof(double) * rounds);
+    double *op = malloc(sizeof(double) * rounds);
+    long bricks = 0, frames = 0;
+    double cold = 0;
+    vsv_renderer *rr = NULL;
+    if (vsv_renderer_create(&o, &rr))
+        exit(1);
+    /* one uncounted round first: caches, page faults, VolPack's tables */
+    for (int r = -1; r < rounds; r++) {
+        /* classification, every brick, all three axes */
+        vpSetRawVoxels(vpc, S->vox[0], (int)((size_t)S->iso.nx * S->iso.ny * S->iso.nz * 4), 4, 4 * S->iso.nx,
+                       4 * S->iso.nx * S->iso.ny);
+        double t = cpu();
+        vp_check(vpc, vpClassifyVolume(vpc));
+        const double tv = cpu() - t;
+        /* a new opacity (by one part in 2^22, alternately) makes every
+         * brick classify again, on buffers already allocated (the first,
+         * uncounted round allocates them: cold) */
+        layer.vol = S->vol[0];
+        layer.opacity = r & 1 ? 1.0f : 1.0f - 0x1p-22f;
+        /* our classification's CPU time: a view's first frame less its second */
+        double to = 0;
+        for (int i = 0; i < 3; i++) {
+            t = cpu();
+            vsv_render(rr, &sc, &axes[i], img, NULL);
+            to += cpu() - t;
+            t = cpu();
+            vsv_render(rr, &sc, &axes[i], img, NULL);
+            to -= cpu() - t;
+        }
+        /* playing: each view, the steps in turn, twice round */
+        double tp = 0, tr = 0, tq = 0;
+        for (int v = 0; v < VIEWS; v++) {
+            vp_view(vpc, v);
+            for (int i = 0; i < 2 * S->nsteps; i++) {
+                const int st = (i + 1) % S->nsteps;
+                vpSetRawVoxels(vpc, S->vox[st], (int)((size_t)S->iso.nx * S->iso.ny * S->iso.nz * 4), 4,
+                               4 * S->iso.nx, 4 * S->iso.nx * S->iso.ny);
+                t = cpu();
+                vp_check(vpc, vpClassifyVolume(vpc));
+                vp_check(vpc, vpRenderClassifiedVolume(vpc));
+                tp += cpu() - t;
+                t = cpu();
+                vp_check(vpc, vpRenderRawVolume(vpc));
+                tr += cpu() - t;
+                layer.vol = S->vol[st];
+                t = cpu();
+                vsv_render(rr, &sc, &cams[v], img, NULL);
+                tq += cpu() - t;
+                if (r >= 0) {
+                    bricks += vsv_renderer_rebuild_bricks(rr);
+                    frames++;
+                }
+            }
+        }
+        if (r < 0) {
+            cold = to;
+            continue;
+        }
+        vc[r] = tv, oc[r] = to;
+        const int nf = VIEWS * 2 * S->nsteps;
+        vp[r] = tp / nf, vr[r] = tr / nf, op[r] = tq / nf;
+    }
+    vsv_renderer_free(rr);
+    double c0[3], c1[3], p0[3], p1[3], p2[3];
+    stats(vc, rounds, c0);
+    stats(oc, rounds, c1);
+    stats(vp, rounds, p0);
+    stats(vr, rounds, p1);
+    stats(op, rounds, p2);
+    const vsv_meta *m = &S->iso;
+    size_t vis = 0;
+    for (size_t i = 0; i < (size_t)m->nx * m->ny * m->nz; i++)
+        vis += S->vox[0][4 * i + 2] > 0;
+    const double *vbest = p1[0] < p0[0] ? p1 : p0;
+    printf("| %s | %dx%dx%d, %d steps, %.0f%% of voxels above 0 | %.1f (%.1f–%.1f) | %.1f (%.1f–%.1f); cold %.0f | **%.2f** | "
+           "%.1f (%.1f–%.1f) / %.1f (%.1f–%.1f) | %.1f (%.1f–%.1f) | %.0f %% | **%.2f** (%.2f–%.2f) |\n",
+           S->name, m->nx, m->ny, m->nz, S->nsteps, 100.0 * vis / ((double)m->nx * m->ny * m->nz), 1e3 * c0[0],
+           1e3 * c0[1], 1e3 * c0[2], 1e3 * c1[0], 1e3 * c1[1], 1e3 * c1[2], 1e3 * cold, c0[0] / c1[0], 1e3 * p0[0], 1e3 * p0[1],
+           1e3 * p0[2], 1e3 * p1[0], 1e3 * p1[1], 1e3 * p1[2], 1e3 * p2[0], 1e3 * p2[1], 1e3 * p2[2],
+           100.0 * bricks / ((double)frames * S->vol[0]->nbricks), vbest[0] / p2[0], vbest[1] / p2[2],
+           vbest[2] / p2[1]);
+    fflush(stdout);
+    free(vc), free(oc), free(vp), free(vr), free(op);
+    free(img);
+    vpDestroyContext(vpc);
+    free(image);
+}
+
+/* gen-plume's raw 256x256x64 float32 steps written as a .vsv (16 bits,
+ * the library's defaults). */
+static int write_plume(const char *dir, const char *out, const char *const *names, int n)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = 256, m.ny = 256, m.nz = 64;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    vsv_meta_add_var(&m, "plume", "1", "gen-plume");
+    const size_t nv = (size_t)m.nx * m.ny * m.nz;
+    float *buf = malloc(nv * 4);
+    /* the range from 0 to the maximum of gen-plume (its plume.info), as its
+     * 8-bit files: the haze's floor is not empty */
+    float vmax = 0;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/plume.info", dir);
+    FILE *fi = fopen(path, "r");
+    if (!fi || fscanf(fi, "nx=%*d ny=%*d nz=%*d vmax=%f", &vmax) != 1 || !(vmax > 0)) {
+        fprintf(stderr, "bench_classify: %s: no vmax\n", path);
+        if (fi)
+            fclose(fi);
+        return -1;
+    }
+    fclose(fi);
+    vsv_pack_var pv;
+    vsv_pack_var_init(&pv);
+    pv.lo = 0;
+    pv.hi = vmax;
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.vars = &pv;
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(out, &m, &o, &w);
+    for (int t = 0; t < n && !rc; t++) {
+        snprintf(path, sizeof path, "%s/%s", dir, names[t]);
+        FILE *fp = fopen(path, "rb");
+        if (!fp || fread(buf, 4, nv, fp) != nv) {
+            fprintf(stderr, "bench_classify: %s: cannot read %zu floats\n", path, nv);
+            rc = -1;
+        }
+        if (fp)
+            fclose(fp);
+        if (!rc && !strcmp(names[t], "plume_t1.f32") && strstr(out, "haze")) {
+            /* gen-plume's haze rule on the next step: a floor of 8/255 of the
+             * maximum */
+            for (size_t i = 0; i < nv; i++)
+                buf[i] = fmaxf(buf[i], 8.0f / 255.0f * vmax);
+        }
+        const float *fields[1] = {buf};
+        if (!rc)
+            rc = vsv_writer_add_step(w, 3600 * (int64_t)t, fields);
+    }
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc)
+        fprintf(stderr, "bench_classify: %s: %s\n", out, w ? vsv_writer_error(w) : "cannot create");
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    free(buf);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 3) {
+        fprintf(stderr, "usage: bench_classify MM5.vsv PLUME_DIR [ROUNDS]\n");
+        return 2;
+    }
+    const int rounds = argc > 3 ? atoi(argv[3]) : 5;
+    char plume[1024], haze[1024];
+    snprintf(plume, sizeof plume, "%s/plume.vsv", argv[2]);
+    snprintf(haze, sizeof haze, "%s/haze.vsv", argv[2]);
+    const char *pn[] = {"plume_t0.f32", "plume_t1.f32"}, *hn[] = {"plume_haze.f32", "plume_t1.f32"};
+    if (write_plume(argv[2], plume, pn, 2) || write_plume(argv[2], haze, hn, 2))
+        return 1;
+    printf("Classification: every brick, all three axes (VolPack: vpClassifyVolume; ours: the three principal axes'\n"
+           "copies). Playing: each frame a new step (the series' steps in turn at each of %d views); VolPack\n"
+           "classifies and renders (vpClassifyVolume + vpRenderClassifiedVolume, or vpRenderRawVolume: the faster\n"
+           "is compared), ours re-classifies the bricks that changed and renders. One thread, CPU ms, median\n"
+           "(range) over %d rounds, %dx%d image.\n\n",
+           VIEWS, rounds, SIZE, SIZE);
+    printf("| volume | grid | VolPack classify ms | ours ms (cold: first time, buffers allocated) | × | VolPack playing ms/frame: classify+render / raw | "
+           "ours ms/frame | bricks re-classified | × VolPack's frame rate |\n"
+           "|---|---|---|---|---|---|---|---|---|\n");
+    struct {
+        const char *name, *path, *species;
+        int first, n;
+    } sets[] = {{"MM5 Q", argv[1], "Q", 1, 3},
+                {"MM5 CLW", argv[1], "CLW", 1, 3},
+                {"gen-plume plume", plume, "plume", 0, 2},
+                {"gen-plume haze", haze, "plume", 0, 2}};
+    for (size_t i = 0; i < sizeof sets / sizeof sets[0]; i++) {
+        if (argc > 4 && !strstr(sets[i].name, argv[4]))
+            continue;
+        series S;
+        if (series_open(&S, sets[i].name, sets[i].path, sets[i].species, sets[i].first, sets[i].n)) {
+            fprintf(stderr, "bench_classify: %s: cannot load %s\n", sets[i].path, sets[i].species);
+            return 1;
+        }
+        run(&S, rounds);
+        series_free(&S);
+    }
+    return 0;
+}
