@@ -266,7 +266,7 @@ int main(int argc, char **argv)
         printf(" %.0f MB (cache peak %.0f MB, a step pinned %.0f MB) |\n", (peak - base_kb) / 1024.0,
                st.peak_bytes / 1048576.0, step_mb);
         for (int s = 0; s < info.nspecies; s++)
-            vsv_pager_volume_free(v[s]);
+            vsv_volume_free(v[s]);
         vsv_pager_free(p);
     }
     free(times);

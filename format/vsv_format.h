@@ -452,7 +452,20 @@ void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t
 /* ------------------------------------------------------- decoded volumes */
 
 /* One species at one step, decoded brick by brick: what renderers consume.
- * Plain info over storage the volume owns (create/free). bricks[b] is NULL
+ *
+ * One owner rule for every vsv_volume, whoever hands it out:
+ *  - owned: from vsv_volume_create (bricks in storage the volume owns) or
+ *    vsv_pager_volume_new (bricks pinned in the pager's cache). Caller frees
+ *    with vsv_volume_free, which releases it the way its maker needs (a
+ *    pager volume unpins its bricks first; freeing it after its pager is
+ *    allowed). Only its maker fills it: vsv_volume_load takes only volumes
+ *    of vsv_volume_create, vsv_pager_get only volumes of that pager
+ *    (VSV_EINVAL otherwise).
+ *  - borrowed: vsv_resampler_run's output; vsv_volume_free leaves it alone.
+ * A volume a caller builds itself (tests, bindings) has release_ NULL and
+ * is the caller's to manage.
+ *
+ * Plain info over storage its maker manages. bricks[b] is NULL
  * for a brick whose cells all hold `empty_value` (an EMPTY brick); otherwise
  * brick^3 floats, x fastest, cells outside the grid hold empty_value. bmin and
  * bmax are the brick's value range (from the octree, exact). */
@@ -472,14 +485,20 @@ typedef struct vsv_volume {
                                  values (equal non-zero keys, equal values, in
                                  any volume of the process: vsv_file_brick_key),
                                  so a renderer redoes only bricks that changed */
+    /* private to the volume's maker: how vsv_volume_free gives it back
+       (NULL: borrowed or caller-built; vsv_volume_free leaves it alone) */
+    void (*release_)(struct vsv_volume *v);
 } vsv_volume;
 
 /* Allocates storage for one species of f (all at once: no allocation per
  * frame). Caller frees with vsv_volume_free. */
 int vsv_volume_create(const vsv_file *f, vsv_volume **out);
+/* Frees any owned volume (vsv_volume_create's or vsv_pager_volume_new's);
+ * NULL and borrowed volumes are left alone. */
 void vsv_volume_free(vsv_volume *v);
-/* Decodes (step, s) into v through decoder d; the next step of the same
- * species costs one delta per brick. */
+/* Decodes (step, s) into v (a volume of vsv_volume_create, else VSV_EINVAL)
+ * through decoder d; the next step of the same species costs one delta per
+ * brick. */
 int vsv_volume_load(vsv_volume *v, vsv_decoder *d, int step, int s);
 /* A new vsv_volume.gen (1, 2, ...: unique in the process), for whatever
  * fills a volume. */

@@ -25,6 +25,19 @@ uint64_t vsv_file_brick_key(const vsv_file *f, int s, int def)
     return 1ull << 63 | (f->uid & 0x1FFFFFFFu) << 34 | (uint64_t)(s & 0x3FF) << 24 | (uint64_t)(def < 0 ? 0xFFFFFF : def);
 }
 
+/* The release of vsv_volume_create's volumes (what marks them as such). */
+static void volume_release(vsv_volume *pv)
+{
+    volume_impl *v = (volume_impl *)pv;
+    free(v->pub.bricks);
+    free(v->pub.bmin);
+    free(v->pub.bmax);
+    free(v->pub.bkey);
+    free(v->codes);
+    free(v->store);
+    free(v);
+}
+
 int vsv_volume_create(const vsv_file *f, vsv_volume **out)
 {
     *out = NULL;
@@ -43,6 +56,7 @@ int vsv_volume_create(const vsv_file *f, vsv_volume **out)
         v->pub.bdim[a] = L->bdim[a];
     v->pub.nbricks = L->nbricks;
     v->pub.step = v->pub.species = -1;
+    v->pub.release_ = volume_release;
     v->pub.bricks = calloc((size_t)L->nbricks, sizeof *v->pub.bricks);
     v->pub.bmin = calloc((size_t)L->nbricks, sizeof(float));
     v->pub.bmax = calloc((size_t)L->nbricks, sizeof(float));
@@ -57,28 +71,29 @@ int vsv_volume_create(const vsv_file *f, vsv_volume **out)
     return 0;
 }
 
-void vsv_volume_free(vsv_volume *pv)
+void vsv_volume_free(vsv_volume *v)
 {
-    if (!pv)
-        return;
-    volume_impl *v = (volume_impl *)pv;
-    free(v->pub.bricks);
-    free(v->pub.bmin);
-    free(v->pub.bmax);
-    free(v->pub.bkey);
-    free(v->codes);
-    free(v->store);
-    free(v);
+    if (v && v->release_)
+        v->release_(v);
 }
 
 int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
 {
     volume_impl *v = (volume_impl *)pv;
     vsv_file *f = d->f;
+    if (!pv || pv->release_ != volume_release) {
+        vsv_msg(d->err, sizeof d->err, "%s: not a volume of vsv_volume_create", f->name);
+        return VSV_EINVAL;
+    }
     int rc = vsv_file_check_args(f, step, s, 0, d->err, sizeof d->err);
     if (rc)
         return rc;
     const vsv_layout *L = &f->lay;
+    if (pv->nx != f->meta.nx || pv->ny != f->meta.ny || pv->nz != f->meta.nz || pv->brick != L->brick) {
+        vsv_msg(d->err, sizeof d->err, "%s: the volume was made for another grid (%dx%dx%d, brick %d)", f->name,
+                pv->nx, pv->ny, pv->nz, pv->brick);
+        return VSV_EINVAL;
+    }
     const size_t n = (size_t)L->brick * L->brick * L->brick;
     const int seq = pv->species == s && pv->step >= 0 && pv->step < step && step - pv->step <= f->keyframe;
     const int prev = pv->step;

@@ -86,6 +86,14 @@ void vsv_pager_free(vsv_pager *p)
     pthread_mutex_unlock(&p->mu);
     for (int i = 0; i < p->nthreads; i++)
         pthread_join(p->tid[i], NULL);
+    /* volumes still out keep their memory, lose their bricks */
+    for (shell *sh = p->shells; sh; sh = sh->next) {
+        sh->p = NULL;
+        for (int b = 0; b < sh->v.nbricks; b++)
+            sh->v.bricks[b] = NULL;
+        sh->v.step = sh->v.species = -1;
+        sh->v.gen = 0;
+    }
     for (int i = 0; p->dec && i < p->nthreads; i++)
         vsv_decoder_free(p->dec[i]);
     vsv_decoder_free(p->own);
@@ -124,20 +132,29 @@ void vsv_pager_playhead(vsv_pager *p, int step, int dir, int stride, int loop, c
     pthread_mutex_unlock(&p->mu);
 }
 
+static void shell_release(vsv_volume *v);
+static void unpin(vsv_pager *p, shell *sh);
+
+/* sh is a volume of p's (a shell of p still alive). */
+static int is_shell_of(const vsv_pager *p, const vsv_volume *v)
+{
+    return v && v->release_ == shell_release && ((const shell *)v)->p == p;
+}
+
 vsv_volume *vsv_pager_volume_new(vsv_pager *p)
 {
     shell *sh = calloc(1, sizeof *sh);
     const int nb = p->info.nbricks;
     if (!sh)
         return NULL;
-    sh->p = p;
+    sh->v.release_ = shell_release;
     sh->v.bricks = calloc((size_t)nb, sizeof *sh->v.bricks);
     sh->v.bmin = calloc((size_t)nb, sizeof(float));
     sh->v.bmax = calloc((size_t)nb, sizeof(float));
     sh->v.bkey = calloc((size_t)nb, sizeof *sh->v.bkey);
     sh->held = malloc((size_t)nb * sizeof *sh->held);
     if (!sh->v.bricks || !sh->v.bmin || !sh->v.bmax || !sh->v.bkey || !sh->held) {
-        vsv_pager_volume_free(&sh->v);
+        shell_release(&sh->v);
         return NULL;
     }
     for (int b = 0; b < nb; b++)
@@ -153,16 +170,38 @@ vsv_volume *vsv_pager_volume_new(vsv_pager *p)
     while ((1 << sh->v.shift) < sh->v.brick)
         sh->v.shift++;
     sh->v.step = sh->v.species = -1;
+    pthread_mutex_lock(&p->mu);
+    sh->p = p;
+    sh->next = p->shells;
+    if (p->shells)
+        p->shells->prev = sh;
+    p->shells = sh;
+    pthread_mutex_unlock(&p->mu);
     return &sh->v;
 }
 
-void vsv_pager_volume_free(vsv_volume *v)
+/* vsv_volume_free of a pager volume: unpins its bricks and leaves the
+ * pager's list; after vsv_pager_free (sh->p NULL) only the memory is left. */
+static void shell_release(vsv_volume *v)
 {
-    if (!v)
-        return;
     shell *sh = (shell *)v;
-    if (v->step >= 0)
-        vsv_pager_put(sh->p, v);
+    vsv_pager *p = sh->p;
+    if (p) {
+        pthread_mutex_lock(&p->mu);
+        if (v->step >= 0) {
+            unpin(p, sh);
+            vsv_cache_make_room(p, 0, 1);
+            p->gen++;
+            pthread_cond_broadcast(&p->work);
+        }
+        if (sh->prev)
+            sh->prev->next = sh->next;
+        else
+            p->shells = sh->next;
+        if (sh->next)
+            sh->next->prev = sh->prev;
+        pthread_mutex_unlock(&p->mu);
+    }
     free(v->bricks);
     free(v->bmin);
     free(v->bmax);
@@ -187,6 +226,8 @@ static void unpin(vsv_pager *p, shell *sh)
 
 void vsv_pager_put(vsv_pager *p, vsv_volume *v)
 {
+    if (!is_shell_of(p, v))
+        return;
     pthread_mutex_lock(&p->mu);
     unpin(p, (shell *)v);
     vsv_cache_make_room(p, 0, 1);
@@ -208,6 +249,10 @@ static void pin(vsv_pager *p, shell *sh, int b, int e)
 int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
 {
     shell *sh = (shell *)v;
+    if (!is_shell_of(p, v)) {
+        vsv_pager_set_err(p, "vsv_pager_get: not a volume of this pager (vsv_pager_volume_new)");
+        return VSV_EINVAL;
+    }
     if (step < 0 || step >= p->info.nsteps || s < 0 || s >= p->info.nspecies)
         return VSV_ERANGE;
     const int nb = p->info.nbricks;

@@ -25,6 +25,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 VSV_API_BEGIN
 
 typedef struct vsv_pager vsv_pager;
@@ -53,7 +57,8 @@ typedef struct vsv_pager_stats {
 
 /* Starts the pager over f (which must outlive it). */
 int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out);
-/* Stops the workers and frees every brick (no volume may still be held). */
+/* Stops the workers and frees every brick. Volumes of the pager still out
+ * lose their bricks (step -1) and stay to be freed with vsv_volume_free. */
 void vsv_pager_free(vsv_pager *p);
 /* The last error's message (names the file, step, species, brick). */
 const char *vsv_pager_error(const vsv_pager *p);
@@ -64,17 +69,19 @@ const char *vsv_pager_error(const vsv_pager *p);
  * decode ahead from here. Cheap; call it whenever any of these change. */
 void vsv_pager_playhead(vsv_pager *p, int step, int dir, int stride, int loop, const unsigned char *species);
 
-/* A volume shell to receive pinned bricks (no brick storage of its own). */
+/* A volume shell to receive pinned bricks (no brick storage of its own);
+ * NULL when out of memory. Caller frees with vsv_volume_free (which unpins
+ * what it holds), before or after the pager. */
 vsv_volume *vsv_pager_volume_new(vsv_pager *p);
-void vsv_pager_volume_free(vsv_volume *v);
 
-/* Fills v with species s at step, every brick pinned until vsv_pager_put.
+/* Fills v (a volume of vsv_pager_volume_new(p), else VSV_EINVAL) with
+ * species s at step, every brick pinned until vsv_pager_put.
  * wait: decode what is missing on this thread (and wait for bricks other
  * threads are decoding); otherwise VSV_EAGAIN when any brick is not decoded
  * yet (nothing stays pinned then; counted as a stall). A v that holds bricks
  * is released first. */
 int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v);
-/* Unpins v's bricks (v->step becomes -1). */
+/* Unpins v's bricks (v->step becomes -1); a volume not of p is left alone. */
 void vsv_pager_put(vsv_pager *p, vsv_volume *v);
 /* 1 when every wanted species of step is decoded (species as in playhead). */
 int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species);
@@ -84,5 +91,9 @@ void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st);
 void vsv_pager_stall(vsv_pager *p);
 
 VSV_API_END
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -30,7 +30,10 @@ typedef struct defrow {
     int *def;
 } defrow;
 
+struct shell;
+
 struct vsv_pager {
+    struct shell *shells; /* volumes handed out and not freed yet */
     vsv_file *f;
     vsv_file_info info;
     const vsv_meta *meta;
@@ -71,8 +74,9 @@ struct vsv_pager {
 
 typedef struct shell {
     vsv_volume v; /* first: callers see a vsv_volume */
-    vsv_pager *p;
+    vsv_pager *p; /* NULL once the pager is freed (the shell outlives it) */
     int *held; /* entry index per brick, -1 none */
+    struct shell *prev, *next; /* the pager's live shells (under p->mu) */
 } shell;
 
 typedef struct wslot {

@@ -95,8 +95,8 @@ static void random_walk(vsv_file *f, size_t budget, int threads, const char *lab
     CHECK(!bad, name, "(%d blocking gets, %d tries of which %d ready) %s", gets, tries, tried_ok, vsv_pager_error(p));
     snprintf(name, sizeof name, "%s: the budget is never exceeded by more than the pinned bricks", label);
     CHECK(!over, name, " ");
-    vsv_pager_volume_free(v[0]);
-    vsv_pager_volume_free(v[1]);
+    vsv_volume_free(v[0]);
+    vsv_volume_free(v[1]);
     vsv_pager_stats st;
     vsv_pager_stats_get(p, &st);
     snprintf(name, sizeof name, "%s: statistics add up", label);
@@ -109,6 +109,8 @@ static void random_walk(vsv_file *f, size_t budget, int threads, const char *lab
           (unsigned long long)st.evictions);
     vsv_pager_free(p);
 }
+
+static void test_volume_owner(vsv_file *f);
 
 static void test_pager(const char *path)
 {
@@ -167,8 +169,8 @@ static void test_pager(const char *path)
         any |= v->bricks[b] != NULL;
     }
     CHECK(shared && any, "an unchanged brick is one cache entry for every step that shares it", " ");
-    vsv_pager_volume_free(v);
-    vsv_pager_volume_free(w);
+    vsv_volume_free(v);
+    vsv_volume_free(w);
     vsv_pager_free(p);
 
     /* a budget smaller than one step: playback still gets every step */
@@ -211,12 +213,63 @@ static void test_pager(const char *path)
     free(before);
     vsv_volume_free(ref);
     vsv_decoder_free(dec);
-    vsv_pager_volume_free(v);
+    vsv_volume_free(v);
     vsv_pager_free(p);
+    test_volume_owner(f);
     for (int i = 0; i < 180; i++)
         free(REF[i]);
     free(REF);
     vsv_file_free(f);
+}
+
+/* One owner rule: vsv_volume_free releases any volume the library made, the
+ * way its maker needs (a pager volume unpins its bricks; before or after its
+ * pager); each maker fills only its own volumes. */
+static void test_volume_owner(vsv_file *f)
+{
+    vsv_pager_opts o;
+    vsv_pager_opts_init(&o);
+    o.budget = 64 << 20;
+    o.threads = -1;
+    vsv_pager *p = NULL, *q = NULL;
+    vsv_decoder *d = NULL;
+    vsv_volume *r = NULL;
+    if (!CHECK(vsv_pager_open(f, &o, &p) == 0 && vsv_pager_open(f, &o, &q) == 0 && vsv_decoder_create(f, &d) == 0 &&
+                   vsv_volume_create(f, &r) == 0,
+               "two pagers, a decoder and a reader volume", " "))
+        return;
+    vsv_volume *v = vsv_pager_volume_new(p), *w = vsv_pager_volume_new(p);
+    vsv_pager_stats st;
+    CHECK(vsv_pager_get(p, 5, 0, 1, v) == 0 && same_as_direct(v, 5, 0), "a pager volume holds step 5", " ");
+    vsv_pager_stats_get(p, &st);
+    const size_t pinned = st.pinned_bytes;
+    vsv_volume_free(v);
+    vsv_pager_stats_get(p, &st);
+    CHECK(pinned > 0 && st.pinned_bytes == 0, "vsv_volume_free on a pager volume unpins its bricks",
+          "(pinned %zu, then %zu bytes)", pinned, st.pinned_bytes);
+    CHECK(vsv_pager_get(p, 6, 1, 1, w) == 0 && same_as_direct(w, 6, 1), "and the pager works on", " ");
+    CHECK(vsv_volume_load(w, d, 3, 0) == VSV_EINVAL && strstr(vsv_decoder_error(d), "not a volume of vsv_volume_create"),
+          "vsv_volume_load refuses a pager volume", "(%s)", vsv_decoder_error(d));
+    CHECK(same_as_direct(w, 6, 1), "which still holds what it held", " ");
+    CHECK(vsv_pager_get(p, 3, 0, 1, r) == VSV_EINVAL && strstr(vsv_pager_error(p), "not a volume of this pager"),
+          "vsv_pager_get refuses a reader volume", "(%s)", vsv_pager_error(p));
+    CHECK(vsv_pager_get(q, 3, 0, 1, w) == VSV_EINVAL, "and another pager's volume", " ");
+    vsv_pager_put(q, w);
+    CHECK(same_as_direct(w, 6, 1), "which another pager's put leaves alone", " ");
+    CHECK(vsv_volume_load(r, d, 3, 0) == 0 && same_as_direct(r, 3, 0), "the reader volume loads step 3", " ");
+    vsv_pager_free(p);
+    int none = w->step == -1;
+    for (int b = 0; b < w->nbricks; b++)
+        none &= w->bricks[b] == NULL;
+    CHECK(none, "a volume still out when its pager is freed holds no bricks", " ");
+    vsv_volume_free(w); /* after its pager: only its own memory */
+    vsv_volume_free(r);
+    vsv_volume mine;
+    memset(&mine, 0, sizeof mine);
+    vsv_volume_free(&mine); /* caller-built: left alone */
+    vsv_volume_free(NULL);
+    vsv_pager_free(q);
+    vsv_decoder_free(d);
 }
 
 /* A damaged payload: a clear error from the get, no crash, no hang. */
@@ -257,7 +310,7 @@ static void test_pager_corrupt(const char *path)
                         crashed++;
                 }
             }
-        vsv_pager_volume_free(v);
+        vsv_volume_free(v);
         vsv_pager_free(p);
     }
     CHECK(failed > 0 && !crashed, "a damaged brick is a named error from the pager, other steps still play",

@@ -233,7 +233,7 @@ void vsv_player_free(vsv_player *p)
     if (!p)
         return;
     for (int s = 0; p->cur && s < p->ns; s++)
-        vsv_pager_volume_free(p->cur[s]);
+        vsv_volume_free(p->cur[s]);
     vsv_pager_free(p->pager);
     vsv_renderer_free(p->r);
     vsv_file_free(p->f);
