@@ -249,7 +249,7 @@ $(LIBS_A) $(CLI_A) $(PLAYER_A):
 H_libvesuvius = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h
 H_libvesuvius-convert = convert/vsv_convert.h convert/vsv_source_reader.h
 H_libvesuvius-render = render/vsv_render.h
-H_libvesuvius-interop = interop/vsv_vdb.h
+H_libvesuvius-interop = interop/vsv_vdb.h interop/vsv_cf.h
 $(foreach l,vesuvius vesuvius-convert vesuvius-render vesuvius-interop,$(eval $(B)/lib$(l).map: $(H_lib$(l))))
 $(B)/%.map:
 	@mkdir -p $(dir $@)

@@ -23,6 +23,12 @@
 
 #include "vsv_format.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+VSV_API_BEGIN
+
 /* Writes steps a..b of species sel[0..n-1] of f to path: under a temporary
  * name beside it, renamed into place only when complete (path is never
  * half-written, and an input is never replaced: path must not be f's own
@@ -31,5 +37,11 @@
  * the reason in err (cap bytes). */
 int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, int b, const char *history,
                  void (*progress)(void *ctx, int done, int total), void *ctx, char *err, size_t cap);
+
+VSV_API_END
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -19,6 +19,10 @@
 
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 VSV_API_BEGIN
 
 enum { VSV_CLOCK_STOP = 0, VSV_CLOCK_LOOP = 1, VSV_CLOCK_BOUNCE = 2 };
@@ -57,5 +61,9 @@ void vsv_clock_faster(vsv_clock *c, int dir);
 int vsv_clock_step_at(const vsv_clock *c, double t);
 
 VSV_API_END
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

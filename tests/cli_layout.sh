@@ -15,6 +15,7 @@ trap 'rm -rf "$T"' EXIT
 # library that uses them compiles in (COMMON_OBJ).
 public=$(awk '/^PUBLIC_H *=/ { on = 1; sub(/^PUBLIC_H *= */, "") }
               on { c = sub(/\\$/, ""); printf "%s ", $0; if (!c) on = 0 }' Makefile)
+installed=$public
 public="$public format/vsv_common.h format/vsv_vgrid.h"
 
 # sees DIR TOOL: the folders whose headers a file of DIR may include
@@ -112,6 +113,32 @@ has "a planted include of cli/ in a library is found" "$T/planted" '"vsv_cli.h":
 n=$(wc -l < "$T/planted")
 [ "$n" = 4 ] && pass "and nothing else" || fail "and nothing else" "$(cat "$T/planted")"
 
+# every installed header gives C++ callers C linkage (extern "C"): a C++
+# file taking the address of every function a header declares must refer to
+# them by their C names; a header without the guard leaves mangled _Z names
+linkage() { # ROOT: one line per installed header whose functions get C++ linkage
+    for h in $installed; do
+        names=$(grep -E '^[A-Za-z].*[ *]vsv_[a-z0-9_]+\(' "$1/$h" | sed -E 's/^[^(]*[ *](vsv_[a-z0-9_]+)\(.*/\1/' | sort -u)
+        { echo "#include \"$h\""; echo "void *probe[] = {"; for n in $names; do echo "(void *)&$n,"; done; echo "};"; } > "$T/probe.cc"
+        if ! (cd "$1" && c++ -c -I. -Iformat -Istream -Iconvert -Irender -Iinterop -o "$T/probe.o" "$T/probe.cc") > "$T/cxx.err" 2>&1; then
+            echo "$h: does not compile as C++: $(head -c 300 "$T/cxx.err")"
+            continue
+        fi
+        n=$(nm -u "$T/probe.o" | grep -c ' _Z.*vsv_')
+        [ "$n" = 0 ] || echo "$h: $n functions with C++ linkage (no extern \"C\")"
+    done
+}
+if command -v c++ > /dev/null 2>&1; then
+    linkage . > "$T/linkage"
+    [ -s "$T/linkage" ] && fail "every installed header declares C linkage for C++" "$(cat "$T/linkage")" ||
+        pass "every installed header declares C linkage for C++ ($(echo $installed | wc -w) headers)"
+    sed -e '/^extern "C" {$/d' -e '/^}$/d' stream/vsv_clock.h > "$T/tree/stream/vsv_clock.h" # the guard's braces
+    linkage "$T/tree" > "$T/linkage"
+    has "a copy of vsv_clock.h without its guard is found" "$T/linkage" 'stream/vsv_clock.h: 11 functions with C++ linkage'
+else
+    fail "every installed header declares C linkage for C++" "no C++ compiler (c++)"
+fi
+
 # and the compiler agrees: convert/'s include path has no render/
 if cc -fsyntax-only -Iconvert -Iformat -x c - < /dev/null > /dev/null 2>&1 &&
     ! printf '#include "vsv_render.h"\n' | cc -fsyntax-only -Iconvert -Iformat -x c - > /dev/null 2>&1; then
@@ -143,7 +170,7 @@ exports() { # LIB HEADER...: the exported names no header declares
 }
 for spec in "vesuvius format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h" \
     "vesuvius-convert convert/vsv_convert.h convert/vsv_source_reader.h" \
-    "vesuvius-render render/vsv_render.h" "vesuvius-interop interop/vsv_vdb.h"; do
+    "vesuvius-render render/vsv_render.h" "vesuvius-interop interop/vsv_vdb.h interop/vsv_cf.h"; do
     set -- $spec
     name=$1
     shift
