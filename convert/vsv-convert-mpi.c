@@ -34,6 +34,8 @@ static const char usage[] =
     "final offsets by collective MPI-IO into a temporary file beside OUT, which\n"
     "appears only when every rank succeeded. Frames are spooled in $TMPDIR (or /tmp)\n"
     "of each rank's node; each rank encodes on one thread (run one rank a core).\n"
+    "Reads, detected from the content (never the name):\n" VSV_CLI_MODEL_FORMATS VSV_CLI_VDB_FORMAT
+    "Writes the .vsv format (vsv(5)).\n"
     "\n";
 
 

@@ -7,11 +7,12 @@
 
 static const char usage[] =
     "Usage: vsv-convert [OPTIONS] FILE... -o OUT.vsv\n"
-    "Convert model output (MM5 v3, GrADS; detected from the content) to a .vsv file.\n"
-    "Several files are one run in time order (gaps and overlaps are errors). The\n"
-    "result is byte for byte the file of\n"
+    "Convert model output to a .vsv file. Several files are one run in time order\n"
+    "(gaps and overlaps are errors). The result is byte for byte the file of\n"
     "  vsv-extract FILE... | vsv-interp --time-res D | vsv-pack -o OUT.vsv\n"
     "and appears only when the conversion succeeded.\n"
+    "Reads, detected from the content (never the name):\n" VSV_CLI_MODEL_FORMATS VSV_CLI_VDB_FORMAT
+    "Writes the .vsv format (vsv(5)).\n"
     "\n";
 
 static int add(void *w, int64_t time, const float *const *fields) { return vsv_writer_add_step(w, time, fields); }

@@ -2,6 +2,7 @@
  * times, vertical grid), or --list what a file holds. */
 #include "vsv_cli.h"
 #include "vsv_convert.h"
+#include "vsv_convert_cli.h"
 #include "vsv_vdb.h"
 
 #include <errno.h>
@@ -12,9 +13,10 @@
 
 static const char usage[] =
     "Usage: vsv-extract [OPTIONS] FILE...\n"
-    "Read model output (MM5 v3 files of any program, GrADS .ctl/.dat; the format is\n"
-    "detected from the content) and write the selected 3-D fields as a field stream\n"
-    "on stdout, for vsv-interp or vsv-pack. Several files are one run in time order.\n"
+    "Read model output and write the selected 3-D fields as a field stream (the\n"
+    "binary frames of vsv(5)) on stdout, for vsv-interp or vsv-pack. Several files\n"
+    "are one run in time order. Reads, detected from the content (never the name):\n"
+    VSV_CLI_MODEL_FORMATS VSV_CLI_VDB_FORMAT
     "\n"
     "  -v, --vars LIST      comma-separated variable names (default: the particulate\n"
     "                       and moisture fields present: CLW RNW ICE SNOW GRAUPEL Q;\n"

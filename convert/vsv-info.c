@@ -3,6 +3,7 @@
  * every byte. */
 #include "vsv_cli.h"
 #include "vsv_convert.h"
+#include "vsv_convert_cli.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -14,7 +15,10 @@ static const char usage[] =
     "Usage: vsv-info [OPTIONS] FILE...\n"
     "Describe .vsv files: grid, projection and corner coordinates, times, species\n"
     "with units, ranges and quantisation error, bricks stored, compression ratio.\n"
-    "Given a model file (MM5 v3, GrADS) instead, describe its own header and fields.\n"
+    "Given a model file instead, describe its own header and fields; it reads,\n"
+    "detected from the content (never the name):\n" VSV_CLI_MODEL_FORMATS ".\n"
+    "OpenVDB .vdb files are vsv-extract's: see vsv-extract --list FILE.vdb.\n"
+    "Writes text, or JSON with --json.\n"
     "\n"
     "  -j, --json           one JSON object per file (a stable contract for scripts)\n"
     "  -f, --field PATH     print one value of the JSON, e.g. grid.nx, times.0,\n"
@@ -411,7 +415,11 @@ int main(int argc, char **argv)
                         status = 2;
                     vsv_json_free(root);
                 } else {
-                    printf("%s: %s", path, text ? text : vsv_source_format(src));
+                    if (text)
+                        printf("%s: %s", path, text);
+                    else /* a reader without a summary of its own */
+                        printf("%s: %s (vsv-extract --list shows its fields and times)\n", path,
+                               vsv_source_format(src));
                 }
                 free(text);
                 vsv_source_free(src);

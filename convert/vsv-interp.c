@@ -16,6 +16,7 @@ static const char usage[] =
     "that grid pass through unchanged; those between its steps are not written\n"
     "(said on stderr), so every output step is exactly DURATION apart and a\n"
     "DURATION coarser than the input's keeps every k-th frame.\n"
+    "Reads and writes the field stream (vsv(5)): from vsv-extract, for vsv-pack.\n"
     "\n"
     "  -r, --time-res D     the output time step (required)\n"
     "  -i, --interp M       linear (default): a blend of the two outputs around each\n"

@@ -22,6 +22,15 @@ typedef struct vsv_convert_args {
     const char *winds;          /* --winds FILE, or NULL */
 } vsv_convert_args;
 
+/* The formats the conversion tools read, for their --help (vsv-extract,
+ * vsv-convert, vsv-convert-mpi; vsv-info describes all but OpenVDB). */
+#define VSV_CLI_MODEL_FORMATS \
+    "  MM5 v3 (MMOUT, TERRAIN, REGRID/INTERPB, INTERPF; BDYOUT and LOWBDY hold no\n" \
+    "  volumes), WRF netCDF (wrfout), CAMx UAM-IV (AVERAGE, INSTANT, AIRQUALITY,\n" \
+    "  EMISSIONS), IOAPI netCDF (CMAQ CONC/ACONC, CAMx netCDF), CF netCDF (e.g.\n" \
+    "  from vsv-export --netcdf), GrADS .ctl + data"
+#define VSV_CLI_VDB_FORMAT ",\n  and OpenVDB .vdb sequences (one file per step, float grids).\n"
+
 /* The option list of --help, shared by both tools. */
 extern const char vsv_convert_options_help[];
 

@@ -12,6 +12,7 @@ static const char usage[] =
     "Pack a field stream (from vsv-extract or vsv-interp; stdin by default) into a\n"
     "chunked, bricked, delta-encoded .vsv file. OUT.vsv appears only when packing\n"
     "succeeded.\n"
+    "Reads a field stream (vsv(5)); writes the .vsv format (vsv(5)).\n"
     "\n"
     "  -o, --output FILE    the .vsv to write (required)\n"
     "  -q, --quiet          no progress bar\n"

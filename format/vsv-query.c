@@ -17,6 +17,7 @@ static const char usage[] =
     "(every step unless --time/--times), or one row per level and time with\n"
     "--profile. Each row names the cell (i, j, k), its centre's latitude,\n"
     "longitude and height, and each species' value with its units.\n"
+    "Reads .vsv files (vsv(5)); writes a text table, CSV (--csv) or JSON (--json).\n"
     "\n"
     "      --at LAT,LON[,H]    a point: degrees north, degrees east, and a height in\n"
     "                          metres above sea level (the grid's level unit when\n"

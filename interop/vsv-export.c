@@ -25,6 +25,7 @@ static const char usage[] =
     "projection as a grid_mapping, 2-D lat/lon, heights, time in seconds since the\n"
     "first step, units, long_name and the quantisation bound (vsv_max_abs_error)\n"
     "per variable, chunked by step and deflated; vsv-extract reads it back.\n"
+    "Reads .vsv files (vsv(5)); writes OpenVDB (.vdb) and CF netCDF-4 (.nc).\n"
     "\n"
     "      --vdb OUT           the OpenVDB files to write\n"
     "      --netcdf OUT.nc     the netCDF file to write\n"

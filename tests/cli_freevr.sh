@@ -67,6 +67,7 @@ before() { # NAME CODE ARGS...: exit code, and no semaphore set was created
 }
 before "--help exits 0" 0 --help
 has "--help shows the usage" "$T/out" "Usage: vsv-play-freevr FILE.vsv"
+has "--help names what it reads" "$T/out" "Reads .vsv files (vsv(5)), transfer-function files (--tf) and FreeVR's"
 before "--version exits 0" 0 --version
 before "no file: usage error" 2
 before "an unknown option: usage error" 2 "$VSV" --bogus

@@ -19,6 +19,33 @@ for tool in vsv-extract vsv-pack vsv-info; do
     expect "$tool with an unknown option exits 2" 2 "$B/$tool" --no-such-option
     has "$tool misuse points to --help" "$T/err" "Try '$tool --help'"
 done
+# every tool's --help names every format it reads and writes (#17): one row
+# a tool, the phrases its help must hold
+helpfmt() { # TOOL PHRASE...
+    tool=$1
+    shift
+    if [ ! -x "$B/$tool" ]; then
+        echo "SKIP $tool --help names its formats: $tool not built"
+        return
+    fi
+    "$B/$tool" --help > "$T/help" 2>&1
+    missing=""
+    for w in "$@"; do grep -qF -- "$w" "$T/help" || missing="$missing '$w'"; done
+    [ -z "$missing" ] && pass "$tool --help names the formats it reads and writes" ||
+        fail "$tool --help names the formats it reads and writes" "missing:$missing"
+}
+set -- "MM5 v3" REGRID "WRF netCDF" "CAMx UAM-IV" "IOAPI netCDF" CMAQ "CF netCDF" GrADS
+helpfmt vsv-extract "$@" OpenVDB "field stream"
+helpfmt vsv-convert "$@" OpenVDB ".vsv format"
+helpfmt vsv-convert-mpi "$@" OpenVDB ".vsv format"
+helpfmt vsv-info "$@" ".vsv" "vsv-extract --list" JSON
+helpfmt vsv-interp "Reads and writes the field stream"
+helpfmt vsv-pack "Reads a field stream" ".vsv format"
+helpfmt vsv-render "Reads .vsv" "transfer-function files" PNG OpenEXR ffmpeg MP4
+helpfmt vsv-export "Reads .vsv" OpenVDB "CF netCDF-4"
+helpfmt vsv-query "Reads .vsv" CSV JSON
+helpfmt vsv-play "Reads .vsv" "transfer-function files" "PNG screenshots"
+
 expect "vsv-pack without -o exits 2" 2 "$B/vsv-pack"
 expect "vsv-info without files exits 2" 2 "$B/vsv-info"
 

@@ -37,6 +37,8 @@ static const char usage[] =
     "centre. Wand: button 1 play/pause, 2 next species, 3 show/hide it; joystick\n"
     "right/left fast-forward/rewind, up/down its opacity; switch 0 (Escape in the\n"
     "simulator) quits.\n"
+    "Reads .vsv files (vsv(5)), transfer-function files (--tf) and FreeVR's\n"
+    "configuration (.freevrrc, $FREEVR, or strings given here); writes nothing.\n"
     "\n"
     "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"

@@ -19,6 +19,8 @@ static const char usage[] =
     "Play a .vsv file in a window: play, pause, step, rewind and fast-forward through\n"
     "time, show, hide and fade each species, orbit, pan and zoom. Press h in the\n"
     "window for the keys.\n"
+    "Reads .vsv files (vsv(5)), transfer-function files (--tf) and timed scripts\n"
+    "(--script); writes PNG screenshots (p, or the script's screenshot FILE.png).\n"
     "\n"
     "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
