@@ -109,7 +109,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
     for (int i = BUILTIN; i < nreaders; i++)
         snprintf(more + strlen(more), sizeof more - strlen(more), ", %s", readers[i]->name);
     return vsv_source_fail(s, VSV_ENOTVSV,
-                           "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF or IOAPI netCDF, "
+                           "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF, IOAPI or CF netCDF, "
                            "GrADS .ctl%s)",
                            more);
 }

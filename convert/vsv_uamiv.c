@@ -109,6 +109,9 @@ static int parse(vsv_uamiv *u)
     if ((rc = record(u, &at, 1, 304, &p)))
         return rc;
     c4(h->name, p, 10, le);
+    if (!strcmp(h->name, "BOUNDARY"))
+        return ufail(u, VSV_EUNSUPPORTED, "a CAMx lateral boundary file (BOUNDARY): values on the domain's four "
+                     "edges, not a 3-D grid");
     c4(h->note, p + 40, 60, le);
     h->nseg_or_tz = (int32_t)vsv_f77_u32(le, p + 280);
     h->nspec = (int32_t)vsv_f77_u32(le, p + 284);

@@ -11,6 +11,13 @@ trap 'rm -rf "$T"' EXIT
 D="$SHARED/data"
 R="$D/mm5/run1"
 
+# the real CAMx lateral boundary file is refused as what it is (it was
+# refused as a file whose size "does not divide into hours")
+if [ -f "$D/camx/test.lateral_boundary" ]; then
+    expect "a CAMx BOUNDARY file is refused" 1 "$B/vsv-extract" --list "$D/camx/test.lateral_boundary"
+    has "and says why" "$T/err" "test.lateral_boundary: a CAMx lateral boundary file (BOUNDARY): values on the domain's four edges, not a 3-D grid"
+fi
+
 if [ -f "$R/REGRID_DOMAIN1" ]; then
     expect "vsv-extract --list on REGRID" 0 "$B/vsv-extract" --list "$R/REGRID_DOMAIN1"
     has "REGRID T is a default volume on 23 levels" "$T/out" "T          YXP C        23 K                Cross point temperature  [default]"
