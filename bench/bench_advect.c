@@ -5,12 +5,18 @@
  * largest error against the held-out truth, with the advect/linear ratio,
  * plus how far the main cloud objects' centroids land from the truth.
  *
- *   bench_advect FILE HOLD [VARS [SCALE]]
+ *   bench_advect FILE HOLD [VARS [SCALE [shift]]]
  *
  * HOLD: the index of the held-out output (1 .. times-2); VARS: comma-
  * separated species (default: the reader's defaults, "" too); SCALE: a
- * factor on the winds (default 1; a diagnostic: how fast do the clouds
- * really move compared with the wind?). Objects: the species'
+ * factor on the winds, or three (SU,SV,SW) on U, V and W apart (default 1;
+ * diagnostics: how fast do the clouds really move compared with the wind,
+ * and does a wind with its sign turned do better, as it would if a reader
+ * gave a component the wrong sign?). With "shift", also per species and
+ * every fifth level: the whole-level shift (whole cells, up to 8) of the
+ * earlier output that best matches the later one, beside the mean wind's
+ * displacement over the interval at those cells (map factors ignored): how
+ * far the pattern moved against how far the air moved. Objects: the species'
  * column totals (sum over levels) above a quarter of the truth's largest
  * column total, 8-connected; for each of the three heaviest truth objects
  * the rebuilt object is the rebuilt component holding most of its mass
@@ -197,10 +203,70 @@ static double objects(const vsv_meta *m, const float *truth, const float *rec, i
     return err;
 }
 
+/* RMSE of level k of b against level k of a shifted by (sx, sy) cells, over
+ * the overlap (cells without data count as 0). */
+static double shifted_rmse(const vsv_meta *m, const float *a, const float *b, int k, int sx, int sy)
+{
+    const size_t plane = (size_t)m->nx * m->ny;
+    double s = 0;
+    long n = 0;
+    for (int j = sy > 0 ? sy : 0; j < m->ny + (sy < 0 ? sy : 0); j++)
+        for (int i = sx > 0 ? sx : 0; i < m->nx + (sx < 0 ? sx : 0); i++) {
+            const float va = a[k * plane + (size_t)(j - sy) * m->nx + (i - sx)], vb = b[k * plane + (size_t)j * m->nx + i];
+            const double d = (isfinite(vb) ? vb : 0) - (double)(isfinite(va) ? va : 0);
+            s += d * d;
+            n++;
+        }
+    return n ? sqrt(s / n) : 0;
+}
+
+/* How far the pattern moved against how far the air moved: per species and
+ * every fifth level, the whole-cell shift of the earlier output that best
+ * matches the later one, and the mean wind's displacement (cells over the
+ * interval dt, the mean of both outputs' winds where either has the
+ * species). The species come first in a and b, the winds after them. */
+static void shifts(const vsv_meta *m, int ns, float **a, float **b, double dt)
+{
+    const int iu = vsv_meta_find_var(m, VSV_WIND_U), iv = vsv_meta_find_var(m, VSV_WIND_V);
+    if (iu < 0 || iv < 0)
+        return;
+    const size_t plane = (size_t)m->nx * m->ny;
+    printf("\n| species | level | best shift x, y (cells) | RMSE shifted / unshifted | mean wind displacement x, y "
+           "(cells) |\n|---|---|---|---|---|\n");
+    for (int v = 0; v < ns; v++)
+        for (int k = 0; k < m->nz; k += 5) {
+            double su = 0, sv = 0;
+            long n = 0;
+            for (size_t c = 0; c < plane; c++) {
+                const size_t q = (size_t)k * plane + c;
+                const float x = a[v][q], y = b[v][q];
+                if (!((isfinite(x) && x > 0) || (isfinite(y) && y > 0)))
+                    continue;
+                const float u = (a[iu][q] + b[iu][q]) / 2, w = (a[iv][q] + b[iv][q]) / 2;
+                if (!isfinite(u) || !isfinite(w))
+                    continue;
+                su += u, sv += w, n++;
+            }
+            if (n < 10)
+                continue;
+            const double r0 = shifted_rmse(m, a[v], b[v], k, 0, 0);
+            double best = r0;
+            int bx = 0, by = 0;
+            for (int sy = -8; sy <= 8; sy++)
+                for (int sx = -8; sx <= 8; sx++) {
+                    const double r = shifted_rmse(m, a[v], b[v], k, sx, sy);
+                    if (r < best)
+                        best = r, bx = sx, by = sy;
+                }
+            printf("| %s | %d | %d, %d | %.2f | %.1f, %.1f |\n", m->vars[v].name, k, bx, by, r0 > 0 ? best / r0 : 1.0,
+                   su / n * dt / m->spacing[0], sv / n * dt / m->spacing[1]);
+        }
+}
+
 int main(int argc, char **argv)
 {
-    if (argc < 3 || argc > 5) {
-        fprintf(stderr, "usage: bench_advect FILE HOLD [VARS [SCALE]]\n");
+    if (argc < 3 || argc > 6) {
+        fprintf(stderr, "usage: bench_advect FILE HOLD [VARS [SCALE [shift]]]\n");
         return 2;
     }
     const int h = atoi(argv[2]);
@@ -228,11 +294,21 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_advect: %s\n", vsv_run_error(run));
             return 1;
         }
-    const double scale = argc > 4 ? atof(argv[4]) : 1;
-    for (int v = 0; v < nv && scale != 1; v++)
-        if (!strncmp(m->vars[v].name, "wind.", 5))
-            for (size_t i = 0; i < cells; i++)
-                buf[0][v][i] *= (float)scale, buf[2][v][i] *= (float)scale;
+    double sc[3] = {1, 1, 1};
+    const int nsc = argc > 4 ? sscanf(argv[4], "%lf,%lf,%lf", &sc[0], &sc[1], &sc[2]) : 0;
+    if (nsc == 1)
+        sc[1] = sc[2] = sc[0];
+    else if (nsc != 0 && nsc != 3) {
+        fprintf(stderr, "bench_advect: SCALE is one factor or three (SU,SV,SW)\n");
+        return 2;
+    }
+    const int scale = sc[0] != 1 || sc[1] != 1 || sc[2] != 1;
+    static const char *const wn[3] = {"wind.u", "wind.v", "wind.w"};
+    for (int v = 0; v < nv && scale; v++)
+        for (int d = 0; d < 3; d++)
+            if (!strcmp(m->vars[v].name, wn[d]))
+                for (size_t i = 0; i < cells; i++)
+                    buf[0][v][i] *= (float)sc[d], buf[2][v][i] *= (float)sc[d];
     const int64_t ta = vsv_run_time(run, h - 1), th = vsv_run_time(run, h), tb = vsv_run_time(run, h + 1);
     int ns = 0;
     while (ns < nv && strncmp(m->vars[ns].name, "wind.", 5))
@@ -247,9 +323,9 @@ int main(int argc, char **argv)
     vsv_time_format(tb, c, sizeof c);
     printf("%s: %d x %d x %d cells; %s rebuilt from %s and %s\n", argv[1], m->nx, m->ny, m->nz, b, a, c);
     printf("winds: %s%s\n\n", vsv_meta_attr(m, VSV_WINDS_ATTR) ? vsv_meta_attr(m, VSV_WINDS_ATTR) : "?",
-           scale != 1 ? " (scaled)" : "");
-    if (scale != 1)
-        printf("winds scaled by %g\n\n", scale);
+           scale ? " (scaled)" : "");
+    if (scale)
+        printf("winds scaled by U %g, V %g, W %g\n\n", sc[0], sc[1], sc[2]);
     printf("| species | truth max | RMSE linear | RMSE advect | advect/linear | max err linear | max err advect | "
            "objects | centroid err linear (km) | centroid err advect (km) |\n");
     printf("|---|---|---|---|---|---|---|---|---|---|\n");
@@ -278,6 +354,8 @@ int main(int argc, char **argv)
                rl > 0 && rd <= 0.7 * rl ? "**" : "", rl > 0 ? rd / rl : 1.0, rl > 0 && rd <= 0.7 * rl ? "**" : "", ml,
                md, nol, sol, sod);
     }
+    if (argc > 5 && !strcmp(argv[5], "shift"))
+        shifts(m, ns, buf[0], buf[2], (double)(tb - ta));
     for (int f = 0; f < 5; f++)
         for (int v = 0; v < nv; v++)
             free(buf[f][v]);

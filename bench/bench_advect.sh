@@ -33,6 +33,15 @@ for sc in 0.25 0.5; do
     echo
     "$B/bench/bench_advect" "$MM5" 2 "" $sc | sed -n '/scaled by/p;/^| [A-Z]/p'
 done
+echo
+echo "### Diagnostic: one wind component's sign turned, or W off (would a reader's sign error explain it?)"
+for sc in -1,1,1 1,-1,1 1,1,-1 1,1,0; do
+    echo
+    "$B/bench/bench_advect" "$MM5" 2 "" $sc | sed -n '/scaled by/p;/^| [A-Z]/p'
+done
+echo
+echo "### Diagnostic: how far the vapour pattern moved, against how far the air moved (01:00 to 03:00)"
+"$B/bench/bench_advect" "$MM5" 2 Q 1 shift | sed -n '/best shift/,$p'
 
 echo
 echo "### Speed: vsv-convert --time-res 10m of the MM5 run (19 frames, 5 species), $ROUNDS rounds interleaved"

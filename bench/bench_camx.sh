@@ -21,8 +21,12 @@ for th in 1 2; do
     t=$(secs "$B/vsv-convert" -q --threads $th --vertical native "$W/run.avrg" -o "$W/run.vsv")
     printf '| vsv-convert --threads %s (all 40 species, layers kept) | %.2f | %.0f | %.1f |\n' $th "$t" "$(mbps "$t")" \
         "$(echo "$(stat -c %s "$W/run.vsv") / 1000000" | bc -l)"
+    eval "t$th=\$t"
 done
+vsv=$(stat -c %s "$W/run.vsv")
 t=$(secs sh -c "zstd -3 -T1 -q -c '$W/run.avrg' > '$W/run.zst'")
+tz=$t
+zst=$(stat -c %s "$W/run.zst")
 printf '| zstd -3 (one thread) | %.2f | %.0f | %.1f |\n' "$t" "$(mbps "$t")" "$(echo "$(stat -c %s "$W/run.zst") / 1000000" | bc -l)"
 t=$(secs sh -c "zstd -3 -T2 -q -c '$W/run.avrg' > '$W/run2.zst'")
 printf '| zstd -3 -T2 | %.2f | %.0f | %.1f |\n' "$t" "$(mbps "$t")" "$(echo "$(stat -c %s "$W/run2.zst") / 1000000" | bc -l)"
@@ -31,3 +35,8 @@ rm -f "$W/run.zst" "$W/run2.zst"
 t=$(secs nccopy -d4 "$W/run.nc" "$W/run.d4.nc")
 printf '| netCDF-4 deflate 4 (nccopy -d4 of the same floats) | %.2f | %.0f | %.1f |\n' "$t" "$(mbps "$t")" \
     "$(echo "$(stat -c %s "$W/run.d4.nc") / 1000000" | bc -l)"
+nc4=$(stat -c %s "$W/run.d4.nc")
+echo
+printf -- '- .vsv size / netCDF-4 deflate 4: %.3f; / zstd -3: %.3f\n' "$(echo "$vsv / $nc4" | bc -l)" "$(echo "$vsv / $zst" | bc -l)"
+printf -- '- vsv-convert 2 threads / 1 thread: %.2fx faster; vsv-convert 2 threads / zstd -3 one thread: %.2fx the time\n' \
+    "$(echo "$t1 / $t2" | bc -l)" "$(echo "$t2 / $tz" | bc -l)"
