@@ -400,6 +400,8 @@ $(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
 $(B)/bench/bench_classify: $(B)/bench/bench_classify.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
+$(B)/bench/bench_codec: $(B)/bench/bench_codec.o $(TEST_LIBS)
+	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lzfp
 
 bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
@@ -415,6 +417,8 @@ bench: all $(BENCH_BIN)
 	  B=$(B) SHARED=$(SHARED) sh bench/bench_volpack.sh; else echo "(VolPack comparison skipped: apt-get install libvolpack1-dev)"; fi
 	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_classify && \
 	  B=$(B) SHARED=$(SHARED) sh bench/bench_classify.sh; else echo "(classification vs VolPack skipped: apt-get install libvolpack1-dev)"; fi
+	$(Q)if [ -f /usr/include/zfp.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_codec && \
+	  B=$(B) SHARED=$(SHARED) sh bench/bench_codec.sh; else echo "(brick coding vs ZFP skipped: apt-get install libzfp-dev)"; fi
 
 deps:
 	$(Q)sh tools/deps.sh --install

@@ -188,7 +188,7 @@ static void run(series *S, int rounds)
         exit(1);
     }
     vsv_layer layer = {S->vol[0], &tf, 1, 1};
-    vsv_scene sc = {&S->iso, &layer, 1, 1, 0};
+    vsv_scene sc = {.meta = &S->iso, .layers = &layer, .nlayers = 1, .exaggeration = 1};
     double mn[3], mx[3];
     vsv_scene_bounds(&sc, mn, mx);
     vsv_camera cams[VIEWS];

@@ -39,7 +39,7 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
             for (int b = 0; b < L->nbricks && !rc; b++) {
                 const unsigned char *be = vsv_file_brick_entry(f, c, s, b);
                 uint16_t *codes = state + ((size_t)s * L->nbricks + b) * n;
-                if (be[0] == VSV_BRICK_ABS || be[0] == VSV_BRICK_DELTA) {
+                if (vsv_brick_stored(be[0])) {
                     const uint64_t off = vsv_rd64(be + 8);
                     if (!vsv_all_zero(c + pos, (size_t)(off - pos), &z)) {
                         rc = vsv_file_fail(f, VSV_ECORRUPT, "chunk %d: non-zero padding at offset %llu", t,

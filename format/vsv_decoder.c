@@ -16,9 +16,10 @@ int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
     d->dctx = ZSTD_createDCtx();
     d->raw = malloc(2 * n);
     d->codes = malloc(2 * n);
+    d->scratch = malloc(2 * n);
     d->state = calloc((size_t)f->meta.nvars, sizeof *d->state);
     d->state_step = calloc((size_t)f->meta.nvars, sizeof *d->state_step);
-    if (!d->dctx || !d->raw || !d->codes || !d->state || !d->state_step) {
+    if (!d->dctx || !d->raw || !d->codes || !d->scratch || !d->state || !d->state_step) {
         vsv_decoder_free(d);
         *out = NULL;
         return VSV_ENOMEM;
@@ -33,6 +34,7 @@ void vsv_decoder_free(vsv_decoder *d)
     ZSTD_freeDCtx(d->dctx);
     free(d->raw);
     free(d->codes);
+    free(d->scratch);
     if (d->state)
         for (int s = 0; s < d->f->meta.nvars; s++)
             free(d->state[s]);
@@ -78,7 +80,7 @@ int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int 
         }
         src = d->raw;
     }
-    vsv_brick_inverse(bits, kind, src, f->lay.brick, ext, codes);
+    vsv_brick_inverse(bits, kind, src, f->lay.brick, ext, codes, d->scratch);
     return 0;
 }
 
@@ -111,7 +113,7 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
         if (!c)
             return VSV_ECORRUPT;
         const int kind = vsv_file_brick_entry(f, c, s, b)[0];
-        if (kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_ABS)
+        if (vsv_brick_absolute(kind))
             break;
         t0--; /* keyframes hold only absolute kinds (checked), so t0 stays >= 0 */
     }

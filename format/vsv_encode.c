@@ -24,7 +24,7 @@ struct vsv_pack_plan {
 struct vsv_chunk_encoder {
     const vsv_pack_plan *p;
     uint16_t *cur, *prev;
-    unsigned char *raw, *z;
+    unsigned char *raw, *z, *raw3, *z3; /* a payload; the 3-D kind's */
     size_t zcap;
     uint16_t *nodes;
     ZSTD_CCtx *cctx;
@@ -88,6 +88,10 @@ int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err,
     }
     if (o->codec != VSV_CODEC_NONE && o->codec != VSV_CODEC_ZSTD) {
         vsv_msg(err, cap, "unknown codec %d", o->codec);
+        return VSV_EINVAL;
+    }
+    if (o->predict != 0 && o->predict != 1) {
+        vsv_msg(err, cap, "predict %d: must be 0 (format 1) or 1 (format 2)", o->predict);
         return VSV_EINVAL;
     }
     if (o->codec == VSV_CODEC_ZSTD && (o->level < 1 || o->level > ZSTD_maxCLevel())) {
@@ -222,8 +226,9 @@ int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, con
     unsigned char *h = header;
     memset(h, 0, VSV_HEADER_SIZE);
     memcpy(h, VSV_MAGIC, 8);
-    vsv_wr16(h + 8, VSV_FORMAT_MAJOR);
-    vsv_wr16(h + 10, p->meta.nheights ? 1 : 0); /* the lowest minor that has what the file uses */
+    /* the lowest major and minor that have what the file may use */
+    vsv_wr16(h + 8, p->opts.predict ? 2 : 1);
+    vsv_wr16(h + 10, !p->opts.predict && p->meta.nheights ? 1 : 0);
     vsv_wr32(h + 12, VSV_HEADER_SIZE);
     vsv_wr64(h + 16, file_size);
     vsv_wr64(h + 24, VSV_HEADER_SIZE);
@@ -262,9 +267,11 @@ int vsv_chunk_encoder_create(const vsv_pack_plan *p, vsv_chunk_encoder **out)
     e->raw = malloc(2 * n);
     e->zcap = ZSTD_compressBound(2 * n);
     e->z = malloc(e->zcap);
+    e->raw3 = malloc(2 * n);
+    e->z3 = malloc(e->zcap);
     e->nodes = calloc(2 * L->nnodes, 2);
     e->cctx = ZSTD_createCCtx();
-    return e->cur && e->prev && e->raw && e->z && e->nodes && e->cctx ? 0 : VSV_ENOMEM;
+    return e->cur && e->prev && e->raw && e->z && e->raw3 && e->z3 && e->nodes && e->cctx ? 0 : VSV_ENOMEM;
 }
 
 void vsv_chunk_encoder_free(vsv_chunk_encoder *e)
@@ -275,6 +282,8 @@ void vsv_chunk_encoder_free(vsv_chunk_encoder *e)
     free(e->prev);
     free(e->raw);
     free(e->z);
+    free(e->raw3);
+    free(e->z3);
     free(e->nodes);
     ZSTD_freeCCtx(e->cctx);
     vsv_buf_free(&e->out);
@@ -361,12 +370,27 @@ int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *con
                     return VSV_ECODEC;
                 }
                 payload = e->z;
+                if (p->opts.predict) { /* the 3-D kind where its payload is smaller */
+                    const int k3 = kind == VSV_BRICK_ABS ? VSV_BRICK_ABS3 : VSV_BRICK_DELTA3;
+                    vsv_brick_forward(q->bits, k3, e->cur, e->prev, L->brick, ext, e->raw3);
+                    const size_t s3 = ZSTD_compressCCtx(e->cctx, e->z3, e->zcap, e->raw3, raw, p->opts.level);
+                    if (ZSTD_isError(s3)) {
+                        vsv_msg(e->err, sizeof e->err, "zstd: %s", ZSTD_getErrorName(s3));
+                        return VSV_ECODEC;
+                    }
+                    if (s3 < psize) {
+                        kind = k3;
+                        psize = s3;
+                        payload = e->z3;
+                    }
+                }
             }
             const size_t at = o->len;
             if (vsv_buf_put(o, payload, psize) ||
                 vsv_buf_zeros(o, (size_t)(vsv_align_up(o->len, VSV_ALIGN) - o->len)))
                 return VSV_ENOMEM;
             ent = o->p + tab_at + (size_t)b * VSV_BRICK_ENTRY_SIZE;
+            ent[0] = (unsigned char)kind;
             vsv_wr32(ent + 4, vsv_crc32c(0, o->p + at, psize));
             vsv_wr64(ent + 8, at);
             vsv_wr32(ent + 16, (uint32_t)psize);

@@ -23,8 +23,8 @@ extern "C" {
 VSV_API_BEGIN
 
 #define VSV_VERSION_STRING "0.1.0"
-#define VSV_FORMAT_MAJOR 1
-#define VSV_FORMAT_MINOR 1
+#define VSV_FORMAT_MAJOR 2 /* written by default; 1.x is read, and written on request */
+#define VSV_FORMAT_MINOR 0
 
 /* Error codes: fallible calls return 0 or one of these. Values never change. */
 enum {
@@ -266,6 +266,8 @@ typedef struct vsv_pack_opts {
     int keyframe;      /* keyframe interval K >= 1 (default 8) */
     int codec;         /* VSV_CODEC_* (default zstd) */
     int level;         /* zstd level (default 3) */
+    int predict;       /* 1 (default): bricks may use the 3-D kinds where
+                          smaller (format 2.0); 0: format 1.x */
     int threads;       /* encoder threads; 0 = all cores */
     vsv_pack_var *vars;/* nvars entries or NULL for defaults; borrowed during create */
 } vsv_pack_opts;
@@ -360,7 +362,8 @@ void vsv_chunk_encoder_free(vsv_chunk_encoder *e);
 typedef struct vsv_file vsv_file;
 
 /* Brick kinds in a chunk's brick table (SPEC.md "Brick entry"). */
-enum { VSV_BRICK_EMPTY = 0, VSV_BRICK_UNCHANGED = 1, VSV_BRICK_ABS = 2, VSV_BRICK_DELTA = 3 };
+enum { VSV_BRICK_EMPTY = 0, VSV_BRICK_UNCHANGED = 1, VSV_BRICK_ABS = 2, VSV_BRICK_DELTA = 3,
+       VSV_BRICK_ABS3 = 4, VSV_BRICK_DELTA3 = 5 /* format 2 */ };
 
 /* Facts about an open file: plain info filled by vsv_file_info. */
 typedef struct vsv_file_info {

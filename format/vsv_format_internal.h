@@ -50,9 +50,17 @@ int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err,
 /* Brick payload transform (SPEC.md §7) of the ext[0] x ext[1] x ext[2] cells
  * inside the grid of a B^3 brick array of `bits`-bit codes. */
 size_t vsv_brick_raw_bytes(int bits, const int ext[3]);
+/* Kinds with a payload; kinds a decoder starts from (no earlier step needed). */
+static inline int vsv_brick_stored(int kind) { return kind >= VSV_BRICK_ABS && kind <= VSV_BRICK_DELTA3; }
+static inline int vsv_brick_absolute(int kind)
+{
+    return kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
+}
 void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *prev, int B, const int ext[3],
                        unsigned char *out);
-/* Inverse in place: ABS overwrites the cells inside the grid, DELTA adds to them. */
-void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state);
+/* Inverse in place: ABS and ABS3 overwrite the cells inside the grid, DELTA
+ * and DELTA3 add to them (DELTA3 through scratch, a B^3 array). */
+void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state,
+                       uint16_t *scratch);
 
 #endif

@@ -66,9 +66,10 @@ static int parse(vsv_file *f)
         return vsv_file_fail(f, VSV_ENOTVSV, "not a .vsv file (no .vsv magic at byte 0)");
     if (n < VSV_HEADER_SIZE)
         return vsv_file_fail(f, VSV_ETRUNC, "truncated: %zu bytes, shorter than the %d-byte header", n, VSV_HEADER_SIZE);
-    if (vsv_rd16(d + 8) != VSV_FORMAT_MAJOR)
-        return vsv_file_fail(f, VSV_EVERSION, "format version %u.%u is not readable by this version (%d.x)", vsv_rd16(d + 8),
-                   vsv_rd16(d + 10), VSV_FORMAT_MAJOR);
+    if (vsv_rd16(d + 8) < 1 || vsv_rd16(d + 8) > VSV_FORMAT_MAJOR)
+        return vsv_file_fail(f, VSV_EVERSION, "format version %u.%u is not readable by this version (1.x to %d.x)",
+                   vsv_rd16(d + 8), vsv_rd16(d + 10), VSV_FORMAT_MAJOR);
+    f->major = vsv_rd16(d + 8);
     if (vsv_crc32c(0, d, 124) != vsv_rd32(d + 124))
         return vsv_file_fail(f, VSV_ECORRUPT, "header checksum mismatch (bytes 0-127)");
     size_t z;
@@ -263,9 +264,11 @@ const unsigned char *vsv_file_chunk_index(vsv_file *f, int t, char *msg, size_t 
             const int kind = be[0];
             const uint64_t off = vsv_rd64(be + 8);
             const uint32_t size = vsv_rd32(be + 16);
-            int ok = kind <= VSV_BRICK_DELTA && !be[1] && !be[2] && !be[3] && !vsv_rd32(be + 20) &&
-                     !(key && (kind == VSV_BRICK_UNCHANGED || kind == VSV_BRICK_DELTA));
-            if (kind == VSV_BRICK_ABS || kind == VSV_BRICK_DELTA) {
+            /* the 3-D kinds only in format 2; a keyframe holds absolute kinds */
+            int ok = kind <= (f->major >= 2 ? VSV_BRICK_DELTA3 : VSV_BRICK_DELTA) && !be[1] && !be[2] && !be[3] &&
+                     !vsv_rd32(be + 20) &&
+                     !(key && (kind == VSV_BRICK_UNCHANGED || kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3));
+            if (vsv_brick_stored(kind)) {
                 ok = ok && off == expect && size > 0 && size <= csize - off &&
                      (f->codec == VSV_CODEC_ZSTD || size == raw);
                 expect = vsv_align_up(off + size, VSV_ALIGN);
@@ -355,7 +358,7 @@ static void count_bricks(vsv_file *f)
                 const unsigned char *oct = c + VSV_CHUNK_HEADER_SIZE + (size_t)s * f->lay.species_index_bytes;
                 for (int b = 0; b < f->lay.nbricks; b++) {
                     const unsigned char *be = vsv_file_brick_entry(f, c, s, b);
-                    if (be[0] == VSV_BRICK_ABS || be[0] == VSV_BRICK_DELTA) {
+                    if (vsv_brick_stored(be[0])) {
                         f->stored++;
                         f->payload += vsv_rd32(be + 16);
                     }

@@ -21,6 +21,7 @@ struct vsv_file {
     vsv_quant *quant;
     vsv_layout lay;
     int nsteps, keyframe, codec;
+    int major; /* 1, or 2: the 3-D brick kinds may appear */
     const unsigned char *toc;
     uint64_t meta_end, toc_off;
     signed char *chunk_ok; /* per step: 0 unchecked, 1 index verified */
@@ -36,6 +37,7 @@ struct vsv_decoder {
     ZSTD_DCtx *dctx;
     unsigned char *raw;
     uint16_t *codes;
+    uint16_t *scratch; /* a brick: DELTA3's differences */
     uint16_t **state; /* per species: codes of all bricks at state_step */
     int *state_step;
     char err[512];

@@ -6,6 +6,8 @@
 #include <errno.h>
 #include <stdlib.h>
 
+#define VSV_STREAM_MAJOR 1 /* the field stream's own version (SPEC.md §13) */
+
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ != __ORDER_LITTLE_ENDIAN__
 #error "the field stream code assumes a little-endian host (floats are copied as is)"
 #endif
@@ -65,7 +67,7 @@ int vsv_stream_reader_open(FILE *fp, const char *name, vsv_stream_reader **out)
         vsv_msg(r->err, sizeof r->err, "%s: not a field stream (bad magic at byte 0)", r->name);
         return VSV_ENOTVSV;
     }
-    if (vsv_rd16(h + 8) != VSV_FORMAT_MAJOR) {
+    if (vsv_rd16(h + 8) != VSV_STREAM_MAJOR) {
         vsv_msg(r->err, sizeof r->err, "%s: field stream version %u not supported", r->name, vsv_rd16(h + 8));
         return VSV_EVERSION;
     }
@@ -161,7 +163,7 @@ int vsv_stream_writer_open(FILE *fp, const vsv_meta *meta, vsv_stream_writer **o
     if (!rc)
         rc = vsv_meta_encode(meta, NULL, &b);
     if (!rc) {
-        vsv_wr16(b.p + 8, VSV_FORMAT_MAJOR);
+        vsv_wr16(b.p + 8, VSV_STREAM_MAJOR);
         vsv_wr16(b.p + 10, meta->nheights ? 1 : 0); /* the lowest minor that has what the stream uses */
         vsv_wr32(b.p + 12, (uint32_t)(b.len - 16));
         if (fwrite(b.p, 1, b.len, fp) != b.len)

@@ -367,6 +367,7 @@ static void small_opts(vsv_pack_opts *o, vsv_pack_var *pv)
     o->brick = 8;
     o->keyframe = 3;
     o->threads = 1;
+    o->predict = 0; /* format 1.0: tests/golden/small.vsv */
     for (int s = 0; s < 3; s++)
         vsv_pack_var_init(&pv[s]);
     pv[0].bits = 8;
@@ -456,7 +457,7 @@ static void test_damage(void)
         vsv_file_free(f);
     }
     memcpy(bad, good, n);
-    bad[8] = 2;
+    bad[8] = 3; /* 1 and 2 are read */
     f = NULL;
     rc = vsv_file_open_mem(bad, n, "v2.vsv", &f);
     CHECK(rc == VSV_EVERSION, "a future major version is refused", "%s", vsv_file_error(f));
@@ -677,6 +678,7 @@ static void test_heights(void)
     vsv_pack_var_init(&pv);
     o.brick = 8;
     o.threads = 1;
+    o.predict = 0; /* the minors of format 1 */
     o.vars = &pv;
     const char *path = vsv_test_tmp("heights.vsv");
     vsv_writer *w = NULL;
@@ -763,6 +765,159 @@ static void test_heights(void)
     vsv_meta_clear(&m);
 }
 
+/* Format 2's 3-D brick kinds (SPEC.md §7): the same series written as 2.0
+ * (the default) and 1.x decodes to the same codes bit for bit (the coding
+ * is lossless on them), the reference reader agrees, values are within the
+ * stated bound and no-data cells stay no-data; a smooth field takes the
+ * 3-D kinds and the file is smaller. Edge cases: a constant field, an
+ * all-zero one, edge bricks cut by the grid, and a grid at the largest
+ * edge the format allows. */
+static void test_predict(void)
+{
+    enum { NX = 40, NY = 36, NZ = 20, NT = 4, NS = 4 };
+    const size_t n = (size_t)NX * NY * NZ;
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = NX, m.ny = NY, m.nz = NZ;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    vsv_meta_add_var(&m, "ramp", "1", "smooth, drifting");
+    vsv_meta_add_var(&m, "const", "1", "constant");
+    vsv_meta_add_var(&m, "zero", "1", "all zero");
+    vsv_meta_add_var(&m, "blob", "1", "a moving blob with no-data cells");
+    float *v = malloc((size_t)NT * NS * n * sizeof *v);
+    for (int t = 0; t < NT; t++)
+        for (size_t c = 0; c < n; c++) {
+            const int i = (int)(c % NX), j = (int)(c / NX % NY), k = (int)(c / NX / NY);
+            float *f = v + (size_t)t * NS * n;
+            f[c] = (float)(0.3 * i + 0.7 * j + 1.1 * k + 0.01 * i * j + 0.5 * t);
+            f[n + c] = 5.0f;
+            f[2 * n + c] = 0.0f;
+            const double r2 = (i - 15.0 - 3 * t) * (i - 15.0 - 3 * t) + (j - 18.0) * (j - 18.0) + (k - 8.0) * (k - 8.0);
+            f[3 * n + c] = k == 0 && i < 6 ? NAN : (float)(-2 + 10 * exp(-r2 / 40));
+        }
+    const char *p2 = vsv_test_tmp("predict2.vsv"), *p1 = vsv_test_tmp("predict1.vsv");
+    int rc = 0;
+    for (int pass = 0; pass < 2 && !rc; pass++) {
+        vsv_pack_opts o;
+        vsv_pack_opts_init(&o);
+        o.brick = 16;
+        o.keyframe = 3;
+        o.threads = 1;
+        o.predict = pass == 0;
+        vsv_writer *w = NULL;
+        rc = vsv_writer_create(pass == 0 ? p2 : p1, &m, &o, &w);
+        for (int t = 0; t < NT && !rc; t++) {
+            const float *fl[NS];
+            for (int s = 0; s < NS; s++)
+                fl[s] = v + ((size_t)t * NS + s) * n;
+            rc = vsv_writer_add_step(w, 3600 * t, fl);
+        }
+        if (!rc)
+            rc = vsv_writer_finish(w, NULL, NULL);
+        vsv_writer_free(w);
+    }
+    CHECK(rc == 0, "a series written as format 2 and as format 1");
+    size_t n2 = 0, n1 = 0;
+    unsigned char *d2 = vsv_test_slurp(p2, &n2), *d1 = vsv_test_slurp(p1, &n1);
+    CHECK(d2 && d1 && d2[8] == 2 && d2[10] == 0 && d1[8] == 1, "their headers say 2.0 and 1.0");
+    vsv_file *f2 = NULL, *f1 = NULL;
+    vsv_decoder *x2 = NULL, *x1 = NULL;
+    int ok = d2 && d1 && !vsv_file_open_mem(d2, n2, "predict2.vsv", &f2) && !vsv_file_open_mem(d1, n1, "predict1.vsv", &f1) &&
+             !vsv_decoder_create(f2, &x2) && !vsv_decoder_create(f1, &x1);
+    CHECK(ok && vsv_file_check(f2, NULL, NULL) == 0, "the format-2 file checks", "%s", ok ? vsv_file_error(f2) : "");
+    int kinds[6] = {0};
+    for (int t = 0; t < NT && ok; t++)
+        for (int s = 0; s < NS; s++)
+            for (int b = 0; b < 3 * 3 * 2; b++) {
+                const int k = vsv_file_brick_kind(f2, t, s, b);
+                if (k >= 0 && k < 6)
+                    kinds[k]++;
+            }
+    CHECK(kinds[VSV_BRICK_ABS3] > 0 && kinds[VSV_BRICK_DELTA3] > 0, "the smooth fields take the 3-D kinds",
+          "(ABS %d, DELTA %d, ABS3 %d, DELTA3 %d)", kinds[2], kinds[3], kinds[4], kinds[5]);
+    CHECK(n2 < n1, "the format-2 file is smaller", "%zu vs %zu bytes", n2, n1);
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b), *rv = malloc(n * sizeof *rv);
+    uint16_t *codes = malloc(n * sizeof *codes);
+    ref_file rf;
+    char err[256] = "";
+    int same = ok, refok = ok && ref_open(&rf, d2, n2, err, sizeof err) == 0, within = ok, nodata = ok;
+    double worst = 0;
+    for (int t = 0; t < NT && same; t++)
+        for (int s = 0; s < NS && same; s++) {
+            same = !vsv_decoder_volume(x2, t, s, a) && !vsv_decoder_volume(x1, t, s, b) && !memcmp(a, b, n * sizeof *a);
+            if (refok)
+                refok = ref_decode(&rf, (unsigned)t, (unsigned)s, codes, rv, err, sizeof err) == 0 &&
+                        !memcmp(a, rv, n * sizeof *a);
+            const double bound = vsv_file_quant(f2, s)->max_abs_error;
+            const float *in = v + ((size_t)t * NS + s) * n;
+            for (size_t c = 0; c < n; c++) {
+                if (in[c] != in[c]) {
+                    nodata &= a[c] != a[c];
+                    continue;
+                }
+                const double e = fabs((double)a[c] - in[c]);
+                worst = e > worst ? e : worst;
+                within &= e <= bound;
+            }
+        }
+    CHECK(same, "format 2 decodes to format 1's values bit for bit, every step and species");
+    CHECK(refok, "the reference reader decodes the format-2 file to the same values", "%s", err);
+    CHECK(within, "decoded values within the stated bound", "(worst %g)", worst);
+    CHECK(nodata, "no-data cells (NaN in) read as no data");
+    if (refok)
+        ref_close(&rf);
+    vsv_decoder_free(x2);
+    vsv_decoder_free(x1);
+    vsv_file_free(f2);
+    vsv_file_free(f1);
+    free(d2);
+    free(d1);
+    unlink(p2);
+    unlink(p1);
+    free(a);
+    free(b);
+    free(rv);
+    free(codes);
+    free(v);
+    vsv_meta_clear(&m);
+
+    /* the largest edge the format allows (16384 cells along x) */
+    vsv_meta_init(&m);
+    m.nx = 16384, m.ny = 2, m.nz = 1;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1;
+    vsv_meta_add_var(&m, "x", "1", "a ramp along x");
+    const size_t nl = (size_t)m.nx * m.ny;
+    float *l = malloc(nl * sizeof *l), *back = malloc(nl * sizeof *back);
+    for (size_t c = 0; c < nl; c++)
+        l[c] = (float)(c % 16384) * 0.25f + (float)(c / 16384);
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 64;
+    vsv_writer *w = NULL;
+    const char *pl = vsv_test_tmp("predict-long.vsv");
+    rc = vsv_writer_create(pl, &m, &o, &w);
+    const float *lf[1] = {l};
+    if (!rc)
+        rc = vsv_writer_add_step(w, 0, lf);
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    vsv_file *fl = NULL;
+    vsv_decoder *xl = NULL;
+    ok = !rc && !vsv_file_open(pl, &fl) && !vsv_decoder_create(fl, &xl) && !vsv_decoder_volume(xl, 0, 0, back);
+    double lw = 0;
+    for (size_t c = 0; ok && c < nl; c++)
+        lw = fmax(lw, fabs((double)back[c] - l[c]));
+    CHECK(ok && lw <= vsv_file_quant(fl, 0)->max_abs_error, "a 16384-cell edge round-trips within the bound (format 2)",
+          "(worst %g)", lw);
+    vsv_decoder_free(xl);
+    vsv_file_free(fl);
+    unlink(pl);
+    free(l);
+    free(back);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_basics();
@@ -774,5 +929,6 @@ int main(void)
     test_golden();
     test_parts();
     test_heights();
+    test_predict();
     return vsv_test_done();
 }

@@ -285,10 +285,16 @@ static void test_pager_corrupt(const char *path)
     }
     vsv_file_info info;
     vsv_file_info_get(f, &info);
-    /* damage step 7's payload area: the middle of its chunk */
+    /* damage step 7's first payload (SPEC.md §5: the chunk's offset from the
+     * table of contents, payloads from align(32 + index_bytes, 64) on) */
     vsv_file_free(f);
     f = NULL;
-    const size_t at = (size_t)(size * 7.5 / 60);
+    const unsigned char *toc = data + size - 32 - 24 * (size_t)info.nsteps;
+    uint64_t chunk = 0;
+    uint32_t index_bytes = 0;
+    memcpy(&chunk, toc + 24 * 7, 8); /* little-endian hosts only, as the library */
+    memcpy(&index_bytes, data + chunk + 16, 4);
+    const size_t at = (size_t)chunk + (32 + index_bytes + 63) / 64 * 64 + 2;
     data[at] ^= 0x5a;
     data[at + 1] ^= 0xa5;
     vsv_file_open_mem(data, size, "series.vsv", &f);

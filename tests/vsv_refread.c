@@ -44,7 +44,8 @@ int ref_open(ref_file *rf, const unsigned char *d, size_t n, char *err, size_t c
     rf->n = n;
     if (n < 160 || memcmp(d, "\x89VSV\r\n\x1a\n", 8))
         FAIL("not a .vsv file");
-    if (get(d + 8, 2) != 1 || get(d + 12, 4) != 128)
+    const unsigned major = (unsigned)get(d + 8, 2);
+    if ((major != 1 && major != 2) || get(d + 12, 4) != 128)
         FAIL("version/header size");
     if (ref_crc32c(d, 124) != get(d + 124, 4))
         FAIL("header crc");
@@ -58,6 +59,7 @@ int ref_open(ref_file *rf, const unsigned char *d, size_t n, char *err, size_t c
     rf->brick = (unsigned)get(d + 84, 4);
     rf->keyframe = (unsigned)get(d + 88, 4);
     rf->codec = (unsigned)get(d + 92, 4);
+    rf->major = major;
     rf->toc = get(d + 48, 8);
     uint64_t msz = get(d + 32, 8);
     if (get(d + 24, 8) != 128 || 128 + msz > n || ref_crc32c(d + 128, msz) != get(d + 40, 4))
@@ -144,9 +146,10 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
     const ref_species *sp = &rf->sp[s];
     const unsigned mask = sp->bits == 8 ? 0xff : 0xffff;
     uint16_t *state = calloc((size_t)nb * cells, 2);
-    unsigned char *buf = malloc(2 * (size_t)cells);
+    unsigned char *buf = malloc(4 * (size_t)cells);
     if (!state || !buf)
         FAIL("memory");
+    uint16_t *const lor = (uint16_t *)(buf + 2 * (size_t)cells); /* the 3-D kinds' rebuilt values */
     for (unsigned u = 0; u <= t; u++) {
         const unsigned char *te = rf->d + rf->toc + 24ull * u;
         const unsigned char *c = rf->d + get(te, 8);
@@ -174,7 +177,8 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
             }
             if (kind == 1)
                 continue;
-            if (kind > 3 || (u % rf->keyframe == 0 && kind != 2)) {
+            /* kinds 4 (ABS3) and 5 (DELTA3) in major 2 only; absolute kinds at keyframes */
+            if (kind > (rf->major == 2 ? 5u : 3u) || (u % rf->keyframe == 0 && kind != 2 && kind != 4)) {
                 free(state); free(buf);
                 FAIL("chunk %u brick %u kind %u", u, b, kind);
             }
@@ -216,7 +220,24 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
                         /* undo zigzag: s = (z >> 1) ^ -(z & 1), as a bits-wide integer */
                         unsigned r = ((z >> 1) ^ (0u - (z & 1))) & mask;
                         unsigned at = i + B * (j + B * k);
-                        unsigned v = kind == 2 ? (prev + r) & mask : (st[at] + r) & mask;
+                        unsigned v;
+                        if (kind == 4 || kind == 5) {
+                            /* the Lorenzo prediction from the seven cells before it
+                             * (0 outside the box's low faces), of the codes (4) or
+                             * of their change since the step before (5: lor holds it) */
+                            unsigned pred = 0;
+                            for (unsigned nb7 = 1; nb7 < 8; nb7++) {
+                                const unsigned di = nb7 & 1, dj = nb7 >> 1 & 1, dk = nb7 >> 2;
+                                if (i < di || j < dj || k < dk)
+                                    continue;
+                                const unsigned q = lor[(i - di) + B * ((j - dj) + B * (k - dk))];
+                                pred += (di + dj + dk) % 2 ? q : 0u - q;
+                            }
+                            lor[at] = (uint16_t)((pred + r) & mask);
+                            v = kind == 4 ? lor[at] : (st[at] + lor[at]) & mask;
+                        } else {
+                            v = kind == 2 ? (prev + r) & mask : (st[at] + r) & mask;
+                        }
                         st[at] = (uint16_t)v;
                         prev = v;
                         m++;

@@ -1,0 +1,309 @@
+/* bench_codec.c — the size of the brick coding against the peers at the
+ * same error bound, in one run: the real MM5 run (Q dense; CLW, SNOW
+ * sparse; its 4 periods), a real WRF file (Katrina: QVAPOR, QCLOUD; 4 times)
+ * and gen-plume's plume (two steps).
+ *
+ * Per data set, all its species in one file: .vsv at format 1 (each code
+ * predicted from the cell before it) and format 2 (the 3-D Lorenzo kinds
+ * chosen per brick where smaller); netCDF-4 with deflate (level 4, shuffle
+ * on) of the same quantised values (what the .vsv decodes to); ZFP 1.0
+ * fixed-accuracy (Debian libzfp-dev) of the original floats, per species
+ * with the tolerance the .vsv states (its max_abs_error). Printed: the
+ * sizes, the ratios, the largest errors actually made against the
+ * originals, and the format-2 file's full decode on one core (best of 3).
+ * Usage:
+ *   bench_codec SHARED_DIR PLUME_DIR WORK_DIR */
+#include "vsv_convert.h"
+#include "vsv_format.h"
+
+#include <math.h>
+#include <netcdf.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <zfp.h>
+
+/* the thread's CPU time: a shared machine's other load moves wall time */
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static long long fsize(const char *p)
+{
+    struct stat st;
+    return stat(p, &st) ? -1 : (long long)st.st_size;
+}
+
+typedef struct dataset {
+    const char *name;
+    vsv_meta meta;
+    int nt, nv;
+    float *data; /* nt * nv * cells, step-major */
+} dataset;
+
+static size_t cells(const dataset *d) { return (size_t)d->meta.nx * d->meta.ny * d->meta.nz; }
+static float *field(const dataset *d, int t, int v) { return d->data + ((size_t)t * d->nv + v) * cells(d); }
+
+static int load_source(dataset *d, const char *name, const char *path, const char *const *vars, int nv)
+{
+    vsv_source *s = NULL;
+    d->name = name;
+    if (vsv_source_open(path, NULL, &s)) {
+        fprintf(stderr, "bench_codec: %s\n", vsv_source_error(s));
+        vsv_source_free(s);
+        return -1;
+    }
+    vsv_meta_init(&d->meta);
+    vsv_meta_copy(&d->meta, vsv_source_grid(s));
+    /* the species only: the terrain and land use a .vsv also carries are not
+     * in the peers' files */
+    free(d->meta.terrain);
+    free(d->meta.landuse);
+    d->meta.terrain = d->meta.landuse = NULL;
+    d->nt = vsv_source_ntimes(s);
+    d->nv = nv;
+    d->data = malloc((size_t)d->nt * nv * cells(d) * sizeof(float));
+    int rc = d->data ? 0 : -1;
+    for (int v = 0; v < nv && !rc; v++) {
+        const int fi = vsv_source_find_field(s, vars[v]);
+        if (fi < 0) {
+            fprintf(stderr, "bench_codec: %s: no field %s\n", path, vars[v]);
+            rc = -1;
+            break;
+        }
+        const vsv_field_info *f = vsv_source_field(s, fi);
+        vsv_meta_add_var(&d->meta, f->name, f->units, f->description);
+        for (int t = 0; t < d->nt && !rc; t++)
+            rc = vsv_source_read(s, fi, t, field(d, t, v));
+    }
+    if (rc)
+        fprintf(stderr, "bench_codec: %s: %s\n", path, vsv_source_error(s));
+    vsv_source_free(s);
+    return rc;
+}
+
+static int load_plume(dataset *d, const char *dir)
+{
+    d->name = "gen-plume plume";
+    vsv_meta_init(&d->meta);
+    d->meta.nx = 256, d->meta.ny = 256, d->meta.nz = 64;
+    d->meta.spacing[0] = d->meta.spacing[1] = d->meta.spacing[2] = 1000;
+    vsv_meta_add_var(&d->meta, "plume", "1", "gen-plume");
+    d->nt = 2, d->nv = 1;
+    d->data = malloc(2 * cells(d) * sizeof(float));
+    const char *names[2] = {"plume_t0.f32", "plume_t1.f32"};
+    for (int t = 0; t < 2; t++) {
+        char path[1024];
+        snprintf(path, sizeof path, "%s/%s", dir, names[t]);
+        FILE *fp = fopen(path, "rb");
+        const size_t got = fp ? fread(field(d, t, 0), 4, cells(d), fp) : 0;
+        if (fp)
+            fclose(fp);
+        if (got != cells(d)) {
+            fprintf(stderr, "bench_codec: %s: cannot read %zu floats\n", path, cells(d));
+            return -1;
+        }
+    }
+    return 0;
+}
+
+static int write_vsv(const dataset *d, const char *path, int predict)
+{
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.predict = predict;
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(path, &d->meta, &o, &w);
+    const float **f = calloc((size_t)d->nv, sizeof *f);
+    for (int t = 0; t < d->nt && !rc; t++) {
+        for (int v = 0; v < d->nv; v++)
+            f[v] = field(d, t, v);
+        rc = vsv_writer_add_step(w, 3600 * (int64_t)t, f);
+    }
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc)
+        fprintf(stderr, "bench_codec: %s: %s\n", path, w ? vsv_writer_error(w) : "cannot create");
+    vsv_writer_free(w);
+    free(f);
+    return rc;
+}
+
+/* netCDF-4, deflate 4 with shuffle, one variable per species (time, z, y, x) */
+static long long write_nc(const dataset *d, const float *q, const char *path)
+{
+    int nc, dim[4], var;
+    if (nc_create(path, NC_NETCDF4 | NC_CLOBBER, &nc))
+        return -1;
+    nc_def_dim(nc, "time", (size_t)d->nt, &dim[0]);
+    nc_def_dim(nc, "z", (size_t)d->meta.nz, &dim[1]);
+    nc_def_dim(nc, "y", (size_t)d->meta.ny, &dim[2]);
+    nc_def_dim(nc, "x", (size_t)d->meta.nx, &dim[3]);
+    for (int v = 0; v < d->nv; v++) {
+        nc_def_var(nc, d->meta.vars[v].name, NC_FLOAT, 4, dim, &var);
+        nc_def_var_deflate(nc, var, 1, 1, 4);
+    }
+    nc_enddef(nc);
+    for (int v = 0; v < d->nv; v++)
+        for (int t = 0; t < d->nt; t++) {
+            const size_t start[4] = {(size_t)t, 0, 0, 0}, count[4] = {1, (size_t)d->meta.nz, (size_t)d->meta.ny, (size_t)d->meta.nx};
+            nc_put_vara_float(nc, v, start, count, q + ((size_t)t * d->nv + v) * cells(d));
+        }
+    nc_close(nc);
+    return fsize(path);
+}
+
+/* ZFP fixed-accuracy of one field; its compressed bytes, *err the largest
+ * error made (non-finite cells given to ZFP as 0 and not counted). */
+static size_t zfp_size(const dataset *d, const float *in, double tol, double *err)
+{
+    const size_t n = cells(d);
+    float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
+    for (size_t i = 0; i < n; i++)
+        a[i] = isfinite(in[i]) ? in[i] : 0;
+    zfp_field *f = zfp_field_3d(a, zfp_type_float, (size_t)d->meta.nx, (size_t)d->meta.ny, (size_t)d->meta.nz);
+    zfp_stream *z = zfp_stream_open(NULL);
+    zfp_stream_set_accuracy(z, tol);
+    const size_t cap = zfp_stream_maximum_size(z, f);
+    void *buf = malloc(cap);
+    bitstream *bs = stream_open(buf, cap);
+    zfp_stream_set_bit_stream(z, bs);
+    zfp_stream_rewind(z);
+    const size_t size = zfp_compress(z, f);
+    zfp_stream_rewind(z);
+    zfp_field_set_pointer(f, b);
+    zfp_decompress(z, f);
+    for (size_t i = 0; i < n; i++)
+        if (isfinite(in[i]) && fabs((double)b[i] - in[i]) > *err)
+            *err = fabs((double)b[i] - in[i]);
+    zfp_field_free(f);
+    zfp_stream_close(z);
+    stream_close(bs);
+    free(buf);
+    free(a);
+    free(b);
+    return size;
+}
+
+static void run(const dataset *d, const char *work)
+{
+    char v1[1024], v2[1024], ncp[1024];
+    snprintf(v1, sizeof v1, "%s/f1.vsv", work);
+    snprintf(v2, sizeof v2, "%s/f2.vsv", work);
+    snprintf(ncp, sizeof ncp, "%s/q.nc", work);
+    if (write_vsv(d, v1, 0) || write_vsv(d, v2, 1))
+        exit(1);
+    const size_t n = cells(d), total = n * d->nv * d->nt;
+    float *q = malloc(total * sizeof *q);
+    vsv_file *f = NULL;
+    vsv_decoder *dec = NULL;
+    /* the full decode, all steps in order, one core, best of 3: format 1,
+     * then format 2 (whose values are kept) */
+    double best = 1e30, best1 = 1e30;
+    for (int rep = 0; rep < 6; rep++) {
+        if (rep == 0 || rep == 3) {
+            vsv_decoder_free(dec);
+            vsv_file_free(f);
+            f = NULL;
+            dec = NULL;
+            if (vsv_file_open(rep ? v2 : v1, &f) || vsv_decoder_create(f, &dec)) {
+                fprintf(stderr, "bench_codec: %s: %s\n", rep ? v2 : v1, vsv_file_error(f));
+                exit(1);
+            }
+        }
+        vsv_decoder_free(dec);
+        vsv_decoder_create(f, &dec);
+        const double t0 = now();
+        for (int t = 0; t < d->nt; t++)
+            for (int v = 0; v < d->nv; v++)
+                if (vsv_decoder_volume(dec, t, v, q + ((size_t)t * d->nv + v) * n)) {
+                    fprintf(stderr, "bench_codec: %s\n", vsv_decoder_error(dec));
+                    exit(1);
+                }
+        if (rep < 3)
+            best1 = fmin(best1, now() - t0);
+        else
+            best = fmin(best, now() - t0);
+    }
+    /* errors against the originals, per species, and ZFP at each bound */
+    double worst = 0, worst_ratio = 0, zerr = 0, bound_max = 0;
+    size_t zbytes = 0;
+    for (int v = 0; v < d->nv; v++) {
+        const double bound = vsv_file_quant(f, v)->max_abs_error;
+        bound_max = fmax(bound_max, bound);
+        for (int t = 0; t < d->nt; t++) {
+            const float *o = field(d, t, v), *g = q + ((size_t)t * d->nv + v) * n;
+            for (size_t i = 0; i < n; i++)
+                if (isfinite(o[i]) && isfinite(g[i])) {
+                    const double e = fabs((double)g[i] - o[i]);
+                    worst = fmax(worst, e);
+                    if (bound > 0)
+                        worst_ratio = fmax(worst_ratio, e / bound);
+                }
+            double ze = 0;
+            zbytes += zfp_size(d, o, bound > 0 ? bound : 1e-30, &ze);
+            zerr = fmax(zerr, bound > 0 ? ze / bound : 0);
+        }
+    }
+    const long long s1 = fsize(v1), s2 = fsize(v2), sn = write_nc(d, q, ncp);
+    printf("| %s | %dx%dx%d, %d species, %d steps | %lld | %zu (%.2f) | %lld | %lld (%.2f) | **%.3f** | **%.3f** | %.2f | "
+           "**%.0f** (%.0f) |\n",
+           d->name, d->meta.nx, d->meta.ny, d->meta.nz, d->nv, d->nt, sn, zbytes, zerr, s1, s2, worst_ratio,
+           (double)s2 / sn, (double)s2 / zbytes, (double)s2 / s1, total / best / 1e6, total / best1 / 1e6);
+    fflush(stdout);
+    (void)worst;
+    (void)bound_max;
+    free(q);
+    vsv_decoder_free(dec);
+    vsv_file_free(f);
+    remove(v1);
+    remove(v2);
+    remove(ncp);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 4) {
+        fprintf(stderr, "usage: bench_codec SHARED_DIR PLUME_DIR WORK_DIR\n");
+        return 2;
+    }
+    char mm5[1024], wrf[1024];
+    snprintf(mm5, sizeof mm5, "%s/data/mm5/run1/MMOUT_DOMAIN1", argv[1]);
+    snprintf(wrf, sizeof wrf, "%s/data/wrf/katrina_ci_test_file.nc", argv[1]);
+    printf("Sizes in bytes. ZFP: fixed-accuracy at each species' bound, (largest error / bound). .vsv 2: (largest\n"
+           "error / bound) of the decoded values against the originals. Decode: the format-2 file, all steps and\n"
+           "species in order, M voxels/s of one thread's CPU time, best of 3. The terrain and land use a .vsv\n"
+           "carries are left out (the peers' files have the species only).\n\n");
+    printf("| data | grid | netCDF-4 deflate 4 + shuffle | ZFP fixed-accuracy (err/bound) | .vsv 1 | .vsv 2 (err/bound) "
+           "| .vsv 2 / netCDF-4 | .vsv 2 / ZFP | .vsv 2 / .vsv 1 | decode M voxels/s, .vsv 2 (.vsv 1) |\n"
+           "|---|---|---|---|---|---|---|---|---|---|\n");
+    const char *mv[] = {"Q", "CLW", "SNOW"}, *wv[] = {"QVAPOR", "QCLOUD"};
+    const char *only[] = {"Q", "CLW", "SNOW"};
+    for (int i = 0; i < 3; i++) {
+        dataset d;
+        char name[64];
+        snprintf(name, sizeof name, "MM5 %s", only[i]);
+        if (load_source(&d, name, mm5, &mv[i], 1))
+            return 1;
+        run(&d, argv[3]);
+        vsv_meta_clear(&d.meta);
+        free(d.data);
+    }
+    dataset d;
+    if (load_source(&d, "WRF Katrina QVAPOR+QCLOUD", wrf, wv, 2))
+        return 1;
+    run(&d, argv[3]);
+    vsv_meta_clear(&d.meta);
+    free(d.data);
+    if (load_plume(&d, argv[2]))
+        return 1;
+    run(&d, argv[3]);
+    vsv_meta_clear(&d.meta);
+    free(d.data);
+    return 0;
+}
