@@ -532,7 +532,7 @@ int main(int argc, char **argv)
         if (parts & VSV_ANNOT_OUTLINES) {
             const double km = (mx[0] - mn[0]) / width / 1000;
             const int orc = vsv_outlines_load(m, NULL, vsv_outlines_resolution(km), &outlines, err, sizeof err);
-            if (orc == VSV_ENOTFOUND || orc == VSV_EUNSUPPORTED)
+            if (orc == VSV_ENOTFOUND || (orc == VSV_EUNSUPPORTED && !vsv_cli_quiet())) /* a missing package, always */
                 fprintf(stderr, "vsv-render: note: %s\n", err);
             else if (orc)
                 vsv_cli_die(1, "%s", err);
