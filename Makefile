@@ -2,6 +2,7 @@
 #   make            build the libraries and tools into build/ (VIEWER=0: no vsv-play)
 #   make test       build and run every test (ends with "N passed, N failed")
 #   make test SAN=1 the same with AddressSanitizer and UBSan (build-san/)
+#   make test TSAN=1 the threaded tests with ThreadSanitizer (build-tsan/)
 #   make demo       install what is missing, build, run the main job on samples/
 #   make bench      run the benchmarks in bench/ (results: bench/RESULTS.md)
 #   make install    PREFIX=/usr/local DESTDIR=
@@ -30,6 +31,11 @@ VIEWER_PKGS = glfw3 gl freetype2 fontconfig
 ifeq ($(SAN),1)
   B = build-san
   SANFLAGS = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+  OPT = -O1 -g
+else ifeq ($(TSAN),1)
+  # ThreadSanitizer: `make test TSAN=1` builds and runs the threaded tests only
+  B = build-tsan
+  SANFLAGS = -fsanitize=thread -fno-omit-frame-pointer
   OPT = -O1 -g
 else
   B = build
@@ -181,6 +187,9 @@ PY_MISSING := $(if $(strip $(PY_MISSING)),apt-get install $(PY_MISSING))
 PYDIR = $(PREFIX)/lib/python3/dist-packages
 ifeq ($(SAN),1)
   PY_MISSING := not under SAN=1
+endif
+ifeq ($(TSAN),1)
+  PY_MISSING := not under TSAN=1
 endif
 ifeq ($(strip $(PY_MISSING)),)
   PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
@@ -376,9 +385,19 @@ test:
 	$(Q)sh tools/deps.sh --install
 	$(Q)$(MAKE) --no-print-directory test-run
 
+ifeq ($(TSAN),1)
+# the tests whose code runs threads: the writer's encoders, the pager, the
+# render pool, the player, advection; any data race or lock-order
+# inversion ThreadSanitizer sees is a failure (they run the tools too)
+TSAN_TESTS = test_format test_stream test_render test_viewer test_advect test_picture
+test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
+	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" \
+	  TSAN_OPTIONS="halt_on_error=1 exitcode=66 second_deadlock_stack=1 $(TSAN_OPTIONS)" sh tests/run.sh
+else
 test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(FREEVR_TEST)
 	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" VIEWER=$(VIEWER) \
 	  PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
+endif
 
 # The demo: install what is missing (or print the apt-get line), build, then
 # run the main job on the bundled sample.
@@ -496,6 +515,6 @@ uninstall:
 	rm -rf $(DESTDIR)$(INCDIR) $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(PYDIR)/vesuvius
 
 clean:
-	rm -rf build build-san build-fuzz
+	rm -rf build build-san build-tsan build-fuzz
 
 -include $(shell find $(B) -name '*.d' 2>/dev/null)

@@ -3,7 +3,7 @@
 # lines, and ends with "N passed, N failed". Exit status 1 if anything failed.
 # Each test has a time limit (TEST_TIMEOUT seconds, default 900): a test that
 # hangs is a FAIL that shows its last output and the processes it left
-# running, never a stuck run.
+# running, never a stuck run. TESTS="test_a test_b": only those programs.
 B=${B:-build}
 SHARED=${SHARED:-../shared}
 LIMIT=${TEST_TIMEOUT:-900}
@@ -44,14 +44,21 @@ one() {
     rm -f "$TMPDIR/ps.log"
 }
 
-for t in "$B"/tests/test_*; do
-    [ -x "$t" ] || continue
-    one "$(basename "$t")" "$t"
-done
-for s in tests/cli_*.sh; do
-    [ "$s" = tests/cli_lib.sh ] && continue # sourced by the others
-    one "$(basename "$s")" sh "$s"
-done
+if [ -n "${TESTS:-}" ]; then
+    # only these test programs (make test TSAN=1)
+    for t in $TESTS; do
+        one "$t" "$B/tests/$t"
+    done
+else
+    for t in "$B"/tests/test_*; do
+        [ -x "$t" ] || continue
+        one "$(basename "$t")" "$t"
+    done
+    for s in tests/cli_*.sh; do
+        [ "$s" = tests/cli_lib.sh ] && continue # sourced by the others
+        one "$(basename "$s")" sh "$s"
+    done
+fi
 pass=$(grep -c '^PASS ' "$log")
 fail=$(grep -c '^FAIL ' "$log")
 rm -rf "$TMPDIR"
