@@ -43,15 +43,27 @@ SHARED = os.environ.get("SHARED", "../shared")
 D = SHARED + "/data"
 LIMIT = float(os.environ.get("SWEEP_TIMEOUT", "120"))
 RENDER_ALL = True
+SIG_INPUT = D + "/mm5/run1/MMOUT_DOMAIN1"
 ENV = dict(os.environ, LC_ALL="C")
 
 
 class Tally:
     def __init__(self):
+        self.done = 0
         self.lock = threading.Lock()
         self.runs = {}
         self.fails = {}
         self.examples = {}
+
+    def item(self):
+        """One damaged input finished: the counts so far every 200."""
+        with self.lock:
+            self.done += 1
+            n = self.done
+        if n % 200 == 0:
+            with self.lock:
+                runs, fails = sum(self.runs.values()), sum(self.fails.values())
+            print("  ... %d inputs, %d runs, %d failed" % (n, runs, fails), flush=True)
 
     def add(self, key, fail=None, example=None):
         with self.lock:
@@ -149,6 +161,7 @@ def vsv_sweep(work, n_flips, n_truncs, rng, jobs):
             judge((kind, "vsv-render"), [B + "/vsv-render", "-q", path, "--size", "48x36", "--threads", "1",
                                          "-o", os.path.join(out, "f.png")], path, out, ("f.png",), what)
         shutil.rmtree(d)
+        T.item()
 
     with cf.ThreadPoolExecutor(jobs) as ex:
         list(ex.map(one, range(n_flips + n_truncs)))
@@ -189,6 +202,7 @@ def model_sweep(kind, work, n_flips, n_truncs, rng, jobs):
         judge(key, [B + "/vsv-convert", "-q", "--threads", "1"] + extra + [path, "-o", os.path.join(out, "o.vsv")],
               (path, os.path.basename(files[which])), out, ("o.vsv",), what)
         shutil.rmtree(d)
+        T.item()
 
     with cf.ThreadPoolExecutor(jobs) as ex:
         list(ex.map(one, range(n_flips + n_truncs)))
@@ -199,7 +213,7 @@ def sigterm_sweep(work, n, rng):
     small = os.path.join(work, "sig.vsv")
     run([B + "/vsv-convert", "-q", D + "/wrf/wrf_cropped.nc", "-o", small])
     jobs = [
-        ("vsv-convert", lambda o: [B + "/vsv-convert", "-q", D + "/mm5/run1/MMOUT_DOMAIN1", "-o", o + "/o.vsv"],
+        ("vsv-convert", lambda o: [B + "/vsv-convert", "-q", SIG_INPUT, "-o", o + "/o.vsv"],
          ("o.vsv",)),
         ("vsv-export --vdb", lambda o: [B + "/vsv-export", "-q", small, "--vdb", o + "/o_%02d.vdb"],
          ("o_00.vdb", "o_01.vdb", "o_02.vdb", "o_03.vdb")),
@@ -271,11 +285,15 @@ def main():
     ap.add_argument("--sigterm", type=int, default=100)
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--seed", type=int, default=18)
+    ap.add_argument("--sigterm-input", help="the model file vsv-convert reads in the SIGTERM runs "
+                    "(default: the real MM5 run's MMOUT_DOMAIN1, 94 MB)")
     ap.add_argument("--render-last", action="store_true",
                     help="vsv-render the last step to one image (default: every step, a %%02d sequence)")
     a = ap.parse_args()
-    global RENDER_ALL
+    global RENDER_ALL, SIG_INPUT
     RENDER_ALL = not a.render_last
+    if a.sigterm_input:
+        SIG_INPUT = a.sigterm_input
     rng = random.Random(a.seed)
     work = tempfile.mkdtemp(prefix="vsv-sweep.")
     t0 = time.time()
