@@ -371,6 +371,12 @@ $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIBS)
 $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
+# the test shim that truncates a file right after a tool maps it (no
+# sanitizer: it is preloaded into sanitized programs)
+$(B)/tests/libcutmap.so: tests/cut_preload.c
+	@mkdir -p $(dir $@)
+	$(Q)$(CC) -std=c11 -D_GNU_SOURCE -O1 -fPIC -shared $(WARN) -o $@ $< -ldl
+
 # cuts a netCDF file by time (the multi-file WRF run of tests/cli_mpi.sh)
 $(B)/tests/ncsplit: $(B)/tests/nc_split.o
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
@@ -394,7 +400,7 @@ test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
 	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" \
 	  TSAN_OPTIONS="halt_on_error=1 exitcode=66 second_deadlock_stack=1 $(TSAN_OPTIONS)" sh tests/run.sh
 else
-test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(FREEVR_TEST)
+test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(B)/tests/libcutmap.so $(FREEVR_TEST)
 	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" VIEWER=$(VIEWER) \
 	  PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
 endif

@@ -45,8 +45,21 @@ void vsv_decoder_free(vsv_decoder *d)
 
 const char *vsv_decoder_error(const vsv_decoder *d) { return d ? d->err : "out of memory"; }
 
-/* Applies the brick entry `be` of chunk c (step t) to codes. */
+static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
+                 uint16_t *codes);
+
+/* Applies the brick entry `be` of chunk c (step t) to codes; a mapping cut
+ * by a truncation meanwhile (zeros read) is an error, whatever they decoded
+ * to. */
 int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes)
+{
+    const int rc = apply(d, c, t, s, b, be, codes);
+    const int cut = vsv_file_cut(d->f, d->err, sizeof d->err);
+    return cut ? cut : rc;
+}
+
+static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
+                 uint16_t *codes)
 {
     vsv_file *f = d->f;
     const size_t n = (size_t)f->lay.brick * f->lay.brick * f->lay.brick;
@@ -92,7 +105,7 @@ int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *
         return rc;
     const unsigned char *c = vsv_file_chunk_index(f, step, d->err, sizeof d->err);
     if (!c)
-        return VSV_ECORRUPT;
+        return vsv_file_cut(f, d->err, sizeof d->err) ? VSV_ETRUNC : VSV_ECORRUPT;
     return vsv_decoder_apply(d, c, step, s, b, vsv_file_brick_entry(f, c, s, b), codes);
 }
 
@@ -111,7 +124,7 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
     for (;;) {
         const unsigned char *c = vsv_file_chunk_index(f, t0, d->err, sizeof d->err);
         if (!c)
-            return VSV_ECORRUPT;
+            return vsv_file_cut(f, d->err, sizeof d->err) ? VSV_ETRUNC : VSV_ECORRUPT;
         const int kind = vsv_file_brick_entry(f, c, s, b)[0];
         if (vsv_brick_absolute(kind))
             break;
@@ -120,7 +133,7 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
     for (int t = t0; t <= step; t++) {
         const unsigned char *c = vsv_file_chunk_index(f, t, d->err, sizeof d->err);
         if (!c)
-            return VSV_ECORRUPT;
+            return vsv_file_cut(f, d->err, sizeof d->err) ? VSV_ETRUNC : VSV_ECORRUPT;
         if ((rc = vsv_decoder_apply(d, c, t, s, b, vsv_file_brick_entry(f, c, s, b), codes)))
             return rc;
     }

@@ -169,6 +169,7 @@ static vsv_file *file_new(const char *name)
     vsv_meta_init(&f->meta);
     pthread_mutex_init(&f->lock, NULL);
     f->uid = vsv_volume_new_gen();
+    f->guard = -1;
     return f;
 }
 
@@ -207,15 +208,27 @@ int vsv_file_open(const char *path, vsv_file **out)
         return vsv_file_fail(f, VSV_EIO, "cannot map: %s", strerror(errno));
     f->data = p;
     f->mapped = 1;
-    return parse(f);
+    f->guard = vsv_mapguard_add(p, f->size);
+    const int rc = parse(f);
+    return rc && vsv_file_cut(f, f->err, sizeof f->err) ? VSV_ETRUNC : rc;
+}
+
+int vsv_file_cut(const vsv_file *f, char *msg, size_t cap)
+{
+    if (!vsv_mapguard_cut(f->guard))
+        return 0;
+    vsv_msg(msg, cap, "%s: truncated while reading (the file shrank after it was opened)", f->name);
+    return VSV_ETRUNC;
 }
 
 void vsv_file_free(vsv_file *f)
 {
     if (!f)
         return;
-    if (f->mapped)
+    if (f->mapped) {
+        vsv_mapguard_remove(f->guard);
         munmap((void *)f->data, f->size);
+    }
     if (f->lut)
         for (int s = 0; s < f->meta.nvars; s++)
             free(f->lut[s]);
@@ -229,8 +242,20 @@ void vsv_file_free(vsv_file *f)
 
 /* --------------------------------------------------------------- chunks */
 
-/* Verified index of chunk t (header included), or NULL with f->err / msg set. */
+static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t cap);
+
+/* Verified index of chunk t (header included), or NULL with f->err / msg set:
+ * the zeros a truncation leaves (vsv_mapguard.c) fail its checks, and the
+ * message then says why. */
 const unsigned char *vsv_file_chunk_index(vsv_file *f, int t, char *msg, size_t cap)
+{
+    const unsigned char *c = vsv_file_cut(f, msg, cap) ? NULL : chunk_index(f, t, msg, cap);
+    if (!c)
+        vsv_file_cut(f, msg, cap);
+    return c;
+}
+
+static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t cap)
 {
     const unsigned char *e = f->toc + (size_t)t * VSV_TOC_ENTRY_SIZE;
     const unsigned char *c = f->data + vsv_rd64(e);

@@ -116,6 +116,24 @@ expect "vsv-info on a file whose TOC hides in its metadata exits 1" 1 "$B/vsv-in
 has "the overlap is named" "$T/err" "overlaps the metadata"
 expect "vsv-info on a truncated file exits 1" 1 "$B/vsv-info" tests/golden/bad/truncated.vsv
 has "truncation is named" "$T/err" "truncated"
+# a .vsv truncated while a tool reads it (cut right after the tool maps it,
+# by a preloaded test shim, so without timing): an error naming the file,
+# never SIGBUS (issue 18)
+mkdir -p "$T/trunc"
+for tool in vsv-info vsv-render vsv-export vsv-query; do
+    cp "$T/a.vsv" "$T/trunc/a.vsv"
+    case $tool in
+    vsv-info) args="--check" ;; vsv-render) args="-o $T/trunc/a.png --time 0" ;;
+    vsv-export) args="--vdb $T/trunc/a_%d.vdb --time 0" ;; vsv-query) args="--cell 1,1,1" ;;
+    esac
+    expect "$tool on a .vsv cut while it reads it exits 1" 1 env LD_PRELOAD="$(pwd)/$B/tests/libcutmap.so" \
+        VSV_TEST_CUT="$T/trunc/a.vsv" ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0" \
+        "$B/$tool" "$T/trunc/a.vsv" $args
+    has "$tool says it was truncated while reading" "$T/err" "$tool: $T/trunc/a.vsv: truncated while reading"
+done
+[ ! -e "$T/trunc/a.png" ] && [ ! -e "$T/trunc/a_0.vdb" ] && pass "nothing written from a cut file" || fail "nothing written from a cut file" "$(ls "$T/trunc")"
+rm -rf "$T/trunc"
+
 # netCDF-4/HDF5 files that crash libhdf5 (one flipped bit in a deflated
 # chunk; ncdump dies too): read in a child first, so an error naming the file
 expect "a netCDF-4 file that segfaults libhdf5 exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/hdf5-segv.nc

@@ -8,6 +8,8 @@
 #include "vsv_testlib.h"
 
 #include <dirent.h>
+#include <sys/stat.h>
+#include <unistd.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -916,6 +918,51 @@ static void test_predict(void)
     free(l);
     free(back);
     vsv_meta_clear(&m);
+/* A file cut short after it was opened (another program truncating it):
+ * reads past its new end are "truncated while reading" errors, not SIGBUS
+ * (vsv_mapguard.c). */
+static void test_truncated_while_reading(void)
+{
+    synth sy = {40, 30, 10, 12, 0, 0};
+    const char *path = vsv_test_tmp("cut.vsv");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 8;
+    o.codec = VSV_CODEC_NONE;
+    char err[512] = "";
+    if (!CHECK(synth_write(&sy, path, &o, err, sizeof err) == 0, "write a file to cut", "%s", err))
+        return;
+    struct stat st;
+    stat(path, &st);
+    for (int pass = 0; pass < 2; pass++) {
+        vsv_file *f = NULL;
+        if (!CHECK(vsv_file_open(path, &f) == 0, "open it", "%s", vsv_file_error(f))) {
+            vsv_file_free(f);
+            return;
+        }
+        if (!CHECK(truncate(path, st.st_size / 3) == 0, "cut it to a third after opening"))
+            return;
+        int rc = 0;
+        const char *msg = "";
+        vsv_decoder *d = NULL;
+        float *vol = malloc((size_t)sy.nx * sy.ny * sy.nz * sizeof *vol);
+        if (pass == 0) {
+            rc = vsv_file_check(f, NULL, NULL);
+            msg = vsv_file_error(f);
+        } else if (vsv_decoder_create(f, &d) == 0 && vol) {
+            for (int t = 0; t < sy.nsteps && !rc; t++)
+                rc = vsv_decoder_volume(d, t, 0, vol);
+            msg = vsv_decoder_error(d);
+        }
+        CHECK(rc == VSV_ETRUNC && strstr(msg, "cut.vsv: truncated while reading"),
+              pass ? "decoding a file cut while open: VSV_ETRUNC, named" : "checking a file cut while open: VSV_ETRUNC, named",
+              "rc %d: %s", rc, msg);
+        free(vol);
+        vsv_decoder_free(d);
+        vsv_file_free(f);
+        if (!CHECK(synth_write(&sy, path, &o, err, sizeof err) == 0, "write it again", "%s", err))
+            return;
+    }
 }
 
 int main(void)
@@ -930,5 +977,6 @@ int main(void)
     test_parts();
     test_heights();
     test_predict();
+    test_truncated_while_reading();
     return vsv_test_done();
 }
