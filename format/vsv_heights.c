@@ -220,7 +220,6 @@ struct vsv_resampler {
     rs_volume out;
     const float *planned; /* the heights the plan was made for */
     vsv_vgrid vg;       /* per even cell: native level below, weight */
-    float *col;         /* one native column */
     uint64_t done_gen;
 };
 
@@ -243,11 +242,6 @@ int vsv_resampler_create(const vsv_meta *m, vsv_resampler **out)
     r->even.levels = NULL;
     r->even.nheights = 0;
     r->even.heights = NULL;
-    r->col = malloc((size_t)m->nz * sizeof *r->col);
-    if (!r->col) {
-        vsv_resampler_free(r);
-        return VSV_ENOMEM;
-    }
     *out = r;
     return 0;
 }
@@ -257,7 +251,6 @@ void vsv_resampler_free(vsv_resampler *r)
     if (!r)
         return;
     vsv_vgrid_free(&r->vg);
-    free(r->col);
     free(r->out.pub.bricks);
     free(r->out.pub.bmin);
     free(r->out.pub.bmax);
@@ -312,39 +305,61 @@ int vsv_resampler_run(vsv_resampler *r, const vsv_volume *nat, const vsv_volume 
         e->bmax[b] = -INFINITY;
     }
     const int empty_is_nan = isnan(empty);
-    for (int j = 0; j < m->ny; j++)
-        for (int i = 0; i < m->nx; i++) {
-            const size_t c = (size_t)j * m->nx + i;
-            for (int k = 0; k < m->nz; k++)
-                r->col[k] = vsv_volume_at(nat, i, j, k);
-            const int bi = i >> e->shift, bj = j >> e->shift, li = i & (B - 1), lj = j & (B - 1);
-            for (int k = 0; k < e->bdim[2] * B; k++) {
-                float v = empty;
-                if (k < nz) {
-                    const int lv = r->vg.lev[(size_t)k * plane + c];
+    /* brick by brick of the output; one whose column of native bricks holds
+     * only the empty value (most of a cloud species) is empty without a
+     * look at its cells. Inside a brick level by level, row by row. */
+    for (int ob = 0; ob < e->nbricks; ob++) {
+        const int bi = ob % e->bdim[0], bj = ob / e->bdim[0] % e->bdim[1], bk = ob / (e->bdim[0] * e->bdim[1]);
+        int any = 0;
+        for (int nk = 0; nk < nat->bdim[2] && !any; nk++)
+            any = nat->bricks[bi + nat->bdim[0] * (bj + nat->bdim[1] * nk)] != NULL;
+        if (!any) {
+            e->bmin[ob] = 1, e->bmax[ob] = 0; /* empty: cleared below */
+            continue;
+        }
+        float *dst = e->bricks[ob];
+        float mn = INFINITY, mx = -INFINITY;
+        const int i0 = bi * B, j0 = bj * B, k0 = bk * B;
+        const int i1 = i0 + B < m->nx ? i0 + B : m->nx, j1 = j0 + B < m->ny ? j0 + B : m->ny;
+        for (int k = k0; k < k0 + B; k++)
+            for (int j = j0; j < j1; j++) {
+                float *o = dst + ((size_t)(k - k0) << (2 * e->shift)) + ((size_t)(j - j0) << e->shift);
+                if (k >= nz) {
+                    for (int i = i0; i < i1; i++)
+                        o[i - i0] = empty;
+                    continue;
+                }
+                const size_t row = (size_t)k * plane + (size_t)j * m->nx;
+                for (int i = i0; i < i1; i++) {
+                    float v = empty;
+                    const int lv = r->vg.lev[row + i];
                     if (lv >= 0) {
-                        const float lo = r->col[lv], w = r->vg.wt[(size_t)k * plane + c];
-                        v = w == 0 ? lo : lo + (r->col[lv + 1] - lo) * w;
+                        const float lo = vsv_volume_at(nat, i, j, lv), w = r->vg.wt[row + i];
+                        v = w == 0 ? lo : lo + (vsv_volume_at(nat, i, j, lv + 1) - lo) * w;
                         if (isnan(v) && !empty_is_nan)
                             v = empty;
                     }
-                }
-                const int b = bi + e->bdim[0] * (bj + e->bdim[1] * (k >> e->shift));
-                e->bricks[b][li + ((size_t)lj << e->shift) + ((size_t)(k & (B - 1)) << (2 * e->shift))] = v;
-                if (k < nz && !isnan(v)) {
-                    if (v < e->bmin[b])
-                        e->bmin[b] = v;
-                    if (v > e->bmax[b])
-                        e->bmax[b] = v;
+                    o[i - i0] = v;
+                    if (!isnan(v)) {
+                        mn = v < mn ? v : mn;
+                        mx = v > mx ? v : mx;
+                    }
                 }
             }
-        }
+        e->bmin[ob] = mn;
+        e->bmax[ob] = mx;
+    }
     /* cells outside the grid along x and y, and bricks holding only the
      * empty value */
     for (int b = 0; b < e->nbricks; b++) {
         const int bi = b % e->bdim[0], bj = (b / e->bdim[0]) % e->bdim[1];
         const int ex = m->nx - bi * B < B ? m->nx - bi * B : B, ey = m->ny - bj * B < B ? m->ny - bj * B : B;
         float *dst = e->bricks[b];
+        if (e->bmin[b] > e->bmax[b]) { /* nothing but the empty value, or skipped above */
+            e->bricks[b] = NULL;
+            e->bmin[b] = e->bmax[b] = empty;
+            continue;
+        }
         if (ex < B || ey < B)
             for (size_t q = 0; q < n; q++)
                 if ((int)(q & (size_t)(B - 1)) >= ex || (int)((q >> e->shift) & (size_t)(B - 1)) >= ey)
