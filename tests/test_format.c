@@ -918,6 +918,8 @@ static void test_predict(void)
     free(l);
     free(back);
     vsv_meta_clear(&m);
+}
+
 /* A file cut short after it was opened (another program truncating it):
  * reads past its new end are "truncated while reading" errors, not SIGBUS
  * (vsv_mapguard.c). */
