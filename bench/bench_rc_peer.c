@@ -128,7 +128,7 @@ int main(int argc, char **argv)
             return die("bad transfer function");
     }
     vsv_layer layer = {vol, &tf, 1, 1};
-    vsv_scene sc = {m, &layer, 1, 1, 0};
+    vsv_scene sc = {.meta = m, .layers = &layer, .nlayers = 1, .exaggeration = 1};
     sc.exaggeration = vsv_scene_default_exaggeration(&sc);
 
     /* the decoded volume, as the raycaster samples it (no data: 0, as VTK has none) */

@@ -9,29 +9,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The raycaster's frame: its visible layers, and empty-space skipping: a
- * brick is skipped when, for every visible layer, the values of the brick and
- * of every brick around it (a trilinear sample reaches one cell across, and
- * blends values between those ranges) map to zero opacity. Computed per frame
- * from the octree's level 0. */
+/* The raycaster's frame: its visible layers, their sampling copies to
+ * rebuild (r->build), the grid and the step. vsv_rc_prepare_skip follows
+ * once the copies are built. */
 int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
 {
-    int nb = 0;
-    const vsv_volume *v0 = NULL;
-    for (int l = 0; l < sc->nlayers; l++)
-        if (sc->layers[l].vol) {
-            nb = sc->layers[l].vol->nbricks > nb ? sc->layers[l].vol->nbricks : nb;
-            v0 = sc->layers[l].vol;
-        }
-    /* layout: [all layers clear][layer 0 clear][layer 1 clear]...[4 bytes] */
-    const size_t need = (size_t)nb * ((size_t)sc->nlayers + 1) + 4;
-    if (need > r->skip_cap) {
-        unsigned char *p = realloc(r->skip, need);
-        if (!p)
-            return VSV_ENOMEM;
-        r->skip = p;
-        r->skip_cap = need;
-    }
     if (sc->nlayers > r->act_cap) {
         vsv_rc_layer *p = realloc(r->act, (size_t)sc->nlayers * sizeof *p);
         if (!p)
@@ -54,15 +36,10 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     vsv_rc_frame *F = &r->frame;
     memset(F, 0, sizeof *F);
     F->layer = r->act;
-    if (!nb)
-        return 0;
-    memset(r->skip, 1, need);
     const vsv_geo *g = &r->g;
-    const int bx = v0->bdim[0], by = v0->bdim[1], bz = v0->bdim[2];
     for (int l = 0; l < sc->nlayers; l++) {
         const vsv_layer *L = &sc->layers[l];
-        unsigned char *clear = r->skip + (size_t)nb * (l + 1);
-        if (!L->visible || !(L->opacity > 0) || !L->vol)
+        if (!L->visible || !(L->opacity > 0) || !L->vol || !L->vol->nbricks)
             continue;
         vsv_rc_copy *cp = &r->copy[l];
         if (cp->vol != L->vol || cp->gen != L->vol->gen || !cp->gen) {
@@ -79,32 +56,9 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
             .off = (float)(-L->tf->base * L->tf->inv),
             .log = L->tf->scale == VSV_SCALE_LOG,
             .sigma = (float)(L->opacity * VSV_SIGMA_PER_CELL / fmin(g->dx, g->dy)),
-            .clear = clear,
+            .mm = cp->mm,
             .inv_span = vsv_light_inv_span(L->tf),
         };
-        for (int k = 0; k < bz; k++)
-            for (int j = 0; j < by; j++)
-                for (int i = 0; i < bx; i++) {
-                    const int b = i + bx * (j + by * k);
-                    float lo = INFINITY, hi = -INFINITY;
-                    for (int dk = -1; dk <= 1; dk++)
-                        for (int dj = -1; dj <= 1; dj++)
-                            for (int di = -1; di <= 1; di++) {
-                                const int a = i + di, c = j + dj, e = k + dk;
-                                if (a < 0 || c < 0 || e < 0 || a >= bx || c >= by || e >= bz)
-                                    continue;
-                                const int n = a + bx * (c + by * e);
-                                /* a NaN minimum (no-data cells beside data) says nothing
-                                 * about the smallest real value: assume the lowest */
-                                const float bmn = L->vol->bmin[n] == L->vol->bmin[n] ? L->vol->bmin[n] : -INFINITY;
-                                if (bmn < lo)
-                                    lo = bmn;
-                                if (L->vol->bmax[n] > hi)
-                                    hi = L->vol->bmax[n];
-                            }
-                    if (vsv_tf_max_opacity(L->tf, (float)lo, (float)hi) > 0)
-                        clear[b] = r->skip[b] = 0;
-                }
     }
     if (!F->nlayers)
         return 0;
@@ -122,12 +76,6 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     F->inv_cell[1] = 1 / g->dy;
     F->inv_cell[2] = 1 / (g->dz * g->E);
     vsv_light_init(&F->light, sc, g);
-    /* nothing to skip (a dense species): no tests per sample */
-    int any = 0;
-    for (int l = -1; l < F->nlayers; l++)
-        for (int b = 0; b < nb && !any; b++)
-            any = (l < 0 ? r->skip : r->act[l].clear)[b];
-    F->skip = r->o.no_skip || !any ? NULL : r->skip;
     F->shift = V->shift;
     F->mask = V->brick - 1;
     F->brick = V->brick;
@@ -135,6 +83,146 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     F->bxy = V->bdim[0] * V->bdim[1];
     F->ey = V->brick + 1;
     F->ez = F->ey * F->ey;
+    return 0;
+}
+
+/* Whether layer L gives zero opacity to every sample value in [lo, hi]: the
+ * table entries its lookup may read for them (the sampler's own arithmetic,
+ * monotonic in the value) are all transparent. */
+static int layer_clear(const vsv_rc_layer *L, float lo, float hi)
+{
+    if (!(hi >= L->lo))
+        return 1; /* below the range, or no value but no data */
+    lo = lo > L->lo ? lo : L->lo;
+    float x0 = fmaf(L->log ? logf(lo) : lo, L->inv, L->off), x1 = fmaf(L->log ? logf(hi) : hi, L->inv, L->off);
+    x0 = x0 < VSV_TF_LUT - 1 ? x0 : VSV_TF_LUT - 1;
+    x1 = x1 < VSV_TF_LUT - 1 ? x1 : VSV_TF_LUT - 1;
+    /* a value at x reads entries floor(x) and floor(x) + 1, the second with
+     * weight x - floor(x): exactly 0 at an entry */
+    int i0 = (int)x0, i1 = (int)ceilf(x1);
+    i0 = i0 < 0 ? 0 : i0 < VSV_TF_LUT - 2 ? i0 : VSV_TF_LUT - 2;
+    i1 = i1 < VSV_TF_LUT - 1 ? i1 : VSV_TF_LUT - 1;
+    for (int i = i0; i <= i1; i++)
+        if (L->lut[i][3] > 0)
+            return 0;
+    return 1;
+}
+
+/* A key of what the skip distances depend on: the layers' volumes and
+ * generations, their tables and lookups (FNV-1a). */
+static uint64_t skip_key(const vsv_renderer *r)
+{
+    uint64_t h = 1469598103934665603ULL;
+#define MIX(p, n)                                                                                                      \
+    for (size_t i_ = 0; i_ < (n); i_++)                                                                                \
+        h = (h ^ ((const unsigned char *)(p))[i_]) * 1099511628211ULL;
+    const vsv_rc_frame *F = &r->frame;
+    MIX(&F->nlayers, sizeof F->nlayers);
+    for (int l = 0; l < F->nlayers; l++) {
+        const vsv_rc_layer *L = &F->layer[l];
+        MIX(&L->vol, sizeof L->vol);
+        MIX(&L->vol->gen, sizeof L->vol->gen);
+        MIX(&L->mm, sizeof L->mm);
+        MIX(&L->lo, 4 * sizeof(float));
+        MIX(&L->log, sizeof L->log);
+        for (int i = 0; i < VSV_TF_LUT; i++)
+            MIX(&L->lut[i][3], sizeof(float));
+    }
+#undef MIX
+    return h;
+}
+
+/* dst = src widened by one block along axis a (0/1 flags, nb blocks per axis) */
+static void dilate(const unsigned char *src, unsigned char *dst, const int nb[3], int a)
+{
+    const size_t stride = a == 0 ? 1 : a == 1 ? (size_t)nb[0] : (size_t)nb[0] * nb[1];
+    size_t b = 0;
+    for (int k = 0; k < nb[2]; k++)
+        for (int j = 0; j < nb[1]; j++)
+            for (int i = 0; i < nb[0]; i++, b++) {
+                const int c = a == 0 ? i : a == 1 ? j : k;
+                unsigned char v = src[b];
+                if (c > 0)
+                    v |= src[b - stride];
+                if (c < nb[a] - 1)
+                    v |= src[b + stride];
+                dst[b] = v;
+            }
+}
+
+enum { SKIP_FAR = 15 }; /* skip distances stop here (a leap of up to 60 cells either way) */
+
+/* Empty-space skipping for the frame, once its sampling copies are built:
+ * per block of VSV_RC_BLOCK^3 cells and layer, whether every sample in it
+ * is transparent (from the copy's block min/max and the layer's table:
+ * transfer-function aware), and per block its distance in blocks (on the
+ * worst axis, up to SKIP_FAR + 1) to the nearest block some layer may show:
+ * a ray in a block at distance d leaps out of the box of blocks within
+ * d - 1 (vsv_rc_leap), sample by sample decided for each ray. Kept while the
+ * volumes and transfer functions stay the same. */
+int vsv_rc_prepare_skip(vsv_renderer *r)
+{
+    vsv_rc_frame *F = &r->frame;
+    if (!F->nlayers || r->o.no_skip)
+        return 0;
+    int nb[3];
+    vsv_rc_block_dims(F->layer[0].vol, nb);
+    const size_t nblk = (size_t)nb[0] * nb[1] * nb[2];
+    /* layout: [distance][three scratch planes][layer 0 clear][layer 1 clear]...[4 bytes] */
+    const size_t need = nblk * (4 + (size_t)F->nlayers) + 4;
+    if (need > r->skip_cap) {
+        unsigned char *p = realloc(r->skip, need);
+        if (!p)
+            return VSV_ENOMEM;
+        r->skip = p;
+        r->skip_cap = need;
+        r->skip_key = 0;
+    }
+    unsigned char *dist = r->skip, *occ = dist + nblk, *t = occ + nblk, *u = t + nblk;
+    for (int l = 0; l < F->nlayers; l++)
+        r->act[l].clear = u + nblk * (size_t)(l + 1);
+    F->nbx = nb[0];
+    F->nbxy = nb[0] * nb[1];
+    F->layer_clear = F->nlayers > 1;
+    const uint64_t key = skip_key(r);
+    if (key == r->skip_key) {
+        F->skip = r->skip_any ? dist : NULL;
+        return 0;
+    }
+    memset(occ, 0, nblk);
+    for (int l = 0; l < F->nlayers; l++) {
+        const vsv_rc_layer *L = &F->layer[l];
+        unsigned char *clear = (unsigned char *)L->clear;
+        for (size_t b = 0; b < nblk; b++) {
+            clear[b] = (unsigned char)layer_clear(L, L->mm[2 * b], L->mm[2 * b + 1]);
+            occ[b] |= !clear[b];
+        }
+    }
+    int any = 0;
+    for (size_t b = 0; b < nblk; b++) {
+        dist[b] = occ[b] ? 0 : SKIP_FAR + 1;
+        any |= !occ[b];
+    }
+    /* distances by dilation: the blocks within d of a shown one, d = 1, 2 ...
+     * (a step of the L-infinity dilation: along x, then y, then z) */
+    for (int d = 1; any && d <= SKIP_FAR; d++) {
+        dilate(occ, t, nb, 0);
+        dilate(t, u, nb, 1);
+        dilate(u, t, nb, 2);
+        int grew = 0;
+        for (size_t b = 0; b < nblk; b++) {
+            occ[b] = t[b];
+            if (t[b] && dist[b] > d) {
+                dist[b] = (unsigned char)d;
+                grew = 1;
+            }
+        }
+        if (!grew)
+            break;
+    }
+    r->skip_key = key;
+    r->skip_any = any;
+    F->skip = any ? dist : NULL;
     return 0;
 }
 
@@ -194,20 +282,23 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             ci[a] = (int)c[a];
             ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
         }
-        const int bidx = (ci[0] >> sh) + F->bx * (ci[1] >> sh) + F->bxy * (ci[2] >> sh);
-        if (F->skip && F->skip[bidx]) {
-            const int next = vsv_rc_skip_to(F, ray, ci);
-            if (next > n + 1)
-                n = next - 1;
-            continue;
+        size_t blk = 0;
+        if (F->skip) {
+            blk = (size_t)(ci[0] >> VSV_RC_BSHIFT) + (size_t)F->nbx * (ci[1] >> VSV_RC_BSHIFT) +
+                  (size_t)F->nbxy * (ci[2] >> VSV_RC_BSHIFT);
+            if (F->skip[blk]) { /* clear around: leap */
+                n = vsv_rc_leap(F, ray, n, ci, F->skip[blk]) - 1;
+                continue;
+            }
         }
+        const int bidx = (ci[0] >> sh) + F->bx * (ci[1] >> sh) + F->bxy * (ci[2] >> sh);
         const float fu = c[0] - ci[0], fv = c[1] - ci[1], fw = c[2] - ci[2];
         const int off = (ci[0] & m) + (ci[1] & m) * ey + (ci[2] & m) * ez;
         float sig = 0, col[3] = {0, 0, 0};
         for (int l = 0; l < F->nlayers; l++) {
             const vsv_rc_layer *L = &F->layer[l];
-            if (F->skip && L->clear[bidx])
-                continue; /* transparent around this brick: adds nothing */
+            if (F->skip && F->layer_clear && L->clear[blk])
+                continue; /* transparent in this block: adds nothing */
             float cell[8];
             const float *q = L->cells[bidx] + off;
             for (int i = 0; i < 8; i++)
@@ -315,6 +406,7 @@ static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray ray[
         for (int a = 0; a < 3; a++) {
             ray[i].p[a] = (float)((S.o[a][i] + ts * S.d[a][i] - org[a]) * r->frame.inv_cell[a]);
             ray[i].dp[a] = (float)(st * S.d[a][i] * r->frame.inv_cell[a]);
+            ray[i].inv_dp[a] = 1.0f / ray[i].dp[a];
         }
     }
 }

@@ -115,6 +115,8 @@ BIN(vm, vf, ge, CMP_GE)
 BIN(vi, vi, iadd, V(add_epi32))
 BIN(vi, vi, iand, IAND)
 BIN(vi, vi, imin, V(min_epi32))
+BIN(vi, vi, imax, V(max_epi32))
+BIN(vi, vi, isub, V(sub_epi32))
 BIN(vi, vi, imul, V(mullo_epi32))
 BIN(vm, vi, igt, IGT)
 BIN(vm, vi, ieq, IEQ)
@@ -147,6 +149,13 @@ static inline vm flags(const unsigned char *a, vi idx)
 {
     return _mm512_test_epi32_mask(_mm512_i32gather_epi32(idx, (const int *)a, 1), _mm512_set1_epi32(0xff));
 }
+/* byte values at idx (the array has three readable bytes past its end) */
+static inline vi bytes(const unsigned char *a, vi idx)
+{
+    return _mm512_and_si512(_mm512_i32gather_epi32(idx, (const int *)a, 1), _mm512_set1_epi32(0xff));
+}
+static inline vi isel(vi a, vi b, vm m) { return _mm512_mask_blend_epi32(m, a, b); } /* m ? b : a */
+static inline int lane0(vi x) { return _mm_cvtsi128_si32(_mm512_castsi512_si128(x)); }
 /* the eight lanes 8h.. as an AVX2 register, and back */
 static inline __m256 half(vf x, int h)
 {
@@ -205,6 +214,20 @@ static inline vm flags(const unsigned char *a, vi idx)
     vi o;
     EACH o.r[h] = _mm256_and_si256(_mm256_i32gather_epi32((const int *)a, idx.r[h], 1), _mm256_set1_epi32(0xff));
     return igt(o, iset(0));
+}
+/* byte values at idx (the array has three readable bytes past its end) */
+static inline vi bytes(const unsigned char *a, vi idx)
+{
+    vi o;
+    EACH o.r[h] = _mm256_and_si256(_mm256_i32gather_epi32((const int *)a, idx.r[h], 1), _mm256_set1_epi32(0xff));
+    return o;
+}
+static inline int lane0(vi x) { return _mm_cvtsi128_si32(_mm256_castsi256_si128(x.r[0])); }
+static inline vi isel(vi a, vi b, vm m) /* m ? b : a */
+{
+    vi o;
+    EACH o.r[h] = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a.r[h]), _mm256_castsi256_ps(b.r[h]), m.r[h]));
+    return o;
 }
 static inline __m256 half(vf x, int h) { return x.r[h]; }
 static inline vf join(__m256 lo, __m256 hi) { return (vf){{lo, hi}}; }
@@ -272,7 +295,7 @@ static vf sample(const vsv_rc_layer *L, int uni, const unsigned *bidx, const uns
 void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W], float acc_out[3][W],
                    float depth[W])
 {
-    float p[3][W], dp[3][W];
+    float p[3][W], dp[3][W], ip[3][W];
     int ns[W], nmax = 0;
     double st_d = 0;
     for (int l = 0; l < W; l++) {
@@ -280,21 +303,24 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         for (int a = 0; a < 3; a++) {
             p[a][l] = ns[l] ? ray[l].p[a] : 0;
             dp[a][l] = ns[l] ? ray[l].dp[a] : 0;
+            ip[a][l] = ns[l] ? ray[l].inv_dp[a] : 0;
         }
         if (ns[l] > nmax)
             nmax = ns[l], st_d = ray[l].st;
     }
     if (!nmax || !F->nlayers)
         return;
-    vf P[3], DP[3], HI[3];
+    vf P[3], DP[3], IDP[3], HI[3];
     vi LAST[3];
     for (int a = 0; a < 3; a++) {
         P[a] = fload(p[a]);
         DP[a] = fload(dp[a]);
+        IDP[a] = fload(ip[a]);
         HI[a] = fset(F->hi[a]);
         LAST[a] = iset(F->last[a]);
     }
     const vi NS = iload(ns), M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy), EY = iset(F->ey), EZ = iset(F->ez);
+    const vi NBX = iset(F->nbx), NBXY = iset(F->nbxy), BLK = iset(VSV_RC_BLOCK), ONEI = iset(1), ZEROI = iset(0);
     const int sh = F->shift;
     const vf ST = fset((float)st_d), ONE = fset(1), ZERO = fset(0);
     const vf TERM = fset(F->term), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
@@ -303,9 +329,9 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
     const vf SMALL = fset(VSV_OPACITY_SMALL);
     const vf SERIES[5] = {fset(1.0f / 120), fset(-1.0f / 24), fset(1.0f / 6), fset(-1.0f / 2), ONE};
     vf T = ONE, acc[3] = {ZERO, ZERO, ZERO};
+    vi N = ZEROI;          /* each ray's sample: rays leap on their own */
     unsigned deep_set = 0; /* lanes whose depth is set */
-    for (int n = 0; n < nmax; n++) {
-        const vi N = iset(n);
+    for (;;) {
         const vm act = mand(igt(NS, N), ge(T, TERM));
         if (!bits(act))
             break; /* every ray has ended or is opaque */
@@ -317,31 +343,37 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
             c[a] = vmax(vmin(c[a], HI[a]), ZERO);
             ci[a] = imin(to_i(c[a]), LAST[a]);
         }
+        vi blk = ZEROI;
+        int ublk = 0;
+        if (F->skip) {
+            blk = iadd(iadd(srl(ci[0], VSV_RC_BSHIFT), imul(NBX, srl(ci[1], VSV_RC_BSHIFT))),
+                       imul(NBXY, srl(ci[2], VSV_RC_BSHIFT)));
+            const unsigned b0 = (unsigned)lane0(blk); /* in a register: no store and reload */
+            ublk = bits(ieq(blk, iset((int)b0))) == ALL;
+            const vi d = ublk ? iset(F->skip[b0]) : bytes(F->skip, blk);
+            const vm empty = mand(act, igt(d, ZEROI));
+            if (bits(empty)) {
+                /* the rays in clear blocks leap out of the clear box around
+                 * them (vsv_rc_leap, lane by lane); then all look again */
+                vf k = to_f(NS);
+                for (int a = 0; a < 3; a++) {
+                    const vi b = srl(ci[a], VSV_RC_BSHIFT);
+                    const vi up = imul(iadd(b, d), BLK), down = imul(iadd(isub(b, d), ONEI), BLK);
+                    const vm pos = gt(DP[a], ZERO), neg = lt(DP[a], ZERO);
+                    const vf ka = mul(sub(to_f(isel(down, up, pos)), P[a]), IDP[a]);
+                    k = sel(k, ka, mand(mandnot(igt(up, LAST[a]), pos), lt(ka, k)));
+                    k = sel(k, ka, mand(mand(neg, igt(down, ZEROI)), lt(ka, k)));
+                }
+                N = isel(N, imax(to_i(k), iadd(N, ONEI)), empty);
+                continue;
+            }
+        }
         const vi bidx = iadd(iadd(srl(ci[0], sh), imul(BX, srl(ci[1], sh))), imul(BXY, srl(ci[2], sh)));
         unsigned bidx_a[W]; /* indices unsigned: a 32-bit load is its own zero extension */
         istore(bidx_a, bidx);
         /* every lane in one brick? */
         const int uni = bits(ieq(bidx, iset((int)bidx_a[0]))) == ALL;
-        vm comp = act;
-        if (F->skip) {
-            comp = uni ? (F->skip[bidx_a[0]] ? MNONE : act) : mandnot(flags(F->skip, bidx), act);
-            if (!bits(comp)) {
-                /* every live ray is in a skipped brick: on to the nearest far side */
-                int ci_a[3][W], next = INT_MAX;
-                for (int a = 0; a < 3; a++)
-                    istore(ci_a[a], ci[a]);
-                const unsigned live = bits(act);
-                for (int l = 0; l < W; l++)
-                    if (live >> l & 1) {
-                        const int cl[3] = {ci_a[0][l], ci_a[1][l], ci_a[2][l]};
-                        const int k = vsv_rc_skip_to(F, &ray[l], cl);
-                        next = k < next ? k : next;
-                    }
-                if (next > n + 1)
-                    n = next - 1;
-                continue;
-            }
-        }
+        const vm comp = act;
         for (int a = 0; a < 3; a++)
             f[a] = sub(c[a], to_f(ci[a]));
         const vi off = iadd(iadd(iand(ci[0], M), imul(iand(ci[1], M), EY)), imul(iand(ci[2], M), EZ));
@@ -351,8 +383,8 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
         for (int li = 0; li < F->nlayers; li++) {
             const vsv_rc_layer *L = &F->layer[li];
             vm m = comp;
-            if (F->skip) /* transparent around this brick */
-                m = uni ? (L->clear[bidx_a[0]] ? MNONE : m) : mandnot(flags(L->clear, bidx), m);
+            if (F->skip && F->layer_clear) /* transparent in this block */
+                m = ublk ? (L->clear[lane0(blk)] ? MNONE : m) : mandnot(flags(L->clear, blk), m);
             if (!bits(m))
                 continue;
             const vf v = sample(L, uni, bidx_a, off_a, F->ey, F->ez, f);
@@ -394,33 +426,37 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
                 col[ch] = add(col[ch], mul(s, join(lc[ch][0], lc[ch][1])));
         }
         const vm cm = gt(sig, ZERO); /* only lanes of comp have added anything */
-        const unsigned cb = bits(cm);
-        if (!cb)
-            continue;
-        /* the step's opacity as vsv_rc_opacity_per_u: the series, the table, 1/u */
-        const vf us = mul(sig, ST);
-        vf fo = fset(-1.0f / 720);
-        for (int t = 0; t < 5; t++)
-            fo = fma3(us, fo, SERIES[t]);
-        const vm thick = mand(cm, ge(us, SMALL));
-        if (bits(thick)) {
-            const vm in = mand(thick, lt(us, UMAX));
-            const vi ti = to_i(keep(in, add(mul(us, UK), HALF)));
-            fo = sel(fo, mgather(vsv_opacity_table, ti, in), in);
-            if (bits(in) != bits(thick)) { /* beyond the table: 1/u */
-                fo = sel(fo, vdiv(ONE, us), mandnot(in, thick));
+        if (bits(cm)) {
+            /* the step's opacity as vsv_rc_opacity_per_u: the series, the table, 1/u */
+            const vf us = mul(sig, ST);
+            vf fo = fset(-1.0f / 720);
+            for (int t = 0; t < 5; t++)
+                fo = fma3(us, fo, SERIES[t]);
+            const vm thick = mand(cm, ge(us, SMALL));
+            if (bits(thick)) {
+                const vm in = mand(thick, lt(us, UMAX));
+                const vi ti = to_i(keep(in, add(mul(us, UK), HALF)));
+                fo = sel(fo, mgather(vsv_opacity_table, ti, in), in);
+                if (bits(in) != bits(thick)) { /* beyond the table: 1/u */
+                    fo = sel(fo, vdiv(ONE, us), mandnot(in, thick));
+                }
             }
+            /* the other lanes have sig = 0, so us = 0, fo = 1, a = 0, col = 0: no change */
+            const vf a = mul(us, fo), k = mul(mul(T, fo), ST);
+            for (int ch = 0; ch < 3; ch++)
+                acc[ch] = fma3(k, col[ch], acc[ch]);
+            T = fnma3(T, a, T);
+            const unsigned deep = bits(mand(cm, gt(sub(ONE, T), DEPTH))) & ~deep_set;
+            if (deep) {
+                int n_a[W];
+                istore(n_a, N);
+                for (int l = 0; l < W; l++)
+                    if (deep >> l & 1 && depth[l] == INFINITY)
+                        depth[l] = (float)(ray[l].ts + n_a[l] * ray[l].st);
+            }
+            deep_set |= deep;
         }
-        /* the other lanes have sig = 0, so us = 0, fo = 1, a = 0, col = 0: no change */
-        const vf a = mul(us, fo), k = mul(mul(T, fo), ST);
-        for (int ch = 0; ch < 3; ch++)
-            acc[ch] = fma3(k, col[ch], acc[ch]);
-        T = fnma3(T, a, T);
-        const unsigned deep = bits(mand(cm, gt(sub(ONE, T), DEPTH))) & ~deep_set;
-        for (int l = 0; deep && l < W; l++)
-            if (deep >> l & 1 && depth[l] == INFINITY)
-                depth[l] = (float)(ray[l].ts + n * ray[l].st);
-        deep_set |= deep;
+        N = iadd(N, ONEI);
     }
     fstore(T_out, T);
     for (int ch = 0; ch < 3; ch++)

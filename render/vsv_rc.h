@@ -31,7 +31,25 @@ typedef struct vsv_rc_copy {
     float *empty;
     const float **cells; /* per brick */
     int cells_cap;
+    float *mm;           /* per block (VSV_RC_BLOCK): the smallest and largest
+                            value of its cells and the next one along each
+                            axis, which its trilinear samples read (NaN left
+                            out: a sample touching one is no data) */
+    size_t mm_cap;
 } vsv_rc_copy;
+/* Blocks of VSV_RC_BLOCK^3 cells, for skipping: block (bi, bj, bk) holds
+ * the samples whose lower cell (vsv_rc_frame last-clamped) is in it; their
+ * count per axis is (last >> VSV_RC_BSHIFT) + 1. */
+#define VSV_RC_BSHIFT 2
+#define VSV_RC_BLOCK (1 << VSV_RC_BSHIFT)
+static inline void vsv_rc_block_dims(const vsv_volume *v, int nb[3])
+{
+    const int n[3] = {v->nx, v->ny, v->nz};
+    for (int a = 0; a < 3; a++)
+        nb[a] = ((n[a] > 1 ? n[a] - 2 : 0) >> VSV_RC_BSHIFT) + 1;
+}
+/* The min/max (c->mm) of the blocks of brick b of the copy c. */
+void vsv_rc_copy_minmax(const vsv_rc_copy *c, int b);
 /* Sets c up to hold v's sampling copy: room for the bricks whose copy holds
  * data and for the shared empty brick, which is filled here (the others by
  * vsv_rc_copy_fill); -1 when out of memory. */
@@ -45,7 +63,8 @@ typedef struct vsv_rc_layer {
     float lo, inv, off;         /* table position = (value or ln value) * inv + off */
     int log;
     float sigma;                /* extinction per world unit of curve value 1 */
-    const unsigned char *clear; /* per brick: transparent around it (skipping) */
+    const float *mm;            /* per block: its samples' min and max (vsv_rc_copy.mm) */
+    const unsigned char *clear; /* per block: every sample in it transparent */
     float inv_span;             /* lighting: vsv_light_inv_span of its transfer function */
 } vsv_rc_layer;
 
@@ -53,8 +72,13 @@ typedef struct vsv_rc_layer {
 typedef struct vsv_rc_frame {
     const vsv_rc_layer *layer;
     int nlayers;
-    const unsigned char *skip; /* per brick: every layer clear; NULL: no skipping.
-                                  Four readable bytes past the end (for gathers). */
+    const unsigned char *skip; /* per block: 0 where a sample may be seen; d > 0:
+                                  every block within d - 1 blocks (on each
+                                  axis) is clear in every layer, so a ray leaps
+                                  out of that box. NULL: no skipping. Four
+                                  readable bytes past the end (for gathers). */
+    int layer_clear;           /* several layers: test each one's clear flags */
+    int nbx, nbxy;             /* blocks along x, in an xy plane */
     float hi[3];               /* the largest cell coordinate per axis */
     int last[3];               /* the largest lower corner of a trilinear sample */
     int shift, mask, brick, bx, bxy;
@@ -68,26 +92,29 @@ typedef struct vsv_rc_frame {
 /* One ray through the volume: sample n (0 <= n < ns) sits at world distance
  * ts + n st, at cell coordinates p + n dp. */
 typedef struct vsv_rc_ray {
-    float p[3], dp[3];
+    float p[3], dp[3], inv_dp[3]; /* inv_dp: 1 / dp, for leaps */
     int ns;
     double ts, st;
 } vsv_rc_ray;
 
-/* The first sample of a ray at or past the far side of the brick of cell ci
- * (one before it at most: the caller tests that sample again), for skipping. */
-static inline int vsv_rc_skip_to(const vsv_rc_frame *F, const vsv_rc_ray *ray, const int ci[3])
+/* The leap of a ray whose sample n, in cell ci, lies in a block at skip
+ * distance d > 0: the first sample at or past the far side of the box of
+ * blocks within d - 1 of it (the caller tests that sample; n + 1 at least).
+ * The box's far side along an axis where the (clamped) cell cannot reach it
+ * does not count. Both raycaster loops leap with these operations. */
+static inline int vsv_rc_leap(const vsv_rc_frame *F, const vsv_rc_ray *ray, int n, const int ci[3], int d)
 {
-    int next = ray->ns;
+    const float *p = ray->p, *dp = ray->dp, *inv_dp = ray->inv_dp;
+    float k = (float)ray->ns;
     for (int a = 0; a < 3; a++) {
-        if (ray->dp[a] == 0)
-            continue;
-        const int b = ci[a] >> F->shift;
-        const float edge = (float)(ray->dp[a] > 0 ? b + 1 : b) * F->brick;
-        const float k = (edge - ray->p[a]) / ray->dp[a];
-        const int kn = k < (float)ray->ns ? (int)k : ray->ns;
-        next = kn < next ? kn : next;
+        const int b = ci[a] >> VSV_RC_BSHIFT;
+        const int up = (b + d) * VSV_RC_BLOCK, down = (b - d + 1) * VSV_RC_BLOCK;
+        const int never = dp[a] > 0 ? up > F->last[a] : dp[a] < 0 ? down <= 0 : 1;
+        const float ka = ((float)(dp[a] > 0 ? up : down) - p[a]) * inv_dp[a];
+        k = !never && ka < k ? ka : k;
     }
-    return next;
+    const int kn = k > (float)n ? (int)k : n; /* (never converts a value out of range) */
+    return kn > n + 1 ? kn : n + 1;
 }
 
 /* Trilinear interpolation of the eight cells around a sample, in the order

@@ -63,6 +63,7 @@ void vsv_renderer_free(vsv_renderer *r)
     for (int l = 0; l < r->copy_cap; l++) {
         free(r->copy[l].store);
         free(r->copy[l].cells);
+        free(r->copy[l].mm);
     }
     free(r->copy);
     free(r->build);
@@ -155,6 +156,8 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
         clock_gettime(CLOCK_MONOTONIC, &t1);
         r->copy_seconds = (t1.tv_sec - t0.tv_sec) + (t1.tv_nsec - t0.tv_nsec) * 1e-9;
     }
+    if ((rc = vsv_rc_prepare_skip(r)))
+        return rc;
     r->sc = sc;
     r->rgba = rgba;
     r->depth = depth;

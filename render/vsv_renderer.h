@@ -19,9 +19,13 @@ struct vsv_renderer {
     float *rgba, *depth;
     vsv_geo g;
     int ntiles, tiles_x;
-    /* per-layer skip flags (allocated when the scene grows, not per frame) */
+    /* skipping (vsv_rc_prepare_skip): per block, the skip distances, scratch
+     * and per-layer clear flags (allocated when the scene grows, not per
+     * frame); kept while skip_key stays the same */
     unsigned char *skip;
     size_t skip_cap;
+    uint64_t skip_key;
+    int skip_any;
     /* the visible layers of this frame, as the raycaster reads them */
     vsv_rc_layer *act;
     int act_cap;
@@ -51,9 +55,11 @@ struct vsv_renderer {
 };
 
 
-/* The raycaster's frame (r->frame, r->act, r->skip, the sampling copies to
- * rebuild in r->build) for scene sc. */
+/* The raycaster's frame (r->frame, r->act, the sampling copies to rebuild
+ * in r->build) for scene sc; then, with the copies built, its skipping
+ * (r->skip, r->frame.skip). */
 int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc);
+int vsv_rc_prepare_skip(vsv_renderer *r);
 /* Pool jobs on the renderer ctx: one tile of the raycaster; one image row of
  * the ground cache (r->ground); brick item % nbricks of the sampling copy
  * item / nbricks being rebuilt. */

@@ -2,6 +2,7 @@
  * with one more cell along each axis, built brick by brick on the pool. */
 #include "vsv_renderer.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -42,6 +43,16 @@ int vsv_rc_copy_prepare(vsv_rc_copy *c, const vsv_volume *v)
         c->store = p;
         c->store_cap = (own + 1) * n3;
     }
+    int nb[3];
+    vsv_rc_block_dims(v, nb);
+    const size_t nblk = (size_t)nb[0] * nb[1] * nb[2];
+    if (2 * nblk > c->mm_cap) {
+        float *p = realloc(c->mm, 2 * nblk * sizeof *p);
+        if (!p)
+            return -1;
+        c->mm = p;
+        c->mm_cap = 2 * nblk;
+    }
     c->empty = c->store + own * n3;
     for (size_t i = 0; i < n3; i++)
         c->empty[i] = v->empty_value;
@@ -78,6 +89,42 @@ void vsv_rc_copy_fill(const vsv_volume *v, int b, float *dst)
     }
 }
 
+void vsv_rc_copy_minmax(const vsv_rc_copy *c, int b)
+{
+    const vsv_volume *v = c->vol;
+    const int B = v->brick, e = B + 1, bx = v->bdim[0], by = v->bdim[1];
+    const int org[3] = {b % bx * B, b / bx % by * B, b / (bx * by) * B};
+    int nb[3];
+    vsv_rc_block_dims(v, nb);
+    const float *cells = c->cells[b];
+    for (int lk = 0; lk < B / VSV_RC_BLOCK; lk++)
+        for (int lj = 0; lj < B / VSV_RC_BLOCK; lj++)
+            for (int li = 0; li < B / VSV_RC_BLOCK; li++) {
+                const int g[3] = {(org[0] >> VSV_RC_BSHIFT) + li, (org[1] >> VSV_RC_BSHIFT) + lj,
+                                  (org[2] >> VSV_RC_BSHIFT) + lk};
+                if (g[0] >= nb[0] || g[1] >= nb[1] || g[2] >= nb[2])
+                    continue;
+                float lo = INFINITY, hi = -INFINITY; /* NaN fails both tests: left out */
+                if (cells == c->empty) {
+                    lo = v->empty_value < lo ? v->empty_value : lo;
+                    hi = v->empty_value > hi ? v->empty_value : hi;
+                } else {
+                    for (int k = 0; k <= VSV_RC_BLOCK; k++)
+                        for (int j = 0; j <= VSV_RC_BLOCK; j++) {
+                            const float *row = cells + ((size_t)(lk * VSV_RC_BLOCK + k) * e + lj * VSV_RC_BLOCK + j) * e +
+                                               li * VSV_RC_BLOCK;
+                            for (int i = 0; i <= VSV_RC_BLOCK; i++) {
+                                lo = row[i] < lo ? row[i] : lo;
+                                hi = row[i] > hi ? row[i] : hi;
+                            }
+                        }
+                }
+                float *mm = c->mm + 2 * (g[0] + (size_t)nb[0] * (g[1] + (size_t)nb[1] * g[2]));
+                mm[0] = lo;
+                mm[1] = hi;
+            }
+}
+
 /* Brick item % nbricks of the copy item / nbricks being rebuilt. */
 void vsv_rc_copy_brick(void *ctx, int item, int thread)
 {
@@ -87,4 +134,5 @@ void vsv_rc_copy_brick(void *ctx, int item, int thread)
     const int b = item % c->vol->nbricks;
     if (c->cells[b] != c->empty)
         vsv_rc_copy_fill(c->vol, b, (float *)c->cells[b]);
+    vsv_rc_copy_minmax(c, b);
 }
