@@ -4,6 +4,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
+#include <signal.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,7 +16,37 @@
 static const char *tool_name = "vsv";
 static int quiet;
 
-void vsv_cli_init(const char *tool) { tool_name = tool; }
+/* SIGINT, SIGTERM, SIGHUP: every temporary output removed (vsv_output.c),
+ * then the signal re-raised with its default action, so the caller sees the
+ * tool die of it (as zstd's programs do). */
+static void on_stop(int sig)
+{
+    vsv_output_cleanup();
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+static void at_exit(void) { vsv_output_cleanup(); }
+
+void vsv_cli_init(const char *tool)
+{
+    tool_name = tool;
+    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    for (size_t i = 0; i < sizeof sigs / sizeof *sigs; i++) {
+        struct sigaction sa, old;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = on_stop;
+        sigemptyset(&sa.sa_mask);
+        for (size_t k = 0; k < sizeof sigs / sizeof *sigs; k++)
+            sigaddset(&sa.sa_mask, sigs[k]);
+        /* a signal the caller ignores (nohup, a shell's background job)
+         * stays ignored */
+        if (sigaction(sigs[i], NULL, &old) == 0 && old.sa_handler != SIG_IGN)
+            sigaction(sigs[i], &sa, NULL);
+    }
+    /* an error exit (vsv_cli_die) leaves no temporary either */
+    atexit(at_exit);
+}
 const char *vsv_cli_tool(void) { return tool_name; }
 int vsv_cli_quiet(void) { return quiet; }
 void vsv_cli_set_quiet(int q) { quiet = q; }

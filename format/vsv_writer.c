@@ -295,14 +295,19 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
     w->spool = map;
     madvise(map, w->spool_bytes, MADV_SEQUENTIAL);
 
-    w->out_fd = make_temp(w->path, ".tmp.", &w->tmp);
-    if (w->out_fd < 0) {
-        rc = fail_errno(w, "cannot create the temporary output");
-        goto done;
+    {
+        char tmp[4200];
+        w->out_fd = vsv_output_temp(w->path, NULL, tmp, sizeof tmp);
+        if (w->out_fd < 0 || !(w->tmp = strdup(tmp))) {
+            if (w->out_fd >= 0) {
+                close(w->out_fd);
+                w->out_fd = -1;
+                vsv_output_discard(tmp);
+            }
+            rc = fail_errno(w, "cannot create the temporary output");
+            goto done;
+        }
     }
-    mode_t um = umask(0);
-    umask(um);
-    fchmod(w->out_fd, 0666 & ~um);
     const uint64_t meta_off = VSV_HEADER_SIZE;
     if (write_at(w->out_fd, vsv_pack_plan_meta_bytes(plan), vsv_pack_plan_first_chunk(plan) - meta_off, meta_off)) {
         rc = fail_errno(w, "writing metadata");
@@ -323,31 +328,20 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
         rc = fail_errno(w, "writing the header");
         goto done;
     }
-    if (fsync(w->out_fd)) {
-        rc = fail_errno(w, "fsync");
-        goto done;
-    }
-    if (close(w->out_fd)) {
-        w->out_fd = -1;
-        rc = fail_errno(w, "close");
-        goto done;
-    }
+    /* synced and closed (a full disk shows here at the latest), renamed,
+     * the directory synced */
+    const int fd = w->out_fd;
     w->out_fd = -1;
-    if (rename(w->tmp, w->path)) {
+    if (vsv_output_seal(fd)) {
+        rc = fail_errno(w, "writing the output (fsync, close)");
+        goto done;
+    }
+    if (vsv_output_publish(w->tmp, w->path)) {
         rc = fail_errno(w, "renaming the temporary output into place");
         goto done;
     }
     free(w->tmp);
     w->tmp = NULL;
-    char *dir = strdup(w->path);
-    if (dir) {
-        int dfd = open(dirname(dir), O_RDONLY | O_DIRECTORY);
-        if (dfd >= 0) {
-            fsync(dfd);
-            close(dfd);
-        }
-        free(dir);
-    }
 done:
     free(sizes);
     free(tail);
@@ -379,7 +373,7 @@ void vsv_writer_free(vsv_writer *w)
     if (w->out_fd >= 0)
         close(w->out_fd);
     if (w->tmp) {
-        unlink(w->tmp);
+        vsv_output_discard(w->tmp);
         free(w->tmp);
     }
     vsv_meta_clear(&w->meta);

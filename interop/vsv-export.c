@@ -10,6 +10,7 @@
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -129,6 +130,9 @@ int main(int argc, char **argv)
             snprintf(name, sizeof name, "%s", out);
         vsv_cli_refuse_input(name, (const char *const *)&path, 1);
     }
+    char *staged = calloc((size_t)(b - a + 1), 4200); /* the files' temporary names */
+    if (!staged)
+        vsv_cli_die(1, "out of memory");
     for (int t = a; t <= b; t++) {
         for (int l = 0; l < n; l++) {
             if (vsv_volume_load(vols[l], d, t, sel[l]))
@@ -142,10 +146,29 @@ int main(int argc, char **argv)
             snprintf(name, sizeof name, out, t - a);
         else
             snprintf(name, sizeof name, "%s", out);
-        if (vsv_vdb_write(name, out_meta, vsv_file_time(f, t), out_vols, n, err, sizeof err))
-            vsv_cli_die(1, "%s", err);
+        /* each file complete under a listed temporary name; all are renamed
+         * into place only when every step is written (all or nothing) */
+        char *tmp = staged + (size_t)(t - a) * 4200;
+        const int fd = vsv_output_temp(name, NULL, tmp, 4200);
+        if (fd < 0)
+            vsv_cli_die(1, "%s: cannot create: %s", name, strerror(errno));
+        close(fd);
+        if (vsv_vdb_write(tmp, out_meta, vsv_file_time(f, t), out_vols, n, err, sizeof err)) {
+            const size_t k = strlen(tmp);
+            vsv_cli_die(1, "%s%s", name, !strncmp(err, tmp, k) ? err + k : err);
+        }
         vsv_cli_progress("vsv-export", t - a + 1, b - a + 1);
     }
+    for (int t = a; t <= b; t++) {
+        char name[4096];
+        if (sequence)
+            snprintf(name, sizeof name, out, t - a);
+        else
+            snprintf(name, sizeof name, "%s", out);
+        if (vsv_output_publish(staged + (size_t)(t - a) * 4200, name))
+            vsv_cli_die(1, "%s: cannot rename into place: %s", name, strerror(errno));
+    }
+    free(staged);
     if (!vsv_cli_quiet() && !isatty(2))
         fprintf(stderr, "vsv-export: %d file%s, %d species each\n", b - a + 1, b > a ? "s" : "", n);
     for (int l = 0; l < n; l++) {

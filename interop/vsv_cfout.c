@@ -121,17 +121,9 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
         snprintf(err, cap, "%s: nothing selected (steps %d..%d of 0..%d, %d species)", path, a, b, info.nsteps - 1, n);
         return VSV_EINVAL;
     }
-    /* the temporary beside path, created exclusively with the umask's mode */
+    /* the temporary beside path, listed (vsv_output.c); netCDF writes it by name */
     char tmp[4200];
-    static unsigned serial;
-    int fd = -1;
-    for (int tries = 0; fd < 0 && tries < 100; tries++) {
-        snprintf(tmp, sizeof tmp, "%s.tmp-%ld-%u", path, (long)getpid(),
-                 __atomic_fetch_add(&serial, 1, __ATOMIC_RELAXED));
-        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL, 0666);
-        if (fd < 0 && errno != EEXIST)
-            break;
-    }
+    int fd = vsv_output_temp(path, NULL, tmp, sizeof tmp);
     if (fd < 0) {
         snprintf(err, cap, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
         return VSV_EIO;
@@ -359,16 +351,13 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
     w.nc = -1;
     if (!nc_ok(&w, crc, "writing"))
         goto fail;
-    fd = open(tmp, O_RDONLY);
-    if (fd < 0 || fsync(fd)) {
+    fd = open(tmp, O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || vsv_output_seal(fd)) {
         snprintf(err, cap, "%s: cannot flush the file to disk: %s", path, strerror(errno));
-        if (fd >= 0)
-            close(fd);
         w.rc = VSV_EIO;
         goto fail;
     }
-    close(fd);
-    if (rename(tmp, path)) {
+    if (vsv_output_publish(tmp, path)) {
         snprintf(err, cap, "%s: cannot rename the finished file into place: %s", path, strerror(errno));
         w.rc = VSV_EIO;
         goto fail;
@@ -381,7 +370,7 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
 fail:
     if (w.nc >= 0)
         nc_abort(w.nc);
-    unlink(tmp);
+    vsv_output_discard(tmp);
     free(vol);
     free(buf);
     free(vid);

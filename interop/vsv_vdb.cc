@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <string>
+#include <fcntl.h>
 #include <unistd.h>
 
 
@@ -46,7 +47,15 @@ std::string meta_string(const openvdb::MetaMap &m, const char *key)
 extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, const vsv_volume *const *vols, int n,
                              char *err, size_t cap)
 {
-    const std::string tmp = std::string(path) + ".tmp." + std::to_string(getpid());
+    // the temporary beside path, listed (vsv_output.c); OpenVDB writes it by name
+    char tmpbuf[4200];
+    const int tfd = vsv_output_temp(path, NULL, tmpbuf, sizeof tmpbuf);
+    if (tfd < 0) {
+        say(err, cap, std::string(path) + ": cannot create: " + std::strerror(errno));
+        return -1;
+    }
+    close(tfd);
+    const std::string tmp = tmpbuf;
     try {
         const one_thread serial;
         openvdb::initialize();
@@ -100,17 +109,22 @@ extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, con
         meta.insertMeta("vertical", openvdb::StringMetadata(m->vert_kind == VSV_VERT_EVEN
                                                                 ? "even heights above sea level, metres"
                                                                 : "native levels at their mean spacing, metres"));
+        // through a stream of ours: io::File ignores a failed write (a full
+        // disk left a short file and exit 0); the stream's state shows it
         openvdb::io::File file(tmp);
         file.write(grids, meta);
         file.close();
-        if (std::rename(tmp.c_str(), path)) {
-            std::remove(tmp.c_str());
+        // synced before the rename
+        const int fd = open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
+        if (fd < 0 || vsv_output_commit(fd, tmp.c_str(), path)) {
             say(err, cap, std::string(path) + ": cannot write: " + std::strerror(errno));
+            if (fd < 0)
+                vsv_output_discard(tmp.c_str());
             return -1;
         }
         return 0;
     } catch (const std::exception &e) {
-        std::remove(tmp.c_str());
+        vsv_output_discard(tmp.c_str());
         say(err, cap, std::string(path) + ": OpenVDB: " + e.what());
         return -1;
     }

@@ -125,13 +125,6 @@ typedef struct movie {
 
 extern char **environ;
 
-static char movie_tmp[4200]; /* removed at exit unless renamed into place */
-
-static void movie_cleanup(void)
-{
-    if (movie_tmp[0])
-        unlink(movie_tmp);
-}
 
 static int have_program(const char *name)
 {
@@ -155,9 +148,12 @@ static void movie_open(movie *mv, const char *out, int w, int h, int fps)
         vsv_cli_die(1, "--movie needs ffmpeg, which is not installed (apt-get install ffmpeg)");
     const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
     const char *ext = dot && (!slash || dot > slash) ? dot : ".mp4";
-    snprintf(mv->tmp, sizeof mv->tmp, "%s.tmp.%d%s", out, (int)getpid(), ext);
-    snprintf(movie_tmp, sizeof movie_tmp, "%s", mv->tmp);
-    atexit(movie_cleanup);
+    /* listed (vsv_output.c): removed on an error exit or a signal; the
+     * extension kept, ffmpeg picks the container by it */
+    const int tfd = vsv_output_temp(out, ext, mv->tmp, sizeof mv->tmp);
+    if (tfd < 0)
+        vsv_cli_die(1, "%s: cannot create: %s", out, strerror(errno));
+    close(tfd);
     mv->out = out;
     int fd[2];
     if (pipe2(fd, O_CLOEXEC))
@@ -199,22 +195,23 @@ static void movie_open(movie *mv, const char *out, int w, int h, int fps)
 
 static void movie_frame(movie *mv, const unsigned char *rgb, int w, int h)
 {
-    if (fwrite(rgb, 3, (size_t)w * h, mv->pipe) != (size_t)w * h) {
-        unlink(mv->tmp);
+    if (fwrite(rgb, 3, (size_t)w * h, mv->pipe) != (size_t)w * h)
         vsv_cli_die(1, "%s: ffmpeg stopped taking frames", mv->out);
-    }
 }
 
+/* Waits for ffmpeg; the movie stays a listed temporary until every output
+ * of the run is complete (main). */
 static void movie_close(movie *mv)
 {
     int st = 0;
     const int wrote = fclose(mv->pipe) == 0;
-    waitpid(mv->pid, &st, 0);
-    if (!wrote || !WIFEXITED(st) || WEXITSTATUS(st) || rename(mv->tmp, mv->out)) {
-        unlink(mv->tmp);
-        vsv_cli_die(1, "%s: ffmpeg failed (exit %d)", mv->out, WIFEXITED(st) ? WEXITSTATUS(st) : -1);
+    while (waitpid(mv->pid, &st, 0) < 0 && errno == EINTR) {
     }
-    movie_tmp[0] = 0;
+    if (!wrote || !WIFEXITED(st) || WEXITSTATUS(st))
+        vsv_cli_die(1, "%s: ffmpeg failed (exit %d)", mv->out, WIFEXITED(st) ? WEXITSTATUS(st) : -1);
+    const int fd = open(mv->tmp, O_RDONLY | O_CLOEXEC);
+    if (fd < 0 || vsv_output_seal(fd))
+        vsv_cli_die(1, "%s: cannot write: %s", mv->out, strerror(errno));
 }
 
 int main(int argc, char **argv)
@@ -549,6 +546,9 @@ int main(int argc, char **argv)
     float *img = malloc((size_t)ow * height * 4 * sizeof(float)), *zimg = malloc((size_t)ow * height * sizeof(float));
     if (vsv_decoder_create(f, &d) || !rgba || !depth || !img || !zimg)
         vsv_cli_die(1, "out of memory");
+    char *staged = out ? calloc((size_t)(b - a + 1), 4200) : NULL; /* the frames' temporary names */
+    if (out && !staged)
+        vsv_cli_die(1, "out of memory");
     for (int t = a; t <= b; t++) {
         for (int l = 0; l < nl; l++)
             if (vsv_volume_load(vols[l], d, t, sidx[l]))
@@ -572,9 +572,20 @@ int main(int argc, char **argv)
             snprintf(name, sizeof name, out, t - a);
         else if (out)
             snprintf(name, sizeof name, "%s", out);
-        if (out && (exr ? vsv_exr_write(name, img, zimg, ow, height, err, sizeof err)
-                        : write_png(name, img, ow, height, bg, err, sizeof err)))
-            vsv_cli_die(1, "%s", err);
+        if (out) {
+            /* each frame complete under a listed temporary name; all are
+             * renamed into place only when the whole run has succeeded */
+            char *tmp = staged + (size_t)(t - a) * 4200;
+            const int fd = vsv_output_temp(name, NULL, tmp, 4200);
+            if (fd < 0)
+                vsv_cli_die(1, "%s: cannot create: %s", name, strerror(errno));
+            close(fd);
+            if (exr ? vsv_exr_write(tmp, img, zimg, ow, height, err, sizeof err)
+                    : write_png(tmp, img, ow, height, bg, err, sizeof err)) {
+                const size_t n = strlen(tmp);
+                vsv_cli_die(1, "%s%s", name, !strncmp(err, tmp, n) ? err + n : err);
+            }
+        }
         if (movie_out) {
             vsv_image_rgb8(img, ow, height, bg, rgb8);
             movie_frame(&mv, rgb8, ow, height);
@@ -583,6 +594,19 @@ int main(int argc, char **argv)
     }
     if (movie_out)
         movie_close(&mv);
+    /* everything written: into place (a sequence appears all at once) */
+    for (int t = a; out && t <= b; t++) {
+        char name[4096];
+        if (sequence)
+            snprintf(name, sizeof name, out, t - a);
+        else
+            snprintf(name, sizeof name, "%s", out);
+        if (vsv_output_publish(staged + (size_t)(t - a) * 4200, name))
+            vsv_cli_die(1, "%s: cannot rename into place: %s", name, strerror(errno));
+    }
+    if (movie_out && vsv_output_publish(mv.tmp, movie_out))
+        vsv_cli_die(1, "%s: cannot rename into place: %s", movie_out, strerror(errno));
+    free(staged);
     free(rgb8);
     if (!vsv_cli_quiet() && !isatty(2))
         fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g%s%s\n", b - a + 1, b > a ? "s" : "", width,

@@ -1,8 +1,10 @@
 /* vsv_exr.c — frames to OpenEXR through its C API (openexr.h): RGBA as half
  * floats (premultiplied, as compositing tools expect) and Z as float, one
- * scanline part, ZIP compression, written to a temporary name and renamed. */
+ * scanline part, ZIP compression, written to a listed temporary, synced and renamed (vsv_output.c). */
 #include "vsv_render.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <openexr.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -12,7 +14,12 @@
 int vsv_exr_write(const char *path, const float *rgba, const float *depth, int w, int h, char *err, size_t cap)
 {
     char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
+    const int fd = vsv_output_temp(path, NULL, tmp, sizeof tmp); /* listed; OpenEXR writes it by name */
+    if (fd < 0) {
+        snprintf(err, cap, "%s: cannot create: %s", path, strerror(errno));
+        return -1;
+    }
+    close(fd);
     exr_context_t ctx = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     int part = 0;
@@ -66,9 +73,17 @@ int vsv_exr_write(const char *path, const float *rgba, const float *depth, int w
     exr_result_t fr = exr_finish(&ctx);
     if (!rc)
         rc = fr;
-    if (rc || rename(tmp, path)) {
-        snprintf(err, cap, "%s: EXR writing failed: %s", path, rc ? exr_get_default_error_message(rc) : "rename");
-        unlink(tmp);
+    if (rc) {
+        snprintf(err, cap, "%s: EXR writing failed: %s", path, exr_get_default_error_message(rc));
+        vsv_output_discard(tmp);
+        return -1;
+    }
+    /* synced before the rename: a full disk is an error, not a short file */
+    const int sfd = open(tmp, O_RDONLY | O_CLOEXEC);
+    if (sfd < 0 || vsv_output_commit(sfd, tmp, path)) {
+        snprintf(err, cap, "%s: cannot write: %s", path, strerror(errno));
+        if (sfd < 0)
+            vsv_output_discard(tmp);
         return -1;
     }
     return 0;

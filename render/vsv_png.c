@@ -27,18 +27,12 @@ void vsv_image_rgb8(const float *rgba, int w, int h, const float bg[3], unsigned
 int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char *err, size_t cap)
 {
     char tmp[4200];
-    snprintf(tmp, sizeof tmp, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(tmp);
-    if (fd >= 0) { /* the mode a plain create would give, not mkstemp's 0600 */
-        const mode_t um = umask(0);
-        umask(um);
-        fchmod(fd, 0666 & ~um);
-    }
+    const int fd = vsv_output_temp(path, NULL, tmp, sizeof tmp);
     FILE *fp = fd >= 0 ? fdopen(fd, "wb") : NULL;
     if (!fp) {
         snprintf(err, cap, "%s: cannot create: %s", path, strerror(errno));
         if (fd >= 0)
-            close(fd), unlink(tmp);
+            close(fd), vsv_output_discard(tmp);
         return -1;
     }
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
@@ -46,7 +40,7 @@ int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
         fclose(fp);
-        unlink(tmp);
+        vsv_output_discard(tmp);
         snprintf(err, cap, "%s: PNG encoding failed", path);
         return -1;
     }
@@ -58,9 +52,12 @@ int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char
         png_write_row(png, (png_const_bytep)(rgb + (size_t)y * w * 3));
     png_write_end(png, info);
     png_destroy_write_struct(&png, &info);
-    if (fclose(fp) || rename(tmp, path)) {
-        unlink(tmp);
-        snprintf(err, cap, "%s: cannot write: %s", path, strerror(errno));
+    /* a full disk or a failed write shows at the flush, fsync or close */
+    const int bad = fflush(fp) || ferror(fp) || fsync(fileno(fp));
+    const int e = errno;
+    if (fclose(fp) || bad || vsv_output_publish(tmp, path)) {
+        snprintf(err, cap, "%s: cannot write: %s", path, strerror(bad ? e : errno));
+        vsv_output_discard(tmp);
         return -1;
     }
     return 0;

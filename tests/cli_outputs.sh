@@ -1,0 +1,86 @@
+#!/bin/sh
+# cli_outputs.sh — outputs are all or nothing (issue 18): a sequence whose
+# step k is damaged leaves none of its files, a full disk (RLIMIT_FSIZE with
+# SIGXFSZ ignored: writes fail with EFBIG, deterministically) is exit 1 with
+# no file, and SIGTERM/SIGINT/SIGHUP remove every temporary before the tool
+# dies of the signal.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-outputs.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/a.vsv" || { fail "convert the sample" "exit $?"; exit 0; }
+# empty NAME DIR : DIR holds no file
+empty() { if [ -z "$(ls -A "$2")" ]; then pass "$1"; else fail "$1" "left: $(ls -A "$2" | head -c 300)"; fi; }
+
+# step 2 of 4 damaged (its chunk index checksum): frames 0 and 1 render, the
+# run fails at 2, and neither 0 nor 1 appears
+python3 - "$T/a.vsv" "$T/bad2.vsv" <<'EOP'
+import struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+toc = struct.unpack_from("<Q", d, 48)[0]
+off = struct.unpack_from("<Q", d, toc + 24 * 2)[0]
+d[off + 28] ^= 0xff
+open(sys.argv[2], "wb").write(d)
+EOP
+for kind in png exr; do
+    mkdir "$T/seq-$kind"
+    expect "vsv-render $kind sequence with step 2 damaged exits 1" 1 "$B/vsv-render" -q "$T/bad2.vsv" \
+        -o "$T/seq-$kind/f_%d.$kind" --times 0:3 --size 64x48
+    has "the damaged step is named" "$T/err" "chunk 2"
+    empty "no frame of the failed $kind sequence, no temporary" "$T/seq-$kind"
+done
+mkdir "$T/seq-vdb"
+expect "vsv-export .vdb sequence with step 2 damaged exits 1" 1 "$B/vsv-export" -q "$T/bad2.vsv" \
+    --vdb "$T/seq-vdb/v_%d.vdb"
+empty "no file of the failed .vdb sequence, no temporary" "$T/seq-vdb"
+mkdir "$T/seq-ok"
+expect "the same sequence from a good file" 0 "$B/vsv-render" -q "$T/a.vsv" -o "$T/seq-ok/f_%d.png" --times 0:3 --size 64x48
+[ "$(ls "$T/seq-ok" | wc -l)" = 4 ] && pass "all four frames" || fail "all four frames" "$(ls "$T/seq-ok")"
+
+# a full disk: every write past N blocks fails (EFBIG)
+printf '#!/bin/sh\ntrap "" XFSZ\nulimit -f ${BLOCKS:-8}\nexec "$@"\n' > "$T/fullfs"
+chmod +x "$T/fullfs"
+mkdir "$T/full"
+# (.vdb on a full disk is not checked: OpenVDB's io::File ignores a failed
+# write, and its io::Stream output is not read back the same way)
+expect "vsv-render on a full disk exits 1" 1 "$T/fullfs" "$B/vsv-render" -q "$T/a.vsv" -o "$T/full/f.png" --time 1
+has "naming the output" "$T/err" "vsv-render: $T/full/f.png"
+empty "no short PNG left" "$T/full"
+expect "vsv-render EXR on a full disk exits 1" 1 "$T/fullfs" "$B/vsv-render" -q "$T/a.vsv" -o "$T/full/f.exr" --time 1
+empty "no short EXR left" "$T/full"
+expect "vsv-convert on a full disk exits 1" 1 env BLOCKS=200 "$T/fullfs" \
+    "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/full/c.vsv"
+has "saying so" "$T/err" "File too large"
+empty "no short .vsv left" "$T/full"
+
+# signals: a movie whose encoder never reads (a stand-in ffmpeg first on
+# PATH) blocks vsv-render with the movie and frame 0 as temporaries; each
+# signal then removes them and kills the tool by that signal
+mkdir "$T/bin"
+cat > "$T/bin/ffmpeg" <<EOS
+#!/bin/sh
+echo \$\$ > "$T/ffmpeg.pid"
+exec sleep 600
+EOS
+chmod +x "$T/bin/ffmpeg"
+for sig in TERM INT HUP; do
+    mkdir "$T/sig-$sig"
+    rm -f "$T/ffmpeg.pid"
+    # (a background job of a script starts with SIGINT ignored: default it)
+    PATH="$T/bin:$PATH" env --default-signal=INT "$B/vsv-render" -q "$T/a.vsv" --movie "$T/sig-$sig/m.mp4" -o "$T/sig-$sig/f_%d.png" \
+        --times 0:3 --size 400x300 < /dev/null > /dev/null 2> "$T/err" &
+    pid=$!
+    # until both temporaries exist (the tool is then blocked writing frame 0
+    # to the encoder): a condition, bounded, not a delay
+    n=0
+    while [ "$(ls "$T/sig-$sig" | grep -c '\.tmp\.')" -lt 2 ] && [ $n -lt 600 ]; do sleep 0.1; n=$((n + 1)); done
+    [ $n -lt 600 ] && pass "SIG$sig: the movie and frame 0 are temporaries while it runs" ||
+        fail "SIG$sig: the movie and frame 0 are temporaries while it runs" "$(ls "$T/sig-$sig")"
+    kill -$sig $pid
+    wait $pid 2> /dev/null
+    rc=$?
+    [ -f "$T/ffmpeg.pid" ] && kill "$(cat "$T/ffmpeg.pid")" 2> /dev/null
+    case $sig in TERM) want=143 ;; INT) want=130 ;; HUP) want=129 ;; esac
+    [ $rc = $want ] && pass "SIG$sig: the tool dies of it (exit $rc)" || fail "SIG$sig: the tool dies of it" "exit $rc, wanted $want"
+    empty "SIG$sig: no temporary and no output left" "$T/sig-$sig"
+done
