@@ -100,6 +100,8 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     const vsv_meta *m = vsv_file_meta(f);
     vsv_file_info info;
     vsv_file_info_get(f, &info);
+    vsv_file_counts cnt;
+    vsv_file_count(f, &cnt);
     vsv_json *root = vsv_json_object();
     char buf[64];
     vsv_json_set(root, "file", vsv_json_string(path));
@@ -205,8 +207,8 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
         vsv_json_push(bd, vsv_json_int(info.bricks[a]));
     vsv_json_set(bricks, "grid", bd);
     const long long total = (long long)info.nbricks * info.nspecies * info.nsteps;
-    vsv_json_set(bricks, "stored", vsv_json_int((long long)info.stored_bricks));
-    vsv_json_set(bricks, "nonempty", vsv_json_int((long long)info.nonempty_bricks));
+    vsv_json_set(bricks, "stored", vsv_json_int((long long)cnt.stored_bricks));
+    vsv_json_set(bricks, "nonempty", vsv_json_int((long long)cnt.nonempty_bricks));
     vsv_json_set(bricks, "total", vsv_json_int(total));
     vsv_json_set(bricks, "octree_levels", vsv_json_int(info.octree_levels));
     vsv_json_set(root, "bricks", bricks);
@@ -257,6 +259,8 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     const vsv_meta *m = vsv_file_meta(f);
     vsv_file_info info;
     vsv_file_info_get(f, &info);
+    vsv_file_counts cnt;
+    vsv_file_count(f, &cnt);
     char a[64], b[64];
     human_bytes((double)info.file_bytes, a, sizeof a);
     printf("%s: .vsv format %d.%d, %s\n", path, info.major, info.minor, a);
@@ -340,8 +344,8 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     printf("  bricks      %d^3, %d x %d x %d per step and species, %d octree levels\n", info.brick, info.bricks[0],
            info.bricks[1], info.bricks[2], info.octree_levels);
     printf("              %llu non-empty of %lld (%.1f %%); %llu payloads stored\n",
-           (unsigned long long)info.nonempty_bricks, total, total ? 100.0 * (double)info.nonempty_bricks / (double)total : 0,
-           (unsigned long long)info.stored_bricks);
+           (unsigned long long)cnt.nonempty_bricks, total, total ? 100.0 * (double)cnt.nonempty_bricks / (double)total : 0,
+           (unsigned long long)cnt.stored_bricks);
     printf("  keyframes   every %d steps; codec %s\n", info.keyframe, info.codec == VSV_CODEC_ZSTD ? "zstd" : "none");
     const double raw = (double)m->nx * m->ny * m->nz * 4.0 * m->nvars * info.nsteps;
     human_bytes(raw, a, sizeof a);
@@ -450,8 +454,10 @@ int main(int argc, char **argv)
             } else if (!json && !field && !want_stats) {
                 vsv_file_info info;
                 vsv_file_info_get(f, &info);
+                vsv_file_counts cnt;
+                vsv_file_count(f, &cnt);
                 printf("%s: ok (%d chunks, %llu payloads verified, %llu bytes)\n", path, info.nsteps,
-                       (unsigned long long)info.stored_bricks, (unsigned long long)info.file_bytes);
+                       (unsigned long long)cnt.stored_bricks, (unsigned long long)info.file_bytes);
             }
             if (status || (!json && !field && !want_stats)) {
                 vsv_file_free(f);
@@ -460,9 +466,11 @@ int main(int argc, char **argv)
         }
         vsv_file_info di;
         vsv_file_info_get(f, &di);
-        if (di.damaged_chunks) {
+        vsv_file_counts dc;
+        vsv_file_count(f, &dc);
+        if (dc.damaged_chunks) {
             fflush(stdout);
-            fprintf(stderr, "vsv-info: %s (%d of %d chunks damaged)\n", vsv_file_error(f), di.damaged_chunks,
+            fprintf(stderr, "vsv-info: %s (%d of %d chunks damaged)\n", vsv_file_error(f), dc.damaged_chunks,
                     di.nsteps);
             vsv_file_free(f);
             status = 1;

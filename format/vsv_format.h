@@ -376,12 +376,16 @@ typedef struct vsv_file_info {
     int codec;
     int octree_levels;         /* level 0 = bricks, last = one root node */
     uint64_t file_bytes;
+} vsv_file_info;
+
+/* Brick counts over the whole file: plain info filled by vsv_file_count. */
+typedef struct vsv_file_counts {
     uint64_t stored_bricks;    /* bricks with a payload (ABS or DELTA) */
     uint64_t nonempty_bricks;  /* bricks whose state is not all code 0 */
     uint64_t payload_bytes;
     int damaged_chunks;        /* chunks whose index failed its checks (not
                                 * counted above); vsv_file_error names the first */
-} vsv_file_info;
+} vsv_file_counts;
 
 /* Maps `path` and validates header, metadata, table of contents and end
  * marker (cost independent of the amount of brick data). Caller frees with
@@ -394,7 +398,11 @@ void vsv_file_free(vsv_file *f);
 const char *vsv_file_error(const vsv_file *f);
 /* Borrowed, valid until vsv_file_free. */
 const vsv_meta *vsv_file_meta(const vsv_file *f);
+/* The header's facts (no chunk is read: cost independent of the steps). */
 void vsv_file_info_get(const vsv_file *f, vsv_file_info *info);
+/* Reads every chunk index (once; verified on the way) and counts bricks:
+ * a summary for vsv-info, whose cost grows with the number of steps. */
+void vsv_file_count(vsv_file *f, vsv_file_counts *c);
 int64_t vsv_file_time(const vsv_file *f, int step);
 /* Borrowed quantisation of species s. */
 const vsv_quant *vsv_file_quant(const vsv_file *f, int s);

@@ -367,7 +367,7 @@ size_t vsv_file_octree_level_start(const vsv_file *f, int level)
 
 /* Counts stored / non-empty bricks and payload bytes: one pass over the chunk
  * indexes, done once, for vsv-info. */
-static void count_bricks(vsv_file *f)
+void vsv_file_count(vsv_file *f, vsv_file_counts *out)
 {
     pthread_mutex_lock(&f->lock);
     if (!f->counted) {
@@ -394,13 +394,15 @@ static void count_bricks(vsv_file *f)
         }
         f->counted = 1;
     }
+    out->stored_bricks = f->stored;
+    out->nonempty_bricks = f->nonempty;
+    out->payload_bytes = f->payload;
+    out->damaged_chunks = f->damaged;
     pthread_mutex_unlock(&f->lock);
 }
 
-void vsv_file_info_get(const vsv_file *cf, vsv_file_info *info)
+void vsv_file_info_get(const vsv_file *f, vsv_file_info *info)
 {
-    vsv_file *f = (vsv_file *)cf;
-    count_bricks(f);
     memset(info, 0, sizeof *info);
     info->major = vsv_rd16(f->data + 8);
     info->minor = vsv_rd16(f->data + 10);
@@ -414,8 +416,4 @@ void vsv_file_info_get(const vsv_file *cf, vsv_file_info *info)
     info->codec = f->codec;
     info->octree_levels = f->lay.levels;
     info->file_bytes = f->size;
-    info->stored_bricks = f->stored;
-    info->nonempty_bricks = f->nonempty;
-    info->payload_bytes = f->payload;
-    info->damaged_chunks = f->damaged;
 }

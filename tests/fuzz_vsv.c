@@ -46,6 +46,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         const vsv_meta *m = vsv_file_meta(f);
         vsv_file_info info;
         vsv_file_info_get(f, &info);
+        vsv_file_counts cnt; /* every chunk index verified */
+        vsv_file_count(f, &cnt);
         const size_t cells = (size_t)m->nx * m->ny * m->nz;
         if (cells <= ((size_t)1 << 20) && (size_t)info.nsteps * info.nspecies <= 4096) {
             rc = vsv_file_check(f, NULL, NULL);
