@@ -1,10 +1,41 @@
 /* vsv_cache.c — the pager's cache: entries keyed by species, brick and
- * defining step in a hash with chains, with use ticks for least-recently-used
- * eviction under the byte budget. */
+ * defining step in a hash with chains, and intrusive least-recently-used
+ * lists (the links live in the entries and tracks), so eviction under the
+ * byte budget takes list heads: no allocation, scan or sort under the lock. */
 #include "vsv_pager_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
+
+static vsv_link *link_at(void *base, size_t stride, int i) { return (vsv_link *)((char *)base + (size_t)i * stride); }
+
+void vsv_lru_init(vsv_lru *l) { l->head = l->tail = -1; }
+
+void vsv_lru_push(vsv_lru *l, void *base, size_t stride, int i)
+{
+    vsv_link *n = link_at(base, stride, i);
+    n->next = -1;
+    n->prev = l->tail;
+    if (l->tail >= 0)
+        link_at(base, stride, l->tail)->next = i;
+    else
+        l->head = i;
+    l->tail = i;
+}
+
+void vsv_lru_unlink(vsv_lru *l, void *base, size_t stride, int i)
+{
+    vsv_link *n = link_at(base, stride, i);
+    if (n->prev >= 0)
+        link_at(base, stride, n->prev)->next = n->next;
+    else
+        l->head = n->next;
+    if (n->next >= 0)
+        link_at(base, stride, n->next)->prev = n->prev;
+    else
+        l->tail = n->prev;
+    n->prev = n->next = -1;
+}
 
 static unsigned hash3(int s, int b, int step)
 {
@@ -21,7 +52,7 @@ int vsv_cache_lookup(const vsv_pager *p, int s, int b, int step)
     return -1;
 }
 
-void vsv_cache_unlink(vsv_pager *p, int e)
+static void hash_unlink(vsv_pager *p, int e)
 {
     int *at = &p->bucket[hash3(p->ent[e].s, p->ent[e].b, p->ent[e].step) & (p->nbucket - 1)];
     while (*at != e)
@@ -48,11 +79,15 @@ int vsv_cache_rehash(vsv_pager *p, unsigned n)
     return 0;
 }
 
+/* The list an unpinned entry belongs on: inside the window or outside. */
+static vsv_lru *list_of(vsv_pager *p, const entry *E) { return &p->lru[E->mark == p->mark ? L_IN : L_OUT]; }
 
-/* A new LOADING entry with its buffer (under the lock); -1 when out of memory. */
-int vsv_cache_insert(vsv_pager *p, int s, int b, int step)
+/* A brick this thread will decode (under the lock): a new LOADING entry
+ * with its buffer, pinned while it is decoded so nothing evicts it; -1
+ * when out of memory. */
+int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
 {
-    float *buf = vsv_slab_get(p);
+    float *buf = vsv_slab_get(p, 0);
     if (!buf)
         return -1;
     int e = p->freelist;
@@ -63,7 +98,7 @@ int vsv_cache_insert(vsv_pager *p, int s, int b, int step)
             const int cap = p->capent ? 2 * p->capent : 1024;
             entry *ne = realloc(p->ent, (size_t)cap * sizeof *ne);
             if (!ne) {
-                vsv_slab_put(p, buf);
+                vsv_slab_put(p, 0, buf);
                 return -1;
             }
             p->ent = ne;
@@ -73,81 +108,140 @@ int vsv_cache_insert(vsv_pager *p, int s, int b, int step)
         if ((unsigned)p->nent * 2 > p->nbucket) {
             p->ent[e].state = -1;
             if (vsv_cache_rehash(p, p->nbucket * 2)) {
-                vsv_slab_put(p, buf);
+                p->ent[e].next = p->freelist;
+                p->freelist = e;
+                vsv_slab_put(p, 0, buf);
                 return -1;
             }
         }
     }
     entry *E = &p->ent[e];
-    *E = (entry){s, b, step, LOADING, 0, p->mark, buf, ++p->tick, 0};
+    *E = (entry){{-1, -1}, s, b, step, LOADING, 1, 0, p->mark, buf, 0};
     const unsigned h = hash3(s, b, step) & (p->nbucket - 1);
     E->next = p->bucket[h];
     p->bucket[h] = e;
     p->bytes += p->brick_bytes;
+    p->pinned += p->brick_bytes;
     if (p->bytes > p->peak)
         p->peak = p->bytes;
     return e;
 }
 
-/* A brick this thread will decode (under the lock): a new entry, pinned
- * while it is decoded so nothing evicts it; -1 when out of memory. */
-int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
-{
-    const int e = vsv_cache_insert(p, s, b, step);
-    if (e >= 0) {
-        p->ent[e].pins = 1;
-        p->pinned += p->brick_bytes;
-    }
-    return e;
-}
-
 void vsv_cache_drop(vsv_pager *p, int e)
 {
-    vsv_cache_unlink(p, e);
-    vsv_slab_put(p, p->ent[e].data);
-    p->ent[e].data = NULL;
-    p->ent[e].state = -1;
-    p->ent[e].next = p->freelist;
+    entry *E = &p->ent[e];
+    if (E->listed)
+        vsv_lru_unlink(list_of(p, E), p->ent, sizeof *p->ent, e);
+    if (E->pins)
+        p->pinned -= p->brick_bytes;
+    hash_unlink(p, e);
+    vsv_slab_put(p, 0, E->data);
+    E->data = NULL;
+    E->state = -1;
+    E->listed = 0;
+    E->pins = 0;
+    E->next = p->freelist;
     p->freelist = e;
     p->bytes -= p->brick_bytes;
 }
 
-static int tick_cmp(const void *a, const void *b)
+void vsv_cache_touch(vsv_pager *p, int e)
 {
-    const uint64_t x = ((const uint64_t *)a)[0], y = ((const uint64_t *)b)[0];
-    return x < y ? -1 : x > y;
+    entry *E = &p->ent[e];
+    if (!E->listed)
+        return;
+    vsv_lru *l = list_of(p, E);
+    vsv_lru_unlink(l, p->ent, sizeof *p->ent, e);
+    vsv_lru_push(l, p->ent, sizeof *p->ent, e);
 }
 
-/* Evicts unpinned READY (and FAILED) entries until `extra` more bytes fit in
- * the budget: those outside the prefetch window first, least recently used
- * first; inside the window only when `window` is set. Returns whether they
- * fit. */
+void vsv_cache_pin(vsv_pager *p, int e)
+{
+    entry *E = &p->ent[e];
+    if (E->pins++)
+        return;
+    p->pinned += p->brick_bytes;
+    if (E->listed) {
+        vsv_lru_unlink(list_of(p, E), p->ent, sizeof *p->ent, e);
+        E->listed = 0;
+    }
+}
+
+void vsv_cache_unpin(vsv_pager *p, int e)
+{
+    entry *E = &p->ent[e];
+    if (--E->pins)
+        return;
+    p->pinned -= p->brick_bytes;
+    if (E->state == READY || E->state == FAILED) {
+        vsv_lru_push(list_of(p, E), p->ent, sizeof *p->ent, e);
+        E->listed = 1;
+    }
+}
+
+/* Called before p->mark changes: the old window's entries join the outside
+ * list (behind its own, as more recently used), in one splice. */
+void vsv_cache_new_window(vsv_pager *p)
+{
+    vsv_lru *in = &p->lru[L_IN], *out = &p->lru[L_OUT];
+    if (in->head < 0)
+        return;
+    if (out->tail >= 0) {
+        p->ent[out->tail].ln.next = in->head;
+        p->ent[in->head].ln.prev = out->tail;
+        out->tail = in->tail;
+    } else {
+        *out = *in;
+    }
+    vsv_lru_init(in);
+}
+
+/* Marks e as needed by the current window: to the inside list. */
+void vsv_cache_mark(vsv_pager *p, int e)
+{
+    entry *E = &p->ent[e];
+    if (E->mark == p->mark)
+        return;
+    if (E->listed) {
+        vsv_lru_unlink(&p->lru[L_OUT], p->ent, sizeof *p->ent, e);
+        E->mark = p->mark;
+        vsv_lru_push(&p->lru[L_IN], p->ent, sizeof *p->ent, e);
+    }
+    E->mark = p->mark;
+}
+
+static void evict_track(vsv_pager *p)
+{
+    const int i = p->tlru.head;
+    track *T = &p->tracks[i];
+    vsv_lru_unlink(&p->tlru, p->tracks, sizeof *p->tracks, i);
+    T->listed = 0;
+    vsv_slab_put(p, 1, T->codes);
+    T->codes = NULL;
+    T->step = -1;
+    p->bytes -= p->codes_bytes;
+    p->track_bytes -= p->codes_bytes;
+}
+
+/* Evicts until `extra` more bytes fit in the budget, taking list heads:
+ * unpinned bricks outside the prefetch window (least recently used first),
+ * then idle decoder tracks, then (only when `window` is set) unpinned bricks
+ * inside the window. Returns whether they fit. */
 int vsv_cache_make_room(vsv_pager *p, size_t extra, int window)
 {
-    if (p->bytes + extra <= p->budget)
-        return 1;
-    size_t n = 0;
-    for (int e = 0; e < p->nent; e++)
-        if ((p->ent[e].state == READY || p->ent[e].state == FAILED) && !p->ent[e].pins)
-            n++;
-    uint64_t *c = malloc((n ? n : 1) * 2 * sizeof *c);
-    if (!c)
-        return 0;
-    n = 0;
-    for (int e = 0; e < p->nent; e++) {
-        const entry *E = &p->ent[e];
-        if ((E->state == READY || E->state == FAILED) && !E->pins && (window || E->mark != p->mark)) {
-            c[2 * n] = (E->mark == p->mark ? 1ull << 62 : 0) | E->tick;
-            c[2 * n + 1] = (uint64_t)e;
-            n++;
+    while (p->bytes + extra > p->budget) {
+        if (p->lru[L_OUT].head >= 0) {
+            vsv_cache_drop(p, p->lru[L_OUT].head);
+            p->st.evictions++;
+        } else if (p->tlru.head >= 0) {
+            evict_track(p);
+        } else if (window && p->lru[L_IN].head >= 0) {
+            vsv_cache_drop(p, p->lru[L_IN].head);
+            p->st.evictions++;
+        } else {
+            return 0;
         }
-    }
-    qsort(c, n, 2 * sizeof *c, tick_cmp);
-    for (size_t i = 0; i < n && p->bytes + extra > p->budget; i++) {
-        vsv_cache_drop(p, (int)c[2 * i + 1]);
-        p->st.evictions++;
         p->scan_d = p->scan_s = p->scan_b = 0; /* what was there may be gone */
     }
-    free(c);
-    return p->bytes + extra <= p->budget;
+    return 1;
 }

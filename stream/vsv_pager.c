@@ -17,6 +17,44 @@
 
 void vsv_pager_opts_init(vsv_pager_opts *o) { memset(o, 0, sizeof *o); }
 
+/* Frees what open allocated (the workers stopped). */
+static void release(vsv_pager *p)
+{
+    for (int i = 0; p->dec && i < p->nthreads; i++)
+        vsv_decoder_free(p->dec[i]);
+    for (int i = 0; p->scratch && i < p->nthreads; i++)
+        free(p->scratch[i]);
+    for (int i = 0; p->jobs && i < p->nthreads; i++)
+        free(p->jobs[i].step), free(p->jobs[i].ent), free(p->jobs[i].out);
+    vsv_decoder_free(p->own);
+    free(p->own_scratch);
+    vsv_slab_free_all(p);
+    if (p->rows)
+        free(p->rows[0].def);
+    free(p->rows);
+    free(p->tracks);
+    free(p->want);
+    free(p->ent);
+    free(p->bucket);
+    free(p->dec);
+    free(p->scratch);
+    free(p->jobs);
+    free(p->tid);
+    pthread_mutex_destroy(&p->mu);
+    pthread_mutex_destroy(&p->own_mu);
+    pthread_cond_destroy(&p->ready);
+    pthread_cond_destroy(&p->work);
+    free(p);
+}
+
+static int job_alloc(vsv_pager *p, job *j)
+{
+    j->step = malloc((size_t)p->job_cap * sizeof *j->step);
+    j->ent = malloc((size_t)p->job_cap * sizeof *j->ent);
+    j->out = malloc((size_t)p->job_cap * sizeof *j->out);
+    return j->step && j->ent && j->out ? 0 : VSV_ENOMEM;
+}
+
 int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
 {
     vsv_pager_opts def;
@@ -24,55 +62,95 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
         vsv_pager_opts_init(&def);
         o = &def;
     }
-    vsv_pager *p = *out = calloc(1, sizeof *p);
+    *out = NULL;
+    vsv_pager *p = calloc(1, sizeof *p);
     if (!p)
         return VSV_ENOMEM;
     p->f = f;
     vsv_file_info_get(f, &p->info);
     p->meta = vsv_file_meta(f);
-    p->brick_bytes = (size_t)p->info.brick * p->info.brick * p->info.brick * sizeof(float);
-    p->slab_bytes = p->brick_bytes > ((size_t)2 << 20) ? p->brick_bytes : ((size_t)2 << 20) / p->brick_bytes * p->brick_bytes;
+    const size_t cells = (size_t)p->info.brick * p->info.brick * p->info.brick;
+    const int ns = p->info.nspecies, nb = p->info.nbricks;
+    p->brick_bytes = cells * sizeof(float);
+    p->codes_bytes = cells * sizeof(uint16_t);
+    p->slab_bytes = (size_t)2 << 20; /* bricks are at most 64^3 floats: 1 MB */
+    p->pool[0].size = p->brick_bytes;
+    p->pool[1].size = p->codes_bytes;
     p->budget = o->budget;
     if (!p->budget) {
         const long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
         p->budget = pages > 0 && psz > 0 ? (size_t)pages * (size_t)psz / 4 : (size_t)1 << 30;
     }
     p->ahead = o->ahead > 0 ? o->ahead : 16;
+    p->incremental = !o->from_keyframe;
+    p->job_cap = p->ahead + 2;
     p->stride = 1;
     p->dir = 1;
     p->freelist = -1;
     p->focus = -1;
+    for (int l = 0; l < 3; l++)
+        vsv_lru_init(&p->lru[l]);
+    vsv_lru_init(&p->tlru);
     pthread_mutex_init(&p->mu, NULL);
     pthread_mutex_init(&p->own_mu, NULL);
     pthread_cond_init(&p->ready, NULL);
     pthread_cond_init(&p->work, NULL);
-    p->rows = calloc((size_t)p->info.nsteps * p->info.nspecies, sizeof *p->rows);
-    p->want = calloc((size_t)p->info.nspecies, 1);
-    if (!p->rows || !p->want || vsv_cache_rehash(p, 2048) || vsv_decoder_create(f, &p->own))
+    /* rows of defining steps: enough that the window's never collide */
+    p->nrows = 4;
+    while (p->nrows < 2 * (p->ahead + 2) * ns)
+        p->nrows *= 2;
+    p->rows = calloc((size_t)p->nrows, sizeof *p->rows);
+    int *defs = p->rows ? malloc((size_t)p->nrows * nb * sizeof *defs) : NULL;
+    p->tracks = calloc((size_t)ns * nb, sizeof *p->tracks);
+    p->want = calloc((size_t)ns, 1);
+    p->own_scratch = malloc(p->codes_bytes);
+    if (!defs || !p->tracks || !p->want || !p->own_scratch || vsv_cache_rehash(p, 2048) ||
+        vsv_decoder_create(f, &p->own)) {
+        if (p->rows)
+            p->rows[0].def = defs;
+        release(p);
         return VSV_ENOMEM;
-    memset(p->want, 1, (size_t)p->info.nspecies);
+    }
+    for (int r = 0; r < p->nrows; r++)
+        p->rows[r] = (defrow){-1, 0, defs + (size_t)r * nb};
+    for (int i = 0; i < ns * nb; i++)
+        p->tracks[i] = (track){{-1, -1}, NULL, -1, 0, 0};
+    memset(p->want, 1, (size_t)ns);
     int n = o->threads < 0 ? 0 : o->threads > 0 ? o->threads : vsv_ncpus() - 1;
     if (o->threads == 0 && n < 1)
         n = 1;
     p->dec = calloc((size_t)(n ? n : 1), sizeof *p->dec);
+    p->scratch = calloc((size_t)(n ? n : 1), sizeof *p->scratch);
+    p->jobs = calloc((size_t)(n ? n : 1), sizeof *p->jobs);
     p->tid = calloc((size_t)(n ? n : 1), sizeof *p->tid);
-    if (!p->dec || !p->tid)
+    if (!p->dec || !p->scratch || !p->jobs || !p->tid) {
+        release(p);
         return VSV_ENOMEM;
-    for (int i = 0; i < n; i++) {
+    }
+    /* the fixed tables count against the budget as well */
+    p->fixed = sizeof *p + (size_t)p->nrows * (sizeof *p->rows + (size_t)nb * sizeof(int)) +
+               (size_t)ns * nb * sizeof *p->tracks + p->nbucket * sizeof(int) +
+               (size_t)(n + 1) * (p->codes_bytes + (size_t)p->job_cap * (2 * sizeof(int) + sizeof(float *)));
+    p->bytes = p->peak = p->fixed;
+    for (int i = 0; i < n; i++) { /* as many workers as start */
         wslot *ws = malloc(sizeof *ws);
-        if (!ws || vsv_decoder_create(f, &p->dec[i])) {
-            free(ws);
-            return VSV_ENOMEM;
+        int ok = ws && !vsv_decoder_create(f, &p->dec[i]) && (p->scratch[i] = malloc(p->codes_bytes)) &&
+                 !job_alloc(p, &p->jobs[i]);
+        if (ok) {
+            *ws = (wslot){p, i};
+            ok = !pthread_create(&p->tid[i], NULL, vsv_pager_worker, ws);
         }
-        *ws = (wslot){p, i};
-        if (pthread_create(&p->tid[i], NULL, vsv_pager_worker, ws)) {
+        if (!ok) {
             free(ws);
             vsv_decoder_free(p->dec[i]);
-            p->dec[i] = NULL;
+            free(p->scratch[i]);
+            free(p->jobs[i].step), free(p->jobs[i].ent), free(p->jobs[i].out);
+            p->dec[i] = NULL, p->scratch[i] = NULL, p->jobs[i] = (job){0};
             break;
         }
         p->nthreads++;
     }
+    *out = p;
     return 0;
 }
 
@@ -94,48 +172,46 @@ void vsv_pager_free(vsv_pager *p)
         sh->v.step = sh->v.species = -1;
         sh->v.gen = 0;
     }
-    for (int i = 0; p->dec && i < p->nthreads; i++)
-        vsv_decoder_free(p->dec[i]);
-    vsv_decoder_free(p->own);
-    for (int i = 0; i < p->nslabs; i++)
-        free(p->slabs[i]);
-    free(p->slabs);
-    if (p->rows)
-        for (size_t i = 0; i < (size_t)p->info.nsteps * p->info.nspecies; i++)
-            free(p->rows[i].def);
-    free(p->rows);
-    free(p->want);
-    free(p->ent);
-    free(p->bucket);
-    free(p->dec);
-    free(p->tid);
-    pthread_mutex_destroy(&p->mu);
-    pthread_mutex_destroy(&p->own_mu);
-    pthread_cond_destroy(&p->ready);
-    pthread_cond_destroy(&p->work);
-    free(p);
+    release(p);
 }
 
-const char *vsv_pager_error(const vsv_pager *p) { return p->err; }
+const char *vsv_pager_error(const vsv_pager *cp)
+{
+    static _Thread_local char copy[sizeof cp->err];
+    vsv_pager *p = (vsv_pager *)cp;
+    pthread_mutex_lock(&p->mu);
+    memcpy(copy, p->err, sizeof copy);
+    pthread_mutex_unlock(&p->mu);
+    return copy;
+}
 
 void vsv_pager_playhead(vsv_pager *p, int step, int dir, int stride, int loop, const unsigned char *species)
 {
     pthread_mutex_lock(&p->mu);
-    p->head = step < 0 ? 0 : step >= p->info.nsteps ? p->info.nsteps - 1 : step;
-    p->dir = dir > 0 ? 1 : dir < 0 ? -1 : 0;
-    p->stride = stride > 0 ? stride : 1;
+    const int head = step < 0 ? 0 : step >= p->info.nsteps ? p->info.nsteps - 1 : step;
+    dir = dir > 0 ? 1 : dir < 0 ? -1 : 0;
+    stride = stride > 0 ? stride : 1;
+    int same = head == p->head && dir == p->dir && stride == p->stride && loop == p->loop;
+    for (int s = 0; s < p->info.nspecies; s++) {
+        const unsigned char w = species ? species[s] != 0 : 1;
+        same &= p->want[s] == w;
+        p->want[s] = w;
+    }
+    p->head = head;
+    p->dir = dir;
+    p->stride = stride;
     p->loop = loop;
-    for (int s = 0; s < p->info.nspecies; s++)
-        p->want[s] = species ? species[s] != 0 : 1;
-    p->gen++;
-    pthread_cond_broadcast(&p->work);
+    if (!same) {
+        p->gen++;
+        pthread_cond_broadcast(&p->work);
+    }
     pthread_mutex_unlock(&p->mu);
 }
 
 static void shell_release(vsv_volume *v);
 static void unpin(vsv_pager *p, shell *sh);
 
-/* sh is a volume of p's (a shell of p still alive). */
+/* v is a volume of p's (a shell of p still alive). */
 static int is_shell_of(const vsv_pager *p, const vsv_volume *v)
 {
     return v && v->release_ == shell_release && ((const shell *)v)->p == p;
@@ -153,7 +229,9 @@ vsv_volume *vsv_pager_volume_new(vsv_pager *p)
     sh->v.bmax = calloc((size_t)nb, sizeof(float));
     sh->v.bkey = calloc((size_t)nb, sizeof *sh->v.bkey);
     sh->held = malloc((size_t)nb * sizeof *sh->held);
-    if (!sh->v.bricks || !sh->v.bmin || !sh->v.bmax || !sh->v.bkey || !sh->held) {
+    sh->def = malloc((size_t)nb * sizeof *sh->def);
+    if (!sh->v.bricks || !sh->v.bmin || !sh->v.bmax || !sh->v.bkey || !sh->held || !sh->def ||
+        job_alloc(p, &sh->job)) {
         shell_release(&sh->v);
         return NULL;
     }
@@ -207,6 +285,10 @@ static void shell_release(vsv_volume *v)
     free(v->bmax);
     free(v->bkey);
     free(sh->held);
+    free(sh->def);
+    free(sh->job.step);
+    free(sh->job.ent);
+    free(sh->job.out);
     free(sh);
 }
 
@@ -215,9 +297,7 @@ static void unpin(vsv_pager *p, shell *sh)
 {
     for (int b = 0; b < p->info.nbricks; b++)
         if (sh->held[b] >= 0) {
-            entry *E = &p->ent[sh->held[b]];
-            if (!--E->pins)
-                p->pinned -= p->brick_bytes;
+            vsv_cache_unpin(p, sh->held[b]);
             sh->held[b] = -1;
         }
     sh->v.step = sh->v.species = -1;
@@ -236,21 +316,84 @@ void vsv_pager_put(vsv_pager *p, vsv_volume *v)
     pthread_mutex_unlock(&p->mu);
 }
 
-static void pin(vsv_pager *p, shell *sh, int b, int e)
+static void hold(vsv_pager *p, shell *sh, int b, int e)
 {
-    entry *E = &p->ent[e];
-    if (!E->pins++)
-        p->pinned += p->brick_bytes;
-    E->tick = ++p->tick;
+    vsv_cache_pin(p, e);
+    vsv_cache_touch(p, e);
     sh->held[b] = e;
-    sh->v.bricks[b] = E->data;
+    sh->v.bricks[b] = p->ent[e].data;
+}
+
+/* Whether brick b of species s waits for its track (a job is using it). */
+static int track_busy(const vsv_pager *p, int s, int b)
+{
+    return p->incremental && p->tracks[(size_t)s * p->info.nbricks + b].busy;
+}
+
+/* Decodes on this thread what is missing of (step, s) and nobody is
+ * decoding, and waits for the rest (under the lock, which it drops while
+ * decoding and waiting). */
+static int fill(vsv_pager *p, shell *sh, int need)
+{
+    vsv_volume *v = &sh->v;
+    const int s = v->species, nb = p->info.nbricks;
+    const int *def = sh->def;
+    job *j = &sh->job;
+    while (need) {
+        int progressed = 0;
+        for (int b = 0; b < nb; b++) {
+            if (def[b] < 0 || sh->held[b] >= 0)
+                continue;
+            int e = vsv_cache_lookup(p, s, b, def[b]);
+            if (e >= 0 && p->ent[e].state == READY) {
+                hold(p, sh, b, e);
+                need--;
+                progressed = 1;
+                continue;
+            }
+            if (e >= 0 && p->ent[e].state == FAILED) {
+                vsv_cache_drop(p, e); /* retry once here: the error is reported below */
+                e = -1;
+            }
+            if (e >= 0 || track_busy(p, s, b))
+                continue; /* another thread decodes it, or carries its track forward */
+            vsv_cache_make_room(p, p->brick_bytes, 1);
+            int rc = vsv_pager_job_make(p, j, s, b, def[b]);
+            if (rc)
+                return rc;
+            pthread_mutex_unlock(&p->mu);
+            char msg[256];
+            pthread_mutex_lock(&p->own_mu);
+            const double t0 = vsv_pager_now();
+            const int ok = !vsv_pager_job_run(p, p->own, j, p->own_scratch, msg, sizeof msg);
+            const double t1 = vsv_pager_now();
+            pthread_mutex_unlock(&p->own_mu);
+            pthread_mutex_lock(&p->mu);
+            vsv_pager_job_finish(p, j, ok, t1 - t0, 1);
+            if (!ok) {
+                vsv_pager_set_err(p, "%s", msg);
+                return VSV_ECORRUPT;
+            }
+            e = j->ent[j->n - 1]; /* pinned for us */
+            sh->held[b] = e;
+            v->bricks[b] = p->ent[e].data;
+            vsv_cache_make_room(p, 0, 1); /* the job's other outputs were released */
+            need--;
+            progressed = 1;
+        }
+        if (need && !progressed)
+            pthread_cond_wait(&p->ready, &p->mu);
+    }
+    return 0;
 }
 
 int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
 {
     shell *sh = (shell *)v;
     if (!is_shell_of(p, v)) {
+        pthread_mutex_lock(&p->mu);
         vsv_pager_set_err(p, "vsv_pager_get: not a volume of this pager (vsv_pager_volume_new)");
+        pthread_mutex_unlock(&p->mu);
         return VSV_EINVAL;
     }
     if (step < 0 || step >= p->info.nsteps || s < 0 || s >= p->info.nspecies)
@@ -258,30 +401,31 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
     const int nb = p->info.nbricks;
     pthread_mutex_lock(&p->mu);
     unpin(p, sh);
-    const int *def = vsv_pager_defs(p, step, s);
-    const unsigned char *oct = vsv_file_octree(p->f, step, s, NULL);
+    vsv_cache_make_room(p, 0, 1);
+    const int *def = vsv_sched_mark_window(p) ? vsv_pager_defs(p, step, s) : NULL;
+    const unsigned char *oct = def ? vsv_file_octree(p->f, step, s, NULL) : NULL;
     if (!def || !oct) {
-        vsv_cache_make_room(p, 0, 1);
         pthread_mutex_unlock(&p->mu);
         return VSV_ECORRUPT;
     }
+    memcpy(sh->def, def, (size_t)nb * sizeof *def); /* the row cache may reuse the slot */
     const vsv_quant *q = vsv_file_quant(p->f, s);
     v->empty_value = vsv_quant_value(q, 0);
-    size_t need = 0;
-    int rc = 0;
+    v->species = s;
+    int need = 0, rc = 0;
     for (int b = 0; b < nb; b++) {
         unsigned mn, mx;
         vsv_octree_node(oct, (size_t)b, &mn, &mx);
         v->bmin[b] = vsv_quant_value(q, mn);
         v->bmax[b] = vsv_quant_value(q, mx);
-        v->bkey[b] = vsv_file_brick_key(p->f, s, def[b]);
+        v->bkey[b] = vsv_file_brick_key(p->f, s, sh->def[b]);
         v->bricks[b] = NULL;
-        if (def[b] < 0)
+        if (sh->def[b] < 0)
             continue;
-        const int e = vsv_cache_lookup(p, s, b, def[b]);
+        const int e = vsv_cache_lookup(p, s, b, sh->def[b]);
         if (e >= 0 && p->ent[e].state == READY) {
             p->st.hits++;
-            pin(p, sh, b, e);
+            hold(p, sh, b, e);
         } else {
             p->st.misses++;
             need++;
@@ -294,56 +438,9 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
         pthread_mutex_unlock(&p->mu);
         return VSV_EAGAIN;
     }
-    if (need)
+    if (need) {
         p->st.stalls++;
-    /* what is missing: decode here what nobody is decoding, wait for the rest */
-    while (need && !rc) {
-        int progressed = 0;
-        for (int b = 0; b < nb && !rc; b++) {
-            if (def[b] < 0 || sh->held[b] >= 0)
-                continue;
-            int e = vsv_cache_lookup(p, s, b, def[b]);
-            if (e >= 0 && p->ent[e].state == READY) {
-                pin(p, sh, b, e);
-                need--;
-                progressed = 1;
-                continue;
-            }
-            if (e >= 0 && p->ent[e].state == FAILED) {
-                vsv_cache_drop(p, e); /* retry once here: the error is reported below */
-                e = -1;
-            }
-            if (e >= 0)
-                continue; /* a worker decodes it */
-            vsv_cache_make_room(p, p->brick_bytes, 1);
-            if ((e = vsv_cache_claim(p, s, b, def[b])) < 0) {
-                rc = VSV_ENOMEM;
-                break;
-            }
-            float *out = p->ent[e].data;
-            pthread_mutex_unlock(&p->mu);
-            char msg[256];
-            pthread_mutex_lock(&p->own_mu);
-            const double t0 = vsv_pager_now();
-            const int ok = !vsv_pager_decode(p, p->own, s, b, def[b], out, msg, sizeof msg);
-            const double t1 = vsv_pager_now();
-            pthread_mutex_unlock(&p->own_mu);
-            pthread_mutex_lock(&p->mu);
-            vsv_pager_finish(p, e, ok, t1 - t0);
-            if (!ok) {
-                vsv_pager_set_err(p, "%s", msg);
-                p->ent[e].pins = 0;
-                p->pinned -= p->brick_bytes;
-                rc = VSV_ECORRUPT;
-                break;
-            }
-            sh->held[b] = e; /* already pinned */
-            v->bricks[b] = p->ent[e].data;
-            need--;
-            progressed = 1;
-        }
-        if (need && !rc && !progressed)
-            pthread_cond_wait(&p->ready, &p->mu);
+        rc = fill(p, sh, need);
     }
     if (rc) {
         unpin(p, sh);
@@ -392,6 +489,8 @@ void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st)
     st->bytes = p->bytes;
     st->pinned_bytes = p->pinned;
     st->peak_bytes = p->peak;
+    st->track_bytes = p->track_bytes;
+    st->fixed_bytes = p->fixed;
     pthread_mutex_unlock(&p->mu);
 }
 

@@ -1,22 +1,45 @@
-/* vsv_pager.h — the brick pager: decoded bricks of a mapped .vsv in a cache
+/* vsv_pager.h — the brick pager: decoded bricks of a .vsv in a cache
  * bounded by a byte budget, pinned while a renderer reads them, decoded ahead
  * of the playhead on worker threads in the direction of play.
  *
  * The unit of caching is one brick of one species in one state: a brick
  * that a step leaves UNCHANGED is the same cache entry for every step that
  * shares it, and a brick that is all code 0 (EMPTY, or no data) takes no
- * memory. Decoding a brick walks back to its last keyframe state, so any
- * seek costs at most K-1 delta decodes per brick (K = the file's keyframe
- * interval).
+ * memory.
  *
- * Budget: the decoded bytes held (cached, pinned or being decoded) stay
- * within the budget except for bricks that are pinned or being decoded: a
- * budget smaller than one time step degrades to
- * decoding on demand, never to a deadlock. Prefetch decodes only what fits
- * beside the current step (ahead = min(ahead option, budget / step size - 2)).
+ * Decoding: the pager keeps, per species and brick, the decoder state (the
+ * brick's quantised codes at the last step decoded), so playing forward
+ * costs one payload per changed brick per step. Playing backward, a brick
+ * is decoded once from its keyframe through the steps of its keyframe
+ * group that the prefetch window holds, and those steps are then served
+ * from the cache. A seek costs at most K payloads per brick (K = the
+ * file's keyframe interval).
  *
- * Thread safety: every call may be made from any thread; the vsv_file must
- * outlive the pager. */
+ * Budget: everything the pager allocates — decoded bricks, decoder state,
+ * the tables of defining steps (stats.fixed_bytes) — counts against the
+ * budget, and what is evicted returns to the pager's buffer pools. The
+ * bytes held stay within the budget except for bricks that are pinned (held
+ * in a volume) or being decoded (stats.pinned_bytes): a budget smaller than
+ * one time step degrades to decoding on demand, never to a deadlock.
+ * Prefetch decodes only what fits beside the current step (ahead =
+ * min(ahead option, budget / step size - 2)). Eviction takes the least
+ * recently used brick outside the prefetch window, then idle decoder
+ * state, then bricks inside the window.
+ *
+ * Failures: a damaged chunk index or brick payload fails the vsv_pager_get
+ * that needs it (VSV_ECORRUPT, or VSV_ECODEC folded into it) with a message
+ * naming the file, step, species, brick and offset (vsv_pager_error); other
+ * steps and species keep playing. A worker's failure is recorded in the
+ * cache and retried once by the get that needs the brick. Out of memory is
+ * VSV_ENOMEM from the get. Nothing fails silently and nothing is retried in
+ * a loop.
+ *
+ * Thread safety: every call may be made from any thread (one mutex; see
+ * vsv_pager_internal.h for the lock discipline), except that a volume is
+ * used by one thread at a time; the vsv_file must outlive the pager. The
+ * pager reads the file only through the reader's calls (chunk index, brick
+ * kinds, octree, decoder), never its bytes, so any byte source behind the
+ * vsv_file serves it. */
 #ifndef VSV_PAGER_H
 #define VSV_PAGER_H
 
@@ -37,6 +60,9 @@ typedef struct vsv_pager_opts {
     size_t budget; /* bytes of decoded bricks; 0 = a quarter of physical memory */
     int threads;   /* decode-ahead workers; 0 = one per CPU beyond the first (at least 1); < 0 none */
     int ahead;     /* most steps decoded ahead of the playhead; 0 = 16 */
+    int from_keyframe; /* 1: keep no decoder state, decode every brick from its
+                          last absolute state (the earlier path; benchmarks
+                          compare against it) */
 } vsv_pager_opts;
 
 void vsv_pager_opts_init(vsv_pager_opts *o);
@@ -45,6 +71,7 @@ typedef struct vsv_pager_stats {
     uint64_t hits, misses;    /* brick lookups by vsv_pager_get: found decoded / not */
     uint64_t bricks_decoded;  /* by workers and by callers */
     uint64_t bytes_decoded;   /* decoded float bytes produced */
+    uint64_t payloads_decoded; /* brick payloads (absolute or delta) decompressed and applied */
     double decode_seconds;    /* summed over threads */
     uint64_t stalls;          /* gets that could not be served without waiting */
     uint64_t evictions;       /* bricks dropped to stay within the budget */
@@ -53,6 +80,8 @@ typedef struct vsv_pager_stats {
     size_t bytes;             /* decoded bytes held now (cached + pinned + decoding) */
     size_t pinned_bytes;      /* of which pinned or being decoded */
     size_t peak_bytes;        /* most bytes held at once */
+    size_t track_bytes;       /* of bytes: decoder state (codes per species and brick) */
+    size_t fixed_bytes;       /* of bytes: the pager's fixed tables */
 } vsv_pager_stats;
 
 /* Starts the pager over f (which must outlive it). */
@@ -60,7 +89,8 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out);
 /* Stops the workers and frees every brick. Volumes of the pager still out
  * lose their bricks (step -1) and stay to be freed with vsv_volume_free. */
 void vsv_pager_free(vsv_pager *p);
-/* The last error's message (names the file, step, species, brick). */
+/* The last error's message (names the file, step, species, brick): a copy
+ * taken under the lock, borrowed until this thread's next call. */
 const char *vsv_pager_error(const vsv_pager *p);
 
 /* Where playback is: the step on screen, the direction (+1, -1, 0 paused),

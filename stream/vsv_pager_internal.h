@@ -1,9 +1,18 @@
 /* vsv_pager_internal.h — the pager's state and the parts of it each file
  * of stream/ works on: the cache of decoded bricks (vsv_cache.c: the hash
- * of entries and least-recently-used eviction), the brick buffers
- * (vsv_slab.c), the prefetch scheduler (vsv_sched.c), the decoding workers
- * (vsv_pager_work.c) and the API (vsv_pager.c). Every function here runs
- * under p->mu unless it says otherwise. Private to stream/. */
+ * of entries and the least-recently-used lists), the buffers (vsv_slab.c),
+ * the prefetch scheduler (vsv_sched.c), decoding (vsv_pager_work.c) and the
+ * API (vsv_pager.c). Every function here runs under p->mu unless it says
+ * otherwise. Private to stream/.
+ *
+ * Lock discipline (what ThreadSanitizer checks): p->mu guards every field
+ * below except the ones set at open and never changed (f, info, meta, sizes,
+ * budget, ahead, incremental, the worker arrays) and own_mu's decoder and
+ * scratch. Decoding runs outside p->mu on buffers the decoding thread owns
+ * by claim: the LOADING entries of its job and the busy track (nothing else
+ * touches them until the job is finished under p->mu). own_mu is only ever
+ * taken without p->mu held. A thread waits (on `ready`) only for LOADING
+ * entries and busy tracks, and a job never waits: no cycle. */
 #ifndef VSV_PAGER_INTERNAL_H
 #define VSV_PAGER_INTERNAL_H
 
@@ -15,39 +24,82 @@
 #include <time.h>
 
 enum { LOADING, READY, FAILED };
+/* the least-recently-used lists an entry can be on: unpinned READY or
+ * FAILED entries outside / inside the prefetch window (pinned and LOADING
+ * entries are on none: eviction never sees them) */
+enum { L_NONE, L_OUT, L_IN };
+
+/* Intrusive list links (indices into the entry or track array; -1 ends). */
+typedef struct vsv_link {
+    int prev, next;
+} vsv_link;
+typedef struct vsv_lru {
+    int head, tail; /* head: least recently used */
+} vsv_lru;
 
 typedef struct entry {
+    vsv_link ln;    /* first: the LRU links */
     int s, b, step; /* key: the step whose payload defines this brick state */
     int state, pins;
+    int listed;     /* on an LRU list: [L_IN] when mark is the pager's, else [L_OUT] */
     int mark;       /* == the pager's window mark: needed ahead of the playhead */
     float *data;
-    uint64_t tick;
     int next; /* hash chain, or free list */
 } entry;
 
-/* defining steps of every brick of (step, species): -1 = no memory needed */
+/* Per-(species, brick) decoder state: the brick's codes at `step`, so the
+ * next step costs one delta. Busy while a job decodes with it; idle tracks
+ * holding codes are on the track LRU list (evictable). */
+typedef struct track {
+    vsv_link ln;     /* first: the LRU links */
+    uint16_t *codes; /* brick^3 codes, or NULL (none held) */
+    int step;        /* the step codes hold; -1 none */
+    int busy, listed;
+} track;
+
+/* The defining step of every brick of (step, species), in a direct-mapped
+ * cache of rows allocated at open (counted as fixed bytes): -1 = no memory
+ * needed (empty). */
 typedef struct defrow {
+    int step, s; /* which row the slot holds; step -1 none */
     int *def;
 } defrow;
+
+/* One decode: brick b of species s from the state `from` on through the
+ * outputs' defining steps (ascending), each into a claimed LOADING entry. */
+typedef struct job {
+    int s, b, n;
+    int *step, *ent; /* n outputs (capacity p->job_cap): defining steps, entries */
+    float **out;     /* the entries' buffers */
+    int track;       /* the busy track used, or -1 (scratch codes) */
+    uint16_t *codes; /* the track's codes, or NULL */
+    int from;        /* first step to apply */
+    int fresh;       /* 1: from is an absolute (or empty) state: start clean */
+    int payloads;    /* payloads the job decodes */
+} job;
 
 struct shell;
 
 struct vsv_pager {
-    struct shell *shells; /* volumes handed out and not freed yet */
+    /* set at open, then read-only */
     vsv_file *f;
     vsv_file_info info;
     const vsv_meta *meta;
-    size_t brick_bytes, budget;
-    int ahead;
+    size_t brick_bytes, codes_bytes, budget, fixed;
+    int ahead, incremental, job_cap;
+    /* under mu */
     pthread_mutex_t mu;
     pthread_cond_t ready, work;
     entry *ent;
     int nent, capent, freelist;
     int *bucket;
     unsigned nbucket;
-    uint64_t tick;
-    size_t bytes, pinned, peak;
-    defrow *rows; /* nsteps * nspecies, filled on first use */
+    vsv_lru lru[3]; /* indexed by L_*: [L_OUT], [L_IN] */
+    track *tracks;  /* nspecies * nbricks */
+    vsv_lru tlru;
+    size_t bytes, pinned, peak, track_bytes;
+    defrow *rows;
+    int nrows; /* a power of two */
     /* the playhead */
     int head, dir, stride, loop, gen;
     unsigned char *want;
@@ -56,26 +108,39 @@ struct vsv_pager {
     int mark, marked_gen; /* entries of the prefetch window carry mark */
     int scan_d, scan_s, scan_b; /* where the last prefetch scan stopped (this mark) */
     int focus, focus_dir;       /* the step being decoded ahead: finished before moving on */
-    /* workers */
-    pthread_t *tid;
-    int nthreads, quit;
-    vsv_decoder **dec; /* one per worker */
-    vsv_decoder *own;  /* for callers' demand decodes (under own_mu) */
-    pthread_mutex_t own_mu;
+    int quit, idle, kick; /* workers waiting; bumped when a track is released */
+    struct shell *shells; /* volumes handed out and not freed yet */
     vsv_pager_stats st;
     char err[512];
-    /* brick buffers: carved from 2 MB slabs (huge pages where the kernel
-     * gives them: far fewer page faults) and recycled through a free list */
-    void **slabs;
-    int nslabs, capslabs;
-    size_t slab_bytes, slab_used;
-    void *freebuf;
+    /* the workers: each owns dec[i], scratch[i] and jobs[i] */
+    pthread_t *tid;
+    int nthreads;
+    vsv_decoder **dec;
+    uint16_t **scratch;
+    job *jobs;
+    /* for callers' demand decodes: under own_mu */
+    pthread_mutex_t own_mu;
+    vsv_decoder *own;
+    uint16_t *own_scratch;
+    /* buffers: brick floats (pool 0) and track codes (pool 1) carved from
+     * 2 MB slabs (huge pages where the kernel gives them: far fewer page
+     * faults) and recycled through free lists */
+    struct vsv_pool {
+        size_t size; /* bytes a buffer */
+        void **slabs;
+        int nslabs, capslabs;
+        size_t slab_used;
+        void *freebuf;
+    } pool[2];
+    size_t slab_bytes;
 };
 
 typedef struct shell {
     vsv_volume v; /* first: callers see a vsv_volume */
     vsv_pager *p; /* NULL once the pager is freed (the shell outlives it) */
-    int *held; /* entry index per brick, -1 none */
+    int *held;    /* entry index per brick, -1 none */
+    int *def;     /* the defining steps being filled (a copy of the row) */
+    job job;      /* the caller's demand decodes */
     struct shell *prev, *next; /* the pager's live shells (under p->mu) */
 } shell;
 
@@ -94,26 +159,40 @@ static inline double vsv_pager_now(void)
 /* Whether species s is among those the playhead wants. */
 static inline int vsv_sched_wanted(const vsv_pager *p, int s) { return !p->want || p->want[s]; }
 
+/* intrusive lists (vsv_cache.c): base is the entry or track array, whose
+ * elements start with their vsv_link */
+void vsv_lru_init(vsv_lru *l);
+void vsv_lru_push(vsv_lru *l, void *base, size_t stride, int i);
+void vsv_lru_unlink(vsv_lru *l, void *base, size_t stride, int i);
 /* the cache (vsv_cache.c) */
 int vsv_cache_lookup(const vsv_pager *p, int s, int b, int step);
-void vsv_cache_unlink(vsv_pager *p, int e);
 int vsv_cache_rehash(vsv_pager *p, unsigned n);
-int vsv_cache_insert(vsv_pager *p, int s, int b, int step);
 int vsv_cache_claim(vsv_pager *p, int s, int b, int step);
 void vsv_cache_drop(vsv_pager *p, int e);
+/* An entry's use: to the tail of its list (after a pin is dropped, a
+ * decode finished, a window mark changed). */
+void vsv_cache_touch(vsv_pager *p, int e);
+void vsv_cache_pin(vsv_pager *p, int e);
+void vsv_cache_unpin(vsv_pager *p, int e);
+/* The window's entries: everything marked before moves to the outside list. */
+void vsv_cache_new_window(vsv_pager *p);
+/* Marks e as needed by the current window. */
+void vsv_cache_mark(vsv_pager *p, int e);
 int vsv_cache_make_room(vsv_pager *p, size_t extra, int window);
-/* brick buffers (vsv_slab.c) */
-float *vsv_slab_get(vsv_pager *p);
-void vsv_slab_put(vsv_pager *p, float *b);
+/* buffers (vsv_slab.c) */
+void *vsv_slab_get(vsv_pager *p, int pool);
+void vsv_slab_put(vsv_pager *p, int pool, void *b);
+void vsv_slab_free_all(vsv_pager *p);
 /* the prefetch scheduler (vsv_sched.c) */
 int vsv_sched_ahead(const vsv_pager *p, int d);
 int vsv_sched_mark_window(vsv_pager *p);
-int vsv_sched_next(vsv_pager *p, int *s_out, int *b_out, int *step_out);
+int vsv_sched_next(vsv_pager *p, job *j);
 /* decoding (vsv_pager_work.c) */
 void vsv_pager_set_err(vsv_pager *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 const int *vsv_pager_defs(vsv_pager *p, int step, int s);
-int vsv_pager_decode(vsv_pager *p, vsv_decoder *d, int s, int b, int step, float *out, char *msg, size_t cap);
-void vsv_pager_finish(vsv_pager *p, int e, int ok, double secs);
+int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step);
+int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, char *msg, size_t cap);
+void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_first);
 void *vsv_pager_worker(void *arg); /* a wslot, which it frees */
 
 #endif

@@ -1,5 +1,6 @@
 /* vsv_pager_work.c — the pager's decoding: the defining step of each
- * brick, one brick decoded outside the lock, and the worker threads. */
+ * brick, decode jobs (a brick carried forward from its track's state
+ * through the steps asked for, outside the lock) and the worker threads. */
 #include "vsv_pager_internal.h"
 
 #include <stdarg.h>
@@ -15,102 +16,266 @@ void vsv_pager_set_err(vsv_pager *p, const char *fmt, ...)
     va_end(ap);
 }
 
-/* The defining step of every brick of (step, s) (under the lock); NULL on a
- * damaged chunk (error set). */
+/* The defining step of every brick of (step, s) (under the lock): the last
+ * step at or before `step` whose payload set the brick (walking back over
+ * UNCHANGED, from the row of step-1 when it is cached), -1 where the brick
+ * is empty. NULL on a damaged chunk (error set). Borrowed until the next
+ * call: the rows are a direct-mapped cache of fixed size. */
 const int *vsv_pager_defs(vsv_pager *p, int step, int s)
 {
-    defrow *r = &p->rows[(size_t)step * p->info.nspecies + s];
-    if (r->def)
+    const int ns = p->info.nspecies, nb = p->info.nbricks;
+    const size_t key = (size_t)step * ns + s;
+    defrow *r = &p->rows[key & (size_t)(p->nrows - 1)];
+    if (r->step == step && r->s == s)
         return r->def;
-    const int nb = p->info.nbricks;
-    int *d = malloc((size_t)nb * sizeof *d);
+    const defrow *q = step > 0 ? &p->rows[(key - ns) & (size_t)(p->nrows - 1)] : NULL;
+    const int *prev = q && q->step == step - 1 && q->s == s ? q->def : NULL;
     const unsigned char *oct = vsv_file_octree(p->f, step, s, NULL);
-    if (!d || !oct) {
-        free(d);
-        vsv_pager_set_err(p, "%s", oct ? "out of memory" : vsv_file_error(p->f));
+    r->step = -1; /* until it is complete */
+    if (!oct) {
+        vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
         return NULL;
     }
     for (int b = 0; b < nb; b++) {
         unsigned mn, mx;
         vsv_octree_node(oct, (size_t)b, &mn, &mx);
-        int t = step, k;
-        while ((k = vsv_file_brick_kind(p->f, t, s, b)) == VSV_BRICK_UNCHANGED && t > 0)
-            t--;
+        int k = vsv_file_brick_kind(p->f, step, s, b), t = step;
+        if (k == VSV_BRICK_UNCHANGED && prev) {
+            r->def[b] = prev[b];
+            continue;
+        }
+        while (k == VSV_BRICK_UNCHANGED && t > 0)
+            k = vsv_file_brick_kind(p->f, --t, s, b);
         if (k < 0) {
-            free(d);
             vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
             return NULL;
         }
-        d[b] = mx == 0 || k == VSV_BRICK_EMPTY ? -1 : t;
+        r->def[b] = mx == 0 || k == VSV_BRICK_EMPTY ? -1 : t;
     }
-    return r->def = d;
+    r->step = step;
+    r->s = s;
+    return r->def;
 }
 
-/* Decodes a brick into out with decoder d (outside the lock); 0, or -1
+/* Takes the track of (s, b) for job j when the pager keeps decoder state
+ * (under the lock; the caller made sure it is not busy): it holds codes
+ * (allocated within the budget when it had none) or the job decodes into
+ * scratch. */
+static void take_track(vsv_pager *p, job *j)
+{
+    j->track = -1;
+    j->codes = NULL;
+    if (!p->incremental)
+        return;
+    const int i = j->s * p->info.nbricks + j->b;
+    track *T = &p->tracks[i];
+    if (T->listed) {
+        vsv_lru_unlink(&p->tlru, p->tracks, sizeof *p->tracks, i);
+        T->listed = 0;
+    }
+    if (!T->codes && vsv_cache_make_room(p, p->codes_bytes, 0) && (T->codes = vsv_slab_get(p, 1))) {
+        T->step = -1;
+        p->bytes += p->codes_bytes;
+        p->track_bytes += p->codes_bytes;
+        if (p->bytes > p->peak)
+            p->peak = p->bytes;
+    }
+    if (!T->codes)
+        return;
+    T->busy = 1;
+    p->pinned += p->codes_bytes;
+    j->track = i;
+    j->codes = T->codes;
+}
+
+/* Adds output step v (claimed) to j, keeping the steps ascending. */
+static int add_output(vsv_pager *p, job *j, int v)
+{
+    const int e = vsv_cache_claim(p, j->s, j->b, v);
+    if (e < 0)
+        return -1;
+    int i = j->n++;
+    for (; i > 0 && j->step[i - 1] > v; i--) {
+        j->step[i] = j->step[i - 1];
+        j->ent[i] = j->ent[i - 1];
+        j->out[i] = j->out[i - 1];
+    }
+    j->step[i] = v;
+    j->ent[i] = e;
+    j->out[i] = p->ent[e].data;
+    return 0;
+}
+
+/* Makes the job that decodes brick b of species s at defining step `step`
+ * (under the lock; its entry is absent, its track not busy, room made for
+ * it): claims the entry and the track, and, playing backward, the other
+ * defining steps of the brick that the prefetch window needs from the same
+ * keyframe group (one forward pass then serves them all), as far as the
+ * budget allows. Decoding starts from the track's state when it lies
+ * between the brick's last absolute state and the first step asked for,
+ * else from that absolute state. 0, or an error (the job's outputs then
+ * failed and released; the error set). */
+int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
+{
+    j->s = s;
+    j->b = b;
+    j->n = 0;
+    j->track = -1;
+    j->payloads = 0;
+    if (add_output(p, j, step)) {
+        vsv_pager_set_err(p, "out of memory");
+        return VSV_ENOMEM;
+    }
+    take_track(p, j);
+    if (p->incremental && p->dir < 0 && vsv_sched_wanted(p, s)) {
+        const int g = step - step % p->info.keyframe;
+        for (int d = 0; d <= p->depth && j->n < p->job_cap; d++) {
+            const int w = vsv_sched_ahead(p, d);
+            if (w < 0)
+                break;
+            if (w < g || w >= step)
+                continue;
+            const int *def = vsv_pager_defs(p, w, s);
+            if (!def)
+                break;
+            const int v = def[b];
+            int dup = 0;
+            for (int i = 0; i < j->n; i++)
+                dup |= j->step[i] == v;
+            if (v < 0 || v >= step || dup || vsv_cache_lookup(p, s, b, v) >= 0)
+                continue;
+            if (!vsv_cache_make_room(p, p->brick_bytes, 0) || add_output(p, j, v))
+                break;
+        }
+    }
+    const int have = j->track >= 0 ? p->tracks[j->track].step : -1;
+    int rc = 0;
+    for (int t = j->step[0];; t--) {
+        if (t == have) {
+            j->from = t + 1;
+            j->fresh = 0;
+            break;
+        }
+        const int k = vsv_file_brick_kind(p->f, t, s, b);
+        if (k == VSV_BRICK_ABS || k == VSV_BRICK_EMPTY) {
+            j->from = t;
+            j->fresh = 1;
+            break;
+        }
+        if (k < 0 || t == 0) { /* keyframes hold absolute states: t == 0 is damage */
+            rc = k < 0 ? k : VSV_ECORRUPT;
+            break;
+        }
+    }
+    for (int t = j->from; !rc && t <= j->step[j->n - 1]; t++) {
+        const int k = vsv_file_brick_kind(p->f, t, s, b);
+        if (k < 0)
+            rc = k;
+        j->payloads += k == VSV_BRICK_ABS || k == VSV_BRICK_DELTA;
+    }
+    if (rc) {
+        vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
+        vsv_pager_job_finish(p, j, 0, 0, 0);
+    }
+    return rc;
+}
+
+/* Runs job j with decoder d (outside the lock: it owns the job's buffers
+ * and track); scratch holds the codes when the job has no track. 0, or -1
  * with the error text in msg. */
-int vsv_pager_decode(vsv_pager *p, vsv_decoder *d, int s, int b, int step, float *out, char *msg, size_t cap)
+int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, char *msg, size_t cap)
 {
     const int n = p->info.brick;
-    if (vsv_decoder_brick(d, step, s, b, out)) {
-        snprintf(msg, cap, "%s", vsv_decoder_error(d));
-        return -1;
-    }
+    const size_t cells = (size_t)n * n * n;
+    uint16_t *codes = j->codes ? j->codes : scratch;
     int org[3], ext[3];
-    vsv_file_brick_box(p->f, b, org, ext);
-    if (ext[0] < n || ext[1] < n || ext[2] < n) { /* outside the grid: the empty value */
-        const float ev = vsv_quant_value(vsv_file_quant(p->f, s), 0);
-        for (int k = 0; k < n; k++)
-            for (int j = 0; j < n; j++)
-                for (int i = 0; i < n; i++)
-                    if (i >= ext[0] || j >= ext[1] || k >= ext[2])
-                        out[((size_t)k * n + j) * n + i] = ev;
+    vsv_file_brick_box(p->f, j->b, org, ext);
+    const int partial = ext[0] < n || ext[1] < n || ext[2] < n;
+    if (j->fresh && partial) /* cells outside the grid: code 0, as vsv_decoder_brick_codes */
+        memset(codes, 0, cells * sizeof *codes);
+    int t = j->from - 1;
+    for (int i = 0; i < j->n; i++) {
+        while (t < j->step[i])
+            if (vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes)) {
+                snprintf(msg, cap, "%s", vsv_decoder_error(d));
+                return -1;
+            }
+        float *out = j->out[i];
+        vsv_file_dequantise(p->f, j->s, codes, cells, out);
+        if (partial) { /* outside the grid: the empty value */
+            const float ev = vsv_quant_value(vsv_file_quant(p->f, j->s), 0);
+            for (int k = 0; k < n; k++)
+                for (int jj = 0; jj < n; jj++)
+                    for (int ii = 0; ii < n; ii++)
+                        if (ii >= ext[0] || jj >= ext[1] || k >= ext[2])
+                            out[((size_t)k * n + jj) * n + ii] = ev;
+        }
     }
     return 0;
 }
 
-/* Marks e decoded, or failed (under the lock). */
-void vsv_pager_finish(vsv_pager *p, int e, int ok, double secs)
+/* Marks j's outputs decoded, or failed, and releases them and its track
+ * (under the lock); with keep_last the last output (the step the caller
+ * asked for: outputs ascend and the others precede it) stays pinned for
+ * the caller when decoded. */
+void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_last)
 {
-    entry *E = &p->ent[e];
-    E->state = ok ? READY : FAILED;
-    E->tick = ++p->tick;
-    if (ok) {
-        p->st.bricks_decoded++;
-        p->st.bytes_decoded += p->brick_bytes;
+    for (int i = 0; i < j->n; i++) {
+        const int e = j->ent[i];
+        p->ent[e].state = ok ? READY : FAILED;
+        if (ok) {
+            p->st.bricks_decoded++;
+            p->st.bytes_decoded += p->brick_bytes;
+        }
+        if (!(ok && keep_last && i == j->n - 1))
+            vsv_cache_unpin(p, e);
+    }
+    if (ok)
+        p->st.payloads_decoded += (uint64_t)j->payloads;
+    if (j->track >= 0) {
+        track *T = &p->tracks[j->track];
+        T->busy = 0;
+        T->step = ok ? j->step[j->n - 1] : -1;
+        p->pinned -= p->codes_bytes;
+        vsv_lru_push(&p->tlru, p->tracks, sizeof *p->tracks, j->track);
+        T->listed = 1;
+        j->track = -1;
+        if (p->idle) { /* a worker may have skipped this brick for its busy track */
+            p->kick++;
+            pthread_cond_broadcast(&p->work);
+        }
     }
     p->st.decode_seconds += secs;
     pthread_cond_broadcast(&p->ready);
 }
 
-
 void *vsv_pager_worker(void *arg)
 {
     wslot *ws = arg;
     vsv_pager *p = ws->p;
-    vsv_decoder *d = p->dec[ws->index];
+    const int w = ws->index;
     free(ws);
+    vsv_decoder *d = p->dec[w];
+    job *j = &p->jobs[w];
     char msg[256];
     pthread_mutex_lock(&p->mu);
     while (!p->quit) {
-        int s, b, step;
-        const int e = vsv_sched_next(p, &s, &b, &step);
-        if (e < 0) {
-            const int gen = p->gen;
-            while (!p->quit && gen == p->gen)
+        if (!vsv_sched_next(p, j)) {
+            const int gen = p->gen, kick = p->kick;
+            p->idle++;
+            while (!p->quit && gen == p->gen && kick == p->kick)
                 pthread_cond_wait(&p->work, &p->mu);
+            p->idle--;
             continue;
         }
-        float *out = p->ent[e].data;
         pthread_mutex_unlock(&p->mu);
         const double t0 = vsv_pager_now();
-        const int ok = !vsv_pager_decode(p, d, s, b, step, out, msg, sizeof msg);
+        const int ok = !vsv_pager_job_run(p, d, j, p->scratch[w], msg, sizeof msg);
         const double t1 = vsv_pager_now();
         pthread_mutex_lock(&p->mu);
         if (!ok)
             vsv_pager_set_err(p, "%s", msg);
-        vsv_pager_finish(p, e, ok, t1 - t0);
-        p->ent[e].pins = 0;
-        p->pinned -= p->brick_bytes;
+        vsv_pager_job_finish(p, j, ok, t1 - t0, 0);
         vsv_cache_make_room(p, 0, 1);
     }
     pthread_mutex_unlock(&p->mu);

@@ -30,6 +30,7 @@ int vsv_sched_mark_window(vsv_pager *p)
     if (p->marked_gen == p->gen)
         return 1;
     p->marked_gen = p->gen;
+    vsv_cache_new_window(p);
     p->mark++;
     p->scan_d = p->scan_s = p->scan_b = 0;
     size_t unit = 0;
@@ -56,41 +57,53 @@ int vsv_sched_mark_window(vsv_pager *p)
             for (int b = 0; def && b < p->info.nbricks; b++) {
                 const int e = def[b] >= 0 ? vsv_cache_lookup(p, s, b, def[b]) : -1;
                 if (e >= 0)
-                    p->ent[e].mark = p->mark;
+                    vsv_cache_mark(p, e);
             }
         }
     }
     return 1;
 }
 
-/* The next brick to decode ahead (under the lock): claims it (LOADING) and
- * returns the entry, or -1 when there is nothing to do within the budget. */
-int vsv_sched_next(vsv_pager *p, int *s_out, int *b_out, int *step_out)
+/* Whether brick b of species s waits for its track (a job is using it). */
+static int track_busy(const vsv_pager *p, int s, int b)
+{
+    return p->incremental && p->tracks[(size_t)s * p->info.nbricks + b].busy;
+}
+
+/* The next decode job ahead of the playhead (under the lock): 1 with j
+ * made (its entries claimed, LOADING), 0 when there is nothing to do
+ * within the budget. A brick whose track is busy is left for later: the
+ * job using the track carries it to a nearer state. */
+int vsv_sched_next(vsv_pager *p, job *j)
 {
     if (!vsv_sched_mark_window(p))
-        return -1;
+        return 0;
     /* finish the step under way first, even if the playhead has moved past
      * it: when decoding cannot keep up, complete steps are what the player
      * can show (the newest complete one), half-decoded ones are not */
     if (p->focus >= 0 && p->focus_dir == p->dir && p->depth > 0) {
+        int blocked = 0;
         for (int s = 0; s < p->info.nspecies; s++) {
             const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, p->focus, s) : NULL;
             for (int b = 0; def && b < p->info.nbricks; b++) {
                 if (def[b] < 0 || vsv_cache_lookup(p, s, b, def[b]) >= 0)
                     continue;
+                if (track_busy(p, s, b)) {
+                    blocked = 1;
+                    continue;
+                }
                 if (!vsv_cache_make_room(p, p->brick_bytes, 0))
                     goto scan;
-                const int ne = vsv_cache_claim(p, s, b, def[b]);
-                if (ne >= 0)
-                    *s_out = s, *b_out = b, *step_out = def[b];
-                return ne;
+                return vsv_pager_job_make(p, j, s, b, def[b]) == 0;
             }
         }
-        p->focus = -1; /* complete */
+        if (!blocked)
+            p->focus = -1; /* complete */
     }
-scan:
+scan:;
     /* resume where the last scan of this window stopped: what lies before
      * it was decoded or claimed (an eviction changes the window's mark) */
+    int held = 0; /* the resume point stays at a brick left for its busy track */
     for (int d = p->scan_d; d <= p->depth; d++) {
         const int t = vsv_sched_ahead(p, d);
         if (t < 0)
@@ -100,22 +113,25 @@ scan:
                 continue;
             const int *def = vsv_pager_defs(p, t, s);
             if (!def)
-                return -1;
+                return 0;
             for (int b = d == p->scan_d && s == p->scan_s ? p->scan_b : 0; b < p->info.nbricks; b++) {
                 if (def[b] < 0 || vsv_cache_lookup(p, s, b, def[b]) >= 0)
                     continue;
-                p->scan_d = d, p->scan_s = s, p->scan_b = b;
+                if (!held)
+                    p->scan_d = d, p->scan_s = s, p->scan_b = b;
+                if (track_busy(p, s, b)) {
+                    held = 1;
+                    continue;
+                }
                 if (!vsv_cache_make_room(p, p->brick_bytes, 0))
-                    return -1;
+                    return 0;
                 p->focus = t;
                 p->focus_dir = p->dir;
-                const int ne = vsv_cache_claim(p, s, b, def[b]);
-                if (ne >= 0)
-                    *s_out = s, *b_out = b, *step_out = def[b];
-                return ne;
+                return vsv_pager_job_make(p, j, s, b, def[b]) == 0;
             }
         }
     }
-    p->scan_d = p->depth + 1;
-    return -1;
+    if (!held)
+        p->scan_d = p->depth + 1;
+    return 0;
 }

@@ -1,45 +1,57 @@
-/* vsv_slab.c — the pager's brick buffers: carved from 2 MB slabs (huge
- * pages where the kernel gives them: far fewer page faults) and recycled
- * through a free list. */
+/* vsv_slab.c — the pager's buffers, in two pools (decoded brick floats;
+ * decoder-track codes): carved from 2 MB slabs (huge pages where the kernel
+ * gives them: far fewer page faults) and recycled through a free list. A
+ * pool never holds more than the most bytes the pager held at once, which
+ * the budget bounds (stats.peak_bytes). */
 #include "vsv_pager_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
 #include <sys/mman.h>
 
-/* A brick buffer (under the lock); NULL when out of memory. */
-float *vsv_slab_get(vsv_pager *p)
+/* A buffer of pool i (under the lock); NULL when out of memory. */
+void *vsv_slab_get(vsv_pager *p, int i)
 {
-    if (p->freebuf) {
-        void *b = p->freebuf;
-        memcpy(&p->freebuf, b, sizeof(void *));
+    struct vsv_pool *P = &p->pool[i];
+    if (P->freebuf) {
+        void *b = P->freebuf;
+        memcpy(&P->freebuf, b, sizeof(void *));
         return b;
     }
-    if (!p->nslabs || p->slab_used + p->brick_bytes > p->slab_bytes) {
-        if (p->nslabs == p->capslabs) {
-            const int cap = p->capslabs ? 2 * p->capslabs : 64;
-            void **ns = realloc(p->slabs, (size_t)cap * sizeof *ns);
+    if (!P->nslabs || P->slab_used + P->size > p->slab_bytes) {
+        if (P->nslabs == P->capslabs) {
+            const int cap = P->capslabs ? 2 * P->capslabs : 64;
+            void **ns = realloc(P->slabs, (size_t)cap * sizeof *ns);
             if (!ns)
                 return NULL;
-            p->slabs = ns;
-            p->capslabs = cap;
+            P->slabs = ns;
+            P->capslabs = cap;
         }
         void *m = NULL;
         if (posix_memalign(&m, (size_t)2 << 20, p->slab_bytes))
             return NULL;
         madvise(m, p->slab_bytes, MADV_HUGEPAGE);
-        p->slabs[p->nslabs++] = m;
-        p->slab_used = 0;
+        P->slabs[P->nslabs++] = m;
+        P->slab_used = 0;
     }
-    float *b = (float *)((char *)p->slabs[p->nslabs - 1] + p->slab_used);
-    p->slab_used += p->brick_bytes;
+    void *b = (char *)P->slabs[P->nslabs - 1] + P->slab_used;
+    P->slab_used += P->size;
     return b;
 }
 
-void vsv_slab_put(vsv_pager *p, float *b)
+void vsv_slab_put(vsv_pager *p, int i, void *b)
 {
     if (!b)
         return;
-    memcpy(b, &p->freebuf, sizeof(void *));
-    p->freebuf = b;
+    memcpy(b, &p->pool[i].freebuf, sizeof(void *));
+    p->pool[i].freebuf = b;
+}
+
+void vsv_slab_free_all(vsv_pager *p)
+{
+    for (int i = 0; i < 2; i++) {
+        for (int k = 0; k < p->pool[i].nslabs; k++)
+            free(p->pool[i].slabs[k]);
+        free(p->pool[i].slabs);
+    }
 }
