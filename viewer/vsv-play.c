@@ -403,9 +403,10 @@ int main(int argc, char **argv)
         vsv_pager_stats st;
         vsv_player_pager_stats(p, &st);
         fprintf(stderr,
-                "vsv-play: %llu bricks decoded (%.1f MB, %.2f s), %llu hits, %llu misses, %llu stalls, cache peak %.1f "
-                "MB of %.0f MB\n",
+                "vsv-play: %llu bricks decoded (%.1f MB, %.2f s) from %llu payloads, %llu hits, %llu misses, %llu "
+                "stalls, cache peak %.1f MB of %.0f MB\n",
                 (unsigned long long)st.bricks_decoded, st.bytes_decoded / 1e6, st.decode_seconds,
+                (unsigned long long)st.payloads_decoded,
                 (unsigned long long)st.hits, (unsigned long long)st.misses, (unsigned long long)st.stalls,
                 st.peak_bytes / 1e6, st.budget / 1e6);
     }
