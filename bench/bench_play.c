@@ -3,8 +3,17 @@
  * while a 30 frames/s display plays forward and backward at x1 and x8, and
  * anonymous resident memory against the budget. Usage:
  *   bench_play FILE.vsv                 measure
+ *   bench_play --compare FILE.vsv MB..  steps/s forward and backward, the pager
+ *                                       decoding every brick from its keyframe
+ *                                       (the earlier path) against incremental
+ *                                       decoding, interleaved, with the ratio
  *   bench_play --make OUT.vsv STEPS     write a synthetic file: 256x256x48, 4 noisy
- *                                       species, 16-bit, ~21 MB a step on disk */
+ *                                       species, 16-bit, ~21 MB a step on disk
+ *   bench_play --plume OUT.vsv STEPS PLUME_T0.f32
+ *                                       a series from gen-plume's plume (256x256x64
+ *                                       float32): advected 0.6, 0.3, 0.05 voxels a
+ *                                       step with fresh 5 % white noise, as gen-plume
+ *                                       makes its t1 */
 #include "vsv_clock.h"
 #include "vsv_pager.h"
 #include "vsv_render.h"
@@ -98,6 +107,169 @@ static int make_synthetic(const char *path, int steps)
     return rc != 0;
 }
 
+/* gen-plume's lattice noise in [-1, 1) (its hash3 and lat) */
+static float plume_noise(int x, int y, int z, uint32_t seed)
+{
+    uint32_t h = seed * 0x9E3779B1u ^ (uint32_t)x * 0x85EBCA77u ^ (uint32_t)y * 0xC2B2AE3Du ^ (uint32_t)z * 0x27D4EB2Fu;
+    h ^= h >> 15;
+    h *= 0x2C1B3C6Du;
+    h ^= h >> 12;
+    h *= 0x297A2D39u;
+    h ^= h >> 15;
+    return (float)(h >> 8) * (1.0f / 8388608.0f) - 1.0f;
+}
+
+static int make_plume(const char *path, int steps, const char *t0_path)
+{
+    enum { NX = 256, NY = 256, NZ = 64 };
+    const size_t cells = (size_t)NX * NY * NZ;
+    float *t0 = malloc(cells * sizeof *t0), *f = malloc(cells * sizeof *f);
+    FILE *fp = fopen(t0_path, "rb");
+    if (!t0 || !f || !fp || fread(t0, sizeof *t0, cells, fp) != cells) {
+        fprintf(stderr, "bench_play: %s: cannot read %zu floats\n", t0_path, cells);
+        if (fp)
+            fclose(fp);
+        return 1;
+    }
+    fclose(fp);
+    float vmax = 0;
+    for (size_t c = 0; c < cells; c++)
+        vmax = t0[c] > vmax ? t0[c] : vmax;
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = NX, m.ny = NY, m.nz = NZ;
+    m.spacing[0] = m.spacing[1] = 1000;
+    m.spacing[2] = 100;
+    m.origin[2] = 50;
+    m.vert_kind = VSV_VERT_EVEN;
+    vsv_meta_add_var(&m, "PLUME", "1", "gen-plume's plume, advected, fresh noise every step");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    vsv_writer *w = NULL;
+    if (vsv_writer_create(path, &m, &o, &w)) {
+        fprintf(stderr, "bench_play: %s\n", w ? vsv_writer_error(w) : "cannot write");
+        return 1;
+    }
+    int rc = 0;
+    for (int t = 0; t < steps && !rc; t++) {
+        const float ax = 0.6f * t, ay = 0.3f * t, az = 0.05f * t;
+        for (int k = 0; k < NZ; k++)
+            for (int j = 0; j < NY; j++)
+                for (int i = 0; i < NX; i++) {
+                    /* trilinear sample of t0 at the Lagrangian point */
+                    const float X = i - ax, Y = j - ay, Z = k - az;
+                    const int x0 = (int)floorf(X), y0 = (int)floorf(Y), z0 = (int)floorf(Z);
+                    const float fx = X - x0, fy = Y - y0, fz = Z - z0;
+                    float v = 0;
+                    for (int c = 0; c < 8; c++) {
+                        const int xi = x0 + (c & 1), yi = y0 + (c >> 1 & 1), zi = z0 + (c >> 2);
+                        if (xi < 0 || yi < 0 || zi < 0 || xi >= NX || yi >= NY || zi >= NZ)
+                            continue;
+                        const float wgt = (c & 1 ? fx : 1 - fx) * (c >> 1 & 1 ? fy : 1 - fy) * (c >> 2 ? fz : 1 - fz);
+                        v += wgt * t0[((size_t)zi * NY + yi) * NX + xi];
+                    }
+                    v *= 1.0f + 0.05f * plume_noise(i, j, k, 1000u + (uint32_t)t);
+                    f[((size_t)k * NY + j) * NX + i] = v < 2e-3f * vmax ? 0 : v;
+                }
+        const float *fields[1] = {f};
+        if (vsv_writer_add_step(w, 1000000000LL + 300LL * t, fields)) {
+            fprintf(stderr, "bench_play: %s\n", vsv_writer_error(w));
+            rc = 1;
+        }
+    }
+    if (!rc && vsv_writer_finish(w, NULL, NULL)) {
+        fprintf(stderr, "bench_play: %s\n", vsv_writer_error(w));
+        rc = 1;
+    }
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    free(t0);
+    free(f);
+    return rc;
+}
+
+/* Steps per second playing every step of every species in one direction
+ * as fast as the pager delivers them (a new pager: nothing cached), and
+ * the payloads it decoded. */
+static double pass_rate(vsv_file *f, size_t budget, int from_keyframe, int dir, uint64_t *payloads)
+{
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    vsv_pager_opts po;
+    vsv_pager_opts_init(&po);
+    po.budget = budget;
+    po.from_keyframe = from_keyframe;
+    vsv_pager *p = NULL;
+    if (vsv_pager_open(f, &po, &p))
+        return 0;
+    vsv_volume **v = calloc((size_t)info.nspecies, sizeof *v);
+    for (int s = 0; s < info.nspecies; s++)
+        v[s] = vsv_pager_volume_new(p);
+    const double t0 = now();
+    for (int i = 0; i < info.nsteps; i++) {
+        const int t = dir > 0 ? i : info.nsteps - 1 - i;
+        vsv_pager_playhead(p, t, dir, 1, 0, NULL);
+        for (int s = 0; s < info.nspecies; s++)
+            if (vsv_pager_get(p, t, s, 1, v[s]))
+                fprintf(stderr, "bench_play: %s\n", vsv_pager_error(p));
+    }
+    const double rate = info.nsteps / (now() - t0);
+    vsv_pager_stats st;
+    vsv_pager_stats_get(p, &st);
+    *payloads = st.payloads_decoded;
+    for (int s = 0; s < info.nspecies; s++)
+        vsv_volume_free(v[s]);
+    free(v);
+    vsv_pager_free(p);
+    return rate;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The earlier path (every brick from its keyframe) against incremental
+ * decoding, forward and backward, under each budget: 3 interleaved passes
+ * of each, medians. */
+static int compare(const char *path, int nb, char **mb)
+{
+    vsv_file *f = NULL;
+    if (vsv_file_open(path, &f)) {
+        fprintf(stderr, "bench_play: %s\n", f ? vsv_file_error(f) : path);
+        vsv_file_free(f);
+        return 1;
+    }
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    const vsv_meta *m = vsv_file_meta(f);
+    printf("file: %s, %.2f GB, %d steps x %d species of %dx%dx%d, keyframe every %d (%.0f MB of floats a step)\n\n",
+           path, info.file_bytes / 1e9, info.nsteps, info.nspecies, m->nx, m->ny, m->nz, info.keyframe,
+           (double)m->nx * m->ny * m->nz * 4 * info.nspecies / 1e6);
+    printf("| budget | direction | from keyframe: steps/s | incremental: steps/s | ratio | payloads decoded (keyframe / "
+           "incremental) |\n|---|---|---|---|---|---|\n");
+    for (int i = 0; i < nb; i++) {
+        const size_t budget = (size_t)atol(mb[i]) << 20;
+        for (int dir = 1; dir >= -1; dir -= 2) {
+            double old[3], inc[3];
+            uint64_t po = 0, pn = 0;
+            for (int r = 0; r < 3; r++) {
+                old[r] = pass_rate(f, budget, 1, dir, &po);
+                inc[r] = pass_rate(f, budget, 0, dir, &pn);
+            }
+            qsort(old, 3, sizeof *old, cmp_double);
+            qsort(inc, 3, sizeof *inc, cmp_double);
+            printf("| %s MB | %s | %.1f (%.1f-%.1f) | %.1f (%.1f-%.1f) | **%.2f** | %llu / %llu |\n", mb[i],
+                   dir > 0 ? "forward" : "backward", old[1], old[0], old[2], inc[1], inc[0], inc[2], inc[1] / old[1],
+                   (unsigned long long)po, (unsigned long long)pn);
+            fflush(stdout);
+        }
+    }
+    vsv_file_free(f);
+    return 0;
+}
+
 /* A 30 frames/s display playing for `frames` frames at speed x: stalls and
  * steps shown. */
 static void play(vsv_pager *p, vsv_volume **v, int ns, const int64_t *times, int nsteps, double x, int frames,
@@ -164,8 +336,13 @@ int main(int argc, char **argv)
 {
     if (argc == 4 && !strcmp(argv[1], "--make"))
         return make_synthetic(argv[2], atoi(argv[3]));
+    if (argc == 5 && !strcmp(argv[1], "--plume"))
+        return make_plume(argv[2], atoi(argv[3]), argv[4]);
+    if (argc >= 4 && !strcmp(argv[1], "--compare"))
+        return compare(argv[2], argc - 3, argv + 3);
     if (argc != 2) {
-        fprintf(stderr, "usage: bench_play FILE.vsv | --make OUT.vsv STEPS\n");
+        fprintf(stderr, "usage: bench_play FILE.vsv | --compare FILE.vsv MB... | --make OUT.vsv STEPS | --plume OUT.vsv "
+                        "STEPS PLUME_T0.f32\n");
         return 2;
     }
     const long base_kb = rss_anon_kb();
