@@ -58,14 +58,15 @@ const int *vsv_pager_defs(vsv_pager *p, int step, int s)
 }
 
 /* Takes the track of (s, b) for job j when the pager keeps decoder state
- * (under the lock; the caller made sure it is not busy): it holds codes
- * (allocated within the budget when it had none) or the job decodes into
- * scratch. */
+ * and plays forward or is paused (under the lock; the caller made sure it
+ * is not busy): it holds codes (allocated within the budget when it had
+ * none) or the job decodes into scratch. Playing backward a track is no
+ * use (each job starts from a keyframe): the budget goes to the window. */
 static void take_track(vsv_pager *p, job *j)
 {
     j->track = -1;
     j->codes = NULL;
-    if (!p->incremental)
+    if (!p->incremental || p->dir < 0)
         return;
     const int i = j->s * p->info.nbricks + j->b;
     track *T = &p->tracks[i];
