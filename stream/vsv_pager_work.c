@@ -158,7 +158,7 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
             break;
         }
         const int k = vsv_file_brick_kind(p->f, t, s, b);
-        if (k == VSV_BRICK_ABS || k == VSV_BRICK_EMPTY) {
+        if (k == VSV_BRICK_ABS || k == VSV_BRICK_ABS3 || k == VSV_BRICK_EMPTY) {
             j->from = t;
             j->fresh = 1;
             break;
@@ -172,7 +172,7 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
         const int k = vsv_file_brick_kind(p->f, t, s, b);
         if (k < 0)
             rc = k;
-        j->payloads += k == VSV_BRICK_ABS || k == VSV_BRICK_DELTA;
+        j->payloads += k >= VSV_BRICK_ABS; /* ABS, DELTA, ABS3, DELTA3 */
     }
     if (rc) {
         vsv_pager_set_err(p, "%s", vsv_file_error(p->f));

@@ -48,7 +48,8 @@ static void test_advance(vsv_file *f)
         for (int b = 0; b < in.nbricks; b++) {
             memset(state, 0, n * sizeof *state);
             for (int t = 0; t < in.nsteps && !bad; t++) {
-                deltas += vsv_file_brick_kind(f, t, s, b) == VSV_BRICK_DELTA;
+                const int kind = vsv_file_brick_kind(f, t, s, b);
+                deltas += kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3;
                 if (vsv_decoder_brick_advance(d, t, s, b, state) || vsv_decoder_brick_codes(d, t, s, b, ref) ||
                     memcmp(state, ref, n * sizeof *ref))
                     bad = 1 + t;
@@ -71,7 +72,7 @@ static uint64_t payloads(vsv_file *f, int s, int a, int b, int nbricks)
     for (int t = a; t <= b; t++)
         for (int k = 0; k < nbricks; k++) {
             const int kind = vsv_file_brick_kind(f, t, s, k);
-            n += kind == VSV_BRICK_ABS || kind == VSV_BRICK_DELTA;
+            n += kind >= VSV_BRICK_ABS; /* a payload: ABS, DELTA, ABS3, DELTA3 */
         }
     return n;
 }
@@ -165,7 +166,11 @@ static void test_counts(const char *path)
     int dense = 1;
     for (int t = 0; t < ns; t++)
         for (int b = 0; b < nb; b++)
-            dense &= vsv_file_brick_kind(f, t, 1, b) == (t % K ? VSV_BRICK_DELTA : VSV_BRICK_ABS);
+            {
+                const int kind = vsv_file_brick_kind(f, t, 1, b);
+                dense &= t % K ? kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3
+                               : kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
+            }
     CHECK(dense, "species 1 of the series: every brick a delta at every step off the keyframes", " ");
     const uint64_t all = payloads(f, 1, 0, ns - 1, nb);
     uint64_t key = 0;
