@@ -173,9 +173,12 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     }
     vsv_json_set(root, "times", times);
     /* the interval of regular steps, null when irregular or a single step */
-    int64_t step = info.nsteps > 1 ? vsv_file_time(f, 1) - vsv_file_time(f, 0) : 0;
+    /* (differences checked: a file's times may lie anywhere in int64) */
+    int64_t step = 0, d;
+    if (info.nsteps > 1 && __builtin_sub_overflow(vsv_file_time(f, 1), vsv_file_time(f, 0), &step))
+        step = 0;
     for (int t = 2; t < info.nsteps && step; t++)
-        if (vsv_file_time(f, t) - vsv_file_time(f, t - 1) != step)
+        if (__builtin_sub_overflow(vsv_file_time(f, t), vsv_file_time(f, t - 1), &d) || d != step)
             step = 0;
     vsv_json_set(root, "time_step", step ? vsv_json_int(step) : vsv_json_null());
 
@@ -215,9 +218,14 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     vsv_json_set(root, "keyframe_interval", vsv_json_int(info.keyframe));
     vsv_json_set(root, "codec", vsv_json_string(info.codec == VSV_CODEC_ZSTD ? "zstd" : "none"));
     vsv_json_set(root, "bytes", vsv_json_int((long long)info.file_bytes));
-    const long long raw = (long long)m->nx * m->ny * m->nz * 4LL * m->nvars * info.nsteps;
-    vsv_json_set(root, "raw_bytes", vsv_json_int(raw));
-    vsv_json_set(root, "compression_ratio", vsv_json_number(round((double)raw / (double)info.file_bytes * 100) / 100));
+    /* up to 2^34 cells x 4 bytes x 1024 species x 10^7 steps: past int64, so
+     * checked (and then null) */
+    long long raw = (long long)m->nx * m->ny * m->nz * 4LL;
+    const int raw_ok = !__builtin_mul_overflow(raw, (long long)m->nvars, &raw) &&
+                       !__builtin_mul_overflow(raw, (long long)info.nsteps, &raw);
+    vsv_json_set(root, "raw_bytes", raw_ok ? vsv_json_int(raw) : vsv_json_null());
+    const double rawd = (double)m->nx * m->ny * m->nz * 4.0 * m->nvars * info.nsteps;
+    vsv_json_set(root, "compression_ratio", vsv_json_number(round(rawd / (double)info.file_bytes * 100) / 100));
     if (m->nattrs) {
         vsv_json *attrs = vsv_json_object();
         for (int i = 0; i < m->nattrs; i++)

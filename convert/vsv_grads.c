@@ -197,6 +197,10 @@ static int grads_open(vsv_source *s)
                 rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: only %s n LINEAR start step is supported", lineno, key);
                 goto done;
             }
+            if (cnt > VSV_MAX_DIM) {
+                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: %s %d: more than %d cells", lineno, key, cnt, VSV_MAX_DIM);
+                goto done;
+            }
             if (tolower((unsigned char)key[0]) == 'x')
                 g->nx = cnt, xs = a, dx = b, have_x = 1;
             else
@@ -254,7 +258,8 @@ static int grads_open(vsv_source *s)
             }
             char *u;
             long v = strtol(inc, &u, 10);
-            if (v <= 0) {
+            /* at most a million units: every step's time stays far inside int64 */
+            if (v <= 0 || v > 1000000) {
                 rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad time increment %s", lineno, inc);
                 goto done;
             }
@@ -296,28 +301,46 @@ static int grads_open(vsv_source *s)
         rc = VSV_ENOMEM;
         goto done;
     }
+    /* sizes in 64 bits, each product checked: dimensions up to 16384 and a
+     * thousand variables still fit, a crafted descriptor cannot wrap them */
+    if ((uint64_t)g->nx * g->ny * g->nz > VSV_MAX_CELLS) {
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "grid %d x %d x %d: more than %llu cells", g->nx, g->ny, g->nz,
+                             (unsigned long long)VSV_MAX_CELLS);
+        goto done;
+    }
     const long long plane = (long long)g->nx * g->ny * 4;
     for (int i = 0; i < s->nfields; i++) {
-        g->var_offset[i] = g->time_bytes;
-        g->time_bytes += plane * (s->fields[i].nlevels ? s->fields[i].nlevels : 1);
         if (s->fields[i].nlevels > g->nz) {
             rc = vsv_source_fail(s, VSV_ECORRUPT, "variable %s has %d levels, ZDEF %d", s->fields[i].name,
                                  s->fields[i].nlevels, g->nz);
             goto done;
         }
+        g->var_offset[i] = g->time_bytes;
+        g->time_bytes += plane * (s->fields[i].nlevels ? s->fields[i].nlevels : 1);
+    }
+    long long total;
+    if (__builtin_mul_overflow(g->time_bytes, (long long)nt, &total)) {
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "the descriptor implies more than 2^63 bytes (%d steps of %lld)", nt,
+                             g->time_bytes);
+        goto done;
     }
     struct stat st;
     if (stat(g->dset, &st)) {
         rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, strerror(errno));
         goto done;
     }
-    if ((long long)st.st_size != g->time_bytes * nt) {
+    if ((long long)st.st_size != total) {
         rc = vsv_source_fail(s, VSV_ECORRUPT, "data file %s has %lld bytes, the descriptor implies %lld", g->dset,
-                             (long long)st.st_size, g->time_bytes * nt);
+                             (long long)st.st_size, total);
         goto done;
     }
     if (!(g->fp = vsv_input_fopen(g->dset, "rb", why, sizeof why))) {
         rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, why);
+        goto done;
+    }
+    /* a run of at most 10 000 years: the calendar arithmetic stays exact */
+    if ((long long)dmonths * (nt - 1) > 120000 || (long long)dt * (nt - 1) > 10000LL * 366 * 86400) {
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "TDEF: %d steps span more than 10000 years", nt);
         goto done;
     }
     s->ntimes = nt;

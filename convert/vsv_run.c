@@ -97,8 +97,9 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
     const vsv_meta *g0 = vsv_source_grid(r->src[0]);
     int64_t dt = 0;
     for (int i = 0; i < r->nsrc && !dt; i++)
-        if (vsv_source_ntimes(r->src[i]) > 1)
-            dt = vsv_source_time(r->src[i], 1) - vsv_source_time(r->src[i], 0);
+        if (vsv_source_ntimes(r->src[i]) > 1 &&
+            __builtin_sub_overflow(vsv_source_time(r->src[i], 1), vsv_source_time(r->src[i], 0), &dt))
+            dt = 0; /* (times anywhere in int64: differences checked) */
     for (int i = 1; i < r->nsrc; i++) {
         const vsv_meta *g = vsv_source_grid(r->src[i]);
         if (g->nx != g0->nx || g->ny != g0->ny || g->nz != g0->nz || g->proj.kind != g0->proj.kind ||
@@ -116,7 +117,8 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
             rc = fail(r, VSV_EINVAL, "%s (ends %s) and %s (starts %s) overlap in time", names[i - 1], a, names[i], b);
             goto done;
         }
-        if (dt && start - end != dt) {
+        int64_t gap;
+        if (dt && (__builtin_sub_overflow(start, end, &gap) || gap != dt)) {
             rc = fail(r, VSV_EINVAL, "gap between %s (ends %s) and %s (starts %s): the run steps every %lld s",
                       names[i - 1], a, names[i], b, (long long)dt);
             goto done;

@@ -657,6 +657,11 @@ static int camx_open(vsv_source *s)
         int bd, ed;
         float bh, eh;
         vsv_uamiv_hour(c->u, t, &bd, &bh, &ed, &eh);
+        /* a date YYJJJ or YYYYJJJ and an hour 0..24: a NaN or a wild value
+         * would make a time of nothing (and undefined arithmetic) */
+        if (!isfinite(bh) || bh < 0 || bh > 24 || bd < 0 || bd / 1000 > 9999 || bd % 1000 < 1 || bd % 1000 > 366)
+            return vsv_source_fail(s, VSV_ECORRUPT, "hour %d: begins at date %d, hour %g: not a time (record of hour %d)",
+                                   t, bd, bh, t);
         s->times[t] = vsv_uamiv_time(bd, bh) + (int64_t)zone * 3600;
         if (t && s->times[t] <= s->times[t - 1])
             return vsv_source_fail(s, VSV_ECORRUPT, "hour %d (date %d, %.2f h) does not follow hour %d", t, bd, bh, t - 1);
