@@ -38,8 +38,11 @@ set -- "MM5 v3" REGRID "WRF netCDF" "CAMx UAM-IV" "IOAPI netCDF" CMAQ "CF netCDF
 helpfmt vsv-extract "$@" OpenVDB "field stream"
 helpfmt vsv-convert "$@" OpenVDB ".vsv format"
 # (Open MPI's own start-up leaks: suppressed as in cli_mpi.sh)
-LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan-mpi.supp:fast_unwind_on_malloc=0:print_suppressions=0" \
+(
+    LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan-mpi.supp:fast_unwind_on_malloc=0:print_suppressions=0"
+    export LSAN_OPTIONS
     helpfmt vsv-convert-mpi "$@" OpenVDB ".vsv format"
+)
 helpfmt vsv-info "$@" ".vsv" "vsv-extract --list" JSON
 helpfmt vsv-interp "Reads and writes the field stream"
 helpfmt vsv-pack "Reads a field stream" ".vsv format"
