@@ -60,6 +60,18 @@ static int rebuild(int method, const vsv_meta *m, int64_t ta, int64_t tb, int64_
         rc = vsv_interp_push(ip, tb, (const float *const *)b);
     if (rc)
         fprintf(stderr, "bench_advect: %s\n", vsv_interp_error(ip));
+    int nb;
+    const float *al = rc ? NULL : vsv_interp_scales(ip, &nb);
+    if (al) { /* advect: the fitted scales */
+        printf("advect's fitted scales of the wind's displacement, per band of levels (bottom up):\n");
+        for (int v = 0; v < g->nv; v++) {
+            printf("  %-6s", m->vars[v].name);
+            for (int k = 0; k < nb; k++)
+                printf(" %.3g", al[(size_t)v * nb + k]);
+            printf("\n");
+        }
+        printf("\n");
+    }
     vsv_interp_free(ip);
     return rc || !g->got ? -1 : 0;
 }
@@ -283,12 +295,12 @@ int main(int argc, char **argv)
     const vsv_meta *m = vsv_run_meta(run);
     const size_t cells = (size_t)m->nx * m->ny * m->nz;
     const int nv = m->nvars;
-    float *buf[5][64];
-    for (int f = 0; f < 5; f++)
+    float *buf[6][64];
+    for (int f = 0; f < 6; f++)
         for (int v = 0; v < nv; v++)
             if (!(buf[f][v] = malloc(cells * sizeof(float))))
                 return 1;
-    /* 0: before, 1: truth, 2: after, 3: linear, 4: advect */
+    /* 0: before, 1: truth, 2: after, 3..5: the rebuilds */
     for (int f = 0; f < 3; f++)
         if (vsv_run_read(run, h - 1 + f, buf[f])) {
             fprintf(stderr, "bench_advect: %s\n", vsv_run_error(run));
@@ -313,10 +325,6 @@ int main(int argc, char **argv)
     int ns = 0;
     while (ns < nv && strncmp(m->vars[ns].name, "wind.", 5))
         ns++;
-    grab gl = {th, ns, 0, cells, buf[3]}, ga = {th, ns, 0, cells, buf[4]};
-    if (rebuild(VSV_TIME_LINEAR, m, ta, tb, th, buf[0], buf[2], &gl) ||
-        rebuild(VSV_TIME_ADVECT, m, ta, tb, th, buf[0], buf[2], &ga))
-        return 1;
     char a[40], b[40], c[40];
     vsv_time_format(ta, a, sizeof a);
     vsv_time_format(th, b, sizeof b);
@@ -326,37 +334,49 @@ int main(int argc, char **argv)
            scale ? " (scaled)" : "");
     if (scale)
         printf("winds scaled by U %g, V %g, W %g\n\n", sc[0], sc[1], sc[2]);
-    printf("| species | truth max | RMSE linear | RMSE advect | advect/linear | max err linear | max err advect | "
-           "objects | centroid err linear (km) | centroid err advect (km) |\n");
-    printf("|---|---|---|---|---|---|---|---|---|---|\n");
+    /* 3: linear, 4: advect (fitted scales), 5: wind (the air's displacement) */
+    static const int method[3] = {VSV_TIME_LINEAR, VSV_TIME_ADVECT, VSV_TIME_WIND};
+    for (int q = 0; q < 3; q++) {
+        grab g = {th, ns, 0, cells, buf[3 + q]};
+        if (rebuild(method[q], m, ta, tb, th, buf[0], buf[2], &g))
+            return 1;
+    }
+    printf("| species | truth max | RMSE linear | RMSE wind | RMSE advect | wind/linear | advect/linear | max err "
+           "linear | max err wind | max err advect | objects | centroid err linear / wind / advect (km) |\n");
+    printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
     for (int v = 0; v < ns; v++) {
-        const float *t = buf[1][v], *l = buf[3][v], *d = buf[4][v];
-        double sl = 0, sd = 0, ml = 0, md = 0, tmax = 0;
+        const float *t = buf[1][v];
+        double se[3] = {0}, me[3] = {0}, tmax = 0;
         long n = 0;
         for (size_t i = 0; i < cells; i++) {
-            if (!isfinite(t[i]) || !isfinite(l[i]) || !isfinite(d[i]))
+            if (!isfinite(t[i]) || !isfinite(buf[3][v][i]) || !isfinite(buf[4][v][i]) || !isfinite(buf[5][v][i]))
                 continue;
-            const double el = l[i] - (double)t[i], ed = d[i] - (double)t[i];
-            sl += el * el, sd += ed * ed;
-            ml = fmax(ml, fabs(el)), md = fmax(md, fabs(ed));
+            for (int q = 0; q < 3; q++) {
+                const double e = buf[3 + q][v][i] - (double)t[i];
+                se[q] += e * e;
+                me[q] = fmax(me[q], fabs(e));
+            }
             tmax = fmax(tmax, t[i]);
             n++;
         }
-        const double rl = n ? sqrt(sl / n) : 0, rd = n ? sqrt(sd / n) : 0;
-        int nol, nod;
-        const double ol = objects(m, t, l, &nol), od = objects(m, t, d, &nod);
-        char sol[32] = "-", sod[32] = "-";
-        if (ol >= 0)
-            snprintf(sol, sizeof sol, "%.1f", ol);
-        if (od >= 0)
-            snprintf(sod, sizeof sod, "%.1f", od);
-        printf("| %s | %.3g | %.3g | %.3g | %s%.2f%s | %.3g | %.3g | %d | %s | %s |\n", m->vars[v].name, tmax, rl, rd,
-               rl > 0 && rd <= 0.7 * rl ? "**" : "", rl > 0 ? rd / rl : 1.0, rl > 0 && rd <= 0.7 * rl ? "**" : "", ml,
-               md, nol, sol, sod);
+        double r[3];
+        char cen[3][32];
+        int nobj = 0;
+        for (int q = 0; q < 3; q++) {
+            r[q] = n ? sqrt(se[q] / n) : 0;
+            const double o = objects(m, t, buf[3 + q][v], &nobj);
+            snprintf(cen[q], sizeof cen[q], o >= 0 ? "%.1f" : "-", o);
+        }
+        /* columns: linear, wind, advect */
+        const double rl = r[0], rw = r[2], ra = r[1];
+        printf("| %s | %.3g | %.3g | %.3g | %.3g | %s%.2f%s | %s%.2f%s | %.3g | %.3g | %.3g | %d | %s / %s / %s |\n",
+               m->vars[v].name, tmax, rl, rw, ra, rl > 0 && rw <= 0.7 * rl ? "**" : "", rl > 0 ? rw / rl : 1.0,
+               rl > 0 && rw <= 0.7 * rl ? "**" : "", rl > 0 && ra <= 0.7 * rl ? "**" : "", rl > 0 ? ra / rl : 1.0,
+               rl > 0 && ra <= 0.7 * rl ? "**" : "", me[0], me[2], me[1], nobj, cen[0], cen[2], cen[1]);
     }
     if (argc > 5 && !strcmp(argv[5], "shift"))
         shifts(m, ns, buf[0], buf[2], (double)(tb - ta));
-    for (int f = 0; f < 5; f++)
+    for (int f = 0; f < 6; f++)
         for (int v = 0; v < nv; v++)
             free(buf[f][v]);
     vsv_run_free(run);

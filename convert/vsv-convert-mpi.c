@@ -158,7 +158,7 @@ static void read_phase(rank *r)
     }
     if (!r->failed && r->s0 < r->s1) {
         int bad, dropped;
-        if (vsv_convert_frames(r->run, r->a.dt, r->f0, r->f1, fields, keep, r, NULL, &bad, &dropped) &&
+        if (vsv_convert_frames(r->run, r->a.dt, r->a.method, r->f0, r->f1, fields, keep, r, NULL, &bad, &dropped) &&
             !r->stopped) {
             if (bad >= 0)
                 rank_fail(r, "%s", vsv_run_error(r->run));

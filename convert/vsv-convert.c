@@ -48,7 +48,7 @@ int main(int argc, char **argv)
         vsv_cli_die(1, "out of memory");
     const int n = vsv_run_nframes(run);
     int bad, dropped;
-    if (vsv_convert_frames(run, a.dt, 0, n - 1, fields, add, w, "vsv-convert: reading", &bad, &dropped)) {
+    if (vsv_convert_frames(run, a.dt, a.method, 0, n - 1, fields, add, w, "vsv-convert: reading", &bad, &dropped)) {
         if (bad == -1)
             vsv_cli_writer_die(w, a.out);
         vsv_writer_free(w);

@@ -9,7 +9,7 @@
 #include <unistd.h>
 
 static const char usage[] =
-    "Usage: vsv-interp --time-res DURATION [--interp linear|advect] [STREAM]\n"
+    "Usage: vsv-interp --time-res DURATION [--interp linear|advect|wind] [STREAM]\n"
     "Read a field stream (stdin by default) and write it with frames every DURATION\n"
     "(30s, 10m, 1h, 1d: a unit is required), at the first frame's time + k*DURATION:\n"
     "values are linear in time between consecutive model outputs. Input frames on\n"
@@ -22,11 +22,14 @@ static const char usage[] =
     "  -i, --interp M       linear (default): a blend of the two outputs around each\n"
     "                       frame; advect: the earlier output carried forward and the\n"
     "                       later one carried back along the winds, then blended the\n"
-    "                       same way, so what the wind carries moves instead of\n"
-    "                       cross-fading (on real runs not closer to the truth than\n"
-    "                       linear: vsv-interp(1), ACCURACY). Needs the winds in the\n"
+    "                       same way, so what moves moves instead of cross-fading;\n"
+    "                       each species in each region of the grid is carried as far\n"
+    "                       as best maps one output onto the other (0 to 1.25 times\n"
+    "                       the air's displacement, fitted per interval; 0 is linear);\n"
+    "                       wind: carried exactly as far as the air moves. On real\n"
+    "                       runs: vsv-interp(1), ACCURACY. Needs the winds in the\n"
     "                       stream: vsv-extract --add-winds\n"
-    "  -j, --threads N      advect: threads (default: all cores)\n"
+    "  -j, --threads N      advect, wind: threads (default: all cores)\n"
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n";
 
@@ -58,7 +61,7 @@ int main(int argc, char **argv)
         switch (c) {
         case 'i':
             if ((io.method = vsv_interp_method(optarg)) < 0)
-                vsv_cli_usage_error("--interp %s: expected linear or advect", optarg);
+                vsv_cli_usage_error("--interp %s: expected linear, advect or wind", optarg);
             break;
         case 'j':
             if (vsv_cli_int(optarg, 1, 64, &nth))

@@ -40,14 +40,12 @@
  * registers (or one AVX register) per operation. */
 typedef float f8 __attribute__((vector_size(32)));
 
-/* A cell's two trajectory ends: their 8 cells and trilinear weights. */
-typedef struct ends {
-    size_t ob[8], of[8];
-    f8 wb, wf;
-} ends;
+/* The fit's candidate scales: 0, 1/8, ..., 10/8 of the wind's displacement. */
+enum { NCAND = 11, FIT_STRIDE = 3, MAXTHREADS = 64, MAXVARS = 256 };
+#define CAND_STEP 0.125f
 
 struct vsv_advect {
-    int nx, ny, nz, threads, vertical;
+    int nx, ny, nz, threads, vertical, nvars;
     size_t plane, cells;
     size_t stride[3];  /* index step per axis (0 for an axis of one cell) */
     float *sx, *sy;    /* per column: cells per metre along x, y */
@@ -55,7 +53,15 @@ struct vsv_advect {
     float *wind;       /* per cell 8 floats: u v w 0 at the start, u v w 0 at the end,
                         * in cells per span seconds */
     double span;
-    ends *scratch;     /* per thread: one row of ends */
+    float scale;       /* > 0: every species moves with the wind times this; 0: fitted */
+    int band, nband;   /* the fit's bands: of band levels, nband of them */
+    float *alpha;      /* the fitted scales: nvars * nband (band fastest) */
+    int fitrows;       /* rows the fit visits: every FIT_STRIDE-th of each level */
+    double *acc;       /* per fit row: nvars * NCAND squared mismatches (summed in
+                        * row order afterwards, so the fit does not depend on
+                        * which thread did which row) */
+    double *sums;      /* nvars * nband * NCAND: the bands' sums */
+    float *scratch;    /* per thread: one row of displacements, 6 floats a cell */
 };
 
 /* Earth distance (m) between two points on a sphere of radius r. */
@@ -99,20 +105,29 @@ int vsv_advect_create(const vsv_meta *g, int threads, vsv_advect **out)
     a->nx = g->nx;
     a->ny = g->ny;
     a->nz = g->nz;
+    a->nvars = g->nvars > 0 ? g->nvars : 1;
     a->threads = threads > 0 ? threads : vsv_ncpus();
+    if (a->threads > MAXTHREADS)
+        a->threads = MAXTHREADS;
     a->plane = (size_t)g->nx * g->ny;
     a->cells = a->plane * g->nz;
     a->stride[0] = g->nx > 1 ? 1 : 0;
     a->stride[1] = g->ny > 1 ? (size_t)g->nx : 0;
     a->stride[2] = g->nz > 1 ? a->plane : 0;
+    /* the fit's bands: about an eighth of the levels each (at least 2) */
+    a->band = (g->nz + 7) / 8 > 2 ? (g->nz + 7) / 8 : 2;
+    a->nband = (g->nz + a->band - 1) / a->band;
+    const size_t nfit = (size_t)a->nvars * a->nband;
     a->sx = malloc(a->plane * sizeof *a->sx);
     a->sy = malloc(a->plane * sizeof *a->sy);
     a->sz = calloc((size_t)g->nz, sizeof *a->sz);
     a->wind = calloc(a->cells * 8, sizeof *a->wind);
-    if (a->threads > 64)
-        a->threads = 64;
-    a->scratch = malloc((size_t)a->threads * (size_t)g->nx * sizeof *a->scratch);
-    if (!a->sx || !a->sy || !a->sz || !a->wind || !a->scratch)
+    a->alpha = calloc(nfit, sizeof *a->alpha);
+    a->fitrows = (g->ny + FIT_STRIDE - 1) / FIT_STRIDE * g->nz;
+    a->acc = malloc((size_t)a->fitrows * a->nvars * NCAND * sizeof *a->acc);
+    a->scratch = malloc((size_t)a->threads * (size_t)g->nx * 6 * sizeof *a->scratch);
+    a->sums = malloc(nfit * NCAND * sizeof *a->sums);
+    if (!a->sx || !a->sy || !a->sz || !a->wind || !a->alpha || !a->acc || !a->sums || !a->scratch)
         return VSV_ENOMEM;
     for (int j = 0; j < g->ny; j++)
         for (int i = 0; i < g->nx; i++)
@@ -277,43 +292,114 @@ static inline float sample(const float *f, const size_t off[8], const f8 *wt, fl
     return r < lo ? lo : r > hi ? hi : r;
 }
 
+/* The winds in cells per interval of t1 - t0 seconds. */
+static void set_span(vsv_advect *a, int64_t t0, int64_t t1)
+{
+    if (a->span != (double)(t1 - t0)) {
+        const float r = (float)((double)(t1 - t0) / (a->span > 0 ? a->span : 1));
+        for (size_t i = 0; i < a->cells * 8; i++)
+            a->wind[i] *= r;
+        a->span = (double)(t1 - t0);
+    }
+}
+
+/* The displacements of the air at cell (i, j, k) at interval time s: db to
+ * where it was at the start, df to where it will be at the end (cells; 0
+ * for an end whose trajectory left the grid sideways). Returns 0, or which
+ * left: 1 the one back, 2 the one on, 3 both. */
+static int displacements(const vsv_advect *a, int i, int j, int k, float s, float db[3], float df[3])
+{
+    const size_t c = (size_t)k * a->plane + (size_t)j * a->nx + i;
+    /* both trajectories start from the cell's centre, where the wind is the
+     * cell's own (no trilinear sum) */
+    const float *w = a->wind + c * 8;
+    const float k1[3] = {w[0] + s * (w[4] - w[0]), w[1] + s * (w[5] - w[1]), w[2] + s * (w[6] - w[2])};
+    const float x[3] = {(float)i, (float)j, (float)k};
+    float pb[3] = {x[0], x[1], x[2]}, pf[3] = {x[0], x[1], x[2]};
+    int left = 0;
+    if (s > 0 && trajectory(a, pb, k1, s, s, -1))
+        memcpy(pb, x, sizeof pb), left |= 1;
+    if (s < 1 && trajectory(a, pf, k1, s, 1 - s, 1))
+        memcpy(pf, x, sizeof pf), left |= 2;
+    for (int d = 0; d < 3; d++)
+        db[d] = pb[d] - x[d], df[d] = pf[d] - x[d];
+    return left;
+}
+
+/* Species v's end value at cell (i, j, k) displaced by alpha * d: f
+ * sampled trilinearly there and limited (sample), own where none has data. */
+static inline float carried(const vsv_advect *a, const float *f, int i, int j, int k, float alpha, const float d[3],
+                            float own)
+{
+    const float p[3] = {(float)i + alpha * d[0], (float)j + alpha * d[1], (float)k + alpha * d[2]};
+    size_t off[8];
+    f8 wt;
+    corners(a, p, off, &wt);
+    return sample(f, off, &wt, own);
+}
+
+/* Level k lies between band r and r + 1 of the m bands of n levels, weight
+ * *f on r + 1 (band centres at (r + 0.5) * n - 0.5; the scale is linear
+ * between them, so it has no step at a band's edge). */
+static inline int band_of(int c, int n, int m, float *f)
+{
+    const float u = ((float)c + 0.5f) / (float)n - 0.5f;
+    if (m < 2 || u <= 0) {
+        *f = 0;
+        return 0;
+    }
+    if (u >= m - 1) {
+        *f = 0;
+        return m - 1;
+    }
+    const int r = (int)u;
+    *f = u - (float)r;
+    return r;
+}
+
+enum { JOB_FRAME, JOB_FIT };
+
 typedef struct job {
-    const vsv_advect *a;
+    vsv_advect *a;
     double s, w; /* the frame's interval time, its linear weight */
-    int ns;
+    int ns, kind; /* JOB_FRAME or JOB_FIT (rows FIT_STRIDE apart) */
     const float *const *f0, *const *f1;
     float *const *out;
     atomic_int next;   /* next row (j + k*ny) to do */
     atomic_int tid;    /* next worker's scratch */
 } job;
 
-/* One row of the frame in two passes: first every cell's two trajectory
- * ends (their 8 cells and weights), then species by species, so that a
- * pass reads a few rows of one field at a time (a handful of streams the
- * prefetcher follows) instead of every field's at once. e: the thread's
- * scratch for a row. */
-static void do_row(const job *jb, int row, ends *e)
+/* The scales of level k for every species, into al (ns): the fitted ones,
+ * linear between band centres, or the one given scale. Returns 1 if any is
+ * non-zero. */
+static int level_scales(const vsv_advect *a, int ns, int k, float *al)
+{
+    float f;
+    const int b = band_of(k, a->band, a->nband, &f), b1 = b + (f > 0);
+    int any = 0;
+    for (int v = 0; v < ns; v++) {
+        const float *t = a->alpha + (size_t)v * a->nband;
+        al[v] = a->scale > 0 ? a->scale : t[b] + f * (t[b1] - t[b]);
+        any |= al[v] > 0;
+    }
+    return any;
+}
+
+/* One row of a frame: every cell's two displacements (once, for all
+ * species), then species by species (a pass reads a few rows of one field
+ * at a time) each end sampled at the species' scale of them, the scale of
+ * the row's level. A species at scale 0 gets linear interpolation's very
+ * arithmetic. sc: the thread's scratch. */
+static void do_row(const job *jb, int row, float *sc)
 {
     const vsv_advect *a = jb->a;
     const int j = row % a->ny, k = row / a->ny;
     const float s = (float)jb->s;
     const size_t c0 = (size_t)k * a->plane + (size_t)j * a->nx;
-    for (int i = 0; i < a->nx; i++) {
-        const size_t c = c0 + i;
-        /* both trajectories start from the cell's centre, where the wind is
-         * the cell's own (no trilinear sum) */
-        const float *w = a->wind + c * 8;
-        const float k1[3] = {w[0] + s * (w[4] - w[0]), w[1] + s * (w[5] - w[1]), w[2] + s * (w[6] - w[2])};
-        float pb[3] = {(float)i, (float)j, (float)k}, pf[3] = {(float)i, (float)j, (float)k};
-        /* a trajectory that leaves the grid sideways: that end falls back to
-         * the cell's own value, as linear interpolation has it */
-        if (s > 0 && trajectory(a, pb, k1, s, s, -1))
-            pb[0] = (float)i, pb[1] = (float)j, pb[2] = (float)k;
-        if (s < 1 && trajectory(a, pf, k1, s, 1 - s, 1))
-            pf[0] = (float)i, pf[1] = (float)j, pf[2] = (float)k;
-        corners(a, pb, e[i].ob, &e[i].wb);
-        corners(a, pf, e[i].of, &e[i].wf);
-    }
+    float *d = sc, al[MAXVARS];
+    if (level_scales(a, jb->ns, k, al))
+        for (int i = 0; i < a->nx; i++)
+            displacements(a, i, j, k, s, d + 6 * i, d + 6 * i + 3);
     for (int v = 0; v < jb->ns; v++) {
         const float *f0 = jb->f0[v], *f1 = jb->f1[v];
         float *out = jb->out[v] + c0;
@@ -321,7 +407,11 @@ static void do_row(const job *jb, int row, ends *e)
             const float a0 = f0[c0 + i], a1 = f1[c0 + i];
             float r = NAN;
             if (a0 == a0 && a1 == a1) {
-                const float A = sample(f0, e[i].ob, &e[i].wb, a0), B = sample(f1, e[i].of, &e[i].wf, a1);
+                float A = a0, B = a1;
+                if (al[v] > 0) {
+                    A = carried(a, f0, i, j, k, al[v], d + 6 * i, a0);
+                    B = carried(a, f1, i, j, k, al[v], d + 6 * i + 3, a1);
+                }
                 r = (float)(A + ((double)B - A) * jb->w);
             }
             out[i] = r;
@@ -329,38 +419,134 @@ static void do_row(const job *jb, int row, ends *e)
     }
 }
 
+/* One row of the fit: at every FIT_STRIDE-th cell the displacements over
+ * the whole interval of the air there at its end (db) and at its start
+ * (df); for each candidate scale and species the squared differences
+ * between the start's field carried to the end and the end's field, and
+ * between the end's carried back and the start's, summed into the row's
+ * slot of acc. */
+static void fit_row(const job *jb, int row)
+{
+    const vsv_advect *a = jb->a;
+    const int nj = (a->ny + FIT_STRIDE - 1) / FIT_STRIDE;
+    const int j = row % nj * FIT_STRIDE, k = row / nj;
+    const size_t c0 = (size_t)k * a->plane + (size_t)j * a->nx;
+    double *acc = a->acc + (size_t)row * a->nvars * NCAND;
+    memset(acc, 0, (size_t)jb->ns * NCAND * sizeof *acc);
+    for (int i = 0; i < a->nx; i += FIT_STRIDE) {
+        float db[3], df[3], unused[3];
+        displacements(a, i, j, k, 1, db, unused);
+        displacements(a, i, j, k, 0, unused, df);
+        for (int v = 0; v < jb->ns; v++) {
+            const float *f0 = jb->f0[v], *f1 = jb->f1[v];
+            const float a0 = f0[c0 + i], a1 = f1[c0 + i];
+            if (!(a0 == a0 && a1 == a1))
+                continue;
+            double *o = acc + (size_t)v * NCAND;
+            for (int c = 0; c < NCAND; c++) {
+                const float al = c * CAND_STEP;
+                const double A = c ? carried(a, f0, i, j, k, al, db, a0) : a0;
+                const double B = c ? carried(a, f1, i, j, k, al, df, a1) : a1;
+                o[c] += (A - a1) * (A - a1) + (B - a0) * (B - a0);
+            }
+        }
+    }
+}
+
 static void *worker(void *p)
 {
     job *jb = p;
-    const int rows = jb->a->ny * jb->a->nz;
-    ends *e = jb->a->scratch + (size_t)atomic_fetch_add(&jb->tid, 1) * jb->a->nx;
-    for (int r; (r = atomic_fetch_add(&jb->next, 1)) < rows;)
-        do_row(jb, r, e);
+    const vsv_advect *a = jb->a;
+    if (jb->kind == JOB_FIT) {
+        for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->fitrows;)
+            fit_row(jb, r);
+        return NULL;
+    }
+    float *sc = a->scratch + (size_t)atomic_fetch_add(&jb->tid, 1) * a->nx * 6;
+    for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->ny * a->nz;)
+        do_row(jb, r, sc);
     return NULL;
+}
+
+/* Runs jb on the caller's thread and up to threads - 1 more. */
+static void run_job(job *jb)
+{
+    atomic_init(&jb->next, 0);
+    atomic_init(&jb->tid, 0);
+    pthread_t th[MAXTHREADS];
+    int n = 0;
+    while (n < jb->a->threads - 1 && !pthread_create(&th[n], NULL, worker, jb))
+        n++;
+    worker(jb);
+    for (int i = 0; i < n; i++)
+        pthread_join(th[i], NULL);
+}
+
+/* The candidate of least mismatch in sums e (NCAND), the smaller scale on
+ * a tie; -1 when e says nothing (no difference at all at scale 0). */
+static int best(const double *e)
+{
+    if (!(e[0] > 0))
+        return -1;
+    int b = 0;
+    for (int c = 1; c < NCAND; c++)
+        if (e[c] < e[b])
+            b = c;
+    return b;
+}
+
+void vsv_advect_set_scale(vsv_advect *a, float scale) { a->scale = scale > 0 ? scale : 0; }
+
+int vsv_advect_fit(vsv_advect *a, int64_t t0, int64_t t1, int ns, const float *const *f0, const float *const *f1)
+{
+    if (a->scale > 0)
+        return 0;
+    if (ns > a->nvars)
+        ns = a->nvars;
+    set_span(a, t0, t1);
+    job jb = {a, 0, 0, ns, JOB_FIT, f0, f1, NULL, 0, 0};
+    run_job(&jb);
+    /* per species and band, the rows' sums in row order */
+    double *sum = a->sums;
+    memset(sum, 0, (size_t)ns * a->nband * NCAND * sizeof *sum);
+    const int nj = a->fitrows / a->nz;
+    for (int r = 0; r < a->fitrows; r++)
+        for (int v = 0; v < ns; v++)
+            for (int c = 0; c < NCAND; c++)
+                sum[((size_t)v * a->nband + (size_t)(r / nj / a->band)) * NCAND + c] +=
+                    a->acc[((size_t)r * a->nvars + v) * NCAND + c];
+    /* a band's own choice where it has something to compare; elsewhere the
+     * species' over the whole grid, else 0 (linear) */
+    for (int v = 0; v < ns; v++) {
+        double all[NCAND] = {0};
+        for (int b = 0; b < a->nband; b++)
+            for (int c = 0; c < NCAND; c++)
+                all[c] += sum[((size_t)v * a->nband + b) * NCAND + c];
+        const int ball = best(all);
+        for (int b = 0; b < a->nband; b++) {
+            const int bb = best(sum + ((size_t)v * a->nband + b) * NCAND);
+            a->alpha[(size_t)v * a->nband + b] = (float)(bb >= 0 ? bb : ball >= 0 ? ball : 0) * CAND_STEP;
+        }
+    }
+    return 0;
+}
+
+const float *vsv_advect_scales(const vsv_advect *a, int *nband)
+{
+    *nband = a->nband;
+    return a->alpha;
 }
 
 int vsv_advect_frame(vsv_advect *a, int64_t t0, int64_t t1, int64_t t, int ns, const float *const *f0,
                      const float *const *f1, float *const *out)
 {
-    if (a->span != (double)(t1 - t0)) { /* winds in cells per interval */
-        const float r = (float)((double)(t1 - t0) / (a->span > 0 ? a->span : 1));
-        for (size_t i = 0; i < a->cells * 8; i++)
-            a->wind[i] *= r;
-        a->span = (double)(t1 - t0);
-    }
-    job jb = {a, 0, 0, ns, f0, f1, out, 0, 0};
+    if (ns > a->nvars)
+        ns = a->nvars;
+    set_span(a, t0, t1);
+    job jb = {a, 0, 0, ns, JOB_FRAME, f0, f1, out, 0, 0};
     jb.w = (double)(t - t0) / (double)(t1 - t0); /* exactly as linear interpolation weighs */
     jb.s = jb.w;
-    atomic_init(&jb.next, 0);
-    atomic_init(&jb.tid, 0);
-    pthread_t th[64];
-    int n = 0;
-    const int want = a->threads;
-    while (n < want - 1 && !pthread_create(&th[n], NULL, worker, &jb))
-        n++;
-    worker(&jb);
-    for (int i = 0; i < n; i++)
-        pthread_join(th[i], NULL);
+    run_job(&jb);
     return 0;
 }
 
@@ -372,6 +558,9 @@ void vsv_advect_free(vsv_advect *a)
     free(a->sy);
     free(a->sz);
     free(a->wind);
+    free(a->alpha);
+    free(a->acc);
+    free(a->sums);
     free(a->scratch);
     free(a);
 }

@@ -25,13 +25,27 @@ void vsv_advect_winds(vsv_advect *a, const float *u0, const float *v0, const flo
 /* out[s] (caller buffers of nx*ny*nz floats) for the ns fields at time t of
  * [t0, t1]: (float)(A + (B - A) * w), w = (t - t0) / (t1 - t0) in double,
  * A = f0[s] at the point whose trajectory reaches the cell at t, B = f1[s] at
- * the point the trajectory reaches at t1, each sampled trilinearly from the 8
+ * the point the trajectory reaches at t1 (the displacements to those points
+ * times the species' scale: see vsv_advect_set_scale), each sampled trilinearly from the 8
  * cells around it (cells without data skipped) and clamped to their range.
  * NaN where f0 or f1 is NaN at the cell itself (as linear interpolation).
  * Uses the winds last given. Threads that cannot start leave their share
  * to the caller's thread. Returns 0. */
 int vsv_advect_frame(vsv_advect *a, int64_t t0, int64_t t1, int64_t t, int ns, const float *const *f0,
                      const float *const *f1, float *const *out);
+/* scale > 0: every species moves with the wind times scale (1: as the air
+ * moves); 0 (the default): with the scales vsv_advect_fit found. */
+void vsv_advect_set_scale(vsv_advect *a, float scale);
+/* With scale 0: fits the scales of the interval [t0, t1] from its two
+ * outputs (the ns fields of f0 and f1, in the order vsv_advect_frame will
+ * get them) and the winds last given: per species and band of levels (an
+ * eighth of the grid's, at least 2) the one of 0, 1/8, ..., 5/4 under
+ * which the earlier output carried to t1 matches the later one and the
+ * later carried back to t0 the earlier one best (least squares, every
+ * third column each way). Returns 0. */
+int vsv_advect_fit(vsv_advect *a, int64_t t0, int64_t t1, int ns, const float *const *f0, const float *const *f1);
+/* The scales last fitted: species v, band b at [v * nband + b]. */
+const float *vsv_advect_scales(const vsv_advect *a, int *nband);
 void vsv_advect_free(vsv_advect *a);
 
 #endif

@@ -177,14 +177,17 @@ uint64_t vsv_run_input_bytes(const vsv_run *r);
  * The last output is the last grid time at or before the last input. An
  * interpolated value is
  *   (float)(a + (b - a) * w),  w = (t - ta) / (tb - ta)  (in double),
- * NaN where a or b is NaN. With VSV_TIME_ADVECT, a and b are instead the
+ * NaN where a or b is NaN. With VSV_TIME_WIND, a and b are instead the
  * earlier frame carried forward to t and the later one carried back to t
- * along the winds (semi-Lagrangian trajectories, see vsv_advect.c). */
+ * along the winds (semi-Lagrangian trajectories, see vsv_advect.c); with
+ * VSV_TIME_ADVECT along the winds' displacements scaled per species and
+ * band of levels by the factor (0 .. 1.25) that best carries the one output
+ * onto the other (fitted per interval; 0 is linear interpolation). */
 typedef struct vsv_interp vsv_interp;
 typedef int (*vsv_frame_fn)(void *ctx, int64_t time, const float *const *fields);
 
 /* Methods of time interpolation (vsv_interp_opts.method). */
-enum { VSV_TIME_LINEAR = 0, VSV_TIME_ADVECT = 1 };
+enum { VSV_TIME_LINEAR = 0, VSV_TIME_ADVECT = 1, VSV_TIME_WIND = 2 };
 
 /* Auxiliary wind fields: variables of these names travel with the species
  * (vsv_run_add_winds puts them last; the attribute VSV_WINDS_ATTR says where
@@ -197,11 +200,11 @@ enum { VSV_TIME_LINEAR = 0, VSV_TIME_ADVECT = 1 };
 
 /* How to interpolate: plain info. */
 typedef struct vsv_interp_opts {
-    int method;  /* VSV_TIME_LINEAR (default) or VSV_TIME_ADVECT */
+    int method;  /* VSV_TIME_LINEAR (default), VSV_TIME_ADVECT or VSV_TIME_WIND */
     int threads; /* advect: threads a frame uses, 0 = one per online CPU */
 } vsv_interp_opts;
 
-/* "linear" / "advect" to a method; -1 if neither. */
+/* "linear" / "advect" / "wind" to a method; -1 if none. */
 int vsv_interp_method(const char *name);
 
 /* nfields fields of cells floats each; emit receives every output frame.
@@ -227,6 +230,10 @@ int vsv_interp_meta(const vsv_interp *ip, const vsv_meta *meta, vsv_meta *dst);
 /* Feeds the next input frame (times strictly increase); returns emit's
  * first non-zero result, or 0. */
 int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields);
+/* advect: the scales fitted for the last interval, per species v (of those
+ * emitted) and band b of levels (bottom up) at [v * nband + b]; NULL for
+ * the other methods. */
+const float *vsv_interp_scales(const vsv_interp *ip, int *nband);
 /* Input frames so far that fell between grid times (not output). */
 int vsv_interp_dropped(const vsv_interp *ip);
 void vsv_interp_free(vsv_interp *ip);

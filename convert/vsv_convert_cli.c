@@ -12,9 +12,11 @@ const char vsv_convert_options_help[] =
     "                       model times on that grid pass through unchanged, those\n"
     "                       between its steps are not kept (a D coarser than the\n"
     "                       model's keeps every k-th output)\n"
-    "  -i, --interp M       how: linear (default) or advect (carried along the model's\n"
-    "                       own winds U V W; see vsv-interp(1))\n"
-    "      --winds FILE     advect: the winds from FILE (a model file on the same grid\n"
+    "  -i, --interp M       how: linear (default); advect (carried along the model's\n"
+    "                       own winds U V W, each species as far as fits its two\n"
+    "                       outputs); wind (carried as far as the air moves); see\n"
+    "                       vsv-interp(1)\n"
+    "      --winds FILE     advect, wind: the winds from FILE (a model file on the same grid\n"
     "                       with U and V at every time) instead of the input\n"
     "  -v, --vars LIST      variables (default: CLW RNW ICE SNOW GRAUPEL Q present)\n"
     "  -t, --times A:B      steps A..B: indices or ISO times (which may hold colons);\n"
@@ -59,7 +61,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
             break;
         case 'i':
             if ((a->method = vsv_interp_method(optarg)) < 0)
-                vsv_cli_usage_error("--interp %s: expected linear or advect", optarg);
+                vsv_cli_usage_error("--interp %s: expected linear, advect or wind", optarg);
             break;
         case OPT_WINDS: a->winds = optarg; break;
         case 'v': a->vars = optarg; break;
@@ -91,10 +93,10 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
         vsv_cli_usage_error("%s", smsg);
     if (a->times && vsv_timesel_parse(a->times, NULL, 0, 0, &(vsv_timesel){0}, tmsg, sizeof tmsg))
         vsv_cli_usage_error("--times %s: %s", a->times, tmsg);
-    if (a->method == VSV_TIME_ADVECT && !a->dt)
-        vsv_cli_usage_error("--interp advect needs --time-res");
-    if (a->winds && a->method != VSV_TIME_ADVECT)
-        vsv_cli_usage_error("--winds is for --interp advect");
+    if (a->method != VSV_TIME_LINEAR && !a->dt)
+        vsv_cli_usage_error("--interp %s needs --time-res", a->method == VSV_TIME_WIND ? "wind" : "advect");
+    if (a->winds && a->method == VSV_TIME_LINEAR)
+        vsv_cli_usage_error("--winds is for --interp advect or wind");
     a->inputs = (const char *const *)argv + optind;
     a->ninputs = argc - optind;
 }
@@ -102,7 +104,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
 void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
 {
     vsv_meta_init(out);
-    if (a->method == VSV_TIME_ADVECT && vsv_run_add_winds(run, a->winds, &a->so))
+    if (a->method != VSV_TIME_LINEAR && vsv_run_add_winds(run, a->winds, &a->so))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     const vsv_meta *m = vsv_run_meta(run);
     if (!a->dt) {
@@ -119,15 +121,14 @@ void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
     vsv_interp_free(ip);
 }
 
-int vsv_convert_frames(vsv_run *run, int64_t dt, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
+int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
                        const char *label, int *bad_frame, int *dropped)
 {
     const vsv_meta *meta = vsv_run_meta(run);
     vsv_interp *ip = NULL;
     int rc = 0;
     *bad_frame = -1;
-    /* winds in the run (vsv_convert_setup put them there) mean advect */
-    const vsv_interp_opts io = {vsv_meta_find_var(meta, VSV_WIND_U) >= 0 ? VSV_TIME_ADVECT : VSV_TIME_LINEAR, 0};
+    const vsv_interp_opts io = {method, 0};
     if (dt && (rc = vsv_interp_open(dt, meta, &io, emit, ctx, &ip))) {
         *bad_frame = -2;
         goto done;

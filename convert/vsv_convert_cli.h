@@ -18,7 +18,7 @@ typedef struct vsv_convert_args {
     const char *const *inputs;  /* the model files, borrowed from argv */
     int ninputs;
     int stats;                  /* --stats (vsv-convert-mpi only) */
-    int method;                 /* --interp: VSV_TIME_LINEAR or VSV_TIME_ADVECT */
+    int method;                 /* --interp: VSV_TIME_LINEAR, VSV_TIME_ADVECT or VSV_TIME_WIND */
     const char *winds;          /* --winds FILE, or NULL */
 } vsv_convert_args;
 
@@ -47,13 +47,14 @@ void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out);
 
 /* Feeds input frames first..last of the run through the time
  * interpolation (when dt > 0, its grid starting at the run's first time;
- * along the winds when the run has them, see vsv_convert_setup) to
+ * method: --interp's, the winds in the run with a method other than linear:
+ * vsv_convert_setup) to
  * emit; fields: nvars caller buffers of nx*ny*nz floats. Progress goes to
  * label (NULL: none); *dropped (may be NULL) receives the count of input
  * frames between grid times (vsv_interp_dropped). Returns 0; or a negative code with *bad_frame the
  * input frame that did not read (vsv_run_error says why), -1 when emit
  * failed, -2 when memory ran out. */
-int vsv_convert_frames(vsv_run *run, int64_t dt, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
+int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
                        const char *label, int *bad_frame, int *dropped);
 
 #endif

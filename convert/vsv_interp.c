@@ -27,7 +27,10 @@ struct vsv_interp {
 
 int vsv_interp_method(const char *name)
 {
-    return !strcmp(name, "linear") ? VSV_TIME_LINEAR : !strcmp(name, "advect") ? VSV_TIME_ADVECT : -1;
+    return !strcmp(name, "linear")   ? VSV_TIME_LINEAR
+           : !strcmp(name, "advect") ? VSV_TIME_ADVECT
+           : !strcmp(name, "wind")   ? VSV_TIME_WIND
+                                     : -1;
 }
 
 const char *vsv_interp_error(const vsv_interp *ip) { return ip ? ip->err : "out of memory"; }
@@ -102,17 +105,20 @@ int vsv_interp_open(int64_t dt, const vsv_meta *m, const vsv_interp_opts *o, vsv
     }
     const size_t cells = (size_t)m->nx * m->ny * m->nz;
     int rc = setup(ip, dt, m->nvars, cells, emit, ctx);
-    if (rc || ip->method != VSV_TIME_ADVECT)
+    if (rc || ip->method == VSV_TIME_LINEAR)
         return rc;
     if (ip->wind[0] < 0 || ip->wind[1] < 0) {
         vsv_msg(ip->err, sizeof ip->err,
-                "--interp advect needs the winds, and the input has no %s%s%s (horizontal wind along the grid's "
-                "x and y axes)",
+                "--interp %s needs the winds, and the input has no %s%s%s (horizontal wind along the grid's "
+                "x and y axes)", ip->method == VSV_TIME_WIND ? "wind" : "advect",
                 ip->wind[0] < 0 ? VSV_WIND_U : "", ip->wind[0] < 0 && ip->wind[1] < 0 ? " and no " : "",
                 ip->wind[1] < 0 ? VSV_WIND_V : "");
         return VSV_ENOTFOUND;
     }
-    return vsv_advect_create(m, o->threads, &ip->adv);
+    if ((rc = vsv_advect_create(m, o->threads, &ip->adv)))
+        return rc;
+    vsv_advect_set_scale(ip->adv, ip->method == VSV_TIME_WIND ? 1.0f : 0.0f);
+    return 0;
 }
 
 int vsv_interp_meta(const vsv_interp *ip, const vsv_meta *m, vsv_meta *dst)
@@ -147,10 +153,12 @@ int vsv_interp_meta(const vsv_interp *ip, const vsv_meta *m, vsv_meta *dst)
         a++;
     }
     dst->nattrs = a;
-    if (ip->method == VSV_TIME_ADVECT) {
+    if (ip->method != VSV_TIME_LINEAR) {
         char buf[256];
-        snprintf(buf, sizeof buf, "advect: semi-Lagrangian along %s%s", winds ? winds : "the input's winds",
-                 ip->wind[2] < 0 || !vsv_advect_has_vertical(ip->adv) ? " (horizontal only)" : "");
+        snprintf(buf, sizeof buf, "%s: semi-Lagrangian along %s%s%s", ip->method == VSV_TIME_WIND ? "wind" : "advect",
+                 winds ? winds : "the input's winds",
+                 ip->wind[2] < 0 || !vsv_advect_has_vertical(ip->adv) ? " (horizontal only)" : "",
+                 ip->method == VSV_TIME_WIND ? "" : ", displacements scaled per species and band of levels as fitted to the outputs");
         rc = vsv_meta_add_attr(dst, "time interpolation", buf);
     }
     return rc;
@@ -171,11 +179,12 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
         int winds_set = 0;
         int64_t k = (ip->prev_t - ip->t0) / ip->dt + 1;
         for (int64_t t = ip->t0 + k * ip->dt; t < time; t += ip->dt) {
-            if (ip->method == VSV_TIME_ADVECT) {
+            if (ip->method != VSV_TIME_LINEAR) {
                 if (!winds_set) {
                     const int *w = ip->wind;
                     vsv_advect_winds(ip->adv, ip->prev[w[0]], ip->prev[w[1]], w[2] >= 0 ? ip->prev[w[2]] : NULL,
                                      fields[w[0]], fields[w[1]], w[2] >= 0 ? fields[w[2]] : NULL);
+                    vsv_advect_fit(ip->adv, ip->prev_t, time, ip->nout, ip->in0, ip->in1);
                     winds_set = 1;
                 }
                 vsv_advect_frame(ip->adv, ip->prev_t, time, t, ip->nout, ip->in0, ip->in1, ip->tmp);
@@ -209,6 +218,11 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
     ip->prev_t = time;
     ip->have = 1;
     return 0;
+}
+
+const float *vsv_interp_scales(const vsv_interp *ip, int *nband)
+{
+    return ip && ip->adv && ip->method == VSV_TIME_ADVECT ? vsv_advect_scales(ip->adv, nband) : NULL;
 }
 
 int vsv_interp_dropped(const vsv_interp *ip) { return ip ? ip->dropped : 0; }

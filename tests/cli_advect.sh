@@ -26,6 +26,10 @@ expect "vsv-convert --time-res 10m --interp advect" 0 "$B/vsv-convert" -q --time
 same "advect: vsv-convert is byte-identical to extract --add-winds | interp | pack" "$T/adv.vsv" "$T/pipe.vsv"
 "$B/vsv-info" "$T/adv.vsv" > "$T/info"
 has "the file records how it was interpolated" "$T/info" "advect: semi-Lagrangian along U V W of MMOUT_DOMAIN1_CROP (MM5 v3"
+has "... with its scales fitted to the outputs" "$T/info" "displacements scaled per species and band of levels"
+expect "vsv-convert --interp wind (the air's own displacement)" 0 "$B/vsv-convert" -q --time-res 10m --interp wind "$CROP" -o "$T/wind.vsv"
+"$B/vsv-info" "$T/wind.vsv" > "$T/info"
+has "... recorded as wind" "$T/info" "wind: semi-Lagrangian along U V W of MMOUT_DOMAIN1_CROP"
 "$B/vsv-info" -f species "$T/adv.vsv" > "$T/sp"
 if grep -q wind "$T/sp"; then fail "the winds are not written to the file" "$(cat "$T/sp")"; else pass "the winds are not written to the file"; fi
 "$B/vsv-info" -f times.1 "$T/adv.vsv" > "$T/out"

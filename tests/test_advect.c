@@ -181,6 +181,64 @@ static void test_uniform_wind(void)
     vsv_meta_clear(&m);
 }
 
+/* Clouds travel slower than the air that carries them: the cloud moves 6
+ * cells east and 2 up in the hour while the wind would carry it 12 and 4.
+ * advect fits half the wind's displacement and rebuilds it; wind (the
+ * air's full displacement) overshoots. */
+static void test_fitted_scale(void)
+{
+    static const char *const names[] = {"CLW", "SNOW", VSV_WIND_U, VSV_WIND_V, VSV_WIND_W};
+    vsv_meta m;
+    grid(&m, names, 5);
+    float *a[5], *b[5], *truth = malloc(NC * sizeof(float));
+    for (int v = 0; v < 5; v++) {
+        a[v] = malloc(NC * sizeof(float));
+        b[v] = malloc(NC * sizeof(float));
+    }
+    cloud(a[0], 10, 4), cloud(b[0], 16, 6), cloud(truth, 13, 5);
+    cloud(a[1], 10, 4), cloud(b[1], 22, 8); /* SNOW moves with the air */
+    fill(a[2], 12000 / 3600.0f), fill(b[2], 12000 / 3600.0f);
+    fill(a[3], 0), fill(b[3], 0);
+    fill(a[4], 2000 / 3600.0f), fill(b[4], 2000 / 3600.0f);
+    frames adv = {0, 2, {0}, {{0}}}, wind = {0, 2, {0}, {{0}}};
+    vsv_interp_opts o = {VSV_TIME_ADVECT, 2};
+    vsv_interp *ip = NULL;
+    int rc = vsv_interp_open(900, &m, &o, keep, &adv, &ip);
+    if (!rc)
+        rc = vsv_interp_push(ip, 0, (const float *const *)a);
+    if (!rc)
+        rc = vsv_interp_push(ip, 3600, (const float *const *)b);
+    int nb = 0, half = 0, whole = 0;
+    const float *al = rc ? NULL : vsv_interp_scales(ip, &nb);
+    for (int k = 0; al && k < nb; k++)
+        half += al[k] == 0.5f, whole += al[nb + k] == 1.0f;
+    CHECK(al && nb == 8 && half == nb && whole == nb,
+          "advect fits half the wind's displacement for CLW, all of it for SNOW, in every band of levels",
+          "%d bands, %d at 0.5, %d at 1", nb, half, whole);
+    vsv_interp_free(ip);
+    run(VSV_TIME_WIND, &m, (const float *const *)a, (const float *const *)b, &wind);
+    double ea = 1, ew = 0, es = 1;
+    if (adv.n == 5 && wind.n == 5) {
+        ea = es = 0;
+        cloud(a[1], 16, 6); /* SNOW's truth half way */
+        for (int i = 0; i < NC; i++)
+            if (inside(i)) {
+                ea = fmax(ea, fabs(adv.f[2][0][i] - truth[i]));
+                ew = fmax(ew, fabs(wind.f[2][0][i] - truth[i]));
+                es = fmax(es, fabs(adv.f[2][1][i] - a[1][i]));
+            }
+    }
+    CHECK(ea < 1e-4 && es < 1e-4, "advect: a cloud moving at half the wind is rebuilt half way, one at the wind too",
+          "max error %.3g and %.3g", ea, es);
+    CHECK(ew > 0.5, "wind: the same cloud carried at the wind's speed is far off half way", "max error %.3g", ew);
+    frames_free(&adv);
+    frames_free(&wind);
+    for (int v = 0; v < 5; v++)
+        free(a[v]), free(b[v]);
+    free(truth);
+    vsv_meta_clear(&m);
+}
+
 static void test_calm(void)
 {
     static const char *const names[] = {VSV_WIND_U, "Q", VSV_WIND_V, "SNOW"};
@@ -205,6 +263,13 @@ static void test_calm(void)
     for (int f = 0; same && f < 5; f++)
         same = adv.t[f] == lin.t[f] && !memcmp(adv.f[f][0], lin.f[f][0], NC * 4) && !memcmp(adv.f[f][1], lin.f[f][1], NC * 4);
     CHECK(same, "advect in a calm equals linear interpolation bit for bit (NaN cells too)");
+    frames wind = {0, 2, {0}, {{0}}};
+    run(VSV_TIME_WIND, &m, (const float *const *)a, (const float *const *)b, &wind);
+    same = wind.n == 5;
+    for (int f = 0; same && f < 5; f++)
+        same = !memcmp(wind.f[f][0], lin.f[f][0], NC * 4) && !memcmp(wind.f[f][1], lin.f[f][1], NC * 4);
+    CHECK(same, "wind in a calm equals linear interpolation bit for bit");
+    frames_free(&wind);
     CHECK(adv.n == 5 && isnan(adv.f[2][0][5]) && isnan(adv.f[2][1][77]) && adv.f[2][1][78] == lin.f[2][1][78],
           "only Q and SNOW are emitted, in order; the winds are consumed");
     frames_free(&adv);
@@ -248,7 +313,7 @@ static void test_meta_and_errors(void)
     vsv_interp_free(ip);
     vsv_meta_clear(&m);
     CHECK(vsv_interp_method("advect") == VSV_TIME_ADVECT && vsv_interp_method("linear") == VSV_TIME_LINEAR &&
-              vsv_interp_method("cubic") < 0,
+              vsv_interp_method("wind") == VSV_TIME_WIND && vsv_interp_method("cubic") < 0,
           "method names");
 }
 
@@ -303,6 +368,7 @@ static void test_map_scale(void)
 int main(void)
 {
     test_uniform_wind();
+    test_fitted_scale();
     test_calm();
     test_meta_and_errors();
     test_map_scale();
