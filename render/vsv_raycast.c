@@ -9,6 +9,35 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The camera's rays in cell coordinates, counted in steps (vsv_rc_cam),
+ * from this frame's rays (r->rays), geometry and step. */
+static void rc_cam(vsv_renderer *r)
+{
+    const vsv_rays *R = &r->rays;
+    const vsv_geo *g = &r->g;
+    vsv_rc_frame *F = &r->frame;
+    vsv_rc_cam *C = &F->cam;
+    const double org[3] = {g->ox, g->oy, g->oz * g->E};
+    for (int a = 0; a < 3; a++) {
+        const double per_step = F->st * F->inv_cell[a]; /* cells a world step along axis a */
+        C->o[a] = (float)((R->o[a] - org[a]) * F->inv_cell[a]);
+        C->f[a] = (float)(R->f[a] * per_step);
+        /* perspective: the direction per unit of sx, sy; parallel: the origin */
+        C->r[a] = (float)(R->r[a] * (R->persp ? per_step : F->inv_cell[a]));
+        C->u[a] = (float)(R->u[a] * (R->persp ? per_step : F->inv_cell[a]));
+        C->bmin[a] = (float)((g->bmin[a] - org[a]) * F->inv_cell[a]);
+        C->bmax[a] = (float)((g->bmax[a] - org[a]) * F->inv_cell[a]);
+    }
+    /* vsv_rays_get: sx = cx + kx (2 (px + 1/2) / w - 1), sy = cy + ky (1 - 2 (py + 1/2) / h) */
+    C->sxk = (float)(2 * R->kx / R->w);
+    C->sx0 = (float)(R->cx + R->kx * (1 / R->w - 1));
+    C->syk = (float)(-2 * R->ky / R->h);
+    C->sy0 = (float)(R->cy + R->ky * (1 - 1 / R->h));
+    C->snear = (float)(r->cam->znear > 0 ? r->cam->znear * F->inv_st : 0);
+    C->sfar = r->cam->zfar > 0 ? (float)(r->cam->zfar * F->inv_st) : INFINITY;
+    C->persp = R->persp;
+}
+
 /* The raycaster's frame: its visible layers, their sampling copies to
  * rebuild (r->build), the grid and the step. vsv_rc_prepare_skip follows
  * once the copies are built. */
@@ -75,6 +104,7 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     F->inv_cell[0] = 1 / g->dx;
     F->inv_cell[1] = 1 / g->dy;
     F->inv_cell[2] = 1 / (g->dz * g->E);
+    rc_cam(r);
     vsv_light_init(&F->light, sc, g);
     F->shift = V->shift;
     F->mask = V->brick - 1;
@@ -271,7 +301,7 @@ static float rc_shade(const vsv_rc_frame *F, const vsv_rc_layer *L, const float 
 static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *pT, float acc[3], float *depth)
 {
     const int sh = F->shift, m = F->mask, ey = F->ey, ez = F->ez;
-    const float st = (float)ray->st;
+    const float st = (float)F->st;
     float T = 1;
     for (int n = 0; n < ray->ns; n++) {
         float c[3];
@@ -328,7 +358,7 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
                 acc[ch] = fmaf(k, col[ch], acc[ch]);
             T = fmaf(-T, a, T);
             if (*depth == INFINITY && 1 - T > 0.1f)
-                *depth = (float)(ray->ts + n * ray->st);
+                *depth = (float)(F->st * ((double)ray->ts + n));
             if (T < F->term)
                 break; /* early ray termination */
         }
@@ -388,29 +418,6 @@ static void pixel_spans(const vsv_renderer *r, int px, int py, int w, spans *S)
     }
 }
 
-/* The rays of pixels px .. px + SPAN - 1 of row py: their samples through
- * the volume (none when a ray misses, or its pixel is past the image), and
- * where they meet the ground (t_hit; INFINITY when they do not). */
-static void raycast_setup(const vsv_renderer *r, int px, int py, vsv_rc_ray ray[SPAN], double t_hit[SPAN])
-{
-    const vsv_geo *g = &r->g;
-    spans S;
-    pixel_spans(r, px, py, r->cam->width, &S);
-    const double st = r->frame.st, org[3] = {g->ox, g->oy, g->oz * g->E};
-    for (int i = 0; i < SPAN; i++) {
-        t_hit[i] = S.hit[i] && r->surf_read ? r->surf_read[(size_t)py * r->cam->width + px + i].t : INFINITY;
-        const double ts = S.t0[i] + 0.5 * st, tend = S.t1[i] < t_hit[i] ? S.t1[i] : t_hit[i];
-        ray[i].ns = S.hit[i] && r->frame.nlayers && tend > ts ? (int)ceil((tend - ts) * r->frame.inv_st) : 0;
-        ray[i].ts = ts;
-        ray[i].st = st;
-        for (int a = 0; a < 3; a++) {
-            ray[i].p[a] = (float)((S.o[a][i] + ts * S.d[a][i] - org[a]) * r->frame.inv_cell[a]);
-            ray[i].dp[a] = (float)(st * S.d[a][i] * r->frame.inv_cell[a]);
-            ray[i].inv_dp[a] = 1.0f / ray[i].dp[a];
-        }
-    }
-}
-
 /* A pixel from its ray's compositing: the ground behind what is left. */
 static void raycast_finish(const vsv_renderer *r, int px, int py, double t_hit, float T, const float acc[3],
                            float depth)
@@ -465,29 +472,40 @@ void vsv_rc_tile(void *ctx, int tile, int thread)
     enum { N = VSV_RC_LANES };
     vsv_renderer *r = ctx;
     const vsv_camera *cam = r->cam;
+    const vsv_rays *R = &r->rays;
+    const vsv_rc_frame *F = &r->frame;
+    const vsv_rc_cam *C = &F->cam;
     (void)thread;
     const int tx = tile % r->tiles_x, ty = tile / r->tiles_x;
     const int x1 = (tx + 1) * VSV_RC_TILE < cam->width ? (tx + 1) * VSV_RC_TILE : cam->width;
     for (int py = ty * VSV_RC_TILE; py < (ty + 1) * VSV_RC_TILE && py < cam->height; py++)
         for (int px = tx * VSV_RC_TILE; px < x1; px += N) {
-            vsv_rc_ray ray[N];
             double t_hit[N];
-            float T[N], acc[3][N], depth[N];
+            float s_hit[N], T[N], acc[3][N], depth[N];
             const int n = x1 - px < N ? x1 - px : N;
-            raycast_setup(r, px, py, ray, t_hit);
+            /* the lanes whose pixels are in the image, this tile and the
+             * scene's rectangle on screen (vsv_rays_cull) */
+            unsigned live = 0;
+            for (int i = 0; i < n && F->nlayers && py >= R->y0 && py <= R->y1; i++)
+                live |= (unsigned)(px + i >= R->x0 && px + i <= R->x1) << i;
             for (int i = 0; i < N; i++) {
-                if (i >= n) /* the next tile's */
-                    ray[i].ns = 0;
+                t_hit[i] = i < n && r->surf_read ? r->surf_read[(size_t)py * cam->width + px + i].t : INFINITY;
+                s_hit[i] = (float)(t_hit[i] * F->inv_st);
                 T[i] = 1;
                 acc[0][i] = acc[1][i] = acc[2][i] = 0;
                 depth[i] = INFINITY;
             }
-            if (r->kernel && !r->frame.light.on) {
-                r->kernel(&r->frame, ray, T, acc, depth);
+            const float sy = fmaf((float)py, C->syk, C->sy0);
+            if (live && r->kernel && !F->light.on) {
+                r->kernel(F, px, sy, live, s_hit, T, acc, depth);
             } else {
                 for (int i = 0; i < n; i++) {
+                    if (!(live >> i & 1))
+                        continue;
+                    vsv_rc_ray ray;
+                    vsv_rc_ray_setup(C, fmaf((float)(px + i), C->sxk, C->sx0), sy, s_hit[i], &ray);
                     float a[3] = {0, 0, 0};
-                    raycast_march(&r->frame, &ray[i], &T[i], a, &depth[i]);
+                    raycast_march(F, &ray, &T[i], a, &depth[i]);
                     for (int c = 0; c < 3; c++)
                         acc[c][i] = a[c];
                 }

@@ -43,6 +43,8 @@ typedef __mmask16 vm;
 #define CMP_LT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_LT_OQ)
 #define CMP_GT(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GT_OQ)
 #define CMP_GE(a, b) _mm512_cmp_ps_mask(a, b, _CMP_GE_OQ)
+#define CMP_EQ(a, b) _mm512_cmp_ps_mask(a, b, _CMP_EQ_OQ)
+#define CEIL(a) _mm512_roundscale_ps(a, _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC)
 #define IGT _mm512_cmpgt_epi32_mask
 #define IEQ _mm512_cmpeq_epi32_mask
 #define IAND _mm512_and_si512
@@ -98,6 +100,8 @@ typedef vf vm;
 #define CMP_LT(a, b) _mm256_cmp_ps(a, b, _CMP_LT_OQ)
 #define CMP_GT(a, b) _mm256_cmp_ps(a, b, _CMP_GT_OQ)
 #define CMP_GE(a, b) _mm256_cmp_ps(a, b, _CMP_GE_OQ)
+#define CMP_EQ(a, b) _mm256_cmp_ps(a, b, _CMP_EQ_OQ)
+#define CEIL _mm256_ceil_ps
 #define IGT(a, b) _mm256_castsi256_ps(_mm256_cmpgt_epi32(a, b))
 #define IEQ(a, b) _mm256_castsi256_ps(_mm256_cmpeq_epi32(a, b))
 #define IAND _mm256_and_si256
@@ -112,6 +116,7 @@ BIN(vf, vf, vmax, V(max_ps))
 BIN(vm, vf, lt, CMP_LT)
 BIN(vm, vf, gt, CMP_GT)
 BIN(vm, vf, ge, CMP_GE)
+BIN(vm, vf, eq, CMP_EQ)
 BIN(vi, vi, iadd, V(add_epi32))
 BIN(vi, vi, iand, IAND)
 BIN(vi, vi, imin, V(min_epi32))
@@ -124,6 +129,8 @@ TRI(fma3, V(fmadd_ps))   /* a b + c */
 TRI(fnma3, V(fnmadd_ps)) /* c - a b */
 UN(vf, vi, to_f, V(cvtepi32_ps))
 UN(vi, vf, to_i, V(cvttps_epi32)) /* truncating */
+UN(vf, vf, vsqrt, V(sqrt_ps))
+UN(vf, vf, vceil, CEIL)
 SPLAT(vf, float, fset, V(set1_ps))
 SPLAT(vi, int, iset, V(set1_epi32))
 LOAD(vf, float, fload, V(loadu_ps))
@@ -131,6 +138,8 @@ LOAD(vi, int, iload, ILOAD)
 #if VSV_RC_AVX512
 static inline vm mand(vm a, vm b) { return a & b; }
 static inline vm mandnot(vm a, vm b) { return (vm)(~a & b); } /* ~a & b */
+static inline vm mor(vm a, vm b) { return a | b; }
+static inline vm lanes(unsigned b) { return (vm)b; } /* the lanes whose bits are set */
 static const vm MNONE = 0;
 static inline unsigned bits(vm m) { return m; }
 static inline vf keep(vm m, vf x) { return _mm512_maskz_mov_ps(m, x); } /* m ? x : 0 */
@@ -168,6 +177,7 @@ static inline vf join(__m256 lo, __m256 hi)
 #else
 BIN(vf, vf, mand, _mm256_and_ps)
 BIN(vf, vf, mandnot, _mm256_andnot_ps) /* ~a & b */
+BIN(vf, vf, mor, _mm256_or_ps)
 BIN(vf, vf, keep, _mm256_and_ps)       /* keep(m, x): m ? x : 0 */
 static const vm MNONE;
 static inline unsigned bits(vm m)
@@ -223,6 +233,14 @@ static inline vi bytes(const unsigned char *a, vi idx)
     return o;
 }
 static inline int lane0(vi x) { return _mm_cvtsi128_si32(_mm256_castsi256_si128(x.r[0])); }
+static inline vm lanes(unsigned b) /* the lanes whose bits are set */
+{
+    vm o;
+    EACH o.r[h] = _mm256_castsi256_ps(_mm256_cmpgt_epi32(
+        _mm256_and_si256(_mm256_set1_epi32((int)(b >> 8 * h)), _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128)),
+        _mm256_setzero_si256()));
+    return o;
+}
 static inline vi isel(vi a, vi b, vm m) /* m ? b : a */
 {
     vi o;
@@ -233,6 +251,7 @@ static inline __m256 half(vf x, int h) { return x.r[h]; }
 static inline vf join(__m256 lo, __m256 hi) { return (vf){{lo, hi}}; }
 #endif
 #define W 16 /* rays per packet: VSV_RC_LANES */
+static const int IOTA[W] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15};
 #define ALL ((1u << W) - 1)
 static inline __m256 lerp1(__m256 a, __m256 b, __m256 f) { return _mm256_fmadd_ps(_mm256_sub_ps(b, a), f, a); }
 
@@ -292,37 +311,66 @@ static vf sample(const vsv_rc_layer *L, int uni, const unsigned *bidx, const uns
     return join(v[0], v[1]);
 }
 
-void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W], float acc_out[3][W],
-                   float depth[W])
+void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const float s_hit[W], float T_out[W],
+                   float acc_out[3][W], float depth[W])
 {
-    float p[3][W], dp[3][W], ip[3][W];
-    int ns[W], nmax = 0;
-    double st_d = 0;
-    for (int l = 0; l < W; l++) {
-        ns[l] = ray[l].ns;
-        for (int a = 0; a < 3; a++) {
-            p[a][l] = ns[l] ? ray[l].p[a] : 0;
-            dp[a][l] = ns[l] ? ray[l].dp[a] : 0;
-            ip[a][l] = ns[l] ? ray[l].inv_dp[a] : 0;
-        }
-        if (ns[l] > nmax)
-            nmax = ns[l], st_d = ray[l].st;
-    }
-    if (!nmax || !F->nlayers)
+    if (!F->nlayers)
         return;
-    vf P[3], DP[3], IDP[3], HI[3];
+    const vsv_rc_cam *C = &F->cam;
+    const vf ONE = fset(1), ZERO = fset(0);
+    const vi ZEROI = iset(0);
+    /* the rays, as vsv_rc_ray_setup: the same operations in the same order */
+    const vf SX = fma3(to_f(iadd(iset(px), iload(IOTA))), fset(C->sxk), fset(C->sx0)), SY = fset(sy);
+    vf O[3], DP[3], IDP[3], P[3];
+    if (C->persp) {
+        const vf k = vdiv(ONE, vsqrt(fma3(SX, SX, fma3(SY, SY, ONE))));
+        for (int a = 0; a < 3; a++) {
+            O[a] = fset(C->o[a]);
+            DP[a] = mul(fma3(SX, fset(C->r[a]), fma3(SY, fset(C->u[a]), fset(C->f[a]))), k);
+        }
+    } else {
+        for (int a = 0; a < 3; a++) {
+            O[a] = fma3(SX, fset(C->r[a]), fma3(SY, fset(C->u[a]), fset(C->o[a])));
+            DP[a] = fset(C->f[a]);
+        }
+    }
+    vf lo = fset(-INFINITY), hi = fset(INFINITY);
+    vm out = MNONE;
+    for (int a = 0; a < 3; a++) {
+        const vf bmin = fset(C->bmin[a]), bmax = fset(C->bmax[a]);
+        IDP[a] = vdiv(ONE, DP[a]);
+        const vf s0 = mul(sub(bmin, O[a]), IDP[a]), s1 = mul(sub(bmax, O[a]), IDP[a]);
+        const vf near = vmin(s0, s1), far = vmax(s0, s1);
+        const vm flat = eq(DP[a], ZERO);
+        out = mor(out, mand(flat, mor(lt(O[a], bmin), gt(O[a], bmax))));
+        lo = sel(lo, near, mandnot(flat, gt(near, lo)));
+        hi = sel(hi, far, mandnot(flat, lt(far, hi)));
+    }
+    const vm hit = mandnot(out, mand(ge(hi, lo), gt(hi, ZERO)));
+    lo = sel(lo, fset(C->snear), lt(lo, fset(C->snear)));
+    hi = sel(hi, fset(C->sfar), gt(hi, fset(C->sfar)));
+    const vf TS = add(lo, fset(0.5f)), span = sub(vmin(hi, fload(s_hit)), TS);
+    const vm has = mand(mand(hit, gt(span, ZERO)), lanes(live));
+    if (!bits(has))
+        return;
+    const vi NS = ikeep(has, to_i(vceil(vmin(span, fset(1e8f)))));
+    float ts[W];
+    fstore(ts, TS);
+    for (int a = 0; a < 3; a++) { /* lanes without samples at 0: every index they make is in range */
+        P[a] = keep(has, fma3(TS, DP[a], O[a]));
+        DP[a] = keep(has, DP[a]);
+        IDP[a] = keep(has, IDP[a]);
+    }
+    vf HI[3];
     vi LAST[3];
     for (int a = 0; a < 3; a++) {
-        P[a] = fload(p[a]);
-        DP[a] = fload(dp[a]);
-        IDP[a] = fload(ip[a]);
         HI[a] = fset(F->hi[a]);
         LAST[a] = iset(F->last[a]);
     }
-    const vi NS = iload(ns), M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy), EY = iset(F->ey), EZ = iset(F->ez);
-    const vi NBX = iset(F->nbx), NBXY = iset(F->nbxy), BLK = iset(VSV_RC_BLOCK), ONEI = iset(1), ZEROI = iset(0);
+    const vi M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy), EY = iset(F->ey), EZ = iset(F->ez);
+    const vi NBX = iset(F->nbx), NBXY = iset(F->nbxy), BLK = iset(VSV_RC_BLOCK), ONEI = iset(1);
     const int sh = F->shift;
-    const vf ST = fset((float)st_d), ONE = fset(1), ZERO = fset(0);
+    const vf ST = fset((float)F->st);
     const vf TERM = fset(F->term), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
     const vi LUTI = iset(VSV_TF_LUT - 2);
     const vf UMAX = fset(VSV_OPACITY_UMAX), UK = fset(VSV_OPACITY_N / VSV_OPACITY_UMAX), HALF = fset(0.5f);
@@ -452,7 +500,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, const vsv_rc_ray ray[W], float T_out[W
                 istore(n_a, N);
                 for (int l = 0; l < W; l++)
                     if (deep >> l & 1 && depth[l] == INFINITY)
-                        depth[l] = (float)(ray[l].ts + n_a[l] * ray[l].st);
+                        depth[l] = (float)(F->st * ((double)ts[l] + n_a[l]));
             }
             deep_set |= deep;
         }

@@ -68,6 +68,23 @@ typedef struct vsv_rc_layer {
     float inv_span;             /* lighting: vsv_light_inv_span of its transfer function */
 } vsv_rc_layer;
 
+/* The camera's rays in cell coordinates, a ray's distances counted in
+ * steps (vsv_rc_frame st): pixel (px, py) is at screen position
+ * sx = px sxk + sx0, sy = py syk + sy0 (vsv_rays_get's). In perspective, its
+ * ray leaves o with a step dp = (sx r + (sy u + f)) / sqrt(sx^2 + (sy^2 + 1))
+ * (f, r, u: the camera's orthonormal axes, a step long, in cells); in
+ * parallel projection it leaves sx r + (sy u + o) with the step f. Both
+ * ray set-ups, the one-ray (vsv_rc_ray_setup) and the sixteen-ray one,
+ * work it out in single precision with the same operations in the same
+ * order, so their rays have the same bits. */
+typedef struct vsv_rc_cam {
+    float o[3], f[3], r[3], u[3];
+    float sx0, sxk, sy0, syk;
+    float bmin[3], bmax[3]; /* the scene's box */
+    float snear, sfar;      /* the camera's near and far distances */
+    int persp;
+} vsv_rc_cam;
+
 /* What every ray of a frame reads: the visible layers and their common grid. */
 typedef struct vsv_rc_frame {
     const vsv_rc_layer *layer;
@@ -87,15 +104,58 @@ typedef struct vsv_rc_frame {
     float term;                /* early ray termination: T below this */
     double inv_cell[3];        /* 1 / cell edge (exaggerated in z), world units */
     vsv_light light;           /* lit frames march one ray at a time */
+    vsv_rc_cam cam;            /* the camera's rays, in cell coordinates */
 } vsv_rc_frame;
 
-/* One ray through the volume: sample n (0 <= n < ns) sits at world distance
- * ts + n st, at cell coordinates p + n dp. */
+/* One ray through the volume: sample n (0 <= n < ns) sits at cell
+ * coordinates p + n dp, at world distance (ts + n) st. */
 typedef struct vsv_rc_ray {
-    float p[3], dp[3], inv_dp[3]; /* inv_dp: 1 / dp, for leaps */
+    float p[3], dp[3], inv_dp[3]; /* inv_dp: 1 / dp, for leaps and the box */
     int ns;
-    double ts, st;
+    float ts;
 } vsv_rc_ray;
+
+/* The ray of the pixel at screen position (sx, sy) (vsv_rc_cam), ending at
+ * s_hit steps (a surface; INFINITY: none): its samples inside the scene's
+ * box and the camera's near and far distances, the first half a step in
+ * (ns 0 where it has none). The sixteen-ray kernels do the same operations. */
+static inline void vsv_rc_ray_setup(const vsv_rc_cam *C, float sx, float sy, float s_hit, vsv_rc_ray *ray)
+{
+    float o[3], dp[3];
+    if (C->persp) {
+        const float k = 1 / sqrtf(fmaf(sx, sx, fmaf(sy, sy, 1)));
+        for (int a = 0; a < 3; a++) {
+            o[a] = C->o[a];
+            dp[a] = fmaf(sx, C->r[a], fmaf(sy, C->u[a], C->f[a])) * k;
+        }
+    } else {
+        for (int a = 0; a < 3; a++) {
+            o[a] = fmaf(sx, C->r[a], fmaf(sy, C->u[a], C->o[a]));
+            dp[a] = C->f[a];
+        }
+    }
+    float lo = -INFINITY, hi = INFINITY;
+    int out = 0;
+    for (int a = 0; a < 3; a++) { /* the slabs of the box, as vsv_box_hit */
+        const float inv = 1 / dp[a], s0 = (C->bmin[a] - o[a]) * inv, s1 = (C->bmax[a] - o[a]) * inv;
+        const float near = s0 < s1 ? s0 : s1, far = s0 > s1 ? s0 : s1;
+        const int flat = dp[a] == 0; /* parallel to the slab: in it or not */
+        out |= flat & (o[a] < C->bmin[a] || o[a] > C->bmax[a]);
+        lo = !flat && near > lo ? near : lo;
+        hi = !flat && far < hi ? far : hi;
+        ray->inv_dp[a] = inv;
+    }
+    const int hit = !out & (hi >= lo) & (hi > 0);
+    lo = lo < C->snear ? C->snear : lo;
+    hi = hi > C->sfar ? C->sfar : hi;
+    const float ts = lo + 0.5f, send = hi < s_hit ? hi : s_hit, span = send - ts;
+    ray->ns = hit && span > 0 ? (int)ceilf(span < 1e8f ? span : 1e8f) : 0;
+    ray->ts = ts;
+    for (int a = 0; a < 3; a++) {
+        ray->p[a] = fmaf(ts, dp[a], o[a]);
+        ray->dp[a] = dp[a];
+    }
+}
 
 /* The leap of a ray whose sample n, in cell ci, lies in a block at skip
  * distance d > 0: the first sample at or past the far side of the box of
@@ -128,14 +188,17 @@ static inline float vsv_rc_trilinear(const float c[8], float fu, float fv, float
     return vsv_rc_lerp(vsv_rc_lerp(a0, a1, fv), vsv_rc_lerp(a2, a3, fv), fw);
 }
 
-/* VSV_RC_LANES rays at once: T (transmittance), acc (colour) and depth, which
- * start at 1, 0, INFINITY, are composited front to back through every ray's
- * samples, as the one-ray loop does. A ray with ns 0 is left as it is. One
- * source, two builds: vsv_raycast16 for AVX2 + FMA, vsv_raycast16_avx512 for
- * AVX-512F; call each only on a CPU that has them. */
+/* VSV_RC_LANES rays at once, the pixels px .. px + 15 of row py (screen
+ * position sy) whose bits are set in live: each lane's ray set up as
+ * vsv_rc_ray_setup does (s_hit: where it ends on a surface, in steps), then
+ * T (transmittance), acc (colour) and depth, which start at 1, 0, INFINITY,
+ * composited front to back through every ray's samples, as the one-ray loop
+ * does. A lane whose ray has no samples is left as it is. One source, two
+ * builds: vsv_raycast16 for AVX2 + FMA, vsv_raycast16_avx512 for AVX-512F;
+ * call each only on a CPU that has them. */
 #define VSV_RC_LANES 16
-typedef void vsv_rc_kernel(const vsv_rc_frame *F, const vsv_rc_ray ray[VSV_RC_LANES], float T[VSV_RC_LANES],
-                           float acc[3][VSV_RC_LANES], float depth[VSV_RC_LANES]);
+typedef void vsv_rc_kernel(const vsv_rc_frame *F, int px, float sy, unsigned live, const float s_hit[VSV_RC_LANES],
+                           float T[VSV_RC_LANES], float acc[3][VSV_RC_LANES], float depth[VSV_RC_LANES]);
 vsv_rc_kernel vsv_raycast16, vsv_raycast16_avx512;
 
 #endif
