@@ -51,6 +51,15 @@ const char *vsv_cli_tool(void) { return tool_name; }
 int vsv_cli_quiet(void) { return quiet; }
 void vsv_cli_set_quiet(int q) { quiet = q; }
 
+void vsv_cli_notes(const char *text)
+{
+    for (const char *p = text; p && *p;) {
+        const size_t n = strcspn(p, "\n");
+        fprintf(stderr, "%s: note: %.*s\n", vsv_cli_tool(), (int)n, p);
+        p += n + (p[n] == '\n');
+    }
+}
+
 void vsv_cli_die(int code, const char *fmt, ...)
 {
     va_list ap;

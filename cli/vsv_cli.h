@@ -35,6 +35,9 @@ void vsv_cli_version(void) __attribute__((noreturn));
 void vsv_cli_progress(void *label, int done, int total);
 int vsv_cli_quiet(void);
 void vsv_cli_set_quiet(int q);
+/* Each line of text (a library's notes, '\n' separated; "" for none) on
+ * stderr as "tool: note: LINE". */
+void vsv_cli_notes(const char *text);
 
 /* Parses an integer in [lo, hi]; 0 or -1. */
 int vsv_cli_int(const char *s, long lo, long hi, long *out);

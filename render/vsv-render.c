@@ -75,32 +75,6 @@ static const char usage[] =
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
 
-/* --annotate's list of parts */
-static unsigned annot_parts(const char *list)
-{
-    static const struct {
-        const char *name;
-        unsigned bit;
-    } names[] = {{"time", VSV_ANNOT_TIME},           {"bars", VSV_ANNOT_COLOURBAR}, {"exaggeration", VSV_ANNOT_EXAGGERATION},
-                 {"scale", VSV_ANNOT_SCALEBAR},      {"graticule", VSV_ANNOT_GRATICULE},
-                 {"outlines", VSV_ANNOT_OUTLINES},   {"all", VSV_ANNOT_ALL}};
-    unsigned parts = 0;
-    const char *p = list;
-    while (*p) {
-        const size_t n = strcspn(p, ",");
-        size_t i = 0;
-        while (i < sizeof names / sizeof *names && (strlen(names[i].name) != n || strncmp(names[i].name, p, n)))
-            i++;
-        if (i == sizeof names / sizeof *names)
-            vsv_cli_usage_error("--annotate %s: parts are time, bars, exaggeration, scale, graticule, outlines, all", list);
-        parts |= names[i].bit;
-        p += n + (p[n] == ',');
-    }
-    if (!parts)
-        vsv_cli_usage_error("--annotate %s: no part named (--no-annotate for none)", list);
-    return parts;
-}
-
 static int write_png(const char *path, const float *rgba, int w, int h, const float bg[3], char *err, size_t cap)
 {
     unsigned char *rgb = malloc((size_t)w * h * 3);
@@ -273,14 +247,7 @@ int main(int argc, char **argv)
             break;
         }
         case O_VIEW:
-            plan = !strcmp(optarg, "plan");
-            if (!strcmp(optarg, "south"))
-                az = 180, el = 8;
-            else if (!strcmp(optarg, "west"))
-                az = 270, el = 8;
-            else if (!strcmp(optarg, "oblique"))
-                az = 225, el = 30;
-            else if (!plan)
+            if ((plan = vsv_view_preset(optarg, &az, &el)) < 0)
                 vsv_cli_usage_error("--view %s: plan, south, west or oblique", optarg);
             dist = 0;
             break;
@@ -299,8 +266,7 @@ int main(int argc, char **argv)
         case O_NOTERRAIN: terrain = 0; break;
         case O_LIGHT:
             light = 1;
-            if (optarg && (sscanf(optarg, "%lf,%lf", &sun_az, &sun_el) != 2 || !isfinite(sun_az) ||
-                           !(sun_el >= -90 && sun_el <= 90)))
+            if (optarg && vsv_sun_parse(optarg, &sun_az, &sun_el))
                 vsv_cli_usage_error("--light=%s: expected AZ,EL in degrees with -90 <= EL <= 90", optarg);
             break;
         case O_NOLIGHT: light = 0; break;
@@ -320,7 +286,12 @@ int main(int argc, char **argv)
             break;
         }
         case O_NOANNOT: parts = 0; break;
-        case O_ANNOT: parts = annot_parts(optarg); break;
+        case O_ANNOT: {
+            char msg[300];
+            if (vsv_annot_parse(optarg, &parts, msg, sizeof msg))
+                vsv_cli_usage_error("%s", msg);
+            break;
+        }
         case O_LOOKAT:
             if (sscanf(optarg, "%lf,%lf,%lf,%lf,%lf,%lf", &la[0], &la[1], &la[2], &la[3], &la[4], &la[5]) != 6 ||
                 (la[0] == la[3] && la[1] == la[4] && la[2] == la[5]))
@@ -522,18 +493,11 @@ int main(int argc, char **argv)
     vsv_font *font = NULL;
     vsv_outlines *outlines = NULL;
     if (parts) {
-        char err[512];
-        const int px = height / 40 < 11 ? 11 : height / 40 > 32 ? 32 : height / 40;
-        if (vsv_font_open(NULL, px, &font, err, sizeof err))
-            fprintf(stderr, "vsv-render: note: %s: frames without text\n", err);
-        if (parts & VSV_ANNOT_OUTLINES) {
-            const double km = (mx[0] - mn[0]) / width / 1000;
-            const int orc = vsv_outlines_load(m, NULL, vsv_outlines_resolution(km), &outlines, err, sizeof err);
-            if (orc == VSV_ENOTFOUND || (orc == VSV_EUNSUPPORTED && !vsv_cli_quiet())) /* a missing package, always */
-                fprintf(stderr, "vsv-render: note: %s\n", err);
-            else if (orc)
-                vsv_cli_die(1, "%s", err);
-        }
+        char note[1200];
+        if (vsv_annot_load(m, parts, width, height, mx[0] - mn[0], !vsv_cli_quiet(), &font, &outlines, note,
+                           sizeof note))
+            vsv_cli_die(1, "%s", note);
+        vsv_cli_notes(note);
     }
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     const vsv_annot annot = {parts, font, 0, base, sidx, outlines};

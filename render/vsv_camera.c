@@ -286,3 +286,17 @@ void vsv_camera_plan(vsv_camera *cam, const vsv_scene *sc, int width, int height
     cam->znear = 0;
     cam->zfar = INFINITY;
 }
+
+int vsv_view_preset(const char *name, double *az, double *el)
+{
+    static const struct {
+        const char *name;
+        double az, el;
+    } views[] = {{"plan", 0, 89.9}, {"south", 180, 8}, {"west", 270, 8}, {"oblique", 225, 30}};
+    for (size_t i = 0; name && i < sizeof views / sizeof *views; i++)
+        if (!strcmp(name, views[i].name)) {
+            *az = views[i].az, *el = views[i].el;
+            return i == 0;
+        }
+    return -1;
+}

@@ -18,6 +18,16 @@ void vsv_scene_sun(vsv_scene *sc, double az, double el)
     sc->light_dir[2] = sin(e);
 }
 
+int vsv_sun_parse(const char *spec, double *az, double *el)
+{
+    double a, e;
+    int used = 0;
+    if (!spec || sscanf(spec, "%lf,%lf%n", &a, &e, &used) != 2 || spec[used] || !isfinite(a) || !(e >= -90 && e <= 90))
+        return VSV_EINVAL;
+    *az = a, *el = e;
+    return 0;
+}
+
 /* A number, then the end of s or one of the characters in stop; *end past it. */
 static int number(const char *s, const char *stop, double *v, const char **end)
 {

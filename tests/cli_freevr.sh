@@ -75,7 +75,7 @@ before "--renderer gpu: usage error" 2 "$VSV" --renderer gpu
 before "two files: usage error" 2 "$VSV" "$VSV"
 before "a missing file exits 1" 1 "$T/none.vsv"
 has "and names it" "$T/err" "none.vsv"
-before "an unknown species exits 1" 1 "$VSV" --species NOPE
+before "an unknown species: usage error (as vsv-play, vsv-render)" 2 "$VSV" --species NOPE
 has "and names the species" "$T/err" "'NOPE'"
 left=""
 for id in $(sems "$T/before.err"); do ipcs -s | awk '{print $2}' | grep -qx "$id" && left="$left $id"; done

@@ -28,7 +28,7 @@ printf 'not a vsv file at all, just text\n' > "$T/text.vsv"
 expect "vsv-play on a wrong kind of file exits 1" 1 "$B/vsv-play" "$T/text.vsv"
 has "and says what it is not" "$T/err" "vsv-play: "
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
-expect "vsv-play --species with an unknown name exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --species NOPE
+expect "vsv-play --species with an unknown name exits 2 (misuse, as in vsv-render)" 2 "$B/vsv-play" "$T/crop.vsv" --species NOPE
 has "and names the species" "$T/err" "'NOPE'"
 printf '0.1 play\nsoon quit\n' > "$T/bad.script"
 expect "a script line without a time exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T/bad.script"

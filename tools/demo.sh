@@ -139,7 +139,9 @@ step "... and back (OpenVDB in): the sequence becomes a .vsv again" \
 "$B/vsv-info" "$OUT/from-vdb.vsv" | sed -n '1,3p;/times/p'
 
 # Playback: in a window when there is a display, else in a virtual one (Xvfb),
-# driven by a script: play, hide the rain, fade the clouds, rewind, screenshots.
+# driven by a script: play, hide the rain, fade the clouds, rewind, a map view,
+# screenshots (annotated as vsv-render's frames: time, colour bars, scale,
+# graticule, coasts; --no-annotate for the bare picture).
 cat > "$OUT/playback.script" <<EOS
 0.5 screenshot $OUT/play-start.png
 0.6 play
@@ -151,6 +153,8 @@ cat > "$OUT/playback.script" <<EOS
 2.6 rewind
 3.5 pause
 3.6 screenshot $OUT/play-rewound.png
+3.7 view plan
+3.8 screenshot $OUT/play-map.png
 4.0 quit
 EOS
 if [ ! -x "$B/vsv-play" ]; then

@@ -317,7 +317,10 @@ int main(int argc, char **argv)
     io.clock_only = 1;
     vsv_player *in = NULL;
     char err[1024];
-    if (vsv_player_open(&io, &in, err, sizeof err))
+    const int orc = vsv_player_open(&io, &in, err, sizeof err);
+    if (orc == VSV_EINVAL) /* an option the file cannot have: misuse, as in vsv-play */
+        vsv_cli_usage_error("%s", err);
+    if (orc)
         vsv_cli_die(1, "%s", err);
     /* the layout FreeVR will start, read from what FreeVR reads */
     char *owned[3] = {slurp(getenv("FREEVR_HOME"), ".freevrrc"), slurp(getenv("HOME"), ".freevrrc"),

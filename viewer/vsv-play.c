@@ -20,7 +20,8 @@ static const char usage[] =
     "time, show, hide and fade each species, orbit, pan and zoom. Press h in the\n"
     "window for the keys.\n"
     "Reads .vsv files (vsv(5)), transfer-function files (--tf) and timed scripts\n"
-    "(--script); writes PNG screenshots (p, or the script's screenshot FILE.png).\n"
+    "(--script); writes PNG screenshots (p, or the script's screenshot FILE.png): the\n"
+    "picture without the status lines, annotated as vsv-render's frames are.\n"
     "\n"
     "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
@@ -40,6 +41,11 @@ static const char usage[] =
     "      --slice SPEC        a section, as vsv-render: z=HEIGHT, lat=DEG, lon=DEG\n"
     "                          or line=LAT1,LON1:LAT2,LON2 (repeatable); c switches\n"
     "      --slice-species NAME, --slice-colormap NAME  as vsv-render\n"
+    "  screenshots:\n"
+    "      --no-annotate       the bare picture: no time, colour bars, scale,\n"
+    "                          graticule or outlines\n"
+    "      --annotate PARTS    only these: time,bars,exaggeration,scale,graticule,\n"
+    "                          outlines (default: all, as vsv-render)\n"
     "      --script FILE       timed actions, one per line: SECONDS ACTION [ARGS]\n"
     "                          (see vsv-play(1)); quit exits 0\n"
     "  -q, --quiet             no messages\n"
@@ -205,6 +211,16 @@ static void screenshot(const char *path, int w, int h)
     free(flip);
 }
 
+/* The rendered picture on its billboard over the background. */
+static void draw_picture(const vsv_player *p, const vsv_camera *cam, const double mn[3], const double mx[3],
+                         const unsigned char *img)
+{
+    const float *bg = vsv_player_background(p);
+    glClearColor(bg[0], bg[1], bg[2], 1);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    vsv_billboard_draw(cam, vsv_billboard_depth(cam, mn, mx), img, cam->width, cam->height, 1);
+}
+
 static void glfw_error(int code, const char *what)
 {
     (void)code;
@@ -216,7 +232,7 @@ int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-play");
     enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
-           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM };
+           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT };
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
         {"renderer", required_argument, 0, 'r'},   {"cache-mb", required_argument, 0, O_CACHE},
@@ -229,12 +245,14 @@ int main(int argc, char **argv)
         {"view", required_argument, 0, O_VIEW},    {"light", optional_argument, 0, O_LIGHT},
         {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
         {"slice-colormap", required_argument, 0, O_SLICECM},
+        {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
         {0, 0, 0, 0}};
     vsv_player_opts po;
     vsv_player_opts_init(&po);
     int width = 960, height = 600, c;
     double scale = 1;
     const char *script = NULL, *view = NULL;
+    unsigned parts = VSV_ANNOT_ALL;
     while ((c = getopt_long(argc, argv, "s:r:x:qhV", longopts, NULL)) != -1) {
         long v;
         double d;
@@ -286,15 +304,16 @@ int main(int argc, char **argv)
         case O_PLAY: po.play = 1; break;
         case O_NOTERRAIN: po.terrain = 0; break;
         case O_SCRIPT: script = optarg; break;
-        case O_VIEW:
-            if (strcmp(optarg, "plan") && strcmp(optarg, "south") && strcmp(optarg, "west") && strcmp(optarg, "oblique"))
+        case O_VIEW: {
+            double az, el;
+            if (vsv_view_preset(optarg, &az, &el) < 0)
                 vsv_cli_usage_error("--view %s: plan, south, west or oblique", optarg);
             view = optarg;
             break;
+        }
         case O_LIGHT:
             po.light = 1;
-            if (optarg && (sscanf(optarg, "%lf,%lf", &po.sun_az, &po.sun_el) != 2 || !isfinite(po.sun_az) ||
-                           !(po.sun_el >= -90 && po.sun_el <= 90)))
+            if (optarg && vsv_sun_parse(optarg, &po.sun_az, &po.sun_el))
                 vsv_cli_usage_error("--light=%s: expected AZ,EL in degrees with -90 <= EL <= 90", optarg);
             break;
         case O_SLICE:
@@ -304,6 +323,13 @@ int main(int argc, char **argv)
             break;
         case O_SLICESP: po.slice_species = optarg; break;
         case O_SLICECM: po.slice_colormap = optarg; break;
+        case O_NOANNOT: parts = 0; break;
+        case O_ANNOT: {
+            char msg[300];
+            if (vsv_annot_parse(optarg, &parts, msg, sizeof msg))
+                vsv_cli_usage_error("%s", msg);
+            break;
+        }
         case 'q': vsv_cli_set_quiet(1); break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
@@ -317,7 +343,10 @@ int main(int argc, char **argv)
     script_line *lines = script ? load_script(script, &nscript) : NULL;
     vsv_player *p = NULL;
     char err[1024];
-    if (vsv_player_open(&po, &p, err, sizeof err))
+    const int orc = vsv_player_open(&po, &p, err, sizeof err);
+    if (orc == VSV_EINVAL)
+        vsv_cli_usage_error("%s", err);
+    if (orc)
         vsv_cli_die(1, "%s", err);
     if (view) {
         char act[64];
@@ -343,6 +372,9 @@ int main(int argc, char **argv)
     vsv_overlay *ov = vsv_overlay_create(15, err, sizeof err);
     if (!ov)
         vsv_cli_die(1, "%s", err);
+    vsv_font *font = NULL;
+    vsv_outlines *outlines = NULL;
+    int font_h = 0; /* the height they were loaded for */
     const double t0 = glfwGetTime();
     double last = t0;
     int rc = 0;
@@ -379,19 +411,34 @@ int main(int argc, char **argv)
         if (!img)
             vsv_cli_die(1, "%s", err);
         glViewport(0, 0, fw, fh);
-        const float *bg = vsv_player_background(p);
-        glClearColor(bg[0], bg[1], bg[2], 1);
-        glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
         double mn[3], mx[3];
         vsv_player_bounds(p, mn, mx);
-        vsv_billboard_draw(&cam, vsv_billboard_depth(&cam, mn, mx), img, rw, rh, 1);
+        if (shot) {
+            /* the picture annotated (the font sized for it, the outlines
+             * loaded at the first screenshot), without the status lines */
+            if (parts && font_h != rh) { /* the first, or at a new size */
+                char note[1200];
+                vsv_font_free(font);
+                vsv_outlines_free(outlines);
+                if (vsv_annot_load(vsv_player_meta(p), parts, rw, rh, mx[0] - mn[0], !font_h && !vsv_cli_quiet(), &font,
+                                   &outlines, note, sizeof note))
+                    vsv_cli_die(1, "%s", note);
+                if (!font_h)
+                    vsv_cli_notes(note);
+                font_h = rh;
+            }
+            const unsigned char *ann = vsv_player_annotated(p, parts, font, outlines, err, sizeof err);
+            if (!ann)
+                vsv_cli_die(1, "%s", err);
+            draw_picture(p, &cam, mn, mx, ann);
+            screenshot(shot_path, fw, fh);
+        }
+        draw_picture(p, &cam, mn, mx, img);
         char status[2048];
         vsv_player_status(p, status, sizeof status);
         vsv_overlay_text(ov, fw, fh, 8, -8, status);
         if (vsv_player_help_shown(p))
             vsv_overlay_text(ov, fw, fh, 8, 8, vsv_player_help_text());
-        if (shot)
-            screenshot(shot_path, fw, fh);
         glfwSwapBuffers(a.win);
         /* nothing moves on screen while paused: sleep until input or a due action */
         if (vsv_player_clock(p)->playing)
@@ -411,6 +458,8 @@ int main(int argc, char **argv)
                 st.peak_bytes / 1e6, st.budget / 1e6);
     }
     vsv_overlay_free(ov);
+    vsv_font_free(font);
+    vsv_outlines_free(outlines);
     glfwDestroyWindow(a.win);
     glfwTerminate();
     vsv_player_free(p);

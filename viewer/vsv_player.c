@@ -37,8 +37,12 @@ struct vsv_player {
     /* rendering */
     vsv_render_opts ro;
     vsv_renderer *r;
-    float *rgba;
+    float *rgba, *depth;
     unsigned char *rgb;
+    /* the annotated copy of the frame (vsv_player_annotated) */
+    float *argba;
+    unsigned char *argb;
+    int *sidx;           /* per layer: its species (the identity) */
     int iw, ih;
     vsv_camera last_cam;
     int dirty;
@@ -145,7 +149,7 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
                     snprintf(err, cap, "--species %s: opacity must be a number >= 0", o->species);
                     free(copy);
                     free(opac);
-                    return -1;
+                    return VSV_EINVAL;
                 }
             }
             const int s = vsv_meta_find_var(p->m, it);
@@ -153,7 +157,7 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
                 snprintf(err, cap, "--species: %s has no species '%s'", o->path, it);
                 free(copy);
                 free(opac);
-                return -1;
+                return VSV_EINVAL;
             }
             opac[s] = (float)op;
         }
@@ -183,15 +187,15 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         p->slice_var = p->want[s] ? s : -1;
     if (o->slice_species && (p->slice_var = vsv_meta_find_var(p->m, o->slice_species)) < 0) {
         snprintf(err, cap, "--slice-species: %s has no species '%s'", o->path, o->slice_species);
-        return -1;
+        return VSV_EINVAL;
     }
     if (p->slice_var < 0)
         p->slice_var = 0;
     for (int i = 0; i < o->nslices && i < 8; i++) {
         char msg[512];
         if (vsv_slice_parse(p->m, o->slices[i], &p->slices[i], msg, sizeof msg)) {
-            snprintf(err, cap, "%s: --%s", o->path, msg);
-            return -1;
+            snprintf(err, cap, "--%s in %s", msg, o->path); /* as vsv-render says it */
+            return VSV_EINVAL;
         }
         p->nslices++;
     }
@@ -202,7 +206,7 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
                  o->slice_colormap ? o->slice_colormap : "viridis");
         if (vsv_tf_prepare(&p->slice_tf)) {
             snprintf(err, cap, "--slice-colormap %s: not a colour map name", o->slice_colormap ? o->slice_colormap : "");
-            return -1;
+            return VSV_EINVAL;
         }
     }
     p->light = o->light;
@@ -244,7 +248,11 @@ void vsv_player_free(vsv_player *p)
     free(p->want);
     free(p->need);
     free(p->rgba);
+    free(p->depth);
     free(p->rgb);
+    free(p->argba);
+    free(p->argb);
+    free(p->sidx);
     free(p);
 }
 
@@ -359,10 +367,15 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
     const int w = cam->width, h = cam->height;
     if (w != p->iw || h != p->ih) {
         free(p->rgba);
+        free(p->depth);
         free(p->rgb);
+        free(p->argba);
+        free(p->argb);
+        p->argba = NULL, p->argb = NULL;
         p->rgba = malloc((size_t)w * h * 4 * sizeof(float));
+        p->depth = malloc((size_t)w * h * sizeof(float));
         p->rgb = malloc((size_t)w * h * 3);
-        if (!p->rgba || !p->rgb) {
+        if (!p->rgba || !p->depth || !p->rgb) {
             p->iw = p->ih = 0;
             snprintf(err, cap, "out of memory");
             return NULL;
@@ -373,7 +386,7 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
     if (!p->dirty && !memcmp(cam, &p->last_cam, sizeof *cam))
         return p->rgb;
     vsv_scene sc = scene(p);
-    if (vsv_render(p->r, &sc, cam, p->rgba, NULL)) {
+    if (vsv_render(p->r, &sc, cam, p->rgba, p->depth)) {
         snprintf(err, cap, "render failed");
         return NULL;
     }
@@ -381,6 +394,37 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
     p->last_cam = *cam;
     p->dirty = 0;
     return p->rgb;
+}
+
+const unsigned char *vsv_player_annotated(vsv_player *p, unsigned parts, vsv_font *font, const vsv_outlines *outlines,
+                                          char *err, size_t cap)
+{
+    if (!p->iw || !p->rgb || p->shown < 0) {
+        snprintf(err, cap, "no frame drawn yet");
+        return NULL;
+    }
+    const size_t n = (size_t)p->iw * p->ih;
+    if (!p->argba)
+        p->argba = malloc(n * 4 * sizeof(float));
+    if (!p->argb)
+        p->argb = malloc(n * 3);
+    if (!p->sidx && (p->sidx = malloc((size_t)(p->ns ? p->ns : 1) * sizeof *p->sidx)))
+        for (int s = 0; s < p->ns; s++)
+            p->sidx[s] = s;
+    if (!p->argba || !p->argb || !p->sidx) {
+        snprintf(err, cap, "out of memory");
+        return NULL;
+    }
+    memcpy(p->argba, p->rgba, n * 4 * sizeof(float));
+    const char *base = strrchr(p->path, '/') ? strrchr(p->path, '/') + 1 : p->path;
+    const vsv_annot a = {parts, font, p->times[p->shown], base, p->sidx, outlines};
+    vsv_scene sc = scene(p);
+    if (parts && vsv_annotate(&a, &sc, &p->last_cam, p->argba, p->depth)) {
+        snprintf(err, cap, "out of memory");
+        return NULL;
+    }
+    vsv_image_rgb8(p->argba, p->iw, p->ih, p->bg, p->argb);
+    return p->argb;
 }
 
 /* ---------------------------------------------------------------- actions */
@@ -493,15 +537,12 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         memset(p->pan, 0, sizeof p->pan);
     } else if (!strcmp(verb, "view")) {
         /* vsv-render's --view presets */
-        static const struct { const char *name; double az, el; } views[] = {
-            {"plan", 0, 89.9}, {"south", 180, 8}, {"west", 270, 8}, {"oblique", 225, 30}};
-        int i = 0;
-        while (i < 4 && (!a1 || strcmp(a1, views[i].name)))
-            i++;
-        NEED(i < 4, "view: plan, south, west or oblique");
-        p->plan = i == 0;
+        double az, el;
+        const int plan = vsv_view_preset(a1, &az, &el);
+        NEED(plan >= 0, "view: plan, south, west or oblique");
+        p->plan = plan;
         p->plan_zoom = 1;
-        p->az = views[i].az, p->el = views[i].el, p->dist = 0;
+        p->az = az, p->el = el, p->dist = 0;
         memset(p->pan, 0, sizeof p->pan);
     } else if (!strcmp(verb, "light") || !strcmp(verb, "slices")) {
         int *on = !strcmp(verb, "light") ? &p->light : &p->slices_on;
@@ -643,6 +684,7 @@ const char *vsv_player_take_screenshot(vsv_player *p)
 }
 
 const vsv_clock *vsv_player_clock(const vsv_player *p) { return &p->clock; }
+const vsv_meta *vsv_player_meta(const vsv_player *p) { return p->m; }
 int vsv_player_shown_step(const vsv_player *p) { return p->shown; }
 void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st) { vsv_pager_stats_get(p->pager, st); }
 

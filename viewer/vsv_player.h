@@ -52,8 +52,10 @@ void vsv_player_opts_init(vsv_player_opts *o);
 
 typedef struct vsv_player vsv_player;
 
-/* Opens the file and starts the pager and the renderer. 0, or -1 with the
- * reason in err ("FILE: what"). */
+/* Opens the file and starts the pager and the renderer. 0; -1 with the
+ * reason in err ("FILE: what"); or VSV_EINVAL when an option does not fit
+ * the file (a species, slice, slice species or colour map: misuse, as
+ * vsv-render takes it), the reason in err. */
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap);
 void vsv_player_free(vsv_player *p);
 
@@ -76,6 +78,14 @@ void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam);
  * a species setting or the renderer changed. Returns the image (owned by
  * the player, valid until the next call) or NULL with the reason in err. */
 const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char *err, size_t cap);
+/* The frame vsv_player_image drew last, with the annotation parts
+ * (VSV_ANNOT_*; 0: the bare frame) drawn in as vsv-render draws them: the
+ * shown step's time, the file's name, a colour bar per visible species and
+ * the slices', with font and outlines (borrowed for the call; either may be
+ * NULL). 8-bit RGB of that frame's size, owned by the player, valid until
+ * the next call; NULL with the reason in err. */
+const unsigned char *vsv_player_annotated(vsv_player *p, unsigned parts, vsv_font *font, const vsv_outlines *outlines,
+                                          char *err, size_t cap);
 /* Renders exactly this frame again on the next vsv_player_image. */
 void vsv_player_invalidate(vsv_player *p);
 
@@ -120,6 +130,8 @@ int vsv_player_help_shown(const vsv_player *p);
 /* A screenshot asked for by an action: its path (then cleared), or NULL. */
 const char *vsv_player_take_screenshot(vsv_player *p);
 const vsv_clock *vsv_player_clock(const vsv_player *p);
+/* The file's metadata, borrowed until vsv_player_free. */
+const vsv_meta *vsv_player_meta(const vsv_player *p);
 int vsv_player_shown_step(const vsv_player *p);
 void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st);
 /* The scene's centre and size (world metres), for billboards. */
