@@ -51,6 +51,37 @@ has "... naming the package" "$T/err" "apt-get install gmt-gshhg-low"
 set -- $(pixdiff "$T/nomap.png" "$T/ann.png")
 if [ "$2" -gt 0 ]; then pass "without GSHHG the outlines are left out"; else fail "without GSHHG the outlines are left out" "same image"; fi
 
+# every kind of frame carries the time (text top left), a colour bar (a ramp
+# bottom right) and the exaggeration (text bottom left), and --no-annotate
+# none of them: PNG, a movie's frame (decoded by ffmpeg) and EXR (its colour
+# channels, decoded by ffmpeg); tests/imgregion.py finds them
+I="/usr/bin/python3 tests/imgregion.py"
+# parts KIND ANNOTATED.png BARE.png SLACK
+parts() {
+    t=$($I text "$2" "$3" 0 0 0.6 0.2) b=$($I bar "$2" 0.5 0.5 1 1 "$4") b0=$($I bar "$3" 0.5 0.5 1 1 "$4")
+    x=$($I text "$2" "$3" 0 0.75 0.35 1) t0=$($I text "$3" "$3" 0 0 1 1)
+    [ "${t:-0}" -ge 150 ] && pass "$1: the time (top left, $t text pixels)" || fail "$1: the time" "$t text pixels top left (want >= 150)"
+    [ "${b:-0}" -ge 90 ] && pass "$1: a colour bar (bottom right, a ramp $b pixels long)" ||
+        fail "$1: a colour bar" "longest ramp bottom right ${b:-?} pixels (want >= 90)"
+    [ "${x:-0}" -ge 100 ] && pass "$1: the exaggeration (bottom left, $x text pixels)" ||
+        fail "$1: the exaggeration" "$x text pixels bottom left (want >= 100)"
+    [ "$b0" = 0 ] && [ "$t0" = 0 ] && pass "$1, --no-annotate: no text, no colour bar" ||
+        fail "$1, --no-annotate: no text, no colour bar" "${t0:-?} text pixels, a ramp ${b0:-?} long"
+}
+R4="$B/vsv-render -q $T/s.vsv --size 400x300"
+$R4 -o "$T/f.png" && $R4 --no-annotate -o "$T/f0.png"
+parts "PNG" "$T/f.png" "$T/f0.png" 1
+if command -v ffmpeg > /dev/null; then
+    $R4 --times 2:3 --movie "$T/m.mp4" && $R4 --times 2:3 --no-annotate --movie "$T/m0.mp4"
+    $R4 -o "$T/f.exr" && $R4 --no-annotate -o "$T/f0.exr"
+    for f in m m0; do ffmpeg -v error -y -i "$T/$f.mp4" -vf 'select=eq(n\,1)' -frames:v 1 "$T/$f-1.png"; done
+    for f in f f0; do ffmpeg -v error -y -i "$T/$f.exr" "$T/$f-exr.png"; done
+    parts "movie, frame 2" "$T/m-1.png" "$T/m0-1.png" 6
+    parts "EXR" "$T/f-exr.png" "$T/f0-exr.png" 1
+else
+    echo "(no ffmpeg: the movie's and EXR's annotation are not checked)"
+fi
+
 has "--help names --no-annotate" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "--no-annotate"
 
 # the GrADS global lat/lon sample: coastlines over the globe
@@ -63,6 +94,15 @@ if [ -f "$CTL" ] && [ -f /usr/share/gmt-gshhg/binned_GSHHS_c.nc ]; then
     set -- $(pixdiff "$T/g-bare.png" "$T/g-coast.png")
     if [ "$2" -gt 1500 ]; then pass "coastlines drawn over the globe ($2 pixels)"; else
         fail "coastlines drawn over the globe" "$2 pixels changed"; fi
+    set -- $($I globe "$T/g-bare.png" "$T/g-coast.png")
+    if awk "BEGIN { exit !(${1:-0} >= 0.99 && ${2:-1} <= 0.001) }"; then
+        pass "the data cover the globe's box, nothing outside it ($1 / $2 of the pixels)"
+    else
+        fail "the data cover the globe's box, nothing outside it" "$1 of the box, $2 outside"
+    fi
+    [ "${3:-0}" -ge 3 ] && [ "${4:-1}" = 0 ] &&
+        pass "coast pixels at the Cape of Good Hope, New York, Sydney, Cape Horn (>= $3), none at sea" ||
+        fail "coast pixels at four coast points, none at sea" "fewest at a coast point ${3:-?}, most at sea ${4:-?}"
 else
     echo "(GrADS sample or GSHHG absent: the global coastline check is skipped)"
 fi

@@ -19,3 +19,20 @@ expect "--range without a species exits 2" 2 $R -o "$T/x.png" --range 0:1
 expect "--view plan" 0 $R -o "$T/plan.png" --view plan
 expect "--view sideways exits 2" 2 $R -o "$T/x.png" --view sideways
 has "--help names --range" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "--range SPECIES=LO:HI"
+# a shared scale: two files of the same data, one quantised over another
+# range (vsv-convert --range), differ by default (each colours its own
+# range) and agree within 1/255 with the same --range (one colour, one value)
+if /usr/bin/python3 -c "import numpy, PIL" 2> /dev/null; then
+    "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP --vars CLW -o "$T/a.vsv"
+    "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP --vars CLW --range CLW=0:0.01 -o "$T/b.vsv"
+    for f in a b; do
+        "$B/vsv-render" -q "$T/$f.vsv" --time 3 --size 160x120 --no-annotate -o "$T/$f-own.png"
+        "$B/vsv-render" -q "$T/$f.vsv" --time 3 --size 160x120 --no-annotate --range CLW=0:0.0003 -o "$T/$f-shared.png"
+    done
+    set -- $(/usr/bin/python3 tests/imgregion.py diff "$T/a-own.png" "$T/b-own.png")
+    [ "$1" -ge 20 ] && pass "two files' own ranges: different colours ($2 pixels, by up to $1/255)" ||
+        fail "two files' own ranges: different colours" "by at most $1/255"
+    set -- $(/usr/bin/python3 tests/imgregion.py diff "$T/a-shared.png" "$T/b-shared.png")
+    [ "$1" -le 1 ] && pass "--range CLW=0:0.0003 on both: the same colours ($2 pixels differ by <= $1/255)" ||
+        fail "--range CLW=0:0.0003 on both: the same colours" "$2 pixels differ, by up to $1/255"
+fi

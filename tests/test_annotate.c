@@ -429,8 +429,58 @@ static void test_time_line(void)
     vsv_meta_clear(&m);
 }
 
+/* A colour bar names its species with its units: the label over the bar,
+ * right-aligned to it, is exactly as wide as "CLW (kg/kg)" (and as "CLW"
+ * for a variable without units). */
+static void test_bar_units(void)
+{
+    vsv_font *font = NULL;
+    char err[256];
+    if (vsv_font_open(NULL, 13, &font, err, sizeof err)) {
+        CHECK(1, "bar units: skipped (no font)", "%s", err);
+        return;
+    }
+    for (int withunits = 1; withunits >= 0; withunits--) {
+        vsv_meta m;
+        mm5_meta(&m);
+        vsv_meta_add_var(&m, "CLW", withunits ? "kg/kg" : "", "");
+        vsv_tf tf;
+        char msg[128];
+        vsv_tf_parse(&tf, "colormap viridis\nrange 0 10\nscale linear\nopacity 0 1\n", msg, sizeof msg);
+        vsv_tf_prepare(&tf);
+        const vsv_layer layer = {NULL, &tf, 1, 1};
+        vsv_scene sc = {.meta = &m, .layers = &layer, .nlayers = 1, .exaggeration = 20};
+        vsv_camera cam;
+        vsv_camera_plan(&cam, &sc, 640, 480);
+        const int species[1] = {0};
+        const vsv_annot a = {VSV_ANNOT_COLOURBAR, font, 0, "test.vsv", species, NULL};
+        float *img = calloc((size_t)640 * 480 * 4, sizeof *img);
+        int box[4];
+        if (img && vsv_annotate(&a, &sc, &cam, img, NULL) == 0 && vsv_annotate_bar_box(&a, &sc, &cam, 0, box) == 0) {
+            int left = 640, right = -1;
+            for (int y = box[2] - vsv_font_line(font); y < box[2]; y++)
+                for (int x = 0; x < 640; x++)
+                    if (y >= 0 && img[4 * ((size_t)y * 640 + x)] > 0.5f) {
+                        left = x < left ? x : left;
+                        right = x > right ? x : right;
+                    }
+            const char *want = withunits ? "CLW (kg/kg)" : "CLW";
+            const int tw = vsv_text_width(font, want);
+            CHECK(right <= box[1] + 1 && right >= box[1] - 3 && abs((right - left + 1) - tw) <= 3,
+                  withunits ? "the bar's label is its species and units: CLW (kg/kg)" : "without units, the label is the name alone",
+                  "label pixels %d..%d, bar to %d, want %d wide", left, right, box[1], tw);
+        } else {
+            CHECK(0, "bar units: annotated", "");
+        }
+        free(img);
+        vsv_meta_clear(&m);
+    }
+    vsv_font_free(font);
+}
+
 int main(void)
 {
+    test_bar_units();
     test_time_line();
     test_text();
     test_colour_bar();

@@ -1,6 +1,7 @@
 /* test_picture.c — what the picture shows (issue 20): the ground's water
- * from the model's own land use in a plan view; (more below as the parts
- * land). */
+ * from the model's own land use in a plan view; lat/lon grids on the
+ * sphere; every model's water field; the hydrometeors' colours; the views
+ * and their framing. */
 #include "vsv_convert.h"
 #include "vsv_format.h"
 #include "vsv_render.h"
@@ -172,8 +173,110 @@ static void test_colours(void)
     CHECK(least >= 0.2, "hydrometeors' default colours are distinct", "closest pair %.3f apart", least);
 }
 
+/* The views scientists use (vsv_view_preset, vsv-render --view, vsv-play's
+ * view action) on the bundled MM5 sample's ground: each from where it says
+ * (plan: straight down, north up; south and west: from that side, low;
+ * oblique: from the south-west, above), and the domain filling the image:
+ * its box's corners spanning at least 85 % of its width or height (92 %
+ * for plan, south and west), none outside, and
+ * the ground's pixels spanning at least 80 % of its width or height,
+ * centred (the orbit camera of before, vsv_camera_orbit at distance 0,
+ * left 36-44 % of the width empty). */
+static void test_views(void)
+{
+    vsv_source *src = NULL;
+    if (!CHECK(vsv_source_open("samples/mm5/MMOUT_DOMAIN1_CROP", NULL, &src) == 0, "views: the sample opens", "")) {
+        vsv_source_free(src);
+        return;
+    }
+    const vsv_meta *m = vsv_source_grid(src);
+    vsv_scene sc = {.meta = m, .layers = NULL, .nlayers = 0, .exaggeration = 0, .show_terrain = 1};
+    sc.exaggeration = vsv_scene_default_exaggeration(&sc);
+    double mn[3], mx[3];
+    vsv_scene_bounds(&sc, mn, mx);
+    const double cx = 0.5 * (mn[0] + mx[0]), cy = 0.5 * (mn[1] + mx[1]), cz = 0.5 * (mn[2] + mx[2]);
+    enum { W = 320, H = 240 };
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    vsv_renderer *r = NULL;
+    float *rgba = malloc((size_t)W * H * 4 * sizeof *rgba);
+    if (!rgba || vsv_renderer_create(&o, &r)) {
+        CHECK(0, "views: a renderer", "");
+        free(rgba);
+        vsv_source_free(src);
+        return;
+    }
+    static const char *const names[] = {"plan", "south", "west", "oblique"};
+    for (int v = 0; v < 4; v++) {
+        double az = -1, el = -1;
+        const int plan = vsv_view_preset(names[v], &az, &el);
+        vsv_camera cam;
+        if (plan)
+            vsv_camera_plan(&cam, &sc, W, H);
+        else
+            vsv_camera_fit(&cam, &sc, az, el, W, H);
+        const double dx = cam.pos[0] - cx, dy = cam.pos[1] - cy, dz = cam.pos[2] - cz;
+        int where = 0;
+        switch (v) {
+        case 0: where = plan == 1 && cam.ortho_height > 0 && cam.dir[2] < 0 && cam.up[1] > 0 && !cam.up[0]; break;
+        case 1: where = !plan && dy < 0 && fabs(dx) < 1e-6 * fabs(dy) && dz > 0 && dz < fabs(dy) * tan(10 * M_PI / 180); break;
+        case 2: where = !plan && dx < 0 && fabs(dy) < 1e-6 * fabs(dx) && dz > 0 && dz < fabs(dx) * tan(10 * M_PI / 180); break;
+        case 3: where = !plan && dx < 0 && dy < 0 && fabs(dx - dy) < 1e-6 * fabs(dx) && dz > 0.4 * hypot(dx, dy); break;
+        }
+        CHECK(where, "a view from where it says", "%s: eye %.0f, %.0f, %.0f from the centre", names[v], dx, dy, dz);
+        if (vsv_render(r, &sc, &cam, rgba, NULL)) {
+            CHECK(0, "views: renders", "%s", names[v]);
+            continue;
+        }
+        int x0 = W, x1 = -1, y0 = H, y1 = -1;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++)
+                if (rgba[4 * ((size_t)y * W + x) + 3] > 0.5f) {
+                    x0 = x < x0 ? x : x0, x1 = x > x1 ? x : x1;
+                    y0 = y < y0 ? y : y0, y1 = y > y1 ? y : y1;
+                }
+        const double fw = (x1 - x0 + 1.0) / W, fh = (y1 - y0 + 1.0) / H;
+        const double offx = fabs((x0 + x1 + 1) / 2.0 - W / 2.0) / W, offy = fabs((y0 + y1 + 1) / 2.0 - H / 2.0) / H;
+        CHECK(x1 >= 0 && (fw >= 0.8 || fh >= 0.8) && (fw >= 0.8 ? offx : offy) < 0.05,
+              "the ground fills most of the image", "%s: it spans %.0f %% x %.0f %% of it", names[v], 100 * fw, 100 * fh);
+        /* the box's eight corners (the volume above the ground): inside the
+         * image, and spanning at least 85 % of its width or height */
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        double f[3] = {cam.dir[0], cam.dir[1], cam.dir[2]}, rr[3], u[3];
+        const double fl = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        for (int i = 0; i < 3; i++)
+            f[i] /= fl;
+        rr[0] = f[1] * cam.up[2] - f[2] * cam.up[1], rr[1] = f[2] * cam.up[0] - f[0] * cam.up[2],
+        rr[2] = f[0] * cam.up[1] - f[1] * cam.up[0];
+        const double rl = sqrt(rr[0] * rr[0] + rr[1] * rr[1] + rr[2] * rr[2]);
+        for (int i = 0; i < 3; i++)
+            rr[i] /= rl;
+        u[0] = rr[1] * f[2] - rr[2] * f[1], u[1] = rr[2] * f[0] - rr[0] * f[2], u[2] = rr[0] * f[1] - rr[1] * f[0];
+        const double ky = plan ? cam.ortho_height / 2 : tan(cam.fov_deg * M_PI / 360), kx = ky * W / H;
+        for (int k = 0; k < 8; k++) {
+            const double q[3] = {k & 1 ? mx[0] : mn[0], k & 2 ? mx[1] : mn[1], k & 4 ? mx[2] : mn[2]};
+            const double d[3] = {q[0] - cam.pos[0], q[1] - cam.pos[1], q[2] - cam.pos[2]};
+            const double z = plan ? 1 : d[0] * f[0] + d[1] * f[1] + d[2] * f[2];
+            const double sx = (d[0] * rr[0] + d[1] * rr[1] + d[2] * rr[2]) / z / kx;
+            const double sy = (d[0] * u[0] + d[1] * u[1] + d[2] * u[2]) / z / ky;
+            lo[0] = fmin(lo[0], sx), hi[0] = fmax(hi[0], sx), lo[1] = fmin(lo[1], sy), hi[1] = fmax(hi[1], sy);
+        }
+        const int inside = lo[0] >= -1.001 && hi[0] <= 1.001 && lo[1] >= -1.001 && hi[1] <= 1.001;
+        const int fills = (lo[0] <= -0.85 && hi[0] >= 0.85) || (lo[1] <= -0.85 && hi[1] >= 0.85);
+        CHECK(inside && fills, "the domain's box fills the image", "%s: corners from %.2f, %.2f to %.2f, %.2f (-1..1)",
+              names[v], lo[0], lo[1], hi[0], hi[1]);
+    }
+    double az, el;
+    CHECK(vsv_view_preset("sideways", &az, &el) == -1 && vsv_view_preset(NULL, &az, &el) == -1,
+          "an unknown view is refused", "");
+    vsv_renderer_free(r);
+    free(rgba);
+    vsv_source_free(src);
+}
+
 int main(void)
 {
+    test_views();
     test_colours();
     test_water_sources();
     test_lakes();
