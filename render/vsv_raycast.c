@@ -116,10 +116,19 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
     return 0;
 }
 
+/* Per entry i of layer L's table, how many entries before it have some
+ * opacity (VSV_TF_LUT + 1 counts): layer_clear in constant time. */
+static void alpha_counts(const vsv_rc_layer *L, int *cnt)
+{
+    cnt[0] = 0;
+    for (int i = 0; i < VSV_TF_LUT; i++)
+        cnt[i + 1] = cnt[i] + (L->lut[i][3] > 0);
+}
+
 /* Whether layer L gives zero opacity to every sample value in [lo, hi]: the
  * table entries its lookup may read for them (the sampler's own arithmetic,
- * monotonic in the value) are all transparent. */
-static int layer_clear(const vsv_rc_layer *L, float lo, float hi)
+ * monotonic in the value) are all transparent (cnt: alpha_counts). */
+static int layer_clear(const vsv_rc_layer *L, const int *cnt, float lo, float hi)
 {
     if (!(hi >= L->lo))
         return 1; /* below the range, or no value but no data */
@@ -132,10 +141,7 @@ static int layer_clear(const vsv_rc_layer *L, float lo, float hi)
     int i0 = (int)x0, i1 = (int)ceilf(x1);
     i0 = i0 < 0 ? 0 : i0 < VSV_TF_LUT - 2 ? i0 : VSV_TF_LUT - 2;
     i1 = i1 < VSV_TF_LUT - 1 ? i1 : VSV_TF_LUT - 1;
-    for (int i = i0; i <= i1; i++)
-        if (L->lut[i][3] > 0)
-            return 0;
-    return 1;
+    return i1 < i0 || cnt[i1 + 1] == cnt[i0];
 }
 
 /* A key of what the skip distances depend on: the layers' volumes and
@@ -180,6 +186,69 @@ static void dilate(const unsigned char *src, unsigned char *dst, const int nb[3]
             }
 }
 
+/* NaN-blind minimum and maximum: a NaN a is replaced, a NaN b left out */
+static inline float min_nan(float a, float b) { return b < a || a != a ? b : a; }
+static inline float max_nan(float a, float b) { return b > a || a != a ? b : a; }
+
+/* The fine skipping bits (vsv_rc_frame.fine) of the blocks in block layer
+ * bk: per cell (i, j, k) of a block some layer shows, whether every sample
+ * whose lower cell it is (its trilinear reads cells i .. i + 1, j .. j + 1,
+ * k .. k + 1, NaN left out: a sample touching one is no data) is
+ * transparent in every layer (the value range of its eight cells and
+ * layer_clear). The cells past the grid's last lower cell get 0. */
+static void fine_layer(void *ctx, int bk, int thread)
+{
+    vsv_renderer *r = ctx;
+    const vsv_rc_frame *F = &r->frame;
+    const int *nb = r->fine_nb;
+    const int e = F->ey, ez = F->ez, sh = F->shift, m = F->mask;
+    (void)thread;
+    for (int bj = 0; bj < nb[1]; bj++)
+        for (int bi = 0; bi < nb[0]; bi++) {
+            const size_t b = (size_t)bi + (size_t)nb[0] * (bj + (size_t)nb[1] * bk);
+            uint64_t bits = ~(uint64_t)0;
+            const int o[3] = {bi * VSV_RC_BLOCK, bj * VSV_RC_BLOCK, bk * VSV_RC_BLOCK};
+            const int brick = (o[0] >> sh) + F->bx * (o[1] >> sh) + F->bxy * (o[2] >> sh);
+            const int off = (o[0] & m) + (o[1] & m) * e + (o[2] & m) * ez;
+            for (int l = 0; l < F->nlayers && bits; l++) {
+                const vsv_rc_layer *L = &F->layer[l];
+                if (L->clear[b])
+                    continue;
+                const int *cnt = r->alpha_cnt + (size_t)l * (VSV_TF_LUT + 1);
+                const float *q = L->cells[brick] + off;
+                /* min and max over pairs along x, then y, then z */
+                float lo[VSV_RC_BLOCK + 1][VSV_RC_BLOCK + 1][VSV_RC_BLOCK], hi[VSV_RC_BLOCK + 1][VSV_RC_BLOCK + 1][VSV_RC_BLOCK];
+                for (int k = 0; k <= VSV_RC_BLOCK; k++)
+                    for (int j = 0; j <= VSV_RC_BLOCK; j++) {
+                        const float *row = q + j * e + k * ez;
+                        for (int i = 0; i < VSV_RC_BLOCK; i++) {
+                            lo[k][j][i] = min_nan(row[i], row[i + 1]);
+                            hi[k][j][i] = max_nan(row[i], row[i + 1]);
+                        }
+                    }
+                for (int k = 0; k <= VSV_RC_BLOCK; k++)
+                    for (int j = 0; j < VSV_RC_BLOCK; j++)
+                        for (int i = 0; i < VSV_RC_BLOCK; i++) {
+                            lo[k][j][i] = min_nan(lo[k][j][i], lo[k][j + 1][i]);
+                            hi[k][j][i] = max_nan(hi[k][j][i], hi[k][j + 1][i]);
+                        }
+                uint64_t lb = 0;
+                for (int k = 0; k < VSV_RC_BLOCK; k++)
+                    for (int j = 0; j < VSV_RC_BLOCK; j++)
+                        for (int i = 0; i < VSV_RC_BLOCK; i++) {
+                            const int in = o[0] + i <= F->last[0] && o[1] + j <= F->last[1] && o[2] + k <= F->last[2];
+                            const float a = min_nan(lo[k][j][i], lo[k + 1][j][i]);
+                            const float z = max_nan(hi[k][j][i], hi[k + 1][j][i]);
+                            if (in && layer_clear(L, cnt, a, z))
+                                lb |= (uint64_t)1 << (i + VSV_RC_BLOCK * (j + VSV_RC_BLOCK * k));
+                        }
+                bits &= lb;
+            }
+            r->fine[2 * b] = (uint32_t)bits;
+            r->fine[2 * b + 1] = (uint32_t)(bits >> 32);
+        }
+}
+
 enum { SKIP_FAR = 15 }; /* skip distances stop here (a leap of up to 60 cells either way) */
 
 /* Empty-space skipping for the frame, once its sampling copies are built:
@@ -217,17 +286,37 @@ int vsv_rc_prepare_skip(vsv_renderer *r)
     const uint64_t key = skip_key(r);
     if (key == r->skip_key) {
         F->skip = r->skip_any ? dist : NULL;
+        F->fine = r->skip_any ? r->fine : NULL;
         return 0;
+    }
+    if ((size_t)F->nlayers * (VSV_TF_LUT + 1) > r->alpha_cap) {
+        int *c = realloc(r->alpha_cnt, (size_t)F->nlayers * (VSV_TF_LUT + 1) * sizeof *c);
+        if (!c)
+            return VSV_ENOMEM;
+        r->alpha_cnt = c;
+        r->alpha_cap = (size_t)F->nlayers * (VSV_TF_LUT + 1);
+    }
+    if (2 * nblk > r->fine_cap) {
+        uint32_t *f = realloc(r->fine, 2 * nblk * sizeof *f);
+        if (!f)
+            return VSV_ENOMEM;
+        r->fine = f;
+        r->fine_cap = 2 * nblk;
     }
     memset(occ, 0, nblk);
     for (int l = 0; l < F->nlayers; l++) {
         const vsv_rc_layer *L = &F->layer[l];
+        int *cnt = r->alpha_cnt + (size_t)l * (VSV_TF_LUT + 1);
+        alpha_counts(L, cnt);
         unsigned char *clear = (unsigned char *)L->clear;
         for (size_t b = 0; b < nblk; b++) {
-            clear[b] = (unsigned char)layer_clear(L, L->mm[2 * b], L->mm[2 * b + 1]);
+            clear[b] = (unsigned char)layer_clear(L, cnt, L->mm[2 * b], L->mm[2 * b + 1]);
             occ[b] |= !clear[b];
         }
     }
+    /* the clear samples of the blocks some layer shows, a layer of blocks an item */
+    r->fine_nb[0] = nb[0], r->fine_nb[1] = nb[1], r->fine_nb[2] = nb[2];
+    vsv_pool_run(&r->pool, fine_layer, r, nb[2]);
     int any = 0;
     for (size_t b = 0; b < nblk; b++) {
         dist[b] = occ[b] ? 0 : SKIP_FAR + 1;
@@ -253,6 +342,7 @@ int vsv_rc_prepare_skip(vsv_renderer *r)
     r->skip_key = key;
     r->skip_any = any;
     F->skip = any ? dist : NULL;
+    F->fine = any ? r->fine : NULL;
     return 0;
 }
 
@@ -306,18 +396,19 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
     for (int n = 0; n < ray->ns; n++) {
         float c[3];
         int ci[3];
-        for (int a = 0; a < 3; a++) {
-            c[a] = fmaf((float)n, ray->dp[a], ray->p[a]);
-            c[a] = c[a] > 0 ? (c[a] < F->hi[a] ? c[a] : F->hi[a]) : 0;
-            ci[a] = (int)c[a];
-            ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
-        }
+        vsv_rc_cell(F, ray, n, c, ci);
         size_t blk = 0;
         if (F->skip) {
             blk = (size_t)(ci[0] >> VSV_RC_BSHIFT) + (size_t)F->nbx * (ci[1] >> VSV_RC_BSHIFT) +
                   (size_t)F->nbxy * (ci[2] >> VSV_RC_BSHIFT);
             if (F->skip[blk]) { /* clear around: leap */
-                n = vsv_rc_leap(F, ray, n, ci, F->skip[blk]) - 1;
+                n = vsv_rc_leap(F, ray, n, ci, F->skip[blk], VSV_RC_BSHIFT) - 1;
+                continue;
+            }
+            const int cell = (ci[0] & (VSV_RC_BLOCK - 1)) + VSV_RC_BLOCK * (ci[1] & (VSV_RC_BLOCK - 1)) +
+                             VSV_RC_BLOCK * VSV_RC_BLOCK * (ci[2] & (VSV_RC_BLOCK - 1));
+            if (F->fine[2 * blk + (cell >> 5)] >> (cell & 31) & 1) { /* a clear cell: out of it */
+                n = vsv_rc_leap(F, ray, n, ci, 1, 0) - 1;
                 continue;
             }
         }

@@ -123,6 +123,7 @@ BIN(vi, vi, imin, V(min_epi32))
 BIN(vi, vi, imax, V(max_epi32))
 BIN(vi, vi, isub, V(sub_epi32))
 BIN(vi, vi, imul, V(mullo_epi32))
+BIN(vi, vi, srlv, V(srlv_epi32)) /* lane by lane */
 BIN(vm, vi, igt, IGT)
 BIN(vm, vi, ieq, IEQ)
 TRI(fma3, V(fmadd_ps))   /* a b + c */
@@ -146,6 +147,12 @@ static inline vf keep(vm m, vf x) { return _mm512_maskz_mov_ps(m, x); } /* m ? x
 static inline vi ikeep(vm m, vi x) { return _mm512_maskz_mov_epi32(m, x); }
 static inline vf sel(vf a, vf b, vm m) { return _mm512_mask_blend_ps(m, a, b); } /* m ? b : a */
 static inline vi srl(vi x, int s) { return _mm512_srl_epi32(x, _mm_cvtsi32_si128(s)); }
+static inline vi sll(vi x, int s) { return _mm512_sll_epi32(x, _mm_cvtsi32_si128(s)); }
+/* words[idx] where m, else 0 */
+static inline vi igather(const uint32_t *words, vi idx, vm m)
+{
+    return _mm512_mask_i32gather_epi32(_mm512_setzero_si512(), m, idx, (const int *)words, 4);
+}
 static inline void istore(void *p, vi x) { _mm512_storeu_si512(p, x); }
 static inline void fstore(float *p, vf x) { _mm512_storeu_ps(p, x); }
 /* table[idx] where m, else 0 */
@@ -202,6 +209,19 @@ static inline vi srl(vi x, int s)
 {
     vi o;
     EACH o.r[h] = _mm256_srl_epi32(x.r[h], _mm_cvtsi32_si128(s));
+    return o;
+}
+static inline vi sll(vi x, int s)
+{
+    vi o;
+    EACH o.r[h] = _mm256_sll_epi32(x.r[h], _mm_cvtsi32_si128(s));
+    return o;
+}
+static inline vi igather(const uint32_t *words, vi idx, vm m) /* words[idx] where m, else 0 */
+{
+    vi o;
+    EACH o.r[h] = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), (const int *)words, idx.r[h],
+                                              _mm256_castps_si256(m.r[h]), 4);
     return o;
 }
 static inline void istore(void *p, vi x)
@@ -369,6 +389,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
     }
     const vi M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy), EY = iset(F->ey), EZ = iset(F->ez);
     const vi NBX = iset(F->nbx), NBXY = iset(F->nbxy), BLK = iset(VSV_RC_BLOCK), ONEI = iset(1);
+    const vi B3 = iset(VSV_RC_BLOCK - 1), B31 = iset(31);
     const int sh = F->shift;
     const vf ST = fset((float)F->st);
     const vf TERM = fset(F->term), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
@@ -393,6 +414,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
         }
         vi blk = ZEROI;
         int ublk = 0;
+        vm comp = act, leap = MNONE;
         if (F->skip) {
             blk = iadd(iadd(srl(ci[0], VSV_RC_BSHIFT), imul(NBX, srl(ci[1], VSV_RC_BSHIFT))),
                        imul(NBXY, srl(ci[2], VSV_RC_BSHIFT)));
@@ -400,20 +422,39 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
             ublk = bits(ieq(blk, iset((int)b0))) == ALL;
             const vi d = ublk ? iset(F->skip[b0]) : bytes(F->skip, blk);
             const vm empty = mand(act, igt(d, ZEROI));
-            if (bits(empty)) {
-                /* the rays in clear blocks leap out of the clear box around
-                 * them (vsv_rc_leap, lane by lane); then all look again */
+            /* in the blocks shown, the clear cells (the fine bits) */
+            const vi cell = iadd(iadd(iand(ci[0], B3), sll(iand(ci[1], B3), VSV_RC_BSHIFT)),
+                                 sll(iand(ci[2], B3), 2 * VSV_RC_BSHIFT));
+            const vi word = igather(F->fine, iadd(iadd(blk, blk), srl(cell, 5)), mandnot(empty, act));
+            leap = mor(empty, igt(iand(srlv(word, iand(cell, B31)), ONEI), ZEROI));
+            if (bits(leap)) {
+                /* those rays leap out of the clear box around them
+                 * (vsv_rc_leap, lane by lane: boxes of blocks within d - 1,
+                 * or the cell); the others sample */
+                const vi dd = isel(ONEI, d, empty), size = isel(ONEI, BLK, empty);
                 vf k = to_f(NS);
+                vi up[3], down[3];
                 for (int a = 0; a < 3; a++) {
-                    const vi b = srl(ci[a], VSV_RC_BSHIFT);
-                    const vi up = imul(iadd(b, d), BLK), down = imul(iadd(isub(b, d), ONEI), BLK);
+                    const vi b = isel(ci[a], srl(ci[a], VSV_RC_BSHIFT), empty);
+                    up[a] = imul(iadd(b, dd), size);
+                    down[a] = imul(iadd(isub(b, dd), ONEI), size);
                     const vm pos = gt(DP[a], ZERO), neg = lt(DP[a], ZERO);
-                    const vf ka = mul(sub(to_f(isel(down, up, pos)), P[a]), IDP[a]);
-                    k = sel(k, ka, mand(mandnot(igt(up, LAST[a]), pos), lt(ka, k)));
-                    k = sel(k, ka, mand(mand(neg, igt(down, ZEROI)), lt(ka, k)));
+                    const vf ka = mul(sub(to_f(isel(down[a], up[a], pos)), P[a]), IDP[a]);
+                    k = sel(k, ka, mand(mandnot(igt(up[a], LAST[a]), pos), lt(ka, k)));
+                    k = sel(k, ka, mand(mand(neg, igt(down[a], ZEROI)), lt(ka, k)));
                 }
-                N = isel(N, imax(to_i(k), iadd(N, ONEI)), empty);
-                continue;
+                vi kn = imax(to_i(k), N);
+                const vf KF = to_f(kn);
+                vm inbox = leap;
+                for (int a = 0; a < 3; a++) { /* sample kn's cell, as above */
+                    const vi ck = imin(to_i(vmax(vmin(fma3(KF, DP[a], P[a]), HI[a]), ZERO)), LAST[a]);
+                    inbox = mand(inbox, mandnot(igt(down[a], ck), igt(up[a], ck)));
+                }
+                kn = iadd(kn, ikeep(inbox, ONEI));
+                N = isel(N, imax(kn, iadd(N, ONEI)), leap);
+                comp = mandnot(leap, act);
+                if (!bits(comp))
+                    continue;
             }
         }
         const vi bidx = iadd(iadd(srl(ci[0], sh), imul(BX, srl(ci[1], sh))), imul(BXY, srl(ci[2], sh)));
@@ -421,7 +462,6 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
         istore(bidx_a, bidx);
         /* every lane in one brick? */
         const int uni = bits(ieq(bidx, iset((int)bidx_a[0]))) == ALL;
-        const vm comp = act;
         for (int a = 0; a < 3; a++)
             f[a] = sub(c[a], to_f(ci[a]));
         const vi off = iadd(iadd(iand(ci[0], M), imul(iand(ci[1], M), EY)), imul(iand(ci[2], M), EZ));
@@ -504,7 +544,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
             }
             deep_set |= deep;
         }
-        N = iadd(N, ONEI);
+        N = isel(iadd(N, ONEI), N, leap); /* the leaping rays have moved on */
     }
     fstore(T_out, T);
     for (int ch = 0; ch < 3; ch++)

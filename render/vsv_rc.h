@@ -42,6 +42,7 @@ typedef struct vsv_rc_copy {
  * count per axis is (last >> VSV_RC_BSHIFT) + 1. */
 #define VSV_RC_BSHIFT 2
 #define VSV_RC_BLOCK (1 << VSV_RC_BSHIFT)
+_Static_assert(VSV_RC_BLOCK * VSV_RC_BLOCK * VSV_RC_BLOCK == 64, "vsv_rc_frame.fine: 64 bits a block");
 static inline void vsv_rc_block_dims(const vsv_volume *v, int nb[3])
 {
     const int n[3] = {v->nx, v->ny, v->nz};
@@ -94,6 +95,11 @@ typedef struct vsv_rc_frame {
                                   axis) is clear in every layer, so a ray leaps
                                   out of that box. NULL: no skipping. Four
                                   readable bytes past the end (for gathers). */
+    const uint32_t *fine;      /* per block, two words: bit (i & 3) + 4 (j & 3) +
+                                  16 (k & 3) of word 2 b + bit / 32 is set where
+                                  every sample whose lower cell is (i, j, k) is
+                                  transparent in every layer (block b at skip
+                                  distance 0); with skip, else NULL */
     int layer_clear;           /* several layers: test each one's clear flags */
     int nbx, nbxy;             /* blocks along x, in an xy plane */
     float hi[3];               /* the largest cell coordinate per axis */
@@ -157,23 +163,45 @@ static inline void vsv_rc_ray_setup(const vsv_rc_cam *C, float sx, float sy, flo
     }
 }
 
-/* The leap of a ray whose sample n, in cell ci, lies in a block at skip
- * distance d > 0: the first sample at or past the far side of the box of
- * blocks within d - 1 of it (the caller tests that sample; n + 1 at least).
- * The box's far side along an axis where the (clamped) cell cannot reach it
- * does not count. Both raycaster loops leap with these operations. */
-static inline int vsv_rc_leap(const vsv_rc_frame *F, const vsv_rc_ray *ray, int n, const int ci[3], int d)
+/* Sample n's cell (i, j, k) of ray: the lower corner of its trilinear
+ * (clamped into the grid), as both raycaster loops find it. */
+static inline void vsv_rc_cell(const vsv_rc_frame *F, const vsv_rc_ray *ray, int n, float c[3], int ci[3])
+{
+    for (int a = 0; a < 3; a++) {
+        c[a] = fmaf((float)n, ray->dp[a], ray->p[a]);
+        c[a] = c[a] > 0 ? (c[a] < F->hi[a] ? c[a] : F->hi[a]) : 0;
+        ci[a] = (int)c[a];
+        ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
+    }
+}
+
+/* The leap of a ray whose sample n, in cell ci, lies in a box of clear
+ * cells: the boxes of 2^shift cells a side within d - 1 boxes of ci's (the
+ * blocks at skip distance d: shift VSV_RC_BSHIFT; a clear cell of the fine
+ * bits: shift 0, d 1). Returns the next sample to test (n + 1 at least):
+ * k, the last sample before the box's far side (the far side along an axis
+ * where the clamped cell cannot reach it does not count), or k + 1 where
+ * sample k's cell is still in the box (worked out as the loops do: every
+ * sample from n to k then is, the cells along a ray being monotonic). */
+static inline int vsv_rc_leap(const vsv_rc_frame *F, const vsv_rc_ray *ray, int n, const int ci[3], int d, int shift)
 {
     const float *p = ray->p, *dp = ray->dp, *inv_dp = ray->inv_dp;
     float k = (float)ray->ns;
+    int lo[3], hi[3];
     for (int a = 0; a < 3; a++) {
-        const int b = ci[a] >> VSV_RC_BSHIFT;
-        const int up = (b + d) * VSV_RC_BLOCK, down = (b - d + 1) * VSV_RC_BLOCK;
+        const int b = ci[a] >> shift;
+        const int up = (b + d) << shift, down = (b - d + 1) * (1 << shift);
         const int never = dp[a] > 0 ? up > F->last[a] : dp[a] < 0 ? down <= 0 : 1;
         const float ka = ((float)(dp[a] > 0 ? up : down) - p[a]) * inv_dp[a];
         k = !never && ka < k ? ka : k;
+        lo[a] = down;
+        hi[a] = up;
     }
-    const int kn = k > (float)n ? (int)k : n; /* (never converts a value out of range) */
+    int kn = k > (float)n ? (int)k : n; /* (never converts a value out of range) */
+    float c[3];
+    int ck[3];
+    vsv_rc_cell(F, ray, kn, c, ck);
+    kn += ck[0] >= lo[0] && ck[0] < hi[0] && ck[1] >= lo[1] && ck[1] < hi[1] && ck[2] >= lo[2] && ck[2] < hi[2];
     return kn > n + 1 ? kn : n + 1;
 }
 

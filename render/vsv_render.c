@@ -59,6 +59,8 @@ void vsv_renderer_free(vsv_renderer *r)
         return;
     vsv_pool_stop(&r->pool);
     free(r->skip);
+    free(r->fine);
+    free(r->alpha_cnt);
     free(r->act);
     for (int l = 0; l < r->copy_cap; l++) {
         free(r->copy[l].store);

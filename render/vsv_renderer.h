@@ -26,6 +26,12 @@ struct vsv_renderer {
     size_t skip_cap;
     uint64_t skip_key;
     int skip_any;
+    /* the fine bits (vsv_rc_frame.fine) and the tables' opacity counts */
+    uint32_t *fine;
+    size_t fine_cap;
+    int fine_nb[3];
+    int *alpha_cnt;
+    size_t alpha_cap;
     /* the visible layers of this frame, as the raycaster reads them */
     vsv_rc_layer *act;
     int act_cap;

@@ -1,9 +1,10 @@
 /* test_skip.c — the raycaster's empty-space skipping: the skip distances of
  * its blocks (transfer-function aware), the same pixels with and without
  * skipping on a sparse plume (gen-plume's, when ../shared has it; else one
- * made here) and on real MM5 fields, in the one-ray and sixteen-ray loops,
- * and a uniform slab in empty space whose transmittance is the closed form
- * exp(-tau). */
+ * made here), on single cells scattered in empty space (and the fine bits
+ * that mark the clear cells of the blocks shown) and on real MM5 fields, in
+ * the one-ray and sixteen-ray loops, and a uniform slab in empty space whose
+ * transmittance is the closed form exp(-tau). */
 #include "vsv_format.h"
 #include "vsv_render.h"
 #include "vsv_renderer.h"
@@ -209,6 +210,73 @@ static void slab(void)
     unlink(path);
 }
 
+/* Single cells of value 1 scattered in empty space (some on the grid's
+ * faces and in its last cells), under a table that shows every value above
+ * 0: the fine bits of each block at skip distance 0 mark exactly the cells
+ * none of whose trilinear samples reads a speck (the cells i - 1 and i of a
+ * speck at i, on each axis), and the pixels are the same with and without
+ * skipping. Thin layers (exaggerated) and single cells make rays leap out of
+ * clear cells every few samples. */
+static void specks(void)
+{
+    enum { NS = 40 };
+    const int nx = 37, ny = 30, nz = 26;
+    float *v = calloc((size_t)nx * ny * nz, sizeof *v);
+    int at[NS][3];
+    uint64_t seed = 11;
+    for (int s = 0; s < NS; s++) {
+        for (int a = 0; a < 3; a++) {
+            const int n = a == 0 ? nx : a == 1 ? ny : nz;
+            at[s][a] = (int)(vsv_test_rand(&seed) % (uint64_t)n);
+        }
+        if (s < 4) /* on the faces: the last column, the first row and level, the top */
+            at[s][s < 3 ? s : 2] = s == 0 ? nx - 1 : s == 3 ? nz - 1 : 0;
+        v[((size_t)at[s][2] * ny + at[s][1]) * nx + at[s][0]] = 1;
+    }
+    const char *path = vsv_test_tmp("skip-specks.vsv");
+    one o;
+    const int ok = write_vol(path, v, nx, ny, nz, 20000, 400) == 0 &&
+                   open_one(&o, path, 0, NULL, "colormap magma\nrange 0 1\nscale linear\nopacity 0 1\n") == 0;
+    free(v);
+    if (!CHECK(ok, "scattered single cells are written and read"))
+        return;
+    vsv_renderer *r = NULL;
+    float *img = draw(&o, 200, 3, 0, NULL, &r);
+    const vsv_rc_frame *F = r ? &r->frame : NULL;
+    int wrong = 0, shown = 0, checked = 0;
+    if (F && F->skip && F->fine) {
+        const int n[3] = {nx, ny, nz}, nb[3] = {F->nbx, F->nbxy / F->nbx, ((nz - 2) >> VSV_RC_BSHIFT) + 1};
+        for (int bk = 0; bk < nb[2]; bk++)
+            for (int bj = 0; bj < nb[1]; bj++)
+                for (int bi = 0; bi < nb[0]; bi++) {
+                    const size_t b = (size_t)bi + (size_t)nb[0] * (bj + (size_t)nb[1] * bk);
+                    if (F->skip[b])
+                        continue;
+                    shown++;
+                    for (int c = 0; c < 64; c++) {
+                        const int g[3] = {bi * 4 + c % 4, bj * 4 + c / 4 % 4, bk * 4 + c / 16};
+                        if (g[0] > n[0] - 2 || g[1] > n[1] - 2 || g[2] > n[2] - 2)
+                            continue; /* no sample has this lower cell */
+                        int seen = 0;
+                        for (int s = 0; s < NS; s++)
+                            seen |= g[0] >= at[s][0] - 1 && g[0] <= at[s][0] && g[1] >= at[s][1] - 1 &&
+                                    g[1] <= at[s][1] && g[2] >= at[s][2] - 1 && g[2] <= at[s][2];
+                        const int bit = F->fine[2 * b + c / 32] >> (c % 32) & 1;
+                        wrong += bit == seen; /* clear where a speck is read, or not where none is */
+                        checked++;
+                    }
+                }
+    }
+    CHECK(shown > 0 && checked > 0 && wrong == 0,
+          "single cells: the fine bits mark exactly the clear cells of the blocks shown",
+          "%d of %d cells wrong in %d blocks", wrong, checked, shown);
+    vsv_renderer_free(r);
+    free(img);
+    same_pixels("single cells", &o, 3);
+    close_one(&o);
+    unlink(path);
+}
+
 /* gen-plume's sparse plume when ../shared has the generator, else a plume
  * of the same kind made here (sheared Gaussians with noise, cut at 0.2 %). */
 static void plume(void)
@@ -300,6 +368,7 @@ static void mm5(void)
 int main(void)
 {
     slab();
+    specks();
     plume();
     mm5();
     return vsv_test_done();
