@@ -26,6 +26,20 @@
  * that leaves the grid sideways met air nobody knows: that end takes the
  * cell's own value, as linear interpolation would.
  *
+ * How far: clouds and moisture patterns travel more slowly than the air
+ * blowing through them (they form downwind and decay upwind; the MM5 run's
+ * vapour follows about 0.8 of the air's displacement, bench/RESULTS.md). So
+ * each species, in each band of levels, moves by alpha times its
+ * trajectories' displacements, alpha fitted per interval as radar
+ * hydrology's advection correction fits its motion: of 0, 1/8, ..., 5/4 the
+ * one under which the earlier output carried to the later time matches the
+ * later output, and the later carried back the earlier, best (least
+ * squares over every third column each way; per-row sums added in row
+ * order, so threads do not change the result). alpha 0 is linear
+ * interpolation's arithmetic; in a frame alpha is linear in height between
+ * the bands' centres. A fixed scale (1: the air's displacement, --interp
+ * wind) skips the fit.
+ *
  * Threads: rows of the output frame are handed out through an atomic
  * counter to threads started per frame; nothing is allocated per cell. */
 #include "vsv_advect.h"
@@ -398,8 +412,15 @@ static void do_row(const job *jb, int row, float *sc)
     const size_t c0 = (size_t)k * a->plane + (size_t)j * a->nx;
     float *d = sc, al[MAXVARS];
     if (level_scales(a, jb->ns, k, al))
-        for (int i = 0; i < a->nx; i++)
-            displacements(a, i, j, k, s, d + 6 * i, d + 6 * i + 3);
+        for (int i = 0; i < a->nx; i++) {
+            /* only where some moving species has data at both ends (not
+             * below the ground) */
+            int need = 0;
+            for (int v = 0; v < jb->ns && !need; v++)
+                need = al[v] > 0 && jb->f0[v][c0 + i] == jb->f0[v][c0 + i] && jb->f1[v][c0 + i] == jb->f1[v][c0 + i];
+            if (need)
+                displacements(a, i, j, k, s, d + 6 * i, d + 6 * i + 3);
+        }
     for (int v = 0; v < jb->ns; v++) {
         const float *f0 = jb->f0[v], *f1 = jb->f1[v];
         float *out = jb->out[v] + c0;
