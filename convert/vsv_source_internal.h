@@ -6,6 +6,9 @@
 #include "vsv_common.h"
 #include "vsv_source_reader.h"
 
+#include <stdint.h>
+#include <stdio.h>
+
 /* Sets the grid's vertical axis from native heights zn (kx levels of the
  * grid's plane, increasing upward): --vertical native keeps the levels with
  * their mean heights (returns 0); else even heights up to --ztop or the
@@ -43,6 +46,11 @@ int vsv_cf_open(vsv_source *s, int nc);
  * whether the library failed (and where), crashed or ran out of time. */
 int vsv_nc_guard(vsv_source *s, int limit_s);
 #define VSV_NC_GUARD_LIMIT 600
+/* The header of the classic netCDF file (CDF-1, -2, -5) open as fp at its
+ * start, size bytes long (vsv_nc_header.c): 0 when every list, name and
+ * attribute value it declares lies inside the file; -1 with what and where
+ * in msg otherwise; 1 when fp is not a classic netCDF file. */
+int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap);
 /* Opens an IOAPI netCDF file already open as nc (detected by vsv_netcdf_ops). */
 int vsv_ioapi_open(vsv_source *s, int nc);
 

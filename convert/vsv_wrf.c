@@ -10,6 +10,7 @@
 #include <netcdf.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #define G0 9.81
 
@@ -127,10 +128,19 @@ static int netcdf_open(vsv_source *s)
     /* netCDF-4 (HDF5): a damaged file can crash the library, so a child
      * reads it first (vsv_nc_guard.c) */
     unsigned char head[8] = {0};
+    char msg[512];
     FILE *fp = fopen(s->path, "rb");
     const size_t got = fp ? fread(head, 1, sizeof head, fp) : 0;
+    /* classic netCDF: libnetcdf believes the header's counts, so they are
+     * checked against the file first (vsv_nc_header.c) */
+    int bad = 0;
+    struct stat st;
+    if (fp && !fstat(fileno(fp), &st) && !fseeko(fp, 0, SEEK_SET))
+        bad = vsv_nc_classic_check(fp, (uint64_t)st.st_size, msg, sizeof msg) < 0;
     if (fp)
         fclose(fp);
+    if (bad)
+        return vsv_source_fail(s, VSV_ECORRUPT, "%s", msg);
     if (got == 8 && !memcmp(head, "\x89HDF\r\n\x1a\n", 8) && (rc = vsv_nc_guard(s, VSV_NC_GUARD_LIMIT)))
         return rc;
     if ((rc = nc_open(s->path, NC_NOWRITE, &nc)))

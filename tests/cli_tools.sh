@@ -161,6 +161,16 @@ chmod +x "$T/fakehelper/vsv-nc-check"
 expect "a helper failing without a word: exit 1" 1 env VSV_HELPER_DIR="$T/fakehelper" "$B/vsv-info" tests/corpus/netcdf/hdf5-segv.nc
 has "its status is reported" "$T/err" "the HDF5 library failed reading it (its checker exited with status 7)"
 
+# a classic netCDF (CMAQ) file with one damaged byte: a global attribute's
+# count made 1.8e9 doubles. libnetcdf allocated and copied 14 GB through
+# its header buffer for 55 s before failing; the header is walked first now
+C=tests/corpus/netcdf/cmaq-attr-count.nc
+expect "a CMAQ file whose attribute count overruns the file exits 1" 1 "$B/vsv-convert" "$C" -o "$T/cmaq.vsv"
+has "the attribute, its offset and the file size are named" "$T/err" "vsv-convert: $C: netCDF header: attribute \"P_BET\" of the file at offset 328 declares 1811939329 values of 8 bytes, past the end of the file (2412 bytes)"
+[ ! -e "$T/cmaq.vsv" ] && pass "no output is left" || fail "no output is left" "$T/cmaq.vsv exists"
+expect "vsv-info on it exits 1" 1 "$B/vsv-info" "$C"
+has "vsv-info names it" "$T/err" "vsv-info: $C: netCDF header: attribute \"P_BET\""
+
 # an output that is an input (same path, hard link, symlink) is refused
 # before anything is written; the input stays intact (issue 18)
 cp samples/mm5/MMOUT_DOMAIN1_CROP "$T/in.mm5"

@@ -1,0 +1,161 @@
+/* vsv_nc_header.c — the header of a classic netCDF file (CDF-1, CDF-2,
+ * CDF-5) walked as the netCDF file format specification lays it out, before
+ * libnetcdf opens the file. libnetcdf allocates what an attribute's count
+ * says and then copies that many values through its header buffer before it
+ * finds the file too short: one damaged count byte (a global attribute of a
+ * CMAQ file declaring 1.8·10⁹ doubles) cost 55 s and 14 GB of page faults
+ * in nc_open, and the memory stayed allocated after the failed open. Here
+ * every list, name and value the header declares must lie inside the file,
+ * so such a file is refused at once, naming the record and its offset. */
+#include "vsv_source_internal.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct cur {
+    FILE *fp;
+    uint64_t size, at;
+    int w; /* counts and lengths: 4 bytes, 8 in CDF-5 */
+    char *msg;
+    size_t cap;
+} cur;
+
+static int fail(cur *c, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(c->msg, c->cap, fmt, ap);
+    va_end(ap);
+    return -1;
+}
+
+/* a big-endian integer of w bytes; -1 past the end of the file */
+static int take(cur *c, int w, uint64_t *v, const char *what)
+{
+    unsigned char b[8];
+    *v = 0;
+    if (c->size - c->at < (uint64_t)w || fread(b, 1, (size_t)w, c->fp) != (size_t)w)
+        return fail(c, "netCDF header ends inside the %s at offset %llu (file of %llu bytes)", what,
+                    (unsigned long long)c->at, (unsigned long long)c->size);
+    for (int i = 0; i < w; i++)
+        *v = *v << 8 | b[i];
+    c->at += (uint64_t)w;
+    return 0;
+}
+
+/* n bytes and the padding to 4 after them, which must lie in the file */
+static int skip(cur *c, uint64_t n, uint64_t from, const char *what, const char *name)
+{
+    const uint64_t left = c->size - c->at;
+    if (n > left)
+        return fail(c, "netCDF header: %s%s%s%s at offset %llu declares %llu bytes, past the end of the file (%llu bytes)",
+                    what, name[0] ? " \"" : "", name, name[0] ? "\"" : "", (unsigned long long)from,
+                    (unsigned long long)n, (unsigned long long)c->size);
+    const uint64_t pad = n % 4 ? 4 - n % 4 : 0;
+    const uint64_t step = n + (pad <= left - n ? pad : left - n);
+    if (fseeko(c->fp, (off_t)step, SEEK_CUR))
+        return fail(c, "netCDF header: cannot seek past offset %llu", (unsigned long long)c->at);
+    c->at += step;
+    return 0;
+}
+
+/* a name (length, bytes); its first bytes, printable, in out */
+static int name(cur *c, const char *what, char *out, size_t cap)
+{
+    uint64_t len;
+    const uint64_t from = c->at;
+    out[0] = 0;
+    if (take(c, c->w, &len, what))
+        return -1;
+    if (len > c->size - c->at)
+        return fail(c, "netCDF header: the name of a %s at offset %llu declares %llu bytes, past the end of the file "
+                    "(%llu bytes)", what, (unsigned long long)from, (unsigned long long)len,
+                    (unsigned long long)c->size);
+    size_t k = len < cap - 1 ? (size_t)len : cap - 1;
+    if (fread(out, 1, k, c->fp) != k)
+        return fail(c, "netCDF header: cannot read the name at offset %llu", (unsigned long long)from);
+    out[k] = 0;
+    for (size_t i = 0; i < k; i++)
+        if (out[i] < 0x20 || out[i] > 0x7e)
+            out[i] = '?';
+    if (fseeko(c->fp, -(off_t)k, SEEK_CUR))
+        return fail(c, "netCDF header: cannot seek at offset %llu", (unsigned long long)from);
+    return skip(c, len, from, "the name of a ", what);
+}
+
+/* a list's tag (0 when absent, else want) and its count, at most what the
+ * rest of the file holds at min bytes an element */
+static int list(cur *c, uint32_t want, int min, const char *what, uint64_t *n)
+{
+    uint64_t tag;
+    const uint64_t from = c->at;
+    if (take(c, 4, &tag, what) || take(c, c->w, n, what))
+        return -1;
+    if (tag != want && !(tag == 0 && *n == 0))
+        return fail(c, "netCDF header: bad %s tag 0x%llx at offset %llu", what, (unsigned long long)tag,
+                    (unsigned long long)from);
+    if (*n > (c->size - c->at) / (uint64_t)min)
+        return fail(c, "netCDF header: %s at offset %llu declares %llu entries, more than the file (%llu bytes) holds",
+                    what, (unsigned long long)from, (unsigned long long)*n, (unsigned long long)c->size);
+    return 0;
+}
+
+static int attrs(cur *c, const char *owner)
+{
+    static const int tsize[] = {0, 1, 1, 2, 4, 4, 8, 1, 2, 4, 8, 8};
+    uint64_t n, type, m;
+    char nm[64];
+    if (list(c, 0x0C, 2 * c->w + 4, "attribute list", &n))
+        return -1;
+    for (uint64_t i = 0; i < n; i++) {
+        const uint64_t from = c->at;
+        if (name(c, "attribute", nm, sizeof nm) || take(c, 4, &type, "attribute type") ||
+            take(c, c->w, &m, "attribute count"))
+            return -1;
+        if (type < 1 || type > (c->w == 8 ? 11u : 6u))
+            return fail(c, "netCDF header: attribute \"%s\" of %s at offset %llu has an unknown type %llu", nm, owner,
+                        (unsigned long long)from, (unsigned long long)type);
+        const uint64_t sz = (uint64_t)tsize[type];
+        if (m > (c->size - c->at) / sz)
+            return fail(c, "netCDF header: attribute \"%s\" of %s at offset %llu declares %llu values of %llu bytes, "
+                        "past the end of the file (%llu bytes)", nm, owner, (unsigned long long)from,
+                        (unsigned long long)m, (unsigned long long)sz, (unsigned long long)c->size);
+        if (skip(c, m * sz, from, "attribute", nm))
+            return -1;
+    }
+    return 0;
+}
+
+int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
+{
+    unsigned char magic[4];
+    if (size < 4 || fread(magic, 1, 4, fp) != 4 || memcmp(magic, "CDF", 3) ||
+        (magic[3] != 1 && magic[3] != 2 && magic[3] != 5))
+        return 1;
+    cur c = {fp, size, 4, magic[3] == 5 ? 8 : 4, msg, cap};
+    uint64_t recs, n, len, ndims, type;
+    char nm[64], owner[96];
+    if (take(&c, c.w, &recs, "record count") || list(&c, 0x0A, 2 * c.w, "dimension list", &n))
+        return -1;
+    for (uint64_t i = 0; i < n; i++)
+        if (name(&c, "dimension", nm, sizeof nm) || take(&c, c.w, &len, "dimension length"))
+            return -1;
+    if (attrs(&c, "the file") || list(&c, 0x0B, 5 * c.w + 8, "variable list", &n))
+        return -1;
+    for (uint64_t i = 0; i < n; i++) {
+        const uint64_t from = c.at;
+        if (name(&c, "variable", nm, sizeof nm) || take(&c, c.w, &ndims, "variable rank"))
+            return -1;
+        if (ndims > (c.size - c.at) / (uint64_t)c.w)
+            return fail(&c, "netCDF header: variable \"%s\" at offset %llu declares %llu dimensions, more than the "
+                        "file (%llu bytes) holds", nm, (unsigned long long)from, (unsigned long long)ndims,
+                        (unsigned long long)c.size);
+        snprintf(owner, sizeof owner, "variable \"%s\"", nm);
+        if (skip(&c, ndims * (uint64_t)c.w, from, "variable", nm) || attrs(&c, owner) ||
+            take(&c, 4, &type, "variable type") || take(&c, c.w, &len, "variable size") ||
+            take(&c, magic[3] == 1 ? 4 : 8, &len, "variable offset"))
+            return -1;
+    }
+    return 0;
+}
