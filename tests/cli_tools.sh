@@ -115,6 +115,23 @@ expect "vsv-info --check on a good file" 0 "$B/vsv-info" --check "$T/a.vsv"
 has "--check says ok" "$T/out" "ok"
 expect "vsv-info --check on a damaged payload exits 1" 1 "$B/vsv-info" --check tests/golden/bad/payload.vsv
 has "--check names chunk, species, brick and offset" "$T/err" "vsv-info: tests/golden/bad/payload.vsv: $(grep '^payload.vsv' tests/golden/bad/EXPECTED | cut -f2)"
+# the golden damaged files (tests/golden/bad, the s-* ones with valid
+# checksums and invalid structure): exit 1 and exactly the expected message
+ngold=0
+tab=$(printf '\t')
+while IFS=$tab read -r g msg; do
+    case $g in '#'* | '') continue ;; esac
+    "$B/vsv-info" --check "tests/golden/bad/$g" > /dev/null 2> "$T/gold.err"
+    rc=$?
+    want="vsv-info: tests/golden/bad/$g: $msg"
+    if [ $rc -eq 1 ] && [ "$(cat "$T/gold.err")" = "$want" ]; then
+        ngold=$((ngold + 1))
+    else
+        fail "vsv-info --check tests/golden/bad/$g: exit 1 and '$want'" "exit $rc: $(head -c 300 "$T/gold.err")"
+    fi
+done < tests/golden/bad/EXPECTED
+[ $ngold -ge 26 ] && pass "vsv-info --check: each of $ngold golden damaged files exits 1 with its exact message" ||
+    fail "every golden damaged file gives its exact message" "$ngold matched"
 expect "vsv-info on a damaged chunk index exits 1 (not fewer bricks)" 1 "$B/vsv-info" tests/golden/bad/index.vsv
 has "the damaged index is named, with the count" "$T/err" "vsv-info: tests/golden/bad/index.vsv: chunk 2 (offset 5120): index checksum mismatch (1 of 5 chunks damaged)"
 expect "vsv-info on a file whose TOC hides in its metadata exits 1" 1 "$B/vsv-info" tests/golden/bad/s-toc-in-meta.vsv

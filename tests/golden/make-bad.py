@@ -36,13 +36,13 @@ def flip(data, at, bit=1):
     return bytes(b)
 
 cases = []
-cases.append(("bad-magic.vsv", flip(good, 1, 0x20), "not a .vsv file"))
+cases.append(("bad-magic.vsv", flip(good, 1, 0x20), "not a .vsv file (no .vsv magic at byte 0)"))
 cases.append(("truncated.vsv", good[:-500], "truncated: file has %d bytes, header says %d" % (len(good) - 500, len(good))))
-cases.append(("header.vsv", flip(good, 20), "header checksum mismatch"))
-cases.append(("metadata.vsv", flip(good, 150), "metadata checksum mismatch"))
-cases.append(("toc.vsv", flip(good, toc_off + 30), "table of contents checksum mismatch"))
-cases.append(("end-marker.vsv", flip(good, len(good) - 1), "end marker damaged"))
-cases.append(("extra-bytes.vsv", good + b"\0" * 64, "unexpected bytes after the end marker"))
+cases.append(("header.vsv", flip(good, 20), "header checksum mismatch (bytes 0-127)"))
+cases.append(("metadata.vsv", flip(good, 150), "metadata checksum mismatch (offset 128, %d bytes)" % meta_size))
+cases.append(("toc.vsv", flip(good, toc_off + 30), "table of contents checksum mismatch (offset %d)" % toc_off))
+cases.append(("end-marker.vsv", flip(good, len(good) - 1), "end marker damaged at offset %d" % (len(good) - 32)))
+cases.append(("extra-bytes.vsv", good + b"\0" * 64, "64 unexpected bytes after the end marker (file %d bytes, header says %d)" % (len(good) + 64, len(good))))
 # chunk 2's index
 c2 = toc[2][0]
 cases.append(("index.vsv", flip(good, c2 + 40), "chunk 2 (offset %d): index checksum mismatch" % c2))
@@ -131,6 +131,35 @@ g = bytearray(good)
 on = c1 + 32 + s * S + 4 * b + 2
 struct.pack_into("<H", g, on, struct.unpack_from("<H", g, on)[0] ^ 1)
 cases.append(("s-octree.vsv", reseal(g, [c1]), "chunk 1, species %d, brick %d: decoded codes disagree with the octree" % (s, b)))
+# header fields out of range, CRCs intact
+g = bytearray(good)
+struct.pack_into("<H", g, 8, 9)
+cases.append(("s-version.vsv", reseal(g), "format version 9.%d is not readable by this version (1.x to 2.x)" % struct.unpack_from("<H", good, 10)[0]))
+g = bytearray(good)
+g[100] = 1
+cases.append(("s-reserved.vsv", reseal(g), "header has unknown size or non-zero reserved fields"))
+g = bytearray(good)
+struct.pack_into("<I", g, 84, 12)
+cases.append(("s-brick-size.vsv", reseal(g), "header: brick 12, keyframe %d or codec %d invalid" % (u32(88), u32(92))))
+# the header's step count one more than the table of contents holds
+g = bytearray(good)
+struct.pack_into("<I", g, 44, nsteps + 1)
+cases.append(("s-toc-steps.vsv", reseal(g), "table of contents (offset %d, %d steps) does not fit the file" % (toc_off, nsteps + 1)))
+# the end marker's file size one block larger, its own CRC recomputed
+g = bytearray(reseal(bytearray(good)))
+n = len(g)
+struct.pack_into("<Q", g, n - 16, n + 64)
+struct.pack_into("<I", g, n - 4, crc32c(bytes(g[n - 32:n - 4])))
+cases.append(("s-end-size.vsv", bytes(g), "end marker disagrees with the header"))
+# the last chunk 64 bytes shorter in the table of contents: a gap before it
+g = bytearray(good)
+last = toc_off + 24 * (nsteps - 1)
+struct.pack_into("<Q", g, last + 8, toc[nsteps - 1][1] - 64)
+cases.append(("s-gap.vsv", reseal(g), "64 unaccounted bytes before the table of contents"))
+# the first metadata record's length past the end of the metadata
+g = bytearray(good)
+struct.pack_into("<I", g, 132, meta_size)
+cases.append(("s-meta-record.vsv", reseal(g), "metadata: metadata record 'GRID' at byte 0 overruns the section"))
 # The table of contents inside the metadata (issue 18, found by fuzzing):
 # one step; an unknown metadata record covers everything up to the TOC,
 # whose last 8 bytes (the time) double as the END record; chunk 0 "starts"
@@ -155,7 +184,7 @@ struct.pack_into("<QQ", g, 48, toff, 24)
 cases.append(("s-toc-in-meta.vsv", reseal(g), "table of contents (offset %d) overlaps the metadata and its padding (offsets 128 to %d)" % (toff, n + 8)))
 
 with open(os.path.join(out, "EXPECTED"), "w") as f:
-    f.write("# file<TAB>part of the message vsv-info --check must print\n")
+    f.write("# file<TAB>the exact message vsv-info --check prints after \"vsv-info: FILE: \"\n")
     for name, data, msg in cases:
         open(os.path.join(out, name), "wb").write(data)
         f.write("%s\t%s\n" % (name, msg))
