@@ -331,6 +331,38 @@ static vf sample(const vsv_rc_layer *L, int uni, const unsigned *bidx, const uns
     return join(v[0], v[1]);
 }
 
+/* The next sample of the rays in leap (vsv_rc_leap, lane by lane): out of
+ * the box of blocks within d - 1 of their block for the lanes in empty,
+ * out of their (clear) cell for the others; kept out of the kernel's loop,
+ * whose registers it would crowd. */
+static __attribute__((noinline)) vi leap_to(const vsv_rc_frame *F, const vf P[3], const vf DP[3], const vf IDP[3],
+                                            vi NS, vi N, const vi ci[3], vi d, vm empty, vm leap)
+{
+    const vi ONEI = iset(1), ZEROI = iset(0);
+    const vf ZERO = fset(0);
+    const vi dd = isel(ONEI, d, empty), size = isel(ONEI, iset(VSV_RC_BLOCK), empty);
+    vf k = to_f(NS);
+    vi up[3], down[3];
+    for (int a = 0; a < 3; a++) {
+        const vi b = isel(ci[a], srl(ci[a], VSV_RC_BSHIFT), empty), last = iset(F->last[a]);
+        up[a] = imul(iadd(b, dd), size);
+        down[a] = imul(iadd(isub(b, dd), ONEI), size);
+        const vm pos = gt(DP[a], ZERO), neg = lt(DP[a], ZERO);
+        const vf ka = mul(sub(to_f(isel(down[a], up[a], pos)), P[a]), IDP[a]);
+        k = sel(k, ka, mand(mandnot(igt(up[a], last), pos), lt(ka, k)));
+        k = sel(k, ka, mand(mand(neg, igt(down[a], ZEROI)), lt(ka, k)));
+    }
+    vi kn = imax(to_i(k), N);
+    const vf KF = to_f(kn);
+    vm inbox = leap;
+    for (int a = 0; a < 3; a++) { /* sample kn's cell, as the kernel finds it */
+        const vi ck = imin(to_i(vmax(vmin(fma3(KF, DP[a], P[a]), fset(F->hi[a])), ZERO)), iset(F->last[a]));
+        inbox = mand(inbox, mandnot(igt(down[a], ck), igt(up[a], ck)));
+    }
+    kn = iadd(kn, ikeep(inbox, ONEI));
+    return isel(N, imax(kn, iadd(N, ONEI)), leap);
+}
+
 void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const float s_hit[W], float T_out[W],
                    float acc_out[3][W], float depth[W])
 {
@@ -388,7 +420,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
         LAST[a] = iset(F->last[a]);
     }
     const vi M = iset(F->mask), BX = iset(F->bx), BXY = iset(F->bxy), EY = iset(F->ey), EZ = iset(F->ez);
-    const vi NBX = iset(F->nbx), NBXY = iset(F->nbxy), BLK = iset(VSV_RC_BLOCK), ONEI = iset(1);
+    const vi NBX = iset(F->nbx), NBXY = iset(F->nbxy), ONEI = iset(1);
     const vi B3 = iset(VSV_RC_BLOCK - 1), B31 = iset(31);
     const int sh = F->shift;
     const vf ST = fset((float)F->st);
@@ -420,41 +452,26 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
                        imul(NBXY, srl(ci[2], VSV_RC_BSHIFT)));
             const unsigned b0 = (unsigned)lane0(blk); /* in a register: no store and reload */
             ublk = bits(ieq(blk, iset((int)b0))) == ALL;
-            const vi d = ublk ? iset(F->skip[b0]) : bytes(F->skip, blk);
-            const vm empty = mand(act, igt(d, ZEROI));
-            /* in the blocks shown, the clear cells (the fine bits) */
-            const vi cell = iadd(iadd(iand(ci[0], B3), sll(iand(ci[1], B3), VSV_RC_BSHIFT)),
-                                 sll(iand(ci[2], B3), 2 * VSV_RC_BSHIFT));
-            const vi word = igather(F->fine, iadd(iadd(blk, blk), srl(cell, 5)), mandnot(empty, act));
-            leap = mor(empty, igt(iand(srlv(word, iand(cell, B31)), ONEI), ZEROI));
-            if (bits(leap)) {
-                /* those rays leap out of the clear box around them
-                 * (vsv_rc_leap, lane by lane: boxes of blocks within d - 1,
-                 * or the cell); the others sample */
-                const vi dd = isel(ONEI, d, empty), size = isel(ONEI, BLK, empty);
-                vf k = to_f(NS);
-                vi up[3], down[3];
-                for (int a = 0; a < 3; a++) {
-                    const vi b = isel(ci[a], srl(ci[a], VSV_RC_BSHIFT), empty);
-                    up[a] = imul(iadd(b, dd), size);
-                    down[a] = imul(iadd(isub(b, dd), ONEI), size);
-                    const vm pos = gt(DP[a], ZERO), neg = lt(DP[a], ZERO);
-                    const vf ka = mul(sub(to_f(isel(down[a], up[a], pos)), P[a]), IDP[a]);
-                    k = sel(k, ka, mand(mandnot(igt(up[a], LAST[a]), pos), lt(ka, k)));
-                    k = sel(k, ka, mand(mand(neg, igt(down[a], ZEROI)), lt(ka, k)));
+            const unsigned d0 = ublk ? F->skip[b0] : 0;
+            if (!ublk || d0) { /* else (dense fields): no ray leaps */
+                /* the distances, and the blocks shown that have clear cells (VSV_RC_FINE) */
+                const vi d = ublk ? iset((int)d0) : bytes(F->skip, blk), dist = iand(d, iset(VSV_RC_FINE - 1));
+                const vm empty = mand(act, igt(dist, ZEROI)), fine = mand(act, igt(d, iset(VSV_RC_FINE - 1)));
+                leap = empty;
+                if (bits(fine)) { /* the clear cells among them (their fine bits) */
+                    const vi cell = iadd(iadd(iand(ci[0], B3), sll(iand(ci[1], B3), VSV_RC_BSHIFT)),
+                                         sll(iand(ci[2], B3), 2 * VSV_RC_BSHIFT));
+                    const vi word = !ublk ? igather(F->fine, iadd(iadd(blk, blk), srl(cell, 5)), fine)
+                                          : ikeep(act, isel(iset((int)F->fine[2 * b0]), iset((int)F->fine[2 * b0 + 1]),
+                                                            igt(cell, B31)));
+                    leap = mor(leap, igt(iand(srlv(word, iand(cell, B31)), ONEI), ZEROI));
                 }
-                vi kn = imax(to_i(k), N);
-                const vf KF = to_f(kn);
-                vm inbox = leap;
-                for (int a = 0; a < 3; a++) { /* sample kn's cell, as above */
-                    const vi ck = imin(to_i(vmax(vmin(fma3(KF, DP[a], P[a]), HI[a]), ZERO)), LAST[a]);
-                    inbox = mand(inbox, mandnot(igt(down[a], ck), igt(up[a], ck)));
+                if (bits(leap)) {
+                    N = leap_to(F, P, DP, IDP, NS, N, ci, dist, empty, leap);
+                    comp = mandnot(leap, act);
+                    if (!bits(comp))
+                        continue;
                 }
-                kn = iadd(kn, ikeep(inbox, ONEI));
-                N = isel(N, imax(kn, iadd(N, ONEI)), leap);
-                comp = mandnot(leap, act);
-                if (!bits(comp))
-                    continue;
             }
         }
         const vi bidx = iadd(iadd(srl(ci[0], sh), imul(BX, srl(ci[1], sh))), imul(BXY, srl(ci[2], sh)));

@@ -42,6 +42,7 @@ typedef struct vsv_rc_copy {
  * count per axis is (last >> VSV_RC_BSHIFT) + 1. */
 #define VSV_RC_BSHIFT 2
 #define VSV_RC_BLOCK (1 << VSV_RC_BSHIFT)
+#define VSV_RC_FINE 0x80 /* vsv_rc_frame.skip: a block shown that has clear cells */
 _Static_assert(VSV_RC_BLOCK * VSV_RC_BLOCK * VSV_RC_BLOCK == 64, "vsv_rc_frame.fine: 64 bits a block");
 static inline void vsv_rc_block_dims(const vsv_volume *v, int nb[3])
 {
@@ -93,8 +94,10 @@ typedef struct vsv_rc_frame {
     const unsigned char *skip; /* per block: 0 where a sample may be seen; d > 0:
                                   every block within d - 1 blocks (on each
                                   axis) is clear in every layer, so a ray leaps
-                                  out of that box. NULL: no skipping. Four
-                                  readable bytes past the end (for gathers). */
+                                  out of that box; VSV_RC_FINE added to the 0
+                                  of a block with clear cells (fine). NULL: no
+                                  skipping. Four readable bytes past the end
+                                  (for gathers). */
     const uint32_t *fine;      /* per block, two words: bit (i & 3) + 4 (j & 3) +
                                   16 (k & 3) of word 2 b + bit / 32 is set where
                                   every sample whose lower cell is (i, j, k) is
