@@ -76,12 +76,27 @@ int vsv_stream_reader_open(FILE *fp, const char *name, vsv_stream_reader **out)
         vsv_msg(r->err, sizeof r->err, "%s: field stream header of %u bytes is implausible", r->name, n);
         return VSV_ECORRUPT;
     }
-    unsigned char *buf = malloc(n ? n : 1);
+    /* the buffer grows with the bytes that actually arrive: a damaged
+     * length in a short stream costs no more memory than the stream holds */
+    size_t cap = n < (1u << 20) ? n : (1u << 20), got = 0;
+    unsigned char *buf = malloc(cap ? cap : 1);
     if (!buf)
         return VSV_ENOMEM;
-    if ((rc = rd_exact(r, buf, n, "header"))) {
-        free(buf);
-        return rc;
+    while (got < n) {
+        if (got == cap) {
+            cap = n - cap < cap ? n : 2 * cap;
+            unsigned char *b = realloc(buf, cap);
+            if (!b) {
+                free(buf);
+                return VSV_ENOMEM;
+            }
+            buf = b;
+        }
+        if ((rc = rd_exact(r, buf + got, cap - got, "header"))) {
+            free(buf);
+            return rc;
+        }
+        got = cap;
     }
     char msg[256];
     rc = vsv_meta_decode(buf, n, &r->meta, NULL, msg, sizeof msg);
