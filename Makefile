@@ -105,7 +105,7 @@ objs = $(patsubst %.cc,$(B)/%.o,$(patsubst %.c,$(B)/%.o,$(1)))
 # the private helpers every library compiles in (format/vsv_common.h) and
 # the even-height resampler the core and the model readers share (vsv_vgrid.h)
 COMMON_OBJ = $(B)/format/vsv_buf.o $(B)/format/vsv_msg.o $(B)/format/vsv_vgrid.o $(B)/format/vsv_input.o \
-             $(B)/format/vsv_helper.o
+             $(B)/format/vsv_helper.o $(B)/format/vsv_fdio.o
 CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(wildcard stream/vsv_*.c))
 # vsv_*_cli.c: program code a folder's tools share (never in a library)
 CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c))) $(COMMON_OBJ)

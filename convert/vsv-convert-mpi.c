@@ -12,6 +12,7 @@
  * failure on any rank stops every rank (a STOP message between steps, an
  * agreement at the end of each phase): one message names the rank and the
  * file, nothing is left behind, and every rank exits 1. */
+#include "vsv_common.h"
 #include "vsv_mpi_cli.h"
 #include "vsv_vdb.h"
 
@@ -131,7 +132,7 @@ static int keep(void *p, int64_t t, const float *const *fields)
     if (s >= r->s0) /* the step before the share is another rank's */
         vsv_pack_stats_add(r->st, r->meta->nvars, r->cells, fields);
     for (int v = 0; v < r->meta->nvars; v++)
-        if (write_all(r->spool_fd, fields[v], r->cells * sizeof(float))) {
+        if (vsv_write_full(r->spool_fd, fields[v], r->cells * sizeof(float), -1)) {
             rank_fail(r, "writing the spool file: %s", strerror(errno));
             return VSV_EIO;
         }
@@ -225,7 +226,7 @@ static void encode_phase(rank *r, const vsv_pack_plan *plan)
             rank_fail(r, "encoding step %d: %s", r->s0 + i, vsv_chunk_encoder_error(e));
             break;
         }
-        if (write_all(r->chunk_fd, bytes, size)) {
+        if (vsv_write_full(r->chunk_fd, bytes, size, -1)) {
             rank_fail(r, "writing the chunk spool file: %s", strerror(errno));
             break;
         }

@@ -235,22 +235,6 @@ int local_temp(rank *r, const char *what)
     return fd;
 }
 
-int write_all(int fd, const void *p, size_t n)
-{
-    const unsigned char *c = p;
-    while (n) {
-        ssize_t k = write(fd, c, n > (1u << 30) ? (1u << 30) : n);
-        if (k < 0) {
-            if (errno == EINTR)
-                continue;
-            return -1;
-        }
-        c += k;
-        n -= (size_t)k;
-    }
-    return 0;
-}
-
 void rank_mpi_fail(rank *r, int code, const char *what)
 {
     char msg[MPI_MAX_ERROR_STRING];

@@ -72,8 +72,6 @@ void quiet_others(int me, int on);
 /* An unlinked temporary file in $TMPDIR (or /tmp) for `what`; -1 (and
  * rank_fail) on error. */
 int local_temp(rank *r, const char *what);
-/* write(2) until done; 0 or -1 with errno. */
-int write_all(int fd, const void *p, size_t n);
 /* rank_fail with an MPI error's text: "OUT: what: MPI's message". */
 void rank_mpi_fail(rank *r, int code, const char *what);
 

@@ -94,6 +94,11 @@ int vsv_input_open(const char *path, char *why, size_t cap);
 /* The same as a stdio stream (mode "r" or "rb"); NULL with why set. */
 FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap);
 
+/* Writes all n bytes of p to fd (vsv_fdio.c): at offset off with pwrite(2),
+ * or where the descriptor stands with write(2) when off < 0; short writes
+ * and EINTR are continued. 0, or -1 with errno. */
+int vsv_write_full(int fd, const void *p, size_t n, int64_t off);
+
 /* Private helper programs (vsv_helper.c): reading untrusted files with a
  * library that can crash on them happens in an exec'd helper, never in a
  * fork of a process that may have threads. */

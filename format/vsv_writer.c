@@ -120,22 +120,6 @@ int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opt
     return 0;
 }
 
-static int write_all(int fd, const void *p, size_t n)
-{
-    const unsigned char *c = p;
-    while (n) {
-        ssize_t k = write(fd, c, n > (1u << 30) ? (1u << 30) : n);
-        if (k < 0) {
-            if (errno == EINTR)
-                continue;
-            return -1;
-        }
-        c += k;
-        n -= (size_t)k;
-    }
-    return 0;
-}
-
 int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
 {
     if (w->finished || w->spool_fd < 0)
@@ -158,7 +142,7 @@ int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
     }
     vsv_pack_stats_add(w->st, w->meta.nvars, w->cells, fields);
     for (int v = 0; v < w->meta.nvars; v++)
-        if (write_all(w->spool_fd, fields[v], w->cells * 4))
+        if (vsv_write_full(w->spool_fd, fields[v], w->cells * 4, -1))
             return fail_errno(w, "writing the spool file");
     w->times[w->nsteps++] = time;
     return 0;
@@ -199,23 +183,6 @@ static void *job_run(void *arg)
     return NULL;
 }
 
-static int write_at(int fd, const void *p, size_t n, uint64_t off)
-{
-    const unsigned char *c = p;
-    while (n) {
-        ssize_t k = pwrite(fd, c, n, (off_t)off);
-        if (k < 0) {
-            if (errno == EINTR)
-                continue;
-            return -1;
-        }
-        c += k;
-        n -= (size_t)k;
-        off += (uint64_t)k;
-    }
-    return 0;
-}
-
 static int encode_all(vsv_writer *w, const vsv_pack_plan *plan, uint64_t *sizes,
                       void (*progress)(void *, int, int), void *ctx)
 {
@@ -254,7 +221,7 @@ static int encode_all(vsv_writer *w, const vsv_pack_plan *plan, uint64_t *sizes,
                 break;
             }
             sizes[t0 + i] = jobs[i].size;
-            if (write_at(w->out_fd, jobs[i].bytes, jobs[i].size, off))
+            if (vsv_write_full(w->out_fd, jobs[i].bytes, jobs[i].size, (int64_t)off))
                 rc = fail_errno(w, "writing a chunk");
             off += jobs[i].size;
         }
@@ -309,7 +276,7 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
         }
     }
     const uint64_t meta_off = VSV_HEADER_SIZE;
-    if (write_at(w->out_fd, vsv_pack_plan_meta_bytes(plan), vsv_pack_plan_first_chunk(plan) - meta_off, meta_off)) {
+    if (vsv_write_full(w->out_fd, vsv_pack_plan_meta_bytes(plan), vsv_pack_plan_first_chunk(plan) - meta_off, (int64_t)meta_off)) {
         rc = fail_errno(w, "writing metadata");
         goto done;
     }
@@ -320,11 +287,11 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
         vsv_msg(w->err, sizeof w->err, "%s", vsv_pack_plan_error(plan));
         goto done;
     }
-    if (write_at(w->out_fd, tail, tail_bytes, tail_off)) {
+    if (vsv_write_full(w->out_fd, tail, tail_bytes, (int64_t)tail_off)) {
         rc = fail_errno(w, "writing the table of contents");
         goto done;
     }
-    if (write_at(w->out_fd, head, sizeof head, 0)) {
+    if (vsv_write_full(w->out_fd, head, sizeof head, 0)) {
         rc = fail_errno(w, "writing the header");
         goto done;
     }
