@@ -55,7 +55,7 @@ NODEP_GOALS = demo test deps help clean fuzz
 ifneq ($(filter-out $(NODEP_GOALS),$(or $(MAKECMDGOALS),all)),)
   MISSING := $(foreach p,$(PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) 2>/dev/null && echo y),,$(p)))
   ifneq ($(strip $(MISSING)),)
-    $(error missing libraries (pkg-config): $(MISSING); run `make deps` as root, or: sudo apt-get install -y $(shell sh tools/deps.sh --names))
+    $(error missing libraries (pkg-config): $(strip $(MISSING)); run `make deps` as root, or: sudo apt-get install -y $(shell sh tools/deps.sh --names))
   endif
 endif
 # The viewer (vsv-play) is built only where GLFW, GL, FreeType and fontconfig
