@@ -3,15 +3,8 @@
  * volumes in the same run: the real MM5 run's Q (dense) and CLW (sparse),
  * gen-plume's plume and haze (../shared/tools/gen-plume).
  *
- * Both sides see the same 8-bit volume of each step (the species quantised
- * to 0..255 over the series' range: VolPack's density, and on our side the
- * float values it stands for). Opacity is matched per unit length: VolPack
- * composites one sample per voxel step with opacity a(d) = 0.95 d / 255;
- * ours is 1 - e^(-3 o L) over L cells (VSV_SIGMA_PER_CELL = 3), so our
- * opacity curve is o(t) = -ln(1 - 0.95 t) / 3 (16 samples, linear between)
- * and the cells are cubes on both sides. Ray termination 0.998 on both;
- * VolPack skips voxels of opacity below 1/255. Image 512x512, parallel
- * projection, the same orbit views as bench_volpack.
+ * Both sides draw the same picture: the same 8-bit volume, opacity matched
+ * per unit length, views and termination (vp_match.h, as bench_volpack).
  *
  * Classification: VolPack's vpClassifyVolume (it builds its run-length
  * encoded copy for all three axes) against ours for all three axes, first
@@ -26,16 +19,15 @@
  * other load), interleaved: each round times VolPack then us; medians and
  * ranges over rounds. Usage:
  *   bench_classify MM5.vsv PLUME_DIR [ROUNDS [ONLY]]  (ONLY: volumes whose name has it) */
-#include "vsv_render.h"
+#include "vp_match.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-#include <volpack.h>
 
-enum { SIZE = 512, VIEWS = 4, MAXSTEPS = 4 };
+enum { SIZE = VP_SIZE, VIEWS = 4 };
 
 static double cpu(void)
 {
@@ -59,144 +51,16 @@ static void stats(double *v, int n, double out[3])
     out[2] = v[n - 1];
 }
 
-/* A series: nsteps volumes of one species of a .vsv. */
-typedef struct series {
-    const char *name;
-    vsv_file *f;
-    vsv_decoder *d;
-    vsv_meta iso;
-    int nsteps;
-    vsv_volume *vol[MAXSTEPS];
-    unsigned char *vox[MAXSTEPS]; /* VolPack's voxels {u16 shade index, u8 density, pad} */
-    double lo, hi;
-} series;
-
-static int series_open(series *S, const char *name, const char *path, const char *species, int first, int n)
-{
-    memset(S, 0, sizeof *S);
-    S->name = name;
-    if (vsv_file_open(path, &S->f) || vsv_decoder_create(S->f, &S->d)) {
-        fprintf(stderr, "bench_classify: %s: %s\n", path, vsv_file_error(S->f));
-        return -1;
-    }
-    const vsv_meta *m = vsv_file_meta(S->f);
-    const int s = vsv_meta_find_var(m, species);
-    if (s < 0)
-        return -1;
-    const vsv_quant *q = vsv_file_quant(S->f, s);
-    S->lo = q->lo;
-    S->hi = q->hi > q->lo ? q->hi : q->lo + 1;
-    S->nsteps = n;
-    const size_t nv = (size_t)m->nx * m->ny * m->nz;
-    for (int t = 0; t < n; t++) {
-        if (vsv_volume_create(S->f, &S->vol[t]) || vsv_volume_load(S->vol[t], S->d, first + t, s))
-            return -1;
-        S->vox[t] = calloc(nv, 4);
-        for (int k = 0; k < m->nz; k++)
-            for (int j = 0; j < m->ny; j++)
-                for (int i = 0; i < m->nx; i++) {
-                    const float v = vsv_volume_at(S->vol[t], i, j, k);
-                    const double u = v == v ? (v - S->lo) / (S->hi - S->lo) : 0;
-                    const unsigned char dv = (unsigned char)lrint(255 * fmin(1, fmax(0, u)));
-                    const uint16_t si = dv;
-                    unsigned char *p = S->vox[t] + 4 * (((size_t)k * m->ny + j) * m->nx + i);
-                    memcpy(p, &si, 2);
-                    p[2] = dv;
-                }
-    }
-    S->iso = *m; /* cubic cells, as VolPack sees them */
-    S->iso.spacing[0] = S->iso.spacing[1] = S->iso.spacing[2] = 1000;
-    S->iso.vert_kind = VSV_VERT_EVEN;
-    S->iso.levels = NULL;
-    S->iso.terrain = NULL;
-    S->iso.landuse = NULL;
-    S->iso.nheights = 0;
-    S->iso.heights = NULL;
-    return 0;
-}
-
-static void series_free(series *S)
-{
-    for (int t = 0; t < S->nsteps; t++) {
-        vsv_volume_free(S->vol[t]);
-        free(S->vox[t]);
-    }
-    vsv_decoder_free(S->d);
-    vsv_file_free(S->f);
-}
-
-/* VolPack set up on step 0 with the matched opacity ramp. */
-static vpContext *vp_setup(const series *S, unsigned char *image)
-{
-    const vsv_meta *m = &S->iso;
-    vpContext *vpc = vpCreateContext();
-    vpSetVolumeSize(vpc, m->nx, m->ny, m->nz);
-    vpSetVoxelSize(vpc, 4, 2, 1, 1);
-    vpSetVoxelField(vpc, 0, 2, 0, 255);
-    vpSetVoxelField(vpc, 1, 1, 2, 255);
-    vpSetRawVoxels(vpc, S->vox[0], (int)((size_t)m->nx * m->ny * m->nz * 4), 4, 4 * m->nx, 4 * m->nx * m->ny);
-    static float ramp[256], shade[256];
-    for (int i = 0; i < 256; i++) {
-        ramp[i] = 0.95f * i / 255.0f;
-        shade[i] = 0.4f + 0.6f * i / 255.0f;
-    }
-    vpSetClassifierTable(vpc, 0, 1, ramp, sizeof ramp);
-    vpSetLookupShader(vpc, 1, 1, 0, shade, sizeof shade, 0, NULL, 0);
-    vpSetd(vpc, VP_MIN_VOXEL_OPACITY, 1.0 / 255);
-    vpSetd(vpc, VP_MAX_RAY_OPACITY, 0.998);
-    vpSetImage(vpc, image, SIZE, SIZE, SIZE * 2, VP_LUMINANCEA);
-    vpCurrentMatrix(vpc, VP_PROJECT);
-    vpIdentityMatrix(vpc);
-    vpWindow(vpc, VP_PARALLEL, -0.75, 0.75, -0.75, 0.75, -0.75, 0.75);
-    return vpc;
-}
-
-/* VolPack's view v: tilted 60 degrees, turned 45 (v + 1) about the vertical
- * (bench_volpack's orbit frame v). */
-static void vp_view(vpContext *vpc, int v)
-{
-    vpCurrentMatrix(vpc, VP_MODEL);
-    vpIdentityMatrix(vpc);
-    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_LEFT);
-    vpRotate(vpc, VP_X_AXIS, -60.0);
-    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_RIGHT);
-    vpRotate(vpc, VP_Z_AXIS, 45.0 * (v + 1));
-}
-
-static int vp_check(vpContext *vpc, int rc)
-{
-    if (rc != VP_OK) {
-        fprintf(stderr, "bench_classify: VolPack: %s\n", vpGetErrorString(vpGetError(vpc)));
-        exit(1);
-    }
-    return 0;
-}
-
-static void run(series *S, int rounds)
+static void run(vp_series *S, int rounds)
 {
     unsigned char *image = malloc(SIZE * SIZE * 2);
     vpContext *vpc = vp_setup(S, image);
-    /* our transfer function: the matched opacity curve over the 8-bit range */
-    char text[512], msg[128];
-    int n = snprintf(text, sizeof text, "colormap greys\nrange %.9g %.9g\nopacity", S->lo, S->hi);
-    for (int i = 0; i < 16; i++)
-        n += snprintf(text + n, sizeof text - (size_t)n, " %.6f", -log(1 - 0.95 * i / 15.0) / 3);
-    snprintf(text + n, sizeof text - (size_t)n, "\n");
-    vsv_tf tf;
-    if (vsv_tf_parse(&tf, text, msg, sizeof msg)) {
-        fprintf(stderr, "bench_classify: %s\n", msg);
-        exit(1);
-    }
-    vsv_layer layer = {S->vol[0], &tf, 1, 1};
-    vsv_scene sc = {.meta = &S->iso, .layers = &layer, .nlayers = 1, .exaggeration = 1};
-    double mn[3], mx[3];
-    vsv_scene_bounds(&sc, mn, mx);
+    vsv_layer layer;
+    vsv_scene sc;
+    vp_scene(S, &layer, &sc);
     vsv_camera cams[VIEWS];
-    for (int k = 0; k < VIEWS; k++) {
-        vsv_camera_orbit(&cams[k], &sc, 225 + 45 * k, 30, 0, SIZE, SIZE);
-        cams[k].fov_deg = 0;
-        cams[k].ortho_height = 1.5 * fmax(fmax(mx[0] - mn[0], mx[1] - mn[1]), mx[2] - mn[2]);
-    }
+    for (int k = 0; k < VIEWS; k++)
+        vp_camera(&sc, k, &cams[k]);
     float *img = malloc(sizeof(float) * 4 * SIZE * SIZE);
     vsv_render_opts o;
     vsv_render_opts_init(&o);
@@ -223,8 +87,7 @@ static void run(series *S, int rounds)
     /* one uncounted round first: caches, page faults, VolPack's tables */
     for (int r = -1; r < rounds; r++) {
         /* classification, every brick, all three axes */
-        vpSetRawVoxels(vpc, S->vox[0], (int)((size_t)S->iso.nx * S->iso.ny * S->iso.nz * 4), 4, 4 * S->iso.nx,
-                       4 * S->iso.nx * S->iso.ny);
+        vp_step(vpc, S, 0);
         double t = cpu();
         vp_check(vpc, vpClassifyVolume(vpc));
         const double tv = cpu() - t;
@@ -249,8 +112,7 @@ static void run(series *S, int rounds)
             vp_view(vpc, v);
             for (int i = 0; i < 2 * S->nsteps; i++) {
                 const int st = (i + 1) % S->nsteps;
-                vpSetRawVoxels(vpc, S->vox[st], (int)((size_t)S->iso.nx * S->iso.ny * S->iso.nz * 4), 4,
-                               4 * S->iso.nx, 4 * S->iso.nx * S->iso.ny);
+                vp_step(vpc, S, st);
                 t = cpu();
                 vp_check(vpc, vpClassifyVolume(vpc));
                 vp_check(vpc, vpRenderClassifiedVolume(vpc));
@@ -396,13 +258,11 @@ int main(int argc, char **argv)
     for (size_t i = 0; i < sizeof sets / sizeof sets[0]; i++) {
         if (argc > 4 && !strstr(sets[i].name, argv[4]))
             continue;
-        series S;
-        if (series_open(&S, sets[i].name, sets[i].path, sets[i].species, sets[i].first, sets[i].n)) {
-            fprintf(stderr, "bench_classify: %s: cannot load %s\n", sets[i].path, sets[i].species);
+        vp_series S;
+        if (vp_series_open(&S, sets[i].name, sets[i].path, sets[i].species, sets[i].first, sets[i].n))
             return 1;
-        }
         run(&S, rounds);
-        series_free(&S);
+        vp_series_free(&S);
     }
     return 0;
 }
