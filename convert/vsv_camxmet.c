@@ -122,20 +122,11 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
     snprintf(m->path, sizeof m->path, "%s", path);
     m->nx = nx, m->ny = ny, m->nz = nz, m->kind = -1;
     char why[160];
-    int fd = vsv_input_open(path, why, sizeof why);
-    if (fd < 0)
+    const int mapped = vsv_input_map(path, 12, &m->d, &m->n, why, sizeof why);
+    if (mapped < 0)
         return mfail(m, VSV_EIO, "%s", why);
-    struct stat st;
-    if (fstat(fd, &st) || st.st_size < 12) {
-        close(fd);
+    if (mapped > 0)
         return mfail(m, VSV_ENOTVSV, "not a CAMx met file (too short or not a file)");
-    }
-    m->n = (size_t)st.st_size;
-    void *p = mmap(NULL, m->n, PROT_READ, MAP_SHARED, fd, 0);
-    close(fd);
-    if (p == MAP_FAILED)
-        return mfail(m, VSV_EIO, "cannot map: %s", strerror(errno));
-    m->d = p;
     /* byte order from the first marker (a record is under 16 MB here) */
     m->le = vsv_rd32(m->d) < (1u << 24);
     /* index every record */

@@ -255,24 +255,11 @@ int vsv_mm5_open(const char *path, vsv_mm5 **out)
         return VSV_ENOMEM;
     snprintf(m->path, sizeof m->path, "%s", path);
     char why[160];
-    int fd = vsv_input_open(path, why, sizeof why);
-    if (fd < 0)
+    const int rc = vsv_input_map(path, 16, &m->d, &m->n, why, sizeof why);
+    if (rc < 0)
         return fail(m, VSV_EIO, "%s", why);
-    struct stat st;
-    if (fstat(fd, &st)) {
-        close(fd);
-        return fail(m, VSV_EIO, "cannot open: %s", strerror(errno));
-    }
-    m->n = (size_t)st.st_size;
-    if (m->n < 16) {
-        close(fd);
+    if (rc > 0)
         return fail(m, VSV_ENOTVSV, "not an MM5 v3 file (%zu bytes)", m->n);
-    }
-    void *p = mmap(NULL, m->n, PROT_READ, MAP_SHARED, fd, 0);
-    close(fd);
-    if (p == MAP_FAILED)
-        return fail(m, VSV_EIO, "cannot map: %s", strerror(errno));
-    m->d = p;
     m->mapped = 1;
     if (!vsv_mm5_probe(m->d, m->n))
         return fail(m, VSV_ENOTVSV, "not an MM5 v3 file (no flag record and big header at byte 0)");

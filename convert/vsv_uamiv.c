@@ -194,20 +194,11 @@ int vsv_uamiv_open(const char *path, vsv_uamiv **out)
         return VSV_ENOMEM;
     snprintf(u->path, sizeof u->path, "%s", path);
     char why[160];
-    int fd = vsv_input_open(path, why, sizeof why);
-    if (fd < 0)
+    const int rc = vsv_input_map(path, 16, &u->d, &u->n, why, sizeof why);
+    if (rc < 0)
         return ufail(u, VSV_EIO, "%s", why);
-    struct stat st;
-    if (fstat(fd, &st) || st.st_size < 16) {
-        close(fd);
+    if (rc > 0)
         return ufail(u, VSV_ENOTVSV, "not a CAMx UAM-IV file");
-    }
-    u->n = (size_t)st.st_size;
-    void *p = mmap(NULL, u->n, PROT_READ, MAP_SHARED, fd, 0);
-    close(fd);
-    if (p == MAP_FAILED)
-        return ufail(u, VSV_EIO, "cannot map: %s", strerror(errno));
-    u->d = p;
     u->mapped = 1;
     return parse(u);
 }

@@ -93,6 +93,11 @@ void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_
 int vsv_input_open(const char *path, char *why, size_t cap);
 /* The same as a stdio stream (mode "r" or "rb"); NULL with why set. */
 FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap);
+/* Maps a whole input file (opened as vsv_input_open) read-only: 0 with
+ * *data and *n set (munmap it); 1, nothing mapped, when it is shorter than
+ * min_bytes or empty (*n its size: the caller says what it is not); -1
+ * with the reason in why. */
+int vsv_input_map(const char *path, size_t min_bytes, const unsigned char **data, size_t *n, char *why, size_t cap);
 
 /* Writes all n bytes of p to fd (vsv_fdio.c): at offset off with pwrite(2),
  * or where the descriptor stands with write(2) when off < 0; short writes

@@ -8,6 +8,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -53,4 +54,32 @@ FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap)
         close(fd);
     }
     return fp;
+}
+
+int vsv_input_map(const char *path, size_t min_bytes, const unsigned char **data, size_t *n, char *why, size_t cap)
+{
+    *data = NULL;
+    *n = 0;
+    const int fd = vsv_input_open(path, why, cap);
+    if (fd < 0)
+        return -1;
+    const off_t size = lseek(fd, 0, SEEK_END); /* a regular file's size */
+    if (size < 0) {
+        snprintf(why, cap, "cannot read: %s", strerror(errno));
+        close(fd);
+        return -1;
+    }
+    *n = (size_t)size;
+    if (*n < min_bytes || *n == 0) {
+        close(fd);
+        return 1;
+    }
+    void *p = mmap(NULL, *n, PROT_READ, MAP_SHARED, fd, 0);
+    close(fd);
+    if (p == MAP_FAILED) {
+        snprintf(why, cap, "cannot map: %s", strerror(errno));
+        return -1;
+    }
+    *data = p;
+    return 0;
 }
