@@ -249,6 +249,9 @@ static int compare(const char *path, int nb, char **mb)
            (double)m->nx * m->ny * m->nz * 4 * info.nspecies / 1e6);
     printf("| budget | direction | from keyframe: steps/s | incremental: steps/s | ratio | payloads decoded (keyframe / "
            "incremental) |\n|---|---|---|---|---|---|\n");
+    double fwd_back[64][2]; /* incremental medians, forward and backward, per budget */
+    if (nb > 64)
+        nb = 64;
     for (int i = 0; i < nb; i++) {
         const size_t budget = (size_t)atol(mb[i]) << 20;
         for (int dir = 1; dir >= -1; dir -= 2) {
@@ -264,8 +267,14 @@ static int compare(const char *path, int nb, char **mb)
                    dir > 0 ? "forward" : "backward", old[1], old[0], old[2], inc[1], inc[0], inc[2], inc[1] / old[1],
                    (unsigned long long)po, (unsigned long long)pn);
             fflush(stdout);
+            fwd_back[i][dir < 0] = inc[1];
         }
     }
+    printf("\n| budget | incremental forward steps/s | backward steps/s | forward / backward (target <= 1.5) |\n"
+           "|---|---|---|---|\n");
+    for (int i = 0; i < nb; i++)
+        printf("| %s MB | %.1f | %.1f | **%.2f** |\n", mb[i], fwd_back[i][0], fwd_back[i][1],
+               fwd_back[i][0] / fwd_back[i][1]);
     vsv_file_free(f);
     return 0;
 }
