@@ -395,7 +395,8 @@ ifeq ($(TSAN),1)
 # the tests whose code runs threads: the writer's encoders, the pager, the
 # render pool, the player, advection; any data race or lock-order
 # inversion ThreadSanitizer sees is a failure (they run the tools too)
-TSAN_TESTS = test_format test_stream test_render test_viewer test_advect test_picture
+TSAN_TESTS = test_format test_stream test_pager_play test_render test_viewer \
+  test_advect test_picture
 test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
 	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" \
 	  TSAN_OPTIONS="halt_on_error=1 exitcode=66 second_deadlock_stack=1 $(TSAN_OPTIONS)" sh tests/run.sh

@@ -16,6 +16,13 @@
 #include <unistd.h>
 
 static synth SY = {40, 30, 12, 60, 20, 35};
+#ifdef __SANITIZE_THREAD__
+/* under ThreadSanitizer (code ~10x slower) the real run's first two species
+ * take the pager's threads through the same paths */
+enum { MM5_SPECIES = 2 };
+#else
+enum { MM5_SPECIES = 1 << 20 };
+#endif
 enum { K = 6 };
 
 static int write_series(const char *path, int nsteps)
@@ -254,7 +261,7 @@ static void test_mm5(void)
     uint64_t fwd = 0, back = 0, kf = 0, kb = 0, sf = 0, sb = 0, skf = 0, skb = 0;
     size_t over = 0;
     char why[300] = "";
-    for (int s = 0; s < info.nspecies && !bad; s++) {
+    for (int s = 0; s < info.nspecies && s < MM5_SPECIES && !bad; s++) {
         bad = play(f, s, 64 << 20, 0, 1, &fwd, &back, &over, why, sizeof why);
         bad = bad || play(f, s, 64 << 20, 1, -1, &kf, &kb, &over, why, sizeof why);
         sf += fwd, sb += back, skf += kf, skb += kb;
@@ -265,7 +272,7 @@ static void test_mm5(void)
      * (below) they are exact */
     bad = 0;
     uint64_t ef = 0, eb = 0;
-    for (int s = 0; s < info.nspecies && !bad; s++) {
+    for (int s = 0; s < info.nspecies && s < MM5_SPECIES && !bad; s++) {
         bad = play(f, s, 64 << 20, 0, -1, &fwd, &back, &over, why, sizeof why);
         ef += fwd, eb += back;
     }
