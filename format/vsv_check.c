@@ -9,11 +9,14 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
 {
     size_t z;
     const uint64_t first = vsv_align_up(f->meta_end, VSV_ALIGN);
+    int rc = vsv_file_need(f, f->meta_end, first - f->meta_end, 0, f->err, sizeof f->err);
+    if (rc)
+        return rc;
     if (!vsv_all_zero(f->data + f->meta_end, (size_t)(first - f->meta_end), &z))
         return vsv_file_fail(f, VSV_ECORRUPT, "non-zero padding after the metadata at offset %llu",
                    (unsigned long long)(f->meta_end + z));
     vsv_decoder *d = NULL;
-    int rc = vsv_decoder_create(f, &d);
+    rc = vsv_decoder_create(f, &d);
     if (rc)
         return vsv_file_fail(f, rc, "out of memory");
     const vsv_layout *L = &f->lay;
@@ -26,6 +29,8 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
     for (int t = 0; t < f->nsteps && !rc; t++) {
         const unsigned char *te = f->toc + (size_t)t * VSV_TOC_ENTRY_SIZE;
         const uint64_t coff = vsv_rd64(te), csize = vsv_rd64(te + 8);
+        if ((rc = vsv_file_need(f, coff, csize, 0, f->err, sizeof f->err)))
+            break; /* the whole chunk, padding included */
         const unsigned char *c = vsv_file_chunk_index(f, t, f->err, sizeof f->err);
         if (!c) {
             rc = VSV_ECORRUPT;

@@ -77,7 +77,16 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
     const uint64_t off = vsv_rd64(be + 8);
     const uint32_t size = vsv_rd32(be + 16);
     const unsigned char *p = c + off;
-    if (vsv_crc32c(0, p, size) != vsv_rd32(be + 4)) {
+    if (f->src) { /* fetch the payload, and the species' payloads after it */
+        const uint64_t at = (uint64_t)(p - f->data), end = __atomic_load_n(&f->span_end[(size_t)t * f->meta.nvars + s], __ATOMIC_RELAXED);
+        const int rc = vsv_file_need(f, at, size, end > at + size ? end - at - size : 0, d->err, sizeof d->err);
+        if (rc)
+            return rc;
+    }
+    uint32_t crc = vsv_crc32c(0, p, size);
+    if (crc != vsv_rd32(be + 4) && vsv_file_refetch(f, (uint64_t)(p - f->data), size))
+        crc = vsv_crc32c(0, p, size); /* a damaged cache, fetched again */
+    if (crc != vsv_rd32(be + 4)) {
         vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d (offset %llu): payload checksum mismatch",
                 f->name, t, s, b, (unsigned long long)(p - f->data));
         return VSV_ECORRUPT;

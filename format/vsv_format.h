@@ -394,6 +394,27 @@ typedef struct vsv_file_counts {
 int vsv_file_open(const char *path, vsv_file **out);
 /* The same over a caller buffer that must outlive the handle (fuzzing, tests). */
 int vsv_file_open_mem(const void *data, size_t size, const char *name, vsv_file **out);
+/* A byte source: a .vsv whose bytes are somewhere other than a local file
+ * (a web server: vsv_http.h). `base` is `size` bytes of address space that
+ * hold the file's bytes at their offsets wherever `need` has made them
+ * resident; the reader calls `need` before it reads a range (the header, the
+ * metadata, the table of contents and end marker, a chunk index, a payload),
+ * from any thread. `need` makes [off, off + n) resident and may fetch up to
+ * `ahead` bytes after it too (a hint: the rest of the same structure); it
+ * returns 0 or a VSV_E* code with "name: what, where" in msg. `refetch`
+ * (may be NULL) replaces a resident range whose checksum failed by a fresh
+ * copy (a damaged cache), returning 0 if it fetched one. `close` releases the
+ * source. A local file needs none of this: vsv_file_open maps it. */
+typedef struct vsv_byte_source {
+    const unsigned char *base;
+    uint64_t size;
+    int (*need)(struct vsv_byte_source *src, uint64_t off, uint64_t n, uint64_t ahead, char *msg, size_t cap);
+    int (*refetch)(struct vsv_byte_source *src, uint64_t off, uint64_t n, char *msg, size_t cap);
+    void (*close)(struct vsv_byte_source *src);
+} vsv_byte_source;
+/* Opens the .vsv that src holds, as vsv_file_open does a mapped file; the
+ * handle owns src (closed by vsv_file_free, and on failure). */
+int vsv_file_open_source(vsv_byte_source *src, const char *name, vsv_file **out);
 void vsv_file_free(vsv_file *f);
 const char *vsv_file_error(const vsv_file *f);
 /* Borrowed, valid until vsv_file_free. */

@@ -62,6 +62,10 @@ static int parse(vsv_file *f)
 {
     const unsigned char *d = f->data;
     const size_t n = f->size;
+    /* a byte source fetches the header and what follows it in one request */
+    int rc = vsv_file_need(f, 0, n < VSV_HEADER_SIZE ? n : VSV_HEADER_SIZE, 65536, f->err, sizeof f->err);
+    if (rc)
+        return rc;
     if (n < 8 || memcmp(d, VSV_MAGIC, 8))
         return vsv_file_fail(f, VSV_ENOTVSV, "not a .vsv file (no .vsv magic at byte 0)");
     if (n < VSV_HEADER_SIZE)
@@ -86,6 +90,13 @@ static int parse(vsv_file *f)
     const uint32_t nsteps = vsv_rd32(d + 44), nspec = vsv_rd32(d + 68);
     if (n < VSV_HEADER_SIZE + VSV_TRAILER_SIZE)
         return vsv_file_fail(f, VSV_ETRUNC, "truncated: no room for the end marker");
+    /* the table of contents and the end marker after it, in one piece where
+     * the header places them so (checked below) */
+    const int toc_fits = nsteps <= VSV_MAX_STEPS && toc_size == (uint64_t)nsteps * VSV_TOC_ENTRY_SIZE &&
+                         toc_off <= n - VSV_TRAILER_SIZE && toc_size == n - VSV_TRAILER_SIZE - toc_off;
+    if ((rc = toc_fits ? vsv_file_need(f, toc_off, toc_size + VSV_TRAILER_SIZE, 0, f->err, sizeof f->err)
+                       : vsv_file_need(f, n - VSV_TRAILER_SIZE, VSV_TRAILER_SIZE, 0, f->err, sizeof f->err)))
+        return rc;
     const unsigned char *tr = d + n - VSV_TRAILER_SIZE;
     if (memcmp(tr, VSV_END_MAGIC, 8) || vsv_crc32c(0, tr, 28) != vsv_rd32(tr + 28))
         return vsv_file_fail(f, VSV_ECORRUPT, "end marker damaged at offset %zu", n - VSV_TRAILER_SIZE);
@@ -99,6 +110,8 @@ static int parse(vsv_file *f)
         meta_off + meta_size > n - VSV_TRAILER_SIZE)
         return vsv_file_fail(f, VSV_ECORRUPT, "metadata section (offset %llu, %llu bytes) outside the file or not a multiple of 8",
                    (unsigned long long)meta_off, (unsigned long long)meta_size);
+    if ((rc = vsv_file_need(f, meta_off, meta_size, 0, f->err, sizeof f->err)))
+        return rc;
     if (vsv_crc32c(0, d + meta_off, meta_size) != vsv_rd32(d + 40))
         return vsv_file_fail(f, VSV_ECORRUPT, "metadata checksum mismatch (offset %llu, %llu bytes)",
                    (unsigned long long)meta_off, (unsigned long long)meta_size);
@@ -113,7 +126,7 @@ static int parse(vsv_file *f)
     if (vsv_crc32c(0, d + toc_off, toc_size) != vsv_rd32(d + 64))
         return vsv_file_fail(f, VSV_ECORRUPT, "table of contents checksum mismatch (offset %llu)", (unsigned long long)toc_off);
     char msg[300];
-    int rc = vsv_meta_decode(d + meta_off, meta_size, &f->meta, &f->quant, msg, sizeof msg);
+    rc = vsv_meta_decode(d + meta_off, meta_size, &f->meta, &f->quant, msg, sizeof msg);
     if (rc)
         return vsv_file_fail(f, rc == VSV_ENOMEM ? rc : VSV_ECORRUPT, "metadata: %s", msg);
     const uint32_t brick = vsv_rd32(d + 84), key = vsv_rd32(d + 88), codec = vsv_rd32(d + 92);
@@ -155,6 +168,8 @@ static int parse(vsv_file *f)
                    (unsigned long long)(toc_off - expect));
     f->chunk_ok = calloc(nsteps, 1);
     f->lut = calloc(nspec, sizeof *f->lut);
+    if (f->src && !(f->span_end = calloc((size_t)nsteps * nspec, sizeof *f->span_end)))
+        return vsv_file_fail(f, VSV_ENOMEM, "out of memory");
     if (!f->chunk_ok || !f->lut)
         return vsv_file_fail(f, VSV_ENOMEM, "out of memory");
     return 0;
@@ -180,6 +195,22 @@ int vsv_file_open_mem(const void *data, size_t size, const char *name, vsv_file 
         return VSV_ENOMEM;
     f->data = data;
     f->size = size;
+    return parse(f);
+}
+
+int vsv_file_open_source(vsv_byte_source *src, const char *name, vsv_file **out)
+{
+    vsv_file *f = *out = file_new(name);
+    if (!f) {
+        src->close(src);
+        return VSV_ENOMEM;
+    }
+    f->src = src;
+    f->data = src->base;
+    f->size = (size_t)src->size;
+    if ((uint64_t)f->size != src->size)
+        return vsv_file_fail(f, VSV_EUNSUPPORTED, "%llu bytes: too large for this machine's address space",
+                             (unsigned long long)src->size);
     return parse(f);
 }
 
@@ -229,6 +260,9 @@ void vsv_file_free(vsv_file *f)
         vsv_mapguard_remove(f->guard);
         munmap((void *)f->data, f->size);
     }
+    if (f->src)
+        f->src->close(f->src);
+    free(f->span_end);
     if (f->lut)
         for (int s = 0; s < f->meta.nvars; s++)
             free(f->lut[s]);
@@ -255,6 +289,18 @@ const unsigned char *vsv_file_chunk_index(vsv_file *f, int t, char *msg, size_t 
     return c;
 }
 
+/* 0 if chunk t's header and index are sound, 1 for a bad header, 2 for a
+ * checksum mismatch. */
+static int index_bad(const vsv_file *f, const unsigned char *c, int t, const unsigned char *e, size_t index_bytes)
+{
+    if (memcmp(c, "VCHK", 4) || vsv_rd32(c + 4) != (uint32_t)t || vsv_rd64(c + 8) != vsv_rd64(e + 16) ||
+        vsv_rd32(c + 16) != index_bytes || vsv_rd32(c + 20) != (uint32_t)f->meta.nvars || vsv_rd32(c + 24) != 0)
+        return 1;
+    uint32_t crc = vsv_crc32c(0, c, 28);
+    crc = vsv_crc32c(crc, c + VSV_CHUNK_HEADER_SIZE, index_bytes);
+    return crc != vsv_rd32(c + 28) ? 2 : 0;
+}
+
 static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t cap)
 {
     const unsigned char *e = f->toc + (size_t)t * VSV_TOC_ENTRY_SIZE;
@@ -262,17 +308,14 @@ static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t ca
     if (__atomic_load_n(&f->chunk_ok[t], __ATOMIC_ACQUIRE))
         return c;
     const size_t index_bytes = (size_t)f->meta.nvars * f->lay.species_index_bytes;
-    if (memcmp(c, "VCHK", 4) || vsv_rd32(c + 4) != (uint32_t)t || vsv_rd64(c + 8) != vsv_rd64(e + 16) ||
-        vsv_rd32(c + 16) != index_bytes || vsv_rd32(c + 20) != (uint32_t)f->meta.nvars || vsv_rd32(c + 24) != 0) {
-        vsv_msg(msg, cap, "%s: chunk %d (offset %llu): bad chunk header", f->name, t,
-                (unsigned long long)vsv_rd64(e));
+    if (vsv_file_need(f, vsv_rd64(e), VSV_CHUNK_HEADER_SIZE + index_bytes, 0, msg, cap))
         return NULL;
-    }
-    uint32_t crc = vsv_crc32c(0, c, 28);
-    crc = vsv_crc32c(crc, c + VSV_CHUNK_HEADER_SIZE, index_bytes);
-    if (crc != vsv_rd32(c + 28)) {
-        vsv_msg(msg, cap, "%s: chunk %d (offset %llu): index checksum mismatch", f->name, t,
-                (unsigned long long)vsv_rd64(e));
+    int bad = index_bad(f, c, t, e, index_bytes);
+    if (bad && vsv_file_refetch(f, vsv_rd64(e), VSV_CHUNK_HEADER_SIZE + index_bytes))
+        bad = index_bad(f, c, t, e, index_bytes); /* a damaged cache, fetched again */
+    if (bad) {
+        vsv_msg(msg, cap, "%s: chunk %d (offset %llu): %s", f->name, t, (unsigned long long)vsv_rd64(e),
+                bad == 1 ? "bad chunk header" : "index checksum mismatch");
         return NULL;
     }
     /* structural rules of the brick tables, once per chunk */
@@ -306,6 +349,8 @@ static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t ca
                 return NULL;
             }
         }
+        if (f->span_end)
+            __atomic_store_n(&f->span_end[(size_t)t * f->meta.nvars + s], vsv_rd64(e) + expect, __ATOMIC_RELAXED);
     }
     if (expect != csize) {
         vsv_msg(msg, cap, "%s: chunk %d (offset %llu): payloads end at %llu of %llu bytes", f->name, t,

@@ -31,6 +31,8 @@ struct vsv_file {
     int guard; /* the mapping's slot in vsv_mapguard.c, or -1 */
     uint64_t stored, nonempty, payload;
     uint64_t uid; /* unique in the process: brick keys (vsv_file_brick_key) */
+    vsv_byte_source *src; /* NULL: a mapped local file, every byte resident */
+    uint64_t *span_end;   /* with src: per (step, species), where its payloads end */
 };
 
 struct vsv_decoder {
@@ -43,6 +45,21 @@ struct vsv_decoder {
     int *state_step;
     char err[512];
 };
+
+/* Makes bytes [off, off + n) of f resident (a byte source; nothing to do for
+ * a mapped file), fetching up to `ahead` more if that is cheap; 0 or a VSV_E*
+ * code with msg set. */
+static inline int vsv_file_need(vsv_file *f, uint64_t off, uint64_t n, uint64_t ahead, char *msg, size_t cap)
+{
+    return f->src ? f->src->need(f->src, off, n, ahead, msg, cap) : 0;
+}
+/* A byte source's fresh copy of a range whose checksum failed: 1 if one was
+ * fetched (check again), else 0. */
+static inline int vsv_file_refetch(vsv_file *f, uint64_t off, uint64_t n)
+{
+    char why[256];
+    return f->src && f->src->refetch && !f->src->refetch(f->src, off, n, why, sizeof why);
+}
 
 /* Sets f->err to "name: message" and returns rc. */
 int vsv_file_fail(vsv_file *f, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
