@@ -22,7 +22,7 @@ CXX ?= c++
 PKG_CONFIG ?= pkg-config
 SHARED ?= ../shared
 
-PKGS = libzstd geographiclib netcdf libpng OpenEXR freetype2 tbb blosc Imath
+PKGS = libzstd geographiclib netcdf libpng OpenEXR freetype2 tbb blosc Imath libcurl
 # OpenVDB (libopenvdb-dev) ships no pkg-config file: its header and -lopenvdb,
 # with its own dependencies (tbb, blosc, Imath) through pkg-config above
 OPENVDB_LIBS = -lopenvdb
@@ -86,12 +86,14 @@ endif
 # ------------------------------------------------------------- the layers
 # Each library folder is one layer (DESIGN.md §1, "Libraries and programs").
 #   core     format/ + stream/     libc, zstd; GeographicLib for projections
+#   http     format/http/          core, libcurl: .vsv files read from web servers
 #   convert  convert/              core, netCDF
 #   render   render/               core, libpng, OpenEXR, FreeType, netCDF (GSHHG outlines)
 #   interop  interop/              convert, core, OpenVDB
 # cli/ is the programs' own static library (options, JSON, progress, exits):
 # no library links it. viewer/ keeps the player core for its programs.
 $(B)/format/%.o: INC = -Iformat
+$(B)/format/http/%.o: INC = -Iformat/http -Iformat
 $(B)/stream/%.o: INC = -Istream -Iformat
 $(B)/convert/%.o: INC = -Iconvert -Iformat
 $(B)/render/%.o: INC = -Irender -Iformat
@@ -112,15 +114,17 @@ CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c))) $(C
 RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c))
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
+HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))
 PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o
 
 CORE_A = $(B)/libvesuvius.a
 CONVERT_A = $(B)/libvesuvius-convert.a
 RENDER_A = $(B)/libvesuvius-render.a
 INTEROP_A = $(B)/libvesuvius-interop.a
+HTTP_A = $(B)/libvesuvius-http.a
 CLI_A = $(B)/cli/libvsv-cli.a
 PLAYER_A = $(B)/viewer/libvsv-player.a
-LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(INTEROP_A)
+LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(INTEROP_A) $(HTTP_A)
 
 # what each library needs below it (the link lines of programs and of the
 # shared libraries)
@@ -128,12 +132,14 @@ CORE_EXT = $(call pkglibs,libzstd geographiclib) -lstdc++ -lm -pthread $(SANFLAG
 CONVERT_EXT = $(call pkglibs,netcdf) $(CORE_EXT)
 RENDER_EXT = $(call pkglibs,libpng OpenEXR freetype2 netcdf) $(CORE_EXT)
 INTEROP_EXT = $(OPENVDB_LIBS) $(call pkglibs,tbb blosc Imath) $(CONVERT_EXT)
+HTTP_EXT = $(call pkglibs,libcurl)
 ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS)) -lstdc++ -lm -pthread $(SANFLAGS) $(LDLIBS)
 
 VERSION := $(shell sed -n 's/^\#define VSV_VERSION_STRING "\(.*\)"/\1/p' format/vsv_format.h)
 SOVERSION = 0
 so = $(B)/lib$(1).so.$(VERSION)
-SHLIBS = $(call so,vesuvius) $(call so,vesuvius-convert) $(call so,vesuvius-render) $(call so,vesuvius-interop)
+SHLIBS = $(call so,vesuvius) $(call so,vesuvius-convert) $(call so,vesuvius-render) $(call so,vesuvius-interop) \
+         $(call so,vesuvius-http)
 DATADIR = $(PREFIX)/share
 
 TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-export vsv-query
@@ -172,7 +178,7 @@ TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_
 FUZZ_TARGETS = vsv mm5 uamiv camxmet netcdf grads stream text player
 FUZZ_BIN = $(patsubst %,$(B)/tests/test_fuzz_%,$(FUZZ_TARGETS))
 # tests and benchmarks are white-box: every library, every dependency
-TEST_LIBS = $(PLAYER_A) $(INTEROP_A) $(CONVERT_A) $(RENDER_A) $(CORE_A) $(CLI_A)
+TEST_LIBS = $(PLAYER_A) $(INTEROP_A) $(CONVERT_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(CLI_A)
 
 # The Python module `vesuvius` (python/): the CPython and NumPy C APIs from
 # Debian's python3-dev and python3-numpy, the library linked in statically.
@@ -208,10 +214,10 @@ $(B)/python/vsv_python.o: python/vsv_python.c
 	$(Q)$(CC) $(CFLAGS_ALL) -I$(PY_INC) -I$(PY_NUMPY_INC) -c $< -o $@
 
 $(B)/python/vsv_python.o: INC = -Iformat
-$(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(CORE_A)
+$(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(HTTP_A) $(CORE_A)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -shared -o $@ $^ -Wl,--as-needed $(CORE_EXT)
+	$(Q)$(CC) -shared -o $@ $^ -Wl,--as-needed $(HTTP_EXT) $(CORE_EXT)
 
 $(B)/python/vesuvius/%.py: python/vesuvius/%.py
 	@mkdir -p $(dir $@)
@@ -245,6 +251,7 @@ $(CORE_A): $(CORE_OBJ)
 $(CONVERT_A): $(CONVERT_OBJ)
 $(RENDER_A): $(RENDER_OBJ)
 $(INTEROP_A): $(INTEROP_OBJ)
+$(HTTP_A): $(HTTP_OBJ)
 $(CLI_A): $(CLI_OBJ)
 $(PLAYER_A): $(PLAYER_OBJ)
 $(LIBS_A) $(CLI_A) $(PLAYER_A):
@@ -259,7 +266,8 @@ H_libvesuvius = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h
 H_libvesuvius-convert = convert/vsv_convert.h convert/vsv_source_reader.h
 H_libvesuvius-render = render/vsv_render.h
 H_libvesuvius-interop = interop/vsv_vdb.h interop/vsv_cf.h
-$(foreach l,vesuvius vesuvius-convert vesuvius-render vesuvius-interop,$(eval $(B)/lib$(l).map: $(H_lib$(l))))
+H_libvesuvius-http = format/vsv_http.h
+$(foreach l,vesuvius vesuvius-convert vesuvius-render vesuvius-interop vesuvius-http,$(eval $(B)/lib$(l).map: $(H_lib$(l))))
 $(B)/%.map:
 	@mkdir -p $(dir $@)
 	$(Q){ echo '{ global:'; grep -ho 'vsv_[A-Za-z0-9_]*' $^ | sort -u | sed 's/$$/;/'; echo 'local: *; };'; } > $@
@@ -277,16 +285,26 @@ $(call so,vesuvius-render): $(B)/libvesuvius-render.map $(RENDER_OBJ) $(call so,
 $(call so,vesuvius-interop): $(B)/libvesuvius-interop.map $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(INTEROP_EXT))
+$(call so,vesuvius-http): $(B)/libvesuvius-http.map $(HTTP_OBJ) $(call so,vesuvius)
+	@$(if $(Q),echo "  LD      $@")
+	$(call shlib,$(filter-out %.map,$^) $(HTTP_EXT) $(CORE_EXT))
 
 # -------------------------------------------------------------- programs
 # each links only the libraries it uses (static archives: the programs stand alone)
 link = @$(if $(Q),echo "  LD      $@")
-$(B)/vsv-pack $(B)/vsv-query: $(B)/vsv-%: $(B)/format/vsv-%.o $(CLI_A) $(CORE_A)
+# the programs that read a .vsv read URLs too (format/http/, libcurl)
+$(B)/vsv-pack: $(B)/format/vsv-pack.o $(CLI_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(CORE_EXT)
-$(B)/vsv-info $(B)/vsv-interp: $(B)/vsv-%: $(B)/convert/vsv-%.o $(CLI_A) $(CONVERT_A) $(CORE_A)
+$(B)/vsv-query: $(B)/format/vsv-query.o $(CLI_A) $(HTTP_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(CORE_EXT)
+$(B)/vsv-interp: $(B)/convert/vsv-interp.o $(CLI_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(CONVERT_EXT)
+$(B)/vsv-info: $(B)/convert/vsv-info.o $(CLI_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(CONVERT_EXT)
 $(B)/vsv-extract: $(B)/convert/vsv-extract.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
@@ -297,12 +315,12 @@ $(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o 
                      $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT) $(MPI_LIBS)
-$(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
+$(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
-$(B)/vsv-render: $(B)/render/vsv-render.o $(CLI_A) $(RENDER_A) $(CORE_A)
+	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
+$(B)/vsv-render: $(B)/render/vsv-render.o $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(RENDER_EXT)
+	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(RENDER_EXT)
 
 $(B)/vsv-nc-check: $(B)/convert/vsv-nc-check.o
 	$(link)
@@ -312,9 +330,9 @@ $(B)/vsv-vdb-reader: $(B)/interop/vsv-vdb-reader.o $(INTEROP_A) $(CONVERT_A) $(C
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
 
 $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o: CFLAGS_ALL += $(VIEWER_CFLAGS)
-$(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(CORE_A)
+$(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(RENDER_EXT) $(VIEWER_LIBS)
+	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(RENDER_EXT) $(VIEWER_LIBS)
 
 # The FreeVR back end: `make FREEVR_DIR=DIR freevr` builds it against a
 # FreeVR install (DIR/include/freevr.h, DIR/lib/libfreevr.a; its headers as
@@ -331,10 +349,10 @@ define freevr_link
 	@mkdir -p $(dir $(1))
 	@$(if $(Q),echo "  CC/LD   $(1)")
 	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) viewer/vsv-play-freevr.c \
-	  $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(CORE_A) $(2)/lib/libfreevr.a $(RENDER_EXT) \
+	  $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(RENDER_EXT) \
 	  $(VIEWER_LIBS) $(FREEVR_LIBS)
 endef
-FREEVR_DEPS = viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(CORE_A)
+FREEVR_DEPS = viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 freevr: $(B)/vsv-play-freevr
 $(B)/vsv-play-freevr: $(FREEVR_DEPS)
 	@test -n "$(FREEVR_DIR)" || { echo "vsv-play-freevr needs FreeVR: make FREEVR_DIR=DIR freevr" \
@@ -460,7 +478,7 @@ FUZZ ?= $(FUZZ_TARGETS)
 FUZZ_MAKE = B=build-fuzz CC=clang CXX=clang++ OPT="-O1 -g" VIEWER=0 MPI=0 \
   WARN="-Wall -Wextra -Wshadow -Wno-unknown-warning-option $(WFLAGS_ERR)" \
   SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
-FUZZ_LIBS = $(PLAYER_A) $(CONVERT_A) $(RENDER_A) $(CORE_A) $(CLI_A)
+FUZZ_LIBS = $(PLAYER_A) $(CONVERT_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(CLI_A)
 fuzz:
 	$(Q)sh tools/deps.sh --install-fuzz
 	$(Q)$(MAKE) --no-print-directory $(FUZZ_MAKE) fuzz-bin
@@ -470,14 +488,14 @@ fuzz-bin: $(patsubst %,$(B)/fuzz/fuzz_%,$(FUZZ))
 $(B)/fuzz/fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_source.o $(FUZZ_LIBS)
 	@mkdir -p $(dir $@)
 	$(link)
-	$(Q)$(CC) -fsanitize=fuzzer -o $@ $^ $(RENDER_EXT) $(CONVERT_EXT)
+	$(Q)$(CC) -fsanitize=fuzzer -o $@ $^ $(HTTP_EXT) $(RENDER_EXT) $(CONVERT_EXT)
 
 # Installed: each library (static, shared with its soname, a pkg-config file)
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
 # `pkg-config --cflags --libs vesuvius`).
 PUBLIC_H = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
-           render/vsv_render.h interop/vsv_vdb.h interop/vsv_cf.h
-PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-interop
+           render/vsv_render.h interop/vsv_vdb.h interop/vsv_cf.h format/vsv_http.h
+PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-interop vesuvius-http
 pc_desc_vesuvius = The .vsv format (writer, reader, field stream, queries, projections) and the streaming pager
 pc_req_vesuvius =
 pc_reqp_vesuvius = libzstd geographiclib
@@ -494,6 +512,10 @@ pc_desc_vesuvius-interop = Vesuvius volumes to and from OpenVDB, and out as CF n
 pc_req_vesuvius-interop = vesuvius-convert vesuvius
 pc_reqp_vesuvius-interop = tbb blosc Imath
 pc_libsp_vesuvius-interop = $(OPENVDB_LIBS) -lstdc++
+pc_desc_vesuvius-http = .vsv files read from web servers (HTTP range requests, an on-disk cache)
+pc_req_vesuvius-http = vesuvius
+pc_reqp_vesuvius-http = libcurl
+pc_libsp_vesuvius-http =
 
 install: all
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 \

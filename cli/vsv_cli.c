@@ -11,6 +11,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+/* no call into the HTTP library here: a tool that reads no URL links none */
+vsv_http_opts vsv_cli_http = {NULL, 0, -1, 0};
+
 /* ----------------------------------------------------------------- tools */
 
 static const char *tool_name = "vsv";

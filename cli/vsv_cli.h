@@ -7,6 +7,7 @@
 #define VSV_CLI_H
 
 #include "vsv_format.h"
+#include "vsv_http.h"
 #include "vsv_json.h"
 
 #include <stdio.h>
@@ -29,6 +30,16 @@ void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n);
 void vsv_cli_writer_die(vsv_writer *w, const char *out) __attribute__((noreturn));
 /* Prints "tool (Vesuvius X) format A.B" and exits 0. */
 void vsv_cli_version(void) __attribute__((noreturn));
+
+/* The tools that read a .vsv read http(s):// URLs too (vsv_http.h): they
+ * open with vsv_file_open_any(path, &vsv_cli_http, &f), and their
+ * --cache-dir option (id VSV_CLI_CACHE_DIR) sets vsv_cli_http.cache_dir. */
+extern vsv_http_opts vsv_cli_http;
+enum { VSV_CLI_CACHE_DIR = 1900 };
+#define VSV_CLI_CACHE_DIR_HELP                                                                     \
+    "      --cache-dir DIR     where parts of files read from http(s):// URLs are kept\n"          \
+    "                          (default $VSV_CACHE_DIR, else $XDG_CACHE_HOME/vesuvius, else\n"     \
+    "                          ~/.cache/vesuvius; \"off\": none)\n"
 
 /* Progress on stderr: a bar when stderr is a terminal, nothing otherwise.
  * ctx is a const char* label. Matches the writer's progress callback. */

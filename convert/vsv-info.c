@@ -28,6 +28,7 @@ static const char usage[] =
     "  -c, --check          verify every checksum and padding byte, decode\n"
     "                       everything; exit 1 naming the damage\n"
     "  -q, --quiet          no progress bar\n"
+    VSV_CLI_CACHE_DIR_HELP
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n";
 
@@ -378,6 +379,7 @@ int main(int argc, char **argv)
     static const struct option longopts[] = {{"json", no_argument, 0, 'j'},  {"field", required_argument, 0, 'f'},
                                              {"stats", no_argument, 0, 's'}, {"check", no_argument, 0, 'c'},
                                              {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
+                                             {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
                                              {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
     int json = 0, want_stats = 0, check = 0, c;
     const char *field = NULL;
@@ -388,6 +390,7 @@ int main(int argc, char **argv)
         case 's': want_stats = 1; break;
         case 'c': check = 1; break;
         case 'q': vsv_cli_set_quiet(1); break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
@@ -399,8 +402,8 @@ int main(int argc, char **argv)
     for (int i = optind; i < argc; i++) {
         const char *path = argv[i];
         vsv_file *f = NULL;
-        int rc = vsv_file_open(path, &f);
-        if (rc == VSV_ENOTVSV && !check) {
+        int rc = vsv_file_open_any(path, &vsv_cli_http, &f);
+        if (rc == VSV_ENOTVSV && !check && !vsv_is_url(path)) {
             /* a model file? describe it */
             vsv_source *src = NULL;
             const int src_rc = vsv_source_open(path, NULL, &src);

@@ -33,6 +33,7 @@ static const char usage[] =
     "                          (default: the nearest cell's value, exactly as decoded)\n"
     "      --csv               comma-separated values, a header row first\n"
     "      --json              one JSON document\n"
+    VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n"
     "Values are the file's decoded values (within each species' stated quantisation\n"
@@ -77,7 +78,7 @@ int main(int argc, char **argv)
         {"profile", required_argument, 0, O_PROFILE}, {"species", required_argument, 0, 's'},
         {"time", required_argument, 0, 't'},      {"times", required_argument, 0, O_TIMES},
         {"interp", no_argument, 0, O_INTERP},     {"csv", no_argument, 0, O_CSV},
-        {"json", no_argument, 0, O_JSON},         {"help", no_argument, 0, 'h'},
+        {"json", no_argument, 0, O_JSON},         {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},         {0, 0, 0, 0}};
     const char *at = NULL, *cellarg = NULL, *profile = NULL, *species = NULL, *time = NULL, *times = NULL;
     int interp = VSV_INTERP_NEAREST, fmt = FMT_TABLE, c;
@@ -92,6 +93,7 @@ int main(int argc, char **argv)
         case O_INTERP: interp = VSV_INTERP_LINEAR; break;
         case O_CSV: fmt = FMT_CSV; break;
         case O_JSON: fmt = FMT_JSON; break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
@@ -116,7 +118,7 @@ int main(int argc, char **argv)
 
     const char *path = argv[optind];
     vsv_file *f = NULL;
-    if (vsv_file_open(path, &f))
+    if (vsv_file_open_any(path, &vsv_cli_http, &f))
         vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
     const vsv_meta *m = vsv_file_meta(f);
     vsv_file_info info;

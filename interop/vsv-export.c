@@ -36,6 +36,7 @@ static const char usage[] =
     "                          either end may be empty; outside the file is an error)\n"
     "  -s, --species LIST      NAME,... (default: every species)\n"
     "  -q, --quiet             no progress\n"
+    VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
 
@@ -46,7 +47,7 @@ int main(int argc, char **argv)
     static const struct option longopts[] = {{"vdb", required_argument, 0, O_VDB},   {"netcdf", required_argument, 0, O_NETCDF},
                                              {"time", required_argument, 0, 't'},
                                              {"times", required_argument, 0, O_TIMES}, {"species", required_argument, 0, 's'},
-                                             {"quiet", no_argument, 0, 'q'},          {"help", no_argument, 0, 'h'},
+                                             {"quiet", no_argument, 0, 'q'},          {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
                                              {"version", no_argument, 0, 'V'},        {0, 0, 0, 0}};
     const char *out = NULL, *ncout = NULL, *time = NULL, *times = NULL, *species = NULL;
     int c;
@@ -58,6 +59,7 @@ int main(int argc, char **argv)
         case O_TIMES: times = optarg; break;
         case 's': species = optarg; break;
         case 'q': vsv_cli_set_quiet(1); break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
@@ -72,7 +74,7 @@ int main(int argc, char **argv)
     const char *path = argv[optind];
     const int sequence = out && strchr(out, '%') != NULL;
     vsv_file *f = NULL;
-    if (vsv_file_open(path, &f))
+    if (vsv_file_open_any(path, &vsv_cli_http, &f))
         vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
     const vsv_meta *m = vsv_file_meta(f);
     vsv_file_info info;

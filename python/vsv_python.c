@@ -10,6 +10,7 @@
 #include <numpy/arrayobject.h>
 
 #include "vsv_format.h"
+#include "vsv_http.h"
 
 #include <math.h>
 #include <string.h>
@@ -474,7 +475,8 @@ static PyObject *mod_open(PyObject *mod, PyObject *args)
 {
     (void)mod;
     PyObject *pathobj;
-    if (!PyArg_ParseTuple(args, "O&", PyUnicode_FSConverter, &pathobj))
+    const char *cache_dir = NULL;
+    if (!PyArg_ParseTuple(args, "O&|z", PyUnicode_FSConverter, &pathobj, &cache_dir))
         return NULL;
     FileObject *self = (FileObject *)PyObject_CallObject((PyObject *)&FileType, NULL);
     if (!self) {
@@ -484,7 +486,10 @@ static PyObject *mod_open(PyObject *mod, PyObject *args)
     vsv_file *f = NULL;
     int rc;
     Py_BEGIN_ALLOW_THREADS
-    rc = vsv_file_open(PyBytes_AS_STRING(pathobj), &f);
+    vsv_http_opts http;
+    vsv_http_opts_init(&http);
+    http.cache_dir = cache_dir;
+    rc = vsv_file_open_any(PyBytes_AS_STRING(pathobj), &http, &f);
     Py_END_ALLOW_THREADS
     if (rc) {
         PyErr_SetString(VsvError, f ? vsv_file_error(f) : vsv_strerror(rc));
@@ -644,7 +649,7 @@ static PyObject *mod_proj_kind(PyObject *mod, PyObject *arg)
 }
 
 static PyMethodDef mod_methods[] = {
-    {"open", mod_open, METH_VARARGS, "open(path) -> File"},
+    {"open", mod_open, METH_VARARGS, "open(path[, cache_dir]) -> File"},
     {"_write", mod_write, METH_VARARGS, "the writer core (see vesuvius.write)"},
     {"_proj_kind", mod_proj_kind, METH_O, "projection kind of a name"},
     {NULL, NULL, 0, NULL}};

@@ -72,6 +72,7 @@ static const char usage[] =
     "      --annotate PARTS    only these: time,bars,exaggeration,scale,graticule,\n"
     "                          outlines (default: all; outlines need gmt-gshhg-low)\n"
     "  -q, --quiet             no progress\n"
+    VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
 
@@ -201,7 +202,7 @@ int main(int argc, char **argv)
         {"renderer", required_argument, 0, 'r'},   {"threads", required_argument, 0, O_THREADS},
         {"look-at", required_argument, 0, O_LOOKAT}, {"stereo", no_argument, 0, O_STEREO},
         {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
-        {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'},
+        {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"view", required_argument, 0, O_VIEW},    {"range", required_argument, 0, O_RANGE},
         {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
         {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
@@ -319,6 +320,7 @@ int main(int argc, char **argv)
             ro.threads = (int)v;
             break;
         case 'q': vsv_cli_set_quiet(1); break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
@@ -342,7 +344,7 @@ int main(int argc, char **argv)
         vsv_cli_refuse_input(out, ins, 2);
     vsv_cli_refuse_input(movie_out, ins, 2);
     vsv_file *f = NULL;
-    if (vsv_file_open(path, &f))
+    if (vsv_file_open_any(path, &vsv_cli_http, &f))
         vsv_cli_die(1, "%s", vsv_file_error(f));
     const vsv_meta *m = vsv_file_meta(f);
     vsv_file_info info;

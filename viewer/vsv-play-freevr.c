@@ -52,6 +52,7 @@ static const char usage[] =
     "      --loop[=on|off|bounce]  at the ends (--loop alone: on; default off)\n"
     "      --play              start playing\n"
     "      --no-terrain        do not draw the ground\n"
+    VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n"
     "\n"
@@ -247,7 +248,7 @@ int main(int argc, char **argv)
         {"threads", required_argument, 0, O_THREADS}, {"render-scale", required_argument, 0, O_SCALE},
         {"exaggerate", required_argument, 0, 'x'},    {"rate", required_argument, 0, O_RATE},
         {"loop", optional_argument, 0, O_LOOP},       {"play", no_argument, 0, O_PLAY},
-        {"no-terrain", no_argument, 0, O_NOTERRAIN},  {"help", no_argument, 0, 'h'},
+        {"no-terrain", no_argument, 0, O_NOTERRAIN},  {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
     size_t budget = (size_t)1 << 30;
     int c;
@@ -298,6 +299,7 @@ int main(int argc, char **argv)
             break;
         case O_PLAY: OPTS.play = 1; break;
         case O_NOTERRAIN: OPTS.terrain = 0; break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
         case 'h':
             fputs(usage, stdout);
             free(ours);
@@ -311,6 +313,7 @@ int main(int argc, char **argv)
         vsv_cli_usage_error(optind < nours ? "one file at a time (FreeVR configuration strings contain ; = \" { or })"
                                            : "no input file");
     OPTS.path = ours[optind];
+    OPTS.http = &vsv_cli_http;
     /* the main process's player: clock and settings only; opening it checks
      * the file and the species before FreeVR starts anything */
     vsv_player_opts io = OPTS;

@@ -49,6 +49,7 @@ static const char usage[] =
     "      --script FILE       timed actions, one per line: SECONDS ACTION [ARGS]\n"
     "                          (see vsv-play(1)); quit exits 0\n"
     "  -q, --quiet             no messages\n"
+    VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
 
@@ -241,7 +242,7 @@ int main(int argc, char **argv)
         {"rate", required_argument, 0, O_RATE},    {"loop", required_argument, 0, O_LOOP},
         {"play", no_argument, 0, O_PLAY},          {"no-terrain", no_argument, 0, O_NOTERRAIN},
         {"script", required_argument, 0, O_SCRIPT}, {"quiet", no_argument, 0, 'q'},
-        {"help", no_argument, 0, 'h'},             {"version", no_argument, 0, 'V'},
+        {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},             {"version", no_argument, 0, 'V'},
         {"view", required_argument, 0, O_VIEW},    {"light", optional_argument, 0, O_LIGHT},
         {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
         {"slice-colormap", required_argument, 0, O_SLICECM},
@@ -331,6 +332,7 @@ int main(int argc, char **argv)
             break;
         }
         case 'q': vsv_cli_set_quiet(1); break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("see --help");
@@ -339,6 +341,7 @@ int main(int argc, char **argv)
     if (optind != argc - 1)
         vsv_cli_usage_error(optind < argc ? "one file at a time" : "no input file");
     po.path = argv[optind];
+    po.http = &vsv_cli_http;
     int nscript = 0, next = 0;
     script_line *lines = script ? load_script(script, &nscript) : NULL;
     vsv_player *p = NULL;

@@ -96,7 +96,7 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     snprintf(p->path, sizeof p->path, "%s", o->path);
     p->shown = -1;
     p->bg[0] = 0.02f, p->bg[1] = 0.03f, p->bg[2] = 0.06f;
-    if (vsv_file_open(o->path, &p->f)) {
+    if (vsv_file_open_any(o->path, o->http, &p->f)) {
         snprintf(err, cap, "%s", p->f ? vsv_file_error(p->f) : "cannot open");
         if (!p->f || !strstr(err, o->path)) {
             char tmp[600];

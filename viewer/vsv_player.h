@@ -22,12 +22,14 @@
 
 #include "vsv_clock.h"
 #include "vsv_pager.h"
+#include "vsv_http.h"
 #include "vsv_render.h"
 
 #include <stddef.h>
 
 typedef struct vsv_player_opts {
-    const char *path;
+    const char *path;       /* a .vsv file or an http(s):// URL */
+    const vsv_http_opts *http; /* URLs: the cache and retries; NULL = the defaults */
     size_t cache_bytes;     /* 0 = the pager's default */
     int threads;            /* render threads; 0 = all cores */
     int renderer;           /* VSV_RENDER_* */

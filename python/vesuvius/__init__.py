@@ -35,11 +35,13 @@ _VERT = {"even": 0, "native": 1, "index": 2, "coord": 3}
 
 
 class File:
-    """An open .vsv file (memory-mapped; opening reads only the header and index)."""
+    """An open .vsv file (memory-mapped; opening reads only the header and index), or one
+    on a web server: an http:// or https:// URL, read by range requests, the parts read
+    kept in cache_dir (default $VSV_CACHE_DIR, else ~/.cache/vesuvius; "off": none)."""
 
-    def __init__(self, path):
+    def __init__(self, path, cache_dir=None):
         self.path = path
-        self._f = _vesuvius.open(path)
+        self._f = _vesuvius.open(path, cache_dir)
 
     def __enter__(self):
         return self
@@ -161,9 +163,9 @@ class File:
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def open(path):
-    """Opens a .vsv file: a File (use `with vesuvius.open(p) as f:` to close it)."""
-    return File(path)
+def open(path, cache_dir=None):
+    """Opens a .vsv file or http(s):// URL: a File (use `with vesuvius.open(p) as f:` to close it)."""
+    return File(path, cache_dir)
 
 
 def write(path, grid, times, fields, projection=None, units=None, descriptions=None, terrain=None,

@@ -1,0 +1,228 @@
+#!/bin/sh
+# cli_http.sh — .vsv files read from a web server (issue 23): a real lighttpd
+# on the loopback interface (a free port, started here and stopped after, its
+# access log read), the tools reading http:// URLs of the real MM5 run, the
+# on-disk cache (a second run costs no body bytes; damaged cached bytes are
+# fetched again), HTTPS with a self-signed certificate, and the failures a
+# fault-injecting proxy of our own makes (tests/http_proxy.py): dropped
+# connections and truncated replies retried, a server that ignores Range, a
+# file that changes while read and garbled bytes reported, exit 1.
+set -u
+B=${B:-build}
+SHARED=${SHARED:-../shared}
+PY=${PYTHON:-/usr/bin/python3}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-http.XXXXXX")
+. tests/cli_lib.sh
+LIGHTTPD=$(command -v lighttpd 2> /dev/null || echo /usr/sbin/lighttpd)
+if [ ! -x "$LIGHTTPD" ]; then
+    echo "note: cli_http.sh skipped: no lighttpd (apt-get install lighttpd, tools/deps.sh)"
+    rm -rf "$T"
+    exit 0
+fi
+LPID=
+PPID_=
+stop_proxy() { [ -n "$PPID_" ] && kill "$PPID_" 2> /dev/null && wait "$PPID_" 2> /dev/null; PPID_=; }
+stop_server() { [ -n "$LPID" ] && kill -INT "$LPID" 2> /dev/null && wait "$LPID" 2> /dev/null; LPID=; }
+trap 'stop_proxy; stop_server; rm -rf "$T"' EXIT INT TERM
+mkdir -p "$T/www"
+
+# free_port: a port nothing listens on now (the server retries if taken)
+free_port() { "$PY" -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'; }
+# listening PORT: waits (bounded) until something accepts on PORT
+listening() {
+    "$PY" - "$1" <<'EOF'
+import socket, sys, time
+for _ in range(300):
+    try:
+        socket.create_connection(("127.0.0.1", int(sys.argv[1])), 1).close()
+        sys.exit(0)
+    except OSError:
+        time.sleep(0.1)
+sys.exit(1)
+EOF
+}
+# start_server [ssl]: lighttpd serving $T/www on a free port ($PORT: the
+# one before, if still free: the cache knows a file by its URL), its access
+# log $T/access.log: request, status, body bytes sent
+PORT=
+start_server() {
+    for try in 1 2 3 4 5; do
+        [ -n "$PORT" ] && [ $try = 1 ] || PORT=$(free_port)
+        {
+            echo "server.document-root = \"$T/www\""
+            echo "server.bind = \"127.0.0.1\""
+            echo "server.port = $PORT"
+            echo "server.modules = (\"mod_accesslog\"$([ "${1:-}" = ssl ] && echo ', "mod_openssl"'))"
+            echo "accesslog.filename = \"$T/access.log\""
+            echo 'accesslog.format = "%r %s %b"'
+            echo "server.errorlog = \"$T/error.log\""
+            # a MIME type for .vsv: without one lighttpd sends no ETag and
+            # no Last-Modified, and a cache cannot be validated
+            echo 'mimetype.assign = ("" => "application/octet-stream")'
+            if [ "${1:-}" = ssl ]; then
+                echo 'ssl.engine = "enable"'
+                echo "ssl.pemfile = \"$T/cert.pem\""
+                echo "ssl.privkey = \"$T/key.pem\""
+            fi
+        } > "$T/lighttpd.conf"
+        : > "$T/access.log"
+        "$LIGHTTPD" -D -f "$T/lighttpd.conf" > "$T/lighttpd.out" 2>&1 &
+        LPID=$!
+        listening "$PORT" && kill -0 "$LPID" 2> /dev/null && return 0
+        stop_server
+    done
+    fail "lighttpd starts on a loopback port" "$(cat "$T/lighttpd.out" "$T/error.log" 2> /dev/null | head -c 300)"
+    exit 0
+}
+# body_bytes: the bytes the server sent in bodies (the log is complete once
+# the server has stopped)
+body_bytes() { awk '{ n += $NF } END { print n + 0 }' "$T/access.log"; }
+# start_proxy MODE [N]: tests/http_proxy.py before the server, on $PPORT
+start_proxy() {
+    rm -f "$T/pport"
+    "$PY" tests/http_proxy.py "$PORT" "$T/pport" "$@" > "$T/proxy.out" 2>&1 &
+    PPID_=$!
+    i=0
+    while [ ! -s "$T/pport" ] && [ $i -lt 300 ] && kill -0 "$PPID_" 2> /dev/null; do sleep 0.1; i=$((i + 1)); done
+    PPORT=$(cat "$T/pport" 2> /dev/null)
+    listening "${PPORT:-1}" || { fail "the proxy starts" "$(head -c 300 "$T/proxy.out")"; exit 0; }
+}
+
+# the real MM5 run, hourly: 4 steps of 5 species
+"$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/www/run.vsv" ||
+    { fail "the MM5 run converts" "vsv-convert failed"; exit 0; }
+# lighttpd sends no validators (ETag, Last-Modified) for a file modified in
+# the last second or so; a file on a server is older than that
+touch -d '1 hour ago' "$T/www/run.vsv"
+SIZE=$(wc -c < "$T/www/run.vsv")
+"$B/vsv-render" "$T/www/run.vsv" --species CLW --time 2 -o "$T/local.png" -q
+start_server
+URL=http://127.0.0.1:$PORT/run.vsv
+export VSV_CACHE_DIR="$T/cache"
+
+# ---- the done-when: one species of one step, a part of the file
+expect "vsv-render URL --species CLW --time 2 exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time 2 -o "$T/x.png"
+same "and gives the same PNG as the local file" "$T/x.png" "$T/local.png"
+stop_server
+sent=$(body_bytes)
+if [ "$sent" -gt 0 ] && [ $((sent * 3)) -lt "$SIZE" ]; then
+    pass "the server sent $sent bytes, under 1/3 of the $SIZE-byte file"
+else
+    fail "the server sent under 1/3 of the file" "$sent of $SIZE bytes"
+fi
+grep -q ' 206 ' "$T/access.log" && ! grep -q '^GET .* 200 ' "$T/access.log" && pass "only range requests (206) fetched it" ||
+    fail "only range requests (206) fetched it" "$(head -c 300 "$T/access.log")"
+
+start_server
+URL=http://127.0.0.1:$PORT/run.vsv
+expect "the second run exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time 2 -o "$T/x2.png"
+same "and gives the same PNG" "$T/x2.png" "$T/local.png"
+stop_server
+sent=$(body_bytes)
+[ "$sent" = 0 ] && pass "the second run costs no body bytes (the cache; the log: $(wc -l < "$T/access.log") request)" ||
+    fail "the second run costs no body bytes" "$sent bytes: $(head -c 300 "$T/access.log")"
+
+# ---- every tool that reads a .vsv
+start_server
+URL=http://127.0.0.1:$PORT/run.vsv
+expect "vsv-info URL exits 0" 0 "$B/vsv-info" "$URL"
+tail -n +2 "$T/out" > "$T/info-url"
+"$B/vsv-info" "$T/www/run.vsv" | tail -n +2 > "$T/info-local"
+same "and says what it says of the local file" "$T/info-url" "$T/info-local"
+expect "vsv-info --check URL exits 0 (every byte fetched and checked)" 0 "$B/vsv-info" --check "$URL"
+expect "vsv-query URL exits 0" 0 "$B/vsv-query" "$URL" --cell 100,70,5 --species CLW,Q
+cp "$T/out" "$T/q-url"
+"$B/vsv-query" "$T/www/run.vsv" --cell 100,70,5 --species CLW,Q > "$T/q-local"
+same "and gives the local file's values" "$T/q-url" "$T/q-local"
+expect "vsv-export URL --netcdf exits 0" 0 "$B/vsv-export" "$URL" --netcdf "$T/url.nc" --species CLW --times 1:2
+"$B/vsv-export" "$T/www/run.vsv" --netcdf "$T/local.nc" --species CLW --times 1:2 -q
+if command -v ncdump > /dev/null; then
+    ncdump -v CLW "$T/url.nc" | grep -v '^netcdf\|:history\|:source' > "$T/url.cdl"
+    ncdump -v CLW "$T/local.nc" | grep -v '^netcdf\|:history\|:source' > "$T/local.cdl"
+    same "and writes the local file's values" "$T/url.cdl" "$T/local.cdl"
+fi
+expect "--cache-dir off: exits 0" 0 "$B/vsv-render" "$URL" --cache-dir off --species CLW --time 2 -o "$T/off.png"
+same "and gives the same PNG" "$T/off.png" "$T/local.png"
+expect "--help names --cache-dir" 0 "$B/vsv-render" --help
+has "and says what it does" "$T/out" "--cache-dir DIR"
+expect "a missing file: exits 1" 1 "$B/vsv-info" "http://127.0.0.1:$PORT/none.vsv"
+has "and says HTTP 404" "$T/err" "vsv-info: http://127.0.0.1:$PORT/none.vsv: HTTP 404 (not found)"
+if [ "${VIEWER:-1}" = 1 ] && [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/null; then
+    printf '0.2 play\n0.4 screenshot %s\n0.6 quit\n' "$T/play.png" > "$T/play.script"
+    ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
+    expect "vsv-play URL --script plays (Xvfb)" 0 \
+        xvfb-run -a -s "-screen 0 800x600x24" "$B/vsv-play" "$URL" --size 320x240 --script "$T/play.script"
+    [ -s "$T/play.png" ] && pass "and takes its screenshot" || fail "and takes its screenshot" "no $T/play.png"
+fi
+if [ -n "${PYMOD:-}" ] && [ -z "${PY_MISSING:-}" ]; then
+    PYTHONPATH="$B/python" expect "the Python module opens the URL and reads the local file's values" 0 "$PY" -c "
+import sys, numpy, vesuvius
+a = vesuvius.open(sys.argv[1]).read('CLW', 2)
+b = vesuvius.open(sys.argv[2]).read('CLW', 2)
+sys.exit(0 if numpy.array_equal(a, b) and a.max() > 0 else 1)" "$URL" "$T/www/run.vsv"
+fi
+
+# ---- damaged cached bytes: the checksums catch them, they are fetched again
+"$PY" - "$T/cache" > /dev/null <<'EOF'
+import glob, os, sys
+meta = glob.glob(os.path.join(sys.argv[1], "*.meta"))[0]
+rec = open(meta, "rb").read()
+held = rec[rec.index(b"held\n") + 5:]
+n = 0
+with open(meta[:-5] + ".data", "r+b") as f:
+    for b in range(8, len(held) - 2):  # past the header, before the table of contents
+        if held[b] == 1:
+            f.seek(b * 16384 + 5000)
+            c = f.read(1)
+            f.seek(b * 16384 + 5000)
+            f.write(bytes([c[0] ^ 0xFF]))
+            n += 1
+print(n)
+EOF
+expect "damaged cached bytes: vsv-render exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time 2 -o "$T/x3.png"
+same "and gives the same PNG (fetched again)" "$T/x3.png" "$T/local.png"
+stop_server
+
+# ---- faults, through the proxy; no cache, so every range is fetched
+start_server
+export VSV_CACHE_DIR=off
+fault() { # fault NAME MODE N CODE [TEXT]
+    start_proxy "$2" "$3"
+    PURL=http://127.0.0.1:$PPORT/run.vsv
+    rm -f "$T/f.png"
+    expect "$1: exits $4" "$4" "$B/vsv-render" "$PURL" --species CLW --time 2 -o "$T/f.png"
+    if [ "$4" = 0 ]; then
+        same "$1: the same PNG" "$T/f.png" "$T/local.png"
+    else
+        has "$1: says so" "$T/err" "$5"
+        has "$1: names the URL" "$T/err" "vsv-render: $PURL: "
+        [ ! -e "$T/f.png" ] && pass "$1: writes no PNG" || fail "$1: writes no PNG" "$T/f.png exists"
+    fi
+    stop_proxy
+}
+fault "through the proxy" pass 0 0
+fault "two dropped connections (retried)" drop 2 0
+fault "two truncated replies (retried)" truncate 2 0
+fault "slow replies" delay 2 0
+fault "a server that ignores Range" norange 0 1 "the server ignores range requests"
+fault "the file changes while read" etag 3 1 "the file changed on the server while it was read"
+fault "garbled bytes" garble 2 1 "checksum mismatch"
+fault "every connection dropped" drop 1000 1 "after 6 attempts"
+stop_server
+
+# ---- HTTPS: a self-signed certificate for 127.0.0.1, trusted through $CURL_CA_BUNDLE
+if [ -f /usr/lib/lighttpd/mod_openssl.so ] && command -v openssl > /dev/null &&
+    openssl req -x509 -newkey rsa:2048 -nodes -days 2 -subj /CN=127.0.0.1 -addext subjectAltName=IP:127.0.0.1 \
+        -keyout "$T/key.pem" -out "$T/cert.pem" > /dev/null 2>&1; then
+    start_server ssl
+    export VSV_CACHE_DIR="$T/cache-tls"
+    SURL=https://127.0.0.1:$PORT/run.vsv
+    expect "an untrusted certificate: exits 1" 1 "$B/vsv-render" "$SURL" --species CLW --time 2 -o "$T/t.png"
+    has "and says so" "$T/err" "vsv-render: $SURL: "
+    CURL_CA_BUNDLE="$T/cert.pem" expect "HTTPS, the certificate trusted: exits 0" 0 \
+        "$B/vsv-render" "$SURL" --species CLW --time 2 -o "$T/t.png"
+    same "and gives the same PNG" "$T/t.png" "$T/local.png"
+    stop_server
+else
+    echo "note: HTTPS not tested (lighttpd-mod-openssl or openssl missing)"
+fi

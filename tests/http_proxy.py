@@ -1,0 +1,96 @@
+#!/usr/bin/python3
+"""http_proxy.py — a fault-injecting HTTP proxy for the remote-file tests
+(tests/cli_http.sh): forwards every request to UPSTREAM and spoils the
+replies to range requests as MODE says, counted by request, never by time:
+
+  pass         forwards everything unchanged
+  drop N       closes the connection without an answer for the first N
+               range requests, then forwards
+  truncate N   sends the first N range replies with half their body (the
+               headers promise all of it), then closes
+  norange      strips the Range header (the server answers 200, the file)
+  delay N      waits N/10 s before each reply (slow, never failing)
+  etag N       from range request N on, answers with another ETag and
+               another length in Content-Range (the file changed)
+  garble N     flips a byte in the body of range replies from N on (the
+               length and headers intact: only the checksums can tell)
+
+Usage: http_proxy.py UPSTREAM_PORT PORT_FILE MODE [N]: listens on a free
+loopback port, writes it to PORT_FILE, serves until killed.
+"""
+import http.client
+import http.server
+import sys
+import threading
+import time
+
+UP = int(sys.argv[1])
+MODE = sys.argv[3]
+N = int(sys.argv[4]) if len(sys.argv) > 4 else 0
+lock = threading.Lock()
+count = [0]
+
+
+class Handler(http.server.BaseHTTPRequestHandler):
+    protocol_version = "HTTP/1.1"
+
+    def log_message(self, *a):
+        pass
+
+    def forward(self, head):
+        rng = self.headers.get("Range")
+        k = -1
+        if rng:
+            with lock:
+                count[0] += 1
+                k = count[0]
+        if k > 0 and MODE == "drop" and k <= N:
+            self.close_connection = True
+            self.connection.close()
+            return
+        c = http.client.HTTPConnection("127.0.0.1", UP, timeout=60)
+        hdrs = {"Host": self.headers.get("Host", "localhost")}
+        if rng and MODE != "norange":
+            hdrs["Range"] = rng
+        c.request("HEAD" if head else "GET", self.path, headers=hdrs)
+        r = c.getresponse()
+        body = r.read()
+        c.close()
+        if MODE == "delay":
+            time.sleep(N / 10)
+        out = dict(r.getheaders())
+        if k > 0 and MODE == "etag" and k >= N:
+            out["ETag"] = '"changed-%d"' % k
+            cr = out.get("Content-Range", "")
+            if "/" in cr:
+                out["Content-Range"] = cr.split("/")[0] + "/" + str(int(cr.split("/")[1]) + 64)
+        if k > 0 and MODE == "garble" and k >= N and body:
+            body = bytes([body[0] ^ 0x5A]) + body[1:]
+        cut = k > 0 and MODE == "truncate" and k <= N
+        self.send_response_only(r.status, r.reason)
+        for key, v in out.items():
+            if key.lower() not in ("connection", "keep-alive", "transfer-encoding"):
+                self.send_header(key, v)
+        if cut:
+            self.send_header("Connection", "close")
+            self.close_connection = True
+        self.end_headers()
+        if not head:
+            self.wfile.write(body[: len(body) // 2] if cut else body)
+        self.wfile.flush()
+
+    def do_GET(self):
+        self.forward(False)
+
+    def do_HEAD(self):
+        self.forward(True)
+
+
+srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Handler)
+srv.daemon_threads = True
+with open(sys.argv[2] + ".tmp", "w") as f:
+    f.write(str(srv.server_address[1]))
+import os
+
+os.rename(sys.argv[2] + ".tmp", sys.argv[2])
+srv.serve_forever()
