@@ -12,7 +12,7 @@
 #include <string.h>
 
 static const char usage[] =
-    "Usage: vsv-info [OPTIONS] FILE...\n"
+    "Usage: vsv-info [OPTIONS] FILE|URL...\n"
     "Describe .vsv files: grid, projection and corner coordinates, times, species\n"
     "with units, ranges and quantisation error, bricks stored, compression ratio.\n"
     "Given a model file instead, describe its own header and fields; it reads,\n"

@@ -11,7 +11,7 @@
 #include <string.h>
 
 static const char usage[] =
-    "Usage: vsv-query FILE.vsv (--at LAT,LON[,HEIGHT] | --cell I,J[,K] | --profile LAT,LON)\n"
+    "Usage: vsv-query FILE.vsv|URL (--at LAT,LON[,HEIGHT] | --cell I,J[,K] | --profile LAT,LON)\n"
     "                 [--species LIST] [--time T | --times A:B] [--interp] [--csv | --json]\n"
     "Print the decoded values of species at a point of the grid: one row per time\n"
     "(every step unless --time/--times), or one row per level and time with\n"

@@ -20,6 +20,10 @@
 
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct vsv_http_opts {
     /* NULL: $VSV_CACHE_DIR, else $XDG_CACHE_HOME/vesuvius, else
      * $HOME/.cache/vesuvius; "off" (or ""): no disk cache, memory only */
@@ -42,5 +46,9 @@ int vsv_is_url(const char *name);
 int vsv_file_open_url(const char *url, const vsv_http_opts *o, vsv_file **out);
 /* vsv_file_open_url for a URL, vsv_file_open for a path. */
 int vsv_file_open_any(const char *name, const vsv_http_opts *o, vsv_file **out);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -15,7 +15,7 @@
 #include <unistd.h>
 
 static const char usage[] =
-    "Usage: vsv-export FILE.vsv (--vdb OUT_%04d.vdb | --netcdf OUT.nc) [--times A:B] [--species LIST]\n"
+    "Usage: vsv-export FILE.vsv|URL (--vdb OUT_%04d.vdb | --netcdf OUT.nc) [--times A:B] [--species LIST]\n"
     "Write each selected time step as an OpenVDB file: one FloatGrid per species,\n"
     "named after it, in world units (projected metres, height above sea level;\n"
     "the grid's origin and spacing are the transform), only non-empty cells\n"

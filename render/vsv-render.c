@@ -15,8 +15,8 @@
 #include <unistd.h>
 
 static const char usage[] =
-    "Usage: vsv-render FILE.vsv -o OUT.png|OUT.exr [OPTIONS]\n"
-    "       vsv-render FILE.vsv --movie OUT.mp4 [--fps N] [OPTIONS]\n"
+    "Usage: vsv-render FILE.vsv|URL -o OUT.png|OUT.exr [OPTIONS]\n"
+    "       vsv-render FILE.vsv|URL --movie OUT.mp4 [--fps N] [OPTIONS]\n"
     "Render the species of a .vsv file over its terrain to PNG images, or to OpenEXR\n"
     "(RGBA half, premultiplied, plus a float Z depth channel), by raycasting.\n"
     "With %04d (or another printf integer) in OUT, every selected step is rendered,\n"

@@ -213,4 +213,36 @@ EOS
 else
     printf '\n(the FreeVR stand-in demo needs xvfb-run and xdotool: sh tools/deps.sh --install)\n'
 fi
+# a web server on the loopback interface: the same picture from a URL, only
+# the parts drawn fetched, the second time none
+LIGHTTPD=$(command -v lighttpd 2> /dev/null || echo /usr/sbin/lighttpd)
+if [ -x "$LIGHTTPD" ]; then
+    W=$(mktemp -d "${TMPDIR:-/tmp}/vsv-demo-http.XXXXXX")
+    mkdir -p "$W/www"
+    cp "$OUT/storm.vsv" "$W/www/storm.vsv"
+    touch -d '1 hour ago' "$W/www/storm.vsv" # lighttpd sends no ETag for a file written this second
+    PORT=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
+    printf 'server.document-root = "%s/www"\nserver.bind = "127.0.0.1"\nserver.port = %s\n' "$W" "$PORT" > "$W/conf"
+    printf 'server.modules = ("mod_accesslog")\naccesslog.filename = "%s/log"\naccesslog.format = "%%r %%s %%b"\n' "$W" >> "$W/conf"
+    printf 'mimetype.assign = ("" => "application/octet-stream")\nserver.errorlog = "%s/err"\n' "$W" >> "$W/conf"
+    "$LIGHTTPD" -D -f "$W/conf" &
+    lpid=$!
+    /usr/bin/python3 -c 'import socket, sys, time
+for _ in range(100):
+    try: socket.create_connection(("127.0.0.1", int(sys.argv[1])), 1).close(); break
+    except OSError: time.sleep(0.1)' "$PORT"
+    URL=http://127.0.0.1:$PORT/storm.vsv
+    step "The same file from a web server (lighttpd on 127.0.0.1, range requests, a cache)" \
+         "vsv-render $URL --cache-dir $W/cache -o $OUT/storm-http.png (twice)"
+    "$B/vsv-render" "$URL" --cache-dir "$W/cache" -o "$OUT/storm-http.png" -q &&
+        "$B/vsv-render" "$URL" --cache-dir "$W/cache" -o "$OUT/storm-http2.png" -q
+    kill -INT $lpid; wait $lpid || true
+    cmp "$OUT/storm-http.png" "$OUT/storm.png" && cmp "$OUT/storm-http2.png" "$OUT/storm.png" &&
+        echo "identical: $OUT/storm-http.png = $OUT/storm.png"
+    awk -v size="$(wc -c < "$W/www/storm.vsv")" '/^HEAD/ { runs++ } { sent[runs] += $NF }
+        END { printf "body bytes the server sent: %d of the file'"'"'s %d on the first run, %d on the second\n", sent[1], size, sent[2] }' "$W/log"
+    rm -rf "$W"
+else
+    printf '\n(the web-server demo needs lighttpd: sh tools/deps.sh --install)\n'
+fi
 printf '\nDone: %s/storm.vsv, storm.png, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"

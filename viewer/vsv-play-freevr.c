@@ -31,7 +31,7 @@
 #include <time.h>
 
 static const char usage[] =
-    "Usage: vsv-play-freevr FILE.vsv [OPTIONS] [FREEVR-CONFIGURATION...]\n"
+    "Usage: vsv-play-freevr FILE.vsv|URL [OPTIONS] [FREEVR-CONFIGURATION...]\n"
     "Play a .vsv file in a CAVE, on a wall or in FreeVR's simulator. The volume\n"
     "stands 8 feet wide, its centre 4 feet up and 3 feet in front of the floor's\n"
     "centre. Wand: button 1 play/pause, 2 next species, 3 show/hide it; joystick\n"

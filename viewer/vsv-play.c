@@ -15,7 +15,7 @@
 #include <string.h>
 
 static const char usage[] =
-    "Usage: vsv-play FILE.vsv [OPTIONS]\n"
+    "Usage: vsv-play FILE.vsv|URL [OPTIONS]\n"
     "Play a .vsv file in a window: play, pause, step, rewind and fast-forward through\n"
     "time, show, hide and fade each species, orbit, pan and zoom. Press h in the\n"
     "window for the keys.\n"

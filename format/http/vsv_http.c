@@ -22,6 +22,9 @@
  * gap short enough to fetch again inside one request */
 #define AHEAD_MAX (8u << 20)
 #define GAP_MAX 4
+/* the most blocks one request fetches (16 MiB): a larger range, as
+ * vsv-info --check asks for a whole chunk, takes several */
+#define RUN_MAX 1024
 
 typedef struct http_src {
     vsv_byte_source pub; /* first: the reader's view */
@@ -344,7 +347,7 @@ static int src_need(vsv_byte_source *s, uint64_t off, uint64_t n, uint64_t ahead
             continue;
         }
         size_t r1 = b, gap = 0;
-        for (size_t k = b + 1; k <= last; k++) {
+        for (size_t k = b + 1; k <= last && k - b < RUN_MAX; k++) {
             if (!held(h, k)) {
                 r1 = k;
                 gap = 0;
