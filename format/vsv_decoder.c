@@ -114,7 +114,7 @@ int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *
         return rc;
     const unsigned char *c = vsv_file_chunk_index(f, step, d->err, sizeof d->err);
     if (!c)
-        return vsv_file_cut(f, d->err, sizeof d->err) ? VSV_ETRUNC : VSV_ECORRUPT;
+        return vsv_file_chunk_rc(f, d->err, sizeof d->err);
     return vsv_decoder_apply(d, c, step, s, b, vsv_file_brick_entry(f, c, s, b), codes);
 }
 
@@ -133,7 +133,7 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
     for (;;) {
         const unsigned char *c = vsv_file_chunk_index(f, t0, d->err, sizeof d->err);
         if (!c)
-            return vsv_file_cut(f, d->err, sizeof d->err) ? VSV_ETRUNC : VSV_ECORRUPT;
+            return vsv_file_chunk_rc(f, d->err, sizeof d->err);
         const int kind = vsv_file_brick_entry(f, c, s, b)[0];
         if (vsv_brick_absolute(kind))
             break;
@@ -142,7 +142,7 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
     for (int t = t0; t <= step; t++) {
         const unsigned char *c = vsv_file_chunk_index(f, t, d->err, sizeof d->err);
         if (!c)
-            return vsv_file_cut(f, d->err, sizeof d->err) ? VSV_ETRUNC : VSV_ECORRUPT;
+            return vsv_file_chunk_rc(f, d->err, sizeof d->err);
         if ((rc = vsv_decoder_apply(d, c, t, s, b, vsv_file_brick_entry(f, c, s, b), codes)))
             return rc;
     }

@@ -278,11 +278,21 @@ void vsv_file_free(vsv_file *f)
 
 static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t cap);
 
+/* Why this thread's last vsv_file_chunk_index failed: a byte source's code,
+ * or 0 (the index itself). */
+static __thread int chunk_rc;
+
+int vsv_file_chunk_rc(const vsv_file *f, char *msg, size_t cap)
+{
+    return vsv_file_cut(f, msg, cap) ? VSV_ETRUNC : chunk_rc ? chunk_rc : VSV_ECORRUPT;
+}
+
 /* Verified index of chunk t (header included), or NULL with f->err / msg set:
  * the zeros a truncation leaves (vsv_mapguard.c) fail its checks, and the
  * message then says why. */
 const unsigned char *vsv_file_chunk_index(vsv_file *f, int t, char *msg, size_t cap)
 {
+    chunk_rc = 0;
     const unsigned char *c = vsv_file_cut(f, msg, cap) ? NULL : chunk_index(f, t, msg, cap);
     if (!c)
         vsv_file_cut(f, msg, cap);
@@ -308,7 +318,7 @@ static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t ca
     if (__atomic_load_n(&f->chunk_ok[t], __ATOMIC_ACQUIRE))
         return c;
     const size_t index_bytes = (size_t)f->meta.nvars * f->lay.species_index_bytes;
-    if (vsv_file_need(f, vsv_rd64(e), VSV_CHUNK_HEADER_SIZE + index_bytes, 0, msg, cap))
+    if ((chunk_rc = vsv_file_need(f, vsv_rd64(e), VSV_CHUNK_HEADER_SIZE + index_bytes, 0, msg, cap)))
         return NULL;
     int bad = index_bad(f, c, t, e, index_bytes);
     if (bad && vsv_file_refetch(f, vsv_rd64(e), VSV_CHUNK_HEADER_SIZE + index_bytes))
@@ -382,7 +392,7 @@ int vsv_file_brick_kind(vsv_file *f, int step, int s, int b)
     if (rc)
         return rc;
     const unsigned char *c = vsv_file_chunk_index(f, step, f->err, sizeof f->err);
-    return c ? vsv_file_brick_entry(f, c, s, b)[0] : VSV_ECORRUPT;
+    return c ? vsv_file_brick_entry(f, c, s, b)[0] : vsv_file_chunk_rc(f, f->err, sizeof f->err);
 }
 
 const unsigned char *vsv_file_octree(vsv_file *f, int step, int s, int *dims)

@@ -67,6 +67,10 @@ int vsv_file_fail(vsv_file *f, int rc, const char *fmt, ...) __attribute__((form
 int vsv_all_zero(const unsigned char *p, size_t n, size_t *first);
 /* Verified index of chunk t (header included), or NULL with f->err / msg set. */
 const unsigned char *vsv_file_chunk_index(vsv_file *f, int t, char *msg, size_t cap);
+/* The code for this thread's last failed vsv_file_chunk_index: VSV_ETRUNC
+ * (the mapping was cut; msg says so), a byte source's code, else
+ * VSV_ECORRUPT. */
+int vsv_file_chunk_rc(const vsv_file *f, char *msg, size_t cap);
 /* The entry of brick b of species s in chunk index c. */
 const unsigned char *vsv_file_brick_entry(const vsv_file *f, const unsigned char *c, int s, int b);
 /* VSV_ERANGE with msg set when (step, s, b) is outside the file. */
