@@ -80,19 +80,23 @@ void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *
 /* The 3-D kinds decoded row by row: with T = up + back - up-back (the rows
  * at j - 1, k - 1 and both, zero outside the box), the value is x[i] =
  * r[i] + x[i - 1] + T[i] - T[i - 1]: T and the differences a row at a time
- * (vectorised), then one running sum. In uint16 arithmetic (mod 2^16: 8-bit
- * codes masked at the end). The values land in out (a B^3 array; ABS3: the
- * state itself, DELTA3: scratch then added to the state). */
-static void inverse3(int bits, const unsigned char *in, int B, const int ext[3], uint16_t *out)
+ * (vectorised), then one running sum. In uint16 arithmetic (mod 2^16; 8-bit
+ * values are masked as each row is done, which leaves every later sum right
+ * mod 2^8). The values land in out (a B^3 array); ABS3 decodes into the
+ * state itself, DELTA3 into scratch (the rebuilt differences are the next
+ * rows' neighbours), each row added to the state while it is in cache. */
+static void inverse3(int bits, const unsigned char *in, int B, const int ext[3], uint16_t *out, uint16_t *add)
 {
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
     const unsigned char *lo = in, *hi = in + n;
     const int ex = ext[0];
+    const uint16_t mask = bits == 8 ? 0xffu : 0xffffu;
     uint16_t zero[64], t[65], d[64];
     memset(zero, 0, sizeof zero);
     for (int k = 0; k < ext[2]; k++)
         for (int j = 0; j < ext[1]; j++) {
-            uint16_t *row = out + ((size_t)k * B + j) * B;
+            const size_t at = ((size_t)k * B + j) * B;
+            uint16_t *row = out + at;
             const uint16_t *up = j ? row - B : zero, *back = k ? row - (size_t)B * B : zero;
             const uint16_t *ub = j && k ? row - B - (size_t)B * B : zero;
             t[0] = 0;
@@ -113,34 +117,25 @@ static void inverse3(int bits, const unsigned char *in, int B, const int ext[3],
             lo += ex;
             uint16_t x = 0;
             for (int i = 0; i < ex; i++)
-                row[i] = x = (uint16_t)(x + d[i]);
-        }
-    if (bits == 8) /* every sum above was right mod 2^16, so mod 2^8 too */
-        for (int k = 0; k < ext[2]; k++)
-            for (int j = 0; j < ext[1]; j++) {
-                uint16_t *row = out + ((size_t)k * B + j) * B;
+                d[i] = x = (uint16_t)(x + d[i]);
+            for (int i = 0; i < ex; i++)
+                row[i] = d[i] & mask;
+            if (add) {
+                uint16_t *st = add + at;
                 for (int i = 0; i < ex; i++)
-                    row[i] &= 0xffu;
+                    st[i] = (uint16_t)((st[i] + d[i]) & mask);
             }
+        }
 }
 
 void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state,
                        uint16_t *scratch)
 {
-    if (kind == VSV_BRICK_ABS3) {
-        inverse3(bits, in, B, ext, state);
-        return;
-    }
-    if (kind == VSV_BRICK_DELTA3) {
-        inverse3(bits, in, B, ext, scratch);
-        const unsigned mask = bits == 8 ? 0xffu : 0xffffu;
-        for (int k = 0; k < ext[2]; k++)
-            for (int j = 0; j < ext[1]; j++) {
-                uint16_t *row = state + ((size_t)k * B + j) * B;
-                const uint16_t *dr = scratch + ((size_t)k * B + j) * B;
-                for (int i = 0; i < ext[0]; i++)
-                    row[i] = (uint16_t)((row[i] + dr[i]) & mask);
-            }
+    if (kind == VSV_BRICK_ABS3 || kind == VSV_BRICK_DELTA3) {
+        if (kind == VSV_BRICK_ABS3)
+            inverse3(bits, in, B, ext, state, NULL);
+        else
+            inverse3(bits, in, B, ext, scratch, state);
         return;
     }
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];

@@ -168,14 +168,44 @@ static const float *lut_of(vsv_file *f, int s)
     return l;
 }
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define VSV_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define VSV_CLONES
+#endif
+
+/* Linear 16-bit codes to values by the rule of SPEC.md §6 itself, in double
+ * as vsv_quant_value does (so bit-identical to the table), with f = 1 when
+ * code 0 means no data: a loop the compiler vectorises (the table lookup it
+ * replaces, 256 kB, one load a voxel, was a third of a full decode). */
+VSV_CLONES static void dequant_linear16(double lo, double step, int f, const uint16_t *codes, size_t n, float *out)
+{
+    if (f) {
+        const float nan = NAN;
+        uint32_t qnan;
+        memcpy(&qnan, &nan, sizeof qnan);
+        for (size_t i = 0; i < n; i++) { /* select without a branch */
+            const int c = codes[i];
+            const float v = (float)(lo + (double)(c - 1) * step);
+            uint32_t u;
+            memcpy(&u, &v, sizeof u);
+            const uint32_t none = 0u - (uint32_t)(c == 0);
+            u = (u & ~none) | (qnan & none);
+            memcpy(&out[i], &u, sizeof u);
+        }
+    } else {
+        for (size_t i = 0; i < n; i++)
+            out[i] = (float)(lo + (double)codes[i] * step);
+    }
+}
+
 void vsv_file_dequantise(const vsv_file *cf, int s, const uint16_t *codes, size_t n, float *out)
 {
     vsv_file *f = (vsv_file *)cf;
     const vsv_quant *q = &f->quant[s];
-    if (q->scale == VSV_SCALE_LINEAR && q->bits == 16 && !q->missing) {
-        const double lo = q->lo, step = (q->hi - q->lo) / 65535.0; /* = vsv_quant_value */
-        for (size_t i = 0; i < n; i++)
-            out[i] = (float)(lo + codes[i] * step);
+    if (q->scale == VSV_SCALE_LINEAR && q->bits == 16) {
+        const int m = q->missing ? 1 : 0; /* step = vsv_quant_value's */
+        dequant_linear16(q->lo, (q->hi - q->lo) / (65535.0 - m), m, codes, n, out);
         return;
     }
     const float *l = lut_of(f, s);

@@ -971,10 +971,72 @@ static void test_truncated_while_reading(void)
     }
 }
 
+/* vsv_file_dequantise gives, for every code, the very bits of
+ * vsv_quant_value (the rule of SPEC.md §6): linear 16-bit with code 0 as no
+ * data (NaN), linear 16-bit without, and 8-bit (its table). */
+static void test_dequantise(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = 4, m.ny = 2, m.nz = 1;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1;
+    vsv_meta_add_var(&m, "gaps", "K", "");
+    vsv_meta_add_var(&m, "full", "K", "");
+    vsv_meta_add_var(&m, "byte", "K", "");
+    vsv_pack_opts o;
+    vsv_pack_var pv[3];
+    vsv_pack_opts_init(&o);
+    o.threads = 1;
+    for (int s = 0; s < 3; s++)
+        vsv_pack_var_init(&pv[s]);
+    pv[2].bits = 8;
+    o.vars = pv;
+    const float gaps[8] = {201.5f, NAN, 250, 299.25f, 233, 201, 278.125f, 300};
+    const float full[8] = {-3.75f, 0.5f, 1e3f, 17, 18, 19, 20, 21}, byte[8] = {1, 2, 3, 4, 5, 6, 7, 8.5f};
+    const float *fields[3] = {gaps, full, byte};
+    const char *path = vsv_test_tmp("dequant.vsv");
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(path, &m, &o, &w);
+    rc = rc ? rc : vsv_writer_add_step(w, 0, fields);
+    rc = rc ? rc : vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    vsv_file *f = NULL;
+    CHECK(!rc && !vsv_file_open(path, &f), "dequantise test file written");
+    if (!f)
+        return;
+    uint16_t *codes = malloc(65536 * sizeof *codes);
+    float *got = malloc(65536 * sizeof *got), *want = malloc(65536 * sizeof *want);
+    for (unsigned c = 0; c < 65536; c++)
+        codes[c] = (uint16_t)c;
+    for (int s = 0; s < 3; s++) {
+        const vsv_quant *q = vsv_file_quant(f, s);
+        const unsigned n = q->bits == 8 ? 256 : 65536;
+        for (unsigned c = 0; c < n; c++)
+            want[c] = vsv_quant_value(q, c);
+        /* odd starts and lengths: the vector loops' edges */
+        vsv_file_dequantise(f, s, codes, 3, got);
+        vsv_file_dequantise(f, s, codes + 3, n - 3, got + 3);
+        unsigned bad = n;
+        for (unsigned c = n; c-- > 0;)
+            if (memcmp(&got[c], &want[c], sizeof got[c]))
+                bad = c;
+        CHECK(bad == n && (s != 0 || (q->missing && isnan(got[0]))), "dequantise matches the rule bit for bit",
+              "species %d (missing %d, bits %d): code %u gives %.9g, not %.9g", s, q->missing, q->bits, bad,
+              bad < n ? got[bad] : 0, bad < n ? want[bad] : 0);
+    }
+    free(codes);
+    free(got);
+    free(want);
+    vsv_file_free(f);
+    unlink(path);
+}
+
 int main(void)
 {
     test_basics();
     test_quant();
+    test_dequantise();
     test_series();
     test_variants();
     test_atomic();
