@@ -442,6 +442,7 @@ void vsv_sw_free(vsv_sw *sw)
     free(sw->cls);
     free(sw->ckeys);
     free(sw->cok);
+    free(sw->bnz);
     free(sw->ltab);
     free(sw->cjobs);
     free(sw->scratch);

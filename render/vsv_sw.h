@@ -157,6 +157,10 @@ struct vsv_sw {
     int cvalid, *cjobs, ncjobs;
     unsigned char *cok; /* per brick: classified under this scene */
     size_t cok_cap;
+    /* per brick, per block of 8^3 cells of its classified copy (micro()'s
+     * order): 1 when a cell inside the grid is not transparent */
+    unsigned char *bnz;
+    size_t bnz_cap;
     uint64_t *ltab; /* per layer, VSV_SW_NTAB classified positions */
     size_t ltab_cap;
     /* per thread: sums of four channels over a brick's row */

@@ -134,7 +134,8 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
         vsv_sw_grow((void **)&sw->ckeys, &sw->ckeys_cap, nkeys + 1, sizeof *sw->ckeys) ||
         vsv_sw_grow((void **)&sw->jobs, &sw->jobs_cap, nc, sizeof *sw->jobs) ||
         vsv_sw_grow((void **)&sw->cjobs, &sw->cjobs_cap, nbk, sizeof *sw->cjobs) ||
-        vsv_sw_grow((void **)&sw->cls, &sw->cls_cap, nbk * B3, sizeof *sw->cls))
+        vsv_sw_grow((void **)&sw->cls, &sw->cls_cap, nbk * B3, sizeof *sw->cls) ||
+        vsv_sw_grow((void **)&sw->bnz, &sw->bnz_cap, nbk * (B3 >> 9 ? B3 >> 9 : 1), 1))
         return VSV_ENOMEM;
     if (sw->cnkeys != nkeys || !sw->cvalid) {
         if (vsv_sw_grow((void **)&sw->cok, &sw->cok_cap, nbk, 1))
@@ -291,6 +292,26 @@ static inline size_t micro(int x, int y, int z, int sh)
            ((size_t)(z & 7) << 6) + ((size_t)(y & 7) << 3) + (size_t)(x & 7);
 }
 
+/* The flags of brick bno's blocks of 8^3 cells (sw->bnz): which hold a
+ * cell inside the grid (ex x ey x ez) that is not transparent. */
+static void block_flags(vsv_sw *sw, int bno, const uint64_t *out, int ex, int ey, int ez)
+{
+    const int sh = sw->shift, nm = sh - 3;
+    unsigned char *f = sw->bnz + ((size_t)bno << (3 * nm));
+    for (int z = 0; z < ez; z += 8)
+        for (int y = 0; y < ey; y += 8)
+            for (int x = 0; x < ex; x += 8) {
+                const uint64_t *blk = out + micro(x, y, z, sh);
+                const int nx = ex - x < 8 ? ex - x : 8, ny = ey - y < 8 ? ey - y : 8, nz = ez - z < 8 ? ez - z : 8;
+                uint64_t any = 0;
+                for (int k = 0; k < nz; k++)
+                    for (int jj = 0; jj < ny; jj++)
+                        for (int i = 0; i < nx; i++)
+                            any |= blk[(k << 6) + (jj << 3) + i];
+                f[((size_t)(z >> 3) << (2 * nm)) + ((size_t)(y >> 3) << nm) + (size_t)(x >> 3)] = any != 0;
+            }
+}
+
 /* Job j: brick sw->cjobs[j] classified once for every axis: the species
  * rule summed over the layers that are not clear in it, per cell four half
  * floats (extinction-weighted red, green, blue, then extinction) at
@@ -317,13 +338,24 @@ void vsv_sw_classify_brick(void *p, int j, int thread)
         const vsv_layer *L = &sc->layers[last];
         const float *src = L->vol->bricks[bno], e = L->vol->empty_value;
         const uint64_t *t = sw->ltab + (size_t)last * VSV_SW_NTAB, ce = classify_one(L->tf, t, e);
+        const int nm = sh - 3;
+        unsigned char *const f = sw->bnz + ((size_t)bno << (3 * nm));
+        memset(f, 0, (size_t)1 << (3 * nm));
         for (int k = 0; k < ez; k++)
             for (int jj = 0; jj < ey; jj++) {
                 const size_t r = ((size_t)k << (2 * sh)) + ((size_t)jj << sh);
                 uint64_t *const o = out + micro(0, jj, k, sh);
-                for (int i = 0; i < ex; i++) {
-                    const float v = src ? src[r + i] : e;
-                    o[(i >> 3 << 9) + (i & 7)] = v == e ? ce : classify_one(L->tf, t, v);
+                unsigned char *const fr = f + ((size_t)(k >> 3) << (2 * nm)) + ((size_t)(jj >> 3) << nm);
+                for (int i0 = 0; i0 < ex; i0 += 8) { /* a block's row, then its flag */
+                    const int i1 = ex - i0 < 8 ? ex : i0 + 8;
+                    uint64_t any = 0;
+                    for (int i = i0; i < i1; i++) {
+                        const float v = src ? src[r + i] : e;
+                        const uint64_t x = v == e ? ce : classify_one(L->tf, t, v);
+                        o[(i >> 3 << 9) + (i & 7)] = x;
+                        any |= x;
+                    }
+                    fr[i0 >> 3] |= any != 0;
                 }
             }
         return;
@@ -361,6 +393,7 @@ void vsv_sw_classify_brick(void *p, int j, int thread)
                 o[(i >> 3 << 9) + (i & 7)] = (uint64_t)vsv_half((float)acc[4 * i]) | (uint64_t)vsv_half((float)acc[4 * i + 1]) << 16 |
                              (uint64_t)vsv_half((float)acc[4 * i + 2]) << 32 | (uint64_t)vsv_half((float)acc[4 * i + 3]) << 48;
         }
+    block_flags(sw, bno, out, ex, ey, ez);
 }
 
 /* Job j: slices sw->jobs[j] .. + VSV_SW_GROUP - 1 of the current axis
@@ -403,12 +436,24 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
                             memset(base + kk * kstep + jb * scan + ch * P, 0, nat * sizeof *base);
                 continue;
             }
-            /* the group's layer of blocks, block by block */
+            /* the group's layer of blocks, block by block (a block with no
+             * cell to see: zeros, already there when the slice was cleared) */
             const uint64_t *const cb = sw->cls + ((size_t)bno << (3 * sh)) + ((size_t)((k0 & m) >> 3) * ba[c]);
+            const unsigned char *const fb = sw->bnz + ((size_t)bno << (3 * nm)) + ((size_t)((k0 & m) >> 3) * (ba[c] >> 9));
             for (int mb = 0; mb < nbt; mb += 8)
                 for (int ma = 0; ma < nat; ma += 8) {
-                    const uint64_t *blk = cb + (size_t)(mb >> 3) * ba[b] + (size_t)(ma >> 3) * ba[a];
+                    const size_t bo = (size_t)(mb >> 3) * ba[b] + (size_t)(ma >> 3) * ba[a];
+                    const uint64_t *blk = cb + bo;
                     const int ea = nat - ma < 8 ? nat - ma : 8, eb = nbt - mb < 8 ? nbt - mb : 8;
+                    if (!fb[bo >> 9]) {
+                        if (!sw->full)
+                            for (int kk = 0; kk < kn; kk++)
+                                for (int jb = 0; jb < eb; jb++)
+                                    for (int ch = 0; ch < 4; ch++)
+                                        memset(base + kk * kstep + (size_t)(mb + jb) * scan + ch * P + ma, 0,
+                                               (size_t)ea * sizeof *base);
+                        continue;
+                    }
                     for (int kk = 0; kk < kn; kk++)
                         for (int jb = 0; jb < eb; jb++) {
                             uint16_t *const row = base + kk * kstep + (size_t)(mb + jb) * scan + ma;
@@ -434,7 +479,8 @@ static void slice_footprints(vsv_sw *sw, int k, int thread)
     const int c = sw->c, a = vsv_sw_axis_a(c), b = vsv_sw_axis_b(c), na = sw->n[a], nb = sw->n[b];
     const size_t P = VSV_SW_PLANE(na), scan = 4 * P, nbk = (size_t)sw->nbk;
     const unsigned char *zero = sw->clear + nbk * (sw->sc->nlayers + 1);
-    const int sh = sw->shift, B = 1 << sh, stride[3] = {1, sw->bdim[0], sw->bdim[0] * sw->bdim[1]};
+    const int sh = sw->shift, B = 1 << sh, m = B - 1, nm = sh - 3, stride[3] = {1, sw->bdim[0], sw->bdim[0] * sw->bdim[1]};
+    const size_t bs[3] = {512, (size_t)512 << nm, (size_t)512 << (2 * nm)}; /* a block's step along x, y, z */
     const uint16_t *slice = sw->vox[c] + (size_t)k * (nb + 2) * scan;
     vsv_sw_fp *fps = sw->fps[c] + (size_t)k * (nb + 1);
     uint16_t *const ivl = sw->ivl[c] + (size_t)k * (nb + 1) * (na + 4);
@@ -457,11 +503,24 @@ static void slice_footprints(vsv_sw *sw, int k, int thread)
                 }
                 continue;
             }
-            for (int ia = ia0; ia < end; ia++)
-                if ((ext[ia] > 0) != open) {
-                    iv[1 + cnt++] = (uint16_t)ia;
-                    open = !open;
+            /* eight cells at a time: a block with no cell to see is a gap */
+            const unsigned char *fb = sw->bnz + ((size_t)bno << (3 * nm)) + (size_t)((ib & m) >> 3) * (bs[b] >> 9) +
+                                      (size_t)((k & m) >> 3) * (bs[c] >> 9);
+            for (int s0 = ia0; s0 < end; s0 += 8) {
+                const int s1 = end - s0 < 8 ? end : s0 + 8;
+                if (!fb[(size_t)((s0 & m) >> 3) * (bs[a] >> 9)]) {
+                    if (open) {
+                        iv[1 + cnt++] = (uint16_t)s0;
+                        open = 0;
+                    }
+                    continue;
                 }
+                for (int ia = s0; ia < s1; ia++)
+                    if ((ext[ia] > 0) != open) {
+                        iv[1 + cnt++] = (uint16_t)ia;
+                        open = !open;
+                    }
+            }
         }
         if (open)
             iv[1 + cnt++] = (uint16_t)na;
