@@ -473,6 +473,13 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
         slice_footprints(sw, k, thread);
 }
 
+/* Whether one of the four 16-bit lanes of w is 0 (the lanes are
+ * extinctions: half floats >= 0, so no lane has its top bit set). */
+static inline int has_zero16(uint64_t w)
+{
+    return ((w - 0x0001000100010001ull) & ~w & 0x8000800080008000ull) != 0;
+}
+
 /* The footprints of slice k's scanline pairs from its classified copy. */
 static void slice_footprints(vsv_sw *sw, int k, int thread)
 {
@@ -514,6 +521,12 @@ static void slice_footprints(vsv_sw *sw, int k, int thread)
                         open = 0;
                     }
                     continue;
+                }
+                if (s1 - s0 == 8) { /* all eight as the run so far: nothing to mark */
+                    uint64_t w[2];
+                    memcpy(w, ext + s0, sizeof w);
+                    if (open ? !has_zero16(w[0]) && !has_zero16(w[1]) : !(w[0] | w[1]))
+                        continue;
                 }
                 for (int ia = s0; ia < s1; ia++)
                     if ((ext[ia] > 0) != open) {
