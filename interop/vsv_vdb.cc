@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <fcntl.h>
 #include <unistd.h>
@@ -41,6 +42,17 @@ std::string meta_string(const openvdb::MetaMap &m, const char *key)
     auto v = m.getMetadata<openvdb::StringMetadata>(key);
     return v ? v->value() : std::string();
 }
+
+// io::File::write opens its own std::ofstream and never looks at its state
+// after writing: a full disk left a short file and exit 0. Archive's
+// protected writer takes a stream of ours, whose state then shows a failed
+// write (badbit) and a failed close (failbit).
+struct checked_archive : openvdb::io::Archive {
+    void put(std::ostream &os, const openvdb::GridPtrVec &grids, const openvdb::MetaMap &meta) const
+    {
+        write(os, grids, /*seekable=*/true, meta);  // as io::File writes
+    }
+};
 
 }  // namespace
 
@@ -109,11 +121,23 @@ extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, con
         meta.insertMeta("vertical", openvdb::StringMetadata(m->vert_kind == VSV_VERT_EVEN
                                                                 ? "even heights above sea level, metres"
                                                                 : "native levels at their mean spacing, metres"));
-        // through a stream of ours: io::File ignores a failed write (a full
-        // disk left a short file and exit 0); the stream's state shows it
-        openvdb::io::File file(tmp);
-        file.write(grids, meta);
-        file.close();
+        // through a stream of ours, its state checked after the last write
+        // and after the close (the writes' errno is not kept by the stream:
+        // the sync below names the cause when it fails the same way)
+        errno = 0;
+        std::ofstream os(tmp, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
+        if (os)
+            checked_archive().put(os, grids, meta);
+        if (os)
+            os.flush();
+        const bool wrote = os.good();
+        os.close();
+        if (!wrote || os.fail()) {
+            const int e = errno;
+            vsv_output_discard(tmp.c_str());
+            say(err, cap, std::string(path) + ": cannot write" + (e ? std::string(": ") + std::strerror(e) : ""));
+            return -1;
+        }
         // synced before the rename
         const int fd = open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
         if (fd < 0 || vsv_output_commit(fd, tmp.c_str(), path)) {
