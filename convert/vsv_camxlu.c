@@ -23,9 +23,10 @@ int vsv_camx_landuse(vsv_source *s, const char *path)
 {
     vsv_meta *g = &s->grid;
     const size_t plane = (size_t)g->nx * g->ny;
-    FILE *fp = fopen(path, "rb");
+    char why[300];
+    FILE *fp = vsv_input_fopen(path, "rb", why, sizeof why); /* a regular file: no FIFO to block on */
     if (!fp)
-        return vsv_source_fail(s, VSV_EIO, "%s: %s", path, strerror(errno));
+        return vsv_source_fail(s, VSV_EIO, "%s: %s", path, why);
     unsigned char *d = NULL;
     size_t n = 0, cap = 0;
     for (;;) {
@@ -43,7 +44,12 @@ int vsv_camx_landuse(vsv_source *s, const char *path)
         if (!got)
             break;
     }
+    const int bad = ferror(fp), e = errno;
     fclose(fp);
+    if (bad) {
+        free(d);
+        return vsv_source_fail(s, VSV_EIO, "%s: cannot read: %s", path, strerror(e));
+    }
     const int le = n >= 4 && d[0] == 8; /* the first record is 8 bytes long */
     const int ncat = n >= 12 && !memcmp(d + 4, "LUCAT26 ", 8) ? 26 : 11;
     size_t at = 0;

@@ -499,7 +499,8 @@ static int camx_companions(vsv_source *s, camx *c)
             if (!stat(s->opts.heights, &zs) && zs.st_dev == st.st_dev && zs.st_ino == st.st_ino)
                 continue;
         }
-        FILE *fp = fopen(path, "rb");
+        char why[300]; /* (replaced since the stat: a FIFO is refused, not waited on) */
+        FILE *fp = vsv_input_fopen(path, "rb", why, sizeof why);
         const size_t got = fp ? fread(head, 1, sizeof head, fp) : 0;
         if (fp)
             fclose(fp);

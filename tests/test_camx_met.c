@@ -9,9 +9,14 @@
 #include "vsv_testlib.h"
 #include "vsv_uamiv.h"
 
+#include "vsv_source_internal.h"
+
 #include <math.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 static void values(void *ctx, int hour, int spec, int layer, float *plane)
 {
@@ -245,8 +250,35 @@ static void test_advect_winds(void)
     vsv_run_free(r);
 }
 
+/* A FIFO where the land-use file is read: refused at open, naming it (a
+ * plain fopen blocked on it for good: the alarm ends that as a failure). */
+static void test_landuse_fifo(void)
+{
+    char dir[] = "/tmp/vsv-test-camxlu.XXXXXX", fifo[64];
+    if (!mkdtemp(dir)) {
+        CHECK(0, "a temporary folder");
+        return;
+    }
+    snprintf(fifo, sizeof fifo, "%s/lu.fifo", dir);
+    CHECK(!mkfifo(fifo, 0600), "a FIFO");
+    vsv_source *s = calloc(1, sizeof *s);
+    snprintf(s->path, sizeof s->path, "avrg.uamiv");
+    s->grid.nx = 5;
+    s->grid.ny = 4;
+    alarm(60);
+    const int rc = vsv_camx_landuse(s, fifo);
+    alarm(0);
+    CHECK(rc == VSV_EIO, "a land-use FIFO is refused", "(rc %d)", rc);
+    CHECK(strstr(s->err, fifo) && strstr(s->err, "a FIFO, not a regular file: refused"),
+          "naming the FIFO and what it is", "(%s)", s->err);
+    free(s);
+    unlink(fifo);
+    rmdir(dir);
+}
+
 int main(void)
 {
+    test_landuse_fifo();
     test_met_dir();
     test_advect_winds();
     test_mismatch();
