@@ -159,7 +159,7 @@ TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 # private helper programs (format/vsv_helper.c): the libraries exec them to
 # read files with a library that can crash on them; beside the tools in the
 # build tree, in $(LIBDIR)/vesuvius/ when installed
-HELPERS = vsv-nc-check vsv-vdb-reader
+HELPERS = vsv-nc-check vsv-vdb-reader vsv-nc-writer
 HELPER_BIN = $(addprefix $(B)/,$(HELPERS))
 HELPER_DIR = $(LIBDIR)/vesuvius
 # the programs: each sees cli/ besides its folder's layers; vsv-extract and
@@ -326,6 +326,9 @@ $(B)/vsv-nc-check: $(B)/convert/vsv-nc-check.o
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(CONVERT_EXT)
 $(B)/vsv-vdb-reader: $(B)/interop/vsv-vdb-reader.o $(INTEROP_A) $(CONVERT_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+$(B)/vsv-nc-writer: $(B)/interop/vsv-nc-writer.o $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
 

@@ -97,7 +97,7 @@ int main(int argc, char **argv)
         char history[1024] = "vsv-export", err[4300];
         for (int i = 1; i < argc; i++)
             snprintf(history + strlen(history), sizeof history - strlen(history), " %s", argv[i]);
-        if (vsv_cf_write(ncout, f, sel, n, a, b, history, vsv_cli_progress, (void *)"vsv-export", err, sizeof err))
+        if (vsv_cf_write(ncout, path, f, sel, n, a, b, history, vsv_cli_progress, (void *)"vsv-export", err, sizeof err))
             vsv_cli_die(1, "%s", err);
         if (!vsv_cli_quiet() && !isatty(2))
             fprintf(stderr, "vsv-export: %s: %d step%s, %d species\n", ncout, b - a + 1, b > a ? "s" : "", n);

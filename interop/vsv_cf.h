@@ -29,14 +29,18 @@ extern "C" {
 
 VSV_API_BEGIN
 
-/* Writes steps a..b of species sel[0..n-1] of f to path: under a temporary
- * name beside it, renamed into place only when complete (path is never
- * half-written, and an input is never replaced: path must not be f's own
- * file). history is stored as the global "history" (may be NULL). progress
+/* Writes steps a..b of species sel[0..n-1] of f, opened from the file src,
+ * to path: under a temporary name beside it, renamed into place only when
+ * complete (path is never half-written, and an input is never replaced:
+ * path must not be src). The netCDF library runs in the private helper
+ * program vsv-nc-writer (found as vsv-nc-check is), which opens src again:
+ * a library crash (libhdf5 on a full disk) is an error, not the caller's
+ * end. history is stored as the global "history" (may be NULL). progress
  * (may be NULL) gets (done, total) steps. 0, or a negative VSV_E* code with
  * the reason in err (cap bytes). */
-int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, int b, const char *history,
-                 void (*progress)(void *ctx, int done, int total), void *ctx, char *err, size_t cap);
+int vsv_cf_write(const char *path, const char *src, vsv_file *f, const int *sel, int n, int a, int b,
+                 const char *history, void (*progress)(void *ctx, int done, int total), void *ctx, char *err,
+                 size_t cap);
 
 VSV_API_END
 

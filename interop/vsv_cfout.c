@@ -1,7 +1,7 @@
 /* vsv_cfout.c — a .vsv out as one CF-1.8 netCDF-4 file (layout in
  * vsv_cf.h): the grid mapping from the file's projection, 2-D lat/lon from
  * the library's own cell positions, the decoded values of each step. */
-#include "vsv_cf.h"
+#include "vsv_cf_internal.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -23,8 +23,11 @@ typedef struct cfw {
 
 static int nc_ok(cfw *w, int status, const char *what)
 {
+    const int e = errno; /* a failed write's cause, which HDF5 reports only as "HDF error" */
     if (status != NC_NOERR && !w->rc) {
-        snprintf(w->err, w->cap, "%s: %s: %s", w->path, what, nc_strerror(status));
+        const int io = status == NC_EHDFERR && (e == ENOSPC || e == EFBIG || e == EDQUOT || e == EIO);
+        snprintf(w->err, w->cap, "%s: %s: %s%s%s", w->path, what, nc_strerror(status), io ? ": " : "",
+                 io ? strerror(e) : "");
         w->rc = VSV_EIO;
     }
     return status == NC_NOERR;
@@ -110,8 +113,9 @@ static void nc_name(const char *in, char *out, size_t cap)
     out[n] = 0;
 }
 
-int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, int b, const char *history,
-                 void (*progress)(void *ctx, int done, int total), void *ctx, char *err, size_t cap)
+int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const int *sel, int n, int a, int b,
+                      const char *history, void (*progress)(void *ctx, int done, int total), void *ctx, char *err,
+                      size_t cap)
 {
     const vsv_meta *m = vsv_file_meta(f);
     vsv_file_info info;
@@ -121,14 +125,6 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
         snprintf(err, cap, "%s: nothing selected (steps %d..%d of 0..%d, %d species)", path, a, b, info.nsteps - 1, n);
         return VSV_EINVAL;
     }
-    /* the temporary beside path, listed (vsv_output.c); netCDF writes it by name */
-    char tmp[4200];
-    int fd = vsv_output_temp(path, NULL, tmp, sizeof tmp);
-    if (fd < 0) {
-        snprintf(err, cap, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
-        return VSV_EIO;
-    }
-    close(fd);
     const size_t nx = (size_t)m->nx, ny = (size_t)m->ny, nz = (size_t)m->nz, nt = (size_t)(b - a + 1);
     float *vol = malloc(nx * ny * nz * sizeof *vol);
     size_t nbuf = 2 * nx * ny; /* lat and lon; also the time, z, y, x axes */
@@ -142,7 +138,7 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
         w.rc = VSV_ENOMEM;
         goto fail;
     }
-    if (!nc_ok(&w, nc_create(tmp, NC_CLOBBER | NC_NETCDF4, &w.nc), "cannot create"))
+    if (!nc_ok(&w, nc_create(target, NC_CLOBBER | NC_NETCDF4, &w.nc), "cannot create"))
         goto fail;
     int dt, dz, dy, dx;
     nc_ok(&w, nc_def_dim(w.nc, "time", nt, &dt), "time");
@@ -349,31 +345,13 @@ int vsv_cf_write(const char *path, vsv_file *f, const int *sel, int n, int a, in
         goto fail;
     const int crc = nc_close(w.nc);
     w.nc = -1;
-    if (!nc_ok(&w, crc, "writing"))
-        goto fail;
-    fd = open(tmp, O_RDONLY | O_CLOEXEC);
-    if (fd < 0 || vsv_output_seal(fd)) {
-        snprintf(err, cap, "%s: cannot flush the file to disk: %s", path, strerror(errno));
-        w.rc = VSV_EIO;
-        goto fail;
-    }
-    if (vsv_output_publish(tmp, path)) {
-        snprintf(err, cap, "%s: cannot rename the finished file into place: %s", path, strerror(errno));
-        w.rc = VSV_EIO;
-        goto fail;
-    }
-    free(vol);
-    free(buf);
-    free(vid);
-    vsv_decoder_free(d);
-    return 0;
+    nc_ok(&w, crc, "writing");
 fail:
-    if (w.nc >= 0)
-        nc_abort(w.nc);
-    vsv_output_discard(tmp);
+    /* (an open file is left as it is: libnetcdf's close after a failed
+     * HDF5 write crashes, and this process ends without exit handlers) */
     free(vol);
     free(buf);
     free(vid);
     vsv_decoder_free(d);
-    return w.rc ? w.rc : VSV_EIO;
+    return w.rc;
 }

@@ -51,6 +51,32 @@ for blocks in 8 500; do
     has "saying so, naming the file" "$T/err" "vsv-export: $T/full/v_$k.vdb: cannot write: File too large"
     empty "no short .vdb left ($blocks blocks)" "$T/full"
 done
+# netCDF: libhdf5 crashed (SIGSEGV) on the failed write, in H5Fflush's error
+# path and in libnetcdf's close after it; it now runs in the helper
+# vsv-nc-writer. At 8 blocks the definitions fail, at 400 the data.
+for blocks in 8 400; do
+    expect "vsv-export --netcdf on a full disk ($blocks blocks) exits 1" 1 env BLOCKS=$blocks "$T/fullfs" \
+        "$B/vsv-export" -q "$T/a.vsv" --netcdf "$T/full/n.nc"
+    has "saying so, naming the file" "$T/err" "vsv-export: $T/full/n.nc: "
+    has "and the cause" "$T/err" "HDF error: File too large"
+    empty "no short .nc left ($blocks blocks)" "$T/full"
+done
+expect "vsv-export --netcdf of a .vsv damaged at step 2 exits 1" 1 "$B/vsv-export" -q "$T/bad2.vsv" --netcdf "$T/full/n.nc"
+has "naming the damage" "$T/err" "chunk 2"
+empty "no .nc left" "$T/full"
+mkdir -p "$T/fakehelper"
+printf '#!/bin/sh
+kill -SEGV $$
+' > "$T/fakehelper/vsv-nc-writer"
+chmod +x "$T/fakehelper/vsv-nc-writer"
+expect "a netCDF writer that crashes: exit 1" 1 env VSV_HELPER_DIR="$T/fakehelper" "$B/vsv-export" -q "$T/a.vsv" \
+    --netcdf "$T/full/n.nc"
+has "said, naming the output" "$T/err" "vsv-export: $T/full/n.nc: the netCDF library crashed writing it (signal 11)"
+empty "no .nc left after the crash" "$T/full"
+expect "vsv-export --netcdf with room exits 0" 0 "$B/vsv-export" -q "$T/a.vsv" --netcdf "$T/full/n.nc"
+[ "$(ls "$T/full")" = n.nc ] && ncdump -h "$T/full/n.nc" | grep -q "time = 4" && pass "only the finished file, 4 steps" ||
+    fail "only the finished file, 4 steps" "$(ls "$T/full")"
+rm -f "$T/full/n.nc"
 expect "vsv-render on a full disk exits 1" 1 "$T/fullfs" "$B/vsv-render" -q "$T/a.vsv" -o "$T/full/f.png" --time 1
 has "naming the output" "$T/err" "vsv-render: $T/full/f.png"
 empty "no short PNG left" "$T/full"
