@@ -461,19 +461,19 @@ int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species)
         return 0;
     pthread_mutex_lock(&p->mu);
     int ok = 1;
-    for (int s = 0; s < p->info.nspecies && ok; s++) {
+    for (int s = 0; s < p->info.nspecies && ok == 1; s++) {
         if (species && !species[s])
             continue;
         const int *def = vsv_pager_defs(p, step, s);
         if (!def) {
-            ok = 0;
+            ok = -1; /* its chunk index fails its checks */
             break;
         }
-        for (int b = 0; b < p->info.nbricks && ok; b++) {
+        for (int b = 0; b < p->info.nbricks && ok == 1; b++) {
             if (def[b] < 0)
                 continue;
             const int e = vsv_cache_lookup(p, s, b, def[b]);
-            ok = e >= 0 && p->ent[e].state == READY;
+            ok = e >= 0 && p->ent[e].state == READY ? 1 : e >= 0 && p->ent[e].state == FAILED ? -1 : 0;
         }
     }
     pthread_mutex_unlock(&p->mu);

@@ -113,7 +113,9 @@ vsv_volume *vsv_pager_volume_new(vsv_pager *p);
 int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v);
 /* Unpins v's bricks (v->step becomes -1); a volume not of p is left alone. */
 void vsv_pager_put(vsv_pager *p, vsv_volume *v);
-/* 1 when every wanted species of step is decoded (species as in playhead). */
+/* 1 when every wanted species of step is decoded (species as in playhead);
+ * -1 when one is known to fail (its chunk index or a brick failed its
+ * checks: vsv_pager_get of it says why); else 0. */
 int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species);
 
 void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st);

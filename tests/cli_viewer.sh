@@ -82,3 +82,36 @@ same "seeking back to the start shows the first picture again" "$T/s1.png" "$T/s
 differ "opacity, renderer and camera change the picture" "$T/s6.png" "$T/s7.png"
 differ "stepping +2 changes the picture" "$T/s7.png" "$T/s8.png"
 same "seeking to the ISO time of step 2 equals stepping there" "$T/s8.png" "$T/s9.png"
+
+# a damaged step (step 2's chunk index fails its checksum): reported on
+# stderr once, naming the file and the step, drawn as nothing (not the
+# picture before it), and playback goes on (issue 18: the previous picture
+# stayed, silently, exit 0)
+python3 - "$T/crop.vsv" "$T/dmg.vsv" <<'EOP'
+import struct, sys
+d = bytearray(open(sys.argv[1], "rb").read())
+toc = struct.unpack_from("<Q", d, 48)[0]
+off = struct.unpack_from("<Q", d, toc + 24 * 2)[0]
+d[off + 28] ^= 0xff
+open(sys.argv[2], "wb").write(d)
+EOP
+cat > "$T/dmg.script" <<EOS
+0.2 seek 1
+0.3 screenshot $T/d1.png
+0.4 seek 2
+0.5 screenshot $T/d2.png
+0.6 seek 0
+0.7 play
+1.5 screenshot $T/d3.png
+1.6 quit
+EOS
+ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
+expect "vsv-play through a damaged step exits 0" 0 \
+    xvfb-run -a -s "-screen 0 1024x768x24" "$B/vsv-play" "$T/dmg.vsv" --size 320x240 --script "$T/dmg.script"
+has "the damaged step is reported, naming the file and the step" "$T/err" \
+    "vsv-play: $T/dmg.vsv: step 2 (1995-10-24T02:00:00Z) is damaged, not drawn; playing on: "
+has "with the damage" "$T/err" "chunk 2"
+[ "$(grep -c 'step 2 (' "$T/err")" = 1 ] && pass "once" || fail "once" "$(grep -c 'step 2 (' "$T/err") times"
+[ -s "$T/d1.png" ] && [ -s "$T/d2.png" ] && [ -s "$T/d3.png" ] && pass "screenshots around it written" ||
+    fail "screenshots around it written" "$(ls "$T")"
+differ "the damaged step is not the picture before it" "$T/d1.png" "$T/d2.png"

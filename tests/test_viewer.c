@@ -216,6 +216,70 @@ static void test_freevr_layout(void)
           "a hundred windows: 1 MiB + 256 KiB a window", " ");
 }
 
+/* A copy of path with step 2's chunk index damaged (its checksum fails):
+ * the player reports it once, on screen and through vsv_player_damage, and
+ * plays on past it (it exited with the error before; issue 18). */
+static void test_damaged(const char *path, vsv_player_opts o)
+{
+    const char *bad = vsv_test_tmp("viewer-damaged.vsv");
+    FILE *fp = fopen(path, "rb");
+    static unsigned char d[1 << 21];
+    const size_t n = fp ? fread(d, 1, sizeof d, fp) : 0;
+    if (fp)
+        fclose(fp);
+    uint64_t toc = 0, off = 0;
+    memcpy(&toc, d + 48, 8); /* (little-endian hosts) */
+    if (toc + 72 <= n)
+        memcpy(&off, d + toc + 48, 8);
+    if (!CHECK(n > 0 && n < sizeof d && off + 29 <= n, "a copy to damage", "(%zu bytes)", n))
+        return;
+    d[off + 28] ^= 0xff;
+    fp = fopen(bad, "wb");
+    CHECK(fp && fwrite(d, 1, n, fp) == n && !fclose(fp), "the damaged copy written", " ");
+    o.path = bad;
+    vsv_player *p = NULL;
+    char err[512], status[2048];
+    if (!CHECK(vsv_player_open(&o, &p, err, sizeof err) == 0, "the player opens the damaged copy", "(%s)", err))
+        return;
+    const char *why = NULL;
+    CHECK(!vsv_player_do(p, "seek 1", err, sizeof err) && !vsv_player_update(p, 0, 1) &&
+              vsv_player_shown_step(p) == 1 && vsv_player_damage(p, &why) == -1,
+          "step 1 shows, nothing damaged", " ");
+    const int rc = !vsv_player_do(p, "seek 2", err, sizeof err) ? vsv_player_update(p, 0, 1) : -2;
+    CHECK(rc == 0, "the damaged step is not an error of update", "(%d: %s)", rc, vsv_player_error(p));
+    const int t = vsv_player_damage(p, &why);
+    CHECK(t == 2 && why && strstr(why, bad) && strstr(why, "chunk 2"), "reported once: the file and the step",
+          "(step %d: %s)", t, why ? why : "-");
+    CHECK(vsv_player_damage(p, NULL) == -1, "and only once", " ");
+    vsv_player_status(p, status, sizeof status);
+    CHECK(vsv_player_shown_step(p) == 2 && strstr(status, "step 3 DAMAGED, not drawn") && strstr(status, "chunk 2"),
+          "the status line says it", "(%s)", status);
+    vsv_camera cam;
+    vsv_player_camera(p, 64, 48, &cam);
+    CHECK(vsv_player_image(p, &cam, err, sizeof err) != NULL, "the damaged step draws (nothing of it)", "(%s)", err);
+    CHECK(!vsv_player_update(p, 0, 1) && vsv_player_damage(p, NULL) == -1, "paused on it: not reported again", " ");
+    /* step 3 keeps bricks of step 2 (UNCHANGED): it cannot be drawn either,
+     * and says so naming chunk 2 */
+    CHECK(!vsv_player_do(p, "seek 3", err, sizeof err) && !vsv_player_update(p, 0, 1) &&
+              vsv_player_shown_step(p) == 3 && vsv_player_damage(p, &why) == 3 && strstr(why, "chunk 2"),
+          "step 3, which keeps bricks of step 2, is reported too", "(%s)", why ? why : "-");
+    CHECK(!vsv_player_do(p, "seek 0", err, sizeof err) && !vsv_player_update(p, 0, 1) &&
+              vsv_player_shown_step(p) == 0 && vsv_player_damage(p, NULL) == -1,
+          "step 0 shows", " ");
+    vsv_player_status(p, status, sizeof status);
+    CHECK(!strstr(status, "DAMAGED"), "and the status no longer says damaged", "(%s)", status);
+    /* playing through from the start: the damaged steps pass, the end is reached */
+    vsv_player_do(p, "play", err, sizeof err);
+    const vsv_clock *c = vsv_player_clock(p);
+    const double dt = (double)(c->times[1] - c->times[0]) / c->rate / 4;
+    int fails = 0, i = 0;
+    for (; i < 400 && c->playing; i++)
+        fails += vsv_player_update(p, dt, 0) != 0;
+    CHECK(!fails && vsv_player_shown_step(p) == 3, "playing through it reaches the last step",
+          "(%d failed updates, step %d after %d ticks)", fails, vsv_player_shown_step(p), i);
+    vsv_player_free(p);
+}
+
 int main(void)
 {
     test_freevr_layout();
@@ -240,6 +304,7 @@ int main(void)
     test_state(p, path);
     test_camera_from_gl(p);
     vsv_player_free(p);
+    test_damaged(path, o);
     o.path = "/nonexistent/x.vsv";
     CHECK(vsv_player_open(&o, &p, err, sizeof err) == -1 && strstr(err, "/nonexistent/x.vsv"),
           "a missing file is an error naming it", "(%s)", err);

@@ -400,6 +400,13 @@ int main(int argc, char **argv)
             snprintf(shot_path, sizeof shot_path, "%s", shot);
         if (vsv_player_update(p, now - last, shot != NULL))
             vsv_cli_die(1, "%s", vsv_player_error(p));
+        const char *why;
+        const int bad = vsv_player_damage(p, &why);
+        if (bad >= 0) { /* once per step; the status line keeps saying it */
+            char when[64];
+            vsv_time_format(vsv_player_clock(p)->times[bad], when, sizeof when);
+            fprintf(stderr, "vsv-play: %s: step %d (%s) is damaged, not drawn; playing on: %s\n", po.path, bad, when, why);
+        }
         last = now;
         int fw, fh;
         glfwGetFramebufferSize(a.win, &fw, &fh);

@@ -22,6 +22,8 @@ struct vsv_player {
     unsigned char *want; /* per species: visible */
     int selected;
     int shown;           /* the step on screen; -1 before the first */
+    char **bad;          /* per step: why it cannot be decoded, or NULL */
+    int news;            /* a step found damaged and not yet taken, or -1 */
     double exaggeration;
     int terrain;
     /* camera: an orbit about the scene centre (dist 0: the box filling the
@@ -115,7 +117,9 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     p->layers = calloc((size_t)p->ns, sizeof *p->layers);
     p->want = calloc((size_t)p->ns, 1);
     p->need = calloc((size_t)p->ns, 1);
-    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need) {
+    p->bad = calloc((size_t)info.nsteps, sizeof *p->bad);
+    p->news = -1;
+    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need || !p->bad) {
         snprintf(err, cap, "out of memory");
         return -1;
     }
@@ -241,6 +245,9 @@ void vsv_player_free(vsv_player *p)
     vsv_pager_free(p->pager);
     vsv_renderer_free(p->r);
     vsv_file_free(p->f);
+    for (int t = 0; p->bad && t < p->clock.nsteps; t++)
+        free(p->bad[t]);
+    free(p->bad);
     free(p->times);
     free(p->tf);
     free(p->cur);
@@ -284,9 +291,10 @@ static int show(vsv_player *p, int t, int wait)
         }
         if (p->cur[s]->step == t)
             continue;
-        if (vsv_pager_get(p->pager, t, s, wait, p->cur[s])) {
+        const int rc = vsv_pager_get(p->pager, t, s, wait, p->cur[s]);
+        if (rc) {
             p->layers[s].vol = NULL;
-            return -1;
+            return rc;
         }
         p->layers[s].vol = p->cur[s];
     }
@@ -298,12 +306,47 @@ static int show(vsv_player *p, int t, int wait)
 
 const char *vsv_player_error(const vsv_player *p) { return p->err; }
 
+/* Step t is damaged: shown as nothing (no species drawn, the step's time
+ * and its damage in the status), never as the picture before it. */
+static void show_blank(vsv_player *p, int t)
+{
+    for (int s = 0; s < p->ns; s++) {
+        if (p->cur[s]->step >= 0)
+            vsv_pager_put(p->pager, p->cur[s]);
+        p->layers[s].vol = NULL;
+    }
+    if (t != p->shown)
+        p->dirty = 1;
+    p->shown = t;
+}
+
 static int show_checked(vsv_player *p, int t)
 {
-    if (!show(p, t, 1))
+    if (p->bad[t]) {
+        show_blank(p, t);
+        return 0;
+    }
+    const int rc = show(p, t, 1);
+    if (!rc)
         return 0;
     snprintf(p->err, sizeof p->err, "%s", vsv_pager_error(p->pager));
-    return -1;
+    if (rc != VSV_ECORRUPT && rc != VSV_ETRUNC)
+        return -1;
+    /* a damaged step: reported once (vsv_player_damage), playback goes on */
+    if (!(p->bad[t] = strdup(p->err[0] ? p->err : "damaged")))
+        return -1;
+    p->news = t;
+    show_blank(p, t);
+    return 0;
+}
+
+int vsv_player_damage(vsv_player *p, const char **why)
+{
+    const int t = p->news;
+    p->news = -1;
+    if (why)
+        *why = t >= 0 ? p->bad[t] : NULL;
+    return t;
 }
 
 int vsv_player_update(vsv_player *p, double dt, int exact)
@@ -318,8 +361,8 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
     vsv_pager_stats_get(p->pager, &st);
     /* st.prefetch_depth 0: a step does not fit the budget beside the one
      * shown, nothing is decoded ahead, so decode on demand */
-    if (exact || !c->playing || p->shown < 0 || target == p->shown || st.prefetch_depth == 0 ||
-        vsv_pager_ready(p->pager, target, need))
+    if (exact || !c->playing || p->shown < 0 || target == p->shown || st.prefetch_depth == 0 || p->bad[target] ||
+        vsv_pager_ready(p->pager, target, need)) /* (-1, failed: decoded here to say why) */
         return show_checked(p, target);
     /* playing and the clock's step is not decoded yet: the newest decoded
      * step on the way there, else the one shown stays */
@@ -329,7 +372,7 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
         t = ((t - dir) % n + n) % n;
         if (t == p->shown)
             break;
-        if (vsv_pager_ready(p->pager, t, need))
+        if (vsv_pager_ready(p->pager, t, need) == 1)
             return show_checked(p, t);
     }
     return show_checked(p, p->shown); /* the step shown, with any species just switched on */
@@ -649,6 +692,8 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
             n += (size_t)snprintf(buf + n, cap - n, "%s%s%s off%s", s ? " " : "", sel ? "[" : "", p->m->vars[s].name,
                                   sel ? "]" : "");
     }
+    if (p->shown >= 0 && p->bad[p->shown] && n < cap)
+        snprintf(buf + n, cap - n, "\nstep %d DAMAGED, not drawn: %s", p->shown + 1, p->bad[p->shown]);
 }
 
 const char *vsv_player_help_text(void)

@@ -68,10 +68,18 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap);
  * the clock's step when decoded, else (while playing) the newest decoded
  * step between the one shown and it (counted as a stall). exact: wait until
  * the clock's step itself is shown (screenshots, paused seeks). 0, or -1
- * when a step cannot be decoded (vsv_player_error says why: the file, step,
- * species and brick); nothing is drawn from a step that failed. */
+ * when a step cannot be decoded for another reason than damage (out of
+ * memory; vsv_player_error says why); nothing is drawn from a step that
+ * failed. */
 int vsv_player_update(vsv_player *p, double dt, int exact);
 const char *vsv_player_error(const vsv_player *p);
+/* A damaged step (a chunk or brick that fails its checks) is not an error
+ * of update: it is shown as nothing (no species drawn), the status says so,
+ * and playback goes on past it. This returns a step newly found damaged
+ * since the last call (0-based) with the pager's message in *why (the file,
+ * step, species, brick; owned by the player), or -1: a back end says it
+ * once on stderr. */
+int vsv_player_damage(vsv_player *p, const char **why);
 
 /* The camera for a w x h view from the orbit state. */
 void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam);
