@@ -22,8 +22,8 @@ static const char usage[] =
     "With %04d (or another printf integer) in OUT, every selected step is rendered,\n"
     "numbered from 0.\n"
     "Reads .vsv files (vsv(5)) and transfer-function files (--tf); writes PNG,\n"
-    "OpenEXR (.exr) and, through ffmpeg, movies (--movie: MP4/H.264, or the\n"
-    "container the extension names).\n"
+    "OpenEXR (.exr) and, through ffmpeg, movies (--movie: H.264 in the container\n"
+    "the extension names: .mp4, .m4v, .mov, .mkv, .avi, .flv or .ts).\n"
     "\n"
     "  -o, --output FILE       the image; %04d for a sequence\n"
     "  -t, --time T            one step: an index or an ISO time, the nearest step\n"
@@ -117,18 +117,36 @@ static int have_program(const char *name)
     return found;
 }
 
+/* ffmpeg's muxer for the movie's extension (H.264 in each), or NULL. */
+static const char *movie_muxer(const char *out)
+{
+    static const char *const map[][2] = {{".mp4", "mp4"}, {".m4v", "mp4"},      {".mov", "mov"},
+                                         {".mkv", "matroska"}, {".avi", "avi"}, {".flv", "flv"},
+                                         {".ts", "mpegts"}};
+    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    if (!dot || (slash && dot < slash))
+        return NULL;
+    for (size_t i = 0; i < sizeof map / sizeof *map; i++)
+        if (!strcasecmp(dot, map[i][0]))
+            return map[i][1];
+    return NULL;
+}
+
 static void movie_open(movie *mv, const char *out, int w, int h, int fps)
 {
     if (!have_program("ffmpeg"))
         vsv_cli_die(1, "--movie needs ffmpeg, which is not installed (apt-get install ffmpeg)");
-    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
-    const char *ext = dot && (!slash || dot > slash) ? dot : ".mp4";
-    /* listed (vsv_output.c): removed on an error exit or a signal; the
-     * extension kept, ffmpeg picks the container by it */
-    const int tfd = vsv_output_temp(out, ext, mv->tmp, sizeof mv->tmp);
+    const char *muxer = movie_muxer(out);
+    if (!muxer)
+        vsv_cli_usage_error("--movie %s: name a .mp4, .m4v, .mov, .mkv, .avi, .flv or .ts file", out);
+    /* listed (vsv_output.c): removed on an error exit or a signal. ffmpeg
+     * writes it as its descriptor 3 (/proc/self/fd/3), never by name: were
+     * the tool killed before ffmpeg opened its output, a name would be
+     * created again after the tool removed it (the SIGTERM sweep left
+     * 'OUT.tmp.PID.0.mp4' so) */
+    const int tfd = vsv_output_temp(out, strrchr(out, '.'), mv->tmp, sizeof mv->tmp);
     if (tfd < 0)
         vsv_cli_die(1, "%s: cannot create: %s", out, strerror(errno));
-    close(tfd);
     mv->out = out;
     int fd[2];
     if (pipe2(fd, O_CLOEXEC))
@@ -139,7 +157,7 @@ static void movie_open(movie *mv, const char *out, int w, int h, int fps)
     char *const args[] = {"ffmpeg", "-hide_banner", "-loglevel", "error", "-nostdin", "-y", "-f", "rawvideo",
                           "-pix_fmt", "rgb24", "-s", size, "-r", rate, "-i", "pipe:0", "-an", "-vf",
                           "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18",
-                          mv->tmp, NULL};
+                          "-f", (char *)muxer, "file:/proc/self/fd/3", NULL};
     /* posix_spawnp: nothing of ours runs between fork and exec (the
      * renderer's threads may exist; a forked copy must not touch a lock) */
     posix_spawn_file_actions_t fa;
@@ -154,6 +172,8 @@ static void movie_open(movie *mv, const char *out, int w, int h, int fps)
         vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(rc));
     rc = posix_spawn_file_actions_adddup2(&fa, fd[0], 0);
     if (!rc)
+        rc = posix_spawn_file_actions_adddup2(&fa, tfd, 3);
+    if (!rc)
         rc = posix_spawnattr_setsigdefault(&at, &dfl);
     if (!rc)
         rc = posix_spawnattr_setflags(&at, POSIX_SPAWN_SETSIGDEF);
@@ -162,6 +182,7 @@ static void movie_open(movie *mv, const char *out, int w, int h, int fps)
     posix_spawnattr_destroy(&at);
     posix_spawn_file_actions_destroy(&fa);
     close(fd[0]);
+    close(tfd);
     if (rc)
         vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(rc));
     if (!(mv->pipe = fdopen(fd[1], "wb")))

@@ -19,9 +19,11 @@ another value) or a truncation at a random length. A run passes when the tool
  - leaves in its output folder either nothing (exit 1) or only the complete
    output (exit 0; a .vsv output then passes vsv-info --check): no temporary,
    no partial file.
-SIGTERM: vsv-convert (the real MM5 run), vsv-export and vsv-render --movie
-are sent SIGTERM at a random moment of their run; after it the output folder
-must be empty (or hold only the complete output if the job had finished).
+SIGTERM: vsv-convert (the real MM5 run), vsv-export (--vdb, --netcdf),
+vsv-render --movie and a vsv-render PNG sequence are each sent SIGTERM N
+times (--sigterm) at a random moment of their run; after it the output
+folder must be empty (or hold only the complete output if the job had
+finished), and the tool must have died of the signal (or exited 0 first).
 Prints per kind and tool the runs and each failure class; exit 1 on any
 failure. Run from the top of the tree after `make`; B (build dir) and SHARED
 as for the tests. tests/cli_sweep.sh runs a small fixed subset in make test.
@@ -208,6 +210,26 @@ def model_sweep(kind, work, n_flips, n_truncs, rng, jobs):
         list(ex.map(one, range(n_flips + n_truncs)))
 
 
+def orphans_gone(folder):
+    """Waits (up to the time limit) until no process's command line names folder."""
+    end = time.time() + LIMIT
+    key = folder.encode()
+    while time.time() < end:
+        alive = False
+        for pid in os.listdir("/proc"):
+            if pid.isdigit():
+                try:
+                    with open("/proc/%s/cmdline" % pid, "rb") as fp:
+                        alive = key in fp.read()
+                except OSError:
+                    continue
+                if alive:
+                    break
+        if not alive:
+            return
+        time.sleep(0.05)
+
+
 def sigterm_sweep(work, n, rng):
     """SIGTERM at a random moment; nothing may be left but a complete output."""
     small = os.path.join(work, "sig.vsv")
@@ -232,7 +254,7 @@ def sigterm_sweep(work, n, rng):
         dur[name] = time.time() - t0
         shutil.rmtree(o)
         print("sigterm: %s runs %.2f s (exit %s)" % (name, dur[name], r), flush=True)
-    for i in range(n):
+    for i in range(n * len(jobs)):  # n tries of each job, interleaved
         name, cmd, expect = jobs[i % len(jobs)]
         o = tempfile.mkdtemp(dir=work)
         when = rng.uniform(0, dur[name] * 1.05)
@@ -249,6 +271,9 @@ def sigterm_sweep(work, n, rng):
             T.add(("sigterm", name), "hang after SIGTERM", "at %.2f s" % when)
             shutil.rmtree(o)
             continue
+        # a helper it started (ffmpeg, vsv-nc-writer) may outlive it: wait
+        # for every process naming the folder, then look
+        orphans_gone(o)
         left = sorted(os.listdir(o))
         ex = "SIGTERM at %.2f s: exit %s, left %s" % (when, rc, left[:4])
         if rc == 0:
@@ -282,7 +307,7 @@ def main():
     ap.add_argument("--truncs", type=int, default=200)
     ap.add_argument("--model-flips", type=int, default=500)
     ap.add_argument("--model-truncs", type=int, default=100)
-    ap.add_argument("--sigterm", type=int, default=100)
+    ap.add_argument("--sigterm", type=int, default=100, help="SIGTERM tries of each tool")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--seed", type=int, default=18)
     ap.add_argument("--sigterm-input", help="the model file vsv-convert reads in the SIGTERM runs "
