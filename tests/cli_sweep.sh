@@ -24,3 +24,17 @@ if [ $rc = 0 ] && grep -q '^200 runs, 0 failed' "$T/sweep"; then
 else
     fail "the fixed damage sweep" "$(grep -E '^FAIL' "$T/sweep" | head -n 3 | cut -c1-300)"
 fi
+# SIGTERM at a random moment (seeded) of vsv-convert (the bundled MM5
+# sample), vsv-export --vdb and --netcdf, vsv-render --movie and a PNG
+# sequence, 3 tries each: the tool dies of it (or had finished) and its
+# output folder holds nothing (or the complete output). Any moment must
+# pass, so a slow machine changes which moments are tried, not the verdict.
+TMPDIR=$T B=$B SHARED=$SHARED /usr/bin/python3 tests/sweep/sweep.py --kinds sigterm --sigterm 3 --seed 7 \
+    --sigterm-input samples/mm5/MMOUT_DOMAIN1_CROP > "$T/sig" 2>&1
+rc=$?
+grep -E '^(FAIL|[0-9]+ runs)' "$T/sig"
+if [ $rc = 0 ] && grep -q '^15 runs, 0 failed' "$T/sig"; then
+    pass "SIGTERM at random moments of 5 jobs, 3 each: nothing left behind"
+else
+    fail "SIGTERM at random moments" "$(grep -E '^FAIL' "$T/sig" | head -n 3 | cut -c1-300)"
+fi
