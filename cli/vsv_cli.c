@@ -22,11 +22,24 @@ static int quiet;
 /* SIGINT, SIGTERM, SIGHUP: every temporary output removed (vsv_output.c),
  * then the signal re-raised with its default action, so the caller sees the
  * tool die of it (as zstd's programs do). */
+static volatile sig_atomic_t holding, held;
+
 static void on_stop(int sig)
 {
+    if (holding) { /* a sequence is being renamed into place: after it */
+        held = sig;
+        return;
+    }
     vsv_output_cleanup();
     signal(sig, SIG_DFL);
     raise(sig);
+}
+
+void vsv_cli_hold_signals(int on)
+{
+    holding = on;
+    if (!on && held)
+        on_stop(held);
 }
 
 static void at_exit(void) { vsv_output_cleanup(); }

@@ -16,6 +16,10 @@
 
 /* Set once by main: the tool name used in messages. */
 void vsv_cli_init(const char *tool);
+/* on: SIGINT/SIGTERM/SIGHUP wait (a sequence's files are being renamed
+ * into place: all of them appear, or none); off: one that came is acted on
+ * now (the finished outputs stay, the tool dies of it). */
+void vsv_cli_hold_signals(int on);
 const char *vsv_cli_tool(void);
 /* "tool: message" on stderr, then exit(code). */
 void vsv_cli_die(int code, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));

@@ -161,6 +161,7 @@ int main(int argc, char **argv)
         }
         vsv_cli_progress("vsv-export", t - a + 1, b - a + 1);
     }
+    vsv_cli_hold_signals(1); /* all renamed, or none: a signal waits for it */
     for (int t = a; t <= b; t++) {
         char name[4096];
         if (sequence)
@@ -170,6 +171,7 @@ int main(int argc, char **argv)
         if (vsv_output_publish(staged + (size_t)(t - a) * 4200, name))
             vsv_cli_die(1, "%s: cannot rename into place: %s", name, strerror(errno));
     }
+    vsv_cli_hold_signals(0);
     free(staged);
     if (!vsv_cli_quiet() && !isatty(2))
         fprintf(stderr, "vsv-export: %d file%s, %d species each\n", b - a + 1, b > a ? "s" : "", n);

@@ -581,7 +581,9 @@ int main(int argc, char **argv)
     }
     if (movie_out)
         movie_close(&mv);
-    /* everything written: into place (a sequence appears all at once) */
+    /* everything written: into place (a sequence appears all at once, a
+     * signal waits for it) */
+    vsv_cli_hold_signals(1);
     for (int t = a; out && t <= b; t++) {
         char name[4096];
         if (sequence)
@@ -593,6 +595,7 @@ int main(int argc, char **argv)
     }
     if (movie_out && vsv_output_publish(mv.tmp, movie_out))
         vsv_cli_die(1, "%s: cannot rename into place: %s", movie_out, strerror(errno));
+    vsv_cli_hold_signals(0);
     free(staged);
     free(rgb8);
     if (!vsv_cli_quiet() && !isatty(2))
