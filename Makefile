@@ -115,7 +115,7 @@ RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c))
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
 HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))
-PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o
+PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_state.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o
 
 CORE_A = $(B)/libvesuvius.a
 CONVERT_A = $(B)/libvesuvius-convert.a

@@ -1,6 +1,7 @@
 /* vsv_tf.c — transfer functions: colour maps, the small text format, and
  * the lookup tables the renderers sample, and the opacity table. */
 #include "vsv_tf_internal.h"
+#include "vsv_common.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -183,9 +184,10 @@ void vsv_tf_format(const vsv_tf *tf, char *buf, size_t cap)
 
 int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t cap, char *msg, size_t msgcap)
 {
-    FILE *fp = fopen(path, "r");
+    char why[300];
+    FILE *fp = vsv_input_fopen(path, "r", why, sizeof why); /* a directory read as no text before */
     if (!fp) {
-        snprintf(msg, msgcap, "%s: cannot open: %s", path, strerror(errno));
+        snprintf(msg, msgcap, "%s: %s", path, why);
         return VSV_EIO;
     }
     char line[512];
@@ -223,7 +225,12 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
             emitted = lineno;
         }
     }
+    const int bad = ferror(fp), e = errno;
     fclose(fp);
+    if (bad) {
+        snprintf(msg, msgcap, "%s: cannot read: %s", path, strerror(e));
+        return VSV_EIO;
+    }
     return found ? 0 : VSV_ENOTFOUND;
 }
 

@@ -29,3 +29,13 @@ bad "a unit after the values" "range 0 1e-3kg"
 bad "one value" "range 0.001"
 [ -e "$T/x.png" ] && fail "no image is written for a bad transfer function" "x.png exists" ||
     pass "no image is written for a bad transfer function"
+
+# a --tf that is not a regular file: a directory was read as no text and
+# ignored (exit 0), a FIFO would block; each is refused naming it
+mkdir "$T/tfdir"
+expect "--tf naming a directory exits 1" 1 "$B/vsv-render" -q "$T/s.vsv" --tf "$T/tfdir" -o "$T/d.png" --size 64x48
+has "saying what it is" "$T/err" "$T/tfdir: a directory, not a regular file: refused"
+mkfifo "$T/tffifo"
+expect "--tf naming a FIFO exits 1" 1 timeout 60 "$B/vsv-render" -q "$T/s.vsv" --tf "$T/tffifo" -o "$T/d.png" --size 64x48
+has "saying what it is" "$T/err" "$T/tffifo: a FIFO, not a regular file: refused"
+[ ! -e "$T/d.png" ] && pass "and no image" || fail "and no image" "d.png written"

@@ -1,0 +1,57 @@
+/* vsv_player_internal.h — the player's state, shared by vsv_player.c (the
+ * file, pager, actions and pictures) and vsv_player_state.c (the status
+ * lines, accessors and the state a multi-process back end copies). */
+#ifndef VSV_PLAYER_INTERNAL_H
+#define VSV_PLAYER_INTERNAL_H
+
+#include "vsv_player.h"
+
+struct vsv_player {
+    vsv_file *f;
+    const vsv_meta *m;
+    char path[1024];
+    int ns;
+    vsv_pager *pager;
+    vsv_clock clock;
+    int64_t *times;
+    vsv_tf *tf;
+    vsv_volume **cur;    /* per species: the volume shown (step -1: none) */
+    vsv_layer *layers;   /* per species */
+    unsigned char *want; /* per species: visible */
+    int selected;
+    int shown;           /* the step on screen; -1 before the first */
+    char **bad;          /* per step: why it cannot be decoded, or NULL */
+    int news;            /* a step found damaged and not yet taken, or -1 */
+    double exaggeration;
+    int terrain;
+    /* camera: an orbit about the scene centre (dist 0: the box filling the
+     * view), or a plan view zoomed by plan_zoom; moved by pan (world metres) */
+    double az, el, dist, pan[3], plan_zoom;
+    int plan;
+    /* lighting and slices */
+    int light, slices_on, nslices, slice_var;
+    double sun_az, sun_el;
+    vsv_slice slices[8];
+    vsv_tf slice_tf;
+    unsigned char *need; /* per species: pinned (drawn, or the slices' species) */
+    /* rendering */
+    vsv_render_opts ro;
+    vsv_renderer *r;
+    float *rgba, *depth;
+    unsigned char *rgb;
+    /* the annotated copy of the frame (vsv_player_annotated) */
+    float *argba;
+    unsigned char *argb;
+    int *sidx;           /* per layer: its species (the identity) */
+    int iw, ih;
+    vsv_camera last_cam;
+    int dirty;
+    float bg[3];
+    /* back-end state */
+    int quit, help;
+    char err[1024];
+    char shot[1024];
+    int shot_pending;
+};
+
+#endif
