@@ -111,7 +111,7 @@ COMMON_OBJ = $(B)/format/vsv_buf.o $(B)/format/vsv_msg.o $(B)/format/vsv_vgrid.o
 CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(wildcard stream/vsv_*.c))
 # vsv_*_cli.c: program code a folder's tools share (never in a library)
 CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c))) $(COMMON_OBJ)
-RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c))
+RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c)) $(COMMON_OBJ)
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
 HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))

@@ -154,7 +154,8 @@ static void movie_open(movie *mv, const char *out, int w, int h, int fps)
     char size[64], rate[32];
     snprintf(size, sizeof size, "%dx%d", w, h);
     snprintf(rate, sizeof rate, "%d", fps);
-    char *const args[] = {"ffmpeg", "-hide_banner", "-loglevel", "error", "-nostdin", "-y", "-f", "rawvideo",
+    /* -xerror: a failed write of the output (a full disk) is exit 1, not 0 */
+    char *const args[] = {"ffmpeg", "-hide_banner", "-loglevel", "error", "-xerror", "-nostdin", "-y", "-f", "rawvideo",
                           "-pix_fmt", "rgb24", "-s", size, "-r", rate, "-i", "pipe:0", "-an", "-vf",
                           "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18",
                           "-f", (char *)muxer, "file:/proc/self/fd/3", NULL};

@@ -80,6 +80,14 @@ rm -f "$T/full/n.nc"
 expect "vsv-render on a full disk exits 1" 1 "$T/fullfs" "$B/vsv-render" -q "$T/a.vsv" -o "$T/full/f.png" --time 1
 has "naming the output" "$T/err" "vsv-render: $T/full/f.png"
 empty "no short PNG left" "$T/full"
+# a movie: ffmpeg said "Error writing trailer ... File too large" and exited
+# 0, so vsv-render exited 0 with a short movie
+if command -v ffmpeg > /dev/null; then
+    expect "vsv-render --movie on a full disk exits 1" 1 "$T/fullfs" "$B/vsv-render" -q "$T/a.vsv" \
+        --movie "$T/full/m.mp4" --size 320x240
+    has "naming the movie" "$T/err" "vsv-render: $T/full/m.mp4: ffmpeg failed"
+    empty "no short movie left" "$T/full"
+fi
 expect "vsv-render EXR on a full disk exits 1" 1 "$T/fullfs" "$B/vsv-render" -q "$T/a.vsv" -o "$T/full/f.exr" --time 1
 empty "no short EXR left" "$T/full"
 expect "vsv-convert on a full disk exits 1" 1 env BLOCKS=200 "$T/fullfs" \
