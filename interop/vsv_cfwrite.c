@@ -40,6 +40,24 @@ int vsv_cf_write(const char *path, const char *src, vsv_file *f, const int *sel,
         snprintf(err, cap, "%s: cannot create a temporary file beside it: %s", path, strerror(errno));
         return VSV_EIO;
     }
+    if (strstr(src, "://")) {
+        /* a remote .vsv (vsv_file_open_any): the helper cannot open it again,
+         * so this process writes (a library crash on a failed write is then
+         * not contained) */
+        char target[64];
+        snprintf(target, sizeof target, "/proc/self/fd/%d", fd);
+        const int rc = vsv_cf_write_here(target, path, f, sel, n, a, b, history, progress, ctx, err, cap);
+        if (rc) {
+            close(fd);
+            vsv_output_discard(tmp);
+            return rc;
+        }
+        if (vsv_output_commit(fd, tmp, path)) {
+            snprintf(err, cap, "%s: cannot write the finished file to disk: %s", path, strerror(errno));
+            return VSV_EIO;
+        }
+        return 0;
+    }
     char *list = malloc((size_t)n * 12 + 1), pid[24], sa[16], sb[16];
     int p[2] = {-1, -1};
     if (!list) {
