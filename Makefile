@@ -367,11 +367,12 @@ $(B)/vsv-play-freevr: $(FREEVR_DEPS)
 # the stand-in: FreeVR's calls and conventions (../shared/docs/FREEVR.md)
 # written by the project for tests, laid out like an install
 STANDIN = $(B)/tests/freevr-standin
-$(B)/tests/freevr-standin/freevr.o: CFLAGS_ALL += -isystem viewer/freevr
+STANDIN_OBJ = $(call objs,$(wildcard tests/freevr-standin/freevr_*.c))
+$(STANDIN_OBJ): CFLAGS_ALL += -isystem viewer/freevr
 $(STANDIN)/include/freevr.h: viewer/freevr/freevr.h
 	@mkdir -p $(dir $@)
 	$(Q)cp $< $@
-$(STANDIN)/lib/libfreevr.a: $(B)/tests/freevr-standin/freevr.o
+$(STANDIN)/lib/libfreevr.a: $(STANDIN_OBJ)
 	@mkdir -p $(dir $@)
 	$(Q)rm -f $@ && ar rcs $@ $^
 $(B)/tests/vsv-play-freevr: $(FREEVR_DEPS) $(STANDIN)/include/freevr.h $(STANDIN)/lib/libfreevr.a

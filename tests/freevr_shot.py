@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """freevr_shot.py - what a FreeVR stand-in window dump (PPM, see
-tests/freevr-standin/freevr.c) shows, for tests/cli_freevr.sh.
+tests/freevr-standin/freevr_render.c) shows, for tests/cli_freevr.sh.
 
   freevr_shot.py scene FILE.ppm      the share of pixels of the rendered scene
                                      (terrain: green above blue), 0..1

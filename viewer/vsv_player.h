@@ -14,7 +14,7 @@
  *   the view) | light [on|off] | slices [on|off] (no argument: switch)
  *   help | screenshot FILE.png | quit
  *
- * Display back ends (viewer/vsv-play.c: GLFW; viewer/vsv_freevr.c: FreeVR)
+ * Display back ends (viewer/vsv-play.c: GLFW; viewer/vsv-play-freevr.c: FreeVR)
  * own the window and call update, then render for each eye's camera, then
  * draw the image on a billboard (vsv_billboard.h). */
 #ifndef VSV_PLAYER_H

@@ -1,0 +1,177 @@
+/* freevr_standin.h — the test stand-in for FreeVR: the calls the FreeVR back end
+ * uses (declared in viewer/freevr/freevr.h, installed as this stand-in's
+ * freevr.h), written by the project from ../shared/docs/FREEVR.md alone. It
+ * is NOT FreeVR: it exists so that `make test` can run vsv-play-freevr under
+ * Xvfb and look at what each wall shows. Built by `make test`, never
+ * installed. It behaves the way that page says FreeVR behaves wherever that
+ * decides what a wall shows:
+ *
+ *  - real-world units are feet (the CAVE a 10-foot cube, the floor y = 0);
+ *  - configuration in FreeVR's syntax from $FREEVR_HOME/.freevrrc,
+ *    $HOME/.freevrrc, ./.freevrrc, the FREEVR variable, then every
+ *    command-line argument (none removed; a warning for each one not
+ *    understood); none at all: a one-window simulator;
+ *  - vrConfigure creates one SysV semaphore set of 250 semaphores; vrExit
+ *    removes it (a process that exits without vrExit leaves it);
+ *  - one shared arena of exactly the size the first vrShmemInit asked for
+ *    (16 MiB by default), from which the stand-in takes its own state too:
+ *    445,000 bytes at vrConfigure and, in each render process, its share of
+ *    the per-window state measured with FreeVR (525 KB in all with one
+ *    window, 765 KB with four, 1,049,736 bytes with eight); when it is full
+ *    it prints "Not enough room to amalloc", and a render process that
+ *    cannot get its state waits forever (so vrExit never returns);
+ *  - vrStart forks one render process per visren process, each opening its
+ *    own GLX windows and contexts (named "FreeVR(pid): NAME window"), and one
+ *    input process polling the X server every usecmin microseconds (16,667:
+ *    60 Hz); Escape is 2switch 0, and vrFrame returns 0 once it is pressed;
+ *  - before each eye's display callback it loads glFrustum(near 0.1, far
+ *    1000) for that wall from its rw2w_coords corners and the head, and the
+ *    modelview (the wall's axes times a translation by minus the eye); it
+ *    never clears the colour or depth buffer.
+ * Simplifications, all outside what a wall shows: one (mono) eye; the
+ * simulated head stays at (0, 5, 0) feet; the simulator window looks from
+ * (0, 7, 12) at (0, 4, -3); an xwindows device's 2switches are numbered in
+ * the order its inputs are listed; locks are exclusive.
+ *
+ * Test aid (not FreeVR): with FREEVR_STANDIN_DUMP=DIR every frame of every
+ * window is written, as glReadPixels sees the back buffer just before the
+ * swap, to DIR/NAME.ppm (a "# frame N" comment counts the frames).
+ *
+ * This header is what the stand-in's files share: freevr_config.c (the
+ * configuration language), freevr_shmem.c (the shared arena, semaphores and
+ * locks), freevr_process.c (vrConfigure, vrStart, vrExit: the processes),
+ * freevr_render.c (callbacks, windows, projection, drawing) and
+ * freevr_input.c (switches, valuators, sensors, travel). */
+#ifndef FREEVR_STANDIN_H
+#define FREEVR_STANDIN_H
+
+#include <freevr.h>
+
+#include <stddef.h>
+
+/* what FreeVR loads into OpenGL before each eye's display callback (the
+ * header leaves vrRenderInfo opaque: the back end reads the GL matrices) */
+typedef struct vrPerspective {
+    struct {
+        struct {
+            double left, right, bottom, top;
+        } n;
+        double near_clip, far_clip;
+    } frustum;
+    double eye[3];       /* the eye in real-world feet */
+    vrMatrix rw2w_xform; /* real world -> the wall's frame */
+} vrPerspective;
+
+struct vrRenderInfo {
+    vrPerspective *persp;
+    const char *window; /* the window's name */
+    int eye;            /* 0: the stand-in renders one (mono) eye */
+};
+
+#define NEAR_CLIP 0.1
+#define FAR_CLIP 1000.0
+#define NSEMS 250
+#define BASE_STATE 445000ul
+#define MAXWIN 32
+#define MAXPROC 40
+#define NAMELEN 64
+#define NSW 16
+#define NVAL 8
+
+/* ---------------------------------------------------------- configuration */
+
+typedef struct {
+    char name[NAMELEN];
+    int simulator;  /* mount = "simulator" (else fixed) */
+    int w, h, x, y; /* geometry */
+    double c[9];    /* rw2w_coords: lower-left, lower-right, upper-left */
+} win_def;
+
+typedef struct {
+    char name[NAMELEN];
+    int type; /* 'v' visren, 'i' input, 0 other */
+    int nobj;
+    char obj[MAXWIN][NAMELEN];
+    long usecmin;
+} proc_def;
+
+typedef struct {
+    char name[NAMELEN];
+    int nprocs;
+    char procs[MAXPROC][NAMELEN];
+} sys_def;
+
+typedef struct {
+    char name[NAMELEN];
+    int xwindows, nin;
+    struct {
+        int button;         /* 1..3: a mouse button, else a key */
+        unsigned long keysym;
+    } in[NSW];
+} dev_def;
+
+typedef struct {
+    char use[NAMELEN];
+    win_def win[MAXWIN * 2];
+    int nwin;
+    proc_def proc[MAXPROC];
+    int nproc;
+    sys_def sys[8];
+    int nsys;
+    dev_def dev[8];
+    int ndev;
+} config;
+
+/* The configuration in use (freevr_config.c). */
+extern config fvs_cfg;
+/* Reads FreeVR's configuration in its order ($FREEVR_HOME/.freevrrc,
+ * $HOME/.freevrrc, ./.freevrrc, $FREEVR, every argument) into fvs_cfg; the
+ * one-window simulator when none is found or its system is not defined. */
+void fvs_config_load(int *argc, char **argv);
+/* The definitions named so in fvs_cfg (borrowed), or NULL. */
+const proc_def *fvs_find_proc(const char *name);
+const win_def *fvs_find_win(const char *name);
+const dev_def *fvs_find_dev(const char *name);
+/* The system `usesystem` names, or NULL. */
+const sys_def *fvs_used_system(void);
+/* The windows of the used system's visren processes ('v'), or the 2switches
+ * of its input processes' xwindows devices ('i'). */
+int fvs_config_count(int type);
+
+/* ------------------------------------------------------------- the arena */
+
+/* FreeVR's own state at the start of the arena's first allocation */
+typedef struct {
+    volatile int quit, started;
+    volatile int sw[NSW];
+    volatile float val[NVAL];
+    double head[3], wand[3];
+    double start;
+    int nextlock;
+    double travel[16];
+} base_state;
+
+/* FreeVR's state at the start of the arena (freevr_shmem.c); NULL before
+ * vrConfigure and after vrExit. */
+extern base_state *fvs_base;
+/* Each render process's share of FreeVR's per-window state, in bytes. */
+extern size_t fvs_per_window;
+/* Maps the arena, creates the semaphore set and takes the base state from
+ * the arena for a system of `windows` windows; exits the process when the
+ * arena or the semaphores cannot be had. */
+void fvs_shmem_create(int windows);
+/* Removes the semaphore set and unmaps the arena. */
+void fvs_shmem_destroy(void);
+/* FreeVR's allocator over the shared arena: zeroed bytes, or NULL (with
+ * FreeVR's message) when the arena is full. */
+void *fvs_amalloc(size_t n);
+
+/* ------------------------------------------------------------ processes */
+
+/* Seconds on the monotonic clock. */
+double fvs_now(void);
+/* The bodies of the processes vrStart forks; neither returns. */
+void fvs_render_process(const proc_def *p);
+void fvs_input_process(const proc_def *p);
+
+#endif
