@@ -414,10 +414,11 @@ test:
 	$(Q)$(MAKE) --no-print-directory test-run
 
 ifeq ($(TSAN),1)
-# the tests whose code runs threads: the writer's encoders, the pager, the
-# render pool, the player, advection; any data race or lock-order
-# inversion ThreadSanitizer sees is a failure (they run the tools too)
-TSAN_TESTS = test_format test_stream test_pager_play test_render test_viewer \
+# the tests whose code runs threads: the writer's encoders (and an
+# abandoned writer's), the pager, the render pool, the player, advection;
+# any data race or lock-order inversion ThreadSanitizer sees is a failure
+# (they run the tools too)
+TSAN_TESTS = test_format test_format_damage test_stream test_pager_play test_render test_viewer \
   test_advect test_picture
 test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
 	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" \

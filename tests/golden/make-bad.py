@@ -2,7 +2,7 @@
 """make-bad.py — derives the damaged golden files in tests/golden/bad/ from
 tests/golden/small.vsv, each with the message part a reader must report
 (tests/golden/bad/EXPECTED). Run after regenerating small.vsv:
-    VSV_REGEN_GOLDEN=1 build/tests/test_format; python3 tests/golden/make-bad.py
+    VSV_REGEN_GOLDEN=1 build/tests/test_format_damage; python3 tests/golden/make-bad.py
 Offsets follow format/SPEC.md."""
 import os, struct
 

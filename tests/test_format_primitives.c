@@ -1,0 +1,139 @@
+/* test_format_primitives.c — the .vsv format library's primitives: CRC-32C
+ * against a bitwise reference, the calendar (civil time, formatting,
+ * parsing), quantisation within its stated bounds, and dequantisation
+ * bit for bit the rule of SPEC.md §6. */
+#include "vsv_format_internal.h"
+#include "vsv_refread.h"
+#include "vsv_testlib.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void test_basics(void)
+{
+    CHECK(vsv_crc32c(0, "123456789", 9) == 0xE3069283u, "crc32c known vector");
+    uint64_t st = 7;
+    unsigned char buf[1000];
+    for (size_t i = 0; i < sizeof buf; i++)
+        buf[i] = (unsigned char)vsv_test_rand(&st);
+    int same = 1;
+    for (size_t n = 0; n < sizeof buf; n += 37)
+        same &= vsv_crc32c(0, buf, n) == ref_crc32c(buf, n);
+    CHECK(same, "crc32c equals the bitwise reference at many lengths");
+    CHECK(vsv_crc32c(vsv_crc32c(0, buf, 300), buf + 300, 700) == vsv_crc32c(0, buf, 1000), "crc32c continues");
+
+    char t[40];
+    CHECK(vsv_time_from_civil(1970, 1, 1, 0, 0, 0) == 0, "epoch is 0");
+    CHECK(vsv_time_from_civil(2000, 3, 1, 0, 0, 0) == 951868800, "2000-03-01 seconds");
+    vsv_time_format(-1, t, sizeof t);
+    CHECK(!strcmp(t, "1969-12-31T23:59:59Z"), "negative time formats", "got %s", t);
+    vsv_time_format(814492800 + 3 * 3600, t, sizeof t);
+    CHECK(!strcmp(t, "1995-10-24T03:00:00Z"), "MM5 run time formats", "got %s", t);
+    int64_t p = 0;
+    CHECK(!vsv_time_parse("1995-10-24T03:00:00Z", &p) && p == 814492800 + 3 * 3600, "ISO time parses");
+    CHECK(!vsv_time_parse("1995-10-24_03:00", &p) && p == 814492800 + 3 * 3600, "MM5-style time parses");
+    CHECK(vsv_time_parse("1995-13-24", &p) == VSV_EINVAL, "bad month rejected");
+}
+
+static void test_quant(void)
+{
+    vsv_pack_var o;
+    vsv_pack_var_init(&o);
+    vsv_quant q;
+    vsv_quant_plan(&q, &o, 200, 300, 200, 0);
+    int ok = 1;
+    for (double v = 200; v <= 300; v += 0.0137) {
+        unsigned c = vsv_quant_code(&q, (float)v);
+        ok &= fabs(vsv_quant_value(&q, c) - (float)v) <= q.max_abs_error;
+    }
+    CHECK(ok && q.max_abs_error < 100.0 / 65535, "linear 16-bit error within bound", "bound %g", q.max_abs_error);
+    CHECK(vsv_quant_code(&q, NAN) == 0 && vsv_quant_code(&q, INFINITY) == 0, "non-finite values are code 0");
+    vsv_quant_plan(&q, &o, 200, 300, 200, 1);
+    ok = q.missing && vsv_quant_code(&q, 200) == 1 && vsv_quant_code(&q, 300) == 65535 && isnan(vsv_quant_value(&q, 0));
+    for (double v = 200; v <= 300; v += 0.0137)
+        ok &= fabs(vsv_quant_value(&q, vsv_quant_code(&q, (float)v)) - (float)v) <= q.max_abs_error;
+    CHECK(ok, "linear with no-data cells: code 0 decodes to NaN, values within bound");
+    o.scale = VSV_SCALE_LOG;
+    o.bits = 8;
+    vsv_quant_plan(&q, &o, 0, 1e-3, 1e-9, 0);
+    CHECK(fabs(q.lo - 1e-6) < 1e-18 && q.hi == 1e-3, "log 8-bit spans 3 decades by default", "lo %g", q.lo);
+    ok = 1;
+    for (double v = 1e-9; v <= 1e-3; v *= 1.07) {
+        unsigned c = vsv_quant_code(&q, (float)v);
+        ok &= fabs(vsv_quant_value(&q, c) - (float)v) <= q.max_abs_error;
+        ok &= v < q.lo ? c == 0 : c >= 1;
+    }
+    CHECK(ok, "log 8-bit error within bound, below floor is empty", "bound %g", q.max_abs_error);
+    CHECK(vsv_quant_code(&q, 0) == 0 && vsv_quant_value(&q, 0) == 0, "log code 0 is zero");
+}
+
+/* vsv_file_dequantise gives, for every code, the very bits of
+ * vsv_quant_value (the rule of SPEC.md §6): linear 16-bit with code 0 as no
+ * data (NaN), linear 16-bit without, and 8-bit (its table). */
+static void test_dequantise(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = 4, m.ny = 2, m.nz = 1;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1;
+    vsv_meta_add_var(&m, "gaps", "K", "");
+    vsv_meta_add_var(&m, "full", "K", "");
+    vsv_meta_add_var(&m, "byte", "K", "");
+    vsv_pack_opts o;
+    vsv_pack_var pv[3];
+    vsv_pack_opts_init(&o);
+    o.threads = 1;
+    for (int s = 0; s < 3; s++)
+        vsv_pack_var_init(&pv[s]);
+    pv[2].bits = 8;
+    o.vars = pv;
+    const float gaps[8] = {201.5f, NAN, 250, 299.25f, 233, 201, 278.125f, 300};
+    const float full[8] = {-3.75f, 0.5f, 1e3f, 17, 18, 19, 20, 21}, byte[8] = {1, 2, 3, 4, 5, 6, 7, 8.5f};
+    const float *fields[3] = {gaps, full, byte};
+    const char *path = vsv_test_tmp("dequant.vsv");
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(path, &m, &o, &w);
+    rc = rc ? rc : vsv_writer_add_step(w, 0, fields);
+    rc = rc ? rc : vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    vsv_file *f = NULL;
+    CHECK(!rc && !vsv_file_open(path, &f), "dequantise test file written");
+    if (!f)
+        return;
+    uint16_t *codes = malloc(65536 * sizeof *codes);
+    float *got = malloc(65536 * sizeof *got), *want = malloc(65536 * sizeof *want);
+    for (unsigned c = 0; c < 65536; c++)
+        codes[c] = (uint16_t)c;
+    for (int s = 0; s < 3; s++) {
+        const vsv_quant *q = vsv_file_quant(f, s);
+        const unsigned n = q->bits == 8 ? 256 : 65536;
+        for (unsigned c = 0; c < n; c++)
+            want[c] = vsv_quant_value(q, c);
+        /* odd starts and lengths: the vector loops' edges */
+        vsv_file_dequantise(f, s, codes, 3, got);
+        vsv_file_dequantise(f, s, codes + 3, n - 3, got + 3);
+        unsigned bad = n;
+        for (unsigned c = n; c-- > 0;)
+            if (memcmp(&got[c], &want[c], sizeof got[c]))
+                bad = c;
+        CHECK(bad == n && (s != 0 || (q->missing && isnan(got[0]))), "dequantise matches the rule bit for bit",
+              "species %d (missing %d, bits %d): code %u gives %.9g, not %.9g", s, q->missing, q->bits, bad,
+              bad < n ? got[bad] : 0, bad < n ? want[bad] : 0);
+    }
+    free(codes);
+    free(got);
+    free(want);
+    vsv_file_free(f);
+    unlink(path);
+}
+
+int main(void)
+{
+    test_basics();
+    test_quant();
+    test_dequantise();
+    return vsv_test_done();
+}
