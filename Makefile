@@ -421,7 +421,7 @@ ifeq ($(TSAN),1)
 TSAN_TESTS = test_format test_format_damage test_stream test_pager_play test_render test_viewer \
   test_advect test_picture
 test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
-	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" \
+	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" NOASLR=1 \
 	  TSAN_OPTIONS="halt_on_error=1 exitcode=66 second_deadlock_stack=1 $(TSAN_OPTIONS)" sh tests/run.sh
 else
 test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(B)/tests/libcutmap.so $(FREEVR_TEST)

@@ -168,7 +168,11 @@ static const float *lut_of(vsv_file *f, int s)
     return l;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+/* Not under ThreadSanitizer: the ifunc resolver that picks the clone runs
+ * while the dynamic linker relocates the program, before libtsan is set up,
+ * and GCC instruments it, so every program crashed at load (SIGSEGV). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
+    !defined(__SANITIZE_THREAD__)
 #define VSV_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define VSV_CLONES
