@@ -40,6 +40,12 @@
  * the bands' centres. A fixed scale (1: the air's displacement, --interp
  * wind) skips the fit.
  *
+ * Zeros: most of a hydrometeor's grid is +0 (86-93 % of the cells of the
+ * MM5 run's CLW, RNW, ICE and SNOW), so once per interval a bit mask per species and end marks the
+ * cells whose 8-cell sample block is all +0, and such samples are answered
+ * +0 without reading them — the same bits as sampling (see carried); a
+ * quarter of advect's CPU time on the MM5 run.
+ *
  * Threads: rows of the output frame are handed out through an atomic
  * counter to threads started per frame; nothing is allocated per cell. */
 #include "vsv_advect.h"
@@ -47,6 +53,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -76,6 +83,14 @@ struct vsv_advect {
                         * which thread did which row) */
     double *sums;      /* nvars * nband * NCAND: the bands' sums */
     float *scratch;    /* per thread: one row of displacements, 6 floats a cell */
+    int ns;            /* species of the interval's outputs */
+    const float *const *f0, *const *f1; /* its outputs (borrowed: vsv_advect_outputs) */
+    size_t zrow;       /* words of a row of a zero mask */
+    size_t zplane;     /* words of a zero mask: ny * nz rows */
+    size_t zcap;       /* words allocated in zero */
+    uint64_t *zero;    /* per species v and end e, the mask at (2 * v + e) * zplane:
+                        * bit i of row (j, k) set when the 8 cells a sample based at
+                        * cell (i, j, k) reads are all +0 (see carried) */
 };
 
 /* Earth distance (m) between two points on a sphere of radius r. */
@@ -128,6 +143,8 @@ int vsv_advect_create(const vsv_meta *g, int threads, vsv_advect **out)
     a->stride[0] = g->nx > 1 ? 1 : 0;
     a->stride[1] = g->ny > 1 ? (size_t)g->nx : 0;
     a->stride[2] = g->nz > 1 ? a->plane : 0;
+    a->zrow = ((size_t)g->nx + 63) / 64;
+    a->zplane = a->zrow * g->ny * g->nz;
     /* the fit's bands: about an eighth of the levels each (at least 2) */
     a->band = (g->nz + 7) / 8 > 2 ? (g->nz + 7) / 8 : 2;
     a->nband = (g->nz + a->band - 1) / a->band;
@@ -203,11 +220,11 @@ static inline int axis(float p, int n, float *f)
     return i;
 }
 
-/* The 8 cells around point p and their trilinear weights. */
-static inline void corners(const vsv_advect *a, const float p[3], size_t off[8], f8 *wt)
+/* The 8 cells from cell (i, j, k) (axis's lower cells) and their
+ * trilinear weights at fractions fx, fy, fz. */
+static inline void corners_at(const vsv_advect *a, int i, int j, int k, float fx, float fy, float fz, size_t off[8],
+                              f8 *wt)
 {
-    float fx, fy, fz;
-    const int i = axis(p[0], a->nx, &fx), j = axis(p[1], a->ny, &fy), k = axis(p[2], a->nz, &fz);
     const size_t base = (size_t)k * a->plane + (size_t)j * a->nx + (size_t)i;
     const size_t sx = a->stride[0], sy = a->stride[1], sz = a->stride[2];
     const float gx = 1 - fx, gy = 1 - fy, gz = 1 - fz;
@@ -217,6 +234,14 @@ static inline void corners(const vsv_advect *a, const float p[3], size_t off[8],
     const f8 w = {gx * gy * gz, fx * gy * gz, gx * fy * gz, fx * fy * gz,
                   gx * gy * fz, fx * gy * fz, gx * fy * fz, fx * fy * fz};
     *wt = w;
+}
+
+/* The 8 cells around point p and their trilinear weights. */
+static inline void corners(const vsv_advect *a, const float p[3], size_t off[8], f8 *wt)
+{
+    float fx, fy, fz;
+    const int i = axis(p[0], a->nx, &fx), j = axis(p[1], a->ny, &fy), k = axis(p[2], a->nz, &fz);
+    corners_at(a, i, j, k, fx, fy, fz, off, wt);
 }
 
 /* The wind at point p and interval time s (0 at the start, 1 at the end),
@@ -341,15 +366,31 @@ static int displacements(const vsv_advect *a, int i, int j, int k, float s, floa
 }
 
 /* Species v's end value at cell (i, j, k) displaced by alpha * d: f
- * sampled trilinearly there and limited (sample), own where none has data. */
-static inline float carried(const vsv_advect *a, const float *f, int i, int j, int k, float alpha, const float d[3],
-                            float own)
+ * sampled trilinearly there and limited (sample), own where none has data.
+ * zero: f's zero mask. Where the 8 cells are all +0 (most of the grid for
+ * a hydrometeor) the answer is +0 without reading them: sample would sum
+ * eight +0 times weights >= 0 to +0 and clamp it to [+0, +0], so the
+ * shortcut gives the same bits. */
+static inline float carried(const vsv_advect *a, const float *f, const uint64_t *zero, int i, int j, int k,
+                            float alpha, const float d[3], float own)
 {
     const float p[3] = {(float)i + alpha * d[0], (float)j + alpha * d[1], (float)k + alpha * d[2]};
+    float fx, fy, fz;
+    const int ci = axis(p[0], a->nx, &fx), cj = axis(p[1], a->ny, &fy), ck = axis(p[2], a->nz, &fz);
+    if (zero[((size_t)ck * a->ny + cj) * a->zrow + ((unsigned)ci >> 6)] >> (ci & 63) & 1)
+        return 0.0f;
     size_t off[8];
     f8 wt;
-    corners(a, p, off, &wt);
+    corners_at(a, ci, cj, ck, fx, fy, fz, off, &wt);
     return sample(f, off, &wt, own);
+}
+
+/* Bits of a float (+0 is all zero bits). */
+static inline uint32_t bits(float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, sizeof u);
+    return u;
 }
 
 /* Level k lies between band r and r + 1 of the m bands of n levels, weight
@@ -371,13 +412,12 @@ static inline int band_of(int c, int n, int m, float *f)
     return r;
 }
 
-enum { JOB_FRAME, JOB_FIT };
+enum { JOB_FRAME, JOB_FIT, JOB_MASK };
 
 typedef struct job {
     vsv_advect *a;
     double s, w; /* the frame's interval time, its linear weight */
-    int ns, kind; /* JOB_FRAME or JOB_FIT (rows FIT_STRIDE apart) */
-    const float *const *f0, *const *f1;
+    int ns, kind; /* JOB_FRAME, JOB_FIT (rows FIT_STRIDE apart) or JOB_MASK */
     float *const *out;
     atomic_int next;   /* next row (j + k*ny) to do */
     atomic_int tid;    /* next worker's scratch */
@@ -417,12 +457,13 @@ static void do_row(const job *jb, int row, float *sc)
              * below the ground) */
             int need = 0;
             for (int v = 0; v < jb->ns && !need; v++)
-                need = al[v] > 0 && jb->f0[v][c0 + i] == jb->f0[v][c0 + i] && jb->f1[v][c0 + i] == jb->f1[v][c0 + i];
+                need = al[v] > 0 && a->f0[v][c0 + i] == a->f0[v][c0 + i] && a->f1[v][c0 + i] == a->f1[v][c0 + i];
             if (need)
                 displacements(a, i, j, k, s, d + 6 * i, d + 6 * i + 3);
         }
     for (int v = 0; v < jb->ns; v++) {
-        const float *f0 = jb->f0[v], *f1 = jb->f1[v];
+        const float *f0 = a->f0[v], *f1 = a->f1[v];
+        const uint64_t *z0 = a->zero + 2 * (size_t)v * a->zplane, *z1 = z0 + a->zplane;
         float *out = jb->out[v] + c0;
         for (int i = 0; i < a->nx; i++) {
             const float a0 = f0[c0 + i], a1 = f1[c0 + i];
@@ -430,8 +471,8 @@ static void do_row(const job *jb, int row, float *sc)
             if (a0 == a0 && a1 == a1) {
                 float A = a0, B = a1;
                 if (al[v] > 0) {
-                    A = carried(a, f0, i, j, k, al[v], d + 6 * i, a0);
-                    B = carried(a, f1, i, j, k, al[v], d + 6 * i + 3, a1);
+                    A = carried(a, f0, z0, i, j, k, al[v], d + 6 * i, a0);
+                    B = carried(a, f1, z1, i, j, k, al[v], d + 6 * i + 3, a1);
                 }
                 r = (float)(A + ((double)B - A) * jb->w);
             }
@@ -459,17 +500,48 @@ static void fit_row(const job *jb, int row)
         displacements(a, i, j, k, 1, db, unused);
         displacements(a, i, j, k, 0, unused, df);
         for (int v = 0; v < jb->ns; v++) {
-            const float *f0 = jb->f0[v], *f1 = jb->f1[v];
+            const float *f0 = a->f0[v], *f1 = a->f1[v];
+            const uint64_t *z0 = a->zero + 2 * (size_t)v * a->zplane, *z1 = z0 + a->zplane;
             const float a0 = f0[c0 + i], a1 = f1[c0 + i];
             if (!(a0 == a0 && a1 == a1))
                 continue;
             double *o = acc + (size_t)v * NCAND;
             for (int c = 0; c < NCAND; c++) {
                 const float al = c * CAND_STEP;
-                const double A = c ? carried(a, f0, i, j, k, al, db, a0) : a0;
-                const double B = c ? carried(a, f1, i, j, k, al, df, a1) : a1;
+                const double A = c ? carried(a, f0, z0, i, j, k, al, db, a0) : a0;
+                const double B = c ? carried(a, f1, z1, i, j, k, al, df, a1) : a1;
                 o[c] += (A - a1) * (A - a1) + (B - a0) * (B - a0);
             }
+        }
+    }
+}
+
+/* Row (j, k) of the zero masks of every species and end: a cell's bit is
+ * set when the cells (i..i+1, j..j+1, k..k+1) — the same cell for an
+ * axis of one — are all +0; never at the last cell of an axis, which is
+ * no sample's base (axis). */
+static void mask_row(const job *jb, int row)
+{
+    const vsv_advect *a = jb->a;
+    const int j = row % a->ny, k = row / a->ny;
+    const size_t c0 = (size_t)k * a->plane + (size_t)j * a->nx;
+    const size_t sx = a->stride[0], sy = a->stride[1], sz = a->stride[2];
+    const int last = (a->ny > 1 && j == a->ny - 1) || (a->nz > 1 && k == a->nz - 1);
+    const int ni = a->nx > 1 ? a->nx - 1 : 1;
+    for (int e = 0; e < 2 * jb->ns; e++) {
+        const float *f = (e & 1 ? a->f1 : a->f0)[e / 2] + c0;
+        uint64_t *z = a->zero + (size_t)e * a->zplane + (size_t)row * a->zrow;
+        memset(z, 0, a->zrow * sizeof *z);
+        if (last)
+            continue;
+        /* or of each column's 4 cells (i; j, j+1; k, k+1), then of two columns */
+        uint32_t prev = bits(f[0]) | bits(f[sy]) | bits(f[sz]) | bits(f[sy + sz]);
+        for (int i = 0; i < ni; i++) {
+            const size_t c = (size_t)i + sx;
+            const uint32_t col = bits(f[c]) | bits(f[c + sy]) | bits(f[c + sz]) | bits(f[c + sy + sz]);
+            if (!(prev | col))
+                z[i >> 6] |= (uint64_t)1 << (i & 63);
+            prev = col;
         }
     }
 }
@@ -478,6 +550,11 @@ static void *worker(void *p)
 {
     job *jb = p;
     const vsv_advect *a = jb->a;
+    if (jb->kind == JOB_MASK) {
+        for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->ny * a->nz;)
+            mask_row(jb, r);
+        return NULL;
+    }
     if (jb->kind == JOB_FIT) {
         for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->fitrows;)
             fit_row(jb, r);
@@ -518,14 +595,35 @@ static int best(const double *e)
 
 void vsv_advect_set_scale(vsv_advect *a, float scale) { a->scale = scale > 0 ? scale : 0; }
 
-int vsv_advect_fit(vsv_advect *a, int64_t t0, int64_t t1, int ns, const float *const *f0, const float *const *f1)
+int vsv_advect_outputs(vsv_advect *a, int ns, const float *const *f0, const float *const *f1)
+{
+    if (ns > a->nvars)
+        ns = a->nvars;
+    a->ns = ns;
+    a->f0 = f0;
+    a->f1 = f1;
+    const size_t need = 2 * (size_t)ns * a->zplane;
+    if (need > a->zcap) {
+        uint64_t *z = realloc(a->zero, need * sizeof *z);
+        if (!z) {
+            a->ns = 0;
+            return VSV_ENOMEM;
+        }
+        a->zero = z;
+        a->zcap = need;
+    }
+    job jb = {a, 0, 0, ns, JOB_MASK, NULL, 0, 0};
+    run_job(&jb);
+    return 0;
+}
+
+int vsv_advect_fit(vsv_advect *a, int64_t t0, int64_t t1)
 {
     if (a->scale > 0)
         return 0;
-    if (ns > a->nvars)
-        ns = a->nvars;
+    const int ns = a->ns;
     set_span(a, t0, t1);
-    job jb = {a, 0, 0, ns, JOB_FIT, f0, f1, NULL, 0, 0};
+    job jb = {a, 0, 0, ns, JOB_FIT, NULL, 0, 0};
     run_job(&jb);
     /* per species and band, the rows' sums in row order */
     double *sum = a->sums;
@@ -558,13 +656,10 @@ const float *vsv_advect_scales(const vsv_advect *a, int *nband)
     return a->alpha;
 }
 
-int vsv_advect_frame(vsv_advect *a, int64_t t0, int64_t t1, int64_t t, int ns, const float *const *f0,
-                     const float *const *f1, float *const *out)
+int vsv_advect_frame(vsv_advect *a, int64_t t0, int64_t t1, int64_t t, float *const *out)
 {
-    if (ns > a->nvars)
-        ns = a->nvars;
     set_span(a, t0, t1);
-    job jb = {a, 0, 0, ns, JOB_FRAME, f0, f1, out, 0, 0};
+    job jb = {a, 0, 0, a->ns, JOB_FRAME, out, 0, 0};
     jb.w = (double)(t - t0) / (double)(t1 - t0); /* exactly as linear interpolation weighs */
     jb.s = jb.w;
     run_job(&jb);
@@ -583,5 +678,6 @@ void vsv_advect_free(vsv_advect *a)
     free(a->acc);
     free(a->sums);
     free(a->scratch);
+    free(a->zero);
     free(a);
 }

@@ -184,10 +184,14 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
                     const int *w = ip->wind;
                     vsv_advect_winds(ip->adv, ip->prev[w[0]], ip->prev[w[1]], w[2] >= 0 ? ip->prev[w[2]] : NULL,
                                      fields[w[0]], fields[w[1]], w[2] >= 0 ? fields[w[2]] : NULL);
-                    vsv_advect_fit(ip->adv, ip->prev_t, time, ip->nout, ip->in0, ip->in1);
+                    if ((rc = vsv_advect_outputs(ip->adv, ip->nout, ip->in0, ip->in1))) {
+                        vsv_msg(ip->err, sizeof ip->err, "out of memory");
+                        return rc;
+                    }
+                    vsv_advect_fit(ip->adv, ip->prev_t, time);
                     winds_set = 1;
                 }
-                vsv_advect_frame(ip->adv, ip->prev_t, time, t, ip->nout, ip->in0, ip->in1, ip->tmp);
+                vsv_advect_frame(ip->adv, ip->prev_t, time, t, ip->tmp);
             } else {
                 const double w = (double)(t - ip->prev_t) / (double)(time - ip->prev_t);
                 for (int v = 0; v < ip->nout; v++) {
