@@ -1,0 +1,120 @@
+/* test_render_encoding.c — the render layer's values in and out: the
+ * transfer-function text (parse, format, refusals with their line, the
+ * fuzzer's infinite ranges), the shear-warp's half floats, and EXR frames
+ * read back with OpenEXR's own C API. */
+#include "vsv_render.h"
+#include "vsv_sw.h"
+#include "vsv_testlib.h"
+
+#include <math.h>
+#include <openexr.h>
+#include <stdio.h>
+#include <string.h>
+
+/* The shear-warp's half floats: exact at the ends of the range, rounded to
+ * nearest, within half a unit in the last place everywhere. */
+static void test_half(void)
+{
+    CHECK(vsv_half(0) == 0 && vsv_half(1) == 0x3C00 && vsv_half(0.5f) == 0x3800 && vsv_half(65504) == 0x7BFF &&
+              vsv_half(1e9f) == 0x7BFF && vsv_half(0x1p-14f) == 0x0400 && vsv_half(0x1p-15f) == 0 &&
+              vsv_half(1 + 0x1p-11f + 0x1p-20f) == 0x3C01 && vsv_half(1 + 0x1p-11f - 0x1p-20f) == 0x3C00 &&
+              vsv_half_float(0) == 0 && vsv_half_float(0x0400) == 0x1p-14f && vsv_half_float(0x7BFF) == 65504,
+          "half floats: exact values, rounding to nearest, nothing below 2^-14");
+    double worst = 0;
+    for (float f = 0x1p-14f; f < 65000; f *= 1.0007f) {
+        const float back = vsv_half_float(vsv_half(f));
+        worst = fmax(worst, fabs(back - (double)f) / (f * 0x1p-11)); /* half an ulp: 2^-11 relative */
+    }
+    CHECK(worst <= 1.0001, "half floats: every value within half a unit in the last place", "worst %g", worst);
+}
+
+static void test_tf(void)
+{
+    vsv_tf tf;
+    char msg[128] = "", text[512];
+    int rc = vsv_tf_parse(&tf, "kind cloud\ncolormap clouds\nrange 0 0.0006\nscale linear\nopacity 0 0.1 0.5 1\n", msg,
+                          sizeof msg);
+    CHECK(rc == 0 && !strcmp(tf.colormap, "clouds") && tf.hi == 0.0006 && tf.nopacity == 4, "transfer function parses",
+          "%s", msg);
+    vsv_tf_format(&tf, text, sizeof text);
+    vsv_tf back;
+    CHECK(vsv_tf_parse(&back, text, msg, sizeof msg) == 0 && back.hi == tf.hi && back.nopacity == 4 &&
+              back.opacity[2] == tf.opacity[2],
+          "format then parse gives the same transfer function");
+    float rgba[4];
+    vsv_tf_eval(&tf, 0.0006f, rgba);
+    CHECK(fabsf(rgba[3] - 1) < 1e-6 && rgba[0] > 0.99f, "the top of the range is opaque white for clouds");
+    vsv_tf_eval(&tf, NAN, rgba);
+    CHECK(rgba[3] == 0, "no data is transparent");
+    rc = vsv_tf_parse(&tf, "colormap rainbow\n", msg, sizeof msg);
+    CHECK(rc != 0 && strstr(msg, "line 1: unknown colour map"), "an unknown colour map is named with its line", "%s", msg);
+    rc = vsv_tf_parse(&tf, "range 1 2\nscale log\nopacity 0 2\n", msg, sizeof msg);
+    CHECK(rc != 0 && strstr(msg, "line 3"), "opacity outside [0, 1] is refused", "%s", msg);
+    /* found by fuzzing (tests/corpus/text/crash-tf-infinite-range): an
+     * infinite end made the table position NaN, converted to int */
+    rc = vsv_tf_parse(&tf, "colormap magma\nrange 1e-9 1e8400\nscale log\nopacity 0 1\n", msg, sizeof msg);
+    CHECK(rc != 0 && strstr(msg, "line 2: range needs finite"), "an infinite range end is refused", "%s", msg);
+    rc = vsv_tf_parse(&tf, "colormap magma\nrange -1e308 1e308\nopacity 0 1\n", msg, sizeof msg);
+    CHECK(rc != 0 && strstr(msg, "line 2"), "a range whose width overflows is refused", "%s", msg);
+    tf.lo = 0, tf.hi = 1, tf.scale = VSV_SCALE_LINEAR, tf.nopacity = 2, tf.opacity[0] = 0, tf.opacity[1] = 1;
+    snprintf(tf.colormap, sizeof tf.colormap, "magma");
+    vsv_tf_prepare(&tf);
+    tf.inv = 0; /* as a range of infinite width made it */
+    vsv_tf_eval(&tf, INFINITY, rgba);
+    CHECK(rgba[3] == 1, "an infinite value reads as the top of the range");
+}
+
+static void test_exr(void)
+{
+    enum { EW = 37, EH = 23 };
+    float rgba[EW * EH * 4], depth[EW * EH];
+    for (int i = 0; i < EW * EH; i++) {
+        for (int c = 0; c < 4; c++)
+            rgba[4 * i + c] = (float)(c + 1) / 8;
+        depth[i] = i == 5 ? INFINITY : 1000.0f + i;
+    }
+    const char *p = vsv_test_tmp("frame.exr");
+    char err[256] = "";
+    int rc = vsv_exr_write(p, rgba, depth, EW, EH, err, sizeof err);
+    CHECK(rc == 0, "an EXR frame is written", "%s", err);
+    exr_context_t ctx = NULL;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    int ok = exr_start_read(&ctx, p, &init) == EXR_ERR_SUCCESS;
+    const exr_attr_chlist_t *cl = NULL;
+    ok = ok && exr_get_channels(ctx, 0, &cl) == EXR_ERR_SUCCESS && cl && cl->num_channels == 5;
+    /* channels are stored sorted by name: A B G R Z */
+    static const char *want[5] = {"A", "B", "G", "R", "Z"};
+    for (int c = 0; ok && c < 5; c++)
+        ok &= !strcmp(cl->entries[c].name.str, want[c]) &&
+              cl->entries[c].pixel_type == (c < 4 ? EXR_PIXEL_HALF : EXR_PIXEL_FLOAT);
+    exr_attr_box2i_t dw;
+    ok = ok && exr_get_data_window(ctx, 0, &dw) == EXR_ERR_SUCCESS && dw.max.x == EW - 1 && dw.max.y == EH - 1;
+    /* decode the first chunk's Z and A */
+    exr_chunk_info_t ci;
+    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    float z[EW * 16], a[EW * 16];
+    ok = ok && exr_read_scanline_chunk_info(ctx, 0, 0, &ci) == EXR_ERR_SUCCESS &&
+         exr_decoding_initialize(ctx, 0, &ci, &dec) == EXR_ERR_SUCCESS;
+    for (int c = 0; ok && c < dec.channel_count; c++) {
+        exr_coding_channel_info_t *ch = &dec.channels[c];
+        ch->user_data_type = EXR_PIXEL_FLOAT;
+        ch->user_bytes_per_element = 4;
+        ch->user_pixel_stride = 4;
+        ch->user_line_stride = 4 * EW;
+        ch->decode_to_ptr = !strcmp(ch->channel_name, "Z") ? (uint8_t *)z : !strcmp(ch->channel_name, "A") ? (uint8_t *)a : NULL;
+    }
+    ok = ok && exr_decoding_choose_default_routines(ctx, 0, &dec) == EXR_ERR_SUCCESS &&
+         exr_decoding_run(ctx, 0, &dec) == EXR_ERR_SUCCESS;
+    ok = ok && z[0] == 1000.0f && z[7] == 1007.0f && isinf(z[5]) && a[3] == 0.5f;
+    exr_decoding_destroy(ctx, &dec);
+    exr_finish(&ctx);
+    CHECK(ok, "the EXR reads back with R G B A half and Z float, values intact");
+}
+
+int main(void)
+{
+    test_exr();
+    test_half();
+    test_tf();
+    return vsv_test_done();
+}
