@@ -194,6 +194,12 @@ has "the attribute, its offset and the file size are named" "$T/err" "vsv-conver
 [ ! -e "$T/cmaq.vsv" ] && pass "no output is left" || fail "no output is left" "$T/cmaq.vsv exists"
 expect "vsv-info on it exits 1" 1 "$B/vsv-info" "$C"
 has "vsv-info names it" "$T/err" "vsv-info: $C: netCDF header: attribute \"P_BET\""
+# a WRF file whose record count (16.7 million) overruns the file: refused
+# from the header, before libnetcdf reads Times record by record (found by
+# fuzz_netcdf as a 20 s input; tests/FUZZING.md)
+C=tests/corpus/netcdf/records-past-end.nc
+expect "a netCDF file whose record count overruns the file exits 1" 1 "$B/vsv-info" "$C"
+has "the record count, the record size and the file size are named" "$T/err" "vsv-info: $C: netCDF header: the file declares 16712706 records of at least 5732 bytes from offset 6288, past the end of the file (17752 bytes)"
 
 # an output that is an input (same path, hard link, symlink) is refused
 # before anything is written; the input stays intact (issue 18)

@@ -9,7 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
-/* The scratch folder, made once per process under $TMPDIR (removed at exit). */
+/* The scratch folder, made once per process under $VSV_FUZZ_TMP, else
+ * /dev/shm, else $TMPDIR (removed at exit). */
 const char *fuzz_dir(void);
 /* Writes n bytes to fuzz_dir()/name; returns the path (static buffer) or NULL. */
 const char *fuzz_put(const char *name, const void *data, size_t n);
