@@ -6,15 +6,46 @@
  * or more, and the table says whether every view got there). VolPack is
  * single-threaded; Vesuvius runs with 1 and 2 threads. The three render the
  * 8 views in turn, 16 rounds, so a change in the machine's load falls on
- * all alike (wall time). Classification is outside the timing on both
- * sides (and reported). Usage:
- *   bench_volpack FILE.vsv SPECIES [STEP] */
+ * all alike: wall time and the process's CPU time per round, medians and
+ * ranges, and the ratios worked out round by round. Classification is
+ * outside the timing on both sides (and reported). Usage:
+ *   bench_volpack FILE.vsv SPECIES [STEP]
+ *   bench_volpack --box FILE.vsv   (writes the closed-form box of
+ *                                   vp_write_box to FILE.vsv and uses it)
+ *   bench_volpack --plume DIR | --haze DIR   (gen-plume's plume_t0 or
+ *                                   plume_haze in DIR, written as a .vsv there)
+ * With VP_DUMP=PREFIX in the environment each view's two pictures are
+ * written side by side to PREFIXk.png, with their mean luminance and
+ * alpha printed. */
 #include "vp_match.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
+
+static double cpu(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+static int cmp(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* median, min, max of n values (sorted in place) */
+static void stats(double *v, int n, double out[3])
+{
+    qsort(v, (size_t)n, sizeof *v, cmp);
+    out[0] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+    out[1] = v[0];
+    out[2] = v[n - 1];
+}
 
 static double now(void)
 {
@@ -29,10 +60,29 @@ int main(int argc, char **argv)
 {
     vp_series S;
     if (argc < 3) {
-        fprintf(stderr, "usage: bench_volpack FILE.vsv SPECIES [STEP]\n");
+        fprintf(stderr, "usage: bench_volpack FILE.vsv SPECIES [STEP] | --box FILE.vsv | --plume DIR | --haze DIR\n");
         return 2;
     }
     int step = argc > 3 ? atoi(argv[3]) : 0;
+    char path[1024];
+    if (!strcmp(argv[1], "--box")) {
+        /* the closed-form case: argv[2] names the file to write */
+        if (vp_write_box(argv[2]))
+            return 1;
+        argv[1] = argv[2];
+        argv[2] = "box";
+        step = 0;
+    } else if (!strcmp(argv[1], "--plume") || !strcmp(argv[1], "--haze")) {
+        /* gen-plume's volume in the folder argv[2], written as a .vsv there */
+        const int haze = !strcmp(argv[1], "--haze");
+        const char *names[1] = {haze ? "plume_haze.f32" : "plume_t0.f32"};
+        snprintf(path, sizeof path, "%s/%s.vsv", argv[2], haze ? "haze" : "plume");
+        if (vp_write_plume(argv[2], path, names, 1))
+            return 1;
+        argv[1] = path;
+        argv[2] = "plume";
+        step = 0;
+    }
     if (vp_series_open(&S, argv[2], argv[1], argv[2], step, 1))
         return 1;
     const vsv_meta *m = &S.iso;
@@ -79,25 +129,40 @@ int main(int argc, char **argv)
         vp_check(vpc, vpRenderClassifiedVolume(vpc));
         vsv_render(r[0], &sc, &cams[k], img, NULL);
         const double p = vp_psnr(image, img);
+        if (getenv("VP_DUMP")) {
+            char png[1024];
+            snprintf(png, sizeof png, "%s%d.png", getenv("VP_DUMP"), k);
+            vp_dump(png, image, img);
+            double ml[2] = {0, 0}, ma[2] = {0, 0};
+            for (int i = 0; i < VP_SIZE * VP_SIZE; i++) {
+                ml[0] += image[2 * i], ma[0] += image[2 * i + 1];
+                ml[1] += 255 * img[4 * i], ma[1] += 255 * img[4 * i + 3];
+            }
+            printf("view %d: PSNR %.1f dB; mean luminance %.2f / %.2f, alpha %.2f / %.2f\n", k, p,
+                   ml[0] / (VP_SIZE * VP_SIZE), ml[1] / (VP_SIZE * VP_SIZE), ma[0] / (VP_SIZE * VP_SIZE),
+                   ma[1] / (VP_SIZE * VP_SIZE));
+        }
         pmin = fmin(pmin, p);
         psum += fmin(p, 99);
     }
     /* the three render the views in turn, 16 rounds (so the machine's
      * changing load falls on all three alike; within a round each renders
-     * view after view, as in an animation) */
-    double sum[3] = {0, 0, 0};
+     * view after view, as in an animation): per round each one's wall time
+     * and the process's CPU time (one thread's work for VolPack and our one
+     * thread; for two threads both threads' CPU, so not a frame time) */
+    double wall[3][REPEAT], cput[3][REPEAT];
     for (int rep = 0; rep < REPEAT; rep++) {
-        double t = now();
+        double t = now(), c = cpu();
         for (int k = 0; k < FRAMES; k++) {
             vp_view(vpc, k);
             vp_check(vpc, vpRenderClassifiedVolume(vpc));
         }
-        sum[0] += now() - t;
+        wall[0][rep] = (now() - t) / FRAMES, cput[0][rep] = (cpu() - c) / FRAMES;
         for (int i = 0; i < 2; i++) {
-            t = now();
+            t = now(), c = cpu();
             for (int k = 0; k < FRAMES; k++)
                 vsv_render(r[i], &sc, &cams[k], img, NULL);
-            sum[1 + i] += now() - t;
+            wall[1 + i][rep] = (now() - t) / FRAMES, cput[1 + i][rep] = (cpu() - c) / FRAMES;
         }
     }
     printf("volume: %s %s step %d, %dx%dx%d 8-bit (%.0f%% of voxels above 0); image %dx%d, parallel projection, %d "
@@ -105,15 +170,29 @@ int main(int argc, char **argv)
            "%.1f dB their mean (%s)\n\n",
            argv[1], argv[2], step, m->nx, m->ny, m->nz, 100.0 * nonzero / (double)nv, VP_SIZE, VP_SIZE, FRAMES, REPEAT,
            pmin, psum / FRAMES, pmin >= 35 ? "matched: the comparison counts" : "NOT matched: below 35 dB, no comparison");
-    printf("| renderer | threads | ms/frame | frames/s | × VolPack's frame rate | classification ms (all axes) |\n"
-           "|---|---|---|---|---|---|\n");
-    const double vp_frame = sum[0] / (FRAMES * REPEAT);
-    printf("| VolPack vpRenderClassifiedVolume | 1 | %.2f | %.1f | 1 | %.0f |\n", 1000 * vp_frame, 1 / vp_frame,
-           1000 * vp_classify);
+    printf("Median (range) over the rounds; × is VolPack's time over ours, worked out in each round.\n\n"
+           "| renderer | threads | wall ms/frame | × VolPack's frame rate (wall) | CPU ms/frame | × VolPack (CPU, one thread) "
+           "| classification ms (all axes, wall) |\n"
+           "|---|---|---|---|---|---|---|\n");
+    double w[3], cc[3];
+    stats(wall[0], REPEAT, w);
+    stats(cput[0], REPEAT, cc);
+    printf("| VolPack vpRenderClassifiedVolume | 1 | %.2f (%.2f–%.2f) | 1 | %.2f (%.2f–%.2f) | 1 | %.0f |\n", 1e3 * w[0],
+           1e3 * w[1], 1e3 * w[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2], 1e3 * vp_classify);
     for (int i = 0; i < 2; i++) {
-        const double fr = sum[1 + i] / (FRAMES * REPEAT);
-        printf("| Vesuvius shear-warp | %d | %.2f | %.1f | %.2f | %.0f |\n", i + 1, 1000 * fr, 1 / fr, vp_frame / fr,
-               1000 * cls[i]);
+        double rw[REPEAT], rc[REPEAT], x[3], y[3];
+        for (int rep = 0; rep < REPEAT; rep++)
+            rw[rep] = wall[0][rep] / wall[1 + i][rep], rc[rep] = cput[0][rep] / cput[1 + i][rep];
+        stats(wall[1 + i], REPEAT, w);
+        stats(cput[1 + i], REPEAT, cc);
+        stats(rw, REPEAT, x);
+        stats(rc, REPEAT, y);
+        printf("| Vesuvius shear-warp | %d | %.2f (%.2f–%.2f) | **%.2f** (%.2f–%.2f) | %.2f (%.2f–%.2f) | ", i + 1, 1e3 * w[0],
+               1e3 * w[1], 1e3 * w[2], x[0], x[1], x[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2]);
+        if (i == 0)
+            printf("**%.2f** (%.2f–%.2f) | %.0f |\n", y[0], y[1], y[2], 1e3 * cls[i]);
+        else
+            printf("— | %.0f |\n", 1e3 * cls[i]);
         vsv_renderer_free(r[i]);
     }
     free(img);

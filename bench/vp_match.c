@@ -118,18 +118,39 @@ vpContext *vp_setup(const vp_series *S, unsigned char *image)
     vpSetImage(vpc, image, VP_SIZE, VP_SIZE, VP_SIZE * 2, VP_LUMINANCEA);
     vpCurrentMatrix(vpc, VP_PROJECT);
     vpIdentityMatrix(vpc);
-    vpWindow(vpc, VP_PARALLEL, -0.75, 0.75, -0.75, 0.75, -0.75, 0.75);
+    /* 1.5 times the volume's longest side across, as our camera; moved by
+     * half a pixel, since VolPack's pixel (x, y) is the point its window
+     * maps to x, y and ours the middle of the pixel */
+    const double hp = 0.5 * 1.5 / VP_SIZE;
+    vpWindow(vpc, VP_PARALLEL, -0.75 + hp, 0.75 + hp, -0.75 + hp, 0.75 + hp, -0.75, 0.75);
     return vpc;
 }
 
 void vp_view(vpContext *vpc, int v)
 {
+    /* VolPack's conventions (its manual pages and vp_view.c): a rotation by
+     * d degrees turns clockwise looking along the positive axis (the
+     * transpose of the usual matrix); its object space puts voxel i of n at
+     * (i - n/2) / max(n) (ours: the middle of cell i at i + 1/2 - n/2); its
+     * viewport flips depth into left-handed image coordinates, so a
+     * right-handed volume is handed over mirrored in z (without the mirror
+     * the silhouettes agree but it composites the far side first: a box
+     * brighter at the top came out as if seen from below). So: our cells'
+     * middles (half a voxel along each axis), the mirror, then the turn
+     * about the vertical (view v: our azimuth 225 + 45 v, clockwise from
+     * north) and the tilt (30 degrees up), in VolPack's sense of rotation. */
+    int n[3];
+    vpGeti(vpc, VP_XLEN, &n[0]);
+    vpGeti(vpc, VP_YLEN, &n[1]);
+    vpGeti(vpc, VP_ZLEN, &n[2]);
+    const double half = 0.5 / fmax(fmax(n[0], n[1]), n[2]);
     vpCurrentMatrix(vpc, VP_MODEL);
     vpIdentityMatrix(vpc);
-    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_LEFT);
+    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_RIGHT); /* M = M * R: the last call acts first */
     vpRotate(vpc, VP_X_AXIS, -60.0);
-    vpSeti(vpc, VP_CONCAT_MODE, VP_CONCAT_RIGHT);
-    vpRotate(vpc, VP_Z_AXIS, 45.0 * (v + 1));
+    vpRotate(vpc, VP_Z_AXIS, -45.0 * (v + 1));
+    vpScale(vpc, 1, 1, -1);
+    vpTranslate(vpc, half, half, half);
 }
 
 void vp_scene(const vp_series *S, vsv_layer *layer, vsv_scene *sc)
@@ -145,6 +166,22 @@ void vp_camera(const vsv_scene *sc, int v, vsv_camera *cam)
     vsv_camera_orbit(cam, sc, 225 + 45 * v, 30, 0, VP_SIZE, VP_SIZE);
     cam->fov_deg = 0;
     cam->ortho_height = 1.5 * fmax(fmax(mx[0] - mn[0], mx[1] - mn[1]), mx[2] - mn[2]);
+    /* VolPack looks at the middle of the volume; the orbit at 30 % of its
+     * height: the eye moved so that it looks at the middle (parallel rays:
+     * only the line through the middle matters) */
+    double len = 0;
+    for (int a = 0; a < 3; a++)
+        len += cam->dir[a] * cam->dir[a];
+    len = sqrt(len);
+    for (int a = 0; a < 3; a++)
+        cam->pos[a] = 0.5 * (mn[a] + mx[a]) - 4 * cam->ortho_height * cam->dir[a] / len;
+}
+
+/* VolPack's image has its row 0 at the bottom (its viewport maps the eye's
+ * y = -1 to row 0); ours at the top. */
+static const unsigned char *vp_row(const unsigned char *vp, int y)
+{
+    return vp + 2 * (size_t)(VP_SIZE - 1 - y) * VP_SIZE;
 }
 
 double vp_psnr(const unsigned char *vp, const float *ours)
@@ -152,11 +189,134 @@ double vp_psnr(const unsigned char *vp, const float *ours)
     double se = 0;
     for (int y = 0; y < VP_SIZE; y++)
         for (int x = 0; x < VP_SIZE; x++) {
-            const unsigned char *a = vp + 2 * ((size_t)y * VP_SIZE + x);
+            const unsigned char *a = vp_row(vp, y) + 2 * x;
             const float *b = ours + 4 * ((size_t)y * VP_SIZE + x);
             const double dl = a[0] - 255.0 * fmin(1, b[0]), da = a[1] - 255.0 * fmin(1, b[3]);
             se += dl * dl + da * da;
         }
     const double mse = se / (2.0 * VP_SIZE * VP_SIZE);
     return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : INFINITY;
+}
+
+int vp_dump(const char *path, const unsigned char *vp, const float *ours)
+{
+    /* left VolPack's picture, right ours (luminance over black), each row
+     * of both the same row of the image */
+    unsigned char *rgb = malloc((size_t)VP_SIZE * 2 * VP_SIZE * 3);
+    if (!rgb)
+        return -1;
+    for (int y = 0; y < VP_SIZE; y++)
+        for (int x = 0; x < VP_SIZE; x++) {
+            unsigned char *l = rgb + 3 * ((size_t)y * 2 * VP_SIZE + x), *r = l + 3 * VP_SIZE;
+            const float b = (float)fmin(1, ours[4 * ((size_t)y * VP_SIZE + x)]);
+            l[0] = l[1] = l[2] = vp_row(vp, y)[2 * x];
+            r[0] = r[1] = r[2] = (unsigned char)lrintf(255 * b);
+        }
+    char err[256];
+    const int rc = vsv_png_write(path, rgb, 2 * VP_SIZE, VP_SIZE, err, sizeof err);
+    if (rc)
+        fprintf(stderr, "%s: %s\n", program_invocation_short_name, err);
+    free(rgb);
+    return rc;
+}
+
+int vp_write_box(const char *path)
+{
+    /* 64 x 48 x 16 cells (three different lengths, so a swapped axis shows);
+     * a box off the middle, [8, 40) x [6, 22) x [2, 12), whose values rise
+     * along x from a quarter to all of the range (so a mirrored axis shows);
+     * 0 elsewhere */
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = 64, m.ny = 48, m.nz = 16;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    vsv_meta_add_var(&m, "box", "1", "a box");
+    const size_t nv = (size_t)m.nx * m.ny * m.nz;
+    float *buf = calloc(nv, sizeof *buf);
+    for (int k = 2; k < 12; k++)
+        for (int j = 6; j < 22; j++)
+            for (int i = 8; i < 40; i++)
+                buf[((size_t)k * m.ny + j) * m.nx + i] = 0.25f + 0.75f * (i - 8) / 31.0f;
+    vsv_pack_var pv;
+    vsv_pack_var_init(&pv);
+    pv.lo = 0;
+    pv.hi = 1;
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.vars = &pv;
+    vsv_writer *w = NULL;
+    const float *fields[1] = {buf};
+    int rc = buf ? vsv_writer_create(path, &m, &o, &w) : -1;
+    if (!rc)
+        rc = vsv_writer_add_step(w, 0, fields);
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc)
+        fprintf(stderr, "%s: %s: %s\n", program_invocation_short_name, path, w ? vsv_writer_error(w) : "cannot create");
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    free(buf);
+    return rc;
+}
+
+/* gen-plume's raw 256x256x64 float32 steps written as a .vsv (16 bits,
+ * the library's defaults). */
+int vp_write_plume(const char *dir, const char *out, const char *const *names, int n)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = 256, m.ny = 256, m.nz = 64;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    vsv_meta_add_var(&m, "plume", "1", "gen-plume");
+    const size_t nv = (size_t)m.nx * m.ny * m.nz;
+    float *buf = malloc(nv * 4);
+    /* the range from 0 to the maximum of gen-plume (its plume.info), as its
+     * 8-bit files: the haze's floor is not empty */
+    float vmax = 0;
+    char path[1024];
+    snprintf(path, sizeof path, "%s/plume.info", dir);
+    FILE *fi = fopen(path, "r");
+    if (!fi || fscanf(fi, "nx=%*d ny=%*d nz=%*d vmax=%f", &vmax) != 1 || !(vmax > 0)) {
+        fprintf(stderr, "%s: %s: no vmax\n", program_invocation_short_name, path);
+        if (fi)
+            fclose(fi);
+        return -1;
+    }
+    fclose(fi);
+    vsv_pack_var pv;
+    vsv_pack_var_init(&pv);
+    pv.lo = 0;
+    pv.hi = vmax;
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.vars = &pv;
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(out, &m, &o, &w);
+    for (int t = 0; t < n && !rc; t++) {
+        snprintf(path, sizeof path, "%s/%s", dir, names[t]);
+        FILE *fp = fopen(path, "rb");
+        if (!fp || fread(buf, 4, nv, fp) != nv) {
+            fprintf(stderr, "%s: %s: cannot read %zu floats\n", program_invocation_short_name, path, nv);
+            rc = -1;
+        }
+        if (fp)
+            fclose(fp);
+        if (!rc && !strcmp(names[t], "plume_t1.f32") && strstr(out, "haze")) {
+            /* gen-plume's haze rule on the next step: a floor of 8/255 of the
+             * maximum */
+            for (size_t i = 0; i < nv; i++)
+                buf[i] = fmaxf(buf[i], 8.0f / 255.0f * vmax);
+        }
+        const float *fields[1] = {buf};
+        if (!rc)
+            rc = vsv_writer_add_step(w, 3600 * (int64_t)t, fields);
+    }
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc)
+        fprintf(stderr, "%s: %s: %s\n", program_invocation_short_name, out, w ? vsv_writer_error(w) : "cannot create");
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    free(buf);
+    return rc;
 }

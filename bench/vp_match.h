@@ -10,10 +10,16 @@
  * length 1 as opaque as 1 - e^(-3 o) (VSV_SIGMA_PER_CELL = 3), and VolPack,
  * which composites one sample per voxel step, gets exactly that per voxel
  * (and the same grey) from a table built by evaluating our transfer function
- * at each of the 256 levels. Ray termination 0.998 on both; VolPack skips
- * voxels of opacity below 1/255. No lighting on either side. Image 512x512,
- * parallel projection, the model tilted 60 degrees (eye 30 degrees up) and
- * turned 45 (v + 1) degrees for view v on both sides. */
+ * at each of the 256 levels (VolPack corrects a voxel's opacity a to
+ * 1 - (1 - a)^L for the length L of the ray in a slice, voxels as unit, as
+ * we do). Ray termination 0.998 on both; VolPack skips voxels of opacity
+ * below 1/255. No lighting on either side. Image 512x512, parallel
+ * projection, 1.5 times the longest side across; view v from azimuth
+ * 225 + 45 v (clockwise from north), 30 degrees up, looking at the middle
+ * of the volume. VolPack's conventions that differ from ours (its rotations'
+ * sense, image rows from the bottom, left-handed image space, voxel and
+ * pixel positions at corners) are undone in vp_setup, vp_view and vp_psnr;
+ * the closed-form box of vp_write_box checks them (bench_volpack --box). */
 #ifndef VP_MATCH_H
 #define VP_MATCH_H
 
@@ -57,5 +63,17 @@ void vp_camera(const vsv_scene *sc, int v, vsv_camera *cam);
  * image and ours (premultiplied RGBA floats; greys, so red stands for
  * the luminance), over both channels; INFINITY when equal. */
 double vp_psnr(const unsigned char *vp, const float *ours);
+/* Writes a closed-form volume to path: species "box", one step, an
+ * off-centre box of values rising along x in an otherwise empty grid of
+ * three different lengths (a swapped, mirrored or shifted axis shows in
+ * the PSNR). 0 or -1 (told on stderr). */
+int vp_write_box(const char *path);
+/* gen-plume's raw 256x256x64 float32 steps (names[0..n-1] in dir, its
+ * plume.info beside them) written to out as a .vsv of species "plume" (16
+ * bits, range 0 to gen-plume's maximum); a name of plume_t1.f32 with "haze"
+ * in out gets gen-plume's haze floor (8/255 of the maximum). 0 or -1. */
+int vp_write_plume(const char *dir, const char *out, const char *const *names, int n);
+/* Writes both pictures side by side (VolPack's left) as a PNG; 0 or -1. */
+int vp_dump(const char *path, const unsigned char *vp, const float *ours);
 
 #endif
