@@ -1,7 +1,9 @@
 /* bench_classify.c — the shear-warp's classification and its frame rate
  * while playing, beside VolPack (Debian libvolpack1-dev) on the same
- * volumes in the same run: the real MM5 run's Q (dense) and CLW (sparse),
- * gen-plume's plume and haze (../shared/tools/gen-plume).
+ * volumes in the same run: the real MM5 run's Q (dense), CLW and SNOW
+ * (sparse), the real WRF file's QCLOUD (PLUME_DIR/wrf.vsv, when there:
+ * bench_classify.sh converts it), gen-plume's plume and haze
+ * (../shared/tools/gen-plume).
  *
  * Both sides draw the same picture: the same 8-bit volume, opacity matched
  * per unit length, views and termination (vp_match.h, as bench_volpack);
@@ -28,6 +30,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <unistd.h>
 
 enum { SIZE = VP_SIZE, VIEWS = 4 };
 
@@ -193,6 +196,8 @@ int main(int argc, char **argv)
     char plume[1024], haze[1024];
     snprintf(plume, sizeof plume, "%s/plume.vsv", argv[2]);
     snprintf(haze, sizeof haze, "%s/haze.vsv", argv[2]);
+    char wrf[1024];
+    snprintf(wrf, sizeof wrf, "%s/wrf.vsv", argv[2]);
     const char *pn[] = {"plume_t0.f32", "plume_t1.f32"}, *hn[] = {"plume_haze.f32", "plume_t1.f32"};
     if (vp_write_plume(argv[2], plume, pn, 2) || vp_write_plume(argv[2], haze, hn, 2))
         return 1;
@@ -210,10 +215,12 @@ int main(int argc, char **argv)
         int first, n;
     } sets[] = {{"MM5 Q", argv[1], "Q", 1, 3},
                 {"MM5 CLW", argv[1], "CLW", 1, 3},
+                {"MM5 SNOW", argv[1], "SNOW", 1, 3},
+                {"WRF Katrina QCLOUD", wrf, "QCLOUD", 1, 3},
                 {"gen-plume plume", plume, "plume", 0, 2},
                 {"gen-plume haze", haze, "plume", 0, 2}};
     for (size_t i = 0; i < sizeof sets / sizeof sets[0]; i++) {
-        if (argc > 4 && !strstr(sets[i].name, argv[4]))
+        if ((argc > 4 && !strstr(sets[i].name, argv[4])) || (sets[i].path == wrf && access(wrf, R_OK)))
             continue;
         vp_series S;
         if (vp_series_open(&S, sets[i].name, sets[i].path, sets[i].species, sets[i].first, sets[i].n))
