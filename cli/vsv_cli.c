@@ -1,5 +1,6 @@
 /* vsv_cli.c — shared support for the command-line tools (see vsv_cli.h). */
 #include "vsv_cli.h"
+#include "vsv_common.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -97,6 +98,15 @@ void vsv_cli_usage_error(const char *fmt, ...)
     va_end(ap);
     fprintf(stderr, "\nTry '%s --help'.\n", tool_name);
     exit(2);
+}
+
+FILE *vsv_cli_open_input(const char *path, const char *mode, int pipes)
+{
+    char why[256];
+    FILE *fp = pipes ? vsv_input_fopen_stream(path, why, sizeof why) : vsv_input_fopen(path, mode, why, sizeof why);
+    if (!fp)
+        vsv_cli_die(1, "%s: %s", path, why);
+    return fp;
 }
 
 void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n)

@@ -29,6 +29,10 @@ void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 
  * inputs: the same path, a hard link or a symlink to it (same device and
  * inode); NULL inputs are skipped. A missing output is never an input. */
 void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n);
+/* Opens an input the tool reads as text or a stream, checked: a regular
+ * file, and with pipes != 0 also a FIFO (a field stream's writer on the other
+ * end); a directory, device or socket exits 1 with "tool: path: what". */
+FILE *vsv_cli_open_input(const char *path, const char *mode, int pipes);
 /* Frees the writer (removing its temporaries), then exits 1 with
  * "tool: OUT: the writer's message". */
 void vsv_cli_writer_die(vsv_writer *w, const char *out) __attribute__((noreturn));

@@ -84,8 +84,8 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("one input stream at most");
     const char *name = optind < argc ? argv[optind] : "(stdin)";
     FILE *in = stdin;
-    if (optind < argc && !(in = fopen(argv[optind], "rb")))
-        vsv_cli_die(1, "%s: cannot open: %s", argv[optind], strerror(errno));
+    if (optind < argc)
+        in = vsv_cli_open_input(argv[optind], "rb", 1);
     if (isatty(1))
         vsv_cli_usage_error("refusing to write a binary field stream to a terminal; pipe it into vsv-pack");
     vsv_stream_reader *r = NULL;

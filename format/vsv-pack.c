@@ -52,8 +52,8 @@ int main(int argc, char **argv)
     FILE *in = stdin;
     if (optind < argc && strcmp(argv[optind], "-"))
         vsv_cli_refuse_input(out, (const char *const *)&argv[optind], 1);
-    if (optind < argc && strcmp(argv[optind], "-") && !(in = fopen(argv[optind], "rb")))
-        vsv_cli_die(1, "%s: cannot open: %s", argv[optind], strerror(errno));
+    if (optind < argc && strcmp(argv[optind], "-"))
+        in = vsv_cli_open_input(argv[optind], "rb", 1);
 
     vsv_stream_reader *r = NULL;
     int rc = vsv_stream_reader_open(in, in_name, &r);

@@ -93,6 +93,11 @@ void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_
 int vsv_input_open(const char *path, char *why, size_t cap);
 /* The same as a stdio stream (mode "r" or "rb"); NULL with why set. */
 FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap);
+/* Opens an input stream (a field stream: read once, front to back): a
+ * regular file or a pipe (FIFO, /dev/fd/N of a shell's process
+ * substitution), whose open waits for its writer; a directory, device or
+ * socket is refused. NULL with the reason in why. */
+FILE *vsv_input_fopen_stream(const char *path, char *why, size_t cap);
 /* Maps a whole input file (opened as vsv_input_open) read-only: 0 with
  * *data and *n set (munmap it); 1, nothing mapped, when it is shorter than
  * min_bytes or empty (*n its size: the caller says what it is not); -1

@@ -83,3 +83,31 @@ int vsv_input_map(const char *path, size_t min_bytes, const unsigned char **data
     *data = p;
     return 0;
 }
+
+FILE *vsv_input_fopen_stream(const char *path, char *why, size_t cap)
+{
+    struct stat st;
+    /* looked at before the open: opening a device can have effects, and a
+     * FIFO's open waits for its writer, which is right for a stream */
+    if (stat(path, &st)) {
+        snprintf(why, cap, "cannot open: %s", strerror(errno));
+        return NULL;
+    }
+    if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
+        snprintf(why, cap, "%s, not a regular file or a pipe: refused", kind(st.st_mode));
+        errno = EINVAL;
+        return NULL;
+    }
+    FILE *fp = fopen(path, "rbe");
+    if (!fp) {
+        snprintf(why, cap, "cannot open: %s", strerror(errno));
+        return NULL;
+    }
+    if (fstat(fileno(fp), &st) || (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))) { /* replaced meanwhile */
+        snprintf(why, cap, "%s, not a regular file or a pipe: refused", kind(st.st_mode));
+        fclose(fp);
+        errno = EINVAL;
+        return NULL;
+    }
+    return fp;
+}

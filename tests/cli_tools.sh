@@ -68,6 +68,27 @@ if [ -z "${SANFLAGS:-}" ]; then
 fi
 expect "vsv-pack from a file argument" 0 "$B/vsv-pack" -q -o "$T/b.vsv" "$T/stream"
 if cmp -s "$T/a.vsv" "$T/b.vsv"; then pass "stdin and file input give identical files"; else fail "stdin and file input give identical files" "differ"; fi
+# a stream named on the command line: a regular file or a pipe; a
+# directory or a device is refused naming it (issue 18)
+mkdir "$T/adir"
+for tool in vsv-pack vsv-interp; do
+    case $tool in vsv-pack) a="-q -o $T/dir.vsv" ;; *) a="--time-res 1h" ;; esac
+    expect "$tool on a directory exits 1" 1 "$B/$tool" $a "$T/adir"
+    has "$tool says what it is" "$T/err" "$tool: $T/adir: a directory, not a regular file or a pipe: refused"
+    expect "$tool on a device exits 1" 1 "$B/$tool" $a /dev/null
+    has "$tool names the device" "$T/err" "$tool: /dev/null: a character device, not a regular file or a pipe: refused"
+done
+[ ! -e "$T/dir.vsv" ] && pass "vsv-pack left no output" || fail "vsv-pack left no output" "$T/dir.vsv exists"
+rm -f "$T/fifo"
+if mkfifo "$T/fifo"; then
+    cat "$T/stream" > "$T/fifo" &
+    expect "vsv-pack reads a stream from a named pipe" 0 "$B/vsv-pack" -q -o "$T/f.vsv" "$T/fifo"
+    wait
+    if cmp -s "$T/a.vsv" "$T/f.vsv"; then pass "the pipe gives the same file"; else fail "the pipe gives the same file" "differ"; fi
+    cat "$T/stream" > "$T/fifo" &
+    expect "vsv-interp reads a stream from a named pipe" 0 sh -c "'$B/vsv-interp' --time-res 1h '$T/fifo' > '$T/interp.stream'"
+    wait
+fi
 expect "vsv-info on the packed sample" 0 "$B/vsv-info" "$T/a.vsv"
 has "human summary shows the grid" "$T/out" "72 x 46 x 7 cells"
 has "human summary shows the species" "$T/out" "Geopotential Heights"

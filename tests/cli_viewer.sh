@@ -33,6 +33,12 @@ has "and names the species" "$T/err" "'NOPE'"
 printf '0.1 play\nsoon quit\n' > "$T/bad.script"
 expect "a script line without a time exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T/bad.script"
 has "naming the line" "$T/err" "line 2"
+# --script FILE: a regular file; a directory read as an empty script, a
+# FIFO waited on forever (issue 18)
+expect "a directory as --script exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T"
+has "naming it and what it is" "$T/err" "vsv-play: $T: a directory, not a regular file: refused"
+expect "a device as --script exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script /dev/null
+has "naming the device" "$T/err" "vsv-play: /dev/null: a character device, not a regular file: refused"
 ( unset DISPLAY; expect "no display: exits 1" 1 "$B/vsv-play" "$T/crop.vsv" )
 ( unset DISPLAY; "$B/vsv-play" "$T/crop.vsv" 2>&1 | grep -q "no display" ) && pass "and says there is no display" ||
     fail "and says there is no display" "no message"

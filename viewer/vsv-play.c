@@ -61,9 +61,7 @@ typedef struct script_line {
 
 static script_line *load_script(const char *path, int *n)
 {
-    FILE *fp = fopen(path, "r");
-    if (!fp)
-        vsv_cli_die(1, "%s: %s", path, strerror(errno));
+    FILE *fp = vsv_cli_open_input(path, "r", 0);
     script_line *v = NULL;
     int cap = 0, ln = 0;
     char buf[1200];
