@@ -14,9 +14,11 @@
  * bend every curved path outward by about half a cell an hour at jet
  * speeds); the one-cell limit keeps the midpoint inside the cells whose
  * winds the trilinear sample sees, and costs nothing in calm air, where
- * a trajectory takes one step. A uniform wind is followed exactly (up to
- * rounding), a calm cell does not move at all, so advection in a calm
- * reproduces linear interpolation bit for bit.
+ * a trajectory takes one step. Trajectories start from every second
+ * column and row only, the cells between interpolated (vsv_advect_traj.c).
+ * A uniform wind is followed exactly (up to rounding), a calm cell does
+ * not move at all, so advection in a calm reproduces linear interpolation
+ * bit for bit.
  *
  * Values: trilinear from the 8 cells around the end point, cells without
  * data (NaN, below ground) left out and the weights renormalised, the
@@ -41,14 +43,14 @@
  * wind) skips the fit.
  *
  * Zeros: most of a hydrometeor's grid is +0 (86-93 % of the cells of the
- * MM5 run's CLW, RNW, ICE and SNOW), so once per interval a bit mask per species and end marks the
- * cells whose 8-cell sample block is all +0, and such samples are answered
- * +0 without reading them — the same bits as sampling (see carried); a
- * quarter of advect's CPU time on the MM5 run.
+ * MM5 run's CLW, RNW, ICE and SNOW), so once per interval a bit mask per
+ * species and end marks the cells whose 8-cell sample block is all +0, and
+ * such samples are answered +0 without reading them — the same bits as
+ * sampling (see carried); a quarter of advect's CPU time on the MM5 run.
  *
  * Threads: rows of the output frame are handed out through an atomic
  * counter to threads started per frame; nothing is allocated per cell. */
-#include "vsv_advect.h"
+#include "vsv_advect_internal.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -57,41 +59,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Eight floats as one value: GCC's and Clang's vector extension, two SSE
- * registers (or one AVX register) per operation. */
-typedef float f8 __attribute__((vector_size(32)));
-
-/* The fit's candidate scales: 0, 1/8, ..., 10/8 of the wind's displacement. */
-enum { NCAND = 11, FIT_STRIDE = 3, MAXTHREADS = 64, MAXVARS = 256 };
-#define CAND_STEP 0.125f
-
-struct vsv_advect {
-    int nx, ny, nz, threads, vertical, nvars;
-    size_t plane, cells;
-    size_t stride[3];  /* index step per axis (0 for an axis of one cell) */
-    float *sx, *sy;    /* per column: cells per metre along x, y */
-    float *sz;         /* per level: cells per metre upward (0: no vertical motion) */
-    float *wind;       /* per cell 8 floats: u v w 0 at the start, u v w 0 at the end,
-                        * in cells per span seconds */
-    double span;
-    float scale;       /* > 0: every species moves with the wind times this; 0: fitted */
-    int band, nband;   /* the fit's bands: of band levels, nband of them */
-    float *alpha;      /* the fitted scales: nvars * nband (band fastest) */
-    int fitrows;       /* rows the fit visits: every FIT_STRIDE-th of each level */
-    double *acc;       /* per fit row: nvars * NCAND squared mismatches (summed in
-                        * row order afterwards, so the fit does not depend on
-                        * which thread did which row) */
-    double *sums;      /* nvars * nband * NCAND: the bands' sums */
-    float *scratch;    /* per thread: one row of displacements, 6 floats a cell */
-    int ns;            /* species of the interval's outputs */
-    const float *const *f0, *const *f1; /* its outputs (borrowed: vsv_advect_outputs) */
-    size_t zrow;       /* words of a row of a zero mask */
-    size_t zplane;     /* words of a zero mask: ny * nz rows */
-    size_t zcap;       /* words allocated in zero */
-    uint64_t *zero;    /* per species v and end e, the mask at (2 * v + e) * zplane:
-                        * bit i of row (j, k) set when the 8 cells a sample based at
-                        * cell (i, j, k) reads are all +0 (see carried) */
-};
 
 /* Earth distance (m) between two points on a sphere of radius r. */
 static double great_circle(double lat1, double lon1, double lat2, double lon2, double r)
@@ -145,6 +112,9 @@ int vsv_advect_create(const vsv_meta *g, int threads, vsv_advect **out)
     a->stride[2] = g->nz > 1 ? a->plane : 0;
     a->zrow = ((size_t)g->nx + 63) / 64;
     a->zplane = a->zrow * g->ny * g->nz;
+    a->cx = (g->nx - 1 + COARSE - 1) / COARSE + 1;
+    a->cy = (g->ny - 1 + COARSE - 1) / COARSE + 1;
+    const size_t ncoarse = (size_t)a->cx * a->cy * g->nz;
     /* the fit's bands: about an eighth of the levels each (at least 2) */
     a->band = (g->nz + 7) / 8 > 2 ? (g->nz + 7) / 8 : 2;
     a->nband = (g->nz + a->band - 1) / a->band;
@@ -158,7 +128,10 @@ int vsv_advect_create(const vsv_meta *g, int threads, vsv_advect **out)
     a->acc = malloc((size_t)a->fitrows * a->nvars * NCAND * sizeof *a->acc);
     a->scratch = malloc((size_t)a->threads * (size_t)g->nx * 6 * sizeof *a->scratch);
     a->sums = malloc(nfit * NCAND * sizeof *a->sums);
-    if (!a->sx || !a->sy || !a->sz || !a->wind || !a->alpha || !a->acc || !a->sums || !a->scratch)
+    a->coarse = malloc(ncoarse * 6 * sizeof *a->coarse);
+    a->cflag = malloc(ncoarse);
+    if (!a->sx || !a->sy || !a->sz || !a->wind || !a->alpha || !a->acc || !a->sums || !a->scratch || !a->coarse ||
+        !a->cflag)
         return VSV_ENOMEM;
     for (int j = 0; j < g->ny; j++)
         for (int i = 0; i < g->nx; i++)
@@ -203,100 +176,7 @@ void vsv_advect_winds(vsv_advect *a, const float *u0, const float *v0, const flo
 }
 
 
-/* Index of the lower cell and the weight of the upper one along an axis of
- * n cells, for position p clamped to [0, n-1]. */
-static inline int axis(float p, int n, float *f)
-{
-    if (n < 2 || !(p > 0)) {
-        *f = 0;
-        return 0;
-    }
-    if (p >= n - 1) {
-        *f = 1;
-        return n - 2;
-    }
-    const int i = (int)p;
-    *f = p - (float)i;
-    return i;
-}
 
-/* The 8 cells from cell (i, j, k) (axis's lower cells) and their
- * trilinear weights at fractions fx, fy, fz. */
-static inline void corners_at(const vsv_advect *a, int i, int j, int k, float fx, float fy, float fz, size_t off[8],
-                              f8 *wt)
-{
-    const size_t base = (size_t)k * a->plane + (size_t)j * a->nx + (size_t)i;
-    const size_t sx = a->stride[0], sy = a->stride[1], sz = a->stride[2];
-    const float gx = 1 - fx, gy = 1 - fy, gz = 1 - fz;
-    off[0] = base, off[1] = base + sx, off[2] = base + sy, off[3] = base + sy + sx;
-    for (int c = 0; c < 4; c++)
-        off[c + 4] = off[c] + sz;
-    const f8 w = {gx * gy * gz, fx * gy * gz, gx * fy * gz, fx * fy * gz,
-                  gx * gy * fz, fx * gy * fz, gx * fy * fz, fx * fy * fz};
-    *wt = w;
-}
-
-/* The 8 cells around point p and their trilinear weights. */
-static inline void corners(const vsv_advect *a, const float p[3], size_t off[8], f8 *wt)
-{
-    float fx, fy, fz;
-    const int i = axis(p[0], a->nx, &fx), j = axis(p[1], a->ny, &fy), k = axis(p[2], a->nz, &fz);
-    corners_at(a, i, j, k, fx, fy, fz, off, wt);
-}
-
-/* The wind at point p and interval time s (0 at the start, 1 at the end),
- * in cells per interval (the stored winds are already in those units). A
- * cell's 8 floats hold both ends, so the trilinear sum is 8 vector
- * multiply-adds. */
-static inline void wind_at(const vsv_advect *a, const float p[3], float s, float k[3])
-{
-    size_t off[8];
-    f8 wt, acc = {0};
-    corners(a, p, off, &wt);
-    for (int c = 0; c < 8; c++) {
-        f8 w;
-        memcpy(&w, a->wind + off[c] * 8, sizeof w);
-        acc += wt[c] * w;
-    }
-    for (int d = 0; d < 3; d++)
-        k[d] = acc[d] + s * (acc[d + 4] - acc[d]);
-}
-
-static inline float fmax3abs(const float k[3])
-{
-    const float x = fabsf(k[0]), y = fabsf(k[1]), z = fabsf(k[2]);
-    const float m = x > y ? x : y;
-    return m > z ? m : z;
-}
-
-/* Moves p along the wind from interval time s over dur (> 0) of the
- * interval, forward (dir 1) or back (dir -1); k1 is the wind at p and s.
- * Returns 0, or 1 when the trajectory left the grid sideways (the air came
- * from, or goes to, outside it: nothing there is known). */
-static int trajectory(const vsv_advect *a, float p[3], const float k1_in[3], float s, float dur, float dir)
-{
-    const float hi[3] = {(float)(a->nx - 1), (float)(a->ny - 1), (float)(a->nz - 1)};
-    float k1[3] = {k1_in[0], k1_in[1], k1_in[2]};
-    for (int steps = 0; dur > 0 && steps < 1000000; steps++) {
-        float k2[3], m[3];
-        if (steps)
-            wind_at(a, p, s, k1);
-        const float vm = fmax3abs(k1);
-        const float h = vm * dur > 1 ? 1 / vm : dur; /* at most one cell a step */
-        for (int d = 0; d < 3; d++)
-            m[d] = p[d] + dir * k1[d] * (h / 2);
-        wind_at(a, m, s + dir * h / 2, k2);
-        for (int d = 0; d < 3; d++) {
-            const float q = p[d] + dir * k2[d] * h;
-            if (d < 2 && (q < 0 || q > hi[d]) && hi[d] > 0)
-                return 1;
-            p[d] = q < 0 ? 0 : q > hi[d] ? hi[d] : q;
-        }
-        s += dir * h;
-        dur = h < dur ? dur - h : 0;
-    }
-    return 0;
-}
 
 /* Trilinear value of f at the corners, clamped to the range of the 8
  * cells; when some hold no data (NaN) they are left out and the weights of
@@ -342,28 +222,6 @@ static void set_span(vsv_advect *a, int64_t t0, int64_t t1)
     }
 }
 
-/* The displacements of the air at cell (i, j, k) at interval time s: db to
- * where it was at the start, df to where it will be at the end (cells; 0
- * for an end whose trajectory left the grid sideways). Returns 0, or which
- * left: 1 the one back, 2 the one on, 3 both. */
-static int displacements(const vsv_advect *a, int i, int j, int k, float s, float db[3], float df[3])
-{
-    const size_t c = (size_t)k * a->plane + (size_t)j * a->nx + i;
-    /* both trajectories start from the cell's centre, where the wind is the
-     * cell's own (no trilinear sum) */
-    const float *w = a->wind + c * 8;
-    const float k1[3] = {w[0] + s * (w[4] - w[0]), w[1] + s * (w[5] - w[1]), w[2] + s * (w[6] - w[2])};
-    const float x[3] = {(float)i, (float)j, (float)k};
-    float pb[3] = {x[0], x[1], x[2]}, pf[3] = {x[0], x[1], x[2]};
-    int left = 0;
-    if (s > 0 && trajectory(a, pb, k1, s, s, -1))
-        memcpy(pb, x, sizeof pb), left |= 1;
-    if (s < 1 && trajectory(a, pf, k1, s, 1 - s, 1))
-        memcpy(pf, x, sizeof pf), left |= 2;
-    for (int d = 0; d < 3; d++)
-        db[d] = pb[d] - x[d], df[d] = pf[d] - x[d];
-    return left;
-}
 
 /* Species v's end value at cell (i, j, k) displaced by alpha * d: f
  * sampled trilinearly there and limited (sample), own where none has data.
@@ -412,12 +270,12 @@ static inline int band_of(int c, int n, int m, float *f)
     return r;
 }
 
-enum { JOB_FRAME, JOB_FIT, JOB_MASK };
+enum { JOB_FRAME, JOB_FIT, JOB_MASK, JOB_COARSE };
 
 typedef struct job {
     vsv_advect *a;
     double s, w; /* the frame's interval time, its linear weight */
-    int ns, kind; /* JOB_FRAME, JOB_FIT (rows FIT_STRIDE apart) or JOB_MASK */
+    int ns, kind; /* JOB_FRAME, JOB_FIT (rows FIT_STRIDE apart), JOB_MASK, JOB_COARSE */
     float *const *out;
     atomic_int next;   /* next row (j + k*ny) to do */
     atomic_int tid;    /* next worker's scratch */
@@ -459,7 +317,7 @@ static void do_row(const job *jb, int row, float *sc)
             for (int v = 0; v < jb->ns && !need; v++)
                 need = al[v] > 0 && a->f0[v][c0 + i] == a->f0[v][c0 + i] && a->f1[v][c0 + i] == a->f1[v][c0 + i];
             if (need)
-                displacements(a, i, j, k, s, d + 6 * i, d + 6 * i + 3);
+                vsv_advect_cell(a, i, j, k, s, d + 6 * i);
         }
     for (int v = 0; v < jb->ns; v++) {
         const float *f0 = a->f0[v], *f1 = a->f1[v];
@@ -497,8 +355,8 @@ static void fit_row(const job *jb, int row)
     memset(acc, 0, (size_t)jb->ns * NCAND * sizeof *acc);
     for (int i = 0; i < a->nx; i += FIT_STRIDE) {
         float db[3], df[3], unused[3];
-        displacements(a, i, j, k, 1, db, unused);
-        displacements(a, i, j, k, 0, unused, df);
+        vsv_advect_trace(a, i, j, k, 1, db, unused);
+        vsv_advect_trace(a, i, j, k, 0, unused, df);
         for (int v = 0; v < jb->ns; v++) {
             const float *f0 = a->f0[v], *f1 = a->f1[v];
             const uint64_t *z0 = a->zero + 2 * (size_t)v * a->zplane, *z1 = z0 + a->zplane;
@@ -550,6 +408,13 @@ static void *worker(void *p)
 {
     job *jb = p;
     const vsv_advect *a = jb->a;
+    if (jb->kind == JOB_COARSE) {
+        float al[MAXVARS];
+        for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->cy * a->nz;)
+            if (level_scales(a, jb->ns, r / a->cy, al))
+                vsv_advect_coarse_row(a, r, (float)jb->s, jb->ns, al);
+        return NULL;
+    }
     if (jb->kind == JOB_MASK) {
         for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->ny * a->nz;)
             mask_row(jb, r);
@@ -659,9 +524,11 @@ const float *vsv_advect_scales(const vsv_advect *a, int *nband)
 int vsv_advect_frame(vsv_advect *a, int64_t t0, int64_t t1, int64_t t, float *const *out)
 {
     set_span(a, t0, t1);
-    job jb = {a, 0, 0, a->ns, JOB_FRAME, out, 0, 0};
+    job jb = {a, 0, 0, a->ns, JOB_COARSE, out, 0, 0};
     jb.w = (double)(t - t0) / (double)(t1 - t0); /* exactly as linear interpolation weighs */
     jb.s = jb.w;
+    run_job(&jb); /* the coarse grid's trajectories, then the cells */
+    jb.kind = JOB_FRAME;
     run_job(&jb);
     return 0;
 }
@@ -679,5 +546,7 @@ void vsv_advect_free(vsv_advect *a)
     free(a->sums);
     free(a->scratch);
     free(a->zero);
+    free(a->coarse);
+    free(a->cflag);
     free(a);
 }

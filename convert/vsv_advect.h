@@ -31,8 +31,9 @@ int vsv_advect_outputs(vsv_advect *a, int ns, const float *const *f0, const floa
  * outputs last given, at time t of
  * [t0, t1]: (float)(A + (B - A) * w), w = (t - t0) / (t1 - t0) in double,
  * A = f0[s] at the point whose trajectory reaches the cell at t, B = f1[s] at
- * the point the trajectory reaches at t1 (the displacements to those points
- * times the species' scale: see vsv_advect_set_scale), each sampled trilinearly from the 8
+ * the point the trajectory reaches at t1 (the displacements to those points,
+ * traced from every second column and row and interpolated between, times
+ * the species' scale: see vsv_advect_set_scale), each sampled trilinearly from the 8
  * cells around it (cells without data skipped) and clamped to their range.
  * NaN where f0 or f1 is NaN at the cell itself (as linear interpolation).
  * Uses the winds last given. Threads that cannot start leave their share

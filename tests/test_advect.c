@@ -411,9 +411,54 @@ static void test_zero_shortcut(void)
     vsv_meta_clear(&m);
 }
 
+/* Trajectories are traced from every second column and row, and the cells
+ * between take the mean of the 4 around them: in a wind sheared with
+ * height (4 cells an hour east below level 8, 8 above) each level's
+ * displacement is uniform, so every cell, traced or between, rebuilds its
+ * level's cloud where it has gone, at a quarter, half and three quarters. */
+static void test_coarse_shear(void)
+{
+    static const char *const names[] = {"CLW", VSV_WIND_U, VSV_WIND_V, VSV_WIND_W};
+    vsv_meta m;
+    grid(&m, names, 4);
+    float *a[4], *b[4];
+    for (int v = 0; v < 4; v++) {
+        a[v] = malloc(NC * sizeof(float));
+        b[v] = malloc(NC * sizeof(float));
+    }
+    /* the cloud at (12, 3, 7): a level's part moves u(k) cells in the hour */
+    for (int i = 0; i < NC; i++) {
+        const int x = i % NX, y = i / NX % NY, k = i / (NX * NY), u = k < 8 ? 4 : 8;
+        const double r0 = (x - 12.0) * (x - 12.0) + (y - 3.0) * (y - 3.0) + (k - 7.0) * (k - 7.0);
+        const double r1 = (x - 12.0 - u) * (x - 12.0 - u) + (y - 3.0) * (y - 3.0) + (k - 7.0) * (k - 7.0);
+        a[0][i] = (float)exp(-r0 / 8), b[0][i] = (float)exp(-r1 / 8);
+        a[1][i] = b[1][i] = u * 1000 / 3600.0f;
+        a[2][i] = b[2][i] = a[3][i] = b[3][i] = 0;
+    }
+    frames fr = {0, 1, {0}, {{0}}};
+    const int rc = run(VSV_TIME_WIND, &m, (const float *const *)a, (const float *const *)b, &fr);
+    double e = rc || fr.n != 5 ? 1 : 0;
+    for (int f = 1; f < 4 && fr.n == 5; f++)
+        for (int i = 0; i < NC; i++) {
+            const int x = i % NX, y = i / NX % NY, k = i / (NX * NY), u = k < 8 ? 4 : 8;
+            const double cx = 12.0 + u * f / 4.0;
+            const double r = (x - cx) * (x - cx) + (y - 3.0) * (y - 3.0) + (k - 7.0) * (k - 7.0);
+            /* where neither trajectory left the grid (those ends take the cell's own value) */
+            if (x > u * f / 4 && x < NX - 1 - u * (4 - f) / 4)
+                e = fmax(e, fabs(fr.f[f][0][i] - exp(-r / 8)));
+        }
+    CHECK(e < 1e-4, "advect: a wind sheared with height moves each level's part of a cloud its own way, "
+          "traced cells and cells between alike", "max error %.3g", e);
+    frames_free(&fr);
+    for (int v = 0; v < 4; v++)
+        free(a[v]), free(b[v]);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_uniform_wind();
+    test_coarse_shear();
     test_fitted_scale();
     test_calm();
     test_zero_shortcut();
