@@ -12,7 +12,8 @@
  * sizes, the ratios, the largest errors actually made against the
  * originals, and the format-2 file's full decode on one core (best of 3).
  * Usage:
- *   bench_codec SHARED_DIR PLUME_DIR WORK_DIR */
+ *   bench_codec SHARED_DIR PLUME_DIR WORK_DIR
+ *   bench_codec --decode FILE.vsv PASSES   (the decode alone, to profile) */
 #include "vsv_convert.h"
 #include "vsv_format.h"
 
@@ -262,12 +263,54 @@ static void run(const dataset *d, const char *work)
     vsv_decoder_free(dec);
     vsv_file_free(f);
     remove(v1);
-    remove(v2);
+    /* kept for bench_codec.sh's profile of the decode (BENCH_CODEC_KEEP set):
+     * WORK_DIR/NAME.vsv, the name's spaces and + as _ */
+    char kept[1024];
+    snprintf(kept, sizeof kept, "%s/%s.vsv", work, d->name);
+    for (char *c = kept + strlen(work) + 1; *c; c++)
+        if (*c == ' ' || *c == '+')
+            *c = '_';
+    if (!getenv("BENCH_CODEC_KEEP") || rename(v2, kept))
+        remove(v2);
     remove(ncp);
+}
+
+/* --decode FILE PASSES: every step and species of FILE decoded in order,
+ * PASSES times, nothing else (the part bench_codec.sh profiles) */
+static int decode_only(const char *path, int passes)
+{
+    vsv_file *f = NULL;
+    vsv_decoder *dec = NULL;
+    if (vsv_file_open(path, &f) || vsv_decoder_create(f, &dec)) {
+        fprintf(stderr, "bench_codec: %s: %s\n", path, f ? vsv_file_error(f) : "cannot open");
+        return 1;
+    }
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    const size_t n = (size_t)m->nx * m->ny * m->nz;
+    float *q = malloc(n * sizeof *q);
+    int rc = !q;
+    for (int p = 0; p < passes && !rc; p++) {
+        vsv_decoder_free(dec);
+        rc = vsv_decoder_create(f, &dec) != 0;
+        for (int t = 0; t < info.nsteps && !rc; t++)
+            for (int v = 0; v < m->nvars && !rc; v++)
+                if (vsv_decoder_volume(dec, t, v, q)) {
+                    fprintf(stderr, "bench_codec: %s\n", vsv_decoder_error(dec));
+                    rc = 1;
+                }
+    }
+    free(q);
+    vsv_decoder_free(dec);
+    vsv_file_free(f);
+    return rc;
 }
 
 int main(int argc, char **argv)
 {
+    if (argc == 4 && !strcmp(argv[1], "--decode"))
+        return decode_only(argv[2], atoi(argv[3]));
     if (argc < 4) {
         fprintf(stderr, "usage: bench_codec SHARED_DIR PLUME_DIR WORK_DIR\n");
         return 2;
