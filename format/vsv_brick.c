@@ -85,7 +85,8 @@ void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *
  * mod 2^8). The values land in out (a B^3 array); ABS3 decodes into the
  * state itself, DELTA3 into scratch (the rebuilt differences are the next
  * rows' neighbours), each row added to the state while it is in cache. */
-static void inverse3(int bits, const unsigned char *in, int B, const int ext[3], uint16_t *out, uint16_t *add)
+static void inverse3(int bits, const unsigned char *in, int B, const int ext[3], uint16_t *out, uint16_t *add,
+                     int undo)
 {
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
     const unsigned char *lo = in, *hi = in + n;
@@ -122,37 +123,43 @@ static void inverse3(int bits, const unsigned char *in, int B, const int ext[3],
                 row[i] = d[i] & mask;
             if (add) {
                 uint16_t *st = add + at;
-                for (int i = 0; i < ex; i++)
-                    st[i] = (uint16_t)((st[i] + d[i]) & mask);
+                if (undo)
+                    for (int i = 0; i < ex; i++)
+                        st[i] = (uint16_t)((st[i] - d[i]) & mask);
+                else
+                    for (int i = 0; i < ex; i++)
+                        st[i] = (uint16_t)((st[i] + d[i]) & mask);
             }
         }
 }
 
 void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state,
-                       uint16_t *scratch)
+                       uint16_t *scratch, int undo)
 {
     if (kind == VSV_BRICK_ABS3 || kind == VSV_BRICK_DELTA3) {
         if (kind == VSV_BRICK_ABS3)
-            inverse3(bits, in, B, ext, state, NULL);
+            inverse3(bits, in, B, ext, state, NULL, 0);
         else
-            inverse3(bits, in, B, ext, scratch, state);
+            inverse3(bits, in, B, ext, scratch, state, undo);
         return;
     }
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
     const unsigned char *lo = in, *hi = in + n;
-    if (kind == VSV_BRICK_DELTA) {
+    if (kind == VSV_BRICK_DELTA) { /* undo: the residuals subtracted (wrapping) */
+        const unsigned neg = undo ? ~0u : 0u; /* (r ^ neg) - neg: -r when undoing */
         for (int k = 0; k < ext[2]; k++)
             for (int j = 0; j < ext[1]; j++) {
                 uint16_t *row = state + ((size_t)k * B + j) * B;
                 if (bits == 8) {
                     for (int i = 0; i < ext[0]; i++) {
-                        const unsigned z = lo[i];
-                        row[i] = (uint16_t)((row[i] + ((z >> 1) ^ (0u - (z & 1)))) & 0xffu);
+                        const unsigned z = lo[i], r = (z >> 1) ^ (0u - (z & 1));
+                        row[i] = (uint16_t)((row[i] + ((r ^ neg) - neg)) & 0xffu);
                     }
                 } else {
                     for (int i = 0; i < ext[0]; i++) {
                         const uint16_t z = (uint16_t)(lo[i] | (hi[i] << 8));
-                        row[i] = (uint16_t)(row[i] + (uint16_t)((z >> 1) ^ (uint16_t)(0u - (z & 1))));
+                        const uint16_t r = (uint16_t)((z >> 1) ^ (uint16_t)(0u - (z & 1)));
+                        row[i] = (uint16_t)(row[i] + (uint16_t)((r ^ neg) - neg));
                     }
                     hi += ext[0];
                 }

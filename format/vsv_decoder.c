@@ -46,20 +46,26 @@ void vsv_decoder_free(vsv_decoder *d)
 const char *vsv_decoder_error(const vsv_decoder *d) { return d ? d->err : "out of memory"; }
 
 static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
-                 uint16_t *codes);
+                 uint16_t *codes, int back);
 
-/* Applies the brick entry `be` of chunk c (step t) to codes; a mapping cut
- * by a truncation meanwhile (zeros read) is an error, whatever they decoded
- * to. */
-int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes)
+/* Applies the brick entry `be` of chunk c (step t) to codes (back: undoes
+ * it, a delta's entry only); a mapping cut by a truncation meanwhile (zeros
+ * read) is an error, whatever they decoded to. */
+static int apply_checked(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
+                         uint16_t *codes, int back)
 {
-    const int rc = apply(d, c, t, s, b, be, codes);
+    const int rc = apply(d, c, t, s, b, be, codes, back);
     const int cut = vsv_file_cut(d->f, d->err, sizeof d->err);
     return cut ? cut : rc;
 }
 
+int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes)
+{
+    return apply_checked(d, c, t, s, b, be, codes, 0);
+}
+
 static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
-                 uint16_t *codes)
+                 uint16_t *codes, int back)
 {
     vsv_file *f = d->f;
     const size_t n = (size_t)f->lay.brick * f->lay.brick * f->lay.brick;
@@ -102,7 +108,7 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
         }
         src = d->raw;
     }
-    vsv_brick_inverse(bits, kind, src, f->lay.brick, ext, codes, d->scratch);
+    vsv_brick_inverse(bits, kind, src, f->lay.brick, ext, codes, d->scratch, back);
     return 0;
 }
 
@@ -116,6 +122,24 @@ int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *
     if (!c)
         return vsv_file_chunk_rc(f, d->err, sizeof d->err);
     return vsv_decoder_apply(d, c, step, s, b, vsv_file_brick_entry(f, c, s, b), codes);
+}
+
+int vsv_decoder_brick_retreat(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
+{
+    vsv_file *f = d->f;
+    int rc = vsv_file_check_args(f, step, s, b, d->err, sizeof d->err);
+    if (rc)
+        return rc;
+    const unsigned char *c = vsv_file_chunk_index(f, step, d->err, sizeof d->err);
+    if (!c)
+        return vsv_file_chunk_rc(f, d->err, sizeof d->err);
+    const unsigned char *be = vsv_file_brick_entry(f, c, s, b);
+    if (vsv_brick_absolute(be[0])) {
+        vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d: an absolute state cannot be undone",
+                f->name, step, s, b);
+        return VSV_EINVAL;
+    }
+    return apply_checked(d, c, step, s, b, be, codes, 1);
 }
 
 int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *codes)

@@ -474,6 +474,11 @@ const char *vsv_decoder_error(const vsv_decoder *d);
 int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *codes);
 /* Advances codes of brick b from step-1 to step in place (pager use). */
 int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *codes);
+/* Takes codes of brick b from step back to step-1 in place, undoing step's
+ * delta (one payload; UNCHANGED leaves them): exact, as deltas wrap modulo
+ * 2^bits (pager use, playing backward). VSV_EINVAL when step's entry is an
+ * absolute state (EMPTY, ABS, ABS3: step-1 is not derivable from it). */
+int vsv_decoder_brick_retreat(vsv_decoder *d, int step, int s, int b, uint16_t *codes);
 /* Floats of brick b at (step, s): brick^3 values (caller buffer). */
 int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out);
 /* The whole volume (nx*ny*nz floats, x fastest; caller buffer). */

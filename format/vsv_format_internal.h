@@ -59,8 +59,10 @@ static inline int vsv_brick_absolute(int kind)
 void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *prev, int B, const int ext[3],
                        unsigned char *out);
 /* Inverse in place: ABS and ABS3 overwrite the cells inside the grid, DELTA
- * and DELTA3 add to them (DELTA3 through scratch, a B^3 array). */
+ * and DELTA3 add to them (DELTA3 through scratch, a B^3 array); with undo
+ * set, DELTA and DELTA3 subtract instead (the state of the step before:
+ * the residuals wrap modulo 2^bits, so the step is exactly undone). */
 void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state,
-                       uint16_t *scratch);
+                       uint16_t *scratch, int undo);
 
 #endif

@@ -9,11 +9,13 @@
  *
  * Decoding: the pager keeps, per species and brick, the decoder state (the
  * brick's quantised codes at the last step decoded), so playing forward
- * costs one payload per changed brick per step. Playing backward, a brick
- * is decoded once from its keyframe through the steps of its keyframe
- * group that the prefetch window holds, and those steps are then served
- * from the cache. A seek costs at most K payloads per brick (K = the
- * file's keyframe interval).
+ * costs one payload per changed brick per step. Playing backward, the
+ * state steps back by undoing a delta (vsv_decoder_brick_retreat), also one
+ * payload per changed brick per step; only entering a keyframe group from
+ * above walks from the group's keyframe to its top step (serving the steps
+ * of the group that the prefetch window holds on the way). Each decode
+ * takes the cheapest of the three ways in payloads. A seek costs at most K
+ * payloads per brick (K = the file's keyframe interval).
  *
  * Budget: everything the pager allocates — decoded bricks, decoder state,
  * the tables of defining steps (stats.fixed_bytes) — counts against the

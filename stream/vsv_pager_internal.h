@@ -73,7 +73,8 @@ typedef struct job {
     float **out;     /* the entries' buffers */
     int track;       /* the busy track used, or -1 (scratch codes) */
     uint16_t *codes; /* the track's codes, or NULL */
-    int from;        /* first step to apply */
+    int from;        /* first step to apply; rev: the step the track's codes hold */
+    int rev;         /* 1: undo deltas from `from` down (outputs served highest first) */
     int fresh;       /* 1: from is an absolute (or empty) state: start clean */
     int payloads;    /* payloads the job decodes */
 } job;

@@ -58,15 +58,14 @@ const int *vsv_pager_defs(vsv_pager *p, int step, int s)
 }
 
 /* Takes the track of (s, b) for job j when the pager keeps decoder state
- * and plays forward or is paused (under the lock; the caller made sure it
- * is not busy): it holds codes (allocated within the budget when it had
- * none) or the job decodes into scratch. Playing backward a track is no
- * use (each job starts from a keyframe): the budget goes to the window. */
+ * (under the lock; the caller made sure it is not busy): it holds codes
+ * (allocated within the budget when it had none) or the job decodes into
+ * scratch. */
 static void take_track(vsv_pager *p, job *j)
 {
     j->track = -1;
     j->codes = NULL;
-    if (!p->incremental || p->dir < 0)
+    if (!p->incremental)
         return;
     const int i = j->s * p->info.nbricks + j->b;
     track *T = &p->tracks[i];
@@ -107,15 +106,36 @@ static int add_output(vsv_pager *p, job *j, int v)
     return 0;
 }
 
+/* Payloads (ABS, DELTA, ABS3, DELTA3) of brick b of species s over steps
+ * [a, z]; *absolute: whether one of (a, z] is an absolute state (EMPTY,
+ * ABS, ABS3). A negative error for a damaged chunk index. */
+static long payloads_in(vsv_pager *p, int s, int b, int a, int z, int *absolute)
+{
+    long n = 0;
+    *absolute = 0;
+    for (int t = a; t <= z; t++) {
+        const int k = vsv_file_brick_kind(p->f, t, s, b);
+        if (k < 0)
+            return k;
+        n += k >= VSV_BRICK_ABS;
+        if (t > a)
+            *absolute |= k == VSV_BRICK_ABS || k == VSV_BRICK_ABS3 || k == VSV_BRICK_EMPTY;
+    }
+    return n;
+}
+
 /* Makes the job that decodes brick b of species s at defining step `step`
  * (under the lock; its entry is absent, its track not busy, room made for
- * it): claims the entry and the track, and, playing backward, the other
- * defining steps of the brick that the prefetch window needs from the same
- * keyframe group (one forward pass then serves them all), as far as the
- * budget allows. Decoding starts from the track's state when it lies
- * between the brick's last absolute state and the first step asked for,
- * else from that absolute state. 0, or an error (the job's outputs then
- * failed and released; the error set). */
+ * it): claims the entry and the track, and chooses the cheapest way there
+ * in payloads: forward from the track's state when it lies between the
+ * brick's last absolute state and `step`; backward from the track's state
+ * when it lies after `step` with no absolute state between (each delta
+ * undone: playing backward a step costs one payload, as forward); else
+ * forward from the last absolute state. Playing backward, it also claims
+ * the other defining steps below `step` that the prefetch window needs and
+ * the chosen way passes (one pass serves them all), as far as the budget
+ * allows. 0, or an error (the job's outputs then failed and released; the
+ * error set). */
 int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
 {
     j->s = s;
@@ -123,18 +143,61 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     j->n = 0;
     j->track = -1;
     j->payloads = 0;
+    j->rev = 0;
     if (add_output(p, j, step)) {
         vsv_pager_set_err(p, "out of memory");
         return VSV_ENOMEM;
     }
     take_track(p, j);
-    if (p->incremental && p->dir < 0 && vsv_sched_wanted(p, s)) {
-        const int g = step - step % p->info.keyframe;
+    const int have = j->track >= 0 ? p->tracks[j->track].step : -1;
+    int rc = 0, a = step; /* the brick's last absolute state at or before step */
+    for (;; a--) {
+        const int k = vsv_file_brick_kind(p->f, a, s, b);
+        if (k == VSV_BRICK_ABS || k == VSV_BRICK_ABS3 || k == VSV_BRICK_EMPTY)
+            break;
+        if (k < 0 || a == 0) { /* keyframes hold absolute states: a == 0 is damage */
+            rc = k < 0 ? k : VSV_ECORRUPT;
+            break;
+        }
+    }
+    long fresh = 0, inc = -1, rev = -1;
+    int absolute = 0;
+    if (!rc)
+        fresh = payloads_in(p, s, b, a, step, &absolute);
+    if (!rc && fresh >= 0 && have >= a && have <= step)
+        inc = payloads_in(p, s, b, have, step, &absolute) - (vsv_file_brick_kind(p->f, have, s, b) >= VSV_BRICK_ABS);
+    if (!rc && fresh >= 0 && have > step) {
+        /* undoing steps have..step+1 (their payloads) reaches step */
+        rev = payloads_in(p, s, b, step, have, &absolute) - (vsv_file_brick_kind(p->f, step, s, b) >= VSV_BRICK_ABS);
+        if (absolute)
+            rev = -1;
+    }
+    if (!rc && fresh < 0)
+        rc = (int)fresh;
+    int lo = a; /* the lowest output the chosen way passes */
+    if (!rc) {
+        if (inc >= 0 && (rev < 0 || inc <= rev) && inc <= fresh) {
+            j->from = have + 1;
+            j->fresh = 0;
+            j->payloads = (int)inc;
+            lo = have;
+        } else if (rev >= 0 && rev <= fresh) {
+            j->from = have;
+            j->fresh = 0;
+            j->rev = 1;
+            j->payloads = (int)rev;
+        } else {
+            j->from = a;
+            j->fresh = 1;
+            j->payloads = (int)fresh;
+        }
+    }
+    if (!rc && p->incremental && p->dir < 0 && vsv_sched_wanted(p, s)) {
         for (int d = 0; d <= p->depth && j->n < p->job_cap; d++) {
             const int w = vsv_sched_ahead(p, d);
             if (w < 0)
                 break;
-            if (w < g || w >= step)
+            if (w < lo || w >= step)
                 continue;
             const int *def = vsv_pager_defs(p, w, s);
             if (!def)
@@ -143,36 +206,16 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
             int dup = 0;
             for (int i = 0; i < j->n; i++)
                 dup |= j->step[i] == v;
-            if (v < 0 || v >= step || dup || vsv_cache_lookup(p, s, b, v) >= 0)
+            if (v < lo || v >= step || dup || vsv_cache_lookup(p, s, b, v) >= 0)
                 continue;
             if (!vsv_cache_make_room(p, p->brick_bytes, 0) || add_output(p, j, v))
                 break;
         }
-    }
-    const int have = j->track >= 0 ? p->tracks[j->track].step : -1;
-    int rc = 0;
-    for (int t = j->step[0];; t--) {
-        if (t == have) {
-            j->from = t + 1;
-            j->fresh = 0;
-            break;
+        if (j->rev && j->n > 1) { /* undoing further down: the payloads of (lowest, step] */
+            const long more = payloads_in(p, s, b, j->step[0], step, &absolute) -
+                              (vsv_file_brick_kind(p->f, j->step[0], s, b) >= VSV_BRICK_ABS);
+            j->payloads += (int)(more > 0 ? more : 0);
         }
-        const int k = vsv_file_brick_kind(p->f, t, s, b);
-        if (k == VSV_BRICK_ABS || k == VSV_BRICK_ABS3 || k == VSV_BRICK_EMPTY) {
-            j->from = t;
-            j->fresh = 1;
-            break;
-        }
-        if (k < 0 || t == 0) { /* keyframes hold absolute states: t == 0 is damage */
-            rc = k < 0 ? k : VSV_ECORRUPT;
-            break;
-        }
-    }
-    for (int t = j->from; !rc && t <= j->step[j->n - 1]; t++) {
-        const int k = vsv_file_brick_kind(p->f, t, s, b);
-        if (k < 0)
-            rc = k;
-        j->payloads += k >= VSV_BRICK_ABS; /* ABS, DELTA, ABS3, DELTA3 */
     }
     if (rc) {
         vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
@@ -194,10 +237,16 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
     const int partial = ext[0] < n || ext[1] < n || ext[2] < n;
     if (j->fresh && partial) /* cells outside the grid: code 0, as vsv_decoder_brick_codes */
         memset(codes, 0, cells * sizeof *codes);
-    int t = j->from - 1;
-    for (int i = 0; i < j->n; i++) {
+    int t = j->rev ? j->from : j->from - 1;
+    for (int o = 0; o < j->n; o++) {
+        const int i = j->rev ? j->n - 1 - o : o; /* undoing: the outputs from the highest down */
         while (t < j->step[i])
             if (vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes)) {
+                snprintf(msg, cap, "%s", vsv_decoder_error(d));
+                return -1;
+            }
+        while (t > j->step[i])
+            if (vsv_decoder_brick_retreat(d, t--, j->s, j->b, codes)) {
                 snprintf(msg, cap, "%s", vsv_decoder_error(d));
                 return -1;
             }
@@ -236,7 +285,7 @@ void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_la
     if (j->track >= 0) {
         track *T = &p->tracks[j->track];
         T->busy = 0;
-        T->step = ok ? j->step[j->n - 1] : -1;
+        T->step = !ok ? -1 : j->rev ? j->step[0] : j->step[j->n - 1];
         p->pinned -= p->codes_bytes;
         vsv_lru_push(&p->tlru, p->tracks, sizeof *p->tracks, j->track);
         T->listed = 1;

@@ -67,6 +67,29 @@ static void test_advance(vsv_file *f)
           "(%d bricks x steps, %d deltas, first bad step %d)", checked, deltas, bad - 1);
     CHECK(vsv_decoder_brick_advance(d, in.nsteps, 0, 0, state) == VSV_ERANGE, "advance past the last step: VSV_ERANGE",
           " ");
+    /* undoing: from every step's codes, retreat gives the previous step's */
+    int kinds[6] = {0};
+    bad = checked = 0;
+    for (int s = 0; s < in.nspecies; s++)
+        for (int b = 0; b < in.nbricks; b++)
+            for (int t = in.nsteps - 1; t > 0 && !bad; t--) {
+                const int kind = vsv_file_brick_kind(f, t, s, b);
+                vsv_decoder_brick_codes(d, t, s, b, state);
+                vsv_decoder_brick_codes(d, t - 1, s, b, ref);
+                const int rc = vsv_decoder_brick_retreat(d, t, s, b, state);
+                if (kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3 || kind == VSV_BRICK_EMPTY) {
+                    bad = rc != VSV_EINVAL ? 1 + t : 0;
+                    continue;
+                }
+                kinds[kind]++;
+                if (rc || memcmp(state, ref, n * sizeof *ref))
+                    bad = 1 + t;
+                checked++;
+            }
+    CHECK(!bad && kinds[VSV_BRICK_DELTA] > 0 && kinds[VSV_BRICK_DELTA3] > 0 && kinds[VSV_BRICK_UNCHANGED] > 0,
+          "vsv_decoder_brick_retreat undoes a step exactly (DELTA, DELTA3, UNCHANGED); an absolute state: VSV_EINVAL",
+          "(%d undone: %d DELTA, %d DELTA3, %d UNCHANGED; first bad step %d)", checked, kinds[VSV_BRICK_DELTA],
+          kinds[VSV_BRICK_DELTA3], kinds[VSV_BRICK_UNCHANGED], bad - 1);
     free(state);
     free(ref);
     vsv_decoder_free(d);
@@ -201,10 +224,24 @@ static void test_counts(const char *path)
      * in parts, never beyond the budget) */
     const size_t small = 3 * (size_t)nb * brick + 64 * 1024;
     bad = play(f, 1, small, 0, -1, &fwd, &back, &over, why, sizeof why);
-    CHECK(!bad && fwd == all && back < key,
-          "under a 3-step budget: forward still one payload a changed brick, backward fewer than from keyframes",
-          "(forward %llu of %llu, backward %llu against %llu) %s", (unsigned long long)fwd, (unsigned long long)all,
-          (unsigned long long)back, (unsigned long long)key, why);
+    /* backward, a group's top step is reached by one walk from its
+     * keyframe (K payloads a brick) and every step below it by undoing one
+     * delta (a payload a brick): at most (2K - 1) a brick for each group,
+     * where decoding each window of a step or two from the keyframe costs
+     * more */
+    const uint64_t undo = (uint64_t)(2 * K - 1) * nb * (ns / K);
+    CHECK(!bad && fwd == all && back <= undo,
+          "under a 3-step budget: forward one payload a changed brick; backward one walk a group, then a payload a step",
+          "(forward %llu of %llu, backward %llu, at most %llu) %s", (unsigned long long)fwd, (unsigned long long)all,
+          (unsigned long long)back, (unsigned long long)undo, why);
+    /* a budget of a step and its decoder state (no window): each step
+     * backward is a get of its own */
+    const size_t tiny = (size_t)nb * brick * 3 / 2 + 64 * 1024;
+    size_t over2 = 0;
+    bad = play(f, 1, tiny, 0, -1, &fwd, &back, &over2, why, sizeof why);
+    CHECK(!bad && fwd == all && back <= undo, "under a one-step budget: the same bound backward, every brick exact",
+          "(forward %llu of %llu, backward %llu, at most %llu) %s", (unsigned long long)fwd, (unsigned long long)all,
+          (unsigned long long)back, (unsigned long long)undo, why);
     /* the peak: the budget plus what a caller holds (one species of a step)
      * and the brick being decoded with its state */
     CHECK(over <= (size_t)(nb + 1) * brick + brick / 2, "the pager's peak stays within the budget plus the pinned step",
