@@ -191,7 +191,16 @@ static int make_plume(const char *path, int steps, const char *t0_path)
 /* Steps per second playing every step of every species in one direction
  * as fast as the pager delivers them (a new pager: nothing cached), and
  * the payloads it decoded. */
-static double pass_rate(vsv_file *f, size_t budget, int from_keyframe, int dir, uint64_t *payloads)
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec + ts.tv_nsec * 1e-9;
+}
+
+/* cpu: the process's CPU seconds a step (all threads), which the machine's
+ * load does not inflate as it does wall time */
+static double pass_rate(vsv_file *f, size_t budget, int from_keyframe, int dir, uint64_t *payloads, double *cpu)
 {
     vsv_file_info info;
     vsv_file_info_get(f, &info);
@@ -205,7 +214,7 @@ static double pass_rate(vsv_file *f, size_t budget, int from_keyframe, int dir, 
     vsv_volume **v = calloc((size_t)info.nspecies, sizeof *v);
     for (int s = 0; s < info.nspecies; s++)
         v[s] = vsv_pager_volume_new(p);
-    const double t0 = now();
+    const double t0 = now(), c0 = cpu_now();
     for (int i = 0; i < info.nsteps; i++) {
         const int t = dir > 0 ? i : info.nsteps - 1 - i;
         vsv_pager_playhead(p, t, dir, 1, 0, NULL);
@@ -214,6 +223,7 @@ static double pass_rate(vsv_file *f, size_t budget, int from_keyframe, int dir, 
                 fprintf(stderr, "bench_play: %s\n", vsv_pager_error(p));
     }
     const double rate = info.nsteps / (now() - t0);
+    *cpu = (cpu_now() - c0) / info.nsteps;
     vsv_pager_stats st;
     vsv_pager_stats_get(p, &st);
     *payloads = st.payloads_decoded;
@@ -249,20 +259,22 @@ static int compare(const char *path, int nb, char **mb)
            (double)m->nx * m->ny * m->nz * 4 * info.nspecies / 1e6);
     printf("| budget | direction | from keyframe: steps/s | incremental: steps/s | ratio | payloads decoded (keyframe / "
            "incremental) |\n|---|---|---|---|---|---|\n");
-    double fwd_back[64][2]; /* incremental medians, forward and backward, per budget */
+    double fwd_back[64][2], cpu_fb[64][2]; /* incremental medians, forward and backward, per budget */
     if (nb > 64)
         nb = 64;
     for (int i = 0; i < nb; i++) {
         const size_t budget = (size_t)atol(mb[i]) << 20;
         for (int dir = 1; dir >= -1; dir -= 2) {
-            double old[3], inc[3];
+            double old[3], inc[3], oc[3], ic[3];
             uint64_t po = 0, pn = 0;
             for (int r = 0; r < 3; r++) {
-                old[r] = pass_rate(f, budget, 1, dir, &po);
-                inc[r] = pass_rate(f, budget, 0, dir, &pn);
+                old[r] = pass_rate(f, budget, 1, dir, &po, &oc[r]);
+                inc[r] = pass_rate(f, budget, 0, dir, &pn, &ic[r]);
             }
             qsort(old, 3, sizeof *old, cmp_double);
             qsort(inc, 3, sizeof *inc, cmp_double);
+            qsort(ic, 3, sizeof *ic, cmp_double);
+            cpu_fb[i][dir < 0] = ic[1];
             printf("| %s MB | %s | %.1f (%.1f-%.1f) | %.1f (%.1f-%.1f) | **%.2f** | %llu / %llu |\n", mb[i],
                    dir > 0 ? "forward" : "backward", old[1], old[0], old[2], inc[1], inc[0], inc[2], inc[1] / old[1],
                    (unsigned long long)po, (unsigned long long)pn);
@@ -270,11 +282,11 @@ static int compare(const char *path, int nb, char **mb)
             fwd_back[i][dir < 0] = inc[1];
         }
     }
-    printf("\n| budget | incremental forward steps/s | backward steps/s | forward / backward (target <= 1.5) |\n"
-           "|---|---|---|---|\n");
+    printf("\n| budget | incremental forward steps/s | backward steps/s | forward / backward (target <= 1.5) | CPU ms a "
+           "step forward | backward | backward / forward |\n|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < nb; i++)
-        printf("| %s MB | %.1f | %.1f | **%.2f** |\n", mb[i], fwd_back[i][0], fwd_back[i][1],
-               fwd_back[i][0] / fwd_back[i][1]);
+        printf("| %s MB | %.1f | %.1f | **%.2f** | %.2f | %.2f | **%.2f** |\n", mb[i], fwd_back[i][0], fwd_back[i][1],
+               fwd_back[i][0] / fwd_back[i][1], 1e3 * cpu_fb[i][0], 1e3 * cpu_fb[i][1], cpu_fb[i][1] / cpu_fb[i][0]);
     vsv_file_free(f);
     return 0;
 }

@@ -79,15 +79,21 @@ int vsv_cache_rehash(vsv_pager *p, unsigned n)
     return 0;
 }
 
-/* The list an unpinned entry belongs on: inside the window or outside. */
-static vsv_lru *list_of(vsv_pager *p, const entry *E) { return &p->lru[E->mark == p->mark ? L_IN : L_OUT]; }
+/* The list an unpinned entry belongs on: checkpoints, or bricks inside
+ * the window or outside. */
+static vsv_lru *list_of(vsv_pager *p, const entry *E)
+{
+    return &p->lru[E->s >= p->info.nspecies ? L_CK : E->mark == p->mark ? L_IN : L_OUT];
+}
 
-/* A brick this thread will decode (under the lock): a new LOADING entry
- * with its buffer, pinned while it is decoded so nothing evicts it; -1
- * when out of memory. */
+/* A brick (or with s >= nspecies a checkpoint) this thread will decode
+ * (under the lock): a new LOADING entry with its buffer, pinned while it is
+ * decoded so nothing evicts it; -1 when out of memory. */
 int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
 {
-    float *buf = vsv_slab_get(p, 0);
+    const int ck = s >= p->info.nspecies;
+    const size_t size = ck ? p->codes_bytes : p->brick_bytes;
+    void *buf = vsv_slab_get(p, ck);
     if (!buf)
         return -1;
     int e = p->freelist;
@@ -98,7 +104,7 @@ int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
             const int cap = p->capent ? 2 * p->capent : 1024;
             entry *ne = realloc(p->ent, (size_t)cap * sizeof *ne);
             if (!ne) {
-                vsv_slab_put(p, 0, buf);
+                vsv_slab_put(p, ck, buf);
                 return -1;
             }
             p->ent = ne;
@@ -110,18 +116,20 @@ int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
             if (vsv_cache_rehash(p, p->nbucket * 2)) {
                 p->ent[e].next = p->freelist;
                 p->freelist = e;
-                vsv_slab_put(p, 0, buf);
+                vsv_slab_put(p, ck, buf);
                 return -1;
             }
         }
     }
     entry *E = &p->ent[e];
-    *E = (entry){{-1, -1}, s, b, step, LOADING, 1, 0, p->mark, buf, 0};
+    *E = (entry){{-1, -1}, s, b, step, LOADING, 1, 0, ck ? -1 : p->mark, buf, 0};
     const unsigned h = hash3(s, b, step) & (p->nbucket - 1);
     E->next = p->bucket[h];
     p->bucket[h] = e;
-    p->bytes += p->brick_bytes;
-    p->pinned += p->brick_bytes;
+    p->bytes += size;
+    p->pinned += size;
+    if (ck)
+        p->track_bytes += size;
     if (p->bytes > p->peak)
         p->peak = p->bytes;
     return e;
@@ -130,19 +138,23 @@ int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
 void vsv_cache_drop(vsv_pager *p, int e)
 {
     entry *E = &p->ent[e];
+    const int ck = vsv_cache_is_ck(p, e);
+    const size_t size = vsv_cache_size(p, e);
     if (E->listed)
         vsv_lru_unlink(list_of(p, E), p->ent, sizeof *p->ent, e);
     if (E->pins)
-        p->pinned -= p->brick_bytes;
+        p->pinned -= size;
     hash_unlink(p, e);
-    vsv_slab_put(p, 0, E->data);
+    vsv_slab_put(p, ck, E->data);
     E->data = NULL;
     E->state = -1;
     E->listed = 0;
     E->pins = 0;
     E->next = p->freelist;
     p->freelist = e;
-    p->bytes -= p->brick_bytes;
+    p->bytes -= size;
+    if (ck)
+        p->track_bytes -= size;
 }
 
 void vsv_cache_touch(vsv_pager *p, int e)
@@ -160,7 +172,7 @@ void vsv_cache_pin(vsv_pager *p, int e)
     entry *E = &p->ent[e];
     if (E->pins++)
         return;
-    p->pinned += p->brick_bytes;
+    p->pinned += vsv_cache_size(p, e);
     if (E->listed) {
         vsv_lru_unlink(list_of(p, E), p->ent, sizeof *p->ent, e);
         E->listed = 0;
@@ -172,7 +184,7 @@ void vsv_cache_unpin(vsv_pager *p, int e)
     entry *E = &p->ent[e];
     if (--E->pins)
         return;
-    p->pinned -= p->brick_bytes;
+    p->pinned -= vsv_cache_size(p, e);
     if (E->state == READY || E->state == FAILED) {
         vsv_lru_push(list_of(p, E), p->ent, sizeof *p->ent, e);
         E->listed = 1;
@@ -225,14 +237,16 @@ static void evict_track(vsv_pager *p)
 
 /* Evicts until `extra` more bytes fit in the budget, taking list heads:
  * unpinned bricks outside the prefetch window (least recently used first),
- * then idle decoder tracks, then (only when `window` is set) unpinned bricks
- * inside the window. Returns whether they fit. */
+ * then checkpoints, then idle decoder tracks, then (only when `window` is
+ * set) unpinned bricks inside the window. Returns whether they fit. */
 int vsv_cache_make_room(vsv_pager *p, size_t extra, int window)
 {
     while (p->bytes + extra > p->budget) {
         if (p->lru[L_OUT].head >= 0) {
             vsv_cache_drop(p, p->lru[L_OUT].head);
             p->st.evictions++;
+        } else if (p->lru[L_CK].head >= 0) {
+            vsv_cache_drop(p, p->lru[L_CK].head);
         } else if (p->tlru.head >= 0) {
             evict_track(p);
         } else if (window && p->lru[L_IN].head >= 0) {
@@ -244,4 +258,14 @@ int vsv_cache_make_room(vsv_pager *p, size_t extra, int window)
         p->scan_d = p->scan_s = p->scan_b = 0; /* what was there may be gone */
     }
     return 1;
+}
+
+int vsv_cache_room_ck(vsv_pager *p)
+{
+    while (p->bytes + p->codes_bytes > p->budget && p->lru[L_OUT].head >= 0) {
+        vsv_cache_drop(p, p->lru[L_OUT].head);
+        p->st.evictions++;
+        p->scan_d = p->scan_s = p->scan_b = 0;
+    }
+    return p->bytes + p->codes_bytes <= p->budget;
 }

@@ -17,6 +17,15 @@
 
 void vsv_pager_opts_init(vsv_pager_opts *o) { memset(o, 0, sizeof *o); }
 
+static void job_free(job *j)
+{
+    free(j->step);
+    free(j->ent);
+    free(j->out);
+    free(j->ck_step);
+    free(j->ck_ent);
+}
+
 /* Frees what open allocated (the workers stopped). */
 static void release(vsv_pager *p)
 {
@@ -25,7 +34,7 @@ static void release(vsv_pager *p)
     for (int i = 0; p->scratch && i < p->nthreads; i++)
         free(p->scratch[i]);
     for (int i = 0; p->jobs && i < p->nthreads; i++)
-        free(p->jobs[i].step), free(p->jobs[i].ent), free(p->jobs[i].out);
+        job_free(&p->jobs[i]);
     vsv_decoder_free(p->own);
     free(p->own_scratch);
     vsv_slab_free_all(p);
@@ -52,7 +61,9 @@ static int job_alloc(vsv_pager *p, job *j)
     j->step = malloc((size_t)p->job_cap * sizeof *j->step);
     j->ent = malloc((size_t)p->job_cap * sizeof *j->ent);
     j->out = malloc((size_t)p->job_cap * sizeof *j->out);
-    return j->step && j->ent && j->out ? 0 : VSV_ENOMEM;
+    j->ck_step = malloc((size_t)p->job_cap * sizeof *j->ck_step);
+    j->ck_ent = malloc((size_t)p->job_cap * sizeof *j->ck_ent);
+    return j->step && j->ent && j->out && j->ck_step && j->ck_ent ? 0 : VSV_ENOMEM;
 }
 
 int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
@@ -88,7 +99,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     p->dir = 1;
     p->freelist = -1;
     p->focus = -1;
-    for (int l = 0; l < 3; l++)
+    for (int l = 0; l < 4; l++)
         vsv_lru_init(&p->lru[l]);
     vsv_lru_init(&p->tlru);
     pthread_mutex_init(&p->mu, NULL);
@@ -130,7 +141,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     /* the fixed tables count against the budget as well */
     p->fixed = sizeof *p + (size_t)p->nrows * (sizeof *p->rows + (size_t)nb * sizeof(int)) +
                (size_t)ns * nb * sizeof *p->tracks + p->nbucket * sizeof(int) +
-               (size_t)(n + 1) * (p->codes_bytes + (size_t)p->job_cap * (2 * sizeof(int) + sizeof(float *)));
+               (size_t)(n + 1) * (p->codes_bytes + (size_t)p->job_cap * (4 * sizeof(int) + sizeof(float *)));
     p->bytes = p->peak = p->fixed;
     for (int i = 0; i < n; i++) { /* as many workers as start */
         wslot *ws = malloc(sizeof *ws);
@@ -144,7 +155,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
             free(ws);
             vsv_decoder_free(p->dec[i]);
             free(p->scratch[i]);
-            free(p->jobs[i].step), free(p->jobs[i].ent), free(p->jobs[i].out);
+            job_free(&p->jobs[i]);
             p->dec[i] = NULL, p->scratch[i] = NULL, p->jobs[i] = (job){0};
             break;
         }
@@ -286,9 +297,7 @@ static void shell_release(vsv_volume *v)
     free(v->bkey);
     free(sh->held);
     free(sh->def);
-    free(sh->job.step);
-    free(sh->job.ent);
-    free(sh->job.out);
+    job_free(&sh->job);
     free(sh);
 }
 

@@ -12,9 +12,11 @@
  * costs one payload per changed brick per step. Playing backward, the
  * state steps back by undoing a delta (vsv_decoder_brick_retreat), also one
  * payload per changed brick per step; only entering a keyframe group from
- * above walks from the group's keyframe to its top step (serving the steps
- * of the group that the prefetch window holds on the way). Each decode
- * takes the cheapest of the three ways in payloads. A seek costs at most K
+ * above walks from the group's keyframe to its top step, serving the steps
+ * of the group that the prefetch window holds on the way and keeping the
+ * states it passes below them as checkpoints (codes, while they fit), which
+ * the next steps backward then copy instead of decoding. Each decode takes
+ * the cheapest way in payloads. A seek costs at most K
  * payloads per brick (K = the file's keyframe interval).
  *
  * Budget: everything the pager allocates — decoded bricks, decoder state,
@@ -24,9 +26,10 @@
  * in a volume) or being decoded (stats.pinned_bytes): a budget smaller than
  * one time step degrades to decoding on demand, never to a deadlock.
  * Prefetch decodes only what fits beside the current step (ahead =
- * min(ahead option, budget / step size - 2)). Eviction takes the least
- * recently used brick outside the prefetch window, then idle decoder
- * state, then bricks inside the window.
+ * min(ahead option, budget / step size - 2); playing backward the budget
+ * first sets aside K - 2 checkpoints of half a step each). Eviction takes
+ * the least recently used brick outside the prefetch window, then
+ * checkpoints, then idle decoder tracks, then bricks inside the window.
  *
  * Failures: a damaged chunk index or brick payload fails the vsv_pager_get
  * that needs it (VSV_ECORRUPT, or VSV_ECODEC folded into it) with a message
@@ -82,7 +85,7 @@ typedef struct vsv_pager_stats {
     size_t bytes;             /* decoded bytes held now (cached + pinned + decoding) */
     size_t pinned_bytes;      /* of which pinned or being decoded */
     size_t peak_bytes;        /* most bytes held at once */
-    size_t track_bytes;       /* of bytes: decoder state (codes per species and brick) */
+    size_t track_bytes;       /* of bytes: decoder state (codes per species and brick, and checkpoints) */
     size_t fixed_bytes;       /* of bytes: the pager's fixed tables */
 } vsv_pager_stats;
 

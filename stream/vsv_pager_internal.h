@@ -25,9 +25,9 @@
 
 enum { LOADING, READY, FAILED };
 /* the least-recently-used lists an entry can be on: unpinned READY or
- * FAILED entries outside / inside the prefetch window (pinned and LOADING
- * entries are on none: eviction never sees them) */
-enum { L_NONE, L_OUT, L_IN };
+ * FAILED bricks outside / inside the prefetch window, and checkpoints
+ * (pinned and LOADING entries are on none: eviction never sees them) */
+enum { L_NONE, L_OUT, L_IN, L_CK };
 
 /* Intrusive list links (indices into the entry or track array; -1 ends). */
 typedef struct vsv_link {
@@ -41,13 +41,19 @@ typedef struct entry {
     vsv_link ln;    /* first: the LRU links */
     int s, b, step; /* key: the step whose payload defines this brick state */
     int state, pins;
-    int listed;     /* on an LRU list: [L_IN] when mark is the pager's, else [L_OUT] */
+    int listed;     /* on an LRU list: [L_CK] for a checkpoint, else [L_IN] when mark is the pager's, else [L_OUT] */
     int mark;       /* == the pager's window mark: needed ahead of the playhead */
-    float *data;
+    void *data;     /* the brick's floats, or a checkpoint's codes */
     int next; /* hash chain, or free list */
 } entry;
 
-/* Per-(species, brick) decoder state: the brick's codes at `step`, so the
+/* A checkpoint is an entry keyed (s + nspecies, b, step) holding the
+ * brick's codes at that defining step (a pool-1 buffer): a backward walk
+ * from a keyframe saves the states it passes on the way to the group's top
+ * step, so reaching them later costs a copy, not a payload undone. They
+ * count as decoder state (track_bytes) and are evicted before tracks.
+ *
+ * Per-(species, brick) decoder state: the brick's codes at `step`, so the
  * next step costs one delta. Busy while a job decodes with it; idle tracks
  * holding codes are on the track LRU list (evictable). */
 typedef struct track {
@@ -75,6 +81,9 @@ typedef struct job {
     uint16_t *codes; /* the track's codes, or NULL */
     int from;        /* first step to apply; rev: the step the track's codes hold */
     int rev;         /* 1: undo deltas from `from` down (outputs served highest first) */
+    int copy;        /* a READY checkpoint (pinned) whose codes start the job, or -1 */
+    int nck;         /* checkpoints the walk fills (ascending steps; LOADING) */
+    int *ck_step, *ck_ent;
     int fresh;       /* 1: from is an absolute (or empty) state: start clean */
     int payloads;    /* payloads the job decodes */
 } job;
@@ -95,7 +104,7 @@ struct vsv_pager {
     int nent, capent, freelist;
     int *bucket;
     unsigned nbucket;
-    vsv_lru lru[3]; /* indexed by L_*: [L_OUT], [L_IN] */
+    vsv_lru lru[4]; /* indexed by L_*: [L_OUT], [L_IN], [L_CK] */
     track *tracks;  /* nspecies * nbricks */
     vsv_lru tlru;
     size_t bytes, pinned, peak, track_bytes;
@@ -180,6 +189,14 @@ void vsv_cache_new_window(vsv_pager *p);
 /* Marks e as needed by the current window. */
 void vsv_cache_mark(vsv_pager *p, int e);
 int vsv_cache_make_room(vsv_pager *p, size_t extra, int window);
+/* Room for a checkpoint: evicts only bricks outside the window. */
+int vsv_cache_room_ck(vsv_pager *p);
+/* Whether entry e is a checkpoint (codes), and its buffer's bytes. */
+static inline int vsv_cache_is_ck(const vsv_pager *p, int e) { return p->ent[e].s >= p->info.nspecies; }
+static inline size_t vsv_cache_size(const vsv_pager *p, int e)
+{
+    return vsv_cache_is_ck(p, e) ? p->codes_bytes : p->brick_bytes;
+}
 /* buffers (vsv_slab.c) */
 void *vsv_slab_get(vsv_pager *p, int pool);
 void vsv_slab_put(vsv_pager *p, int pool, void *b);

@@ -127,14 +127,13 @@ static long payloads_in(vsv_pager *p, int s, int b, int a, int z, int *absolute)
 /* Makes the job that decodes brick b of species s at defining step `step`
  * (under the lock; its entry is absent, its track not busy, room made for
  * it): claims the entry and the track, and chooses the cheapest way there
- * in payloads: forward from the track's state when it lies between the
- * brick's last absolute state and `step`; backward from the track's state
- * when it lies after `step` with no absolute state between (each delta
- * undone: playing backward a step costs one payload, as forward); else
- * forward from the last absolute state. Playing backward, it also claims
- * the other defining steps below `step` that the prefetch window needs and
- * the chosen way passes (one pass serves them all), as far as the budget
- * allows. 0, or an error (the job's outputs then failed and released; the
+ * in payloads: a copy of a checkpoint of that state; forward from the
+ * track's state when it lies between the brick's last absolute state and
+ * `step`; backward from the track's state when it lies after `step` with
+ * no absolute state between (each delta undone: playing backward a step
+ * costs one payload, as forward); else forward from the last absolute
+ * state. Playing backward, a walk forward also fills checkpoints of the
+ * states it passes, as far as the budget allows. 0, or an error (the job's outputs then failed and released; the
  * error set). */
 int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
 {
@@ -144,11 +143,26 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     j->track = -1;
     j->payloads = 0;
     j->rev = 0;
+    j->copy = -1;
+    j->nck = 0;
     if (add_output(p, j, step)) {
         vsv_pager_set_err(p, "out of memory");
         return VSV_ENOMEM;
     }
+    const int ns = p->info.nspecies;
+    if (p->incremental) { /* a checkpoint of this very state: a copy, no payload */
+        const int c = vsv_cache_lookup(p, s + ns, b, step);
+        if (c >= 0 && p->ent[c].state == READY && !p->ent[c].pins) {
+            vsv_cache_pin(p, c); /* before take_track, which may evict */
+            j->copy = c;
+        }
+    }
     take_track(p, j);
+    if (j->copy >= 0) {
+        j->from = step + 1;
+        j->fresh = 0;
+        return 0;
+    }
     const int have = j->track >= 0 ? p->tracks[j->track].step : -1;
     int rc = 0, a = step; /* the brick's last absolute state at or before step */
     for (;; a--) {
@@ -174,13 +188,11 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     }
     if (!rc && fresh < 0)
         rc = (int)fresh;
-    int lo = a; /* the lowest output the chosen way passes */
     if (!rc) {
         if (inc >= 0 && (rev < 0 || inc <= rev) && inc <= fresh) {
             j->from = have + 1;
             j->fresh = 0;
             j->payloads = (int)inc;
-            lo = have;
         } else if (rev >= 0 && rev <= fresh) {
             j->from = have;
             j->fresh = 0;
@@ -193,28 +205,28 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
         }
     }
     if (!rc && p->incremental && p->dir < 0 && vsv_sched_wanted(p, s)) {
-        for (int d = 0; d <= p->depth && j->n < p->job_cap; d++) {
-            const int w = vsv_sched_ahead(p, d);
-            if (w < 0)
-                break;
-            if (w < lo || w >= step)
+        /* a walk forward: keep the states it passes as checkpoints
+         * (nearest first, while they fit without evicting anything but
+         * bricks outside the window), so the steps after this one
+         * backward cost a copy each. Checkpoints rather than more float
+         * outputs: half the memory, and the job claims one brick only,
+         * so another thread can serve the next steps as soon as it ends */
+        for (int v = j->step[0] - 1; !j->rev && v >= j->from && j->nck < p->job_cap; v--) {
+            if (vsv_file_brick_kind(p->f, v, s, b) < VSV_BRICK_ABS || vsv_cache_lookup(p, s, b, v) >= 0 ||
+                vsv_cache_lookup(p, s + ns, b, v) >= 0)
                 continue;
-            const int *def = vsv_pager_defs(p, w, s);
-            if (!def)
+            int e;
+            if (!vsv_cache_room_ck(p) || (e = vsv_cache_claim(p, s + ns, b, v)) < 0)
                 break;
-            const int v = def[b];
-            int dup = 0;
-            for (int i = 0; i < j->n; i++)
-                dup |= j->step[i] == v;
-            if (v < lo || v >= step || dup || vsv_cache_lookup(p, s, b, v) >= 0)
-                continue;
-            if (!vsv_cache_make_room(p, p->brick_bytes, 0) || add_output(p, j, v))
-                break;
-        }
-        if (j->rev && j->n > 1) { /* undoing further down: the payloads of (lowest, step] */
-            const long more = payloads_in(p, s, b, j->step[0], step, &absolute) -
-                              (vsv_file_brick_kind(p->f, j->step[0], s, b) >= VSV_BRICK_ABS);
-            j->payloads += (int)(more > 0 ? more : 0);
+            for (int i = j->nck++; i >= 0; i--) /* ascending: shift the higher ones up */
+                if (i == 0 || j->ck_step[i - 1] < v) {
+                    j->ck_step[i] = v;
+                    j->ck_ent[i] = e;
+                    break;
+                } else {
+                    j->ck_step[i] = j->ck_step[i - 1];
+                    j->ck_ent[i] = j->ck_ent[i - 1];
+                }
         }
     }
     if (rc) {
@@ -237,14 +249,19 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
     const int partial = ext[0] < n || ext[1] < n || ext[2] < n;
     if (j->fresh && partial) /* cells outside the grid: code 0, as vsv_decoder_brick_codes */
         memset(codes, 0, cells * sizeof *codes);
-    int t = j->rev ? j->from : j->from - 1;
+    if (j->copy >= 0) /* whole bricks: cells outside the grid are 0 in a checkpoint too */
+        memcpy(codes, p->ent[j->copy].data, cells * sizeof *codes);
+    int t = j->rev ? j->from : j->from - 1, c = 0;
     for (int o = 0; o < j->n; o++) {
         const int i = j->rev ? j->n - 1 - o : o; /* undoing: the outputs from the highest down */
-        while (t < j->step[i])
+        while (t < j->step[i]) {
             if (vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes)) {
                 snprintf(msg, cap, "%s", vsv_decoder_error(d));
                 return -1;
             }
+            if (c < j->nck && j->ck_step[c] == t)
+                memcpy(p->ent[j->ck_ent[c++]].data, codes, cells * sizeof *codes);
+        }
         while (t > j->step[i])
             if (vsv_decoder_brick_retreat(d, t--, j->s, j->b, codes)) {
                 snprintf(msg, cap, "%s", vsv_decoder_error(d));
@@ -282,6 +299,20 @@ void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_la
     }
     if (ok)
         p->st.payloads_decoded += (uint64_t)j->payloads;
+    /* the walk's checkpoints, lowest first (evicted first: needed last) */
+    for (int i = 0; i < j->nck; i++) {
+        const int e = j->ck_ent[i];
+        p->ent[e].state = ok ? READY : FAILED;
+        vsv_cache_unpin(p, e);
+        if (!ok)
+            vsv_cache_drop(p, e);
+    }
+    j->nck = 0;
+    if (j->copy >= 0) { /* consumed: the track (or the output) holds its state now */
+        vsv_cache_unpin(p, j->copy);
+        vsv_cache_drop(p, j->copy);
+        j->copy = -1;
+    }
     if (j->track >= 0) {
         track *T = &p->tracks[j->track];
         T->busy = 0;

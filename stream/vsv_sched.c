@@ -41,7 +41,14 @@ int vsv_sched_mark_window(vsv_pager *p)
     }
     if (unit > p->step_bytes)
         p->step_bytes = unit;
-    const long fit = (long)(p->budget / (p->step_bytes ? p->step_bytes : p->brick_bytes)) - 2;
+    /* playing backward, checkpoints of a keyframe group's states (codes:
+     * half a step's floats each) save a payload a brick each, where a step
+     * of the window only decodes earlier: they come first */
+    const size_t ck = p->incremental && p->dir < 0 && p->info.keyframe > 2
+                          ? (size_t)(p->info.keyframe - 2) * (p->step_bytes / 2)
+                          : 0;
+    const size_t room = p->budget > ck ? p->budget - ck : 0;
+    const long fit = (long)(room / (p->step_bytes ? p->step_bytes : p->brick_bytes)) - 2;
     int depth = (int)(fit < 0 ? 0 : fit > p->ahead ? p->ahead : fit);
     if (p->dir == 0 && depth > 1)
         depth = 1;

@@ -234,6 +234,11 @@ static void test_counts(const char *path)
           "under a 3-step budget: forward one payload a changed brick; backward one walk a group, then a payload a step",
           "(forward %llu of %llu, backward %llu, at most %llu) %s", (unsigned long long)fwd, (unsigned long long)all,
           (unsigned long long)back, (unsigned long long)undo, why);
+    /* the walk keeps the states it passes as checkpoints (codes, half a
+     * step's floats each) while they fit: with room for about three, the
+     * steps below a group's top cost a copy, not a payload */
+    CHECK(!bad && 2 * back <= 3 * fwd, "under a 3-step budget backward decodes at most 1.5x forward's payloads (checkpoints)",
+          "(forward %llu, backward %llu)", (unsigned long long)fwd, (unsigned long long)back);
     /* a budget of a step and its decoder state (no window): each step
      * backward is a get of its own */
     const size_t tiny = (size_t)nb * brick * 3 / 2 + 64 * 1024;
