@@ -24,6 +24,7 @@ static void job_free(job *j)
     free(j->out);
     free(j->ck_step);
     free(j->ck_ent);
+    free(j->ck_buf);
 }
 
 /* Frees what open allocated (the workers stopped). */
@@ -63,7 +64,8 @@ static int job_alloc(vsv_pager *p, job *j)
     j->out = malloc((size_t)p->job_cap * sizeof *j->out);
     j->ck_step = malloc((size_t)p->job_cap * sizeof *j->ck_step);
     j->ck_ent = malloc((size_t)p->job_cap * sizeof *j->ck_ent);
-    return j->step && j->ent && j->out && j->ck_step && j->ck_ent ? 0 : VSV_ENOMEM;
+    j->ck_buf = malloc((size_t)p->job_cap * sizeof *j->ck_buf);
+    return j->step && j->ent && j->out && j->ck_step && j->ck_ent && j->ck_buf ? 0 : VSV_ENOMEM;
 }
 
 int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
@@ -141,7 +143,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     /* the fixed tables count against the budget as well */
     p->fixed = sizeof *p + (size_t)p->nrows * (sizeof *p->rows + (size_t)nb * sizeof(int)) +
                (size_t)ns * nb * sizeof *p->tracks + p->nbucket * sizeof(int) +
-               (size_t)(n + 1) * (p->codes_bytes + (size_t)p->job_cap * (4 * sizeof(int) + sizeof(float *)));
+               (size_t)(n + 1) * (p->codes_bytes + (size_t)p->job_cap * (4 * sizeof(int) + 2 * sizeof(void *)));
     p->bytes = p->peak = p->fixed;
     for (int i = 0; i < n; i++) { /* as many workers as start */
         wslot *ws = malloc(sizeof *ws);

@@ -82,8 +82,10 @@ typedef struct job {
     int from;        /* first step to apply; rev: the step the track's codes hold */
     int rev;         /* 1: undo deltas from `from` down (outputs served highest first) */
     int copy;        /* a READY checkpoint (pinned) whose codes start the job, or -1 */
+    const uint16_t *copy_codes; /* its buffer (read outside the lock: p->ent may move) */
     int nck;         /* checkpoints the walk fills (ascending steps; LOADING) */
     int *ck_step, *ck_ent;
+    uint16_t **ck_buf; /* their buffers */
     int fresh;       /* 1: from is an absolute (or empty) state: start clean */
     int payloads;    /* payloads the job decodes */
 } job;

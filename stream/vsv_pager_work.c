@@ -155,6 +155,7 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
         if (c >= 0 && p->ent[c].state == READY && !p->ent[c].pins) {
             vsv_cache_pin(p, c); /* before take_track, which may evict */
             j->copy = c;
+            j->copy_codes = p->ent[c].data;
         }
     }
     take_track(p, j);
@@ -222,10 +223,12 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
                 if (i == 0 || j->ck_step[i - 1] < v) {
                     j->ck_step[i] = v;
                     j->ck_ent[i] = e;
+                    j->ck_buf[i] = p->ent[e].data;
                     break;
                 } else {
                     j->ck_step[i] = j->ck_step[i - 1];
                     j->ck_ent[i] = j->ck_ent[i - 1];
+                    j->ck_buf[i] = j->ck_buf[i - 1];
                 }
         }
     }
@@ -250,7 +253,7 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
     if (j->fresh && partial) /* cells outside the grid: code 0, as vsv_decoder_brick_codes */
         memset(codes, 0, cells * sizeof *codes);
     if (j->copy >= 0) /* whole bricks: cells outside the grid are 0 in a checkpoint too */
-        memcpy(codes, p->ent[j->copy].data, cells * sizeof *codes);
+        memcpy(codes, j->copy_codes, cells * sizeof *codes);
     int t = j->rev ? j->from : j->from - 1, c = 0;
     for (int o = 0; o < j->n; o++) {
         const int i = j->rev ? j->n - 1 - o : o; /* undoing: the outputs from the highest down */
@@ -260,7 +263,7 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
                 return -1;
             }
             if (c < j->nck && j->ck_step[c] == t)
-                memcpy(p->ent[j->ck_ent[c++]].data, codes, cells * sizeof *codes);
+                memcpy(j->ck_buf[c++], codes, cells * sizeof *codes);
         }
         while (t > j->step[i])
             if (vsv_decoder_brick_retreat(d, t--, j->s, j->b, codes)) {

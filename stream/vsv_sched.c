@@ -47,8 +47,12 @@ int vsv_sched_mark_window(vsv_pager *p)
     const size_t ck = p->incremental && p->dir < 0 && p->info.keyframe > 2
                           ? (size_t)(p->info.keyframe - 2) * (p->step_bytes / 2)
                           : 0;
+    const size_t unit_bytes = p->step_bytes ? p->step_bytes : p->brick_bytes;
     const size_t room = p->budget > ck ? p->budget - ck : 0;
-    const long fit = (long)(room / (p->step_bytes ? p->step_bytes : p->brick_bytes)) - 2;
+    long fit = (long)(room / unit_bytes) - 2;
+    const long fit_all = (long)(p->budget / unit_bytes) - 2;
+    if (fit < 1 && fit_all >= 1) /* but a step ahead when it fits: a player shows it without waiting */
+        fit = 1;
     int depth = (int)(fit < 0 ? 0 : fit > p->ahead ? p->ahead : fit);
     if (p->dir == 0 && depth > 1)
         depth = 1;
