@@ -462,6 +462,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_render.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_native.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_http.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vdb.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vtk.sh || echo "(VTK comparison skipped)"
 	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_volpack && \
