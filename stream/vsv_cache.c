@@ -92,8 +92,8 @@ static vsv_lru *list_of(vsv_pager *p, const entry *E)
 int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
 {
     const int ck = s >= p->info.nspecies;
-    const size_t size = ck ? p->codes_bytes : p->brick_bytes;
-    void *buf = vsv_slab_get(p, ck);
+    const size_t size = p->brick_bytes;
+    void *buf = vsv_slab_get(p, 0);
     if (!buf)
         return -1;
     int e = p->freelist;
@@ -104,7 +104,7 @@ int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
             const int cap = p->capent ? 2 * p->capent : 1024;
             entry *ne = realloc(p->ent, (size_t)cap * sizeof *ne);
             if (!ne) {
-                vsv_slab_put(p, ck, buf);
+                vsv_slab_put(p, 0, buf);
                 return -1;
             }
             p->ent = ne;
@@ -116,13 +116,13 @@ int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
             if (vsv_cache_rehash(p, p->nbucket * 2)) {
                 p->ent[e].next = p->freelist;
                 p->freelist = e;
-                vsv_slab_put(p, ck, buf);
+                vsv_slab_put(p, 0, buf);
                 return -1;
             }
         }
     }
     entry *E = &p->ent[e];
-    *E = (entry){{-1, -1}, s, b, step, LOADING, 1, 0, ck ? -1 : p->mark, buf, 0};
+    *E = (entry){{-1, -1}, s, b, step, LOADING, 1, 0, ck ? -1 : p->mark, buf, 0, -1, 0};
     const unsigned h = hash3(s, b, step) & (p->nbucket - 1);
     E->next = p->bucket[h];
     p->bucket[h] = e;
@@ -145,7 +145,7 @@ void vsv_cache_drop(vsv_pager *p, int e)
     if (E->pins)
         p->pinned -= size;
     hash_unlink(p, e);
-    vsv_slab_put(p, ck, E->data);
+    vsv_slab_put(p, 0, E->data);
     E->data = NULL;
     E->state = -1;
     E->listed = 0;
@@ -262,10 +262,10 @@ int vsv_cache_make_room(vsv_pager *p, size_t extra, int window)
 
 int vsv_cache_room_ck(vsv_pager *p)
 {
-    while (p->bytes + p->codes_bytes > p->budget && p->lru[L_OUT].head >= 0) {
+    while (p->bytes + p->brick_bytes > p->budget && p->lru[L_OUT].head >= 0) {
         vsv_cache_drop(p, p->lru[L_OUT].head);
         p->st.evictions++;
         p->scan_d = p->scan_s = p->scan_b = 0;
     }
-    return p->bytes + p->codes_bytes <= p->budget;
+    return p->bytes + p->brick_bytes <= p->budget;
 }

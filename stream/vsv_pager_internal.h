@@ -45,10 +45,14 @@ typedef struct entry {
     int mark;       /* == the pager's window mark: needed ahead of the playhead */
     void *data;     /* the brick's floats, or a checkpoint's codes */
     int next; /* hash chain, or free list */
+    int lo, halves; /* a checkpoint: the state in its second half (-1 none); halves not yet used (bits 1, 2) */
 } entry;
 
 /* A checkpoint is an entry keyed (s + nspecies, b, step) holding the
- * brick's codes at that defining step (a pool-1 buffer): a backward walk
+ * brick's codes at that defining step and, in the second half of its brick
+ * buffer, at the defining step before it (`lo`): pool 0 only, as a pool of
+ * its own would keep its memory after the checkpoints are gone, beyond the
+ * budget; a backward walk
  * from a keyframe saves the states it passes on the way to the group's top
  * step, so reaching them later costs a copy, not a payload undone. They
  * count as decoder state (track_bytes) and are evicted before tracks.
@@ -82,10 +86,11 @@ typedef struct job {
     int from;        /* first step to apply; rev: the step the track's codes hold */
     int rev;         /* 1: undo deltas from `from` down (outputs served highest first) */
     int copy;        /* a READY checkpoint (pinned) whose codes start the job, or -1 */
-    const uint16_t *copy_codes; /* its buffer (read outside the lock: p->ent may move) */
-    int nck;         /* checkpoints the walk fills (ascending steps; LOADING) */
-    int *ck_step, *ck_ent;
-    uint16_t **ck_buf; /* their buffers */
+    int copy_half;   /* which half of it */
+    const uint16_t *copy_codes; /* that half (read outside the lock: p->ent may move) */
+    int nck;         /* states the walk saves in checkpoints (ascending steps; LOADING) */
+    int *ck_step, *ck_ent; /* each state's step and checkpoint entry (two states an entry) */
+    uint16_t **ck_buf; /* where each state goes */
     int fresh;       /* 1: from is an absolute (or empty) state: start clean */
     int payloads;    /* payloads the job decodes */
 } job;
@@ -197,7 +202,8 @@ int vsv_cache_room_ck(vsv_pager *p);
 static inline int vsv_cache_is_ck(const vsv_pager *p, int e) { return p->ent[e].s >= p->info.nspecies; }
 static inline size_t vsv_cache_size(const vsv_pager *p, int e)
 {
-    return vsv_cache_is_ck(p, e) ? p->codes_bytes : p->brick_bytes;
+    (void)e;
+    return p->brick_bytes;
 }
 /* buffers (vsv_slab.c) */
 void *vsv_slab_get(vsv_pager *p, int pool);

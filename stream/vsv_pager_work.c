@@ -151,11 +151,22 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     }
     const int ns = p->info.nspecies;
     if (p->incremental) { /* a checkpoint of this very state: a copy, no payload */
-        const int c = vsv_cache_lookup(p, s + ns, b, step);
-        if (c >= 0 && p->ent[c].state == READY && !p->ent[c].pins) {
+        int c = vsv_cache_lookup(p, s + ns, b, step), half = 0;
+        if (c < 0 || p->ent[c].state != READY || p->ent[c].pins || !(p->ent[c].halves & 1)) {
+            /* or in the second half of the one keyed by the next defining step */
+            int u = step + 1, k = VSV_BRICK_UNCHANGED;
+            while (u < p->info.nsteps && (k = vsv_file_brick_kind(p->f, u, s, b)) == VSV_BRICK_UNCHANGED)
+                u++;
+            c = u < p->info.nsteps && (k == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3) ? vsv_cache_lookup(p, s + ns, b, u) : -1;
+            half = 1;
+            if (c >= 0 && (p->ent[c].state != READY || p->ent[c].pins || p->ent[c].lo != step || !(p->ent[c].halves & 2)))
+                c = -1;
+        }
+        if (c >= 0) {
             vsv_cache_pin(p, c); /* before take_track, which may evict */
             j->copy = c;
-            j->copy_codes = p->ent[c].data;
+            j->copy_half = half;
+            j->copy_codes = (const uint16_t *)p->ent[c].data + (half ? p->codes_bytes / sizeof(uint16_t) : 0);
         }
     }
     take_track(p, j);
@@ -212,24 +223,34 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
          * backward cost a copy each. Checkpoints rather than more float
          * outputs: half the memory, and the job claims one brick only,
          * so another thread can serve the next steps as soon as it ends */
+        int e = -1; /* the entry whose second half is free */
         for (int v = j->step[0] - 1; !j->rev && v >= j->from && j->nck < p->job_cap; v--) {
             if (vsv_file_brick_kind(p->f, v, s, b) < VSV_BRICK_ABS || vsv_cache_lookup(p, s, b, v) >= 0 ||
                 vsv_cache_lookup(p, s + ns, b, v) >= 0)
                 continue;
-            int e;
-            if (!vsv_cache_room_ck(p) || (e = vsv_cache_claim(p, s + ns, b, v)) < 0)
-                break;
-            for (int i = j->nck++; i >= 0; i--) /* ascending: shift the higher ones up */
-                if (i == 0 || j->ck_step[i - 1] < v) {
-                    j->ck_step[i] = v;
-                    j->ck_ent[i] = e;
-                    j->ck_buf[i] = p->ent[e].data;
+            uint16_t *buf;
+            if (e >= 0) { /* the second half of the last one */
+                p->ent[e].lo = v;
+                p->ent[e].halves |= 2;
+                buf = (uint16_t *)p->ent[e].data + p->codes_bytes / sizeof(uint16_t);
+            } else {
+                if (!vsv_cache_room_ck(p) || (e = vsv_cache_claim(p, s + ns, b, v)) < 0)
                     break;
-                } else {
-                    j->ck_step[i] = j->ck_step[i - 1];
-                    j->ck_ent[i] = j->ck_ent[i - 1];
-                    j->ck_buf[i] = j->ck_buf[i - 1];
-                }
+                p->ent[e].lo = -1;
+                p->ent[e].halves = 1;
+                buf = p->ent[e].data;
+            }
+            j->ck_step[j->nck] = v; /* descending here: reversed below */
+            j->ck_ent[j->nck] = e;
+            j->ck_buf[j->nck++] = buf;
+            if (p->ent[e].halves == 3)
+                e = -1;
+        }
+        for (int i = 0, k = j->nck - 1; i < k; i++, k--) {
+            const int ts = j->ck_step[i], te = j->ck_ent[i];
+            uint16_t *tb = j->ck_buf[i];
+            j->ck_step[i] = j->ck_step[k], j->ck_ent[i] = j->ck_ent[k], j->ck_buf[i] = j->ck_buf[k];
+            j->ck_step[k] = ts, j->ck_ent[k] = te, j->ck_buf[k] = tb;
         }
     }
     if (rc) {
@@ -302,18 +323,24 @@ void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_la
     }
     if (ok)
         p->st.payloads_decoded += (uint64_t)j->payloads;
-    /* the walk's checkpoints, lowest first (evicted first: needed last) */
+    /* the walk's checkpoints, lowest first (evicted first: needed last);
+     * each once, at the state it is keyed by */
     for (int i = 0; i < j->nck; i++) {
         const int e = j->ck_ent[i];
+        if (p->ent[e].step != j->ck_step[i])
+            continue;
         p->ent[e].state = ok ? READY : FAILED;
         vsv_cache_unpin(p, e);
         if (!ok)
             vsv_cache_drop(p, e);
     }
     j->nck = 0;
-    if (j->copy >= 0) { /* consumed: the track (or the output) holds its state now */
+    if (j->copy >= 0) { /* consumed: the track (or the output) holds that state now */
+        entry *E = &p->ent[j->copy];
+        E->halves &= ~(1 << j->copy_half);
         vsv_cache_unpin(p, j->copy);
-        vsv_cache_drop(p, j->copy);
+        if (!E->halves)
+            vsv_cache_drop(p, j->copy);
         j->copy = -1;
     }
     if (j->track >= 0) {
