@@ -47,6 +47,10 @@
  * species and end marks the cells whose 8-cell sample block is all +0, and
  * such samples are answered +0 without reading them — the same bits as
  * sampling (see carried); a quarter of advect's CPU time on the MM5 run.
+ * Per row the first and last column not +0 are noted too, so that a row
+ * whose samples stay within REACH rows and levels answers those that fall
+ * outside its neighbours' columns without finding their cell (zero_reach;
+ * the fit skips such cells whole): a fifth of what remained.
  *
  * Threads: rows of the output frame are handed out through an atomic
  * counter to threads started per frame; nothing is allocated per cell. */
@@ -297,6 +301,35 @@ static int level_scales(const vsv_advect *a, int ns, int k, float *al)
     return any;
 }
 
+/* Rows within REACH of a row, levels within REACH of its level: if no
+ * sample of the row moves further across them, its 8 cells lie among them.
+ * NEVER: a column bound no sample passes (a scale above 1 may carry a
+ * sample past the grid's edge, where it is clamped onto the edge cells). */
+enum { REACH = 2, NEVER = 1 << 28 };
+
+/* For the row (j, k) of species-end e (2 * v + e) at scale al with the
+ * row's largest displacements m (y and z): the columns *lo, *hi such that
+ * a sample at x < *lo - 1 or x >= *hi + 1 reads +0 cells only; -NEVER and
+ * NEVER when the samples reach further than REACH rows or levels. The edge
+ * cells of an axis take the samples beyond them, hence lo >= 2 and
+ * hi <= nx - 3 (else NEVER). */
+static void zero_reach(const vsv_advect *a, int e, int j, int k, float al, const float m[2], int *lo, int *hi)
+{
+    *lo = -NEVER, *hi = NEVER;
+    if (!(al * m[0] < REACH && al * m[1] < REACH))
+        return;
+    int l = a->nx + 2, h = -3;
+    for (int kk = k - REACH; kk <= k + REACH; kk++)
+        for (int jj = j - REACH; jj <= j + REACH; jj++)
+            if (kk >= 0 && kk < a->nz && jj >= 0 && jj < a->ny) {
+                const int *x = a->ext + ((size_t)e * a->ny * a->nz + (size_t)kk * a->ny + jj) * 2;
+                l = x[0] < l ? x[0] : l;
+                h = x[1] > h ? x[1] : h;
+            }
+    *lo = l >= 2 ? l : -NEVER;
+    *hi = h <= a->nx - 3 ? h : NEVER;
+}
+
 /* One row of a frame: every cell's two displacements (once, for all
  * species), then species by species (a pass reads a few rows of one field
  * at a time) each end sampled at the species' scale of them, the scale of
@@ -309,6 +342,7 @@ static void do_row(const job *jb, int row, float *sc)
     const float s = (float)jb->s;
     const size_t c0 = (size_t)k * a->plane + (size_t)j * a->nx;
     float *d = sc, al[MAXVARS];
+    float m[2][2] = {{0, 0}, {0, 0}}; /* the row's largest |y| and |z| displacements, back and on */
     if (level_scales(a, jb->ns, k, al))
         for (int i = 0; i < a->nx; i++) {
             /* only where some moving species has data at both ends (not
@@ -316,21 +350,34 @@ static void do_row(const job *jb, int row, float *sc)
             int need = 0;
             for (int v = 0; v < jb->ns && !need; v++)
                 need = al[v] > 0 && a->f0[v][c0 + i] == a->f0[v][c0 + i] && a->f1[v][c0 + i] == a->f1[v][c0 + i];
-            if (need)
-                vsv_advect_cell(a, i, j, k, s, d + 6 * i);
+            if (!need)
+                continue;
+            float *di = d + 6 * i;
+            vsv_advect_cell(a, i, j, k, s, di);
+            for (int e = 0; e < 2; e++)
+                for (int c = 0; c < 2; c++)
+                    m[e][c] = fabsf(di[3 * e + 1 + c]) > m[e][c] ? fabsf(di[3 * e + 1 + c]) : m[e][c];
         }
     for (int v = 0; v < jb->ns; v++) {
         const float *f0 = a->f0[v], *f1 = a->f1[v];
         const uint64_t *z0 = a->zero + 2 * (size_t)v * a->zplane, *z1 = z0 + a->zplane;
         float *out = jb->out[v] + c0;
+        /* columns whose samples read only +0 cells: +0 without a look (the
+         * zero mask's answer, found without computing the sample's cell) */
+        int lo0 = -NEVER, hi0 = NEVER, lo1 = -NEVER, hi1 = NEVER;
+        if (al[v] > 0) {
+            zero_reach(a, 2 * v, j, k, al[v], m[0], &lo0, &hi0);
+            zero_reach(a, 2 * v + 1, j, k, al[v], m[1], &lo1, &hi1);
+        }
         for (int i = 0; i < a->nx; i++) {
             const float a0 = f0[c0 + i], a1 = f1[c0 + i];
             float r = NAN;
             if (a0 == a0 && a1 == a1) {
                 float A = a0, B = a1;
                 if (al[v] > 0) {
-                    A = carried(a, f0, z0, i, j, k, al[v], d + 6 * i, a0);
-                    B = carried(a, f1, z1, i, j, k, al[v], d + 6 * i + 3, a1);
+                    const float x0 = (float)i + al[v] * d[6 * i], x1 = (float)i + al[v] * d[6 * i + 3];
+                    A = x0 < lo0 - 1 || x0 >= hi0 + 1 ? 0.0f : carried(a, f0, z0, i, j, k, al[v], d + 6 * i, a0);
+                    B = x1 < lo1 - 1 || x1 >= hi1 + 1 ? 0.0f : carried(a, f1, z1, i, j, k, al[v], d + 6 * i + 3, a1);
                 }
                 r = (float)(A + ((double)B - A) * jb->w);
             }
@@ -345,25 +392,45 @@ static void do_row(const job *jb, int row, float *sc)
  * between the start's field carried to the end and the end's field, and
  * between the end's carried back and the start's, summed into the row's
  * slot of acc. */
-static void fit_row(const job *jb, int row)
+static void fit_row(const job *jb, int row, float *sc)
 {
     const vsv_advect *a = jb->a;
     const int nj = (a->ny + FIT_STRIDE - 1) / FIT_STRIDE;
     const int j = row % nj * FIT_STRIDE, k = row / nj;
     const size_t c0 = (size_t)k * a->plane + (size_t)j * a->nx;
+    const float top = (NCAND - 1) * CAND_STEP;
     double *acc = a->acc + (size_t)row * a->nvars * NCAND;
     memset(acc, 0, (size_t)jb->ns * NCAND * sizeof *acc);
+    float m[2][2] = {{0, 0}, {0, 0}}; /* the row's largest |y| and |z| displacements */
     for (int i = 0; i < a->nx; i += FIT_STRIDE) {
-        float db[3], df[3], unused[3];
-        vsv_advect_trace(a, i, j, k, 1, db, unused);
-        vsv_advect_trace(a, i, j, k, 0, unused, df);
-        for (int v = 0; v < jb->ns; v++) {
-            const float *f0 = a->f0[v], *f1 = a->f1[v];
-            const uint64_t *z0 = a->zero + 2 * (size_t)v * a->zplane, *z1 = z0 + a->zplane;
+        float unused[3], *d = sc + 6 * i;
+        vsv_advect_trace(a, i, j, k, 1, d, unused);
+        vsv_advect_trace(a, i, j, k, 0, unused, d + 3);
+        for (int e = 0; e < 2; e++)
+            for (int c = 0; c < 2; c++)
+                m[e][c] = fabsf(d[3 * e + 1 + c]) > m[e][c] ? fabsf(d[3 * e + 1 + c]) : m[e][c];
+    }
+    for (int v = 0; v < jb->ns; v++) {
+        const float *f0 = a->f0[v], *f1 = a->f1[v];
+        const uint64_t *z0 = a->zero + 2 * (size_t)v * a->zplane, *z1 = z0 + a->zplane;
+        double *o = acc + (size_t)v * NCAND;
+        /* a cell +0 at both ends whose samples at every scale read +0 cells
+         * only adds 0 to every sum: skipped (as in do_row) */
+        int lo0, hi0, lo1, hi1;
+        zero_reach(a, 2 * v, j, k, top, m[0], &lo0, &hi0);
+        zero_reach(a, 2 * v + 1, j, k, top, m[1], &lo1, &hi1);
+        for (int i = 0; i < a->nx; i += FIT_STRIDE) {
+            const float *db = sc + 6 * i, *df = db + 3;
             const float a0 = f0[c0 + i], a1 = f1[c0 + i];
             if (!(a0 == a0 && a1 == a1))
                 continue;
-            double *o = acc + (size_t)v * NCAND;
+            if (!bits(a0) && !bits(a1)) {
+                const float b0 = (float)i + top * db[0], b1 = (float)i + top * df[0];
+                const float l0 = b0 < i ? b0 : (float)i, h0 = b0 > i ? b0 : (float)i;
+                const float l1 = b1 < i ? b1 : (float)i, h1 = b1 > i ? b1 : (float)i;
+                if ((h0 < lo0 - 1 || l0 >= hi0 + 1) && (h1 < lo1 - 1 || l1 >= hi1 + 1))
+                    continue;
+            }
             for (int c = 0; c < NCAND; c++) {
                 const float al = c * CAND_STEP;
                 const double A = c ? carried(a, f0, z0, i, j, k, al, db, a0) : a0;
@@ -389,6 +456,13 @@ static void mask_row(const job *jb, int row)
     for (int e = 0; e < 2 * jb->ns; e++) {
         const float *f = (e & 1 ? a->f1 : a->f0)[e / 2] + c0;
         uint64_t *z = a->zero + (size_t)e * a->zplane + (size_t)row * a->zrow;
+        int *x = a->ext + ((size_t)e * a->ny * a->nz + row) * 2;
+        x[0] = a->nx + 2, x[1] = -3;
+        for (int i = 0; i < a->nx; i++)
+            if (bits(f[i])) {
+                x[0] = x[0] < i ? x[0] : i;
+                x[1] = i;
+            }
         memset(z, 0, a->zrow * sizeof *z);
         if (last)
             continue;
@@ -420,12 +494,12 @@ static void *worker(void *p)
             mask_row(jb, r);
         return NULL;
     }
+    float *sc = a->scratch + (size_t)atomic_fetch_add(&jb->tid, 1) * a->nx * 6;
     if (jb->kind == JOB_FIT) {
         for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->fitrows;)
-            fit_row(jb, r);
+            fit_row(jb, r, sc);
         return NULL;
     }
-    float *sc = a->scratch + (size_t)atomic_fetch_add(&jb->tid, 1) * a->nx * 6;
     for (int r; (r = atomic_fetch_add(&jb->next, 1)) < a->ny * a->nz;)
         do_row(jb, r, sc);
     return NULL;
@@ -470,11 +544,14 @@ int vsv_advect_outputs(vsv_advect *a, int ns, const float *const *f0, const floa
     const size_t need = 2 * (size_t)ns * a->zplane;
     if (need > a->zcap) {
         uint64_t *z = realloc(a->zero, need * sizeof *z);
-        if (!z) {
+        int *x = z ? realloc(a->ext, 4 * (size_t)ns * a->ny * a->nz * sizeof *x) : NULL;
+        if (z)
+            a->zero = z;
+        if (!x) {
             a->ns = 0;
             return VSV_ENOMEM;
         }
-        a->zero = z;
+        a->ext = x;
         a->zcap = need;
     }
     job jb = {a, 0, 0, ns, JOB_MASK, NULL, 0, 0};
@@ -546,6 +623,7 @@ void vsv_advect_free(vsv_advect *a)
     free(a->sums);
     free(a->scratch);
     free(a->zero);
+    free(a->ext);
     free(a->coarse);
     free(a->cflag);
     free(a);

@@ -43,6 +43,9 @@ struct vsv_advect {
     uint64_t *zero;    /* per species v and end e, the mask at (2 * v + e) * zplane:
                         * bit i of row (j, k) set when the 8 cells a sample based at
                         * cell (i, j, k) reads are all +0 (see carried) */
+    int *ext;          /* per species v and end e, per row r (j + k * ny): the first and
+                        * last column not +0, at ext[((2 * v + e) * ny * nz + r) * 2]
+                        * (first > last for a row all +0) */
     int cx, cy;        /* the coarse trajectory grid: columns and rows (vsv_advect_traj.c) */
     float *coarse;     /* its displacements, 6 floats a point (back, then on),
                         * cx * cy * nz points */

@@ -406,6 +406,32 @@ static void test_zero_shortcut(void)
           "advect: all-zero samples skipped give what sampling gives (+0 against a 1e-30 background)",
           "max difference %.3g, %d zero cells, %d not +0", e, zeros, bad);
     frames_free(&fr);
+    /* fitted: the cloud runs 20 cells an hour east in a wind of 16 up to
+     * the grid's east edge (alpha 1.25), so samples are carried past the
+     * edge and clamped onto its cells, where the later output has cloud */
+    for (int i = 0; i < NC; i++) {
+        const int x = i % NX, y = i / NX % NY, k = i / (NX * NY);
+        const double r0 = (x - 18.0) * (x - 18.0) + (y - 3.0) * (y - 3.0) + (k - 7.0) * (k - 7.0);
+        const double r1 = (x - 38.0) * (x - 38.0) + (y - 3.0) * (y - 3.0) + (k - 7.0) * (k - 7.0);
+        a[0][i] = r0 > 12 ? 0 : (float)exp(-r0 / 8), b[0][i] = r1 > 12 ? 0 : (float)exp(-r1 / 8);
+        a[1][i] = a[0][i] + 1e-30f, b[1][i] = b[0][i] + 1e-30f;
+        a[2][i] = b[2][i] = 16000 / 3600.0f;
+        a[3][i] = b[3][i] = a[4][i] = b[4][i] = 0;
+    }
+    const int rc2 = run(VSV_TIME_ADVECT, &m, (const float *const *)a, (const float *const *)b, &fr);
+    e = rc2 || fr.n != 5 ? 1 : 0;
+    for (int f = 1; f < 4 && fr.n == 5; f++)
+        for (int i = 0; i < NC; i++)
+            e = fmax(e, fabs((double)fr.f[f][0][i] - fr.f[f][1][i]));
+    /* half way, cell 31 of the cloud's row: its earlier end from 10 cells
+     * west (cell 21), its later end from 10 east, past the edge: cell 39 */
+    const int c31 = (7 * NY + 3) * NX + 31;
+    const float want = (float)(a[0][c31 - 10] + ((double)b[0][c31 + 8] - a[0][c31 - 10]) * 0.5);
+    const float got = fr.n == 5 ? fr.f[2][0][c31] : NAN;
+    CHECK(e <= 2e-30 && fabsf(got - want) < 1e-6f,
+          "advect: ... and so do samples carried past the grid's edge (a fitted scale above 1), "
+          "which take the edge's values", "max difference %.3g; %g, not %g", e, got, want);
+    frames_free(&fr);
     for (int v = 0; v < 5; v++)
         free(a[v]), free(b[v]);
     vsv_meta_clear(&m);
