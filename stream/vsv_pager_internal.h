@@ -217,6 +217,7 @@ int vsv_sched_next(vsv_pager *p, job *j);
 void vsv_pager_set_err(vsv_pager *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 const int *vsv_pager_defs(vsv_pager *p, int step, int s);
 int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step);
+int vsv_pager_job_prewalk(vsv_pager *p, job *j);
 int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, char *msg, size_t cap);
 void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_first);
 void *vsv_pager_worker(void *arg); /* a wslot, which it frees */

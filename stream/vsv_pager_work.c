@@ -124,6 +124,45 @@ static long payloads_in(vsv_pager *p, int s, int b, int a, int z, int *absolute)
     return n;
 }
 
+/* Claims checkpoints for the states of brick (j->s, j->b) at the defining
+ * steps from `top` down to j->from that a walk forward from j->from passes
+ * (nearest first, two to an entry, while they fit without evicting
+ * anything but bricks outside the window); they land in j->ck_* in
+ * ascending order. */
+static void keep_states(vsv_pager *p, job *j, int top)
+{
+    const int s = j->s, b = j->b, ns = p->info.nspecies;
+    int e = -1; /* the entry whose second half is free */
+    for (int v = top; v >= j->from && j->nck < p->job_cap; v--) {
+        if (vsv_file_brick_kind(p->f, v, s, b) < VSV_BRICK_ABS || vsv_cache_lookup(p, s, b, v) >= 0 ||
+            vsv_cache_lookup(p, s + ns, b, v) >= 0)
+            continue;
+        uint16_t *buf;
+        if (e >= 0) { /* the second half of the last one */
+            p->ent[e].lo = v;
+            p->ent[e].halves |= 2;
+            buf = (uint16_t *)p->ent[e].data + p->codes_bytes / sizeof(uint16_t);
+        } else {
+            if (!vsv_cache_room_ck(p) || (e = vsv_cache_claim(p, s + ns, b, v)) < 0)
+                break;
+            p->ent[e].lo = -1;
+            p->ent[e].halves = 1;
+            buf = p->ent[e].data;
+        }
+        j->ck_step[j->nck] = v; /* descending here: reversed below */
+        j->ck_ent[j->nck] = e;
+        j->ck_buf[j->nck++] = buf;
+        if (p->ent[e].halves == 3)
+            e = -1;
+    }
+    for (int i = 0, k = j->nck - 1; i < k; i++, k--) {
+        const int ts = j->ck_step[i], te = j->ck_ent[i];
+        uint16_t *tb = j->ck_buf[i];
+        j->ck_step[i] = j->ck_step[k], j->ck_ent[i] = j->ck_ent[k], j->ck_buf[i] = j->ck_buf[k];
+        j->ck_step[k] = ts, j->ck_ent[k] = te, j->ck_buf[k] = tb;
+    }
+}
+
 /* Makes the job that decodes brick b of species s at defining step `step`
  * (under the lock; its entry is absent, its track not busy, room made for
  * it): claims the entry and the track, and chooses the cheapest way there
@@ -223,41 +262,62 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
          * backward cost a copy each. Checkpoints rather than more float
          * outputs: half the memory, and the job claims one brick only,
          * so another thread can serve the next steps as soon as it ends */
-        int e = -1; /* the entry whose second half is free */
-        for (int v = j->step[0] - 1; !j->rev && v >= j->from && j->nck < p->job_cap; v--) {
-            if (vsv_file_brick_kind(p->f, v, s, b) < VSV_BRICK_ABS || vsv_cache_lookup(p, s, b, v) >= 0 ||
-                vsv_cache_lookup(p, s + ns, b, v) >= 0)
-                continue;
-            uint16_t *buf;
-            if (e >= 0) { /* the second half of the last one */
-                p->ent[e].lo = v;
-                p->ent[e].halves |= 2;
-                buf = (uint16_t *)p->ent[e].data + p->codes_bytes / sizeof(uint16_t);
-            } else {
-                if (!vsv_cache_room_ck(p) || (e = vsv_cache_claim(p, s + ns, b, v)) < 0)
-                    break;
-                p->ent[e].lo = -1;
-                p->ent[e].halves = 1;
-                buf = p->ent[e].data;
-            }
-            j->ck_step[j->nck] = v; /* descending here: reversed below */
-            j->ck_ent[j->nck] = e;
-            j->ck_buf[j->nck++] = buf;
-            if (p->ent[e].halves == 3)
-                e = -1;
-        }
-        for (int i = 0, k = j->nck - 1; i < k; i++, k--) {
-            const int ts = j->ck_step[i], te = j->ck_ent[i];
-            uint16_t *tb = j->ck_buf[i];
-            j->ck_step[i] = j->ck_step[k], j->ck_ent[i] = j->ck_ent[k], j->ck_buf[i] = j->ck_buf[k];
-            j->ck_step[k] = ts, j->ck_ent[k] = te, j->ck_buf[k] = tb;
-        }
+        if (!j->rev)
+            keep_states(p, j, j->step[0] - 1);
     }
     if (rc) {
         vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
         vsv_pager_job_finish(p, j, 0, 0, 0);
     }
     return rc;
+}
+
+/* Playing backward with nothing left to do in the window: the walk into
+ * the keyframe group of the step just past it, done ahead (under the
+ * lock). For the first brick of that step that no checkpoint or cache
+ * entry holds and that its track cannot reach by undoing deltas, j walks
+ * from the brick's last absolute state in scratch codes, keeping the
+ * states from the step down as checkpoints: when the window gets there,
+ * a copy serves it instead of a walk of up to K payloads in one frame.
+ * 1 with j made, 0 when there is none or no room. */
+int vsv_pager_job_prewalk(vsv_pager *p, job *j)
+{
+    if (!p->incremental || p->dir >= 0)
+        return 0;
+    const int w = vsv_sched_ahead(p, p->depth + 1), ns = p->info.nspecies, nb = p->info.nbricks;
+    if (w < 0)
+        return 0;
+    for (int s = 0; s < ns; s++) {
+        const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, w, s) : NULL;
+        for (int b = 0; def && b < nb; b++) {
+            const int v = def[b];
+            if (v < 0 || vsv_cache_lookup(p, s, b, v) >= 0 || vsv_cache_lookup(p, s + ns, b, v) >= 0)
+                continue;
+            const track *T = &p->tracks[(size_t)s * nb + b];
+            if (T->busy)
+                continue;
+            int absolute = 0;
+            if (T->codes && T->step > v && payloads_in(p, s, b, v, T->step, &absolute) >= 0 && !absolute)
+                continue; /* undoing from the track is as cheap */
+            int a = v, k;
+            while ((k = vsv_file_brick_kind(p->f, a, s, b)) == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3 ||
+                   k == VSV_BRICK_UNCHANGED)
+                if (--a < 0)
+                    break;
+            if (a < 0 || k < 0 || k == VSV_BRICK_EMPTY)
+                continue; /* damage, reported by the get that needs it; or nothing to walk */
+            *j = (job){.s = s, .b = b, .n = 0, .step = j->step, .ent = j->ent, .out = j->out, .track = -1,
+                       .from = a, .fresh = 1, .copy = -1, .ck_step = j->ck_step, .ck_ent = j->ck_ent,
+                       .ck_buf = j->ck_buf};
+            keep_states(p, j, v);
+            if (!j->nck)
+                return 0; /* no room */
+            const long n = payloads_in(p, s, b, a, j->ck_step[j->nck - 1], &absolute);
+            j->payloads = n > 0 ? (int)n : 0;
+            return 1;
+        }
+    }
+    return 0;
 }
 
 /* Runs job j with decoder d (outside the lock: it owns the job's buffers
@@ -301,6 +361,14 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
                         if (ii >= ext[0] || jj >= ext[1] || k >= ext[2])
                             out[((size_t)k * n + jj) * n + ii] = ev;
         }
+    }
+    while (c < j->nck) { /* a walk that only keeps states (vsv_pager_job_prewalk) */
+        if (vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes)) {
+            snprintf(msg, cap, "%s", vsv_decoder_error(d));
+            return -1;
+        }
+        if (j->ck_step[c] == t)
+            memcpy(j->ck_buf[c++], codes, cells * sizeof *codes);
     }
     return 0;
 }

@@ -144,5 +144,5 @@ scan:;
     }
     if (!held)
         p->scan_d = p->depth + 1;
-    return 0;
+    return !held && vsv_pager_job_prewalk(p, j);
 }
