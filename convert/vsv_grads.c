@@ -283,6 +283,10 @@ static int grads_open(vsv_source *s)
                 rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad VARS count", lineno);
                 goto done;
             }
+            if (s->fields) { /* a second list (found by fuzz_grads: the first leaked) */
+                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: a second VARS", lineno);
+                goto done;
+            }
             s->fields = calloc((size_t)nvars, sizeof *s->fields);
             if (!s->fields) {
                 rc = VSV_ENOMEM;

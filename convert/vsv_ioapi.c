@@ -13,6 +13,7 @@
 #include <netcdf.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct ioapi {
     int nc;
@@ -79,6 +80,12 @@ int vsv_ioapi_open(vsv_source *s, int nc)
     if (nc_inq_varndims(nc, tflag, &tnd) || tnd != 3 || nc_inq_vardimid(nc, tflag, td) || nc_inq_dimlen(nc, td[0], &nt) ||
         nc_inq_dimlen(nc, td[1], &nv) || nc_inq_dimlen(nc, td[2], &two) || two != 2 || nv < 1)
         return vsv_source_fail(s, VSV_ECORRUPT, "TFLAG is not (TSTEP, VAR, DATE-TIME=2)");
+    /* TFLAG's values lie in the file: a damaged header's time-step count
+     * (4294967295, found by fuzz_netcdf) is not allocated */
+    struct stat fst;
+    if (!stat(s->path, &fst) && nt > (uint64_t)fst.st_size / (nv * 2 * sizeof(int)))
+        return vsv_source_fail(s, VSV_ECORRUPT, "TFLAG declares %zu time steps of %zu variables, more than the file "
+                               "(%lld bytes) holds", nt, nv, (long long)fst.st_size);
     s->times = calloc(nt + 1, sizeof *s->times);
     if (!s->times)
         return VSV_ENOMEM;

@@ -221,6 +221,15 @@ has "vsv-info names it" "$T/err" "vsv-info: $C: netCDF header: attribute \"P_BET
 C=tests/corpus/netcdf/records-past-end.nc
 expect "a netCDF file whose record count overruns the file exits 1" 1 "$B/vsv-info" "$C"
 has "the record count, the record size and the file size are named" "$T/err" "vsv-info: $C: netCDF header: the file declares 16712706 records of at least 5732 bytes from offset 6288, past the end of the file (17752 bytes)"
+# found by the fuzz campaign: an IOAPI file whose time-step count is
+# 4294967295 (32 GB of times allocated: "out of memory" with an empty
+# message) and a GrADS descriptor with two VARS lists (the first leaked)
+C=tests/corpus/netcdf/ioapi-tstep-huge.nc
+expect "an IOAPI file with more time steps than it holds exits 1" 1 "$B/vsv-info" "$C"
+has "the count and the file size are named" "$T/err" "vsv-info: $C: TFLAG declares 4294967295 time steps of 2 variables, more than the file (1989 bytes) holds"
+C=tests/corpus/grads/leak-vars-twice
+expect "a GrADS descriptor with two VARS lists exits 1" 1 "$B/vsv-info" "$C"
+has "the second is named" "$T/err" "vsv-info: $C: line 10: a second VARS"
 
 # an output that is an input (same path, hard link, symlink) is refused
 # before anything is written; the input stays intact (issue 18)
