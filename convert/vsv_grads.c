@@ -61,6 +61,8 @@ static int parse_gtime(const char *s, int64_t *t)
             month = i + 1;
     if (!month || sscanf(s + 3, "%d", &yyyy) != 1)
         return -1;
+    if (hh < 0 || hh > 23 || mm < 0 || mm > 59 || dd < 1 || dd > 31 || yyyy < 1 || yyyy > 9999)
+        return -1; /* an hour of 22222222 (found by fuzz_grads) is no time */
     *t = vsv_time_from_civil(yyyy, month, dd, hh, mm, 0);
     return 0;
 }

@@ -11,10 +11,12 @@ int64_t vsv_time_from_civil(int y, int m, int d, int hh, int mm, int ss)
     y -= m <= 2;
     const int64_t era = (y >= 0 ? y : y - 399) / 400;
     const int64_t yoe = y - era * 400;
-    const int64_t doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
+    const int64_t doy = (153 * ((int64_t)m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
     const int64_t doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
     const int64_t days = era * 146097 + doe - 719468;
-    return days * 86400 + hh * 3600 + mm * 60 + ss;
+    /* in 64 bits: a reader's unchecked hour (22222222, found by fuzz_grads)
+     * overflowed an int here */
+    return days * 86400 + (int64_t)hh * 3600 + (int64_t)mm * 60 + ss;
 }
 
 void vsv_time_format(int64_t t, char *buf, size_t cap)
