@@ -183,6 +183,11 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
             take(&c, 4, &type, "variable type") || take(&c, c.w, &len, "variable size") ||
             take(&c, magic[3] == 1 ? 4 : 8, &begin, "variable offset"))
             return -1;
+        /* libnetcdf sizes a variable of a type the format lacks as 0 bytes
+         * a value, then divides by that size (SIGFPE in NC_check_vlen) */
+        if (type < 1 || type > (c.w == 8 ? 11u : 6u))
+            return fail(&c, "netCDF header: variable \"%s\" at offset %llu has an unknown type %llu", nm,
+                        (unsigned long long)from, (unsigned long long)type);
         if (first == recdim && recdim != UINT64_MAX) {
             nrec++;
             recsize = len > UINT64_MAX - recsize ? UINT64_MAX : recsize + len;

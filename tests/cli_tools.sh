@@ -221,6 +221,11 @@ has "vsv-info names it" "$T/err" "vsv-info: $C: netCDF header: attribute \"P_BET
 C=tests/corpus/netcdf/records-past-end.nc
 expect "a netCDF file whose record count overruns the file exits 1" 1 "$B/vsv-info" "$C"
 has "the record count, the record size and the file size are named" "$T/err" "vsv-info: $C: netCDF header: the file declares 16712706 records of at least 5732 bytes from offset 6288, past the end of the file (17752 bytes)"
+# found by the fuzz campaign: a variable of type 12 (NC_STRING) in a
+# 64-bit-offset file: libnetcdf divided by its 0-byte value size (SIGFPE)
+C=tests/corpus/netcdf/var-type-string.nc
+expect "a variable of a type the format lacks exits 1" 1 "$B/vsv-info" "$C"
+has "the variable, its offset and its type are named" "$T/err" "vsv-info: $C: netCDF header: variable \"T\" at offset 248 has an unknown type 12"
 # found by the fuzz campaign: an IOAPI file whose time-step count is
 # 4294967295 (32 GB of times allocated: "out of memory" with an empty
 # message) and a GrADS descriptor with two VARS lists (the first leaked)
