@@ -446,9 +446,9 @@ $(B)/bench/%: $(B)/bench/%.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 
 # VolPack and the shear-warp set up alike (bench/vp_match.h)
-$(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(B)/bench/vp_match.o $(TEST_LIBS)
+$(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(B)/bench/vp_match.o $(B)/bench/bench_stats.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
-$(B)/bench/bench_classify: $(B)/bench/bench_classify.o $(B)/bench/vp_match.o $(TEST_LIBS)
+$(B)/bench/bench_classify: $(B)/bench/bench_classify.o $(B)/bench/vp_match.o $(B)/bench/bench_stats.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
 $(B)/bench/bench_codec: $(B)/bench/bench_codec.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lzfp

@@ -23,6 +23,7 @@
  * other load), interleaved: each round times VolPack then us; medians and
  * ranges over rounds. Usage:
  *   bench_classify MM5.vsv PLUME_DIR [ROUNDS [ONLY]]  (ONLY: volumes whose name has it) */
+#include "bench_stats.h"
 #include "vp_match.h"
 
 #include <math.h>
@@ -39,21 +40,6 @@ static double cpu(void)
     struct timespec ts;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* median, min, max of n values (sorted in place) */
-static void stats(double *v, int n, double out[3])
-{
-    qsort(v, (size_t)n, sizeof *v, cmp);
-    out[0] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-    out[1] = v[0];
-    out[2] = v[n - 1];
 }
 
 static void run(vp_series *S, int rounds)
@@ -162,11 +148,11 @@ static void run(vp_series *S, int rounds)
     }
     vsv_renderer_free(rr);
     double c0[3], c1[3], p0[3], p1[3], p2[3];
-    stats(vc, rounds, c0);
-    stats(oc, rounds, c1);
-    stats(vp, rounds, p0);
-    stats(vr, rounds, p1);
-    stats(op, rounds, p2);
+    bench_stats(vc, rounds, c0);
+    bench_stats(oc, rounds, c1);
+    bench_stats(vp, rounds, p0);
+    bench_stats(vr, rounds, p1);
+    bench_stats(op, rounds, p2);
     const vsv_meta *m = &S->iso;
     size_t vis = 0;
     for (size_t i = 0; i < (size_t)m->nx * m->ny * m->nz; i++)

@@ -17,6 +17,7 @@
  * With VP_DUMP=PREFIX in the environment each view's two pictures are
  * written side by side to PREFIXk.png, with their mean luminance and
  * alpha printed. */
+#include "bench_stats.h"
 #include "vp_match.h"
 
 #include <math.h>
@@ -30,21 +31,6 @@ static double cpu(void)
     struct timespec ts;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
-/* median, min, max of n values (sorted in place) */
-static void stats(double *v, int n, double out[3])
-{
-    qsort(v, (size_t)n, sizeof *v, cmp);
-    out[0] = n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-    out[1] = v[0];
-    out[2] = v[n - 1];
 }
 
 static double now(void)
@@ -175,18 +161,18 @@ int main(int argc, char **argv)
            "| classification ms (all axes, wall) |\n"
            "|---|---|---|---|---|---|---|\n");
     double w[3], cc[3];
-    stats(wall[0], REPEAT, w);
-    stats(cput[0], REPEAT, cc);
+    bench_stats(wall[0], REPEAT, w);
+    bench_stats(cput[0], REPEAT, cc);
     printf("| VolPack vpRenderClassifiedVolume | 1 | %.2f (%.2f–%.2f) | 1 | %.2f (%.2f–%.2f) | 1 | %.0f |\n", 1e3 * w[0],
            1e3 * w[1], 1e3 * w[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2], 1e3 * vp_classify);
     for (int i = 0; i < 2; i++) {
         double rw[REPEAT], rc[REPEAT], x[3], y[3];
         for (int rep = 0; rep < REPEAT; rep++)
             rw[rep] = wall[0][rep] / wall[1 + i][rep], rc[rep] = cput[0][rep] / cput[1 + i][rep];
-        stats(wall[1 + i], REPEAT, w);
-        stats(cput[1 + i], REPEAT, cc);
-        stats(rw, REPEAT, x);
-        stats(rc, REPEAT, y);
+        bench_stats(wall[1 + i], REPEAT, w);
+        bench_stats(cput[1 + i], REPEAT, cc);
+        bench_stats(rw, REPEAT, x);
+        bench_stats(rc, REPEAT, y);
         printf("| Vesuvius shear-warp | %d | %.2f (%.2f–%.2f) | **%.2f** (%.2f–%.2f) | %.2f (%.2f–%.2f) | ", i + 1, 1e3 * w[0],
                1e3 * w[1], 1e3 * w[2], x[0], x[1], x[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2]);
         if (i == 0)
