@@ -112,31 +112,36 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
     return 0;
 }
 
-int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
+/* The chunk index of step and the entry of brick b of species s in it,
+ * the arguments checked; 0 or an error code with the reason in d->err. */
+static int locate(vsv_decoder *d, int step, int s, int b, const unsigned char **c, const unsigned char **be)
 {
     vsv_file *f = d->f;
     int rc = vsv_file_check_args(f, step, s, b, d->err, sizeof d->err);
     if (rc)
         return rc;
-    const unsigned char *c = vsv_file_chunk_index(f, step, d->err, sizeof d->err);
-    if (!c)
+    if (!(*c = vsv_file_chunk_index(f, step, d->err, sizeof d->err)))
         return vsv_file_chunk_rc(f, d->err, sizeof d->err);
-    return vsv_decoder_apply(d, c, step, s, b, vsv_file_brick_entry(f, c, s, b), codes);
+    *be = vsv_file_brick_entry(f, *c, s, b);
+    return 0;
+}
+
+int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
+{
+    const unsigned char *c = NULL, *be = NULL;
+    const int rc = locate(d, step, s, b, &c, &be);
+    return rc ? rc : vsv_decoder_apply(d, c, step, s, b, be, codes);
 }
 
 int vsv_decoder_brick_retreat(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
 {
-    vsv_file *f = d->f;
-    int rc = vsv_file_check_args(f, step, s, b, d->err, sizeof d->err);
+    const unsigned char *c = NULL, *be = NULL;
+    const int rc = locate(d, step, s, b, &c, &be);
     if (rc)
         return rc;
-    const unsigned char *c = vsv_file_chunk_index(f, step, d->err, sizeof d->err);
-    if (!c)
-        return vsv_file_chunk_rc(f, d->err, sizeof d->err);
-    const unsigned char *be = vsv_file_brick_entry(f, c, s, b);
     if (vsv_brick_absolute(be[0])) {
         vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d: an absolute state cannot be undone",
-                f->name, step, s, b);
+                d->f->name, step, s, b);
         return VSV_EINVAL;
     }
     return apply_checked(d, c, step, s, b, be, codes, 1);
