@@ -199,11 +199,12 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
     /* every record but the last begins inside the file: libnetcdf reads a
      * record variable record by record, a seek and a short read each, so a
      * damaged record count (16.7 million records in a 17 KB file) cost it
-     * 20 s per variable read */
-    const uint64_t streaming = c.w == 4 ? UINT32_MAX : UINT64_MAX;
+     * 20 s per variable read. The format's "streaming" count (all bits
+     * set) is no exception: libnetcdf 4.9 takes it as 4,294,967,295
+     * records (and the WRF reader then asked for 81 GB of times) */
     if (nrec == 1) /* one record variable: its records are not padded */
         recsize = recsize > 3 ? recsize - 3 : 0;
-    if (nrec && !big && recsize && recs > 1 && recs != streaming &&
+    if (nrec && !big && recsize && recs > 1 &&
         (recbegin > size || recs - 1 > (size - recbegin) / recsize))
         return fail(&c, "netCDF header: the file declares %llu records of at least %llu bytes from offset %llu, past "
                     "the end of the file (%llu bytes)", (unsigned long long)recs, (unsigned long long)recsize,

@@ -103,7 +103,10 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
             if (!vdb && s->opts.time_step > 0)
                 return vsv_source_fail(s, VSV_EINVAL, "--time-step is for OpenVDB sequences; this is a %s file",
                                        readers[i]->name);
-            return readers[i]->open(s);
+            const int rc = readers[i]->open(s);
+            if (rc && !s->err[0]) /* a reader that gave only the code (out of memory) */
+                vsv_source_fail(s, rc, "%s", vsv_strerror(rc));
+            return rc;
         }
     char more[256] = "";
     for (int i = BUILTIN; i < nreaders; i++)

@@ -221,6 +221,12 @@ has "vsv-info names it" "$T/err" "vsv-info: $C: netCDF header: attribute \"P_BET
 C=tests/corpus/netcdf/records-past-end.nc
 expect "a netCDF file whose record count overruns the file exits 1" 1 "$B/vsv-info" "$C"
 has "the record count, the record size and the file size are named" "$T/err" "vsv-info: $C: netCDF header: the file declares 16712706 records of at least 5732 bytes from offset 6288, past the end of the file (17752 bytes)"
+# found by the fuzz campaign: the record count 0xFFFFFFFF (the format's
+# "streaming" value), taken by libnetcdf as 4294967295 records (81 GB of
+# WRF times asked for; "vsv-info: " and no message)
+C=tests/corpus/netcdf/records-streaming.nc
+expect "a netCDF file whose streaming record count overruns the file exits 1" 1 "$B/vsv-info" "$C"
+has "the streaming count is named" "$T/err" "vsv-info: $C: netCDF header: the file declares 4294967295 records of at least 5732 bytes from offset 6288, past the end of the file (17177 bytes)"
 # found by the fuzz campaign: a variable of type 12 (NC_STRING) in a
 # 64-bit-offset file: libnetcdf divided by its 0-byte value size (SIGFPE)
 C=tests/corpus/netcdf/var-type-string.nc
@@ -231,7 +237,8 @@ has "the variable, its offset and its type are named" "$T/err" "vsv-info: $C: ne
 # message) and a GrADS descriptor with two VARS lists (the first leaked)
 C=tests/corpus/netcdf/ioapi-tstep-huge.nc
 expect "an IOAPI file with more time steps than it holds exits 1" 1 "$B/vsv-info" "$C"
-has "the count and the file size are named" "$T/err" "vsv-info: $C: TFLAG declares 4294967295 time steps of 2 variables, more than the file (1989 bytes) holds"
+# (its TSTEP is the streaming record count: the header walk refuses it first)
+has "the count and the file size are named" "$T/err" "vsv-info: $C: netCDF header: the file declares 4294967295 records of at least 736 bytes from offset 940, past the end of the file (1989 bytes)"
 C=tests/corpus/grads/leak-vars-twice
 expect "a GrADS descriptor with two VARS lists exits 1" 1 "$B/vsv-info" "$C"
 has "the second is named" "$T/err" "vsv-info: $C: line 10: a second VARS"
