@@ -77,6 +77,10 @@ before "a missing file exits 1" 1 "$T/none.vsv"
 has "and names it" "$T/err" "none.vsv"
 before "an unknown species: usage error (as vsv-play, vsv-render)" 2 "$VSV" --species NOPE
 has "and names the species" "$T/err" "'NOPE'"
+mkfifo "$T/run/.freevrrc"
+CMD_TIMEOUT=20 before "a FIFO as ./.freevrrc exits 1 (no wait for a writer)" 1 "$VSV"
+has "and names it" "$T/err" "./.freevrrc: a FIFO, not a regular file: refused"
+rm -f "$T/run/.freevrrc"
 left=""
 for id in $(sems "$T/before.err"); do ipcs -s | awk '{print $2}' | grep -qx "$id" && left="$left $id"; done
 [ -z "$left" ] && pass "no semaphore set is left by --help or an error" || fail "no semaphore set is left by --help or an error" "left:$left"

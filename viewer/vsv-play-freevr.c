@@ -18,16 +18,19 @@
  * file, species) is checked before vrConfigure creates FreeVR's semaphores;
  * after it, every exit goes through vrExit. */
 #include "vsv_cli.h"
+#include "vsv_common.h"
 #include "vsv_freevr_conf.h"
 #include "vsv_overlay.h"
 #include "vsv_player.h"
 
 #include <GL/gl.h>
+#include <errno.h>
 #include <freevr.h>
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 static const char usage[] =
@@ -194,16 +197,20 @@ static void display(vrRenderInfo *ri)
 /* FreeVR's configuration strings among the arguments. */
 static int is_freevr_arg(const char *a) { return a[0] != '-' && strpbrk(a, ";=\"{}") != NULL; }
 
-/* A configuration file's text, or NULL when there is none. */
+/* A configuration file's text, or NULL when there is none; one that is
+ * there but not a readable regular file (a FIFO would block) is an error. */
 static char *slurp(const char *dir, const char *name)
 {
     if (!dir || !dir[0])
         return NULL;
-    char path[4096];
+    char path[4096], why[256];
     snprintf(path, sizeof path, "%s/%s", dir, name);
-    FILE *fp = fopen(path, "r");
-    if (!fp)
+    struct stat st;
+    if (stat(path, &st) && errno == ENOENT)
         return NULL;
+    FILE *fp = vsv_input_fopen(path, "r", why, sizeof why);
+    if (!fp)
+        vsv_cli_die(1, "%s: %s", path, why);
     size_t cap = 1 << 16, n = 0, got;
     char *buf = malloc(cap + 1);
     while (buf && (got = fread(buf + n, 1, cap - n, fp)) > 0) {
