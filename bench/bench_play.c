@@ -217,7 +217,7 @@ static double pass_rate(vsv_file *f, size_t budget, int from_keyframe, int dir, 
     const double t0 = now(), c0 = cpu_now();
     for (int i = 0; i < info.nsteps; i++) {
         const int t = dir > 0 ? i : info.nsteps - 1 - i;
-        vsv_pager_playhead(p, t, dir, 1, 0, NULL);
+        vsv_pager_playhead(p, t, dir, NULL, 0, NULL);
         for (int s = 0; s < info.nspecies; s++)
             if (vsv_pager_get(p, t, s, 1, v[s]))
                 fprintf(stderr, "bench_play: %s\n", vsv_pager_error(p));
@@ -311,8 +311,9 @@ static void play(vsv_pager *p, vsv_volume **v, int ns, const int64_t *times, int
     for (int f = 0; f < frames; f++) {
         vsv_clock_tick(&c, f ? frame : 0);
         const int target = c.step;
-        const int stride = (int)fmax(1, lrint(fabs(x) * c.rate / 30 / ((double)(times[1] - times[0]))));
-        vsv_pager_playhead(p, target, x > 0 ? 1 : -1, stride, 1, NULL);
+        int next[VSV_PAGER_AHEAD + 1];
+        const int nn = vsv_clock_ahead(&c, frame, next, VSV_PAGER_AHEAD + 1);
+        vsv_pager_playhead(p, target, x > 0 ? 1 : -1, next, nn, NULL);
         if (target != shown) {
             /* as vsv-play: the clock's step when decoded, else the newest
              * decoded step on the way there, else the one shown stays */
@@ -444,7 +445,7 @@ int main(int argc, char **argv)
         const int n = info.nsteps < 40 ? info.nsteps : 40;
         t0 = now();
         for (int t = 0; t < n; t++) {
-            vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+            vsv_pager_playhead(p, t, 1, NULL, 0, NULL);
             for (int s = 0; s < info.nspecies; s++)
                 vsv_pager_get(p, t, s, 1, v[s]);
             const long kb = rss_anon_kb(), fkb = rss_kb("RssFile:");
@@ -455,7 +456,7 @@ int main(int argc, char **argv)
         /* again: what the cache still holds comes without decoding */
         t0 = now();
         for (int t = 0; t < n; t++) {
-            vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+            vsv_pager_playhead(p, t, 1, NULL, 0, NULL);
             for (int s = 0; s < info.nspecies; s++)
                 vsv_pager_get(p, t, s, 1, v[s]);
         }

@@ -165,3 +165,42 @@ void vsv_clock_faster(vsv_clock *c, int dir)
     vsv_clock_set_speed(c, dir >= 0 ? a : -a);
     vsv_clock_play(c);
 }
+
+int vsv_clock_ahead(const vsv_clock *c, double frame, int *steps, int max)
+{
+    if (max <= 0 || c->nsteps < 2)
+        return 0;
+    if (!c->playing) {
+        vsv_clock k = *c;
+        vsv_clock_step(&k, 1);
+        steps[0] = k.step;
+        return k.step != c->step;
+    }
+    if (!(frame > 0))
+        return 0;
+    vsv_clock k = *c;
+    int n = 0;
+    /* whole frames at a time: to just short of the next step's time, then
+     * frame by frame over it (model time moves linearly between ends, so
+     * m frames in one tick land where m ticks would) */
+    for (long f = 0; f < VSV_CLOCK_HORIZON && n < max && n < c->nsteps - 1 && k.playing;) {
+        const double v = fabs(k.rate * k.speed) * frame; /* model seconds a frame */
+        const int s = k.step, up = k.speed > 0, last = k.nsteps - 1;
+        const int64_t *t = k.times;
+        double gap; /* model seconds to the next change of step (looping: past an end, the wrap) */
+        if (up)
+            gap = (s < last ? (double)t[s + 1] : k.ends == VSV_CLOCK_LOOP ? 2.0 * t[last] - t[last - 1] : 0) - k.model;
+        else
+            gap = k.model - (s > 0 ? (double)t[s - 1] : k.ends == VSV_CLOCK_LOOP ? 2.0 * t[0] - t[1] : k.model);
+        double m = v > 0 && gap > v ? floor(gap / v) : 1;
+        m = fmin(m, (double)(VSV_CLOCK_HORIZON - f));
+        vsv_clock_tick(&k, m * frame);
+        f += (long)m;
+        int seen = k.step == c->step; /* a lap or a turn comes back to steps listed */
+        for (int i = 0; i < n && !seen; i++)
+            seen = steps[i] == k.step;
+        if (!seen)
+            steps[n++] = k.step;
+    }
+    return n;
+}

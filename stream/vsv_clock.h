@@ -28,6 +28,7 @@ VSV_API_BEGIN
 enum { VSV_CLOCK_STOP = 0, VSV_CLOCK_LOOP = 1, VSV_CLOCK_BOUNCE = 2 };
 
 #define VSV_CLOCK_MAX_SPEED 64
+#define VSV_CLOCK_HORIZON 1024 /* frames vsv_clock_ahead looks ahead */
 
 typedef struct vsv_clock {
     const int64_t *times; /* step times, increasing (borrowed) */
@@ -59,6 +60,13 @@ void vsv_clock_set_speed(vsv_clock *c, double x);
 void vsv_clock_faster(vsv_clock *c, int dir);
 /* The step at or before model time t (the first step before it all). */
 int vsv_clock_step_at(const vsv_clock *c, double t);
+/* The steps the next frames will show, `frame` wall seconds apart, as the
+ * clock would move from now: each step once, nearest first, within the
+ * next VSV_CLOCK_HORIZON frames (a step a frame jumps over is not there;
+ * wrapping and turning round at the ends as the clock does). Paused: the
+ * step a step forward would show.
+ * Fills up to max and returns how many (0 at a stopping end). */
+int vsv_clock_ahead(const vsv_clock *c, double frame, int *steps, int max);
 
 VSV_API_END
 

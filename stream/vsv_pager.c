@@ -44,6 +44,7 @@ static void release(vsv_pager *p)
     free(p->rows);
     free(p->tracks);
     free(p->want);
+    free(p->next);
     free(p->ent);
     free(p->bucket);
     free(p->dec);
@@ -94,10 +95,9 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
         const long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);
         p->budget = pages > 0 && psz > 0 ? (size_t)pages * (size_t)psz / 4 : (size_t)1 << 30;
     }
-    p->ahead = o->ahead > 0 ? o->ahead : 16;
+    p->ahead = o->ahead > 0 ? o->ahead : VSV_PAGER_AHEAD;
     p->incremental = !o->from_keyframe;
     p->job_cap = p->ahead + 2;
-    p->stride = 1;
     p->dir = 1;
     p->freelist = -1;
     p->focus = -1;
@@ -116,8 +116,9 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     int *defs = p->rows ? malloc((size_t)p->nrows * nb * sizeof *defs) : NULL;
     p->tracks = calloc((size_t)ns * nb, sizeof *p->tracks);
     p->want = calloc((size_t)ns, 1);
+    p->next = calloc((size_t)p->ahead + 1, sizeof *p->next);
     p->own_scratch = malloc(p->codes_bytes);
-    if (!defs || !p->tracks || !p->want || !p->own_scratch || vsv_cache_rehash(p, 2048) ||
+    if (!defs || !p->tracks || !p->want || !p->next || !p->own_scratch || vsv_cache_rehash(p, 2048) ||
         vsv_decoder_create(f, &p->own)) {
         if (p->rows)
             p->rows[0].def = defs;
@@ -198,13 +199,24 @@ const char *vsv_pager_error(const vsv_pager *cp)
     return copy;
 }
 
-void vsv_pager_playhead(vsv_pager *p, int step, int dir, int stride, int loop, const unsigned char *species)
+void vsv_pager_playhead(vsv_pager *p, int step, int dir, const int *next, int n, const unsigned char *species)
 {
     pthread_mutex_lock(&p->mu);
-    const int head = step < 0 ? 0 : step >= p->info.nsteps ? p->info.nsteps - 1 : step;
+    const int ns = p->info.nsteps, head = step < 0 ? 0 : step >= ns ? ns - 1 : step;
     dir = dir > 0 ? 1 : dir < 0 ? -1 : 0;
-    stride = stride > 0 ? stride : 1;
-    int same = head == p->head && dir == p->dir && stride == p->stride && loop == p->loop;
+    int same = head == p->head && dir == p->dir;
+    int k = 0; /* the listed steps that exist, else the ones after head */
+    for (int i = 0; k <= p->ahead && (next ? i < n : 1); i++) {
+        const int t = next ? next[i] : head + (dir ? dir : 1) * (i + 1);
+        if (!next && (t < 0 || t >= ns || (dir == 0 && i > 0)))
+            break;
+        if (t < 0 || t >= ns)
+            continue;
+        same &= k < p->nnext && p->next[k] == t;
+        p->next[k++] = t;
+    }
+    same &= k == p->nnext;
+    p->nnext = k;
     for (int s = 0; s < p->info.nspecies; s++) {
         const unsigned char w = species ? species[s] != 0 : 1;
         same &= p->want[s] == w;
@@ -212,8 +224,6 @@ void vsv_pager_playhead(vsv_pager *p, int step, int dir, int stride, int loop, c
     }
     p->head = head;
     p->dir = dir;
-    p->stride = stride;
-    p->loop = loop;
     if (!same) {
         p->gen++;
         pthread_cond_broadcast(&p->work);

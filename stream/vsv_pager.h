@@ -26,7 +26,8 @@
  * in a volume) or being decoded (stats.pinned_bytes): a budget smaller than
  * one time step degrades to decoding on demand, never to a deadlock.
  * Prefetch decodes only what fits beside the current step (ahead =
- * min(ahead option, budget / step size - 2); playing backward the budget
+ * min(ahead option, budget / step size - 2) of the steps listed by
+ * vsv_pager_playhead); playing backward the budget
  * first sets aside K - 2 checkpoints of half a step each). Eviction takes
  * the least recently used brick outside the prefetch window, then
  * checkpoints, then idle decoder tracks, then bricks inside the window.
@@ -61,10 +62,12 @@ VSV_API_BEGIN
 
 typedef struct vsv_pager vsv_pager;
 
+#define VSV_PAGER_AHEAD 16 /* steps decoded ahead by default */
+
 typedef struct vsv_pager_opts {
     size_t budget; /* bytes of decoded bricks; 0 = a quarter of physical memory */
     int threads;   /* decode-ahead workers; 0 = one per CPU beyond the first (at least 1); < 0 none */
-    int ahead;     /* most steps decoded ahead of the playhead; 0 = 16 */
+    int ahead;     /* most steps decoded ahead of the playhead; 0 = VSV_PAGER_AHEAD */
     int from_keyframe; /* 1: keep no decoder state, decode every brick from its
                           last absolute state (the earlier path; benchmarks
                           compare against it) */
@@ -99,10 +102,14 @@ void vsv_pager_free(vsv_pager *p);
 const char *vsv_pager_error(const vsv_pager *p);
 
 /* Where playback is: the step on screen, the direction (+1, -1, 0 paused),
- * the steps advanced per shown frame (stride >= 1), whether time wraps at the
- * ends, and which species are wanted (nspecies flags; NULL = all). Workers
- * decode ahead from here. Cheap; call it whenever any of these change. */
-void vsv_pager_playhead(vsv_pager *p, int step, int dir, int stride, int loop, const unsigned char *species);
+ * the steps the next shown frames will show (next[0 .. n-1], nearest first,
+ * each once: vsv_clock_ahead predicts them; the first `ahead` + 1 are read),
+ * and which species are wanted (nspecies flags; NULL = all). Workers decode
+ * the listed steps in order, as many as the budget holds beside the one on
+ * screen, so a step the display will skip costs no floats. next NULL: the
+ * steps after `step` one by one in the direction of play, to the end
+ * (paused: the next one). Cheap; call it every frame. */
+void vsv_pager_playhead(vsv_pager *p, int step, int dir, const int *next, int n, const unsigned char *species);
 
 /* A volume shell to receive pinned bricks (no brick storage of its own);
  * NULL when out of memory. Caller frees with vsv_volume_free (which unpins

@@ -118,7 +118,8 @@ struct vsv_pager {
     defrow *rows;
     int nrows; /* a power of two */
     /* the playhead */
-    int head, dir, stride, loop, gen;
+    int head, dir, gen;
+    int *next, nnext; /* the steps the next frames show (capacity ahead + 1) */
     unsigned char *want;
     size_t step_bytes; /* the largest step seen (all wanted species) */
     int depth;

@@ -5,21 +5,11 @@
 
 #include <stdlib.h>
 
-/* The step d frames ahead of the playhead, or -1 past an end. */
+/* The step d frames ahead of the playhead (0: the one on screen), or -1
+ * past the list of steps ahead. */
 int vsv_sched_ahead(const vsv_pager *p, int d)
 {
-    const int n = p->info.nsteps;
-    long t = p->head + (long)d * p->stride * (p->dir ? p->dir : 1);
-    if (p->dir == 0 && d > 1)
-        return -1; /* paused: the step on screen and its neighbours */
-    if (p->dir == 0 && d == 1)
-        t = p->head + 1;
-    if (t < 0 || t >= n) {
-        if (!p->loop)
-            return -1;
-        t = ((t % n) + n) % n;
-    }
-    return (int)t;
+    return d == 0 ? p->head : d <= p->nnext ? p->next[d - 1] : -1;
 }
 
 /* Marks every cached brick the prefetch window needs (under the lock, once

@@ -142,7 +142,7 @@ static int play(vsv_file *f, int s, size_t budget, int from_keyframe, int thread
         const uint64_t p0 = st.payloads_decoded;
         for (int i = 0; i < in.nsteps && !bad; i++) {
             const int t = pass ? in.nsteps - 1 - i : i;
-            vsv_pager_playhead(p, t, pass ? -1 : 1, 1, 0, want);
+            vsv_pager_playhead(p, t, pass ? -1 : 1, NULL, 0, want);
             if (vsv_pager_get(p, t, s, 1, v)) {
                 snprintf(why, cap, "get %d: %s", t, vsv_pager_error(p));
                 bad = 1;

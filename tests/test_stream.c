@@ -4,6 +4,7 @@
 #include "vsv_synth.h"
 #include "vsv_testlib.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -40,6 +41,21 @@ static int same_as_direct(const vsv_volume *v, int step, int s)
     return 1;
 }
 
+/* Tells p the playhead at step, playing dir (0 paused) `stride` steps a
+ * frame (wrapping at the ends when loop): the 17 steps the next frames show. */
+static void playhead(vsv_pager *p, int step, int dir, int stride, int loop, const unsigned char *want)
+{
+    enum { N = 60 };
+    int next[VSV_PAGER_AHEAD + 1], n = 0;
+    for (int d = 1; dir && n <= VSV_PAGER_AHEAD; d++) {
+        int t = step + d * stride * dir;
+        if (!loop && (t < 0 || t >= N))
+            break;
+        next[n++] = ((t % N) + N) % N;
+    }
+    vsv_pager_playhead(p, step, dir, dir ? next : NULL, n, want);
+}
+
 /* A random walk of seeks, direction and speed changes with gets checked
  * against direct decodes; the budget bound checked after every operation. */
 static void random_walk(vsv_file *f, size_t budget, int threads, const char *label)
@@ -62,7 +78,7 @@ static void random_walk(vsv_file *f, size_t budget, int threads, const char *lab
         switch ((r >> 20) % 5) {
         case 0: { /* playhead: any direction, stride, loop, species */
             want[(r >> 24) % 3] = (r >> 27) & 1;
-            vsv_pager_playhead(p, step, (int)((r >> 28) % 3) - 1, 1 + (int)((r >> 30) % 8), (int)((r >> 33) & 1), want);
+            playhead(p, step, (int)((r >> 28) % 3) - 1, 1 + (int)((r >> 30) % 8), (int)((r >> 33) & 1), want);
             break;
         }
         case 1: /* a non-blocking get: EAGAIN or the right volume */
@@ -142,7 +158,7 @@ static void test_pager(const char *path)
     o.threads = 1;
     vsv_pager *p = NULL;
     vsv_pager_open(f, &o, &p);
-    vsv_pager_playhead(p, 30, -1, 2, 0, NULL);
+    playhead(p, 30, -1, 2, 0, NULL);
     int ready = 0;
     for (int i = 0; i < 5000 && !ready; i++) {
         ready = vsv_pager_ready(p, 30, NULL) && vsv_pager_ready(p, 28, NULL) && vsv_pager_ready(p, 20, NULL);
@@ -182,7 +198,7 @@ static void test_pager(const char *path)
     v = vsv_pager_volume_new(p);
     int ok = 1;
     for (int t = 0; t < 60 && ok; t++) {
-        vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+        vsv_pager_playhead(p, t, 1, NULL, 0, NULL);
         for (int s = 0; s < 3 && ok; s++)
             ok = vsv_pager_get(p, t, s, 1, v) == 0 && same_as_direct(v, t, s);
     }
@@ -199,7 +215,7 @@ static void test_pager(const char *path)
     uint64_t *before = calloc((size_t)nb * 3 + 1, sizeof *before);
     long changed = 0, kept = 0;
     for (int t = 0; t < 60 && ok; t++) {
-        vsv_pager_playhead(p, t, 1, 1, 0, NULL);
+        vsv_pager_playhead(p, t, 1, NULL, 0, NULL);
         for (int s = 0; s < 3 && ok; s++) {
             ok = vsv_pager_get(p, t, s, 1, v) == 0 && vsv_volume_load(ref, dec, t, s) == 0 && v->bkey && ref->bkey &&
                  !memcmp(v->bkey, ref->bkey, (size_t)nb * sizeof *v->bkey);
@@ -308,7 +324,7 @@ static void test_pager_corrupt(const char *path)
     vsv_pager *p = NULL;
     int failed = 0, crashed = 0;
     if (f && vsv_pager_open(f, &o, &p) == 0) {
-        vsv_pager_playhead(p, 0, 1, 1, 0, NULL);
+        vsv_pager_playhead(p, 0, 1, NULL, 0, NULL);
         vsv_volume *v = vsv_pager_volume_new(p);
         for (int t = 0; t < 60; t++)
             for (int s = 0; s < 3; s++) {
@@ -417,6 +433,92 @@ static void test_clock(void)
     CHECK(c.model == m && !c.playing, "pause holds model time", " ");
 }
 
+/* Whether steps[0 .. n-1] are want[] (m of them). */
+static int list_is(const int *steps, int n, const int *want, int m)
+{
+    if (n != m)
+        return 0;
+    for (int i = 0; i < n; i++)
+        if (steps[i] != want[i])
+            return 0;
+    return 1;
+}
+
+static void test_clock_ahead(void)
+{
+    int64_t times[10];
+    for (int i = 0; i < 10; i++)
+        times[i] = 3600 * i;
+    vsv_clock c;
+    vsv_clock_init(&c, times, 10, 0); /* four steps a second at x1 */
+    int s[20], n;
+    const double frame = 3.0 / 64; /* x8: 1.5 steps a frame, exactly */
+    n = vsv_clock_ahead(&c, frame, s, 20);
+    CHECK(list_is(s, n, (int[]){1}, 1), "paused: the step ahead is the next one", "(%d: %d)", n, s[0]);
+    vsv_clock_set_speed(&c, 8);
+    vsv_clock_play(&c);
+    n = vsv_clock_ahead(&c, frame, s, 20);
+    CHECK(list_is(s, n, (int[]){1, 3, 4, 6, 7, 9}, 6),
+          "1.5 steps a frame: the steps the frames show, the ones jumped over left out, to the end", "(%d: %d %d %d)", n,
+          s[0], s[1], s[2]);
+    CHECK(vsv_clock_ahead(&c, frame, s, 3) == 3 && s[2] == 4, "no more than asked", " ");
+    vsv_clock_seek_step(&c, 9);
+    vsv_clock_set_speed(&c, -8);
+    vsv_clock_play(&c);
+    n = vsv_clock_ahead(&c, frame, s, 20);
+    CHECK(list_is(s, n, (int[]){8, 6, 5, 3, 2, 0}, 6), "backward: the step at or after each frame's time",
+          "(%d: %d %d %d)", n, s[0], s[1], s[2]);
+    c.ends = VSV_CLOCK_LOOP;
+    vsv_clock_seek_step(&c, 7);
+    vsv_clock_set_speed(&c, 8);
+    vsv_clock_play(&c);
+    n = vsv_clock_ahead(&c, frame, s, 4);
+    CHECK(list_is(s, n, (int[]){8, 0, 1, 3}, 4), "looping: through the wrap as the clock goes", "(%d: %d %d %d %d)",
+          n, s[0], s[1], s[2], s[3]);
+    n = vsv_clock_ahead(&c, frame, s, 20);
+    CHECK(n == 9 && s[8] != 7, "a lap lists each other step once", "(%d)", n);
+    vsv_clock_set_speed(&c, 1.0 / 64);
+    n = vsv_clock_ahead(&c, 1.0 / 32, s, 3);
+    CHECK(list_is(s, n, (int[]){8, 9}, 2), "x1/64 (512 frames a step): the steps of the next 1024 frames",
+          "(%d: %d %d)", n, s[0], s[1]);
+    c.ends = VSV_CLOCK_STOP;
+    vsv_clock_seek_step(&c, 9);
+    CHECK(vsv_clock_ahead(&c, frame, s, 20) == 0, "paused at the last step without loop: nothing ahead", " ");
+    /* against the clock ticked frame by frame: any ends, speed, frame and
+     * place, uneven step times */
+    int64_t uneven[7] = {0, 600, 900, 3600, 3700, 7200, 9000};
+    uint64_t rng = 99;
+    int agree = 0, tries = 0;
+    for (int r = 0; r < 1000 && tries < 300; r++) {
+        vsv_clock k;
+        vsv_clock_init(&k, uneven, 7, 0);
+        k.ends = (int)(vsv_test_rand(&rng) % 3);
+        vsv_clock_seek_step(&k, (int)(vsv_test_rand(&rng) % 7));
+        const double x = ldexp(1, (int)(vsv_test_rand(&rng) % 13) - 6) * (vsv_test_rand(&rng) & 1 ? -1 : 1);
+        const double fr = (double)(1 + vsv_test_rand(&rng) % 100) / 997;
+        vsv_clock_set_speed(&k, x);
+        vsv_clock_play(&k);
+        vsv_clock_tick(&k, (double)(vsv_test_rand(&rng) % 1000) / 3001);
+        if (!k.playing) /* stopped at an end */
+            continue;
+        tries++;
+        int want[8], m = 0;
+        vsv_clock b = k;
+        for (int f = 0; f < VSV_CLOCK_HORIZON && m < 8 && b.playing; f++) {
+            vsv_clock_tick(&b, fr);
+            int seen = b.step == k.step;
+            for (int i = 0; i < m && !seen; i++)
+                seen = want[i] == b.step;
+            if (!seen)
+                want[m++] = b.step;
+        }
+        n = vsv_clock_ahead(&k, fr, s, 8);
+        agree += list_is(s, n, want, m);
+    }
+    CHECK(agree == tries, "the steps ahead are those of the clock ticked frame by frame (300 random plays)",
+          "(%d of %d agree)", agree, tries);
+}
+
 int main(void)
 {
     const char *path = vsv_test_tmp("stream-series.vsv");
@@ -425,5 +527,6 @@ int main(void)
         test_pager_corrupt(path);
     }
     test_clock();
+    test_clock_ahead();
     return vsv_test_done();
 }

@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int act(vsv_player *p, const char *a)
 {
@@ -280,6 +281,73 @@ static void test_damaged(const char *path, vsv_player_opts o)
     vsv_player_free(p);
 }
 
+/* Waits until the pager's workers stop decoding (no new payload for 60 ms;
+ * at most 10 s). */
+static void settle(vsv_player *p)
+{
+    vsv_pager_stats st;
+    uint64_t last = UINT64_MAX;
+    for (int quiet = 0, i = 0; quiet < 3 && i < 500; i++) {
+        vsv_player_pager_stats(p, &st);
+        quiet = st.payloads_decoded == last ? quiet + 1 : 0;
+        last = st.payloads_decoded;
+        usleep(20000);
+    }
+}
+
+/* Playing 1.25 steps a frame on a budget that holds one step beside the one
+ * shown: the step decoded ahead is the one the next frame shows (the clock
+ * predicts it), so the frames that jump over a step never find it missing.
+ * (Decoding the next step in order instead, a quarter of the frames stall.) */
+static void test_skipping(const char *path, vsv_player_opts o)
+{
+    o.path = path;
+    o.cache_bytes = (size_t)1 << 30;
+    vsv_player *p = NULL;
+    char err[512];
+    if (!CHECK(vsv_player_open(&o, &p, err, sizeof err) == 0, "the player opens the 5-minute series", "(%s)", err))
+        return;
+    const int nsteps = vsv_player_clock(p)->nsteps;
+    const double interval = (double)(vsv_player_clock(p)->times[1] - vsv_player_clock(p)->times[0]);
+    size_t step = 0; /* the largest step's decoded bytes */
+    for (int t = 0; t < nsteps; t++) {
+        char a[32];
+        snprintf(a, sizeof a, "seek %d", t);
+        act(p, a);
+        vsv_player_update(p, 0, 1);
+        vsv_pager_stats st;
+        vsv_player_pager_stats(p, &st);
+        step = st.pinned_bytes > step ? st.pinned_bytes : step;
+    }
+    vsv_player_free(p);
+    o.cache_bytes = step * 7 / 2;
+    o.rate = 1.25 * interval * 30; /* 1.25 steps a frame at 30 frames a second */
+    if (!CHECK(vsv_player_open(&o, &p, err, sizeof err) == 0, "the player opens it on 3.5 steps' bytes", "(%s)", err))
+        return;
+    vsv_player_update(p, 0, 1);
+    settle(p);
+    act(p, "play");
+    int frames = 0, behind = 0, depth = 0;
+    vsv_pager_stats st0, st;
+    vsv_player_pager_stats(p, &st0);
+    while (vsv_player_clock(p)->playing && frames < 100) {
+        vsv_player_update(p, 1.0 / 30, 0);
+        frames++;
+        behind += vsv_player_shown_step(p) != vsv_player_clock(p)->step;
+        vsv_player_pager_stats(p, &st);
+        depth = st.prefetch_depth > depth ? st.prefetch_depth : depth;
+        settle(p);
+    }
+    vsv_player_pager_stats(p, &st);
+    CHECK(depth == 1 && frames >= 25, "1.25 steps a frame with one step decoded ahead", "(depth %d, %d frames, %zu bytes a step)",
+          depth, frames, step);
+    CHECK(st.stalls == st0.stalls && behind == 0,
+          "a frame that jumps over a step finds the step it shows decoded (no stall)",
+          "(%llu stalls in %d frames; %d behind the clock)", (unsigned long long)(st.stalls - st0.stalls), frames,
+          behind);
+    vsv_player_free(p);
+}
+
 int main(void)
 {
     test_freevr_layout();
@@ -305,6 +373,11 @@ int main(void)
     test_camera_from_gl(p);
     vsv_player_free(p);
     test_damaged(path, o);
+    const char *path5 = vsv_test_tmp("viewer-crop-5m.vsv");
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --time-res 5m samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
+             getenv("B") ? getenv("B") : "build", path5);
+    if (CHECK(system(cmd) == 0, "convert the bundled MM5 sample at 5-minute steps", " "))
+        test_skipping(path5, o);
     o.path = "/nonexistent/x.vsv";
     CHECK(vsv_player_open(&o, &p, err, sizeof err) == -1 && strstr(err, "/nonexistent/x.vsv"),
           "a missing file is an error naming it", "(%s)", err);

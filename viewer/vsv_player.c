@@ -217,17 +217,6 @@ void vsv_player_free(vsv_player *p)
 
 /* ---------------------------------------------------------------- paging */
 
-/* Steps the pager should expect per shown frame (at ~30 frames a second). */
-static int stride(const vsv_player *p)
-{
-    const vsv_clock *c = &p->clock;
-    if (c->nsteps < 2)
-        return 1;
-    const double span = (double)(c->times[c->nsteps - 1] - c->times[0]) / (c->nsteps - 1);
-    const double per_frame = fabs(c->speed) * c->rate / 30 / (span > 0 ? span : 1);
-    return per_frame < 1.5 ? 1 : (int)lrint(per_frame);
-}
-
 /* Shows step t: every visible species pinned from the pager (waiting for
  * what is not decoded yet, so all species always show the same step);
  * hidden ones released. 0 or -1. */
@@ -305,10 +294,14 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
 {
     vsv_clock *c = &p->clock;
     vsv_clock_tick(c, dt);
+    if (dt > 0) /* the time between frames, smoothed: when the next frames come */
+        p->frame = p->frame > 0 ? 0.75 * p->frame + 0.25 * fmin(dt, 0.25) : fmin(dt, 0.25);
     const int target = c->step;
     const int dir = !c->playing ? 0 : c->speed > 0 ? 1 : -1;
     const unsigned char *need = needed(p);
-    vsv_pager_playhead(p->pager, target, dir, stride(p), c->ends != VSV_CLOCK_STOP, need);
+    int next[VSV_PAGER_AHEAD + 1];
+    const int nn = vsv_clock_ahead(c, p->frame > 0 ? p->frame : 1.0 / 30, next, VSV_PAGER_AHEAD + 1);
+    vsv_pager_playhead(p->pager, target, dir, next, nn, need);
     vsv_pager_stats st;
     vsv_pager_stats_get(p->pager, &st);
     /* st.prefetch_depth 0: a step does not fit the budget beside the one

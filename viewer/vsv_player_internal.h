@@ -20,6 +20,7 @@ struct vsv_player {
     unsigned char *want; /* per species: visible */
     int selected;
     int shown;           /* the step on screen; -1 before the first */
+    double frame;        /* wall seconds between updates (smoothed); 0 before the second */
     char **bad;          /* per step: why it cannot be decoded, or NULL */
     int news;            /* a step found damaged and not yet taken, or -1 */
     double exaggeration;
