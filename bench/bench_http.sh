@@ -11,50 +11,13 @@ set -eu
 B=${B:-build}
 SHARED=${SHARED:-../shared}
 PY=${PYTHON:-/usr/bin/python3}
-LIGHTTPD=$(command -v lighttpd 2> /dev/null || echo /usr/sbin/lighttpd)
-[ -x "$LIGHTTPD" ] || { echo "bench_http.sh: no lighttpd (sh tools/deps.sh --install-bench)"; exit 0; }
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-bench-http.XXXXXX")
-LPID=
-stop_server() { [ -n "$LPID" ] && kill -INT "$LPID" 2> /dev/null && wait "$LPID" 2> /dev/null; LPID=; }
+server_down() { echo "bench_http.sh: lighttpd does not start: $1"; exit 1; }
+. tests/lighttpd_lib.sh
+[ -n "$LIGHTTPD" ] || { echo "bench_http.sh: no lighttpd (sh tools/deps.sh --install-bench)"; rm -rf "$T"; exit 0; }
 trap 'stop_server; rm -rf "$T"' EXIT INT TERM
 mkdir -p "$T/www"
 now() { date +%s.%N; }
-# start_server: lighttpd on $PORT when set (the cache knows a file by its
-# URL: a second run must find the same one), else on a free port
-PORT=
-start_server() {
-    for try in 1 2 3 4 5; do
-        [ -n "$PORT" ] && [ $try = 1 ] || PORT=$("$PY" -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
-        {
-            echo "server.document-root = \"$T/www\""
-            echo "server.bind = \"127.0.0.1\""
-            echo "server.port = $PORT"
-            echo 'server.modules = ("mod_accesslog")'
-            echo "accesslog.filename = \"$T/access.log\""
-            echo 'accesslog.format = "%r %s %b"'
-            echo "server.errorlog = \"$T/error.log\""
-            echo 'mimetype.assign = ("" => "application/octet-stream")'
-        } > "$T/lighttpd.conf"
-        : > "$T/access.log"
-        "$LIGHTTPD" -D -f "$T/lighttpd.conf" > "$T/lighttpd.out" 2>&1 &
-        LPID=$!
-        if "$PY" - "$PORT" <<'EOF'
-import socket, sys, time
-for _ in range(300):
-    try:
-        socket.create_connection(("127.0.0.1", int(sys.argv[1])), 1).close()
-        sys.exit(0)
-    except OSError:
-        time.sleep(0.1)
-sys.exit(1)
-EOF
-        then return 0; fi
-        stop_server
-    done
-    echo "bench_http.sh: lighttpd does not start"
-    exit 1
-}
-body_bytes() { awk '{ n += $NF } END { print n + 0 }' "$T/access.log"; }
 requests() { wc -l < "$T/access.log"; }
 
 printf '%s cores; %s; load %s\n\n' "$(nproc)" "$(date -u '+%Y-%m-%d %H:%M UTC')" "$(cut -d' ' -f1-3 /proc/loadavg)"
