@@ -10,7 +10,9 @@
 #    every window that faces the volume shows the rendered terrain, the model
 #    time advances between two dumps 2.5-5.5 s apart, Escape (held 0.3 s: input
 #    is polled at 60 Hz) ends every process within 5 s with exit 0, and the
-#    run's semaphore set is gone.
+#    run's semaphore set is gone;
+#  - the simulator again on an http:// URL of the file (lighttpd on a
+#    loopback port): the same checks, and the server sent ranges only.
 # Windows are dumped by the stand-in (FREEVR_STANDIN_DUMP: each window's back
 # buffer read just before the swap) rather than grabbed from the screen, so
 # overlapping windows cannot hide each other.
@@ -23,7 +25,8 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-freevr.XXXXXX")
 . tests/cli_lib.sh
 # VSV_PLAY_FREEVR: another build of the back end to test (e.g. an older one)
 BIN=${VSV_PLAY_FREEVR:-$(pwd)/$B/tests/vsv-play-freevr}
-SHOT="/usr/bin/python3 $(pwd)/tests/freevr_shot.py"
+TOP=$(pwd)
+SHOT="/usr/bin/python3 $TOP/tests/freevr_shot.py"
 VSV=$T/crop.vsv
 # semaphore sets this run's stand-in created (the id it prints), removed at
 # the end whatever happened, so a failing run leaves nothing behind
@@ -31,6 +34,7 @@ sems() { sed -n 's/^FreeVR stand-in: semaphore set \([0-9]*\) .*/\1/p' "$@" 2> /
 cleanup() {
     for id in $(sems "$T"/*.err "$T"/*/stderr "$T/err"); do ipcrm -s "$id" 2> /dev/null; done
     pkill -KILL -f "$VSV" 2> /dev/null
+    [ -n "${LPID:-}" ] && kill -INT "$LPID" 2> /dev/null
     rm -rf "$T"
 }
 trap cleanup EXIT
@@ -199,6 +203,29 @@ PLAY=${VSV_FREEVR_PLAY:---play --loop --rate 1800 --render-scale 0.5}
 
 # the simulator: no configuration at all
 layout sim "simulator" "simulator" $PLAY
+
+# the simulator reading the file from a web server (lighttpd on a loopback
+# port, tests/lighttpd_lib.sh): every render process fetches ranges of it
+PY=${PYTHON:-/usr/bin/python3}
+server_down() { fail "lighttpd starts on a loopback port" "$1"; }
+. "$TOP/tests/lighttpd_lib.sh"
+if [ -n "$LIGHTTPD" ]; then
+    mkdir -p "$T/www"
+    cp "$VSV" "$T/www/crop.vsv"
+    touch -d '1 hour ago' "$T/www/crop.vsv" # lighttpd sends validators for files not just written
+    if start_server; then
+        LOCAL=$VSV
+        VSV=http://127.0.0.1:$PORT/crop.vsv
+        layout sim-url "simulator" "simulator" $PLAY --cache-dir off
+        VSV=$LOCAL
+        stop_server
+        grep -q '^GET .* 206 ' "$T/access.log" && ! grep -q '^GET .* 200 ' "$T/access.log" &&
+            pass "sim-url: the file came in range requests only" ||
+            fail "sim-url: the file came in range requests only" "$(head -c 300 "$T/access.log")"
+    fi
+else
+    echo "note: vsv-play-freevr on a URL not tested: no lighttpd (tools/deps.sh)"
+fi
 
 # four walls of a CAVE from ~/.freevrrc, the system chosen on the command line
 wall() { # NAME GEOMETRY CORNERS
