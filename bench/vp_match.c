@@ -220,6 +220,32 @@ int vp_dump(const char *path, const unsigned char *vp, const float *ours)
     return rc;
 }
 
+/* A writer of m's one variable quantised over [0, hi], the library's
+ * defaults otherwise. */
+static int writer_open(const char *path, const vsv_meta *m, float hi, vsv_writer **w)
+{
+    vsv_pack_var pv;
+    vsv_pack_var_init(&pv);
+    pv.lo = 0;
+    pv.hi = hi;
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.vars = &pv;
+    return vsv_writer_create(path, m, &o, w);
+}
+
+/* Finishes w unless rc already failed, says any failure on stderr, frees w:
+ * the result. */
+static int writer_close(vsv_writer *w, const char *path, int rc)
+{
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc)
+        fprintf(stderr, "%s: %s: %s\n", program_invocation_short_name, path, w ? vsv_writer_error(w) : "cannot create");
+    vsv_writer_free(w);
+    return rc;
+}
+
 int vp_write_box(const char *path)
 {
     /* 64 x 48 x 16 cells (three different lengths, so a swapped axis shows);
@@ -237,23 +263,12 @@ int vp_write_box(const char *path)
         for (int j = 6; j < 22; j++)
             for (int i = 8; i < 40; i++)
                 buf[((size_t)k * m.ny + j) * m.nx + i] = 0.25f + 0.75f * (i - 8) / 31.0f;
-    vsv_pack_var pv;
-    vsv_pack_var_init(&pv);
-    pv.lo = 0;
-    pv.hi = 1;
-    vsv_pack_opts o;
-    vsv_pack_opts_init(&o);
-    o.vars = &pv;
     vsv_writer *w = NULL;
     const float *fields[1] = {buf};
-    int rc = buf ? vsv_writer_create(path, &m, &o, &w) : -1;
+    int rc = buf ? writer_open(path, &m, 1, &w) : -1;
     if (!rc)
         rc = vsv_writer_add_step(w, 0, fields);
-    if (!rc)
-        rc = vsv_writer_finish(w, NULL, NULL);
-    if (rc)
-        fprintf(stderr, "%s: %s: %s\n", program_invocation_short_name, path, w ? vsv_writer_error(w) : "cannot create");
-    vsv_writer_free(w);
+    rc = writer_close(w, path, rc);
     vsv_meta_clear(&m);
     free(buf);
     return rc;
@@ -283,15 +298,8 @@ int vp_write_plume(const char *dir, const char *out, const char *const *names, i
         return -1;
     }
     fclose(fi);
-    vsv_pack_var pv;
-    vsv_pack_var_init(&pv);
-    pv.lo = 0;
-    pv.hi = vmax;
-    vsv_pack_opts o;
-    vsv_pack_opts_init(&o);
-    o.vars = &pv;
     vsv_writer *w = NULL;
-    int rc = vsv_writer_create(out, &m, &o, &w);
+    int rc = writer_open(out, &m, vmax, &w);
     for (int t = 0; t < n && !rc; t++) {
         snprintf(path, sizeof path, "%s/%s", dir, names[t]);
         FILE *fp = fopen(path, "rb");
@@ -311,11 +319,7 @@ int vp_write_plume(const char *dir, const char *out, const char *const *names, i
         if (!rc)
             rc = vsv_writer_add_step(w, 3600 * (int64_t)t, fields);
     }
-    if (!rc)
-        rc = vsv_writer_finish(w, NULL, NULL);
-    if (rc)
-        fprintf(stderr, "%s: %s: %s\n", program_invocation_short_name, out, w ? vsv_writer_error(w) : "cannot create");
-    vsv_writer_free(w);
+    rc = writer_close(w, out, rc);
     vsv_meta_clear(&m);
     free(buf);
     return rc;
