@@ -114,6 +114,11 @@ void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n)
     struct stat so, si;
     if (!out || stat(out, &so))
         return;
+    if (!S_ISREG(so.st_mode)) { /* the output would replace it */
+        fprintf(stderr, "%s: output %s is %s, not a regular file: refusing to replace it\n", tool_name, out,
+                vsv_file_kind(so.st_mode));
+        exit(2);
+    }
     for (int i = 0; i < n; i++)
         if (inputs[i] && !stat(inputs[i], &si) && si.st_dev == so.st_dev && si.st_ino == so.st_ino) {
             fprintf(stderr, "%s: output %s is the input %s (the same file%s): refusing to overwrite it\n", tool_name,

@@ -27,7 +27,9 @@ void vsv_cli_die(int code, const char *fmt, ...) __attribute__((format(printf, 2
 void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
 /* Refuses (exit 2, before anything is written) an output that is one of the
  * inputs: the same path, a hard link or a symlink to it (same device and
- * inode); NULL inputs are skipped. A missing output is never an input. */
+ * inode); NULL inputs are skipped. A missing output is never an input. Also
+ * refuses an output that exists and is not a regular file (a directory,
+ * /dev/null): writing it would replace it. */
 void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n);
 /* Opens an input the tool reads as text or a stream, checked: a regular
  * file, and with pipes != 0 also a FIFO (a field stream's writer on the other

@@ -87,6 +87,9 @@ void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(
 void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_list ap)
     __attribute__((format(printf, 4, 0)));
 
+/* What a file of mode m (st_mode) is when not a regular file: "a FIFO",
+ * "a directory", "a character device" ... */
+const char *vsv_file_kind(unsigned m);
 /* Opens an input file read-only, refusing (without blocking) anything but a
  * regular file: a FIFO, device, socket or directory. The descriptor, or -1
  * with the reason in why (e.g. "a FIFO, not a regular file: refused"). */

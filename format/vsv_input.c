@@ -12,7 +12,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static const char *kind(mode_t m)
+const char *vsv_file_kind(unsigned m)
 {
     return S_ISFIFO(m) ? "a FIFO" : S_ISDIR(m) ? "a directory" : S_ISCHR(m) ? "a character device"
          : S_ISBLK(m) ? "a block device" : S_ISSOCK(m) ? "a socket" : "not a regular file";
@@ -32,7 +32,7 @@ int vsv_input_open(const char *path, char *why, size_t cap)
         return -1;
     }
     if (!S_ISREG(st.st_mode)) {
-        snprintf(why, cap, "%s, not a regular file: refused", kind(st.st_mode));
+        snprintf(why, cap, "%s, not a regular file: refused", vsv_file_kind(st.st_mode));
         close(fd);
         errno = EINVAL;
         return -1;
@@ -94,7 +94,7 @@ FILE *vsv_input_fopen_stream(const char *path, char *why, size_t cap)
         return NULL;
     }
     if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
-        snprintf(why, cap, "%s, not a regular file or a pipe: refused", kind(st.st_mode));
+        snprintf(why, cap, "%s, not a regular file or a pipe: refused", vsv_file_kind(st.st_mode));
         errno = EINVAL;
         return NULL;
     }
@@ -104,7 +104,7 @@ FILE *vsv_input_fopen_stream(const char *path, char *why, size_t cap)
         return NULL;
     }
     if (fstat(fileno(fp), &st) || (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode))) { /* replaced meanwhile */
-        snprintf(why, cap, "%s, not a regular file or a pipe: refused", kind(st.st_mode));
+        snprintf(why, cap, "%s, not a regular file or a pipe: refused", vsv_file_kind(st.st_mode));
         fclose(fp);
         errno = EINVAL;
         return NULL;

@@ -116,6 +116,13 @@ void vsv_output_cleanup(void)
 
 int vsv_output_temp(const char *path, const char *suffix, char *tmp, size_t cap)
 {
+    /* the rename at the end replaces what is at path: a directory, device,
+     * FIFO or socket (/dev/null, /dev/stdout as root) is never replaced */
+    struct stat st;
+    if (!stat(path, &st) && !S_ISREG(st.st_mode)) {
+        errno = S_ISDIR(st.st_mode) ? EISDIR : EEXIST;
+        return -1;
+    }
     const unsigned mode = vsv_output_mode();
     /* name.tmp.PID.N[suffix]: unique in the process, and O_EXCL against others */
     static unsigned serial;

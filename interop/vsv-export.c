@@ -91,9 +91,7 @@ int main(int argc, char **argv)
         vsv_cli_die(1, "out of memory");
     const int n = vsv_cli_species(m, species, path, sel);
     if (ncout) {
-        struct stat si, so;
-        if (!stat(path, &si) && !stat(ncout, &so) && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
-            vsv_cli_usage_error("--netcdf %s is the input file", ncout);
+        vsv_cli_refuse_input(ncout, (const char *const *)&path, 1);
         char history[1024] = "vsv-export", err[4300];
         for (int i = 1; i < argc; i++)
             snprintf(history + strlen(history), sizeof history - strlen(history), " %s", argv[i]);

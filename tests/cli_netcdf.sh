@@ -12,7 +12,7 @@ expect "vsv-export --help names --netcdf" 0 "$B/vsv-export" --help
 has "--netcdf OUT.nc" "$T/out" "--netcdf OUT.nc"
 expect "--vdb and --netcdf together exit 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/a%d.vdb" --netcdf "$T/a.nc"
 expect "--netcdf onto the input exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/crop.vsv"
-has "naming it" "$T/err" "is the input file"
+has "naming it" "$T/err" "is the input"
 expect "into a missing folder exits 1" 1 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/nope/x.nc"
 has "saying why" "$T/err" "cannot create a temporary file beside it"
 echo "keep me" > "$T/old.nc"

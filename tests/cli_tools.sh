@@ -253,6 +253,22 @@ for o in in.mm5 in-hard.vsv in-sym.vsv; do
     has "the refusal names output and input" "$T/err" "vsv-convert: output $T/$o is the input $T/in.mm5 (the same file"
 done
 same "the model input is intact" samples/mm5/MMOUT_DOMAIN1_CROP "$T/in.mm5"
+# an output that exists and is not a regular file would be replaced by the
+# final rename (as root, -o /dev/null replaced the device): refused first
+mkdir "$T/out-dir.vsv"
+mkfifo "$T/out-fifo.vsv" "$T/out-fifo.png" "$T/out-fifo.nc"
+expect "vsv-convert refuses -o an existing directory" 2 "$B/vsv-convert" "$T/in.mm5" -o "$T/out-dir.vsv"
+has "and says what it is" "$T/err" "vsv-convert: output $T/out-dir.vsv is a directory, not a regular file: refusing to replace it"
+expect "vsv-convert refuses -o a FIFO" 2 "$B/vsv-convert" "$T/in.mm5" -o "$T/out-fifo.vsv"
+expect "vsv-render refuses -o a FIFO" 2 "$B/vsv-render" "$T/a.vsv" -o "$T/out-fifo.png" --time 0
+expect "vsv-export refuses --netcdf a FIFO" 2 "$B/vsv-export" "$T/a.vsv" --netcdf "$T/out-fifo.nc"
+has "naming it" "$T/err" "vsv-export: output $T/out-fifo.nc is a FIFO, not a regular file: refusing to replace it"
+[ -d "$T/out-dir.vsv" ] && [ -p "$T/out-fifo.vsv" ] && [ -p "$T/out-fifo.png" ] && [ -p "$T/out-fifo.nc" ] &&
+    pass "the directory and the FIFOs are still there" || fail "the directory and the FIFOs are still there" "one was replaced"
+if mknod "$T/null" c 1 3 2> /dev/null; then
+    expect "vsv-convert refuses -o a character device (as root)" 2 "$B/vsv-convert" "$T/in.mm5" -o "$T/null"
+    [ -c "$T/null" ] && pass "the device is still a device" || fail "the device is still a device" "replaced"
+fi
 cp "$T/a.vsv" "$T/keep.vsv"
 ln "$T/a.vsv" "$T/a-hard.png"
 expect "vsv-render refuses -o a hard link of its input" 2 "$B/vsv-render" "$T/a.vsv" -o "$T/a-hard.png" --time 0
