@@ -15,7 +15,7 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
     if (c->nsteps)
         vsv_time_format(p->times[step], when, sizeof when);
     static const char *ends[] = {"", "  loop", "  bounce"};
-    size_t n = (size_t)snprintf(buf, cap, "%s  step %d/%d  %s %sx%g%s  %s%s%s%s%s\n", when, step + 1, c->nsteps,
+    size_t n = (size_t)snprintf(buf, cap, "%s  step %d [0-%d]  %s %sx%g%s  %s%s%s%s%s\n", when, step, c->nsteps - 1,
                                 c->playing ? "PLAY" : "PAUSE", c->speed < 0 ? "-" : "", fabs(c->speed), ends[c->ends],
                                 p->ro.kind == VSV_RENDER_RAYCAST ? "raycast" : "shear-warp", p->plan ? "  plan" : "",
                                 p->light ? "  lit" : "", p->slices_on && p->nslices ? "  slices of " : "",
@@ -30,7 +30,7 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
                                   sel ? "]" : "");
     }
     if (p->shown >= 0 && p->bad[p->shown] && n < cap)
-        snprintf(buf + n, cap - n, "\nstep %d DAMAGED, not drawn: %s", p->shown + 1, p->bad[p->shown]);
+        snprintf(buf + n, cap - n, "\nstep %d DAMAGED, not drawn: %s", p->shown, p->bad[p->shown]);
 }
 
 const char *vsv_player_help_text(void)
