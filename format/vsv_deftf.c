@@ -14,6 +14,29 @@ static int name_is(const char *name, const char *const *list)
     return 0;
 }
 
+static const char *const vapour[] = {"Q", "QVAPOR", "QV", "H2O", NULL};
+
+/* Exactly one of the vapour names (H2O2 is not vapour). */
+static int is_vapour(const char *name)
+{
+    for (const char *const *v = vapour; *v; v++)
+        if (!strcasecmp(name, *v))
+            return 1;
+    return 0;
+}
+
+int vsv_meta_default_shown(const vsv_meta *m, int s)
+{
+    if (s < 0 || s >= m->nvars)
+        return 0;
+    if (!is_vapour(m->vars[s].name))
+        return 1;
+    for (int i = 0; i < m->nvars; i++)
+        if (!is_vapour(m->vars[i].name))
+            return 0;
+    return 1; /* nothing but vapour */
+}
+
 void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)
 {
     static const char *const cloud[] = {"CLW", "QCLOUD", "QC", "CLOUD", NULL};
@@ -26,7 +49,6 @@ void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)
     static const char *const pm[] = {"PM25", "PM2.5", "PM10", "PM", "PSO4", "PNO3", "PNH4", "POA", "PEC", "SOA", "ASO4",
                                      "ANO3", "ANH4", "AEC", "AORG", NULL};
     static const char *const smoke[] = {"SMOKE", "BC", "OC", "CO", NULL};
-    static const char *const vapour[] = {"Q", "QVAPOR", "QV", "H2O", NULL};
     const char *map = "viridis", *kind = "other", *opacity = "0 0.05 0.2 0.45 0.8";
     if (name_is(name, cloud))
         map = "clouds", kind = "cloud";

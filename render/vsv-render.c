@@ -391,20 +391,8 @@ int main(int argc, char **argv)
     float *opac = calloc((size_t)m->nvars, sizeof *opac);
     if (!layers || !tfs || !vols || !sidx || !opac)
         vsv_cli_die(1, "out of memory");
-    /* by default every species but water vapour (a haze over everything),
-     * unless it is all the file has */
-    static const char *const vapour[] = {"Q", "QVAPOR", "QV", "H2O"};
-    int nvap = 0;
-    for (int s = 0; s < m->nvars; s++) {
-        int vap = 0;
-        for (int i = 0; i < 4; i++)
-            vap |= !strcmp(m->vars[s].name, vapour[i]);
-        opac[s] = species ? -1 : vap ? -2 : 1; /* -1: not asked for */
-        nvap += vap;
-    }
-    for (int s = 0; s < m->nvars; s++)
-        if (opac[s] == -2)
-            opac[s] = nvap == m->nvars ? 1 : -1;
+    for (int s = 0; s < m->nvars; s++) /* -1: not drawn */
+        opac[s] = !species && vsv_meta_default_shown(m, s) ? 1 : -1;
     for (int i = 0; i < nranges; i++) {
         char nm[64];
         sscanf(ranges[i], "%63[^=]", nm);

@@ -90,8 +90,8 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         snprintf(err, cap, "out of memory");
         return -1;
     }
-    for (int s = 0; s < p->ns; s++)
-        opac[s] = o->species ? -1 : 1;
+    for (int s = 0; s < p->ns; s++) /* -1: hidden (v shows it) */
+        opac[s] = !o->species && vsv_meta_default_shown(p->m, s) ? 1 : -1;
     if (o->species) { /* NAME[:OPACITY],... */
         char *copy = strdup(o->species), *save = NULL;
         for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {

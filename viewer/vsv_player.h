@@ -33,7 +33,7 @@ typedef struct vsv_player_opts {
     size_t cache_bytes;     /* 0 = the pager's default */
     int threads;            /* render threads; 0 = all cores */
     int renderer;           /* VSV_RENDER_* */
-    const char *species;    /* NAME[:OPACITY],... visible at start; NULL = all */
+    const char *species;    /* NAME[:OPACITY],... visible at start; NULL = all but water vapour (vsv_meta_default_shown) */
     const char *tfpath;     /* transfer functions file or NULL */
     double exaggerate;      /* 0 = the default */
     double rate;            /* model seconds per wall second at x1; 0 = the default */
