@@ -423,7 +423,8 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
     pthread_mutex_lock(&p->mu);
     unpin(p, sh);
     vsv_cache_make_room(p, 0, 1);
-    const int *def = vsv_sched_mark_window(p) ? vsv_pager_defs(p, step, s) : NULL;
+    vsv_sched_mark_window(p);
+    const int *def = vsv_pager_defs(p, step, s);
     const unsigned char *oct = def ? vsv_file_octree(p->f, step, s, NULL) : NULL;
     if (!def || !oct) {
         pthread_mutex_unlock(&p->mu);

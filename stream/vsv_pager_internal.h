@@ -212,7 +212,7 @@ void vsv_slab_put(vsv_pager *p, int pool, void *b);
 void vsv_slab_free_all(vsv_pager *p);
 /* the prefetch scheduler (vsv_sched.c) */
 int vsv_sched_ahead(const vsv_pager *p, int d);
-int vsv_sched_mark_window(vsv_pager *p);
+void vsv_sched_mark_window(vsv_pager *p);
 int vsv_sched_next(vsv_pager *p, job *j);
 /* decoding (vsv_pager_work.c) */
 void vsv_pager_set_err(vsv_pager *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));

@@ -14,11 +14,12 @@ int vsv_sched_ahead(const vsv_pager *p, int d)
 
 /* Marks every cached brick the prefetch window needs (under the lock, once
  * per playhead change) and sizes the window: as many steps as fit beside the
- * current one. 0 on a damaged chunk. */
-int vsv_sched_mark_window(vsv_pager *p)
+ * current one. A step of the window whose chunk is damaged is passed over:
+ * the get that needs it says why, other steps play. */
+void vsv_sched_mark_window(vsv_pager *p)
 {
     if (p->marked_gen == p->gen)
-        return 1;
+        return;
     p->marked_gen = p->gen;
     vsv_cache_new_window(p);
     p->mark++;
@@ -53,8 +54,6 @@ int vsv_sched_mark_window(vsv_pager *p)
             break;
         for (int s = 0; s < p->info.nspecies; s++) {
             const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, t, s) : NULL;
-            if (vsv_sched_wanted(p, s) && !def)
-                return 0;
             for (int b = 0; def && b < p->info.nbricks; b++) {
                 const int e = def[b] >= 0 ? vsv_cache_lookup(p, s, b, def[b]) : -1;
                 if (e >= 0)
@@ -62,7 +61,6 @@ int vsv_sched_mark_window(vsv_pager *p)
             }
         }
     }
-    return 1;
 }
 
 /* Whether brick b of species s waits for its track (a job is using it). */
@@ -77,8 +75,7 @@ static int track_busy(const vsv_pager *p, int s, int b)
  * job using the track carries it to a nearer state. */
 int vsv_sched_next(vsv_pager *p, job *j)
 {
-    if (!vsv_sched_mark_window(p))
-        return 0;
+    vsv_sched_mark_window(p);
     /* finish the step under way first, even if the playhead has moved past
      * it: when decoding cannot keep up, complete steps are what the player
      * can show (the newest complete one), half-decoded ones are not */
@@ -114,7 +111,7 @@ scan:;
                 continue;
             const int *def = vsv_pager_defs(p, t, s);
             if (!def)
-                return 0;
+                continue; /* a damaged chunk: the get that needs it says why */
             for (int b = d == p->scan_d && s == p->scan_s ? p->scan_b : 0; b < p->info.nbricks; b++) {
                 if (def[b] < 0 || vsv_cache_lookup(p, s, b, def[b]) >= 0)
                     continue;

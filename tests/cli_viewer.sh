@@ -92,7 +92,8 @@ same "seeking to the ISO time of step 2 equals stepping there" "$T/s8.png" "$T/s
 # a damaged step (step 2's chunk index fails its checksum): reported on
 # stderr once, naming the file and the step, drawn as nothing (not the
 # picture before it), and playback goes on (issue 18: the previous picture
-# stayed, silently, exit 0)
+# stayed, silently, exit 0); the run ends with exit 1 and a count, so a
+# script sees it
 python3 - "$T/crop.vsv" "$T/dmg.vsv" <<'EOP'
 import struct, sys
 d = bytearray(open(sys.argv[1], "rb").read())
@@ -112,11 +113,19 @@ cat > "$T/dmg.script" <<EOS
 1.6 quit
 EOS
 ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
-expect "vsv-play through a damaged step exits 0" 0 \
+expect "vsv-play through a damaged step plays on, then exits 1" 1 \
     xvfb-run -a -s "-screen 0 1024x768x24" "$B/vsv-play" "$T/dmg.vsv" --size 320x240 --script "$T/dmg.script"
 has "the damaged step is reported, naming the file and the step" "$T/err" \
     "vsv-play: $T/dmg.vsv: step 2 (1995-10-24T02:00:00Z) is damaged, not drawn; playing on: "
 has "with the damage" "$T/err" "chunk 2"
+has "step 3, a delta on step 2, is damaged too" "$T/err" "vsv-play: $T/dmg.vsv: step 3 (1995-10-24T03:00:00Z) is damaged"
+has "and counted at the end" "$T/err" "vsv-play: $T/dmg.vsv: 2 steps damaged, not drawn"
+# step 1 does not need chunk 2: it plays although the step after it (in the
+# pager's window) is damaged (it was reported damaged and drawn as nothing)
+grep -q "step 1 (" "$T/err" && fail "step 1, before the damage, is not reported" "$(grep -m1 'step 1 (' "$T/err")" ||
+    pass "step 1, before the damage, is not reported"
+"$B/vsv-render" "$T/dmg.vsv" --time 1 --size 320x240 -r shearwarp -o "$T/r1.png" -q
+same "and its screenshot is vsv-render's frame of it" "$T/r1.png" "$T/d1.png"
 [ "$(grep -c 'step 2 (' "$T/err")" = 1 ] && pass "once" || fail "once" "$(grep -c 'step 2 (' "$T/err") times"
 [ -s "$T/d1.png" ] && [ -s "$T/d2.png" ] && [ -s "$T/d3.png" ] && pass "screenshots around it written" ||
     fail "screenshots around it written" "$(ls "$T")"

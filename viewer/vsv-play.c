@@ -378,7 +378,7 @@ int main(int argc, char **argv)
     int font_h = 0; /* the height they were loaded for */
     const double t0 = glfwGetTime();
     double last = t0;
-    int rc = 0;
+    int rc = 0, ndamaged = 0;
     while (!glfwWindowShouldClose(a.win) && !vsv_player_quit(p)) {
         const double now = glfwGetTime();
         /* the script's actions that are due, up to a screenshot: it takes
@@ -404,6 +404,7 @@ int main(int argc, char **argv)
             char when[64];
             vsv_time_format(vsv_player_clock(p)->times[bad], when, sizeof when);
             fprintf(stderr, "vsv-play: %s: step %d (%s) is damaged, not drawn; playing on: %s\n", po.path, bad, when, why);
+            ndamaged++;
         }
         last = now;
         int fw, fh;
@@ -459,11 +460,15 @@ int main(int argc, char **argv)
         vsv_player_pager_stats(p, &st);
         fprintf(stderr,
                 "vsv-play: %llu bricks decoded (%.1f MB, %.2f s) from %llu payloads, %llu hits, %llu misses, %llu "
-                "stalls, cache peak %.1f MB of %.0f MB\n",
+                "stalls, cache peak %.1f MiB of %.0f MiB\n",
                 (unsigned long long)st.bricks_decoded, st.bytes_decoded / 1e6, st.decode_seconds,
                 (unsigned long long)st.payloads_decoded,
                 (unsigned long long)st.hits, (unsigned long long)st.misses, (unsigned long long)st.stalls,
-                st.peak_bytes / 1e6, st.budget / 1e6);
+                st.peak_bytes / 1048576.0, st.budget / 1048576.0);
+    }
+    if (ndamaged) { /* played past them, but the run did not show all of the file */
+        fprintf(stderr, "vsv-play: %s: %d step%s damaged, not drawn\n", po.path, ndamaged, ndamaged > 1 ? "s" : "");
+        rc = 1;
     }
     vsv_overlay_free(ov);
     vsv_font_free(font);

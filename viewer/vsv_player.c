@@ -405,7 +405,9 @@ const unsigned char *vsv_player_annotated(vsv_player *p, unsigned parts, vsv_fon
     }
     memcpy(p->argba, p->rgba, n * 4 * sizeof(float));
     const char *base = strrchr(p->path, '/') ? strrchr(p->path, '/') + 1 : p->path;
-    const vsv_annot a = {parts, font, p->times[p->shown], base, p->sidx, outlines};
+    char source[1200]; /* a damaged step is said on the picture too */
+    snprintf(source, sizeof source, "%s%s", base, p->bad[p->shown] ? " - step DAMAGED, not drawn" : "");
+    const vsv_annot a = {parts, font, p->times[p->shown], source, p->sidx, outlines};
     vsv_scene sc = scene(p);
     if (parts && vsv_annotate(&a, &sc, &p->last_cam, p->argba, p->depth)) {
         snprintf(err, cap, "out of memory");
