@@ -33,6 +33,15 @@ has "and names the species" "$T/err" "'NOPE'"
 printf '0.1 play\nsoon quit\n' > "$T/bad.script"
 expect "a script line without a time exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T/bad.script"
 has "naming the line" "$T/err" "line 2"
+# every line is tried before the window opens: a bad action at 5 s fails at
+# once, before the screenshot at 0.2 s (it used to run 5 s first)
+printf '0.2 screenshot %s\n0.3 seek 2\n5 bogus\n' "$T/early.png" > "$T/late.script"
+expect "a bad action late in a script exits 1 before anything runs" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T/late.script"
+has "naming its line" "$T/err" "vsv-play: $T/late.script: line 3: unknown action 'bogus'"
+[ -e "$T/early.png" ] && fail "nothing is written" "the screenshot of 0.2 s was" || pass "nothing is written"
+printf '0.2 seek 99\n' > "$T/range.script"
+expect "a step out of range in a script exits 1 before the window opens" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T/range.script"
+has "with the range" "$T/err" "line 1: seek 99: step 99 is out of range (steps 0..3"
 # --script FILE: a regular file; a directory read as an empty script, a
 # FIFO waited on forever (issue 18)
 expect "a directory as --script exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T"

@@ -344,7 +344,16 @@ int main(int argc, char **argv)
     script_line *lines = script ? load_script(script, &nscript) : NULL;
     vsv_player *p = NULL;
     char err[1024];
-    const int orc = vsv_player_open(&po, &p, err, sizeof err);
+    vsv_player_opts co = po; /* the script's lines tried first on the clock and state alone */
+    co.clock_only = 1;
+    int orc = lines ? vsv_player_open(&co, &p, err, sizeof err) : 0;
+    for (int i = 0; !orc && i < nscript; i++)
+        if (vsv_player_do(p, lines[i].action, err, sizeof err))
+            vsv_cli_die(1, "%s: line %d: %s", script, lines[i].line, err);
+    vsv_player_free(p);
+    p = NULL;
+    if (!orc)
+        orc = vsv_player_open(&po, &p, err, sizeof err);
     if (orc == VSV_EINVAL)
         vsv_cli_usage_error("%s", err);
     if (orc)
