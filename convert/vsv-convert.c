@@ -36,6 +36,7 @@ int main(int argc, char **argv)
     vsv_convert_setup(&a, run, &out);
     const vsv_meta *meta = vsv_run_meta(run);
     vsv_cli_pack_resolve(&a.pack, &out);
+    vsv_convert_check_space(&a, run, &out);
     vsv_writer *w = NULL;
     if (vsv_writer_create(a.out, &out, &a.pack.opts, &w))
         vsv_cli_writer_die(w, a.out);

@@ -2,8 +2,11 @@
 #include "vsv_convert_cli.h"
 
 #include <getopt.h>
+#include <libgen.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/statvfs.h>
 
 const char vsv_convert_options_help[] =
     "  -o, --output FILE    the .vsv to write (required)\n"
@@ -119,6 +122,26 @@ void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
     if (vsv_interp_meta(ip, m, out))
         vsv_cli_die(1, "out of memory");
     vsv_interp_free(ip);
+}
+
+void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, const vsv_meta *out)
+{
+    const int n = vsv_run_nframes(run);
+    if (n < 1)
+        return;
+    const int64_t span = vsv_run_time(run, n - 1) - vsv_run_time(run, 0);
+    const double steps = a->dt > 0 ? (double)(span / a->dt) + 1 : n;
+    const double step_bytes = (double)out->nx * out->ny * out->nz * out->nvars * sizeof(float);
+    char dir[4200];
+    snprintf(dir, sizeof dir, "%s", a->out);
+    struct statvfs fs;
+    if (statvfs(dirname(dir), &fs))
+        return; /* the writer says what is wrong with the place */
+    const double avail = (double)fs.f_bavail * (double)fs.f_frsize;
+    if (steps * step_bytes > avail)
+        vsv_cli_die(1, "%s: %.0f steps of %.1f MB are kept beside it until they are encoded: %.1f GB, and its file "
+                    "system has %.1f GB free (a coarser --time-res, fewer --vars or --times, or another place)",
+                    a->out, steps, step_bytes / 1e6, steps * step_bytes / 1e9, avail / 1e9);
 }
 
 int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,

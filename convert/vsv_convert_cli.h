@@ -45,6 +45,12 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
  * winds. Caller clears out with vsv_meta_clear. */
 void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out);
 
+/* Exits 1 before any reading when the steps the conversion writes (the
+ * run's frames, or its span every dt) cannot be spooled beside a->out: the
+ * writer keeps every step's floats in a temporary there until it encodes
+ * (out: the metadata vsv_convert_setup gave). */
+void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, const vsv_meta *out);
+
 /* Feeds input frames first..last of the run through the time
  * interpolation (when dt > 0, its grid starting at the run's first time;
  * method: --interp's, the winds in the run with a method other than linear:

@@ -265,6 +265,19 @@ expect "vsv-export refuses --netcdf a FIFO" 2 "$B/vsv-export" "$T/a.vsv" --netcd
 has "naming it" "$T/err" "vsv-export: output $T/out-fifo.nc is a FIFO, not a regular file: refusing to replace it"
 [ -d "$T/out-dir.vsv" ] && [ -p "$T/out-fifo.vsv" ] && [ -p "$T/out-fifo.png" ] && [ -p "$T/out-fifo.nc" ] &&
     pass "the directory and the FIFOs are still there" || fail "the directory and the FIFOs are still there" "one was replaced"
+# a conversion whose spool cannot fit is refused before it reads (it used to
+# write until the disk was full): the real MM5 run at 1 s is 10,801 steps of
+# 23.5 MB, 254 GB
+MM5="$SHARED/data/mm5/run1/MMOUT_DOMAIN1"
+free_kb=$(df -Pk "$T" | awk 'NR == 2 { print $4 }')
+if [ -f "$MM5" ] && [ "$free_kb" -lt 250000000 ]; then
+    expect "vsv-convert --time-res 1s of the MM5 run: refused, the spool does not fit" 1 \
+        "$B/vsv-convert" --time-res 1s "$MM5" -o "$T/x1s.vsv"
+    has "saying how much it needs and has" "$T/err" "vsv-convert: $T/x1s.vsv: 10801 steps of 23.5 MB are kept beside it until they are encoded: 254.0 GB, and its file system has"
+    ls "$T" | grep -q "x1s" && fail "nothing is left beside it" "$(ls "$T" | grep x1s)" || pass "nothing is left beside it"
+else
+    echo "note: the spool-space refusal not tested (no MM5 run, or over 250 GB free)"
+fi
 if mknod "$T/null" c 1 3 2> /dev/null; then
     expect "vsv-convert refuses -o a character device (as root)" 2 "$B/vsv-convert" "$T/in.mm5" -o "$T/null"
     [ -c "$T/null" ] && pass "the device is still a device" || fail "the device is still a device" "replaced"
