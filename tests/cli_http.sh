@@ -165,6 +165,41 @@ fault "a server that ignores Range" norange 0 1 "the server ignores range reques
 fault "the file changes while read" etag 3 1 "the file changed on the server while it was read"
 fault "garbled bytes" garble 2 1 "checksum mismatch"
 fault "every connection dropped" drop 1000 1 "attempts"
+# the server gone in the middle of a session: the first range that fails
+# takes all its attempts, the ones after it one each (a player goes on past
+# steps it cannot fetch instead of waiting out every back-off: it froze for
+# minutes), and the first to succeed again is served
+if [ -n "${PYMOD:-}" ] && [ -z "${PY_MISSING:-}" ]; then
+    start_proxy down
+    PYTHONPATH="$B/python" "$PY" - "http://127.0.0.1:$PPORT/run.vsv" "$T/pport" > "$T/down.out" 2>&1 <<'EOF'
+import os, sys, vesuvius
+url, pfile = sys.argv[1], sys.argv[2]
+f = vesuvius.open(url)
+count = lambda: int(open(pfile + ".count").read()) if os.path.exists(pfile + ".count") else 0
+open(pfile + ".down", "w").close()
+c0, fails, msg = count(), 0, ""
+for t in range(len(f.times)):
+    for s in f.species:
+        try:
+            f.read(s.name, t)
+        except vesuvius.Error as e:
+            fails, msg = fails + 1, msg or str(e)
+c1 = count()
+os.remove(pfile + ".down")
+back = f.read("CLW", len(f.times) - 1).max() > 0 if fails else False
+print("reads", len(f.times) * len(f.species), "failed", fails, "attempts", c1 - c0, "back", back)
+print(msg)
+EOF
+    set -- $(sed -n 's/^reads \([0-9]*\) failed \([0-9]*\) attempts \([0-9]*\) back \(.*\)$/\1 \2 \3 \4/p' "$T/down.out")
+    if [ $# = 4 ] && [ "$2" -ge 2 ] && [ "$3" -le $((7 + $2 - 1)) ]; then
+        pass "a server gone: one range takes 7 attempts, the $(($2 - 1)) failing after it one each ($3 in all)"
+    else
+        fail "a server gone: one range takes 7 attempts, the failing after it one each" "$(head -c 300 "$T/down.out")"
+    fi
+    [ "${4:-}" = True ] && pass "and the server back, a read succeeds" ||
+        fail "and the server back, a read succeeds" "$(head -c 300 "$T/down.out")"
+    stop_proxy
+fi
 stop_server
 
 # ---- HTTPS: a self-signed certificate for 127.0.0.1, trusted through $CURL_CA_BUNDLE

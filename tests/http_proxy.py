@@ -14,12 +14,18 @@ replies to range requests as MODE says, counted by request, never by time:
                another length in Content-Range (the file changed)
   garble N     flips a byte in the body of range replies from N on (the
                length and headers intact: only the checksums can tell)
+  down         closes the connection without an answer for every range
+               request while the file PORT_FILE.down exists (the server
+               gone), else forwards
+
+Every range request is counted in PORT_FILE.count as it arrives.
 
 Usage: http_proxy.py UPSTREAM_PORT PORT_FILE MODE [N]: listens on a free
 loopback port, writes it to PORT_FILE, serves until killed.
 """
 import http.client
 import http.server
+import os
 import sys
 import threading
 import time
@@ -44,7 +50,11 @@ class Handler(http.server.BaseHTTPRequestHandler):
             with lock:
                 count[0] += 1
                 k = count[0]
-        if k > 0 and MODE == "drop" and k <= N:
+                with open(sys.argv[2] + ".count.tmp", "w") as f:
+                    f.write(str(k))
+                os.rename(sys.argv[2] + ".count.tmp", sys.argv[2] + ".count")
+        gone = MODE == "down" and os.path.exists(sys.argv[2] + ".down")
+        if k > 0 and ((MODE == "drop" and k <= N) or gone):
             self.close_connection = True
             self.connection.close()
             return
@@ -90,7 +100,5 @@ srv = http.server.ThreadingHTTPServer(("127.0.0.1", 0), Handler)
 srv.daemon_threads = True
 with open(sys.argv[2] + ".tmp", "w") as f:
     f.write(str(srv.server_address[1]))
-import os
-
 os.rename(sys.argv[2] + ".tmp", sys.argv[2])
 srv.serve_forever()

@@ -36,6 +36,7 @@ typedef struct http_src {
     int retries;
     double time_limit;
     char failed[512]; /* once the file changed: every later need fails so */
+    int down; /* the last range outlasted its retries: the next gets one attempt */
 } http_src;
 
 typedef struct reply {
@@ -244,7 +245,10 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
 }
 
 /* A transfer with retries: back-off from 0.25 s doubling to 4 s, at most
- * h->retries more attempts, within h->time_limit seconds. */
+ * h->retries more attempts, within h->time_limit seconds. Once a range has
+ * failed after all its attempts (the server went away), the next ones get
+ * one attempt each until one succeeds: a player goes on past the steps it
+ * cannot fetch instead of waiting out the back-off for every brick. */
 static int fetch(http_src *h, int head, uint64_t a, uint64_t n, unsigned char *buf, reply *r, char *msg, size_t cap)
 {
     if (h->failed[0]) {
@@ -254,17 +258,23 @@ static int fetch(http_src *h, int head, uint64_t a, uint64_t n, unsigned char *b
     const double deadline = now() + h->time_limit;
     double delay = 0.25;
     char why[400];
+    const int retries = h->down ? 0 : h->retries;
     for (int attempt = 0;; attempt++) {
         int transient, changed;
-        if (!transfer(h, head, a, n, buf, deadline, r, &transient, &changed, why, sizeof why))
+        if (!transfer(h, head, a, n, buf, deadline, r, &transient, &changed, why, sizeof why)) {
+            h->down = 0;
             return 0;
-        if (!transient || attempt >= h->retries || now() + delay >= deadline) {
+        }
+        if (!transient || attempt >= retries || now() + delay >= deadline) {
             char where[96] = "";
             if (!head)
                 snprintf(where, sizeof where, " (bytes %" PRIu64 "-%" PRIu64 ")", a, a + n - 1);
-            char tries[48] = "";
+            char tries[112] = "";
             if (attempt)
                 snprintf(tries, sizeof tries, ", after %d attempts", attempt + 1);
+            else if (h->down)
+                snprintf(tries, sizeof tries, " (one attempt: the range before it failed after all of its attempts)");
+            h->down = transient && !changed;
             snprintf(msg, cap, "%s: %s%s%s", h->url, why, where, tries);
             if (changed) {
                 h->cache.stale = 1;
