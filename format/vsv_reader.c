@@ -221,6 +221,8 @@ int vsv_file_open(const char *path, vsv_file **out)
         return VSV_ENOMEM;
     char why[160];
     int fd = vsv_input_open(path, why, sizeof why);
+    if (fd < 0 && strstr(path, "://") && access(path, F_OK)) /* ftp://, s3:// ... */
+        return vsv_file_fail(f, VSV_EIO, "no such file; of URLs, only http:// and https:// ones are read");
     if (fd < 0)
         return vsv_file_fail(f, VSV_EIO, "%s", why);
     struct stat st;

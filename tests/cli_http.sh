@@ -92,6 +92,8 @@ expect "--cache-dir off: exits 0" 0 "$B/vsv-render" "$URL" --cache-dir off --spe
 same "and gives the same PNG" "$T/off.png" "$T/local.png"
 expect "--help names --cache-dir" 0 "$B/vsv-render" --help
 has "and says what it does" "$T/out" "--cache-dir DIR"
+expect "an ftp:// URL: exits 1" 1 "$B/vsv-info" "ftp://127.0.0.1:$PORT/run.vsv"
+has "saying which URLs are read" "$T/err" "vsv-info: ftp://127.0.0.1:$PORT/run.vsv: no such file; of URLs, only http:// and https:// ones are read"
 expect "a missing file: exits 1" 1 "$B/vsv-info" "http://127.0.0.1:$PORT/none.vsv"
 has "and says HTTP 404" "$T/err" "vsv-info: http://127.0.0.1:$PORT/none.vsv: HTTP 404 (not found)"
 if [ "${VIEWER:-1}" = 1 ] && [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/null; then
@@ -213,6 +215,7 @@ if [ -f /usr/lib/lighttpd/mod_openssl.so ] && command -v openssl > /dev/null &&
     SURL=https://127.0.0.1:$PORT/run.vsv
     expect "an untrusted certificate: exits 1" 1 "$B/vsv-render" "$SURL" --species CLW --time 2 -o "$T/t.png"
     has "and says so" "$T/err" "vsv-render: $SURL: "
+    has "and how to trust it" "$T/err" "CURL_CA_BUNDLE=FILE.pem names one to trust"
     CURL_CA_BUNDLE="$T/cert.pem" expect "HTTPS, the certificate trusted: exits 0" 0 \
         "$B/vsv-render" "$SURL" --species CLW --time 2 -o "$T/t.png"
     same "and gives the same PNG" "$T/t.png" "$T/local.png"

@@ -184,9 +184,12 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
         default:
             break;
         }
-        snprintf(why, cap, "%s", rc == CURLE_PARTIAL_FILE ? "truncated response (the connection closed early)"
-                                 : rc == CURLE_GOT_NOTHING ? "connection dropped (no response)"
-                                                           : curl_easy_strerror(rc));
+        snprintf(why, cap, "%s%s", rc == CURLE_PARTIAL_FILE ? "truncated response (the connection closed early)"
+                                   : rc == CURLE_GOT_NOTHING ? "connection dropped (no response)"
+                                                             : curl_easy_strerror(rc),
+                 rc == CURLE_PEER_FAILED_VERIFICATION ? " (a certificate not signed by an authority the system "
+                                                        "trusts: CURL_CA_BUNDLE=FILE.pem names one to trust)"
+                                                      : "");
         return -1;
     }
     const long st = r->status;
