@@ -275,7 +275,7 @@ int main(int argc, char **argv)
             break;
         case O_CACHE:
             if (vsv_cli_int(optarg, 16, 1 << 30, &v))
-                vsv_cli_usage_error("--cache-mb: a number of megabytes >= 16");
+                vsv_cli_usage_error("--cache-mb %s: a whole number of megabytes, 16 to %d", optarg, 1 << 30);
             budget = (size_t)v << 20;
             break;
         case O_THREADS:

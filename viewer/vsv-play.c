@@ -268,7 +268,7 @@ int main(int argc, char **argv)
             break;
         case O_CACHE:
             if (vsv_cli_int(optarg, 1, 1 << 30, &v))
-                vsv_cli_usage_error("--cache-mb: a number of megabytes >= 1");
+                vsv_cli_usage_error("--cache-mb %s: a whole number of megabytes, 1 to %d", optarg, 1 << 30);
             po.cache_bytes = (size_t)v << 20;
             break;
         case O_THREADS:
