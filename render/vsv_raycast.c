@@ -449,9 +449,10 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             }
         }
         if (sig > 0) {
-            const float us = sig * st;
+            const float stn = n == ray->ns - 1 ? st * ray->wl : st; /* the last: its part step */
+            const float us = sig * stn;
             const float f = vsv_rc_opacity_per_u(us);
-            const float a = us * f, k = T * f * st; /* T a / sig */
+            const float a = us * f, k = T * f * stn; /* T a / sig */
             for (int ch = 0; ch < 3; ch++)
                 acc[ch] = fmaf(k, col[ch], acc[ch]);
             T = fmaf(-T, a, T);

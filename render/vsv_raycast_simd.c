@@ -336,7 +336,7 @@ static vf sample(const vsv_rc_layer *L, int uni, const unsigned *bidx, const uns
  * out of their (clear) cell for the others; kept out of the kernel's loop,
  * whose registers it would crowd. */
 static __attribute__((noinline)) vi leap_to(const vsv_rc_frame *F, const vf P[3], const vf DP[3], const vf IDP[3],
-                                            vi NS, vi N, const vi ci[3], vi d, vm empty, vm leap)
+                                            vi NS, vf NL, vi N, const vi ci[3], vi d, vm empty, vm leap)
 {
     const vi ONEI = iset(1), ZEROI = iset(0);
     const vf ZERO = fset(0);
@@ -353,7 +353,7 @@ static __attribute__((noinline)) vi leap_to(const vsv_rc_frame *F, const vf P[3]
         k = sel(k, ka, mand(mand(neg, igt(down[a], ZEROI)), lt(ka, k)));
     }
     vi kn = imax(to_i(k), N);
-    const vf KF = to_f(kn);
+    const vf KF = sel(to_f(kn), NL, ieq(kn, isub(NS, ONEI))); /* the last sample where it is */
     vm inbox = leap;
     for (int a = 0; a < 3; a++) { /* sample kn's cell, as the kernel finds it */
         const vi ck = imin(to_i(vmax(vmin(fma3(KF, DP[a], P[a]), fset(F->hi[a])), ZERO)), iset(F->last[a]));
@@ -401,11 +401,13 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
     const vm hit = mandnot(out, mand(ge(hi, lo), gt(hi, ZERO)));
     lo = sel(lo, fset(C->snear), lt(lo, fset(C->snear)));
     hi = sel(hi, fset(C->sfar), gt(hi, fset(C->sfar)));
-    const vf TS = add(lo, fset(0.5f)), span = sub(vmin(hi, fload(s_hit)), TS);
-    const vm has = mand(mand(hit, gt(span, ZERO)), lanes(live));
+    const vf TS = add(lo, fset(0.5f)), seg = sub(vmin(hi, fload(s_hit)), lo);
+    const vm has = mand(mand(hit, gt(seg, ZERO)), lanes(live));
     if (!bits(has))
         return;
-    const vi NS = ikeep(has, to_i(vceil(vmin(span, fset(1e8f)))));
+    const vi NS = ikeep(has, to_i(vceil(vmin(seg, fset(1e8f))))), NS1 = isub(NS, iset(1));
+    const vf WL = vmin(sub(seg, to_f(NS1)), fset(1)); /* the last sample's part step, and where it is */
+    const vf NL = fma3(fset(0.5f), WL, sub(to_f(NS1), fset(0.5f)));
     float ts[W];
     fstore(ts, TS);
     for (int a = 0; a < 3; a++) { /* lanes without samples at 0: every index they make is in range */
@@ -436,7 +438,8 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
         const vm act = mand(igt(NS, N), ge(T, TERM));
         if (!bits(act))
             break; /* every ray has ended or is opaque */
-        const vf NF = to_f(N);
+        const vm lastm = ieq(N, NS1);
+        const vf NF = sel(to_f(N), NL, lastm);
         vf c[3], f[3];
         vi ci[3];
         for (int a = 0; a < 3; a++) {
@@ -467,7 +470,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
                     leap = mor(leap, igt(iand(srlv(word, iand(cell, B31)), ONEI), ZEROI));
                 }
                 if (bits(leap)) {
-                    N = leap_to(F, P, DP, IDP, NS, N, ci, dist, empty, leap);
+                    N = leap_to(F, P, DP, IDP, NS, NL, N, ci, dist, empty, leap);
                     comp = mandnot(leap, act);
                     if (!bits(comp))
                         continue;
@@ -533,7 +536,8 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
         const vm cm = gt(sig, ZERO); /* only lanes of comp have added anything */
         if (bits(cm)) {
             /* the step's opacity as vsv_rc_opacity_per_u: the series, the table, 1/u */
-            const vf us = mul(sig, ST);
+            const vf STN = sel(ST, mul(ST, WL), lastm);
+            const vf us = mul(sig, STN);
             vf fo = fset(-1.0f / 720);
             for (int t = 0; t < 5; t++)
                 fo = fma3(us, fo, SERIES[t]);
@@ -547,7 +551,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
                 }
             }
             /* the other lanes have sig = 0, so us = 0, fo = 1, a = 0, col = 0: no change */
-            const vf a = mul(us, fo), k = mul(mul(T, fo), ST);
+            const vf a = mul(us, fo), k = mul(mul(T, fo), STN);
             for (int ch = 0; ch < 3; ch++)
                 acc[ch] = fma3(k, col[ch], acc[ch]);
             T = fnma3(T, a, T);

@@ -122,6 +122,7 @@ typedef struct vsv_rc_ray {
     float p[3], dp[3], inv_dp[3]; /* inv_dp: 1 / dp, for leaps and the box */
     int ns;
     float ts;
+    float nl, wl; /* the last sample: where (in steps from ts) and its step's length (in steps) */
 } vsv_rc_ray;
 
 /* The ray of the pixel at screen position (sx, sy) (vsv_rc_cam), ending at
@@ -157,9 +158,16 @@ static inline void vsv_rc_ray_setup(const vsv_rc_cam *C, float sx, float sy, flo
     const int hit = !out & (hi >= lo) & (hi > 0);
     lo = lo < C->snear ? C->snear : lo;
     hi = hi > C->sfar ? C->sfar : hi;
-    const float ts = lo + 0.5f, send = hi < s_hit ? hi : s_hit, span = send - ts;
-    ray->ns = hit && span > 0 ? (int)ceilf(span < 1e8f ? span : 1e8f) : 0;
+    /* a sample in the middle of every whole step from lo, and the last in the
+     * middle of the part step left, weighted by its length: opacity grows
+     * with the path, not by whole steps (a slab one step thick showed its
+     * sample planes as sheets) */
+    const float ts = lo + 0.5f, send = hi < s_hit ? hi : s_hit, seg = send - lo;
+    ray->ns = hit && seg > 0 ? (int)ceilf(seg < 1e8f ? seg : 1e8f) : 0;
     ray->ts = ts;
+    const float wl = seg - (float)(ray->ns - 1);
+    ray->wl = wl < 1 ? wl : 1;
+    ray->nl = fmaf(0.5f, ray->wl, (float)(ray->ns - 1) - 0.5f);
     for (int a = 0; a < 3; a++) {
         ray->p[a] = fmaf(ts, dp[a], o[a]);
         ray->dp[a] = dp[a];
@@ -170,8 +178,9 @@ static inline void vsv_rc_ray_setup(const vsv_rc_cam *C, float sx, float sy, flo
  * (clamped into the grid), as both raycaster loops find it. */
 static inline void vsv_rc_cell(const vsv_rc_frame *F, const vsv_rc_ray *ray, int n, float c[3], int ci[3])
 {
+    const float nf = n == ray->ns - 1 ? ray->nl : (float)n;
     for (int a = 0; a < 3; a++) {
-        c[a] = fmaf((float)n, ray->dp[a], ray->p[a]);
+        c[a] = fmaf(nf, ray->dp[a], ray->p[a]);
         c[a] = c[a] > 0 ? (c[a] < F->hi[a] ? c[a] : F->hi[a]) : 0;
         ci[a] = (int)c[a];
         ci[a] = ci[a] < F->last[a] ? ci[a] : F->last[a];
