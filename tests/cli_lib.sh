@@ -12,6 +12,12 @@ expect() {
     rc=$?
     if [ "$rc" = "$code" ]; then pass "$name"; else fail "$name" "exit $rc, wanted $code; stderr: $(head -c 300 "$T/err")"; fi
 }
+# $XVFB ARGS...: xvfb-run on a free display, its authority file in $T (set
+# before this file is sourced; a path without spaces): after a command that
+# exits non-zero, xvfb-run's own temporary folder sometimes fails to be
+# removed and it exits 5 instead of the command's code (1 run in 10 of
+# vsv-play exiting 1 here)
+XVFB="xvfb-run -a -f $T/Xauthority"
 # has NAME FILE TEXT : FILE contains TEXT
 has() { if grep -qF -- "$3" "$2"; then pass "$1"; else fail "$1" "no '$3' in: $(head -c 300 "$2")"; fi; }
 # same NAME A B : the files are identical

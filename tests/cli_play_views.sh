@@ -42,7 +42,7 @@ if ! command -v xvfb-run > /dev/null || ! /usr/bin/python3 -c "import numpy, PIL
 fi
 printf '0.2 slices\n0.3 quit\n' > "$T/noslice.script"
 expect "the slices action without --slice is an error naming the line" 1 \
-    xvfb-run -a -s "-screen 0 1024x768x24" "$B/vsv-play" "$T/s.vsv" --script "$T/noslice.script"
+    $XVFB -s "-screen 0 1024x768x24" "$B/vsv-play" "$T/s.vsv" --script "$T/noslice.script"
 has "and says why" "$T/err" "slices: none given"
 cat > "$T/views.script" <<EOS
 0.2 seek 3

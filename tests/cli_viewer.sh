@@ -123,7 +123,7 @@ cat > "$T/dmg.script" <<EOS
 EOS
 ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
 expect "vsv-play through a damaged step plays on, then exits 1" 1 \
-    xvfb-run -a -s "-screen 0 1024x768x24" "$B/vsv-play" "$T/dmg.vsv" --size 320x240 --script "$T/dmg.script"
+    $XVFB -s "-screen 0 1024x768x24" "$B/vsv-play" "$T/dmg.vsv" --size 320x240 --script "$T/dmg.script"
 has "the damaged step is reported, naming the file and the step" "$T/err" \
     "vsv-play: $T/dmg.vsv: step 2 (1995-10-24T02:00:00Z) is damaged, not drawn; playing on: "
 has "with the damage" "$T/err" "chunk 2"
