@@ -46,6 +46,7 @@ static int write_vol(const char *path, const float *v, int nx, int ny, int nz, d
 }
 
 typedef struct one {
+    char path[1024]; /* a file make_one wrote: removed by close_one */
     vsv_file *f;
     vsv_decoder *d;
     vsv_volume *v;
@@ -68,11 +69,24 @@ static int open_one(one *o, const char *path, int step, const char *species, con
     return vsv_tf_parse(&o->tf, tftext, msg, sizeof msg) ? -1 : 0;
 }
 
+/* Writes v (freed here) as a .vsv in the scratch folder under name and
+ * opens it into o with transfer function tf (NULL: the default). 0 or -1. */
+static int make_one(one *o, const char *name, float *v, int nx, int ny, int nz, double dx, double dz, const char *tf)
+{
+    const char *path = vsv_test_tmp(name);
+    const int rc = write_vol(path, v, nx, ny, nz, dx, dz) == 0 && open_one(o, path, 0, NULL, tf) == 0 ? 0 : -1;
+    snprintf(o->path, sizeof o->path, "%s", path);
+    free(v);
+    return rc;
+}
+
 static void close_one(one *o)
 {
     vsv_volume_free(o->v);
     vsv_decoder_free(o->d);
     vsv_file_free(o->f);
+    if (o->path[0])
+        unlink(o->path);
 }
 
 /* Renders o at view az (perspective, or plan when az < 0) with opacity op. */
@@ -162,11 +176,9 @@ static void slab(void)
     for (int k = k0; k <= k1; k++)
         for (size_t c = 0; c < (size_t)nx * ny; c++)
             v[(size_t)k * nx * ny + c] = 1;
-    const char *path = vsv_test_tmp("skip-slab.vsv");
     one o;
-    const int ok = write_vol(path, v, nx, ny, nz, dx, dz) == 0 &&
-                   open_one(&o, path, 0, NULL, "colormap greys\nrange 0 1\nscale linear\nopacity 0 0.8\n") == 0;
-    free(v);
+    const int ok = make_one(&o, "skip-slab.vsv", v, nx, ny, nz, dx, dz,
+                            "colormap greys\nrange 0 1\nscale linear\nopacity 0 0.8\n") == 0;
     if (!CHECK(ok, "a slab in empty space is written and read"))
         return;
     const float op = 5;
@@ -207,7 +219,6 @@ static void slab(void)
     vsv_renderer_free(r);
     free(c);
     close_one(&o);
-    unlink(path);
 }
 
 /* Single cells of value 1 scattered in empty space (some on the grid's
@@ -234,11 +245,9 @@ static void specks(void)
             at[s][s < 3 ? s : 2] = s == 0 ? nx - 1 : s == 3 ? nz - 1 : 0;
         v[((size_t)at[s][2] * ny + at[s][1]) * nx + at[s][0]] = 1;
     }
-    const char *path = vsv_test_tmp("skip-specks.vsv");
     one o;
-    const int ok = write_vol(path, v, nx, ny, nz, 20000, 400) == 0 &&
-                   open_one(&o, path, 0, NULL, "colormap magma\nrange 0 1\nscale linear\nopacity 0 1\n") == 0;
-    free(v);
+    const int ok = make_one(&o, "skip-specks.vsv", v, nx, ny, nz, 20000, 400,
+                            "colormap magma\nrange 0 1\nscale linear\nopacity 0 1\n") == 0;
     if (!CHECK(ok, "scattered single cells are written and read"))
         return;
     vsv_renderer *r = NULL;
@@ -278,7 +287,6 @@ static void specks(void)
     free(img);
     same_pixels("single cells", &o, 3);
     close_one(&o);
-    unlink(path);
 }
 
 /* gen-plume's sparse plume when ../shared has the generator, else a plume
@@ -320,17 +328,14 @@ static void plume(void)
         for (size_t c = 0; c < n; c++)
             v[c] = v[c] < 2e-3f * mx ? 0 : v[c];
     }
-    const char *path = vsv_test_tmp("skip-plume.vsv");
     one o;
-    const int ok = write_vol(path, v, nx, ny, nz, 1000, 100) == 0 && open_one(&o, path, 0, NULL, NULL) == 0;
-    free(v);
+    const int ok = make_one(&o, "skip-plume.vsv", v, nx, ny, nz, 1000, 100, NULL) == 0;
     char name[128];
     snprintf(name, sizeof name, "the plume (%s) is written and read", gen ? "gen-plume's" : "made here");
     if (!CHECK(ok, name))
         return;
     same_pixels(gen ? "gen-plume plume" : "plume", &o, 1);
     close_one(&o);
-    unlink(path);
     snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
     if (system(cmd) != 0)
         printf("  (could not remove %s)\n", dir);
@@ -381,11 +386,9 @@ static void thin(void)
     float *v = malloc(sizeof(float) * nx * ny * nz);
     for (int i = 0; i < nx * ny * nz; i++)
         v[i] = 1;
-    const char *path = vsv_test_tmp("skip-thin.vsv");
     one o;
-    const int ok = write_vol(path, v, nx, ny, nz, 30000, 500) == 0 &&
-                   open_one(&o, path, 0, NULL, "colormap greys\nrange 0 1\nscale linear\nopacity 0.05 0.05\n") == 0;
-    free(v);
+    const int ok = make_one(&o, "skip-thin.vsv", v, nx, ny, nz, 30000, 500,
+                            "colormap greys\nrange 0 1\nscale linear\nopacity 0.05 0.05\n") == 0;
     if (!CHECK(ok, "a layer one cell thick is written and read"))
         return;
     static const double els[] = {35, 42, 50, 58, 67, 80};
