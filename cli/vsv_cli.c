@@ -135,6 +135,33 @@ void vsv_cli_writer_die(vsv_writer *w, const char *out)
     vsv_cli_die(1, "%s: %s", out, msg);
 }
 
+void vsv_cli_cache_dir(const char *dir)
+{
+    vsv_cli_http.cache_dir = dir;
+    if (!dir[0] || !strcmp(dir, "off"))
+        return;
+    char path[4096];
+    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
+        vsv_cli_die(1, "--cache-dir %s: the path is too long", dir);
+    for (char *p = path + 1;; p++) { /* each parent, then dir itself */
+        const int end = !*p;
+        if (*p == '/' || end) {
+            *p = 0;
+            if (mkdir(path, 0700) && errno != EEXIST)
+                vsv_cli_die(1, "--cache-dir %s: cannot make %s: %s", dir, path, strerror(errno));
+            if (!end)
+                *p = '/';
+        }
+        if (end)
+            break;
+    }
+    struct stat st;
+    if (stat(dir, &st) || !S_ISDIR(st.st_mode))
+        vsv_cli_die(1, "--cache-dir %s: not a directory", dir);
+    if (access(dir, W_OK | X_OK))
+        vsv_cli_die(1, "--cache-dir %s: cannot write there: %s", dir, strerror(errno));
+}
+
 void vsv_cli_version(void)
 {
     printf("%s (Vesuvius %s) format %d.%d\n", tool_name, VSV_VERSION_STRING, VSV_FORMAT_MAJOR, VSV_FORMAT_MINOR);

@@ -43,8 +43,12 @@ void vsv_cli_version(void) __attribute__((noreturn));
 
 /* The tools that read a .vsv read http(s):// URLs too (vsv_http.h): they
  * open with vsv_file_open_any(path, &vsv_cli_http, &f), and their
- * --cache-dir option (id VSV_CLI_CACHE_DIR) sets vsv_cli_http.cache_dir. */
+ * --cache-dir option (id VSV_CLI_CACHE_DIR) goes through vsv_cli_cache_dir. */
 extern vsv_http_opts vsv_cli_http;
+/* --cache-dir DIR: makes DIR (and its parents) unless it is "off", and
+ * exits 1 naming it when it is not a directory this process can write
+ * (the cache would silently keep nothing); sets vsv_cli_http.cache_dir. */
+void vsv_cli_cache_dir(const char *dir);
 enum { VSV_CLI_CACHE_DIR = 1900 };
 #define VSV_CLI_CACHE_DIR_HELP                                                                     \
     "      --cache-dir DIR     where parts of files read from http(s):// URLs are kept\n"          \

@@ -93,7 +93,7 @@ int main(int argc, char **argv)
         case O_INTERP: interp = VSV_INTERP_LINEAR; break;
         case O_CSV: fmt = FMT_CSV; break;
         case O_JSON: fmt = FMT_JSON; break;
-        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");

@@ -90,6 +90,15 @@ if command -v ncdump > /dev/null; then
 fi
 expect "--cache-dir off: exits 0" 0 "$B/vsv-render" "$URL" --cache-dir off --species CLW --time 2 -o "$T/off.png"
 same "and gives the same PNG" "$T/off.png" "$T/local.png"
+# a --cache-dir that cannot hold anything is said, not passed over (every
+# run fetched the file again, silently)
+: > "$T/a-file"
+expect "--cache-dir a regular file: exits 1" 1 "$B/vsv-render" "$URL" --cache-dir "$T/a-file" --species CLW --time 2 -o "$T/x.png"
+has "and says so" "$T/err" "vsv-render: --cache-dir $T/a-file: not a directory"
+expect "--cache-dir in a folder that cannot be made: exits 1" 1 "$B/vsv-info" "$URL" --cache-dir /proc/no/cache
+has "naming what could not be made" "$T/err" "vsv-info: --cache-dir /proc/no/cache: cannot make /proc/no"
+expect "--cache-dir a new nested folder: made, exits 0" 0 "$B/vsv-info" "$URL" --cache-dir "$T/new/cache/dir"
+[ -d "$T/new/cache/dir" ] && pass "and the folder is there" || fail "and the folder is there" "no $T/new/cache/dir"
 expect "--help names --cache-dir" 0 "$B/vsv-render" --help
 has "and says what it does" "$T/out" "--cache-dir DIR"
 expect "an ftp:// URL: exits 1" 1 "$B/vsv-info" "ftp://127.0.0.1:$PORT/run.vsv"

@@ -306,7 +306,7 @@ int main(int argc, char **argv)
             break;
         case O_PLAY: OPTS.play = 1; break;
         case O_NOTERRAIN: OPTS.terrain = 0; break;
-        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h':
             fputs(usage, stdout);
             free(ours);

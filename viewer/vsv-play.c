@@ -330,7 +330,7 @@ int main(int argc, char **argv)
             break;
         }
         case 'q': vsv_cli_set_quiet(1); break;
-        case VSV_CLI_CACHE_DIR: vsv_cli_http.cache_dir = optarg; break;
+        case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("see --help");
