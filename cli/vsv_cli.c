@@ -12,9 +12,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* no call into the HTTP library here: a tool that reads no URL links none */
-vsv_http_opts vsv_cli_http = {NULL, 0, -1, 0};
-
+/* no call into the HTTP library here (vsv_cli_http.c holds those): a tool
+ * that reads no URL links none */
 /* ----------------------------------------------------------------- tools */
 
 static const char *tool_name = "vsv";
@@ -133,33 +132,6 @@ void vsv_cli_writer_die(vsv_writer *w, const char *out)
     snprintf(msg, sizeof msg, "%s", vsv_writer_error(w));
     vsv_writer_free(w);
     vsv_cli_die(1, "%s: %s", out, msg);
-}
-
-void vsv_cli_cache_dir(const char *dir)
-{
-    vsv_cli_http.cache_dir = dir;
-    if (!dir[0] || !strcmp(dir, "off"))
-        return;
-    char path[4096];
-    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
-        vsv_cli_die(1, "--cache-dir %s: the path is too long", dir);
-    for (char *p = path + 1;; p++) { /* each parent, then dir itself */
-        const int end = !*p;
-        if (*p == '/' || end) {
-            *p = 0;
-            if (mkdir(path, 0700) && errno != EEXIST)
-                vsv_cli_die(1, "--cache-dir %s: cannot make %s: %s", dir, path, strerror(errno));
-            if (!end)
-                *p = '/';
-        }
-        if (end)
-            break;
-    }
-    struct stat st;
-    if (stat(dir, &st) || !S_ISDIR(st.st_mode))
-        vsv_cli_die(1, "--cache-dir %s: not a directory", dir);
-    if (access(dir, W_OK | X_OK))
-        vsv_cli_die(1, "--cache-dir %s: cannot write there: %s", dir, strerror(errno));
 }
 
 void vsv_cli_version(void)

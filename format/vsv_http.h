@@ -46,6 +46,10 @@ int vsv_is_url(const char *name);
 int vsv_file_open_url(const char *url, const vsv_http_opts *o, vsv_file **out);
 /* vsv_file_open_url for a URL, vsv_file_open for a path. */
 int vsv_file_open_any(const char *name, const vsv_http_opts *o, vsv_file **out);
+/* Makes the cache directory dir (and its parents) as opening a URL would,
+ * and checks this process can write there: 0, or -1 with the reason in why
+ * ("not a directory", "cannot make PARENT: ..."). "off" and "" are 0. */
+int vsv_http_cache_dir_make(const char *dir, char *why, size_t cap);
 
 #ifdef __cplusplus
 }

@@ -33,18 +33,49 @@ static uint64_t fnv1a(const char *s)
     return h;
 }
 
-static int mkdirs(const char *dir)
+/* mkdir -p with mode 0700: 0, or -1 with errno and the folder that could
+ * not be made in failed (cap bytes). */
+static int mkdirs(const char *dir, char *failed, size_t cap)
 {
     char p[4096];
     snprintf(p, sizeof p, "%s", dir);
-    for (char *s = p + 1; *s; s++)
-        if (*s == '/') {
+    for (char *s = p + 1;; s++)
+        if (*s == '/' || !*s) {
+            const char c = *s;
             *s = 0;
-            if (mkdir(p, 0700) && errno != EEXIST)
+            if (mkdir(p, 0700) && errno != EEXIST) {
+                snprintf(failed, cap, "%s", p);
                 return -1;
-            *s = '/';
+            }
+            if (!c)
+                return 0;
+            *s = c;
         }
-    return mkdir(p, 0700) && errno != EEXIST ? -1 : 0;
+}
+
+int vsv_http_cache_dir_make(const char *dir, char *why, size_t cap)
+{
+    char failed[4096];
+    struct stat st;
+    if (!dir[0] || !strcmp(dir, "off"))
+        return 0;
+    if (strlen(dir) >= sizeof failed) {
+        snprintf(why, cap, "the path is too long");
+        return -1;
+    }
+    if (mkdirs(dir, failed, sizeof failed)) {
+        snprintf(why, cap, "cannot make %s: %s", failed, strerror(errno));
+        return -1;
+    }
+    if (stat(dir, &st) || !S_ISDIR(st.st_mode)) {
+        snprintf(why, cap, "not a directory");
+        return -1;
+    }
+    if (access(dir, W_OK | X_OK)) {
+        snprintf(why, cap, "cannot write there: %s", strerror(errno));
+        return -1;
+    }
+    return 0;
 }
 
 static void record_head(char *buf, size_t cap, const char *url, const vsv_http_ident *id)
@@ -128,7 +159,8 @@ int vsv_http_cache_open(vsv_http_cache *c, const char *dir, uint64_t max, const 
         snprintf(msg, cap, "out of memory");
         return VSV_ENOMEM;
     }
-    if (!dir || !dir[0] || !strcmp(dir, "off") || mkdirs(dir))
+    char failed[4096];
+    if (!dir || !dir[0] || !strcmp(dir, "off") || strlen(dir) >= sizeof failed || mkdirs(dir, failed, sizeof failed))
         return memory_only(c, id->size, msg, cap);
     snprintf(c->dir, sizeof c->dir, "%s", dir);
     const unsigned long long key = (unsigned long long)fnv1a(url);
