@@ -25,7 +25,7 @@ MPI="$B/vsv-convert-mpi"
 # a sanitizer build: Open MPI's own allocations at exit are not ours (its
 # components stay loaded, and full stacks name them, so the suppressions match)
 export OMPI_MCA_mca_base_component_disable_dlclose=1
-export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan-mpi.supp:fast_unwind_on_malloc=0:print_suppressions=0"
+export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan.supp:fast_unwind_on_malloc=0:print_suppressions=0"
 
 expect "vsv-convert-mpi --help exits 0" 0 $MPIRUN -np 2 "$MPI" --help
 has "vsv-convert-mpi --help prints usage" "$T/out" "Usage: mpirun -np N vsv-convert-mpi"

@@ -39,7 +39,7 @@ helpfmt vsv-extract "$@" OpenVDB "field stream"
 helpfmt vsv-convert "$@" OpenVDB ".vsv format"
 # (Open MPI's own start-up leaks: suppressed as in cli_mpi.sh)
 (
-    LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan-mpi.supp:fast_unwind_on_malloc=0:print_suppressions=0"
+    LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan.supp:fast_unwind_on_malloc=0:print_suppressions=0"
     export LSAN_OPTIONS
     helpfmt vsv-convert-mpi "$@" OpenVDB ".vsv format"
 )
