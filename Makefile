@@ -115,7 +115,8 @@ RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c)) $(COMMON_OBJ)
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
 HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))
-PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_state.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o
+PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_state.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o \
+             $(B)/viewer/vsv_room.o $(B)/viewer/vsv_place.o $(B)/viewer/vsv_wand.o $(B)/viewer/vsv_procs.o
 
 CORE_A = $(B)/libvesuvius.a
 CONVERT_A = $(B)/libvesuvius-convert.a
@@ -332,7 +333,7 @@ $(B)/vsv-nc-writer: $(B)/interop/vsv-nc-writer.o $(INTEROP_A) $(CONVERT_A) $(COR
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
 
-$(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o: CFLAGS_ALL += $(VIEWER_CFLAGS)
+$(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o: CFLAGS_ALL += $(VIEWER_CFLAGS)
 $(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(RENDER_EXT) $(VIEWER_LIBS)
@@ -351,11 +352,13 @@ VIEWER_INC = -Iviewer -Irender -Istream -Iformat -Icli
 define freevr_link
 	@mkdir -p $(dir $(1))
 	@$(if $(Q),echo "  CC/LD   $(1)")
-	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) viewer/vsv-play-freevr.c \
-	  $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(RENDER_EXT) \
+	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) $(FREEVR_SRC) \
+	  $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(RENDER_EXT) \
 	  $(VIEWER_LIBS) $(FREEVR_LIBS)
 endef
-FREEVR_DEPS = viewer/vsv-play-freevr.c $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+# the back end's two halves: the main process and the render processes
+FREEVR_SRC = viewer/vsv-play-freevr.c viewer/vsv_freevr_draw.c
+FREEVR_DEPS = $(FREEVR_SRC) viewer/vsv_freevr_app.h $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 freevr: $(B)/vsv-play-freevr
 $(B)/vsv-play-freevr: $(FREEVR_DEPS)
 	@test -n "$(FREEVR_DIR)" || { echo "vsv-play-freevr needs FreeVR: make FREEVR_DIR=DIR freevr" \
@@ -383,7 +386,7 @@ FREEVR_TEST = $(if $(filter 1,$(VIEWER)),$(B)/tests/vsv-play-freevr)
 # syntax only, no dependency file (it would land in the source tree)
 freevr-syntax:
 	$(Q)$(CC) $(filter-out -MMD -MP,$(CFLAGS_ALL)) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem viewer/freevr -fsyntax-only \
-	  viewer/vsv-play-freevr.c
+	  $(FREEVR_SRC)
 
 # ----------------------------------------------------------------- tests
 $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIBS)

@@ -107,10 +107,53 @@ static int width(const vsv_annot *a, const char *s)
     return a->font ? vsv_text_width(a->font, s) : 0;
 }
 
+/* The name line of bar l (layer l, or the slices' for l = nlayers): the
+ * variable, its units and scale, and its description where the line stays
+ * within `room` pixels. */
+static void bar_name(const vsv_annot *a, const vsv_scene *sc, int l, const vsv_tf *tf, int room, char *name,
+                     size_t cap)
+{
+    const vsv_meta *m = sc->meta;
+    const int slices = l == sc->nlayers;
+    const int s = a->species ? a->species[slices ? sc->slice_layer : l] : -1;
+    const vsv_var *v = s >= 0 && s < m->nvars ? &m->vars[s] : NULL;
+    char units[80] = "";
+    if (v && v->units[0])
+        snprintf(units, sizeof units, " (%s)", v->units);
+    const char *what = tf->scale == VSV_SCALE_LOG ? (slices ? ", log, slices" : ", log") : slices ? ", slices" : "";
+    snprintf(name, cap, "%s%s%s", v ? v->name : "?", units, what);
+    if (v && v->description[0]) { /* the description too, where it fits */
+        char longer[512];
+        snprintf(longer, sizeof longer, "%s: %s%s%s", v->name, v->description, units, what);
+        if (width(a, longer) <= room)
+            snprintf(name, cap, "%s", longer);
+    }
+}
+
+/* A bar's colours in pixel rows top .. top + bar_h - 1, columns x0 .. x1:
+ * column c at value lo + (c + 0.5) / n (hi - lo), or geometrically on a
+ * log scale. */
+static void bar_fill(const vsv_tf *tf, int x0, int x1, int top, int bar_h, float *rgba, int w, int h)
+{
+    const int n = x1 - x0 + 1;
+    for (int c = 0; c < n; c++) {
+        const double f = (c + 0.5) / n;
+        const double val = tf->scale == VSV_SCALE_LOG && tf->lo > 0 ? tf->lo * pow(tf->hi / tf->lo, f)
+                                                                    : tf->lo + f * (tf->hi - tf->lo);
+        float col[4];
+        vsv_tf_eval(tf, (float)val, col);
+        for (int y = top; y < top + bar_h; y++) {
+            if (y < 0 || y >= h || x0 + c < 0 || x0 + c >= w)
+                continue;
+            float *q = rgba + 4 * ((size_t)y * w + x0 + c);
+            q[0] = col[0], q[1] = col[1], q[2] = col[2], q[3] = 1;
+        }
+    }
+}
+
 static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
 {
     const int w = cam->width, h = cam->height;
-    const vsv_meta *m = sc->meta;
     for (int l = 0, k = 0; l <= sc->nlayers; l++) {
         const vsv_tf *tf = bar_tf(sc, l);
         if (!tf)
@@ -118,43 +161,17 @@ static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camer
         const int top = bar_top(a, L, h, k++);
         if (L->bar_w < 8 || top - (a->font ? L->lh : 0) - L->pad < 0)
             continue;
-        const int slices = l == sc->nlayers;
-        const int s = a->species ? a->species[slices ? sc->slice_layer : l] : -1;
-        const vsv_var *v = s >= 0 && s < m->nvars ? &m->vars[s] : NULL;
-        char name[256], units[80] = "", lo[32], hi[32];
-        if (v && v->units[0])
-            snprintf(units, sizeof units, " (%s)", v->units);
-        const char *what = tf->scale == VSV_SCALE_LOG ? (slices ? ", log, slices" : ", log") : slices ? ", slices" : "";
-        snprintf(name, sizeof name, "%s%s%s", v ? v->name : "?", units, what);
-        if (v && v->description[0]) { /* the description too, where it fits */
-            char longer[512];
-            snprintf(longer, sizeof longer, "%s: %s%s%s", v->name, v->description, units, what);
-            if (width(a, longer) <= L->bar_w + 4 * L->lh)
-                snprintf(name, sizeof name, "%s", longer);
-        }
-        fmt_value(tf->lo, lo, sizeof lo);
-        fmt_value(tf->hi, hi, sizeof hi);
+        char name[512];
+        bar_name(a, sc, l, tf, L->bar_w + 4 * L->lh, name, sizeof name);
         const int nw = width(a, name);
         const int bx0 = (L->x1 + 1 - nw < L->x0 ? L->x1 + 1 - nw : L->x0) - L->pad;
         vsv_annot_box(rgba, w, h, bx0, top - (a->font ? L->lh : 0) - L->pad, L->x1 + L->pad,
                       top + L->bar_h - 1 + (a->font ? L->lh : 0) + L->pad, 0.55f);
         text(a, rgba, w, h, L->x1 + 1 - nw, top - L->lh, name);
-        /* the colours: pixel column c at value lo + (c + 0.5) / n (hi - lo), or
-         * geometrically on a log scale */
-        const int n = L->x1 - L->x0 + 1;
-        for (int c = 0; c < n; c++) {
-            const double f = (c + 0.5) / n;
-            const double val = tf->scale == VSV_SCALE_LOG && tf->lo > 0 ? tf->lo * pow(tf->hi / tf->lo, f)
-                                                                        : tf->lo + f * (tf->hi - tf->lo);
-            float col[4];
-            vsv_tf_eval(tf, (float)val, col);
-            for (int y = top; y < top + L->bar_h; y++) {
-                if (y < 0 || y >= h)
-                    continue;
-                float *q = rgba + 4 * ((size_t)y * w + L->x0 + c);
-                q[0] = col[0], q[1] = col[1], q[2] = col[2], q[3] = 1;
-            }
-        }
+        bar_fill(tf, L->x0, L->x1, top, L->bar_h, rgba, w, h);
+        char lo[32], hi[32];
+        fmt_value(tf->lo, lo, sizeof lo);
+        fmt_value(tf->hi, hi, sizeof hi);
         text(a, rgba, w, h, L->x0, top + L->bar_h + 1, lo);
         text(a, rgba, w, h, L->x1 + 1 - width(a, hi), top + L->bar_h + 1, hi);
     }
@@ -315,4 +332,69 @@ int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam,
     }
     free(legend);
     return rc;
+}
+
+/* ------------------------------------------------------------- the legend */
+
+/* The legend, drawn (rgba non-NULL) or measured: the time line, the
+ * caller's lines, then per bar its name with its range at the right of the
+ * same line ("lo to hi") and the bar under them, as wide as the panel. */
+static void legend(const vsv_annot *a, const vsv_scene *sc, const char *lines, float *rgba, int w, int h, int *need_w,
+                   int *need_h)
+{
+    const int lh = a->font ? vsv_font_line(a->font) : 12, pad = lh / 4 + 2;
+    const int bar_h = lh * 6 / 10 > 4 ? lh * 6 / 10 : 4;
+    int y = pad, wide = 10 * lh; /* bars at least ten lines wide */
+    char line[512];
+    vsv_annot_time_line(sc->meta, a->time, line, sizeof line);
+    if (rgba)
+        text(a, rgba, w, h, pad, y, line);
+    wide = width(a, line) > wide ? width(a, line) : wide;
+    y += lh;
+    for (const char *p = lines ? lines : ""; *p;) { /* the caller's lines */
+        const size_t n = strcspn(p, "\n");
+        snprintf(line, sizeof line, "%.*s", (int)(n < sizeof line ? n : sizeof line - 1), p);
+        if (rgba)
+            text(a, rgba, w, h, pad, y, line);
+        wide = width(a, line) > wide ? width(a, line) : wide;
+        y += lh;
+        p += n + (p[n] == '\n');
+    }
+    for (int l = 0; l <= sc->nlayers; l++) {
+        const vsv_tf *tf = bar_tf(sc, l);
+        if (!tf)
+            continue;
+        char lo[32], hi[32], range[80];
+        fmt_value(tf->lo, lo, sizeof lo);
+        fmt_value(tf->hi, hi, sizeof hi);
+        snprintf(range, sizeof range, "%s to %s", lo, hi);
+        const int rw = width(a, range), gap = lh;
+        y += pad;
+        /* measured without the description: drawn with it where it fits */
+        bar_name(a, sc, l, tf, rgba ? w - 2 * pad - rw - gap : 0, line, sizeof line);
+        if (!rgba) {
+            wide = width(a, line) + gap + rw > wide ? width(a, line) + gap + rw : wide;
+        } else {
+            text(a, rgba, w, h, pad, y, line);
+            text(a, rgba, w, h, w - pad - rw, y, range);
+            bar_fill(tf, pad, w - 1 - pad, y + lh, bar_h, rgba, w, h);
+        }
+        y += lh + bar_h;
+    }
+    if (need_w)
+        *need_w = wide + 2 * pad;
+    if (need_h)
+        *need_h = y + pad;
+}
+
+void vsv_legend_size(const vsv_annot *a, const vsv_scene *sc, const char *lines, int *w, int *h)
+{
+    legend(a, sc, lines, NULL, 0, 0, w, h);
+}
+
+void vsv_legend_draw(const vsv_annot *a, const vsv_scene *sc, const char *lines, float *rgba, int w, int h)
+{
+    memset(rgba, 0, (size_t)w * h * 4 * sizeof *rgba);
+    vsv_annot_box(rgba, w, h, 0, 0, w - 1, h - 1, 0.7f);
+    legend(a, sc, lines, rgba, w, h, NULL, NULL);
 }

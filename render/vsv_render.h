@@ -325,6 +325,18 @@ int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam,
  * or VSV_ERANGE when there is no such bar. */
 int vsv_annotate_bar_box(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, int l, int box[4]);
 
+/* A legend panel (a display's information placed in its room, or any
+ * caption): the time line as the annotation writes it (a->time: UTC, and
+ * local time where the file has a zone), then `lines` ('\n' separated; may
+ * be NULL), then a colour bar per visible layer of sc (and the slices')
+ * with its name, units and range as vsv_annotate draws them, the bars as
+ * wide as the panel, all in a->font (a->species maps layers to variables)
+ * on a translucent dark box. vsv_legend_size gives the smallest w x h that
+ * holds it; vsv_legend_draw fills rgba (w x h x 4 floats, premultiplied,
+ * row 0 at the top), which it clears first. */
+void vsv_legend_size(const vsv_annot *a, const vsv_scene *sc, const char *lines, int *w, int *h);
+void vsv_legend_draw(const vsv_annot *a, const vsv_scene *sc, const char *lines, float *rgba, int w, int h);
+
 /* ------------------------------------------------------------------ files */
 
 /* A rendered image (w*h*4 floats, premultiplied) over a background colour,

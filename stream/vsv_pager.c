@@ -90,6 +90,8 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     p->slab_bytes = (size_t)2 << 20; /* bricks are at most 64^3 floats: 1 MB */
     p->pool[0].size = p->brick_bytes;
     p->pool[1].size = p->codes_bytes;
+    p->slab_alloc = o->slab_alloc;
+    p->slab_ctx = o->slab_ctx;
     p->budget = o->budget;
     if (!p->budget) {
         const long pages = sysconf(_SC_PHYS_PAGES), psz = sysconf(_SC_PAGESIZE);

@@ -71,6 +71,18 @@ typedef struct vsv_pager_opts {
     int from_keyframe; /* 1: keep no decoder state, decode every brick from its
                           last absolute state (the earlier path; benchmarks
                           compare against it) */
+    /* Where decoded bricks live: NULL = the heap. Otherwise the pager takes
+     * the memory of its decoded bricks (and of the backward-play checkpoints
+     * that share their buffers; never the per-brick decoder state) in slabs
+     * of `bytes` (2 MiB, 2 MiB aligned) from slab_alloc(slab_ctx, bytes),
+     * which returns NULL when it has no more (the get that needed it fails
+     * with VSV_ENOMEM), and never gives a slab back: the caller owns that
+     * memory and frees it after vsv_pager_free. Memory shared between
+     * processes (viewer/vsv_room.h) makes the bricks of vsv_pager_get
+     * readable by every process that maps it at the same address. Called
+     * under the pager's lock, from any of its threads. */
+    void *(*slab_alloc)(void *slab_ctx, size_t bytes);
+    void *slab_ctx;
 } vsv_pager_opts;
 
 void vsv_pager_opts_init(vsv_pager_opts *o);

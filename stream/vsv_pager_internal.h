@@ -151,6 +151,8 @@ struct vsv_pager {
         void *freebuf;
     } pool[2];
     size_t slab_bytes;
+    void *(*slab_alloc)(void *ctx, size_t bytes); /* pool 0's slabs: the caller's (vsv_pager_opts) */
+    void *slab_ctx;
 };
 
 typedef struct shell {

@@ -1,6 +1,8 @@
 /* vsv_slab.c — the pager's buffers, in two pools (decoded brick floats;
  * decoder-track codes): carved from 2 MB slabs (huge pages where the kernel
- * gives them: far fewer page faults) and recycled through a free list. A
+ * gives them: far fewer page faults), or for the bricks from the caller's
+ * allocator (vsv_pager_opts.slab_alloc: memory other processes map), and
+ * recycled through a free list. A
  * pool never holds more than the most bytes the pager held at once, which
  * the budget bounds (stats.peak_bytes). */
 #include "vsv_pager_internal.h"
@@ -28,9 +30,14 @@ void *vsv_slab_get(vsv_pager *p, int i)
             P->capslabs = cap;
         }
         void *m = NULL;
-        if (posix_memalign(&m, (size_t)2 << 20, p->slab_bytes))
-            return NULL;
-        madvise(m, p->slab_bytes, MADV_HUGEPAGE);
+        if (i == 0 && p->slab_alloc) { /* the caller's memory, kept by the caller */
+            if (!(m = p->slab_alloc(p->slab_ctx, p->slab_bytes)))
+                return NULL;
+        } else {
+            if (posix_memalign(&m, (size_t)2 << 20, p->slab_bytes))
+                return NULL;
+            madvise(m, p->slab_bytes, MADV_HUGEPAGE);
+        }
         P->slabs[P->nslabs++] = m;
         P->slab_used = 0;
     }
@@ -50,7 +57,7 @@ void vsv_slab_put(vsv_pager *p, int i, void *b)
 void vsv_slab_free_all(vsv_pager *p)
 {
     for (int i = 0; i < 2; i++) {
-        for (int k = 0; k < p->pool[i].nslabs; k++)
+        for (int k = 0; k < p->pool[i].nslabs && !(i == 0 && p->slab_alloc); k++)
             free(p->pool[i].slabs[k]);
         free(p->pool[i].slabs);
     }

@@ -180,13 +180,20 @@ layout() { # NAME "WINDOWS" "FACING" ARGS...: runs one layout and checks it
         [ -s "$O/shot2/$w.ppm" ] || fail "$name: the $w window draws frames" "no dump of it"
     done
     for w in $facing; do
-        s=$($SHOT scene "$O/shot2/$w.ppm" 2> /dev/null)
+        s=$($SHOT shown "$O/shot2/$w.ppm" 2> /dev/null)
         if [ -n "$s" ] && [ "$(echo "$s >= 0.01" | bc)" = 1 ]; then
-            pass "$name: the $w window shows the terrain ($s of its pixels)"
+            pass "$name: the $w window shows the scene ($s of its pixels)"
         else
-            fail "$name: the $w window shows the terrain" "${s:-no picture}: nothing but background"
+            fail "$name: the $w window shows the scene" "${s:-no picture}: nothing but background"
         fi
     done
+    w=${facing%% *}
+    s=$($SHOT scene "$O/shot2/$w.ppm" 2> /dev/null)
+    if [ -n "$s" ] && [ "$(echo "$s >= 0.01" | bc)" = 1 ]; then
+        pass "$name: the $w window shows the terrain ($s of its pixels)"
+    else
+        fail "$name: the $w window shows the terrain" "${s:-no picture}: no land"
+    fi
     w=${facing%% *}
     if [ -s "$O/shot1/$w.ppm" ] && ! $SHOT same "$O/shot1/$w.ppm" "$O/shot2/$w.ppm"; then
         pass "$name: the model time advances on the $w window"

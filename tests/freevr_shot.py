@@ -4,6 +4,8 @@ tests/freevr-standin/freevr_render.c) shows, for tests/cli_freevr.sh.
 
   freevr_shot.py scene FILE.ppm      the share of pixels of the rendered scene
                                      (terrain: green above blue), 0..1
+  freevr_shot.py shown FILE.ppm      the share of pixels that are not the
+                                     background (the most common colour), 0..1
   freevr_shot.py frame FILE.ppm      the frame number the stand-in wrote
   freevr_shot.py same A.ppm B.ppm    exit 0 when the pixels are identical
   freevr_shot.py png OUT.png A.ppm... the dumps side by side in one PNG
@@ -64,6 +66,14 @@ def main():
         w, h, _, px = read(sys.argv[2])
         g, b = px[1::3], px[2::3]
         print('%.4f' % (sum(1 for k in range(w * h) if g[k] > b[k] + 10) / (w * h)))
+    elif what == 'shown':
+        w, h, _, px = read(sys.argv[2])
+        counts = {}
+        for k in range(0, w * h * 3, 3):
+            counts[px[k:k + 3]] = counts.get(px[k:k + 3], 0) + 1
+        bg = max(counts, key=counts.get)
+        far = sum(n for c, n in counts.items() if sum(abs(c[i] - bg[i]) for i in range(3)) > 24)
+        print('%.4f' % (far / (w * h)))
     elif what == 'frame':
         print(read(sys.argv[2])[2])
     elif what == 'png':

@@ -157,7 +157,11 @@ static void test_camera_from_gl(vsv_player *p)
     const double P[16] = {2 * n / (r - l), 0, 0, 0, 0, 2 * n / (t - b), 0, 0, (r + l) / (r - l), (t + b) / (t - b),
                           -(f + n) / (f - n), -1, 0, 0, -2 * f * n / (f - n), 0};
     vsv_camera cam;
-    vsv_player_camera_from_gl(p, at, size, P, MV, 200, 100, &cam);
+    /* the scene k feet a metre, its box's centre at `at` */
+    const double c0[3] = {0.5 * (mn[0] + mx[0]), 0.5 * (mn[1] + mx[1]), 0.5 * (mn[2] + mx[2])};
+    const double place[16] = {k, 0, 0, 0, 0, 0, -k, 0, 0, k, 0, 0, at[0] - k * c0[0], at[1] - k * c0[2],
+                              at[2] + k * c0[1], 1};
+    vsv_player_camera_from_gl(place, P, MV, 200, 100, &cam);
     /* the eye in world metres: east = x, north = -z, up = y */
     const double cx = 0.5 * (mn[0] + mx[0]), cy = 0.5 * (mn[1] + mx[1]), cz = 0.5 * (mn[2] + mx[2]);
     const double want[3] = {cx + (eye[0] - at[0]) / k, cy - (eye[2] - at[2]) / k, cz + (eye[1] - at[1]) / k};
@@ -210,9 +214,9 @@ static void test_freevr_layout(void)
     vsv_freevr_layout_count(nosys, 1, &l);
     CHECK(l.windows == 2 && l.visren == 1 && !l.explicit, "an unknown system: a bound from every definition",
           "(%d %d)", l.windows, l.visren);
-    l = (vsv_freevr_layout){8, 8, 1};
+    l = (vsv_freevr_layout){.windows = 8, .visren = 8, .explicit = 1};
     CHECK(vsv_freevr_arena_bytes(&l, 1000) == 16ul << 20, "eight windows: FreeVR's default arena, 16 MiB", " ");
-    l = (vsv_freevr_layout){100, 100, 1};
+    l = (vsv_freevr_layout){.windows = 100, .visren = 100, .explicit = 1};
     CHECK(vsv_freevr_arena_bytes(&l, 1000) == (1ul << 20) + 100 * (256ul << 10) + 1000,
           "a hundred windows: 1 MiB + 256 KiB a window", " ");
 }

@@ -4,50 +4,61 @@
  * it against the project's stand-in (tests/freevr-standin/) and checks its
  * syntax against viewer/freevr/freevr.h.
  *
- * FreeVR forks one render process per `visren` process of its configuration,
- * so a brick cache cannot be shared: each render process opens the file and
- * runs its own pager and renderer (the budget split between them), while the
- * main process reads the wand, runs the clock and publishes the play state,
- * under a lock, in FreeVR's shared arena. Each eye of each wall is rendered
- * with the frustum FreeVR loaded for it and drawn on a billboard inside that
- * frustum's near/far range, in FreeVR's units (feet).
+ * FreeVR forks one render process per `visren` process of its
+ * configuration. This main process reads the wand, runs the clock, decodes
+ * every step once with the one pager, into shared memory the render
+ * processes map (vsv_room.h), and publishes ticks: a step with its volumes
+ * and the play state, the scene's placement, the wand and the panel. Every
+ * window draws every tick, and the next tick waits until every window has
+ * shown the current one, so all walls show the same model time and a slow
+ * wall slows the room (vsv_freevr_draw.c draws them).
  *
  * Arguments: those starting with '-' are ours, one other is the file, and
  * any containing one of ; = " { } is FreeVR configuration, handed to
  * vrConfigure untouched. Everything that can fail on our side (options, the
- * file, species) is checked before vrConfigure creates FreeVR's semaphores;
- * after it, every exit goes through vrExit. */
+ * file, species, a system the configuration does not define) is checked
+ * before vrConfigure creates FreeVR's semaphores. After vrStart, SIGINT
+ * (which FreeVR ignores), SIGTERM and SIGHUP end the run through vrExit;
+ * a render process that dies ends it without vrExit (which would wait for
+ * it forever): its siblings are ended and FreeVR's IPC objects removed. */
 #include "vsv_cli.h"
 #include "vsv_common.h"
+#include "vsv_freevr_app.h"
 #include "vsv_freevr_conf.h"
-#include "vsv_overlay.h"
-#include "vsv_player.h"
+#include "vsv_panel.h"
+#include "vsv_place.h"
+#include "vsv_procs.h"
+#include "vsv_wand.h"
 
-#include <GL/gl.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <freevr.h>
 #include <getopt.h>
+#include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <time.h>
+#include <unistd.h>
 
 static const char usage[] =
     "Usage: vsv-play-freevr FILE.vsv|URL [OPTIONS] [FREEVR-CONFIGURATION...]\n"
-    "Play a .vsv file in a CAVE, on a wall or in FreeVR's simulator. The volume\n"
-    "stands 8 feet wide, its centre 4 feet up and 3 feet in front of the floor's\n"
-    "centre. Wand: button 1 play/pause, 2 next species, 3 show/hide it; joystick\n"
-    "right/left fast-forward/rewind, up/down its opacity; switch 0 (Escape in the\n"
-    "simulator) quits.\n"
+    "Play a .vsv file in a CAVE, on a wall or in FreeVR's simulator: every wall\n"
+    "shows the same model time; the wand moves you through the scene.\n"
     "Reads .vsv files (vsv(5)), transfer-function files (--tf) and FreeVR's\n"
-    "configuration (.freevrrc, $FREEVR, or strings given here); writes nothing.\n"
+    "configuration (.freevrrc, $FREEVR, or strings given here); writes only --trace.\n"
     "\n"
-    "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all)\n"
+    "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all\n"
+    "                          but water vapour)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
     "  -r, --renderer NAME     shearwarp (default) or raycast\n"
-    "      --cache-mb N        decoded-brick budget, split between the render\n"
-    "                          processes (default 1024)\n"
+    "      --place table|room  the domain on a table at waist height, sized to the\n"
+    "                          room (default), or the room inside the clouds: its\n"
+    "                          floor the ground, its ceiling the model's top\n"
+    "      --cache-mb N        decoded-brick budget, one copy for every wall\n"
+    "                          (default 1024)\n"
     "      --threads N         render threads per render process (default: all cores)\n"
     "      --render-scale F    render at F times each window's size (default 1)\n"
     "  -x, --exaggerate N      vertical exaggeration (default: as vsv-render)\n"
@@ -55,144 +66,97 @@ static const char usage[] =
     "      --loop[=on|off|bounce]  at the ends (--loop alone: on; default off)\n"
     "      --play              start playing\n"
     "      --no-terrain        do not draw the ground\n"
+    "      --no-panel          no information panel on the front wall\n"
+    "      --fps               the frame rate on the panel\n"
+    "      --no-wand           do not draw the wand's pointer\n"
+    "      --trace FILE        a line per window per frame: window frame tick step\n"
+    "                          time seconds cpu pid (written when the run ends)\n"
     VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n"
+    "\n"
+    "The wand (FreeVR's 2switches 1-3 and the joystick; the simulator: mouse\n"
+    "buttons, and the pointer while space is held):\n";
+
+static const char usage_tail[] =
     "\n"
     "FreeVR reads its configuration from $FREEVR_HOME/.freevrrc, ~/.freevrrc,\n"
     "./.freevrrc and the FREEVR variable (none: its simulator). An argument that\n"
     "contains any of ; = \" { } is FreeVR configuration and goes to FreeVR as it is,\n"
     "e.g. 'usesystem \"cave\";'. See vsv-play-freevr(1).\n";
 
-/* the volume in the display: 8 feet wide, its centre 4 feet up, 3 feet in
- * front of the floor's centre (FreeVR's real-world frame: feet, y up, the
- * front wall at -z) */
-static const double AT[3] = {0, 4, -3}, SIZE = 8;
+vsv_fv_app vsv_fv;
 
-/* what the render processes read, in FreeVR's shared arena */
-typedef struct shared {
-    vrLock lock;
-    vsv_player_state st;
-    int failed;     /* a render process could not go on: msg says why */
-    char msg[1024];
-} shared;
+/* ----------------------------------------------------------- life cycle */
 
-static shared *S;
-static vsv_player_opts OPTS;
-static size_t PER_PROCESS; /* each render process's cache budget */
-static double SCALE = 1;
-/* per render process (after the fork) */
-static vsv_player *R;
-static vsv_overlay *OV;
+static volatile sig_atomic_t GOT_SIGNAL;
+static vsv_ipc FV_IPC;          /* the IPC objects FreeVR made */
+static pid_t KIDS[64];          /* FreeVR's processes, for the watchdog */
+static volatile sig_atomic_t NKIDS;
+static volatile sig_atomic_t END_STATUS;
 
-/* Reports a render process's error to the main process, which quits
- * through vrExit (a render process must not exit by itself: FreeVR would
- * wait for it and keep its semaphores). */
-static void fail(const char *msg)
+static void on_signal(int sig) { GOT_SIGNAL = sig; }
+
+/* vrExit did not return: FreeVR's processes are killed and its IPC objects
+ * removed here (async-signal-safe calls only). */
+static void on_watchdog(int sig)
 {
-    vrLockWriteSet(S->lock);
-    if (!S->failed) {
-        S->failed = 1;
-        snprintf(S->msg, sizeof S->msg, "%s", msg);
-    }
-    vrLockWriteRelease(S->lock);
+    (void)sig;
+    static const char msg[] = "vsv-play-freevr: FreeVR did not end within 3 s: its processes were killed\n";
+    for (int i = 0; i < NKIDS; i++)
+        kill(KIDS[i], SIGKILL);
+    vsv_ipc_remove(&FV_IPC);
+    vsv_output_cleanup();
+    if (write(2, msg, sizeof msg - 1) < 0)
+        _exit(1);
+    _exit(END_STATUS ? END_STATUS : 1);
 }
 
-/* Once per window; a render process that drives several windows keeps one
- * player (one cache) for them all. */
-static int WINDOWS;
-
-static void display_init(void)
+/* vrExit, which waits for FreeVR's processes, under a 3-second watchdog. */
+static void freevr_exit(int status)
 {
-    char err[1024];
-    if (WINDOWS++)
-        return;
-    vsv_player_opts o = OPTS;
-    o.cache_bytes = PER_PROCESS;
-    if (vsv_player_open(&o, &R, err, sizeof err)) {
-        vsv_player_free(R);
-        R = NULL;
-        fail(err);
-        return;
-    }
-    if (!(OV = vsv_overlay_create(18, err, sizeof err)))
-        fprintf(stderr, "%s: no status text: %s\n", vsv_cli_tool(), err);
+    END_STATUS = status;
+    NKIDS = vsv_proc_children(KIDS, 64);
+    signal(SIGALRM, on_watchdog);
+    alarm(3);
+    vrExit();
+    alarm(0);
+    vsv_ipc_remove(&FV_IPC); /* (what FreeVR left; normally nothing) */
 }
 
-static void display_exit(void)
+/* The trace: a temporary beside FILE, renamed into place at the end. */
+static char TRACE_PATH[4096], TRACE_TMP[4200];
+
+static void trace_open(const char *path)
 {
-    if (--WINDOWS > 0)
-        return;
-    vsv_overlay_free(OV);
-    vsv_player_free(R);
-    OV = NULL;
-    R = NULL;
+    vsv_cli_refuse_input(path, NULL, 0);
+    snprintf(TRACE_PATH, sizeof TRACE_PATH, "%s", path);
+    const int fd = vsv_output_temp(path, NULL, TRACE_TMP, sizeof TRACE_TMP);
+    if (fd < 0)
+        vsv_cli_die(1, "%s: cannot create: %s", path, strerror(errno));
+    /* the render processes append whole lines; this process alone ends it
+     * (their signal handlers must not remove it) */
+    vsv_output_forget(TRACE_TMP);
+    fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_APPEND);
+    static const char head[] = "# vsv-play-freevr trace: one line per window per frame\n"
+                               "# window frame tick step time seconds cpu pid\n";
+    if (write(fd, head, sizeof head - 1) != (ssize_t)(sizeof head - 1))
+        vsv_cli_die(1, "%s: cannot write: %s", path, strerror(errno));
+    vsv_fv.trace_fd = fd;
 }
 
-/* The depth (positive, in the projection's units) at which the billboard
- * lies: the volume's centre as this eye sees it, kept inside the near and
- * far planes of the projection P that FreeVR loaded. */
-static double billboard_depth(const double P[16], const double MV[16])
+static void trace_close(void)
 {
-    const double z = MV[2] * AT[0] + MV[6] * AT[1] + MV[10] * AT[2] + MV[14];
-    double d = -z, n = 0.1, f = 1000;
-    if (P[11] == -1 && P[10] != 1 && P[10] != -1) { /* glFrustum */
-        n = P[14] / (P[10] - 1);
-        f = P[14] / (P[10] + 1);
+    if (vsv_fv.trace_fd < 0)
+        return;
+    if (vsv_output_seal(vsv_fv.trace_fd) || rename(TRACE_TMP, TRACE_PATH)) {
+        fprintf(stderr, "%s: %s: cannot write the trace: %s\n", vsv_cli_tool(), TRACE_PATH, strerror(errno));
+        unlink(TRACE_TMP);
     }
-    if (!(n > 0 && f > n))
-        n = 0.1, f = 1000;
-    if (!(d > n * 1.5))
-        d = n * 1.5;
-    if (d > f * 0.5)
-        d = f * 0.5;
-    return d;
+    vsv_fv.trace_fd = -1;
 }
 
-static void display(vrRenderInfo *ri)
-{
-    (void)ri;
-    const float *bg = R ? vsv_player_background(R) : NULL;
-    /* FreeVR does not clear: old frames and stale depth would show */
-    glClearColor(bg ? bg[0] : 0, bg ? bg[1] : 0, bg ? bg[2] : 0, 1);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (!R)
-        return;
-    char err[1024] = "";
-    vsv_player_state st;
-    vrLockReadSet(S->lock);
-    st = S->st;
-    const int failed = S->failed;
-    vrLockReadRelease(S->lock);
-    if (failed)
-        return;
-    if (vsv_player_state_apply(R, &st, err, sizeof err) || vsv_player_update(R, 0, 1)) {
-        fail(err[0] ? err : vsv_player_error(R));
-        return;
-    }
-    double P[16], MV[16];
-    GLint vp[4];
-    glGetDoublev(GL_PROJECTION_MATRIX, P);
-    glGetDoublev(GL_MODELVIEW_MATRIX, MV);
-    glGetIntegerv(GL_VIEWPORT, vp);
-    if (vp[2] < 1 || vp[3] < 1)
-        return;
-    int w = (int)(vp[2] * SCALE + 0.5), h = (int)(vp[3] * SCALE + 0.5);
-    w = w < 16 ? 16 : w, h = h < 16 ? 16 : h;
-    vsv_camera cam;
-    vsv_player_camera_from_gl(R, AT, SIZE, P, MV, w, h, &cam);
-    const unsigned char *img = vsv_player_image(R, &cam, err, sizeof err);
-    if (!img) {
-        fail(err);
-        return;
-    }
-    vsv_billboard_draw(&cam, billboard_depth(P, MV), img, w, h, 0);
-    if (OV) {
-        char status[2048];
-        vsv_player_status(R, status, sizeof status);
-        vsv_overlay_text(OV, vp[2], vp[3], 8, 8, status); /* at the top: the volume stands low */
-    }
-}
+/* ------------------------------------------------------ configuration */
 
 /* FreeVR's configuration strings among the arguments. */
 static int is_freevr_arg(const char *a) { return a[0] != '-' && strpbrk(a, ";=\"{}") != NULL; }
@@ -231,12 +195,217 @@ static char *slurp(const char *dir, const char *name)
     return buf;
 }
 
-enum { O_TF = 1000, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN };
+/* The layout FreeVR will start, read from what FreeVR reads. */
+static void read_layout(char **fv, int nfv, vsv_freevr_layout *lay)
+{
+    char *owned[3] = {slurp(getenv("FREEVR_HOME"), ".freevrrc"), slurp(getenv("HOME"), ".freevrrc"),
+                      slurp(".", ".freevrrc")};
+    const char **texts = calloc((size_t)nfv + 4, sizeof *texts);
+    if (!texts)
+        vsv_cli_die(1, "out of memory");
+    int nt = 0;
+    for (int i = 0; i < 3; i++)
+        texts[nt++] = owned[i];
+    texts[nt++] = getenv("FREEVR");
+    for (int i = 1; i < nfv; i++)
+        texts[nt++] = fv[i];
+    vsv_freevr_layout_count(texts, nt, lay);
+    free(texts);
+    for (int i = 0; i < 3; i++)
+        free(owned[i]);
+}
+
+/* ------------------------------------------------------------ main loop */
+
+typedef struct run {
+    vsv_player *dec;      /* clock, actions, the one pager */
+    vsv_freevr_layout lay;
+    int kind;             /* VSV_PLACE_* */
+    double base[16], nav[16];
+    vsv_wand wand;
+    vsv_fv_tick last;     /* published last */
+    int last_step;
+    const char *last_damage;
+    int fps;              /* --fps */
+    int panel;            /* draw the panel */
+    vsv_panel *measure;   /* the panel's size (no GL) */
+    double lh;
+} run;
+
+static void place_base(run *r)
+{
+    double mn[3], mx[3];
+    vsv_player_bounds(r->dec, mn, mx);
+    vsv_place_base(r->kind, r->lay.room_lo, r->lay.room_hi, mn, mx, r->base);
+}
+
+/* The panel's line height (feet): 11 pixels on the windows that see it
+ * (their lowest pixels a foot, as they report it), 0.2 feet at least, the
+ * panel narrower than 0.9 of the room and lower than 0.8 of it; with its
+ * top-left corner, right and down directions, on the front wall's upper
+ * left. Sized for the longest lines it can show, so it keeps its size. */
+static void panel_place(run *r, vsv_fv_tick *t)
+{
+    vsv_room_window w[64];
+    const int n = vsv_room_windows(vsv_fv.room, w, 64);
+    double dens = 0;
+    for (int i = 0; i < n && i < 64; i++)
+        if (w[i].report > 0 && (dens == 0 || w[i].report < dens))
+            dens = w[i].report;
+    if (dens == 0 && r->lay.px_per_ft > 0)
+        dens = r->lay.px_per_ft;
+    double lh = dens > 0 ? fmax(0.2, 11 / dens) : 0.35;
+    const double *lo = r->lay.room_lo, *hi = r->lay.room_hi, width = hi[0] - lo[0], height = hi[1] - lo[1];
+    vsv_scene sc;
+    vsv_player_scene(r->dec, &sc);
+    int sp[VSV_PLAYER_MAX_SPECIES];
+    for (int s = 0; s < VSV_PLAYER_MAX_SPECIES; s++)
+        sp[s] = s;
+    const vsv_annot a = {VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, sp, NULL};
+    char err[256], lines[512];
+    vsv_fv_panel_lines(NULL, vsv_player_meta(r->dec), vsv_player_clock(r->dec)->nsteps, 0, 0, r->fps, lines,
+                       sizeof lines);
+    double pw, ph;
+    if (!r->panel || vsv_panel_measure(r->measure, &a, &sc, lines, lh, &pw, &ph, err, sizeof err)) {
+        t->lh = 0;
+        return;
+    }
+    if (pw > 0.9 * width)
+        lh *= 0.9 * width / pw, ph *= 0.9 * width / pw;
+    if (ph > 0.8 * height)
+        lh *= 0.8 * height / ph;
+    t->lh = lh;
+    const double m = 0.05 * width;
+    const double at[9] = {lo[0] + m, hi[1] - m, lo[2] + 0.02, 1, 0, 0, 0, -1, 0};
+    memcpy(t->panel, at, sizeof at);
+}
+
+/* Reads the wand, moves the scene, runs the actions. */
+static void input(run *r, double dt)
+{
+    vsv_wand_in in;
+    memset(&in, 0, sizeof in);
+    for (int i = 1; i < VSV_WAND_SWITCHES; i++)
+        in.sw[i] = vrGet2switchValue(i);
+    in.jx = vrGetValuatorValue(0);
+    in.jy = vrGetValuatorValue(1);
+    in.dt = dt;
+    vsv_wand_out o;
+    vsv_wand_update(&r->wand, &in, &o);
+    char err[1024];
+    for (int i = 0; i < o.nact; i++)
+        vsv_player_do(r->dec, o.act[i], err, sizeof err); /* (the wand's actions are all valid) */
+    vrPoint wp, hp;
+    vrVector wd;
+    vrPointGetRWFrom6sensor(&wp, 1);
+    vrVectorGetRWFrom6sensorDir(&wd, 1, VRDIR_FORE);
+    vrPointGetRWFrom6sensor(&hp, 0);
+    const double len = sqrt(wd.v[0] * wd.v[0] + wd.v[1] * wd.v[1] + wd.v[2] * wd.v[2]);
+    for (int i = 0; i < 3; i++) {
+        r->last.wand[i] = wp.v[i];
+        r->last.wdir[i] = len > 0 ? wd.v[i] / len : i == 2 ? -1 : 0;
+        r->last.tip[i] = r->last.wand[i] + r->last.wdir[i]; /* a foot along it */
+    }
+    if (o.reset)
+        vsv_nav_identity(r->nav);
+    if (o.place) {
+        r->kind = r->kind == VSV_PLACE_TABLE ? VSV_PLACE_ROOM : VSV_PLACE_TABLE;
+        place_base(r);
+        vsv_nav_identity(r->nav);
+    }
+    if (o.travel != 0) {
+        const double d[3] = {o.travel * r->last.wdir[0], o.travel * r->last.wdir[1], o.travel * r->last.wdir[2]};
+        vsv_nav_travel(r->nav, d);
+    }
+    if (o.turn != 0)
+        vsv_nav_turn(r->nav, hp.v, o.turn);
+    if (o.scale != 1)
+        vsv_nav_scale(r->nav, r->last.tip, o.scale);
+}
+
+/* A render process that is gone: its window's name and how it ended into
+ * why; 1 when there is one. */
+static int dead_window(char *why, size_t cap)
+{
+    vsv_room_window w[64];
+    const int n = vsv_room_windows(vsv_fv.room, w, 64);
+    for (int i = 0; i < n && i < 64; i++) {
+        if (vsv_proc_alive(w[i].pid))
+            continue;
+        char how[128];
+        if (vsv_proc_ended(w[i].pid, how, sizeof how))
+            snprintf(how, sizeof how, "ended");
+        snprintf(why, cap, "the render process of the %s window (pid %d) %s: the run is ended", w[i].name,
+                 (int)w[i].pid, how);
+        return 1;
+    }
+    return 0;
+}
+
+/* Publishes a tick when something changed and every window has shown the
+ * last one. 0, or -1 with the reason in err. */
+static int publish(run *r, char *err, size_t cap)
+{
+    vsv_fv_tick t = r->last;
+    vsv_player_state_get(r->dec, &t.st);
+    t.nsteps = vsv_player_clock(r->dec)->nsteps;
+    vsv_mat4_mul(r->nav, r->base, t.place);
+    if (r->fps) {
+        vsv_room_window w[64];
+        const int n = vsv_room_windows(vsv_fv.room, w, 64);
+        t.fps = n ? 1e9 : 0;
+        for (int i = 0; i < n && i < 64; i++)
+            t.fps = fmin(t.fps, w[i].rate);
+        t.fps = round(t.fps * 10) / 10;
+    } else {
+        t.fps = -1;
+    }
+    const int step = vsv_player_shown_step(r->dec);
+    const char *damage = vsv_player_shown_damage(r->dec);
+    if (step < 0)
+        return 0;
+    /* the clock's own time moves every frame while playing: what the
+     * walls show is the step, not it */
+    t.st.model = 0;
+    panel_place(r, &t);
+    if (vsv_room_tick(vsv_fv.room) && step == r->last_step && damage == r->last_damage &&
+        !memcmp(&t, &r->last, sizeof t))
+        return 0;
+    if (!vsv_room_can_publish(vsv_fv.room))
+        return 0;
+    const vsv_meta *m = vsv_player_meta(r->dec);
+    const vsv_volume *vols[VSV_PLAYER_MAX_SPECIES * 4];
+    const int ns = m->nvars < (int)(sizeof vols / sizeof *vols) ? m->nvars : (int)(sizeof vols / sizeof *vols);
+    for (int s = 0; s < ns; s++)
+        vols[s] = vsv_player_volume(r->dec, s);
+    const int64_t time = vsv_player_step_time(r->dec, step);
+    if (vsv_room_publish(vsv_fv.room, vsv_player_pager(r->dec), step, time, damage, vols, &t, err, cap) < 0)
+        return -1;
+    r->last = t;
+    r->last_step = step;
+    r->last_damage = damage;
+    return 0;
+}
+
+enum {
+    O_TF = 1000, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_PLACE, O_TRACE, O_NOPANEL,
+    O_FPS, O_NOWAND
+};
 
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-play-freevr");
-    vsv_player_opts_init(&OPTS);
+    vsv_player_opts opts;
+    vsv_player_opts_init(&opts);
+    memset(&vsv_fv, 0, sizeof vsv_fv);
+    vsv_fv.scale = 1;
+    vsv_fv.trace_fd = -1;
+    vsv_fv.wand = 1;
+    run r;
+    memset(&r, 0, sizeof r);
+    r.panel = 1;
+    r.last_step = -1;
+    const char *trace_path = NULL;
     /* ours (options and the file) apart from FreeVR's configuration strings */
     char **ours = calloc((size_t)argc + 1, sizeof *ours), **fv = calloc((size_t)argc + 1, sizeof *fv);
     if (!ours || !fv)
@@ -255,7 +424,10 @@ int main(int argc, char **argv)
         {"threads", required_argument, 0, O_THREADS}, {"render-scale", required_argument, 0, O_SCALE},
         {"exaggerate", required_argument, 0, 'x'},    {"rate", required_argument, 0, O_RATE},
         {"loop", optional_argument, 0, O_LOOP},       {"play", no_argument, 0, O_PLAY},
-        {"no-terrain", no_argument, 0, O_NOTERRAIN},  {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
+        {"no-terrain", no_argument, 0, O_NOTERRAIN},  {"place", required_argument, 0, O_PLACE},
+        {"trace", required_argument, 0, O_TRACE},     {"no-panel", no_argument, 0, O_NOPANEL},
+        {"fps", no_argument, 0, O_FPS},               {"no-wand", no_argument, 0, O_NOWAND},
+        {"help", no_argument, 0, 'h'},                {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
     size_t budget = (size_t)1 << 30;
     int c;
@@ -263,13 +435,13 @@ int main(int argc, char **argv)
         long v;
         double d;
         switch (c) {
-        case 's': OPTS.species = optarg; break;
-        case O_TF: OPTS.tfpath = optarg; break;
+        case 's': opts.species = optarg; break;
+        case O_TF: opts.tfpath = optarg; break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
-                OPTS.renderer = VSV_RENDER_RAYCAST;
+                opts.renderer = VSV_RENDER_RAYCAST;
             else if (!strcmp(optarg, "shearwarp"))
-                OPTS.renderer = VSV_RENDER_SHEARWARP;
+                opts.renderer = VSV_RENDER_SHEARWARP;
             else
                 vsv_cli_usage_error("--renderer: raycast or shearwarp, not '%s'", optarg);
             break;
@@ -281,34 +453,48 @@ int main(int argc, char **argv)
         case O_THREADS:
             if (vsv_cli_int(optarg, 1, 64, &v))
                 vsv_cli_usage_error("--threads: 1..64");
-            OPTS.threads = (int)v;
+            opts.threads = (int)v;
             break;
         case O_SCALE:
-            if (vsv_cli_double(optarg, &SCALE) || !(SCALE >= 0.05 && SCALE <= 4))
+            if (vsv_cli_double(optarg, &vsv_fv.scale) || !(vsv_fv.scale >= 0.05 && vsv_fv.scale <= 4))
                 vsv_cli_usage_error("--render-scale: 0.05..4");
             break;
         case 'x':
             if (vsv_cli_double(optarg, &d) || !(d > 0))
                 vsv_cli_usage_error("--exaggerate: a number > 0");
-            OPTS.exaggerate = d;
+            opts.exaggerate = d;
             break;
         case O_RATE:
             if (vsv_cli_double(optarg, &d) || !(d > 0))
                 vsv_cli_usage_error("--rate: model seconds per wall second, > 0");
-            OPTS.rate = d;
+            opts.rate = d;
             break;
         case O_LOOP:
-            OPTS.loop = !optarg || !strcmp(optarg, "on") ? VSV_CLOCK_LOOP
+            opts.loop = !optarg || !strcmp(optarg, "on") ? VSV_CLOCK_LOOP
                         : !strcmp(optarg, "bounce")      ? VSV_CLOCK_BOUNCE
                                                          : VSV_CLOCK_STOP;
-            if (optarg && !OPTS.loop && strcmp(optarg, "off"))
+            if (optarg && !opts.loop && strcmp(optarg, "off"))
                 vsv_cli_usage_error("--loop: on, off or bounce");
             break;
-        case O_PLAY: OPTS.play = 1; break;
-        case O_NOTERRAIN: OPTS.terrain = 0; break;
+        case O_PLAY: opts.play = 1; break;
+        case O_NOTERRAIN: opts.terrain = 0; break;
+        case O_PLACE:
+            if (!strcmp(optarg, "table"))
+                r.kind = VSV_PLACE_TABLE;
+            else if (!strcmp(optarg, "room"))
+                r.kind = VSV_PLACE_ROOM;
+            else
+                vsv_cli_usage_error("--place: table or room, not '%s'", optarg);
+            break;
+        case O_TRACE: trace_path = optarg; break;
+        case O_NOPANEL: r.panel = 0; break;
+        case O_FPS: r.fps = 1; break;
+        case O_NOWAND: vsv_fv.wand = 0; break;
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h':
             fputs(usage, stdout);
+            fputs(vsv_wand_help(), stdout);
+            fputs(usage_tail, stdout);
             free(ours);
             free(fv);
             return 0;
@@ -319,11 +505,10 @@ int main(int argc, char **argv)
     if (optind != nours - 1)
         vsv_cli_usage_error(optind < nours ? "one file at a time (FreeVR configuration strings contain ; = \" { or })"
                                            : "no input file");
-    OPTS.path = ours[optind];
-    OPTS.http = &vsv_cli_http;
-    /* the main process's player: clock and settings only; opening it checks
-     * the file and the species before FreeVR starts anything */
-    vsv_player_opts io = OPTS;
+    opts.path = ours[optind];
+    opts.http = &vsv_cli_http;
+    /* the file and the species, checked before FreeVR starts anything */
+    vsv_player_opts io = opts;
     io.clock_only = 1;
     vsv_player *in = NULL;
     char err[1024];
@@ -332,88 +517,141 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("%s", err);
     if (orc)
         vsv_cli_die(1, "%s", err);
-    /* the layout FreeVR will start, read from what FreeVR reads */
-    char *owned[3] = {slurp(getenv("FREEVR_HOME"), ".freevrrc"), slurp(getenv("HOME"), ".freevrrc"),
-                      slurp(".", ".freevrrc")};
-    const char **texts = calloc((size_t)nfv + 4, sizeof *texts);
-    if (!texts)
+    read_layout(fv, nfv, &r.lay);
+    if (r.lay.missing[0])
+        vsv_cli_usage_error("FreeVR configuration: usesystem \"%s\", but no system \"%s\" is defined in "
+                            "$FREEVR_HOME/.freevrrc, ~/.freevrrc, ./.freevrrc, $FREEVR or the arguments (FreeVR "
+                            "would open its simulator with no input: Escape would not end it); define it, or "
+                            "leave usesystem out for the simulator",
+                            r.lay.missing, r.lay.missing);
+    /* one decoded copy for every wall: the room, mapped before the fork */
+    vsv_volume *shape = vsv_pager_volume_new(vsv_player_pager(in));
+    if (!shape)
         vsv_cli_die(1, "out of memory");
-    int nt = 0;
-    for (int i = 0; i < 3; i++)
-        texts[nt++] = owned[i];
-    texts[nt++] = getenv("FREEVR");
-    for (int i = 1; i < nfv; i++)
-        texts[nt++] = fv[i];
-    vsv_freevr_layout lay;
-    vsv_freevr_layout_count(texts, nt, &lay);
-    free(texts);
-    for (int i = 0; i < 3; i++)
-        free(owned[i]);
-    PER_PROCESS = budget / (size_t)lay.visren;
-    vrShmemInit(vsv_freevr_arena_bytes(&lay, sizeof(shared)));
+    const vsv_room_opts ro = {budget + budget / 2 + ((size_t)64 << 20), vsv_player_meta(in)->nvars, shape->nbricks,
+                              r.lay.windows, sizeof(vsv_fv_tick)};
+    vsv_volume_free(shape);
+    if (ro.nspecies > VSV_PLAYER_MAX_SPECIES * 4)
+        vsv_cli_die(1, "%s: %d species: vsv-play-freevr draws at most %d", opts.path, ro.nspecies,
+                    VSV_PLAYER_MAX_SPECIES * 4);
+    if (vsv_room_create(&ro, &vsv_fv.room, err, sizeof err))
+        vsv_cli_die(1, "%s", err);
+    if (trace_path)
+        trace_open(trace_path);
+    vsv_fv.opts = opts;
+    vsv_fv.opts.external = 1;
+    vsv_fv.t0 = vsv_fv_now();
+    vsv_player_free(in);
+    if (!(r.measure = vsv_panel_create()))
+        vsv_cli_die(1, "out of memory");
+    /* FreeVR: its arena (its own per-window state), its processes */
+    vsv_ipc before, after;
+    vsv_ipc_list(&before);
+    vrShmemInit(vsv_freevr_arena_bytes(&r.lay, 0));
     fv[nfv] = NULL;
     vrConfigure(&nfv, fv, NULL);
-    /* from here on every exit goes through vrExit */
-    int status = 0;
-    S = vrShmemAlloc0(sizeof *S);
-    if (!S) {
-        vrExit();
-        vsv_cli_die(1, "FreeVR's shared memory is full (%lu bytes for %d windows)",
-                    vsv_freevr_arena_bytes(&lay, sizeof(shared)), lay.windows);
-    }
-    S->lock = vrLockCreate();
-    vsv_player_state_get(in, &S->st);
-    vrInputSet2switchDescription(1, "play / pause");
-    vrInputSet2switchDescription(2, "next species");
-    vrInputSet2switchDescription(3, "show / hide the species");
-    vrCallbackSet(VRFUNC_DISPLAY_INIT, "vsv_display_init", display_init, 0);
-    vrCallbackSet(VRFUNC_DISPLAY, "vsv_display", display, 0);
-    vrCallbackSet(VRFUNC_DISPLAY_EXIT, "vsv_display_exit", display_exit, 0);
+    vsv_ipc_list(&after);
+    vsv_ipc_new(&before, &after, &FV_IPC);
+    /* from here on every exit ends FreeVR's processes */
+    vrInputSet2switchDescription(1, "play / pause; held: joystick scales");
+    vrInputSet2switchDescription(2, "next species; held: joystick opacity");
+    vrInputSet2switchDescription(3, "show / hide; held: joystick steps, speed");
+    vrCallbackSet(VRFUNC_DISPLAY_INIT, "vsv_display_init", vsv_fv_display_init, 0);
+    vrCallbackSet(VRFUNC_DISPLAY_FRAME, "vsv_display_frame", vsv_fv_display_frame, 0);
+    vrCallbackSet(VRFUNC_DISPLAY, "vsv_display", vsv_fv_display_eye, 0);
+    vrCallbackSet(VRFUNC_DISPLAY_EXIT, "vsv_display_exit", vsv_fv_display_exit, 0);
+    vsv_ipc_list(&before);
     vrStart();
-    double last = vrCurrentSimTime();
-    int stick = 0; /* joystick x: -1, 0, +1 (edges trigger) */
-    while (vrFrame()) {
-        vrLockReadSet(S->lock);
-        const int failed = S->failed;
-        vrLockReadRelease(S->lock);
-        if (failed) {
+    vsv_ipc_list(&after);
+    vsv_ipc new_ipc;
+    vsv_ipc_new(&before, &after, &new_ipc);
+    for (int i = 0; i < new_ipc.nsem && FV_IPC.nsem < 256; i++)
+        FV_IPC.sem[FV_IPC.nsem++] = new_ipc.sem[i];
+    for (int i = 0; i < new_ipc.nshm && FV_IPC.nshm < 256; i++)
+        FV_IPC.shm[FV_IPC.nshm++] = new_ipc.shm[i];
+    /* FreeVR ignores SIGINT; this process ends the run on it */
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+    /* the decoding player: its threads start after FreeVR's forks */
+    vsv_player_opts dopts = opts;
+    dopts.cache_bytes = budget;
+    dopts.threads = 1;
+    dopts.slab_alloc = vsv_room_slab;
+    dopts.slab_ctx = vsv_fv.room;
+    int status = 0, dead = 0;
+    char msg[1200] = "";
+    if (vsv_player_open(&dopts, &r.dec, msg, sizeof msg)) {
+        status = 1;
+    } else {
+        vsv_nav_identity(r.nav);
+        place_base(&r);
+        const double depth = r.lay.room_hi[2] - r.lay.room_lo[2];
+        vsv_wand_init(&r.wand, depth / 2.5);
+    }
+    double last = vrCurrentSimTime(), checked = 0, start = vsv_fv_now();
+    int started = 0;
+    while (!status && vrFrame()) {
+        if (GOT_SIGNAL)
+            break;
+        if (vsv_room_failed(vsv_fv.room, msg, sizeof msg)) {
             status = 1;
             break;
         }
-        const double now = vrCurrentSimTime();
-        if (vrGet2switchDelta(1) > 0)
-            vsv_player_do(in, "toggle-play", err, sizeof err);
-        if (vrGet2switchDelta(2) > 0)
-            vsv_player_do(in, "select +1", err, sizeof err);
-        if (vrGet2switchDelta(3) > 0)
-            vsv_player_do(in, "toggle", err, sizeof err);
-        const float jx = vrGetValuatorValue(0), jy = vrGetValuatorValue(1);
-        const int sx = jx > 0.8f ? 1 : jx < -0.8f ? -1 : 0;
-        if (sx && sx != stick)
-            vsv_player_do(in, sx > 0 ? "forward" : "rewind", err, sizeof err);
-        stick = sx;
-        if (jy > 0.2f || jy < -0.2f) {
-            char act[64];
-            snprintf(act, sizeof act, "opacity - %+.3f", 0.5 * jy * (now - last));
-            vsv_player_do(in, act, err, sizeof err);
+        const double now = vrCurrentSimTime(), wall = vsv_fv_now();
+        if (wall - checked > 0.2) { /* a render process that died: FreeVR would wait for it forever */
+            checked = wall;
+            if (dead_window(msg, sizeof msg)) {
+                status = 1, dead = 1;
+                break;
+            }
         }
-        vsv_player_tick(in, now - last);
+        /* the clock starts once every window has joined (or after 20 s) */
+        if (!started) {
+            vsv_room_window w[64];
+            started = vsv_room_windows(vsv_fv.room, w, 64) >= r.lay.windows || wall - start > 20;
+        }
+        const double dt = started ? now - last : 0;
+        input(&r, now - last);
         last = now;
-        vsv_player_state st;
-        vsv_player_state_get(in, &st);
-        vrLockWriteSet(S->lock);
-        S->st = st;
-        vrLockWriteRelease(S->lock);
+        if (vsv_player_update(r.dec, dt, 0) || publish(&r, msg, sizeof msg)) {
+            if (!msg[0])
+                snprintf(msg, sizeof msg, "%s", vsv_player_error(r.dec));
+            status = 1;
+            break;
+        }
+        const char *why;
+        if (vsv_player_damage(r.dec, &why) >= 0)
+            fprintf(stderr, "%s: %s\n", vsv_cli_tool(), why);
         /* the input arrives at FreeVR's poll rate (about 60 Hz): no need to
          * spin, the render processes want the cores */
         nanosleep(&(struct timespec){0, 5000000}, NULL);
     }
-    char msg[sizeof S->msg];
-    snprintf(msg, sizeof msg, "%s", S->msg);
-    vrExit();
-    vsv_player_free(in);
+    const int sig = GOT_SIGNAL;
+    if (dead) {
+        /* vrExit would wait for the dead process: end FreeVR's others */
+        pid_t kids[64];
+        const int n = vsv_proc_children(kids, 64);
+        vsv_proc_end(kids, n, 1.0);
+        vsv_ipc_remove(&FV_IPC);
+    } else {
+        freevr_exit(sig ? 128 + sig : status);
+    }
+    trace_close();
+    vsv_room_unpin(vsv_fv.room);
+    vsv_player_free(r.dec);
+    vsv_panel_free(r.measure);
+    vsv_room_free(vsv_fv.room);
     free(ours);
     free(fv);
+    if (sig) {
+        signal(sig, SIG_DFL);
+        raise(sig);
+    }
     if (status)
         vsv_cli_die(1, "%s", msg);
     return 0;

@@ -4,7 +4,9 @@
 #include "vsv_freevr_conf.h"
 
 #include <ctype.h>
+#include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
@@ -15,7 +17,17 @@
 typedef struct {
     char name[NAMELEN];
     int visren, objects;
+    char obj[16][NAMELEN]; /* the first 16 windows it draws */
+    int nobj;
 } proc_def;
+
+typedef struct {
+    char name[NAMELEN];
+    int fixed;       /* mount = "fixed" (a wall) */
+    int w, h;        /* geometry=WxH..., 0 when not given */
+    int ncorners;    /* numbers of rw2w_coords read (9: all) */
+    double c[9];     /* lower-left, lower-right, upper-left corners (feet) */
+} win_def;
 
 typedef struct {
     char name[NAMELEN];
@@ -29,7 +41,7 @@ typedef struct {
     int nprocs;
     sys_def systems[16];
     int nsystems;
-    char windows[MAXDEF][NAMELEN];
+    win_def windows[MAXDEF];
     int nwindows;
 } conf;
 
@@ -122,6 +134,26 @@ static int names(const char *text, char (*list)[NAMELEN], int *n, int cap)
     return count;
 }
 
+/* One value of a window's key: its mount, its size from the args'
+ * "geometry=WxH+X+Y", and its corners (rw2w_coords: nine numbers, read one
+ * word at a time since the lexer splits them at the commas). */
+static void window_value(win_def *w, const char *key, const char *text)
+{
+    if (!strcasecmp(key, "mount"))
+        w->fixed = !strcasecmp(text, "fixed");
+    else if (!strcasecmp(key, "args")) {
+        const char *g = strstr(text, "geometry");
+        int gw, gh;
+        if (g && (g = strchr(g, '=')) && sscanf(g + 1, " %dx%d", &gw, &gh) == 2 && gw > 0 && gh > 0)
+            w->w = gw, w->h = gh;
+    } else if (!strcasecmp(key, "rw2w_coords") && w->ncorners < 9) {
+        char *end;
+        const double v = strtod(text, &end);
+        if (end != text && !*end)
+            w->c[w->ncorners++] = v;
+    }
+}
+
 /* Reads `{ key = values; ... }` after the '=' of a definition, calling
  * back for each key with the lexer on its first value. */
 static void read_block(lexer *lx, conf *c, int kind, int idx)
@@ -146,16 +178,22 @@ static void read_block(lexer *lx, conf *c, int kind, int idx)
         next(lx);
         if (kind == 'p' && !strcasecmp(key, "objects"))
             c->procs[idx].objects = 0;
+        if (kind == 'p' && !strcasecmp(key, "objects"))
+            c->procs[idx].nobj = 0;
         if (kind == 's' && !strcasecmp(key, "procs"))
             c->systems[idx].nprocs = 0;
+        if (kind == 'w' && !strcasecmp(key, "rw2w_coords"))
+            c->windows[idx].ncorners = 0;
         while (lx->type != T_END && !punct(lx, ';') && !punct(lx, '}')) {
             if (lx->type == T_STR || lx->type == T_WORD) {
                 if (kind == 'p' && !strcasecmp(key, "type"))
                     c->procs[idx].visren = !strcasecmp(lx->text, "visren");
                 else if (kind == 'p' && !strcasecmp(key, "objects"))
-                    c->procs[idx].objects += names(lx->text, NULL, NULL, 0);
+                    c->procs[idx].objects += names(lx->text, c->procs[idx].obj, &c->procs[idx].nobj, 16);
                 else if (kind == 's' && !strcasecmp(key, "procs"))
                     names(lx->text, c->systems[idx].procs, &c->systems[idx].nprocs, MAXPROCS);
+                else if (kind == 'w')
+                    window_value(&c->windows[idx], key, lx->text);
             }
             next(lx);
         }
@@ -203,14 +241,18 @@ static void read_text(conf *c, const char *text)
         next(&lx);
         int i = 0;
         if (kind == 'w') {
-            while (i < c->nwindows && strcmp(c->windows[i], name))
+            while (i < c->nwindows && strcmp(c->windows[i].name, name))
                 i++;
-            if (i == c->nwindows && c->nwindows < MAXDEF)
-                snprintf(c->windows[c->nwindows++], NAMELEN, "%s", name);
-            skip_statement(&lx);
-            continue;
-        }
-        if (kind == 'p') {
+            if (i == c->nwindows) {
+                if (c->nwindows == MAXDEF) {
+                    skip_statement(&lx);
+                    continue;
+                }
+                c->nwindows++;
+            }
+            c->windows[i] = (win_def){{0}, 0, 0, 0, 0, {0}};
+            snprintf(c->windows[i].name, NAMELEN, "%s", name);
+        } else if (kind == 'p') {
             while (i < c->nprocs && strcmp(c->procs[i].name, name))
                 i++;
             if (i == c->nprocs) {
@@ -220,7 +262,7 @@ static void read_text(conf *c, const char *text)
                 }
                 c->nprocs++;
             }
-            c->procs[i] = (proc_def){{0}, 0, 0};
+            memset(&c->procs[i], 0, sizeof c->procs[i]);
             snprintf(c->procs[i].name, NAMELEN, "%s", name);
         } else {
             while (i < c->nsystems && strcmp(c->systems[i].name, name))
@@ -239,6 +281,54 @@ static void read_text(conf *c, const char *text)
     }
 }
 
+/* The used system's fixed walls: the room's box (feet) and the lowest
+ * pixel density among them (pixels per foot along the wall's width and
+ * height), into out. */
+static void walls(const conf *c, const sys_def *sys, vsv_freevr_layout *out)
+{
+    double lo[3] = {1e30, 1e30, 1e30}, hi[3] = {-1e30, -1e30, -1e30}, dens = 0;
+    int n = 0;
+    for (int k = 0; k < sys->nprocs; k++)
+        for (int p = 0; p < c->nprocs; p++) {
+            if (strcmp(c->procs[p].name, sys->procs[k]) || !c->procs[p].visren)
+                continue;
+            for (int o = 0; o < c->procs[p].nobj; o++)
+                for (int wi = 0; wi < c->nwindows; wi++) {
+                    const win_def *w = &c->windows[wi];
+                    if (strcmp(w->name, c->procs[p].obj[o]) || !w->fixed || w->ncorners < 9)
+                        continue;
+                    double wide = 0, tall = 0;
+                    for (int a = 0; a < 3; a++) {
+                        const double ur = w->c[3 + a] + w->c[6 + a] - w->c[a]; /* the fourth corner */
+                        const double v[4] = {w->c[a], w->c[3 + a], w->c[6 + a], ur};
+                        for (int q = 0; q < 4; q++)
+                            lo[a] = v[q] < lo[a] ? v[q] : lo[a], hi[a] = v[q] > hi[a] ? v[q] : hi[a];
+                        wide += (w->c[3 + a] - w->c[a]) * (w->c[3 + a] - w->c[a]);
+                        tall += (w->c[6 + a] - w->c[a]) * (w->c[6 + a] - w->c[a]);
+                    }
+                    n++;
+                    if (w->w > 0 && w->h > 0 && wide > 0 && tall > 0) {
+                        const double dw = w->w / sqrt(wide), dh = w->h / sqrt(tall);
+                        const double d = dw < dh ? dw : dh;
+                        dens = dens == 0 || d < dens ? d : dens;
+                    }
+                }
+        }
+    out->walls = n;
+    out->px_per_ft = dens;
+    if (n) {
+        for (int a = 0; a < 3; a++)
+            out->room_lo[a] = lo[a], out->room_hi[a] = hi[a];
+        /* walls alone (a single front wall, say) span no depth: the room
+         * reaches as deep in front of them as the walls are wide */
+        for (int a = 0; a < 3; a += 2)
+            if (out->room_hi[a] - out->room_lo[a] < 1e-6) {
+                const double span = out->room_hi[2 - a] - out->room_lo[2 - a];
+                out->room_hi[a] = out->room_lo[a] + (span > 0 ? span : 10);
+            }
+    }
+}
+
 void vsv_freevr_layout_count(const char *const *texts, int n, vsv_freevr_layout *out)
 {
     static conf c; /* large; the back end calls this once, before any fork */
@@ -246,10 +336,17 @@ void vsv_freevr_layout_count(const char *const *texts, int n, vsv_freevr_layout 
     for (int i = 0; i < n; i++)
         if (texts[i])
             read_text(&c, texts[i]);
-    *out = (vsv_freevr_layout){1, 1, 0};
+    memset(out, 0, sizeof *out);
+    out->windows = out->visren = 1;
+    /* FreeVR's default room: a 10-foot CAVE, the floor's centre at 0 */
+    const double lo[3] = {-5, 0, -5}, hi[3] = {5, 10, 5};
+    memcpy(out->room_lo, lo, sizeof lo);
+    memcpy(out->room_hi, hi, sizeof hi);
+    int found = 0;
     for (int s = 0; c.use[0] && s < c.nsystems; s++) {
         if (strcmp(c.systems[s].name, c.use))
             continue;
+        found = 1;
         int w = 0, v = 0;
         for (int k = 0; k < c.systems[s].nprocs; k++)
             for (int p = 0; p < c.nprocs; p++)
@@ -258,10 +355,13 @@ void vsv_freevr_layout_count(const char *const *texts, int n, vsv_freevr_layout 
                     w += c.procs[p].objects > 0 ? c.procs[p].objects : 1;
                 }
         if (v > 0) {
-            *out = (vsv_freevr_layout){w, v, 1};
+            out->windows = w, out->visren = v, out->explicit = 1;
+            walls(&c, &c.systems[s], out);
             return;
         }
     }
+    if (c.use[0] && !found && strcasecmp(c.use, "simulator"))
+        snprintf(out->missing, sizeof out->missing, "%s", c.use);
     /* no usable system: an upper bound from everything defined */
     int w = 0, v = 0;
     for (int p = 0; p < c.nprocs; p++)

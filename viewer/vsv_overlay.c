@@ -168,16 +168,28 @@ double vsv_billboard_depth(const vsv_camera *cam, const double mn[3], const doub
     return d > 0 ? d : 1;
 }
 
-void vsv_billboard_draw(const vsv_camera *cam, double d, const unsigned char *rgb, int w, int h, int set_projection)
+void vsv_billboard_upload(GLuint *tex, const unsigned char *rgb, int w, int h)
 {
-    static GLuint tex;
+    if (!*tex)
+        glGenTextures(1, tex);
+    glBindTexture(GL_TEXTURE_2D, *tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, w, h, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb);
+}
+
+void vsv_billboard_quad(const vsv_camera *cam, double d, GLuint tex, int set_projection)
+{
     /* the image's window at unit distance */
     double l, r, b, t;
     if (cam->window[0] != cam->window[1] && cam->window[2] != cam->window[3]) {
         l = cam->window[0], r = cam->window[1], b = cam->window[2], t = cam->window[3];
     } else {
         t = cam->fov_deg > 0 ? tan(cam->fov_deg * M_PI / 360) : 1;
-        b = -t, r = t * w / h, l = -r;
+        b = -t, r = t * cam->width / cam->height, l = -r;
     }
     if (set_projection) {
         const double n = d / 100;
@@ -189,15 +201,7 @@ void vsv_billboard_draw(const vsv_camera *cam, double d, const unsigned char *rg
     glMatrixMode(GL_MODELVIEW);
     glPushMatrix();
     glLoadIdentity();
-    if (!tex)
-        glGenTextures(1, &tex);
     glBindTexture(GL_TEXTURE_2D, tex);
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB, w, h, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb);
     glEnable(GL_TEXTURE_2D);
     glDisable(GL_DEPTH_TEST);
     glColor4f(1, 1, 1, 1);
@@ -209,4 +213,11 @@ void vsv_billboard_draw(const vsv_camera *cam, double d, const unsigned char *rg
     glEnd();
     glDisable(GL_TEXTURE_2D);
     glPopMatrix();
+}
+
+void vsv_billboard_draw(const vsv_camera *cam, double d, const unsigned char *rgb, int w, int h, int set_projection)
+{
+    static GLuint tex;
+    vsv_billboard_upload(&tex, rgb, w, h);
+    vsv_billboard_quad(cam, d, tex, set_projection);
 }

@@ -30,6 +30,10 @@ double vsv_billboard_depth(const vsv_camera *cam, const double mn[3], const doub
  * loaded (FreeVR loads each eye's). Needs a current GL context. */
 void vsv_billboard_draw(const vsv_camera *cam, double depth, const unsigned char *rgb, int w, int h,
                         int set_projection);
+/* The same in two parts, for a caller that keeps the image: uploads it
+ * into texture *tex (made when 0), then draws that texture's quad. */
+void vsv_billboard_upload(GLuint *tex, const unsigned char *rgb, int w, int h);
+void vsv_billboard_quad(const vsv_camera *cam, double depth, GLuint tex, int set_projection);
 
 /* Draws text lines ('\n' separated) in window pixels from the top-left
  * corner (x, y) over a translucent dark box; a negative y places the box's

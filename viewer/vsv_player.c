@@ -70,8 +70,9 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     p->want = calloc((size_t)p->ns, 1);
     p->need = calloc((size_t)p->ns, 1);
     p->bad = calloc((size_t)info.nsteps, sizeof *p->bad);
+    p->gens = calloc((size_t)(p->ns ? p->ns : 1), sizeof *p->gens);
     p->news = -1;
-    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need || !p->bad) {
+    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need || !p->bad || !p->gens) {
         snprintf(err, cap, "out of memory");
         return -1;
     }
@@ -79,8 +80,10 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         p->times[t] = vsv_file_time(p->f, t);
     vsv_pager_opts po;
     vsv_pager_opts_init(&po);
-    po.budget = o->cache_bytes;
-    po.threads = o->clock_only ? -1 : 0;
+    po.budget = o->clock_only || o->external ? (size_t)1 << 20 : o->cache_bytes;
+    po.threads = o->clock_only || o->external ? -1 : 0;
+    po.slab_alloc = o->slab_alloc;
+    po.slab_ctx = o->slab_ctx;
     if (vsv_pager_open(p->f, &po, &p->pager)) {
         snprintf(err, cap, "cannot start the pager: out of memory");
         return -1;
@@ -180,6 +183,7 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     vsv_render_opts_init(&p->ro);
     p->ro.kind = o->renderer;
     p->ro.threads = o->clock_only ? 1 : o->threads;
+    p->external = o->external;
     if (vsv_renderer_create(&p->ro, &p->r)) {
         snprintf(err, cap, "cannot start the renderer");
         return -1;
@@ -206,6 +210,7 @@ void vsv_player_free(vsv_player *p)
     free(p->layers);
     free(p->want);
     free(p->need);
+    free(p->gens);
     free(p->rgba);
     free(p->depth);
     free(p->rgb);
@@ -290,6 +295,38 @@ int vsv_player_damage(vsv_player *p, const char **why)
     return t;
 }
 
+vsv_pager *vsv_player_pager(vsv_player *p) { return p->pager; }
+
+const vsv_volume *vsv_player_volume(const vsv_player *p, int s)
+{
+    return s >= 0 && s < p->ns && p->shown >= 0 ? p->layers[s].vol : NULL;
+}
+
+const char *vsv_player_shown_damage(const vsv_player *p) { return p->shown >= 0 ? p->bad[p->shown] : NULL; }
+
+void vsv_player_show(vsv_player *p, int step, const vsv_volume *const *vols, const char *damage)
+{
+    if (step < 0 || step >= p->clock.nsteps)
+        return;
+    for (int s = 0; s < p->ns; s++) {
+        const vsv_volume *v = vols ? vols[s] : NULL;
+        if (p->layers[s].vol != v || (v && v->gen != p->gens[s]))
+            p->dirty = 1;
+        p->layers[s].vol = v;
+        p->gens[s] = v ? v->gen : 0;
+    }
+    const int was = p->bad[step] != NULL;
+    if (damage && !was)
+        p->bad[step] = strdup(damage);
+    else if (!damage && was) {
+        free(p->bad[step]);
+        p->bad[step] = NULL;
+    }
+    if (was != (damage != NULL) || step != p->shown)
+        p->dirty = 1;
+    p->shown = step;
+}
+
 int vsv_player_update(vsv_player *p, double dt, int exact)
 {
     vsv_clock *c = &p->clock;
@@ -339,6 +376,8 @@ void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam)
     for (int i = 0; i < 3; i++)
         cam->pos[i] += p->pan[i];
 }
+
+void vsv_player_scene(const vsv_player *p, vsv_scene *sc) { *sc = scene(p); }
 
 void vsv_player_bounds(const vsv_player *p, double mn[3], double mx[3])
 {

@@ -42,6 +42,11 @@ typedef struct vsv_player_opts {
     int terrain;            /* draw the ground */
     int clock_only;         /* no pager, no renderer: the input process of a
                                multi-process back end (state and clock only) */
+    int external;           /* the volumes come from elsewhere (vsv_player_show:
+                               a render process of a multi-process back end,
+                               vsv_room.h): no decoding, no pager threads */
+    void *(*slab_alloc)(void *ctx, size_t bytes); /* the pager's brick memory */
+    void *slab_ctx;         /* (vsv_pager_opts.slab_alloc; NULL: the heap) */
     int light;              /* gradient shading at start */
     double sun_az, sun_el;  /* its sun (degrees; default 315, 45) */
     const char *slices[8];  /* --slice specs (vsv_slice_parse), shown at start */
@@ -124,15 +129,29 @@ int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err,
 /* Advances only the clock (the input process of a multi-process back end). */
 void vsv_player_tick(vsv_player *p, double dt);
 
-/* Immersive displays: the volume stands in the display's real-world
- * coordinates (FreeVR: feet, y up, the floor's centre at 0) with its
- * largest horizontal extent `size` units wide and the centre of its box at
- * `at`; east is +x, north is -z, up is +y. From the projection P (a
+/* Immersive displays: the scene stands in the display's real-world
+ * coordinates (FreeVR: feet, y up) as the matrix place (OpenGL column
+ * order) maps world metres (x east, y north, z up, exaggerated) there; it
+ * must scale every axis alike (a rotation, a uniform scale and a
+ * translation: viewer/vsv_place.h makes them). From the projection P (a
  * glFrustum) and model-view MV (real world to eye) that the display loaded
  * for one eye, both in OpenGL column order, the camera that renders that
  * eye's view (off-axis frustum, w x h pixels). */
-void vsv_player_camera_from_gl(const vsv_player *p, const double at[3], double size, const double P[16],
-                               const double MV[16], int w, int h, vsv_camera *cam);
+void vsv_player_camera_from_gl(const double place[16], const double P[16], const double MV[16], int w, int h,
+                               vsv_camera *cam);
+
+/* A multi-process back end (vsv_room.h). The process that decodes: its
+ * pager (borrowed), and what the step shown draws of species s (NULL: not
+ * drawn) and why it is not drawn at all (damage; NULL when it is). */
+vsv_pager *vsv_player_pager(vsv_player *p);
+const vsv_volume *vsv_player_volume(const vsv_player *p, int s);
+const char *vsv_player_shown_damage(const vsv_player *p);
+/* A render process (opened with `external`): shows step with these
+ * volumes (per species, NULL: none; borrowed until the next call or the
+ * free) and damage (NULL, or why nothing is drawn), re-rendering on the next
+ * vsv_player_image only when a volume's gen, the step or the damage
+ * changed. */
+void vsv_player_show(vsv_player *p, int step, const vsv_volume *const *vols, const char *damage);
 
 /* State the back ends read. */
 int vsv_player_quit(const vsv_player *p);
@@ -143,7 +162,12 @@ const vsv_clock *vsv_player_clock(const vsv_player *p);
 /* The file's metadata, borrowed until vsv_player_free. */
 const vsv_meta *vsv_player_meta(const vsv_player *p);
 int vsv_player_shown_step(const vsv_player *p);
+/* The time of step t (seconds since 1970, UTC); 0 outside the file. */
+int64_t vsv_player_step_time(const vsv_player *p, int t);
 void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st);
+/* The scene as the player draws it now (layers, exaggeration, light,
+ * slices; borrowed from the player until its next call). */
+void vsv_player_scene(const vsv_player *p, vsv_scene *sc);
 /* The scene's centre and size (world metres), for billboards. */
 void vsv_player_bounds(const vsv_player *p, double mn[3], double mx[3]);
 const float *vsv_player_background(const vsv_player *p);

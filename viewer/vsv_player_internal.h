@@ -35,6 +35,8 @@ struct vsv_player {
     vsv_slice slices[8];
     vsv_tf slice_tf;
     unsigned char *need; /* per species: pinned (drawn, or the slices' species) */
+    int external;        /* volumes from vsv_player_show, never the pager */
+    uint64_t *gens;      /* per species: the gen of the volume shown (external) */
     /* rendering */
     vsv_render_opts ro;
     vsv_renderer *r;
