@@ -62,6 +62,7 @@ void fvs_input_process(const proc_def *p)
         nanosleep(&(struct timespec){usec / 1000000, (usec % 1000000) * 1000}, NULL);
     }
     XCloseDisplay(dpy);
+    fvs_process_done();
     _exit(0);
 }
 

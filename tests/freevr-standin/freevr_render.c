@@ -343,5 +343,6 @@ void fvs_render_process(const proc_def *p)
         XDestroyWindow(dpy, wins[k].xw);
     }
     XCloseDisplay(dpy);
+    fvs_process_done();
     _exit(0);
 }

@@ -13,6 +13,11 @@
  *    understood); none at all: a one-window simulator;
  *  - vrConfigure creates one SysV semaphore set of 250 semaphores; vrExit
  *    removes it (a process that exits without vrExit leaves it);
+ *  - vrConfigure sets SIGINT ignored (the processes vrStart forks inherit
+ *    it); SIGTERM or SIGHUP to the main process alone ends it and orphans
+ *    the render and input processes, which go on drawing; vrExit waits for
+ *    every forked process to say it has finished, so one that died keeps
+ *    it waiting for ever;
  *  - one shared arena of exactly the size the first vrShmemInit asked for
  *    (16 MiB by default), from which the stand-in takes its own state too:
  *    445,000 bytes at vrConfigure and, in each render process, its share of
@@ -149,6 +154,7 @@ typedef struct {
     double start;
     int nextlock;
     double travel[16];
+    volatile int done[MAXPROC + 1]; /* set by each forked process as it ends well */
 } base_state;
 
 /* FreeVR's state at the start of the arena (freevr_shmem.c); NULL before
@@ -173,5 +179,12 @@ double fvs_now(void);
 /* The bodies of the processes vrStart forks; neither returns. */
 void fvs_render_process(const proc_def *p);
 void fvs_input_process(const proc_def *p);
+/* Which of the forked processes this is (vrStart's order), -1 in the main
+ * process. */
+extern int fvs_slot;
+/* Tells vrExit that this forked process has finished; a process that ends
+ * any other way (killed, crashed, _exit on an error) leaves vrExit waiting
+ * for ever, as FreeVR does. */
+void fvs_process_done(void);
 
 #endif
