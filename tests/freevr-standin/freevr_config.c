@@ -1,7 +1,8 @@
 /* freevr_config.c — the FreeVR stand-in's configuration: FreeVR's
  * configuration language (window, process, system and inputdevice
- * definitions, usesystem) read from its files, $FREEVR and the arguments,
- * and the one-window simulator when none is given. */
+ * definitions, usesystem) read after FreeVR's own default (the one-window
+ * simulator) from its files, $FREEVR and the arguments, and the simulator
+ * with boring input when the system asked for is not defined. */
 #include "freevr_standin.h"
 
 #include <X11/Xlib.h>
@@ -265,6 +266,9 @@ static int parse_config(config *c, const char *text)
     return understood;
 }
 
+/* FreeVR's default configuration, read before any other (its user guide's
+ * start-up report: "Reading string "Default Config String"" then "Using
+ * system 'simulator'"). */
 static const char SIMULATOR[] =
     "usesystem \"simulator\";\n"
     "system \"simulator\" = { type = \"simulator\"; procs = \"sim-render\", \"sim-input\"; }\n"
@@ -277,6 +281,17 @@ static const char SIMULATOR[] =
     "  input \"left\" = \"2switch(mouse:button[left])\";\n"
     "  input \"middle\" = \"2switch(mouse:button[middle])\";\n"
     "  input \"right\" = \"2switch(mouse:button[right])\"; }\n";
+
+/* What FreeVR runs when `usesystem` names a system that is not defined
+ * (FREEVR.md, "A named system that is not defined"): one simulator window
+ * and an input process whose input maps nothing, so Escape does nothing. */
+static const char BORING[] =
+    "usesystem \"default\";\n"
+    "system \"default\" = { type = \"simulator\"; procs = \"default-render\", \"default-input\"; }\n"
+    "window \"simulator\" = { mount = \"simulator\"; GraphicsType = \"glx\";"
+    " args = \"geometry=400x300+0+0; decoration=window\"; }\n"
+    "process \"default-render\" = { type = visren; objects = \"simulator\"; }\n"
+    "process \"default-input\" = { type = input; usecmin = 16667; }\n";
 
 static char *read_file(const char *dir, const char *name)
 {
@@ -349,33 +364,27 @@ int fvs_config_count(int type)
 
 void fvs_config_load(int *argc, char **argv)
 {
-    int found = 0;
+    memset(&fvs_cfg, 0, sizeof fvs_cfg);
+    parse_config(&fvs_cfg, SIMULATOR);
     const char *dirs[3] = {getenv("FREEVR_HOME"), getenv("HOME"), "."};
     for (int i = 0; i < 3; i++) {
         char *text = read_file(dirs[i], ".freevrrc");
         if (text) {
             parse_config(&fvs_cfg, text);
-            found = 1;
             free(text);
         }
     }
-    if (getenv("FREEVR")) {
+    if (getenv("FREEVR"))
         parse_config(&fvs_cfg, getenv("FREEVR"));
-        found = 1;
-    }
     /* every argument is a configuration string; none is removed */
-    for (int i = 1; argc && i < *argc; i++) {
+    for (int i = 1; argc && i < *argc; i++)
         if (parse_config(&fvs_cfg, argv[i]) == 0)
             fprintf(stderr, "FreeVR: warning: cannot understand the configuration string '%s'\n", argv[i]);
-        else
-            found = 1;
-    }
-    if (!found || !fvs_used_system()) {
-        if (found)
-            fprintf(stderr, "FreeVR: no system '%s' defined: running the simulator\n", fvs_cfg.use);
-        config sim;
-        memset(&sim, 0, sizeof sim);
-        parse_config(&sim, SIMULATOR);
-        fvs_cfg = sim;
+    if (!fvs_used_system()) {
+        /* FreeVR's words (FREEVR.md, "A named system that is not defined") */
+        fprintf(stderr, "FreeVR config: could not find system \"%s\", using default (with boring input)\n",
+                fvs_cfg.use);
+        memset(&fvs_cfg, 0, sizeof fvs_cfg);
+        parse_config(&fvs_cfg, BORING);
     }
 }

@@ -10,7 +10,9 @@
  *  - configuration in FreeVR's syntax from $FREEVR_HOME/.freevrrc,
  *    $HOME/.freevrrc, ./.freevrrc, the FREEVR variable, then every
  *    command-line argument (none removed; a warning for each one not
- *    understood); none at all: a one-window simulator;
+ *    understood), read after FreeVR's default, the one-window simulator; a
+ *    `usesystem` naming a system that is not defined: FreeVR's message and
+ *    the simulator with boring input (Escape does nothing);
  *  - vrConfigure creates one SysV semaphore set of 250 semaphores; vrExit
  *    removes it (a process that exits without vrExit leaves it);
  *  - vrConfigure sets SIGINT ignored (the processes vrStart forks inherit
@@ -129,9 +131,10 @@ typedef struct {
 
 /* The configuration in use (freevr_config.c). */
 extern config fvs_cfg;
-/* Reads FreeVR's configuration in its order ($FREEVR_HOME/.freevrrc,
- * $HOME/.freevrrc, ./.freevrrc, $FREEVR, every argument) into fvs_cfg; the
- * one-window simulator when none is found or its system is not defined. */
+/* Reads FreeVR's configuration in its order (its default, the one-window
+ * simulator; $FREEVR_HOME/.freevrrc, $HOME/.freevrrc, ./.freevrrc,
+ * $FREEVR, every argument) into fvs_cfg; when the system `usesystem` names
+ * is not defined, FreeVR's message and the simulator with boring input. */
 void fvs_config_load(int *argc, char **argv);
 /* The definitions named so in fvs_cfg (borrowed), or NULL. */
 const proc_def *fvs_find_proc(const char *name);
