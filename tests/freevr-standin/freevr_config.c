@@ -106,6 +106,12 @@ static int split_names(const char *text, char (*out)[NAMELEN], int n, int cap)
 
 static void parse_input(dev_def *d, const char *spec)
 {
+    /* "6sensor(sim6[0])": a 6-sensor, numbered in the order listed; the
+     * stand-in reads no tracker, so each stays at its device's origin */
+    if (!strncasecmp(spec, "6sensor(", 8)) {
+        d->nsensor++;
+        return;
+    }
     /* "2switch(keyboard:key[Escape])" or "2switch(mouse:button[left])" */
     char what[64] = "";
     if (d->nin >= NSW || strncasecmp(spec, "2switch(", 8))
@@ -182,6 +188,9 @@ static void parse_item(tokens *tk, config *c, int kind, int idx)
             d->xwindows = !strcasecmp(vals[0].text, "xwindows");
         else if (!strcasecmp(key, "input") && sub[0] && nv)
             parse_input(d, vals[0].text);
+        else if (!strcasecmp(key, "t2rw_translate") && nv == 3)
+            for (int i = 0; i < 3; i++)
+                d->t2rw[i] = atof(vals[i].text);
     }
 }
 
@@ -280,7 +289,9 @@ static const char SIMULATOR[] =
     "  input \"Escape Key\" = \"2switch(keyboard:key[Escape])\";\n"
     "  input \"left\" = \"2switch(mouse:button[left])\";\n"
     "  input \"middle\" = \"2switch(mouse:button[middle])\";\n"
-    "  input \"right\" = \"2switch(mouse:button[right])\"; }\n";
+    "  input \"right\" = \"2switch(mouse:button[right])\";\n"
+    "  input \"head\" = \"6sensor(sim6[0])\";\n"
+    "  input \"wand\" = \"6sensor(sim6[1])\"; }\n";
 
 /* What FreeVR runs when `usesystem` names a system that is not defined
  * (FREEVR.md, "A named system that is not defined"): one simulator window
@@ -360,6 +371,26 @@ int fvs_config_count(int type)
         }
     }
     return n;
+}
+
+int fvs_config_sensor(int n, double pos[3])
+{
+    const sys_def *sys = fvs_used_system();
+    pos[0] = pos[1] = pos[2] = 0;
+    for (int k = 0; sys && k < sys->nprocs; k++) {
+        const proc_def *p = fvs_find_proc(sys->procs[k]);
+        for (int i = 0; p && p->type == 'i' && i < p->nobj; i++) {
+            const dev_def *d = fvs_find_dev(p->obj[i]);
+            if (!d)
+                continue;
+            if (n < d->nsensor) {
+                memcpy(pos, d->t2rw, 3 * sizeof(double));
+                return 1;
+            }
+            n -= d->nsensor;
+        }
+    }
+    return 0;
 }
 
 void fvs_config_load(int *argc, char **argv)

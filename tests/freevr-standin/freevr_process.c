@@ -39,8 +39,7 @@ vrContextInfo *vrConfigure(int *argc, char **argv, char **appargs)
     fvs_config_load(argc, argv);
     fvs_shmem_create(fvs_config_count('v'));
     fvs_base->start = fvs_now();
-    fvs_base->head[0] = 0, fvs_base->head[1] = 5, fvs_base->head[2] = 0;
-    fvs_base->wand[0] = 1, fvs_base->wand[1] = 4, fvs_base->wand[2] = -1;
+    fvs_sensors_init();
     for (int i = 0; i < 16; i++)
         fvs_base->travel[i] = i % 5 == 0;
     return (vrContextInfo *)fvs_base;

@@ -125,7 +125,7 @@ static void perspective(const win_def *w, int width, int height, vrPerspective *
     } else {
         const double *ll = w->c, *lr = w->c + 3, *ul = w->c + 6;
         double va[3], vb[3], vc[3];
-        memcpy(e, fvs_base->head, sizeof e);
+        memcpy(e, fvs_base->sensor[0] + 12, sizeof e); /* the head's position */
         sub3(lr, ll, r);
         norm3(r);
         sub3(ul, ll, u);
@@ -181,7 +181,7 @@ static void draw_simulator(void)
         glVertex3d(x0, 10, z0), glVertex3d(x0, 10, -z0);
     }
     glEnd();
-    const double *h = fvs_base->head, s = 0.25;
+    const double *h = fvs_base->sensor[0] + 12, *wand = fvs_base->sensor[1], s = 0.25;
     glColor3f(0.55f, 0.35f, 0.15f);
     glBegin(GL_QUADS);
     for (int f = 0; f < 6; f++) {
@@ -195,10 +195,10 @@ static void draw_simulator(void)
         }
     }
     glEnd();
-    glColor3f(0.8f, 0.8f, 0.2f);
+    glColor3f(0.8f, 0.8f, 0.2f); /* a foot along the wand's fore (-z of its pose) */
     glBegin(GL_LINES);
-    glVertex3dv(fvs_base->wand);
-    glVertex3d(fvs_base->wand[0], fvs_base->wand[1], fvs_base->wand[2] - 1);
+    glVertex3dv(wand + 12);
+    glVertex3d(wand[12] - wand[8], wand[13] - wand[9], wand[14] - wand[10]);
     glEnd();
 }
 

@@ -31,18 +31,24 @@
  *    own GLX windows and contexts (named "FreeVR(pid): NAME window"), and one
  *    input process polling the X server every usecmin microseconds (16,667:
  *    60 Hz); Escape is 2switch 0, and vrFrame returns 0 once it is pressed;
+ *  - the head (6-sensor 0) and the wand (6-sensor 1) start at the origin
+ *    of their input device's tracker, moved by its t2rw_translate: the
+ *    real-world origin, on the floor, when none is given;
  *  - before each eye's display callback it loads glFrustum(near 0.1, far
  *    1000) for that wall from its rw2w_coords corners and the head, and the
  *    modelview (the wall's axes times a translation by minus the eye); it
  *    never clears the colour or depth buffer.
- * Simplifications, all outside what a wall shows: one (mono) eye; the
- * simulated head stays at (0, 5, 0) feet; the simulator window looks from
- * (0, 7, 12) at (0, 4, -3); an xwindows device's 2switches are numbered in
- * the order its inputs are listed; locks are exclusive.
+ * Simplifications, all outside what a wall shows: one (mono) eye; the head
+ * and the wand never move; the simulator window looks from (0, 7, 12) at
+ * (0, 4, -3); an xwindows device's 2switches are numbered in the order its
+ * inputs are listed; locks are exclusive.
  *
  * Test aid (not FreeVR): with FREEVR_STANDIN_DUMP=DIR every frame of every
  * window is written, as glReadPixels sees the back buffer just before the
- * swap, to DIR/NAME.ppm (a "# frame N" comment counts the frames).
+ * swap, to DIR/NAME.ppm (a "# frame N" comment counts the frames);
+ * FREEVR_STANDIN_HEAD="x,y,z" and FREEVR_STANDIN_WAND="x,y,z[,yaw,pitch]"
+ * (feet; degrees about +y from -z, positive to the left, then up) put the
+ * head and the wand there whatever the configuration says.
  *
  * This header is what the stand-in's files share: freevr_config.c (the
  * configuration language), freevr_shmem.c (the shared arena, semaphores and
@@ -115,6 +121,8 @@ typedef struct {
         int button;         /* 1..3: a mouse button, else a key */
         unsigned long keysym;
     } in[NSW];
+    int nsensor;    /* its 6sensor inputs */
+    double t2rw[3]; /* t2rw_translate: where its tracker's origin is, feet */
 } dev_def;
 
 typedef struct {
@@ -145,6 +153,12 @@ const sys_def *fvs_used_system(void);
 /* The windows of the used system's visren processes ('v'), or the 2switches
  * of its input processes' xwindows devices ('i'). */
 int fvs_config_count(int type);
+/* Where FreeVR's 6-sensor n (0 the head, 1 the wand) starts: the origin
+ * of the tracker of the device whose n-th 6sensor input it is (the used
+ * system's input processes' devices in order), moved by that device's
+ * t2rw_translate; 1 if it is configured, else 0 and the real-world
+ * origin. */
+int fvs_config_sensor(int n, double pos[3]);
 
 /* ------------------------------------------------------------- the arena */
 
@@ -153,7 +167,7 @@ typedef struct {
     volatile int quit, started;
     volatile int sw[NSW];
     volatile float val[NVAL];
-    double head[3], wand[3];
+    double sensor[2][16]; /* the head's and the wand's pose, real world */
     double start;
     int nextlock;
     double travel[16];
@@ -174,6 +188,13 @@ void fvs_shmem_destroy(void);
 /* FreeVR's allocator over the shared arena: zeroed bytes, or NULL (with
  * FreeVR's message) when the arena is full. */
 void *fvs_amalloc(size_t n);
+
+/* -------------------------------------------------------------- sensors */
+
+/* Sets the head's and the wand's poses in fvs_base from the configuration
+ * (fvs_config_sensor, looking along -z), then from the test aid's
+ * FREEVR_STANDIN_HEAD and FREEVR_STANDIN_WAND. */
+void fvs_sensors_init(void);
 
 /* ------------------------------------------------------------ processes */
 
