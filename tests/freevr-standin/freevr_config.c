@@ -1,5 +1,5 @@
 /* freevr_config.c — the FreeVR stand-in's configuration: FreeVR's
- * configuration language (window, process, system and inputdevice
+ * configuration language (window, process, system, inputdevice and user
  * definitions, usesystem) read after FreeVR's own default (the one-window
  * simulator) from its files, $FREEVR and the arguments, and the simulator
  * with boring input when the system asked for is not defined. */
@@ -133,6 +133,23 @@ static void parse_input(dev_def *d, const char *spec)
     }
 }
 
+/* A visrenmode value: FreeVR's names (its visren usage notes: default,
+ * mono, left, right, dualvp, dualfb, anaglyphic, checkerboard, vibrate);
+ * those the stand-in does not simulate render mono. */
+static int visren_mode(const char *v)
+{
+    static const struct {
+        const char *name;
+        int mode;
+    } modes[] = {{"default", FVS_VISREN_DEFAULT}, {"mono", FVS_VISREN_MONO},     {"left", FVS_VISREN_LEFT},
+                 {"right", FVS_VISREN_RIGHT},     {"dualvp", FVS_VISREN_DUALVP}, {"anaglyphic", FVS_VISREN_ANAGLYPHIC}};
+    for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++)
+        if (!strcasecmp(v, modes[i].name))
+            return modes[i].mode;
+    fprintf(stderr, "FreeVR stand-in: visrenmode \"%s\" is not simulated: mono\n", v);
+    return FVS_VISREN_MONO;
+}
+
 /* One `key [= values];` inside a definition's braces. */
 static void parse_item(tokens *tk, config *c, int kind, int idx)
 {
@@ -162,9 +179,11 @@ static void parse_item(tokens *tk, config *c, int kind, int idx)
             const char *g = strstr(vals[0].text, "geometry");
             if (g && (g = strchr(g, '=')))
                 sscanf(g + 1, " %dx%d+%d+%d", &w->w, &w->h, &w->x, &w->y);
-        } else if (!strcasecmp(key, "rw2w_coords") && nv == 9)
+        } else if (!strcasecmp(key, "rw2w_coords") && nv == 9) {
             for (int i = 0; i < 9; i++)
                 w->c[i] = atof(vals[i].text);
+        } else if (!strcasecmp(key, "visrenmode") && nv)
+            w->visren = visren_mode(vals[0].text);
     } else if (kind == 'p') {
         proc_def *p = &c->proc[idx];
         if (!strcasecmp(key, "type") && nv)
@@ -181,7 +200,8 @@ static void parse_item(tokens *tk, config *c, int kind, int idx)
             s->nprocs = 0;
             for (int i = 0; i < nv; i++)
                 s->nprocs = split_names(vals[i].text, s->procs, s->nprocs, MAXPROC);
-        }
+        } else if (!strcasecmp(key, "visrenmode") && nv)
+            s->visren = visren_mode(vals[0].text);
     } else if (kind == 'd') {
         dev_def *d = &c->dev[idx];
         if (!strcasecmp(key, "type") && nv)
@@ -191,6 +211,9 @@ static void parse_item(tokens *tk, config *c, int kind, int idx)
         else if (!strcasecmp(key, "t2rw_translate") && nv == 3)
             for (int i = 0; i < 3; i++)
                 d->t2rw[i] = atof(vals[i].text);
+    } else if (kind == 'u') {
+        if (!strcasecmp(key, "iod") && nv)
+            c->iod = atof(vals[0].text);
     }
 }
 
@@ -236,6 +259,7 @@ static int parse_config(config *c, const char *text)
                          : !strcasecmp(what, "process")     ? 'p'
                          : !strcasecmp(what, "system")      ? 's'
                          : !strcasecmp(what, "inputdevice") ? 'd'
+                         : !strcasecmp(what, "user")        ? 'u'
                                                             : 0;
         if (!kind || peek(&tk)->type != TK_STR) {
             skip(&tk);
@@ -251,7 +275,8 @@ static int parse_config(config *c, const char *text)
         const int idx = kind == 'w'   ? slot(c->win, sizeof c->win[0], &c->nwin, MAXWIN * 2, name)
                         : kind == 'p' ? slot(c->proc, sizeof c->proc[0], &c->nproc, MAXPROC, name)
                         : kind == 's' ? slot(c->sys, sizeof c->sys[0], &c->nsys, 8, name)
-                                      : slot(c->dev, sizeof c->dev[0], &c->ndev, 8, name);
+                        : kind == 'd' ? slot(c->dev, sizeof c->dev[0], &c->ndev, 8, name)
+                                      : 0; /* the one user: only its iod is kept */
         if (idx < 0) {
             skip(&tk);
             continue;
@@ -373,6 +398,16 @@ int fvs_config_count(int type)
     return n;
 }
 
+int fvs_config_visren(const win_def *w)
+{
+    const sys_def *sys = fvs_used_system();
+    if (w->visren != FVS_VISREN_DEFAULT)
+        return w->visren;
+    if (sys && sys->visren != FVS_VISREN_DEFAULT)
+        return sys->visren;
+    return FVS_VISREN_MONO;
+}
+
 int fvs_config_sensor(int n, double pos[3])
 {
     const sys_def *sys = fvs_used_system();
@@ -396,6 +431,7 @@ int fvs_config_sensor(int n, double pos[3])
 void fvs_config_load(int *argc, char **argv)
 {
     memset(&fvs_cfg, 0, sizeof fvs_cfg);
+    fvs_cfg.iod = FVS_DEFAULT_IOD;
     parse_config(&fvs_cfg, SIMULATOR);
     const char *dirs[3] = {getenv("FREEVR_HOME"), getenv("HOME"), "."};
     for (int i = 0; i < 3; i++) {
@@ -415,7 +451,9 @@ void fvs_config_load(int *argc, char **argv)
         /* FreeVR's words (FREEVR.md, "A named system that is not defined") */
         fprintf(stderr, "FreeVR config: could not find system \"%s\", using default (with boring input)\n",
                 fvs_cfg.use);
+        const double iod = fvs_cfg.iod;
         memset(&fvs_cfg, 0, sizeof fvs_cfg);
+        fvs_cfg.iod = iod;
         parse_config(&fvs_cfg, BORING);
     }
 }

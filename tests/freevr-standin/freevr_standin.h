@@ -34,12 +34,18 @@
  *  - the head (6-sensor 0) and the wand (6-sensor 1) start at the origin
  *    of their input device's tracker, moved by its t2rw_translate: the
  *    real-world origin, on the floor, when none is given;
+ *  - stereo: `visrenmode = "anaglyphic";` or `"dualvp";` on a window or
+ *    its system calls the display callback once per eye, each eye half a
+ *    user's iod (0.2 feet unless set) left or right of the head; dualvp
+ *    gives each eye its half of the window (viewport and scissor),
+ *    anaglyphic the whole window through its colour mask (left red, right
+ *    green and blue);
  *  - before each eye's display callback it loads glFrustum(near 0.1, far
  *    1000) for that wall from its rw2w_coords corners and the head, and the
  *    modelview (the wall's axes times a translation by minus the eye); it
  *    never clears the colour or depth buffer.
- * Simplifications, all outside what a wall shows: one (mono) eye; the head
- * and the wand never move; the simulator window looks from (0, 7, 12) at
+ * Simplifications, all outside what a wall shows: the head and the wand
+ * never move; the simulator window looks from (0, 7, 12) at
  * (0, 4, -3); an xwindows device's 2switches are numbered in the order its
  * inputs are listed; locks are exclusive.
  *
@@ -78,7 +84,7 @@ typedef struct vrPerspective {
 struct vrRenderInfo {
     vrPerspective *persp;
     const char *window; /* the window's name */
-    int eye;            /* 0: the stand-in renders one (mono) eye */
+    int eye;            /* 0: the left (or only) eye, 1: the right eye */
 };
 
 #define NEAR_CLIP 0.1
@@ -90,6 +96,19 @@ struct vrRenderInfo {
 #define NAMELEN 64
 #define NSW 16
 #define NVAL 8
+/* the eye separation (feet) when no `user` sets `iod`: FreeVR's own
+ * default is not in the documentation the stand-in was written from */
+#define FVS_DEFAULT_IOD 0.2
+
+/* a window's visrenmode (FreeVR's names) */
+enum {
+    FVS_VISREN_DEFAULT, /* as the system says; mono if it says nothing */
+    FVS_VISREN_MONO,
+    FVS_VISREN_LEFT,  /* mono, seen by the left eye */
+    FVS_VISREN_RIGHT, /* mono, seen by the right eye */
+    FVS_VISREN_DUALVP,
+    FVS_VISREN_ANAGLYPHIC
+};
 
 /* ---------------------------------------------------------- configuration */
 
@@ -98,6 +117,7 @@ typedef struct {
     int simulator;  /* mount = "simulator" (else fixed) */
     int w, h, x, y; /* geometry */
     double c[9];    /* rw2w_coords: lower-left, lower-right, upper-left */
+    int visren;     /* visrenmode: FVS_VISREN_* */
 } win_def;
 
 typedef struct {
@@ -112,6 +132,7 @@ typedef struct {
     char name[NAMELEN];
     int nprocs;
     char procs[MAXPROC][NAMELEN];
+    int visren; /* visrenmode: FVS_VISREN_* */
 } sys_def;
 
 typedef struct {
@@ -135,6 +156,7 @@ typedef struct {
     int nsys;
     dev_def dev[8];
     int ndev;
+    double iod; /* a user's iod: the eye separation, feet */
 } config;
 
 /* The configuration in use (freevr_config.c). */
@@ -153,6 +175,9 @@ const sys_def *fvs_used_system(void);
 /* The windows of the used system's visren processes ('v'), or the 2switches
  * of its input processes' xwindows devices ('i'). */
 int fvs_config_count(int type);
+/* The visrenmode a window renders in (FVS_VISREN_MONO, _LEFT, _RIGHT,
+ * _DUALVP or _ANAGLYPHIC): its own, else its system's, else mono. */
+int fvs_config_visren(const win_def *w);
 /* Where FreeVR's 6-sensor n (0 the head, 1 the wand) starts: the origin
  * of the tracker of the device whose n-th 6sensor input it is (the used
  * system's input processes' devices in order), moved by that device's
