@@ -231,14 +231,23 @@ typedef struct {
     unsigned long frames;
 } render_win;
 
+/* the dumps' pixels: grown with the largest window, not made per frame */
+static unsigned char *g_px;
+static size_t g_pxcap;
+
 static void dump(const render_win *w, int width, int height)
 {
     const char *dir = getenv("FREEVR_STANDIN_DUMP");
     if (!dir || !*dir || width < 1 || height < 1)
         return;
-    unsigned char *px = malloc((size_t)width * height * 3);
-    if (!px)
-        return;
+    const size_t need = (size_t)width * height * 3;
+    if (need > g_pxcap) {
+        unsigned char *more = realloc(g_px, need);
+        if (!more)
+            return;
+        g_px = more, g_pxcap = need;
+    }
+    unsigned char *px = g_px;
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadBuffer(GL_BACK);
     glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, px);
@@ -255,7 +264,6 @@ static void dump(const render_win *w, int width, int height)
         else
             remove(tmp);
     }
-    free(px);
 }
 
 static int x_error(Display *d, XErrorEvent *e)
