@@ -114,7 +114,9 @@
  * configuration language), freevr_shmem.c (the shared arena, semaphores and
  * locks), freevr_process.c (vrConfigure, vrStart, vrExit: the processes and
  * signals), freevr_render.c (callbacks, windows, eyes, projection, stereo,
- * drawing) and freevr_input.c (switches, valuators, sensors, travel). */
+ * drawing) and freevr_input.c (switches, valuators, sensors, travel).
+ * standin_selftest.c is a small FreeVR program that exercises it alone
+ * (README-checks.txt). */
 #ifndef FREEVR_STANDIN_H
 #define FREEVR_STANDIN_H
 
