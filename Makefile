@@ -380,6 +380,13 @@ $(STANDIN)/lib/libfreevr.a: $(STANDIN_OBJ)
 	$(Q)rm -f $@ && ar rcs $@ $^
 $(B)/tests/vsv-play-freevr: $(FREEVR_DEPS) $(STANDIN)/include/freevr.h $(STANDIN)/lib/libfreevr.a
 	$(call freevr_link,$@,$(STANDIN))
+# a small FreeVR program that exercises the stand-in alone, for the checks
+# by hand in tests/freevr-standin/README-checks.txt (not part of make test)
+$(STANDIN)/selftest: tests/freevr-standin/standin_selftest.c $(STANDIN)/include/freevr.h $(STANDIN)/lib/libfreevr.a
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CC/LD   $@")
+	$(Q)$(CC) $(filter-out -MMD -MP,$(CFLAGS_ALL)) -isystem $(STANDIN)/include -Itests/freevr-standin -o $@ $< \
+	  $(STANDIN)/lib/libfreevr.a -lGL -lX11 -lm
 # the back end and its stand-in need the viewer's libraries
 FREEVR_TEST = $(if $(filter 1,$(VIEWER)),$(B)/tests/vsv-play-freevr)
 

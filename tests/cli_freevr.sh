@@ -238,12 +238,18 @@ fi
 wall() { # NAME GEOMETRY CORNERS
     printf 'window "%s" = { mount = "fixed"; GraphicsType = "glx"; args = "geometry=%s; decoration=window"; rw2w_coords = %s; }\n' "$@"
 }
+# FreeVR's simulated head starts at its tracker's origin, on the floor
+# (FREEVR.md): the tracker's origin 5 feet up (t2rw_translate) puts the
+# head where a standing user's eyes are, as a CAVE's configuration would
 input='process "pin" = { type = input; usecmin = 15000; objects = "xin"; }
 inputdevice "xin" = { type = "xwindows"; args = "window = front;";
   input "Escape Key" = "2switch(keyboard:key[Escape])";
   input "left" = "2switch(mouse:button[left])";
   input "middle" = "2switch(mouse:button[middle])";
-  input "right" = "2switch(mouse:button[right])"; }'
+  input "right" = "2switch(mouse:button[right])";
+  input "head" = "6sensor(sim6[0])";
+  input "wand" = "6sensor(sim6[1])";
+  t2rw_translate = 0, 5, 0; }'
 {
     echo '# a four-wall CAVE: front, left, right, floor (feet; corners: lower-left, lower-right, upper-left)'
     echo 'system "cave4" = { type = "cave"; procs = "pf", "pl", "pr", "pb", "pin"; inputmap = "default"; visrenmode = "default"; }'

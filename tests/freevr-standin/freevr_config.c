@@ -1,7 +1,8 @@
 /* freevr_config.c — the FreeVR stand-in's configuration: FreeVR's
- * configuration language (window, process, system and inputdevice
- * definitions, usesystem) read from its files, $FREEVR and the arguments,
- * and the one-window simulator when none is given. */
+ * configuration language (window, process, system, inputdevice and user
+ * definitions, usesystem) read after FreeVR's own default (the one-window
+ * simulator) from its files, $FREEVR and the arguments, and the simulator
+ * with boring input when the system asked for is not defined. */
 #include "freevr_standin.h"
 
 #include <X11/Xlib.h>
@@ -105,6 +106,12 @@ static int split_names(const char *text, char (*out)[NAMELEN], int n, int cap)
 
 static void parse_input(dev_def *d, const char *spec)
 {
+    /* "6sensor(sim6[0])": a 6-sensor, numbered in the order listed; the
+     * stand-in reads no tracker, so each stays at its device's origin */
+    if (!strncasecmp(spec, "6sensor(", 8)) {
+        d->nsensor++;
+        return;
+    }
     /* "2switch(keyboard:key[Escape])" or "2switch(mouse:button[left])" */
     char what[64] = "";
     if (d->nin >= NSW || strncasecmp(spec, "2switch(", 8))
@@ -124,6 +131,23 @@ static void parse_input(dev_def *d, const char *spec)
             d->in[d->nin++].keysym = k;
         }
     }
+}
+
+/* A visrenmode value: FreeVR's names (its visren usage notes: default,
+ * mono, left, right, dualvp, dualfb, anaglyphic, checkerboard, vibrate);
+ * those the stand-in does not simulate render mono. */
+static int visren_mode(const char *v)
+{
+    static const struct {
+        const char *name;
+        int mode;
+    } modes[] = {{"default", FVS_VISREN_DEFAULT}, {"mono", FVS_VISREN_MONO},     {"left", FVS_VISREN_LEFT},
+                 {"right", FVS_VISREN_RIGHT},     {"dualvp", FVS_VISREN_DUALVP}, {"anaglyphic", FVS_VISREN_ANAGLYPHIC}};
+    for (size_t i = 0; i < sizeof modes / sizeof modes[0]; i++)
+        if (!strcasecmp(v, modes[i].name))
+            return modes[i].mode;
+    fprintf(stderr, "FreeVR stand-in: visrenmode \"%s\" is not simulated: mono\n", v);
+    return FVS_VISREN_MONO;
 }
 
 /* One `key [= values];` inside a definition's braces. */
@@ -155,9 +179,11 @@ static void parse_item(tokens *tk, config *c, int kind, int idx)
             const char *g = strstr(vals[0].text, "geometry");
             if (g && (g = strchr(g, '=')))
                 sscanf(g + 1, " %dx%d+%d+%d", &w->w, &w->h, &w->x, &w->y);
-        } else if (!strcasecmp(key, "rw2w_coords") && nv == 9)
+        } else if (!strcasecmp(key, "rw2w_coords") && nv == 9) {
             for (int i = 0; i < 9; i++)
                 w->c[i] = atof(vals[i].text);
+        } else if (!strcasecmp(key, "visrenmode") && nv)
+            w->visren = visren_mode(vals[0].text);
     } else if (kind == 'p') {
         proc_def *p = &c->proc[idx];
         if (!strcasecmp(key, "type") && nv)
@@ -174,13 +200,20 @@ static void parse_item(tokens *tk, config *c, int kind, int idx)
             s->nprocs = 0;
             for (int i = 0; i < nv; i++)
                 s->nprocs = split_names(vals[i].text, s->procs, s->nprocs, MAXPROC);
-        }
+        } else if (!strcasecmp(key, "visrenmode") && nv)
+            s->visren = visren_mode(vals[0].text);
     } else if (kind == 'd') {
         dev_def *d = &c->dev[idx];
         if (!strcasecmp(key, "type") && nv)
             d->xwindows = !strcasecmp(vals[0].text, "xwindows");
         else if (!strcasecmp(key, "input") && sub[0] && nv)
             parse_input(d, vals[0].text);
+        else if (!strcasecmp(key, "t2rw_translate") && nv == 3)
+            for (int i = 0; i < 3; i++)
+                d->t2rw[i] = atof(vals[i].text);
+    } else if (kind == 'u') {
+        if (!strcasecmp(key, "iod") && nv)
+            c->iod = atof(vals[0].text);
     }
 }
 
@@ -226,6 +259,7 @@ static int parse_config(config *c, const char *text)
                          : !strcasecmp(what, "process")     ? 'p'
                          : !strcasecmp(what, "system")      ? 's'
                          : !strcasecmp(what, "inputdevice") ? 'd'
+                         : !strcasecmp(what, "user")        ? 'u'
                                                             : 0;
         if (!kind || peek(&tk)->type != TK_STR) {
             skip(&tk);
@@ -241,7 +275,8 @@ static int parse_config(config *c, const char *text)
         const int idx = kind == 'w'   ? slot(c->win, sizeof c->win[0], &c->nwin, MAXWIN * 2, name)
                         : kind == 'p' ? slot(c->proc, sizeof c->proc[0], &c->nproc, MAXPROC, name)
                         : kind == 's' ? slot(c->sys, sizeof c->sys[0], &c->nsys, 8, name)
-                                      : slot(c->dev, sizeof c->dev[0], &c->ndev, 8, name);
+                        : kind == 'd' ? slot(c->dev, sizeof c->dev[0], &c->ndev, 8, name)
+                                      : 0; /* the one user: only its iod is kept */
         if (idx < 0) {
             skip(&tk);
             continue;
@@ -265,6 +300,9 @@ static int parse_config(config *c, const char *text)
     return understood;
 }
 
+/* FreeVR's default configuration, read before any other (its user guide's
+ * start-up report: "Reading string "Default Config String"" then "Using
+ * system 'simulator'"). */
 static const char SIMULATOR[] =
     "usesystem \"simulator\";\n"
     "system \"simulator\" = { type = \"simulator\"; procs = \"sim-render\", \"sim-input\"; }\n"
@@ -276,7 +314,20 @@ static const char SIMULATOR[] =
     "  input \"Escape Key\" = \"2switch(keyboard:key[Escape])\";\n"
     "  input \"left\" = \"2switch(mouse:button[left])\";\n"
     "  input \"middle\" = \"2switch(mouse:button[middle])\";\n"
-    "  input \"right\" = \"2switch(mouse:button[right])\"; }\n";
+    "  input \"right\" = \"2switch(mouse:button[right])\";\n"
+    "  input \"head\" = \"6sensor(sim6[0])\";\n"
+    "  input \"wand\" = \"6sensor(sim6[1])\"; }\n";
+
+/* What FreeVR runs when `usesystem` names a system that is not defined
+ * (FREEVR.md, "A named system that is not defined"): one simulator window
+ * and an input process whose input maps nothing, so Escape does nothing. */
+static const char BORING[] =
+    "usesystem \"default\";\n"
+    "system \"default\" = { type = \"simulator\"; procs = \"default-render\", \"default-input\"; }\n"
+    "window \"simulator\" = { mount = \"simulator\"; GraphicsType = \"glx\";"
+    " args = \"geometry=400x300+0+0; decoration=window\"; }\n"
+    "process \"default-render\" = { type = visren; objects = \"simulator\"; }\n"
+    "process \"default-input\" = { type = input; usecmin = 16667; }\n";
 
 static char *read_file(const char *dir, const char *name)
 {
@@ -347,35 +398,62 @@ int fvs_config_count(int type)
     return n;
 }
 
+int fvs_config_visren(const win_def *w)
+{
+    const sys_def *sys = fvs_used_system();
+    if (w->visren != FVS_VISREN_DEFAULT)
+        return w->visren;
+    if (sys && sys->visren != FVS_VISREN_DEFAULT)
+        return sys->visren;
+    return FVS_VISREN_MONO;
+}
+
+int fvs_config_sensor(int n, double pos[3])
+{
+    const sys_def *sys = fvs_used_system();
+    pos[0] = pos[1] = pos[2] = 0;
+    for (int k = 0; sys && k < sys->nprocs; k++) {
+        const proc_def *p = fvs_find_proc(sys->procs[k]);
+        for (int i = 0; p && p->type == 'i' && i < p->nobj; i++) {
+            const dev_def *d = fvs_find_dev(p->obj[i]);
+            if (!d)
+                continue;
+            if (n < d->nsensor) {
+                memcpy(pos, d->t2rw, 3 * sizeof(double));
+                return 1;
+            }
+            n -= d->nsensor;
+        }
+    }
+    return 0;
+}
+
 void fvs_config_load(int *argc, char **argv)
 {
-    int found = 0;
+    memset(&fvs_cfg, 0, sizeof fvs_cfg);
+    fvs_cfg.iod = FVS_DEFAULT_IOD;
+    parse_config(&fvs_cfg, SIMULATOR);
     const char *dirs[3] = {getenv("FREEVR_HOME"), getenv("HOME"), "."};
     for (int i = 0; i < 3; i++) {
         char *text = read_file(dirs[i], ".freevrrc");
         if (text) {
             parse_config(&fvs_cfg, text);
-            found = 1;
             free(text);
         }
     }
-    if (getenv("FREEVR")) {
+    if (getenv("FREEVR"))
         parse_config(&fvs_cfg, getenv("FREEVR"));
-        found = 1;
-    }
     /* every argument is a configuration string; none is removed */
-    for (int i = 1; argc && i < *argc; i++) {
+    for (int i = 1; argc && i < *argc; i++)
         if (parse_config(&fvs_cfg, argv[i]) == 0)
             fprintf(stderr, "FreeVR: warning: cannot understand the configuration string '%s'\n", argv[i]);
-        else
-            found = 1;
-    }
-    if (!found || !fvs_used_system()) {
-        if (found)
-            fprintf(stderr, "FreeVR: no system '%s' defined: running the simulator\n", fvs_cfg.use);
-        config sim;
-        memset(&sim, 0, sizeof sim);
-        parse_config(&sim, SIMULATOR);
-        fvs_cfg = sim;
+    if (!fvs_used_system()) {
+        /* FreeVR's words (FREEVR.md, "A named system that is not defined") */
+        fprintf(stderr, "FreeVR config: could not find system \"%s\", using default (with boring input)\n",
+                fvs_cfg.use);
+        const double iod = fvs_cfg.iod;
+        memset(&fvs_cfg, 0, sizeof fvs_cfg);
+        fvs_cfg.iod = iod;
+        parse_config(&fvs_cfg, BORING);
     }
 }

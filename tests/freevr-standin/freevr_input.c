@@ -1,8 +1,9 @@
 /* freevr_input.c — the FreeVR stand-in's input and tracking: the input
  * process polling the X server for its xwindows devices' keys and buttons
  * (2switches) and the pointer (valuators while space is held), the main
- * process's per-frame copy of them, the simulated head and wand sensors,
- * and the user's travel matrix. */
+ * process's per-frame copy of them, the simulated head and wand sensors
+ * (where the configuration, or the test aid, puts them), and the user's
+ * travel matrix. */
 #include "freevr_standin.h"
 
 #include <GL/gl.h>
@@ -10,6 +11,7 @@
 #include <X11/keysym.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 #include <unistd.h>
@@ -62,6 +64,7 @@ void fvs_input_process(const proc_def *p)
         nanosleep(&(struct timespec){usec / 1000000, (usec % 1000000) * 1000}, NULL);
     }
     XCloseDisplay(dpy);
+    fvs_process_done();
     _exit(0);
 }
 
@@ -91,29 +94,97 @@ int vrGet2switchDelta(int n) { return n >= 0 && n < NSW ? g_cur[n] - g_prev[n] :
 float vrGetValuatorValue(int n) { return n >= 0 && n < NVAL ? g_vcur[n] : 0; }
 float vrGetValuatorDelta(int n) { return n >= 0 && n < NVAL ? g_vcur[n] - g_vprev[n] : 0; }
 
-static const double *sensor(int n) { return n == 0 ? fvs_base->head : fvs_base->wand; }
+/* ---------------------------------------------------------------- sensors */
+
+/* A pose (OpenGL column order): at pos, turned yaw degrees about +y from
+ * looking along -z (positive: to the left), then pitched up by pitch. */
+static void pose(double m[16], const double pos[3], double yaw, double pitch)
+{
+    const double a = yaw * M_PI / 180, p = pitch * M_PI / 180;
+    const double ca = cos(a), sa = sin(a), cp = cos(p), sp = sin(p);
+    const double cols[16] = {ca,      0,   -sa,     0, /* right */
+                             sa * sp, cp,  ca * sp, 0, /* up */
+                             sa * cp, -sp, ca * cp, 0, /* back */
+                             pos[0],  pos[1], pos[2], 1};
+    memcpy(m, cols, sizeof cols);
+}
+
+/* "x,y,z[,yaw,pitch]" from a test-aid variable: how many numbers (at
+ * least min, at most max), or 0 when it is not that. */
+static int numbers(const char *name, int min, int max, double *out)
+{
+    const char *s = getenv(name);
+    int n = 0;
+    if (!s || !*s)
+        return 0;
+    for (const char *p = s;;) {
+        char *end;
+        const double v = strtod(p, &end);
+        if (end == p || n == max || !isfinite(v))
+            break;
+        out[n++] = v;
+        while (*end == ' ')
+            end++;
+        if (!*end && n >= min)
+            return n;
+        if (*end != ',')
+            break;
+        p = end + 1;
+    }
+    fprintf(stderr, "FreeVR stand-in: %s='%s' is not x,y,z%s (feet%s): ignored\n", name, s,
+            max > 3 ? "[,yaw,pitch]" : "", max > 3 ? ", degrees" : "");
+    return 0;
+}
+
+void fvs_sensors_init(void)
+{
+    double pos[3], v[5] = {0, 0, 0, 0, 0};
+    /* the head and the wand where the configuration starts them, looking
+     * along -z (FREEVR.md, "Where the head starts") */
+    for (int n = 0; n < 2; n++) {
+        fvs_config_sensor(n, pos);
+        pose(fvs_base->sensor[n], pos, 0, 0);
+    }
+    /* test aid (not FreeVR): FREEVR_STANDIN_HEAD=x,y,z and
+     * FREEVR_STANDIN_WAND=x,y,z[,yaw,pitch] override the configuration */
+    if (numbers("FREEVR_STANDIN_HEAD", 3, 3, v))
+        pose(fvs_base->sensor[0], v, 0, 0);
+    v[3] = v[4] = 0;
+    if (numbers("FREEVR_STANDIN_WAND", 3, 5, v))
+        pose(fvs_base->sensor[1], v, v[3], v[4]);
+}
+
+/* FreeVR's 6-sensors 0 (the head) and 1 (the wand); any other stays at the
+ * real-world origin, looking along -z. */
+static const double *sensor(int n)
+{
+    static const double none[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    return fvs_base && (n == 0 || n == 1) ? fvs_base->sensor[n] : none;
+}
 
 vrMatrix *vrMatrixGet6sensorValues(vrMatrix *m, int n)
 {
-    memset(m->v, 0, sizeof m->v);
-    m->v[0] = m->v[5] = m->v[10] = m->v[15] = 1;
-    if (fvs_base)
-        memcpy(m->v + 12, sensor(n), 3 * sizeof(double));
+    memcpy(m->v, sensor(n), sizeof m->v);
     return m;
 }
 
 vrPoint *vrPointGetRWFrom6sensor(vrPoint *p, int n)
 {
-    if (fvs_base)
-        memcpy(p->v, sensor(n), sizeof p->v);
+    memcpy(p->v, sensor(n) + 12, sizeof p->v);
     return p;
 }
 
 vrVector *vrVectorGetRWFrom6sensorDir(vrVector *v, int n, vrDirection d)
 {
-    (void)n; /* the simulated sensors look along -z */
-    static const double dirs[6][3] = {{0, 0, -1}, {0, 0, 1}, {-1, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
-    memcpy(v->v, dirs[(int)d >= 0 && d <= VRDIR_DOWN ? d : 0], sizeof v->v);
+    /* the pose's columns: 0 right, 1 up, 2 back */
+    static const struct {
+        int col;
+        double sign;
+    } dirs[6] = {{2, -1}, {2, 1}, {0, -1}, {0, 1}, {1, 1}, {1, -1}};
+    const double *m = sensor(n);
+    const int k = (int)d >= 0 && d <= VRDIR_DOWN ? (int)d : 0;
+    for (int i = 0; i < 3; i++)
+        v->v[i] = dirs[k].sign * m[dirs[k].col * 4 + i];
     return v;
 }
 

@@ -1,7 +1,9 @@
 /* freevr_render.c — the FreeVR stand-in's render processes: the display
  * callbacks the application registers, one GLX window and context per
- * window object, each wall's off-axis frustum from its corners and the head,
- * the simulator's own drawing, and the test aid's frame dumps. */
+ * window object, each eye's off-axis frustum from the wall's corners and
+ * the head, the stereo modes (each eye in its half of the window, or
+ * through its colour mask), the simulator's own drawing, and the test
+ * aid's frame dumps. */
 #include "freevr_standin.h"
 
 #include <GL/gl.h>
@@ -106,26 +108,44 @@ static void norm3(double *a)
         a[0] /= l, a[1] /= l, a[2] /= l;
 }
 
-/* The eye's frustum and the real world -> wall rotation for a window:
- * fixed walls from their corners and the head (an off-axis frustum on the
- * wall's plane); the simulator from its own viewpoint (60 degrees high). */
-static void perspective(const win_def *w, int width, int height, vrPerspective *p)
+/* How far an eye sits along the head's right vector (feet): half the
+ * user's iod to the left (eye 0) or to the right (eye 1) in stereo and in
+ * the one-eyed left and right modes, none in mono. */
+static double eye_shift(int mode, int eye)
+{
+    if (mode == FVS_VISREN_MONO)
+        return 0;
+    return (eye ? 0.5 : -0.5) * fvs_cfg.iod;
+}
+
+/* The eye's frustum and the real world -> wall rotation for a window, the
+ * eye `shift` feet right of the viewpoint: fixed walls from their corners
+ * and the head (an off-axis frustum on the wall's plane, the eyes along
+ * the head's right vector); the simulator from its own viewpoint (60
+ * degrees high, the eyes along its right vector). */
+static void perspective(const win_def *w, int width, int height, double shift, vrPerspective *p)
 {
     double r[3], u[3], n[3], e[3];
     if (w->simulator) {
         const double from[3] = {0, 7, 12}, at[3] = {0, 4, -3}, up[3] = {0, 1, 0};
-        memcpy(e, from, sizeof e);
         sub3(from, at, n);
+        const double dist = sqrt(dot3(n, n));
         norm3(n);
         cross3(up, n, r);
         norm3(r);
         cross3(n, r, u);
+        for (int i = 0; i < 3; i++)
+            e[i] = from[i] + shift * r[i];
         const double t = NEAR_CLIP * tan(30 * M_PI / 180), a = (double)width / (height > 0 ? height : 1);
-        p->frustum.n.left = -t * a, p->frustum.n.right = t * a, p->frustum.n.bottom = -t, p->frustum.n.top = t;
+        /* the eyes converge on `at`: its plane is the screen's */
+        const double off = shift * NEAR_CLIP / dist;
+        p->frustum.n.left = -t * a - off, p->frustum.n.right = t * a - off;
+        p->frustum.n.bottom = -t, p->frustum.n.top = t;
     } else {
-        const double *ll = w->c, *lr = w->c + 3, *ul = w->c + 6;
+        const double *ll = w->c, *lr = w->c + 3, *ul = w->c + 6, *head = fvs_base->sensor[0];
         double va[3], vb[3], vc[3];
-        memcpy(e, fvs_base->head, sizeof e);
+        for (int i = 0; i < 3; i++)
+            e[i] = head[12 + i] + shift * head[i]; /* column 0: the head's right */
         sub3(lr, ll, r);
         norm3(r);
         sub3(ul, ll, u);
@@ -181,7 +201,7 @@ static void draw_simulator(void)
         glVertex3d(x0, 10, z0), glVertex3d(x0, 10, -z0);
     }
     glEnd();
-    const double *h = fvs_base->head, s = 0.25;
+    const double *h = fvs_base->sensor[0] + 12, *wand = fvs_base->sensor[1], s = 0.25;
     glColor3f(0.55f, 0.35f, 0.15f);
     glBegin(GL_QUADS);
     for (int f = 0; f < 6; f++) {
@@ -195,10 +215,10 @@ static void draw_simulator(void)
         }
     }
     glEnd();
-    glColor3f(0.8f, 0.8f, 0.2f);
+    glColor3f(0.8f, 0.8f, 0.2f); /* a foot along the wand's fore (-z of its pose) */
     glBegin(GL_LINES);
-    glVertex3dv(fvs_base->wand);
-    glVertex3d(fvs_base->wand[0], fvs_base->wand[1], fvs_base->wand[2] - 1);
+    glVertex3dv(wand + 12);
+    glVertex3d(wand[12] - wand[8], wand[13] - wand[9], wand[14] - wand[10]);
     glEnd();
 }
 
@@ -211,14 +231,23 @@ typedef struct {
     unsigned long frames;
 } render_win;
 
+/* the dumps' pixels: grown with the largest window, not made per frame */
+static unsigned char *g_px;
+static size_t g_pxcap;
+
 static void dump(const render_win *w, int width, int height)
 {
     const char *dir = getenv("FREEVR_STANDIN_DUMP");
     if (!dir || !*dir || width < 1 || height < 1)
         return;
-    unsigned char *px = malloc((size_t)width * height * 3);
-    if (!px)
-        return;
+    const size_t need = (size_t)width * height * 3;
+    if (need > g_pxcap) {
+        unsigned char *more = realloc(g_px, need);
+        if (!more)
+            return;
+        g_px = more, g_pxcap = need;
+    }
+    unsigned char *px = g_px;
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadBuffer(GL_BACK);
     glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, px);
@@ -235,7 +264,6 @@ static void dump(const render_win *w, int width, int height)
         else
             remove(tmp);
     }
-    free(px);
 }
 
 static int x_error(Display *d, XErrorEvent *e)
@@ -312,20 +340,44 @@ void fvs_render_process(const proc_def *p)
             XGetWindowAttributes(dpy, w->xw, &wa);
             glXMakeCurrent(dpy, w->xw, w->ctx);
             glViewport(0, 0, wa.width, wa.height);
+            const int mode = fvs_config_visren(w->def);
+            const int stereo = mode == FVS_VISREN_DUALVP || mode == FVS_VISREN_ANAGLYPHIC;
+            const int first = stereo ? 0 : mode == FVS_VISREN_RIGHT, last = stereo ? 1 : first;
             vrPerspective persp;
-            perspective(w->def, wa.width, wa.height, &persp);
-            vrRenderInfo ri = {&persp, w->def->name, 0};
-            if (g_cb[VRFUNC_DISPLAY_FRAME].fn) {
+            vrRenderInfo ri = {&persp, w->def->name, first};
+            if (g_cb[VRFUNC_DISPLAY_FRAME].fn) { /* once a window, before the eyes */
+                perspective(w->def, wa.width, wa.height, stereo ? 0 : eye_shift(mode, first), &persp);
                 load_matrices(&persp);
                 call_ri(&g_cb[VRFUNC_DISPLAY_FRAME], &ri);
             }
-            load_matrices(&persp); /* no clearing: the application's job */
-            if (g_cb[VRFUNC_DISPLAY].fn)
-                call_ri(&g_cb[VRFUNC_DISPLAY], &ri);
-            if (w->def->simulator) {
-                load_matrices(&persp);
-                draw_simulator();
+            /* once per eye (FREEVR.md, "Stereo"): in dualvp each eye's
+             * viewport and scissor are its half of the window (the left
+             * eye's the left half), so its clear wipes only that half; in
+             * anaglyphic both eyes fill the window, the left through red
+             * and the right through green and blue */
+            for (int eye = first; eye <= last; eye++) {
+                int vx = 0, vw = wa.width;
+                if (mode == FVS_VISREN_DUALVP) {
+                    vx = eye ? wa.width / 2 : 0;
+                    vw = eye ? wa.width - wa.width / 2 : wa.width / 2;
+                    glViewport(vx, 0, vw, wa.height);
+                    glScissor(vx, 0, vw, wa.height);
+                    glEnable(GL_SCISSOR_TEST);
+                } else if (mode == FVS_VISREN_ANAGLYPHIC)
+                    glColorMask(eye == 0, eye == 1, eye == 1, GL_TRUE);
+                perspective(w->def, vw, wa.height, eye_shift(mode, eye), &persp);
+                ri.eye = eye;
+                load_matrices(&persp); /* no clearing: the application's job */
+                if (g_cb[VRFUNC_DISPLAY].fn)
+                    call_ri(&g_cb[VRFUNC_DISPLAY], &ri);
+                if (w->def->simulator) {
+                    load_matrices(&persp);
+                    draw_simulator();
+                }
             }
+            glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+            glDisable(GL_SCISSOR_TEST);
+            glViewport(0, 0, wa.width, wa.height);
             w->frames++;
             dump(w, wa.width, wa.height);
             glXSwapBuffers(dpy, w->xw);
@@ -343,5 +395,6 @@ void fvs_render_process(const proc_def *p)
         XDestroyWindow(dpy, wins[k].xw);
     }
     XCloseDisplay(dpy);
+    fvs_process_done();
     _exit(0);
 }
