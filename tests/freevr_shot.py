@@ -6,6 +6,7 @@ tests/freevr-standin/freevr_render.c) shows, for tests/cli_freevr.sh.
                                      (terrain: green above blue), 0..1
   freevr_shot.py shown FILE.ppm      the share of pixels that are not the
                                      background (the most common colour), 0..1
+  freevr_shot.py centre FILE.ppm     the mean x and y (pixels) of those
   freevr_shot.py frame FILE.ppm      the frame number the stand-in wrote
   freevr_shot.py same A.ppm B.ppm    exit 0 when the pixels are identical
   freevr_shot.py png OUT.png A.ppm... the dumps side by side in one PNG
@@ -66,14 +67,17 @@ def main():
         w, h, _, px = read(sys.argv[2])
         g, b = px[1::3], px[2::3]
         print('%.4f' % (sum(1 for k in range(w * h) if g[k] > b[k] + 10) / (w * h)))
-    elif what == 'shown':
+    elif what in ('shown', 'centre'):
         w, h, _, px = read(sys.argv[2])
         counts = {}
         for k in range(0, w * h * 3, 3):
             counts[px[k:k + 3]] = counts.get(px[k:k + 3], 0) + 1
         bg = max(counts, key=counts.get)
-        far = sum(n for c, n in counts.items() if sum(abs(c[i] - bg[i]) for i in range(3)) > 24)
-        print('%.4f' % (far / (w * h)))
+        far = [k for k in range(w * h) if sum(abs(px[3 * k + i] - bg[i]) for i in range(3)) > 24]
+        if what == 'shown':
+            print('%.4f' % (len(far) / (w * h)))
+        elif far:
+            print('%.2f %.2f' % (sum(k % w for k in far) / len(far), sum(k // w for k in far) / len(far)))
     elif what == 'frame':
         print(read(sys.argv[2])[2])
     elif what == 'png':

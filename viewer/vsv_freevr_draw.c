@@ -36,6 +36,7 @@ typedef struct fvwin {
     int have;             /* a tick is taken for this frame */
     unsigned long long frames;
     int64_t tick, time;
+    double when;          /* when the tick was taken */
     int step, eye;
     const char *damage;
     uint64_t content;     /* what the tick's picture depends on, but the eye */
@@ -153,7 +154,7 @@ static void trace(const fvwin *w)
     vsv_time_format(w->time, when, sizeof when);
     const int n = snprintf(line, sizeof line, "%s %llu %lld %d %s %.4f %.4f %d\n", w->name,
                            (unsigned long long)w->frames, (long long)w->tick, w->step, when,
-                           vsv_fv_now() - vsv_fv.t0, (double)cpu.tv_sec + cpu.tv_nsec * 1e-9, (int)getpid());
+                           w->when - vsv_fv.t0, (double)cpu.tv_sec + cpu.tv_nsec * 1e-9, (int)getpid());
     if (n > 0 && write(vsv_fv.trace_fd, line, (size_t)n) != n)
         return; /* a trace that cannot be written is not the display's failure */
 }
@@ -172,7 +173,7 @@ void vsv_fv_display_frame(void *ri)
     }
     w->have = 1;
     w->frames++;
-    w->tick = v.tick, w->step = v.step, w->damage = v.damage, w->time = v.time;
+    w->tick = v.tick, w->step = v.step, w->damage = v.damage, w->time = v.time, w->when = v.when;
     memcpy(&w->tk, v.user, sizeof w->tk);
     char err[1024] = "";
     if (vsv_player_state_apply(R, &w->tk.st, err, sizeof err)) {

@@ -399,6 +399,7 @@ int vsv_room_frame(vsv_room *r, int w, vsv_room_view *view)
     view->damage = h->damaged ? h->damage : NULL;
     view->vols = r->vptr;
     view->user = r->user;
+    view->when = t;
     return 0;
 }
 

@@ -107,6 +107,7 @@ typedef struct vsv_room_view {
     const char *damage;            /* NULL, or why the step is not drawn */
     const vsv_volume *const *vols; /* nspecies entries */
     const void *user;              /* user_bytes */
+    double when;                   /* CLOCK_MONOTONIC seconds when it was taken */
 } vsv_room_view;
 
 /* Window w starts a frame: the frame before it is shown, and it takes the
