@@ -191,7 +191,7 @@ no_leftovers() { # NAME: no process of the run is left, nor the semaphore set it
 
 # ----------------------------------------------------------- the time lock
 cat > "$T/play.sh" << 'EOS'
-sleep "$SECONDS_PLAYED"
+sleep "${SECONDS_PLAYED:-1}"
 EOS
 busy() { # two busy loops: the machine loaded as the issue asks
     LOADPIDS=""
@@ -278,6 +278,29 @@ x0=$(centre start | cut -d' ' -f1) x1=$(centre turn | cut -d' ' -f1)
 for k in 1 2 3; do
     $SHOT same "$O/start.ppm" "$O/reset$k.ppm" && pass "wand: buttons 1 and 2 put the scene back, pixel for pixel ($k)" ||
         fail "wand: buttons 1 and 2 put the scene back, pixel for pixel ($k)" "the picture differs from the start"
+done
+
+# ------------------------------------------------------------------ stereo
+# one front wall seen by both eyes, as FreeVR's dual-viewport and anaglyphic
+# modes draw it (the stand-in calls the display callback once per eye)
+SECONDS_PLAYED=1
+for mode in dualvp anaglyphic; do
+    VSV=$T/stereo-$mode.vsv
+    ln -s "$T/crop.vsv" "$VSV"
+    printf 'system "st-%s" = { type = "cave"; procs = "ps", "pin"; }\n%s\nprocess "ps" = { type = visren; objects = "%s"; }\n%s\n' \
+        "$mode" "$(wall "st-$mode" 400x200+0+0 "-5,0,-5, 5,0,-5, -5,10,-5" | sed "s/; }\$/; visrenmode = \"$mode\"; }/")" "st-$mode" \
+        "$(input "st-$mode")" > "$T/stereo-$mode.rc"
+    session "stereo-$mode" "st-$mode" "$T/play.sh" "$VSV" --no-panel "$(cat "$T/stereo-$mode.rc")" "usesystem \"st-$mode\";"
+    O=$T/stereo-$mode
+    r=$(cat "$O/result" 2> /dev/null)
+    [ "$r" = "exit 0" ] && pass "$mode: Escape ends it, exit 0" || fail "$mode: Escape ends it, exit 0" "${r:-no result}; $(tail -c 300 "$O/stderr")"
+    e=$($SHOT eyes "$mode" "$O/dump/st-$mode.ppm" 2> /dev/null)
+    set -- $e
+    if [ $# = 3 ] && [ "$(echo "$1 >= 0.01 && $2 >= 0.01" | bc)" = 1 ] && [ "$3" = differ ]; then
+        pass "$mode: each eye draws the scene, from its own place ($e)"
+    else
+        fail "$mode: each eye draws the scene, from its own place" "${e:-no picture}"
+    fi
 done
 
 # ------------------------------------------------------------ ending a run

@@ -7,6 +7,11 @@ tests/freevr-standin/freevr_render.c) shows, for tests/cli_freevr.sh.
   freevr_shot.py shown FILE.ppm      the share of pixels that are not the
                                      background (the most common colour), 0..1
   freevr_shot.py centre FILE.ppm     the mean x and y (pixels) of those
+  freevr_shot.py eyes dualvp|anaglyphic FILE.ppm
+                                     a stereo frame's two eyes (the window's
+                                     halves; the red and the green channel):
+                                     the share of each that is not background,
+                                     and whether they differ ("same"/"differ")
   freevr_shot.py frame FILE.ppm      the frame number the stand-in wrote
   freevr_shot.py same A.ppm B.ppm    exit 0 when the pixels are identical
   freevr_shot.py png OUT.png A.ppm... the dumps side by side in one PNG
@@ -78,6 +83,23 @@ def main():
             print('%.4f' % (len(far) / (w * h)))
         elif far:
             print('%.2f %.2f' % (sum(k % w for k in far) / len(far), sum(k // w for k in far) / len(far)))
+    elif what == 'eyes':
+        w, h, _, px = read(sys.argv[3])
+        if sys.argv[2] == 'dualvp':
+            half = w // 2
+            eyes = [[px[3 * (y * w + x + o):3 * (y * w + x + o) + 3] for y in range(h) for x in range(half)]
+                    for o in (0, half)]
+        else:
+            eyes = [[px[3 * k + c:3 * k + c + 1] for k in range(w * h)] for c in (0, 1)]
+        out = []
+        for e in eyes:
+            counts = {}
+            for v in e:
+                counts[v] = counts.get(v, 0) + 1
+            bg = max(counts, key=counts.get)
+            out.append(sum(n for v, n in counts.items() if sum(abs(v[i] - bg[i]) for i in range(len(v))) > 24)
+                       / len(e))
+        print('%.4f %.4f %s' % (out[0], out[1], 'same' if eyes[0] == eyes[1] else 'differ'))
     elif what == 'frame':
         print(read(sys.argv[2])[2])
     elif what == 'png':

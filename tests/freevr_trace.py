@@ -11,8 +11,11 @@ window frame tick step time seconds cpu pid; see vsv-play-freevr(1)).
       - with WINDOWS, that many windows drew.
     It prints the ticks, steps, and each window's frames a second.
   freevr_trace.py rates TRACE             per window: frames, frames a second,
-      and CPU milliseconds per frame (its process's CPU time over its frames;
-      a process that draws several windows is divided among them)."""
+      ticks a second (new pictures: with the time lock every window draws the
+      room's ticks at the slowest window's pace, and a faster window redraws
+      the picture it keeps in between), and CPU milliseconds a frame and a
+      tick (its process's CPU time over its frames or ticks; a process that
+      draws several windows is divided among them)."""
 import sys
 
 
@@ -39,7 +42,9 @@ def rates(rows):
         n = len(mine)
         span = mine[-1]['t'] - mine[0]['t'] if n > 1 else 0
         cpu = (mine[-1]['cpu'] - mine[0]['cpu']) / max(1, len(per_pid[mine[0]['pid']]))
-        out[w] = (n, (n - 1) / span if span > 0 else 0, 1000 * cpu / (n - 1) if n > 1 else 0)
+        ticks = mine[-1]['tick'] - mine[0]['tick']
+        out[w] = (n, (n - 1) / span if span > 0 else 0, 1000 * cpu / (n - 1) if n > 1 else 0,
+                  ticks / span if span > 0 else 0, 1000 * cpu / ticks if ticks > 0 else 0)
     return out
 
 
@@ -84,8 +89,9 @@ def check(rows, want):
     steps = sorted(set(step.values()))
     print('%d frames, %d windows, ticks 1..%d, %d steps (%s)' % (len(rows), len(wins), last, len(steps),
                                                                ' '.join(map(str, steps[:20]))))
-    for w, (n, fps, cpu) in sorted(rates(rows).items()):
-        print('  %-10s %5d frames  %6.1f frames/s  %7.1f ms CPU a frame' % (w, n, fps, cpu))
+    for w, (n, fps, cpu, tps, cput) in sorted(rates(rows).items()):
+        print('  %-10s %5d frames  %6.1f frames/s  %7.1f ms CPU a frame  %6.2f ticks/s  %7.1f ms CPU a tick'
+              % (w, n, fps, cpu, tps, cput))
     for b in bad:
         print('FAULT ' + b)
     return 1 if bad else 0
@@ -101,8 +107,8 @@ def main():
         return 1
     if sys.argv[1] == 'check':
         return check(rows, int(sys.argv[3]) if len(sys.argv) > 3 else None)
-    for w, (n, fps, cpu) in sorted(rates(rows).items()):
-        print('%s %d %.2f %.2f' % (w, n, fps, cpu))
+    for w, (n, fps, cpu, tps, cput) in sorted(rates(rows).items()):
+        print('%s %d %.2f %.2f %.2f %.2f' % (w, n, fps, cpu, tps, cput))
     return 0
 
 

@@ -175,8 +175,8 @@ fi
 # stand-in (tests/freevr-standin/, built by make demo; it is not FreeVR) in a
 # virtual display: each wall's frame as the stand-in read it back, then Escape.
 if [ -x "$B/tests/vsv-play-freevr" ] && command -v xvfb-run > /dev/null && command -v xdotool > /dev/null; then
-    step "A four-wall CAVE (FreeVR stand-in under Xvfb): left, front, right and floor walls" \
-         "FREEVR='usesystem \"cave4\"; ...' vsv-play-freevr $OUT/storm.vsv --play --loop"
+    step "A four-wall CAVE (FreeVR stand-in under Xvfb): left, front, right and floor walls at one model time" \
+         "FREEVR='usesystem \"cave4\"; ...' vsv-play-freevr $OUT/storm.vsv --play --loop --fps --trace cave/trace"
     mkdir -p "$OUT/cave"
     rm -f "$OUT"/cave/*.ppm
     FREEVR='usesystem "cave4";
@@ -190,9 +190,12 @@ process "pl" = { type = visren; objects = "left"; }
 process "pr" = { type = visren; objects = "right"; }
 process "pb" = { type = visren; objects = "floor"; }
 process "pin" = { type = input; usecmin = 15000; objects = "xin"; }
-inputdevice "xin" = { type = "xwindows"; input "Escape Key" = "2switch(keyboard:key[Escape])"; }'
+inputdevice "xin" = { type = "xwindows"; args = "window = front;";
+  input "Escape Key" = "2switch(keyboard:key[Escape])";
+  input "head" = "6sensor(sim6[0])"; t2rw_translate = 0, 5.5, 0; }'
     cat > "$OUT/cave/session.sh" << 'EOS'
-FREEVR_STANDIN_DUMP=$OUT/cave "$B/tests/vsv-play-freevr" "$OUT/storm.vsv" --play --loop --rate 1200 2> "$OUT/cave/log" &
+FREEVR_STANDIN_DUMP=$OUT/cave "$B/tests/vsv-play-freevr" "$OUT/storm.vsv" --play --loop --rate 1200 --fps \
+    --trace "$OUT/cave/trace" 2> "$OUT/cave/log" &
 pid=$!
 end=$(($(date +%s) + 30))
 while [ "$(date +%s)" -lt $end ] && kill -0 $pid 2> /dev/null; do
@@ -200,7 +203,7 @@ while [ "$(date +%s)" -lt $end ] && kill -0 $pid 2> /dev/null; do
     for w in left front right floor; do
         [ "$(sed -n '2s/^# frame //p;2q' "$OUT/cave/$w.ppm" 2> /dev/null)" -ge 5 ] 2> /dev/null && n=$((n + 1))
     done
-    [ $n = 4 ] && break
+    [ $n = 4 ] && { sleep 4; break; }
     sleep 0.2
 done
 xdotool keydown Escape; sleep 0.3; xdotool keyup Escape
@@ -209,7 +212,8 @@ EOS
     OUT=$OUT B=$B FREEVR=$FREEVR HOME=$OUT/cave FREEVR_HOME=$OUT/cave \
         xvfb-run -a -s "-screen 0 1024x768x24" sh "$OUT/cave/session.sh" &&
         /usr/bin/python3 tests/freevr_shot.py png "$OUT/cave.png" "$OUT"/cave/left.ppm "$OUT"/cave/front.ppm \
-            "$OUT"/cave/right.ppm "$OUT"/cave/floor.ppm && echo "the four walls: $OUT/cave.png"
+            "$OUT"/cave/right.ppm "$OUT"/cave/floor.ppm && echo "the four walls: $OUT/cave.png" &&
+        /usr/bin/python3 tests/freevr_trace.py check "$OUT/cave/trace" 4
 else
     printf '\n(the FreeVR stand-in demo needs xvfb-run and xdotool: sh tools/deps.sh --install)\n'
 fi
