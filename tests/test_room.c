@@ -286,9 +286,10 @@ static void test_room(const char *path)
         vols[k] = vsv_player_volume(p, k);
     const double user = 42.5;
     CHECK(vsv_room_can_publish(r), "an empty room can publish", " ");
-    const int64_t t1 = vsv_room_publish(r, vsv_player_pager(p), 2, vsv_player_step_time(p, 2), NULL, vols, &user, err,
-                                        sizeof err);
-    CHECK(t1 == 1, "the first tick", "(%lld: %s)", (long long)t1, err);
+    int64_t t1 = 0;
+    const int rc1 = vsv_room_publish(r, vsv_player_pager(p), 2, vsv_player_step_time(p, 2), NULL, vols, &user, &t1,
+                                     err, sizeof err);
+    CHECK(!rc1 && t1 == 1, "the first tick", "(%d %lld: %s)", rc1, (long long)t1, err);
     int fds[2];
     if (pipe(fds))
         return;
@@ -317,10 +318,12 @@ static void test_room(const char *path)
     vsv_player_update(p, 0, 1);
     for (int k = 0; k < ns && k < 64; k++)
         vols[k] = vsv_player_volume(p, k);
-    const int64_t t2 = vsv_room_publish(r, vsv_player_pager(p), 3, vsv_player_step_time(p, 3), NULL, vols, &user, err,
-                                        sizeof err);
-    CHECK(t2 == 2, "tick 2", "(%lld)", (long long)t2);
-    CHECK(vsv_room_publish(r, vsv_player_pager(p), 3, 0, NULL, vols, &user, err, sizeof err) == 0,
+    int64_t t2 = 0;
+    CHECK(!vsv_room_publish(r, vsv_player_pager(p), 3, vsv_player_step_time(p, 3), NULL, vols, &user, &t2, err,
+                            sizeof err) &&
+              t2 == 2,
+          "tick 2", "(%lld)", (long long)t2);
+    CHECK(vsv_room_publish(r, vsv_player_pager(p), 3, 0, NULL, vols, &user, NULL, err, sizeof err) == VSV_EAGAIN,
           "tick 3 waits: no window has shown tick 2 yet", " ");
     char buf[256] = "";
     size_t got = 0;
@@ -342,6 +345,43 @@ static void test_room(const char *path)
     CHECK(after[0].frames >= 30 && after[1].frames >= 30 && after[0].shown >= 1,
           "each window's frames are counted, with the tick it showed", "(%llu %llu %lld)",
           (unsigned long long)after[0].frames, (unsigned long long)after[1].frames, (long long)after[0].shown);
+    /* a window of this process: the same step published again keeps its
+     * load (renderers keep what they derived), a new step is a new load */
+    vsv_room *r2 = NULL;
+    vsv_player *p2 = NULL;
+    o.slab_ctx = NULL;
+    if (!vsv_room_create(&ro, &r2, err, sizeof err) && (o.slab_ctx = r2) &&
+        !vsv_player_open(&o, &p2, err, sizeof err)) {
+        const int me = vsv_room_join(r2, "here");
+        vsv_room_view v;
+        uint64_t gens[3];
+        const vsv_volume *ptrs[3];
+        const int steps[3] = {3, 3, 2};
+        for (int i = 0; i < 3; i++) {
+            vsv_player_do(p2, i == 2 ? "seek 2" : "seek 3", err, sizeof err);
+            vsv_player_update(p2, 0, 1);
+            for (int k = 0; k < ns && k < 64; k++)
+                vols[k] = vsv_player_volume(p2, k);
+            const int rc =
+                vsv_room_publish(r2, vsv_player_pager(p2), steps[i], 0, NULL, vols, &user, NULL, err, sizeof err);
+            memset(&v, 0, sizeof v);
+            const int f1 = vsv_room_frame(r2, me, &v), f2 = vsv_room_frame(r2, me, &v); /* (shown) */
+            gens[i] = !f2 && v.vols[s] ? v.vols[s]->gen : 0;
+            ptrs[i] = !f2 ? v.vols[s] : NULL;
+            CHECK(!rc && !f1 && !f2 && v.tick == i + 1 && v.step == steps[i],
+                  "a window of this process takes each tick (one that joined first too)", "(%d %d %lld)", rc, f1,
+                  (long long)v.tick);
+        }
+        CHECK(gens[0] && gens[1] == gens[0] && ptrs[1] == ptrs[0],
+              "the same step again: the same volume and gen in the window (no re-render)", "(%llu %llu)",
+              (unsigned long long)gens[0], (unsigned long long)gens[1]);
+        CHECK(gens[2] != gens[1], "another step: a new gen", "(%llu)", (unsigned long long)gens[2]);
+        vsv_room_unpin(r2);
+    } else {
+        CHECK(0, "a second room and player", "(%s)", err);
+    }
+    vsv_player_free(p2);
+    vsv_room_free(r2);
     vsv_room_fail(r, "first");
     vsv_room_fail(r, "second");
     char why[64];

@@ -89,13 +89,13 @@ vsv_fv_app vsv_fv;
 
 /* ----------------------------------------------------------- life cycle */
 
-static volatile sig_atomic_t GOT_SIGNAL;
-static vsv_ipc FV_IPC;          /* the IPC objects FreeVR made */
-static pid_t KIDS[64];          /* FreeVR's processes, for the watchdog */
-static volatile sig_atomic_t NKIDS;
-static volatile sig_atomic_t END_STATUS;
+static volatile sig_atomic_t got_signal;
+static vsv_ipc fv_ipc;          /* the IPC objects FreeVR made */
+static pid_t kids[64];          /* FreeVR's processes, as vrStart left them */
+static volatile sig_atomic_t nkids;
+static volatile sig_atomic_t end_status;
 
-static void on_signal(int sig) { GOT_SIGNAL = sig; }
+static void on_signal(int sig) { got_signal = sig; }
 
 /* vrExit did not return: FreeVR's processes are killed and its IPC objects
  * removed here (async-signal-safe calls only). */
@@ -103,40 +103,39 @@ static void on_watchdog(int sig)
 {
     (void)sig;
     static const char msg[] = "vsv-play-freevr: FreeVR did not end within 3 s: its processes were killed\n";
-    for (int i = 0; i < NKIDS; i++)
-        kill(KIDS[i], SIGKILL);
-    vsv_ipc_remove(&FV_IPC);
+    for (int i = 0; i < nkids; i++)
+        kill(kids[i], SIGKILL);
+    vsv_ipc_remove(&fv_ipc);
     vsv_output_cleanup();
     if (write(2, msg, sizeof msg - 1) < 0)
         _exit(1);
-    _exit(END_STATUS ? END_STATUS : 1);
+    _exit(end_status ? end_status : 1);
 }
 
 /* vrExit, which waits for FreeVR's processes, under a 3-second watchdog. */
 static void freevr_exit(int status)
 {
-    END_STATUS = status;
-    NKIDS = vsv_proc_children(KIDS, 64);
+    end_status = status;
     signal(SIGALRM, on_watchdog);
     alarm(3);
     vrExit();
     alarm(0);
-    vsv_ipc_remove(&FV_IPC); /* (what FreeVR left; normally nothing) */
+    vsv_ipc_remove(&fv_ipc); /* (what FreeVR left; normally nothing) */
 }
 
 /* The trace: a temporary beside FILE, renamed into place at the end. */
-static char TRACE_PATH[4096], TRACE_TMP[4200];
+static char trace_path[4096], trace_tmp[4200];
 
 static void trace_open(const char *path)
 {
     vsv_cli_refuse_input(path, NULL, 0);
-    snprintf(TRACE_PATH, sizeof TRACE_PATH, "%s", path);
-    const int fd = vsv_output_temp(path, NULL, TRACE_TMP, sizeof TRACE_TMP);
+    snprintf(trace_path, sizeof trace_path, "%s", path);
+    const int fd = vsv_output_temp(path, NULL, trace_tmp, sizeof trace_tmp);
     if (fd < 0)
         vsv_cli_die(1, "%s: cannot create: %s", path, strerror(errno));
     /* the render processes append whole lines; this process alone ends it
      * (their signal handlers must not remove it) */
-    vsv_output_forget(TRACE_TMP);
+    vsv_output_forget(trace_tmp);
     fcntl(fd, F_SETFL, fcntl(fd, F_GETFL) | O_APPEND);
     static const char head[] = "# vsv-play-freevr trace: one line per window per frame\n"
                                "# window frame tick step time seconds cpu pid\n";
@@ -149,9 +148,9 @@ static void trace_close(void)
 {
     if (vsv_fv.trace_fd < 0)
         return;
-    if (vsv_output_seal(vsv_fv.trace_fd) || rename(TRACE_TMP, TRACE_PATH)) {
-        fprintf(stderr, "%s: %s: cannot write the trace: %s\n", vsv_cli_tool(), TRACE_PATH, strerror(errno));
-        unlink(TRACE_TMP);
+    if (vsv_output_seal(vsv_fv.trace_fd) || rename(trace_tmp, trace_path)) {
+        fprintf(stderr, "%s: %s: cannot write the trace: %s\n", vsv_cli_tool(), trace_path, strerror(errno));
+        unlink(trace_tmp);
     }
     vsv_fv.trace_fd = -1;
 }
@@ -229,7 +228,8 @@ typedef struct run {
     int fps;              /* --fps */
     int panel;            /* draw the panel */
     vsv_panel *measure;   /* the panel's size (no GL) */
-    double lh;
+    double panel_at;      /* when it was sized last (monotonic seconds) */
+    double lh, where[9];  /* its line height, corner and directions then */
 } run;
 
 static void place_base(run *r)
@@ -246,6 +246,13 @@ static void place_base(run *r)
  * left. Sized for the longest lines it can show, so it keeps its size. */
 static void panel_place(run *r, vsv_fv_tick *t)
 {
+    const double now = vsv_room_clock();
+    if (now - r->panel_at < 0.5) { /* (sizing it takes FreeType: twice a second is enough) */
+        t->lh = r->lh;
+        memcpy(t->panel, r->where, sizeof r->where);
+        return;
+    }
+    r->panel_at = now;
     vsv_room_window w[64];
     const int n = vsv_room_windows(vsv_fv.room, w, 64);
     double dens = 0;
@@ -258,8 +265,8 @@ static void panel_place(run *r, vsv_fv_tick *t)
     const double *lo = r->lay.room_lo, *hi = r->lay.room_hi, width = hi[0] - lo[0], height = hi[1] - lo[1];
     vsv_scene sc;
     vsv_player_scene(r->dec, &sc);
-    int sp[VSV_PLAYER_MAX_SPECIES];
-    for (int s = 0; s < VSV_PLAYER_MAX_SPECIES; s++)
+    static int sp[4 * VSV_PLAYER_MAX_SPECIES]; /* (as many as the file may have: main checks) */
+    for (int s = 0; s < 4 * VSV_PLAYER_MAX_SPECIES; s++)
         sp[s] = s;
     const vsv_annot a = {VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, sp, NULL};
     char err[256], lines[512];
@@ -267,17 +274,18 @@ static void panel_place(run *r, vsv_fv_tick *t)
                        sizeof lines);
     double pw, ph;
     if (!r->panel || vsv_panel_measure(r->measure, &a, &sc, lines, lh, &pw, &ph, err, sizeof err)) {
-        t->lh = 0;
+        t->lh = r->lh = 0;
         return;
     }
     if (pw > 0.9 * width)
         lh *= 0.9 * width / pw, ph *= 0.9 * width / pw;
     if (ph > 0.8 * height)
         lh *= 0.8 * height / ph;
-    t->lh = lh;
+    t->lh = r->lh = lh;
     const double m = 0.05 * width;
     const double at[9] = {lo[0] + m, hi[1] - m, lo[2] + 0.02, 1, 0, 0, 0, -1, 0};
     memcpy(t->panel, at, sizeof at);
+    memcpy(r->where, at, sizeof at);
 }
 
 /* Reads the wand, moves the scene, runs the actions. */
@@ -323,20 +331,28 @@ static void input(run *r, double dt)
         vsv_nav_scale(r->nav, r->last.tip, o.scale);
 }
 
-/* A render process that is gone: its window's name and how it ended into
- * why; 1 when there is one. */
-static int dead_window(char *why, size_t cap)
+/* A process of the run that is gone (a render process, with its window's
+ * name, or FreeVR's input process): who and how it ended into why; 1 when
+ * there is one. */
+static int dead_process(char *why, size_t cap)
 {
     vsv_room_window w[64];
     const int n = vsv_room_windows(vsv_fv.room, w, 64);
-    for (int i = 0; i < n && i < 64; i++) {
-        if (vsv_proc_alive(w[i].pid))
+    for (int k = 0; k < nkids; k++) {
+        if (vsv_proc_alive(kids[k]))
             continue;
         char how[128];
-        if (vsv_proc_ended(w[i].pid, how, sizeof how))
+        if (vsv_proc_ended(kids[k], how, sizeof how))
             snprintf(how, sizeof how, "ended");
-        snprintf(why, cap, "the render process of the %s window (pid %d) %s: the run is ended", w[i].name,
-                 (int)w[i].pid, how);
+        const char *name = NULL;
+        for (int i = 0; i < n && i < 64 && !name; i++)
+            name = w[i].pid == kids[k] ? w[i].name : NULL;
+        if (name)
+            snprintf(why, cap, "the render process of the %s window (pid %d) %s: the run is ended", name,
+                     (int)kids[k], how);
+        else
+            snprintf(why, cap, "FreeVR's process %d (it drew no window yet, or read the input) %s: the run is ended",
+                     (int)kids[k], how);
         return 1;
     }
     return 0;
@@ -346,7 +362,8 @@ static int dead_window(char *why, size_t cap)
  * last one. 0, or -1 with the reason in err. */
 static int publish(run *r, char *err, size_t cap)
 {
-    vsv_fv_tick t = r->last;
+    vsv_fv_tick t;
+    memcpy(&t, &r->last, sizeof t); /* (padding included: the tick is compared whole) */
     vsv_player_state_get(r->dec, &t.st);
     t.nsteps = vsv_player_clock(r->dec)->nsteps;
     vsv_mat4_mul(r->nav, r->base, t.place);
@@ -371,17 +388,21 @@ static int publish(run *r, char *err, size_t cap)
     if (vsv_room_tick(vsv_fv.room) && step == r->last_step && damage == r->last_damage &&
         !memcmp(&t, &r->last, sizeof t))
         return 0;
-    if (!vsv_room_can_publish(vsv_fv.room))
-        return 0;
     const vsv_meta *m = vsv_player_meta(r->dec);
-    const vsv_volume *vols[VSV_PLAYER_MAX_SPECIES * 4];
-    const int ns = m->nvars < (int)(sizeof vols / sizeof *vols) ? m->nvars : (int)(sizeof vols / sizeof *vols);
-    for (int s = 0; s < ns; s++)
+    static const vsv_volume *vols[4 * VSV_PLAYER_MAX_SPECIES];
+    for (int s = 0; s < m->nvars; s++)
         vols[s] = vsv_player_volume(r->dec, s);
-    const int64_t time = vsv_player_step_time(r->dec, step);
-    if (vsv_room_publish(vsv_fv.room, vsv_player_pager(r->dec), step, time, damage, vols, &t, err, cap) < 0)
+    const int rc = vsv_room_publish(vsv_fv.room, vsv_player_pager(r->dec), step, vsv_player_step_time(r->dec, step),
+                                    damage, vols, &t, NULL, err, cap);
+    if (rc == VSV_EAGAIN) /* a window has not shown the tick before yet */
+        return 0;
+    if (rc) {
+        if (rc == VSV_ENOMEM && vsv_room_arena_used(vsv_fv.room) + ((size_t)4 << 20) > vsv_room_arena_size(vsv_fv.room))
+            snprintf(err, cap, "the walls' shared brick memory (%zu MB, from --cache-mb) is full",
+                     vsv_room_arena_size(vsv_fv.room) >> 20);
         return -1;
-    r->last = t;
+    }
+    memcpy(&r->last, &t, sizeof t);
     r->last_step = step;
     r->last_damage = damage;
     return 0;
@@ -405,7 +426,7 @@ int main(int argc, char **argv)
     memset(&r, 0, sizeof r);
     r.panel = 1;
     r.last_step = -1;
-    const char *trace_path = NULL;
+    const char *trace_file = NULL;
     /* ours (options and the file) apart from FreeVR's configuration strings */
     char **ours = calloc((size_t)argc + 1, sizeof *ours), **fv = calloc((size_t)argc + 1, sizeof *fv);
     if (!ours || !fv)
@@ -486,7 +507,7 @@ int main(int argc, char **argv)
             else
                 vsv_cli_usage_error("--place: table or room, not '%s'", optarg);
             break;
-        case O_TRACE: trace_path = optarg; break;
+        case O_TRACE: trace_file = optarg; break;
         case O_NOPANEL: r.panel = 0; break;
         case O_FPS: r.fps = 1; break;
         case O_NOWAND: vsv_fv.wand = 0; break;
@@ -528,19 +549,24 @@ int main(int argc, char **argv)
     vsv_volume *shape = vsv_pager_volume_new(vsv_player_pager(in));
     if (!shape)
         vsv_cli_die(1, "out of memory");
-    const vsv_room_opts ro = {budget + budget / 2 + ((size_t)64 << 20), vsv_player_meta(in)->nvars, shape->nbricks,
-                              r.lay.windows, sizeof(vsv_fv_tick)};
+    /* the arena: the budget, with room for what stays pinned beyond it (the
+     * two published ticks and the step being shown: three whole steps at
+     * most) and the pager's slabs' rounding */
+    const size_t step_bytes = (size_t)vsv_player_meta(in)->nvars * (size_t)shape->nbricks * (size_t)shape->brick *
+                              (size_t)shape->brick * (size_t)shape->brick * sizeof(float);
+    const vsv_room_opts ro = {budget + 3 * step_bytes + ((size_t)64 << 20), vsv_player_meta(in)->nvars,
+                              shape->nbricks, r.lay.windows, sizeof(vsv_fv_tick)};
     vsv_volume_free(shape);
     if (ro.nspecies > VSV_PLAYER_MAX_SPECIES * 4)
         vsv_cli_die(1, "%s: %d species: vsv-play-freevr draws at most %d", opts.path, ro.nspecies,
                     VSV_PLAYER_MAX_SPECIES * 4);
     if (vsv_room_create(&ro, &vsv_fv.room, err, sizeof err))
         vsv_cli_die(1, "%s", err);
-    if (trace_path)
-        trace_open(trace_path);
+    if (trace_file)
+        trace_open(trace_file);
     vsv_fv.opts = opts;
     vsv_fv.opts.external = 1;
-    vsv_fv.t0 = vsv_fv_now();
+    vsv_fv.t0 = vsv_room_clock();
     vsv_player_free(in);
     if (!(r.measure = vsv_panel_create()))
         vsv_cli_die(1, "out of memory");
@@ -551,7 +577,7 @@ int main(int argc, char **argv)
     fv[nfv] = NULL;
     vrConfigure(&nfv, fv, NULL);
     vsv_ipc_list(&after);
-    vsv_ipc_new(&before, &after, &FV_IPC);
+    vsv_ipc_new(&before, &after, &fv_ipc);
     /* from here on every exit ends FreeVR's processes */
     vrInputSet2switchDescription(1, "play / pause; held: joystick scales");
     vrInputSet2switchDescription(2, "next species; held: joystick opacity");
@@ -563,12 +589,13 @@ int main(int argc, char **argv)
     vsv_ipc_list(&before);
     vrStart();
     vsv_ipc_list(&after);
+    nkids = vsv_proc_children(kids, 64); /* FreeVR's render and input processes */
     vsv_ipc new_ipc;
     vsv_ipc_new(&before, &after, &new_ipc);
-    for (int i = 0; i < new_ipc.nsem && FV_IPC.nsem < 256; i++)
-        FV_IPC.sem[FV_IPC.nsem++] = new_ipc.sem[i];
-    for (int i = 0; i < new_ipc.nshm && FV_IPC.nshm < 256; i++)
-        FV_IPC.shm[FV_IPC.nshm++] = new_ipc.shm[i];
+    for (int i = 0; i < new_ipc.nsem && fv_ipc.nsem < 256; i++)
+        fv_ipc.sem[fv_ipc.nsem++] = new_ipc.sem[i];
+    for (int i = 0; i < new_ipc.nshm && fv_ipc.nshm < 256; i++)
+        fv_ipc.shm[fv_ipc.nshm++] = new_ipc.shm[i];
     /* FreeVR ignores SIGINT; this process ends the run on it */
     struct sigaction sa;
     memset(&sa, 0, sizeof sa);
@@ -593,19 +620,19 @@ int main(int argc, char **argv)
         const double depth = r.lay.room_hi[2] - r.lay.room_lo[2];
         vsv_wand_init(&r.wand, depth / 2.5);
     }
-    double last = vrCurrentSimTime(), checked = 0, start = vsv_fv_now();
+    double last = vrCurrentSimTime(), checked = 0, start = vsv_room_clock();
     int started = 0;
     while (!status && vrFrame()) {
-        if (GOT_SIGNAL)
+        if (got_signal)
             break;
         if (vsv_room_failed(vsv_fv.room, msg, sizeof msg)) {
             status = 1;
             break;
         }
-        const double now = vrCurrentSimTime(), wall = vsv_fv_now();
+        const double now = vrCurrentSimTime(), wall = vsv_room_clock();
         if (wall - checked > 0.2) { /* a render process that died: FreeVR would wait for it forever */
             checked = wall;
-            if (dead_window(msg, sizeof msg)) {
+            if (dead_process(msg, sizeof msg)) {
                 status = 1, dead = 1;
                 break;
             }
@@ -631,13 +658,11 @@ int main(int argc, char **argv)
          * spin, the render processes want the cores */
         nanosleep(&(struct timespec){0, 5000000}, NULL);
     }
-    const int sig = GOT_SIGNAL;
+    const int sig = got_signal;
     if (dead) {
         /* vrExit would wait for the dead process: end FreeVR's others */
-        pid_t kids[64];
-        const int n = vsv_proc_children(kids, 64);
-        vsv_proc_end(kids, n, 1.0);
-        vsv_ipc_remove(&FV_IPC);
+        vsv_proc_end(kids, nkids, 1.0);
+        vsv_ipc_remove(&fv_ipc);
     } else {
         freevr_exit(sig ? 128 + sig : status);
     }

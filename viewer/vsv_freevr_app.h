@@ -31,7 +31,7 @@ typedef struct vsv_fv_app {
     vsv_room *room;
     double scale;         /* --render-scale */
     int trace_fd;         /* --trace: lines appended here; -1 none */
-    double t0;            /* CLOCK_MONOTONIC seconds at the start */
+    double t0;            /* vsv_room_clock() at the start */
     int wand;             /* draw the wand's pointer */
 } vsv_fv_app;
 
@@ -52,8 +52,5 @@ void vsv_fv_display_exit(void);
  * sized for them, so it keeps its size). */
 void vsv_fv_panel_lines(const vsv_fv_tick *t, const vsv_meta *m, int nsteps, int step, int damaged, int fps,
                         char *buf, size_t cap);
-
-/* CLOCK_MONOTONIC seconds. */
-double vsv_fv_now(void);
 
 #endif

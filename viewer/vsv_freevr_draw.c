@@ -39,6 +39,7 @@ typedef struct fvwin {
     double when;          /* when the tick was taken */
     int step, eye;
     const char *damage;
+    const vsv_volume *const *vols; /* its volumes per species (the room's) */
     uint64_t content;     /* what the tick's picture depends on, but the eye */
     vsv_fv_tick tk;
     vsv_panel *panel;
@@ -47,18 +48,11 @@ typedef struct fvwin {
     vsv_camera cam[2];
 } fvwin;
 
-static fvwin W[MAXWIN];
-static int NW, OPENED;
-static vsv_player *R; /* one per render process, for all its windows */
-static vsv_annot A;   /* the panel's legend: time and species map */
-static int *SPECIES;
-
-double vsv_fv_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + ts.tv_nsec * 1e-9;
-}
+static fvwin wins[MAXWIN];
+static int nwins, opened;
+static vsv_player *player; /* one per render process, for all its windows */
+static vsv_annot legend;   /* the panel's legend: time and species map */
+static int *species_map;
 
 static void fail(const char *msg) { vsv_room_fail(vsv_fv.room, msg); }
 static uint64_t content_key(const struct fvwin *w, const vsv_volume *const *vols);
@@ -67,9 +61,9 @@ static uint64_t content_key(const struct fvwin *w, const vsv_volume *const *vols
 static fvwin *current(void)
 {
     const GLXDrawable d = glXGetCurrentDrawable();
-    for (int i = 0; i < NW; i++)
-        if (W[i].drawable == d)
-            return &W[i];
+    for (int i = 0; i < nwins; i++)
+        if (wins[i].drawable == d)
+            return &wins[i];
     return NULL;
 }
 
@@ -96,34 +90,34 @@ static void window_name(GLXDrawable d, int index, char *out, size_t cap)
 void vsv_fv_display_init(void)
 {
     char err[1024];
-    if (NW == MAXWIN) {
+    if (nwins == MAXWIN) {
         fail("more than 32 windows in one render process");
         return;
     }
-    fvwin *w = &W[NW];
+    fvwin *w = &wins[nwins];
     memset(w, 0, sizeof *w);
     w->drawable = glXGetCurrentDrawable();
-    window_name(w->drawable, NW, w->name, sizeof w->name);
-    NW++;
+    window_name(w->drawable, nwins, w->name, sizeof w->name);
+    nwins++;
     w->room = vsv_room_join(vsv_fv.room, w->name);
     if (w->room < 0) {
         snprintf(err, sizeof err, "the %s window: more windows than the configuration counted", w->name);
         fail(err);
     }
     w->panel = vsv_panel_create();
-    if (OPENED++)
+    if (opened++)
         return;
-    if (vsv_player_open(&vsv_fv.opts, &R, err, sizeof err)) {
-        vsv_player_free(R);
-        R = NULL;
+    if (vsv_player_open(&vsv_fv.opts, &player, err, sizeof err)) {
+        vsv_player_free(player);
+        player = NULL;
         fail(err);
         return;
     }
-    const vsv_meta *m = vsv_player_meta(R);
-    SPECIES = calloc((size_t)(m->nvars ? m->nvars : 1), sizeof *SPECIES);
-    for (int s = 0; SPECIES && s < m->nvars; s++)
-        SPECIES[s] = s;
-    A = (vsv_annot){VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, SPECIES, NULL};
+    const vsv_meta *m = vsv_player_meta(player);
+    species_map = calloc((size_t)(m->nvars ? m->nvars : 1), sizeof *species_map);
+    for (int s = 0; species_map && s < m->nvars; s++)
+        species_map[s] = s;
+    legend = (vsv_annot){VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, species_map, NULL};
 }
 
 void vsv_fv_display_exit(void)
@@ -134,12 +128,12 @@ void vsv_fv_display_exit(void)
         w->panel = NULL;
         glDeleteTextures(2, w->tex);
     }
-    if (--OPENED > 0)
+    if (--opened > 0)
         return;
-    vsv_player_free(R);
-    R = NULL;
-    free(SPECIES);
-    SPECIES = NULL;
+    vsv_player_free(player);
+    player = NULL;
+    free(species_map);
+    species_map = NULL;
 }
 
 /* --trace: one line for this window's frame, appended whole (O_APPEND: the
@@ -163,7 +157,7 @@ void vsv_fv_display_frame(void *ri)
 {
     (void)ri;
     fvwin *w = current();
-    if (!w || !R || w->room < 0)
+    if (!w || !player || w->room < 0)
         return;
     w->eye = 0;
     vsv_room_view v;
@@ -175,13 +169,7 @@ void vsv_fv_display_frame(void *ri)
     w->frames++;
     w->tick = v.tick, w->step = v.step, w->damage = v.damage, w->time = v.time, w->when = v.when;
     memcpy(&w->tk, v.user, sizeof w->tk);
-    char err[1024] = "";
-    if (vsv_player_state_apply(R, &w->tk.st, err, sizeof err)) {
-        fail(err);
-        w->have = 0;
-        return;
-    }
-    vsv_player_show(R, v.step, v.vols, v.damage);
+    w->vols = v.vols;
     w->content = content_key(w, v.vols);
     trace(w);
 }
@@ -202,7 +190,7 @@ static uint64_t fnv(uint64_t h, const void *p, size_t n)
 static uint64_t content_key(const fvwin *w, const vsv_volume *const *vols)
 {
     const vsv_fv_tick *t = &w->tk;
-    const int ns = vsv_player_meta(R)->nvars;
+    const int ns = vsv_player_meta(player)->nvars;
     uint64_t h = fnv(1469598103934665603ull, &w->step, sizeof w->step);
     for (int s = 0; s < ns; s++) {
         const uint64_t g = vols && vols[s] ? vols[s]->gen : 0;
@@ -304,14 +292,22 @@ void vsv_fv_display_eye(void *ri)
 {
     (void)ri;
     fvwin *w = current();
-    const float *bg = R ? vsv_player_background(R) : NULL;
+    const float *bg = player ? vsv_player_background(player) : NULL;
     /* FreeVR does not clear: old frames and stale depth would show */
     glClearColor(bg ? bg[0] : 0, bg ? bg[1] : 0, bg ? bg[2] : 0, 1);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (!w || !w->have || !R)
+    if (!w || !w->have || !player)
         return;
     const int eye = w->eye < 2 ? w->eye : 1;
     w->eye++;
+    /* this window's tick into the player, which every window of this
+     * process shares (cheap when it holds it already) */
+    char err[1024] = "";
+    if (vsv_player_state_apply(player, &w->tk.st, err, sizeof err)) {
+        fail(err);
+        return;
+    }
+    vsv_player_show(player, w->step, w->vols, w->damage);
     double P[16], MV[16];
     GLint vp[4];
     glGetDoublev(GL_PROJECTION_MATRIX, P);
@@ -324,8 +320,7 @@ void vsv_fv_display_eye(void *ri)
     vsv_camera cam;
     vsv_player_camera_from_gl(w->tk.place, P, MV, iw, ih, &cam);
     if (!w->tex[eye] || w->key[eye] != w->content || memcmp(&cam, &w->cam[eye], sizeof cam)) {
-        char err[1024];
-        const unsigned char *img = vsv_player_image(R, &cam, err, sizeof err);
+        const unsigned char *img = vsv_player_image(player, &cam, err, sizeof err);
         if (!img) {
             fail(err);
             return;
@@ -335,7 +330,7 @@ void vsv_fv_display_eye(void *ri)
         w->cam[eye] = cam;
     }
     double mn[3], mx[3], c[3];
-    vsv_player_bounds(R, mn, mx);
+    vsv_player_bounds(player, mn, mx);
     for (int i = 0; i < 3; i++)
         c[i] = 0.5 * (mn[i] + mx[i]);
     vsv_mat4_point(w->tk.place, c, c);
@@ -344,12 +339,12 @@ void vsv_fv_display_eye(void *ri)
         draw_wand(&w->tk);
     if (w->tk.lh > 0 && w->panel) {
         char lines[512];
-        vsv_fv_panel_lines(&w->tk, vsv_player_meta(R), w->tk.nsteps, w->step, w->damage != NULL, w->tk.fps >= 0,
+        vsv_fv_panel_lines(&w->tk, vsv_player_meta(player), w->tk.nsteps, w->step, w->damage != NULL, w->tk.fps >= 0,
                            lines, sizeof lines);
-        A.time = w->time;
+        legend.time = w->time;
         vsv_scene sc;
-        vsv_player_scene(R, &sc);
-        const double density = vsv_panel_draw(w->panel, &A, &sc, lines, w->tk.panel, w->tk.panel + 3,
+        vsv_player_scene(player, &sc);
+        const double density = vsv_panel_draw(w->panel, &legend, &sc, lines, w->tk.panel, w->tk.panel + 3,
                                                w->tk.panel + 6, w->tk.lh, P, MV, vp);
         if (eye == 0)
             vsv_room_report(vsv_fv.room, w->room, density);

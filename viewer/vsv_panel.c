@@ -168,6 +168,8 @@ double vsv_panel_draw(vsv_panel *pn, const vsv_annot *a, const vsv_scene *sc, co
     const int seen = a2[0] >= vp[0] && a2[0] < vp[0] + vp[2] && a2[1] >= vp[1] && a2[1] < vp[1] + vp[3];
     int px = (int)lround(REF_PX * line_px / vsv_font_line(pn->ref));
     px = px < MIN_PX ? MIN_PX : px > MAX_PX ? MAX_PX : px;
+    if (pn->px && abs(px - pn->px) <= 1) /* (the two eyes, a head moving: no flicker of sizes) */
+        px = pn->px;
     const uint64_t key = content_key(a, sc, lines, px);
     if ((key != pn->key || !pn->tex) && !rasterise(pn, a, sc, lines, px))
         pn->key = key;

@@ -183,7 +183,6 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     vsv_render_opts_init(&p->ro);
     p->ro.kind = o->renderer;
     p->ro.threads = o->clock_only ? 1 : o->threads;
-    p->external = o->external;
     if (vsv_renderer_create(&p->ro, &p->r)) {
         snprintf(err, cap, "cannot start the renderer");
         return -1;
@@ -393,19 +392,26 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
 {
     const int w = cam->width, h = cam->height;
     if (w != p->iw || h != p->ih) {
-        free(p->rgba);
-        free(p->depth);
-        free(p->rgb);
-        free(p->argba);
-        free(p->argb);
-        p->argba = NULL, p->argb = NULL;
-        p->rgba = malloc((size_t)w * h * 4 * sizeof(float));
-        p->depth = malloc((size_t)w * h * sizeof(float));
-        p->rgb = malloc((size_t)w * h * 3);
-        if (!p->rgba || !p->depth || !p->rgb) {
-            p->iw = p->ih = 0;
-            snprintf(err, cap, "out of memory");
-            return NULL;
+        /* the buffers only grow: windows of other sizes drawn in turn (a
+         * render process with several) allocate nothing per frame */
+        const size_t n = (size_t)w * h;
+        if (n > p->icap) {
+            free(p->rgba);
+            free(p->depth);
+            free(p->rgb);
+            free(p->argba);
+            free(p->argb);
+            p->argba = NULL, p->argb = NULL;
+            p->rgba = malloc(n * 4 * sizeof(float));
+            p->depth = malloc(n * sizeof(float));
+            p->rgb = malloc(n * 3);
+            if (!p->rgba || !p->depth || !p->rgb) {
+                p->iw = p->ih = 0;
+                p->icap = 0;
+                snprintf(err, cap, "out of memory");
+                return NULL;
+            }
+            p->icap = n;
         }
         p->iw = w, p->ih = h;
         p->dirty = 1;
@@ -431,10 +437,10 @@ const unsigned char *vsv_player_annotated(vsv_player *p, unsigned parts, vsv_fon
         return NULL;
     }
     const size_t n = (size_t)p->iw * p->ih;
-    if (!p->argba)
-        p->argba = malloc(n * 4 * sizeof(float));
+    if (!p->argba) /* (as large as the image buffers: their sizes come and go) */
+        p->argba = malloc(p->icap * 4 * sizeof(float));
     if (!p->argb)
-        p->argb = malloc(n * 3);
+        p->argb = malloc(p->icap * 3);
     if (!p->sidx && (p->sidx = malloc((size_t)(p->ns ? p->ns : 1) * sizeof *p->sidx)))
         for (int s = 0; s < p->ns; s++)
             p->sidx[s] = s;

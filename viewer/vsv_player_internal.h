@@ -35,7 +35,6 @@ struct vsv_player {
     vsv_slice slices[8];
     vsv_tf slice_tf;
     unsigned char *need; /* per species: pinned (drawn, or the slices' species) */
-    int external;        /* volumes from vsv_player_show, never the pager */
     uint64_t *gens;      /* per species: the gen of the volume shown (external) */
     /* rendering */
     vsv_render_opts ro;
@@ -47,6 +46,7 @@ struct vsv_player {
     unsigned char *argb;
     int *sidx;           /* per layer: its species (the identity) */
     int iw, ih;
+    size_t icap;         /* pixels the image buffers hold */
     vsv_camera last_cam;
     int dirty;
     float bg[3];

@@ -69,14 +69,18 @@ struct vsv_room {
     /* the publisher's pins: [slot][species] */
     vsv_volume **pins;
     vsv_pager *pin_pager;
-    /* a window's view in this process */
-    vsv_volume *local;    /* ns volumes */
-    const vsv_volume **vptr;
-    uint64_t *seen_gen;   /* per species: the publisher's gen behind local[s].gen */
-    void *user;           /* user_bytes */
+    /* the views in the process that draws: per species, two volumes (the
+     * loads of the two live ticks), each with the publisher's gen behind it
+     * and when it was taken last; per window its volume pointers and data */
+    vsv_volume *local;    /* [species][2] */
+    uint64_t *seen_gen;   /* [species][2] */
+    uint64_t *used;       /* [species][2] */
+    uint64_t takes;
+    const vsv_volume **vptr; /* [window][species] */
+    unsigned char *user;  /* [window] user_bytes */
 };
 
-static double now_s(void)
+double vsv_room_clock(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -102,12 +106,12 @@ int vsv_room_create(const vsv_room_opts *o, vsv_room **out, char *err, size_t ca
     if (o->nspecies < 0 || o->nbricks < 1 || o->windows < 1 || o->windows > MAX_WINDOWS) {
         snprintf(err, cap, "a room of %d windows, %d species, %d bricks: out of range (at most %d windows)",
                  o->windows, o->nspecies, o->nbricks, MAX_WINDOWS);
-        return -1;
+        return VSV_EINVAL;
     }
     vsv_room *r = calloc(1, sizeof *r);
     if (!r) {
         snprintf(err, cap, "out of memory");
-        return -1;
+        return VSV_ENOMEM;
     }
     r->ns = o->nspecies, r->nb = o->nbricks, r->maxwin = o->windows, r->user_bytes = o->user_bytes;
     const size_t ns = (size_t)(r->ns ? r->ns : 1), nb = (size_t)r->nb;
@@ -126,7 +130,7 @@ int vsv_room_create(const vsv_room_opts *o, vsv_room **out, char *err, size_t ca
     if (m == MAP_FAILED) {
         snprintf(err, cap, "cannot map %zu bytes of shared memory for the walls: %s", r->map_bytes, strerror(errno));
         free(r);
-        return -1;
+        return VSV_ENOMEM;
     }
     r->map = m;
     r->h = m;
@@ -142,7 +146,7 @@ int vsv_room_create(const vsv_room_opts *o, vsv_room **out, char *err, size_t ca
     if (rc || !r->pins) {
         snprintf(err, cap, "cannot set up the walls' lock: %s", rc ? strerror(rc) : "out of memory");
         vsv_room_free(r);
-        return -1;
+        return VSV_ENOMEM;
     }
     *out = r;
     return 0;
@@ -159,6 +163,7 @@ void vsv_room_free(vsv_room *r)
     free(r->local);
     free(r->vptr);
     free(r->seen_gen);
+    free(r->used);
     free(r->user);
     if (r->map)
         munmap(r->map, r->map_bytes);
@@ -180,12 +185,16 @@ void *vsv_room_slab(void *room, size_t bytes)
 }
 
 size_t vsv_room_arena_used(const vsv_room *r) { return r->h->arena_used; }
+size_t vsv_room_arena_size(const vsv_room *r) { return r->arena_bytes; }
 
 /* ------------------------------------------------------------- publisher */
 
-/* Under the lock: whether every window has shown the newest tick. */
+/* Under the lock: whether every window has shown the newest tick (none
+ * published yet: windows that joined wait for the first). */
 static int all_shown(const vsv_room *r)
 {
+    if (!r->h->tick)
+        return 1;
     for (int i = 0; i < r->h->nwin; i++)
         if (r->h->w[i].shown < r->h->tick)
             return 0;
@@ -208,20 +217,21 @@ int64_t vsv_room_tick(vsv_room *r)
     return t;
 }
 
-int64_t vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, const char *damage,
-                         const vsv_volume *const *vols, const void *user, char *err, size_t cap)
+int vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, const char *damage,
+                     const vsv_volume *const *vols, const void *user, int64_t *tick, char *err, size_t cap)
 {
     lock(r);
-    const int64_t tick = r->h->tick + 1;
+    const int64_t next = r->h->tick + 1;
     const int k = r->h->tick ? 1 - r->h->cur : 0;
     const int ready = all_shown(r);
     unlock(r);
     if (!ready) /* (windows only ever move on: this stays true once seen) */
-        return 0;
+        return VSV_EAGAIN;
     /* the slot k is read by no window (every one has shown the current
      * tick, in the other slot): pin the new step's bricks there, which
      * releases those of the tick before */
     unsigned char *sl = slot_at(r, k);
+    const spec *now = next > 1 ? (const spec *)(slot_at(r, 1 - k) + r->off_spec) : NULL;
     spec *sp = (spec *)(sl + r->off_spec);
     float **bricks = (float **)(sl + r->off_bricks);
     float *bmin = (float *)(sl + r->off_bmin), *bmax = (float *)(sl + r->off_bmax);
@@ -245,20 +255,24 @@ int64_t vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, con
         }
         if (!*pin && !(*pin = vsv_pager_volume_new(pg))) {
             snprintf(err, cap, "out of memory");
-            return -1;
+            return VSV_ENOMEM;
         }
         const int rc = vsv_pager_get(pg, v->step, s, 1, *pin);
         if (rc) {
             snprintf(err, cap, "%s", vsv_pager_error(pg));
-            return -1;
+            return rc;
         }
         const vsv_volume *p = *pin;
         if (p->nbricks != r->nb) {
             snprintf(err, cap, "a volume of %d bricks in a room of %d", p->nbricks, r->nb);
-            return -1;
+            return VSV_EINVAL;
         }
+        /* the same step of the same species as the tick shown: the same
+         * values (and the same cached bricks), so the same load for the
+         * renderers, which then keep what they derived from it */
+        const uint64_t gen = now && now[s].present && now[s].step == p->step ? now[s].gen : p->gen;
         sp[s] = (spec){1,           p->nx,      p->ny, p->nz, p->brick, {p->bdim[0], p->bdim[1], p->bdim[2]},
-                       p->nbricks, p->shift,    p->step, p->species, p->gen, p->empty_value, p->time, p->bkey != NULL};
+                       p->nbricks, p->shift,    p->step, p->species, gen, p->empty_value, p->time, p->bkey != NULL};
         memcpy(bricks + s * nb, p->bricks, nb * sizeof *bricks);
         memcpy(bmin + s * nb, p->bmin, nb * sizeof *bmin);
         memcpy(bmax + s * nb, p->bmax, nb * sizeof *bmax);
@@ -266,7 +280,7 @@ int64_t vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, con
             memcpy(bkey + s * nb, p->bkey, nb * sizeof *bkey);
     }
     slot *h = (slot *)sl;
-    h->tick = tick;
+    h->tick = next;
     h->step = step;
     h->time = time;
     h->damaged = damage != NULL;
@@ -274,10 +288,12 @@ int64_t vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, con
     if (r->user_bytes)
         memcpy(sl + r->off_user, user, r->user_bytes);
     lock(r); /* the mutex orders the slot's writes before the windows' reads */
-    r->h->tick = tick;
+    r->h->tick = next;
     r->h->cur = k;
     unlock(r);
-    return tick;
+    if (tick)
+        *tick = next;
+    return 0;
 }
 
 void vsv_room_unpin(vsv_room *r)
@@ -320,28 +336,50 @@ int vsv_room_join(vsv_room *r, const char *name)
         x->pid = getpid();
         snprintf(x->name, sizeof x->name, "%s", name ? name : "");
         x->taken = x->shown = -1;
-        x->rate_t0 = x->last = now_s();
+        x->rate_t0 = x->last = vsv_room_clock();
     }
     unlock(r);
     return i;
 }
 
-/* This process's view: its volumes, built once. */
+/* The views in this process, built once. */
 static int local_alloc(vsv_room *r)
 {
     if (r->local)
         return 0;
     const size_t ns = (size_t)(r->ns ? r->ns : 1);
-    r->local = calloc(ns, sizeof *r->local);
-    r->vptr = calloc(ns, sizeof *r->vptr);
-    r->seen_gen = calloc(ns, sizeof *r->seen_gen);
-    r->user = calloc(1, r->user_bytes ? r->user_bytes : 1);
-    if (!r->local || !r->vptr || !r->seen_gen || !r->user) {
-        free(r->local), free(r->vptr), free(r->seen_gen), free(r->user);
-        r->local = NULL, r->vptr = NULL, r->seen_gen = NULL, r->user = NULL;
+    r->local = calloc(2 * ns, sizeof *r->local);
+    r->seen_gen = calloc(2 * ns, sizeof *r->seen_gen);
+    r->used = calloc(2 * ns, sizeof *r->used);
+    r->vptr = calloc(ns * (size_t)r->maxwin, sizeof *r->vptr);
+    r->user = calloc((size_t)r->maxwin, r->user_bytes ? r->user_bytes : 1);
+    if (!r->local || !r->seen_gen || !r->used || !r->vptr || !r->user) {
+        free(r->local), free(r->seen_gen), free(r->used), free(r->vptr), free(r->user);
+        r->local = NULL, r->seen_gen = NULL, r->used = NULL, r->vptr = NULL, r->user = NULL;
         return -1;
     }
     return 0;
+}
+
+/* The volume of this process that shows species s of a slot: the one
+ * already made for the publisher's load gen (a renderer keys what it
+ * derives on a volume and its gen: the same load keeps the same volume),
+ * else the one used least recently (of a tick no window draws any more:
+ * at most two ticks are live, and every window has taken the newer before
+ * a third appears). */
+static vsv_volume *local_for(vsv_room *r, int s, uint64_t gen)
+{
+    const size_t a = 2 * (size_t)s;
+    size_t k = r->seen_gen[a] == gen && r->local[a].gen ? a
+               : r->seen_gen[a + 1] == gen && r->local[a + 1].gen ? a + 1
+               : r->used[a] <= r->used[a + 1] ? a
+                                              : a + 1;
+    if (r->seen_gen[k] != gen || !r->local[k].gen) { /* a new load: a gen unique in this process */
+        r->seen_gen[k] = gen;
+        r->local[k].gen = vsv_volume_new_gen();
+    }
+    r->used[k] = ++r->takes;
+    return &r->local[k];
 }
 
 int vsv_room_frame(vsv_room *r, int w, vsv_room_view *view)
@@ -354,7 +392,7 @@ int vsv_room_frame(vsv_room *r, int w, vsv_room_view *view)
         return -1;
     }
     win *x = &r->h->w[w];
-    const double t = now_s();
+    const double t = vsv_room_clock();
     x->shown = x->taken; /* the frame before is on the screen */
     x->taken = r->h->tick;
     x->frames++;
@@ -370,16 +408,16 @@ int vsv_room_frame(vsv_room *r, int w, vsv_room_view *view)
     const slot *h = (const slot *)sl;
     const spec *sp = (const spec *)(sl + r->off_spec);
     const size_t nb = (size_t)r->nb;
+    const size_t at = (size_t)w * (size_t)r->ns;
     for (int s = 0; s < r->ns; s++) {
-        vsv_volume *v = &r->local[s];
         if (!sp[s].present) {
-            r->vptr[s] = NULL;
+            r->vptr[at + s] = NULL;
             continue;
         }
-        if (sp[s].gen != r->seen_gen[s] || !v->gen) { /* a new load: a gen unique in this process */
-            r->seen_gen[s] = sp[s].gen;
-            v->gen = vsv_volume_new_gen();
-        }
+        /* (a volume shared with another window of this process showing the
+         * same load: pointing it at this slot's arrays changes nothing it
+         * reads, the values are the same) */
+        vsv_volume *v = local_for(r, s, sp[s].gen);
         v->nx = sp[s].nx, v->ny = sp[s].ny, v->nz = sp[s].nz, v->brick = sp[s].brick;
         memcpy(v->bdim, sp[s].bdim, sizeof v->bdim);
         v->nbricks = sp[s].nbricks, v->shift = sp[s].shift, v->step = sp[s].step, v->species = sp[s].species;
@@ -389,16 +427,17 @@ int vsv_room_frame(vsv_room *r, int w, vsv_room_view *view)
         v->bmax = (float *)(sl + r->off_bmax) + s * nb;
         v->bkey = sp[s].has_keys ? (uint64_t *)(sl + r->off_bkey) + s * nb : NULL;
         v->release_ = NULL;
-        r->vptr[s] = v;
+        r->vptr[at + s] = v;
     }
+    unsigned char *user = r->user + (size_t)w * r->user_bytes;
     if (r->user_bytes)
-        memcpy(r->user, sl + r->off_user, r->user_bytes);
+        memcpy(user, sl + r->off_user, r->user_bytes);
     view->tick = h->tick;
     view->step = h->step;
     view->time = h->time;
     view->damage = h->damaged ? h->damage : NULL;
-    view->vols = r->vptr;
-    view->user = r->user;
+    view->vols = r->vptr + at;
+    view->user = user;
     view->when = t;
     return 0;
 }

@@ -45,9 +45,9 @@ typedef struct vsv_room_opts {
     size_t user_bytes;  /* the back end's data published with each tick */
 } vsv_room_opts;
 
-/* Maps the room (before any fork). 0, or -1 with the reason in err (caller
- * buffer of cap bytes). Caller frees with vsv_room_free in every process
- * that goes on after using it. */
+/* Maps the room (before any fork). 0, or VSV_EINVAL / VSV_ENOMEM with the
+ * reason in err (caller buffer of cap bytes). Caller frees with
+ * vsv_room_free in every process that goes on after using it. */
 int vsv_room_create(const vsv_room_opts *o, vsv_room **out, char *err, size_t cap);
 /* Unmaps it in this process (the publisher: after vsv_room_unpin and
  * vsv_pager_free). NULL is fine. */
@@ -56,8 +56,12 @@ void vsv_room_free(vsv_room *r);
 /* The pager's slab allocator over the arena (vsv_pager_opts.slab_alloc,
  * slab_ctx = the room): bytes aligned to 2 MiB, or NULL once it is full. */
 void *vsv_room_slab(void *room, size_t bytes);
-/* Bytes of the arena handed out so far. */
+/* Bytes of the arena handed out so far, and in all. */
 size_t vsv_room_arena_used(const vsv_room *r);
+size_t vsv_room_arena_size(const vsv_room *r);
+/* The clock the room stamps windows and views with: CLOCK_MONOTONIC
+ * seconds, the same in every process. */
+double vsv_room_clock(void);
 
 /* ------------------------------------------------------------- publisher */
 
@@ -66,13 +70,16 @@ size_t vsv_room_arena_used(const vsv_room *r);
 int vsv_room_can_publish(vsv_room *r);
 /* Publishes the next tick, when vsv_room_can_publish: step (its time, and
  * damage: why it is not drawn, or NULL), and for each species s with
- * vols[s] non-NULL that volume (of pager pg: its bricks are pinned again
- * for the slot, so the caller may move on), and user_bytes of user. The
- * slot it takes over is released. Returns the new tick (1, 2, ...); 0 when
- * a window has not shown the current tick yet (nothing done); -1 with the
- * pager's error in err (nothing published). */
-int64_t vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, const char *damage,
-                         const vsv_volume *const *vols, const void *user, char *err, size_t cap);
+ * vols[s] non-NULL that volume (of pager pg, borrowed for the call: its
+ * bricks are pinned again for the slot, so the caller may move on), and
+ * user_bytes of user (copied). The slot it takes over is released. A
+ * species showing the same step as in the tick shown keeps its load (its
+ * vsv_volume.gen in the windows): renderers keep what they derived. 0 with
+ * the new tick (1, 2, ...) in *tick (may be NULL); VSV_EAGAIN when a window
+ * has not shown the current tick yet (nothing done); another VSV_E* code
+ * with the reason in err (nothing published). */
+int vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, const char *damage,
+                     const vsv_volume *const *vols, const void *user, int64_t *tick, char *err, size_t cap);
 /* Releases every pin the room holds (before vsv_pager_free). */
 void vsv_room_unpin(vsv_room *r);
 /* The tick published last (0: none). */
@@ -99,7 +106,9 @@ int vsv_room_join(vsv_room *r, const char *name);
 
 /* What a window draws in one frame: the tick, step, time and damage, the
  * volumes per species (NULL: not drawn) and the back end's data. Owned by
- * the room in this process, valid until this process's next vsv_room_frame. */
+ * the room in this process: the volumes and damage valid until a window of
+ * this process takes a tick two ticks newer, the data until this window's
+ * next vsv_room_frame. */
 typedef struct vsv_room_view {
     int64_t tick;
     int step;
@@ -107,7 +116,7 @@ typedef struct vsv_room_view {
     const char *damage;            /* NULL, or why the step is not drawn */
     const vsv_volume *const *vols; /* nspecies entries */
     const void *user;              /* user_bytes */
-    double when;                   /* CLOCK_MONOTONIC seconds when it was taken */
+    double when;                   /* vsv_room_clock() when it was taken */
 } vsv_room_view;
 
 /* Window w starts a frame: the frame before it is shown, and it takes the
