@@ -91,9 +91,6 @@ void vsv_pixel_ray(const vsv_camera *cam, int px, int py, double o[3], double d[
 /* Where each pixel's ray meets the ground (t, INFINITY when it does not) and
  * the ground's colour there: worked out once per camera and scene geometry
  * (the renderer keeps it while only the time step or the species change). */
-typedef struct vsv_ground {
-    float t;
-    float rgb[3];
-} vsv_ground;
+typedef vsv_surface vsv_ground; /* (vsv_render.h's, for marchers) */
 
 #endif

@@ -41,7 +41,7 @@ static void rc_cam(vsv_renderer *r)
 /* The raycaster's frame: its visible layers, their sampling copies to
  * rebuild (r->build), the grid and the step. vsv_rc_prepare_skip follows
  * once the copies are built. */
-int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
+int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc, int copies)
 {
     if (sc->nlayers > r->act_cap) {
         vsv_rc_layer *p = realloc(r->act, (size_t)sc->nlayers * sizeof *p);
@@ -71,7 +71,7 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
         if (!L->visible || !(L->opacity > 0) || !L->vol || !L->vol->nbricks)
             continue;
         vsv_rc_copy *cp = &r->copy[l];
-        if (cp->vol != L->vol || cp->gen != L->vol->gen || !cp->gen) {
+        if (copies && (cp->vol != L->vol || cp->gen != L->vol->gen || !cp->gen)) {
             if (vsv_rc_copy_prepare(cp, L->vol))
                 return VSV_ENOMEM;
             r->build[r->nbuild++] = cp;
@@ -118,7 +118,7 @@ int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc)
 
 /* Per entry i of layer L's table, how many entries before it have some
  * opacity (VSV_TF_LUT + 1 counts): layer_clear in constant time. */
-static void alpha_counts(const vsv_rc_layer *L, int *cnt)
+void vsv_rc_alpha_counts(const vsv_rc_layer *L, int *cnt)
 {
     cnt[0] = 0;
     for (int i = 0; i < VSV_TF_LUT; i++)
@@ -128,7 +128,7 @@ static void alpha_counts(const vsv_rc_layer *L, int *cnt)
 /* Whether layer L gives zero opacity to every sample value in [lo, hi]: the
  * table entries its lookup may read for them (the sampler's own arithmetic,
  * monotonic in the value) are all transparent (cnt: alpha_counts). */
-static int layer_clear(const vsv_rc_layer *L, const int *cnt, float lo, float hi)
+int vsv_rc_layer_clear(const vsv_rc_layer *L, const int *cnt, float lo, float hi)
 {
     if (!(hi >= L->lo))
         return 1; /* below the range, or no value but no data */
@@ -239,7 +239,7 @@ static void fine_layer(void *ctx, int bk, int thread)
                             const int in = o[0] + i <= F->last[0] && o[1] + j <= F->last[1] && o[2] + k <= F->last[2];
                             const float a = min_nan(lo[k][j][i], lo[k + 1][j][i]);
                             const float z = max_nan(hi[k][j][i], hi[k + 1][j][i]);
-                            if (in && layer_clear(L, cnt, a, z))
+                            if (in && vsv_rc_layer_clear(L, cnt, a, z))
                                 lb |= (uint64_t)1 << (i + VSV_RC_BLOCK * (j + VSV_RC_BLOCK * k));
                         }
                 bits &= lb;
@@ -307,10 +307,10 @@ int vsv_rc_prepare_skip(vsv_renderer *r)
     for (int l = 0; l < F->nlayers; l++) {
         const vsv_rc_layer *L = &F->layer[l];
         int *cnt = r->alpha_cnt + (size_t)l * (VSV_TF_LUT + 1);
-        alpha_counts(L, cnt);
+        vsv_rc_alpha_counts(L, cnt);
         unsigned char *clear = (unsigned char *)L->clear;
         for (size_t b = 0; b < nblk; b++) {
-            clear[b] = (unsigned char)layer_clear(L, cnt, L->mm[2 * b], L->mm[2 * b + 1]);
+            clear[b] = (unsigned char)vsv_rc_layer_clear(L, cnt, L->mm[2 * b], L->mm[2 * b + 1]);
             occ[b] |= !clear[b];
         }
     }

@@ -22,6 +22,9 @@
 typedef const float *const *vsv_rc_cells;
 /* Fills brick b's sampling copy into dst ((brick + 1)^3 floats). */
 void vsv_rc_copy_fill(const vsv_volume *v, int b, float *dst);
+/* Whether brick b's sampling copy holds data: one of the eight bricks whose
+ * cells it copies has some. */
+int vsv_rc_copy_has_data(const vsv_volume *v, int b);
 /* A layer's sampling copy as the renderer keeps it across frames. */
 typedef struct vsv_rc_copy {
     const vsv_volume *vol;

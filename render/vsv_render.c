@@ -76,13 +76,15 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r);
 }
 
-int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth)
+int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera *cam)
 {
+    const vsv_scene *sc = *psc;
     if (cam->width < 1 || cam->height < 1 || !sc->meta)
         return VSV_EINVAL;
     int nrc = vsv_native_scene(&r->native, sc, &sc);
     if (nrc)
         return nrc;
+    *psc = sc;
     for (int l = 0; l < sc->nlayers; l++) {
         const vsv_volume *v = sc->layers[l].vol;
         if (v && (v->nx != sc->meta->nx || v->ny != sc->meta->ny || v->nz != sc->meta->nz))
@@ -110,8 +112,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
         }
     }
     r->surf_read = r->g.terrain ? r->ground : NULL;
-    const int sliced = sc->nslices > 0;
-    if (sliced) { /* the slices in front of the ground: every frame (their colours are the data's) */
+    if (sc->nslices > 0) { /* the slices in front of the ground: every frame (their colours are the data's) */
         if (sc->slice_layer < 0 || sc->slice_layer >= sc->nlayers || !sc->layers[sc->slice_layer].vol ||
             !sc->layers[sc->slice_layer].tf || !sc->slices)
             return VSV_EINVAL;
@@ -127,6 +128,15 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
         vsv_pool_run(&r->pool, vsv_rc_slice_row, r, cam->height);
         r->surf_read = r->surf;
     }
+    return 0;
+}
+
+int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth)
+{
+    int rc0 = vsv_render_surfaces(r, &sc, cam);
+    if (rc0)
+        return rc0;
+    const int sliced = sc->nslices > 0;
     if (r->o.kind == VSV_RENDER_SHEARWARP && !sliced) {
         int rows = 0, bricks = 0, classify = 0;
         int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &bricks, &classify);
@@ -148,7 +158,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
             return rc;
         /* an eye among the slices has no shear-warp factorisation: raycast this frame */
     }
-    int rc = vsv_rc_prepare_frame(r, sc);
+    int rc = vsv_rc_prepare_frame(r, sc, 1);
     if (rc)
         return rc;
     if (r->nbuild) {

@@ -229,6 +229,100 @@ double vsv_renderer_rebuild_seconds(const vsv_renderer *r);
  * volumes' brick keys tell: vsv_volume.bkey). 0 for the raycaster. */
 int vsv_renderer_rebuild_bricks(const vsv_renderer *r);
 
+/* ---------------------------------------------------------------- marchers
+ * What a renderer outside this library (the GPU raycaster, render/gl/)
+ * needs to draw the CPU raycaster's picture by marching the same rays
+ * through the same samples: the raycaster's frame as it works it out
+ * before it marches, and its sampling copy of a brick. The rule the CPU
+ * raycaster follows, to be followed by the marcher:
+ *  - rays: pixel (px, py) (row 0 at the top) has screen position
+ *    sx = px sxk + sx0, sy = py syk + sy0; in perspective its ray leaves o
+ *    with a step dp = (sx r + (sy u + f)) / sqrt(sx^2 + (sy^2 + 1)), in
+ *    parallel projection it leaves sx r + (sy u + o) with the step f; all
+ *    in cell coordinates (cell (i, j, k) at its centre), a step st world
+ *    units long; its stretch is where it is inside the box bmin..bmax and
+ *    between snear and sfar steps, [lo, hi] in steps;
+ *  - samples: at lo + 0.5 + n steps for every whole step, the last one in
+ *    the middle of the part step left and weighted by its length (the
+ *    stretch ends at hi, or at the surface its pixel meets); a sample's
+ *    cell coordinates are clamped into 0..hi[a], its lower cell to at most
+ *    last[a], and it reads the eight cells of that cell's brick's sampling
+ *    copy (vsv_march_brick) trilinearly (lerps along x, then y, then z);
+ *  - classification per layer: a value below lo (or NaN) adds nothing;
+ *    else x = (log v or v) inv + off, clamped to at most VSV_TF_LUT - 1,
+ *    i = min(floor x, VSV_TF_LUT - 2), and the colour and curve lerp entries
+ *    i and i + 1 of lut by x - i; extinction = curve sigma; with light, the
+ *    colour's weight is multiplied by the shading of vsv_render.h's rule,
+ *    from central differences one cell either way;
+ *  - compositing: per sample sig = the layers' summed extinction and col
+ *    their extinction-weighted colour; u = sig st (the last: its part
+ *    step), f = (1 - exp(-u)) / u, a = u f; acc += T f st col, T -= T a;
+ *    the depth is the sample's distance at which 1 - T first passes 0.1; a
+ *    ray ends once T < term;
+ *  - the pixel: acc + T surface colour (alpha 1) where its ray met a surface
+ *    and T >= term, else acc with alpha 1 - T; depth: the surface's where
+ *    none was reached in the volume, else INFINITY. */
+#define VSV_MARCH_MAX 64 /* layers marched at most */
+
+/* Where a pixel's ray ends on a surface (the ground, a slice): distance
+ * along the ray in world units (INFINITY: none) and the surface's colour. */
+typedef struct vsv_surface {
+    float t;
+    float rgb[3];
+} vsv_surface;
+
+/* A visible layer as the raycaster classifies it. */
+typedef struct vsv_march_layer {
+    const vsv_volume *vol; /* the volume marched (native levels: resampled); borrowed */
+    int layer;             /* its index among the scene's layers */
+    const float (*lut)[4]; /* VSV_TF_LUT entries: colour, curve */
+    float lo, inv, off;    /* table position = (ln v or v) inv + off; v < lo: nothing */
+    int log;
+    float sigma;           /* extinction per world unit of curve 1 */
+    float inv_span;        /* lighting: 1 / the range's span (of ln v on a log scale) */
+} vsv_march_layer;
+
+/* The raycaster's frame: plain info, valid until the renderer's next call. */
+typedef struct vsv_march {
+    int nlayers;                    /* 0: nothing to march (the surfaces only) */
+    vsv_march_layer layer[VSV_MARCH_MAX];
+    int n[3];                       /* the grid's cells per axis */
+    float hi[3];                    /* the largest cell coordinate per axis */
+    int last[3];                    /* the largest lower corner of a trilinear sample */
+    int brick, shift, bdim[3];      /* bricks (their edge, log2 of it, per axis) */
+    double st;                      /* the step, world units */
+    float term;                     /* early ray termination: T below this */
+    float o[3], f[3], r[3], u[3];   /* the rays (the rule above) */
+    float sx0, sxk, sy0, syk;
+    float bmin[3], bmax[3], snear, sfar;
+    int persp;
+    int light;                      /* shading on */
+    float light_dir[3];             /* unit, toward the light, world (exaggerated) axes */
+    float inv_cell[3];              /* 1 / the world cell edges dx, dy, dz E */
+    int width, height;
+    int x0, x1, y0, y1;             /* the pixels whose rays may meet the scene's box */
+    const vsv_surface *surface;     /* width x height, row 0 at the top; NULL: none */
+} vsv_march;
+
+/* Works out the raycaster's frame for scene sc and camera cam into m, on
+ * the renderer's threads (the ground is kept while the view stays; native
+ * levels are resampled as vsv_render does). 0 or a VSV_E* code. */
+int vsv_render_march(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, vsv_march *m);
+/* Brick b's sampling copy: (brick + 1)^3 floats, cell (i, j, k) at
+ * i + e j + e^2 k, e = brick + 1 (caller buffer): the brick and the first
+ * cells of the bricks after it along each axis (past the grid, its last
+ * cell again). */
+void vsv_march_brick(const vsv_volume *v, int b, float *dst);
+/* 1 when brick b's sampling copy holds only v->empty_value: the brick and
+ * every brick whose cells it copies are EMPTY (NULL). */
+int vsv_march_brick_empty(const vsv_volume *v, int b);
+/* 1 when layer L makes every value in [lo, hi] transparent (the table
+ * entries a sample of such a value reads have no opacity; NaN bounds:
+ * none given); cnt: VSV_TF_LUT + 1 counts of entries with opacity before
+ * each entry, from vsv_march_counts. */
+void vsv_march_counts(const vsv_march_layer *L, int cnt[VSV_TF_LUT + 1]);
+int vsv_march_clear(const vsv_march_layer *L, const int *cnt, float lo, float hi);
+
 /* The vertical exaggeration that makes the domain a fifth as tall as wide
  * (at least 1): the tools' default. */
 double vsv_scene_default_exaggeration(const vsv_scene *sc);

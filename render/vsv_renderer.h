@@ -61,11 +61,21 @@ struct vsv_renderer {
 };
 
 
-/* The raycaster's frame (r->frame, r->act, the sampling copies to rebuild
- * in r->build) for scene sc; then, with the copies built, its skipping
- * (r->skip, r->frame.skip). */
-int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc);
+/* Before any renderer's frame: native levels placed at their heights (*psc
+ * becomes the scene over the resampled volumes), the geometry (r->g), the
+ * rays (r->rays), the ground cache and the slices: the surface each pixel's
+ * ray ends on (r->surf_read, NULL: none). 0 or a VSV_E* code. */
+int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera *cam);
+/* The raycaster's frame (r->frame, r->act, and with copies the sampling
+ * copies to rebuild in r->build) for scene sc; then, with the copies built,
+ * its skipping (r->skip, r->frame.skip). */
+int vsv_rc_prepare_frame(vsv_renderer *r, const vsv_scene *sc, int copies);
 int vsv_rc_prepare_skip(vsv_renderer *r);
+/* Layer L's table: per entry, how many entries before it have some
+ * opacity (VSV_TF_LUT + 1 counts); and whether L makes every value in
+ * [lo, hi] transparent (the entries its lookup may read have none). */
+void vsv_rc_alpha_counts(const vsv_rc_layer *L, int *cnt);
+int vsv_rc_layer_clear(const vsv_rc_layer *L, const int *cnt, float lo, float hi);
 /* Pool jobs on the renderer ctx: one tile of the raycaster; one image row of
  * the ground cache (r->ground); brick item % nbricks of the sampling copy
  * item / nbricks being rebuilt. */

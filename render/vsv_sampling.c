@@ -8,7 +8,7 @@
 
 /* Whether brick b's sampling copy holds data: one of the eight bricks
  * whose cells it copies has some. */
-static int copy_has_data(const vsv_volume *v, int b)
+int vsv_rc_copy_has_data(const vsv_volume *v, int b)
 {
     const int bx = v->bdim[0], by = v->bdim[1], bz = v->bdim[2];
     const int bi = b % bx, bj = b / bx % by, bk = b / (bx * by);
@@ -35,7 +35,7 @@ int vsv_rc_copy_prepare(vsv_rc_copy *c, const vsv_volume *v)
     }
     size_t own = 0;
     for (int b = 0; b < v->nbricks; b++)
-        own += (size_t)copy_has_data(v, b);
+        own += (size_t)vsv_rc_copy_has_data(v, b);
     if ((own + 1) * n3 > c->store_cap) {
         float *p = realloc(c->store, (own + 1) * n3 * sizeof *p);
         if (!p)
@@ -58,7 +58,7 @@ int vsv_rc_copy_prepare(vsv_rc_copy *c, const vsv_volume *v)
         c->empty[i] = v->empty_value;
     own = 0;
     for (int b = 0; b < v->nbricks; b++)
-        c->cells[b] = copy_has_data(v, b) ? c->store + own++ * n3 : c->empty;
+        c->cells[b] = vsv_rc_copy_has_data(v, b) ? c->store + own++ * n3 : c->empty;
     c->vol = v;
     c->gen = v->gen;
     return 0;
