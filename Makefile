@@ -22,7 +22,7 @@ CXX ?= c++
 PKG_CONFIG ?= pkg-config
 SHARED ?= ../shared
 
-PKGS = libzstd geographiclib netcdf libpng OpenEXR freetype2 tbb blosc Imath libcurl
+PKGS = libzstd geographiclib netcdf libpng OpenEXR freetype2 tbb blosc Imath libcurl epoxy
 # OpenVDB (libopenvdb-dev) ships no pkg-config file: its header and -lopenvdb,
 # with its own dependencies (tbb, blosc, Imath) through pkg-config above
 OPENVDB_LIBS = -lopenvdb
@@ -97,10 +97,11 @@ $(B)/format/http/%.o: INC = -Iformat/http -Iformat
 $(B)/stream/%.o: INC = -Istream -Iformat
 $(B)/convert/%.o: INC = -Iconvert -Iformat
 $(B)/render/%.o: INC = -Irender -Iformat
+$(B)/render/gl/%.o: INC = -Irender/gl -Irender -Iformat
 $(B)/interop/%.o: INC = -Iinterop -Iconvert -Iformat
 $(B)/cli/%.o: INC = -Icli -Iformat
-$(B)/viewer/%.o: INC = -Iviewer -Irender -Istream -Iformat -Icli
-ALL_INC = -Iformat -Istream -Iconvert -Irender -Iinterop -Iviewer -Icli
+$(B)/viewer/%.o: INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icli
+ALL_INC = -Iformat -Istream -Iconvert -Irender -Irender/gl -Iinterop -Iviewer -Icli
 $(B)/tests/%.o $(B)/bench/%.o: INC = $(ALL_INC)
 
 objs = $(patsubst %.cc,$(B)/%.o,$(patsubst %.c,$(B)/%.o,$(1)))
@@ -112,6 +113,7 @@ CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(
 # vsv_*_cli.c: program code a folder's tools share (never in a library)
 CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c))) $(COMMON_OBJ)
 RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c)) $(COMMON_OBJ)
+GL_OBJ = $(call objs,$(wildcard render/gl/vsv_*.c))
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
 HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))
@@ -121,17 +123,20 @@ PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_state.o $(B)/viewer
 CORE_A = $(B)/libvesuvius.a
 CONVERT_A = $(B)/libvesuvius-convert.a
 RENDER_A = $(B)/libvesuvius-render.a
+GL_A = $(B)/libvesuvius-gl.a
 INTEROP_A = $(B)/libvesuvius-interop.a
 HTTP_A = $(B)/libvesuvius-http.a
 CLI_A = $(B)/cli/libvsv-cli.a
 PLAYER_A = $(B)/viewer/libvsv-player.a
-LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(INTEROP_A) $(HTTP_A)
+LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(GL_A) $(INTEROP_A) $(HTTP_A)
 
 # what each library needs below it (the link lines of programs and of the
 # shared libraries)
 CORE_EXT = $(call pkglibs,libzstd geographiclib) -lstdc++ -lm -pthread $(SANFLAGS)
 CONVERT_EXT = $(call pkglibs,netcdf) $(CORE_EXT)
 RENDER_EXT = $(call pkglibs,libpng OpenEXR freetype2 netcdf) $(CORE_EXT)
+# the GPU raycaster: libepoxy, which loads libGL or libEGL when asked
+GL_EXT = $(call pkglibs,epoxy) $(RENDER_EXT)
 INTEROP_EXT = $(OPENVDB_LIBS) $(call pkglibs,tbb blosc Imath) $(CONVERT_EXT)
 HTTP_EXT = $(call pkglibs,libcurl)
 ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS)) -lstdc++ -lm -pthread $(SANFLAGS) $(LDLIBS)
@@ -139,7 +144,7 @@ ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS)) -lstdc++ -lm -pthread $(SANFLA
 VERSION := $(shell sed -n 's/^\#define VSV_VERSION_STRING "\(.*\)"/\1/p' format/vsv_format.h)
 SOVERSION = 0
 so = $(B)/lib$(1).so.$(VERSION)
-SHLIBS = $(call so,vesuvius) $(call so,vesuvius-convert) $(call so,vesuvius-render) $(call so,vesuvius-interop) \
+SHLIBS = $(call so,vesuvius) $(call so,vesuvius-convert) $(call so,vesuvius-render) $(call so,vesuvius-gl) $(call so,vesuvius-interop) \
          $(call so,vesuvius-http)
 DATADIR = $(PREFIX)/share
 
@@ -168,6 +173,7 @@ HELPER_DIR = $(LIBDIR)/vesuvius
 TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv-query.o $(B)/convert/vsv-info.o $(B)/convert/vsv-extract.o $(B)/convert/vsv-interp.o \
            $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/interop/vsv-export.o
 $(TOOL_OBJ): XINC = -Icli
+$(B)/render/vsv-render.o: XINC = -Icli -Irender/gl
 $(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
 $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o: XINC = -Icli -Iinterop $(MPI_CFLAGS)
 
@@ -179,7 +185,7 @@ TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_
 FUZZ_TARGETS = vsv mm5 uamiv camxmet netcdf grads stream text player
 FUZZ_BIN = $(patsubst %,$(B)/tests/test_fuzz_%,$(FUZZ_TARGETS))
 # tests and benchmarks are white-box: every library, every dependency
-TEST_LIBS = $(PLAYER_A) $(INTEROP_A) $(CONVERT_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(CLI_A)
+TEST_LIBS = $(PLAYER_A) $(INTEROP_A) $(CONVERT_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(CLI_A)
 
 # The Python module `vesuvius` (python/): the CPython and NumPy C APIs from
 # Debian's python3-dev and python3-numpy, the library linked in statically.
@@ -251,6 +257,7 @@ $(B)/%.o: %.cc
 $(CORE_A): $(CORE_OBJ)
 $(CONVERT_A): $(CONVERT_OBJ)
 $(RENDER_A): $(RENDER_OBJ)
+$(GL_A): $(GL_OBJ)
 $(INTEROP_A): $(INTEROP_OBJ)
 $(HTTP_A): $(HTTP_OBJ)
 $(CLI_A): $(CLI_OBJ)
@@ -266,9 +273,10 @@ $(LIBS_A) $(CLI_A) $(PLAYER_A):
 H_libvesuvius = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h
 H_libvesuvius-convert = convert/vsv_convert.h convert/vsv_source_reader.h
 H_libvesuvius-render = render/vsv_render.h
+H_libvesuvius-gl = render/gl/vsv_gl.h
 H_libvesuvius-interop = interop/vsv_vdb.h interop/vsv_cf.h
 H_libvesuvius-http = format/vsv_http.h
-$(foreach l,vesuvius vesuvius-convert vesuvius-render vesuvius-interop vesuvius-http,$(eval $(B)/lib$(l).map: $(H_lib$(l))))
+$(foreach l,vesuvius vesuvius-convert vesuvius-render vesuvius-gl vesuvius-interop vesuvius-http,$(eval $(B)/lib$(l).map: $(H_lib$(l))))
 $(B)/%.map:
 	@mkdir -p $(dir $@)
 	$(Q){ echo '{ global:'; grep -ho 'vsv_[A-Za-z0-9_]*' $^ | sort -u | sed 's/$$/;/'; echo 'local: *; };'; } > $@
@@ -283,6 +291,9 @@ $(call so,vesuvius-convert): $(B)/libvesuvius-convert.map $(CONVERT_OBJ) $(call 
 $(call so,vesuvius-render): $(B)/libvesuvius-render.map $(RENDER_OBJ) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(RENDER_EXT))
+$(call so,vesuvius-gl): $(B)/libvesuvius-gl.map $(GL_OBJ) $(call so,vesuvius-render) $(call so,vesuvius)
+	@$(if $(Q),echo "  LD      $@")
+	$(call shlib,$(filter-out %.map,$^) $(call pkglibs,epoxy))
 $(call so,vesuvius-interop): $(B)/libvesuvius-interop.map $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(INTEROP_EXT))
@@ -319,9 +330,9 @@ $(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o 
 $(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
-$(B)/vsv-render: $(B)/render/vsv-render.o $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+$(B)/vsv-render: $(B)/render/vsv-render.o $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(RENDER_EXT)
+	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(GL_EXT)
 
 $(B)/vsv-nc-check: $(B)/convert/vsv-nc-check.o
 	$(link)
@@ -334,9 +345,9 @@ $(B)/vsv-nc-writer: $(B)/interop/vsv-nc-writer.o $(INTEROP_A) $(CONVERT_A) $(COR
 	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
 
 $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o: CFLAGS_ALL += $(VIEWER_CFLAGS)
-$(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+$(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(RENDER_EXT) $(VIEWER_LIBS)
+	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(GL_EXT) $(VIEWER_LIBS)
 
 # The FreeVR back end: `make FREEVR_DIR=DIR freevr` builds it against a
 # FreeVR install (DIR/include/freevr.h, DIR/lib/libfreevr.a; its headers as
@@ -347,18 +358,18 @@ FREEVR_LIBS = -lGL -lX11 -lXi -ldl -lm -lpthread
 ifneq ($(FREEVR_DIR),)
 TOOLS += vsv-play-freevr
 endif
-VIEWER_INC = -Iviewer -Irender -Istream -Iformat -Icli
+VIEWER_INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icli
 # $(call freevr_link,OUTPUT,FREEVR-DIR)
 define freevr_link
 	@mkdir -p $(dir $(1))
 	@$(if $(Q),echo "  CC/LD   $(1)")
 	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) $(FREEVR_SRC) \
-	  $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(RENDER_EXT) \
+	  $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(GL_EXT) \
 	  $(VIEWER_LIBS) $(FREEVR_LIBS)
 endef
 # the back end's two halves: the main process and the render processes
 FREEVR_SRC = viewer/vsv-play-freevr.c viewer/vsv_freevr_draw.c
-FREEVR_DEPS = $(FREEVR_SRC) viewer/vsv_freevr_app.h $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+FREEVR_DEPS = $(FREEVR_SRC) viewer/vsv_freevr_app.h $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 freevr: $(B)/vsv-play-freevr
 $(B)/vsv-play-freevr: $(FREEVR_DEPS)
 	@test -n "$(FREEVR_DIR)" || { echo "vsv-play-freevr needs FreeVR: make FREEVR_DIR=DIR freevr" \
@@ -494,7 +505,7 @@ FUZZ ?= $(FUZZ_TARGETS)
 FUZZ_MAKE = B=build-fuzz CC=clang CXX=clang++ OPT="-O1 -g" VIEWER=0 MPI=0 \
   WARN="-Wall -Wextra -Wshadow -Wno-unknown-warning-option $(WFLAGS_ERR)" \
   SANFLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all"
-FUZZ_LIBS = $(PLAYER_A) $(CONVERT_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(CLI_A)
+FUZZ_LIBS = $(PLAYER_A) $(CONVERT_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(CLI_A)
 fuzz:
 	$(Q)sh tools/deps.sh --install-fuzz
 	$(Q)$(MAKE) --no-print-directory $(FUZZ_MAKE) fuzz-bin
@@ -510,8 +521,8 @@ $(B)/fuzz/fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_source.o $(FUZZ_LIBS)
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
 # `pkg-config --cflags --libs vesuvius`).
 PUBLIC_H = format/vsv_format.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
-           render/vsv_render.h interop/vsv_vdb.h interop/vsv_cf.h format/vsv_http.h
-PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-interop vesuvius-http
+           render/vsv_render.h render/gl/vsv_gl.h interop/vsv_vdb.h interop/vsv_cf.h format/vsv_http.h
+PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-gl vesuvius-interop vesuvius-http
 pc_desc_vesuvius = The .vsv format (writer, reader, field stream, queries, projections) and the streaming pager
 pc_req_vesuvius =
 pc_reqp_vesuvius = libzstd geographiclib
@@ -524,6 +535,10 @@ pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, annotatio
 pc_req_vesuvius-render = vesuvius
 pc_reqp_vesuvius-render = libpng OpenEXR freetype2 netcdf
 pc_libsp_vesuvius-render = -lm -pthread
+pc_desc_vesuvius-gl = Vesuvius GPU raycaster (OpenGL 3.3, headless through EGL)
+pc_req_vesuvius-gl = vesuvius-render vesuvius
+pc_reqp_vesuvius-gl = epoxy
+pc_libsp_vesuvius-gl =
 pc_desc_vesuvius-interop = Vesuvius volumes to and from OpenVDB, and out as CF netCDF
 pc_req_vesuvius-interop = vesuvius-convert vesuvius
 pc_reqp_vesuvius-interop = tbb blosc Imath

@@ -1,5 +1,6 @@
 /* vsv-render — headless frames of a .vsv file to PNG. */
 #include "vsv_cli.h"
+#include "vsv_gl.h"
 #include "vsv_render.h"
 
 #include <errno.h>
@@ -61,8 +62,10 @@ static const char usage[] =
     "                          drawn); drawn as a slice only when not in --species\n"
     "      --slice-colormap NAME  the slices' colour map over the species' range\n"
     "                          (default viridis; see --tf for the names)\n"
-    "  -r, --renderer NAME     raycast (default) or shearwarp (faster; frames whose eye\n"
-    "                          is inside the volume are raycast)\n"
+    "  -r, --renderer NAME     raycast (default), shearwarp (faster; frames whose eye\n"
+    "                          is inside the volume are raycast) or gl (the raycaster\n"
+    "                          on the GPU, OpenGL 3.3 through EGL: no display needed)\n"
+    "      --gpu-mb N          the GPU raycaster's brick memory (default 512)\n"
     "      --threads N         render threads (default: all cores)\n"
     "      --movie OUT.mp4     a movie of the selected steps (default: all) through ffmpeg\n"
     "                          (H.264; the container follows the extension), -o optional\n"
@@ -214,7 +217,7 @@ static void movie_close(movie *mv)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -228,11 +231,12 @@ int main(int argc, char **argv)
         {"view", required_argument, 0, O_VIEW},    {"range", required_argument, 0, O_RANGE},
         {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
         {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
-        {"slice-colormap", required_argument, 0, O_SLICECM},
+        {"slice-colormap", required_argument, 0, O_SLICECM}, {"gpu-mb", required_argument, 0, O_GPUMB},
         {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
     const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
     int fps = 12;
+    size_t gpu_mb = 0;
     double az = 225, el = 30, dist = 0, exag = 0;
     float bg[3] = {0.02f, 0.03f, 0.06f};
     int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0, plan = 0, nranges = 0;
@@ -333,8 +337,15 @@ int main(int argc, char **argv)
                 ro.kind = VSV_RENDER_RAYCAST;
             else if (!strcmp(optarg, "shearwarp"))
                 ro.kind = VSV_RENDER_SHEARWARP;
+            else if (!strcmp(optarg, "gl"))
+                ro.kind = VSV_RENDER_GL;
             else
-                vsv_cli_usage_error("--renderer %s: raycast or shearwarp", optarg);
+                vsv_cli_usage_error("--renderer %s: raycast, shearwarp or gl", optarg);
+            break;
+        case O_GPUMB:
+            if (vsv_cli_int(optarg, 16, 1 << 20, &v))
+                vsv_cli_usage_error("--gpu-mb %s: a whole number of megabytes, 16 to %d", optarg, 1 << 20);
+            gpu_mb = (size_t)v;
             break;
         case O_THREADS:
             if (vsv_cli_int(optarg, 1, 64, &v))
@@ -514,8 +525,20 @@ int main(int argc, char **argv)
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     const vsv_annot annot = {parts, font, 0, base, sidx, outlines};
     vsv_renderer *r = NULL;
-    if (vsv_renderer_create(&ro, &r))
+    vsv_gl_context *glc = NULL;
+    vsv_gl *gl = NULL;
+    if (ro.kind == VSV_RENDER_GL) { /* asked for: no context is misuse of this machine, exit 2 */
+        char why[1024];
+        vsv_gl_opts go;
+        vsv_gl_opts_init(&go);
+        go.threads = ro.threads;
+        if (gpu_mb)
+            go.budget = gpu_mb << 20;
+        if (vsv_gl_context_create(&glc, why, sizeof why) || vsv_gl_create(&go, &gl, why, sizeof why))
+            vsv_cli_usage_error("--renderer gl: %s", why);
+    } else if (vsv_renderer_create(&ro, &r)) {
         vsv_cli_die(1, "cannot start the renderer");
+    }
     vsv_decoder *d = NULL;
     float *rgba = malloc((size_t)width * height * 4 * sizeof(float));
     float *depth = malloc((size_t)width * height * sizeof(float));
@@ -531,8 +554,8 @@ int main(int argc, char **argv)
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));
         for (int eye = 0; eye < (stereo ? 2 : 1); eye++) {
             cam.eye_offset = stereo ? (eye ? sep / 2 : -sep / 2) : 0;
-            if (vsv_render(r, &sc, &cam, rgba, depth))
-                vsv_cli_die(1, "render failed");
+            if (gl ? vsv_gl_render(gl, &sc, &cam, rgba, depth) : vsv_render(r, &sc, &cam, rgba, depth))
+                vsv_cli_die(1, "render failed%s%s", gl ? ": " : "", gl ? vsv_gl_error(gl) : "");
             vsv_annot an = annot;
             an.time = vsv_file_time(f, t);
             if (parts && vsv_annotate(&an, &sc, &cam, rgba, depth))
@@ -596,6 +619,8 @@ int main(int argc, char **argv)
     free(zimg);
     vsv_decoder_free(d);
     vsv_renderer_free(r);
+    vsv_gl_free(gl);
+    vsv_gl_context_free(glc);
     vsv_font_free(font);
     vsv_outlines_free(outlines);
     for (int l = 0; l < nl; l++)

@@ -185,7 +185,10 @@ int vsv_view_preset(const char *name, double *az, double *el);
 
 /* ---------------------------------------------------------------- renderer */
 
-enum { VSV_RENDER_RAYCAST = 0, VSV_RENDER_SHEARWARP = 1 };
+/* The GPU raycaster (VSV_RENDER_GL) is libvesuvius-gl's (render/gl/vsv_gl.h):
+ * vsv_renderer_create refuses it (VSV_EUNSUPPORTED); programs that draw
+ * with it name it here so that one setting says which renderer runs. */
+enum { VSV_RENDER_RAYCAST = 0, VSV_RENDER_SHEARWARP = 1, VSV_RENDER_GL = 2 };
 
 typedef struct vsv_render_opts {
     int kind;            /* VSV_RENDER_* */

@@ -25,9 +25,10 @@ sees() {
     stream) s="stream format" ;;
     convert) s="convert format" ;;
     render) s="render format" ;;
+    gl) s="gl render format" ;; # render/gl/: the GPU raycaster, a library above render/
     interop) s="interop convert format" ;;
     cli) s="cli format" ;;
-    viewer) s="viewer render stream format" ;;
+    viewer) s="viewer gl render stream format" ;;
     python) s="python format" ;;
     esac
     [ "$2" = 1 ] && s="$s cli"
@@ -39,7 +40,8 @@ foreign() {
     format | stream | cli) echo 'netcdf\.h|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/|curl/' ;;
     http) echo 'netcdf\.h|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;; # format/http/: libcurl
     convert) echo 'openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
-    render) echo 'GeographicLib/|openvdb/|GLFW/|GL/|fontconfig/' ;;
+    render) echo 'GeographicLib/|openvdb/|GLFW/|GL/|fontconfig/|epoxy/' ;;
+    gl) echo 'GeographicLib/|openvdb/|GLFW/|GL/|fontconfig/|png\.h|openexr\.h|netcdf\.h' ;; # epoxy/ only
     interop) echo 'png\.h|openexr\.h|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
     viewer) echo 'netcdf\.h|GeographicLib/|openvdb/' ;;
     python) echo 'netcdf\.h|GeographicLib/|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
@@ -49,16 +51,18 @@ foreign() {
 # check ROOT: one line per include against the arrows in the tree at ROOT
 check() {
     root=$1
-    for f in $(cd "$root" && ls -d format/* format/http/* stream/* convert/* render/* interop/* cli/* viewer/*.[ch] python/*.c 2>/dev/null); do
+    for f in $(cd "$root" && ls -d format/* format/http/* stream/* convert/* render/* render/gl/* interop/* cli/* viewer/*.[ch] python/*.c 2>/dev/null); do
         case $f in *.c | *.h | *.cc) ;; *) continue ;; esac
         dir=${f%%/*}
         base=${f#*/}
+        case $f in render/gl/*) dir=gl base=${f#render/gl/} ;; esac
         tool=0
         case $base in vsv-*.c | vsv_*_cli.[ch]) tool=1 ;; esac # programs, and code their tools share
         folders=$(sees "$dir" $tool)
         # vsv-extract, vsv-convert (and -mpi) read .vdb sequences through interop/
         case $f in convert/vsv-extract.c | convert/vsv-convert.c | convert/vsv-convert-mpi.c)
             folders="$folders interop" ;;
+        render/vsv-render.c) folders="$folders gl" ;; # --renderer gl
         esac
         bad=$(foreign "$dir")
         case $f in format/http/*) bad=$(foreign http) ;; esac
@@ -72,11 +76,13 @@ check() {
                 fi
                 continue
             fi
-            [ -e "$root/$dir/$h" ] && continue # its own folder
+            dpath=$dir
+            [ "$dir" = gl ] && dpath=render/gl
+            [ -e "$root/$dpath/$h" ] && continue # its own folder
             [ -e "$root/$dir/freevr/$h" ] && continue
-            owner=""
-            for d in format stream convert render interop cli viewer python; do
-                [ -e "$root/$d/$h" ] && owner=$d
+            owner="" opath=""
+            for d in format stream convert render render/gl interop cli viewer python; do
+                [ -e "$root/$d/$h" ] && opath=$d owner=${d#render/}
             done
             [ -z "$owner" ] && continue # not ours
             ok=0
@@ -86,8 +92,8 @@ check() {
                 continue
             fi
             case " $public " in
-            *" $owner/$h "*) ;;
-            *) [ "$owner" = cli ] || echo "$f:$n: \"$h\": private to $owner/" ;;
+            *" $opath/$h "*) ;;
+            *) [ "$owner" = cli ] || echo "$f:$n: \"$h\": private to $opath/" ;;
             esac
         done
     done

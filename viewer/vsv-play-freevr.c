@@ -608,6 +608,7 @@ int main(int argc, char **argv)
     vsv_player_opts dopts = opts;
     dopts.cache_bytes = budget;
     dopts.threads = 1;
+    dopts.no_renderer = 1; /* (the render processes draw) */
     dopts.slab_alloc = vsv_room_slab;
     dopts.slab_ctx = vsv_fv.room;
     int status = 0, dead = 0;

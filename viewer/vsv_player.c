@@ -1,6 +1,8 @@
 /* vsv_player.c — see vsv_player.h. */
 #include "vsv_player_internal.h"
 
+#include "vsv_gl.h"
+
 #include <ctype.h>
 #include <math.h>
 #include <stdio.h>
@@ -38,6 +40,39 @@ static const unsigned char *needed(vsv_player *p)
     for (int s = 0; s < p->ns; s++)
         p->need[s] = p->want[s] || (p->slices_on && p->nslices && s == p->slice_var);
     return p->need;
+}
+
+/* Makes kind the renderer in use: the CPU's (started anew), or the GPU's
+ * (made once, in the GL context current now). 0, or -1 with why. */
+static int use_renderer(vsv_player *p, int kind, char *why, size_t cap)
+{
+    if (p->no_renderer) { /* (only named: the render processes draw) */
+    } else if (kind == VSV_RENDER_GL) {
+        if (!p->gl) {
+            vsv_gl_opts go;
+            vsv_gl_opts_init(&go);
+            go.threads = p->ro.threads;
+            if (p->gpu_budget)
+                go.budget = p->gpu_budget;
+            if (vsv_gl_create(&go, &p->gl, why, cap))
+                return -1;
+            p->gl_ok = 1;
+        }
+    } else {
+        vsv_renderer *r = NULL;
+        vsv_render_opts ro = p->ro;
+        ro.kind = kind;
+        if (vsv_renderer_create(&ro, &r)) {
+            snprintf(why, cap, "cannot start it");
+            vsv_renderer_free(r);
+            return -1;
+        }
+        vsv_renderer_free(p->r);
+        p->r = r;
+    }
+    p->ro.kind = kind;
+    p->dirty = 1;
+    return 0;
 }
 
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)
@@ -181,11 +216,20 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     p->az = 225;
     p->el = 30;
     vsv_render_opts_init(&p->ro);
-    p->ro.kind = o->renderer;
     p->ro.threads = o->clock_only ? 1 : o->threads;
+    p->gpu_budget = o->gpu_budget;
+    p->no_renderer = o->no_renderer || o->clock_only;
+    p->ro.kind = VSV_RENDER_SHEARWARP;
     if (vsv_renderer_create(&p->ro, &p->r)) {
         snprintf(err, cap, "cannot start the renderer");
         return -1;
+    }
+    if (o->renderer != VSV_RENDER_SHEARWARP) {
+        char why[1024];
+        if (use_renderer(p, o->renderer, why, sizeof why)) {
+            snprintf(err, cap, "%s", why);
+            return o->renderer == VSV_RENDER_GL ? VSV_EUNSUPPORTED : -1;
+        }
     }
     p->dirty = 1;
     return 0;
@@ -199,6 +243,7 @@ void vsv_player_free(vsv_player *p)
         vsv_volume_free(p->cur[s]);
     vsv_pager_free(p->pager);
     vsv_renderer_free(p->r);
+    vsv_gl_free(p->gl);
     vsv_file_free(p->f);
     for (int t = 0; p->bad && t < p->clock.nsteps; t++)
         free(p->bad[t]);
@@ -419,7 +464,12 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
     if (!p->dirty && !memcmp(cam, &p->last_cam, sizeof *cam))
         return p->rgb;
     vsv_scene sc = scene(p);
-    if (vsv_render(p->r, &sc, cam, p->rgba, p->depth)) {
+    if (p->ro.kind == VSV_RENDER_GL && p->gl) {
+        if (vsv_gl_render(p->gl, &sc, cam, p->rgba, p->depth)) {
+            snprintf(err, cap, "render failed: %s", vsv_gl_error(p->gl));
+            return NULL;
+        }
+    } else if (vsv_render(p->r, &sc, cam, p->rgba, p->depth)) {
         snprintf(err, cap, "render failed");
         return NULL;
     }
@@ -631,19 +681,17 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
             kind = VSV_RENDER_RAYCAST;
         else if (a1 && !strcmp(a1, "shearwarp"))
             kind = VSV_RENDER_SHEARWARP;
-        else if (a1 && !strcmp(a1, "switch"))
-            kind = !kind;
+        else if (a1 && !strcmp(a1, "gl"))
+            kind = VSV_RENDER_GL;
+        else if (a1 && !strcmp(a1, "switch")) /* shear-warp, raycast, the GPU's where it runs */
+            kind = kind == VSV_RENDER_SHEARWARP ? VSV_RENDER_RAYCAST
+                   : kind == VSV_RENDER_RAYCAST && p->gl_ok ? VSV_RENDER_GL
+                                                            : VSV_RENDER_SHEARWARP;
         else
-            NEED(0, "renderer: raycast, shearwarp or switch");
+            NEED(0, "renderer: raycast, shearwarp, gl or switch");
         if (kind != p->ro.kind) {
-            vsv_renderer *r = NULL;
-            vsv_render_opts ro = p->ro;
-            ro.kind = kind;
-            NEED(!vsv_renderer_create(&ro, &r), "renderer: cannot start it");
-            vsv_renderer_free(p->r);
-            p->r = r;
-            p->ro = ro;
-            p->dirty = 1;
+            char why[1024];
+            NEED(!use_renderer(p, kind, why, sizeof why), "renderer %s: %s", kind == VSV_RENDER_GL ? "gl" : "", why);
         }
     } else if (!strcmp(verb, "help")) {
         p->help = !p->help;

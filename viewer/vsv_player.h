@@ -9,7 +9,7 @@
  *   toggle [SPECIES] | show [SPECIES] | hide [SPECIES] (default: the selected)
  *   opacity SPECIES|- VALUE|+D|-D ('-': the selected; signed: a change)
  *   select +1|-1|#INDEX|SPECIES | camera AZ EL [DIST] | orbit DAZ DEL | zoom FACTOR
- *   pan DX DY (fractions of the view) | renderer raycast|shearwarp|switch
+ *   pan DX DY (fractions of the view) | renderer raycast|shearwarp|gl|switch
  *   view plan|south|west|oblique (vsv-render's --view, the domain filling
  *   the view) | light [on|off] | slices [on|off] (no argument: switch)
  *   help | screenshot FILE.png | quit
@@ -32,7 +32,13 @@ typedef struct vsv_player_opts {
     const vsv_http_opts *http; /* URLs: the cache and retries; NULL = the defaults */
     size_t cache_bytes;     /* 0 = the pager's default */
     int threads;            /* render threads; 0 = all cores */
-    int renderer;           /* VSV_RENDER_* */
+    int renderer;           /* VSV_RENDER_*; VSV_RENDER_GL: the GPU raycaster in
+                               the OpenGL context current when the player is
+                               opened and used (vsv_gl.h); opening fails with
+                               VSV_EUNSUPPORTED when it cannot be made */
+    size_t gpu_budget;      /* its brick memory; 0 = its default */
+    int no_renderer;        /* never draws: `renderer` is only named (the process
+                               that decodes for render processes, vsv_room.h) */
     const char *species;    /* NAME[:OPACITY],... visible at start; NULL = all but water vapour (vsv_meta_default_shown) */
     const char *tfpath;     /* transfer functions file or NULL */
     double exaggerate;      /* 0 = the default */

@@ -37,8 +37,12 @@ struct vsv_player {
     unsigned char *need; /* per species: pinned (drawn, or the slices' species) */
     uint64_t *gens;      /* per species: the gen of the volume shown (external) */
     /* rendering */
-    vsv_render_opts ro;
-    vsv_renderer *r;
+    vsv_render_opts ro;  /* ro.kind: the renderer in use (VSV_RENDER_GL: gl) */
+    vsv_renderer *r;     /* the CPU renderer (the last CPU kind used) */
+    struct vsv_gl *gl;   /* the GPU raycaster, once asked for */
+    int gl_ok;           /* it could be made */
+    int no_renderer;     /* never draws: the renderer is only named */
+    size_t gpu_budget;
     float *rgba, *depth;
     unsigned char *rgb;
     /* the annotated copy of the frame (vsv_player_annotated) */

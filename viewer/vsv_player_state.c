@@ -17,7 +17,10 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
     static const char *ends[] = {"", "  loop", "  bounce"};
     size_t n = (size_t)snprintf(buf, cap, "%s  step %d [0-%d]  %s %sx%g%s  %s%s%s%s%s\n", when, step, c->nsteps - 1,
                                 c->playing ? "PLAY" : "PAUSE", c->speed < 0 ? "-" : "", fabs(c->speed), ends[c->ends],
-                                p->ro.kind == VSV_RENDER_RAYCAST ? "raycast" : "shear-warp", p->plan ? "  plan" : "",
+                                p->ro.kind == VSV_RENDER_RAYCAST ? "raycast"
+                                : p->ro.kind == VSV_RENDER_GL    ? "GPU raycast"
+                                                                 : "shear-warp",
+                                p->plan ? "  plan" : "",
                                 p->light ? "  lit" : "", p->slices_on && p->nslices ? "  slices of " : "",
                                 p->slices_on && p->nslices ? p->m->vars[p->slice_var].name : "");
     for (int s = 0; s < p->ns && n < cap; s++) {
@@ -44,7 +47,7 @@ const char *vsv_player_help_text(void)
            "tab / 1-9  select a species\n"
            "v          show / hide the selected species\n"
            "up / down  its opacity up / down\n"
-           "m          switch renderer (shear-warp / raycast)\n"
+           "m          switch renderer (shear-warp / raycast / GPU raycast)\n"
            "F2 F3 F4 F5 view: plan (map) / from the south / west / oblique\n"
            "g          lighting on / off\n"
            "c          slices on / off (given with --slice)\n"
@@ -110,8 +113,10 @@ int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err,
     p->light = st->light;
     p->slices_on = st->slices;
     if (st->renderer != p->ro.kind)
-        return vsv_player_do(p, st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast" : "renderer shearwarp", err,
-                             cap);
+        return vsv_player_do(p, st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast"
+                                : st->renderer == VSV_RENDER_GL    ? "renderer gl"
+                                                                   : "renderer shearwarp",
+                             err, cap);
     return 0;
 }
 
