@@ -303,6 +303,44 @@ for mode in dualvp anaglyphic; do
     fi
 done
 
+# ------------------------------------------------------ the GPU raycaster
+# every wall and eye raycast on the GPU in FreeVR's own frustum (issue 31);
+# --renderer gl where no OpenGL 3.3 can be had is exit 2, saying why
+VSV=$T/gl4.vsv
+ln -s "$T/crop.vsv" "$VSV"
+SECONDS_PLAYED=2
+session gl4 "front left right floor" "$T/play.sh" "$VSV" --renderer gl --play --loop --rate 1200 \
+    --trace "$T/gl4/trace" 'usesystem "cave4";'
+O=$T/gl4
+r=$(cat "$O/result" 2> /dev/null)
+[ "$r" = "exit 0" ] && pass "--renderer gl: Escape ends it, exit 0" || fail "--renderer gl: Escape ends it, exit 0" "${r:-no result}; $(tail -c 300 "$O/stderr")"
+for w in front left right floor; do
+    s=$($SHOT shown "$O/dump/$w.ppm" 2> /dev/null)
+    [ -n "$s" ] && [ "$(echo "$s >= 0.01" | bc)" = 1 ] && pass "--renderer gl: the $w wall shows the scene ($s)" ||
+        fail "--renderer gl: the $w wall shows the scene" "${s:-no picture}"
+done
+s=$($SHOT scene "$O/dump/front.ppm" 2> /dev/null)
+[ -n "$s" ] && [ "$(echo "$s >= 0.01" | bc)" = 1 ] && pass "--renderer gl: the front wall shows the terrain ($s)" ||
+    fail "--renderer gl: the front wall shows the terrain" "${s:-no picture}"
+$TRACE check "$O/trace" 4 > "$O/check" 2>&1 && pass "--renderer gl: the walls keep the time lock" ||
+    fail "--renderer gl: the walls keep the time lock" "$(grep -m2 FAULT "$O/check" | tr '\n' ' ')"
+VSV=$T/gl21.vsv
+ln -s "$T/crop.vsv" "$VSV"
+cat > "$T/none.sh" << 'EOS'
+i=0
+while kill -0 $pid 2> /dev/null && [ $i -lt 100 ]; do sleep 0.1; i=$((i + 1)); done
+ENDED=1
+EOS
+MESA_GL_VERSION_OVERRIDE=2.1
+export MESA_GL_VERSION_OVERRIDE
+session gl21 "" "$T/none.sh" "$VSV" --renderer gl 'usesystem "cave4";'
+unset MESA_GL_VERSION_OVERRIDE
+O=$T/gl21
+r=$(cat "$O/result" 2> /dev/null)
+[ "$r" = "exit 2" ] && pass "--renderer gl without OpenGL 3.3: exit 2" || fail "--renderer gl without OpenGL 3.3: exit 2" "${r:-no result}; $(tail -c 300 "$O/stderr")"
+has "... saying why" "$O/stderr" "--renderer gl: OpenGL 2.1"
+no_leftovers "--renderer gl without OpenGL 3.3"
+
 # ------------------------------------------------------------ ending a run
 cat > "$T/signal.sh" << 'EOS'
 sleep 1

@@ -70,3 +70,17 @@ n=$($I bar "$T/p_time.png" 0.5 0.5 1 1)
 m=$($I text "$T/p_time.png" "$T/p_bare.png" 0 0.75 0.35 1)
 [ "$n" -eq 0 ] && [ "$m" -eq 0 ] && pass "--annotate time: no colour bar, exaggeration or scale" ||
     fail "--annotate time: no colour bar, exaggeration or scale" "ramp $n pixels, $m text pixels bottom left"
+
+# the GPU raycaster (issue 31): vsv-play --renderer gl's screenshot is
+# vsv-render --renderer gl's frame (the same shader, the window's context
+# against a headless one), annotated and bare
+shot gl --renderer gl -r gl
+shot glbare --renderer gl --no-annotate
+$R -r gl -o "$T/r_gl.png" 2> "$T/err" && $R -r gl --no-annotate -o "$T/r_glbare.png" 2>> "$T/err" ||
+    fail "vsv-render --renderer gl renders the same view" "$(head -c 300 "$T/err")"
+set -- $($I diff "$T/p_gl.png" "$T/r_gl.png")
+[ "$1" -le 2 ] && pass "--renderer gl: the screenshot is vsv-render --renderer gl's frame ($2 pixels differ, by <= $1/255)" ||
+    fail "--renderer gl: the screenshot is vsv-render --renderer gl's frame" "$2 pixels differ, by up to $1/255"
+set -- $($I diff "$T/p_glbare.png" "$T/r_glbare.png")
+[ "$1" -le 2 ] && pass "--renderer gl --no-annotate: vsv-render --renderer gl's bare frame ($2 pixels differ, by <= $1/255)" ||
+    fail "--renderer gl --no-annotate: vsv-render --renderer gl's bare frame" "$2 pixels differ, by up to $1/255"

@@ -382,11 +382,11 @@ static void test_room(const char *path)
     }
     vsv_player_free(p2);
     vsv_room_free(r2);
-    vsv_room_fail(r, "first");
-    vsv_room_fail(r, "second");
+    vsv_room_fail(r, 2, "first");
+    vsv_room_fail(r, 1, "second");
     char why[64];
-    CHECK(vsv_room_failed(r, why, sizeof why) && !strcmp(why, "first"), "a failure: the first message is kept",
-          "(%s)", why);
+    CHECK(vsv_room_failed(r, why, sizeof why) == 2 && !strcmp(why, "first"),
+          "a failure: the first message and exit status are kept", "(%s)", why);
     vsv_room_unpin(r);
     vsv_player_free(p);
     vsv_room_free(r);

@@ -53,7 +53,11 @@ static const char usage[] =
     "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all\n"
     "                          but water vapour)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
-    "  -r, --renderer NAME     shearwarp (default) or raycast\n"
+    "  -r, --renderer NAME     auto (default: gl where OpenGL 3.3 runs on a GPU, else\n"
+    "                          shearwarp), shearwarp, raycast, or gl: the raycaster on\n"
+    "                          the GPU, each eye of each wall in its own frustum\n"
+    "      --gpu-mb N          the GPU raycaster's brick memory a render process\n"
+    "                          (default 512)\n"
     "      --place table|room  the domain on a table at waist height, sized to the\n"
     "                          room (default), or the room inside the clouds: its\n"
     "                          floor the ground, its ceiling the model's top\n"
@@ -410,7 +414,7 @@ static int publish(run *r, char *err, size_t cap)
 
 enum {
     O_TF = 1000, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_PLACE, O_TRACE, O_NOPANEL,
-    O_FPS, O_NOWAND
+    O_FPS, O_NOWAND, O_GPUMB
 };
 
 int main(int argc, char **argv)
@@ -418,6 +422,7 @@ int main(int argc, char **argv)
     vsv_cli_init("vsv-play-freevr");
     vsv_player_opts opts;
     vsv_player_opts_init(&opts);
+    opts.renderer = -1; /* auto: each render process chooses (vsv_freevr_draw.c) */
     memset(&vsv_fv, 0, sizeof vsv_fv);
     vsv_fv.scale = 1;
     vsv_fv.trace_fd = -1;
@@ -448,6 +453,7 @@ int main(int argc, char **argv)
         {"no-terrain", no_argument, 0, O_NOTERRAIN},  {"place", required_argument, 0, O_PLACE},
         {"trace", required_argument, 0, O_TRACE},     {"no-panel", no_argument, 0, O_NOPANEL},
         {"fps", no_argument, 0, O_FPS},               {"no-wand", no_argument, 0, O_NOWAND},
+        {"gpu-mb", required_argument, 0, O_GPUMB},
         {"help", no_argument, 0, 'h'},                {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
     size_t budget = (size_t)1 << 30;
@@ -463,8 +469,17 @@ int main(int argc, char **argv)
                 opts.renderer = VSV_RENDER_RAYCAST;
             else if (!strcmp(optarg, "shearwarp"))
                 opts.renderer = VSV_RENDER_SHEARWARP;
+            else if (!strcmp(optarg, "gl"))
+                opts.renderer = VSV_RENDER_GL;
+            else if (!strcmp(optarg, "auto"))
+                opts.renderer = -1;
             else
-                vsv_cli_usage_error("--renderer: raycast or shearwarp, not '%s'", optarg);
+                vsv_cli_usage_error("--renderer: auto, shearwarp, raycast or gl, not '%s'", optarg);
+            break;
+        case O_GPUMB:
+            if (vsv_cli_int(optarg, 16, 1 << 20, &v))
+                vsv_cli_usage_error("--gpu-mb %s: a whole number of megabytes, 16 to %d", optarg, 1 << 20);
+            opts.gpu_budget = (size_t)v << 20;
             break;
         case O_CACHE:
             if (vsv_cli_int(optarg, 16, 1 << 30, &v))
@@ -626,10 +641,8 @@ int main(int argc, char **argv)
     while (!status && vrFrame()) {
         if (got_signal)
             break;
-        if (vsv_room_failed(vsv_fv.room, msg, sizeof msg)) {
-            status = 1;
+        if ((status = vsv_room_failed(vsv_fv.room, msg, sizeof msg)))
             break;
-        }
         const double now = vrCurrentSimTime(), wall = vsv_room_clock();
         if (wall - checked > 0.2) { /* a render process that died: FreeVR would wait for it forever */
             checked = wall;
@@ -679,6 +692,6 @@ int main(int argc, char **argv)
         raise(sig);
     }
     if (status)
-        vsv_cli_die(1, "%s", msg);
+        vsv_cli_die(status, "%s", msg);
     return 0;
 }

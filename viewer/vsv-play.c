@@ -3,6 +3,7 @@
  * for time, species and camera, and --script for playback without a
  * person. */
 #include "vsv_cli.h"
+#include "vsv_gl.h"
 #include "vsv_overlay.h"
 #include "vsv_player.h"
 
@@ -25,7 +26,10 @@ static const char usage[] =
     "\n"
     "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
-    "  -r, --renderer NAME     shearwarp (default, fast) or raycast (detail); m switches\n"
+    "  -r, --renderer NAME     auto (default: gl where OpenGL 3.3 runs on a GPU, else\n"
+    "                          shearwarp), shearwarp (fast on a CPU), raycast\n"
+    "                          (detail) or gl (the raycaster on the GPU); m switches\n"
+    "      --gpu-mb N          the GPU raycaster's brick memory (default 512)\n"
     "      --cache-mb N        decoded-brick cache budget (default: a quarter of RAM)\n"
     "      --threads N         render threads (default: all cores)\n"
     "      --size WxH          window size (default 960x600)\n"
@@ -231,10 +235,11 @@ int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-play");
     enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
-           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT };
+           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB };
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
         {"renderer", required_argument, 0, 'r'},   {"cache-mb", required_argument, 0, O_CACHE},
+        {"gpu-mb", required_argument, 0, O_GPUMB},
         {"threads", required_argument, 0, O_THREADS}, {"size", required_argument, 0, O_SIZE},
         {"render-scale", required_argument, 0, O_SCALE}, {"exaggerate", required_argument, 0, 'x'},
         {"rate", required_argument, 0, O_RATE},    {"loop", required_argument, 0, O_LOOP},
@@ -249,6 +254,7 @@ int main(int argc, char **argv)
     vsv_player_opts po;
     vsv_player_opts_init(&po);
     int width = 960, height = 600, c;
+    int want = -1; /* the renderer asked for: -1 auto */
     double scale = 1;
     const char *script = NULL, *view = NULL;
     unsigned parts = VSV_ANNOT_ALL;
@@ -260,11 +266,20 @@ int main(int argc, char **argv)
         case O_TF: po.tfpath = optarg; break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
-                po.renderer = VSV_RENDER_RAYCAST;
+                want = VSV_RENDER_RAYCAST;
             else if (!strcmp(optarg, "shearwarp"))
-                po.renderer = VSV_RENDER_SHEARWARP;
+                want = VSV_RENDER_SHEARWARP;
+            else if (!strcmp(optarg, "gl"))
+                want = VSV_RENDER_GL;
+            else if (!strcmp(optarg, "auto"))
+                want = -1;
             else
-                vsv_cli_usage_error("--renderer: raycast or shearwarp, not '%s'", optarg);
+                vsv_cli_usage_error("--renderer: auto, shearwarp, raycast or gl, not '%s'", optarg);
+            break;
+        case O_GPUMB:
+            if (vsv_cli_int(optarg, 16, 1 << 20, &v))
+                vsv_cli_usage_error("--gpu-mb %s: a whole number of megabytes, 16 to %d", optarg, 1 << 20);
+            po.gpu_budget = (size_t)v << 20;
             break;
         case O_CACHE:
             if (vsv_cli_int(optarg, 1, 1 << 30, &v))
@@ -375,6 +390,24 @@ int main(int argc, char **argv)
     glfwMakeContextCurrent(a.win);
     glfwSwapInterval(1);
     glfwSetWindowUserPointer(a.win, &a);
+    /* the renderer, now that the window's OpenGL context is current: auto
+     * takes the GPU raycaster where OpenGL 3.3 runs on a GPU */
+    if (want == -1 && vsv_gl_context_software()) {
+        if (!vsv_cli_quiet())
+            fprintf(stderr, "vsv-play: renderer: shear-warp (OpenGL here is %s, a software rasteriser: the CPU "
+                            "renderers are faster; --renderer gl to use it anyway)\n",
+                    (const char *)glGetString(GL_RENDERER));
+    } else if (want == VSV_RENDER_GL || want == -1) {
+        if (vsv_player_do(p, "renderer gl", err, sizeof err)) { /* err: "renderer gl: why" */
+            if (want == VSV_RENDER_GL)
+                vsv_cli_usage_error("--renderer gl: %s", err + strlen("renderer gl: "));
+            if (!vsv_cli_quiet())
+                fprintf(stderr, "vsv-play: renderer: shear-warp (the GPU raycaster cannot run: %s)\n",
+                        err + strlen("renderer gl: "));
+        }
+    } else if (want != VSV_RENDER_SHEARWARP) {
+        vsv_player_do(p, "renderer raycast", err, sizeof err);
+    }
     glfwSetKeyCallback(a.win, on_key);
     glfwSetMouseButtonCallback(a.win, on_button);
     glfwSetCursorPosCallback(a.win, on_move);
@@ -482,9 +515,9 @@ int main(int argc, char **argv)
     vsv_overlay_free(ov);
     vsv_font_free(font);
     vsv_outlines_free(outlines);
+    vsv_player_free(p); /* (its GPU raycaster in the window's context) */
     glfwDestroyWindow(a.win);
     glfwTerminate();
-    vsv_player_free(p);
     free(lines);
     return rc;
 }

@@ -9,6 +9,7 @@
  * once by the main process. Its player holds the file's metadata, the
  * transfer functions and the renderer. */
 #include "vsv_freevr_app.h"
+#include "vsv_gl.h"
 #include "vsv_overlay.h"
 #include "vsv_panel.h"
 #include "vsv_place.h"
@@ -54,7 +55,7 @@ static vsv_player *player; /* one per render process, for all its windows */
 static vsv_annot legend;   /* the panel's legend: time and species map */
 static int *species_map;
 
-static void fail(const char *msg) { vsv_room_fail(vsv_fv.room, msg); }
+static void fail(const char *msg) { vsv_room_fail(vsv_fv.room, 1, msg); }
 static uint64_t content_key(const struct fvwin *w, const vsv_volume *const *vols);
 
 /* The window whose context is current. */
@@ -107,10 +108,31 @@ void vsv_fv_display_init(void)
     w->panel = vsv_panel_create();
     if (opened++)
         return;
-    if (vsv_player_open(&vsv_fv.opts, &player, err, sizeof err)) {
+    /* the renderer: the GPU raycaster where asked for (or, by default, where
+     * OpenGL 3.3 runs on a GPU), else the CPU's */
+    vsv_player_opts o = vsv_fv.opts;
+    const int want = o.renderer;
+    const int soft = vsv_gl_context_software();
+    if (want < 0)
+        o.renderer = soft ? VSV_RENDER_SHEARWARP : VSV_RENDER_GL;
+    int rc = vsv_player_open(&o, &player, err, sizeof err);
+    if (rc == VSV_EUNSUPPORTED && want < 0) { /* no GPU raycaster here: the CPU's, said once */
+        vsv_player_free(player);
+        if (w->room == 0)
+            fprintf(stderr, "vsv-play-freevr: renderer: shear-warp (the GPU raycaster cannot run: %s)\n", err);
+        o.renderer = VSV_RENDER_SHEARWARP;
+        rc = vsv_player_open(&o, &player, err, sizeof err);
+    } else if (!rc && want < 0 && soft && w->room == 0) {
+        fprintf(stderr, "vsv-play-freevr: renderer: shear-warp (OpenGL here is %s, a software rasteriser: the CPU "
+                        "renderers are faster; --renderer gl to use it anyway)\n",
+                (const char *)glGetString(GL_RENDERER));
+    }
+    if (rc) {
+        char msg[1100];
+        snprintf(msg, sizeof msg, "%s%s", rc == VSV_EUNSUPPORTED ? "--renderer gl: " : "", err);
         vsv_player_free(player);
         player = NULL;
-        fail(err);
+        vsv_room_fail(vsv_fv.room, rc == VSV_EUNSUPPORTED ? 2 : 1, msg);
         return;
     }
     const vsv_meta *m = vsv_player_meta(player);
@@ -288,6 +310,25 @@ void vsv_fv_panel_lines(const vsv_fv_tick *t, const vsv_meta *m, int nsteps, int
         snprintf(buf + n, cap - n, "\nstep %d DAMAGED", step);
 }
 
+/* After the picture: the wand's pointer and the panel, in the room. */
+static void overlays(fvwin *w, int eye, const double P[16], const double MV[16], const GLint vp[4])
+{
+    if (vsv_fv.wand)
+        draw_wand(&w->tk);
+    if (w->tk.lh > 0 && w->panel) {
+        char lines[512];
+        vsv_fv_panel_lines(&w->tk, vsv_player_meta(player), w->tk.nsteps, w->step, w->damage != NULL, w->tk.fps >= 0,
+                           lines, sizeof lines);
+        legend.time = w->time;
+        vsv_scene sc;
+        vsv_player_scene(player, &sc);
+        const double density = vsv_panel_draw(w->panel, &legend, &sc, lines, w->tk.panel, w->tk.panel + 3,
+                                               w->tk.panel + 6, w->tk.lh, P, MV, vp);
+        if (eye == 0)
+            vsv_room_report(vsv_fv.room, w->room, density);
+    }
+}
+
 void vsv_fv_display_eye(void *ri)
 {
     (void)ri;
@@ -315,9 +356,23 @@ void vsv_fv_display_eye(void *ri)
     glGetIntegerv(GL_VIEWPORT, vp);
     if (vp[2] < 1 || vp[3] < 1)
         return;
+    vsv_camera cam;
+    if (vsv_player_renderer(player) == VSV_RENDER_GL) { /* the GPU raycaster: this eye's frustum, no billboard */
+        vsv_player_camera_from_gl(w->tk.place, P, MV, vp[2], vp[3], &cam);
+        if (vsv_player_draw(player, &cam, vp, err, sizeof err)) {
+            fail(err);
+            return;
+        }
+        glViewport(vp[0], vp[1], vp[2], vp[3]);
+        glMatrixMode(GL_PROJECTION); /* (what FreeVR loaded, for the wand and the panel) */
+        glLoadMatrixd(P);
+        glMatrixMode(GL_MODELVIEW);
+        glLoadMatrixd(MV);
+        overlays(w, eye, P, MV, vp);
+        return;
+    }
     int iw = (int)(vp[2] * vsv_fv.scale + 0.5), ih = (int)(vp[3] * vsv_fv.scale + 0.5);
     iw = iw < 16 ? 16 : iw, ih = ih < 16 ? 16 : ih;
-    vsv_camera cam;
     vsv_player_camera_from_gl(w->tk.place, P, MV, iw, ih, &cam);
     if (!w->tex[eye] || w->key[eye] != w->content || memcmp(&cam, &w->cam[eye], sizeof cam)) {
         const unsigned char *img = vsv_player_image(player, &cam, err, sizeof err);
@@ -335,18 +390,5 @@ void vsv_fv_display_eye(void *ri)
         c[i] = 0.5 * (mn[i] + mx[i]);
     vsv_mat4_point(w->tk.place, c, c);
     vsv_billboard_quad(&cam, billboard_depth(P, MV, c), w->tex[eye], 0);
-    if (vsv_fv.wand)
-        draw_wand(&w->tk);
-    if (w->tk.lh > 0 && w->panel) {
-        char lines[512];
-        vsv_fv_panel_lines(&w->tk, vsv_player_meta(player), w->tk.nsteps, w->step, w->damage != NULL, w->tk.fps >= 0,
-                           lines, sizeof lines);
-        legend.time = w->time;
-        vsv_scene sc;
-        vsv_player_scene(player, &sc);
-        const double density = vsv_panel_draw(w->panel, &legend, &sc, lines, w->tk.panel, w->tk.panel + 3,
-                                               w->tk.panel + 6, w->tk.lh, P, MV, vp);
-        if (eye == 0)
-            vsv_room_report(vsv_fv.room, w->room, density);
-    }
+    overlays(w, eye, P, MV, vp);
 }

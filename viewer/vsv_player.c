@@ -341,6 +341,7 @@ int vsv_player_damage(vsv_player *p, const char **why)
 
 vsv_pager *vsv_player_pager(vsv_player *p) { return p->pager; }
 
+
 const vsv_volume *vsv_player_volume(const vsv_player *p, int s)
 {
     return s >= 0 && s < p->ns && p->shown >= 0 ? p->layers[s].vol : NULL;
@@ -478,6 +479,19 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
     p->dirty = 0;
     return p->rgb;
 }
+
+int vsv_player_draw(vsv_player *p, const vsv_camera *cam, const int viewport[4], char *err, size_t cap)
+{
+    if (p->ro.kind != VSV_RENDER_GL || !p->gl)
+        return VSV_EUNSUPPORTED;
+    vsv_scene sc = scene(p);
+    const int rc = vsv_gl_draw(p->gl, &sc, cam, viewport, p->bg);
+    if (rc)
+        snprintf(err, cap, "the GPU raycaster: %s", vsv_gl_error(p->gl));
+    return rc;
+}
+
+int vsv_player_renderer(const vsv_player *p) { return p->ro.kind; }
 
 const unsigned char *vsv_player_annotated(vsv_player *p, unsigned parts, vsv_font *font, const vsv_outlines *outlines,
                                           char *err, size_t cap)

@@ -32,7 +32,8 @@ typedef struct vsv_player_opts {
     const vsv_http_opts *http; /* URLs: the cache and retries; NULL = the defaults */
     size_t cache_bytes;     /* 0 = the pager's default */
     int threads;            /* render threads; 0 = all cores */
-    int renderer;           /* VSV_RENDER_*; VSV_RENDER_GL: the GPU raycaster in
+    int renderer;           /* VSV_RENDER_* (-1, only with no_renderer: to be
+                               chosen where it draws); VSV_RENDER_GL: the GPU raycaster in
                                the OpenGL context current when the player is
                                opened and used (vsv_gl.h); opening fails with
                                VSV_EUNSUPPORTED when it cannot be made */
@@ -145,6 +146,15 @@ void vsv_player_tick(vsv_player *p, double dt);
  * eye's view (off-axis frustum, w x h pixels). */
 void vsv_player_camera_from_gl(const double place[16], const double P[16], const double MV[16], int w, int h,
                                vsv_camera *cam);
+
+/* The GPU raycaster's picture for cam straight into the framebuffer bound
+ * now, in viewport (x, y, w, h; cam w x h): over the background, opaque,
+ * nothing read back (displays that draw each eye themselves: FreeVR).
+ * 0; VSV_EUNSUPPORTED when the renderer in use is not "gl"; else a VSV_E*
+ * code with the reason in err. */
+int vsv_player_draw(vsv_player *p, const vsv_camera *cam, const int viewport[4], char *err, size_t cap);
+/* The renderer in use (VSV_RENDER_*). */
+int vsv_player_renderer(const vsv_player *p);
 
 /* A multi-process back end (vsv_room.h). The process that decodes: its
  * pager (borrowed), and what the step shown draws of species s (NULL: not

@@ -112,7 +112,7 @@ int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err,
         p->dirty = 1;
     p->light = st->light;
     p->slices_on = st->slices;
-    if (st->renderer != p->ro.kind)
+    if (st->renderer >= 0 && st->renderer != p->ro.kind) /* (-1: each display chose) */
         return vsv_player_do(p, st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast"
                                 : st->renderer == VSV_RENDER_GL    ? "renderer gl"
                                                                    : "renderer shearwarp",

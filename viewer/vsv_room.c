@@ -450,11 +450,11 @@ void vsv_room_report(vsv_room *r, int w, double v)
     unlock(r);
 }
 
-void vsv_room_fail(vsv_room *r, const char *msg)
+void vsv_room_fail(vsv_room *r, int code, const char *msg)
 {
     lock(r);
     if (!r->h->failed) {
-        r->h->failed = 1;
+        r->h->failed = code > 0 ? code : 1;
         snprintf(r->h->failure, sizeof r->h->failure, "%s", msg);
     }
     unlock(r);

@@ -129,11 +129,12 @@ void vsv_room_report(vsv_room *r, int w, double v);
 
 /* ------------------------------------------------------------- failures */
 
-/* A process cannot go on: msg says why (the first one is kept), for the
- * process that ends the run. */
-void vsv_room_fail(vsv_room *r, const char *msg);
-/* 1 when a process failed, with its message into buf (cap bytes; may be
- * NULL); else 0. */
+/* A process cannot go on: msg says why and code (> 0) is the exit status
+ * it asks for (the first failure is kept), for the process that ends the
+ * run. */
+void vsv_room_fail(vsv_room *r, int code, const char *msg);
+/* The code of a process's failure, with its message into buf (cap bytes;
+ * may be NULL); 0 when none failed. */
 int vsv_room_failed(vsv_room *r, char *buf, size_t cap);
 
 #endif

@@ -56,8 +56,7 @@ int vsv_gl_create(const vsv_gl_opts *o, vsv_gl **out, char *err, size_t cap)
     g->bricks.budget = g->o.budget ? g->o.budget : (size_t)512 << 20;
     const char *dev = (const char *)glGetString(GL_RENDERER);
     snprintf(g->device, sizeof g->device, "%s", dev ? dev : "?");
-    g->software = strstr(g->device, "llvmpipe") || strstr(g->device, "softpipe") || strstr(g->device, "swrast") ||
-                  strstr(g->device, "Software Rasterizer");
+    g->software = vsv_gl_context_software();
     vsv_render_opts ro;
     vsv_render_opts_init(&ro);
     ro.kind = VSV_RENDER_RAYCAST;
@@ -98,6 +97,13 @@ void vsv_gl_free(vsv_gl *g)
     vsv_renderer_free(g->cpu);
     free(g->buf);
     free(g);
+}
+
+int vsv_gl_context_software(void)
+{
+    const char *d = epoxy_gl_version() ? (const char *)glGetString(GL_RENDERER) : NULL;
+    return d && (strstr(d, "llvmpipe") || strstr(d, "softpipe") || strstr(d, "swrast") ||
+                 strstr(d, "Software Rasterizer"));
 }
 
 const char *vsv_gl_device(const vsv_gl *g) { return g->device; }

@@ -52,6 +52,9 @@ void vsv_gl_opts_init(vsv_gl_opts *o);
  * frees with vsv_gl_free, with the context current. */
 int vsv_gl_create(const vsv_gl_opts *o, vsv_gl **out, char *err, size_t cap);
 void vsv_gl_free(vsv_gl *g);
+/* 1 when the current context draws with a software rasteriser (Mesa's
+ * llvmpipe, softpipe, swrast: a CPU); 0 otherwise or with no context. */
+int vsv_gl_context_software(void);
 /* The context's renderer (GL_RENDERER), e.g. "llvmpipe (LLVM 15.0.6, 256
  * bits)" or a GPU's name; borrowed. */
 const char *vsv_gl_device(const vsv_gl *g);
