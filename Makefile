@@ -462,7 +462,7 @@ demo:
 demo-bin: $(FREEVR_TEST)
 
 BENCH_BIN = $(B)/bench/bench_rc_peer $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
-            $(B)/bench/bench_play $(B)/bench/bench_advect $(B)/bench/bench_native
+            $(B)/bench/bench_play $(B)/bench/bench_advect $(B)/bench/bench_native $(B)/bench/bench_gl
 $(B)/bench/%: $(B)/bench/%.o $(TEST_LIBS)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
 

@@ -141,8 +141,12 @@ static void tex2d(GLuint *t, int *tw, int *th, int w, int h, const float *data)
         *tw = *th = 0;
     }
     glBindTexture(GL_TEXTURE_2D, *t);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    /* linear: the tables' entries lerped by the texture unit (the surfaces
+     * are read at texel centres: the same either way) */
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     if (w != *tw || h != *th) {
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, data);
@@ -227,6 +231,7 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     glUniform1i(p->lut, 2);
     glUniform1i(p->surf, 3);
     glUniform1i(p->nl, nl);
+    glUniform1f(p->inv_nl, 1.0f / (float)(nl ? nl : 1));
     glUniform1i(p->has_surf, m->surface != NULL);
     float par[4 * VSV_GL_MAXL], par2[4 * VSV_GL_MAXL];
     for (int l = 0; l < nl; l++) {
@@ -266,6 +271,9 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     glUniform1i(p->shift, m->shift);
     glUniform1i(p->mask, m->brick - 1);
     glUniform1i(p->e, m->brick + 1);
+    const int e = m->brick + 1;
+    glUniform3f(p->inv_atlas, 1.0f / (float)(g->bricks.sx * e), 1.0f / (float)(g->bricks.sy * e),
+                1.0f / (float)(g->bricks.sz * e));
     glUniform1i(p->height, h);
     glUniform4i(p->rect, m->x0, m->x1, m->y0, m->y1);
     return 0;

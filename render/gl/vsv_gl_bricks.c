@@ -125,8 +125,12 @@ static int make_atlas(vsv_gl_bricks *b, int need, int brick, char *err, size_t c
     b->sx = sx, b->sy = sy, b->sz = sz, b->e = e, b->brick = brick;
     glGenTextures(1, &b->atlas);
     glBindTexture(GL_TEXTURE_3D, b->atlas);
-    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    /* trilinear filtering of the eight cells around a sample, all in one slot */
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
     glTexImage3D(GL_TEXTURE_3D, 0, GL_R32F, sx * e, sy * e, sz * e, 0, GL_RED, GL_FLOAT, NULL);
     if (glGetError() != GL_NO_ERROR) {
         snprintf(err, cap, "the GPU has no room for a brick atlas of %d x %d x %d", sx * e, sy * e, sz * e);

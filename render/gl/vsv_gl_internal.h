@@ -22,7 +22,7 @@ typedef struct vsv_gl_prog {
     GLuint id;
     GLint atlas, pages, lut, surf, nl, has_surf, persp, light, direct, par, par2, o, f, r, u, bmin, bmax, hi, ldir,
         icell, bg, sx0, sxk, sy0, syk, snear, sfar, st, inv_st, term, last, bdim, slots, shift, mask, e, height, rect,
-        origin;
+        origin, inv_atlas, inv_nl;
 } vsv_gl_prog;
 /* Compiles and links it (in the current context): 0, or -1 with the
  * compiler's words in err. */
