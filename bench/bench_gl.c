@@ -61,6 +61,13 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_gl: %s\n", err);
         return 1;
     }
+    static int said;
+    if (!said++) { /* the device, once */
+        vsv_gl *g = NULL;
+        if (!vsv_gl_create(NULL, &g, err, sizeof err))
+            printf("OpenGL device: %s%s\n", vsv_gl_device(g), vsv_gl_software(g) ? " (a software rasteriser: the CPU)" : "");
+        vsv_gl_free(g);
+    }
     vsv_player *p[2] = {NULL, NULL};
     for (int k = 0; k < 2; k++) {
         vsv_player_opts o;
