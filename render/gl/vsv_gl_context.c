@@ -108,7 +108,9 @@ void vsv_gl_context_free(vsv_gl_context *c)
         eglMakeCurrent(c->dpy, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
         if (c->ctx != EGL_NO_CONTEXT)
             eglDestroyContext(c->dpy, c->ctx);
-        eglTerminate(c->dpy);
+        /* the display stays initialised: EGL has one per platform and
+         * device in a process, and terminating it unloads the driver under
+         * any other context of the process (the process's end frees it) */
     }
     free(c);
 }
