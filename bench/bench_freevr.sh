@@ -7,8 +7,9 @@
 # with a new step: every eye renders every frame), so the figures are of
 # rendering, not of redrawing a kept picture. Per wall, from --trace: frames
 # a second and CPU milliseconds a frame (its render process's CPU time over
-# its frames, all threads). For each CPU renderer (and the GPU one where
-# vsv-play-freevr has it: RENDERERS="shearwarp raycast gl"), on the real MM5
+# its frames, all threads). For each CPU renderer (RENDERERS; the GPU
+# raycaster too with RENDERERS="shearwarp raycast gl": not by default, as on
+# Mesa's llvmpipe a 1024 x 1024 wall takes it seconds a frame), on the real MM5
 # run (10-minute steps, the four hydrometeors) and gen-plume's plume and
 # haze (16-step series, bench_play --plume). Then the memory of the run (the
 # sum of its processes' proportional set sizes) with four walls and with

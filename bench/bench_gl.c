@@ -65,7 +65,8 @@ int main(int argc, char **argv)
     if (!said++) { /* the device, once */
         vsv_gl *g = NULL;
         if (!vsv_gl_create(NULL, &g, err, sizeof err))
-            printf("OpenGL device: %s%s\n", vsv_gl_device(g), vsv_gl_software(g) ? " (a software rasteriser: the CPU)" : "");
+            printf("OpenGL device: %s%s\n", vsv_gl_device(g),
+                   vsv_gl_context_software() ? " (a software rasteriser: the CPU)" : "");
         vsv_gl_free(g);
     }
     vsv_player *p[2] = {NULL, NULL};

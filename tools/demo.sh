@@ -110,6 +110,16 @@ step "Lit clouds (gradient shading, a sun in the north-west) over a section of m
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --slice z=1500 --slice-species Q --size 480x360 \
     -o "$OUT/lit.png" && echo "$OUT/lit.png"
 
+step "The same lit frame raycast on the GPU (OpenGL 3.3 through EGL, no display; here Mesa's llvmpipe, a CPU: slow)" \
+     "vsv-render $OUT/storm.vsv --species CLW,SNOW --light --slice z=1500 --slice-species Q --renderer gl"
+if "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --slice z=1500 --slice-species Q --size 320x240 \
+    --renderer gl -o "$OUT/lit-gl.png" && "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light \
+    --slice z=1500 --slice-species Q --size 320x240 -o "$OUT/lit-cpu.png"; then
+    echo "$OUT/lit-gl.png"
+    /usr/bin/python3 tests/imgcmp.py "$OUT/lit-gl.png" "$OUT/lit-cpu.png" 2> /dev/null |
+        awk '{ print "  against the CPU raycaster: " $2 " dB PSNR" }'
+fi
+
 step "One colour scale for several files: --range" \
      "vsv-render $OUT/storm.vsv --species CLW,SNOW --range CLW=0:0.0006 --range SNOW=0:0.0005"
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --range CLW=0:0.0006 --range SNOW=0:0.0005 --size 480x360 \

@@ -106,7 +106,7 @@ static void on_signal(int sig) { got_signal = sig; }
 static void on_watchdog(int sig)
 {
     (void)sig;
-    static const char msg[] = "vsv-play-freevr: FreeVR did not end within 3 s: its processes were killed\n";
+    static const char msg[] = "vsv-play-freevr: FreeVR did not end in time: its processes were killed\n";
     for (int i = 0; i < nkids; i++)
         kill(kids[i], SIGKILL);
     vsv_ipc_remove(&fv_ipc);
@@ -116,12 +116,15 @@ static void on_watchdog(int sig)
     _exit(end_status ? end_status : 1);
 }
 
-/* vrExit, which waits for FreeVR's processes, under a 3-second watchdog. */
-static void freevr_exit(int status)
+/* vrExit, which waits for FreeVR's processes to finish the frame they
+ * draw, under a watchdog: 3 s after a signal (the run must end now), 20 s
+ * otherwise (a frame of the GPU raycaster on a software rasteriser can take
+ * seconds). */
+static void freevr_exit(int status, int urgent)
 {
     end_status = status;
     signal(SIGALRM, on_watchdog);
-    alarm(3);
+    alarm(urgent ? 3 : 20);
     vrExit();
     alarm(0);
     vsv_ipc_remove(&fv_ipc); /* (what FreeVR left; normally nothing) */
@@ -678,7 +681,7 @@ int main(int argc, char **argv)
         vsv_proc_end(kids, nkids, 1.0);
         vsv_ipc_remove(&fv_ipc);
     } else {
-        freevr_exit(sig ? 128 + sig : status);
+        freevr_exit(sig ? 128 + sig : status, sig != 0);
     }
     trace_close();
     vsv_room_unpin(vsv_fv.room);

@@ -44,6 +44,7 @@ typedef struct fvwin {
     uint64_t content;     /* what the tick's picture depends on, but the eye */
     vsv_fv_tick tk;
     vsv_panel *panel;
+    vsv_gl *gl;           /* the GPU raycaster of this window's context */
     GLuint tex[2];        /* each eye's picture, and what it shows */
     uint64_t key[2];
     vsv_camera cam[2];
@@ -106,40 +107,54 @@ void vsv_fv_display_init(void)
         fail(err);
     }
     w->panel = vsv_panel_create();
-    if (opened++)
-        return;
-    /* the renderer: the GPU raycaster where asked for (or, by default, where
-     * OpenGL 3.3 runs on a GPU), else the CPU's */
-    vsv_player_opts o = vsv_fv.opts;
-    const int want = o.renderer;
-    const int soft = vsv_gl_context_software();
-    if (want < 0)
-        o.renderer = soft ? VSV_RENDER_SHEARWARP : VSV_RENDER_GL;
-    int rc = vsv_player_open(&o, &player, err, sizeof err);
-    if (rc == VSV_EUNSUPPORTED && want < 0) { /* no GPU raycaster here: the CPU's, said once */
-        vsv_player_free(player);
-        if (w->room == 0)
-            fprintf(stderr, "vsv-play-freevr: renderer: shear-warp (the GPU raycaster cannot run: %s)\n", err);
-        o.renderer = VSV_RENDER_SHEARWARP;
-        rc = vsv_player_open(&o, &player, err, sizeof err);
-    } else if (!rc && want < 0 && soft && w->room == 0) {
-        fprintf(stderr, "vsv-play-freevr: renderer: shear-warp (OpenGL here is %s, a software rasteriser: the CPU "
-                        "renderers are faster; --renderer gl to use it anyway)\n",
-                (const char *)glGetString(GL_RENDERER));
+    vsv_gl_opts go;
+    vsv_gl_opts_init(&go);
+    go.threads = vsv_fv.opts.threads;
+    if (vsv_fv.opts.gpu_budget)
+        go.budget = vsv_fv.opts.gpu_budget;
+    if (!opened++) {
+        /* the renderer: the GPU raycaster where asked for (or, by default,
+         * where OpenGL 3.3 runs on a GPU: a raycaster made in this context
+         * says whether it can), else the CPU's */
+        vsv_player_opts o = vsv_fv.opts;
+        const int want = o.renderer;
+        if (want == VSV_RENDER_GL || (want < 0 && !vsv_gl_context_software())) {
+            if (!vsv_gl_create(&go, &w->gl, err, sizeof err)) {
+                o.renderer = VSV_RENDER_GL;
+            } else if (want == VSV_RENDER_GL) {
+                char msg[1100];
+                snprintf(msg, sizeof msg, "--renderer gl: %s", err);
+                vsv_room_fail(vsv_fv.room, 2, msg);
+                return;
+            } else {
+                if (w->room == 0)
+                    fprintf(stderr, "vsv-play-freevr: renderer: shear-warp (the GPU raycaster cannot run: %s)\n", err);
+                o.renderer = VSV_RENDER_SHEARWARP;
+            }
+        } else if (want < 0) {
+            if (w->room == 0)
+                fprintf(stderr, "vsv-play-freevr: renderer: shear-warp (OpenGL here is %s, a software rasteriser: "
+                                "the CPU renderers are faster; --renderer gl to use it anyway)\n",
+                        (const char *)glGetString(GL_RENDERER));
+            o.renderer = VSV_RENDER_SHEARWARP;
+        }
+        o.gl_by_caller = 1; /* (each window draws with its own) */
+        if (vsv_player_open(&o, &player, err, sizeof err)) {
+            vsv_player_free(player);
+            player = NULL;
+            fail(err);
+            return;
+        }
+        const vsv_meta *m = vsv_player_meta(player);
+        species_map = calloc((size_t)(m->nvars ? m->nvars : 1), sizeof *species_map);
+        for (int s = 0; species_map && s < m->nvars; s++)
+            species_map[s] = s;
+        legend = (vsv_annot){VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, species_map, NULL};
+    } else if (player && vsv_player_renderer(player) == VSV_RENDER_GL && vsv_gl_create(&go, &w->gl, err, sizeof err)) {
+        char msg[1100]; /* (this context's own raycaster) */
+        snprintf(msg, sizeof msg, "the %s window: --renderer gl: %s", w->name, err);
+        vsv_room_fail(vsv_fv.room, 2, msg);
     }
-    if (rc) {
-        char msg[1100];
-        snprintf(msg, sizeof msg, "%s%s", rc == VSV_EUNSUPPORTED ? "--renderer gl: " : "", err);
-        vsv_player_free(player);
-        player = NULL;
-        vsv_room_fail(vsv_fv.room, rc == VSV_EUNSUPPORTED ? 2 : 1, msg);
-        return;
-    }
-    const vsv_meta *m = vsv_player_meta(player);
-    species_map = calloc((size_t)(m->nvars ? m->nvars : 1), sizeof *species_map);
-    for (int s = 0; species_map && s < m->nvars; s++)
-        species_map[s] = s;
-    legend = (vsv_annot){VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, species_map, NULL};
 }
 
 void vsv_fv_display_exit(void)
@@ -147,7 +162,8 @@ void vsv_fv_display_exit(void)
     fvwin *w = current();
     if (w) {
         vsv_panel_free(w->panel);
-        w->panel = NULL;
+        vsv_gl_free(w->gl);
+        w->panel = NULL, w->gl = NULL;
         glDeleteTextures(2, w->tex);
     }
     if (--opened > 0)
@@ -359,7 +375,7 @@ void vsv_fv_display_eye(void *ri)
     vsv_camera cam;
     if (vsv_player_renderer(player) == VSV_RENDER_GL) { /* the GPU raycaster: this eye's frustum, no billboard */
         vsv_player_camera_from_gl(w->tk.place, P, MV, vp[2], vp[3], &cam);
-        if (vsv_player_draw(player, &cam, vp, err, sizeof err)) {
+        if (vsv_player_draw(player, w->gl, &cam, vp, err, sizeof err)) {
             fail(err);
             return;
         }

@@ -46,7 +46,7 @@ static const unsigned char *needed(vsv_player *p)
  * (made once, in the GL context current now). 0, or -1 with why. */
 static int use_renderer(vsv_player *p, int kind, char *why, size_t cap)
 {
-    if (p->no_renderer) { /* (only named: the render processes draw) */
+    if (p->no_renderer || (kind == VSV_RENDER_GL && p->gl_by_caller)) { /* (only named: others draw) */
     } else if (kind == VSV_RENDER_GL) {
         if (!p->gl) {
             vsv_gl_opts go;
@@ -219,6 +219,7 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     p->ro.threads = o->clock_only ? 1 : o->threads;
     p->gpu_budget = o->gpu_budget;
     p->no_renderer = o->no_renderer || o->clock_only;
+    p->gl_by_caller = o->gl_by_caller;
     p->ro.kind = VSV_RENDER_SHEARWARP;
     if (vsv_renderer_create(&p->ro, &p->r)) {
         snprintf(err, cap, "cannot start the renderer");
@@ -480,14 +481,14 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
     return p->rgb;
 }
 
-int vsv_player_draw(vsv_player *p, const vsv_camera *cam, const int viewport[4], char *err, size_t cap)
+int vsv_player_draw(vsv_player *p, vsv_gl *gl, const vsv_camera *cam, const int viewport[4], char *err, size_t cap)
 {
-    if (p->ro.kind != VSV_RENDER_GL || !p->gl)
+    if (p->ro.kind != VSV_RENDER_GL || !gl)
         return VSV_EUNSUPPORTED;
     vsv_scene sc = scene(p);
-    const int rc = vsv_gl_draw(p->gl, &sc, cam, viewport, p->bg);
+    const int rc = vsv_gl_draw(gl, &sc, cam, viewport, p->bg);
     if (rc)
-        snprintf(err, cap, "the GPU raycaster: %s", vsv_gl_error(p->gl));
+        snprintf(err, cap, "the GPU raycaster: %s", vsv_gl_error(gl));
     return rc;
 }
 

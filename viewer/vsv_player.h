@@ -21,6 +21,7 @@
 #define VSV_PLAYER_H
 
 #include "vsv_clock.h"
+#include "vsv_gl.h"
 #include "vsv_pager.h"
 #include "vsv_http.h"
 #include "vsv_render.h"
@@ -40,6 +41,9 @@ typedef struct vsv_player_opts {
     size_t gpu_budget;      /* its brick memory; 0 = its default */
     int no_renderer;        /* never draws: `renderer` is only named (the process
                                that decodes for render processes, vsv_room.h) */
+    int gl_by_caller;       /* with VSV_RENDER_GL: the caller draws with its own
+                               GPU raycaster per context (vsv_player_draw); the
+                               player makes none */
     const char *species;    /* NAME[:OPACITY],... visible at start; NULL = all but water vapour (vsv_meta_default_shown) */
     const char *tfpath;     /* transfer functions file or NULL */
     double exaggerate;      /* 0 = the default */
@@ -148,11 +152,13 @@ void vsv_player_camera_from_gl(const double place[16], const double P[16], const
                                vsv_camera *cam);
 
 /* The GPU raycaster's picture for cam straight into the framebuffer bound
- * now, in viewport (x, y, w, h; cam w x h): over the background, opaque,
+ * now, in viewport (x, y, w, h; cam w x h), by gl (the caller's, made in
+ * the GL context current now: one per context, so a display that draws
+ * several windows makes one for each): over the background, opaque,
  * nothing read back (displays that draw each eye themselves: FreeVR).
  * 0; VSV_EUNSUPPORTED when the renderer in use is not "gl"; else a VSV_E*
  * code with the reason in err. */
-int vsv_player_draw(vsv_player *p, const vsv_camera *cam, const int viewport[4], char *err, size_t cap);
+int vsv_player_draw(vsv_player *p, vsv_gl *gl, const vsv_camera *cam, const int viewport[4], char *err, size_t cap);
 /* The renderer in use (VSV_RENDER_*). */
 int vsv_player_renderer(const vsv_player *p);
 

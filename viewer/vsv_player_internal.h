@@ -39,9 +39,10 @@ struct vsv_player {
     /* rendering */
     vsv_render_opts ro;  /* ro.kind: the renderer in use (VSV_RENDER_GL: gl) */
     vsv_renderer *r;     /* the CPU renderer (the last CPU kind used) */
-    struct vsv_gl *gl;   /* the GPU raycaster, once asked for */
+    vsv_gl *gl;          /* the GPU raycaster, once asked for */
     int gl_ok;           /* it could be made */
     int no_renderer;     /* never draws: the renderer is only named */
+    int gl_by_caller;    /* gl: the caller's raycasters draw (vsv_player_draw) */
     size_t gpu_budget;
     float *rgba, *depth;
     unsigned char *rgb;

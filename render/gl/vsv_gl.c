@@ -11,20 +11,30 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The CPU's set-up of a frame and the surfaces it made, for one eye: two
+ * of them, so that the two eyes of a stereo pair (or two views drawn in
+ * turn) each keep their ground while their view stays. */
+typedef struct eye_state {
+    vsv_renderer *cpu;     /* the CPU renderer's set-up: surfaces, the frame */
+    vsv_camera cam;        /* the view it was used for last */
+    uint64_t used;
+    GLuint surf;           /* its surfaces on the GPU */
+    int sw, sh;
+    uint64_t surf_key;     /* what they hold */
+} eye_state;
+
 struct vsv_gl {
     vsv_gl_opts o;
-    vsv_renderer *cpu;     /* the CPU renderer's set-up: surfaces, the frame */
+    eye_state eye[2];
+    uint64_t frames;
     vsv_gl_prog prog;
-    GLuint vao, fbo, tex_rgba, tex_depth, surf, lut;
+    GLuint vao, fbo, tex_rgba, tex_depth, lut;
     int fw, fh;            /* the offscreen framebuffer's size */
-    int sw, sh;            /* the surface texture's size */
-    uint64_t surf_key;     /* what it holds */
     int lut_w, lut_h;
     vsv_gl_bricks bricks;
     float *buf;            /* surfaces or tables, on their way to the GPU */
     size_t buf_cap;
     char device[256];
-    int software;
     char err[1024];
 };
 
@@ -39,7 +49,10 @@ int vsv_gl_create(const vsv_gl_opts *o, vsv_gl **out, char *err, size_t cap)
     *out = NULL;
     const int ver = epoxy_gl_version();
     const char *glsl = ver >= 20 ? (const char *)glGetString(GL_SHADING_LANGUAGE_VERSION) : NULL;
-    if (ver < 33 || !glsl || atof(glsl) < 3.295) {
+    int gmaj = 0, gmin = 0;
+    if (glsl && sscanf(glsl, "%d.%d", &gmaj, &gmin) != 2) /* (not atof: a locale's comma) */
+        gmaj = 0;
+    if (ver < 33 || gmaj * 100 + gmin < 330) {
         snprintf(err, cap, "OpenGL %d.%d with GLSL %s; the GPU raycaster needs OpenGL 3.3", ver / 10, ver % 10,
                  glsl ? glsl : "none");
         return VSV_EUNSUPPORTED;
@@ -56,7 +69,6 @@ int vsv_gl_create(const vsv_gl_opts *o, vsv_gl **out, char *err, size_t cap)
     g->bricks.budget = g->o.budget ? g->o.budget : (size_t)512 << 20;
     const char *dev = (const char *)glGetString(GL_RENDERER);
     snprintf(g->device, sizeof g->device, "%s", dev ? dev : "?");
-    g->software = vsv_gl_context_software();
     vsv_render_opts ro;
     vsv_render_opts_init(&ro);
     ro.kind = VSV_RENDER_RAYCAST;
@@ -65,7 +77,7 @@ int vsv_gl_create(const vsv_gl_opts *o, vsv_gl **out, char *err, size_t cap)
         ro.step_cells = g->o.step_cells;
     if (g->o.term > 0)
         ro.term = g->o.term;
-    if (vsv_renderer_create(&ro, &g->cpu)) {
+    if (vsv_renderer_create(&ro, &g->eye[0].cpu) || vsv_renderer_create(&ro, &g->eye[1].cpu)) {
         snprintf(err, cap, "out of memory");
         vsv_gl_free(g);
         return VSV_ENOMEM;
@@ -90,11 +102,12 @@ void vsv_gl_free(vsv_gl *g)
         glDeleteVertexArrays(1, &g->vao);
     if (g->fbo)
         glDeleteFramebuffers(1, &g->fbo);
-    GLuint tex[4] = {g->tex_rgba, g->tex_depth, g->surf, g->lut};
-    for (int i = 0; i < 4; i++)
+    GLuint tex[5] = {g->tex_rgba, g->tex_depth, g->eye[0].surf, g->eye[1].surf, g->lut};
+    for (int i = 0; i < 5; i++)
         if (tex[i])
             glDeleteTextures(1, &tex[i]);
-    vsv_renderer_free(g->cpu);
+    vsv_renderer_free(g->eye[0].cpu);
+    vsv_renderer_free(g->eye[1].cpu);
     free(g->buf);
     free(g);
 }
@@ -107,7 +120,6 @@ int vsv_gl_context_software(void)
 }
 
 const char *vsv_gl_device(const vsv_gl *g) { return g->device; }
-int vsv_gl_software(const vsv_gl *g) { return g->software; }
 const char *vsv_gl_error(const vsv_gl *g) { return g->err; }
 
 void vsv_gl_stats_get(const vsv_gl *g, vsv_gl_stats *st)
@@ -141,12 +153,8 @@ static void tex2d(GLuint *t, int *tw, int *th, int w, int h, const float *data)
         *tw = *th = 0;
     }
     glBindTexture(GL_TEXTURE_2D, *t);
-    /* linear: the tables' entries lerped by the texture unit (the surfaces
-     * are read at texel centres: the same either way) */
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     if (w != *tw || h != *th) {
         glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, w, h, 0, GL_RGBA, GL_FLOAT, data);
@@ -170,7 +178,14 @@ static uint64_t fnv(uint64_t h, const void *p, size_t n)
 static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_march *m)
 {
     g->err[0] = 0;
-    int rc = vsv_render_march(g->cpu, sc, cam, m);
+    /* the eye state that drew this view last, else the older one */
+    eye_state *es = !memcmp(&g->eye[0].cam, cam, sizeof *cam)   ? &g->eye[0]
+                    : !memcmp(&g->eye[1].cam, cam, sizeof *cam) ? &g->eye[1]
+                    : g->eye[0].used <= g->eye[1].used          ? &g->eye[0]
+                                                                : &g->eye[1];
+    es->cam = *cam;
+    es->used = ++g->frames;
+    int rc = vsv_render_march(es->cpu, sc, cam, m);
     if (rc) {
         snprintf(g->err, sizeof g->err, "%s", rc == VSV_EUNSUPPORTED ? "more layers than the GPU raycaster draws"
                                                                       : vsv_strerror(rc));
@@ -191,6 +206,7 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
         memset(t, 0, (size_t)VSV_TF_LUT * 4 * sizeof(float));
     glActiveTexture(GL_TEXTURE2);
     tex2d(&g->lut, &g->lut_w, &g->lut_h, VSV_TF_LUT, nl ? nl : 1, t);
+    glActiveTexture(GL_TEXTURE0);
     /* the surfaces: again only when they may have changed (slices: every
      * frame; the ground: with the view or the geometry) */
     const int w = cam->width, h = cam->height;
@@ -198,7 +214,7 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     key = fnv(key, &sc->exaggeration, sizeof sc->exaggeration);
     key = fnv(key, &sc->show_terrain, sizeof sc->show_terrain);
     key = fnv(key, &sc->meta, sizeof sc->meta);
-    const int fresh = sc->nslices > 0 || key != g->surf_key || !g->surf;
+    const int fresh = sc->nslices > 0 || key != es->surf_key || !es->surf;
     if (m->surface && fresh) {
         float *s = buffer(g, (size_t)w * h * 4);
         if (!s) {
@@ -211,8 +227,9 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
             s[4 * i + 3] = q->t < INFINITY ? q->t : -1;
         }
         glActiveTexture(GL_TEXTURE3);
-        tex2d(&g->surf, &g->sw, &g->sh, w, h, s);
-        g->surf_key = sc->nslices > 0 ? 0 : key;
+        tex2d(&es->surf, &es->sw, &es->sh, w, h, s);
+        glActiveTexture(GL_TEXTURE0);
+        es->surf_key = sc->nslices > 0 ? 0 : key;
     }
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_3D, g->bricks.atlas);
@@ -221,7 +238,7 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     glActiveTexture(GL_TEXTURE2);
     glBindTexture(GL_TEXTURE_2D, g->lut);
     glActiveTexture(GL_TEXTURE3);
-    glBindTexture(GL_TEXTURE_2D, g->surf);
+    glBindTexture(GL_TEXTURE_2D, es->surf);
     glActiveTexture(GL_TEXTURE0);
     /* the uniforms */
     const vsv_gl_prog *p = &g->prog;
@@ -231,7 +248,6 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     glUniform1i(p->lut, 2);
     glUniform1i(p->surf, 3);
     glUniform1i(p->nl, nl);
-    glUniform1f(p->inv_nl, 1.0f / (float)(nl ? nl : 1));
     glUniform1i(p->has_surf, m->surface != NULL);
     float par[4 * VSV_GL_MAXL], par2[4 * VSV_GL_MAXL];
     for (int l = 0; l < nl; l++) {
@@ -271,9 +287,6 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     glUniform1i(p->shift, m->shift);
     glUniform1i(p->mask, m->brick - 1);
     glUniform1i(p->e, m->brick + 1);
-    const int e = m->brick + 1;
-    glUniform3f(p->inv_atlas, 1.0f / (float)(g->bricks.sx * e), 1.0f / (float)(g->bricks.sy * e),
-                1.0f / (float)(g->bricks.sz * e));
     glUniform1i(p->height, h);
     glUniform4i(p->rect, m->x0, m->x1, m->y0, m->y1);
     return 0;
@@ -295,6 +308,20 @@ static void draw(vsv_gl *g)
         glActiveTexture(GL_TEXTURE0 + (GLenum)u);
         glBindTexture(u < 2 ? GL_TEXTURE_3D : GL_TEXTURE_2D, 0);
     }
+}
+
+/* The errors OpenGL holds, after a frame: 0, or VSV_ENOMEM (out of
+ * memory) or VSV_EUNSUPPORTED (anything else), g->err saying which. */
+static int gl_errors(vsv_gl *g)
+{
+    GLenum e, first = GL_NO_ERROR;
+    while ((e = glGetError()) != GL_NO_ERROR)
+        first = first == GL_NO_ERROR ? e : first;
+    if (first == GL_NO_ERROR)
+        return 0;
+    snprintf(g->err, sizeof g->err, "OpenGL error 0x%x%s", (unsigned)first,
+             first == GL_OUT_OF_MEMORY ? " (out of memory)" : "");
+    return first == GL_OUT_OF_MEMORY ? VSV_ENOMEM : VSV_EUNSUPPORTED;
 }
 
 /* The offscreen framebuffer of w x h: colour (RGBA32F) and depth (R32F). */
@@ -357,12 +384,7 @@ int vsv_gl_render(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, float *
     }
     glBindFramebuffer(GL_FRAMEBUFFER, (GLuint)old_fbo);
     glViewport(vp[0], vp[1], vp[2], vp[3]);
-    const GLenum e = glGetError();
-    if (e != GL_NO_ERROR) {
-        snprintf(g->err, sizeof g->err, "OpenGL error 0x%x", (unsigned)e);
-        return VSV_EUNSUPPORTED;
-    }
-    return 0;
+    return gl_errors(g);
 }
 
 int vsv_gl_draw(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, const int viewport[4], const float bg[3])
@@ -380,5 +402,5 @@ int vsv_gl_draw(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, const int
     glUniform2i(g->prog.origin, viewport[0], viewport[1]);
     glUniform3f(g->prog.bg, bg[0], bg[1], bg[2]);
     draw(g);
-    return 0;
+    return gl_errors(g);
 }

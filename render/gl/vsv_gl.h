@@ -10,8 +10,9 @@
  * only the empty value). A slot is keyed by the values it holds (the brick's
  * key and those of the bricks after it, vsv_volume.bkey; the volume's load
  * where it has no keys), so on a new time step only the bricks whose values
- * changed are uploaded, through a pixel buffer object; the least recently
- * used slots make room, and the atlas never grows past the budget. A brick
+ * changed are uploaded, in batches through a pixel buffer object (32 MB);
+ * free slots, then the least recently used, take them, and the atlas never
+ * grows past the budget. A brick
  * every species leaves transparent (from its values' range and the
  * transfer functions) is leapt over whole, as the CPU leaps its blocks:
  * the same samples are taken either way.
@@ -58,21 +59,23 @@ int vsv_gl_context_software(void);
 /* The context's renderer (GL_RENDERER), e.g. "llvmpipe (LLVM 15.0.6, 256
  * bits)" or a GPU's name; borrowed. */
 const char *vsv_gl_device(const vsv_gl *g);
-/* 1 when the context is a software rasteriser (Mesa's llvmpipe, softpipe,
- * swrast): a CPU, where the CPU renderers are the faster choice. */
-int vsv_gl_software(const vsv_gl *g);
 
 /* vsv_render's contract (rgba premultiplied, row 0 at the top; depth along
  * the ray, INFINITY where none; either may be NULL): renders into an
- * offscreen framebuffer and reads it back. 0 or a VSV_E* code;
+ * offscreen framebuffer and reads it back (the framebuffer binding and the
+ * viewport are put back; the pack alignment is left at 4). 0 or a VSV_E* code;
  * VSV_ENOMEM also when the bricks of one frame do not fit the budget
  * (vsv_gl_error says so). */
 int vsv_gl_render(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
 /* Renders straight into the framebuffer bound now, in the viewport given
  * (x, y, w, h; cam is w x h): each pixel the frame's colour over bg
  * (linear), with the gamma of vsv_image_rgb8, opaque; nothing read back.
- * For displays that draw each eye themselves (FreeVR). Leaves the program,
- * vertex array, textures and blending as it found them bound to 0/off. */
+ * For displays that draw each eye themselves (FreeVR). Leaves: the
+ * viewport as given, the depth test and blending off, the program 0, the
+ * vertex array as it was, texture units 0-3 with nothing bound and unit 0
+ * active, the unpack alignment 4. Both calls keep the surfaces of the two
+ * views drawn last (a stereo pair's eyes), so each is worked out again on
+ * the CPU only when its view changes. */
 int vsv_gl_draw(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, const int viewport[4], const float bg[3]);
 /* The last failure's message (borrowed). */
 const char *vsv_gl_error(const vsv_gl *g);

@@ -1,9 +1,10 @@
 /* vsv_gl_context.c — a headless OpenGL context through EGL (vsv_gl.h):
  * Mesa's surfaceless platform where it is offered (no X, no device
  * needed), else the first EGL device (a GPU's driver on a server), else
- * the default display; OpenGL 3.3 core, then the newest compatibility
- * context, current with no surface (the raycaster draws into its own
- * framebuffer). libepoxy loads libEGL only here, when asked. */
+ * the default display; OpenGL 3.3 core (with no config where the display
+ * allows it, else the first OpenGL config), current with no surface (the
+ * raycaster draws into its own framebuffer). libepoxy loads libEGL only
+ * here, when asked. */
 #include "vsv_gl.h"
 
 #include <epoxy/egl.h>

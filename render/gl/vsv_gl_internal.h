@@ -9,6 +9,7 @@
 #include <epoxy/gl.h>
 
 #define VSV_GL_MAXL VSV_MARCH_MAX
+#define VSV_GL_STAGING ((size_t)32 << 20) /* the uploads' staging buffer, bytes */
 #define VSV_GL_STR2(x) #x
 #define VSV_GL_STR(x) VSV_GL_STR2(x)
 #define VSV_GL_MAXL_S VSV_GL_STR(VSV_MARCH_MAX)
@@ -22,7 +23,7 @@ typedef struct vsv_gl_prog {
     GLuint id;
     GLint atlas, pages, lut, surf, nl, has_surf, persp, light, direct, par, par2, o, f, r, u, bmin, bmax, hi, ldir,
         icell, bg, sx0, sxk, sy0, syk, snear, sfar, st, inv_st, term, last, bdim, slots, shift, mask, e, height, rect,
-        origin, inv_atlas, inv_nl;
+        origin;
 } vsv_gl_prog;
 /* Compiles and links it (in the current context): 0, or -1 with the
  * compiler's words in err. */
@@ -51,7 +52,8 @@ typedef struct vsv_gl_bricks {
     size_t page_cap;
     int pw, ph, pd;          /* the page texture's size */
     float *copy;             /* one brick's copy, filled on the CPU */
-    size_t pbo_bytes;
+    size_t copy_cap;
+    int hand;                /* where the search for a slot goes on */
     int *cnt;                /* the layers' opacity counts (vsv_march_counts) */
     uint64_t uploads, last_uploads, last_bricks;
 } vsv_gl_bricks;

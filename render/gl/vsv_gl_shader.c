@@ -34,8 +34,7 @@ static const char FRAG[] =
     "uniform float u_sx0, u_sxk, u_sy0, u_syk, u_snear, u_sfar, u_st, u_inv_st, u_term;\n"
     "uniform ivec3 u_last, u_bdim, u_slots;\n"
     "uniform int u_shift, u_mask, u_e, u_height;\n"
-    "uniform vec3 u_inv_atlas; /* 1 / the atlas's size in cells */\n"
-    "uniform float u_inv_nl;   /* 1 / the layers (the tables' rows) */\n"
+
     "uniform ivec4 u_rect;   /* x0, x1, y0, y1: the pixels that may meet the box */\n"
     "uniform ivec2 u_origin; /* the viewport's corner (drawing into a window) */\n"
     "layout(location = 0) out vec4 o_rgba;\n"
@@ -44,13 +43,21 @@ static const char FRAG[] =
     "float lerp1(float a, float b, float f) { return (b - a) * f + a; }\n"
     "ivec2 page(int l, ivec3 bk) { return texelFetch(u_pages, ivec3(bk.x, bk.y, bk.z + l * u_bdim.z), 0).xy; }\n"
     "float empty_value(int l) { return u_par2[l].z != 0.0 ? uintBitsToFloat(0x7fc00000u) : u_par2[l].w; }\n"
-    "/* layer l's trilinear value at lower cell ci with fractions f: the\n"
-    " * texture unit's filtering of the eight cells, which lie in one slot */\n"
+    "/* layer l's trilinear value at lower cell ci with fractions f, its\n"
+    " * brick's page pg: the eight cells (in one slot), lerped as\n"
+    " * vsv_rc_trilinear does (the texture unit's filtering has too few\n"
+    " * bits in its weights on GPUs to draw the CPU's picture) */\n"
     "float value_pg(int l, ivec2 pg, ivec3 ci, vec3 f) {\n"
     "    if (pg.x < 0) return empty_value(l);\n"
-    "    ivec3 base = ivec3(pg.x % u_slots.x, (pg.x / u_slots.x) % u_slots.y, pg.x / (u_slots.x * u_slots.y)) * u_e;\n"
-    "    vec3 at = vec3(base + (ci & u_mask)) + f + 0.5;\n"
-    "    return texture(u_atlas, at * u_inv_atlas).r;\n"
+    "    ivec3 q = ivec3(pg.x % u_slots.x, (pg.x / u_slots.x) % u_slots.y, pg.x / (u_slots.x * u_slots.y)) * u_e\n"
+    "              + (ci & u_mask);\n"
+    "    float c000 = texelFetch(u_atlas, q, 0).r, c100 = texelFetch(u_atlas, q + ivec3(1, 0, 0), 0).r;\n"
+    "    float c010 = texelFetch(u_atlas, q + ivec3(0, 1, 0), 0).r, c110 = texelFetch(u_atlas, q + ivec3(1, 1, 0), 0).r;\n"
+    "    float c001 = texelFetch(u_atlas, q + ivec3(0, 0, 1), 0).r, c101 = texelFetch(u_atlas, q + ivec3(1, 0, 1), 0).r;\n"
+    "    float c011 = texelFetch(u_atlas, q + ivec3(0, 1, 1), 0).r, c111 = texelFetch(u_atlas, q + ivec3(1, 1, 1), 0).r;\n"
+    "    float a0 = lerp1(c000, c100, f.x), a1 = lerp1(c010, c110, f.x);\n"
+    "    float a2 = lerp1(c001, c101, f.x), a3 = lerp1(c011, c111, f.x);\n"
+    "    return lerp1(lerp1(a0, a1, f.y), lerp1(a2, a3, f.y), f.z);\n"
     "}\n"
     "float value(int l, ivec3 ci, vec3 f) { return value_pg(l, page(l, ci >> u_shift), ci, f); }\n"
     "/* at cell coordinates p, clamped into the grid (rc_value) */\n"
@@ -179,13 +186,15 @@ static const char FRAG[] =
     "                float v = value_pg(l, pg, ci, f);\n"
     "                if (isnan(v) || !(v >= u_par[l].x)) continue;\n"
     "                float x = (u_par[l].w != 0.0 ? log(v) : v) * u_par[l].y + u_par[l].z;\n"
-    "                x = clamp(x, 0.0, float(LUT - 1)); /* the entries' lerp: the texture unit's */\n"
-    "                vec4 e = texture(u_lut, vec2((x + 0.5) * (1.0 / float(LUT)), (float(l) + 0.5) * u_inv_nl));\n"
-    "                float s = e.a * u_par2[l].x;\n"
+    "                x = min(x, float(LUT - 1));\n"
+    "                int i = min(int(x), LUT - 2);\n"
+    "                float ff = x - float(i);\n"
+    "                vec4 a0 = texelFetch(u_lut, ivec2(i, l), 0), a1 = texelFetch(u_lut, ivec2(i + 1, l), 0);\n"
+    "                float s = lerp1(a0.a, a1.a, ff) * u_par2[l].x;\n"
     "                if (s > 0.0) {\n"
     "                    sig += s;\n"
     "                    float k = u_light != 0 ? s * shade(l, c, v) : s;\n"
-    "                    col += k * e.rgb;\n"
+    "                    col += k * ((a1.rgb - a0.rgb) * ff + a0.rgb);\n"
     "                }\n"
     "            }\n"
     "            if (sig > 0.0) {\n"
@@ -263,7 +272,7 @@ int vsv_gl_program(vsv_gl_prog *p, char *err, size_t cap)
     LOC(par), LOC(par2), LOC(o), LOC(f), LOC(r), LOC(u), LOC(bmin), LOC(bmax), LOC(hi), LOC(ldir), LOC(icell);
     LOC(bg), LOC(sx0), LOC(sxk), LOC(sy0), LOC(syk), LOC(snear), LOC(sfar), LOC(st), LOC(inv_st), LOC(term);
     LOC(last), LOC(bdim), LOC(slots), LOC(shift), LOC(mask), LOC(e), LOC(height), LOC(rect), LOC(origin);
-    LOC(inv_atlas), LOC(inv_nl);
+
 #undef LOC
     return 0;
 }
