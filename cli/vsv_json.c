@@ -217,6 +217,12 @@ const vsv_json *vsv_json_path(const vsv_json *root, const char *path)
             long idx = strtol(part, &end, 10);
             if (*part && !*end && idx >= 0 && (size_t)idx < cur->n)
                 next = cur->items[idx];
+            for (size_t i = 0; !next && (!*part || *end) && i < cur->n; i++) { /* by name: species.CLW */
+                const vsv_json *it = cur->items[i];
+                for (size_t k = 0; it->type == J_OBJ && k < it->n; k++)
+                    if (!strcmp(it->keys[k], "name") && it->items[k]->type == J_STR && !strcmp(it->items[k]->str, part))
+                        next = it;
+            }
         }
         cur = next;
     }

@@ -21,8 +21,9 @@ void vsv_json_set(vsv_json *obj, const char *key, vsv_json *value);
 void vsv_json_push(vsv_json *arr, vsv_json *value);
 /* Prints pretty (indent 2) or compact. */
 void vsv_json_print(FILE *fp, const vsv_json *v, int pretty);
-/* Looks up a dotted path ("grid.nx", "species.0.name", "species[0].name");
- * borrowed, or NULL. */
+/* Looks up a dotted path ("grid.nx", "species.0.name", "species[0].name",
+ * or an array's element by its "name" member: "species.CLW.units"; an
+ * index wins over a name that is a number); borrowed, or NULL. */
 const vsv_json *vsv_json_path(const vsv_json *root, const char *path);
 /* Prints a scalar plainly (strings without quotes) or a container as JSON. */
 void vsv_json_print_plain(FILE *fp, const vsv_json *v);

@@ -253,7 +253,7 @@ static int mm5_open(vsv_source *s)
     if (vsv_mm5_bhi(m, 5, 11) > 0)
         snprintf(start, sizeof start, "%04d-%02d-%02dT%02d:%02d:%02dZ", vsv_mm5_bhi(m, 5, 11), vsv_mm5_bhi(m, 6, 11),
                  vsv_mm5_bhi(m, 7, 11), vsv_mm5_bhi(m, 8, 11), vsv_mm5_bhi(m, 9, 11), vsv_mm5_bhi(m, 10, 11));
-    snprintf(g->run, sizeof g->run, "%s output, domain %d, %d x %d dot points, %.0f km grid, start %s", pname,
+    snprintf(g->run, sizeof g->run, "%s output, domain %d, %d x %d dot points, %.4g km grid, start %s", pname,
              vsv_mm5_bhi(m, 13, 1), x->IX, x->JX, ds / 1000, start);
     char buf[160];
     const double PTOP = vsv_mm5_bhr(m, 2, 2), P00 = vsv_mm5_bhr(m, 2, 5), TS0 = vsv_mm5_bhr(m, 3, 5),

@@ -128,6 +128,12 @@ has "-f times.0 is the first time" "$T/out" "1987-01-02T00:00:00Z"
 expect "-f species[3].name" 0 "$B/vsv-info" -f 'species[3].name' "$T/a.vsv"
 has "-f species[3].name is T" "$T/out" "T"
 expect "-f of a missing field exits 2" 2 "$B/vsv-info" -f grid.nope "$T/a.vsv"
+# a species by its name (issue 32): the same value as by its index
+"$B/vsv-info" -f species.3.max_abs_error "$T/a.vsv" > "$T/byindex"
+expect "-f species.T.max_abs_error (by name)" 0 "$B/vsv-info" -f species.T.max_abs_error "$T/a.vsv"
+same "... is species 3's" "$T/out" "$T/byindex"
+expect "-f species.NOPE.units: no such species, exit 2" 2 "$B/vsv-info" -f species.NOPE.units "$T/a.vsv"
+has "... saying so" "$T/err" "-f species.NOPE.units: no such field"
 expect "vsv-info --json --stats" 0 "$B/vsv-info" --json --stats "$T/a.vsv"
 if $PY -c "
 import json,sys
