@@ -174,7 +174,11 @@ int vsv_cli_double(const char *s, double *out)
     return 0;
 }
 
-int vsv_cli_duration(const char *s, int64_t *out) { return vsv_duration_parse(s, out) ? -1 : 0; }
+void vsv_cli_duration(const char *opt, const char *s, int64_t *out)
+{
+    if (vsv_duration_parse(s, out))
+        vsv_cli_usage_error("%s %s: %s", opt, s, vsv_duration_why(s));
+}
 
 /* ------------------------------------------------------- pack options */
 

@@ -68,9 +68,9 @@ void vsv_cli_notes(const char *text);
 int vsv_cli_int(const char *s, long lo, long hi, long *out);
 /* Parses a double; 0 or -1. */
 int vsv_cli_double(const char *s, double *out);
-/* Parses a duration with its unit, "30s", "10m", "1h", "2d", into seconds
- * (> 0; vsv_duration_parse); 0 or -1. */
-int vsv_cli_duration(const char *s, int64_t *out);
+/* The value of option opt as a duration (vsv_duration_parse) into *out;
+ * exits 2 saying why it is not one (zero, negative, no unit ...). */
+void vsv_cli_duration(const char *opt, const char *s, int64_t *out);
 
 
 /* Packing options as the tools take them (--brick, --keyframe, --bits,

@@ -11,7 +11,8 @@
 static const char usage[] =
     "Usage: vsv-interp --time-res DURATION [--interp linear|advect|wind] [STREAM]\n"
     "Read a field stream (stdin by default) and write it with frames every DURATION\n"
-    "(30s, 10m, 1h, 1d: a unit is required), at the first frame's time + k*DURATION:\n"
+    "(30s, 10m, 1h30m, 1d or ISO 8601 PT1H30M: a unit is required), at the first\n"
+    "frame's time + k*DURATION:\n"
     "values are linear in time between consecutive model outputs. Input frames on\n"
     "that grid pass through unchanged; those between its steps are not written\n"
     "(said on stderr), so every output step is exactly DURATION apart and a\n"
@@ -70,8 +71,7 @@ int main(int argc, char **argv)
             break;
         case 'r':
             res_text = optarg;
-            if (vsv_cli_duration(optarg, &dt))
-                vsv_cli_usage_error("--time-res %s: expected a duration with its unit: 30s, 10m, 1h, 1d", optarg);
+            vsv_cli_duration("--time-res", optarg, &dt);
             break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();

@@ -10,8 +10,9 @@
 
 const char vsv_convert_options_help[] =
     "  -o, --output FILE    the .vsv to write (required)\n"
-    "  -r, --time-res D     regular frames every D (30s, 10m, 1h, 1d; a unit is\n"
-    "                       required) from the first time, interpolated linearly;\n"
+    "  -r, --time-res D     regular frames every D (30s, 10m, 1h30m, 1d or ISO 8601\n"
+    "                       PT1H30M; a unit is required) from the first time,\n"
+    "                       interpolated linearly;\n"
     "                       model times on that grid pass through unchanged, those\n"
     "                       between its steps are not kept (a D coarser than the\n"
     "                       model's keeps every k-th output)\n"
@@ -59,8 +60,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
         case 'o': a->out = optarg; break;
         case 'r':
             a->res_text = optarg;
-            if (vsv_cli_duration(optarg, &a->dt))
-                vsv_cli_usage_error("--time-res %s: expected a duration with its unit: 30s, 10m, 1h, 1d", optarg);
+            vsv_cli_duration("--time-res", optarg, &a->dt);
             break;
         case 'i':
             if ((a->method = vsv_interp_method(optarg)) < 0)

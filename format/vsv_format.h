@@ -216,9 +216,15 @@ typedef struct vsv_timesel {
 enum { VSV_TIMESEL_ONE = 1 /* refuse ranges */ };
 int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, vsv_timesel *out, char *msg,
                       size_t cap);
-/* Parses a duration with its unit, "30s", "10m" (or "10min"), "1h", "2d",
- * into seconds (> 0); a bare number is VSV_EINVAL. */
+/* Parses a duration into seconds (> 0): numbers with their units, largest
+ * first and each once ("30s", "10m" or "10min", "1h30m", "2d6h"), or ISO
+ * 8601's PnDTnHnMnS (and nW: "PT1H30M", "P1DT12H"). 0; VSV_ERANGE for a
+ * duration of zero or less, or ISO years and months (no fixed length);
+ * VSV_EINVAL for anything else (a bare number among it: seconds or
+ * minutes would be a guess). */
 int vsv_duration_parse(const char *s, int64_t *out);
+/* Why s is not a duration, in words ("" when it is): static text. */
+const char *vsv_duration_why(const char *s);
 /* Writes d seconds in the largest whole unit ("10m", "1h", "90s"). */
 void vsv_duration_format(int64_t d, char *buf, size_t cap);
 

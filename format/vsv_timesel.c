@@ -158,30 +158,125 @@ int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, 
     return 0;
 }
 
+/* One number at *p (digits only), advancing p; -1 when there is none or it
+ * is out of range. */
+static long long number(const char **p)
+{
+    if (**p < '0' || **p > '9')
+        return -1;
+    errno = 0;
+    char *end;
+    const long long v = strtoll(*p, &end, 10);
+    if (errno)
+        return -1;
+    *p = end;
+    return v;
+}
+
+/* ISO 8601 "PnDTnHnMnS" (and nW), at s after the P: seconds into *out; a
+ * year or month (no fixed length) is VSV_ERANGE; any other fault
+ * VSV_EINVAL. */
+static int iso_duration(const char *s, int64_t *out)
+{
+    static const struct {
+        char c;
+        int time; /* after the T */
+        long long mul;
+    } units[] = {{'Y', 0, 0}, {'M', 0, 0}, {'W', 0, 604800}, {'D', 0, 86400}, {'H', 1, 3600}, {'M', 1, 60}, {'S', 1, 1}};
+    const char *p = s;
+    int at = 0, time = 0, parts = 0;
+    long long sum = 0;
+    while (*p) {
+        if (*p == 'T' && !time) {
+            time = 1, p++;
+            if (!*p)
+                return VSV_EINVAL; /* a T with nothing after it */
+            continue;
+        }
+        const long long v = number(&p);
+        if (v < 0)
+            return VSV_EINVAL;
+        int u = at;
+        while (u < 7 && (units[u].c != *p || units[u].time != time))
+            u++;
+        if (u == 7)
+            return VSV_EINVAL; /* no unit, or one out of order */
+        if (!units[u].mul)
+            return VSV_ERANGE;
+        if (v > (INT64_MAX - sum) / units[u].mul)
+            return VSV_EINVAL;
+        sum += v * units[u].mul;
+        at = u + 1, p++, parts++;
+    }
+    if (!parts)
+        return VSV_EINVAL;
+    *out = sum;
+    return 0;
+}
+
+/* Ours: numbers with units, largest first, each once: "1d6h", "1h30m",
+ * "90s", "10min". */
+static int unit_duration(const char *s, int64_t *out)
+{
+    static const struct {
+        const char *name;
+        long long mul;
+    } units[] = {{"d", 86400}, {"h", 3600}, {"min", 60}, {"m", 60}, {"s", 1}};
+    const char *p = s;
+    int at = 0, parts = 0;
+    long long sum = 0;
+    while (*p) {
+        const long long v = number(&p);
+        if (v < 0)
+            return VSV_EINVAL;
+        int u = at;
+        while (u < 5 && strncmp(p, units[u].name, strlen(units[u].name)))
+            u++;
+        if (u == 5)
+            return VSV_EINVAL; /* a bare number: seconds or minutes is a guess */
+        if (v > (INT64_MAX - sum) / units[u].mul)
+            return VSV_EINVAL;
+        sum += v * units[u].mul;
+        p += strlen(units[u].name);
+        at = u + 1 + (u == 2); /* (after "min", not "m" again) */
+        parts++;
+    }
+    if (!parts)
+        return VSV_EINVAL;
+    *out = sum;
+    return 0;
+}
+
 int vsv_duration_parse(const char *s, int64_t *out)
 {
-    char *end;
-    if (!s || *s < '0' || *s > '9')
+    if (!s || !*s)
         return VSV_EINVAL;
-    errno = 0;
-    const long long v = strtoll(s, &end, 10);
-    long long mul;
-    if (errno || end == s || v <= 0)
-        return VSV_EINVAL;
-    if (!strcmp(end, "s"))
-        mul = 1;
-    else if (!strcmp(end, "m") || !strcmp(end, "min"))
-        mul = 60;
-    else if (!strcmp(end, "h"))
-        mul = 3600;
-    else if (!strcmp(end, "d"))
-        mul = 86400;
-    else
-        return VSV_EINVAL; /* a bare number too: seconds or minutes is a guess */
-    if (v > INT64_MAX / mul)
-        return VSV_EINVAL;
-    *out = v * mul;
+    int64_t v;
+    const int neg = s[0] == '-';
+    const char *body = neg || s[0] == '+' ? s + 1 : s;
+    const int rc = body[0] == 'P' ? iso_duration(body + 1, &v) : unit_duration(body, &v);
+    if (rc)
+        return rc;
+    if (neg || v == 0)
+        return VSV_ERANGE; /* a time step is more than nothing */
+    *out = v;
     return 0;
+}
+
+const char *vsv_duration_why(const char *s)
+{
+    int64_t v;
+    const int rc = vsv_duration_parse(s, &v);
+    if (!rc)
+        return "";
+    const char *body = s && (s[0] == '-' || s[0] == '+') ? s + 1 : s ? s : "";
+    if (rc == VSV_ERANGE && body[0] == 'P' && iso_duration(body + 1, &v) == VSV_ERANGE)
+        return "years and months have no fixed length: give days, hours, minutes or seconds";
+    if (rc == VSV_ERANGE && s[0] == '-')
+        return "a negative duration: the step must be more than zero";
+    if (rc == VSV_ERANGE)
+        return "a duration of zero: the step must be more than zero";
+    return "expected a duration with its units, largest first: 30s, 10m, 1h30m, 1d, or ISO 8601 PT1H30M";
 }
 
 void vsv_duration_format(int64_t d, char *buf, size_t cap)

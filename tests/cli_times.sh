@@ -30,6 +30,28 @@ expect "--time-res 15 (no unit) exits 2" 2 "$B/vsv-convert" --time-res 15 "$CROP
 has "--time-res without a unit is named" "$T/err" "expected a duration with its unit"
 if [ ! -e "$T/x.vsv" ]; then pass "nothing written after --time-res 15"; else fail "nothing written after --time-res 15" "exists"; fi
 expect "vsv-interp --time-res 90 exits 2" 2 "$B/vsv-interp" --time-res 90
+for d in 0m -10m -1h30m; do
+    expect "--time-res $d exits 2" 2 "$B/vsv-interp" --time-res "$d"
+done
+has "a negative step is named" "$T/err" "--time-res -1h30m: a negative duration"
+expect "--time-res 0s exits 2" 2 "$B/vsv-interp" --time-res 0s
+has "a zero step is named" "$T/err" "--time-res 0s: a duration of zero"
+expect "--time-res P1M exits 2" 2 "$B/vsv-interp" --time-res P1M
+has "ISO months are named" "$T/err" "years and months have no fixed length"
+for d in 30m1h 1h1h 1hm PT P1H 1h30 10ms; do
+    expect "--time-res $d exits 2" 2 "$B/vsv-interp" --time-res "$d"
+    has "--time-res $d names the grammar" "$T/err" "largest first: 30s, 10m, 1h30m, 1d, or ISO 8601 PT1H30M"
+done
+expect "--time-res 1h30m converts" 0 "$B/vsv-convert" -q --vars T --time-res 1h30m "$CROP" -o "$T/c90.vsv"
+"$B/vsv-info" -f time_step "$T/c90.vsv" > "$T/out"
+has "1h30m is 5400 s" "$T/out" "5400"
+"$B/vsv-info" -f times "$T/c90.vsv" > "$T/out"
+has "1h30m: 00:00, 01:30, 03:00" "$T/out" '["1995-10-24T00:00:00Z", "1995-10-24T01:30:00Z", "1995-10-24T03:00:00Z"]'
+for d in PT1H30M 90min 5400s PT90M P0DT1H30M 1h30min 1h29m60s; do
+    "$B/vsv-convert" -q --vars T --time-res "$d" "$CROP" -o "$T/c90b.vsv"
+    same "--time-res $d is 1h30m" "$T/c90.vsv" "$T/c90b.vsv"
+    rm -f "$T/c90b.vsv"
+done
 expect "--time-res 7m converts" 0 "$B/vsv-convert" --time-res 7m "$CROP" -o "$T/r7.vsv"
 has "model times off the 7m grid are reported" "$T/err" "3 of 4 model times lie between the steps every 7m"
 "$B/vsv-info" "$T/r7.vsv" > "$T/out"
