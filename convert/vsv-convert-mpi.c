@@ -80,7 +80,7 @@ static void plan_steps(rank *r, int *dropped)
         vsv_interp *ip = NULL;
         rc = vsv_interp_create(r->a.dt, 0, 0, add_time, &s, &ip);
         if (!rc)
-            vsv_interp_set_origin(ip, vsv_run_time(r->run, 0));
+            vsv_run_place(r->run, ip);
         for (int i = 0; i < n && !rc; i++)
             rc = vsv_interp_push(ip, vsv_run_time(r->run, i), NULL);
         *dropped = vsv_interp_dropped(ip);
@@ -436,7 +436,7 @@ int main(int argc, char **argv)
     if (r->me)
         vsv_cli_set_quiet(1);
 
-    if (vsv_run_open(r->a.inputs, r->a.ninputs, &r->a.so, r->a.vars, r->a.times, &r->run))
+    if (vsv_run_open(r->a.inputs, r->a.ninputs, &r->a.so, r->a.vars, NULL, &r->run))
         rank_fail(r, "%s", vsv_run_error(r->run));
     rank_check(r, -1);
     /* with --interp advect the run reads the winds too; the frames made, and
@@ -454,7 +454,7 @@ int main(int argc, char **argv)
     rank_check(r, -1);
     if (!r->me && dropped && !vsv_cli_quiet())
         fprintf(stderr, "vsv-convert-mpi: note: %d of %d model times lie between the steps every %s from the first "
-                "and are not kept themselves\n", dropped, vsv_run_nframes(r->run), r->a.res_text);
+                "and are not kept themselves\n", dropped, vsv_run_within(r->run), r->a.res_text);
 
     read_phase(r);
     rank_check(r, PHASE_READ);

@@ -26,10 +26,8 @@ int main(int argc, char **argv)
     vsv_cli_refuse_input(a.out, (const char *const *)a.inputs, a.ninputs);
     vsv_cli_refuse_input(a.out, &a.so.heights, 1);
     vsv_run *run = NULL;
-    if (vsv_run_open(a.inputs, a.ninputs, &a.so, a.vars, a.times, &run))
+    if (vsv_run_open(a.inputs, a.ninputs, &a.so, a.vars, NULL, &run))
         vsv_cli_die(1, "%s", vsv_run_error(run));
-    if (*vsv_run_note(run))
-        fprintf(stderr, "vsv-convert: %s\n", vsv_run_note(run));
     /* with advect the run reads the winds too; the file gets only what the
      * interpolation emits */
     vsv_meta out;
@@ -57,7 +55,7 @@ int main(int argc, char **argv)
     }
     if (dropped && !vsv_cli_quiet())
         fprintf(stderr, "vsv-convert: note: %d of %d model times lie between the steps every %s from the first "
-                "and are not kept themselves\n", dropped, n, a.res_text);
+                "and are not kept themselves\n", dropped, vsv_run_within(run), a.res_text);
     if (vsv_writer_finish(w, vsv_cli_progress, "vsv-convert: encoding"))
         vsv_cli_writer_die(w, a.out);
     vsv_writer_free(w);

@@ -155,6 +155,21 @@ const char *vsv_run_note(const vsv_run *r);
 const vsv_meta *vsv_run_meta(const vsv_run *r);
 int vsv_run_nframes(const vsv_run *r);
 int64_t vsv_run_time(const vsv_run *r, int i);
+/* Selects times (the grammar of vsv_timesel_parse) once more, on the run
+ * as opened: with dt 0 among the model frames; with dt > 0 among the
+ * output steps origin + k*dt (vsv-convert --time-res: what --times means
+ * there), keeping the model frames that bound them (the last at or before
+ * the first step, the first at or after the last). Before
+ * vsv_run_add_winds. VSV_ERANGE / VSV_EINVAL with the reason (naming the
+ * valid steps), more than VSV_RUN_MAX_STEPS output steps VSV_ERANGE. */
+int vsv_run_select(vsv_run *r, const char *times, int64_t dt);
+enum { VSV_RUN_MAX_STEPS = 10000000 };
+/* The times of the first and last selected steps (INT64_MIN, INT64_MAX
+ * when nothing was selected). */
+void vsv_run_window(const vsv_run *r, int64_t *first, int64_t *last);
+/* How many of the run's frames lie in that window (the others only bound
+ * the interpolation into it). */
+int vsv_run_within(const vsv_run *r);
 /* Reads frame i: fields[v] are caller buffers of nx*ny*nz floats. */
 int vsv_run_read(vsv_run *r, int i, float *const *fields);
 /* Appends the winds as the variables wind.u, wind.v (and wind.w when there
@@ -215,6 +230,12 @@ int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, 
  * a later part of it (call before the first push): the part then gets
  * exactly the frames the whole run gives at its times. */
 void vsv_interp_set_origin(vsv_interp *ip, int64_t t0);
+/* Emits only the steps at first <= t <= last; frames outside still bound
+ * the interpolation (and are not counted as dropped). */
+void vsv_interp_set_window(vsv_interp *ip, int64_t first, int64_t last);
+/* Places an interpolation on the run's output steps: its origin the run's
+ * first time before any selection, its window the selected steps. */
+void vsv_run_place(const vsv_run *r, vsv_interp *ip);
 /* Frames of the variables of meta (borrowed for the call); the wind
  * variables among them are consumed, emit receives the others in order
  * (vsv_interp_meta describes them). opts NULL = linear. Caller frees with

@@ -24,7 +24,9 @@ const char vsv_convert_options_help[] =
     "                       with U and V at every time) instead of the input\n"
     "  -v, --vars LIST      variables (default: CLW RNW ICE SNOW GRAUPEL Q present)\n"
     "  -t, --times A:B      steps A..B: indices or ISO times (which may hold colons);\n"
-    "                       either end may be empty; one index or time: that step\n"
+    "                       either end may be empty; one index or time: that step.\n"
+    "                       With --time-res, the output steps (00:45..00:55 with\n"
+    "                       10m picks the 00:50 frame)\n"
     "  -q, --quiet          no progress bar\n"
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n" VSV_SOURCE_HELP;
@@ -107,6 +109,10 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
 void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
 {
     vsv_meta_init(out);
+    if (a->times && vsv_run_select(run, a->times, a->dt))
+        vsv_cli_die(1, "%s", vsv_run_error(run));
+    if (*vsv_run_note(run))
+        fprintf(stderr, "%s: %s\n", vsv_cli_tool(), vsv_run_note(run));
     if (a->method != VSV_TIME_LINEAR && vsv_run_add_winds(run, a->winds, &a->so))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     const vsv_meta *m = vsv_run_meta(run);
@@ -129,7 +135,13 @@ void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, cons
     const int n = vsv_run_nframes(run);
     if (n < 1)
         return;
-    const int64_t span = vsv_run_time(run, n - 1) - vsv_run_time(run, 0);
+    int64_t first, last;
+    vsv_run_window(run, &first, &last);
+    if (first < vsv_run_time(run, 0))
+        first = vsv_run_time(run, 0);
+    if (last > vsv_run_time(run, n - 1))
+        last = vsv_run_time(run, n - 1);
+    const int64_t span = last - first;
     const double steps = a->dt > 0 ? (double)(span / a->dt) + 1 : n;
     const double step_bytes = (double)out->nx * out->ny * out->nz * out->nvars * sizeof(float);
     char dir[4200];
@@ -157,7 +169,7 @@ int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last
         goto done;
     }
     if (ip)
-        vsv_interp_set_origin(ip, vsv_run_time(run, 0));
+        vsv_run_place(run, ip);
     for (int i = first; i <= last; i++) {
         if ((rc = vsv_run_read(run, i, fields))) {
             *bad_frame = i;

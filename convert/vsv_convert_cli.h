@@ -39,8 +39,10 @@ extern const char vsv_convert_options_help[];
  * (exit 0), the version (exit 0) or a usage error (exit 2) itself. */
 void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi);
 
-/* After vsv_run_open: with --interp advect adds the winds to the run (or
- * exits 1 naming what is missing); fills out (uninitialised) with the
+/* After vsv_run_open (with times NULL): selects --times (among the output
+ * steps with --time-res: vsv_run_select; a note on stderr when a single
+ * time fell between steps), with --interp advect adds the winds to the run
+ * (exits 1 naming what is wrong with either); fills out (uninitialised) with the
  * metadata of the frames vsv_convert_frames emits: the run's without the
  * winds. Caller clears out with vsv_meta_clear. */
 void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out);

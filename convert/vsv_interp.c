@@ -8,11 +8,13 @@
 #include "vsv_common.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 struct vsv_interp {
     int64_t dt, t0, prev_t;
+    int64_t win[2]; /* the steps emitted: win[0] <= t <= win[1] */
     int nf, nout, have, method, dropped, origin_set;
     int wind[3];      /* input index of wind.u, wind.v, wind.w (-1 absent) */
     int *keep;        /* nout input indices of the emitted fields */
@@ -48,6 +50,7 @@ static int setup(vsv_interp *ip, int64_t dt, int nfields, size_t cells, vsv_fram
         return VSV_EINVAL;
     }
     ip->dt = dt;
+    ip->win[0] = INT64_MIN, ip->win[1] = INT64_MAX;
     ip->nf = nfields;
     ip->cells = cells;
     ip->emit = emit;
@@ -178,7 +181,12 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
         /* grid times strictly between the previous frame and this one */
         int winds_set = 0;
         int64_t k = (ip->prev_t - ip->t0) / ip->dt + 1;
-        for (int64_t t = ip->t0 + k * ip->dt; t < time; t += ip->dt) {
+        int64_t t = ip->t0 + k * ip->dt;
+        if (t < ip->win[0]) /* skip to the window */
+            t += (ip->win[0] - t) / ip->dt * ip->dt;
+        for (; t < time && t <= ip->win[1]; t += ip->dt) {
+            if (t < ip->win[0])
+                continue;
             if (ip->method != VSV_TIME_LINEAR) {
                 if (!winds_set) {
                     const int *w = ip->wind;
@@ -209,7 +217,9 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
     }
     /* an input frame on the grid passes through unchanged; one between grid
      * times only feeds the interpolation (every step stays dt apart) */
-    if ((time - ip->t0) % ip->dt == 0) {
+    if (time < ip->win[0] || time > ip->win[1]) {
+        /* only bounds the interpolation into the window */
+    } else if ((time - ip->t0) % ip->dt == 0) {
         for (int v = 0; v < ip->nout; v++)
             ip->outp[v] = fields[ip->keep[v]];
         if ((rc = ip->emit(ip->ctx, time, ip->outp)))
@@ -235,6 +245,12 @@ void vsv_interp_set_origin(vsv_interp *ip, int64_t t0)
 {
     ip->t0 = t0;
     ip->origin_set = 1;
+}
+
+void vsv_interp_set_window(vsv_interp *ip, int64_t first, int64_t last)
+{
+    ip->win[0] = first;
+    ip->win[1] = last;
 }
 
 void vsv_interp_free(vsv_interp *ip)

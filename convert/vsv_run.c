@@ -25,6 +25,8 @@ struct vsv_run {
     int *wt;           /* companion: its time index per frame */
     char err[1024];
     char note[400];  /* a --times of one time between steps: which was taken */
+    int64_t origin;  /* the first time before any selection: the grid's t0 */
+    int64_t win[2];  /* the selected output steps' times (vsv_run_select) */
 };
 
 const char *vsv_run_error(const vsv_run *r) { return r ? r->err : "out of memory"; }
@@ -33,6 +35,20 @@ const vsv_meta *vsv_run_meta(const vsv_run *r) { return &r->meta; }
 int vsv_run_nframes(const vsv_run *r) { return r->nframes; }
 int64_t vsv_run_time(const vsv_run *r, int i) { return r->ftime[i]; }
 uint64_t vsv_run_input_bytes(const vsv_run *r) { return r->bytes; }
+int vsv_run_within(const vsv_run *r)
+{
+    int n = 0;
+    for (int i = 0; i < r->nframes; i++)
+        n += r->ftime[i] >= r->win[0] && r->ftime[i] <= r->win[1];
+    return n;
+}
+
+void vsv_run_place(const vsv_run *r, vsv_interp *ip)
+{
+    vsv_interp_set_origin(ip, r->origin);
+    vsv_interp_set_window(ip, r->win[0], r->win[1]);
+}
+void vsv_run_window(const vsv_run *r, int64_t *first, int64_t *last) { *first = r->win[0], *last = r->win[1]; }
 
 static int fail(vsv_run *r, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int fail(vsv_run *r, int rc, const char *fmt, ...)
@@ -209,29 +225,84 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
             r->ft[k] = t;
             r->ftime[k] = vsv_source_time(r->src[i], t);
         }
-    int a = 0, b = total - 1;
-    if (times) {
-        vsv_timesel sel;
-        char msg[400];
-        if ((rc = vsv_timesel_parse(times, r->ftime, total, 0, &sel, msg, sizeof msg))) {
-            fail(r, rc, "%s: --times %s: %s", names[0], times, msg);
-            goto done;
-        }
-        a = sel.first, b = sel.last;
-        if (!sel.exact) {
-            char when[40];
-            vsv_time_format(r->ftime[a], when, sizeof when);
-            snprintf(r->note, sizeof r->note, "--times %s: no step at that time; the nearest is step %d, %s", times, a,
-                     when);
-        }
-    }
-    memmove(r->fsrc, r->fsrc + a, (size_t)(b - a + 1) * sizeof *r->fsrc);
-    memmove(r->ft, r->ft + a, (size_t)(b - a + 1) * sizeof *r->ft);
-    memmove(r->ftime, r->ftime + a, (size_t)(b - a + 1) * sizeof *r->ftime);
-    r->nframes = b - a + 1;
+    r->nframes = total;
+    r->origin = total ? r->ftime[0] : 0;
+    r->win[0] = INT64_MIN, r->win[1] = INT64_MAX;
+    if (times)
+        rc = vsv_run_select(r, times, 0);
 done:
     free(names);
     return rc;
+}
+
+/* Keeps frames a..b of the run. */
+static void cut(vsv_run *r, int a, int b)
+{
+    const size_t n = (size_t)(b - a + 1);
+    memmove(r->fsrc, r->fsrc + a, n * sizeof *r->fsrc);
+    memmove(r->ft, r->ft + a, n * sizeof *r->ft);
+    memmove(r->ftime, r->ftime + a, n * sizeof *r->ftime);
+    if (r->wt)
+        memmove(r->wt, r->wt + a, n * sizeof *r->wt);
+    r->nframes = b - a + 1;
+}
+
+int vsv_run_select(vsv_run *r, const char *times, int64_t dt)
+{
+    const char *name = r->path[0];
+    char msg[400];
+    vsv_timesel sel;
+    int rc;
+    r->note[0] = 0;
+    if (!dt) {
+        if ((rc = vsv_timesel_parse(times, r->ftime, r->nframes, 0, &sel, msg, sizeof msg)))
+            return fail(r, rc, "%s: --times %s: %s", name, times, msg);
+        r->win[0] = r->ftime[sel.first], r->win[1] = r->ftime[sel.last];
+        if (!sel.exact) {
+            char when[40];
+            vsv_time_format(r->ftime[sel.first], when, sizeof when);
+            snprintf(r->note, sizeof r->note, "--times %s: no step at that time; the nearest is step %d, %s", times,
+                     sel.first, when);
+        }
+        cut(r, sel.first, sel.last);
+        return 0;
+    }
+    /* the output steps origin + k*dt up to the last time: the selection
+     * picks among them, and the model frames kept are those around them */
+    if (dt < 0 || !r->nframes)
+        return fail(r, VSV_EINVAL, "%s: --times %s: no steps", name, times);
+    const int64_t span = (r->ftime[r->nframes - 1] - r->origin) / dt;
+    if (span >= VSV_RUN_MAX_STEPS)
+        return fail(r, VSV_ERANGE, "%s: more than %d output steps", name, VSV_RUN_MAX_STEPS);
+    const int n = (int)span + 1;
+    int64_t *grid = malloc((size_t)n * sizeof *grid);
+    if (!grid)
+        return fail(r, VSV_ENOMEM, "out of memory");
+    for (int k = 0; k < n; k++)
+        grid[k] = r->origin + k * dt;
+    rc = vsv_timesel_parse(times, grid, n, 0, &sel, msg, sizeof msg);
+    if (!rc) {
+        r->win[0] = grid[sel.first], r->win[1] = grid[sel.last];
+        if (!sel.exact) {
+            char when[40];
+            vsv_time_format(grid[sel.first], when, sizeof when);
+            snprintf(r->note, sizeof r->note, "--times %s: no output step at that time; the nearest is step %d, %s",
+                     times, sel.first, when);
+        }
+    }
+    free(grid);
+    if (rc) {
+        char every[32];
+        vsv_duration_format(dt, every, sizeof every);
+        return fail(r, rc, "%s: --times %s (among the output steps every %s): %s", name, times, every, msg);
+    }
+    int a = 0, b = r->nframes - 1;
+    while (a + 1 < r->nframes && r->ftime[a + 1] <= r->win[0])
+        a++;
+    while (b > 0 && r->ftime[b - 1] >= r->win[1])
+        b--;
+    cut(r, a, b);
+    return 0;
 }
 
 int vsv_run_read(vsv_run *r, int i, float *const *fields)

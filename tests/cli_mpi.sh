@@ -62,6 +62,8 @@ identical "MM5 crop, 4 files, --time-res 10m" crop "1 2 3 4" --time-res 10m "$T"
 # a grid of 25 min: the model's hours fall between its steps, so a rank's
 # share must keep to the grid of the run's first time, not its own first frame
 identical "MM5 crop, 4 files, --time-res 25m" crop25 "2 3" --time-res 25m "$T"/crop_0?
+identical "MM5 crop, --times 00:40..02:20 of the 25m steps" crop25w "2 3" --time-res 25m \
+    --times 1995-10-24T00:40Z:1995-10-24T02:20Z "$T"/crop_0?
 identical "MM5 crop, 4 files, --interp advect" advect "2 3" --time-res 20m --interp advect "$T"/crop_0?
 identical "MM5 crop, keyframe 3, 8 bits, log CLW, native levels" crop2 "2 3" --time-res 20m --keyframe 3 --bits 8 \
     --scale CLW=log --vertical native "$T"/crop_0?

@@ -67,6 +67,34 @@ same "--times 2 is --times 2:2" "$T/h2.vsv" "$T/h2b.vsv"
 expect "vsv-convert --times of one time between steps" 0 "$B/vsv-convert" -q --vars T --times 1995-10-24T01:40Z "$CROP" -o "$T/n.vsv"
 has "vsv-convert says which step it took" "$T/err" "--times 1995-10-24T01:40Z: no step at that time; the nearest is step 2, 1995-10-24T02:00:00Z"
 
+# with --time-res, --times picks among the output steps (every 10m from
+# 00:00), and the model frames around them bound the interpolation
+printf '#!/bin/sh\nexec "%s/vsv-convert" -q --vars T --range 150:350 --time-res 10m "$@" "%s" -o "%s/w.vsv"\n' \
+    "$B" "$CROP" "$T" > "$T/w"
+chmod +x "$T/w"
+expect "--time-res 10m --times 00:40..01:10" 0 "$T/w" --times 1995-10-24T00:40:00Z:1995-10-24T01:10:00Z
+"$B/vsv-info" -f times "$T/w.vsv" > "$T/out"
+has "four output steps 00:40..01:10" "$T/out" \
+    '["1995-10-24T00:40:00Z", "1995-10-24T00:50:00Z", "1995-10-24T01:00:00Z", "1995-10-24T01:10:00Z"]'
+"$T/w"
+"$B/vsv-query" "$T/w.vsv" --cell 10,10,3 --times 1995-10-24T00:40Z:1995-10-24T01:10Z --csv > "$T/full"
+"$T/w" --times 1995-10-24T00:40:00Z:1995-10-24T01:10:00Z
+"$B/vsv-query" "$T/w.vsv" --cell 10,10,3 --csv > "$T/part"
+same "the window's values are the full conversion's (same range)" "$T/full" "$T/part"
+has "... interpolated between the hours (00:50)" "$T/part" "1995-10-24T00:50:00Z,10,10,3"
+expect "--times 00:45..00:55 converts" 0 "$T/w" --times 1995-10-24T00:45Z:1995-10-24T00:55Z
+"$B/vsv-info" -f times "$T/w.vsv" > "$T/out"
+has "00:45..00:55 selects the 00:50 step" "$T/out" '["1995-10-24T00:50:00Z"]'
+expect "--times 4:7 are output steps" 0 "$T/w" --times 4:7
+"$B/vsv-info" -f times "$T/w.vsv" > "$T/out"
+has "steps 4..7 are 00:40..01:10" "$T/out" '["1995-10-24T00:40:00Z", "1995-10-24T00:50:00Z", "1995-10-24T01:00:00Z", "1995-10-24T01:10:00Z"]'
+expect "--times of one time between output steps" 0 "$T/w" --times 1995-10-24T00:44Z
+has "... says which output step it took" "$T/err" "no output step at that time; the nearest is step 4, 1995-10-24T00:40:00Z"
+rm -f "$T/w.vsv"
+expect "--times 19 with 19 steps of 10m exits 1" 1 "$T/w" --times 19
+has "... naming the output steps" "$T/err" "(among the output steps every 10m): step 19 is out of range (steps 0..18"
+if [ ! -e "$T/w.vsv" ]; then pass "nothing written after a window out of range"; else fail "nothing written after a window out of range" "exists"; fi
+
 # vsv-render / vsv-export --time: the nearest step, said when not exact
 "$B/vsv-convert" -q --time-res 10m --vars CLW "$CROP" -o "$T/s.vsv"
 expect "vsv-render --time between steps" 0 "$B/vsv-render" -q "$T/s.vsv" --time 1995-10-24T00:01 -o "$T/a.png" --size 32x24
