@@ -305,6 +305,10 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     } else {
         printf("  vertical    even heights %.6g..%.6g m\n", m->origin[2], m->origin[2] + (m->nz - 1) * m->spacing[2]);
     }
+    if (m->vert_kind == VSV_VERT_EVEN || m->vert_kind == VSV_VERT_NATIVE) {
+        printf("              heights count from %s\n",
+               vsv_meta_above_ground(m) ? "the ground (the model's, with no terrain under them)" : "sea level");
+    }
     printf("  projection  %s", vsv_proj_name(m->proj.kind));
     if (m->proj.kind == VSV_PROJ_TMERC)
         printf(" (lat0 %.6g, central meridian %.6g, scale %.6g, R %.0f m)", m->proj.lat0, m->proj.lon0, m->proj.lat1,

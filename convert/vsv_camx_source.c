@@ -249,7 +249,8 @@ static int camx_open(vsv_source *s)
             return rc;
         char note[1200];
         snprintf(note, sizeof note, "above ground, from the CAMx height/pressure file %s", vsv_camxmet_path(c->zp));
-        vsv_meta_add_attr(g, "heights", note);
+        if (vsv_meta_add_attr(g, "heights", note) < 0 || vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)
+            return VSV_ENOMEM;
     } else {
         g->nz = h->nz;
         g->vert_kind = VSV_VERT_INDEX;

@@ -302,6 +302,7 @@ static int cf_open(vsv_source *s, int nc)
     if (dx < 0)
         return vsv_source_fail(s, VSV_EUNSUPPORTED, "x decreases (east to west): not supported");
     /* z */
+    int above_ground = 0;
     double *zs = coord_values(nc, cv[1], len[1]);
     if (!zs)
         return VSV_ENOMEM;
@@ -331,6 +332,8 @@ static int cf_open(vsv_source *s, int nc)
                 g->levels[k] = zs[k] * sz;
         }
         snprintf(g->vert_units, sizeof g->vert_units, "m");
+        if (!strcmp(zstd, "height")) /* CF: above the ground */
+            above_ground = 1;
     } else if (uz[0] && strcmp(uz, "1") && strcmp(zstd, "model_level_number")) {
         g->vert_kind = VSV_VERT_COORD;
         snprintf(g->vert_units, sizeof g->vert_units, "%s", uz);
@@ -364,6 +367,8 @@ static int cf_open(vsv_source *s, int nc)
         if (val[0] && vsv_meta_add_attr(g, an + 9, val) < 0)
             return VSV_ENOMEM;
     }
+    if (above_ground && !vsv_meta_attr(g, VSV_ATTR_DATUM) && vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)
+        return VSV_ENOMEM;
     /* the fields: numeric variables on exactly these four dimensions; terrain */
     const size_t plane = len[2] * len[3];
     c->tmp = malloc(plane * len[1] * sizeof *c->tmp);
@@ -397,7 +402,7 @@ static int cf_open(vsv_source *s, int nc)
         }
         if (nd != 4 || memcmp(dd, dims, sizeof dims) || strlen(name) >= sizeof s->fields[0].name)
             continue;
-        if (!strcmp(sn, "altitude")) { /* per-column heights of native levels, by time */
+        if (!strcmp(sn, "altitude") || !strcmp(sn, "height")) { /* per-column heights of native levels, by time */
             if (g->vert_kind == VSV_VERT_NATIVE)
                 for (size_t t = 0; t < len[0]; t++) {
                     const size_t shape[3] = {len[1], len[2], len[3]};

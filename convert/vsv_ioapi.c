@@ -5,7 +5,9 @@
  * class — refused by name),
  * heights from CAMx's `z` (layer tops above ground), else from VGTYP/VGLVLS
  * (metres, or sigma-P through the standard atmosphere, stated in the
- * metadata), else the layer index. INPUT-FORMATS.md §2.2 and §3. */
+ * metadata), else the layer index; lifted onto `topo` where there is one,
+ * else marked as above the ground (VSV_ATTR_DATUM). INPUT-FORMATS.md §2.2
+ * and §3. */
 #include "vsv_source_internal.h"
 #include "vsv_vgrid.h"
 
@@ -34,7 +36,19 @@ static double gatt(int nc, const char *name, double dflt)
 /* Standard atmosphere (ICAO, troposphere): height of pressure p (Pa). */
 static double std_height(double p) { return 44330.8 * (1 - pow(p / 101325.0, 0.190263)); }
 
-/* Layer-middle heights (m above ground) of time t from `z` (layer tops). */
+/* Heights above the ground onto the terrain (topo) where the file has one:
+ * above sea level, as the format keeps them and the terrain is drawn. */
+static void lift(const vsv_source *s, ioapi *a)
+{
+    const float *ter = s->grid.terrain;
+    const size_t plane = (size_t)a->nx * a->ny;
+    for (int k = 0; ter && k < a->nk; k++)
+        for (size_t c = 0; c < plane; c++)
+            a->zm[(size_t)k * plane + c] += ter[c];
+}
+
+/* Layer-middle heights of time t from `z` (layer tops above the ground),
+ * lifted onto the terrain. */
 static int z_heights(vsv_source *s, ioapi *a, int t)
 {
     const size_t plane = (size_t)a->nx * a->ny;
@@ -45,6 +59,7 @@ static int z_heights(vsv_source *s, ioapi *a, int t)
     for (int k = 0; k < a->nk; k++)
         for (size_t c = 0; c < plane; c++)
             a->zm[(size_t)k * plane + c] = 0.5f * ((k ? a->tmp[(size_t)(k - 1) * plane + c] : 0.0f) + a->tmp[(size_t)k * plane + c]);
+    lift(s, a);
     return 0;
 }
 
@@ -178,7 +193,8 @@ int vsv_ioapi_open(vsv_source *s, int nc)
             return rc;
         }
         have_heights = 1;
-        vsv_meta_add_attr(g, "heights", "CAMx z: layer tops above ground, varying in time");
+        vsv_meta_add_attr(g, "heights", g->terrain ? "CAMx z: layer tops above ground, varying in time, on topo"
+                                                   : "CAMx z: layer tops above ground, varying in time");
     } else if (have_vgl && (vgtyp == 6 || vgtyp == 2 || vgtyp == 7)) {
         const double vgtop = gatt(nc, "VGTOP", 5000);
         for (int k = 0; k < a->nk; k++) {
@@ -192,6 +208,7 @@ int vsv_ioapi_open(vsv_source *s, int nc)
             for (size_t c = 0; c < plane; c++)
                 a->zm[(size_t)k * plane + c] = (float)z;
         }
+        lift(s, a);
         a->zvar = -1;
         a->static_heights = 1;
         have_heights = 1;
@@ -203,6 +220,8 @@ int vsv_ioapi_open(vsv_source *s, int nc)
         g->nz = a->nk;
         g->vert_kind = VSV_VERT_INDEX;
     } else {
+        if (!g->terrain && vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)
+            return VSV_ENOMEM;
         const int even = vsv_source_axis(s, a->zm, a->nk, 10.0);
         if (even < 0)
             return even;

@@ -145,6 +145,13 @@ int vsv_meta_add_var(vsv_meta *m, const char *name, const char *units, const cha
 int vsv_meta_add_attr(vsv_meta *m, const char *key, const char *value);
 /* Borrowed value of an attribute, or NULL. */
 const char *vsv_meta_attr(const vsv_meta *m, const char *key);
+/* The attribute saying what the heights count from: "ground" where they are
+ * metres above the ground with no terrain under them (CAMx and CMAQ files
+ * without one); absent, or "sea level", for the format's metres above sea
+ * level. */
+#define VSV_ATTR_DATUM "vertical_datum"
+/* 1 when m's heights are above the ground (VSV_ATTR_DATUM), else 0. */
+int vsv_meta_above_ground(const vsv_meta *m);
 /* Allocate levels / terrain / landuse arrays (zeroed). */
 int vsv_meta_alloc_levels(vsv_meta *m);
 int vsv_meta_alloc_terrain(vsv_meta *m);

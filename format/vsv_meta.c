@@ -131,6 +131,12 @@ const char *vsv_meta_attr(const vsv_meta *m, const char *key)
     return NULL;
 }
 
+int vsv_meta_above_ground(const vsv_meta *m)
+{
+    const char *d = vsv_meta_attr(m, VSV_ATTR_DATUM);
+    return d && !strcmp(d, "ground");
+}
+
 int vsv_meta_alloc_levels(vsv_meta *m)
 {
     free(m->levels);

@@ -4,7 +4,8 @@
  *
  * Layout: dimensions time, z, y, x; coordinate variables time ("seconds
  * since" the first step, int64), z (heights in metres with standard_name
- * altitude, or the level coordinate), y and x (projected metres, or degrees
+ * altitude, or height where the file's heights count from the ground
+ * (vsv_meta_above_ground), or the level coordinate), y and x (projected metres, or degrees
  * for lat/lon grids); 2-D auxiliary coordinates lat(y, x), lon(y, x); a
  * scalar `crs` grid_mapping variable (lambert_conformal_conic,
  * polar_stereographic, mercator, transverse_mercator,
@@ -12,7 +13,9 @@
  * earth_radius; false easting/northing place the file's own origin);
  * terrain(y, x) as surface_altitude; one float variable per species on
  * (time, z, y, x) with units, long_name, coordinates "lat lon",
- * grid_mapping "crs", the quantisation bound as `vsv_max_abs_error`, and
+ * grid_mapping "crs", the quantisation bound as `vsv_max_abs_error`,
+ * units as UDUNITS spells them and standard names where the species is a
+ * CF quantity (vsv_cf_names.c), and
  * _FillValue NaN where the species has no-data cells. Native model levels
  * with per-column heights (SPEC.md "HGTS") add height(time, z, y, x), the
  * altitude of every cell at every step, named in each species'

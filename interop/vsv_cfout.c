@@ -163,13 +163,17 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
     att_text(&w, vt, "units", units);
     att_text(&w, vt, "calendar", "standard");
     att_text(&w, vt, "axis", "T");
-    /* vertical */
+    /* vertical: CF's altitude counts from sea level, its height from the ground */
+    const int agl = vsv_meta_above_ground(m);
+    const char *zname = agl ? "height" : "altitude", *datum = agl ? "the ground" : "sea level";
+    char text[512];
     switch (m->vert_kind) {
     case VSV_VERT_EVEN:
     case VSV_VERT_NATIVE:
-        att_text(&w, vz, "standard_name", "altitude");
-        att_text(&w, vz, "long_name", m->vert_kind == VSV_VERT_EVEN ? "height above sea level"
-                                                                    : "mean height above sea level of the model level");
+        att_text(&w, vz, "standard_name", zname);
+        snprintf(text, sizeof text, "%sheight above %s%s", m->vert_kind == VSV_VERT_EVEN ? "" : "mean ", datum,
+                 m->vert_kind == VSV_VERT_EVEN ? "" : " of the model level");
+        att_text(&w, vz, "long_name", text);
         att_text(&w, vz, "units", "m");
         att_text(&w, vz, "positive", "up");
         break;
@@ -226,8 +230,9 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
         const size_t chunk[4] = {1, nz, ny, nx};
         nc_ok(&w, nc_def_var_chunking(w.nc, vh, NC_CHUNKED, chunk), "chunking");
         nc_ok(&w, nc_def_var_deflate(w.nc, vh, 1, 1, 4), "deflate");
-        att_text(&w, vh, "standard_name", "altitude");
-        att_text(&w, vh, "long_name", "height above sea level of the cell centre (the model level in this column)");
+        att_text(&w, vh, "standard_name", zname);
+        snprintf(text, sizeof text, "height above %s of the cell centre (the model level in this column)", datum);
+        att_text(&w, vh, "long_name", text);
         att_text(&w, vh, "units", "m");
         att_text(&w, vh, "positive", "up");
         if (has_proj && !latlon)
@@ -244,6 +249,7 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
         if (has_proj)
             att_text(&w, vter, "grid_mapping", "crs");
     }
+    int respelt = 0; /* variables whose unit was spelt anew */
     for (int l = 0; l < n && !w.rc; l++) {
         const vsv_var *v = &m->vars[sel[l]];
         const vsv_quant *q = vsv_file_quant(f, sel[l]);
@@ -259,7 +265,17 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
             nc_ok(&w, nc_def_var_fill(w.nc, vid[l], 0, &nan), "_FillValue");
         }
         att_text(&w, vid[l], "long_name", v->description[0] ? v->description : v->name);
-        att_text(&w, vid[l], "units", v->units);
+        const char *vunits = vsv_cf_units(v->units), *comment;
+        att_text(&w, vid[l], "units", vunits);
+        if (strcmp(vunits, v->units)) {
+            att_text(&w, vid[l], "vsv_units_original", v->units);
+            respelt++;
+        }
+        const char *sn = vsv_cf_standard_name(m->model, v->name, v->units, &comment);
+        if (sn)
+            att_text(&w, vid[l], "standard_name", sn);
+        if (comment)
+            att_text(&w, vid[l], "comment", comment);
         if (coords)
             att_text(&w, vid[l], "coordinates", coords);
         if (has_proj)
@@ -274,14 +290,19 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
     }
     /* globals */
     att_text(&w, NC_GLOBAL, "Conventions", "CF-1.8");
-    char text[512];
     snprintf(text, sizeof text, "%s%s%s", m->model[0] ? m->model : "Vesuvius", m->run[0] ? ": " : "", m->run);
     att_text(&w, NC_GLOBAL, "title", text);
     snprintf(text, sizeof text, "%s, through a Vesuvius .vsv file (values as decoded: within each variable's vsv_max_abs_error of the model's)",
              m->model[0] ? m->model : "unknown model");
     att_text(&w, NC_GLOBAL, "source", text);
-    if (history)
-        att_text(&w, NC_GLOBAL, "history", history);
+    if (history || respelt) {
+        char hist[1800];
+        snprintf(hist, sizeof hist, "%s%s%s", history ? history : "", history && respelt ? "\n" : "",
+                 respelt ? "units in the model's spelling written as UDUNITS spells them (ppmV as ppm, "
+                           "micrograms/m**3 as ug m-3); each such variable keeps the model's in vsv_units_original"
+                         : "");
+        att_text(&w, NC_GLOBAL, "history", hist);
+    }
     att_text(&w, NC_GLOBAL, "vsv_model", m->model);
     att_text(&w, NC_GLOBAL, "vsv_run", m->run);
     for (int i = 0; i < m->nattrs; i++) {

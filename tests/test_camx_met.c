@@ -111,6 +111,7 @@ static void test_met_dir(void)
     CHECK(g->vert_kind == VSV_VERT_NATIVE && g->nz == 3 && g->levels && g->levels[0] > 10 && g->levels[0] < 20 &&
               fabsf(top0 - 33.87f) < 0.01f && vsv_meta_attr(g, "heights"),
           "real layer heights from test.height_pressure", "levels %g (top0 %g)", g->levels ? g->levels[0] : 0, top0);
+    CHECK(vsv_meta_above_ground(g), "CAMx heights from ZP (no terrain) are marked as above the ground");
     float vol[60];
     /* U of hour 1, layer 2, cell 7: wind record 8 (time) + 1 + 2*2 */
     rc = vsv_source_read(s, vsv_source_find_field(s, "U"), 1, vol);

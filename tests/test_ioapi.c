@@ -186,10 +186,14 @@ static void check(const char *label, const spec *sp)
     free(vol);
     /* heights */
     if (sp->camx) {
-        snprintf(name, sizeof name, "%s: heights from z (layer middles), terrain from topo", label);
-        CHECK(g->vert_kind == VSV_VERT_NATIVE && fabs(g->levels[0] - 20) < 1e-3 && fabs(g->levels[1] - 100) < 1e-3 &&
-                  g->terrain && g->terrain[3] == 103,
-              name, "%g %g", g->levels ? g->levels[0] : -1, g->levels ? g->levels[1] : -1);
+        double ter = 0;
+        for (int c = 0; g->terrain && c < NX * NY; c++)
+            ter += g->terrain[c] / (double)(NX * NY);
+        snprintf(name, sizeof name, "%s: heights from z (layer middles) lifted onto the terrain from topo", label);
+        CHECK(g->vert_kind == VSV_VERT_NATIVE && fabs(g->levels[0] - 20 - ter) < 1e-3 &&
+                  fabs(g->levels[1] - 100 - ter) < 1e-3 && g->terrain && g->terrain[3] == 103 &&
+                  !vsv_meta_above_ground(g),
+              name, "%g %g over %g", g->levels ? g->levels[0] : -1, g->levels ? g->levels[1] : -1, ter);
     } else {
         int mono = g->vert_kind == VSV_VERT_NATIVE;
         for (int k = 1; mono && k < NZ; k++)
@@ -197,6 +201,8 @@ static void check(const char *label, const spec *sp)
         snprintf(name, sizeof name, "%s: sigma-P heights through the standard atmosphere, increasing (%.0f..%.0f m)",
                  label, g->levels ? g->levels[0] : -1, g->levels ? g->levels[NZ - 1] : -1);
         CHECK(mono && g->levels[0] > 10 && g->levels[0] < 60 && vsv_meta_attr(g, "heights"), name);
+        snprintf(name, sizeof name, "%s: without terrain, the heights are marked as above the ground", label);
+        CHECK(vsv_meta_above_ground(g), name);
     }
     /* projected coordinates: every cell's lat/lon, back through the closed form, lands on XORIG + (i+1/2) XCELL */
     double worst = 0;
