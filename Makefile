@@ -197,7 +197,10 @@ PY_NUMPY_INC := $(shell $(PYTHON) -c "import numpy; print(numpy.get_include())" 
 PY_EXT := $(shell $(PYTHON) -c "import sysconfig; print(sysconfig.get_config_var('EXT_SUFFIX'))" 2>/dev/null)
 PY_MISSING := $(if $(wildcard $(PY_INC)/Python.h),,python3-dev )$(if $(PY_NUMPY_INC),,python3-numpy)
 PY_MISSING := $(if $(strip $(PY_MISSING)),apt-get install $(PY_MISSING))
-PYDIR = $(PREFIX)/lib/python3/dist-packages
+# where Debian's python3 looks (/usr/local/lib/python3.11/dist-packages for
+# /usr/local; other prefixes need PYTHONPATH)
+PY_VER := $(shell $(PYTHON) -c "import sys; print('%d.%d' % sys.version_info[:2])" 2>/dev/null)
+PYDIR = $(PREFIX)/lib/python$(PY_VER)/dist-packages
 ifeq ($(SAN),1)
   PY_MISSING := not under SAN=1
 endif

@@ -152,6 +152,15 @@ const char *vsv_meta_attr(const vsv_meta *m, const char *key);
 #define VSV_ATTR_DATUM "vertical_datum"
 /* 1 when m's heights are above the ground (VSV_ATTR_DATUM), else 0. */
 int vsv_meta_above_ground(const vsv_meta *m);
+/* CF's words for a species (format/vsv_cf_names.c; the netCDF export and
+ * Python's to_xarray): the UDUNITS spelling of a model's unit ("ppmV" →
+ * "ppm", "micrograms/m**3" → "ug m-3"), units itself when it needs none
+ * (static or borrowed); and the CF standard name of species `name` of a
+ * file whose model is `model` with `units`, or NULL when it has none (or
+ * the unit does not fit it), *comment then NULL or what the variable's
+ * comment must say of the match. */
+const char *vsv_cf_units(const char *units);
+const char *vsv_cf_standard_name(const char *model, const char *name, const char *units, const char **comment);
 /* Allocate levels / terrain / landuse arrays (zeroed). */
 int vsv_meta_alloc_levels(vsv_meta *m);
 int vsv_meta_alloc_terrain(vsv_meta *m);

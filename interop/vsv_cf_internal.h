@@ -16,15 +16,6 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
                       const char *history, void (*progress)(void *ctx, int done, int total), void *ctx, char *err,
                       size_t cap);
 
-/* The UDUNITS spelling of a model's unit ("ppmV" → "ppm",
- * "micrograms/m**3" → "ug m-3"); units itself when it needs none. Static
- * or borrowed. (vsv_cf_names.c) */
-const char *vsv_cf_units(const char *units);
-/* The CF standard name of species `name` of a file whose model is `model`
- * with `units`, or NULL when it has none (or the unit does not fit it);
- * *comment: NULL, or what the variable's comment must say of the match. */
-const char *vsv_cf_standard_name(const char *model, const char *name, const char *units, const char **comment);
-
 /* The helper: `vsv-nc-writer PARENT-PID SRC.vsv NAME A B SEL,... [HISTORY]`
  * writes to descriptor 3, its progress and error on stdout. The exit
  * status. */

@@ -321,10 +321,11 @@ static PyObject *File_grid(FileObject *self, void *unused)
             return NULL;
         memcpy(PyArray_DATA((PyArrayObject *)levels), m->levels, (size_t)n * sizeof(double));
     }
-    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:N,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny", m->ny, "nz",
-                         m->nz, "origin", m->origin[0], m->origin[1], m->origin[2], "spacing", m->spacing[0],
+    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:s,s:N,s:N,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny", m->ny,
+                         "nz", m->nz, "origin", m->origin[0], m->origin[1], m->origin[2], "spacing", m->spacing[0],
                          m->spacing[1], m->spacing[2], "vertical", vert_name(m->vert_kind), "vert_units",
-                         m->vert_units, "levels", levels, "model", m->model, "run", m->run, "brick",
+                         vsv_meta_height_units(m), "datum", vsv_meta_above_ground(m) ? "ground" : "sea level",
+                         "levels", levels, "column_heights", PyBool_FromLong(m->nheights > 0), "model", m->model, "run", m->run, "brick",
                          self->info.brick, "nbricks", self->info.nbricks);
 }
 
@@ -648,7 +649,20 @@ static PyObject *mod_proj_kind(PyObject *mod, PyObject *arg)
     return PyErr_Format(VsvError, "unknown projection '%s' (none, latlon, lcc, pstereo, mercator, tmerc, albers)", name);
 }
 
+/* _cf(model, name, units) -> (UDUNITS units, standard_name or None,
+ * comment or None): the export's words for a species (vsv_cf_names.c). */
+static PyObject *mod_cf(PyObject *mod, PyObject *args)
+{
+    (void)mod;
+    const char *model, *name, *units, *comment;
+    if (!PyArg_ParseTuple(args, "sss", &model, &name, &units))
+        return NULL;
+    const char *sn = vsv_cf_standard_name(model, name, units, &comment);
+    return Py_BuildValue("(szz)", vsv_cf_units(units), sn, comment);
+}
+
 static PyMethodDef mod_methods[] = {
+    {"_cf", mod_cf, METH_VARARGS, "the CF export's units and standard name of a species"},
     {"open", mod_open, METH_VARARGS, "open(path[, cache_dir]) -> File"},
     {"_write", mod_write, METH_VARARGS, "the writer core (see vesuvius.write)"},
     {"_proj_kind", mod_proj_kind, METH_O, "projection kind of a name"},

@@ -21,8 +21,27 @@ else
     fail "make install PREFIX=$P" "$(tail -c 400 "$T/log")"
     exit 0
 fi
-expect "python3 imports the installed module with only PYTHONPATH=\$PREFIX/lib/python3/dist-packages" 0 \
-    env -i PATH=/usr/bin:/bin PYTHONPATH="$P/lib/python3/dist-packages" "$PYTHON" -c \
+V=$("$PYTHON" -c "import sys; print('%d.%d' % sys.version_info[:2])")
+D="$P/lib/python$V/dist-packages"
+expect "python3 imports the installed module with only PYTHONPATH=\$PREFIX/lib/python$V/dist-packages" 0 \
+    env -i PATH=/usr/bin:/bin PYTHONPATH="$D" "$PYTHON" -c \
     'import vesuvius, sys; f = vesuvius.open(sys.argv[1]); print(vesuvius.__file__, f.read(0, 3).shape)' \
     "$(pwd)/tests/golden/small.vsv"
-has "from the install, not the build tree" "$T/out" "$P/lib/python3/dist-packages/vesuvius/__init__.py"
+has "from the install, not the build tree" "$T/out" "$D/vesuvius/__init__.py"
+# the default prefix installs where Debian's python3 looks without PYTHONPATH
+make -s --no-print-directory B="$B" install DESTDIR="$T/root" > "$T/log" 2>&1
+if [ -f "$T/root/usr/local/lib/python$V/dist-packages/vesuvius/__init__.py" ] &&
+    "$PYTHON" -c "import sys; sys.exit('/usr/local/lib/python$V/dist-packages' not in sys.path)"; then
+    pass "make install puts the module in /usr/local/lib/python$V/dist-packages, on python3's path"
+else
+    fail "make install puts the module on python3's path" "$(find "$T/root" -name __init__.py)"
+fi
+# a folder named vesuvius in the working directory (the checkout, from its
+# parent) is not taken for the module: the installed one is imported
+mkdir -p "$T/parent/vesuvius"
+cp README.md Makefile "$T/parent/vesuvius/"
+(cd "$T/parent" && env -i PATH=/usr/bin:/bin PYTHONPATH="$T/root/usr/local/lib/python$V/dist-packages" "$PYTHON" -c \
+    'import vesuvius, sys; print(vesuvius.__file__, vesuvius.open(sys.argv[1]).grid["nx"])' \
+    "$OLDPWD/tests/golden/small.vsv") > "$T/out" 2> "$T/err"
+has "imported from the checkout's parent: the module, not the folder" "$T/out" \
+    "$T/root/usr/local/lib/python$V/dist-packages/vesuvius/__init__.py"

@@ -255,6 +255,49 @@ class NetCDF(unittest.TestCase):
         tool("vsv-export", "-q", cls.path, "--netcdf", cls.nc)
         cls.f = vesuvius.open(cls.path)
 
+    def agree(self, vsv, variables=None):
+        """to_xarray() and xarray.open_dataset of vsv-export's file hold the same
+        variables, values and CF attributes."""
+        nc = vsv + ".nc"
+        tool("vsv-export", "-q", vsv, "--netcdf", nc)
+        a = vesuvius.open(vsv).to_xarray()
+        b = xarray_open(nc)
+        keys = ("units", "standard_name", "positive", "comment", "vsv_units_original")
+        names = set(a.variables)
+        self.assertEqual(names, set(b.variables) - {"crs"})
+        for n in names:
+            np.testing.assert_array_equal(a[n].values, b[n].values, err_msg=n)
+            for k in keys:
+                self.assertEqual(a[n].attrs.get(k), b[n].attrs.get(k), "%s: %s" % (n, k))
+        for k in ("long_name",):
+            self.assertEqual(a["z"].attrs.get(k), b["z"].attrs.get(k))
+        return a
+
+    def test_to_xarray_agrees_with_export(self):
+        """The MM5 crop on even heights, on native levels with per-column heights,
+        and a CMAQ file whose heights count from the ground."""
+        a = self.agree(self.path)
+        self.assertEqual(a["CLW"].attrs["standard_name"], "cloud_liquid_water_mixing_ratio")
+        self.assertEqual(a["z"].attrs["standard_name"], "altitude")
+        self.assertEqual(a["x"].attrs["units"], "m")
+        self.assertIn("terrain", a)
+        native = os.path.join(TMP, "crop-native.vsv")
+        tool("vsv-convert", "-q", "--vertical", "native", "--vars", "CLW,Q", "samples/mm5/MMOUT_DOMAIN1_CROP",
+             "-o", native)
+        a = self.agree(native)
+        self.assertEqual(a["height"].dims, ("time", "z", "y", "x"))
+        cmaq = convert("tests/corpus/netcdf/ioapi-cmaq.nc", "cmaq.vsv")
+        a = self.agree(cmaq)
+        self.assertEqual(a["z"].attrs["standard_name"], "height")
+        self.assertEqual(a["O3"].attrs["units"], "ppm")
+        self.assertEqual(vesuvius.open(cmaq).grid["datum"], "ground")
+
+    def test_vert_units(self):
+        """Heights are in m on even and native files alike; an index has none."""
+        self.assertEqual(self.f.grid["vert_units"], "m")
+        native = convert("tests/corpus/netcdf/wrf-crop.nc", "wrf-crop.vsv")
+        self.assertEqual(vesuvius.open(native).grid["vert_units"], "m")
+
     def test_xarray_values_equal_decoded(self):
         ds = xarray_open(self.nc)
         self.assertEqual(dict(ds.sizes), {"time": 4, "z": 40, "y": 39, "x": 39})

@@ -72,7 +72,11 @@ class File:
     def names(self):
         return [s.name for s in self.species]
 
-    grid = property(lambda self: self._f.grid, doc="nx, ny, nz, origin, spacing (projected units, metres), vertical axis")
+    grid = property(lambda self: self._f.grid,
+                    doc="nx, ny, nz, origin, spacing (projected units, metres); vertical (even, native, index, "
+                        "coord), vert_units (m for heights, the coordinate's unit, '' for an index), datum "
+                        "('sea level' or 'ground': what heights count from), levels, column_heights (native "
+                        "levels with per-column heights), model, run, brick, nbricks")
     projection = property(lambda self: self._f.projection, doc="kind (lcc, pstereo, ...) and parameters (degrees, metres)")
     lat = property(lambda self: self._f.lat, doc="latitude of every column's centre, float64 (ny, nx)")
     lon = property(lambda self: self._f.lon, doc="longitude of every column's centre, float64 (ny, nx)")
@@ -134,9 +138,16 @@ class File:
         return Point(c, la, lo, h, pos, self.times, vals)
 
     def to_xarray(self, species=None):
-        """An xarray.Dataset of every (or the named) species over (time, z, y, x), with
-        2-D lat/lon coordinates, heights, units and each species' max_abs_error.
-        Needs xarray (Debian: python3-xarray). Reads every step into memory."""
+        """An xarray.Dataset of every (or the named) species over (time, z, y, x), as
+        `vsv-export --netcdf` writes it and xarray.open_dataset reads that file: x/y in
+        projected metres (degrees on lat/lon grids), z the levels' heights (CF altitude
+        above sea level, or height above the ground where the file's heights count
+        from it) or their coordinate, 2-D lat/lon, terrain (surface_altitude), the
+        per-column heights of native levels at every step (height), and per species
+        its units as UDUNITS spells them, its CF standard_name where it has one and
+        vsv_max_abs_error (also max_abs_error). The grid mapping itself is not built
+        here (vsv-export writes it as crs); the projection is in attrs. Needs xarray
+        (Debian: python3-xarray). Reads every step into memory."""
         try:
             import xarray as xr
         except ImportError as e:
@@ -151,15 +162,52 @@ class File:
             for t in range(nt):
                 a[t] = self.read(n, t)
             s = sp[n]
-            data[n] = (("time", "z", "y", "x"), a,
-                       {"units": s.units, "long_name": s.description or s.name, "max_abs_error": s.max_abs_error})
+            units, standard_name, comment = _vesuvius._cf(g["model"], n, s.units)
+            attrs = {"long_name": s.description or s.name, "units": units, "vsv_max_abs_error": s.max_abs_error,
+                     "max_abs_error": s.max_abs_error}
+            if standard_name:
+                attrs["standard_name"] = standard_name
+            if comment:
+                attrs["comment"] = comment
+            if units != s.units:
+                attrs["vsv_units_original"] = s.units
+            data[n] = (("time", "z", "y", "x"), a, attrs)
+        latlon = self.projection["kind"] == "latlon"
         x = g["origin"][0] + g["spacing"][0] * np.arange(g["nx"])
         y = g["origin"][1] + g["spacing"][1] * np.arange(g["ny"])
-        coords = {"time": self.times.astype("datetime64[ns]"), "x": x, "y": y,
-                  "z": ("z", self.height, {"units": "m" if g["vertical"] in ("even", "native") else g["vert_units"]}),
-                  "lat": (("y", "x"), self.lat, {"units": "degrees_north"}),
-                  "lon": (("y", "x"), self.lon, {"units": "degrees_east"})}
-        attrs = {"source": "vesuvius", "model": g["model"], "run": g["run"], "projection": self.projection["kind"]}
+        if latlon:
+            xa = {"standard_name": "longitude", "units": "degrees_east", "axis": "X"}
+            ya = {"standard_name": "latitude", "units": "degrees_north", "axis": "Y"}
+        else:
+            xa = {"standard_name": "projection_x_coordinate", "units": "m", "axis": "X"}
+            ya = {"standard_name": "projection_y_coordinate", "units": "m", "axis": "Y"}
+        ground = g["datum"] == "ground"
+        if g["vertical"] in ("even", "native"):
+            za = {"standard_name": "height" if ground else "altitude", "units": "m", "positive": "up", "axis": "Z",
+                  "long_name": "%sheight above %s%s" % ("mean " if g["vertical"] == "native" else "",
+                                                       "the ground" if ground else "sea level",
+                                                       " of the model level" if g["vertical"] == "native" else "")}
+        elif g["vertical"] == "coord":
+            za = {"units": g["vert_units"], "long_name": "model level coordinate", "axis": "Z"}
+            if g["vert_units"] in ("hPa", "Pa"):
+                za.update(standard_name="air_pressure", positive="down")
+        else:
+            za = {"standard_name": "model_level_number", "units": "1", "positive": "up", "axis": "Z"}
+        coords = {"time": ("time", self.times.astype("datetime64[ns]"),
+                           {"standard_name": "time", "long_name": "time", "axis": "T"}), "x": ("x", x, xa), "y": ("y", y, ya),
+                  "z": ("z", self.height, za)}
+        if not latlon and self.projection["kind"] != "none":
+            coords["lat"] = (("y", "x"), self.lat, {"standard_name": "latitude", "units": "degrees_north"})
+            coords["lon"] = (("y", "x"), self.lon, {"standard_name": "longitude", "units": "degrees_east"})
+        if g["vertical"] == "native" and g["column_heights"]:
+            h = np.stack([self.heights(t).astype(np.float32) for t in range(nt)])
+            coords["height"] = (("time", "z", "y", "x"), h,
+                                {"standard_name": za["standard_name"], "units": "m", "positive": "up"})
+        if self.terrain is not None:
+            data["terrain"] = (("y", "x"), self.terrain,
+                               {"standard_name": "surface_altitude", "long_name": "terrain height", "units": "m"})
+        attrs = {"Conventions": "CF-1.8", "source": "vesuvius", "model": g["model"], "run": g["run"],
+                 "projection": self.projection["kind"]}
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
 

@@ -16,7 +16,7 @@
  * of moist air), which the mixing ratio exceeds by the air's water content
  * (a few per cent at most): those entries say so in the variable's
  * comment. */
-#include "vsv_cf_internal.h"
+#include "vsv_format.h"
 
 #include <string.h>
 
