@@ -92,8 +92,19 @@ int main(int argc, char **argv)
                 continue;
             }
             const vsv_meta *g = vsv_source_grid(src);
-            printf("%s: %s, grid %d x %d x %d, %d times\n", argv[a], vsv_source_format(src), g->nx, g->ny, g->nz,
-                   vsv_source_ntimes(src));
+            int layers = 0; /* the model's own (of its default fields first), which the even grid resamples */
+            for (int pass = 0; pass < 2 && !layers; pass++)
+                for (int i = 0; i < vsv_source_nfields(src); i++) {
+                    const vsv_field_info *f = vsv_source_field(src, i);
+                    if (f->is_volume && (pass || f->is_default) && f->nlevels > layers)
+                        layers = f->nlevels;
+                }
+            if (g->vert_kind == VSV_VERT_EVEN && layers && layers != g->nz)
+                printf("%s: %s, grid %d x %d, %d model layers (on %d even levels by default), %d times\n", argv[a],
+                       vsv_source_format(src), g->nx, g->ny, layers, g->nz, vsv_source_ntimes(src));
+            else
+                printf("%s: %s, grid %d x %d x %d, %d times\n", argv[a], vsv_source_format(src), g->nx, g->ny, g->nz,
+                       vsv_source_ntimes(src));
             printf("  %-10s %-8s %6s %-16s %s\n", "field", "order", "levels", "units", "description");
             for (int i = 0; i < vsv_source_nfields(src); i++) {
                 const vsv_field_info *f = vsv_source_field(src, i);

@@ -312,9 +312,16 @@ static char *ioapi_summary(vsv_source *s)
     vsv_buf b = {0};
     char line[600];
     const vsv_meta *g = &s->grid;
-    snprintf(line, sizeof line, "%s: %s\n  grid        %d x %d x %d (%s), %s projection (GDTYP %s)\n  times       %d\n  species     %d:",
-             g->model, g->run, g->nx, g->ny, g->nz, vsv_meta_attr(g, "heights") ? vsv_meta_attr(g, "heights") : "layer index",
-             vsv_proj_name(g->proj.kind), vsv_meta_attr(g, "GDTYP"), s->ntimes, s->nfields);
+    const ioapi *a = s->priv;
+    char out[120] = "";
+    if (g->vert_kind == VSV_VERT_EVEN)
+        snprintf(out, sizeof out, "; converted onto %d even levels of %.4g m (--vertical native keeps the layers)",
+                 g->nz, g->spacing[2]);
+    snprintf(line, sizeof line,
+             "%s: %s\n  grid        %d x %d columns, %d layers (%s)%s\n  projection  %s (GDTYP %s)\n  times       %d\n"
+             "  species     %d:",
+             g->model, g->run, g->nx, g->ny, a->nk, vsv_meta_attr(g, "heights") ? vsv_meta_attr(g, "heights") : "layer index",
+             out, vsv_proj_name(g->proj.kind), vsv_meta_attr(g, "GDTYP"), s->ntimes, s->nfields);
     vsv_buf_put(&b, line, strlen(line));
     for (int i = 0; i < s->nfields; i++) {
         snprintf(line, sizeof line, " %s", s->fields[i].name);

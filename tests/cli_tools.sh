@@ -134,6 +134,14 @@ expect "-f species.T.max_abs_error (by name)" 0 "$B/vsv-info" -f species.T.max_a
 same "... is species 3's" "$T/out" "$T/byindex"
 expect "-f species.NOPE.units: no such species, exit 2" 2 "$B/vsv-info" -f species.NOPE.units "$T/a.vsv"
 has "... saying so" "$T/err" "-f species.NOPE.units: no such field"
+# the model's own layer count, not the even grid's (issue 32)
+expect "vsv-info of a CMAQ file" 0 "$B/vsv-info" tests/corpus/netcdf/ioapi-cmaq.nc
+has "... counts its 3 layers" "$T/out" "6 x 5 columns, 3 layers (sigma-P"
+has "... and says what conversion makes of them" "$T/out" "converted onto 40 even levels of 5.75 m"
+expect "vsv-extract --list of a CMAQ file" 0 "$B/vsv-extract" --list tests/corpus/netcdf/ioapi-cmaq.nc
+has "... 3 model layers, 40 even levels by default" "$T/out" "grid 6 x 5, 3 model layers (on 40 even levels by default)"
+expect "vsv-extract --list of the MM5 crop" 0 "$B/vsv-extract" --list samples/mm5/MMOUT_DOMAIN1_CROP
+has "... its 15 half-sigma layers" "$T/out" "grid 39 x 39, 15 model layers (on 40 even levels by default)"
 expect "vsv-info --json --stats" 0 "$B/vsv-info" --json --stats "$T/a.vsv"
 if $PY -c "
 import json,sys
