@@ -6,6 +6,36 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Per column, the levels whose centre lies below the ground: on even
+ * heights over a terrain, z0 + k*dz < terrain (the converter's rule,
+ * vsv_vgrid_plan). NULL when no column has any (or without a terrain:
+ * native levels follow the ground; heights above the ground start at it). */
+static uint16_t *under_ground(const vsv_meta *m, int *rc)
+{
+    *rc = 0;
+    if (m->vert_kind != VSV_VERT_EVEN || !m->terrain || vsv_meta_above_ground(m))
+        return NULL;
+    const size_t plane = (size_t)m->nx * m->ny;
+    uint16_t *u = malloc(plane * sizeof *u);
+    if (!u) {
+        *rc = VSV_ENOMEM;
+        return NULL;
+    }
+    int any = 0;
+    for (size_t c = 0; c < plane; c++) {
+        int k = 0;
+        while (k < m->nz && m->origin[2] + k * m->spacing[2] < (double)m->terrain[c])
+            k++;
+        u[c] = (uint16_t)k;
+        any |= k;
+    }
+    if (!any) {
+        free(u);
+        return NULL;
+    }
+    return u;
+}
+
 int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
 {
     vsv_decoder *d = *out = calloc(1, sizeof *d);
@@ -19,7 +49,9 @@ int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
     d->scratch = malloc(2 * n);
     d->state = calloc((size_t)f->meta.nvars, sizeof *d->state);
     d->state_step = calloc((size_t)f->meta.nvars, sizeof *d->state_step);
-    if (!d->dctx || !d->raw || !d->codes || !d->scratch || !d->state || !d->state_step) {
+    int urc;
+    d->under = under_ground(&f->meta, &urc);
+    if (urc || !d->dctx || !d->raw || !d->codes || !d->scratch || !d->state || !d->state_step) {
         vsv_decoder_free(d);
         *out = NULL;
         return VSV_ENOMEM;
@@ -32,6 +64,7 @@ void vsv_decoder_free(vsv_decoder *d)
     if (!d)
         return;
     ZSTD_freeDCtx(d->dctx);
+    free(d->under);
     free(d->raw);
     free(d->codes);
     free(d->scratch);
@@ -254,9 +287,22 @@ void vsv_file_dequantise(const vsv_file *cf, int s, const uint16_t *codes, size_
 int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out)
 {
     int rc = vsv_decoder_brick_codes(d, step, s, b, d->codes);
-    if (!rc)
-        vsv_file_dequantise(d->f, s, d->codes, (size_t)d->f->lay.brick * d->f->lay.brick * d->f->lay.brick, out);
-    return rc;
+    if (rc)
+        return rc;
+    const vsv_layout *L = &d->f->lay;
+    const int n = L->brick;
+    vsv_file_dequantise(d->f, s, d->codes, (size_t)n * n * n, out);
+    if (d->under) { /* below the ground: no data, whatever the species */
+        int org[3], ext[3];
+        vsv_layout_box(L, b, org, ext);
+        for (int j = 0; j < ext[1]; j++)
+            for (int i = 0; i < ext[0]; i++) {
+                const int top = d->under[(size_t)(org[1] + j) * d->f->meta.nx + org[0] + i] - org[2];
+                for (int k = 0; k < top && k < ext[2]; k++)
+                    out[((size_t)k * n + j) * n + i] = NAN;
+            }
+    }
+    return 0;
 }
 
 /* The decoder keeps the codes of the last step it decoded per species, so a
@@ -296,5 +342,11 @@ int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out)
                                     out + ((size_t)(org[2] + k) * f->meta.ny + (size_t)(org[1] + j)) * f->meta.nx + org[0]);
     }
     d->state_step[s] = step;
+    if (d->under) { /* below the ground: no data, whatever the species */
+        const size_t plane = (size_t)f->meta.nx * f->meta.ny;
+        for (size_t c = 0; c < plane; c++)
+            for (int k = 0; k < d->under[c]; k++)
+                out[(size_t)k * plane + c] = NAN;
+    }
     return 0;
 }

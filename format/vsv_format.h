@@ -507,7 +507,9 @@ int vsv_decoder_brick_advance(vsv_decoder *d, int step, int s, int b, uint16_t *
 int vsv_decoder_brick_retreat(vsv_decoder *d, int step, int s, int b, uint16_t *codes);
 /* Floats of brick b at (step, s): brick^3 values (caller buffer). */
 int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out);
-/* The whole volume (nx*ny*nz floats, x fastest; caller buffer). */
+/* The whole volume (nx*ny*nz floats, x fastest; caller buffer). Both give
+ * NaN, no data, for every species in the cells below the ground (even
+ * heights over a terrain: a centre below it; SPEC.md "No data"). */
 int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out);
 /* Dequantise n codes of species s into floats. */
 void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t n, float *out);

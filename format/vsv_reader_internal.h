@@ -43,6 +43,7 @@ struct vsv_decoder {
     uint16_t *scratch; /* a brick: DELTA3's differences */
     uint16_t **state; /* per species: codes of all bricks at state_step */
     int *state_step;
+    uint16_t *under; /* per column: how many levels lie below the ground (NULL: none) */
     char err[512];
 };
 

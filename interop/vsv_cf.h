@@ -15,8 +15,8 @@
  * (time, z, y, x) with units, long_name, coordinates "lat lon",
  * grid_mapping "crs", the quantisation bound as `vsv_max_abs_error`,
  * units as UDUNITS spells them and standard names where the species is a
- * CF quantity (vsv_cf_names.c), and
- * _FillValue NaN where the species has no-data cells. Native model levels
+ * CF quantity (vsv_cf_names.c), and _FillValue NaN (no data: the
+ * species' own, and every cell below the ground). Native model levels
  * with per-column heights (SPEC.md "HGTS") add height(time, z, y, x), the
  * altitude of every cell at every step, named in each species'
  * coordinates (z then holds the levels' mean heights). Each variable is

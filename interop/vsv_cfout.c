@@ -260,7 +260,7 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
         const size_t chunk[4] = {1, nz, ny, nx};
         nc_ok(&w, nc_def_var_chunking(w.nc, vid[l], NC_CHUNKED, chunk), "chunking");
         nc_ok(&w, nc_def_var_deflate(w.nc, vid[l], 1, 1, 4), "deflate");
-        if (q->missing) {
+        { /* no data (the species' own, or below the ground) is NaN */
             const float nan = NAN;
             nc_ok(&w, nc_def_var_fill(w.nc, vid[l], 0, &nan), "_FillValue");
         }

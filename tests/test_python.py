@@ -107,7 +107,7 @@ class Sample(unittest.TestCase):
         rows = list(csv.DictReader(io.StringIO(out)))
         i, j = int(rows[0]["i"]), int(rows[0]["j"])
         col = self.f.read("SNOW", 2)[:, j, i]
-        self.assertEqual([np.float32(float(r["SNOW (kg/kg)"])) for r in rows], list(col))
+        np.testing.assert_array_equal([np.float32(float(r["SNOW (kg/kg)"])) for r in rows], col)
         self.assertEqual([float(r["height (m)"]) for r in rows], list(self.f.height))
 
     def test_f_query_equals_vsv_query_json(self):
@@ -175,9 +175,23 @@ class Sample(unittest.TestCase):
         self.assertEqual(ds["lat"].shape, (39, 39))
         self.assertEqual(str(ds["time"].values[3])[:19], "1995-10-24T03:00:00")
 
+    def test_below_ground_is_nan_for_every_species(self):
+        """One rule below the ground: every species reads NaN in the cells whose centre
+        lies below the terrain (Q and the hydrometeors alike), in read, query and the
+        netCDF export."""
+        under = self.f.height[:, None, None] < self.f.terrain[None, :, :]
+        self.assertGreater(under.sum(), 1000)
+        for s in self.f.species:
+            a = self.f.read(s.name, 3)
+            self.assertTrue(np.isnan(a[under]).all(), s.name)
+        k, j, i = np.argwhere(under)[0]
+        row = list(csv.DictReader(io.StringIO(tool("vsv-query", self.path, "--cell", "%d,%d,%d" % (i, j, k), "--csv",
+                                                    "--time", "3"))))[0]
+        self.assertTrue(all(math.isnan(float(row["%s (kg/kg)" % s.name])) for s in self.f.species), row)
+
     def test_write_round_trip(self):
         """A file written from numpy with a File's grid and projection reads back within the
-        stated bound, with the same lat/lon and times."""
+        stated bound, with the same lat/lon and times; below its terrain, no data."""
         rng = np.random.default_rng(7)
         g = self.f.grid
         shape = (3, g["nz"], g["ny"], g["nx"])
@@ -194,12 +208,14 @@ class Sample(unittest.TestCase):
         self.assertEqual([(s.name, s.units) for s in w.species], [("A", "kg/kg"), ("B", "ppm")])
         np.testing.assert_array_equal(w.lat, self.f.lat)
         np.testing.assert_array_equal(w.lon, self.f.lon)
+        under = w.height[:, None, None] < w.terrain[None, :, :]
         for t in range(3):
             ra, rb = w.read("A", t), w.read("B", t)
-            self.assertTrue(np.array_equal(np.isnan(ra), np.isnan(a[t])))
-            fin = np.isfinite(a[t])
+            self.assertTrue(np.array_equal(np.isnan(ra), np.isnan(a[t]) | under))
+            fin = np.isfinite(a[t]) & ~under
             self.assertLessEqual(np.abs(ra[fin] - a[t][fin]).max(), w.species[0].max_abs_error)
-            self.assertLessEqual(np.abs(rb - b[t]).max(), w.species[1].max_abs_error)
+            self.assertTrue(np.isnan(rb[under]).all())
+            self.assertLessEqual(np.abs(rb[~under] - b[t][~under]).max(), w.species[1].max_abs_error)
         subprocess.run([os.path.join(B, "vsv-info"), "--check", out], check=True, capture_output=True)
 
     def test_write_refuses_bad_input(self):

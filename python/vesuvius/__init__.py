@@ -97,7 +97,8 @@ class File:
     def read(self, species, time=0):
         """The decoded volume of species (name or index) at time (a step index, an
         ISO time string, a numpy datetime64 or a datetime: the nearest step):
-        float32 (nz, ny, nx), decoded straight into the array."""
+        float32 (nz, ny, nx), decoded straight into the array; NaN where there is no
+        data, among them every cell below the ground (even heights over a terrain)."""
         return self._f.read(species, self._step(time))
 
     def read_brick(self, species, time, brick):
@@ -227,8 +228,9 @@ def write(path, grid, times, fields, projection=None, units=None, descriptions=N
                  "lat0", "lon0", "lat1", "lat2", "radius"} (default: none)
     times: datetime64 values, ISO strings or integer seconds since 1970, increasing
     fields: {name: array (ntimes, nz, ny, nx)}, non-finite = no data
-    units, descriptions: {name: text}; terrain: (ny, nx) metres; levels: (nz,) heights
-    for vertical="native"; bits 8 or 16; scale "linear" or "log".
+    units, descriptions: {name: text}; terrain: (ny, nx) metres (on even heights, cells
+    whose centre lies below it hold no data: they read back NaN, whatever was written);
+    levels: (nz,) heights for vertical="native"; bits 8 or 16; scale "linear" or "log".
     """
     if not fields:
         raise Error("write: no fields")
