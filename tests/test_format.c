@@ -627,6 +627,72 @@ static void test_predict(void)
     vsv_meta_clear(&m);
 }
 
+/* Below the ground no species has data (SPEC.md "No data below the
+ * ground"): on even heights over a terrain, the value readers give NaN in
+ * every cell whose centre lies below it, for a concentration (0 its
+ * smallest value: code 0 is zero and no data alike) as for a field whose
+ * no-data has a code of its own; the codes themselves are the writer's. */
+static void test_below_ground(void)
+{
+    enum { NX = 20, NY = 10, NZ = 8 };
+    const size_t n = (size_t)NX * NY * NZ;
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = NX, m.ny = NY, m.nz = NZ;
+    m.spacing[0] = m.spacing[1] = 1000, m.spacing[2] = 250;
+    m.origin[2] = 125; /* centres 125, 375, ... 1875 m */
+    vsv_meta_add_var(&m, "CLW", "kg/kg", "0 at its least");
+    vsv_meta_add_var(&m, "T", "K", "no zero");
+    vsv_meta_alloc_terrain(&m);
+    for (int c = 0; c < NX * NY; c++)
+        m.terrain[c] = (float)(100 * (c % NX)); /* 0 .. 1900 m */
+    float *clw = malloc(n * sizeof *clw), *tk = malloc(n * sizeof *tk), *out = malloc(n * sizeof *out);
+    for (size_t c = 0; c < n; c++) {
+        clw[c] = c % 7 ? 0.0f : 1e-4f; /* values below the ground too, as a careless writer gives */
+        tk[c] = 280.0f - (float)(c / (NX * NY));
+    }
+    const char *path = vsv_test_tmp("below.vsv");
+    vsv_writer *w = NULL;
+    const float *fl[2] = {clw, tk};
+    int rc = vsv_writer_create(path, &m, NULL, &w);
+    if (!rc)
+        rc = vsv_writer_add_step(w, 0, fl);
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    vsv_file *f = NULL;
+    vsv_decoder *d = NULL;
+    CHECK(rc == 0 && vsv_file_open(path, &f) == 0 && vsv_decoder_create(f, &d) == 0, "a file over a terrain");
+    int vol_ok = 1, under = 0, above_ok = 1;
+    for (int s = 0; s < 2 && d; s++) {
+        vol_ok &= vsv_decoder_volume(d, 0, s, out) == 0;
+        for (size_t c = 0; c < n; c++) {
+            const int i = (int)(c % NX), k = (int)(c / (NX * NY));
+            if (125.0 + 250.0 * k < 100.0 * i) {
+                under += s == 0;
+                vol_ok &= isnan(out[c]);
+            } else {
+                above_ok &= fabsf(out[c] - (s ? tk : clw)[c]) <= vsv_file_quant(f, s)->max_abs_error;
+            }
+        }
+    }
+    CHECK(vol_ok && under == 760, "every species reads NaN in the cells below the ground", "%d cells", under);
+    CHECK(above_ok, "and its values above it");
+    float *brick = malloc(32 * 32 * 32 * sizeof *brick);
+    int brick_ok = d && vsv_decoder_brick(d, 0, 0, 0, brick) == 0;
+    for (int k = 0; k < NZ && brick_ok; k++)
+        for (int i = 0; i < NX; i++)
+            brick_ok &= !!isnan(brick[((size_t)k * 32 + 3) * 32 + i]) == (125.0 + 250.0 * k < 100.0 * i);
+    CHECK(brick_ok, "a brick decodes the same no data");
+    free(brick);
+    vsv_decoder_free(d);
+    vsv_file_free(f);
+    vsv_meta_clear(&m);
+    free(clw);
+    free(tk);
+    free(out);
+}
+
 int main(void)
 {
     test_series();
@@ -634,5 +700,6 @@ int main(void)
     test_parts();
     test_heights();
     test_predict();
+    test_below_ground();
     return vsv_test_done();
 }

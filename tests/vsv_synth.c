@@ -51,7 +51,9 @@ void synth_meta(const synth *sy, vsv_meta *m)
     vsv_meta_alloc_terrain(m);
     for (int j = 0; j < sy->ny; j++)
         for (int i = 0; i < sy->nx; i++)
-            m->terrain[(size_t)j * sy->nx + i] = (float)(200 + 10 * i + j);
+            /* a slope of 0..40 m, under the lowest level's centre (50 m):
+             * every cell holds data (none is below the ground, SPEC.md) */
+            m->terrain[(size_t)j * sy->nx + i] = (float)(40.0 * (i + j) / (sy->nx + sy->ny));
 }
 
 int synth_write(const synth *sy, const char *path, const vsv_pack_opts *opts, char *err, size_t cap)
