@@ -17,6 +17,21 @@ static const char usage[] =
 
 static int add(void *w, int64_t time, const float *const *fields) { return vsv_writer_add_step(w, time, fields); }
 
+/* The first pass of a fine --time-res: the statistics of the frames only. */
+typedef struct tally {
+    vsv_pack_stats *st;
+    int nvars;
+    size_t cells;
+} tally;
+
+static int count(void *p, int64_t time, const float *const *fields)
+{
+    (void)time;
+    tally *t = p;
+    vsv_pack_stats_add(t->st, t->nvars, t->cells, fields);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-convert");
@@ -34,7 +49,12 @@ int main(int argc, char **argv)
     vsv_convert_setup(&a, run, &out);
     const vsv_meta *meta = vsv_run_meta(run);
     vsv_cli_pack_resolve(&a.pack, &out);
-    vsv_convert_check_space(&a, run, &out);
+    const int n = vsv_run_nframes(run);
+    /* frames finer than the model's: two passes (the interpolation run once
+     * for the value ranges, once more to encode as it goes), no spool */
+    const int planned = vsv_convert_steps(&a, run) > n;
+    if (!planned)
+        vsv_convert_check_space(&a, run, &out);
     vsv_writer *w = NULL;
     if (vsv_writer_create(a.out, &out, &a.pack.opts, &w))
         vsv_cli_writer_die(w, a.out);
@@ -45,9 +65,24 @@ int main(int argc, char **argv)
             vsv_cli_die(1, "out of memory");
     if (!fields)
         vsv_cli_die(1, "out of memory");
-    const int n = vsv_run_nframes(run);
     int bad, dropped;
-    if (vsv_convert_frames(run, a.dt, a.method, 0, n - 1, fields, add, w, "vsv-convert: reading", &bad, &dropped)) {
+    if (planned) {
+        vsv_pack_stats *st = calloc((size_t)out.nvars, sizeof *st);
+        if (!st)
+            vsv_cli_die(1, "out of memory");
+        vsv_pack_stats_init(st, out.nvars);
+        tally t = {st, out.nvars, cells};
+        if (vsv_convert_frames(run, a.dt, a.method, 0, n - 1, fields, count, &t, "vsv-convert: ranges (1 of 2)", &bad,
+                               NULL)) {
+            vsv_writer_free(w);
+            vsv_cli_die(1, "%s", bad >= 0 ? vsv_run_error(run) : "out of memory");
+        }
+        if (vsv_writer_expect(w, st))
+            vsv_cli_writer_die(w, a.out);
+        free(st);
+    }
+    if (vsv_convert_frames(run, a.dt, a.method, 0, n - 1, fields, add, w,
+                           planned ? "vsv-convert: encoding (2 of 2)" : "vsv-convert: reading", &bad, &dropped)) {
         if (bad == -1)
             vsv_cli_writer_die(w, a.out);
         vsv_writer_free(w);

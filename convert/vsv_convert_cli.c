@@ -130,19 +130,25 @@ void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
     vsv_interp_free(ip);
 }
 
-void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, const vsv_meta *out)
+double vsv_convert_steps(const vsv_convert_args *a, const vsv_run *run)
 {
     const int n = vsv_run_nframes(run);
-    if (n < 1)
-        return;
+    if (n < 1 || a->dt <= 0)
+        return n;
     int64_t first, last;
     vsv_run_window(run, &first, &last);
     if (first < vsv_run_time(run, 0))
         first = vsv_run_time(run, 0);
     if (last > vsv_run_time(run, n - 1))
         last = vsv_run_time(run, n - 1);
-    const int64_t span = last - first;
-    const double steps = a->dt > 0 ? (double)(span / a->dt) + 1 : n;
+    return (double)((last - first) / a->dt) + 1;
+}
+
+void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, const vsv_meta *out)
+{
+    if (vsv_run_nframes(run) < 1)
+        return;
+    const double steps = vsv_convert_steps(a, run);
     const double step_bytes = (double)out->nx * out->ny * out->nz * out->nvars * sizeof(float);
     char dir[4200];
     snprintf(dir, sizeof dir, "%s", a->out);
@@ -150,10 +156,13 @@ void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, cons
     if (statvfs(dirname(dir), &fs))
         return; /* the writer says what is wrong with the place */
     const double avail = (double)fs.f_bavail * (double)fs.f_frsize;
-    if (steps * step_bytes > avail)
-        vsv_cli_die(1, "%s: %.0f steps of %.1f MB are kept beside it until they are encoded: %.1f GB, and its file "
-                    "system has %.1f GB free (a coarser --time-res, fewer --vars or --times, or another place)",
-                    a->out, steps, step_bytes / 1e6, steps * step_bytes / 1e9, avail / 1e9);
+    if (steps * step_bytes > avail) {
+        const double need = steps * step_bytes, unit = need >= 1e9 ? 1e9 : 1e6;
+        const char *u = unit == 1e9 ? "GB" : "MB";
+        vsv_cli_die(1, "%s: %.0f steps of %.1f MB are kept beside it until they are encoded: %.1f %s, and its file "
+                    "system has %.1f %s free (fewer --vars or --times, or another place)",
+                    a->out, steps, step_bytes / 1e6, need / unit, u, avail / unit, u);
+    }
 }
 
 int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,

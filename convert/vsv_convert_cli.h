@@ -47,6 +47,10 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
  * winds. Caller clears out with vsv_meta_clear. */
 void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out);
 
+/* How many steps the conversion writes: the run's frames, or (with
+ * --time-res) about its span every dt. */
+double vsv_convert_steps(const vsv_convert_args *a, const vsv_run *run);
+
 /* Exits 1 before any reading when the steps the conversion writes (the
  * run's frames, or its span every dt) cannot be spooled beside a->out: the
  * writer keeps every step's floats in a temporary there until it encodes

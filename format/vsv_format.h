@@ -339,6 +339,14 @@ void vsv_pack_stats_init(vsv_pack_stats *st, int nvars);
 void vsv_pack_stats_add(vsv_pack_stats *st, int nvars, size_t cells, const float *const *fields);
 /* into[v] becomes the statistics of both sets of steps. */
 void vsv_pack_stats_merge(vsv_pack_stats *into, const vsv_pack_stats *from, int nvars);
+/* A writer told in advance what the steps to come hold: stats (nvars
+ * entries) over exactly the steps that will be added, from a first pass
+ * over them. Call before the first step. The writer then plans at once and
+ * encodes the steps as they arrive, a few at a time (as many as its
+ * threads, with the one before), with no spool: the file is byte for byte
+ * the one it writes without this call. vsv_writer_finish fails (VSV_EINVAL)
+ * when the steps added did not have those statistics. */
+int vsv_writer_expect(vsv_writer *w, const vsv_pack_stats *stats);
 
 typedef struct vsv_pack_plan vsv_pack_plan;
 

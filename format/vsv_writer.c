@@ -4,7 +4,10 @@
  * and encodes every step in parallel (vsv_encode.c: a step's chunk depends
  * only on the fields of that step and the one before, both in the spool),
  * and writes the chunks in time order to a temporary name that is renamed
- * into place only when everything succeeded. */
+ * into place only when everything succeeded. When the caller knows the
+ * steps' statistics in advance (vsv_writer_expect), the plan is made at
+ * once and the steps are encoded as they come, from a ring of a few in
+ * memory, with no spool: the same bytes. */
 #include "vsv_format_internal.h"
 
 #include <errno.h>
@@ -29,6 +32,15 @@ struct vsv_writer {
     vsv_pack_stats *st;
     const float *spool;
     size_t spool_bytes;
+    /* vsv_writer_expect: the plan made up front, the statistics promised,
+     * the encoders, a ring of the last nring steps, the chunks' sizes and
+     * where the next goes; encoded: steps whose chunks are written */
+    vsv_pack_plan *plan;
+    vsv_pack_stats *promised;
+    vsv_chunk_encoder *enc[64];
+    int nenc, nring, encoded;
+    float *ring;
+    uint64_t *sizes, off;
     char err[512];
 };
 
@@ -120,9 +132,11 @@ int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opt
     return 0;
 }
 
+static int encode_steps(vsv_writer *w, int t0, int t1, void (*progress)(void *, int, int), void *ctx);
+
 int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
 {
-    if (w->finished || w->spool_fd < 0)
+    if (w->finished || (w->spool_fd < 0 && !w->ring))
         return VSV_EINVAL;
     if (w->nsteps && time <= w->times[w->nsteps - 1]) {
         vsv_msg(w->err, sizeof w->err, "step %d: time %lld does not increase", w->nsteps, (long long)time);
@@ -139,8 +153,23 @@ int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
             return VSV_ENOMEM;
         w->times = t;
         w->cap_steps = cap;
+        if (w->ring) {
+            uint64_t *sz = realloc(w->sizes, (size_t)cap * sizeof *sz);
+            if (!sz)
+                return VSV_ENOMEM;
+            w->sizes = sz;
+        }
     }
     vsv_pack_stats_add(w->st, w->meta.nvars, w->cells, fields);
+    if (w->ring) { /* into the ring; a full batch is encoded at once */
+        float *slot = w->ring + (size_t)(w->nsteps % w->nring) * (size_t)w->meta.nvars * w->cells;
+        for (int v = 0; v < w->meta.nvars; v++)
+            memcpy(slot + (size_t)v * w->cells, fields[v], w->cells * sizeof(float));
+        w->times[w->nsteps++] = time;
+        if (w->nsteps - w->encoded == w->nring - 1)
+            return encode_steps(w, w->encoded, w->nsteps, NULL, NULL);
+        return 0;
+    }
     for (int v = 0; v < w->meta.nvars; v++)
         if (vsv_write_full(w->spool_fd, fields[v], w->cells * 4, -1))
             return fail_errno(w, "writing the spool file");
@@ -159,10 +188,13 @@ typedef struct job {
     size_t size;
 } job;
 
+/* The fields of step t: in the spool, or in the ring. */
 static void spool_fields(const vsv_writer *w, int t, const float **f)
 {
+    const float *base = w->ring ? w->ring + (size_t)(t % w->nring) * (size_t)w->meta.nvars * w->cells
+                                : w->spool + (size_t)t * (size_t)w->meta.nvars * w->cells;
     for (int v = 0; v < w->meta.nvars; v++)
-        f[v] = w->spool + ((size_t)t * (size_t)w->meta.nvars + (size_t)v) * w->cells;
+        f[v] = base + (size_t)v * w->cells;
 }
 
 static void *job_run(void *arg)
@@ -183,26 +215,35 @@ static void *job_run(void *arg)
     return NULL;
 }
 
-static int encode_all(vsv_writer *w, const vsv_pack_plan *plan, uint64_t *sizes,
-                      void (*progress)(void *, int, int), void *ctx)
+/* The encoders over the plan, one a thread (made once). */
+static int encoders(vsv_writer *w, const vsv_pack_plan *plan)
+{
+    if (w->nenc)
+        return 0;
+    int nth = w->opts.threads > 0 ? w->opts.threads : vsv_ncpus();
+    nth = nth < 1 ? 1 : nth > 64 ? 64 : nth;
+    for (int i = 0; i < nth; i++) {
+        int rc = vsv_chunk_encoder_create(plan, &w->enc[i]);
+        if (rc)
+            return rc;
+        w->nenc++;
+    }
+    return 0;
+}
+
+/* Encodes steps t0..t1-1 in parallel batches and writes their chunks in
+ * order at w->off. */
+static int encode_steps(vsv_writer *w, int t0, int t1, void (*progress)(void *, int, int), void *ctx)
 {
     int rc = 0;
-    int nth = w->opts.threads > 0 ? w->opts.threads : vsv_ncpus();
-    if (nth > w->nsteps)
-        nth = w->nsteps;
-    if (nth > 64)
-        nth = 64;
-    vsv_chunk_encoder *enc[64] = {0};
-    for (int i = 0; i < nth && !rc; i++)
-        rc = vsv_chunk_encoder_create(plan, &enc[i]);
-    uint64_t off = vsv_pack_plan_first_chunk(plan);
-    for (int t0 = 0; !rc && t0 < w->nsteps; t0 += nth) {
-        const int cnt = w->nsteps - t0 < nth ? w->nsteps - t0 : nth;
+    const int nth = w->nenc;
+    for (int b0 = t0; !rc && b0 < t1; b0 += nth) {
+        const int cnt = t1 - b0 < nth ? t1 - b0 : nth;
         job jobs[64];
         pthread_t tid[64];
         int started[64] = {0};
         for (int i = 0; i < cnt; i++) {
-            jobs[i] = (job){w, enc[i], t0 + i, 0, NULL, 0};
+            jobs[i] = (job){w, w->enc[i], b0 + i, 0, NULL, 0};
             if (i > 0 && pthread_create(&tid[i], NULL, job_run, &jobs[i]) == 0)
                 started[i] = 1;
         }
@@ -216,21 +257,79 @@ static int encode_all(vsv_writer *w, const vsv_pack_plan *plan, uint64_t *sizes,
         for (int i = 0; i < cnt && !rc; i++) {
             if (jobs[i].rc) {
                 rc = jobs[i].rc;
-                vsv_msg(w->err, sizeof w->err, "encoding step %d: %s", t0 + i,
-                        rc == VSV_ENOMEM ? vsv_strerror(rc) : vsv_chunk_encoder_error(enc[i]));
+                vsv_msg(w->err, sizeof w->err, "encoding step %d: %s", b0 + i,
+                        rc == VSV_ENOMEM ? vsv_strerror(rc) : vsv_chunk_encoder_error(w->enc[i]));
                 break;
             }
-            sizes[t0 + i] = jobs[i].size;
-            if (vsv_write_full(w->out_fd, jobs[i].bytes, jobs[i].size, (int64_t)off))
+            w->sizes[b0 + i] = jobs[i].size;
+            if (vsv_write_full(w->out_fd, jobs[i].bytes, jobs[i].size, (int64_t)w->off))
                 rc = fail_errno(w, "writing a chunk");
-            off += jobs[i].size;
+            w->off += jobs[i].size;
         }
+        if (!rc)
+            w->encoded = b0 + cnt;
         if (progress && !rc)
-            progress(ctx, t0 + cnt, w->nsteps);
+            progress(ctx, b0 + cnt, t1);
     }
-    for (int i = 0; i < nth; i++)
-        vsv_chunk_encoder_free(enc[i]);
     return rc;
+}
+
+/* The temporary output beside the path, with the plan's metadata written. */
+static int start_output(vsv_writer *w, const vsv_pack_plan *plan)
+{
+    char tmp[4200];
+    w->out_fd = vsv_output_temp(w->path, NULL, tmp, sizeof tmp);
+    if (w->out_fd < 0 || !(w->tmp = strdup(tmp))) {
+        if (w->out_fd >= 0) {
+            close(w->out_fd);
+            w->out_fd = -1;
+            vsv_output_discard(tmp);
+        }
+        return fail_errno(w, "cannot create the temporary output");
+    }
+    const uint64_t meta_off = VSV_HEADER_SIZE;
+    w->off = vsv_pack_plan_first_chunk(plan);
+    if (vsv_write_full(w->out_fd, vsv_pack_plan_meta_bytes(plan), w->off - meta_off, (int64_t)meta_off))
+        return fail_errno(w, "writing metadata");
+    return 0;
+}
+
+int vsv_writer_expect(vsv_writer *w, const vsv_pack_stats *stats)
+{
+    if (w->finished || w->nsteps || w->plan || w->spool_fd < 0)
+        return VSV_EINVAL;
+    const int nv = w->meta.nvars;
+    int rc = vsv_pack_plan_create(&w->meta, &w->opts, stats, &w->plan);
+    if (rc) {
+        vsv_msg(w->err, sizeof w->err, "%s", rc == VSV_ENOMEM ? vsv_strerror(rc) : vsv_pack_plan_error(w->plan));
+        vsv_pack_plan_free(w->plan);
+        w->plan = NULL;
+        return rc;
+    }
+    if ((rc = encoders(w, w->plan)))
+        return rc;
+    /* a batch of as many steps as encoders, and the one before it */
+    w->nring = w->nenc + 1;
+    w->promised = malloc((size_t)nv * sizeof *w->promised);
+    w->ring = malloc((size_t)w->nring * (size_t)nv * w->cells * sizeof(float));
+    w->sizes = malloc((size_t)(w->cap_steps > 0 ? w->cap_steps : 1) * sizeof *w->sizes);
+    if (!w->promised || !w->ring || !w->sizes)
+        return VSV_ENOMEM;
+    memcpy(w->promised, stats, (size_t)nv * sizeof *stats);
+    close(w->spool_fd);
+    w->spool_fd = -1;
+    return start_output(w, w->plan);
+}
+
+/* 1 when the statistics of the steps added are the ones promised. */
+static int kept_promise(const vsv_writer *w)
+{
+    for (int v = 0; v < w->meta.nvars; v++) {
+        const vsv_pack_stats *a = &w->st[v], *b = &w->promised[v];
+        if (a->min != b->min || a->max != b->max || a->minpos != b->minpos || (a->nonfinite > 0) != (b->nonfinite > 0))
+            return 0;
+    }
+    return 1;
 }
 
 static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *ctx)
@@ -239,52 +338,47 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
         vsv_msg(w->err, sizeof w->err, "no time steps to write");
         return VSV_EINVAL;
     }
-    vsv_pack_plan *plan = NULL;
-    int rc = vsv_pack_plan_create(&w->meta, &w->opts, w->st, &plan);
-    if (rc) {
-        vsv_msg(w->err, sizeof w->err, "%s", rc == VSV_ENOMEM ? vsv_strerror(rc) : vsv_pack_plan_error(plan));
-        vsv_pack_plan_free(plan);
-        return rc;
-    }
-    uint64_t *sizes = calloc((size_t)w->nsteps, sizeof *sizes);
+    int rc = 0;
     const size_t tail_bytes = vsv_pack_tail_bytes(w->nsteps);
     unsigned char *tail = malloc(tail_bytes), head[VSV_HEADER_SIZE];
-    if (!sizes || !tail) {
-        rc = VSV_ENOMEM;
-        goto done;
-    }
-    w->spool_bytes = (size_t)w->nsteps * (size_t)w->meta.nvars * w->cells * 4;
-    void *map = mmap(NULL, w->spool_bytes, PROT_READ, MAP_PRIVATE, w->spool_fd, 0);
-    if (map == MAP_FAILED) {
-        rc = fail_errno(w, "mapping the spool file");
-        goto done;
-    }
-    w->spool = map;
-    madvise(map, w->spool_bytes, MADV_SEQUENTIAL);
-
-    {
-        char tmp[4200];
-        w->out_fd = vsv_output_temp(w->path, NULL, tmp, sizeof tmp);
-        if (w->out_fd < 0 || !(w->tmp = strdup(tmp))) {
-            if (w->out_fd >= 0) {
-                close(w->out_fd);
-                w->out_fd = -1;
-                vsv_output_discard(tmp);
-            }
-            rc = fail_errno(w, "cannot create the temporary output");
+    if (!tail)
+        return VSV_ENOMEM;
+    if (w->ring) { /* planned: the steps left in the ring */
+        if (!kept_promise(w)) {
+            vsv_msg(w->err, sizeof w->err, "the steps added do not have the statistics promised for them");
+            rc = VSV_EINVAL;
             goto done;
         }
+        if ((rc = encode_steps(w, w->encoded, w->nsteps, NULL, NULL)))
+            goto done;
+        if (progress)
+            progress(ctx, w->nsteps, w->nsteps);
+    } else {
+        if ((rc = vsv_pack_plan_create(&w->meta, &w->opts, w->st, &w->plan))) {
+            vsv_msg(w->err, sizeof w->err, "%s",
+                    rc == VSV_ENOMEM ? vsv_strerror(rc) : vsv_pack_plan_error(w->plan));
+            goto done;
+        }
+        w->sizes = calloc((size_t)w->nsteps, sizeof *w->sizes);
+        if (!w->sizes) {
+            rc = VSV_ENOMEM;
+            goto done;
+        }
+        w->spool_bytes = (size_t)w->nsteps * (size_t)w->meta.nvars * w->cells * 4;
+        void *map = mmap(NULL, w->spool_bytes, PROT_READ, MAP_PRIVATE, w->spool_fd, 0);
+        if (map == MAP_FAILED) {
+            rc = fail_errno(w, "mapping the spool file");
+            goto done;
+        }
+        w->spool = map;
+        madvise(map, w->spool_bytes, MADV_SEQUENTIAL);
+        if ((rc = start_output(w, w->plan)) || (rc = encoders(w, w->plan)) ||
+            (rc = encode_steps(w, 0, w->nsteps, progress, ctx)))
+            goto done;
     }
-    const uint64_t meta_off = VSV_HEADER_SIZE;
-    if (vsv_write_full(w->out_fd, vsv_pack_plan_meta_bytes(plan), vsv_pack_plan_first_chunk(plan) - meta_off, (int64_t)meta_off)) {
-        rc = fail_errno(w, "writing metadata");
-        goto done;
-    }
-    if ((rc = encode_all(w, plan, sizes, progress, ctx)))
-        goto done;
     uint64_t tail_off;
-    if ((rc = vsv_pack_plan_finish(plan, w->nsteps, w->times, sizes, head, tail, &tail_off))) {
-        vsv_msg(w->err, sizeof w->err, "%s", vsv_pack_plan_error(plan));
+    if ((rc = vsv_pack_plan_finish(w->plan, w->nsteps, w->times, w->sizes, head, tail, &tail_off))) {
+        vsv_msg(w->err, sizeof w->err, "%s", vsv_pack_plan_error(w->plan));
         goto done;
     }
     if (vsv_write_full(w->out_fd, tail, tail_bytes, (int64_t)tail_off)) {
@@ -310,9 +404,7 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
     free(w->tmp);
     w->tmp = NULL;
 done:
-    free(sizes);
     free(tail);
-    vsv_pack_plan_free(plan);
     return rc;
 }
 
@@ -343,6 +435,12 @@ void vsv_writer_free(vsv_writer *w)
         vsv_output_discard(w->tmp);
         free(w->tmp);
     }
+    for (int i = 0; i < w->nenc; i++)
+        vsv_chunk_encoder_free(w->enc[i]);
+    vsv_pack_plan_free(w->plan);
+    free(w->promised);
+    free(w->ring);
+    free(w->sizes);
     vsv_meta_clear(&w->meta);
     free(w->path);
     free(w->vars);

@@ -693,6 +693,37 @@ static void test_below_ground(void)
     free(out);
 }
 
+/* vsv_writer_expect: told the statistics in advance, the writer encodes as
+ * the steps come (no spool) and writes the same bytes; a promise the steps
+ * break fails at finish and leaves nothing. */
+static void test_planned(void)
+{
+    const synth sy = {70, 50, 20, 30, 10, 20};
+    const char *a = vsv_test_tmp("spooled.vsv"), *b = vsv_test_tmp("planned.vsv"), *c = vsv_test_tmp("lied.vsv");
+    for (int threads = 1; threads <= 3; threads += 2) {
+        vsv_pack_opts o;
+        vsv_pack_opts_init(&o);
+        o.brick = 16;
+        o.keyframe = 4;
+        o.threads = threads;
+        char err[512] = "";
+        int rc = synth_write(&sy, a, &o, err, sizeof err);
+        rc |= synth_write_planned(&sy, b, &o, 0, err, sizeof err);
+        size_t na = 0, nb = 0;
+        unsigned char *da = vsv_test_slurp(a, &na), *db = vsv_test_slurp(b, &nb);
+        CHECK(rc == 0 && da && db && na == nb && !memcmp(da, db, na),
+              threads == 1 ? "planned writer, 1 thread: byte for byte the spooled file"
+                           : "planned writer, 3 threads: byte for byte the spooled file",
+              "%s (%zu vs %zu bytes)", err, na, nb);
+        free(da);
+        free(db);
+    }
+    char err[512] = "";
+    int rc = synth_write_planned(&sy, c, NULL, 1, err, sizeof err);
+    CHECK(rc == VSV_EINVAL && strstr(err, "do not have the statistics promised") && access(c, F_OK) != 0,
+          "a broken promise fails at finish and leaves no file", "rc %d: %s", rc, err);
+}
+
 int main(void)
 {
     test_series();
@@ -701,5 +732,6 @@ int main(void)
     test_heights();
     test_predict();
     test_below_ground();
+    test_planned();
     return vsv_test_done();
 }

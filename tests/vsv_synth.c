@@ -56,7 +56,18 @@ void synth_meta(const synth *sy, vsv_meta *m)
             m->terrain[(size_t)j * sy->nx + i] = (float)(40.0 * (i + j) / (sy->nx + sy->ny));
 }
 
-int synth_write(const synth *sy, const char *path, const vsv_pack_opts *opts, char *err, size_t cap)
+/* The three species at step t into f. */
+static void synth_fill(const synth *sy, int t, float *const *f)
+{
+    for (int s = 0; s < 3; s++)
+        for (int k = 0; k < sy->nz; k++)
+            for (int j = 0; j < sy->ny; j++)
+                for (int i = 0; i < sy->nx; i++)
+                    f[s][((size_t)k * sy->ny + j) * sy->nx + i] = synth_value(sy, s, t, i, j, k);
+}
+
+static int write_series(const synth *sy, const char *path, const vsv_pack_opts *opts, int planned, char *err,
+                        size_t cap)
 {
     vsv_meta m;
     vsv_meta_init(&m);
@@ -65,12 +76,19 @@ int synth_write(const synth *sy, const char *path, const vsv_pack_opts *opts, ch
     const size_t cells = (size_t)sy->nx * sy->ny * sy->nz;
     float *f[3] = {malloc(cells * 4), malloc(cells * 4), malloc(cells * 4)};
     int rc = vsv_writer_create(path, &m, opts, &w);
+    if (!rc && planned) { /* a first pass for the statistics (a wrong one when planned is 2) */
+        vsv_pack_stats st[3];
+        vsv_pack_stats_init(st, 3);
+        for (int t = 0; t < sy->nsteps; t++) {
+            synth_fill(sy, t, f);
+            vsv_pack_stats_add(st, 3, cells, (const float *const *)f);
+        }
+        if (planned == 2)
+            st[1].max += 1;
+        rc = vsv_writer_expect(w, st);
+    }
     for (int t = 0; !rc && t < sy->nsteps; t++) {
-        for (int s = 0; s < 3; s++)
-            for (int k = 0; k < sy->nz; k++)
-                for (int j = 0; j < sy->ny; j++)
-                    for (int i = 0; i < sy->nx; i++)
-                        f[s][((size_t)k * sy->ny + j) * sy->nx + i] = synth_value(sy, s, t, i, j, k);
+        synth_fill(sy, t, f);
         rc = vsv_writer_add_step(w, synth_time(t), (const float *const *)f);
     }
     if (!rc)
@@ -82,4 +100,14 @@ int synth_write(const synth *sy, const char *path, const vsv_pack_opts *opts, ch
     for (int s = 0; s < 3; s++)
         free(f[s]);
     return rc;
+}
+
+int synth_write(const synth *sy, const char *path, const vsv_pack_opts *opts, char *err, size_t cap)
+{
+    return write_series(sy, path, opts, 0, err, cap);
+}
+
+int synth_write_planned(const synth *sy, const char *path, const vsv_pack_opts *opts, int lie, char *err, size_t cap)
+{
+    return write_series(sy, path, opts, lie ? 2 : 1, err, cap);
 }

@@ -17,6 +17,9 @@ float synth_value(const synth *sy, int s, int t, int i, int j, int k);
 void synth_meta(const synth *sy, vsv_meta *m);
 /* Writes the series to path with opts (vars may be NULL); 0 or error. */
 int synth_write(const synth *sy, const char *path, const vsv_pack_opts *opts, char *err, size_t cap);
+/* The same, with the statistics given to the writer in advance from a
+ * first pass (vsv_writer_expect), false ones when lie is set. */
+int synth_write_planned(const synth *sy, const char *path, const vsv_pack_opts *opts, int lie, char *err, size_t cap);
 /* Time of step t. */
 int64_t synth_time(int t);
 
