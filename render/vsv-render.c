@@ -60,8 +60,10 @@ static const char usage[] =
     "                          two points); repeatable (8 at most)\n"
     "      --slice-species NAME  the species the slices show (default: the first\n"
     "                          drawn); drawn as a slice only when not in --species\n"
-    "      --slice-colormap NAME  the slices' colour map over the species' range\n"
-    "                          (default viridis; see --tf for the names)\n"
+    "      --slice-colormap NAME  the slices' colour map (default viridis; see --tf\n"
+    "                          for the names) over the range of the values the\n"
+    "                          slices show in each frame (said on their bar)\n"
+    "      --slice-range LO:HI   that range fixed instead (the same for every frame)\n"
     "  -r, --renderer NAME     raycast (default), shearwarp (faster; frames whose eye\n"
     "                          is inside the volume are raycast) or gl (the raycaster\n"
     "                          on the GPU, OpenGL 3.3 through EGL: no display needed)\n"
@@ -217,7 +219,7 @@ static void movie_close(movie *mv)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB };
+    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
     static const struct option longopts[] = {
         {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
         {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -232,6 +234,7 @@ int main(int argc, char **argv)
         {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
         {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
         {"slice-colormap", required_argument, 0, O_SLICECM}, {"gpu-mb", required_argument, 0, O_GPUMB},
+        {"slice-range", required_argument, 0, O_SLICERANGE},
         {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
         {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
     const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
@@ -242,6 +245,7 @@ int main(int argc, char **argv)
     int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0, plan = 0, nranges = 0;
     const char *ranges[64], *slice_specs[8], *slice_species = NULL;
     const char *slice_cmap = "viridis";
+    double slice_range[2] = {NAN, NAN}; /* --slice-range, else each frame's own */
     int nslice_specs = 0, light = 0;
     double sun_az = 315, sun_el = 45;
     unsigned parts = VSV_ANNOT_ALL;
@@ -310,6 +314,13 @@ int main(int argc, char **argv)
             if (!known)
                 vsv_cli_usage_error("--slice-colormap %s: not a colour map name", optarg);
             slice_cmap = optarg;
+            break;
+        }
+        case O_SLICERANGE: {
+            int used = 0;
+            if (sscanf(optarg, "%lf:%lf%n", &slice_range[0], &slice_range[1], &used) != 2 || optarg[used] ||
+                !(slice_range[0] < slice_range[1]) || !isfinite(slice_range[0]) || !isfinite(slice_range[1]))
+                vsv_cli_usage_error("--slice-range %s: expected LO:HI with LO < HI", optarg);
             break;
         }
         case O_NOANNOT: parts = 0; break;
@@ -473,6 +484,8 @@ int main(int argc, char **argv)
     }
     vsv_tf slice_tf = tfs[slice_layer]; /* the species' range and scale, the slices' colour map */
     snprintf(slice_tf.colormap, sizeof slice_tf.colormap, "%s", slice_cmap);
+    if (isfinite(slice_range[0]))
+        slice_tf.lo = slice_range[0], slice_tf.hi = slice_range[1];
     if (nslice_specs && vsv_tf_prepare(&slice_tf))
         vsv_cli_die(1, "%s: the slices' colours cannot be made", path);
     vsv_scene sc = {.meta = m, .layers = layers, .nlayers = nl, .exaggeration = exag, .show_terrain = terrain,
@@ -523,7 +536,12 @@ int main(int argc, char **argv)
         vsv_cli_notes(note);
     }
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    const vsv_annot annot = {parts, font, 0, base, sidx, outlines};
+    const vsv_annot annot = {parts, font, 0, base, sidx, outlines, NULL, NULL};
+    if (plan && parts && !lookat) { /* the map framed inside the legend's margins */
+        int inset[4];
+        vsv_annotate_insets(&annot, &sc, width, height, inset);
+        vsv_camera_plan_inset(&cam, &sc, width, height, inset);
+    }
     vsv_renderer *r = NULL;
     vsv_gl_context *glc = NULL;
     vsv_gl *gl = NULL;
@@ -552,6 +570,16 @@ int main(int argc, char **argv)
         for (int l = 0; l < nl; l++)
             if (vsv_volume_load(vols[l], d, t, sidx[l]))
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));
+        double slo, shi; /* the slices' own range in this frame */
+        if (nslice_specs && !isfinite(slice_range[0]) && !vsv_slice_range(&sc, &slo, &shi)) {
+            if (slice_tf.scale == VSV_SCALE_LOG)
+                slo = slo > 0 ? slo : shi * 1e-6;
+            if (!(shi > slo))
+                shi = slo + (slo ? fabs(slo) * 1e-6 : 1e-30);
+            slice_tf.lo = slo, slice_tf.hi = shi;
+            if (vsv_tf_prepare(&slice_tf))
+                vsv_cli_die(1, "%s: the slices' colours cannot be made", path);
+        }
         for (int eye = 0; eye < (stereo ? 2 : 1); eye++) {
             cam.eye_offset = stereo ? (eye ? sep / 2 : -sep / 2) : 0;
             if (gl ? vsv_gl_render(gl, &sc, &cam, rgba, depth) : vsv_render(r, &sc, &cam, rgba, depth))

@@ -1,7 +1,9 @@
 /* vsv_annotate.c — what a frame says about itself, drawn into it: the model
  * time and run (top left), a colour bar per visible species with its name,
  * units and range (bottom right), the vertical exaggeration and a scale bar
- * (bottom left), over the ground lines of vsv_mapdraw.c. */
+ * (bottom left; in a plan view, which has no exaggeration to state, at the
+ * top of the bars' column), over the ground lines of vsv_mapdraw.c. A plan
+ * view framed by vsv_annotate_insets keeps all of it off the map. */
 #include "vsv_annot_internal.h"
 
 #include <math.h>
@@ -28,7 +30,16 @@ typedef struct layout {
     int bar_w, bar_h, block;
     int x0, x1;  /* the bars' columns */
     int nvis;
+    int plan;    /* an orthographic map view: the scale in the bars' column */
+    int top;     /* the height of the time block's band (0 without it) */
 } layout;
+
+static void placed(const vsv_annot *a, unsigned part, int x0, int y0, int x1, int y1)
+{
+    const int box[4] = {x0, y0, x1, y1};
+    if (a->placed)
+        a->placed(a->placed_ctx, part, box);
+}
 
 static int visible(const vsv_layer *l)
 {
@@ -46,9 +57,8 @@ static const vsv_tf *bar_tf(const vsv_scene *sc, int k)
     return NULL;
 }
 
-static void lay_out(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, layout *L)
+static void lay_out_size(const vsv_annot *a, const vsv_scene *sc, int w, int plan, layout *L)
 {
-    const int w = cam->width;
     L->lh = a->font ? vsv_font_line(a->font) : 12;
     L->pad = L->lh / 4 + 2;
     L->margin = L->lh / 2 + 2;
@@ -62,6 +72,31 @@ static void lay_out(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *c
     L->nvis = 0;
     for (int l = 0; l <= sc->nlayers; l++)
         L->nvis += bar_tf(sc, l) != NULL;
+    L->plan = plan;
+    L->top = (a->parts & VSV_ANNOT_TIME) && a->font ? L->margin + 2 * L->lh + 2 * L->pad : 0;
+}
+
+static void lay_out(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, layout *L)
+{
+    lay_out_size(a, sc, cam->width, cam->fov_deg <= 0 && cam->ortho_height > 0, L);
+}
+
+/* The scale block's lines (plan: no exaggeration, a plan view has none to
+ * show) and its bar's length in pixels; 0 lines when it has none. */
+static int scale_lines(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, char *ex,
+                       char *km, size_t cap, double *len_px);
+
+void vsv_annotate_insets(const vsv_annot *a, const vsv_scene *sc, int w, int h, int inset[4])
+{
+    (void)h;
+    layout L;
+    lay_out_size(a, sc, w, 1, &L);
+    inset[0] = inset[1] = inset[2] = inset[3] = 0;
+    if (L.top)
+        inset[1] = L.top + L.margin;
+    const int bars = (a->parts & VSV_ANNOT_COLOURBAR) && L.nvis > 0 && L.bar_w >= 8;
+    if (bars || (a->parts & VSV_ANNOT_SCALEBAR))
+        inset[2] = L.bar_w + 2 * L.pad + 2 * L.margin;
 }
 
 /* The bar of the k-th visible layer: its top row. */
@@ -120,14 +155,28 @@ static void bar_name(const vsv_annot *a, const vsv_scene *sc, int l, const vsv_t
     char units[80] = "";
     if (v && v->units[0])
         snprintf(units, sizeof units, " (%s)", v->units);
-    const char *what = tf->scale == VSV_SCALE_LOG ? (slices ? ", log, slices" : ", log") : slices ? ", slices" : "";
-    snprintf(name, cap, "%s%s%s", v ? v->name : "?", units, what);
-    if (v && v->description[0]) { /* the description too, where it fits */
-        char longer[512];
-        snprintf(longer, sizeof longer, "%s: %s%s%s", v->name, v->description, units, what);
-        if (width(a, longer) <= room)
-            snprintf(name, cap, "%s", longer);
+    /* one form for every bar: the name, its units, its scale; a slices'
+     * bar says where they are (a horizontal one's height, or a curtain) */
+    char where[96] = "";
+    if (slices) {
+        int nz = 0, nc = 0;
+        double z = 0;
+        for (int i = 0; i < sc->nslices; i++) {
+            if (sc->slices[i].kind == VSV_SLICE_Z)
+                z = sc->slices[i].z, nz++;
+            else
+                nc++;
+        }
+        if (nz == 1 && !nc)
+            snprintf(where, sizeof where, ", slice at %.0f m", z);
+        else if (nc == 1 && !nz)
+            snprintf(where, sizeof where, ", vertical slice");
+        else
+            snprintf(where, sizeof where, ", %d slices", sc->nslices);
     }
+    snprintf(name, cap, "%s%s%s%s", v ? v->name : "?", units, tf->scale == VSV_SCALE_LOG ? ", log" : "", where);
+    if (width(a, name) > room && slices) /* the short form where the long one does not fit */
+        snprintf(name, cap, "%s%s%s", v ? v->name : "?", units, where);
 }
 
 /* A bar's colours in pixel rows top .. top + bar_h - 1, columns x0 .. x1:
@@ -167,6 +216,8 @@ static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camer
         const int bx0 = (L->x1 + 1 - nw < L->x0 ? L->x1 + 1 - nw : L->x0) - L->pad;
         vsv_annot_box(rgba, w, h, bx0, top - (a->font ? L->lh : 0) - L->pad, L->x1 + L->pad,
                       top + L->bar_h - 1 + (a->font ? L->lh : 0) + L->pad, 0.55f);
+        placed(a, VSV_ANNOT_COLOURBAR, bx0, top - (a->font ? L->lh : 0) - L->pad, L->x1 + L->pad,
+               top + L->bar_h - 1 + (a->font ? L->lh : 0) + L->pad);
         text(a, rgba, w, h, L->x1 + 1 - nw, top - L->lh, name);
         bar_fill(tf, L->x0, L->x1, top, L->bar_h, rgba, w, h);
         char lo[32], hi[32];
@@ -217,6 +268,7 @@ static void time_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera
     const int tw = width(a, line1) > width(a, line2) ? width(a, line1) : width(a, line2);
     vsv_annot_box(rgba, w, h, L->margin, L->margin, L->margin + tw + 2 * L->pad - 1, L->margin + 2 * L->lh + 2 * L->pad - 1,
                   0.55f);
+    placed(a, VSV_ANNOT_TIME, L->margin, L->margin, L->margin + tw + 2 * L->pad - 1, L->margin + 2 * L->lh + 2 * L->pad - 1);
     text(a, rgba, w, h, L->margin + L->pad, L->margin + L->pad, line1);
     text(a, rgba, w, h, L->margin + L->pad, L->margin + L->pad + L->lh, line2);
 }
@@ -245,41 +297,58 @@ static double metres_per_pixel(const vsv_camera *cam)
     return px > 0 ? L / px : 0;
 }
 
-static void scale_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
+static int scale_lines(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, char *ex,
+                       char *km, size_t cap, double *len_px)
 {
-    const int w = cam->width, h = cam->height;
-    char ex[64] = "", km[64] = "";
-    if (a->parts & VSV_ANNOT_EXAGGERATION)
-{
+    ex[0] = km[0] = 0;
+    *len_px = 0;
+    if ((a->parts & VSV_ANNOT_EXAGGERATION) && !L->plan) {
         const double e = sc->exaggeration > 0 ? sc->exaggeration : 1;
-        snprintf(ex, sizeof ex, e >= 100 ? "vertical \xc3\x97%.0f" : "vertical \xc3\x97%.3g", e);
+        snprintf(ex, cap, e >= 100 ? "vertical \xc3\x97%.0f" : "vertical \xc3\x97%.3g", e);
     }
-    double len_px = 0;
     if (a->parts & VSV_ANNOT_SCALEBAR) {
         const double mpp = metres_per_pixel(cam);
         if (mpp > 0) {
-            /* a round length near a sixth of the image's width */
-            const double want = mpp * w / 6;
+            /* a round length near a sixth of the image's width (in a plan
+             * view, at most the bars' column) */
+            const double want = mpp * (L->plan ? fmin(cam->width / 6.0, L->bar_w) : cam->width / 6.0);
             const double p10 = pow(10, floor(log10(want)));
             const double len = want >= 5 * p10 ? 5 * p10 : want >= 2 * p10 ? 2 * p10 : p10;
-            len_px = len / mpp;
+            *len_px = len / mpp;
             if (len >= 1000)
-                snprintf(km, sizeof km, "%g km%s", len / 1000, cam->fov_deg > 0 ? " (at centre)" : "");
+                snprintf(km, cap, "%g km%s", len / 1000, cam->fov_deg > 0 ? " (at centre)" : "");
             else
-                snprintf(km, sizeof km, "%g m%s", len, cam->fov_deg > 0 ? " (at centre)" : "");
+                snprintf(km, cap, "%g m%s", len, cam->fov_deg > 0 ? " (at centre)" : "");
         }
     }
-    if (!ex[0] && !km[0])
+    return (ex[0] != 0) + (km[0] ? 2 : 0);
+}
+
+static void scale_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
+{
+    const int w = cam->width, h = cam->height;
+    char ex[64], km[64];
+    double len_px;
+    const int lines = scale_lines(a, sc, cam, L, ex, km, sizeof ex, &len_px);
+    if (!lines)
         return;
-    const int lines = (ex[0] != 0) + (km[0] ? 2 : 0);
     int bw = width(a, ex) > width(a, km) ? width(a, ex) : width(a, km);
     if ((int)len_px > bw)
         bw = (int)len_px;
-    const int y1 = h - 1 - L->margin, y0 = y1 - lines * L->lh - 2 * L->pad + 1;
-    const int x0 = L->margin;
-    if (y0 < 0)
+    int x0, y0, y1;
+    if (L->plan) { /* the top of the bars' column, under the time block's band */
+        x0 = L->x1 + L->pad - bw - 2 * L->pad;
+        y0 = (L->top ? L->top + L->margin : L->margin);
+        y1 = y0 + lines * L->lh + 2 * L->pad - 1;
+    } else {
+        y1 = h - 1 - L->margin, y0 = y1 - lines * L->lh - 2 * L->pad + 1;
+        x0 = L->margin;
+    }
+    if (y0 < 0 || y1 >= h || x0 < 0)
         return;
     vsv_annot_box(rgba, w, h, x0, y0, x0 + bw + 2 * L->pad, y1, 0.55f);
+    placed(a, a->parts & VSV_ANNOT_SCALEBAR ? VSV_ANNOT_SCALEBAR : VSV_ANNOT_EXAGGERATION, x0, y0, x0 + bw + 2 * L->pad,
+           y1);
     int y = y0 + L->pad;
     if (ex[0]) {
         text(a, rgba, w, h, x0 + L->pad, y, ex);

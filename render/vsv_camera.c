@@ -271,15 +271,27 @@ void vsv_camera_fit(vsv_camera *cam, const vsv_scene *sc, double az, double el, 
 
 void vsv_camera_plan(vsv_camera *cam, const vsv_scene *sc, int width, int height)
 {
+    static const int none[4] = {0, 0, 0, 0};
+    vsv_camera_plan_inset(cam, sc, width, height, none);
+}
+
+void vsv_camera_plan_inset(vsv_camera *cam, const vsv_scene *sc, int width, int height, const int inset[4])
+{
     double mn[3], mx[3];
     vsv_scene_bounds(sc, mn, mx);
     memset(cam, 0, sizeof *cam);
     cam->width = width;
     cam->height = height;
+    /* the free rectangle, at least a quarter of each side */
+    const int fw = width - inset[0] - inset[2] > width / 4 ? width - inset[0] - inset[2] : width / 4;
+    const int fh = height - inset[1] - inset[3] > height / 4 ? height - inset[1] - inset[3] : height / 4;
     const double w = mx[0] - mn[0], h = mx[1] - mn[1];
-    cam->ortho_height = fmax(h, w * height / width) * 1.02;
-    cam->pos[0] = 0.5 * (mn[0] + mx[0]);
-    cam->pos[1] = 0.5 * (mn[1] + mx[1]);
+    const double per_px = fmax(h / fh, w / fw) * 1.02; /* metres a pixel */
+    cam->ortho_height = per_px * height;
+    /* the domain's centre at the free rectangle's: the eye off the image's */
+    const double cx = inset[0] + 0.5 * fw - 0.5 * width, cy = inset[1] + 0.5 * fh - 0.5 * height;
+    cam->pos[0] = 0.5 * (mn[0] + mx[0]) - cx * per_px;
+    cam->pos[1] = 0.5 * (mn[1] + mx[1]) + cy * per_px;
     cam->pos[2] = mx[2] + 1000;
     cam->dir[2] = -1;
     cam->up[1] = 1;

@@ -168,11 +168,13 @@ static void degrees(double v, int lat, double step, char *buf, size_t cap)
         snprintf(buf, cap, "%.2f°%s", a, hemi);
 }
 
-static void label(const vsv_annot *a, float *rgba, int w, int h, double x, double y, const char *text, int below,
-                  const float *legend)
+/* Draws a label at its anchor unless it would fall under the legend or on
+ * a label already drawn (boxes: n of them, grown by one); 1 when drawn. */
+static int label(const vsv_annot *a, float *rgba, int w, int h, double x, double y, const char *text, int below,
+                 const float *legend, int (*boxes)[4], int *n)
 {
     if (!a->font)
-        return;
+        return 0;
     const int tw = vsv_text_width(a->font, text), lh = vsv_font_line(a->font);
     int tx = below ? (int)(x - tw / 2.0) : (int)x + 3, ty = below ? (int)y - lh - 2 : (int)(y - lh / 2.0);
     tx = tx < 2 ? 2 : tx + tw > w - 2 ? w - 2 - tw : tx;
@@ -180,10 +182,19 @@ static void label(const vsv_annot *a, float *rgba, int w, int h, double x, doubl
     for (int yy = ty; legend && yy < ty + lh && yy < h; yy++) /* not under the legend */
         for (int xx = tx; xx < tx + tw && xx < w; xx++)
             if (yy >= 0 && xx >= 0 && legend[4 * ((size_t)yy * w + xx) + 3] > 0)
-                return;
+                return 0;
+    const int box[4] = {tx, ty, tx + tw, ty + lh}; /* with its shadow */
+    for (int i = 0; i < *n; i++) /* nor on another label, 2 pixels apart */
+        if (box[0] <= boxes[i][2] + 2 && boxes[i][0] <= box[2] + 2 && box[1] <= boxes[i][3] + 2 &&
+            boxes[i][1] <= box[3] + 2)
+            return 0;
+    memcpy(boxes[(*n)++], box, sizeof box);
     const float shadow[3] = {0, 0, 0}, fg[3] = {0.85f, 0.85f, 0.85f};
     vsv_text_draw(a->font, rgba, w, h, tx + 1, ty + 1, text, shadow, 0.8f);
     vsv_text_draw(a->font, rgba, w, h, tx, ty, text, fg, 1);
+    if (a->placed)
+        a->placed(a->placed_ctx, VSV_ANNOT_GRATICULE, box);
+    return 1;
 }
 
 /* Latitude and longitude lines every `step` degrees over the grid. */
@@ -256,8 +267,9 @@ static int graticule(const vsv_annot *a, const vsv_scene *sc, pen *P, float *rgb
     free(xy);
     const float grey[3] = {0.85f, 0.85f, 0.85f};
     ink(P, rgba, grey, 0.45f);
+    int drawn[256][4], nd = 0;
     for (int i = 0; i < nlab; i++)
-        label(a, rgba, P->w, P->h, labs[i].x, labs[i].y, labs[i].text, labs[i].below, legend);
+        label(a, rgba, P->w, P->h, labs[i].x, labs[i].y, labs[i].text, labs[i].below, legend, drawn, &nd);
     return 0;
 }
 

@@ -152,6 +152,12 @@ int vsv_sun_parse(const char *spec, double *az, double *el);
  * between two points in the grid's projection). 0, or VSV_EINVAL with the
  * reason in msg (the grid's range when the slice misses it). */
 int vsv_slice_parse(const vsv_meta *m, const char *spec, vsv_slice *s, char *msg, size_t cap);
+/* The range of the values the scene's slices show (the slice layer's loaded
+ * volume, sampled as they draw it: every column of a horizontal slice, a
+ * cell's step along a curtain at every level; above the ground only): the
+ * slices' own colour range. 0, or VSV_ERANGE when they show no data,
+ * VSV_ENOMEM. */
+int vsv_slice_range(const vsv_scene *sc, double *lo, double *hi);
 
 /* World metres per unit of the file's x and y: 1 for projected grids; for a
  * latitude/longitude grid its degrees as metres on the sphere (plate
@@ -178,6 +184,9 @@ void vsv_camera_fit(vsv_camera *cam, const vsv_scene *sc, double az, double el, 
 /* A map view: orthographic, looking straight down, north up, the domain
  * filling the image. */
 void vsv_camera_plan(vsv_camera *cam, const vsv_scene *sc, int width, int height);
+/* The same, the domain filling the image less the margins inset (pixels:
+ * left, top, right, bottom), e.g. vsv_annotate_insets' for the legend. */
+void vsv_camera_plan_inset(vsv_camera *cam, const vsv_scene *sc, int width, int height, const int inset[4]);
 /* The views scientists use, by name: "plan" (1: vsv_camera_plan), "south"
  * and "west" (from 8 degrees up), "oblique" (azimuth 225, 30 degrees up)
  * (0: vsv_camera_fit from *az, *el). -1 for any other name. */
@@ -406,6 +415,11 @@ typedef struct vsv_annot {
     const char *source;             /* the file's name, shown with the run */
     const int *species;             /* per scene layer: its variable in the meta */
     const vsv_outlines *outlines;   /* or NULL */
+    /* or NULL: told of every box vsv_annotate draws (part: the VSV_ANNOT_*
+     * it belongs to; box: pixels x0, y0, x1, y1), for tests and callers
+     * that place more on the frame */
+    void (*placed)(void *ctx, unsigned part, const int box[4]);
+    void *placed_ctx;
 } vsv_annot;
 
 /* Draws the annotation into a frame rendered for (sc, cam): rgba as
@@ -421,6 +435,12 @@ int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam,
  * x1 (lo to hi), y0, y1; for tests and callers that label it further. 0,
  * or VSV_ERANGE when there is no such bar. */
 int vsv_annotate_bar_box(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, int l, int box[4]);
+/* The margins (pixels: left, top, right, bottom) a plan view of frames w x
+ * h leaves so that the annotation covers none of the map: the time block
+ * in a band along the top, the colour bars and the scale in a column at
+ * the right (where vsv_annotate puts them in a plan view). Zero where a's
+ * parts draw none of them. */
+void vsv_annotate_insets(const vsv_annot *a, const vsv_scene *sc, int w, int h, int inset[4]);
 
 /* A legend panel (a display's information placed in its room, or any
  * caption): the time line as the annotation writes it (a->time: UTC, and

@@ -182,6 +182,52 @@ static float value_at(const vsv_geo *g, const vsv_volume *v, const double p[3])
     return (float)s;
 }
 
+static void extend(float v, double *lo, double *hi)
+{
+    if (isfinite(v)) {
+        *lo = v < *lo ? v : *lo;
+        *hi = v > *hi ? v : *hi;
+    }
+}
+
+int vsv_slice_range(const vsv_scene *in, double *lo, double *hi)
+{
+    vsv_native nat = {0};
+    const vsv_scene *sc;
+    int rc = vsv_native_scene(&nat, in, &sc);
+    if (rc)
+        return rc;
+    vsv_geo g;
+    vsv_scene_geo(sc, &g);
+    const vsv_volume *v = sc->slice_layer >= 0 && sc->slice_layer < sc->nlayers ? sc->layers[sc->slice_layer].vol : NULL;
+    *lo = INFINITY, *hi = -INFINITY;
+    for (int i = 0; v && i < sc->nslices; i++) {
+        const vsv_slice *s = &sc->slices[i];
+        if (s->kind == VSV_SLICE_Z) {
+            for (int y = 0; y < g.ny; y++)
+                for (int x = 0; x < g.nx; x++) {
+                    const double p[3] = {g.ox + x * g.dx, g.oy + y * g.dy, s->z * g.E};
+                    if (!g.terrain || p[2] >= vsv_geo_terrain(&g, p[0], p[1]))
+                        extend(value_at(&g, v, p), lo, hi);
+                }
+            continue;
+        }
+        const double step = fmin(g.dx, g.dy);
+        for (int e = 0; e + 1 < s->npts; e++) {
+            const double ex = s->xy[e + 1][0] - s->xy[e][0], ey = s->xy[e + 1][1] - s->xy[e][1];
+            const int n = (int)ceil(hypot(ex, ey) / step) + 1;
+            for (int q = 0; q <= n; q++)
+                for (int k = 0; k < g.nz; k++) {
+                    const double p[3] = {s->xy[e][0] + ex * q / n, s->xy[e][1] + ey * q / n, (g.oz + k * g.dz) * g.E};
+                    if (on_grid(&g, p[0], p[1]) && (!g.terrain || p[2] >= vsv_geo_terrain(&g, p[0], p[1])))
+                        extend(value_at(&g, v, p), lo, hi);
+                }
+        }
+    }
+    vsv_native_free(&nat);
+    return *lo <= *hi ? 0 : VSV_ERANGE;
+}
+
 /* The distance along ray (o, d) to slice s between t0 and t1, or INFINITY;
  * the nearest crossing for a curtain. */
 static double slice_hit(const vsv_geo *g, const vsv_slice *s, const double o[3], const double d[3], double t0, double t1)

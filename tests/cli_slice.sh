@@ -56,3 +56,6 @@ if [ -f "$MM" ] && /usr/bin/python3 -c "import numpy, PIL" 2> /dev/null; then
 else
     pass "MM5 lit renderers: skipped (no ../shared MM5 run or no numpy/PIL)"
 fi
+# --slice-range: LO < HI, or a usage error
+expect "--slice-range 2:1 exits 2" 2 "$B/vsv-render" samples/mm5/MMOUT_DOMAIN1_CROP --slice z=3000 --slice-range 2:1 -o "$T/r.png"
+has "... saying what it expects" "$T/err" "--slice-range 2:1: expected LO:HI with LO < HI"

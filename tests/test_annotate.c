@@ -93,7 +93,7 @@ static void test_colour_bar(void)
     char err[256];
     vsv_font_open(NULL, 13, &font, err, sizeof err);
     const int species[2] = {0, 1};
-    const vsv_annot a = {VSV_ANNOT_COLOURBAR, font, 0, "test.vsv", species, NULL};
+    const vsv_annot a = {VSV_ANNOT_COLOURBAR, font, 0, "test.vsv", species, NULL, NULL, NULL};
     float *img = calloc((size_t)640 * 480 * 4, sizeof *img);
     CHECK(vsv_annotate(&a, &sc, &cam, img, NULL) == 0, "vsv_annotate draws the colour bars", "");
     for (int l = 0; l < 2; l++) {
@@ -213,7 +213,7 @@ static void test_outlines_mm5(void)
     const int w = 828, h = 568;
     vsv_camera_plan(&cam, &sc, w, h);
     float *img = calloc((size_t)w * h * 4, sizeof *img);
-    const vsv_annot a = {VSV_ANNOT_OUTLINES, NULL, 0, NULL, NULL, o};
+    const vsv_annot a = {VSV_ANNOT_OUTLINES, NULL, 0, NULL, NULL, o, NULL, NULL};
     CHECK(vsv_annotate(&a, &sc, &cam, img, NULL) == 0, "outlines drawn", "");
     vsv_rays R;
     vsv_rays_init(&R, &cam);
@@ -453,7 +453,7 @@ static void test_bar_units(void)
         vsv_camera cam;
         vsv_camera_plan(&cam, &sc, 640, 480);
         const int species[1] = {0};
-        const vsv_annot a = {VSV_ANNOT_COLOURBAR, font, 0, "test.vsv", species, NULL};
+        const vsv_annot a = {VSV_ANNOT_COLOURBAR, font, 0, "test.vsv", species, NULL, NULL, NULL};
         float *img = calloc((size_t)640 * 480 * 4, sizeof *img);
         int box[4];
         if (img && vsv_annotate(&a, &sc, &cam, img, NULL) == 0 && vsv_annotate_bar_box(&a, &sc, &cam, 0, box) == 0) {
@@ -478,8 +478,108 @@ static void test_bar_units(void)
     vsv_font_free(font);
 }
 
+/* The boxes vsv_annotate drew, as its placed callback reports them. */
+typedef struct boxes {
+    int n;
+    unsigned part[64];
+    int box[64][4];
+} boxes;
+
+static void collect(void *ctx, unsigned part, const int box[4])
+{
+    boxes *b = ctx;
+    if (b->n < 64) {
+        b->part[b->n] = part;
+        memcpy(b->box[b->n++], box, 4 * sizeof(int));
+    }
+}
+
+static int meet(const int a[4], const int b[4])
+{
+    return a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3];
+}
+
+/* The layout, checked by the boxes (issue 32): in a plan view framed by
+ * vsv_annotate_insets no box of the legend (time block, colour bars, scale)
+ * covers the map, there is no exaggeration to state, and no two boxes, the
+ * graticule's labels among them, overlap; in the oblique view of the same
+ * grid neither do any two. One form of bar title, the name and units. */
+static void test_layout(void)
+{
+    vsv_meta m;
+    mm5_meta(&m);
+    vsv_meta_add_var(&m, "CLW", "kg/kg", "cloud water mixing ratio");
+    vsv_meta_add_var(&m, "SNOW", "kg/kg", "SNOW MIXING RATIO");
+    vsv_tf tf[2];
+    char msg[128];
+    int ok = !vsv_tf_parse(&tf[0], "colormap viridis\nrange 0 1e-3\nopacity 0 1\n", msg, sizeof msg) &&
+             !vsv_tf_parse(&tf[1], "colormap magma\nrange 0 2e-4\nopacity 0 1\n", msg, sizeof msg) &&
+             !vsv_tf_prepare(&tf[0]) && !vsv_tf_prepare(&tf[1]);
+    vsv_font *font = NULL;
+    char err[256];
+    ok &= vsv_font_open(NULL, 13, &font, err, sizeof err) == 0;
+    if (!CHECK(ok, "layout: a scene and a font", "%s %s", msg, err))
+        return;
+    const vsv_layer layers[2] = {{NULL, &tf[0], 1, 1}, {NULL, &tf[1], 1, 1}};
+    vsv_scene sc = {.meta = &m, .layers = layers, .nlayers = 2, .exaggeration = 20};
+    const int species[2] = {0, 1};
+    const int W = 800, H = 600;
+    float *img = calloc((size_t)W * H * 4, sizeof *img);
+    for (int view = 0; view < 2; view++) {
+        boxes b = {0};
+        const vsv_annot a = {VSV_ANNOT_ALL & ~VSV_ANNOT_OUTLINES, font, 0, "test.vsv", species, NULL, collect, &b};
+        vsv_camera cam;
+        int map[4] = {0, 0, -1, -1};
+        if (view == 0) {
+            int inset[4];
+            vsv_annotate_insets(&a, &sc, W, H, inset);
+            vsv_camera_plan_inset(&cam, &sc, W, H, inset);
+            /* the domain's pixels in the orthographic view */
+            double mn[3], mx[3];
+            vsv_scene_bounds(&sc, mn, mx);
+            const double per_px = cam.ortho_height / H;
+            map[0] = (int)floor((mn[0] - cam.pos[0]) / per_px + W / 2.0);
+            map[2] = (int)ceil((mx[0] - cam.pos[0]) / per_px + W / 2.0);
+            map[1] = (int)floor(H / 2.0 - (mx[1] - cam.pos[1]) / per_px);
+            map[3] = (int)ceil(H / 2.0 - (mn[1] - cam.pos[1]) / per_px);
+            CHECK(inset[1] > 30 && inset[2] > 150 && map[1] >= inset[1] - 1 && map[2] <= W - inset[2] + 1 &&
+                      map[2] - map[0] > 300,
+                  "plan view: the map framed inside the legend's margins", "inset %d %d %d %d, map %d..%d x %d..%d",
+                  inset[0], inset[1], inset[2], inset[3], map[0], map[2], map[1], map[3]);
+        } else {
+            vsv_camera_fit(&cam, &sc, 225, 30, W, H);
+        }
+        memset(img, 0, (size_t)W * H * 4 * sizeof *img);
+        CHECK(vsv_annotate(&a, &sc, &cam, img, NULL) == 0, view ? "oblique: annotated" : "plan: annotated");
+        int legend_on_map = 0, overlaps = 0, labels = 0, exag = 0, kinds = 0;
+        for (int i = 0; i < b.n; i++) {
+            labels += b.part[i] == VSV_ANNOT_GRATICULE;
+            exag += b.part[i] == VSV_ANNOT_EXAGGERATION;
+            kinds |= (int)b.part[i];
+            if (view == 0 && b.part[i] != VSV_ANNOT_GRATICULE && meet(b.box[i], map))
+                legend_on_map++;
+            for (int j = 0; j < i; j++)
+                overlaps += meet(b.box[i], b.box[j]);
+        }
+        if (view == 0) {
+            CHECK(legend_on_map == 0, "plan view: no box of the legend covers the map", "%d do", legend_on_map);
+            CHECK(exag == 0, "plan view: no exaggeration stated");
+        }
+        CHECK((kinds & (VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR | VSV_ANNOT_SCALEBAR)) ==
+                  (VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR | VSV_ANNOT_SCALEBAR) && labels >= 4,
+              view ? "oblique: time, bars, scale and graticule labels drawn" : "plan: time, bars, scale and graticule labels drawn",
+              "%d boxes, %d labels, parts %#x", b.n, labels, kinds);
+        CHECK(overlaps == 0, view ? "oblique: no two boxes overlap (labels among them)" : "plan: no two boxes overlap (labels among them)",
+              "%d pairs", overlaps);
+    }
+    free(img);
+    vsv_font_free(font);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
+    test_layout();
     test_bar_units();
     test_time_line();
     test_text();

@@ -220,6 +220,14 @@ static void test_slice_linear(void)
             s[0].xy[0][0] = -5000, s[0].xy[0][1] = 15000, s[0].xy[1][0] = 45000, s[0].xy[1][1] = 15000;
             vsv_camera_fit(&cam, &sc, 180, 10, W, H);
         }
+        /* the slices' own range: the values they show (issue 32) */
+        double rlo, rhi;
+        const double kz = (10000 - 250) / 500.0;
+        const double want_lo = view ? 0.2 : 0.2 + 0.1 * kz / (N - 1), want_hi = view ? 0.9 : 0.8 + 0.1 * kz / (N - 1);
+        CHECK(vsv_slice_range(&sc, &rlo, &rhi) == 0 && fabs(rlo - want_lo) < 1e-5 && fabs(rhi - want_hi) < 1e-5,
+              view ? "slice range: a curtain's values, every level (0.2 .. 0.9)"
+                   : "slice range: a horizontal slice's values at its height (0.24 .. 0.84)",
+              "%g .. %g, wanted %g .. %g", rlo, rhi, want_lo, want_hi);
         vsv_render_opts o;
         vsv_render_opts_init(&o);
         o.kind = view ? VSV_RENDER_SHEARWARP : VSV_RENDER_RAYCAST; /* sliced frames are raycast either way */

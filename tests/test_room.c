@@ -417,7 +417,7 @@ static void test_legend(const char *path)
         sp[s] = s;
     vsv_scene sc;
     vsv_player_scene(p, &sc);
-    vsv_annot a = {VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, font, 0, NULL, sp, NULL};
+    vsv_annot a = {VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, font, 0, NULL, sp, NULL, NULL, NULL};
     int w4, h4, w0, h0;
     vsv_legend_size(&a, &sc, "one\ntwo", &w4, &h4);
     vsv_player_do(p, "hide CLW", err, sizeof err);

@@ -275,7 +275,7 @@ static void panel_place(run *r, vsv_fv_tick *t)
     static int sp[4 * VSV_PLAYER_MAX_SPECIES]; /* (as many as the file may have: main checks) */
     for (int s = 0; s < 4 * VSV_PLAYER_MAX_SPECIES; s++)
         sp[s] = s;
-    const vsv_annot a = {VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, sp, NULL};
+    const vsv_annot a = {VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, sp, NULL, NULL, NULL};
     char err[256], lines[512];
     vsv_fv_panel_lines(NULL, vsv_player_meta(r->dec), vsv_player_clock(r->dec)->nsteps, 0, 0, r->fps, lines,
                        sizeof lines);

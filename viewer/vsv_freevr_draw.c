@@ -149,7 +149,7 @@ void vsv_fv_display_init(void)
         species_map = calloc((size_t)(m->nvars ? m->nvars : 1), sizeof *species_map);
         for (int s = 0; species_map && s < m->nvars; s++)
             species_map[s] = s;
-        legend = (vsv_annot){VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, species_map, NULL};
+        legend = (vsv_annot){VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR, NULL, 0, NULL, species_map, NULL, NULL, NULL};
     } else if (player && vsv_player_renderer(player) == VSV_RENDER_GL && vsv_gl_create(&go, &w->gl, err, sizeof err)) {
         char msg[1100]; /* (this context's own raycaster) */
         snprintf(msg, sizeof msg, "the %s window: --renderer gl: %s", w->name, err);

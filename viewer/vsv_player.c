@@ -517,7 +517,7 @@ const unsigned char *vsv_player_annotated(vsv_player *p, unsigned parts, vsv_fon
     const char *base = strrchr(p->path, '/') ? strrchr(p->path, '/') + 1 : p->path;
     char source[1200]; /* a damaged step is said on the picture too */
     snprintf(source, sizeof source, "%s%s", base, p->bad[p->shown] ? " - step DAMAGED, not drawn" : "");
-    const vsv_annot a = {parts, font, p->times[p->shown], source, p->sidx, outlines};
+    const vsv_annot a = {parts, font, p->times[p->shown], source, p->sidx, outlines, NULL, NULL};
     vsv_scene sc = scene(p);
     if (parts && vsv_annotate(&a, &sc, &p->last_cam, p->argba, p->depth)) {
         snprintf(err, cap, "out of memory");
