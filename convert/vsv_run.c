@@ -227,6 +227,20 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
         }
     r->nframes = total;
     r->origin = total ? r->ftime[0] : 0;
+    /* outputs every so often: said in the file, so a frame interpolated
+     * between them (--time-res) can say so */
+    int regular = total >= 2;
+    for (int k = 2; regular && k < total; k++)
+        regular = r->ftime[k] - r->ftime[k - 1] == r->ftime[1] - r->ftime[0];
+    if (regular) {
+        char iso[40], text[96];
+        vsv_time_format(r->ftime[0], iso, sizeof iso);
+        snprintf(text, sizeof text, "every %lld s from %s", (long long)(r->ftime[1] - r->ftime[0]), iso);
+        if (vsv_meta_add_attr(&r->meta, VSV_ATTR_OUTPUTS, text) < 0) {
+            rc = VSV_ENOMEM;
+            goto done;
+        }
+    }
     r->win[0] = INT64_MIN, r->win[1] = INT64_MAX;
     if (times)
         rc = vsv_run_select(r, times, 0);

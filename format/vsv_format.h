@@ -152,6 +152,12 @@ const char *vsv_meta_attr(const vsv_meta *m, const char *key);
 #define VSV_ATTR_DATUM "vertical_datum"
 /* 1 when m's heights are above the ground (VSV_ATTR_DATUM), else 0. */
 int vsv_meta_above_ground(const vsv_meta *m);
+/* The attribute that says when the model wrote its outputs, where they
+ * came every so often: "every 3600 s from 1995-10-24T00:00:00Z". A step
+ * off that grid was interpolated (vsv-convert --time-res). */
+#define VSV_ATTR_OUTPUTS "model_outputs"
+/* Its first time and interval: 1, or 0 when m has no such attribute. */
+int vsv_meta_outputs(const vsv_meta *m, int64_t *first, int64_t *every);
 /* CF's words for a species (format/vsv_cf_names.c; the netCDF export and
  * Python's to_xarray): the UDUNITS spelling of a model's unit ("ppmV" →
  * "ppm", "micrograms/m**3" → "ug m-3"), units itself when it needs none

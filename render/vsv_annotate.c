@@ -233,6 +233,18 @@ void vsv_annot_time_line(const vsv_meta *m, int64_t t, char *buf, size_t cap)
     char iso[40];
     vsv_time_format(t, iso, sizeof iso);
     snprintf(buf, cap, "%s", iso);
+    int64_t first, every;
+    if (vsv_meta_outputs(m, &first, &every) && t > first && (t - first) % every) {
+        /* between two of the model's outputs: say which */
+        const int64_t a = first + (t - first) / every * every, b = a + every;
+        char ta[40], tb[40];
+        vsv_time_format(a, ta, sizeof ta);
+        vsv_time_format(b, tb, sizeof tb);
+        const int same_day = !strncmp(ta, tb, 10) && !strncmp(ta, iso, 10);
+        const size_t n = strlen(buf);
+        snprintf(buf + n, cap - n, "   interpolated between %.*s and %.*s", same_day ? 5 : 16, ta + (same_day ? 11 : 0),
+                 same_day ? 5 : 16, tb + (same_day ? 11 : 0));
+    }
     const char *tz = vsv_meta_attr(m, "time zone");
     char *end = NULL;
     const long behind = tz ? strtol(tz, &end, 10) : 0;

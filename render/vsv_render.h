@@ -76,7 +76,10 @@ void vsv_tf_eval(const vsv_tf *tf, float value, float rgba[4]);
 int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t cap, char *msg, size_t msgcap);
 
 /* The transfer function of species s: its block in tfpath (when given and
- * present), else the one stored in the file, else the default by kind.
+ * present), else the one stored in the file, else the default by kind; in
+ * the last two cases a colour map an earlier species of the file shows is
+ * swapped for the first of vsv_tf_colormaps none of them shows, so species
+ * drawn together are told apart (the same in every tool).
  * 0, or an error with the reason in msg: VSV_EIO (msg names tfpath) or
  * VSV_EINVAL ("transfer function of NAME: why", from tfpath if given, else
  * from the file). */

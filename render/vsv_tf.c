@@ -234,11 +234,14 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
     return found ? 0 : VSV_ENOTFOUND;
 }
 
-int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf, char *msg, size_t cap)
+/* Species s's transfer function as written (the --tf file's block, the
+ * file's own, or the default); *chosen: 1 when the --tf file gave it. */
+static int written_tf(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf, int *chosen, char *msg, size_t cap)
 {
     const vsv_meta *m = vsv_file_meta(f);
     char text[4096], why[256], dflt[512];
     const char *src = m->tf && m->tf[s] ? m->tf[s] : NULL;
+    *chosen = 0;
     if (tfpath) {
         const int rc = vsv_tf_file_block(tfpath, m->vars[s].name, text, sizeof text, why, sizeof why);
         if (rc == VSV_EIO || rc == VSV_EINVAL) {
@@ -246,7 +249,7 @@ int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf,
             return rc;
         }
         if (!rc)
-            src = text;
+            src = text, *chosen = 1;
     }
     if (!src) {
         vsv_tf_default(m->vars[s].name, vsv_file_quant(f, s), dflt, sizeof dflt);
@@ -257,6 +260,47 @@ int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf,
         return VSV_EINVAL;
     }
     return 0;
+}
+
+int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf, char *msg, size_t cap)
+{
+    int chosen;
+    int rc = written_tf(f, s, tfpath, tf, &chosen, msg, cap);
+    if (rc || chosen)
+        return rc;
+    /* a colour map an earlier species already shows is swapped for the
+     * first one none of them shows, so species drawn together stay apart
+     * (the same choice in every tool: it depends on the file alone) */
+    enum { MAXS = 64 };
+    char shown[MAXS][32];
+    const int n = s < MAXS ? s + 1 : MAXS;
+    for (int e = 0; e < n; e++) {
+        vsv_tf t;
+        int c;
+        char m2[256];
+        if (e == n - 1)
+            t = *tf, c = 0;
+        else if (written_tf(f, e, tfpath, &t, &c, m2, sizeof m2))
+            snprintf(t.colormap, sizeof t.colormap, "?");
+        snprintf(shown[e], sizeof shown[e], "%s", t.colormap);
+        int taken = 0;
+        for (int u = 0; u < e && !c; u++)
+            taken |= !strcmp(shown[u], shown[e]);
+        for (const char *const *cm = vsv_tf_colormaps(); taken && *cm; cm++) {
+            int free_map = 1;
+            for (int u = 0; u < e; u++)
+                free_map &= strcmp(shown[u], *cm) != 0;
+            if (free_map) {
+                snprintf(shown[e], sizeof shown[e], "%s", *cm);
+                taken = 0;
+            }
+        }
+    }
+    if (strcmp(tf->colormap, shown[n - 1])) {
+        snprintf(tf->colormap, sizeof tf->colormap, "%s", shown[n - 1]);
+        rc = vsv_tf_prepare(tf) ? VSV_EINVAL : 0;
+    }
+    return rc;
 }
 
 /* Largest opacity of a transfer function over the values [lo, hi]. */

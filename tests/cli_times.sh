@@ -95,6 +95,10 @@ expect "--times 19 with 19 steps of 10m exits 1" 1 "$T/w" --times 19
 has "... naming the output steps" "$T/err" "(among the output steps every 10m): step 19 is out of range (steps 0..18"
 if [ ! -e "$T/w.vsv" ]; then pass "nothing written after a window out of range"; else fail "nothing written after a window out of range" "exists"; fi
 
+# the model's outputs are recorded, so interpolated frames can say so
+"$B/vsv-info" "$T/c90.vsv" > "$T/out"
+has "the file records when the model wrote its outputs" "$T/out" "model_outputs every 3600 s from 1995-10-24T00:00:00Z"
+
 # vsv-render / vsv-export --time: the nearest step, said when not exact
 "$B/vsv-convert" -q --time-res 10m --vars CLW "$CROP" -o "$T/s.vsv"
 expect "vsv-render --time between steps" 0 "$B/vsv-render" -q "$T/s.vsv" --time 1995-10-24T00:01 -o "$T/a.png" --size 32x24

@@ -427,6 +427,18 @@ static void test_time_line(void)
     vsv_annot_time_line(&m, t, buf, sizeof buf);
     CHECK(!strcmp(buf, "2002-06-03T17:00:00Z"), "no local time where the file names no zone", "'%s'", buf);
     vsv_meta_clear(&m);
+    /* a frame between the model's hourly outputs says so (issue 32); one on them does not */
+    vsv_meta_init(&m);
+    vsv_meta_add_attr(&m, VSV_ATTR_OUTPUTS, "every 3600 s from 2002-06-03T00:00:00Z");
+    vsv_annot_time_line(&m, t + 1200, buf, sizeof buf);
+    CHECK(!strcmp(buf, "2002-06-03T17:20:00Z   interpolated between 17:00 and 18:00"),
+          "an interpolated frame names the outputs it lies between", "'%s'", buf);
+    vsv_annot_time_line(&m, t, buf, sizeof buf);
+    CHECK(!strcmp(buf, "2002-06-03T17:00:00Z"), "a model output is just its time", "'%s'", buf);
+    vsv_annot_time_line(&m, vsv_time_from_civil(2002, 6, 3, 23, 30, 0), buf, sizeof buf);
+    CHECK(!strcmp(buf, "2002-06-03T23:30:00Z   interpolated between 2002-06-03T23:00 and 2002-06-04T00:00"),
+          "across midnight the dates are given", "'%s'", buf);
+    vsv_meta_clear(&m);
 }
 
 /* A colour bar names its species with its units: the label over the bar,
@@ -577,9 +589,55 @@ static void test_layout(void)
     vsv_meta_clear(&m);
 }
 
+/* Species shown together are told apart: two whose default colour maps are
+ * the same get two maps; a --tf file's choice stands (issue 32). */
+static void test_distinct_maps(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = m.ny = m.nz = 4;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    vsv_meta_add_var(&m, "AAA", "ppm", "");
+    vsv_meta_add_var(&m, "BBB", "ppm", "");
+    vsv_meta_add_var(&m, "CCC", "ppm", "");
+    float v[64];
+    for (int i = 0; i < 64; i++)
+        v[i] = (float)i;
+    const float *fl[3] = {v, v, v};
+    const char *path = vsv_test_tmp("maps.vsv"), *tfp = vsv_test_tmp("maps.tf");
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(path, &m, NULL, &w);
+    rc = rc ? rc : vsv_writer_add_step(w, 0, fl);
+    rc = rc ? rc : vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    vsv_file *f = NULL;
+    if (!CHECK(rc == 0 && vsv_file_open(path, &f) == 0, "maps: a file of three species"))
+        return;
+    vsv_tf tf[3];
+    char msg[256];
+    for (int s = 0; s < 3; s++)
+        vsv_tf_for_species(f, s, NULL, &tf[s], msg, sizeof msg);
+    CHECK(strcmp(tf[0].colormap, tf[1].colormap) && strcmp(tf[0].colormap, tf[2].colormap) &&
+              strcmp(tf[1].colormap, tf[2].colormap),
+          "three species of one default colour map get three", "%s %s %s", tf[0].colormap, tf[1].colormap,
+          tf[2].colormap);
+    FILE *fp = fopen(tfp, "w");
+    if (fp) {
+        fputs("species AAA\ncolormap rain\nrange 0 63\nopacity 0 1\nspecies BBB\ncolormap rain\nrange 0 63\nopacity 0 1\n",
+              fp);
+        fclose(fp);
+    }
+    rc = vsv_tf_for_species(f, 0, tfp, &tf[0], msg, sizeof msg) | vsv_tf_for_species(f, 1, tfp, &tf[1], msg, sizeof msg);
+    CHECK(rc == 0 && !strcmp(tf[0].colormap, "rain") && !strcmp(tf[1].colormap, "rain"),
+          "a colour map the --tf file chose stands, shared or not", "%s %s (%s)", tf[0].colormap, tf[1].colormap, msg);
+    vsv_file_free(f);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_layout();
+    test_distinct_maps();
     test_bar_units();
     test_time_line();
     test_text();

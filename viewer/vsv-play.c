@@ -44,7 +44,9 @@ static const char usage[] =
     "                          315,45); g switches it\n"
     "      --slice SPEC        a section, as vsv-render: z=HEIGHT, lat=DEG, lon=DEG\n"
     "                          or line=LAT1,LON1:LAT2,LON2 (repeatable); c switches\n"
-    "      --slice-species NAME, --slice-colormap NAME  as vsv-render\n"
+    "      --slice-species NAME, --slice-colormap NAME, --slice-range LO:HI\n"
+    "                          as vsv-render (the slices coloured over the range\n"
+    "                          of what they show in the step shown, or LO:HI)\n"
     "  screenshots:\n"
     "      --no-annotate       the bare picture: no time, colour bars, scale,\n"
     "                          graticule or outlines\n"
@@ -235,7 +237,7 @@ int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-play");
     enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
-           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB };
+           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
         {"renderer", required_argument, 0, 'r'},   {"cache-mb", required_argument, 0, O_CACHE},
@@ -249,6 +251,7 @@ int main(int argc, char **argv)
         {"view", required_argument, 0, O_VIEW},    {"light", optional_argument, 0, O_LIGHT},
         {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
         {"slice-colormap", required_argument, 0, O_SLICECM},
+        {"slice-range", required_argument, 0, O_SLICERANGE},
         {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
         {0, 0, 0, 0}};
     vsv_player_opts po;
@@ -337,6 +340,14 @@ int main(int argc, char **argv)
             break;
         case O_SLICESP: po.slice_species = optarg; break;
         case O_SLICECM: po.slice_colormap = optarg; break;
+        case O_SLICERANGE: {
+            int used = 0;
+            if (sscanf(optarg, "%lf:%lf%n", &po.slice_range[0], &po.slice_range[1], &used) != 2 || optarg[used] ||
+                !(po.slice_range[0] < po.slice_range[1]) || !isfinite(po.slice_range[0]) ||
+                !isfinite(po.slice_range[1]))
+                vsv_cli_usage_error("--slice-range %s: expected LO:HI with LO < HI", optarg);
+            break;
+        }
         case O_NOANNOT: parts = 0; break;
         case O_ANNOT: {
             char msg[300];

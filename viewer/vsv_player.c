@@ -17,6 +17,33 @@ void vsv_player_opts_init(vsv_player_opts *o)
     o->terrain = 1;
     o->sun_az = 315;
     o->sun_el = 45;
+    o->slice_range[0] = o->slice_range[1] = NAN;
+}
+
+/* The slices' colours over the range of what they show in the step shown
+ * (vsv_slice_range, as vsv-render colours them), taken again only when the
+ * step or the slices change; a fixed --slice-range stays. */
+static void colour_slices(vsv_player *p)
+{
+    const int key[4] = {p->shown, p->slices_on, p->nslices, p->slice_var};
+    if (!p->slices_on || !p->nslices || isfinite(p->slice_fixed[0]) || !memcmp(key, p->slice_key, sizeof key))
+        return;
+    memcpy(p->slice_key, key, sizeof key);
+    vsv_scene sc = {.meta = p->m, .layers = p->layers, .nlayers = p->ns, .exaggeration = p->exaggeration,
+                    .slices = p->slices, .nslices = p->nslices, .slice_layer = p->slice_var};
+    double lo, hi;
+    if (p->slice_var < 0 || !p->layers[p->slice_var].vol || vsv_slice_range(&sc, &lo, &hi))
+        return;
+    if (p->slice_tf.scale == VSV_SCALE_LOG)
+        lo = lo > 0 ? lo : hi * 1e-6;
+    if (!(hi > lo))
+        hi = lo + (lo ? fabs(lo) * 1e-6 : 1e-30);
+    vsv_tf t = p->slice_tf;
+    t.lo = lo, t.hi = hi;
+    if (!vsv_tf_prepare(&t)) {
+        p->slice_tf = t;
+        p->dirty = 1;
+    }
 }
 
 static vsv_scene scene(const vsv_player *p)
@@ -198,6 +225,10 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         p->slice_tf = p->tf[p->slice_var];
         snprintf(p->slice_tf.colormap, sizeof p->slice_tf.colormap, "%s",
                  o->slice_colormap ? o->slice_colormap : "viridis");
+        p->slice_fixed[0] = o->slice_range[0], p->slice_fixed[1] = o->slice_range[1];
+        p->slice_key[0] = -2; /* none taken yet */
+        if (isfinite(p->slice_fixed[0]))
+            p->slice_tf.lo = p->slice_fixed[0], p->slice_tf.hi = p->slice_fixed[1];
         if (vsv_tf_prepare(&p->slice_tf)) {
             snprintf(err, cap, "--slice-colormap %s: not a colour map name", o->slice_colormap ? o->slice_colormap : "");
             return VSV_EINVAL;
@@ -423,7 +454,11 @@ void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam)
         cam->pos[i] += p->pan[i];
 }
 
-void vsv_player_scene(const vsv_player *p, vsv_scene *sc) { *sc = scene(p); }
+void vsv_player_scene(vsv_player *p, vsv_scene *sc)
+{
+    colour_slices(p);
+    *sc = scene(p);
+}
 
 void vsv_player_bounds(const vsv_player *p, double mn[3], double mx[3])
 {
@@ -463,6 +498,7 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
         p->iw = w, p->ih = h;
         p->dirty = 1;
     }
+    colour_slices(p);
     if (!p->dirty && !memcmp(cam, &p->last_cam, sizeof *cam))
         return p->rgb;
     vsv_scene sc = scene(p);
@@ -485,6 +521,7 @@ int vsv_player_draw(vsv_player *p, vsv_gl *gl, const vsv_camera *cam, const int 
 {
     if (p->ro.kind != VSV_RENDER_GL || !gl)
         return VSV_EUNSUPPORTED;
+    colour_slices(p);
     vsv_scene sc = scene(p);
     const int rc = vsv_gl_draw(gl, &sc, cam, viewport, p->bg);
     if (rc)

@@ -64,6 +64,9 @@ typedef struct vsv_player_opts {
     int nslices;
     const char *slice_species; /* the slices' species (NULL: the first visible) */
     const char *slice_colormap; /* their colour map (NULL: viridis) */
+    double slice_range[2];  /* their colours' range fixed (NaN: the range of
+                               the values they show in the step shown,
+                               vsv_slice_range, as vsv-render) */
 } vsv_player_opts;
 
 void vsv_player_opts_init(vsv_player_opts *o);
@@ -189,7 +192,7 @@ int64_t vsv_player_step_time(const vsv_player *p, int t);
 void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st);
 /* The scene as the player draws it now (layers, exaggeration, light,
  * slices; borrowed from the player until its next call). */
-void vsv_player_scene(const vsv_player *p, vsv_scene *sc);
+void vsv_player_scene(vsv_player *p, vsv_scene *sc);
 /* The scene's centre and size (world metres), for billboards. */
 void vsv_player_bounds(const vsv_player *p, double mn[3], double mx[3]);
 const float *vsv_player_background(const vsv_player *p);

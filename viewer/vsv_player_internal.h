@@ -34,6 +34,9 @@ struct vsv_player {
     double sun_az, sun_el;
     vsv_slice slices[8];
     vsv_tf slice_tf;
+    double slice_fixed[2]; /* --slice-range, or NaN: each step's own */
+    int slice_key[4];      /* what slice_tf's range was taken for (shown,
+                              slices_on, nslices, slice_var) */
     unsigned char *need; /* per species: pinned (drawn, or the slices' species) */
     uint64_t *gens;      /* per species: the gen of the volume shown (external) */
     /* rendering */
