@@ -163,6 +163,56 @@ int vsv_cli_int(const char *s, long lo, long hi, long *out)
     return 0;
 }
 
+/* Walks pattern: 0 with the count of numbers it holds, or -1 when it is no
+ * pattern; with out, writes frame n's name (-2 when it does not fit). */
+static int pattern_walk(const char *pattern, long n, char *out, size_t cap, int *numbers)
+{
+    size_t k = 0;
+    *numbers = 0;
+    for (const char *p = pattern; *p; p++) {
+        char piece[32];
+        size_t len = 1;
+        piece[0] = *p, piece[1] = 0;
+        if (*p == '%') {
+            if (p[1] == '%') {
+                p++;
+            } else {
+                const char *q = p + 1;
+                const int zero = *q == '0';
+                q += zero;
+                int width = 0;
+                while (*q >= '0' && *q <= '9' && width < 100)
+                    width = width * 10 + (*q++ - '0');
+                if (*q != 'd' || width > 9 || (zero && !width) || ++*numbers > 1)
+                    return -1;
+                snprintf(piece, sizeof piece, zero ? "%0*ld" : "%*ld", width, n);
+                len = strlen(piece);
+                p = q;
+            }
+        }
+        if (out && k + len >= cap)
+            return -2;
+        if (out)
+            memcpy(out + k, piece, len);
+        k += len;
+    }
+    if (out)
+        out[k] = 0;
+    return 0;
+}
+
+int vsv_cli_pattern(const char *pattern)
+{
+    int numbers;
+    return pattern_walk(pattern, 0, NULL, 0, &numbers) ? -1 : numbers;
+}
+
+int vsv_cli_pattern_name(const char *pattern, long n, char *out, size_t cap)
+{
+    int numbers;
+    return pattern_walk(pattern, n, out, cap, &numbers) ? -1 : 0;
+}
+
 int vsv_cli_double(const char *s, double *out)
 {
     char *end;

@@ -64,6 +64,15 @@ void vsv_cli_set_quiet(int q);
  * stderr as "tool: note: LINE". */
 void vsv_cli_notes(const char *text);
 
+/* An output name that numbers frames: "%d" or "%0Nd" (a width of 1..9)
+ * once, and "%%" for a percent sign; no other '%' (the name is never a
+ * printf format: "%s" or "%n" in it is refused). 1 when pattern holds a
+ * number, 0 when it holds none, -1 when it is none of these. */
+int vsv_cli_pattern(const char *pattern);
+/* Frame n's name from such a pattern (or one without a number: itself, its
+ * "%%" as "%") into out; 0, or -1 when it does not fit in cap or is no
+ * such pattern. */
+int vsv_cli_pattern_name(const char *pattern, long n, char *out, size_t cap);
 /* Parses an integer in [lo, hi]; 0 or -1. */
 int vsv_cli_int(const char *s, long lo, long hi, long *out);
 /* Parses a double; 0 or -1. */

@@ -72,7 +72,10 @@ int main(int argc, char **argv)
     if (time && times)
         vsv_cli_usage_error("--time and --times exclude each other");
     const char *path = argv[optind];
-    const int sequence = out && strchr(out, '%') != NULL;
+    const int sequence = out ? vsv_cli_pattern(out) : 0;
+    if (sequence < 0)
+        vsv_cli_usage_error("--vdb %s: a '%%' in the name must be %%d or %%0Nd (the step number, once) or %%%% (a "
+                            "percent sign)", out);
     vsv_file *f = NULL;
     if (vsv_file_open_any(path, &vsv_cli_http, &f))
         vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
@@ -124,10 +127,8 @@ int main(int argc, char **argv)
     }
     for (int t = a; t <= b; t++) { /* every name, before any is written */
         char name[4096];
-        if (sequence)
-            snprintf(name, sizeof name, out, t - a);
-        else
-            snprintf(name, sizeof name, "%s", out);
+        if (vsv_cli_pattern_name(out, t - a, name, sizeof name))
+            vsv_cli_usage_error("--vdb %s: the name is too long", out);
         vsv_cli_refuse_input(name, (const char *const *)&path, 1);
     }
     char *staged = calloc((size_t)(b - a + 1), 4200); /* the files' temporary names */
@@ -142,10 +143,7 @@ int main(int argc, char **argv)
                 vsv_cli_die(1, "out of memory");
         }
         char name[4096], err[4300];
-        if (sequence)
-            snprintf(name, sizeof name, out, t - a);
-        else
-            snprintf(name, sizeof name, "%s", out);
+        vsv_cli_pattern_name(out, t - a, name, sizeof name); /* (each fitted above) */
         /* each file complete under a listed temporary name; all are renamed
          * into place only when every step is written (all or nothing) */
         char *tmp = staged + (size_t)(t - a) * 4200;
@@ -162,10 +160,7 @@ int main(int argc, char **argv)
     vsv_cli_hold_signals(1); /* all renamed, or none: a signal waits for it */
     for (int t = a; t <= b; t++) {
         char name[4096];
-        if (sequence)
-            snprintf(name, sizeof name, out, t - a);
-        else
-            snprintf(name, sizeof name, "%s", out);
+        vsv_cli_pattern_name(out, t - a, name, sizeof name); /* (each fitted above) */
         if (vsv_output_publish(staged + (size_t)(t - a) * 4200, name))
             vsv_cli_die(1, "%s: cannot rename into place: %s", name, strerror(errno));
     }

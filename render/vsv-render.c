@@ -381,7 +381,10 @@ int main(int argc, char **argv)
         if (!dot || (slash && dot < slash) || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr")))
             vsv_cli_usage_error("-o %s: the image format comes from the extension: .png or .exr", out);
     }
-    const int sequence = out ? strchr(out, '%') != NULL : 0;
+    const int sequence = out ? vsv_cli_pattern(out) : 0;
+    if (sequence < 0)
+        vsv_cli_usage_error("-o %s: a '%%' in the name must be %%d or %%0Nd (the frame number, once) or %%%% (a "
+                            "percent sign)", out);
     const char *path = argv[optind];
     const char *const ins[2] = {path, tfpath};
     if (out && !sequence)
@@ -402,7 +405,8 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("several steps need %%04d in the output name");
     for (int t = a; sequence && t <= b; t++) { /* every name, before any is written */
         char name[4096];
-        snprintf(name, sizeof name, out, t - a);
+        if (vsv_cli_pattern_name(out, t - a, name, sizeof name))
+            vsv_cli_usage_error("-o %s: the name is too long", out);
         vsv_cli_refuse_input(name, ins, 2);
     }
     /* layers: the species asked for (all by default), each with its opacity */
@@ -595,10 +599,8 @@ int main(int argc, char **argv)
             }
         }
         char name[4096], err[4200];
-        if (sequence)
-            snprintf(name, sizeof name, out, t - a);
-        else if (out)
-            snprintf(name, sizeof name, "%s", out);
+        if (out && vsv_cli_pattern_name(out, t - a, name, sizeof name))
+            vsv_cli_die(1, "-o %s: the name is too long", out);
         if (out) {
             /* each frame complete under a listed temporary name; all are
              * renamed into place only when the whole run has succeeded */
@@ -626,10 +628,8 @@ int main(int argc, char **argv)
     vsv_cli_hold_signals(1);
     for (int t = a; out && t <= b; t++) {
         char name[4096];
-        if (sequence)
-            snprintf(name, sizeof name, out, t - a);
-        else
-            snprintf(name, sizeof name, "%s", out);
+        if (vsv_cli_pattern_name(out, t - a, name, sizeof name))
+            vsv_cli_die(1, "-o %s: the name is too long", out);
         if (vsv_output_publish(staged + (size_t)(t - a) * 4200, name))
             vsv_cli_die(1, "%s: cannot rename into place: %s", name, strerror(errno));
     }

@@ -126,3 +126,17 @@ for sig in TERM INT HUP; do
     [ $rc = $want ] && pass "SIG$sig: the tool dies of it (exit $rc)" || fail "SIG$sig: the tool dies of it" "exit $rc, wanted $want"
     empty "SIG$sig: no temporary and no output left" "$T/sig-$sig"
 done
+
+# an output name is never a printf format (issue 33): only %d / %0Nd (the
+# frame number, once) and %% (a percent sign); %s and %n crashed or wrote memory
+mkdir "$T/fmt"
+for o in '%s.png' '%n.png' '%d_%d.png' 'x%5.png' '%-4d.png'; do
+    expect "vsv-render -o '$o' exits 2" 2 "$B/vsv-render" -q "$T/a.vsv" --times 0:1 --size 32x24 -o "$T/fmt/$o"
+done
+has "... saying what a % may be" "$T/err" "a '%' in the name must be %d or %0Nd (the frame number, once) or %% (a percent sign)"
+expect "vsv-export --vdb '%s.vdb' exits 2" 2 "$B/vsv-export" -q "$T/a.vsv" --vdb "$T/fmt/%s.vdb"
+empty "nothing written for a bad name" "$T/fmt"
+expect "vsv-render -o '100%%_%03d.png' (a percent sign and a number)" 0 "$B/vsv-render" -q "$T/a.vsv" --times 0:1 \
+    --size 32x24 -o "$T/fmt/100%%_%03d.png"
+[ -f "$T/fmt/100%_000.png" ] && [ -f "$T/fmt/100%_001.png" ] && pass "... named 100%_000.png and 100%_001.png" ||
+    fail "... named 100%_000.png and 100%_001.png" "$(ls "$T/fmt")"
