@@ -411,7 +411,7 @@ void vsv_cli_timesel(const char *path, const char *opt, const char *spec, const 
         vsv_cli_die(1, "%s: %s %s: %s", path, opt, spec, msg);
     if (!sel.exact) {
         char when[40];
-        vsv_time_format(times[sel.first], when, sizeof when);
+        vsv_cal_format(flags >> 4 & 3, times[sel.first], when, sizeof when);
         fprintf(stderr, "%s: %s %s: no step at that time; the nearest is step %d, %s\n", tool_name, opt, spec,
                 sel.first, when);
     }
@@ -434,9 +434,10 @@ void vsv_cli_steps(const vsv_file *f, const char *path, const char *time, const 
         vsv_cli_die(1, "out of memory");
     for (int i = 0; i < info.nsteps; i++)
         t[i] = vsv_file_time(f, i);
+    const int cal = VSV_TIMESEL_CAL(vsv_meta_calendar(vsv_file_meta(f)));
     if (time)
-        vsv_cli_timesel(path, "--time", time, t, info.nsteps, VSV_TIMESEL_ONE, a, b);
+        vsv_cli_timesel(path, "--time", time, t, info.nsteps, VSV_TIMESEL_ONE | cal, a, b);
     else
-        vsv_cli_timesel(path, "--times", times, t, info.nsteps, 0, a, b);
+        vsv_cli_timesel(path, "--times", times, t, info.nsteps, cal, a, b);
     free(t);
 }

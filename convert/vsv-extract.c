@@ -116,7 +116,7 @@ int main(int argc, char **argv)
             printf("  times:");
             for (int t = 0; t < vsv_source_ntimes(src); t++) {
                 char buf[40];
-                vsv_time_format(vsv_source_time(src, t), buf, sizeof buf);
+                vsv_cal_format(vsv_meta_calendar(g), vsv_source_time(src, t), buf, sizeof buf);
                 printf(" %s", buf);
             }
             printf("\n");

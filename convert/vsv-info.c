@@ -170,7 +170,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
 
     vsv_json *times = vsv_json_array();
     for (int t = 0; t < info.nsteps; t++) {
-        vsv_time_format(vsv_file_time(f, t), buf, sizeof buf);
+        vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), buf, sizeof buf);
         vsv_json_push(times, vsv_json_string(buf));
     }
     vsv_json_set(root, "times", times);
@@ -241,7 +241,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
                 const stat_row *r = &stats[(size_t)s * info.nsteps + t];
                 vsv_json *rj = vsv_json_object();
                 vsv_json_set(rj, "species", vsv_json_string(m->vars[s].name));
-                vsv_time_format(vsv_file_time(f, t), buf, sizeof buf);
+                vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), buf, sizeof buf);
                 vsv_json_set(rj, "time", vsv_json_string(buf));
                 vsv_json_set(rj, "min", vsv_json_number(r->min));
                 vsv_json_set(rj, "max", vsv_json_number(r->max));
@@ -330,8 +330,8 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     if (m->terrain || m->landuse)
         printf("  surface     %s%s%s\n", m->terrain ? "terrain height" : "", m->terrain && m->landuse ? ", " : "",
                m->landuse ? "land use" : "");
-    vsv_time_format(vsv_file_time(f, 0), a, sizeof a);
-    vsv_time_format(vsv_file_time(f, info.nsteps - 1), b, sizeof b);
+    vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, 0), a, sizeof a);
+    vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, info.nsteps - 1), b, sizeof b);
     printf("  times       %d step%s, %s", info.nsteps, info.nsteps == 1 ? "" : "s", a);
     if (info.nsteps > 1) {
         printf(" .. %s", b);
@@ -372,7 +372,7 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
         for (int s = 0; s < m->nvars; s++)
             for (int t = 0; t < info.nsteps; t++) {
                 const stat_row *r = &stats[(size_t)s * info.nsteps + t];
-                vsv_time_format(vsv_file_time(f, t), a, sizeof a);
+                vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), a, sizeof a);
                 printf("    %-10s %-20s %12.5g %12.5g %12.5g\n", m->vars[s].name, a, r->min, r->max, r->mean);
             }
     }

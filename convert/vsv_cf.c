@@ -77,8 +77,9 @@ static double *coord_values(int nc, int v, size_t n)
     return a;
 }
 
-/* "seconds since 1995-10-24 00:00:00" → seconds per unit and the epoch. */
-static int time_units(const char *u, double *scale, int64_t *epoch)
+/* "seconds since 1995-10-24 00:00:00" → seconds per unit and the epoch (a
+ * date of calendar cal). */
+static int time_units(const char *u, int cal, double *scale, int64_t *epoch)
 {
     char unit[32], date[80] = "";
     if (sscanf(u, "%31s since %79[^\n]", unit, date) != 2)
@@ -102,7 +103,7 @@ static int time_units(const char *u, double *scale, int64_t *epoch)
         date[--l] = 0;
     if (l > 19 && date[19] == '.') /* "…:00.0": fractional seconds of the epoch dropped */
         date[19] = 0;
-    return vsv_time_parse(date, epoch) ? -1 : 0;
+    return vsv_cal_parse(cal, date, epoch) ? -1 : 0;
 }
 
 /* The .vsv projection of grid_mapping variable gm; fe/fn its false
@@ -233,12 +234,18 @@ static int cf_open(vsv_source *s, int nc)
     att_str(nc, cv[0], "units", u, sizeof u);
     double tscale;
     int64_t epoch;
-    if (time_units(u, &tscale, &epoch))
-        return vsv_source_fail(s, VSV_ECORRUPT, "variable %s: units '%s' are not '<unit> since <date>'", dn, u);
     char cal[64];
     att_str(nc, cv[0], "calendar", cal, sizeof cal);
-    if (cal[0] && strcmp(cal, "standard") && strcmp(cal, "gregorian") && strcmp(cal, "proleptic_gregorian"))
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "variable %s: calendar '%s' (only standard/gregorian)", dn, cal);
+    /* the model's calendar: its dates and intervals kept (VSV_ATTR_CALENDAR) */
+    const int calendar = cal[0] ? vsv_calendar_named(cal) : VSV_CAL_STANDARD;
+    if (calendar < 0)
+        return vsv_source_fail(s, VSV_EUNSUPPORTED,
+                               "variable %s: calendar '%s' (standard, gregorian, proleptic_gregorian, noleap, 365_day, "
+                               "all_leap, 366_day or 360_day)", dn, cal);
+    if (calendar != VSV_CAL_STANDARD && vsv_meta_add_attr(g, VSV_ATTR_CALENDAR, vsv_calendar_name(calendar)) < 0)
+        return VSV_ENOMEM;
+    if (time_units(u, calendar, &tscale, &epoch))
+        return vsv_source_fail(s, VSV_ECORRUPT, "variable %s: units '%s' are not '<unit> since <date>'", dn, u);
     double *tv = coord_values(nc, cv[0], len[0]);
     s->times = calloc(len[0] + 1, sizeof *s->times);
     if (!tv || !s->times) {
@@ -364,7 +371,7 @@ static int cf_open(vsv_source *s, int nc)
         if (nc_inq_attname(nc, NC_GLOBAL, i, an) || strncmp(an, "vsv_attr_", 9) || !an[9])
             continue;
         att_str(nc, NC_GLOBAL, an, val, sizeof val);
-        if (val[0] && vsv_meta_add_attr(g, an + 9, val) < 0)
+        if (val[0] && !vsv_meta_attr(g, an + 9) && vsv_meta_add_attr(g, an + 9, val) < 0) /* (the reader's own first) */
             return VSV_ENOMEM;
     }
     if (above_ground && !vsv_meta_attr(g, VSV_ATTR_DATUM) && vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)

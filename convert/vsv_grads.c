@@ -77,25 +77,15 @@ static int64_t add_months(int64_t t, long months)
     return vsv_time_from_civil((int)(total / 12), (int)(total % 12) + 1, d, hh, mi, ss);
 }
 
-/* t plus d seconds counted in a calendar of 365-day years (no 29
- * February), as the model's clock runs, back as the civil date it names. */
-static int64_t noleap_add(int64_t t, int64_t d)
+/* A date, in the standard calendar's seconds, as the same date of the
+ * noleap calendar (29 February, which it has not, as the 28th). */
+static int64_t to_noleap(int64_t t)
 {
-    static const int cum[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
     char buf[40];
     vsv_time_format(t, buf, sizeof buf);
-    int y, m, dd, hh, mi, ss;
-    sscanf(buf, "%d-%d-%dT%d:%d:%d", &y, &m, &dd, &hh, &mi, &ss);
-    if (m == 2 && dd == 29)
-        dd = 28;
-    int64_t secs = (((int64_t)y * 365 + cum[m - 1] + dd - 1) * 86400) + hh * 3600 + mi * 60 + ss + d;
-    int64_t days = secs / 86400, rem = secs % 86400;
-    y = (int)(days / 365);
-    int doy = (int)(days % 365);
-    m = 12;
-    while (cum[m - 1] > doy)
-        m--;
-    return vsv_time_from_civil(y, m, doy - cum[m - 1] + 1, (int)(rem / 3600), (int)(rem / 60 % 60), (int)(rem % 60));
+    int y, m, d, hh, mi, ss;
+    sscanf(buf, "%d-%d-%dT%d:%d:%d", &y, &m, &d, &hh, &mi, &ss);
+    return vsv_cal_from_civil(VSV_CAL_NOLEAP, y, m, m == 2 && d == 29 ? 28 : d, hh, mi, ss);
 }
 
 static int grads_open(vsv_source *s)
@@ -356,9 +346,11 @@ static int grads_open(vsv_source *s)
         goto done;
     }
     for (int t = 0; t < nt; t++)
-        s->times[t] = dmonths ? add_months(t0, dmonths * t) : cal365 ? noleap_add(t0, dt * t) : t0 + dt * t;
-    if (cal365)
-        vsv_meta_add_attr(&s->grid, "calendar", "365_day (no 29 February; times are the model's dates)");
+        s->times[t] = dmonths ? (cal365 ? to_noleap(add_months(t0, dmonths * t)) : add_months(t0, dmonths * t))
+                      : cal365  ? to_noleap(t0) + dt * t
+                                : t0 + dt * t;
+    if (cal365) /* the model's clock: counted in its own calendar (VSV_ATTR_CALENDAR) */
+        vsv_meta_add_attr(&s->grid, VSV_ATTR_CALENDAR, vsv_calendar_name(VSV_CAL_NOLEAP));
     vsv_meta *m = &s->grid;
     m->nx = g->nx;
     m->ny = g->ny;

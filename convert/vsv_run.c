@@ -127,8 +127,13 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
         const int64_t end = vsv_source_time(r->src[i - 1], vsv_source_ntimes(r->src[i - 1]) - 1);
         const int64_t start = vsv_source_time(r->src[i], 0);
         char a[40], b[40];
-        vsv_time_format(end, a, sizeof a);
-        vsv_time_format(start, b, sizeof b);
+        if (vsv_meta_calendar(g) != vsv_meta_calendar(g0)) {
+            rc = fail(r, VSV_EINVAL, "%s and %s: different calendars (%s, %s)", names[0], names[i],
+                      vsv_calendar_name(vsv_meta_calendar(g0)), vsv_calendar_name(vsv_meta_calendar(g)));
+            goto done;
+        }
+        vsv_cal_format(vsv_meta_calendar(g), end, a, sizeof a);
+        vsv_cal_format(vsv_meta_calendar(g), start, b, sizeof b);
         if (start <= end) {
             rc = fail(r, VSV_EINVAL, "%s (ends %s) and %s (starts %s) overlap in time", names[i - 1], a, names[i], b);
             goto done;
@@ -234,7 +239,7 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
         regular = r->ftime[k] - r->ftime[k - 1] == r->ftime[1] - r->ftime[0];
     if (regular) {
         char iso[40], text[96];
-        vsv_time_format(r->ftime[0], iso, sizeof iso);
+        vsv_cal_format(vsv_meta_calendar(&r->meta), r->ftime[0], iso, sizeof iso);
         snprintf(text, sizeof text, "every %lld s from %s", (long long)(r->ftime[1] - r->ftime[0]), iso);
         if (vsv_meta_add_attr(&r->meta, VSV_ATTR_OUTPUTS, text) < 0) {
             rc = VSV_ENOMEM;
@@ -267,14 +272,15 @@ int vsv_run_select(vsv_run *r, const char *times, int64_t dt)
     char msg[400];
     vsv_timesel sel;
     int rc;
+    const int cal = vsv_meta_calendar(&r->meta);
     r->note[0] = 0;
     if (!dt) {
-        if ((rc = vsv_timesel_parse(times, r->ftime, r->nframes, 0, &sel, msg, sizeof msg)))
+        if ((rc = vsv_timesel_parse(times, r->ftime, r->nframes, VSV_TIMESEL_CAL(cal), &sel, msg, sizeof msg)))
             return fail(r, rc, "%s: --times %s: %s", name, times, msg);
         r->win[0] = r->ftime[sel.first], r->win[1] = r->ftime[sel.last];
         if (!sel.exact) {
             char when[40];
-            vsv_time_format(r->ftime[sel.first], when, sizeof when);
+            vsv_cal_format(cal, r->ftime[sel.first], when, sizeof when);
             snprintf(r->note, sizeof r->note, "--times %s: no step at that time; the nearest is step %d, %s", times,
                      sel.first, when);
         }
@@ -294,12 +300,12 @@ int vsv_run_select(vsv_run *r, const char *times, int64_t dt)
         return fail(r, VSV_ENOMEM, "out of memory");
     for (int k = 0; k < n; k++)
         grid[k] = r->origin + k * dt;
-    rc = vsv_timesel_parse(times, grid, n, 0, &sel, msg, sizeof msg);
+    rc = vsv_timesel_parse(times, grid, n, VSV_TIMESEL_CAL(cal), &sel, msg, sizeof msg);
     if (!rc) {
         r->win[0] = grid[sel.first], r->win[1] = grid[sel.last];
         if (!sel.exact) {
             char when[40];
-            vsv_time_format(grid[sel.first], when, sizeof when);
+            vsv_cal_format(cal, grid[sel.first], when, sizeof when);
             snprintf(r->note, sizeof r->note, "--times %s: no output step at that time; the nearest is step %d, %s",
                      times, sel.first, when);
         }
@@ -395,7 +401,7 @@ int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *
                 t++;
             if (t >= vsv_source_ntimes(r->wsrc) || vsv_source_time(r->wsrc, t) != r->ftime[i]) {
                 char when[40];
-                vsv_time_format(r->ftime[i], when, sizeof when);
+                vsv_cal_format(vsv_meta_calendar(&r->meta), r->ftime[i], when, sizeof when);
                 return fail(r, VSV_ENOTFOUND, "--winds %s: no winds at %s (frame %d of the run)", companion, when, i);
             }
             r->wt[i] = t;

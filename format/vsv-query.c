@@ -207,7 +207,7 @@ int main(int argc, char **argv)
 
     for (int t = a; t <= b; t++) {
         char iso[32];
-        vsv_time_format(vsv_file_time(f, t), iso, sizeof iso);
+        vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), iso, sizeof iso);
         /* per-column heights of native levels move in time: a height's level too */
         if (at && !isnan(arg[2]) && m->nheights > 1 &&
             vsv_point_locate_at(m, vsv_file_time(f, t), arg[0], arg[1], arg[2], &pt, msg, sizeof msg))

@@ -218,6 +218,29 @@ int vsv_time_parse(const char *s, int64_t *t);
 /* Seconds of a civil date (proleptic Gregorian, UTC). */
 int64_t vsv_time_from_civil(int year, int month, int day, int hour, int min, int sec);
 
+/* Calendars, as CF names them: a model's clock. A file whose metadata has
+ * the attribute "calendar" (VSV_ATTR_CALENDAR) naming one other than the
+ * standard counts its times in it: seconds since 1970-01-01T00:00:00 of
+ * that calendar (noleap: every year 365 days; all_leap: 366; 360_day:
+ * twelve months of 30 days), so that every step stays its model date and
+ * every interval its model length. The functions below take the calendar
+ * (VSV_CAL_*); the vsv_time_* above are the standard one. */
+enum { VSV_CAL_STANDARD = 0, VSV_CAL_NOLEAP = 1, VSV_CAL_ALL_LEAP = 2, VSV_CAL_360_DAY = 3 };
+#define VSV_ATTR_CALENDAR "calendar"
+/* The calendar of a CF name (standard, gregorian, proleptic_gregorian,
+ * noleap, 365_day, all_leap, 366_day, 360_day; any case), or -1. */
+int vsv_calendar_named(const char *name);
+/* Its CF name ("standard", "noleap", "all_leap", "360_day"); static. */
+const char *vsv_calendar_name(int cal);
+/* The calendar of a file's metadata: VSV_CAL_STANDARD without the
+ * attribute (or with one this does not name). */
+int vsv_meta_calendar(const vsv_meta *m);
+int64_t vsv_cal_from_civil(int cal, int year, int month, int day, int hour, int min, int sec);
+void vsv_cal_format(int cal, int64_t t, char *buf, size_t cap);
+/* As vsv_time_parse, in the calendar: a day the calendar does not have
+ * (2001-02-29 in noleap, a 31st in 360_day) is VSV_EINVAL. */
+int vsv_cal_parse(int cal, const char *s, int64_t *t);
+
 /* The one time grammar of every tool (--time, --times, the player's seek):
  *   ELEM := a 0-based step index | an ISO time (vsv_time_parse)
  *   SPEC := ELEM | [ELEM]:[ELEM]   (a range; both ends of one kind; ISO
@@ -236,6 +259,8 @@ typedef struct vsv_timesel {
     int range;       /* 1: SPEC was a range */
 } vsv_timesel;
 enum { VSV_TIMESEL_ONE = 1 /* refuse ranges */ };
+/* flags | VSV_TIMESEL_CAL(cal): ISO times are dates of that calendar. */
+#define VSV_TIMESEL_CAL(cal) ((cal) << 4)
 int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, vsv_timesel *out, char *msg,
                       size_t cap);
 /* Parses a duration into seconds (> 0): numbers with their units, largest

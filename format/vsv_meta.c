@@ -142,7 +142,8 @@ int vsv_meta_outputs(const vsv_meta *m, int64_t *first, int64_t *every)
     const char *v = vsv_meta_attr(m, VSV_ATTR_OUTPUTS);
     long long e;
     char iso[40];
-    if (!v || sscanf(v, "every %lld s from %39s", &e, iso) != 2 || e <= 0 || vsv_time_parse(iso, first))
+    if (!v || sscanf(v, "every %lld s from %39s", &e, iso) != 2 || e <= 0 ||
+        vsv_cal_parse(vsv_meta_calendar(m), iso, first))
         return 0;
     *every = e;
     return 1;

@@ -13,7 +13,7 @@
 enum { EL_EMPTY, EL_INDEX, EL_TIME, EL_BAD };
 
 /* The kind of one element of n bytes at s, and its value. */
-static int element(const char *s, size_t n, long long *idx, int64_t *t)
+static int element(int cal, const char *s, size_t n, long long *idx, int64_t *t)
 {
     char buf[96];
     if (!n)
@@ -29,7 +29,7 @@ static int element(const char *s, size_t n, long long *idx, int64_t *t)
         *idx = strtoll(buf, NULL, 10);
         return EL_INDEX;
     }
-    return vsv_time_parse(buf, t) ? EL_BAD : EL_TIME;
+    return vsv_cal_parse(cal, buf, t) ? EL_BAD : EL_TIME;
 }
 
 static int fail(char *msg, size_t cap, int rc, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
@@ -45,11 +45,11 @@ static int fail(char *msg, size_t cap, int rc, const char *fmt, ...)
 }
 
 /* "steps 0..N-1, FIRST .. LAST": the valid range, for messages. */
-static void valid_range(const int64_t *times, int n, char *buf, size_t cap)
+static void valid_range(int cal, const int64_t *times, int n, char *buf, size_t cap)
 {
     char a[40], b[40];
-    vsv_time_format(times[0], a, sizeof a);
-    vsv_time_format(times[n - 1], b, sizeof b);
+    vsv_cal_format(cal, times[0], a, sizeof a);
+    vsv_cal_format(cal, times[n - 1], b, sizeof b);
     if (n == 1)
         snprintf(buf, cap, "the only step is 0, %s", a);
     else
@@ -58,11 +58,11 @@ static void valid_range(const int64_t *times, int n, char *buf, size_t cap)
 
 /* Resolves one element to a step. how: 0 nearest, 1 first at or after,
  * 2 last at or before. */
-static int resolve(const int64_t *times, int n, int kind, long long idx, int64_t t, int how, const char *text,
-                   int *step, int *exact, char *msg, size_t cap)
+static int resolve(int cal, const int64_t *times, int n, int kind, long long idx, int64_t t, int how,
+                   const char *text, int *step, int *exact, char *msg, size_t cap)
 {
     char range[128];
-    valid_range(times, n, range, sizeof range);
+    valid_range(cal, times, n, range, sizeof range);
     if (kind == EL_INDEX) {
         if (idx >= n)
             return fail(msg, cap, VSV_ERANGE, "step %lld is out of range (%s)", idx, range);
@@ -91,6 +91,7 @@ int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, 
                       size_t cap)
 {
     memset(out, 0, sizeof *out);
+    const int cal = flags >> 4 & 3;
     if (!spec || !*spec)
         return fail(msg, cap, VSV_EINVAL, "an empty time");
     if (times && n < 1)
@@ -99,12 +100,12 @@ int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, 
     long long ia = 0, ib = 0;
     int64_t ta = 0, tb = 0;
     /* one element */
-    const int whole = element(spec, len, &ia, &ta);
+    const int whole = element(cal, spec, len, &ia, &ta);
     if ((whole == EL_INDEX || whole == EL_TIME) && !times)
         return 0;
     if (whole == EL_INDEX || whole == EL_TIME) {
         int s, exact;
-        int rc = resolve(times, n, whole, ia, ta, 0, spec, &s, &exact, msg, cap);
+        int rc = resolve(cal, times, n, whole, ia, ta, 0, spec, &s, &exact, msg, cap);
         if (rc)
             return rc;
         out->first = out->last = s;
@@ -118,8 +119,8 @@ int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, 
     for (const char *c = strchr(spec, ':'); c; c = strchr(c + 1, ':')) {
         long long xa = 0, xb = 0;
         int64_t ya = 0, yb = 0;
-        const int k1 = element(spec, (size_t)(c - spec), &xa, &ya);
-        const int k2 = element(c + 1, strlen(c + 1), &xb, &yb);
+        const int k1 = element(cal, spec, (size_t)(c - spec), &xa, &ya);
+        const int k2 = element(cal, c + 1, strlen(c + 1), &xb, &yb);
         if (k1 == EL_BAD || k2 == EL_BAD || (k1 != EL_EMPTY && k2 != EL_EMPTY && k1 != k2))
             continue;
         if (found++)
@@ -140,17 +141,17 @@ int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, 
     int rc;
     if (ka != EL_EMPTY) {
         snprintf(text, sizeof text, "%.*s", (int)(colon - spec), spec);
-        if ((rc = resolve(times, n, ka, ia, ta, 1, text, &a, &ex, msg, cap)))
+        if ((rc = resolve(cal, times, n, ka, ia, ta, 1, text, &a, &ex, msg, cap)))
             return rc;
     }
     if (kb != EL_EMPTY) {
         snprintf(text, sizeof text, "%s", colon + 1);
-        if ((rc = resolve(times, n, kb, ib, tb, 2, text, &b, &ex, msg, cap)))
+        if ((rc = resolve(cal, times, n, kb, ib, tb, 2, text, &b, &ex, msg, cap)))
             return rc;
     }
     if (a > b) {
         char range[128];
-        valid_range(times, n, range, sizeof range);
+        valid_range(cal, times, n, range, sizeof range);
         return fail(msg, cap, VSV_ERANGE, "'%s' selects no step (%s)", spec, range);
     }
     out->first = a;

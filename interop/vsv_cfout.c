@@ -154,14 +154,15 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
     nc_ok(&w, nc_def_var(w.nc, "x", NC_DOUBLE, 1, &dx, &vx), "x");
     /* time */
     char since[64], units[96];
-    vsv_time_format(vsv_file_time(f, a), since, sizeof since);
+    const int cal = vsv_meta_calendar(m);
+    vsv_cal_format(cal, vsv_file_time(f, a), since, sizeof since);
     since[10] = ' ';           /* "YYYY-MM-DD HH:MM:SS", the UDUNITS form */
     since[19] = 0;
     snprintf(units, sizeof units, "seconds since %s", since);
     att_text(&w, vt, "standard_name", "time");
     att_text(&w, vt, "long_name", "time");
     att_text(&w, vt, "units", units);
-    att_text(&w, vt, "calendar", "standard");
+    att_text(&w, vt, "calendar", vsv_calendar_name(cal));
     att_text(&w, vt, "axis", "T");
     /* vertical: CF's altitude counts from sea level, its height from the ground */
     const int agl = vsv_meta_above_ground(m);

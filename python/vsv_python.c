@@ -118,7 +118,8 @@ static int step_of(FileObject *self, PyObject *o)
         times[i] = vsv_file_time(self->f, i);
     vsv_timesel sel;
     char msg[400];
-    const int rc = vsv_timesel_parse(spec, times, n, VSV_TIMESEL_ONE, &sel, msg, sizeof msg);
+    const int rc = vsv_timesel_parse(spec, times, n, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(vsv_meta_calendar(vsv_file_meta(self->f))),
+                                     &sel, msg, sizeof msg);
     PyMem_Free(times);
     if (rc) {
         PyErr_Format(VsvError, "time %s: %s", spec, msg);
@@ -321,11 +322,12 @@ static PyObject *File_grid(FileObject *self, void *unused)
             return NULL;
         memcpy(PyArray_DATA((PyArrayObject *)levels), m->levels, (size_t)n * sizeof(double));
     }
-    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:s,s:N,s:N,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny", m->ny,
+    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:s,s:N,s:N,s:s,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny", m->ny,
                          "nz", m->nz, "origin", m->origin[0], m->origin[1], m->origin[2], "spacing", m->spacing[0],
                          m->spacing[1], m->spacing[2], "vertical", vert_name(m->vert_kind), "vert_units",
                          vsv_meta_height_units(m), "datum", vsv_meta_above_ground(m) ? "ground" : "sea level",
-                         "levels", levels, "column_heights", PyBool_FromLong(m->nheights > 0), "model", m->model, "run", m->run, "brick",
+                         "levels", levels, "column_heights", PyBool_FromLong(m->nheights > 0), "calendar",
+                         vsv_calendar_name(vsv_meta_calendar(m)), "model", m->model, "run", m->run, "brick",
                          self->info.brick, "nbricks", self->info.nbricks);
 }
 

@@ -231,15 +231,16 @@ static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camer
 void vsv_annot_time_line(const vsv_meta *m, int64_t t, char *buf, size_t cap)
 {
     char iso[40];
-    vsv_time_format(t, iso, sizeof iso);
+    const int cal = vsv_meta_calendar(m);
+    vsv_cal_format(cal, t, iso, sizeof iso);
     snprintf(buf, cap, "%s", iso);
     int64_t first, every;
     if (vsv_meta_outputs(m, &first, &every) && t > first && (t - first) % every) {
         /* between two of the model's outputs: say which */
         const int64_t a = first + (t - first) / every * every, b = a + every;
         char ta[40], tb[40];
-        vsv_time_format(a, ta, sizeof ta);
-        vsv_time_format(b, tb, sizeof tb);
+        vsv_cal_format(cal, a, ta, sizeof ta);
+        vsv_cal_format(cal, b, tb, sizeof tb);
         const int same_day = !strncmp(ta, tb, 10) && !strncmp(ta, iso, 10);
         const size_t n = strlen(buf);
         snprintf(buf + n, cap - n, "   interpolated between %.*s and %.*s", same_day ? 5 : 16, ta + (same_day ? 11 : 0),
@@ -250,7 +251,7 @@ void vsv_annot_time_line(const vsv_meta *m, int64_t t, char *buf, size_t cap)
     const long behind = tz ? strtol(tz, &end, 10) : 0;
     if (tz && end != tz && behind != 0 && behind >= -14 && behind <= 14) {
         char local[40];
-        vsv_time_format(t - behind * 3600, local, sizeof local);
+        vsv_cal_format(cal, t - behind * 3600, local, sizeof local);
         local[16] = 0; /* YYYY-MM-DDTHH:MM */
         const size_t n = strlen(buf);
         snprintf(buf + n, cap - n, "   local %s UTC%+ld", local, -behind);

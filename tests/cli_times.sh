@@ -113,4 +113,48 @@ if "$B/vsv-export" --help > /dev/null 2>&1 && "$B/vsv-export" --help | grep -q v
     expect "vsv-export --times after the end exits 1" 1 "$B/vsv-export" -q "$T/s.vsv" --vdb "$T/v%02d.vdb" --times 1995-10-24T02:00Z:1995-10-25T00:00Z
     has "vsv-export names the valid range" "$T/err" "is after the last step"
 fi
+
+# CF calendars other than the standard one (issue 32): a 360-day file (days
+# 28, 29, 30 of February) and a noleap one (28 February, then 1 March a day
+# later) keep their dates and intervals through the tools and back
+if /usr/bin/python3 -c "import netCDF4" 2> /dev/null; then
+    /usr/bin/python3 - "$T" << 'EOP'
+import sys, numpy as np, netCDF4
+for cal, since, n in (("360_day", "days since 2001-02-28", 3), ("noleap", "days since 2000-02-28", 2)):
+    d = netCDF4.Dataset("%s/%s.nc" % (sys.argv[1], cal), "w")
+    d.Conventions = "CF-1.8"
+    for name, size in (("time", n), ("z", 2), ("y", 3), ("x", 4)):
+        d.createDimension(name, size)
+    t = d.createVariable("time", "f8", ("time",)); t.units = since; t.calendar = cal; t[:] = np.arange(n)
+    z = d.createVariable("z", "f8", ("z",)); z.units = "m"; z.positive = "up"; z.standard_name = "altitude"; z[:] = [500, 1500]
+    y = d.createVariable("y", "f8", ("y",)); y.units = "m"; y.standard_name = "projection_y_coordinate"; y[:] = [0, 1000, 2000]
+    x = d.createVariable("x", "f8", ("x",)); x.units = "m"; x.standard_name = "projection_x_coordinate"; x[:] = [0, 1000, 2000, 3000]
+    v = d.createVariable("O3", "f4", ("time", "z", "y", "x")); v.units = "ppm"
+    v[:] = np.arange(n * 24, dtype="f4").reshape(n, 2, 3, 4) * 0.01
+    d.close()
+EOP
+    expect "a 360_day CF file converts" 0 "$B/vsv-convert" -q "$T/360_day.nc" -o "$T/c360.vsv"
+    "$B/vsv-info" "$T/c360.vsv" > "$T/out"
+    has "... its times are its dates, a day apart" "$T/out" "3 steps, 2001-02-28T00:00:00Z .. 2001-02-30T00:00:00Z, every 86400 s (1d)"
+    has "... and the file says its calendar" "$T/out" "calendar    360_day"
+    expect "vsv-query --time 2001-02-30 (a 360-day date)" 0 "$B/vsv-query" "$T/c360.vsv" --cell 1,1,0 --time 2001-02-30 --csv
+    has "... finds the third step" "$T/out" "2001-02-30T00:00:00Z,1,1,0"
+    expect "--time 2001-02-31 exits 2 (no such day)" 2 "$B/vsv-query" "$T/c360.vsv" --cell 1,1,0 --time 2001-02-31
+    expect "--time-res 12h on 360-day days" 0 "$B/vsv-convert" -q --time-res 12h "$T/360_day.nc" -o "$T/c360h.vsv"
+    "$B/vsv-info" -f times "$T/c360h.vsv" > "$T/out"
+    has "... five steps, 29 February 12:00 among them" "$T/out" '"2001-02-29T12:00:00Z", "2001-02-30T00:00:00Z"]'
+    expect "the 360_day file exports to netCDF" 0 "$B/vsv-export" -q "$T/c360.vsv" --netcdf "$T/back360.nc"
+    ncdump -h "$T/back360.nc" > "$T/out"
+    has "... with its calendar" "$T/out" 'time:calendar = "360_day"'
+    has "... and its dates" "$T/out" 'time:units = "seconds since 2001-02-28 00:00:00"'
+    expect "... which converts back" 0 "$B/vsv-convert" -q "$T/back360.nc" -o "$T/again360.vsv"
+    "$B/vsv-info" -f times "$T/again360.vsv" > "$T/out2"
+    "$B/vsv-info" -f times "$T/c360.vsv" > "$T/out"
+    same "... to the same times" "$T/out" "$T/out2"
+    expect "a noleap CF file converts" 0 "$B/vsv-convert" -q "$T/noleap.nc" -o "$T/cnl.vsv"
+    "$B/vsv-info" "$T/cnl.vsv" > "$T/out"
+    has "... 28 February then 1 March, a day apart (no 29th)" "$T/out" "2 steps, 2000-02-28T00:00:00Z .. 2000-03-01T00:00:00Z, every 86400 s (1d)"
+else
+    echo "SKIP the calendars: python3-netcdf4 is missing"
+fi
 exit 0

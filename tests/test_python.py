@@ -308,6 +308,38 @@ class NetCDF(unittest.TestCase):
         self.assertEqual(a["O3"].attrs["units"], "ppm")
         self.assertEqual(vesuvius.open(cmaq).grid["datum"], "ground")
 
+    def test_360_day_calendar(self):
+        """A 360-day CF file: its steps are cftime dates of that calendar (29 and 30
+        February among them), a read by such a date finds its step, and to_xarray
+        agrees with the export."""
+        import netCDF4
+        import cftime
+        src = os.path.join(TMP, "c360.nc")
+        d = netCDF4.Dataset(src, "w")
+        d.Conventions = "CF-1.8"
+        for name, size in (("time", 3), ("z", 2), ("y", 3), ("x", 4)):
+            d.createDimension(name, size)
+        t = d.createVariable("time", "f8", ("time",))
+        t.units, t.calendar = "days since 2001-02-28", "360_day"
+        t[:] = [0, 1, 2]
+        for name, n in (("z", 2), ("y", 3), ("x", 4)):
+            c = d.createVariable(name, "f8", (name,))
+            c.units = "m"
+            c[:] = np.arange(n) * 1000.0 + (500 if name == "z" else 0)
+        d["z"].positive = "up"
+        v = d.createVariable("O3", "f4", ("time", "z", "y", "x"))
+        v.units = "ppm"
+        v[:] = np.arange(72, dtype="f4").reshape(3, 2, 3, 4) * 0.01
+        d.close()
+        out = os.path.join(TMP, "c360.vsv")
+        tool("vsv-convert", "-q", src, "-o", out)
+        f = vesuvius.open(out)
+        self.assertEqual(f.grid["calendar"], "360_day")
+        self.assertEqual(list(f.times), [cftime.Datetime360Day(2001, 2, d) for d in (28, 29, 30)])
+        self.assertAlmostEqual(float(f.read("O3", f.times[2]).max()), 0.71, places=5)
+        self.assertAlmostEqual(float(f.read("O3", "2001-02-29T00:00:00Z").max()), 0.47, places=5)
+        self.agree(out)
+
     def test_vert_units(self):
         """Heights are in m on even and native files alike; an index has none."""
         self.assertEqual(self.f.grid["vert_units"], "m")

@@ -455,7 +455,7 @@ int main(int argc, char **argv)
         const int bad = vsv_player_damage(p, &why);
         if (bad >= 0) { /* once per step; the status line keeps saying it */
             char when[64];
-            vsv_time_format(vsv_player_clock(p)->times[bad], when, sizeof when);
+            vsv_cal_format(vsv_meta_calendar(vsv_player_meta(p)), vsv_player_clock(p)->times[bad], when, sizeof when);
             fprintf(stderr, "vsv-play: %s: step %d (%s) is damaged, not drawn; playing on: %s\n", po.path, bad, when, why);
             ndamaged++;
         }

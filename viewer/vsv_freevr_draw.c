@@ -183,7 +183,7 @@ static void trace(const fvwin *w)
     struct timespec cpu;
     clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu);
     char when[40], line[256];
-    vsv_time_format(w->time, when, sizeof when);
+    vsv_cal_format(vsv_meta_calendar(vsv_player_meta(player)), w->time, when, sizeof when);
     const int n = snprintf(line, sizeof line, "%s %llu %lld %d %s %.4f %.4f %d\n", w->name,
                            (unsigned long long)w->frames, (long long)w->tick, w->step, when,
                            w->when - vsv_fv.t0, (double)cpu.tv_sec + cpu.tv_nsec * 1e-9, (int)getpid());

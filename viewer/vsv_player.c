@@ -616,8 +616,9 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         NEED(a1, "seek: needs an ISO time or a step index");
         vsv_timesel sel;
         char why[300];
-        NEED(!vsv_timesel_parse(a1, p->times, c->nsteps, VSV_TIMESEL_ONE, &sel, why, sizeof why), "seek %s: %s", a1,
-             why);
+        NEED(!vsv_timesel_parse(a1, p->times, c->nsteps, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(vsv_meta_calendar(p->m)), &sel,
+                                why, sizeof why),
+             "seek %s: %s", a1, why);
         vsv_clock_seek_step(c, sel.first);
     } else if (!strcmp(verb, "speed")) {
         NEED(!num(a1, &v) && v != 0, "speed: needs a non-zero number (negative plays backwards)");

@@ -13,7 +13,7 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
     char when[64] = "-";
     const int step = p->shown >= 0 ? p->shown : c->step;
     if (c->nsteps)
-        vsv_time_format(p->times[step], when, sizeof when);
+        vsv_cal_format(vsv_meta_calendar(p->m), p->times[step], when, sizeof when);
     static const char *ends[] = {"", "  loop", "  bounce"};
     size_t n = (size_t)snprintf(buf, cap, "%s  step %d [0-%d]  %s %sx%g%s  %s%s%s%s%s\n", when, step, c->nsteps - 1,
                                 c->playing ? "PLAY" : "PAUSE", c->speed < 0 ? "-" : "", fabs(c->speed), ends[c->ends],

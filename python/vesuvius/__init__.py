@@ -60,8 +60,13 @@ class File:
 
     @property
     def times(self):
-        """The time of each step, numpy datetime64[s] (UTC)."""
-        return self._f._times.astype("datetime64[s]")
+        """The time of each step: numpy datetime64[s] (UTC); in a file of another
+        calendar (grid["calendar"]: noleap, all_leap, 360_day), cftime dates of it."""
+        cal = self._f.grid["calendar"]
+        if cal == "standard":
+            return self._f._times.astype("datetime64[s]")
+        import cftime
+        return np.asarray(cftime.num2date(self._f._times, "seconds since 1970-01-01 00:00:00", calendar=cal))
 
     @property
     def species(self):
@@ -88,7 +93,7 @@ class File:
     def _step(self, time):
         if isinstance(time, (np.datetime64,)):
             time = str(time.astype("datetime64[s]")) + "Z"
-        elif hasattr(time, "isoformat"):  # datetime.datetime
+        elif hasattr(time, "strftime"):  # datetime.datetime, or a cftime date
             time = time.strftime("%Y-%m-%dT%H:%M:%SZ")
         elif isinstance(time, (np.integer,)):
             time = int(time)
@@ -194,7 +199,8 @@ class File:
                 za.update(standard_name="air_pressure", positive="down")
         else:
             za = {"standard_name": "model_level_number", "units": "1", "positive": "up", "axis": "Z"}
-        coords = {"time": ("time", self.times.astype("datetime64[ns]"),
+        times = self.times
+        coords = {"time": ("time", times.astype("datetime64[ns]") if times.dtype.kind == "M" else times,
                            {"standard_name": "time", "long_name": "time", "axis": "T"}), "x": ("x", x, xa), "y": ("y", y, ya),
                   "z": ("z", self.height, za)}
         if not latlon and self.projection["kind"] != "none":
