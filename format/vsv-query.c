@@ -113,6 +113,9 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("--profile %s: expected LAT,LON", profile);
     if (cellarg && (nargs < 2 || arg[0] != floor(arg[0]) || arg[1] != floor(arg[1]) || (nargs == 3 && arg[2] != floor(arg[2]))))
         vsv_cli_usage_error("--cell %s: expected I,J or I,J,K (whole numbers)", cellarg);
+    for (int i = 0; cellarg && i < nargs; i++) /* an int each, before it is one */
+        if (arg[i] < 0 || arg[i] > 1e9)
+            vsv_cli_usage_error("--cell %s: indices are whole numbers from 0", cellarg);
     if (at && (fabs(arg[0]) > 90 || fabs(arg[1]) > 360))
         vsv_cli_usage_error("--at %s: latitude must be within -90..90 and longitude within -360..360", at);
 

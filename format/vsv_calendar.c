@@ -23,7 +23,7 @@ int64_t vsv_time_from_civil(int y, int m, int d, int hh, int mm, int ss)
 
 void vsv_time_format(int64_t t, char *buf, size_t cap)
 {
-    int64_t days = t >= 0 ? t / 86400 : -((-t + 86399) / 86400);
+    int64_t days = t / 86400 - (t % 86400 < 0); /* floor, and no -t to overflow */
     int64_t sec = t - days * 86400;
     int64_t z = days + 719468;
     const int64_t era = (z >= 0 ? z : z - 146096) / 146097;
@@ -141,9 +141,9 @@ void vsv_cal_format(int cal, int64_t t, char *buf, size_t cap)
         vsv_time_format(t, buf, cap);
         return;
     }
-    const int64_t days = t >= 0 ? t / 86400 : -((-t + 86399) / 86400), sec = t - days * 86400;
+    const int64_t days = t / 86400 - (t % 86400 < 0), sec = t - days * 86400;
     const int yd = year_days(cal);
-    const int64_t years = days >= 0 ? days / yd : -((-days + yd - 1) / yd);
+    const int64_t years = days / yd - (days % yd < 0);
     int doy = (int)(days - years * yd), m = 1;
     while (m < 12 && doy >= month_days(cal, m))
         doy -= month_days(cal, m++);

@@ -198,7 +198,7 @@ int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, con
     }
     uint64_t off = vsv_pack_plan_first_chunk(p);
     for (int t = 0; t < nsteps; t++) {
-        if (t && times[t] <= times[t - 1]) {
+        if (!VSV_TIME_OK(times[t]) || (t && times[t] <= times[t - 1])) {
             vsv_msg(p->err, sizeof p->err, "step %d: time %lld does not increase", t, (long long)times[t]);
             return VSV_EINVAL;
         }

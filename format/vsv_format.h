@@ -210,6 +210,13 @@ int vsv_proj_forward(const vsv_proj *p, double lat, double lon, double *x, doubl
 
 /* ----------------------------------------------------------------- times */
 
+/* The times a file or stream may hold, seconds: about the years 1..9999
+ * of every calendar (readers refuse others as damage, writers as misuse:
+ * arithmetic on times stays far from overflow). */
+#define VSV_TIME_MIN (-63000000000LL)
+#define VSV_TIME_MAX 260000000000LL
+#define VSV_TIME_OK(t) ((t) >= VSV_TIME_MIN && (t) <= VSV_TIME_MAX)
+
 /* Times are integer seconds since 1970-01-01T00:00:00Z. Writes
  * "YYYY-MM-DDTHH:MM:SSZ" into buf (cap >= 32). */
 void vsv_time_format(int64_t t, char *buf, size_t cap);
@@ -263,13 +270,16 @@ enum { VSV_TIMESEL_ONE = 1 /* refuse ranges */ };
 #define VSV_TIMESEL_CAL(cal) ((cal) << 4)
 int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, vsv_timesel *out, char *msg,
                       size_t cap);
-/* Parses a duration into seconds (> 0): numbers with their units, largest
+/* Parses a duration into seconds (> 0, at most VSV_DURATION_MAX): numbers with their units, largest
  * first and each once ("30s", "10m" or "10min", "1h30m", "2d6h"), or ISO
  * 8601's PnDTnHnMnS (and nW: "PT1H30M", "P1DT12H"). 0; VSV_ERANGE for a
  * duration of zero or less, or ISO years and months (no fixed length);
  * VSV_EINVAL for anything else (a bare number among it: seconds or
  * minutes would be a guess). */
 int vsv_duration_parse(const char *s, int64_t *out);
+/* The longest duration it takes: 10000 years (VSV_TIME_MAX - VSV_TIME_MIN
+ * is about that). */
+#define VSV_DURATION_MAX 316000000000LL
 /* Why s is not a duration, in words ("" when it is): static text. */
 const char *vsv_duration_why(const char *s);
 /* Writes d seconds in the largest whole unit ("10m", "1h", "90s"). */

@@ -158,6 +158,9 @@ static int parse(vsv_file *f)
         if (off != expect || size % VSV_ALIGN || size < VSV_CHUNK_HEADER_SIZE + index_bytes || size > toc_off - off)
             return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: chunk at %llu (%llu bytes) out of place", t,
                        (unsigned long long)off, (unsigned long long)size);
+        if (!VSV_TIME_OK(time))
+            return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: time %lld is outside the years 1..9999", t,
+                                 (long long)time);
         if (t && time <= last_time)
             return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: time does not increase", t);
         last_time = time;

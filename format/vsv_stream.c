@@ -135,6 +135,11 @@ int vsv_stream_reader_next(vsv_stream_reader *r, int64_t *time, float *const *fi
         return VSV_ECORRUPT;
     }
     int64_t t = (int64_t)vsv_rd64(h + 8);
+    if (!VSV_TIME_OK(t)) {
+        vsv_msg(r->err, sizeof r->err, "%s: frame %llu: time %lld is outside the years 1..9999", r->name,
+                (unsigned long long)r->frames, (long long)t);
+        return VSV_ECORRUPT;
+    }
     if (r->frames && t <= r->last_time) {
         vsv_msg(r->err, sizeof r->err, "%s: frame %llu time does not increase", r->name,
                 (unsigned long long)r->frames);
@@ -195,7 +200,7 @@ int vsv_stream_writer_open(FILE *fp, const vsv_meta *meta, vsv_stream_writer **o
 
 int vsv_stream_writer_frame(vsv_stream_writer *w, int64_t time, const float *const *fields)
 {
-    if (w->frames && time <= w->last_time)
+    if ((w->frames && time <= w->last_time) || !VSV_TIME_OK(time))
         return VSV_EINVAL;
     unsigned char h[16];
     memcpy(h, "FRAM", 4);

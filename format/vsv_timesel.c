@@ -258,8 +258,8 @@ int vsv_duration_parse(const char *s, int64_t *out)
     const int rc = body[0] == 'P' ? iso_duration(body + 1, &v) : unit_duration(body, &v);
     if (rc)
         return rc;
-    if (neg || v == 0)
-        return VSV_ERANGE; /* a time step is more than nothing */
+    if (neg || v == 0 || v > VSV_DURATION_MAX)
+        return VSV_ERANGE; /* a time step is more than nothing, and less than a file's span */
     *out = v;
     return 0;
 }
@@ -275,6 +275,8 @@ const char *vsv_duration_why(const char *s)
         return "years and months have no fixed length: give days, hours, minutes or seconds";
     if (rc == VSV_ERANGE && s[0] == '-')
         return "a negative duration: the step must be more than zero";
+    if (rc == VSV_ERANGE && (body[0] == 'P' ? iso_duration(body + 1, &v) : unit_duration(body, &v)) == 0 && v > 0)
+        return "longer than 10000 years (no file spans more)";
     if (rc == VSV_ERANGE)
         return "a duration of zero: the step must be more than zero";
     return "expected a duration with its units, largest first: 30s, 10m, 1h30m, 1d, or ISO 8601 PT1H30M";

@@ -138,6 +138,10 @@ int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
 {
     if (w->finished || (w->spool_fd < 0 && !w->ring))
         return VSV_EINVAL;
+    if (!VSV_TIME_OK(time)) {
+        vsv_msg(w->err, sizeof w->err, "step %d: time %lld is outside the years 1..9999", w->nsteps, (long long)time);
+        return VSV_EINVAL;
+    }
     if (w->nsteps && time <= w->times[w->nsteps - 1]) {
         vsv_msg(w->err, sizeof w->err, "step %d: time %lld does not increase", w->nsteps, (long long)time);
         return VSV_EINVAL;

@@ -287,8 +287,8 @@ int main(int argc, char **argv)
                 vsv_cli_usage_error("--size %s: expected WxH", optarg);
             break;
         case 'x':
-            if (vsv_cli_double(optarg, &exag) || !(exag > 0))
-                vsv_cli_usage_error("--exaggerate %s: a positive number", optarg);
+            if (vsv_cli_double(optarg, &exag) || !(exag > 0) || exag > VSV_MAX_EXAGGERATION)
+                vsv_cli_usage_error("--exaggerate %s: a number above 0 and at most %d", optarg, VSV_MAX_EXAGGERATION);
             break;
         case O_BG:
             if (sscanf(optarg, "%f,%f,%f", &bg[0], &bg[1], &bg[2]) != 3)

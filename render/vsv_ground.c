@@ -112,6 +112,8 @@ double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3
     const double uo = (o[0] - g->ox) * g->idx, du = d[0] * g->idx;
     const double vo = (o[1] - g->oy) * g->idy, dv = d[1] * g->idy;
     const double u = uo + t0 * du, v = vo + t0 * dv;
+    if (!(isfinite(u) && isfinite(v) && isfinite(t1))) /* a ray beyond numbers (an exaggeration of 1e308) */
+        return INFINITY;
     int i = u < 0 ? -1 : u >= nx - 1 ? nx - 1 : (int)u, j = v < 0 ? -1 : v >= ny - 1 ? ny - 1 : (int)v;
     const float *h = g->terrain;
     const double iu = 1 / du, iv = 1 / dv; /* infinite along an axis the ray does not move on */

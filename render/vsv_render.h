@@ -125,6 +125,9 @@ typedef struct vsv_slice {
     double xy[VSV_SLICE_MAXPTS][2];
 } vsv_slice;
 
+/* The largest vertical exaggeration the tools take (a 16 km troposphere
+ * as high as 16 000 km: far past any use). */
+#define VSV_MAX_EXAGGERATION 1000
 typedef struct vsv_scene {
     const vsv_meta *meta; /* grid, levels, terrain */
     const vsv_layer *layers;

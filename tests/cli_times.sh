@@ -36,6 +36,8 @@ done
 has "a negative step is named" "$T/err" "--time-res -1h30m: a negative duration"
 expect "--time-res 0s exits 2" 2 "$B/vsv-interp" --time-res 0s
 has "a zero step is named" "$T/err" "--time-res 0s: a duration of zero"
+expect "--time-res 9223372036854775807s exits 2" 2 "$B/vsv-interp" --time-res 9223372036854775807s
+has "... longer than any file spans (it overflowed the interpolation)" "$T/err" "longer than 10000 years"
 expect "--time-res P1M exits 2" 2 "$B/vsv-interp" --time-res P1M
 has "ISO months are named" "$T/err" "years and months have no fixed length"
 for d in 30m1h 1h1h 1hm PT P1H 1h30 10ms; do

@@ -218,6 +218,15 @@ class Sample(unittest.TestCase):
             self.assertLessEqual(np.abs(rb[~under] - b[t][~under]).max(), w.species[1].max_abs_error)
         subprocess.run([os.path.join(B, "vsv-info"), "--check", out], check=True, capture_output=True)
 
+    def test_write_refuses_times_beyond_the_years(self):
+        """A time outside the years 1..9999 is refused (INT64_MIN reached netCDF as a
+        time axis before, issue 33)."""
+        g = {"nx": 4, "ny": 3, "nz": 2, "origin": (0, 0, 100), "spacing": (1000, 1000, 200)}
+        a = np.zeros((2, 2, 3, 4), np.float32)
+        with self.assertRaisesRegex(vesuvius.Error, "outside the years 1..9999"):
+            vesuvius.write(os.path.join(TMP, "t.vsv"), grid=g, times=[-2 ** 63, 0], fields={"A": a})
+        self.assertFalse(os.path.exists(os.path.join(TMP, "t.vsv")))
+
     def test_write_refuses_bad_input(self):
         g = {"nx": 4, "ny": 3, "nz": 2, "origin": (0, 0, 100), "spacing": (1000, 1000, 200)}
         out = os.path.join(TMP, "bad.vsv")

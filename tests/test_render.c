@@ -438,6 +438,19 @@ static void test_ground(world *w)
     CHECK(rays > 1000 && hits > 500 && bad == 0,
           "real MMOUT terrain: every ray meets the ground where a fine march says, exactly on it", "%d rays, %d hits, %d wrong",
           rays, hits, bad);
+    /* an exaggeration beyond numbers (vsv-render -x 1e308 overflowed the heap
+     * here, issue 33): a whole frame renders, nothing out of bounds */
+    sc.exaggeration = 1e308;
+    vsv_camera cam;
+    vsv_camera_fit(&cam, &sc, 225, 30, 64, 48);
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    vsv_renderer *r = NULL;
+    float *img = malloc(sizeof(float) * 4 * 64 * 48);
+    CHECK(img && vsv_renderer_create(&o, &r) == 0 && vsv_render(r, &sc, &cam, img, NULL) >= 0,
+          "an exaggeration of 1e308: the frame renders without a fault");
+    vsv_renderer_free(r);
+    free(img);
 }
 
 /* The shear-warp while playing: one renderer shown steps in turn (forward,

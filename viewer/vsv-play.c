@@ -304,8 +304,8 @@ int main(int argc, char **argv)
                 vsv_cli_usage_error("--render-scale: 0.05..4");
             break;
         case 'x':
-            if (vsv_cli_double(optarg, &d) || !(d > 0))
-                vsv_cli_usage_error("--exaggerate: a number > 0");
+            if (vsv_cli_double(optarg, &d) || !(d > 0) || d > VSV_MAX_EXAGGERATION)
+                vsv_cli_usage_error("--exaggerate %s: a number above 0 and at most %d", optarg, VSV_MAX_EXAGGERATION);
             po.exaggerate = d;
             break;
         case O_RATE:
