@@ -99,6 +99,25 @@ expect "--cache-dir in a folder that cannot be made: exits 1" 1 "$B/vsv-info" "$
 has "naming what could not be made" "$T/err" "vsv-info: --cache-dir /proc/no/cache: cannot make /proc/no"
 expect "--cache-dir a new nested folder: made, exits 0" 0 "$B/vsv-info" "$URL" --cache-dir "$T/new/cache/dir"
 [ -d "$T/new/cache/dir" ] && pass "and the folder is there" || fail "and the folder is there" "no $T/new/cache/dir"
+# a cache others can write is refused, and a link planted in one's own is
+# never followed (issue 33: KEY.data was opened without O_NOFOLLOW and
+# truncated: the victim's file got the server's bytes)
+mkdir -m 0777 "$T/shared-cache" && chmod 0777 "$T/shared-cache"
+expect "--cache-dir writable by others: exits 1" 1 "$B/vsv-info" "$URL" --cache-dir "$T/shared-cache"
+has "... saying why" "$T/err" "refused: a cache folder must be yours and writable by you alone"
+mkdir -m 0700 "$T/own-cache"
+echo "precious" > "$T/victim"
+key=$(/usr/bin/python3 -c "
+import sys
+h = 1469598103934665603
+for c in sys.argv[1].encode():
+    h = ((h ^ c) * 1099511628211) % 2 ** 64
+print('%016x' % h)" "$URL")
+ln -s "$T/victim" "$T/own-cache/$key.data"
+ln -s "$T/victim" "$T/own-cache/$key.meta.tmp"
+expect "a link planted as the cache's data file: the run goes on (in memory)" 0 "$B/vsv-info" "$URL" --cache-dir "$T/own-cache"
+has "... and the linked file is untouched" "$T/victim" "precious"
+[ "$(wc -c < "$T/victim")" = 9 ] && pass "... not one byte of it" || fail "... not one byte of it" "$(wc -c < "$T/victim") bytes"
 expect "--help names --cache-dir" 0 "$B/vsv-render" --help
 has "and says what it does" "$T/out" "--cache-dir DIR"
 expect "an ftp:// URL: exits 1" 1 "$B/vsv-info" "ftp://127.0.0.1:$PORT/run.vsv"

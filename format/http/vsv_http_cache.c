@@ -53,10 +53,28 @@ static int mkdirs(const char *dir, char *failed, size_t cap)
         }
 }
 
+/* A cache folder only this user can write: a directory (not a link to
+ * one) it owns, with no write permission for its group or others (in one
+ * others can write, a planted link or file would make this process
+ * overwrite what the planter chose). 0, or -1 with why. */
+static int own_dir(const char *dir, char *why, size_t cap)
+{
+    struct stat st;
+    if (lstat(dir, &st) || !S_ISDIR(st.st_mode)) {
+        snprintf(why, cap, "not a directory%s", !lstat(dir, &st) && S_ISLNK(st.st_mode) ? " (a symbolic link)" : "");
+        return -1;
+    }
+    if (st.st_uid != geteuid() || (st.st_mode & (S_IWGRP | S_IWOTH))) {
+        snprintf(why, cap, "refused: a cache folder must be yours and writable by you alone (owner %u, mode %03o)",
+                 (unsigned)st.st_uid, (unsigned)(st.st_mode & 0777));
+        return -1;
+    }
+    return 0;
+}
+
 int vsv_http_cache_dir_make(const char *dir, char *why, size_t cap)
 {
     char failed[4096];
-    struct stat st;
     if (!dir[0] || !strcmp(dir, "off"))
         return 0;
     if (strlen(dir) >= sizeof failed) {
@@ -67,10 +85,8 @@ int vsv_http_cache_dir_make(const char *dir, char *why, size_t cap)
         snprintf(why, cap, "cannot make %s: %s", failed, strerror(errno));
         return -1;
     }
-    if (stat(dir, &st) || !S_ISDIR(st.st_mode)) {
-        snprintf(why, cap, "not a directory");
+    if (own_dir(dir, why, cap))
         return -1;
-    }
     if (access(dir, W_OK | X_OK)) {
         snprintf(why, cap, "cannot write there: %s", strerror(errno));
         return -1;
@@ -89,9 +105,13 @@ static size_t load_record(vsv_http_cache *c, const char *url, const vsv_http_ide
 {
     if (!id->etag[0] && !id->lastmod[0])
         return 0; /* nothing to validate it by */
-    FILE *fp = fopen(c->meta_path, "rb");
-    if (!fp)
+    const int rfd = open(c->meta_path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    FILE *fp = rfd >= 0 ? fdopen(rfd, "rb") : NULL;
+    if (!fp) {
+        if (rfd >= 0)
+            close(rfd);
         return 0;
+    }
     char want[4096 + 1024], got[sizeof want];
     record_head(want, sizeof want, url, id);
     const size_t n = strlen(want);
@@ -117,7 +137,8 @@ static int new_record(vsv_http_cache *c, const char *url, const vsv_http_ident *
     snprintf(tmp, sizeof tmp, "%s.tmp", c->meta_path);
     record_head(head, sizeof head, url, id);
     c->head_len = strlen(head);
-    const int fd = open(tmp, O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
+    unlink(tmp); /* one a crash left, or a link someone planted: never followed */
+    const int fd = open(tmp, O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
     if (fd < 0)
         return -1;
     if (write(fd, head, c->head_len) != (ssize_t)c->head_len || ftruncate(fd, (off_t)(c->head_len + c->nblocks)) ||
@@ -162,18 +183,27 @@ int vsv_http_cache_open(vsv_http_cache *c, const char *dir, uint64_t max, const 
     char failed[4096];
     if (!dir || !dir[0] || !strcmp(dir, "off") || strlen(dir) >= sizeof failed || mkdirs(dir, failed, sizeof failed))
         return memory_only(c, id->size, msg, cap);
+    char why[300];
+    if (own_dir(dir, why, sizeof why)) {
+        snprintf(msg, cap, "cache folder %s: %s", dir, why);
+        return VSV_EINVAL;
+    }
     snprintf(c->dir, sizeof c->dir, "%s", dir);
     const unsigned long long key = (unsigned long long)fnv1a(url);
     snprintf(c->data_path, sizeof c->data_path, "%s/%016llx.data", dir, key);
     snprintf(c->meta_path, sizeof c->meta_path, "%s/%016llx.meta", dir, key);
-    c->fd = open(c->data_path, O_RDWR | O_CREAT | O_CLOEXEC, 0600);
+    c->fd = open(c->data_path, O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0600);
+    struct stat st;
+    if (c->fd >= 0 && (fstat(c->fd, &st) || !S_ISREG(st.st_mode) || st.st_uid != geteuid() || st.st_nlink != 1)) {
+        close(c->fd); /* not a plain file of ours alone: left as it is */
+        c->fd = -1;
+    }
     if (c->fd < 0 || flock(c->fd, LOCK_EX | LOCK_NB))
         return memory_only(c, id->size, msg, cap); /* unwritable, or in use by another process */
-    struct stat st;
     c->reused = fstat(c->fd, &st) == 0 && (uint64_t)st.st_size == id->size ? load_record(c, url, id) : 0;
     if (c->reused) {
-        c->meta_fd = open(c->meta_path, O_RDWR | O_CLOEXEC);
-        utimensat(AT_FDCWD, c->meta_path, NULL, 0); /* used now */
+        c->meta_fd = open(c->meta_path, O_RDWR | O_NOFOLLOW | O_CLOEXEC);
+        utimensat(AT_FDCWD, c->meta_path, NULL, AT_SYMLINK_NOFOLLOW); /* used now */
         char head[4096 + 1024];
         record_head(head, sizeof head, url, id);
         c->head_len = strlen(head);
@@ -249,7 +279,7 @@ static void evict(vsv_http_cache *c, int spare)
                 old = i;
         char p[4096 + 64];
         snprintf(p, sizeof p, "%s/%s.data", c->dir, e[old].name);
-        const int fd = open(p, O_RDWR | O_CLOEXEC);
+        const int fd = open(p, O_RDWR | O_NOFOLLOW | O_CLOEXEC);
         const int own = !strcmp(p, c->data_path);
         if (fd >= 0 && !(own && spare) && (own || !flock(fd, LOCK_EX | LOCK_NB))) {
             snprintf(p, sizeof p, "%s/%s.meta", c->dir, e[old].name);
