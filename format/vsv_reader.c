@@ -391,22 +391,40 @@ int vsv_file_check_args(vsv_file *f, int step, int s, int b, char *msg, size_t c
     return 0;
 }
 
+/* A failure of a call threads may make on one handle at once: its message
+ * into f->err under the handle's lock (vsv_file_error reads it after). */
+static void shared_fail(vsv_file *f, const char *msg)
+{
+    pthread_mutex_lock(&f->lock);
+    snprintf(f->err, sizeof f->err, "%s", msg);
+    pthread_mutex_unlock(&f->lock);
+}
+
 int vsv_file_brick_kind(vsv_file *f, int step, int s, int b)
 {
-    int rc = vsv_file_check_args(f, step, s, b, f->err, sizeof f->err);
-    if (rc)
+    char msg[sizeof f->err];
+    int rc = vsv_file_check_args(f, step, s, b, msg, sizeof msg);
+    if (rc) {
+        shared_fail(f, msg);
         return rc;
-    const unsigned char *c = vsv_file_chunk_index(f, step, f->err, sizeof f->err);
-    return c ? vsv_file_brick_entry(f, c, s, b)[0] : vsv_file_chunk_rc(f, f->err, sizeof f->err);
+    }
+    const unsigned char *c = vsv_file_chunk_index(f, step, msg, sizeof msg);
+    if (c)
+        return vsv_file_brick_entry(f, c, s, b)[0];
+    rc = vsv_file_chunk_rc(f, msg, sizeof msg);
+    shared_fail(f, msg);
+    return rc;
 }
 
 const unsigned char *vsv_file_octree(vsv_file *f, int step, int s, int *dims)
 {
-    if (vsv_file_check_args(f, step, s, 0, f->err, sizeof f->err))
+    char msg[sizeof f->err];
+    const unsigned char *c = vsv_file_check_args(f, step, s, 0, msg, sizeof msg) ? NULL
+                                                                                 : vsv_file_chunk_index(f, step, msg, sizeof msg);
+    if (!c) {
+        shared_fail(f, msg);
         return NULL;
-    const unsigned char *c = vsv_file_chunk_index(f, step, f->err, sizeof f->err);
-    if (!c)
-        return NULL;
+    }
     if (dims)
         for (int L = 0; L < f->lay.levels; L++)
             for (int a = 0; a < 3; a++)

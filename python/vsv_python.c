@@ -13,16 +13,24 @@
 #include "vsv_http.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <string.h>
 
 static PyObject *VsvError;
 
+/* A File may be used by several Python threads: reads decode without the
+ * GIL, so the decoder and the query (state of their own) are used under
+ * `busy`, which close() takes too (it waits for a read in progress). The
+ * rule that keeps it free of deadlock: no thread waits for the GIL while it
+ * holds `busy` (it is taken around library calls only, and a read lets it
+ * go before it takes the GIL back). */
 typedef struct {
     PyObject_HEAD
     vsv_file *f;
     vsv_decoder *d;
     vsv_query *q;
     vsv_file_info info;
+    pthread_mutex_t busy;
 } FileObject;
 
 static PyObject *fail(const char *msg)
@@ -51,18 +59,21 @@ static void File_dealloc(FileObject *self)
     vsv_query_free(self->q);
     vsv_decoder_free(self->d);
     vsv_file_free(self->f);
+    pthread_mutex_destroy(&self->busy);
     Py_TYPE(self)->tp_free((PyObject *)self);
 }
 
 static PyObject *File_close(FileObject *self, PyObject *unused)
 {
     (void)unused;
+    pthread_mutex_lock(&self->busy); /* a read in progress ends first */
     vsv_query_free(self->q);
     vsv_decoder_free(self->d);
     vsv_file_free(self->f);
     self->q = NULL;
     self->d = NULL;
     self->f = NULL;
+    pthread_mutex_unlock(&self->busy);
     Py_RETURN_NONE;
 }
 
@@ -146,12 +157,16 @@ static PyObject *File_read(FileObject *self, PyObject *args, PyObject *kw)
     if (!a)
         return NULL;
     int rc;
+    char err[512];
     Py_BEGIN_ALLOW_THREADS
-    rc = vsv_decoder_volume(self->d, t, s, (float *)PyArray_DATA(a));
+    pthread_mutex_lock(&self->busy);
+    rc = self->d ? vsv_decoder_volume(self->d, t, s, (float *)PyArray_DATA(a)) : VSV_EINVAL;
+    snprintf(err, sizeof err, "%s", self->d ? vsv_decoder_error(self->d) : "the file is closed");
+    pthread_mutex_unlock(&self->busy);
     Py_END_ALLOW_THREADS
     if (rc) {
         Py_DECREF(a);
-        return fail(vsv_decoder_error(self->d));
+        return fail(err);
     }
     return (PyObject *)a;
 }
@@ -173,9 +188,14 @@ static PyObject *File_read_brick(FileObject *self, PyObject *args, PyObject *kw)
     PyArrayObject *a = (PyArrayObject *)PyArray_SimpleNew(3, dims, NPY_FLOAT32);
     if (!a)
         return NULL;
-    if (vsv_decoder_brick(self->d, t, s, b, (float *)PyArray_DATA(a))) {
+    char err[512];
+    pthread_mutex_lock(&self->busy); /* (no read holds it waiting for the GIL) */
+    const int rc = vsv_decoder_brick(self->d, t, s, b, (float *)PyArray_DATA(a));
+    snprintf(err, sizeof err, "%s", vsv_decoder_error(self->d));
+    pthread_mutex_unlock(&self->busy);
+    if (rc) {
         Py_DECREF(a);
-        return fail(vsv_decoder_error(self->d));
+        return fail(err);
     }
     /* the caller keeps the cells inside the grid: [:ez, :ey, :ex] */
     int org[3], ext[3];
@@ -249,10 +269,15 @@ static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
                 Py_DECREF(vals);
                 return fail(msg);
             }
-            if (vsv_query_sample(self->q, t, s, pt.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t])) {
+            pthread_mutex_lock(&self->busy);
+            const int qrc = vsv_query_sample(self->q, t, s, pt.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t]);
+            if (qrc)
+                snprintf(msg, sizeof msg, "%s", vsv_query_error(self->q));
+            pthread_mutex_unlock(&self->busy);
+            if (qrc) {
                 Py_DECREF(a);
                 Py_DECREF(vals);
-                return fail(vsv_query_error(self->q));
+                return fail(msg);
             }
         }
         PyDict_SetItemString(vals, m->vars[s].name, (PyObject *)a);
@@ -486,6 +511,7 @@ static PyObject *mod_open(PyObject *mod, PyObject *args)
         Py_DECREF(pathobj);
         return NULL;
     }
+    pthread_mutex_init(&self->busy, NULL); /* (zeroed memory before: PTHREAD_MUTEX_INITIALIZER on glibc) */
     vsv_file *f = NULL;
     int rc;
     Py_BEGIN_ALLOW_THREADS

@@ -218,6 +218,37 @@ class Sample(unittest.TestCase):
             self.assertLessEqual(np.abs(rb[~under] - b[t][~under]).max(), w.species[1].max_abs_error)
         subprocess.run([os.path.join(B, "vsv-info"), "--check", out], check=True, capture_output=True)
 
+    def test_threads_share_a_file(self):
+        """Threads reading one File at once get what one thread gets (issue 33: a shared
+        decoder without the GIL crashed or said 'Data corruption'), and close() waits
+        for the reads in progress; a read after it raises."""
+        from concurrent.futures import ThreadPoolExecutor
+        f = vesuvius.open(self.path)
+        want = {(s, t): f.read(s, t) for s in ("CLW", "Q") for t in range(4)}
+        jobs = [(s, t) for _ in range(12) for s in ("CLW", "Q") for t in range(4)]
+        with ThreadPoolExecutor(4) as ex:
+            got = list(ex.map(lambda j: (j, f.read(j[0], j[1]), f.read_brick(j[0], j[1], 0)[0]), jobs))
+        for j, a, _ in got:
+            np.testing.assert_array_equal(a, want[j])
+        g = vesuvius.open(self.path)
+        errors = []
+
+        def reader():
+            for t in range(200):
+                try:
+                    g.read("Q", t % 4)
+                except vesuvius.Error as e:
+                    errors.append(str(e))
+                    return
+        with ThreadPoolExecutor(3) as ex:
+            futs = [ex.submit(reader) for _ in range(3)]
+            g.close()
+            for fu in futs:
+                fu.result()
+        self.assertTrue(all("closed" in e for e in errors), errors[:3])
+        with self.assertRaisesRegex(vesuvius.Error, "closed"):
+            g.read("Q", 0)
+
     def test_write_refuses_times_beyond_the_years(self):
         """A time outside the years 1..9999 is refused (INT64_MIN reached netCDF as a
         time axis before, issue 33)."""
