@@ -47,7 +47,12 @@ int vsv_proc_ended(pid_t pid, char *buf, size_t cap)
 {
     int status;
     buf[0] = 0;
-    if (pid <= 0 || waitpid(pid, &status, WNOHANG) != pid)
+    /* a process seen dead may not be waitable yet (state X, on its way to a
+     * zombie: a sanitized one takes a while): up to 2 s */
+    pid_t got = 0;
+    for (int i = 0; pid > 0 && i < 200 && (got = waitpid(pid, &status, WNOHANG)) == 0; i++)
+        nanosleep(&(struct timespec){0, 10000000}, NULL);
+    if (pid <= 0 || got != pid)
         return -1;
     if (WIFSIGNALED(status))
         snprintf(buf, cap, "killed by signal %d (%s)", WTERMSIG(status), strsignal(WTERMSIG(status)));

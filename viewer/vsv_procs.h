@@ -14,8 +14,10 @@
 /* 1 while pid runs; 0 when it is gone or a zombie (it ended). */
 int vsv_proc_alive(pid_t pid);
 /* How child pid ended, when it did: "killed by signal 9 (Killed)" or
- * "exited with status 3", into buf; 0, or -1 when it has not ended or is
- * not a child (buf then empty). It is reaped. */
+ * "exited with status 3", into buf; 0, or -1 when it has not ended within
+ * 2 s or is not a child (buf then empty). It is reaped. For a child
+ * vsv_proc_alive says is gone: one on its way to a zombie is not waitable
+ * at once. */
 int vsv_proc_ended(pid_t pid, char *buf, size_t cap);
 /* This process's children (up to cap pids into out); how many. */
 int vsv_proc_children(pid_t *out, int cap);
