@@ -84,8 +84,8 @@ static void copy_str(char *dst, size_t cap, const char *src)
 
 int vsv_meta_add_var(vsv_meta *m, const char *name, const char *units, const char *desc)
 {
-    if (m->nvars >= VSV_MAX_VARS)
-        return VSV_EINVAL;
+    if (m->nvars >= VSV_MAX_VARS || strlen(name) >= sizeof m->vars->name)
+        return VSV_EINVAL; /* (a name is never cut: two could become one) */
     vsv_var *v = realloc(m->vars, ((size_t)m->nvars + 1) * sizeof *v);
     if (!v)
         return VSV_ENOMEM;
@@ -178,6 +178,23 @@ int vsv_meta_find_var(const vsv_meta *m, const char *name)
     return VSV_ENOTFOUND;
 }
 
+/* 1 when s is UTF-8 text without control characters (what JSON, Python
+ * and a terminal can take as it is). */
+static int clean_text(const char *s)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    while (*p) {
+        int n = *p < 0x80 ? 0 : (*p & 0xe0) == 0xc0 ? 1 : (*p & 0xf0) == 0xe0 ? 2 : (*p & 0xf8) == 0xf0 ? 3 : -1;
+        if (n < 0 || (n == 0 && (*p < 0x20 || *p == 0x7f)) || (n == 1 && *p < 0xc2))
+            return 0;
+        for (int i = 1; i <= n; i++)
+            if ((p[i] & 0xc0) != 0x80)
+                return 0;
+        p += n + 1;
+    }
+    return 1;
+}
+
 int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
 {
     if (m->nx < 1 || m->ny < 1 || m->nz < 1 || m->nx > VSV_MAX_DIM || m->ny > VSV_MAX_DIM ||
@@ -213,6 +230,11 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
     for (int i = 0; i < m->nvars; i++) {
         if (!m->vars[i].name[0]) {
             vsv_msg(msg, cap, "variable %d has no name", i);
+            return VSV_EINVAL;
+        }
+        if (!clean_text(m->vars[i].name) || !clean_text(m->vars[i].units) || !clean_text(m->vars[i].description)) {
+            vsv_msg(msg, cap, "variable %d: its name, units or description is not UTF-8 text (or holds control "
+                    "characters)", i);
             return VSV_EINVAL;
         }
         for (int j = 0; j < i; j++)

@@ -124,11 +124,19 @@ int vsv_output_temp(const char *path, const char *suffix, char *tmp, size_t cap)
         return -1;
     }
     const unsigned mode = vsv_output_mode();
-    /* name.tmp.PID.N[suffix]: unique in the process, and O_EXCL against others */
+    /* name.tmp.PID.N[suffix]: unique in the process, and O_EXCL against
+     * others; a name too long for that (a file name has 255 bytes at most)
+     * gets .vsv-tmp.PID.N[suffix] beside it instead */
     static unsigned serial;
+    const char *slash = strrchr(path, '/');
+    const size_t dirlen = slash ? (size_t)(slash - path + 1) : 0, base = strlen(path) - dirlen;
+    const int short_name = base + 32 + (suffix ? strlen(suffix) : 0) > 255;
     for (int tries = 0; tries < 100; tries++) {
         const unsigned n = __atomic_fetch_add(&serial, 1, __ATOMIC_RELAXED);
-        if ((size_t)snprintf(tmp, cap, "%s.tmp.%ld.%u%s", path, (long)getpid(), n, suffix ? suffix : "") >= cap) {
+        const int len = short_name ? snprintf(tmp, cap, "%.*s.vsv-tmp.%ld.%u%s", (int)dirlen, path, (long)getpid(), n,
+                                              suffix ? suffix : "")
+                                   : snprintf(tmp, cap, "%s.tmp.%ld.%u%s", path, (long)getpid(), n, suffix ? suffix : "");
+        if (len < 0 || (size_t)len >= cap) {
             errno = ENAMETOOLONG;
             return -1;
         }

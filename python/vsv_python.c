@@ -571,6 +571,11 @@ static PyObject *mod_write(PyObject *mod, PyObject *args)
                    *d = PyUnicode_AsUTF8(PyList_GET_ITEM(descs, v));
         if (!n || !u || !d)
             goto done;
+        if (strlen(n) > 63 || strlen(u) > 63 || strlen(d) > 127) {
+            PyErr_Format(VsvError, "species '%s': names and units are at most 63 bytes, descriptions 127 (%zu, %zu, %zu)", n,
+                         strlen(n), strlen(u), strlen(d));
+            goto done;
+        }
         if (vsv_meta_add_var(&m, n, u, d) < 0) {
             PyErr_Format(VsvError, "cannot add species '%s'", n);
             goto done;

@@ -140,3 +140,8 @@ expect "vsv-render -o '100%%_%03d.png' (a percent sign and a number)" 0 "$B/vsv-
     --size 32x24 -o "$T/fmt/100%%_%03d.png"
 [ -f "$T/fmt/100%_000.png" ] && [ -f "$T/fmt/100%_001.png" ] && pass "... named 100%_000.png and 100%_001.png" ||
     fail "... named 100%_000.png and 100%_001.png" "$(ls "$T/fmt")"
+# a name of 251 bytes: its temporary (name.tmp.PID.N) would pass the 255 a
+# file name may have; it gets a short one beside it instead (issue 33)
+long=$(printf 'a%.0s' $(seq 1 247))
+expect "vsv-render -o a 251-byte name" 0 "$B/vsv-render" -q "$T/a.vsv" --size 32x24 -o "$T/fmt/$long.png"
+[ -f "$T/fmt/$long.png" ] && pass "... written under that name" || fail "... written under that name" "$(ls "$T/fmt")"

@@ -249,6 +249,21 @@ class Sample(unittest.TestCase):
         with self.assertRaisesRegex(vesuvius.Error, "closed"):
             g.read("Q", 0)
 
+    def test_write_refuses_names_it_would_cut_or_garble(self):
+        """A species name of 64 bytes was cut to 63 silently; a control character made
+        vsv-info --json print invalid JSON (issue 33): both refused, nothing written."""
+        g = {"nx": 4, "ny": 3, "nz": 2, "origin": (0, 0, 100), "spacing": (1000, 1000, 200)}
+        a = np.zeros((1, 2, 3, 4), np.float32)
+        out = os.path.join(TMP, "names.vsv")
+        with self.assertRaisesRegex(vesuvius.Error, "at most 63 bytes"):
+            vesuvius.write(out, grid=g, times=[0], fields={"N" * 64: a})
+        with self.assertRaisesRegex(vesuvius.Error, "not UTF-8 text"):
+            vesuvius.write(out, grid=g, times=[0], fields={"bad\nname": a})
+        self.assertFalse(os.path.exists(out))
+        vesuvius.write(out, grid=g, times=[0], fields={"N" * 63: a, "ozone \u00b5g": a})
+        self.assertEqual([s.name for s in vesuvius.open(out).species], ["N" * 63, "ozone \u00b5g"])
+        json.loads(tool("vsv-info", "--json", out))
+
     def test_write_refuses_times_beyond_the_years(self):
         """A time outside the years 1..9999 is refused (INT64_MIN reached netCDF as a
         time axis before, issue 33)."""

@@ -95,6 +95,10 @@ g = bytearray(good)
 struct.pack_into("<q", g, toc_off + 24 + 16, toc[0][2])
 cases.append(("s-toc-time.vsv", reseal(g), "table of contents entry 1: time does not increase"))
 g = bytearray(good)
+at = good.index(b"CLW", 128, 128 + meta_size)  # the first species' name in its VAR record
+g[at] = 0xFF
+cases.append(("s-name-utf8.vsv", reseal(g), "metadata: variable 0: its name, units or description is not UTF-8 text (or holds control characters)"))
+g = bytearray(good)
 struct.pack_into("<q", g, toc_off + 16, -2 ** 63)
 cases.append(("s-toc-time-min.vsv", reseal(g), "table of contents entry 0: time -9223372036854775808 is outside the years 1..9999"))
 g = bytearray(good)
