@@ -65,9 +65,11 @@ const char *vsv_source_format(const vsv_source *s);
  * variables (borrowed, valid until free). */
 const vsv_meta *vsv_source_grid(const vsv_source *s);
 int vsv_source_nfields(const vsv_source *s);
+/* Field i (NULL outside 0..nfields-1), borrowed. */
 const vsv_field_info *vsv_source_field(const vsv_source *s, int i);
 int vsv_source_find_field(const vsv_source *s, const char *name);
 int vsv_source_ntimes(const vsv_source *s);
+/* The time of step t (0 outside 0..ntimes-1). */
 int64_t vsv_source_time(const vsv_source *s, int t);
 /* With --vertical native (opts.vertical VSV_VERT_NATIVE): the height (m
  * above sea level) of every cell's level at time t, per column, into out

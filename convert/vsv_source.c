@@ -11,9 +11,12 @@ const char *vsv_source_error(const vsv_source *s) { return s ? s->err : "out of 
 const char *vsv_source_format(const vsv_source *s) { return s->ops->name; }
 const vsv_meta *vsv_source_grid(const vsv_source *s) { return &s->grid; }
 int vsv_source_nfields(const vsv_source *s) { return s->nfields; }
-const vsv_field_info *vsv_source_field(const vsv_source *s, int i) { return &s->fields[i]; }
+const vsv_field_info *vsv_source_field(const vsv_source *s, int i)
+{
+    return i >= 0 && i < s->nfields ? &s->fields[i] : NULL;
+}
 int vsv_source_ntimes(const vsv_source *s) { return s->ntimes; }
-int64_t vsv_source_time(const vsv_source *s, int t) { return s->times[t]; }
+int64_t vsv_source_time(const vsv_source *s, int t) { return t >= 0 && t < s->ntimes ? s->times[t] : 0; }
 
 int vsv_source_find_field(const vsv_source *s, const char *name)
 {

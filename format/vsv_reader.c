@@ -17,9 +17,14 @@ const char *vsv_file_error(const vsv_file *f) { return f ? f->err : "out of memo
 const vsv_meta *vsv_file_meta(const vsv_file *f) { return &f->meta; }
 int64_t vsv_file_time(const vsv_file *f, int step)
 {
+    if (step < 0 || step >= f->nsteps)
+        return 0;
     return (int64_t)vsv_rd64(f->toc + (size_t)step * VSV_TOC_ENTRY_SIZE + 16);
 }
-const vsv_quant *vsv_file_quant(const vsv_file *f, int s) { return &f->quant[s]; }
+const vsv_quant *vsv_file_quant(const vsv_file *f, int s)
+{
+    return s >= 0 && s < f->meta.nvars ? &f->quant[s] : NULL;
+}
 
 int vsv_file_find_time(const vsv_file *f, int64_t time)
 {

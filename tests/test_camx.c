@@ -142,6 +142,10 @@ static void test_real(void)
     CHECK(!strcmp(fo3->units, "ppm") && !strcmp(fpso4->units, "ug/m3"), "units: ppm for gases, ug/m3 for aerosols");
     CHECK(vsv_source_grid(src)->vert_kind == VSV_VERT_INDEX && vsv_source_grid(src)->proj.kind == VSV_PROJ_NONE,
           "without heights and projection: layer index, no projection");
+    int nt = vsv_source_ntimes(src);
+    CHECK(!vsv_source_field(src, vsv_source_find_field(src, "NOPE")) && !vsv_source_field(src, vsv_source_nfields(src)) &&
+              !vsv_source_time(src, nt) && !vsv_source_time(src, -1) && vsv_source_time(src, nt - 1) > 0,
+          "a field or time outside the source is NULL / 0");
     vsv_source_free(src);
     vsv_uamiv_free(u);
 }

@@ -42,6 +42,9 @@ static void test_series(void)
     vsv_file_info info;
     vsv_file_info_get(f, &info);
     CHECK(info.nsteps == 120 && info.nspecies == 3 && info.nbricks == 5 * 4 * 2, "series shape");
+    CHECK(!vsv_file_quant(f, 3) && !vsv_file_quant(f, -1) && vsv_file_quant(f, 2) && !vsv_file_time(f, -1) &&
+              !vsv_file_time(f, 120) && vsv_file_time(f, 119) > vsv_file_time(f, 0),
+          "accessors answer NULL / 0 outside the file's species and steps");
     const size_t cells = (size_t)70 * 50 * 20;
     float *vol = malloc(cells * 4);
     uint32_t crcs[120][3];

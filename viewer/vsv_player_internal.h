@@ -1,6 +1,7 @@
 /* vsv_player_internal.h — the player's state, shared by vsv_player.c (the
- * file, pager, actions and pictures) and vsv_player_state.c (the status
- * lines, accessors and the state a multi-process back end copies). */
+ * file, pager and pictures), vsv_player_do.c (the actions) and
+ * vsv_player_state.c (the status lines, accessors and the state a
+ * multi-process back end copies). */
 #ifndef VSV_PLAYER_INTERNAL_H
 #define VSV_PLAYER_INTERNAL_H
 
@@ -64,5 +65,9 @@ struct vsv_player {
     char shot[1024];
     int shot_pending;
 };
+
+/* Makes kind the renderer in use: the CPU's (started anew), or the GPU's
+ * (made once, in the GL context current now). 0, or -1 with why. */
+int vsv_player_use_renderer(vsv_player *p, int kind, char *why, size_t cap);
 
 #endif
