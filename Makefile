@@ -1,8 +1,10 @@
 # Vesuvius — one GNU Makefile. `make help` lists the targets.
 #   make            build the libraries and tools into build/ (VIEWER=0: no vsv-play)
-#   make test       build and run every test (ends with "N passed, N failed")
+#   make test       build and run every test (ends with "N passed, N failed"; checks
+#                   that need the large files of ../shared/data say SKIP when absent)
 #   make test SAN=1 the same with AddressSanitizer and UBSan (build-san/)
 #   make test TSAN=1 the threaded tests with ThreadSanitizer (build-tsan/)
+#   make mutate     the mutation harness: tests/mutants/*.patch, score and survivors
 #   make demo       install what is missing, build, run the main job on samples/
 #   make bench      run the benchmarks in bench/ (results: bench/RESULTS.md)
 #   make install    PREFIX=/usr/local DESTDIR=
@@ -211,7 +213,7 @@ ifeq ($(strip $(PY_MISSING)),)
   PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
 endif
 
-.PHONY: fuzz-bin demo-bin all test test-run demo bench install uninstall clean fuzz help deps freevr freevr-syntax
+.PHONY: fuzz-bin demo-bin all test test-run mutate demo bench install uninstall clean fuzz help deps freevr freevr-syntax
 .SECONDARY:
 all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(HELPER_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
@@ -234,7 +236,7 @@ $(B)/python/vesuvius/%.py: python/vesuvius/%.py
 	$(Q)cp $< $@
 
 help:
-	@sed -n '2,10p' Makefile | sed 's/^# *//'
+	@sed -n '2,/^#   V=1/p' Makefile | sed 's/^# *//'
 
 $(B)/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -430,6 +432,11 @@ $(B)/tests/ncsplit: $(B)/tests/nc_split.o
 $(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(B)/tests/fuzz_source.o $(TEST_HELPERS) $(TEST_LIBS)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
+
+# the mutation harness: each patch of tests/mutants/ applied alone to a
+# scratch copy, rebuilt, and the tests it names run (tests/mutate.sh)
+mutate: all
+	$(Q)B=$(B) SHARED=$(SHARED) PYTHON=$(PYTHON) sh tests/mutate.sh
 
 # `make test` and `make demo` run the dependency step first (see above),
 # then build and run in a second make that can ask pkg-config.

@@ -67,6 +67,6 @@ expect "vsv-extract --add-winds on a file without winds exits 1" 1 "$B/vsv-extra
 # the winds from a companion file (same grid and times): the same file
 expect "--winds FILE" 0 "$B/vsv-convert" -q --time-res 10m --interp advect --winds "$CROP" "$T/a/MMOUT_DOMAIN1_CROP" -o "$T/comp.vsv"
 same "advect with --winds: the same bytes as the model's own winds" "$T/comp.vsv" "$T/adv.vsv"
-expect "--winds of another grid exits 1" 1 "$B/vsv-convert" -q --time-res 10m --interp advect --winds "${SHARED:-../shared}/data/wrf/wrf_cropped.nc" "$CROP" -o "$T/x.vsv"
+expect "--winds of another grid exits 1" 1 "$B/vsv-convert" -q --time-res 10m --interp advect --winds "$(data wrf/wrf_cropped.nc)" "$CROP" -o "$T/x.vsv"
 has "... saying the grids differ" "$T/err" "is not the grid of"
 expect "--winds without --interp advect exits 2" 2 "$B/vsv-convert" --time-res 10m --winds "$CROP" "$CROP" -o "$T/x.vsv"

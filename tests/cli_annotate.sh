@@ -87,7 +87,7 @@ fi
 has "--help names --no-annotate" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "--no-annotate"
 
 # the GrADS global lat/lon sample: coastlines over the globe
-CTL=$SHARED/data/grads/model.ctl
+CTL=$(data grads/model.ctl)
 if [ -f "$CTL" ] && [ -f /usr/share/gmt-gshhg/binned_GSHHS_c.nc ]; then
     "$B/vsv-convert" -q "$CTL" -o "$T/g.vsv"
     G="$B/vsv-render -q $T/g.vsv --view plan --size 400x300"

@@ -8,8 +8,8 @@ SHARED=${SHARED:-../shared}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-edges.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
-D="$SHARED/data"
-R="$D/mm5/run1"
+D=$TESTDATA
+R="$SHARED/data/mm5/run1"
 
 # the real CAMx lateral boundary file is refused as what it is (it was
 # refused as a file whose size "does not divide into hours")
@@ -18,7 +18,7 @@ if [ -f "$D/camx/test.lateral_boundary" ]; then
     has "and says why" "$T/err" "test.lateral_boundary: a CAMx lateral boundary file (BOUNDARY): values on the domain's four edges, not a 3-D grid"
 fi
 
-if [ -f "$R/REGRID_DOMAIN1" ]; then
+if ! absent "MM5 REGRID, BDYOUT and LOWBDY files" mm5/run1/REGRID_DOMAIN1; then
     expect "vsv-extract --list on REGRID" 0 "$B/vsv-extract" --list "$R/REGRID_DOMAIN1"
     has "REGRID T is a default volume on 23 levels" "$T/out" "T          YXP C        23 K                Cross point temperature  [default]"
     has "REGRID 2-D fields say so" "$T/out" "(2-D)"

@@ -34,13 +34,10 @@ if ! /usr/bin/python3 -c 'import numpy, PIL' 2> /dev/null; then
     exit 0
 fi
 side "MM5 sample (CLW, ICE, SNOW at 3 h)" samples/mm5/MMOUT_DOMAIN1_CROP CLW,ICE,SNOW 3
-if [ -d "$SHARED/data" ]; then
-    side "MM5 run (CLW, SNOW, ICE at 3 h)" "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" CLW,SNOW,ICE 3
-    side "WRF Katrina (QCLOUD, QRAIN)" "$SHARED/data/wrf/katrina_ci_test_file.nc" QCLOUD,QRAIN
-    side "WRF allvars (QCLOUD, QICE, QSNOW)" "$SHARED/data/wrf/wrf_d01_allvars_cropped.nc" QCLOUD,QICE,QSNOW
-else
-    pass "native heights on real data: skipped (no $SHARED/data)"
-fi
+absent "native heights on the real MM5 run" mm5/run1/MMOUT_DOMAIN1 ||
+    side "MM5 run (CLW, SNOW, ICE at 3 h)" "$(data mm5/run1/MMOUT_DOMAIN1)" CLW,SNOW,ICE 3
+side "WRF Katrina (QCLOUD, QRAIN)" "$(data wrf/katrina_ci_test_file.nc)" QCLOUD,QRAIN
+side "WRF allvars (QCLOUD, QICE, QSNOW)" "$(data wrf/wrf_d01_allvars_cropped.nc)" QCLOUD,QICE,QSNOW
 # the file says where its levels are
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/nat.vsv" --vertical native --vars CLW
 expect "vsv-info on a file with per-column heights" 0 "$B/vsv-info" "$T/nat.vsv"

@@ -35,20 +35,24 @@ start_proxy() {
     listening "${PPORT:-1}" || { fail "the proxy starts" "$(head -c 300 "$T/proxy.out")"; exit 0; }
 }
 
-# the real MM5 run, hourly: 4 steps of 5 species
-"$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/www/run.vsv" ||
+# the real MM5 run, hourly: 4 steps of 5 species (without ../shared, the
+# bundled crop of it at 20-minute steps)
+# (the step drawn: one past the reader's first range, as in the run)
+IN=$(data mm5/run1/MMOUT_DOMAIN1) CELL=100,70,5 RES= STEP=2
+[ -f "$IN" ] || IN=samples/mm5/MMOUT_DOMAIN1_CROP CELL=20,20,5 RES="--time-res 20m" STEP=8
+"$B/vsv-convert" -q $RES "$IN" -o "$T/www/run.vsv" ||
     { fail "the MM5 run converts" "vsv-convert failed"; exit 0; }
 # lighttpd sends no validators (ETag, Last-Modified) for a file modified in
 # the last second or so; a file on a server is older than that
 touch -d '1 hour ago' "$T/www/run.vsv"
 SIZE=$(wc -c < "$T/www/run.vsv")
-"$B/vsv-render" "$T/www/run.vsv" --species CLW --time 2 -o "$T/local.png" -q
+"$B/vsv-render" "$T/www/run.vsv" --species CLW --time $STEP -o "$T/local.png" -q
 start_server
 URL=http://127.0.0.1:$PORT/run.vsv
 export VSV_CACHE_DIR="$T/cache"
 
 # ---- the done-when: one species of one step, a part of the file
-expect "vsv-render URL --species CLW --time 2 exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time 2 -o "$T/x.png"
+expect "vsv-render URL --species CLW --time $STEP exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time $STEP -o "$T/x.png"
 same "and gives the same PNG as the local file" "$T/x.png" "$T/local.png"
 stop_server
 sent=$(body_bytes)
@@ -62,7 +66,7 @@ grep -q ' 206 ' "$T/access.log" && ! grep -q '^GET .* 200 ' "$T/access.log" && p
 
 start_server
 URL=http://127.0.0.1:$PORT/run.vsv
-expect "the second run exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time 2 -o "$T/x2.png"
+expect "the second run exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time $STEP -o "$T/x2.png"
 same "and gives the same PNG" "$T/x2.png" "$T/local.png"
 stop_server
 sent=$(body_bytes)
@@ -77,9 +81,9 @@ tail -n +2 "$T/out" > "$T/info-url"
 "$B/vsv-info" "$T/www/run.vsv" | tail -n +2 > "$T/info-local"
 same "and says what it says of the local file" "$T/info-url" "$T/info-local"
 expect "vsv-info --check URL exits 0 (every byte fetched and checked)" 0 "$B/vsv-info" --check "$URL"
-expect "vsv-query URL exits 0" 0 "$B/vsv-query" "$URL" --cell 100,70,5 --species CLW,Q
+expect "vsv-query URL exits 0" 0 "$B/vsv-query" "$URL" --cell $CELL --species CLW,Q
 cp "$T/out" "$T/q-url"
-"$B/vsv-query" "$T/www/run.vsv" --cell 100,70,5 --species CLW,Q > "$T/q-local"
+"$B/vsv-query" "$T/www/run.vsv" --cell $CELL --species CLW,Q > "$T/q-local"
 same "and gives the local file's values" "$T/q-url" "$T/q-local"
 expect "vsv-export URL --netcdf exits 0" 0 "$B/vsv-export" "$URL" --netcdf "$T/url.nc" --species CLW --times 1:2
 "$B/vsv-export" "$T/www/run.vsv" --netcdf "$T/local.nc" --species CLW --times 1:2 -q
@@ -88,12 +92,12 @@ if command -v ncdump > /dev/null; then
     ncdump -v CLW "$T/local.nc" | grep -v '^netcdf\|:history\|:source' > "$T/local.cdl"
     same "and writes the local file's values" "$T/url.cdl" "$T/local.cdl"
 fi
-expect "--cache-dir off: exits 0" 0 "$B/vsv-render" "$URL" --cache-dir off --species CLW --time 2 -o "$T/off.png"
+expect "--cache-dir off: exits 0" 0 "$B/vsv-render" "$URL" --cache-dir off --species CLW --time $STEP -o "$T/off.png"
 same "and gives the same PNG" "$T/off.png" "$T/local.png"
 # a --cache-dir that cannot hold anything is said, not passed over (every
 # run fetched the file again, silently)
 : > "$T/a-file"
-expect "--cache-dir a regular file: exits 1" 1 "$B/vsv-render" "$URL" --cache-dir "$T/a-file" --species CLW --time 2 -o "$T/x.png"
+expect "--cache-dir a regular file: exits 1" 1 "$B/vsv-render" "$URL" --cache-dir "$T/a-file" --species CLW --time $STEP -o "$T/x.png"
 has "and says so" "$T/err" "vsv-render: --cache-dir $T/a-file: not a directory"
 expect "--cache-dir in a folder that cannot be made: exits 1" 1 "$B/vsv-info" "$URL" --cache-dir /proc/no/cache
 has "naming what could not be made" "$T/err" "vsv-info: --cache-dir /proc/no/cache: cannot make /proc/no"
@@ -156,15 +160,15 @@ with open(meta[:-5] + ".data", "r+b") as f:
             n += 1
 print(n)
 EOF
-expect "damaged cached bytes: vsv-render exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time 2 -o "$T/x3.png"
+expect "damaged cached bytes: vsv-render exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time $STEP -o "$T/x3.png"
 same "and gives the same PNG (fetched again)" "$T/x3.png" "$T/local.png"
 
 # ---- the cache's bound: least recently used files go first
 cp "$T/www/run.vsv" "$T/www/run2.vsv"
 VSV_CACHE_DIR="$T/cache-small" VSV_CACHE_MAX=100000 \
-    expect "a cache bound below one file: the first URL" 0 "$B/vsv-render" "$URL" --species CLW --time 2 -o "$T/b1.png"
+    expect "a cache bound below one file: the first URL" 0 "$B/vsv-render" "$URL" --species CLW --time $STEP -o "$T/b1.png"
 VSV_CACHE_DIR="$T/cache-small" VSV_CACHE_MAX=100000 \
-    expect "then a second URL" 0 "$B/vsv-render" "${URL%/*}/run2.vsv" --species CLW --time 2 -o "$T/b2.png"
+    expect "then a second URL" 0 "$B/vsv-render" "${URL%/*}/run2.vsv" --species CLW --time $STEP -o "$T/b2.png"
 same "the first gives the same PNG" "$T/b1.png" "$T/local.png"
 n=$(ls "$T/cache-small" | grep -c '\.data$')
 [ "$n" -le 1 ] && pass "the cache stays under its bound ($n of 2 files kept)" || fail "the cache stays under its bound" "$(ls -s "$T/cache-small")"
@@ -173,15 +177,15 @@ stop_server
 # ---- faults, through the proxy; no cache, so every range is fetched
 start_server
 export VSV_CACHE_DIR=off
-fault() { # fault NAME MODE N CODE [TEXT]
+fault() { # fault NAME MODE N CODE [TEXT: an extended regular expression]
     start_proxy "$2" "$3"
     PURL=http://127.0.0.1:$PPORT/run.vsv
     rm -f "$T/f.png"
-    expect "$1: exits $4" "$4" "$B/vsv-render" "$PURL" --species CLW --time 2 -o "$T/f.png"
+    expect "$1: exits $4" "$4" "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/f.png"
     if [ "$4" = 0 ]; then
         same "$1: the same PNG" "$T/f.png" "$T/local.png"
     else
-        has "$1: says so" "$T/err" "$5"
+        grep -qE -- "$5" "$T/err" && pass "$1: says so" || fail "$1: says so" "no /$5/ in: $(head -c 300 "$T/err")"
         has "$1: names the URL" "$T/err" "vsv-render: $PURL: "
         [ ! -e "$T/f.png" ] && pass "$1: writes no PNG" || fail "$1: writes no PNG" "$T/f.png exists"
     fi
@@ -193,7 +197,7 @@ fault "two truncated replies (retried)" truncate 2 0
 fault "slow replies" delay 2 0
 fault "a server that ignores Range" norange 0 1 "the server ignores range requests"
 fault "the file changes while read" etag 3 1 "the file changed on the server while it was read"
-fault "garbled bytes" garble 2 1 "checksum mismatch"
+fault "garbled bytes" garble 2 1 "checksum mismatch|end marker damaged"
 fault "every connection dropped" drop 1000 1 "attempts"
 # the server gone in the middle of a session: the first range that fails
 # takes all its attempts, the ones after it one each (a player goes on past
@@ -241,11 +245,11 @@ if [ -f /usr/lib/lighttpd/mod_openssl.so ] && command -v openssl > /dev/null &&
     start_server ssl
     export VSV_CACHE_DIR="$T/cache-tls"
     SURL=https://127.0.0.1:$PORT/run.vsv
-    expect "an untrusted certificate: exits 1" 1 "$B/vsv-render" "$SURL" --species CLW --time 2 -o "$T/t.png"
+    expect "an untrusted certificate: exits 1" 1 "$B/vsv-render" "$SURL" --species CLW --time $STEP -o "$T/t.png"
     has "and says so" "$T/err" "vsv-render: $SURL: "
     has "and how to trust it" "$T/err" "CURL_CA_BUNDLE=FILE.pem names one to trust"
     CURL_CA_BUNDLE="$T/cert.pem" expect "HTTPS, the certificate trusted: exits 0" 0 \
-        "$B/vsv-render" "$SURL" --species CLW --time 2 -o "$T/t.png"
+        "$B/vsv-render" "$SURL" --species CLW --time $STEP -o "$T/t.png"
     same "and gives the same PNG" "$T/t.png" "$T/local.png"
     stop_server
 else

@@ -3,6 +3,21 @@
 # Expects $T (a scratch directory).
 pass() { echo "PASS $1"; }
 fail() { echo "FAIL $1: $2"; }
+skip() { echo "SKIP $1: $2"; }
+# data REL: the path of a test data file: tests/data/REL (the small real
+# files copied into the repository) if it is there, else $SHARED/data/REL
+# (the large ones; CI has ../shared beside the clone, a user may not)
+TESTDATA=$(pwd)/tests/data
+data() { if [ -e "$TESTDATA/$1" ]; then echo "$TESTDATA/$1"; else echo "$SHARED/data/$1"; fi; }
+# absent NAME REL... : 0 (and "SKIP NAME: ... absent") when a data file is
+# missing, so that `absent NAME REL && exit 0` or `if ! absent ...` skips
+absent() {
+    n=$1; shift
+    for r in "$@"; do
+        [ -e "$(data "$r")" ] || { skip "$n" "$(data "$r") absent"; return 0; }
+    done
+    return 1
+}
 # expect NAME CODE CMD... : runs CMD (stdin closed, at most CMD_TIMEOUT
 # seconds: a command that hangs fails with exit 124 instead of stalling the
 # run), checks its exit code; stdout in $T/out, stderr in $T/err

@@ -8,7 +8,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-mm5.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
 CROP=samples/mm5/MMOUT_DOMAIN1_CROP
-MMOUT="$SHARED/data/mm5/run1/MMOUT_DOMAIN1"
+MMOUT=$(data mm5/run1/MMOUT_DOMAIN1)
 
 for tool in vsv-interp vsv-convert; do
     expect "$tool --help exits 0" 0 "$B/$tool" --help
@@ -50,7 +50,7 @@ expect "vsv-info on an MM5 file" 0 "$B/vsv-info" "$CROP"
 has "MM5 big-header essentials" "$T/out" "Lambert conformal, centre 38, -97, true latitudes 50 / 33"
 has "MM5 field list" "$T/out" "CLOUD WATER MIXING RATIO"
 has "MM5 base state" "$T/out" "P00 100000 Pa, TS0 290 K, TLP 50 K"
-if [ -f "$SHARED/data/mm5/TERRAIN_DOMAIN1" ]; then
+if ! absent "the MM5 TERRAIN file" mm5/TERRAIN_DOMAIN1; then
     expect "vsv-info on the TERRAIN file" 0 "$B/vsv-info" "$SHARED/data/mm5/TERRAIN_DOMAIN1"
     has "TERRAIN written by program 1" "$T/out" "written by program 1 (TERRAIN"
     expect "vsv-extract of a TERRAIN file (no times) exits 1" 1 "$B/vsv-extract" "$SHARED/data/mm5/TERRAIN_DOMAIN1"
@@ -72,7 +72,7 @@ expect "the same file twice overlaps" 1 "$B/vsv-convert" "$CROP" "$CROP" -o "$T/
 has "overlap names both files" "$T/err" "overlap in time"
 
 # the real MMOUT through vsv-convert with both byte orders of threads
-if [ -f "$MMOUT" ]; then
+if ! absent "the real MMOUT" mm5/run1/MMOUT_DOMAIN1; then
     expect "real MMOUT converts" 0 "$B/vsv-convert" -q --threads 2 "$MMOUT" -o "$T/mm5-2.vsv"
     expect "real MMOUT converts with one thread" 0 "$B/vsv-convert" -q --threads 1 "$MMOUT" -o "$T/mm5-1.vsv"
     same "thread count does not change the file" "$T/mm5-1.vsv" "$T/mm5-2.vsv"

@@ -4,10 +4,10 @@
 # options, errors. Prints PASS/FAIL lines.
 B=${B:-build}
 SHARED=${SHARED:-../shared}
-D="$SHARED/data"
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-models.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
+D=$TESTDATA
 
 # CAMx UAM-IV: detected by content whatever the name
 cp "$D/camx/test.uamiv" "$T/some-name.bin"

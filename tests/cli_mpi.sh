@@ -75,23 +75,19 @@ n=$(grep -cE "^ +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+$" "$T/out")
 has "--stats sums up the steps" "$T/out" "19 steps on 3 ranks"
 
 # the real MM5 run (143x208, 4 periods of 60 min) cut into its periods
-MMOUT="$SHARED/data/mm5/run1/MMOUT_DOMAIN1"
-if [ -f "$MMOUT" ]; then
+MMOUT=$(data mm5/run1/MMOUT_DOMAIN1)
+if ! absent "MM5 run, 4 files" mm5/run1/MMOUT_DOMAIN1; then
     /usr/bin/python3 tests/mm5_split.py "$MMOUT" "$T/mm" > /dev/null
     identical "MM5 run, 4 files, 30-min frames, CLW and Q" mm "1 2 3 4" --time-res 30m --vars CLW,Q --nz 20 \
         "$T"/mm_0?
     rm -f "$T"/mm_0?
-else
-    echo "  (the real MM5 run skipped: $MMOUT not found)"
 fi
 
 # a multi-file WRF run: the 4 times of a real WRF file, one file each
-WRF="$SHARED/data/wrf/wrf_d01_allvars_cropped.nc"
-if [ -f "$WRF" ]; then
+WRF=$(data wrf/wrf_d01_allvars_cropped.nc)
+if ! absent "WRF run, 4 files" wrf/wrf_d01_allvars_cropped.nc; then
     for i in 0 1 2 3; do "$B/tests/ncsplit" "$WRF" "$T/wrf_$i.nc" $i 1; done
     identical "WRF run, 4 files, 30-min frames" wrf "1 2 3 4" --time-res 30m "$T"/wrf_?.nc
-else
-    echo "  (the WRF run skipped: $WRF not found)"
 fi
 
 # a damaged input that only the last rank reads: the crop cut into two

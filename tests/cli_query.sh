@@ -62,8 +62,8 @@ has "level 39 at 14022.5 m" "$T/out" ",30,3,39,46.005392,-115.952608,14022.5,"
 has "level 8 the series' value" "$T/out" ",30,3,8,46.005392,-115.952608,3017.5,$snow2"
 
 # the issue's example on the full run: Chicago, one row per step
-if [ -f "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" ]; then
-    "$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/run.vsv"
+if ! absent "Chicago on the full MM5 run" mm5/run1/MMOUT_DOMAIN1; then
+    "$B/vsv-convert" -q "$(data mm5/run1/MMOUT_DOMAIN1)" -o "$T/run.vsv"
     expect "Chicago on the full MM5 run" 0 "$Q" --at 41.88,-87.63 --species CLW,SNOW --csv "$T/run.vsv"
     [ "$(wc -l < "$T/out")" = 5 ] && pass "one row per step" || fail "one row per step" "$(cat "$T/out")"
     has "Chicago is cell 127,85 (41.8363N 87.6066W)" "$T/out" "1995-10-24T03:00:00Z,127,85,"

@@ -40,8 +40,8 @@ has "--help names --slice" "$T/help" "--slice SPEC"
 has "--help names --light" "$T/help" "--light[=AZ,EL]"
 
 # the real run: the lit clouds drawn alike by both renderers (clouds only)
-MM=../shared/data/mm5/run1/MMOUT_DOMAIN1
-if [ -f "$MM" ] && /usr/bin/python3 -c "import numpy, PIL" 2> /dev/null; then
+MM=$(data mm5/run1/MMOUT_DOMAIN1)
+if ! absent "MM5 lit renderers" mm5/run1/MMOUT_DOMAIN1 && /usr/bin/python3 -c "import numpy, PIL" 2> /dev/null; then
     "$B/vsv-convert" -q "$MM" -o "$T/m.vsv" --vars CLW,RNW,ICE,SNOW
     for r in raycast shearwarp; do
         expect "MM5 lit by the $r renderer" 0 "$B/vsv-render" -q "$T/m.vsv" --time 3 --size 400x300 --no-terrain \
@@ -54,7 +54,7 @@ if [ -f "$MM" ] && /usr/bin/python3 -c "import numpy, PIL" 2> /dev/null; then
         fail "MM5 lit: raycaster and shear-warp agree" "$1 % covered by both, PSNR $2 dB"
     fi
 else
-    pass "MM5 lit renderers: skipped (no ../shared MM5 run or no numpy/PIL)"
+    pass "MM5 lit renderers: skipped (no numpy/PIL)"
 fi
 # --slice-range: LO < HI, or a usage error
 expect "--slice-range 2:1 exits 2" 2 "$B/vsv-render" samples/mm5/MMOUT_DOMAIN1_CROP --slice z=3000 --slice-range 2:1 -o "$T/r.png"

@@ -11,10 +11,7 @@ SHARED=${SHARED:-../shared}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-sweep.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
-if [ ! -f "$SHARED/data/wrf/wrf_cropped.nc" ] || [ ! -f "$SHARED/data/grads/model.ctl" ]; then
-    echo "(cli_sweep.sh skipped: no $SHARED/data)"
-    exit 0
-fi
+absent "the damage sweep" wrf/wrf_cropped.nc grads/model.ctl camx/test.uamiv && exit 0
 TMPDIR=$T B=$B SHARED=$SHARED /usr/bin/python3 tests/sweep/sweep.py --kinds vsv,camx,grads --flips 40 --truncs 10 \
     --model-flips 20 --model-truncs 5 --jobs 1 --seed 7 --render-last > "$T/sweep" 2>&1
 rc=$?

@@ -8,7 +8,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
 PY=/usr/bin/python3
-CTL="$SHARED/data/grads/model.ctl"
+CTL=$(data grads/model.ctl)
 
 
 for tool in vsv-extract vsv-pack vsv-info; do

@@ -10,10 +10,11 @@ SHARED=${SHARED:-../shared}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-water.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
-W=$SHARED/data/wrf/wrf_d01_allvars_cropped.nc
-if [ ! -f "$W" ] || ! command -v nccopy > /dev/null || ! command -v ncdump > /dev/null ||
+W=$(data wrf/wrf_d01_allvars_cropped.nc)
+absent "WRF water fields" wrf/wrf_d01_allvars_cropped.nc && exit 0
+if ! command -v nccopy > /dev/null || ! command -v ncdump > /dev/null ||
     ! /usr/bin/python3 -c "import numpy, PIL" 2> /dev/null; then
-    pass "WRF water fields: skipped (no $W, nccopy or numpy/PIL)"
+    pass "WRF water fields: skipped (no nccopy or numpy/PIL)"
     exit 0
 fi
 vars=$(ncdump -h "$W" | sed -n '/^variables:/,/^\/\/ global/p' | awk '/^\t[a-z]+ [A-Za-z0-9_]+\(/ { sub(/\(.*/, "", $2); print $2 }')

@@ -12,8 +12,9 @@ replies to range requests as MODE says, counted by request, never by time:
   delay N      waits N/10 s before each reply (slow, never failing)
   etag N       from range request N on, answers with another ETag and
                another length in Content-Range (the file changed)
-  garble N     flips a byte in the body of range replies from N on (the
-               length and headers intact: only the checksums can tell)
+  garble N     flips every bit of the body of range replies from N on
+               (the length and headers intact: only the checksums can
+               tell; every byte, so whatever part of a block is used)
   down         closes the connection without an answer for every range
                request while the file PORT_FILE.down exists (the server
                gone), else forwards
@@ -75,7 +76,7 @@ class Handler(http.server.BaseHTTPRequestHandler):
             if "/" in cr:
                 out["Content-Range"] = cr.split("/")[0] + "/" + str(int(cr.split("/")[1]) + 64)
         if k > 0 and MODE == "garble" and k >= N and body:
-            body = bytes([body[0] ^ 0x5A]) + body[1:]
+            body = bytes(b ^ 0xFF for b in body)
         cut = k > 0 and MODE == "truncate" and k <= N
         self.send_response_only(r.status, r.reason)
         for key, v in out.items():

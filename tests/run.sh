@@ -1,6 +1,8 @@
 #!/bin/sh
 # run.sh — runs every test program and the CLI tests, tallies the PASS/FAIL
-# lines, and ends with "N passed, N failed". Exit status 1 if anything failed.
+# lines, and ends with "N passed, N failed" (and ", K skipped" when checks
+# said SKIP: they need the large files of ../shared/data, absent). Exit
+# status 1 if anything failed.
 # Each test has a time limit (TEST_TIMEOUT seconds, default 900): a test that
 # hangs is a FAIL that shows its last output and the processes it left
 # running, never a stuck run. TESTS="test_a test_b": only those programs.
@@ -70,6 +72,13 @@ else
 fi
 pass=$(grep -c '^PASS ' "$log")
 fail=$(grep -c '^FAIL ' "$log")
+skip=$(grep -c '^SKIP ' "$log")
 rm -rf "$TMPDIR"
-echo "$pass passed, $fail failed"
+if [ "$skip" -eq 0 ]; then
+    echo "$pass passed, $fail failed"
+elif [ -d "$SHARED/data" ]; then
+    echo "$pass passed, $fail failed, $skip skipped"
+else
+    echo "$pass passed, $fail failed, $skip skipped ($SHARED/data absent)"
+fi
 [ "$fail" -eq 0 ]

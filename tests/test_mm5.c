@@ -24,6 +24,8 @@ static void test_terrain(void)
 {
     const char *path = vsv_test_shared("mm5/TERRAIN_DOMAIN1");
     vsv_mm5 *m = NULL;
+    if (vsv_test_absent(path, "the MM5 TERRAIN file"))
+        return;
     if (!CHECK(vsv_mm5_open(path, &m) == 0, "TERRAIN_DOMAIN1 opens", "%s", vsv_mm5_error(m))) {
         vsv_mm5_free(m);
         return;
@@ -108,6 +110,8 @@ static void test_mmout(void)
 {
     const char *path = vsv_test_shared("mm5/run1/MMOUT_DOMAIN1");
     vsv_mm5 *m = NULL;
+    if (vsv_test_absent(path, "the real MM5 run"))
+        return;
     if (!CHECK(vsv_mm5_open(path, &m) == 0, "MMOUT_DOMAIN1 opens", "%s", vsv_mm5_error(m))) {
         vsv_mm5_free(m);
         return;

@@ -24,6 +24,12 @@ TMP = tempfile.mkdtemp(prefix="vsv-py-")
 FULL = os.path.join(SHARED, "data/mm5/run1/MMOUT_DOMAIN1")
 
 
+def data(rel):
+    """A test data file: the repository's copy (tests/data), else ../shared's."""
+    own = os.path.join("tests/data", rel)
+    return own if os.path.exists(own) else os.path.join(SHARED, "data", rel)
+
+
 def tool(*args):
     return subprocess.run([os.path.join(B, args[0])] + list(args[1:]), check=True, capture_output=True,
                           text=True).stdout
@@ -506,13 +512,13 @@ class NetCDF(unittest.TestCase):
             fin = np.isfinite(exp)
             self.assertLessEqual(np.abs(got[fin] - exp[fin]).max(), f.species[0].max_abs_error + 1e-5)
 
-    @unittest.skipUnless(os.path.exists(os.path.join(SHARED, "data/wrf")), "../shared/data not present")
+    @unittest.skipUnless(os.path.exists(data("wrf")), data("wrf") + " absent")
     def test_wrf_native_levels(self):
         """Real WRF output on its own (native) levels: z holds the levels' mean heights,
         the values come back equal."""
         src = os.path.join(TMP, "wrf.vsv")
         tool("vsv-convert", "-q", "--vertical", "native", "--vars", "QCLOUD,QVAPOR",
-             os.path.join(SHARED, "data/wrf/wrf_d01_allvars_cropped.nc"), "-o", src)
+             data("wrf/wrf_d01_allvars_cropped.nc"), "-o", src)
         nc = os.path.join(TMP, "wrf.nc")
         tool("vsv-export", "-q", src, "--netcdf", nc)
         f = vesuvius.open(src)
@@ -542,7 +548,7 @@ class NetCDF(unittest.TestCase):
             self.assertAlmostEqual(float(r["height (m)"]), f.heights(t)[int(r["k"]), int(r["j"]), int(r["i"])], places=2)
 
 
-@unittest.skipUnless(os.path.exists(FULL), "../shared/data not present")
+@unittest.skipUnless(os.path.exists(FULL), FULL + " absent")
 class FullRun(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -587,7 +593,11 @@ class Reporter(unittest.TextTestResult):
 
     def addSkip(self, test, reason):
         super().addSkip(test, reason)
-        print("  (skipped: %s: %s)" % (test.id().split(".", 1)[1], reason), flush=True)
+        # data absent: a SKIP line, counted; a missing Python package: a note
+        if reason.endswith(" absent"):
+            print("SKIP python %s: %s" % (test.id().split(".", 1)[1], reason), flush=True)
+        else:
+            print("  (skipped: %s: %s)" % (test.id().split(".", 1)[1], reason), flush=True)
 
 
 if __name__ == "__main__":

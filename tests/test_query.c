@@ -88,6 +88,8 @@ static void test_mm5_positions(void)
     const char *path = vsv_test_shared("mm5/run1/MMOUT_DOMAIN1");
     vsv_mm5 *mm = NULL;
     vsv_source *src = NULL;
+    if (vsv_test_absent(path, "positions on the MM5 run"))
+        return;
     if (!CHECK(vsv_mm5_open(path, &mm) == 0 && vsv_source_open(path, NULL, &src) == 0, "MMOUT_DOMAIN1 opens")) {
         vsv_mm5_free(mm);
         vsv_source_free(src);
@@ -193,6 +195,8 @@ static void test_wrf_positions(const char *rel)
 static void test_values(void)
 {
     vsv_source *src = NULL;
+    if (vsv_test_absent(vsv_test_shared("mm5/run1/MMOUT_DOMAIN1"), "values of the MM5 run"))
+        return;
     if (!CHECK(vsv_source_open(vsv_test_shared("mm5/run1/MMOUT_DOMAIN1"), NULL, &src) == 0, "MMOUT opens for values")) {
         vsv_source_free(src);
         return;

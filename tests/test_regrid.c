@@ -61,11 +61,11 @@ static void test_regrid(void)
 {
     const char *path = vsv_test_shared("mm5/run1/REGRID_DOMAIN1");
     size_t n;
-    unsigned char *d = vsv_test_slurp(path, &n);
-    if (!d) {
-        printf("(REGRID_DOMAIN1 not found: skipped)\n");
+    if (vsv_test_absent(path, "MM5 REGRID"))
         return;
-    }
+    unsigned char *d = vsv_test_slurp(path, &n);
+    if (!CHECK(d, "REGRID_DOMAIN1 reads"))
+        return;
     vsv_source *s = NULL;
     int rc = vsv_source_open(path, NULL, &s);
     CHECK(rc == 0, "REGRID_DOMAIN1 opens", "(%s)", vsv_source_error(s));
@@ -170,6 +170,8 @@ static void test_boundary_files(void)
     const char *bdy = vsv_test_shared("mm5/run1/BDYOUT_DOMAIN1");
     const char *low = vsv_test_shared("mm5/run1/LOWBDY_DOMAIN1");
     vsv_source *s = NULL;
+    if (vsv_test_absent(bdy, "MM5 BDYOUT and LOWBDY") || vsv_test_absent(low, "MM5 LOWBDY"))
+        return;
     int rc = vsv_source_open(bdy, NULL, &s);
     int f = rc ? -1 : vsv_source_find_field(s, "UEB");
     CHECK(f >= 0 && !vsv_source_field(s, f)->is_volume && strstr(vsv_source_field(s, f)->role, "boundary slab") &&

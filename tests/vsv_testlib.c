@@ -37,8 +37,20 @@ const char *vsv_test_shared(const char *rel)
     static int i;
     const char *root = getenv("SHARED");
     char *b = buf[i++ % 8];
+    snprintf(b, 1024, "tests/data/%s", rel);
+    if (access(b, F_OK) == 0)
+        return b;
     snprintf(b, 1024, "%s/data/%s", root && *root ? root : "../shared", rel);
     return b;
+}
+
+int vsv_test_absent(const char *path, const char *what)
+{
+    if (access(path, R_OK) == 0)
+        return 0;
+    printf("SKIP %s: %s absent\n", what, path);
+    fflush(stdout);
+    return 1;
 }
 
 const char *vsv_test_tmp(const char *name)

@@ -1,5 +1,6 @@
 /* vsv_testlib.h — a tiny test library: named checks that count, print
- * "PASS name" / "FAIL name: why" lines that tests/run.sh tallies. */
+ * "PASS name" / "FAIL name: why" / "SKIP name: why" lines that tests/run.sh
+ * tallies. */
 #ifndef VSV_TESTLIB_H
 #define VSV_TESTLIB_H
 
@@ -14,8 +15,13 @@ int vsv_test_check(int cond, const char *name, const char *fmt, ...) __attribute
 /* Exit status for main: 1 if any check failed. */
 int vsv_test_done(void);
 
-/* Path of a file in ../shared/data (from $SHARED, default ../shared). */
+/* Path of a test data file: tests/data/REL (the small real files copied
+ * into the repository; tests run from the checkout's root) if it is there,
+ * else $SHARED/data/REL (default ../shared: the large files). */
 const char *vsv_test_shared(const char *rel);
+/* 0 if path can be read; else prints "SKIP what: path absent" (counted by
+ * tests/run.sh) and returns 1: the caller skips the checks that need it. */
+int vsv_test_absent(const char *path, const char *what);
 /* A fresh scratch path under $TMPDIR/vsv-tests-PID/ (created on demand). */
 const char *vsv_test_tmp(const char *name);
 /* Reads a whole file; caller frees. NULL on error. */

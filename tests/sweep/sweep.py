@@ -42,10 +42,11 @@ import time
 
 B = os.environ.get("B", "build")
 SHARED = os.environ.get("SHARED", "../shared")
-D = SHARED + "/data"
+# the small real files: the repository's copies (tests/data), else ../shared's
+D = "tests/data" if os.path.isdir("tests/data") else SHARED + "/data"
 LIMIT = float(os.environ.get("SWEEP_TIMEOUT", "120"))
 RENDER_ALL = True
-SIG_INPUT = D + "/mm5/run1/MMOUT_DOMAIN1"
+SIG_INPUT = SHARED + "/data/mm5/run1/MMOUT_DOMAIN1"
 ENV = dict(os.environ, LC_ALL="C")
 
 
