@@ -99,8 +99,9 @@ int vsv_mm5_date(const char *date, int64_t *t)
     if (y == 0 && mo == 0 && d == 0)
         return 1; /* "0000-00-00_00:00:00": no date (TERRAIN and other set-up files) */
     static const int mdays[12] = {31, 29, 31, 30, 31, 30, 31, 31, 30, 31, 30, 31};
-    if (y < 1 || mo < 1 || mo > 12 || d < 1 || d > mdays[mo - 1] || h < 0 || h > 23 || mi < 0 || mi > 59 || s < 0 ||
-        s > 60)
+    const int leap = y % 4 == 0 && (y % 100 != 0 || y % 400 == 0);
+    if (y < 1 || mo < 1 || mo > 12 || d < 1 || d > mdays[mo - 1] || (mo == 2 && d == 29 && !leap) || h < 0 || h > 23 ||
+        mi < 0 || mi > 59 || s < 0 || s > 60)
         return -1;
     *t = vsv_time_from_civil(y, mo, d, h, mi, s);
     return 0;

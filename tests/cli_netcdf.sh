@@ -67,3 +67,8 @@ timeout 120 ncdump -h "$T/one.nc" > "$T/h"
 has "time = 1" "$T/h" "time = 1 ;"
 has "from that step" "$T/h" 'time:units = "seconds since 1995-10-24 02:00:00"'
 grep -q "float Q(" "$T/h" && fail "only the species asked for" "Q is there" || pass "only the species asked for"
+# a later run of steps: times counted from its own first step (1:00), an hour apart
+expect "steps 1..3" 0 "$B/vsv-export" -q "$T/crop.vsv" --netcdf "$T/late.nc" --times 1:3 --species SNOW
+timeout 120 ncdump -v time "$T/late.nc" > "$T/h"
+has "... since 01:00" "$T/h" 'time:units = "seconds since 1995-10-24 01:00:00"'
+has "... at 0, 3600 and 7200 s" "$T/h" "time = 0, 3600, 7200 ;"

@@ -481,9 +481,77 @@ static void test_coarse_shear(void)
     vsv_meta_clear(&m);
 }
 
+/* A wind that changes in time: calm at the first output, 16 cells an hour
+ * east at the second, uniform in space. The air moves u(s) = 16 s cells
+ * per hour at interval time s, so a parcel starting at x0 is at
+ * x0 + 8 s^2 at s: the cloud at 10 at the start, 18 at the end, and half
+ * way at 12 (the earlier end sampled 2 cells back, the later 6 on: whole
+ * cells, so no smoothing). Midpoint steps sample the wind at each step's
+ * middle time and are exact for it; at the step's start they would fall
+ * short forward and overshoot back. */
+static void test_wind_in_time(void)
+{
+    static const char *const names[] = {"CLW", VSV_WIND_U, VSV_WIND_V};
+    vsv_meta m;
+    grid(&m, names, 3);
+    float *a[3], *b[3], *truth = malloc(NC * sizeof(float));
+    for (int v = 0; v < 3; v++) {
+        a[v] = malloc(NC * sizeof(float));
+        b[v] = malloc(NC * sizeof(float));
+    }
+    cloud(a[0], 10, 8), cloud(b[0], 18, 8), cloud(truth, 12, 8);
+    fill(a[1], 0), fill(b[1], 16000 / 3600.0f), fill(a[2], 0), fill(b[2], 0);
+    frames fr = {0, 1, {0}, {{0}}};
+    const int rc = run(VSV_TIME_WIND, &m, (const float *const *)a, (const float *const *)b, &fr);
+    double e = rc || fr.n != 5 ? 1 : 0;
+    for (int i = 0; fr.n == 5 && i < NC; i++)
+        if (inside(i))
+            e = fmax(e, fabs(fr.f[2][0][i] - truth[i]));
+    CHECK(e < 1e-4, "advect: in a wind rising from calm to 16 cells an hour the cloud is 2 cells on half way "
+          "(x0 + 8 s^2)", "max error %.3g", e);
+    frames_free(&fr);
+    for (int v = 0; v < 3; v++)
+        free(a[v]), free(b[v]);
+    free(truth);
+    vsv_meta_clear(&m);
+}
+
+/* Linear interpolation over a second interval weighs by the time since
+ * that interval's start: fields 1, 3 and 11 at 0, 1 h and 2 h give 5, 7
+ * and 9 at 1:15, 1:30 and 1:45. */
+static void test_linear_second_interval(void)
+{
+    static const char *const names[] = {"Q"};
+    vsv_meta m;
+    grid(&m, names, 1);
+    float *f[3];
+    for (int i = 0; i < 3; i++)
+        f[i] = malloc(NC * sizeof(float));
+    fill(f[0], 1), fill(f[1], 3), fill(f[2], 11);
+    frames fr = {0, 1, {0}, {{0}}};
+    vsv_interp_opts o = {VSV_TIME_LINEAR, 1};
+    vsv_interp *ip = NULL;
+    int rc = vsv_interp_open(900, &m, &o, keep, &fr, &ip);
+    for (int i = 0; i < 3 && !rc; i++)
+        rc = vsv_interp_push(ip, 3600 * i, (const float *const *)&f[i]);
+    vsv_interp_free(ip);
+    int ok = !rc && fr.n == 9;
+    for (int s = 5; ok && s < 8; s++)
+        for (int i = 0; i < NC; i++)
+            ok &= fr.t[s] == 900 * s && fr.f[s][0][i] == (float)(3 + 8 * (s - 4) / 4.0);
+    CHECK(ok, "linear: 1, 3, 11 at 0, 1 h, 2 h give 5, 7, 9 at 1:15, 1:30, 1:45 (weights from the interval's start)",
+          "rc %d, %d frames; at 1:30 %g", rc, fr.n, fr.n == 9 ? fr.f[6][0][0] : NAN);
+    frames_free(&fr);
+    for (int i = 0; i < 3; i++)
+        free(f[i]);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_uniform_wind();
+    test_linear_second_interval();
+    test_wind_in_time();
     test_coarse_shear();
     test_fitted_scale();
     test_calm();

@@ -153,8 +153,64 @@ static void test_zstd_level(void)
     vsv_meta_clear(&m);
 }
 
+/* A CF file whose coordinates are in kilometres and whose time counts
+ * hours: x, y and z become metres (x 0, 1, 2, 3 km: origin 0, spacing
+ * 1000 m; z 0.5, 1.5 km: origin 500 m, spacing 1000 m), 1.5 hours since
+ * 2001-01-01 06:00 is 07:30, and packed values are unpacked. */
+static void test_cf_units(void)
+{
+    const char *path = vsv_test_tmp("km.nc");
+    int nc, d[4], v[5], ok = !nc_create(path, NC_CLOBBER, &nc);
+    static const char *const dn[4] = {"time", "z", "y", "x"};
+    static const size_t len[4] = {1, 2, 3, 4};
+    for (int i = 0; ok && i < 4; i++)
+        ok = !nc_def_dim(nc, dn[i], len[i], &d[i]) && !nc_def_var(nc, dn[i], NC_DOUBLE, 1, &d[i], &v[i]);
+    ok = ok && !nc_def_var(nc, "O3", NC_SHORT, 4, d, &v[4]);
+    static const char *const att[][3] = {
+        {"time", "units", "hours since 2001-01-01 06:00:00"}, {"z", "units", "km"},
+        {"z", "positive", "up"}, {"z", "standard_name", "altitude"}, {"y", "units", "km"},
+        {"y", "standard_name", "projection_y_coordinate"}, {"x", "units", "km"},
+        {"x", "standard_name", "projection_x_coordinate"}, {"O3", "units", "ppm"}};
+    for (size_t i = 0; ok && i < sizeof att / sizeof *att; i++) {
+        int id;
+        ok = !nc_inq_varid(nc, att[i][0], &id) && !nc_put_att_text(nc, id, att[i][1], strlen(att[i][2]), att[i][2]);
+    }
+    const double sf = 0.5, ao = 10;
+    ok = ok && !nc_put_att_text(nc, NC_GLOBAL, "Conventions", 6, "CF-1.8") &&
+         !nc_put_att_double(nc, v[4], "scale_factor", NC_DOUBLE, 1, &sf) &&
+         !nc_put_att_double(nc, v[4], "add_offset", NC_DOUBLE, 1, &ao) && !nc_enddef(nc);
+    const double tv[1] = {1.5}, zv[2] = {0.5, 1.5}, yv[3] = {0, 1, 2}, xv[4] = {0, 1, 2, 3};
+    short o3[24];
+    for (int i = 0; i < 24; i++)
+        o3[i] = (short)(2 * i);
+    ok = ok && !nc_put_var_double(nc, v[0], tv) && !nc_put_var_double(nc, v[1], zv) &&
+         !nc_put_var_double(nc, v[2], yv) && !nc_put_var_double(nc, v[3], xv) && !nc_put_var_short(nc, v[4], o3);
+    ok &= !nc_close(nc);
+    CHECK(ok, "a CF file in km and hours is written");
+    vsv_source *s = NULL;
+    const int rc = vsv_source_open(path, NULL, &s);
+    const vsv_meta *g = rc ? NULL : vsv_source_grid(s);
+    const int64_t t0 = 978307200 + 27000; /* 2001-01-01T07:30:00Z in Unix seconds */
+    CHECK(g && g->spacing[0] == 1000 && g->spacing[1] == 1000 && g->origin[0] == 0 && g->origin[2] == 500 &&
+              g->spacing[2] == 1000 && g->vert_kind == VSV_VERT_EVEN && vsv_source_ntimes(s) == 1 &&
+              vsv_source_time(s, 0) == t0,
+          "CF: km coordinates become metres (spacing 1000, z origin 500), 1.5 hours since 06:00 is 07:30",
+          "rc %d (%s): dx %g dy %g x0 %g z0 %g dz %g, time %lld", rc, vsv_source_error(s), g ? g->spacing[0] : 0,
+          g ? g->spacing[1] : 0, g ? g->origin[0] : 0, g ? g->origin[2] : 0, g ? g->spacing[2] : 0,
+          g ? (long long)vsv_source_time(s, 0) : 0);
+    float out[24];
+    const int f = g ? vsv_source_find_field(s, "O3") : -1;
+    int same = f >= 0 && !vsv_source_read(s, f, 0, out);
+    for (int i = 0; same && i < 24; i++)
+        same = out[i] == (float)(10 + i);
+    CHECK(same, "CF: packed values are unpacked (short 2 i times 0.5 plus 10)", "O3 %d", f);
+    vsv_source_free(s);
+    remove(path);
+}
+
 int main(void)
 {
+    test_cf_units();
     test_zstd_level();
     test_wrf_default();
     test_rotated_pole();

@@ -109,23 +109,33 @@ static void test_series(void)
     CHECK(bok, "single-brick decode equals the volume");
 
     /* empty bricks cost nothing; the octree says which */
-    int kinds_ok = 1, empty_seen = 0, unchanged_frozen = 1;
+    int kinds_ok = 1, empty_seen = 0, unchanged_frozen = 1, appear_seen = 0, appear_abs = 1;
     for (int t = 0; t < 120; t++) {
         int dims[3 * 16];
         const unsigned char *oct = vsv_file_octree(f, t, 0, dims);
+        const unsigned char *before = t ? vsv_file_octree(f, t - 1, 0, dims) : NULL;
         for (int b = 0; b < info.nbricks; b++) {
-            unsigned mn, mx;
+            unsigned mn, mx, pmn, pmx;
             vsv_octree_node(oct, (size_t)b, &mn, &mx);
             int kind = vsv_file_brick_kind(f, t, 0, b);
             if (mx == 0) {
                 empty_seen++;
                 kinds_ok &= kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_UNCHANGED;
             }
+            if (before && mx > 0) { /* a plume entering an empty brick: a DELTA against zeros costs more */
+                vsv_octree_node(before, (size_t)b, &pmn, &pmx);
+                if (pmx == 0) {
+                    appear_seen++;
+                    appear_abs &= kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
+                }
+            }
             if (t > 40 && t <= 60 && t % 8)
                 unchanged_frozen &= vsv_file_brick_kind(f, t, 2, b) == VSV_BRICK_UNCHANGED;
         }
     }
     CHECK(empty_seen > 0 && kinds_ok, "empty bricks are stored as EMPTY/UNCHANGED", "%d empty", empty_seen);
+    CHECK(appear_seen > 0 && appear_abs, "a brick empty the step before is stored ABS/ABS3, not as a DELTA",
+          "%d such bricks", appear_seen);
     vsv_file_counts cnt;
     vsv_file_count(f, &cnt);
     CHECK(cnt.stored_bricks < (uint64_t)info.nbricks * 3 * 120, "fewer payloads than bricks",

@@ -248,7 +248,7 @@ static void test_golden(void)
     }
     if (lf)
         fclose(lf);
-    CHECK(count >= 26, "damaged golden files present", "%d", count);
+    CHECK(count >= 32, "damaged golden files present", "%d", count);
     free(g);
 }
 

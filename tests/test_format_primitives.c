@@ -1,7 +1,7 @@
 /* test_format_primitives.c — the .vsv format library's primitives: CRC-32C
  * against a bitwise reference, the calendar (civil time, formatting,
- * parsing), quantisation within its stated bounds, and dequantisation
- * bit for bit the rule of SPEC.md §6. */
+ * parsing), the time grammar's choice of steps, quantisation within its
+ * stated bounds, and dequantisation bit for bit the rule of SPEC.md §6. */
 #include "vsv_format_internal.h"
 #include "vsv_refread.h"
 #include "vsv_testlib.h"
@@ -35,6 +35,61 @@ static void test_basics(void)
     CHECK(!vsv_time_parse("1995-10-24T03:00:00Z", &p) && p == 814492800 + 3 * 3600, "ISO time parses");
     CHECK(!vsv_time_parse("1995-10-24_03:00", &p) && p == 814492800 + 3 * 3600, "MM5-style time parses");
     CHECK(vsv_time_parse("1995-13-24", &p) == VSV_EINVAL, "bad month rejected");
+    /* January and February belong to the year they are in (the algorithm
+     * counts years from March) */
+    vsv_time_format(vsv_time_from_civil(1996, 2, 29, 12, 0, 0), t, sizeof t);
+    CHECK(!strcmp(t, "1996-02-29T12:00:00Z"), "a leap day formats in its own year", "got %s", t);
+    vsv_time_format(vsv_time_from_civil(2001, 1, 1, 0, 0, 0), t, sizeof t);
+    CHECK(!strcmp(t, "2001-01-01T00:00:00Z"), "New Year's Day formats in its own year", "got %s", t);
+    /* the other calendars: their own month lengths */
+    CHECK(!vsv_cal_parse(VSV_CAL_360_DAY, "2001-02-30", &p) &&
+              vsv_cal_parse(VSV_CAL_360_DAY, "2001-02-31", &p) == VSV_EINVAL,
+          "360_day: February 30 exists, February 31 does not");
+    CHECK(!vsv_cal_parse(VSV_CAL_NOLEAP, "2000-02-28", &p) &&
+              vsv_cal_parse(VSV_CAL_NOLEAP, "2000-02-29", &p) == VSV_EINVAL,
+          "noleap: 2000-02-28 exists, 2000-02-29 does not");
+    CHECK(!vsv_cal_parse(VSV_CAL_NOLEAP, "2001-12-31T06Z", &p) && (vsv_cal_format(VSV_CAL_NOLEAP, p, t, sizeof t), 1) &&
+              !strcmp(t, "2001-12-31T06:00:00Z"),
+          "noleap: December 31 parses and formats back", "got %s", t);
+    CHECK(!vsv_cal_parse(VSV_CAL_ALL_LEAP, "2001-02-29", &p) && (vsv_cal_format(VSV_CAL_ALL_LEAP, p, t, sizeof t), 1) &&
+              !strcmp(t, "2001-02-29T00:00:00Z"),
+          "all_leap: 2001-02-29 parses and formats back", "got %s", t);
+}
+
+/* vsv_timesel_parse (vsv_time.h): a time selects the nearest step, halfway
+ * the earlier one, exact = 0 between steps; a range the first step at or
+ * after A to the last at or before B. Steps hourly from 1970-01-01T00Z. */
+static void test_timesel(void)
+{
+    const int64_t times[4] = {0, 3600, 7200, 10800};
+    vsv_timesel sel;
+    char msg[256];
+    int rc = vsv_timesel_parse("1970-01-01T01:30:00Z", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == 0 && sel.first == 1 && sel.last == 1 && sel.exact == 0 && !sel.range,
+          "a time halfway between steps 1 and 2 selects step 1 (exact 0)", "rc %d, steps %d..%d, exact %d: %s", rc,
+          sel.first, sel.last, sel.exact, rc ? msg : "");
+    rc = vsv_timesel_parse("1970-01-01T01:30:01Z", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == 0 && sel.first == 2 && sel.exact == 0, "a second past halfway selects the later step 2",
+          "rc %d, step %d, exact %d", rc, sel.first, sel.exact);
+    rc = vsv_timesel_parse("1970-01-01T01:29:59Z", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == 0 && sel.first == 1 && sel.exact == 0, "a second before halfway selects step 1", "rc %d, step %d", rc,
+          sel.first);
+    rc = vsv_timesel_parse("1970-01-01T02:00:00Z", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == 0 && sel.first == 2 && sel.exact == 1, "a step's own time selects it (exact 1)",
+          "rc %d, step %d, exact %d", rc, sel.first, sel.exact);
+    rc = vsv_timesel_parse("1970-01-01T03:00:00Z", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == 0 && sel.first == 3 && sel.exact == 1, "the last step's time selects step 3", "rc %d, step %d", rc,
+          sel.first);
+    rc = vsv_timesel_parse("1970-01-01T00:30:00Z:1970-01-01T02:30:00Z", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == 0 && sel.first == 1 && sel.last == 2 && sel.range,
+          "a range between steps selects the first at or after A (1) to the last at or before B (2)",
+          "rc %d, steps %d..%d: %s", rc, sel.first, sel.last, rc ? msg : "");
+    rc = vsv_timesel_parse("3", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == 0 && sel.first == 3 && sel.exact == 1, "index 3 is step 3", "rc %d", rc);
+    rc = vsv_timesel_parse("4", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == VSV_ERANGE, "index 4 of 4 steps is out of range", "rc %d", rc);
+    rc = vsv_timesel_parse("1970-01-01T03:00:01Z", times, 4, 0, &sel, msg, sizeof msg);
+    CHECK(rc == VSV_ERANGE, "a second after the last step is out of range", "rc %d", rc);
 }
 
 static void test_quant(void)
@@ -67,6 +122,15 @@ static void test_quant(void)
     }
     CHECK(ok, "log 8-bit error within bound, below floor is empty", "bound %g", q.max_abs_error);
     CHECK(vsv_quant_code(&q, 0) == 0 && vsv_quant_value(&q, 0) == 0, "log code 0 is zero");
+    /* linear, a non-negative field with round-off below zero (WRF's
+     * hydrometeors): 0 stays the floor, so zeros decode to exactly 0 */
+    vsv_pack_var_init(&o);
+    vsv_quant_plan(&q, &o, -1e-14, 1e-3, 1e-9, 0);
+    CHECK(q.lo == 0 && vsv_quant_code(&q, 0) == 0 && vsv_quant_value(&q, 0) == 0 &&
+              fabs(vsv_quant_value(&q, vsv_quant_code(&q, -1e-14f)) + 1e-14) <= q.max_abs_error,
+          "linear: round-off below zero keeps 0 as the floor (zeros decode to 0)", "lo %g", q.lo);
+    vsv_quant_plan(&q, &o, -1e-3, 1e-3, 1e-9, 0);
+    CHECK(q.lo == -1e-3, "linear: a field truly below zero keeps its minimum as the floor", "lo %g", q.lo);
 }
 
 /* vsv_file_dequantise gives, for every code, the very bits of
@@ -133,6 +197,7 @@ static void test_dequantise(void)
 int main(void)
 {
     test_basics();
+    test_timesel();
     test_quant();
     test_dequantise();
     return vsv_test_done();

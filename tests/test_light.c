@@ -369,9 +369,122 @@ static void test_slice_heights(void)
     vsv_meta_clear(&m);
 }
 
+/* A uniform slab (value 0.5 everywhere, 10 levels of 1 km) seen at 30
+ * degrees from straight down, orthographic, a transfer function of range
+ * 0.2 .. 1 with opacity 0 .. 1 (0.375 at 0.5): where a pixel's ray enters
+ * the top and leaves the bottom, away from the sides, the pixel is the
+ * closed form of emission and absorption, alpha = 1 - exp(-sigma L) with
+ * sigma = opacity * 0.375 * 3 / dx per metre and L the ray's length in the
+ * box (11.5 km, 15.4 raycaster steps of 750 m: the part step counts by its
+ * length), and rgb = the colour map's colour at 0.5 times alpha. A thick
+ * slab stops its rays at the first sample whose transmittance falls below
+ * the renderer's 1/512: steps of 250 m, 0.2 optical depth each, stop after
+ * 32 (alpha 1 - exp(-6.4)), not at the bottom (1 - exp(-9.24)). On a
+ * log scale of range 0.01 .. 100 the opacity at 0.5 is ln 50 / ln 10^4. */
+static void test_slab_closed_form(void)
+{
+    enum { NZ = 10 };
+    vsv_meta m;
+    grid(&m, N, N, NZ, 1000);
+    vsv_volume *u = make_volume(N, N, NZ, uniform);
+    vsv_tf tf, tflog;
+    char msg[128];
+    CHECK(vsv_tf_parse(&tf, "colormap viridis\nrange 0.2 1\nopacity 0 1\n", msg, sizeof msg) == 0 &&
+              vsv_tf_parse(&tflog, "colormap viridis\nscale log\nrange 0.01 100\nopacity 0 1\n", msg, sizeof msg) == 0,
+          "slab: tf", "%s", msg);
+    vsv_layer L = {u, &tf, 0.08f, 1};
+    vsv_scene sc = {.meta = &m, .layers = &L, .nlayers = 1, .exaggeration = 1, .show_terrain = 0};
+    vsv_geo g;
+    vsv_scene_geo(&sc, &g);
+    const double th = 30 * M_PI / 180, D = 100000;
+    vsv_camera cam;
+    memset(&cam, 0, sizeof cam);
+    cam.dir[1] = sin(th), cam.dir[2] = -cos(th);
+    cam.up[1] = cos(th), cam.up[2] = sin(th);
+    for (int a = 0; a < 3; a++)
+        cam.pos[a] = 0.5 * (g.bmin[a] + g.bmax[a]) - D * cam.dir[a];
+    cam.ortho_height = 60000;
+    cam.width = W, cam.height = H;
+    static const struct {
+        int kind, log;
+        float opacity;
+        double step, tol;
+        const char *name;
+    } runs[] = {
+        {VSV_RENDER_RAYCAST, 0, 0.08f, 0.75, 1e-5, "slab: the raycaster's pixels are 1 - exp(-sigma L) of the colour at 0.5, "
+                                                "L the ray's length in the box (a part step by its length)"},
+        {VSV_RENDER_SHEARWARP, 0, 0.08f, 0.5, 5e-4, "slab: shear-warp's pixels are 1 - exp(-sigma L) of the colour at 0.5, "
+                                                 "L the slices' spacing along the oblique ray"},
+        {VSV_RENDER_RAYCAST, 0, 0.8f / 3 / 0.375f, 0.25, 1e-5, "slab: a thick slab's rays stop at the first sample "
+                                                               "below 1/512 transmittance: alpha 1 - exp(-6.4)"},
+        {VSV_RENDER_RAYCAST, 1, 0.08f, 0.75, 1e-5, "slab: the raycaster on a log scale 0.01 .. 100: opacity "
+                                                   "ln 50 / ln 10^4 at 0.5"},
+        {VSV_RENDER_SHEARWARP, 1, 0.08f, 0.5, 5e-4, "slab: shear-warp on a log scale 0.01 .. 100: opacity "
+                                                    "ln 50 / ln 10^4 at 0.5"},
+    };
+    for (int run = 0; run < 5; run++) {
+        vsv_render_opts o;
+        vsv_render_opts_init(&o);
+        o.kind = runs[run].kind;
+        o.threads = 2;
+        o.step_cells = runs[run].step;
+        L.opacity = runs[run].opacity;
+        L.tf = runs[run].log ? &tflog : &tf;
+        float want_rgb[4];
+        vsv_tf_eval(L.tf, 0.5f, want_rgb);
+        vsv_renderer *r = NULL;
+        float *img = malloc(sizeof(float) * 4 * W * H);
+        if (!CHECK(!vsv_renderer_create(&o, &r) && !vsv_render(r, &sc, &cam, img, NULL), "slab: renders")) {
+            vsv_renderer_free(r);
+            free(img);
+            continue;
+        }
+        const double op = runs[run].log ? log(50) / log(1e4) : 0.375;
+        const double sigma = L.opacity * op * 3 / 1000, st = runs[run].step * 1000;
+        int on = 0, bad = 0;
+        double worst = 0, first = -1;
+        for (int py = 0; py < H; py++)
+            for (int px = 0; px < W; px++) {
+                double o3[3], d[3], t0, t1;
+                vsv_pixel_ray(&cam, px, py, o3, d);
+                if (!vsv_box_hit(o3, d, g.bmin, g.bmax, &t0, &t1))
+                    continue;
+                int inner = fabs(o3[2] + t0 * d[2] - g.bmax[2]) < 1e-6 && fabs(o3[2] + t1 * d[2] - g.bmin[2]) < 1e-6;
+                for (int a = 0; a < 2; a++)
+                    for (int e = 0; e < 2; e++) {
+                        const double x = o3[a] + (e ? t1 : t0) * d[a];
+                        inner &= x > g.bmin[a] + 2000 && x < g.bmax[a] - 2000;
+                    }
+                if (!inner)
+                    continue;
+                double alpha = -expm1(-sigma * (t1 - t0));
+                if (run == 2) { /* the first whole step whose transmittance is below 1/512 */
+                    int k = 1;
+                    while (exp(-sigma * st * k) >= 1.0 / 512)
+                        k++;
+                    alpha = -expm1(-sigma * st * k);
+                }
+                const float *p = img + 4 * ((size_t)py * W + px);
+                double e = fabs(p[3] - alpha);
+                for (int ch = 0; ch < 3; ch++)
+                    e = fmax(e, fabs(p[ch] - want_rgb[ch] * alpha));
+                on++;
+                bad += e > runs[run].tol;
+                if (e > worst)
+                    worst = e, first = p[3] - alpha;
+            }
+        CHECK(on > 1000 && bad == 0, runs[run].name, "%d of %d pixels off (worst %.3g, alpha off by %.3g)", bad, on, worst,
+              first);
+        vsv_renderer_free(r);
+        free(img);
+    }
+    free_volume(u);
+}
+
 int main(void)
 {
     test_lit_sphere();
+    test_slab_closed_form();
     test_slice_linear();
     test_slice_heights();
     return vsv_test_done();

@@ -427,6 +427,47 @@ static void test_split(void)
         ok &= !memcmp(buf, buf2, vsv_mm5_field_at(m, i)->bytes) && !strcmp(vsv_mm5_field_at(le, i)->name, vsv_mm5_field_at(m, i)->name);
     }
     CHECK(ok, "little-endian framing with repeated big headers reads the same fields", "%s", le ? vsv_mm5_error(le) : "");
+    /* a second big header that differs (BHI(16,1) 41, BHR(2,2) 5000): the
+     * first one is in force (vsv_mm5.h), in either byte order; fields after
+     * the second say so */
+    unsigned char *other = malloc(VSV_MM5_BIGHDR);
+    memcpy(other, vsv_mm5_bighdr_bytes(m), VSV_MM5_BIGHDR);
+    const unsigned char i41[4] = {0, 0, 0, 41}, r5000[4] = {0x45, 0x9c, 0x40, 0}; /* 5000.0f big-endian */
+    memcpy(other + 4 * 15, i41, 4);
+    memcpy(other + 4000 + 4 * (20 + 1), r5000, 4);
+    const vsv_mm5_field *f0 = vsv_mm5_field_at(m, 0);
+    vsv_mm5_read(m, f0, buf);
+    for (int order = 0; order < 2; order++) {
+        vsv_mm5 *two = NULL;
+        fp = fopen(vsv_test_tmp("two.mm5"), "wb");
+        w = (vsv_mm5_writer){fp, order};
+        vsv_mm5_write_flag(&w, 0);
+        vsv_mm5_write_bighdr(&w, vsv_mm5_bighdr_bytes(m));
+        vsv_mm5_write_field(&w, f0, buf);
+        vsv_mm5_write_flag(&w, 2);
+        vsv_mm5_write_flag(&w, 0);
+        vsv_mm5_write_bighdr(&w, other);
+        vsv_mm5_write_field(&w, f0, buf);
+        if (!order)
+            vsv_mm5_write_flag(&w, 2); /* the little-endian file ends without it */
+        fclose(fp);
+        const int rc = vsv_mm5_open(vsv_test_tmp("two.mm5"), &two);
+        CHECK(rc == 0 && vsv_mm5_nbighdr(two) == 2 && vsv_mm5_bhi(two, 16, 1) == 40 &&
+                  vsv_mm5_bhr(two, 2, 2) == 10000 &&
+                  !memcmp(vsv_mm5_bighdr_bytes(two), vsv_mm5_bighdr_bytes(m), VSV_MM5_BIGHDR),
+              order ? "little-endian: of two differing big headers the first is in force (BHI(16,1) 40, BHR(2,2) 10000)"
+                    : "big-endian: of two differing big headers the first is in force (BHI(16,1) 40, BHR(2,2) 10000)",
+              "rc %d, %d headers, BHI(16,1) %d, BHR(2,2) %g: %s", rc, two ? vsv_mm5_nbighdr(two) : -1,
+              two ? vsv_mm5_bhi(two, 16, 1) : -1, two ? vsv_mm5_bhr(two, 2, 2) : -1.0, two ? vsv_mm5_error(two) : "");
+        CHECK(rc == 0 && vsv_mm5_nfields(two) == 2 && vsv_mm5_nperiods(two) == 2 &&
+                  vsv_mm5_field_at(two, 0)->bighdr == 1 && vsv_mm5_field_at(two, 1)->bighdr == 2 &&
+                  vsv_mm5_field_at(two, 1)->period == 1,
+              order ? "little-endian, no end flag: the field after big header 2 is in period 1 of 2"
+                    : "big-endian: the field after big header 2 is in period 1 of 2",
+              "%d fields, %d periods", rc ? -1 : vsv_mm5_nfields(two), rc ? -1 : vsv_mm5_nperiods(two));
+        vsv_mm5_free(two);
+    }
+    free(other);
     free(buf);
     free(buf2);
     vsv_mm5_free(le);
@@ -473,6 +514,18 @@ static void test_bad(void)
     rc = vsv_mm5_open(badp, &m);
     CHECK(rc == VSV_ECORRUPT && strstr(vsv_mm5_error(m), "field U has 96000 bytes of data, its sub-header implies 102400"),
           "a field whose size disagrees with its sub-header is an error", "%s", vsv_mm5_error(m));
+    vsv_mm5_free(m);
+    /* the big header record's trailing length marker one off */
+    memcpy(bad, d, n);
+    bad[12 + 4 + 117600 + 3] ^= 1;
+    vsv_test_write(badp, bad, n);
+    m = NULL;
+    rc = vsv_mm5_open(badp, &m);
+    CHECK(rc == VSV_ECORRUPT &&
+              strstr(vsv_mm5_error(m),
+                     "record 2 at byte offset 12: trailing length marker 117601 differs from leading 117600"),
+          "a record whose trailing length marker differs from its leading one is an error naming both", "%s",
+          vsv_mm5_error(m));
     vsv_mm5_free(m);
     /* every truncation length and many flips: errors or success, never a crash */
     int crashes_avoided = 0;
@@ -616,6 +669,23 @@ static void test_crafted(void)
     vsv_source_free(src);
 }
 
+/* vsv_mm5_date (vsv_mm5.h): a date's seconds; 1 for the all-zero date of
+ * set-up files; -1 for a day the month does not have, or other nonsense. */
+static void test_dates(void)
+{
+    int64_t t = 0;
+    CHECK(vsv_mm5_date("1995-10-24_03:00:00.0000", &t) == 0 && t == 814492800 + 3 * 3600,
+          "MM5 date 1995-10-24_03:00:00.0000 is its UTC seconds", "%lld", (long long)t);
+    CHECK(vsv_mm5_date("0000-00-00_00:00:00", &t) == 1, "the all-zero MM5 date is 'no time' (1)");
+    CHECK(vsv_mm5_date("1995-04-31_00:00:00", &t) == -1 && vsv_mm5_date("1995-06-31_12:00:00", &t) == -1,
+          "April 31 and June 31 are not MM5 dates (-1)");
+    CHECK(vsv_mm5_date("1995-10-24_24:00:00", &t) == -1 && vsv_mm5_date("1995-10-24", &t) == -1,
+          "hour 24 and a date without its time are not MM5 dates (-1)");
+    CHECK(vsv_mm5_date("1995-02-29_00:00:00", &t) == -1 && vsv_mm5_date("1900-02-29_00:00:00", &t) == -1 &&
+              vsv_mm5_date("2000-02-29_06:00:00", &t) == 0 && t == 951782400 + 6 * 3600,
+          "February 29 only in leap years (1995, 1900: -1; 2000: its seconds)", "%lld", (long long)t);
+}
+
 int main(void)
 {
     test_terrain();
@@ -624,5 +694,6 @@ int main(void)
     test_split();
     test_bad();
     test_crafted();
+    test_dates();
     return vsv_test_done();
 }

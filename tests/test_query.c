@@ -2,7 +2,8 @@
  * latitude/longitude, read back through a .vsv, against the models' own
  * fields (MM5 LATITCRS/LONGICRS, WRF XLAT/XLONG) within 1 m plus the float
  * rounding of those fields; lat/lon back to the same cell; values equal the
- * decoder's; trilinear blends; points, heights and cells outside the grid. */
+ * decoder's; trilinear blends; points, heights and cells outside the grid;
+ * trilinear beside no-data cells (NaN only where a NaN cell has weight). */
 #include "vsv_convert.h"
 #include "vsv_format.h"
 #include "vsv_mm5.h"
@@ -289,6 +290,77 @@ static void test_values(void)
     vsv_source_free(src);
 }
 
+/* Trilinear beside a no-data cell (vsv_format.h: NaN only when a cell with
+ * non-zero weight is NaN): a small grid whose cell (3,2,1) is NaN. */
+static void test_nodata(void)
+{
+    enum { NX = 8, NY = 6, NZ = 4 };
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = NX, m.ny = NY, m.nz = NZ;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    vsv_meta_add_var(&m, "T", "K", "a ramp with one no-data cell");
+    float v[NX * NY * NZ];
+    for (int c = 0; c < NX * NY * NZ; c++)
+        v[c] = (float)(10 + c % NX + 2 * (c / NX % NY) + 3 * (c / NX / NY));
+    v[(1 * NY + 2) * NX + 3] = NAN;
+    const char *path = vsv_test_tmp("nodata.vsv");
+    vsv_writer *w = NULL;
+    const float *fields[1] = {v};
+    vsv_file *f = NULL;
+    vsv_query *q = NULL;
+    int ok = !vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) &&
+             !vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    if (!CHECK(ok && !vsv_file_open(path, &f) && !vsv_query_create(f, &q),
+               "a grid with a no-data cell written and opened")) {
+        vsv_query_free(q);
+        vsv_file_free(f);
+        return;
+    }
+    float nan = 0, left = 0, right = 0, up = 0, got = -1;
+    vsv_query_cell(q, 0, 0, 3, 2, 1, &nan);
+    vsv_query_cell(q, 0, 0, 2, 2, 1, &left);
+    vsv_query_cell(q, 0, 0, 4, 2, 1, &right);
+    vsv_query_cell(q, 0, 0, 2, 3, 1, &up);
+    CHECK(isnan(nan) && !isnan(left) && !isnan(right) && !isnan(up),
+          "cell 3,2,1 decodes to NaN, its neighbours to values");
+    const double at_left[3] = {2, 2, 1}, at_right[3] = {4, 2, 1}, between[3] = {2, 2.5, 1}, half[3] = {2.5, 2, 1};
+    int rc = vsv_query_sample(q, 0, 0, at_left, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && got == left,
+          "trilinear at the centre of cell 2,2,1, beside the NaN cell 3,2,1, is the cell's value",
+          "rc %d: %.9g, want %.9g", rc, got, left);
+    got = -1;
+    rc = vsv_query_sample(q, 0, 0, at_right, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && got == right, "trilinear at the centre of cell 4,2,1 (NaN cell below it in x) is the cell's value",
+          "rc %d: %.9g, want %.9g", rc, got, right);
+    got = -1;
+    rc = vsv_query_sample(q, 0, 0, between, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && got == (float)(0.5 * left + 0.5 * up),
+          "trilinear at 2,2.5,1 (zero weight on the NaN cell 3,2,1) blends cells 2,2,1 and 2,3,1", "rc %d: %.9g", rc,
+          got);
+    got = 0;
+    rc = vsv_query_sample(q, 0, 0, half, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && isnan(got), "trilinear at 2.5,2,1 (half its weight on the NaN cell) is NaN", "rc %d: %.9g", rc,
+          got);
+    /* outside the grid: clamped to the edge cells */
+    float corner = 0, far = 0;
+    vsv_query_cell(q, 0, 0, 0, 2, 1, &corner);
+    vsv_query_cell(q, 0, 0, NX - 1, NY - 1, NZ - 1, &far);
+    const double below[3] = {-0.7, 2, 1}, above[3] = {NX + 0.3, NY - 0.6, NZ + 2};
+    got = -1;
+    rc = vsv_query_sample(q, 0, 0, below, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && got == corner, "trilinear at -0.7,2,1 is clamped to cell 0,2,1", "rc %d: %.9g, want %.9g", rc, got,
+          corner);
+    got = -1;
+    rc = vsv_query_sample(q, 0, 0, above, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && got == far, "trilinear past the far corner is clamped to the last cell", "rc %d: %.9g, want %.9g",
+          rc, got, far);
+    vsv_query_free(q);
+    vsv_file_free(f);
+}
+
 int main(void)
 {
     test_mm5_positions();
@@ -296,5 +368,6 @@ int main(void)
     test_wrf_positions("wrf/wrf_d01_allvars_cropped.nc");
     test_wrf_positions("wrf/katrina_ci_test_file.nc");
     test_values();
+    test_nodata();
     return vsv_test_done();
 }

@@ -147,6 +147,18 @@ static void test_regrid(void)
     }
     CHECK(terr < 1e-3 && checked > 100, "REGRID: T on even heights equals an independent column interpolation",
           "worst %.5f K over %d cells", terr, checked);
+    /* the even levels reach the highest point of the top pressure level (H
+     * of the first period, the 100 hPa surface) rounded up to 100 m: 40
+     * levels of a fortieth of that, the first half a level up */
+    float *H0 = raw_field(d, n, "H", 0, ext);
+    double top = 0;
+    for (size_t c = 0; H0 && c < (size_t)143 * 208; c++)
+        top = fmax(top, H0[(size_t)22 * 143 * 208 + c]);
+    const double ztop = ceil(top / 100) * 100;
+    CHECK(H0 && top > 15000 && fabs(g->spacing[2] - ztop / 40) < 1e-6 && fabs(g->origin[2] - ztop / 80) < 1e-6,
+          "REGRID: the even levels reach the top level's highest point rounded up to 100 m (40 of ztop / 40)",
+          "top %.1f m: spacing %g, origin %g, wanted %g, %g", top, g->spacing[2], g->origin[2], ztop / 40, ztop / 80);
+    free(H0);
     free(T);
     free(H);
     free(h);

@@ -58,6 +58,28 @@ int main(void)
     CHECK(named, "one float grid per species, named after it, with its units", "(%d grids)", vi.ngrids);
     CHECK(fabs(vi.voxel[0] - m->spacing[0]) < 1e-9 && fabs(vi.voxel[2] - m->spacing[2]) < 1e-9,
           "the voxel size is the cell size in metres", "(%g %g %g)", vi.voxel[0], vi.voxel[1], vi.voxel[2]);
+    /* cells twice as long north-south as east-west, the grid moved 7 km
+     * north: the transform keeps each axis's own cell size and origin
+     * (cell (i, j, k) at origin + (i dx, j dy, k dz)) */
+    vsv_meta m2;
+    vsv_meta_init(&m2);
+    vsv_vdb_info v2;
+    memset(&v2, 0, sizeof v2);
+    const char *aniso = vsv_test_tmp("vdb-aniso.vdb");
+    int aok = !vsv_meta_copy(&m2, m);
+    m2.spacing[1] = 2 * m->spacing[0], m2.origin[1] = m->origin[1] + 7000;
+    aok = aok && !vsv_vdb_write(aniso, &m2, vsv_file_time(f, nt - 1), (const vsv_volume *const *)vols, ns, err, sizeof err) &&
+          !vsv_vdb_scan(&aniso, 1, &v2, err, sizeof err);
+    double werr = 0;
+    for (int a = 0; aok && a < 3; a++) {
+        const double cell = (v2.origin[a] - m2.origin[a]) / m2.spacing[a];
+        werr = fmax(werr, fabs(v2.voxel[a] - m2.spacing[a]) + fabs(cell - round(cell)));
+    }
+    CHECK(aok && werr < 1e-6, "a grid of 1 x 2 cells: voxel size per axis and origin on the grid's own lattice",
+          "(%s) voxel %g %g %g, origin y %g (grid's %g)", err, v2.voxel[0], v2.voxel[1], v2.voxel[2], v2.origin[1], m2.origin[1]);
+    if (aok)
+        vsv_vdb_info_free(&v2);
+    vsv_meta_clear(&m2);
     int times_ok = 1;
     for (int t = 0; t < nt; t++)
         times_ok &= vi.times[t] == vsv_file_time(f, t);

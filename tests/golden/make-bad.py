@@ -138,6 +138,24 @@ g = bytearray(good)
 on = c1 + 32 + s * S + 4 * b + 2
 struct.pack_into("<H", g, on, struct.unpack_from("<H", g, on)[0] ^ 1)
 cases.append(("s-octree.vsv", reseal(g, [c1]), "chunk 1, species %d, brick %d: decoded codes disagree with the octree" % (s, b)))
+# chunk 1's first stored brick with a reserved byte set: in the u8[3] after
+# the kind, then in the u32 at entry byte 20
+for name, at in (("s-brick-reserved.vsv", 2), ("s-brick-reserved20.vsv", 21)):
+    g = bytearray(good)
+    g[e + at] = 1
+    cases.append((name, reseal(g, [c1]), "chunk 1, species %d, brick %d (offset %d): invalid brick entry" % (s, b, e)))
+# an EMPTY brick of chunk 0 with a payload CRC (0 unless a kind with a payload)
+g = bytearray(good)
+e0 = c0 + 32 + sp * S + O + 24 * br
+assert g[e0] == 0
+struct.pack_into("<I", g, e0 + 4, 0x1234)
+cases.append(("s-empty-crc.vsv", reseal(g, [c0]), "chunk 0, species %d, brick %d (offset %d): invalid brick entry" % (sp, br, e0)))
+# the first node above level 0 of chunk 1's species 0: its minimum off by one
+assert nb > 1
+g = bytearray(good)
+on = c1 + 32 + 4 * nb
+struct.pack_into("<H", g, on, struct.unpack_from("<H", g, on)[0] ^ 1)
+cases.append(("s-octree-upper.vsv", reseal(g, [c1]), "chunk 1, species 0: octree node %d disagrees with its children" % nb))
 # header fields out of range, CRCs intact
 g = bytearray(good)
 struct.pack_into("<H", g, 8, 9)
