@@ -198,7 +198,50 @@ fault "slow replies" delay 2 0
 fault "a server that ignores Range" norange 0 1 "the server ignores range requests"
 fault "the file changes while read" etag 3 1 "the file changed on the server while it was read"
 fault "garbled bytes" garble 2 1 "checksum mismatch|end marker damaged"
-fault "every connection dropped" drop 1000 1 "attempts"
+# (the default: 5 retries, 6 attempts in all)
+fault "every connection dropped" drop 1000 1 "after 6 attempts"
+# the ETag alone changes (a file replaced by one of the same length: the
+# proxy's etag mode changes the length too, which tells on its own)
+fault "the ETag alone changes while read" etagonly 3 1 "the file changed on the server while it was read \\(ETag "
+# a reply for a range other than the one asked, consistent in itself (its
+# body as long as its Content-Range says): refused, not used nor retried
+fault "a reply one byte short of the range asked, Content-Range saying so" crend 2 1 "the server answered with another range"
+# the file replaced between two runs by one of the same length and
+# Last-Modified, another ETag: the cache of the first run is not trusted
+rm -f "$T/pport.count" "$T/pport.etag"
+start_proxy newetag
+PURL=http://127.0.0.1:$PPORT/run.vsv
+VSV_CACHE_DIR="$T/cache-etag" expect "through the proxy with a cache: exits 0" 0 \
+    "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/e1.png"
+n1=$(cat "$T/pport.count" 2> /dev/null || echo 0)
+VSV_CACHE_DIR="$T/cache-etag" expect "again, the same ETag: exits 0" 0 \
+    "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/e2.png"
+n2=$(cat "$T/pport.count" 2> /dev/null || echo 0)
+[ "$n1" -gt 0 ] && [ "$n2" = "$n1" ] && pass "... and fetches no range (the cache; $n1 ranges the first time)" ||
+    fail "... and fetches no range (the cache)" "range requests: $n1 after the first run, $n2 after the second"
+: > "$T/pport.etag"
+VSV_CACHE_DIR="$T/cache-etag" expect "the file replaced (another ETag, the same length): exits 0" 0 \
+    "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/e3.png"
+same "... and gives the same PNG" "$T/e3.png" "$T/local.png"
+n3=$(cat "$T/pport.count" 2> /dev/null || echo 0)
+[ "$n3" -gt "$n2" ] && pass "... its cache not trusted: the ranges fetched again ($((n3 - n2)) requests)" ||
+    fail "... its cache not trusted: the ranges fetched again" "range requests: $n2 before, $n3 after"
+stop_proxy
+rm -f "$T/pport.etag" "$T/pport.count"
+# a server that gives no validators (no ETag, no Last-Modified): nothing
+# tells that a cached copy is still the file, so none is used again
+start_proxy novalid
+PURL=http://127.0.0.1:$PPORT/run.vsv
+VSV_CACHE_DIR="$T/cache-noval" expect "no validators, with a cache: exits 0" 0 \
+    "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/v1.png"
+n1=$(cat "$T/pport.count" 2> /dev/null || echo 0)
+VSV_CACHE_DIR="$T/cache-noval" expect "no validators, again: exits 0" 0 \
+    "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/v2.png"
+same "... and gives the same PNG" "$T/v2.png" "$T/local.png"
+n2=$(cat "$T/pport.count" 2> /dev/null || echo 0)
+[ "$n1" -gt 0 ] && [ "$n2" -ge $((2 * n1)) ] && pass "... the cache not used: every range fetched again ($n1, then $((n2 - n1)))" ||
+    fail "... the cache not used: every range fetched again" "range requests: $n1 after the first run, $n2 after the second"
+stop_proxy
 # the server gone in the middle of a session: the first range that fails
 # takes all its attempts, the ones after it one each (a player goes on past
 # steps it cannot fetch instead of waiting out every back-off: it froze for

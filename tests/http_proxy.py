@@ -12,6 +12,17 @@ replies to range requests as MODE says, counted by request, never by time:
   delay N      waits N/10 s before each reply (slow, never failing)
   etag N       from range request N on, answers with another ETag and
                another length in Content-Range (the file changed)
+  etagonly N   from range request N on, answers with another ETag, the
+               length and bytes intact (a file replaced by one of the same
+               length: the ETag alone tells)
+  newetag      while PORT_FILE.etag exists, every reply (HEAD too) carries
+               another ETag, Last-Modified and length intact (the file
+               replaced between two runs: a cache must not be trusted)
+  novalid      strips ETag and Last-Modified from every reply (a server
+               that gives no validators)
+  crend N      from range request N on, answers a range one byte shorter
+               than asked, its Content-Range saying so (a consistent reply,
+               but not for the range asked)
   garble N     flips every bit of the body of range replies from N on
                (the length and headers intact: only the checksums can
                tell; every byte, so whatever part of a block is used)
@@ -75,6 +86,23 @@ class Handler(http.server.BaseHTTPRequestHandler):
             cr = out.get("Content-Range", "")
             if "/" in cr:
                 out["Content-Range"] = cr.split("/")[0] + "/" + str(int(cr.split("/")[1]) + 64)
+        if (k > 0 and MODE == "etagonly" and k >= N) or (
+            MODE == "newetag" and os.path.exists(sys.argv[2] + ".etag")
+        ):
+            for key in list(out):
+                if key.lower() == "etag":
+                    out[key] = out[key].rstrip('"') + '-new"'
+        if MODE == "novalid":
+            out = {key: v for key, v in out.items() if key.lower() not in ("etag", "last-modified")}
+        if k > 0 and MODE == "crend" and k >= N and r.status == 206 and len(body) > 1:
+            body = body[:-1]
+            for key in list(out):
+                if key.lower() == "content-range":  # bytes A-B/T: B one less
+                    a_b, total = out[key].split("/")
+                    a, b = a_b.split("-")
+                    out[key] = "%s-%d/%s" % (a, int(b) - 1, total)
+                elif key.lower() == "content-length":
+                    out[key] = str(len(body))
         if k > 0 and MODE == "garble" and k >= N and body:
             body = bytes(b ^ 0xFF for b in body)
         cut = k > 0 and MODE == "truncate" and k <= N

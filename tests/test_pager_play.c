@@ -25,7 +25,8 @@ enum { MM5_SPECIES = 1 << 20 };
 #endif
 enum { K = 6 };
 
-static int write_series(const char *path, int nsteps)
+/* The series at 16 bits, or (bits 8) every species at 8 bits. */
+static int write_series_bits(const char *path, int nsteps, int bits)
 {
     synth sy = SY;
     sy.nsteps = nsteps;
@@ -33,6 +34,12 @@ static int write_series(const char *path, int nsteps)
     vsv_pack_opts_init(&o);
     o.brick = 8;
     o.keyframe = K;
+    vsv_pack_var pv[3];
+    for (int s = 0; s < 3; s++) {
+        vsv_pack_var_init(&pv[s]);
+        pv[s].bits = bits;
+    }
+    o.vars = pv;
     char err[512] = "";
     const int rc = synth_write(&sy, path, &o, err, sizeof err);
     if (rc)
@@ -40,9 +47,11 @@ static int write_series(const char *path, int nsteps)
     return rc;
 }
 
+static int write_series(const char *path, int nsteps) { return write_series_bits(path, nsteps, 16); }
+
 /* Advancing a brick's codes step by step from zeros gives, at every step,
  * the codes decoded from the brick's keyframe. */
-static void test_advance(vsv_file *f)
+static void test_advance(vsv_file *f, const char *label)
 {
     vsv_file_info in;
     vsv_file_info_get(f, &in);
@@ -63,8 +72,10 @@ static void test_advance(vsv_file *f)
                 checked++;
             }
         }
-    CHECK(!bad && deltas > 0, "vsv_decoder_brick_advance from step 0 on equals the keyframe decode at every step",
-          "(%d bricks x steps, %d deltas, first bad step %d)", checked, deltas, bad - 1);
+    char name[200];
+    snprintf(name, sizeof name, "%s: vsv_decoder_brick_advance from step 0 on equals the keyframe decode at every step",
+             label);
+    CHECK(!bad && deltas > 0, name, "(%d bricks x steps, %d deltas, first bad step %d)", checked, deltas, bad - 1);
     CHECK(vsv_decoder_brick_advance(d, in.nsteps, 0, 0, state) == VSV_ERANGE, "advance past the last step: VSV_ERANGE",
           " ");
     /* undoing: from every step's codes, retreat gives the previous step's */
@@ -86,8 +97,10 @@ static void test_advance(vsv_file *f)
                     bad = 1 + t;
                 checked++;
             }
-    CHECK(!bad && kinds[VSV_BRICK_DELTA] > 0 && kinds[VSV_BRICK_DELTA3] > 0 && kinds[VSV_BRICK_UNCHANGED] > 0,
-          "vsv_decoder_brick_retreat undoes a step exactly (DELTA, DELTA3, UNCHANGED); an absolute state: VSV_EINVAL",
+    snprintf(name, sizeof name,
+             "%s: vsv_decoder_brick_retreat undoes a step exactly (DELTA, DELTA3, UNCHANGED); an absolute state: VSV_EINVAL",
+             label);
+    CHECK(!bad && kinds[VSV_BRICK_DELTA] > 0 && kinds[VSV_BRICK_DELTA3] > 0 && kinds[VSV_BRICK_UNCHANGED] > 0, name,
           "(%d undone: %d DELTA, %d DELTA3, %d UNCHANGED; first bad step %d)", checked, kinds[VSV_BRICK_DELTA],
           kinds[VSV_BRICK_DELTA3], kinds[VSV_BRICK_UNCHANGED], bad - 1);
     free(state);
@@ -194,7 +207,7 @@ static void test_counts(const char *path)
         vsv_file_free(f);
         return;
     }
-    test_advance(f);
+    test_advance(f, "16 bits");
     vsv_file_info in;
     vsv_file_info_get(f, &in);
     const int nb = in.nbricks, ns = in.nsteps;
@@ -259,6 +272,117 @@ static void test_counts(const char *path)
           "(%zu bytes over)", over);
     bad = play(f, 1, small, 0, 2, &fwd, &back, &over, why, sizeof why);
     CHECK(!bad, "with 2 workers under the same budget: every brick equals the keyframe decode", "%s", why);
+    vsv_file_free(f);
+}
+
+/* The series at 8 bits (deltas wrap modulo 2^8): undoing a step gives
+ * the previous step's codes, and the pager playing backward (undoing
+ * deltas from the track's state) gives every brick as the keyframe decode,
+ * as forward. */
+static void test_bits8(void)
+{
+    const char *path = vsv_test_tmp("play-series-8.vsv");
+    vsv_file *f = NULL;
+    if (write_series_bits(path, 2 * K + 2, 8) ||
+        !CHECK(vsv_file_open(path, &f) == 0, "open the 8-bit series", "%s", vsv_file_error(f))) {
+        vsv_file_free(f);
+        return;
+    }
+    int bits8 = 1;
+    for (int s = 0; s < 3; s++)
+        bits8 &= vsv_file_quant(f, s)->bits == 8;
+    CHECK(bits8, "the series is written at 8 bits", " ");
+    test_advance(f, "8 bits");
+    vsv_file_info in;
+    vsv_file_info_get(f, &in);
+    char why[300] = "";
+    uint64_t fwd = 0, back = 0;
+    size_t over = 0;
+    int bad = 0;
+    for (int s = 0; s < in.nspecies && !bad; s++)
+        bad = play(f, s, 64 << 20, 0, -1, &fwd, &back, &over, why, sizeof why);
+    CHECK(!bad, "8 bits: every brick forward and backward equals the keyframe decode", "%s", why);
+    /* under a one-step budget backward undoes deltas from the track */
+    const size_t tiny = (size_t)in.nbricks * 8 * 8 * 8 * sizeof(float) * 3 / 2 + 64 * 1024;
+    for (int s = 0; s < in.nspecies && !bad; s++)
+        bad = play(f, s, tiny, 0, -1, &fwd, &back, &over, why, sizeof why);
+    CHECK(!bad, "8 bits under a one-step budget: every brick backward equals the keyframe decode", "%s", why);
+    vsv_file_free(f);
+}
+
+/* A grid of one brick, played through a pager (no workers) whose budget
+ * holds its fixed tables, one brick and its decoder state: no brick is
+ * pinned but the one being decoded (the volume's previous brick is
+ * released first), so making room for it must count it: the bytes held
+ * never exceed the budget, not even for a moment (the peak), forward or
+ * backward. */
+static void test_budget_exact(void)
+{
+    synth sy = {8, 8, 8, 2 * K + 3, 0, 0};
+    vsv_pack_opts po;
+    vsv_pack_opts_init(&po);
+    po.brick = 8;
+    po.keyframe = K;
+    char err[512] = "";
+    const char *path = vsv_test_tmp("one-brick.vsv");
+    vsv_file *f = NULL;
+    if (!CHECK(synth_write(&sy, path, &po, err, sizeof err) == 0 && vsv_file_open(path, &f) == 0,
+               "write and open a one-brick series", "%s %s", err, f ? vsv_file_error(f) : "")) {
+        vsv_file_free(f);
+        return;
+    }
+    vsv_file_info in;
+    vsv_file_info_get(f, &in);
+    const int s = 1; /* smooth, dense: a brick at every step, a delta off the keyframes */
+    const size_t brick = 8 * 8 * 8 * sizeof(float), codes = 8 * 8 * 8 * sizeof(uint16_t);
+    vsv_pager_opts o;
+    vsv_pager_opts_init(&o);
+    o.threads = -1;
+    vsv_pager *p = NULL;
+    vsv_pager_stats st;
+    if (vsv_pager_open(f, &o, &p)) {
+        CHECK(0, "a pager opens over the one-brick series", " ");
+        vsv_file_free(f);
+        return;
+    }
+    vsv_pager_stats_get(p, &st);
+    vsv_pager_free(p);
+    o.budget = st.fixed_bytes + brick + codes;
+    vsv_decoder *d = NULL;
+    vsv_decoder_create(f, &d);
+    float ref[8 * 8 * 8];
+    uint16_t c[8 * 8 * 8];
+    unsigned char want[3] = {0, 1, 0};
+    int bad = 0, gets = 0;
+    size_t worst = 0;
+    for (int pass = 0; pass < 2 && !bad; pass++) {
+        if (vsv_pager_open(f, &o, &p)) {
+            bad = 1;
+            break;
+        }
+        vsv_volume *v = vsv_pager_volume_new(p);
+        for (int i = 0; i < in.nsteps && !bad; i++) {
+            const int t = pass ? in.nsteps - 1 - i : i;
+            vsv_pager_playhead(p, t, pass ? -1 : 1, NULL, 0, want);
+            if (vsv_pager_get(p, t, s, 1, v) || !v->bricks[0]) {
+                bad = 1;
+                break;
+            }
+            vsv_decoder_brick_codes(d, t, s, 0, c);
+            vsv_file_dequantise(f, s, c, 8 * 8 * 8, ref);
+            bad |= memcmp(v->bricks[0], ref, sizeof ref) != 0;
+            vsv_pager_stats_get(p, &st);
+            worst = st.peak_bytes > worst ? st.peak_bytes : worst;
+            gets++;
+        }
+        vsv_volume_free(v);
+        vsv_pager_free(p);
+    }
+    CHECK(!bad && gets == 2 * in.nsteps && in.nbricks == 1, "one-brick series under a budget of one brick: every get exact",
+          "(%d gets of %d, %d bricks)", gets, 2 * in.nsteps, in.nbricks);
+    CHECK(worst <= o.budget, "one-brick series: the peak never exceeds the budget (making room counts the incoming brick)",
+          "(peak %zu bytes, budget %zu: %zu over)", worst, o.budget, worst > o.budget ? worst - o.budget : 0);
+    vsv_decoder_free(d);
     vsv_file_free(f);
 }
 
@@ -409,6 +533,8 @@ int main(void)
     const char *path = vsv_test_tmp("play-series.vsv");
     if (write_series(path, 60) == 0)
         test_counts(path);
+    test_bits8();
+    test_budget_exact();
     test_open();
     test_mm5();
     return vsv_test_done();

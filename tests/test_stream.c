@@ -130,6 +130,7 @@ static void random_walk(vsv_file *f, size_t budget, int threads, const char *lab
 }
 
 static void test_volume_owner(vsv_file *f);
+static void test_pager_bounds(vsv_file *f);
 
 static void test_pager(const char *path)
 {
@@ -235,6 +236,7 @@ static void test_pager(const char *path)
     vsv_volume_free(v);
     vsv_pager_free(p);
     test_volume_owner(f);
+    test_pager_bounds(f);
     for (int i = 0; i < 180; i++)
         free(REF[i]);
     free(REF);
@@ -289,6 +291,70 @@ static void test_volume_owner(vsv_file *f)
     vsv_volume_free(NULL);
     vsv_pager_free(q);
     vsv_decoder_free(d);
+}
+
+/* What the pager holds around its gets, exactly (no workers): a put gives
+ * the bytes of a step larger than the budget back to it; a get that cannot
+ * be served at once leaves nothing pinned; the prefetch window is the
+ * budget in steps less two (playing backward, less K - 2 checkpoints of
+ * half a step first). */
+static void test_pager_bounds(vsv_file *f)
+{
+    const size_t brick = 8 * 8 * 8 * sizeof(float);
+    vsv_file_info in;
+    vsv_file_info_get(f, &in);
+    const size_t unit = (size_t)in.nbricks * brick; /* a step of species 1 (dense: every brick) */
+    unsigned char one[3] = {0, 1, 0};
+    vsv_pager_opts o;
+    vsv_pager_opts_init(&o);
+    o.threads = -1;
+    vsv_pager *p = NULL;
+    vsv_pager_stats st;
+    if (!CHECK(vsv_pager_open(f, &o, &p) == 0, "a pager opens (its fixed bytes)", " "))
+        return;
+    vsv_pager_stats_get(p, &st);
+    vsv_pager_free(p);
+    o.budget = st.fixed_bytes + 4 * brick;
+    vsv_pager_open(f, &o, &p);
+    vsv_volume *v = vsv_pager_volume_new(p);
+    vsv_pager_playhead(p, 5, 1, NULL, 0, one);
+    const int got = vsv_pager_get(p, 5, 1, 1, v) == 0 && same_as_direct(v, 5, 1);
+    vsv_pager_stats_get(p, &st);
+    const size_t held = st.bytes;
+    vsv_pager_put(p, v);
+    vsv_pager_stats_get(p, &st);
+    CHECK(got && held > st.budget && st.pinned_bytes == 0 && st.bytes <= st.budget,
+          "a step larger than the budget, put back: the bytes held back within the budget",
+          "(%zu bytes held with the step, %zu after the put, budget %zu, %zu pinned)", held, st.bytes, st.budget,
+          st.pinned_bytes);
+    /* some of step 5's bricks are still cached, not all: not ready */
+    const int rc = vsv_pager_get(p, 5, 1, 0, v);
+    vsv_pager_stats_get(p, &st);
+    CHECK(rc == VSV_EAGAIN && v->step == -1 && st.pinned_bytes == 0 && st.hits > 0,
+          "a get that cannot be served at once (some bricks cached): VSV_EAGAIN, nothing left pinned",
+          "(rc %d, step %d, %zu bytes pinned, %llu hits)", rc, v->step, st.pinned_bytes, (unsigned long long)st.hits);
+    vsv_volume_free(v);
+    vsv_pager_free(p);
+    /* a budget of 6 steps and a half: 4 ahead forward; backward the
+     * checkpoints of K - 2 = 4 half steps first, 2 ahead */
+    o.budget = 6 * unit + unit / 2;
+    int depth[2] = {-1, -1};
+    for (int back = 0; back < 2; back++) {
+        if (vsv_pager_open(f, &o, &p))
+            break;
+        v = vsv_pager_volume_new(p);
+        vsv_pager_playhead(p, 30, back ? -1 : 1, NULL, 0, one);
+        if (vsv_pager_get(p, 30, 1, 1, v) == 0) {
+            vsv_pager_stats_get(p, &st);
+            depth[back] = st.prefetch_depth;
+        }
+        vsv_volume_free(v);
+        vsv_pager_free(p);
+    }
+    CHECK(depth[0] == 4, "a budget of 6.5 steps: 4 steps decoded ahead (the budget in steps less two)", "(%d)",
+          depth[0]);
+    CHECK(depth[1] == 2, "playing backward: 2 steps ahead (4 checkpoints of half a step set aside first)", "(%d)",
+          depth[1]);
 }
 
 /* A damaged payload: a clear error from the get, no crash, no hang. */
@@ -354,6 +420,14 @@ static void test_clock(void)
     CHECK(c.step == 0 && !c.playing && c.speed == 1 && c.rate == 4 * 3600,
           "a new clock is paused at the first step, x1, four steps a second", "(rate %g)", c.rate);
     CHECK(vsv_clock_tick(&c, 1) == 0, "paused: wall time does not move it", " ");
+    {
+        /* irregular steps: the median interval (an hour), not the shortest */
+        const int64_t odd[5] = {0, 60, 3660, 7260, 10860};
+        vsv_clock o;
+        vsv_clock_init(&o, odd, 5, 0);
+        CHECK(o.rate == 4 * 3600, "the default rate is the median step interval per quarter second (one short step)",
+              "(rate %g)", o.rate);
+    }
     vsv_clock_play(&c);
     CHECK(vsv_clock_tick(&c, 0.25) == 1 && vsv_clock_tick(&c, 0.125) == 1 && vsv_clock_tick(&c, 0.125) == 2,
           "x1: one step per quarter second, the step at or before model time", "(step %d)", c.step);
@@ -391,7 +465,19 @@ static void test_clock(void)
           c.speed);
     vsv_clock_tick(&c, 0.25);
     CHECK(c.step == 7, "and plays backwards", "(step %d)", c.step);
+    vsv_clock_seek_step(&c, 1);
+    vsv_clock_tick(&c, 0.5); /* two steps' time backward from step 1: an hour before the start */
+    CHECK(c.step == 1 && c.speed == 1 && c.playing && c.model == (double)times[1],
+          "bounce: turns round at the start (an hour past it: step 1, forward)", "(step %d speed %g, model %+g s)",
+          c.step, c.speed, c.model - (double)times[0]);
     c.ends = VSV_CLOCK_STOP;
+    vsv_clock_pause(&c);
+    vsv_clock_seek_step(&c, 0);
+    vsv_clock_set_speed(&c, -1);
+    vsv_clock_play(&c);
+    CHECK(c.step == 9 && c.playing && c.speed == -1, "play backward at the start starts over from the end",
+          "(step %d)", c.step);
+    vsv_clock_seek_step(&c, 7);
     vsv_clock_step(&c, 3);
     CHECK(c.step == 9 && !c.playing, "step +3 pauses and clamps at the end", "(step %d)", c.step);
     vsv_clock_step(&c, -4);
