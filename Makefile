@@ -86,7 +86,9 @@ else
 endif
 
 # ------------------------------------------------------------- the layers
-# Each library folder is one layer (DESIGN.md §1, "Libraries and programs").
+# Each library folder is one layer (DESIGN.md §1, "Libraries and programs";
+# ARCHITECTURE.md: the arrows as built and decided).
+#   common   common/               the internal helpers, under every library
 #   core     format/ + stream/     libc, zstd; GeographicLib for projections
 #   http     format/http/          core, libcurl: .vsv files read from web servers
 #   convert  convert/              core, netCDF
@@ -94,29 +96,34 @@ endif
 #   interop  interop/              convert, core, OpenVDB
 # cli/ is the programs' own static library (options, JSON, progress, exits):
 # no library links it. viewer/ keeps the player core for its programs.
-$(B)/format/%.o: INC = -Iformat
-$(B)/format/http/%.o: INC = -Iformat/http -Iformat
-$(B)/stream/%.o: INC = -Istream -Iformat
-$(B)/convert/%.o: INC = -Iconvert -Iformat
-$(B)/render/%.o: INC = -Irender -Iformat
-$(B)/render/gl/%.o: INC = -Irender/gl -Irender -Iformat
-$(B)/interop/%.o: INC = -Iinterop -Iconvert -Iformat
-$(B)/cli/%.o: INC = -Icli -Iformat
-$(B)/viewer/%.o: INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icli
-ALL_INC = -Iformat -Istream -Iconvert -Irender -Irender/gl -Iinterop -Iviewer -Icli
+$(B)/common/%.o: INC = -Icommon -Iformat
+$(B)/format/%.o: INC = -Iformat -Icommon
+$(B)/format/http/%.o: INC = -Iformat/http -Iformat -Icommon
+$(B)/stream/%.o: INC = -Istream -Iformat -Icommon
+$(B)/convert/%.o: INC = -Iconvert -Iformat -Icommon
+$(B)/render/%.o: INC = -Irender -Iformat -Icommon
+$(B)/render/gl/%.o: INC = -Irender/gl -Irender -Iformat -Icommon
+$(B)/interop/%.o: INC = -Iinterop -Iconvert -Iformat -Icommon
+$(B)/cli/%.o: INC = -Icli -Iformat -Icommon
+$(B)/viewer/%.o: INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icommon -Icli
+ALL_INC = -Iformat -Icommon -Istream -Iconvert -Irender -Irender/gl -Iinterop -Iviewer -Icli
 $(B)/tests/%.o $(B)/bench/%.o: INC = $(ALL_INC)
 
 objs = $(patsubst %.cc,$(B)/%.o,$(patsubst %.c,$(B)/%.o,$(1)))
-# the private helpers every library compiles in (format/vsv_common.h) and
-# the even-height resampler the core and the model readers share (vsv_vgrid.h)
-COMMON_OBJ = $(B)/format/vsv_buf.o $(B)/format/vsv_msg.o $(B)/format/vsv_vgrid.o $(B)/format/vsv_input.o \
-             $(B)/format/vsv_helper.o $(B)/format/vsv_fdio.o
-CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(wildcard stream/vsv_*.c))
+# common/: the private helpers the libraries share, as zstd's lib/common/
+# (vsv_common.h: bytes, buffers, messages, limits, guarded input, helper
+# programs, fd I/O; vsv_vgrid.h: the even-height resampler), compiled once
+# into one internal archive. The core's static archive carries them (every
+# static link ends with it); each shared library links the archive in
+# privately (its version script keeps them local).
+COMMON_OBJ = $(call objs,$(wildcard common/vsv_*.c))
+COMMON_A = $(B)/common/libvsv-common.a
+CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(wildcard stream/vsv_*.c)) $(COMMON_OBJ)
 # vsv_*_cli.c: program code a folder's tools share (never in a library)
-CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c))) $(COMMON_OBJ)
-RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c)) $(COMMON_OBJ)
+CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c)))
+RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c))
 GL_OBJ = $(call objs,$(wildcard render/gl/vsv_*.c))
-INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc)) $(COMMON_OBJ)
+INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc))
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
 HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))
 PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_do.o $(B)/viewer/vsv_player_state.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o \
@@ -164,7 +171,7 @@ ifeq ($(MPI),1)
   TOOLS += vsv-convert-mpi
 endif
 TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
-# private helper programs (format/vsv_helper.c): the libraries exec them to
+# private helper programs (common/vsv_helper.c): the libraries exec them to
 # read files with a library that can crash on them; beside the tools in the
 # build tree, in $(LIBDIR)/vesuvius/ when installed
 HELPERS = vsv-nc-check vsv-vdb-reader vsv-nc-writer
@@ -225,7 +232,7 @@ $(B)/python/vsv_python.o: python/vsv_python.c
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(CFLAGS_ALL) -I$(PY_INC) -I$(PY_NUMPY_INC) -c $< -o $@
 
-$(B)/python/vsv_python.o: INC = -Iformat
+$(B)/python/vsv_python.o: INC = -Iformat -Icommon
 $(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(HTTP_A) $(CORE_A)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
@@ -251,7 +258,7 @@ $(B)/render/vsv_raycast_avx512.o: CFLAGS_ALL += -mavx2 -mfma -mavx512f
 $(B)/render/vsv_sw_row.o: CFLAGS_ALL += -Wno-psabi
 $(B)/render/vsv_sw_row_avx2.o: CFLAGS_ALL += -mavx2 -mfma -mf16c -ffp-contract=fast
 
-$(B)/format/vsv_helper.o: CFLAGS_ALL += -DVSV_HELPER_DIR='"$(HELPER_DIR)"'
+$(B)/common/vsv_helper.o: CFLAGS_ALL += -DVSV_HELPER_DIR='"$(HELPER_DIR)"'
 
 $(B)/%.o: %.cc
 	@mkdir -p $(dir $@)
@@ -260,6 +267,7 @@ $(B)/%.o: %.cc
 
 # ------------------------------------------------------------- libraries
 $(CORE_A): $(CORE_OBJ)
+$(COMMON_A): $(COMMON_OBJ)
 $(CONVERT_A): $(CONVERT_OBJ)
 $(RENDER_A): $(RENDER_OBJ)
 $(GL_A): $(GL_OBJ)
@@ -267,7 +275,7 @@ $(INTEROP_A): $(INTEROP_OBJ)
 $(HTTP_A): $(HTTP_OBJ)
 $(CLI_A): $(CLI_OBJ)
 $(PLAYER_A): $(PLAYER_OBJ)
-$(LIBS_A) $(CLI_A) $(PLAYER_A):
+$(LIBS_A) $(COMMON_A) $(CLI_A) $(PLAYER_A):
 	@$(if $(Q),echo "  AR      $@")
 	$(Q)rm -f $@ && ar rcs $@ $^
 
@@ -290,16 +298,16 @@ shlib = $(Q)$(CC) -shared -Wl,-soname,$(patsubst %.$(VERSION),%,$(notdir $@)).$(
 $(call so,vesuvius): $(B)/libvesuvius.map $(CORE_OBJ)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(CORE_EXT))
-$(call so,vesuvius-convert): $(B)/libvesuvius-convert.map $(CONVERT_OBJ) $(call so,vesuvius)
+$(call so,vesuvius-convert): $(B)/libvesuvius-convert.map $(CONVERT_OBJ) $(COMMON_A) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(CONVERT_EXT))
-$(call so,vesuvius-render): $(B)/libvesuvius-render.map $(RENDER_OBJ) $(call so,vesuvius)
+$(call so,vesuvius-render): $(B)/libvesuvius-render.map $(RENDER_OBJ) $(COMMON_A) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(RENDER_EXT))
 $(call so,vesuvius-gl): $(B)/libvesuvius-gl.map $(GL_OBJ) $(call so,vesuvius-render) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(call pkglibs,epoxy))
-$(call so,vesuvius-interop): $(B)/libvesuvius-interop.map $(INTEROP_OBJ) $(call so,vesuvius-convert) $(call so,vesuvius)
+$(call so,vesuvius-interop): $(B)/libvesuvius-interop.map $(INTEROP_OBJ) $(COMMON_A) $(call so,vesuvius-convert) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(INTEROP_EXT))
 $(call so,vesuvius-http): $(B)/libvesuvius-http.map $(HTTP_OBJ) $(call so,vesuvius)
@@ -363,7 +371,7 @@ FREEVR_LIBS = -lGL -lX11 -lXi -ldl -lm -lpthread
 ifneq ($(FREEVR_DIR),)
 TOOLS += vsv-play-freevr
 endif
-VIEWER_INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icli
+VIEWER_INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icommon -Icli
 # $(call freevr_link,OUTPUT,FREEVR-DIR)
 define freevr_link
 	@mkdir -p $(dir $(1))

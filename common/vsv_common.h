@@ -1,8 +1,9 @@
-/* vsv_common.h — the private helpers every library of Vesuvius compiles
- * into itself, as zstd's lib/common/ (never exported): little-endian byte
- * helpers, a growable byte buffer (vsv_buf.c), "path: message" texts
- * (vsv_msg.c) and the sane limits every reader checks sizes against. The one
- * private header of format/ that the other library folders may include. */
+/* vsv_common.h — the private helpers the libraries of Vesuvius share, as
+ * zstd's lib/common/ (never exported, never installed; compiled once into
+ * common/libvsv-common.a, see ARCHITECTURE.md): little-endian byte helpers,
+ * a growable byte buffer (vsv_buf.c), "path: message" texts (vsv_msg.c) and
+ * the sane limits every reader checks sizes against. Every library folder
+ * may include it. */
 #ifndef VSV_COMMON_H
 #define VSV_COMMON_H
 

@@ -10,17 +10,17 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-layout.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
 
-# The public headers: what `make install` installs (PUBLIC_H in the Makefile),
-# plus format/vsv_common.h and format/vsv_vgrid.h, the private helpers every
-# library that uses them compiles in (COMMON_OBJ).
+# The public headers: what `make install` installs (PUBLIC_H in the Makefile).
+# common/ (the internal helpers, one archive) is under every library: its
+# headers are seen by all and installed by none.
 public=$(awk '/^PUBLIC_H *=/ { on = 1; sub(/^PUBLIC_H *= */, "") }
               on { c = sub(/\\$/, ""); printf "%s ", $0; if (!c) on = 0 }' Makefile)
 installed=$public
-public="$public format/vsv_common.h format/vsv_vgrid.h"
 
 # sees DIR TOOL: the folders whose headers a file of DIR may include
 sees() {
     case $1 in
+    common) s="common format" ;; # (format's public header only: checked below)
     format) s="format" ;;
     stream) s="stream format" ;;
     convert) s="convert format" ;;
@@ -32,12 +32,12 @@ sees() {
     python) s="python format" ;;
     esac
     [ "$2" = 1 ] && s="$s cli"
-    echo "$s"
+    echo "$s common"
 }
 # the other libraries' headers a layer must not include (its dependencies only)
 foreign() {
     case $1 in
-    format | stream | cli) echo 'netcdf\.h|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/|curl/' ;;
+    common | format | stream | cli) echo 'netcdf\.h|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/|curl/' ;;
     http) echo 'netcdf\.h|openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;; # format/http/: libcurl
     convert) echo 'openvdb/|png\.h|openexr\.h|Imf|GLFW/|GL/|ft2build\.h|fontconfig/' ;;
     render) echo 'GeographicLib/|openvdb/|GLFW/|GL/|fontconfig/|epoxy/' ;;
@@ -51,7 +51,7 @@ foreign() {
 # check ROOT: one line per include against the arrows in the tree at ROOT
 check() {
     root=$1
-    for f in $(cd "$root" && ls -d format/* format/http/* stream/* convert/* render/* render/gl/* interop/* cli/* viewer/*.[ch] python/*.c 2>/dev/null); do
+    for f in $(cd "$root" && ls -d common/* format/* format/http/* stream/* convert/* render/* render/gl/* interop/* cli/* viewer/*.[ch] python/*.c 2>/dev/null); do
         case $f in *.c | *.h | *.cc) ;; *) continue ;; esac
         dir=${f%%/*}
         base=${f#*/}
@@ -81,7 +81,7 @@ check() {
             [ -e "$root/$dpath/$h" ] && continue # its own folder
             [ -e "$root/$dir/freevr/$h" ] && continue
             owner="" opath=""
-            for d in format stream convert render render/gl interop cli viewer python; do
+            for d in common format stream convert render render/gl interop cli viewer python; do
                 [ -e "$root/$d/$h" ] && opath=$d owner=${d#render/}
             done
             [ -z "$owner" ] && continue # not ours
@@ -93,7 +93,7 @@ check() {
             fi
             case " $public " in
             *" $opath/$h "*) ;;
-            *) [ "$owner" = cli ] || echo "$f:$n: \"$h\": private to $opath/" ;;
+            *) [ "$owner" = cli ] || [ "$owner" = common ] || echo "$f:$n: \"$h\": private to $opath/" ;;
             esac
         done
     done
@@ -106,9 +106,29 @@ else
     pass "every #include follows DESIGN.md's arrows ($(echo $public | wc -w) public headers)"
 fi
 
+# the arrows between libraries point one way (ARCHITECTURE.md): interop
+# stands on convert (its OpenVDB reader is a source), so no library file of
+# convert/ includes an interop/ header (its programs may: they are above both)
+back=$(for f in convert/vsv_*.c convert/vsv_*.h; do
+    case $f in *_cli.[ch]) continue ;; esac
+    sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f" | while read -r h; do
+        [ -e "interop/$h" ] && echo "$f: $h"
+    done
+done)
+[ -z "$back" ] && pass "convert/'s library includes nothing of interop/ (the arrow is one way)" ||
+    fail "convert/'s library includes nothing of interop/ (the arrow is one way)" "$back"
+# each source is compiled into one library: the static archives share no
+# member (common/'s helpers are compiled once, into common/libvsv-common.a,
+# which the core's archive carries and each shared library links privately)
+dups=$(for a in "$B"/libvesuvius.a "$B"/libvesuvius-convert.a "$B"/libvesuvius-render.a "$B"/libvesuvius-gl.a \
+    "$B"/libvesuvius-interop.a "$B"/libvesuvius-http.a; do ar t "$a" 2> /dev/null; done | sort | uniq -d | tr '\n' ' ')
+n=$(for a in "$B"/libvesuvius*.a; do ar t "$a" 2> /dev/null; done | wc -l)
+[ "$n" -gt 0 ] && [ -z "$dups" ] && pass "no object is in two libraries ($n objects in the static archives)" ||
+    fail "no object is in two libraries" "${dups:-no archives in $B}"
+
 # the check itself: a copy of the sources with four bad includes planted
 mkdir -p "$T/tree"
-cp -r format stream convert render interop cli viewer python Makefile "$T/tree/"
+cp -r common format stream convert render interop cli viewer python Makefile "$T/tree/"
 echo '#include "vsv_render.h"' >> "$T/tree/convert/vsv_interp.c"
 echo '#include "vsv_format_internal.h"' >> "$T/tree/render/vsv_tf.c"
 echo '#include <netcdf.h>' >> "$T/tree/format/vsv_crc.c"
@@ -156,7 +176,7 @@ else
 fi
 inc=$(make -s --no-print-directory -pn B="$B" help 2>/dev/null |
     awk -v t="$B/convert/%.o :" '$0 == t { on = 1; next } on && /^# INC :?= / { sub(/^# INC :?= /, ""); print; exit }')
-[ "$inc" = "-Iconvert -Iformat" ] && pass "the Makefile gives convert/ that include path" ||
+[ "$inc" = "-Iconvert -Iformat -Icommon" ] && pass "the Makefile gives convert/ that include path" ||
     fail "the Makefile gives convert/ that include path" "'$inc'"
 
 # no source over ~700 lines (750 at most): libraries, programs, tests, the
