@@ -2,11 +2,13 @@
  * files build records in, little-endian. */
 #include "vsv_common.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
 int vsv_buf_reserve(vsv_buf *b, size_t extra)
 {
+    assert(b->len <= b->cap); /* what is held fits what is allocated */
     if (b->len + extra <= b->cap)
         return 0;
     size_t cap = b->cap ? b->cap : 4096;

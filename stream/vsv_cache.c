@@ -4,6 +4,7 @@
  * byte budget takes list heads: no allocation, scan or sort under the lock. */
 #include "vsv_pager_internal.h"
 
+#include <assert.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -140,6 +141,7 @@ void vsv_cache_drop(vsv_pager *p, int e)
     entry *E = &p->ent[e];
     const int ck = vsv_cache_is_ck(p, e);
     const size_t size = vsv_cache_size(p, e);
+    assert(E->state != -1 && p->bytes >= size && (!E->pins || p->pinned >= size)); /* a live entry, counted */
     if (E->listed)
         vsv_lru_unlink(list_of(p, E), p->ent, sizeof *p->ent, e);
     if (E->pins)
@@ -170,6 +172,7 @@ void vsv_cache_touch(vsv_pager *p, int e)
 void vsv_cache_pin(vsv_pager *p, int e)
 {
     entry *E = &p->ent[e];
+    assert(E->state != -1); /* never a free entry */
     if (E->pins++)
         return;
     p->pinned += vsv_cache_size(p, e);
@@ -182,6 +185,7 @@ void vsv_cache_pin(vsv_pager *p, int e)
 void vsv_cache_unpin(vsv_pager *p, int e)
 {
     entry *E = &p->ent[e];
+    assert(E->pins > 0); /* every unpin follows its pin */
     if (--E->pins)
         return;
     p->pinned -= vsv_cache_size(p, e);
