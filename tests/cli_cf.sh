@@ -58,6 +58,21 @@ expect "the CMAQ export converts back" 0 "$B/vsv-convert" -q "$T/cmaq.nc" -o "$T
 "$B/vsv-info" "$T/back.vsv" > "$T/info"
 has "... with its heights above the ground" "$T/info" "heights count from the ground"
 
+# CB05's ethene ETH and ethane ETHA, in ppbV: a standard name is the whole
+# word's (ETH is not ETHA, it gets none), ppbV is written ppb
+/usr/bin/python3 - "$T/eth-in.nc" << 'EOP'
+import shutil, sys, netCDF4
+shutil.copy("tests/corpus/netcdf/ioapi-cmaq.nc", sys.argv[1])
+d = netCDF4.Dataset(sys.argv[1], "a")
+for old, new, desc in (("O3", "ETH", "ethene"), ("PM25", "ETHA", "ethane")):
+    d.renameVariable(old, new)
+    d[new].units, d[new].var_desc = "ppbV".ljust(16), desc.ljust(10)
+d.close()
+EOP
+cf eth "$T/eth-in.nc"
+has "ppbV is written ppb" "$T/eth.h" 'ETH:units = "ppb"'
+has "ETHA (ethane) is mole_fraction_of_ethane_in_air" "$T/eth.h" 'ETHA:standard_name = "mole_fraction_of_ethane_in_air"'
+if grep -q 'ETH:standard_name' "$T/eth.h"; then fail "ETH (ethene) gets no standard name" "$(grep ETH:standard_name "$T/eth.h")"; else pass "ETH (ethene) gets no standard name"; fi
 cf camx-nc tests/corpus/netcdf/ioapi-camx.nc
 has "CAMx netCDF with topo: heights lifted onto it, altitude" "$T/camx-nc.h" 'z:standard_name = "altitude"'
 "$B/vsv-info" "$T/camx-nc.vsv" > "$T/info"

@@ -140,6 +140,13 @@ expect "vsv-render -o '100%%_%03d.png' (a percent sign and a number)" 0 "$B/vsv-
     --size 32x24 -o "$T/fmt/100%%_%03d.png"
 [ -f "$T/fmt/100%_000.png" ] && [ -f "$T/fmt/100%_001.png" ] && pass "... named 100%_000.png and 100%_001.png" ||
     fail "... named 100%_000.png and 100%_001.png" "$(ls "$T/fmt")"
+# a name of 4096 bytes, the buffer's size: no room for its NUL, refused as
+# too long (not written one byte past the end)
+pre="$T/fmt/"
+long=$(printf 'a%.0s' $(seq 1 $((4096 - ${#pre} - 5))))  # + "0.png": 4096
+expect "vsv-render -o a name of 4096 bytes (no room for its NUL) exits 2" 2 "$B/vsv-render" -q "$T/a.vsv" \
+    --times 0:1 --size 32x24 -o "$pre$long%d.png"
+has "... saying the name is too long" "$T/err" ": the name is too long"
 # a name of 251 bytes: its temporary (name.tmp.PID.N) would pass the 255 a
 # file name may have; it gets a short one beside it instead (issue 33)
 long=$(printf 'a%.0s' $(seq 1 247))

@@ -141,6 +141,10 @@ EOP
     has "... and the file says its calendar" "$T/out" "calendar    360_day"
     expect "vsv-query --time 2001-02-30 (a 360-day date)" 0 "$B/vsv-query" "$T/c360.vsv" --cell 1,1,0 --time 2001-02-30 --csv
     has "... finds the third step" "$T/out" "2001-02-30T00:00:00Z,1,1,0"
+    expect "vsv-query --time 2001-02-29T20:00 (between 360-day steps)" 0 "$B/vsv-query" "$T/c360.vsv" --cell 1,1,0 \
+        --time 2001-02-29T20:00Z --csv
+    has "... the note names the nearest step by its 360-day date, 2001-02-30" "$T/err" \
+        "no step at that time; the nearest is step 2, 2001-02-30T00:00:00Z"
     expect "--time 2001-02-31 exits 2 (no such day)" 2 "$B/vsv-query" "$T/c360.vsv" --cell 1,1,0 --time 2001-02-31
     expect "--time-res 12h on 360-day days" 0 "$B/vsv-convert" -q --time-res 12h "$T/360_day.nc" -o "$T/c360h.vsv"
     "$B/vsv-info" -f times "$T/c360h.vsv" > "$T/out"

@@ -362,6 +362,10 @@ if [ ! -e "$T/cut.vsv" ] && ! ls "$T" | grep -q -e '\.tmp\.' -e '\.spool\.'; the
 expect "vsv-pack on a .vsv instead of a stream exits 1" 1 "$B/vsv-pack" -o "$T/x.vsv" "$T/a.vsv"
 has "wrong input kind is named" "$T/err" "not a field stream"
 expect "vsv-pack --bits 12 exits 2" 2 "$B/vsv-pack" --bits 12 -o "$T/x.vsv" "$T/stream"
+for d in 0 -1 30.5 nan; do
+    expect "vsv-pack --log-decades $d exits 2" 2 "$B/vsv-pack" --scale log --log-decades $d -o "$T/x.vsv" "$T/stream"
+done
+has "... naming the range, (0, 30]" "$T/err" "--log-decades nan: must be a number in (0, 30]"
 expect "vsv-pack with an unknown species exits 2" 2 "$B/vsv-pack" --scale NOPE=log -o "$T/x.vsv" "$T/stream"
 has "unknown species is named" "$T/err" "no species named 'NOPE'"
 expect "vsv-pack per-species options" 0 "$B/vsv-pack" -q --bits 8 --scale Q=log --brick 16 --keyframe 2 --codec zstd:9 -o "$T/c.vsv" "$T/stream"

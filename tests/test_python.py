@@ -4,11 +4,13 @@ vsv-info --stats, vsv-query's CSV/JSON against f.read and f.query, lat/lon, bric
 the writer's round trip, to_xarray, and errors carrying the library's message.
 Prints "PASS name" / "FAIL name: why" lines for tests/run.sh.
 Run: PYTHONPATH=build/python B=build python3 tests/test_python.py"""
+import atexit
 import csv
 import io
 import json
 import math
 import os
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -21,6 +23,7 @@ import vesuvius
 B = os.environ.get("B", "build")
 SHARED = os.environ.get("SHARED", "../shared")
 TMP = tempfile.mkdtemp(prefix="vsv-py-")
+atexit.register(shutil.rmtree, TMP, True)
 FULL = os.path.join(SHARED, "data/mm5/run1/MMOUT_DOMAIN1")
 
 
@@ -93,6 +96,19 @@ class Sample(unittest.TestCase):
         for t in (2, -2, "1995-10-24T02:00:00Z", np.datetime64("1995-10-24T02:00:00"), "1995-10-24T01:50:00Z"):
             np.testing.assert_array_equal(self.f.read("SNOW", t), want, err_msg=str(t))
         np.testing.assert_array_equal(self.f.read(4, 2), want)
+        # numpy integers (np.arange, argmin, a times array's index) are step indices too
+        for t in (np.int64(2), np.int32(-2), np.arange(4)[2]):
+            np.testing.assert_array_equal(self.f.read("SNOW", t), want, err_msg=repr(t))
+        np.testing.assert_array_equal(self.f.heights(np.int64(3)), self.f.heights(3))
+
+    def test_species_index_bounds(self):
+        """Species by index: 0..4 of five, the last one included; 5 and -1 refused by name."""
+        np.testing.assert_array_equal(self.f.read(4, 1), self.f.read("SNOW", 1))
+        for s in (5, -1):
+            with self.assertRaisesRegex(vesuvius.Error, r"species %d out of range \(0..4\)" % s):
+                self.f.read(s, 0)
+        with self.assertRaisesRegex(vesuvius.Error, r"species 5 out of range \(0..4\)"):
+            self.f.read_brick(5, 0, 0)
 
     def test_query_csv_equals_read(self):
         """vsv-query --csv at a snowy point: every row equals f.read at the same cell."""
@@ -254,6 +270,23 @@ class Sample(unittest.TestCase):
         self.assertTrue(all("closed" in e for e in errors), errors[:3])
         with self.assertRaisesRegex(vesuvius.Error, "closed"):
             g.read("Q", 0)
+
+    def test_threads_read_every_species_at_once(self):
+        """Four threads reading every species and step of one File, 200 reads in all, get
+        what one thread gets: File.read decodes without the GIL but under the File's
+        lock (without it the threads share one decoder: a crash, or 'Data corruption').
+        Run in a child process, so that a crash fails this test, not the whole suite."""
+        code = "\n".join([
+            "import sys, numpy as np, vesuvius",
+            "from concurrent.futures import ThreadPoolExecutor",
+            "f = vesuvius.open(sys.argv[1])",
+            "want = {(s, t): f.read(s, t) for s in range(5) for t in range(4)}",
+            "jobs = [(s, t) for _ in range(10) for s in range(5) for t in range(4)]",
+            "with ThreadPoolExecutor(4) as ex:",
+            "    got = list(ex.map(lambda j: f.read(*j), jobs))",
+            "print(sum(np.array_equal(a, want[j], equal_nan=True) for j, a in zip(jobs, got)), 'same')"])
+        r = subprocess.run([sys.executable, "-c", code, self.path], capture_output=True, text=True, timeout=300)
+        self.assertEqual((r.returncode, r.stdout.strip()), (0, "200 same"), r.stderr[-300:])
 
     def test_write_refuses_names_it_would_cut_or_garble(self):
         """A species name of 64 bytes was cut to 63 silently; a control character made

@@ -116,6 +116,11 @@ static void test_wand(void)
     wand(&w, 0, 0, 0, 0, 1, &o);
     CHECK(fabs(o.travel - 0.4) < 1e-12 && o.turn == 0 && o.scale == 1,
           "joystick up alone: travel at 4 ft/s (0.4 ft in 0.1 s)", "(%g)", o.travel);
+    wand(&w, 0, 0, 0, 0, -1, &o);
+    CHECK(fabs(o.travel + 0.4) < 1e-12 && o.turn == 0, "joystick down alone: travel back at 4 ft/s (-0.4 ft in 0.1 s)",
+          "(%g)", o.travel);
+    wand(&w, 0, 0, 0, -1, 0, &o);
+    CHECK(fabs(o.turn - 4.5) < 1e-12 && o.travel == 0, "joystick left: turn left, 45 degrees a second", "(%g)", o.turn);
     wand(&w, 0, 0, 0, 0.1f, -0.1f, &o);
     CHECK(o.travel == 0 && o.turn == 0, "inside the dead zone: nothing", "(%g %g)", o.travel, o.turn);
     wand(&w, 0, 0, 0, 1, 0, &o);

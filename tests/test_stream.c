@@ -517,6 +517,12 @@ static void test_clock(void)
     const double m = c.model;
     vsv_clock_tick(&c, 3);
     CHECK(c.model == m && !c.playing, "pause holds model time", " ");
+    vsv_clock_seek_step(&c, 0);
+    vsv_clock_set_speed(&c, -1);
+    vsv_clock_play(&c);
+    const int from = c.step;
+    CHECK(from == 9 && c.playing && vsv_clock_tick(&c, 0.25) == 8,
+          "play backwards at the start starts over from the last step (9, then 8)", "(step %d, then %d)", from, c.step);
 }
 
 /* Whether steps[0 .. n-1] are want[] (m of them). */

@@ -56,6 +56,13 @@ static void test_actions(vsv_player *p)
     act(p, "loop off");
     act(p, "speed 1");
     act(p, "select Q");
+    act(p, "select -1");
+    vsv_player_status(p, st, sizeof st);
+    const int last = strstr(st, "[SNOW ") != NULL;
+    act(p, "select +1");
+    vsv_player_status(p, st, sizeof st);
+    CHECK(last && strstr(st, "[Q off]"), "select -1 from the first species selects the last (SNOW), +1 wraps back",
+          "(%s)", st);
     const char *shot = vsv_player_take_screenshot(p);
     act(p, "screenshot /tmp/x.png");
     const char *s2 = vsv_player_take_screenshot(p);
@@ -139,6 +146,14 @@ static void test_state(vsv_player *p, const char *path)
     vsv_player_status(p, a, sizeof a);
     vsv_player_status(q, b, sizeof b);
     CHECK(!strcmp(a, b), "both show the same status line", "(%s | %s)", a, b);
+    /* a step past either end (another file's, a torn copy) is clamped to the steps there are */
+    st.step = vsv_player_clock(p)->nsteps;
+    int rc = vsv_player_state_apply(p, &st, err, sizeof err), step = vsv_player_clock(p)->step;
+    CHECK(!rc && step == 3 && !vsv_player_update(p, 0, 1) && vsv_player_shown_step(p) == 3,
+          "a state's step 4 of 4 steps is shown as the last, step 3", "(%d)", step);
+    st.step = -1;
+    rc = vsv_player_state_apply(p, &st, err, sizeof err), step = vsv_player_clock(p)->step;
+    CHECK(!rc && step == 0, "a state's step -1 is shown as step 0", "(%d)", step);
     vsv_player_free(q);
 }
 
