@@ -190,19 +190,22 @@ static double unit_scale(const char *u)
                                          !strcmp(u, "meters") ? 1 : 0;
 }
 
-static int cf_open(vsv_source *s, int nc)
+/* The four axes of the data: (time, z, y, x) dimensions, their lengths and
+ * coordinate variables. */
+typedef struct cf_axes {
+    int dims[4];
+    size_t len[4];
+    int cv[4];
+} cf_axes;
+
+/* The axes from the first 4-D numeric variable that is not a coordinate;
+ * the grid's size from them. */
+static int cf_find_axes(vsv_source *s, int nc, int nvars, cf_axes *ax)
 {
-    cf *c = calloc(1, sizeof *c);
-    if (!c) {
-        nc_close(nc);
-        return VSV_ENOMEM;
-    }
-    s->priv = c;
-    c->nc = nc;
-    int nvars;
-    nc_inq_nvars(nc, &nvars);
     /* the dimensions of the first 4-D numeric variable that is not a coordinate */
-    int dims[4] = {-1, -1, -1, -1}, nd;
+    int *dims = ax->dims, nd;
+    size_t *len = ax->len;
+    dims[0] = dims[1] = dims[2] = dims[3] = -1;
     for (int v = 0; v < nvars && dims[0] < 0; v++) {
         nc_type type;
         int dd[NC_MAX_VAR_DIMS];
@@ -212,15 +215,13 @@ static int cf_open(vsv_source *s, int nc)
         for (int d = 0; d < 4; d++)
             ok &= coord_var(nc, dd[d]) >= 0;
         if (ok)
-            memcpy(dims, dd, sizeof dims);
+            memcpy(dims, dd, sizeof ax->dims);
     }
     if (dims[0] < 0)
         return vsv_source_fail(s, VSV_ENOTVSV, "a CF netCDF file without a (time, z, y, x) variable with coordinate variables");
-    size_t len[4];
-    int cv[4];
     for (int d = 0; d < 4; d++) {
         nc_inq_dimlen(nc, dims[d], &len[d]);
-        cv[d] = coord_var(nc, dims[d]);
+        ax->cv[d] = coord_var(nc, dims[d]);
     }
     if (len[1] < 1 || len[2] < 1 || len[3] < 1 || len[1] > VSV_MAX_DIM || len[2] > VSV_MAX_DIM || len[3] > VSV_MAX_DIM)
         return vsv_source_fail(s, VSV_ECORRUPT, "grid of %zu x %zu x %zu cells out of range", len[3], len[2], len[1]);
@@ -228,9 +229,17 @@ static int cf_open(vsv_source *s, int nc)
     g->nx = (int)len[3];
     g->ny = (int)len[2];
     g->nz = (int)len[1];
+    return 0;
+}
+
+/* The times from the time coordinate, in its calendar and units; increasing. */
+static int cf_times(vsv_source *s, int nc, const cf_axes *ax)
+{
+    vsv_meta *g = &s->grid;
+    const int *cv = ax->cv;
+    const size_t *len = ax->len;
     char u[256], dn[NC_MAX_NAME + 1];
-    /* time */
-    nc_inq_dimname(nc, dims[0], dn);
+    nc_inq_dimname(nc, ax->dims[0], dn);
     att_str(nc, cv[0], "units", u, sizeof u);
     double tscale;
     int64_t epoch;
@@ -248,38 +257,49 @@ static int cf_open(vsv_source *s, int nc)
         return vsv_source_fail(s, VSV_ECORRUPT, "variable %s: units '%s' are not '<unit> since <date>'", dn, u);
     double *tv = coord_values(nc, cv[0], len[0]);
     s->times = calloc(len[0] + 1, sizeof *s->times);
-    if (!tv || !s->times) {
-        free(tv);
-        return VSV_ENOMEM;
-    }
+    int rc = VSV_ENOMEM;
+    if (!tv || !s->times)
+        goto fail;
     for (size_t t = 0; t < len[0]; t++) {
         s->times[t] = epoch + (int64_t)llround(tv[t] * tscale);
         if (t && s->times[t] <= s->times[t - 1]) {
-            free(tv);
-            return vsv_source_fail(s, VSV_ECORRUPT, "variable %s: times do not increase at index %zu", dn, t);
+            rc = vsv_source_fail(s, VSV_ECORRUPT, "variable %s: times do not increase at index %zu", dn, t);
+            goto fail;
         }
     }
-    free(tv);
     s->ntimes = (int)len[0];
-    /* the grid mapping, from the first data variable that names one */
-    int gm = -1;
-    for (int v = 0; v < nvars && gm < 0; v++) {
+    rc = 0;
+fail:
+    free(tv);
+    return rc;
+}
+
+/* The grid mapping variable (gm, -1 for none), from the first data variable
+ * that names one. */
+static int cf_find_mapping(vsv_source *s, int nc, int nvars, int *gm)
+{
+    *gm = -1;
+    for (int v = 0; v < nvars && *gm < 0; v++) {
         char gname[NC_MAX_NAME + 1];
         att_str(nc, v, "grid_mapping", gname, sizeof gname);
-        if (gname[0] && nc_inq_varid(nc, gname, &gm))
+        if (gname[0] && nc_inq_varid(nc, gname, gm))
             return vsv_source_fail(s, VSV_ECORRUPT, "grid_mapping '%s' names no variable", gname);
     }
-    double fe = 0, fn = 0;
-    int rc;
-    if (gm >= 0 && (rc = cf_projection(s, nc, gm, &g->proj, &fe, &fn)))
-        return rc;
-    /* x, y */
+    return 0;
+}
+
+/* The plan: origin and spacing from the x and y coordinates (m, km or
+ * degrees, evenly spaced), less the false easting and northing. */
+static int cf_plan(vsv_source *s, cf *c, const cf_axes *ax, int gm, double fe, double fn)
+{
+    const int nc = c->nc;
+    const int *cv = ax->cv;
+    const size_t *len = ax->len;
+    vsv_meta *g = &s->grid;
     double *xs = coord_values(nc, cv[3], len[3]), *ys = coord_values(nc, cv[2], len[2]);
-    if (!xs || !ys) {
-        free(xs);
-        free(ys);
-        return VSV_ENOMEM;
-    }
+    int rc = VSV_ENOMEM;
+    if (!xs || !ys)
+        goto fail;
     char ux[64], uy[64];
     att_str(nc, cv[3], "units", ux, sizeof ux);
     att_str(nc, cv[2], "units", uy, sizeof uy);
@@ -295,24 +315,38 @@ static int cf_open(vsv_source *s, int nc)
     if (len[2] == 1)
         dy = 1;
     const double x0 = xs[0] * sx - fe, y0 = ys[len[2] - 1] * sy - fn, y0f = ys[0] * sy - fn;
-    free(xs);
-    free(ys);
-    if (!sx || !sy)
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "x/y coordinate units '%s'/'%s' (m, km or degrees)", ux, uy);
-    if (!dx || !dy)
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "the x or y coordinate is not evenly spaced (a regular grid is needed)");
+    if (!sx || !sy) {
+        rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "x/y coordinate units '%s'/'%s' (m, km or degrees)", ux, uy);
+        goto fail;
+    }
+    if (!dx || !dy) {
+        rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "the x or y coordinate is not evenly spaced (a regular grid is needed)");
+        goto fail;
+    }
     c->flip_y = dy < 0;
     g->origin[0] = x0;
     g->origin[1] = c->flip_y ? y0 : y0f;
     g->spacing[0] = dx;
     g->spacing[1] = fabs(dy);
-    if (dx < 0)
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "x decreases (east to west): not supported");
-    /* z */
-    int above_ground = 0;
+    rc = dx < 0 ? vsv_source_fail(s, VSV_EUNSUPPORTED, "x decreases (east to west): not supported") : 0;
+fail:
+    free(xs);
+    free(ys);
+    return rc;
+}
+
+/* The vertical from the z coordinate: even or native heights (above the
+ * ground when its standard_name is height: *above_ground), other
+ * coordinates with their units, or the level index. */
+static int cf_vertical(vsv_source *s, int nc, const cf_axes *ax, int *above_ground)
+{
+    const int *cv = ax->cv;
+    const size_t *len = ax->len;
+    vsv_meta *g = &s->grid;
     double *zs = coord_values(nc, cv[1], len[1]);
     if (!zs)
         return VSV_ENOMEM;
+    int rc = 0;
     char uz[64], zstd[64], pos[16];
     att_str(nc, cv[1], "units", uz, sizeof uz);
     att_str(nc, cv[1], "standard_name", zstd, sizeof zstd);
@@ -322,8 +356,8 @@ static int cf_open(vsv_source *s, int nc)
         const double dz = even_step(zs, len[1]);
         for (size_t k = 1; k < len[1]; k++)
             if (!(zs[k] > zs[k - 1])) {
-                free(zs);
-                return vsv_source_fail(s, VSV_EUNSUPPORTED, "heights do not increase upward");
+                rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "heights do not increase upward");
+                goto fail;
             }
         if (dz > 0 || len[1] == 1) {
             g->vert_kind = VSV_VERT_EVEN;
@@ -332,28 +366,35 @@ static int cf_open(vsv_source *s, int nc)
         } else {
             g->vert_kind = VSV_VERT_NATIVE;
             if (vsv_meta_alloc_levels(g)) {
-                free(zs);
-                return VSV_ENOMEM;
+                rc = VSV_ENOMEM;
+                goto fail;
             }
             for (size_t k = 0; k < len[1]; k++)
                 g->levels[k] = zs[k] * sz;
         }
         snprintf(g->vert_units, sizeof g->vert_units, "m");
         if (!strcmp(zstd, "height")) /* CF: above the ground */
-            above_ground = 1;
+            *above_ground = 1;
     } else if (uz[0] && strcmp(uz, "1") && strcmp(zstd, "model_level_number")) {
         g->vert_kind = VSV_VERT_COORD;
         snprintf(g->vert_units, sizeof g->vert_units, "%s", uz);
         if (vsv_meta_alloc_levels(g)) {
-            free(zs);
-            return VSV_ENOMEM;
+            rc = VSV_ENOMEM;
+            goto fail;
         }
         memcpy(g->levels, zs, len[1] * sizeof(double));
     } else {
         g->vert_kind = VSV_VERT_INDEX;
     }
+fail:
     free(zs);
-    /* source description */
+    return rc;
+}
+
+/* The source description: model, run and the run metadata of the globals. */
+static int cf_describe(vsv_source *s, int nc, int above_ground)
+{
+    vsv_meta *g = &s->grid;
     char text[256];
     att_str(nc, NC_GLOBAL, "vsv_model", text, sizeof text);
     if (!text[0])
@@ -376,7 +417,40 @@ static int cf_open(vsv_source *s, int nc)
     }
     if (above_ground && !vsv_meta_attr(g, VSV_ATTR_DATUM) && vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)
         return VSV_ENOMEM;
-    /* the fields: numeric variables on exactly these four dimensions; terrain */
+    return 0;
+}
+
+/* The terrain from variable v (standard_name surface_altitude), its rows
+ * reversed when y is stored north to south. */
+static int cf_terrain(vsv_source *s, const cf *c, const cf_axes *ax, int v, const char *name)
+{
+    const size_t *len = ax->len;
+    vsv_meta *g = &s->grid;
+    int rc;
+    if (vsv_meta_alloc_terrain(g))
+        return VSV_ENOMEM;
+    const size_t shape[2] = {len[2], len[3]};
+    if ((rc = vsv_nc_read(s, c->nc, v, name, 0, shape, 2, g->terrain)))
+        return rc;
+    if (c->flip_y)
+        for (size_t j = 0; j < len[2] / 2; j++)
+            for (size_t i = 0; i < len[3]; i++) {
+                float *a = &g->terrain[j * len[3] + i], *b = &g->terrain[(len[2] - 1 - j) * len[3] + i];
+                const float t = *a;
+                *a = *b;
+                *b = t;
+            }
+    return 0;
+}
+
+/* The fields: numeric variables on exactly the four axes; terrain and the
+ * per-column heights of native levels taken on the way. */
+static int cf_fields(vsv_source *s, cf *c, const cf_axes *ax, int nvars)
+{
+    const int nc = c->nc;
+    const size_t *len = ax->len;
+    vsv_meta *g = &s->grid;
+    int rc, nd;
     const size_t plane = len[2] * len[3];
     c->tmp = malloc(plane * len[1] * sizeof *c->tmp);
     s->fields = calloc((size_t)nvars + 1, sizeof *s->fields);
@@ -391,23 +465,12 @@ static int cf_open(vsv_source *s, int nc)
             continue;
         char sn[64];
         att_str(nc, v, "standard_name", sn, sizeof sn);
-        if (nd == 2 && dd[0] == dims[2] && dd[1] == dims[3] && !strcmp(sn, "surface_altitude") && !g->terrain) {
-            if (vsv_meta_alloc_terrain(g))
-                return VSV_ENOMEM;
-            const size_t shape[2] = {len[2], len[3]};
-            if ((rc = vsv_nc_read(s, nc, v, name, 0, shape, 2, g->terrain)))
+        if (nd == 2 && dd[0] == ax->dims[2] && dd[1] == ax->dims[3] && !strcmp(sn, "surface_altitude") && !g->terrain) {
+            if ((rc = cf_terrain(s, c, ax, v, name)))
                 return rc;
-            if (c->flip_y)
-                for (size_t j = 0; j < len[2] / 2; j++)
-                    for (size_t i = 0; i < len[3]; i++) {
-                        float *a = &g->terrain[j * len[3] + i], *b = &g->terrain[(len[2] - 1 - j) * len[3] + i];
-                        const float t = *a;
-                        *a = *b;
-                        *b = t;
-                    }
             continue;
         }
-        if (nd != 4 || memcmp(dd, dims, sizeof dims) || strlen(name) >= sizeof s->fields[0].name)
+        if (nd != 4 || memcmp(dd, ax->dims, sizeof ax->dims) || strlen(name) >= sizeof s->fields[0].name)
             continue;
         if (!strcmp(sn, "altitude") || !strcmp(sn, "height")) { /* per-column heights of native levels, by time */
             if (g->vert_kind == VSV_VERT_NATIVE)
@@ -437,6 +500,32 @@ static int cf_open(vsv_source *s, int nc)
     if (!s->nfields)
         return vsv_source_fail(s, VSV_ENOTVSV, "a CF netCDF file without readable 4-D variables");
     return 0;
+}
+
+static int cf_open(vsv_source *s, int nc)
+{
+    cf *c = calloc(1, sizeof *c);
+    if (!c) {
+        nc_close(nc);
+        return VSV_ENOMEM;
+    }
+    s->priv = c;
+    c->nc = nc;
+    /* everything acquired hangs off c and s, freed by cf_close */
+    int nvars;
+    nc_inq_nvars(nc, &nvars);
+    cf_axes ax;
+    int gm, rc, above_ground = 0;
+    double fe = 0, fn = 0;
+    if ((rc = cf_find_axes(s, nc, nvars, &ax)) || (rc = cf_times(s, nc, &ax)) ||
+        (rc = cf_find_mapping(s, nc, nvars, &gm)))
+        return rc;
+    if (gm >= 0 && (rc = cf_projection(s, nc, gm, &s->grid.proj, &fe, &fn)))
+        return rc;
+    if ((rc = cf_plan(s, c, &ax, gm, fe, fn)) || (rc = cf_vertical(s, nc, &ax, &above_ground)) ||
+        (rc = cf_describe(s, nc, above_ground)))
+        return rc;
+    return cf_fields(s, c, &ax, nvars);
 }
 
 static int cf_read(vsv_source *s, int field, int t, float *out)

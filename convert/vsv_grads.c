@@ -88,27 +88,173 @@ static int64_t to_noleap(int64_t t)
     return vsv_cal_from_civil(VSV_CAL_NOLEAP, y, m, m == 2 && d == 29 ? 28 : d, hh, mi, ss);
 }
 
-static int grads_open(vsv_source *s)
+/* What the descriptor says beyond the handle: axes, times, levels, title. */
+typedef struct grads_ctl {
+    int lineno, in_vars, nvars;
+    double xs, dx, ys, dy;
+    int64_t t0, dt;
+    long dmonths;
+    int nt, cal365, have_x, have_y, have_z, have_t;
+    double *levels; /* owned: freed by grads_open */
+    char title[256];
+} grads_ctl;
+
+/* One record of the VARS list: name, level count, units code, description. */
+static int grads_var_record(vsv_source *s, const grads_ctl *c, const char *key, char *rest)
 {
-    grads *g = calloc(1, sizeof *g);
-    if (!g)
+    vsv_field_info *f = &s->fields[s->nfields];
+    int lev, units_code, k = 0;
+    if (s->nfields >= c->nvars || sscanf(rest, "%d %d%n", &lev, &units_code, &k) != 2 || lev < 0 || lev > 100000)
+        return vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad variable record", c->lineno);
+    memset(f, 0, sizeof *f);
+    snprintf(f->name, sizeof f->name, "%s", key);
+    char *desc = rest + k;
+    while (isspace((unsigned char)*desc))
+        desc++;
+    desc[strcspn(desc, "\r\n")] = 0;
+    snprintf(f->description, sizeof f->description, "%s", desc);
+    f->nlevels = lev;
+    f->is_volume = 1;
+    f->is_default = lev > 0;
+    s->nfields++;
+    return 0;
+}
+
+/* OPTIONS: every keyword honoured or refused by name. */
+static int grads_options(vsv_source *s, grads *g, grads_ctl *c, char *rest)
+{
+    char *save = NULL;
+    for (char *o = strtok_r(rest, " \t\r\n", &save); o; o = strtok_r(NULL, " \t\r\n", &save)) {
+        if (!strcasecmp(o, "big_endian"))
+            g->big_endian = 1;
+        else if (!strcasecmp(o, "little_endian"))
+            g->big_endian = 0;
+        else if (!strcasecmp(o, "byteswapped"))
+            g->big_endian = 1; /* the other order than this (little-endian) machine's */
+        else if (!strcasecmp(o, "365_day_calendar"))
+            c->cal365 = 1;
+        else {
+            const int known = !strcasecmp(o, "template") || !strcasecmp(o, "sequential") || !strcasecmp(o, "yrev") ||
+                              !strcasecmp(o, "zrev") || !strcasecmp(o, "pascals") || !strcasecmp(o, "cray_32bit_ieee");
+            return vsv_source_fail(s, VSV_EUNSUPPORTED,
+                                   "line %d: OPTIONS %s %s (little_endian, big_endian, byteswapped and "
+                                   "365_day_calendar are)",
+                                   c->lineno, o, known ? "is not supported" : "is unknown");
+        }
+    }
+    return 0;
+}
+
+/* XDEF or YDEF n LINEAR start step. */
+static int grads_xydef(vsv_source *s, grads *g, grads_ctl *c, const char *key, const char *rest)
+{
+    int cnt;
+    char kind[16];
+    double a, b;
+    if (sscanf(rest, "%d %15s %lf %lf", &cnt, kind, &a, &b) != 4 || strcasecmp(kind, "linear") || cnt < 1)
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: only %s n LINEAR start step is supported", c->lineno,
+                               key);
+    if (cnt > VSV_MAX_DIM)
+        return vsv_source_fail(s, VSV_ECORRUPT, "line %d: %s %d: more than %d cells", c->lineno, key, cnt, VSV_MAX_DIM);
+    if (tolower((unsigned char)key[0]) == 'x')
+        g->nx = cnt, c->xs = a, c->dx = b, c->have_x = 1;
+    else
+        g->ny = cnt, c->ys = a, c->dy = b, c->have_y = 1;
+    return 0;
+}
+
+/* ZDEF n LINEAR start step, or ZDEF n LEVELS with the values running on
+ * over the following lines (read into line, a buffer of cap bytes). */
+static int grads_zdef(vsv_source *s, grads *g, grads_ctl *c, char *rest, char *line, int cap, FILE *fp)
+{
+    int cnt, k = 0;
+    char kind[16];
+    if (sscanf(rest, "%d %15s%n", &cnt, kind, &k) != 2 || cnt < 1 || cnt > VSV_MAX_DIM)
+        return vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad ZDEF", c->lineno);
+    g->nz = cnt;
+    free(c->levels);
+    c->levels = calloc((size_t)cnt, sizeof *c->levels);
+    if (!c->levels)
         return VSV_ENOMEM;
-    s->priv = g;
-    char why[160];
-    FILE *fp = vsv_input_fopen(s->path, "r", why, sizeof why);
-    if (!fp)
-        return vsv_source_fail(s, VSV_EIO, "%s", why);
+    char *q = rest + k;
+    if (!strcasecmp(kind, "linear")) {
+        double a, b;
+        if (sscanf(q, "%lf %lf", &a, &b) != 2)
+            return vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad ZDEF LINEAR", c->lineno);
+        for (int i = 0; i < cnt; i++)
+            c->levels[i] = a + i * b;
+    } else {
+        int got = 0;
+        while (got < cnt) {
+            char *end;
+            double v = strtod(q, &end);
+            if (end == q) {
+                if (!fgets(line, cap, fp))
+                    break;
+                c->lineno++;
+                q = line;
+                continue;
+            }
+            c->levels[got++] = v;
+            q = end;
+        }
+        if (got < cnt)
+            return vsv_source_fail(s, VSV_ECORRUPT, "line %d: ZDEF lists %d of %d levels", c->lineno, got, cnt);
+    }
+    c->have_z = 1;
+    return 0;
+}
+
+/* TDEF n LINEAR start increment (mn, hr, dy, mo or yr). */
+static int grads_tdef(vsv_source *s, grads_ctl *c, const char *rest)
+{
+    char kind[16], start[32], inc[16];
+    if (sscanf(rest, "%d %15s %31s %15s", &c->nt, kind, start, inc) != 4 || strcasecmp(kind, "linear") || c->nt < 1 ||
+        c->nt > VSV_MAX_STEPS || parse_gtime(start, &c->t0))
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: only TDEF n LINEAR time increment is supported",
+                               c->lineno);
+    char *u;
+    long v = strtol(inc, &u, 10);
+    /* at most a million units: every step's time stays far inside int64 */
+    if (v <= 0 || v > 1000000)
+        return vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad time increment %s", c->lineno, inc);
+    if (!strcasecmp(u, "mn"))
+        c->dt = v * 60;
+    else if (!strcasecmp(u, "hr"))
+        c->dt = v * 3600;
+    else if (!strcasecmp(u, "dy"))
+        c->dt = v * 86400;
+    else if (!strcasecmp(u, "mo"))
+        c->dmonths = v;
+    else if (!strcasecmp(u, "yr"))
+        c->dmonths = 12 * v;
+    else
+        return vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad time increment %s", c->lineno, inc);
+    c->have_t = 1;
+    return 0;
+}
+
+/* VARS n: the field table, filled by the records that follow. */
+static int grads_vars(vsv_source *s, grads_ctl *c, const char *rest)
+{
+    if (sscanf(rest, "%d", &c->nvars) != 1 || c->nvars < 1 || c->nvars > VSV_MAX_VARS)
+        return vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad VARS count", c->lineno);
+    if (s->fields) /* a second list (found by fuzz_grads: the first leaked) */
+        return vsv_source_fail(s, VSV_ECORRUPT, "line %d: a second VARS", c->lineno);
+    s->fields = calloc((size_t)c->nvars, sizeof *s->fields);
+    if (!s->fields)
+        return VSV_ENOMEM;
+    c->in_vars = 1;
+    return 0;
+}
+
+/* Reads the whole .ctl descriptor into g, s->fields and c; checks it is complete. */
+static int grads_read_ctl(vsv_source *s, grads *g, grads_ctl *c, FILE *fp)
+{
     char line[1024];
-    int lineno = 0, in_vars = 0, nvars = 0;
-    double xs = 0, dx = 1, ys = 0, dy = 1;
-    int64_t t0 = 0, dt = 0;
-    long dmonths = 0;
-    int nt = 0, cal365 = 0, have_x = 0, have_y = 0, have_z = 0, have_t = 0;
-    double *levels = NULL;
-    char title[256] = "";
     int rc = 0;
     while (fgets(line, sizeof line, fp)) {
-        lineno++;
+        c->lineno++;
         char *p = line;
         while (isspace((unsigned char)*p))
             p++;
@@ -118,28 +264,13 @@ static int grads_open(vsv_source *s)
         int n = 0;
         sscanf(p, "%31s%n", key, &n);
         char *rest = p + n;
-        if (in_vars) {
+        if (c->in_vars) {
             if (!strcasecmp(key, "endvars")) {
-                in_vars = 0;
+                c->in_vars = 0;
                 continue;
             }
-            vsv_field_info *f = &s->fields[s->nfields];
-            int lev, units_code, k = 0;
-            if (s->nfields >= nvars || sscanf(rest, "%d %d%n", &lev, &units_code, &k) != 2 || lev < 0 || lev > 100000) {
-                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad variable record", lineno);
-                goto done;
-            }
-            memset(f, 0, sizeof *f);
-            snprintf(f->name, sizeof f->name, "%s", key);
-            char *desc = rest + k;
-            while (isspace((unsigned char)*desc))
-                desc++;
-            desc[strcspn(desc, "\r\n")] = 0;
-            snprintf(f->description, sizeof f->description, "%s", desc);
-            f->nlevels = lev;
-            f->is_volume = 1;
-            f->is_default = lev > 0;
-            s->nfields++;
+            if ((rc = grads_var_record(s, c, key, rest)))
+                return rc;
             continue;
         }
         if (!strcasecmp(key, "dset")) {
@@ -154,197 +285,79 @@ static int grads_open(vsv_source *s)
                 snprintf(g->dset, sizeof g->dset, "%s", d);
             }
         } else if (!strcasecmp(key, "options")) {
-            /* every keyword honoured or refused by name */
-            char *save = NULL;
-            for (char *o = strtok_r(rest, " \t\r\n", &save); o; o = strtok_r(NULL, " \t\r\n", &save)) {
-                if (!strcasecmp(o, "big_endian"))
-                    g->big_endian = 1;
-                else if (!strcasecmp(o, "little_endian"))
-                    g->big_endian = 0;
-                else if (!strcasecmp(o, "byteswapped"))
-                    g->big_endian = 1; /* the other order than this (little-endian) machine's */
-                else if (!strcasecmp(o, "365_day_calendar"))
-                    cal365 = 1;
-                else {
-                    const int known = !strcasecmp(o, "template") || !strcasecmp(o, "sequential") ||
-                                      !strcasecmp(o, "yrev") || !strcasecmp(o, "zrev") || !strcasecmp(o, "pascals") ||
-                                      !strcasecmp(o, "cray_32bit_ieee");
-                    rc = vsv_source_fail(s, VSV_EUNSUPPORTED,
-                                         "line %d: OPTIONS %s %s (little_endian, big_endian, byteswapped and "
-                                         "365_day_calendar are)",
-                                         lineno, o, known ? "is not supported" : "is unknown");
-                    goto done;
-                }
-            }
+            rc = grads_options(s, g, c, rest);
         } else if (!strcasecmp(key, "undef")) {
             g->undef = strtod(rest, NULL);
         } else if (!strcasecmp(key, "title")) {
-            snprintf(title, sizeof title, "%s", rest + strspn(rest, " \t"));
-            title[strcspn(title, "\r\n")] = 0;
+            snprintf(c->title, sizeof c->title, "%s", rest + strspn(rest, " \t"));
+            c->title[strcspn(c->title, "\r\n")] = 0;
         } else if (!strcasecmp(key, "xdef") || !strcasecmp(key, "ydef")) {
-            int cnt;
-            char kind[16];
-            double a, b;
-            if (sscanf(rest, "%d %15s %lf %lf", &cnt, kind, &a, &b) != 4 || strcasecmp(kind, "linear") || cnt < 1) {
-                rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: only %s n LINEAR start step is supported", lineno, key);
-                goto done;
-            }
-            if (cnt > VSV_MAX_DIM) {
-                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: %s %d: more than %d cells", lineno, key, cnt, VSV_MAX_DIM);
-                goto done;
-            }
-            if (tolower((unsigned char)key[0]) == 'x')
-                g->nx = cnt, xs = a, dx = b, have_x = 1;
-            else
-                g->ny = cnt, ys = a, dy = b, have_y = 1;
+            rc = grads_xydef(s, g, c, key, rest);
         } else if (!strcasecmp(key, "zdef")) {
-            int cnt, k = 0;
-            char kind[16];
-            if (sscanf(rest, "%d %15s%n", &cnt, kind, &k) != 2 || cnt < 1 || cnt > VSV_MAX_DIM) {
-                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad ZDEF", lineno);
-                goto done;
-            }
-            g->nz = cnt;
-            free(levels);
-            levels = calloc((size_t)cnt, sizeof *levels);
-            if (!levels) {
-                rc = VSV_ENOMEM;
-                goto done;
-            }
-            char *q = rest + k;
-            if (!strcasecmp(kind, "linear")) {
-                double a, b;
-                if (sscanf(q, "%lf %lf", &a, &b) != 2) {
-                    rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad ZDEF LINEAR", lineno);
-                    goto done;
-                }
-                for (int i = 0; i < cnt; i++)
-                    levels[i] = a + i * b;
-            } else {
-                int got = 0;
-                while (got < cnt) {
-                    char *end;
-                    double v = strtod(q, &end);
-                    if (end == q) {
-                        if (!fgets(line, sizeof line, fp))
-                            break;
-                        lineno++;
-                        q = line;
-                        continue;
-                    }
-                    levels[got++] = v;
-                    q = end;
-                }
-                if (got < cnt) {
-                    rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: ZDEF lists %d of %d levels", lineno, got, cnt);
-                    goto done;
-                }
-            }
-            have_z = 1;
+            rc = grads_zdef(s, g, c, rest, line, (int)sizeof line, fp);
         } else if (!strcasecmp(key, "tdef")) {
-            char kind[16], start[32], inc[16];
-            if (sscanf(rest, "%d %15s %31s %15s", &nt, kind, start, inc) != 4 || strcasecmp(kind, "linear") || nt < 1 ||
-                nt > VSV_MAX_STEPS || parse_gtime(start, &t0)) {
-                rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "line %d: only TDEF n LINEAR time increment is supported", lineno);
-                goto done;
-            }
-            char *u;
-            long v = strtol(inc, &u, 10);
-            /* at most a million units: every step's time stays far inside int64 */
-            if (v <= 0 || v > 1000000) {
-                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad time increment %s", lineno, inc);
-                goto done;
-            }
-            if (!strcasecmp(u, "mn"))
-                dt = v * 60;
-            else if (!strcasecmp(u, "hr"))
-                dt = v * 3600;
-            else if (!strcasecmp(u, "dy"))
-                dt = v * 86400;
-            else if (!strcasecmp(u, "mo"))
-                dmonths = v;
-            else if (!strcasecmp(u, "yr"))
-                dmonths = 12 * v;
-            else {
-                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad time increment %s", lineno, inc);
-                goto done;
-            }
-            have_t = 1;
+            rc = grads_tdef(s, c, rest);
         } else if (!strcasecmp(key, "vars")) {
-            if (sscanf(rest, "%d", &nvars) != 1 || nvars < 1 || nvars > VSV_MAX_VARS) {
-                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: bad VARS count", lineno);
-                goto done;
-            }
-            if (s->fields) { /* a second list (found by fuzz_grads: the first leaked) */
-                rc = vsv_source_fail(s, VSV_ECORRUPT, "line %d: a second VARS", lineno);
-                goto done;
-            }
-            s->fields = calloc((size_t)nvars, sizeof *s->fields);
-            if (!s->fields) {
-                rc = VSV_ENOMEM;
-                goto done;
-            }
-            in_vars = 1;
+            rc = grads_vars(s, c, rest);
         }
+        if (rc)
+            return rc;
     }
-    if (!g->dset[0] || !have_x || !have_y || !have_z || !have_t || !s->nfields) {
-        rc = vsv_source_fail(s, VSV_ECORRUPT, "not a complete GrADS descriptor (DSET, XDEF, YDEF, ZDEF, TDEF, VARS)");
-        goto done;
-    }
-    /* layout and size check */
+    if (!g->dset[0] || !c->have_x || !c->have_y || !c->have_z || !c->have_t || !s->nfields)
+        return vsv_source_fail(s, VSV_ECORRUPT, "not a complete GrADS descriptor (DSET, XDEF, YDEF, ZDEF, TDEF, VARS)");
+    return 0;
+}
+
+/* Lays the variables out in a time block, checks the data file's size
+ * against nt blocks, and opens it (g->fp, closed by grads_close). */
+static int grads_layout(vsv_source *s, grads *g, int nt)
+{
     g->var_offset = calloc((size_t)s->nfields, sizeof *g->var_offset);
-    if (!g->var_offset) {
-        rc = VSV_ENOMEM;
-        goto done;
-    }
+    if (!g->var_offset)
+        return VSV_ENOMEM;
     /* sizes in 64 bits, each product checked: dimensions up to 16384 and a
      * thousand variables still fit, a crafted descriptor cannot wrap them */
-    if ((uint64_t)g->nx * g->ny * g->nz > VSV_MAX_CELLS) {
-        rc = vsv_source_fail(s, VSV_ECORRUPT, "grid %d x %d x %d: more than %llu cells", g->nx, g->ny, g->nz,
-                             (unsigned long long)VSV_MAX_CELLS);
-        goto done;
-    }
+    if ((uint64_t)g->nx * g->ny * g->nz > VSV_MAX_CELLS)
+        return vsv_source_fail(s, VSV_ECORRUPT, "grid %d x %d x %d: more than %llu cells", g->nx, g->ny, g->nz,
+                               (unsigned long long)VSV_MAX_CELLS);
     const long long plane = (long long)g->nx * g->ny * 4;
     for (int i = 0; i < s->nfields; i++) {
-        if (s->fields[i].nlevels > g->nz) {
-            rc = vsv_source_fail(s, VSV_ECORRUPT, "variable %s has %d levels, ZDEF %d", s->fields[i].name,
-                                 s->fields[i].nlevels, g->nz);
-            goto done;
-        }
+        if (s->fields[i].nlevels > g->nz)
+            return vsv_source_fail(s, VSV_ECORRUPT, "variable %s has %d levels, ZDEF %d", s->fields[i].name,
+                                   s->fields[i].nlevels, g->nz);
         g->var_offset[i] = g->time_bytes;
         g->time_bytes += plane * (s->fields[i].nlevels ? s->fields[i].nlevels : 1);
     }
     long long total;
-    if (__builtin_mul_overflow(g->time_bytes, (long long)nt, &total)) {
-        rc = vsv_source_fail(s, VSV_ECORRUPT, "the descriptor implies more than 2^63 bytes (%d steps of %lld)", nt,
-                             g->time_bytes);
-        goto done;
-    }
+    if (__builtin_mul_overflow(g->time_bytes, (long long)nt, &total))
+        return vsv_source_fail(s, VSV_ECORRUPT, "the descriptor implies more than 2^63 bytes (%d steps of %lld)", nt,
+                               g->time_bytes);
     struct stat st;
-    if (stat(g->dset, &st)) {
-        rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, strerror(errno));
-        goto done;
-    }
-    if ((long long)st.st_size != total) {
-        rc = vsv_source_fail(s, VSV_ECORRUPT, "data file %s has %lld bytes, the descriptor implies %lld", g->dset,
-                             (long long)st.st_size, total);
-        goto done;
-    }
-    if (!(g->fp = vsv_input_fopen(g->dset, "rb", why, sizeof why))) {
-        rc = vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, why);
-        goto done;
-    }
+    if (stat(g->dset, &st))
+        return vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, strerror(errno));
+    if ((long long)st.st_size != total)
+        return vsv_source_fail(s, VSV_ECORRUPT, "data file %s has %lld bytes, the descriptor implies %lld", g->dset,
+                               (long long)st.st_size, total);
+    char why[160];
+    if (!(g->fp = vsv_input_fopen(g->dset, "rb", why, sizeof why)))
+        return vsv_source_fail(s, VSV_EIO, "data file %s: %s", g->dset, why);
+    return 0;
+}
+
+/* Fills the source's times and grid from the descriptor. */
+static int grads_fill(vsv_source *s, const grads *g, const grads_ctl *c)
+{
+    const int nt = c->nt, cal365 = c->cal365;
+    const int64_t t0 = c->t0, dt = c->dt;
+    const long dmonths = c->dmonths;
+    const double *levels = c->levels;
     /* a run of at most 10 000 years: the calendar arithmetic stays exact */
-    if ((long long)dmonths * (nt - 1) > 120000 || (long long)dt * (nt - 1) > 10000LL * 366 * 86400) {
-        rc = vsv_source_fail(s, VSV_ECORRUPT, "TDEF: %d steps span more than 10000 years", nt);
-        goto done;
-    }
+    if ((long long)dmonths * (nt - 1) > 120000 || (long long)dt * (nt - 1) > 10000LL * 366 * 86400)
+        return vsv_source_fail(s, VSV_ECORRUPT, "TDEF: %d steps span more than 10000 years", nt);
     s->ntimes = nt;
     s->times = malloc((size_t)nt * sizeof *s->times);
-    if (!s->times) {
-        rc = VSV_ENOMEM;
-        goto done;
-    }
+    if (!s->times)
+        return VSV_ENOMEM;
     for (int t = 0; t < nt; t++)
         s->times[t] = dmonths ? (cal365 ? to_noleap(add_months(t0, dmonths * t)) : add_months(t0, dmonths * t))
                       : cal365  ? to_noleap(t0) + dt * t
@@ -355,13 +368,14 @@ static int grads_open(vsv_source *s)
     m->nx = g->nx;
     m->ny = g->ny;
     m->nz = g->nz;
-    m->origin[0] = xs;
-    m->origin[1] = ys;
-    m->spacing[0] = dx;
-    m->spacing[1] = dy;
+    m->origin[0] = c->xs;
+    m->origin[1] = c->ys;
+    m->spacing[0] = c->dx;
+    m->spacing[1] = c->dy;
     m->proj.kind = VSV_PROJ_LATLON;
-    if ((rc = vsv_meta_alloc_levels(m)))
-        goto done;
+    int rc = vsv_meta_alloc_levels(m);
+    if (rc)
+        return rc;
     memcpy(m->levels, levels, (size_t)g->nz * sizeof *levels);
     /* GrADS does not say what ZDEF measures: decreasing values up to ~1100 are
      * pressure levels (hPa), otherwise plain level coordinates. */
@@ -373,9 +387,29 @@ static int grads_open(vsv_source *s)
     m->origin[2] = 0;
     m->spacing[2] = 1;
     snprintf(m->model, sizeof m->model, "GrADS");
-    snprintf(m->run, sizeof m->run, "%s", title);
+    snprintf(m->run, sizeof m->run, "%s", c->title);
+    return 0;
+}
+
+static int grads_open(vsv_source *s)
+{
+    grads *g = calloc(1, sizeof *g);
+    if (!g)
+        return VSV_ENOMEM;
+    s->priv = g;
+    char why[160];
+    FILE *fp = vsv_input_fopen(s->path, "r", why, sizeof why);
+    if (!fp)
+        return vsv_source_fail(s, VSV_EIO, "%s", why);
+    grads_ctl c = {.dx = 1, .dy = 1};
+    int rc = grads_read_ctl(s, g, &c, fp);
+    if (rc)
+        goto done;
+    if ((rc = grads_layout(s, g, c.nt)))
+        goto done;
+    rc = grads_fill(s, g, &c);
 done:
-    free(levels);
+    free(c.levels);
     fclose(fp);
     return rc;
 }

@@ -63,20 +63,10 @@ static int z_heights(vsv_source *s, ioapi *a, int t)
     return 0;
 }
 
-int vsv_ioapi_open(vsv_source *s, int nc)
+/* The grid's size from NCOLS, NROWS and NLAYS, and the scratch sized for it. */
+static int ioapi_dims(vsv_source *s, ioapi *a)
 {
-    ioapi *a = calloc(1, sizeof *a);
-    if (!a) {
-        nc_close(nc);
-        return VSV_ENOMEM;
-    }
-    s->priv = a;
-    a->nc = nc;
-    a->zvar = -1;
-    a->vg_t = -1;
-    int tflag;
-    if (nc_inq_varid(nc, "TFLAG", &tflag))
-        return vsv_source_fail(s, VSV_ECORRUPT, "IOAPI file without TFLAG");
+    const int nc = a->nc;
     a->nx = (int)gatt(nc, "NCOLS", 0);
     a->ny = (int)gatt(nc, "NROWS", 0);
     a->nk = (int)gatt(nc, "NLAYS", 1);
@@ -89,7 +79,12 @@ int vsv_ioapi_open(vsv_source *s, int nc)
     a->tmp = malloc(plane * (size_t)a->nk * sizeof *a->tmp);
     if (!a->zm || !a->nat || !a->tmp)
         return VSV_ENOMEM;
-    /* times from TFLAG of the first variable: YYYYDDD, HHMMSS */
+    return 0;
+}
+
+/* The times from TFLAG of the first variable: YYYYDDD, HHMMSS; increasing. */
+static int ioapi_times(vsv_source *s, int nc, int tflag)
+{
     int td[3], tnd;
     size_t nt = 0, nv = 0, two = 0;
     if (nc_inq_varndims(nc, tflag, &tnd) || tnd != 3 || nc_inq_vardimid(nc, tflag, td) || nc_inq_dimlen(nc, td[0], &nt) ||
@@ -117,7 +112,14 @@ int vsv_ioapi_open(vsv_source *s, int nc)
             return vsv_source_fail(s, VSV_ECORRUPT, "TFLAG[%zu] does not follow TFLAG[%zu]", t, t - 1);
     }
     s->ntimes = (int)nt;
-    /* the grid and its projection */
+    return 0;
+}
+
+/* The grid and its projection (GDTYP), its plan position, and the model
+ * and run it describes. */
+static int ioapi_grid(vsv_source *s, const ioapi *a)
+{
+    const int nc = a->nc;
     vsv_meta *g = &s->grid;
     g->nx = a->nx;
     g->ny = a->ny;
@@ -169,30 +171,27 @@ int vsv_ioapi_open(vsv_source *s, int nc)
     char buf[64];
     snprintf(buf, sizeof buf, "%d", gdtyp);
     vsv_meta_add_attr(g, "GDTYP", buf);
-    /* terrain */
-    int topo;
-    if (nc_inq_varid(nc, "topo", &topo) == NC_NOERR) {
-        if (vsv_meta_alloc_terrain(g))
-            return VSV_ENOMEM;
-        const size_t pshape[2] = {(size_t)a->ny, (size_t)a->nx};
-        const int rc = vsv_nc_read(s, nc, topo, "topo", 0, pshape, 2, g->terrain);
-        if (rc)
-            return rc;
-    }
-    /* heights */
+    return 0;
+}
+
+/* The layer heights into a->zm: from CAMx's z (varying in time), else from
+ * VGTYP/VGLVLS (fixed); *have_heights says whether either was there. */
+static int ioapi_heights(vsv_source *s, ioapi *a, int *have_heights)
+{
+    const int nc = a->nc;
+    vsv_meta *g = &s->grid;
+    const size_t plane = (size_t)a->nx * a->ny;
     const int vgtyp = (int)gatt(nc, "VGTYP", -1);
     double *vgl = calloc((size_t)a->nk + 1, sizeof *vgl);
     size_t vgn = 0;
     const int have_vgl = vgl && nc_inq_attlen(nc, NC_GLOBAL, "VGLVLS", &vgn) == NC_NOERR && vgn == (size_t)a->nk + 1 &&
                          nc_get_att_double(nc, NC_GLOBAL, "VGLVLS", vgl) == NC_NOERR;
-    int have_heights = 0;
+    int rc = 0;
+    *have_heights = 0;
     if (nc_inq_varid(nc, "z", &a->zvar) == NC_NOERR) {
-        int rc = z_heights(s, a, 0);
-        if (rc) {
-            free(vgl);
-            return rc;
-        }
-        have_heights = 1;
+        if ((rc = z_heights(s, a, 0)))
+            goto fail;
+        *have_heights = 1;
         vsv_meta_add_attr(g, "heights", g->terrain ? "CAMx z: layer tops above ground, varying in time, on topo"
                                                    : "CAMx z: layer tops above ground, varying in time");
     } else if (have_vgl && (vgtyp == 6 || vgtyp == 2 || vgtyp == 7)) {
@@ -211,23 +210,20 @@ int vsv_ioapi_open(vsv_source *s, int nc)
         lift(s, a);
         a->zvar = -1;
         a->static_heights = 1;
-        have_heights = 1;
+        *have_heights = 1;
         vsv_meta_add_attr(g, "heights", vgtyp == 6 ? "VGLVLS in metres above ground"
                                                    : "sigma-P levels through the ICAO standard atmosphere (approximate)");
     }
+fail:
     free(vgl);
-    if (!have_heights) {
-        g->nz = a->nk;
-        g->vert_kind = VSV_VERT_INDEX;
-    } else {
-        if (!g->terrain && vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)
-            return VSV_ENOMEM;
-        const int even = vsv_source_axis(s, a->zm, a->nk, 10.0);
-        if (even < 0)
-            return even;
-        a->even = even;
-    }
-    /* species: float (TSTEP, LAY, ROW, COL) variables */
+    return rc;
+}
+
+/* The species: float (TSTEP, LAY, ROW, COL) variables, units and
+ * descriptions without their trailing blanks. */
+static int ioapi_fields(vsv_source *s, ioapi *a)
+{
+    const int nc = a->nc;
     int nvars;
     nc_inq_nvars(nc, &nvars);
     s->fields = calloc((size_t)nvars + 1, sizeof *s->fields);
@@ -270,6 +266,51 @@ int vsv_ioapi_open(vsv_source *s, int nc)
         a->varid[s->nfields++] = v;
     }
     return 0;
+}
+
+int vsv_ioapi_open(vsv_source *s, int nc)
+{
+    ioapi *a = calloc(1, sizeof *a);
+    if (!a) {
+        nc_close(nc);
+        return VSV_ENOMEM;
+    }
+    s->priv = a;
+    a->nc = nc;
+    a->zvar = -1;
+    a->vg_t = -1;
+    /* everything acquired hangs off a and s, freed by ioapi_close */
+    int tflag, rc;
+    if (nc_inq_varid(nc, "TFLAG", &tflag))
+        return vsv_source_fail(s, VSV_ECORRUPT, "IOAPI file without TFLAG");
+    if ((rc = ioapi_dims(s, a)) || (rc = ioapi_times(s, nc, tflag)) || (rc = ioapi_grid(s, a)))
+        return rc;
+    /* terrain */
+    vsv_meta *g = &s->grid;
+    int topo;
+    if (nc_inq_varid(nc, "topo", &topo) == NC_NOERR) {
+        if (vsv_meta_alloc_terrain(g))
+            return VSV_ENOMEM;
+        const size_t pshape[2] = {(size_t)a->ny, (size_t)a->nx};
+        if ((rc = vsv_nc_read(s, nc, topo, "topo", 0, pshape, 2, g->terrain)))
+            return rc;
+    }
+    /* heights */
+    int have_heights;
+    if ((rc = ioapi_heights(s, a, &have_heights)))
+        return rc;
+    if (!have_heights) {
+        g->nz = a->nk;
+        g->vert_kind = VSV_VERT_INDEX;
+    } else {
+        if (!g->terrain && vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)
+            return VSV_ENOMEM;
+        const int even = vsv_source_axis(s, a->zm, a->nk, 10.0);
+        if (even < 0)
+            return even;
+        a->even = even;
+    }
+    return ioapi_fields(s, a);
 }
 
 static int ioapi_read(vsv_source *s, int field, int t, float *out)

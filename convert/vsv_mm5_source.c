@@ -173,19 +173,18 @@ static int is_default_name(const char *n)
     return 0;
 }
 
-static int mm5_open(vsv_source *s)
+/* MM5's reference state from the big header (-999 where the program that
+ * wrote the file did not fill it). */
+typedef struct mm5_base {
+    double ptop, p00, ts0, a, tiso;
+} mm5_base;
+
+/* The domain from the big header and the vertical from the fields: sigma
+ * levels (KX) or, without them, pressure levels placed by H (KP); the
+ * scratch buffers sized for them. */
+static int mm5_domain(vsv_source *s, mm5src *x)
 {
-    mm5src *x = calloc(1, sizeof *x);
-    if (!x)
-        return VSV_ENOMEM;
-    s->priv = x;
-    vsv_mm5 *m = NULL;
-    int rc = vsv_mm5_open(s->path, &m);
-    x->m = m;
-    if (rc) {
-        vsv_msg(s->err, sizeof s->err, "%s", vsv_mm5_error(m));
-        return rc;
-    }
+    vsv_mm5 *m = x->m;
     x->IX = vsv_mm5_bhi(m, 16, 1);
     x->JX = vsv_mm5_bhi(m, 17, 1);
     if (x->IX < 3 || x->JX < 3 || x->IX > VSV_MAX_DIM || x->JX > VSV_MAX_DIM)
@@ -223,6 +222,14 @@ static int mm5_open(vsv_source *s)
     x->nat = malloc(plane * (size_t)(kmax + 1) * sizeof(float));
     if (!x->raw || !x->nat)
         return VSV_ENOMEM;
+    return 0;
+}
+
+/* The grid's plan position, projection, run description and the big
+ * header's attributes; the reference state into b. */
+static int mm5_header(vsv_source *s, mm5src *x, mm5_base *b)
+{
+    vsv_mm5 *m = x->m;
     vsv_meta *g = &s->grid;
     g->nx = x->nx;
     g->ny = x->ny;
@@ -258,6 +265,7 @@ static int mm5_open(vsv_source *s)
     char buf[160];
     const double PTOP = vsv_mm5_bhr(m, 2, 2), P00 = vsv_mm5_bhr(m, 2, 5), TS0 = vsv_mm5_bhr(m, 3, 5),
                  A = vsv_mm5_bhr(m, 4, 5), TISO = vsv_mm5_bhr(m, 5, 5);
+    *b = (mm5_base){PTOP, P00, TS0, A, TISO};
     snprintf(buf, sizeof buf, "%d", prog);
     vsv_meta_add_attr(g, "MM5 program", buf);
     snprintf(buf, sizeof buf, "%g Pa", PTOP);
@@ -268,7 +276,15 @@ static int mm5_open(vsv_source *s)
     snprintf(buf, sizeof buf, "%d", vsv_mm5_bhi(m, 3, 13));
     if (vsv_mm5_bhi(m, 3, 13) != -999)
         vsv_meta_add_attr(g, "IMPHYS", buf);
-    /* terrain and land use (period 0) */
+    return 0;
+}
+
+/* Terrain and land use (period 0), each dropped when the file has none. */
+static int mm5_surface(vsv_source *s, mm5src *x)
+{
+    vsv_mm5 *m = x->m;
+    vsv_meta *g = &s->grid;
+    int rc;
     if (vsv_meta_alloc_terrain(g) || vsv_meta_alloc_landuse(g))
         return VSV_ENOMEM;
     if ((rc = cross_plane(s, x, 0, "TERRAIN", g->terrain)) < 0)
@@ -284,7 +300,7 @@ static int mm5_open(vsv_source *s)
         g->landuse = NULL;
     } else {
         /* which category is water: the big header says (bhi(23,1), "... WATER CATEGORY") */
-        char what[96];
+        char what[96], buf[160];
         vsv_mm5_bhic(m, 23, 1, what, sizeof what);
         const int water = vsv_mm5_bhi(m, 23, 1);
         if (strstr(what, "WATER CATEGORY") && water >= 0 && water < 64) {
@@ -292,97 +308,126 @@ static int mm5_open(vsv_source *s)
             vsv_meta_add_attr(g, "landuse_water", buf);
         }
     }
-    /* heights of the half-sigma levels */
+    return 0;
+}
+
+/* Heights of the half-sigma levels into x->zn when the file has SIGMAH and
+ * a reference state (x->has_sigma); the sigma values into sig. */
+static int mm5_sigma_heights(vsv_source *s, mm5src *x, const mm5_base *b, float *sig)
+{
+    vsv_mm5 *m = x->m;
+    const vsv_meta *g = &s->grid;
+    const double PTOP = b->ptop, P00 = b->p00, TS0 = b->ts0, A = b->a, TISO = b->tiso;
+    const size_t plane = (size_t)x->nx * x->ny;
     const int isig = vsv_mm5_find(m, 0, "SIGMAH");
     x->has_sigma = x->KX > 0 && isig >= 0 && P00 > 0 && A > 0 && TS0 > 0 && PTOP > 0;
-    float sig[VSV_MAX_DIM];
-    if (x->has_sigma) {
-        const vsv_mm5_field *fs = vsv_mm5_field_at(m, isig);
-        if ((int)(fs->bytes / 4) != x->KX)
-            return vsv_source_fail(s, VSV_ECORRUPT, "record %d: SIGMAH has %llu levels, 3-D fields %d", fs->record,
-                                   (unsigned long long)(fs->bytes / 4), x->KX);
-        vsv_mm5_read(m, fs, sig);
-        float *pstar = malloc(plane * sizeof *pstar);
-        x->zn = malloc(plane * (size_t)x->KX * sizeof *x->zn);
-        if (!pstar || !x->zn) {
-            free(pstar);
-            return VSV_ENOMEM;
+    if (!x->has_sigma)
+        return 0;
+    const vsv_mm5_field *fs = vsv_mm5_field_at(m, isig);
+    if ((int)(fs->bytes / 4) != x->KX)
+        return vsv_source_fail(s, VSV_ECORRUPT, "record %d: SIGMAH has %llu levels, 3-D fields %d", fs->record,
+                               (unsigned long long)(fs->bytes / 4), x->KX);
+    vsv_mm5_read(m, fs, sig);
+    float *pstar = malloc(plane * sizeof *pstar);
+    x->zn = malloc(plane * (size_t)x->KX * sizeof *x->zn);
+    int rc = VSV_ENOMEM;
+    if (!pstar || !x->zn)
+        goto fail;
+    if ((rc = cross_plane(s, x, 0, "PSTARCRS", pstar)) < 0)
+        goto fail;
+    if (rc) {
+        if (!g->terrain) {
+            rc = vsv_source_fail(s, VSV_ECORRUPT, "neither PSTARCRS nor TERRAIN: heights unknown");
+            goto fail;
         }
-        if ((rc = cross_plane(s, x, 0, "PSTARCRS", pstar)) < 0) {
-            free(pstar);
-            return rc;
+        for (size_t c = 0; c < plane; c++) {
+            double ps0 = P00 * exp(-TS0 / A + sqrt((TS0 / A) * (TS0 / A) - 2 * G0 * g->terrain[c] / (A * R_DRY)));
+            pstar[c] = (float)(ps0 - PTOP);
         }
-        if (rc) {
-            if (!g->terrain) {
-                free(pstar);
-                return vsv_source_fail(s, VSV_ECORRUPT, "neither PSTARCRS nor TERRAIN: heights unknown");
-            }
-            for (size_t c = 0; c < plane; c++) {
-                double ps0 = P00 * exp(-TS0 / A + sqrt((TS0 / A) * (TS0 / A) - 2 * G0 * g->terrain[c] / (A * R_DRY)));
-                pstar[c] = (float)(ps0 - PTOP);
-            }
-        }
-        const double ref[4] = {P00, TS0, A, TISO};
-        for (int k = 0; k < x->KX; k++)
-            for (size_t c = 0; c < plane; c++)
-                x->zn[(size_t)k * plane + c] = (float)vsv_mm5_ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, ref);
-        free(pstar);
     }
-    /* the vertical axis: levels need heights (sigma files, or H on pressure
-     * levels); else the layer index */
-    if (x->plev) {
-        x->hraw = malloc(plane * (size_t)x->KP * sizeof *x->hraw);
-        x->zn = malloc(plane * (size_t)x->KP * sizeof *x->zn);
-        x->zidx = malloc(plane * (size_t)x->KP * sizeof *x->zidx);
-        if (!x->hraw || !x->zn || !x->zidx)
-            return VSV_ENOMEM;
-        if (!g->terrain)
-            return vsv_source_fail(s, VSV_ECORRUPT, "pressure levels without TERRAIN: the ground is unknown");
-        if ((rc = plev_heights(s, x, 0)))
-            return rc;
-        x->plan_t = -1; /* heights known, no even plan yet */
-        const int even = vsv_source_axis(s, x->hraw, x->KP, 100.0);
-        if (even < 0)
-            return even;
-        x->even = even;
-        float pl[1000];
-        const int ip = vsv_mm5_find(m, 0, "PRESSURE");
-        const vsv_mm5_field *fp = ip >= 0 ? vsv_mm5_field_at(m, ip) : NULL;
-        if (fp && fp->bytes == (uint64_t)x->KP * 4) {
-            vsv_mm5_read(m, fp, pl);
-            snprintf(buf, sizeof buf, "%d pressure levels, %g hPa (surface) to %g hPa, placed by the geopotential "
-                     "height H of each column and time", x->KP, pl[0] / 100, pl[x->KP - 1] / 100);
-        } else {
-            snprintf(buf, sizeof buf, "%d pressure levels placed by the geopotential height H of each column and time",
-                     x->KP);
-        }
-        vsv_meta_add_attr(g, "vertical", buf);
-    } else if (!x->has_sigma) {
-        g->nz = x->KX > 0 ? x->KX : 1;
-        g->vert_kind = VSV_VERT_INDEX;
+    const double ref[4] = {P00, TS0, A, TISO};
+    for (int k = 0; k < x->KX; k++)
+        for (size_t c = 0; c < plane; c++)
+            x->zn[(size_t)k * plane + c] = (float)vsv_mm5_ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, ref);
+    rc = 0;
+fail:
+    free(pstar);
+    return rc;
+}
+
+/* The vertical axis of a pressure-level file: heights from H at the first
+ * time, even when they allow, and the levels described. */
+static int mm5_plev_axis(vsv_source *s, mm5src *x)
+{
+    vsv_mm5 *m = x->m;
+    vsv_meta *g = &s->grid;
+    const size_t plane = (size_t)x->nx * x->ny;
+    int rc;
+    char buf[160];
+    x->hraw = malloc(plane * (size_t)x->KP * sizeof *x->hraw);
+    x->zn = malloc(plane * (size_t)x->KP * sizeof *x->zn);
+    x->zidx = malloc(plane * (size_t)x->KP * sizeof *x->zidx);
+    if (!x->hraw || !x->zn || !x->zidx)
+        return VSV_ENOMEM;
+    if (!g->terrain)
+        return vsv_source_fail(s, VSV_ECORRUPT, "pressure levels without TERRAIN: the ground is unknown");
+    if ((rc = plev_heights(s, x, 0)))
+        return rc;
+    x->plan_t = -1; /* heights known, no even plan yet */
+    const int even = vsv_source_axis(s, x->hraw, x->KP, 100.0);
+    if (even < 0)
+        return even;
+    x->even = even;
+    float pl[1000];
+    const int ip = vsv_mm5_find(m, 0, "PRESSURE");
+    const vsv_mm5_field *fp = ip >= 0 ? vsv_mm5_field_at(m, ip) : NULL;
+    if (fp && fp->bytes == (uint64_t)x->KP * 4) {
+        vsv_mm5_read(m, fp, pl);
+        snprintf(buf, sizeof buf, "%d pressure levels, %g hPa (surface) to %g hPa, placed by the geopotential "
+                 "height H of each column and time", x->KP, pl[0] / 100, pl[x->KP - 1] / 100);
     } else {
-        const int even = vsv_source_axis(s, x->zn, x->KX, 100.0);
-        if (even < 0)
-            return even;
-        if (!even && g->terrain) {
-            /* native levels: their heights in every column, as MM5's formula over the terrain */
-            const double mm5[5] = {P00, TS0, A, TISO, PTOP};
-            double *sigma = malloc((size_t)x->KX * sizeof *sigma);
-            if (!sigma)
-                return VSV_ENOMEM;
-            for (int k = 0; k < x->KX; k++)
-                sigma[k] = sig[x->KX - 1 - k];
-            const int hrc = vsv_meta_add_heights(g, INT64_MIN, NULL, mm5, sigma);
-            free(sigma);
-            if (hrc)
-                return hrc == VSV_ENOMEM ? hrc
-                                         : vsv_source_fail(s, VSV_ECORRUPT, "SIGMAH does not give heights increasing upward");
-        }
-        if (even && vsv_vgrid_plan(&x->vg, x->zn, x->KX, plane, g->terrain, g->nz, g->origin[2], g->spacing[2]))
-            return VSV_ENOMEM;
-        x->even = even;
+        snprintf(buf, sizeof buf, "%d pressure levels placed by the geopotential height H of each column and time",
+                 x->KP);
     }
-    /* fields: those of the first period that has any; times: one per period */
+    vsv_meta_add_attr(g, "vertical", buf);
+    return 0;
+}
+
+/* The vertical axis of a sigma file: even heights with a resampling plan,
+ * or the native levels with their heights in every column. */
+static int mm5_sigma_axis(vsv_source *s, mm5src *x, const mm5_base *b, const float *sig)
+{
+    vsv_meta *g = &s->grid;
+    const double PTOP = b->ptop, P00 = b->p00, TS0 = b->ts0, A = b->a, TISO = b->tiso;
+    const size_t plane = (size_t)x->nx * x->ny;
+    const int even = vsv_source_axis(s, x->zn, x->KX, 100.0);
+    if (even < 0)
+        return even;
+    if (!even && g->terrain) {
+        /* native levels: their heights in every column, as MM5's formula over the terrain */
+        const double mm5[5] = {P00, TS0, A, TISO, PTOP};
+        double *sigma = malloc((size_t)x->KX * sizeof *sigma);
+        if (!sigma)
+            return VSV_ENOMEM;
+        for (int k = 0; k < x->KX; k++)
+            sigma[k] = sig[x->KX - 1 - k];
+        const int hrc = vsv_meta_add_heights(g, INT64_MIN, NULL, mm5, sigma);
+        free(sigma);
+        if (hrc)
+            return hrc == VSV_ENOMEM ? hrc
+                                     : vsv_source_fail(s, VSV_ECORRUPT, "SIGMAH does not give heights increasing upward");
+    }
+    if (even && vsv_vgrid_plan(&x->vg, x->zn, x->KX, plane, g->terrain, g->nz, g->origin[2], g->spacing[2]))
+        return VSV_ENOMEM;
+    x->even = even;
+    return 0;
+}
+
+/* The field table: those of the first period that has any, each with its
+ * levels, role and whether it is a volume; the time tables allocated. */
+static int mm5_fields(vsv_source *s, mm5src *x)
+{
+    vsv_mm5 *m = x->m;
     int p0 = 0;
     while (p0 < vsv_mm5_nperiods(m) && vsv_mm5_find(m, p0, "T") < 0 && vsv_mm5_find(m, p0, "U") < 0 &&
            vsv_mm5_find(m, p0, "TERRAIN") < 0)
@@ -421,6 +466,13 @@ static int mm5_open(vsv_source *s)
         else if (!strcmp(f->order, "CA"))
             snprintf(fi->role, sizeof fi->role, "table");
     }
+    return 0;
+}
+
+/* The times: one per dated period, in increasing order. */
+static int mm5_times(vsv_source *s, mm5src *x)
+{
+    vsv_mm5 *m = x->m;
     for (int p = 0; p < vsv_mm5_nperiods(m); p++) {
         int64_t t;
         const int dated = period_time(s, m, p, &t);
@@ -434,6 +486,40 @@ static int mm5_open(vsv_source *s)
         s->times[s->ntimes++] = t;
     }
     return 0;
+}
+
+static int mm5_open(vsv_source *s)
+{
+    mm5src *x = calloc(1, sizeof *x);
+    if (!x)
+        return VSV_ENOMEM;
+    s->priv = x;
+    vsv_mm5 *m = NULL;
+    int rc = vsv_mm5_open(s->path, &m);
+    x->m = m;
+    if (rc) {
+        vsv_msg(s->err, sizeof s->err, "%s", vsv_mm5_error(m));
+        return rc;
+    }
+    /* everything acquired hangs off x, freed by mm5_close */
+    mm5_base b = {0};
+    float sig[VSV_MAX_DIM];
+    if ((rc = mm5_domain(s, x)) || (rc = mm5_header(s, x, &b)) || (rc = mm5_surface(s, x)) ||
+        (rc = mm5_sigma_heights(s, x, &b, sig)))
+        return rc;
+    /* the vertical axis: levels need heights (sigma files, or H on pressure
+     * levels); else the layer index */
+    if (x->plev) {
+        rc = mm5_plev_axis(s, x);
+    } else if (!x->has_sigma) {
+        s->grid.nz = x->KX > 0 ? x->KX : 1;
+        s->grid.vert_kind = VSV_VERT_INDEX;
+    } else {
+        rc = mm5_sigma_axis(s, x, &b, sig);
+    }
+    if (rc || (rc = mm5_fields(s, x)))
+        return rc;
+    return mm5_times(s, x);
 }
 
 static int mm5_read(vsv_source *s, int field, int t, float *out)

@@ -163,19 +163,12 @@ static int netcdf_open(vsv_source *s)
                            "CF-convention netCDF (Conventions \"CF-...\")");
 }
 
-static int wrf_open(vsv_source *s, int nc)
+/* The mass-point dimensions and time count (nt), and the scratch sized for them. */
+static int wrf_dims(vsv_source *s, wrf *w, size_t *nt)
 {
-    wrf *w = calloc(1, sizeof *w);
-    if (!w) {
-        nc_close(nc);
-        return VSV_ENOMEM;
-    }
-    s->priv = w;
-    w->nc = nc;
-    w->vgrid_t = -1;
-    size_t nx, ny, nk, nt;
-    if (dim_len(nc, "west_east", &nx) || dim_len(nc, "south_north", &ny) || dim_len(nc, "bottom_top", &nk) ||
-        dim_len(nc, "Time", &nt) || nx < 2 || ny < 2 || nk < 1 || nx > VSV_MAX_DIM || ny > VSV_MAX_DIM)
+    size_t nx, ny, nk;
+    if (dim_len(w->nc, "west_east", &nx) || dim_len(w->nc, "south_north", &ny) || dim_len(w->nc, "bottom_top", &nk) ||
+        dim_len(w->nc, "Time", nt) || nx < 2 || ny < 2 || nk < 1 || nx > VSV_MAX_DIM || ny > VSV_MAX_DIM)
         return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without west_east, south_north, bottom_top and Time");
     w->nx = (int)nx;
     w->ny = (int)ny;
@@ -187,7 +180,12 @@ static int wrf_open(vsv_source *s, int nc)
     w->nat = malloc(plane * nk * sizeof(float));
     if (!w->zw || !w->zm || !w->raw || !w->nat)
         return VSV_ENOMEM;
-    /* times */
+    return 0;
+}
+
+/* The nt times from Times (YYYY-MM-DD_HH:MM:SS each), increasing. */
+static int wrf_times(vsv_source *s, int nc, size_t nt)
+{
     int tv;
     nc_inq_varid(nc, "Times", &tv);
     size_t slen = 0;
@@ -198,13 +196,12 @@ static int wrf_open(vsv_source *s, int nc)
         return vsv_source_fail(s, VSV_ECORRUPT, "Times is not a (Time, 19-character) variable");
     char *tbuf = calloc(nt * slen + 1, 1);
     s->times = calloc(nt + 1, sizeof *s->times);
-    if (!tbuf || !s->times) {
-        free(tbuf);
-        return VSV_ENOMEM;
-    }
+    int rc = VSV_ENOMEM;
+    if (!tbuf || !s->times)
+        goto fail;
     if (nt && nc_get_var_text(nc, tv, tbuf)) {
-        free(tbuf);
-        return vsv_source_fail(s, VSV_ECORRUPT, "cannot read Times");
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "cannot read Times");
+        goto fail;
     }
     for (size_t t = 0; t < nt; t++) {
         char one[65];
@@ -212,22 +209,27 @@ static int wrf_open(vsv_source *s, int nc)
         one[slen] = 0;
         int y, mo, d, h, mi, se;
         if (sscanf(one, "%4d-%2d-%2d_%2d:%2d:%2d", &y, &mo, &d, &h, &mi, &se) != 6) {
-            free(tbuf);
-            return vsv_source_fail(s, VSV_ECORRUPT, "Times[%zu] = '%s' is not YYYY-MM-DD_HH:MM:SS", t, one);
+            rc = vsv_source_fail(s, VSV_ECORRUPT, "Times[%zu] = '%s' is not YYYY-MM-DD_HH:MM:SS", t, one);
+            goto fail;
         }
         s->times[t] = vsv_time_from_civil(y, mo, d, h, mi, se);
         if (t && s->times[t] <= s->times[t - 1]) {
-            free(tbuf);
-            return vsv_source_fail(s, VSV_ECORRUPT, "Times[%zu] does not follow Times[%zu]", t, t - 1);
+            rc = vsv_source_fail(s, VSV_ECORRUPT, "Times[%zu] does not follow Times[%zu]", t, t - 1);
+            goto fail;
         }
     }
-    free(tbuf);
     s->ntimes = (int)nt;
-    /* projection and position: the first cell's lat/lon placed in the projection */
+    rc = 0;
+fail:
+    free(tbuf);
+    return rc;
+}
+
+/* The projection from MAP_PROJ (1, 2, 3 or 6) and its globals; MAP_PROJ into mp. */
+static int wrf_projection(vsv_source *s, int nc, int *mp_out)
+{
     vsv_meta *g = &s->grid;
-    g->nx = w->nx;
-    g->ny = w->ny;
-    const int mp = (int)att_double(nc, "MAP_PROJ", -1);
+    const int mp = *mp_out = (int)att_double(nc, "MAP_PROJ", -1);
     const double lat1 = att_double(nc, "TRUELAT1", 0), lat2 = att_double(nc, "TRUELAT2", lat1),
                  slon = att_double(nc, "STAND_LON", att_double(nc, "CEN_LON", 0)),
                  clat = att_double(nc, "MOAD_CEN_LAT", att_double(nc, "CEN_LAT", 0));
@@ -255,27 +257,32 @@ static int wrf_open(vsv_source *s, int nc)
         g->proj.kind = VSV_PROJ_LATLON;
     } else
         return vsv_source_fail(s, VSV_EUNSUPPORTED, "MAP_PROJ %d is not supported (1, 2, 3 and 6 are)", mp);
+    return 0;
+}
+
+/* The grid's origin and spacing from XLAT/XLONG placed in the projection,
+ * checked against DX and DY. */
+static int wrf_position(vsv_source *s, const wrf *w, int mp)
+{
+    const int nc = w->nc;
+    const size_t nx = (size_t)w->nx, ny = (size_t)w->ny, plane = nx * ny;
+    vsv_meta *g = &s->grid;
     int vlat, vlon;
     if (nc_inq_varid(nc, "XLAT", &vlat) || nc_inq_varid(nc, "XLONG", &vlon))
         return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without XLAT/XLONG: its position is unknown");
     float *la = malloc(plane * sizeof *la), *lo = malloc(plane * sizeof *lo);
     const size_t pshape[2] = {ny, nx};
-    int rc = 0;
-    if (!la || !lo || (rc = vsv_nc_read(s, nc, vlat, "XLAT", 0, pshape, 2, la)) ||
-        (rc = vsv_nc_read(s, nc, vlon, "XLONG", 0, pshape, 2, lo))) {
-        free(la);
-        free(lo);
-        return la && lo ? rc : VSV_ENOMEM;
-    }
-    int bad = 0;
+    int rc = VSV_ENOMEM;
+    if (!la || !lo)
+        goto fail;
+    if ((rc = vsv_nc_read(s, nc, vlat, "XLAT", 0, pshape, 2, la)) ||
+        (rc = vsv_nc_read(s, nc, vlon, "XLONG", 0, pshape, 2, lo)))
+        goto fail;
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    if (!bad)
-        bad = vsv_proj_forward(&g->proj, la[0], lo[0], &x0, &y0) ||
-              vsv_proj_forward(&g->proj, la[plane - 1], lo[plane - 1], &x1, &y1);
-    if (bad) {
-        free(la);
-        free(lo);
-        return vsv_source_fail(s, VSV_ECORRUPT, "cannot place XLAT/XLONG in the projection");
+    if (vsv_proj_forward(&g->proj, la[0], lo[0], &x0, &y0) ||
+        vsv_proj_forward(&g->proj, la[plane - 1], lo[plane - 1], &x1, &y1)) {
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "cannot place XLAT/XLONG in the projection");
+        goto fail;
     }
     double dx = att_double(nc, "DX", 0), dy = att_double(nc, "DY", 0);
     if (mp == 6 || !(dx > 0) || !(dy > 0)) { /* lat/lon grids: spacing from the corners */
@@ -303,15 +310,26 @@ static int wrf_open(vsv_source *s, int nc)
             y0 = sy / (double)used;
         }
     }
-    free(la);
-    free(lo);
     g->origin[0] = x0;
     g->origin[1] = y0;
     g->spacing[0] = dx;
     g->spacing[1] = dy;
     /* the far corner must land where DX and DY put it (a check of the projection) */
     if (mp != 6 && (fabs(x1 - (x0 + dx * (nx - 1))) > 0.02 * dx * nx || fabs(y1 - (y0 + dy * (ny - 1))) > 0.02 * dy * ny))
-        return vsv_source_fail(s, VSV_ECORRUPT, "XLAT/XLONG do not match MAP_PROJ %d with DX %g, DY %g", mp, dx, dy);
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "XLAT/XLONG do not match MAP_PROJ %d with DX %g, DY %g", mp, dx, dy);
+    else
+        rc = 0;
+fail:
+    free(la);
+    free(lo);
+    return rc;
+}
+
+/* The model, run title and the globals worth keeping as attributes. */
+static void wrf_describe(vsv_source *s, const wrf *w, int mp)
+{
+    const int nc = w->nc;
+    vsv_meta *g = &s->grid;
     snprintf(g->model, sizeof g->model, "WRF");
     char title[200] = "";
     size_t tl;
@@ -320,12 +338,22 @@ static int wrf_open(vsv_source *s, int nc)
     char *tt = title;
     while (*tt == ' ')
         tt++;
-    snprintf(g->run, sizeof g->run, "%s, %zu x %zu x %zu mass points", tt, nx, ny, nk);
+    snprintf(g->run, sizeof g->run, "%s, %zu x %zu x %zu mass points", tt, (size_t)w->nx, (size_t)w->ny, (size_t)w->nk);
     char buf[64];
     snprintf(buf, sizeof buf, "%d", mp);
     vsv_meta_add_attr(g, "MAP_PROJ", buf);
     snprintf(buf, sizeof buf, "%d", (int)att_double(nc, "MP_PHYSICS", -1));
     vsv_meta_add_attr(g, "MP_PHYSICS", buf);
+}
+
+/* Terrain (HGT, else the lowest w-level) and land use with its water categories. */
+static int wrf_surface(vsv_source *s, wrf *w)
+{
+    const int nc = w->nc;
+    const size_t plane = (size_t)w->nx * w->ny;
+    const size_t pshape[2] = {(size_t)w->ny, (size_t)w->nx};
+    vsv_meta *g = &s->grid;
+    int rc;
     /* terrain: HGT, else the lowest w-level */
     if (vsv_meta_alloc_terrain(g))
         return VSV_ENOMEM;
@@ -359,7 +387,13 @@ static int wrf_open(vsv_source *s, int nc)
         vsv_meta_add_attr(g, "landuse", lu_names[i]);
         break;
     }
-    /* the vertical */
+    return 0;
+}
+
+/* The vertical: even heights, or the native levels' heights at every time. */
+static int wrf_vertical(vsv_source *s, wrf *w)
+{
+    int rc;
     if ((rc = w_heights(s, w, 0)))
         return rc;
     const int even = vsv_source_axis(s, w->zm, w->nk, 100.0); /* no invented levels above the file's top */
@@ -370,7 +404,14 @@ static int wrf_open(vsv_source *s, int nc)
     for (int t = 0; !even && t < s->ntimes; t++)
         if ((rc = w_heights(s, w, t)) || (rc = vsv_source_native_heights(s, t, w->zm)))
             return rc;
-    /* fields: the 4-D float variables on (Time, bottom_top[_stag], south_north[_stag], west_east[_stag]) */
+    return 0;
+}
+
+/* The fields: the 4-D float variables on (Time, bottom_top[_stag],
+ * south_north[_stag], west_east[_stag]), each with its staggering. */
+static int wrf_fields(vsv_source *s, wrf *w)
+{
+    const int nc = w->nc;
     int nvars;
     nc_inq_nvars(nc, &nvars);
     s->fields = calloc((size_t)nvars + 1, sizeof *s->fields);
@@ -422,6 +463,32 @@ static int wrf_open(vsv_source *s, int nc)
         s->nfields++;
     }
     return 0;
+}
+
+static int wrf_open(vsv_source *s, int nc)
+{
+    wrf *w = calloc(1, sizeof *w);
+    if (!w) {
+        nc_close(nc);
+        return VSV_ENOMEM;
+    }
+    s->priv = w;
+    w->nc = nc;
+    w->vgrid_t = -1;
+    /* everything acquired hangs off w and s, freed by wrf_close */
+    size_t nt;
+    int mp, rc;
+    if ((rc = wrf_dims(s, w, &nt)) || (rc = wrf_times(s, nc, nt)))
+        return rc;
+    /* projection and position: the first cell's lat/lon placed in the projection */
+    s->grid.nx = w->nx;
+    s->grid.ny = w->ny;
+    if ((rc = wrf_projection(s, nc, &mp)) || (rc = wrf_position(s, w, mp)))
+        return rc;
+    wrf_describe(s, w, mp);
+    if ((rc = wrf_surface(s, w)) || (rc = wrf_vertical(s, w)))
+        return rc;
+    return wrf_fields(s, w);
 }
 
 static int wrf_read(vsv_source *s, int field, int t, float *out)
