@@ -97,23 +97,9 @@ static void corner(const vsv_meta *m, int c, double *x, double *y)
 
 static const char *corner_names[4] = {"SW", "SE", "NW", "NE"};
 
-static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats)
+/* The grid: its size, origin, spacing, vertical coordinate, terrain and land use. */
+static vsv_json *json_grid(const vsv_meta *m)
 {
-    const vsv_meta *m = vsv_file_meta(f);
-    vsv_file_info info;
-    vsv_file_info_get(f, &info);
-    vsv_file_counts cnt;
-    vsv_file_count(f, &cnt);
-    vsv_json *root = vsv_json_object();
-    char buf[64];
-    vsv_json_set(root, "file", vsv_json_string(path));
-    snprintf(buf, sizeof buf, "%d.%d", info.major, info.minor);
-    vsv_json_set(root, "format_version", vsv_json_string(buf));
-    vsv_json *src = vsv_json_object();
-    vsv_json_set(src, "model", vsv_json_string(m->model));
-    vsv_json_set(src, "run", vsv_json_string(m->run));
-    vsv_json_set(root, "source", src);
-
     vsv_json *grid = vsv_json_object();
     vsv_json_set(grid, "nx", vsv_json_int(m->nx));
     vsv_json_set(grid, "ny", vsv_json_int(m->ny));
@@ -138,8 +124,12 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     vsv_json_set(grid, "vertical", vert);
     vsv_json_set(grid, "terrain", vsv_json_bool(m->terrain != NULL));
     vsv_json_set(grid, "landuse", vsv_json_bool(m->landuse != NULL));
-    vsv_json_set(root, "grid", grid);
+    return grid;
+}
 
+/* The projection and the four corners' latitudes and longitudes (null without a projection). */
+static void json_set_projection(vsv_json *root, const vsv_meta *m)
+{
     vsv_json *proj = vsv_json_object();
     vsv_json_set(proj, "name", vsv_json_string(vsv_proj_name(m->proj.kind)));
     if (m->proj.kind >= VSV_PROJ_LCC) {
@@ -167,9 +157,14 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
         vsv_json_push(corners, cj);
     }
     vsv_json_set(root, "corners", corners);
+}
 
+/* The steps' times and the interval between them. */
+static void json_set_times(vsv_json *root, vsv_file *f, int nsteps)
+{
+    char buf[64];
     vsv_json *times = vsv_json_array();
-    for (int t = 0; t < info.nsteps; t++) {
+    for (int t = 0; t < nsteps; t++) {
         vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), buf, sizeof buf);
         vsv_json_push(times, vsv_json_string(buf));
     }
@@ -177,13 +172,18 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     /* the interval of regular steps, null when irregular or a single step */
     /* (differences checked: a file's times may lie anywhere in int64) */
     int64_t step = 0, d;
-    if (info.nsteps > 1 && __builtin_sub_overflow(vsv_file_time(f, 1), vsv_file_time(f, 0), &step))
+    if (nsteps > 1 && __builtin_sub_overflow(vsv_file_time(f, 1), vsv_file_time(f, 0), &step))
         step = 0;
-    for (int t = 2; t < info.nsteps && step; t++)
+    for (int t = 2; t < nsteps && step; t++)
         if (__builtin_sub_overflow(vsv_file_time(f, t), vsv_file_time(f, t - 1), &d) || d != step)
             step = 0;
     vsv_json_set(root, "time_step", step ? vsv_json_int(step) : vsv_json_null());
+}
 
+/* Each species: names, units, range and quantisation. */
+static vsv_json *json_species(vsv_file *f)
+{
+    const vsv_meta *m = vsv_file_meta(f);
     vsv_json *species = vsv_json_array();
     for (int s = 0; s < m->nvars; s++) {
         const vsv_quant *q = vsv_file_quant(f, s);
@@ -203,7 +203,50 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
             vsv_json_set(sj, "transfer_function", vsv_json_string(m->tf[s]));
         vsv_json_push(species, sj);
     }
-    vsv_json_set(root, "species", species);
+    return species;
+}
+
+/* --stats: min, max and mean of every (species, step), species by species. */
+static vsv_json *json_stats(vsv_file *f, int nsteps, const stat_row *stats)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    char buf[64];
+    vsv_json *st = vsv_json_array();
+    for (int s = 0; s < m->nvars; s++)
+        for (int t = 0; t < nsteps; t++) {
+            const stat_row *r = &stats[(size_t)s * nsteps + t];
+            vsv_json *rj = vsv_json_object();
+            vsv_json_set(rj, "species", vsv_json_string(m->vars[s].name));
+            vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), buf, sizeof buf);
+            vsv_json_set(rj, "time", vsv_json_string(buf));
+            vsv_json_set(rj, "min", vsv_json_number(r->min));
+            vsv_json_set(rj, "max", vsv_json_number(r->max));
+            vsv_json_set(rj, "mean", vsv_json_number(r->mean));
+            vsv_json_push(st, rj);
+        }
+    return st;
+}
+
+static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    vsv_file_counts cnt;
+    vsv_file_count(f, &cnt);
+    vsv_json *root = vsv_json_object();
+    char buf[64];
+    vsv_json_set(root, "file", vsv_json_string(path));
+    snprintf(buf, sizeof buf, "%d.%d", info.major, info.minor);
+    vsv_json_set(root, "format_version", vsv_json_string(buf));
+    vsv_json *src = vsv_json_object();
+    vsv_json_set(src, "model", vsv_json_string(m->model));
+    vsv_json_set(src, "run", vsv_json_string(m->run));
+    vsv_json_set(root, "source", src);
+    vsv_json_set(root, "grid", json_grid(m));
+    json_set_projection(root, m);
+    json_set_times(root, f, info.nsteps);
+    vsv_json_set(root, "species", json_species(f));
 
     vsv_json *bricks = vsv_json_object();
     vsv_json_set(bricks, "size", vsv_json_int(info.brick));
@@ -234,22 +277,8 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
             vsv_json_set(attrs, m->attr_keys[i], vsv_json_string(m->attr_values[i]));
         vsv_json_set(root, "attributes", attrs);
     }
-    if (stats) {
-        vsv_json *st = vsv_json_array();
-        for (int s = 0; s < m->nvars; s++)
-            for (int t = 0; t < info.nsteps; t++) {
-                const stat_row *r = &stats[(size_t)s * info.nsteps + t];
-                vsv_json *rj = vsv_json_object();
-                vsv_json_set(rj, "species", vsv_json_string(m->vars[s].name));
-                vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), buf, sizeof buf);
-                vsv_json_set(rj, "time", vsv_json_string(buf));
-                vsv_json_set(rj, "min", vsv_json_number(r->min));
-                vsv_json_set(rj, "max", vsv_json_number(r->max));
-                vsv_json_set(rj, "mean", vsv_json_number(r->mean));
-                vsv_json_push(st, rj);
-            }
-        vsv_json_set(root, "stats", st);
-    }
+    if (stats)
+        vsv_json_set(root, "stats", json_stats(f, info.nsteps, stats));
     return root;
 }
 

@@ -69,9 +69,29 @@ static void print_value(FILE *fp, float v, int fmt)
         fprintf(fp, fmt == FMT_TABLE ? "%.6g" : "%.9g", v);
 }
 
-int main(int argc, char **argv)
+/* The command line, parsed and checked (main). */
+typedef struct query_args {
+    const char *at, *cellarg, *profile, *species, *time, *times, *path;
+    int interp, fmt, nargs;
+    double arg[3]; /* --at, --cell or --profile's numbers, nargs of them */
+} query_args;
+
+/* One query: the file, its steps, the species (sel, n of them), the point and the JSON document being built (main). */
+typedef struct query_run {
+    vsv_file *f;
+    const vsv_meta *m;
+    int a, b, n, k0, k1;
+    int *sel, *width; /* the species' variables, and their table columns' widths */
+    vsv_point pt;
+    vsv_query *q;
+    const char *hu;
+    char hname[48];
+    vsv_json *root, *rows;
+} query_run;
+
+/* Reads the options into qa (set to the defaults by main); 1 after --help. */
+static int parse_args(int argc, char **argv, query_args *qa)
 {
-    vsv_cli_init("vsv-query");
     enum { O_AT = 1000, O_CELL, O_PROFILE, O_TIMES, O_INTERP, O_CSV, O_JSON };
     static const struct option longopts[] = {
         {"at", required_argument, 0, O_AT},       {"cell", required_argument, 0, O_CELL},
@@ -80,33 +100,39 @@ int main(int argc, char **argv)
         {"interp", no_argument, 0, O_INTERP},     {"csv", no_argument, 0, O_CSV},
         {"json", no_argument, 0, O_JSON},         {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},         {0, 0, 0, 0}};
-    const char *at = NULL, *cellarg = NULL, *profile = NULL, *species = NULL, *time = NULL, *times = NULL;
-    int interp = VSV_INTERP_NEAREST, fmt = FMT_TABLE, c;
+    int c;
     while ((c = getopt_long(argc, argv, "s:t:hV", longopts, NULL)) != -1) {
         switch (c) {
-        case O_AT: at = optarg; break;
-        case O_CELL: cellarg = optarg; break;
-        case O_PROFILE: profile = optarg; break;
-        case 's': species = optarg; break;
-        case 't': time = optarg; break;
-        case O_TIMES: times = optarg; break;
-        case O_INTERP: interp = VSV_INTERP_LINEAR; break;
-        case O_CSV: fmt = FMT_CSV; break;
-        case O_JSON: fmt = FMT_JSON; break;
+        case O_AT: qa->at = optarg; break;
+        case O_CELL: qa->cellarg = optarg; break;
+        case O_PROFILE: qa->profile = optarg; break;
+        case 's': qa->species = optarg; break;
+        case 't': qa->time = optarg; break;
+        case O_TIMES: qa->times = optarg; break;
+        case O_INTERP: qa->interp = VSV_INTERP_LINEAR; break;
+        case O_CSV: qa->fmt = FMT_CSV; break;
+        case O_JSON: qa->fmt = FMT_JSON; break;
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
-        case 'h': fputs(usage, stdout); return 0;
+        case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
         }
     }
+    return 0;
+}
+
+/* One point, one input, and the point's numbers into qa->arg (qa->path too). */
+static void check_args(int argc, char **argv, query_args *qa)
+{
+    const char *at = qa->at, *cellarg = qa->cellarg, *profile = qa->profile;
+    double *arg = qa->arg;
     if (!!at + !!cellarg + !!profile != 1)
         vsv_cli_usage_error("give one of --at LAT,LON[,HEIGHT], --cell I,J[,K] or --profile LAT,LON");
     if (optind != argc - 1)
         vsv_cli_usage_error(optind < argc ? "one .vsv file" : "no input file");
-    if (time && times)
+    if (qa->time && qa->times)
         vsv_cli_usage_error("--time and --times exclude each other");
-    double arg[3] = {NAN, NAN, NAN};
-    const int nargs = parse_list(at ? at : cellarg ? cellarg : profile, arg);
+    const int nargs = qa->nargs = parse_list(at ? at : cellarg ? cellarg : profile, arg);
     if (at && nargs < 2)
         vsv_cli_usage_error("--at %s: expected LAT,LON or LAT,LON,HEIGHT", at);
     if (profile && nargs != 2)
@@ -118,80 +144,89 @@ int main(int argc, char **argv)
             vsv_cli_usage_error("--cell %s: indices are whole numbers from 0", cellarg);
     if (at && (fabs(arg[0]) > 90 || fabs(arg[1]) > 360))
         vsv_cli_usage_error("--at %s: latitude must be within -90..90 and longitude within -360..360", at);
+    qa->path = argv[optind];
+}
 
-    const char *path = argv[optind];
-    vsv_file *f = NULL;
-    if (vsv_file_open_any(path, &vsv_cli_http, &f))
-        vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
-    const vsv_meta *m = vsv_file_meta(f);
+/* Opens the file; the steps, the species, the point (run->pt) and the column's levels (run->k0..k1). */
+static void open_query(const query_args *qa, query_run *run)
+{
+    const char *path = qa->path;
+    const double *arg = qa->arg;
+    if (vsv_file_open_any(path, &vsv_cli_http, &run->f))
+        vsv_cli_die(1, "%s", run->f ? vsv_file_error(run->f) : path);
+    const vsv_meta *m = run->m = vsv_file_meta(run->f);
     vsv_file_info info;
-    vsv_file_info_get(f, &info);
+    vsv_file_info_get(run->f, &info);
 
     /* the steps (the one time grammar: a time outside the run exits 1 naming it) */
-    int a, b;
-    vsv_cli_steps(f, path, time, times, 1, &a, &b);
+    vsv_cli_steps(run->f, path, qa->time, qa->times, 1, &run->a, &run->b);
 
     /* the species */
-    int *sel = calloc((size_t)m->nvars, sizeof *sel);
-    if (!sel)
+    run->sel = calloc((size_t)m->nvars, sizeof *run->sel);
+    if (!run->sel)
         vsv_cli_die(1, "out of memory");
-    const int n = vsv_cli_species(m, species, path, sel);
+    run->n = vsv_cli_species(m, qa->species, path, run->sel);
 
     /* the point */
-    vsv_point pt;
     char msg[512];
-    int rc = cellarg ? vsv_point_cell(m, (int)arg[0], (int)arg[1], nargs == 3 ? (int)arg[2] : -1, &pt, msg, sizeof msg)
-                     : vsv_point_locate_at(m, vsv_file_time(f, a), arg[0], arg[1], at ? arg[2] : NAN, &pt, msg,
-                                           sizeof msg);
+    int rc = qa->cellarg ? vsv_point_cell(m, (int)arg[0], (int)arg[1], qa->nargs == 3 ? (int)arg[2] : -1, &run->pt,
+                                          msg, sizeof msg)
+                         : vsv_point_locate_at(m, vsv_file_time(run->f, run->a), arg[0], arg[1],
+                                               qa->at ? arg[2] : NAN, &run->pt, msg, sizeof msg);
     if (rc)
         vsv_cli_die(1, "%s: %s", path, msg);
-    const int k0 = profile ? 0 : -1, k1 = profile ? m->nz - 1 : -1;
+    run->k0 = qa->profile ? 0 : -1;
+    run->k1 = qa->profile ? m->nz - 1 : -1;
 
-    vsv_query *q = NULL;
-    if (vsv_query_create(f, &q))
-        vsv_cli_die(1, "%s: %s", path, vsv_query_error(q));
-    const char *hu = vsv_meta_height_units(m);
-    char hname[48];
+    if (vsv_query_create(run->f, &run->q))
+        vsv_cli_die(1, "%s: %s", path, vsv_query_error(run->q));
+    run->hu = vsv_meta_height_units(m);
     if (m->vert_kind == VSV_VERT_EVEN || m->vert_kind == VSV_VERT_NATIVE)
-        snprintf(hname, sizeof hname, "height");
+        snprintf(run->hname, sizeof run->hname, "height");
     else
-        snprintf(hname, sizeof hname, "level");
+        snprintf(run->hname, sizeof run->hname, "level");
+}
 
-    vsv_json *root = NULL, *rows = NULL;
-    int *width = calloc((size_t)n, sizeof *width);
+/* The output's head: the JSON document up to its rows (run->root, run->rows), or the table's or CSV's header row. */
+static void print_head(const query_args *qa, query_run *run)
+{
+    const vsv_meta *m = run->m;
+    const double *arg = qa->arg;
+    const int n = run->n, fmt = qa->fmt, *sel = run->sel;
+    int *width = run->width = calloc((size_t)n, sizeof *width);
     if (!width)
         vsv_cli_die(1, "out of memory");
     if (fmt == FMT_JSON) {
-        root = vsv_json_object();
-        vsv_json_set(root, "file", vsv_json_string(path));
+        vsv_json *root = run->root = vsv_json_object();
+        vsv_json_set(root, "file", vsv_json_string(qa->path));
         vsv_json *pj = vsv_json_object();
-        if (!cellarg) {
+        if (!qa->cellarg) {
             vsv_json_set(pj, "lat", vsv_json_number(arg[0]));
             vsv_json_set(pj, "lon", vsv_json_number(arg[1]));
-            if (at && !isnan(arg[2]))
+            if (qa->at && !isnan(arg[2]))
                 vsv_json_set(pj, "height", vsv_json_number(arg[2]));
         }
         vsv_json *pos = vsv_json_array();
         for (int d = 0; d < 3; d++)
-            vsv_json_push(pos, vsv_json_number(pt.pos[d]));
+            vsv_json_push(pos, vsv_json_number(run->pt.pos[d]));
         vsv_json_set(pj, "position", pos);
         vsv_json_set(root, "point", pj);
-        vsv_json_set(root, "interp", vsv_json_string(interp ? "trilinear" : "nearest"));
-        vsv_json_set(root, "height_units", vsv_json_string(hu));
+        vsv_json_set(root, "interp", vsv_json_string(qa->interp ? "trilinear" : "nearest"));
+        vsv_json_set(root, "height_units", vsv_json_string(run->hu));
         vsv_json *sp = vsv_json_array();
         for (int l = 0; l < n; l++) {
             vsv_json *o = vsv_json_object();
             vsv_json_set(o, "name", vsv_json_string(m->vars[sel[l]].name));
             vsv_json_set(o, "units", vsv_json_string(m->vars[sel[l]].units));
-            vsv_json_set(o, "max_abs_error", vsv_json_number(vsv_file_quant(f, sel[l])->max_abs_error));
+            vsv_json_set(o, "max_abs_error", vsv_json_number(vsv_file_quant(run->f, sel[l])->max_abs_error));
             vsv_json_push(sp, o);
         }
         vsv_json_set(root, "species", sp);
-        rows = vsv_json_array();
+        run->rows = vsv_json_array();
     } else {
         /* the header row */
         char hcol[64];
-        snprintf(hcol, sizeof hcol, *hu ? "%s (%s)" : "%s%s", hname, hu);
+        snprintf(hcol, sizeof hcol, *run->hu ? "%s (%s)" : "%s%s", run->hname, run->hu);
         if (fmt == FMT_CSV)
             printf("time,i,j,k,lat,lon,%s", hcol);
         else
@@ -207,17 +242,27 @@ int main(int argc, char **argv)
         }
         putchar('\n');
     }
+}
 
-    for (int t = a; t <= b; t++) {
+/* One row a step and level: a JSON object pushed onto run->rows, or a line of the table or CSV. */
+static void print_rows(const query_args *qa, query_run *run)
+{
+    const vsv_meta *m = run->m;
+    const double *arg = qa->arg;
+    const int n = run->n, fmt = qa->fmt, *sel = run->sel, *width = run->width;
+    vsv_file *f = run->f;
+    vsv_point *pt = &run->pt;
+    char msg[512];
+    for (int t = run->a; t <= run->b; t++) {
         char iso[32];
         vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), iso, sizeof iso);
         /* per-column heights of native levels move in time: a height's level too */
-        if (at && !isnan(arg[2]) && m->nheights > 1 &&
-            vsv_point_locate_at(m, vsv_file_time(f, t), arg[0], arg[1], arg[2], &pt, msg, sizeof msg))
-            vsv_cli_die(1, "%s: at %s: %s", path, iso, msg);
-        for (int k = k0; k <= k1; k++) {
-            double pos[3] = {pt.pos[0], pt.pos[1], pt.pos[2]};
-            int cell[3] = {pt.cell[0], pt.cell[1], pt.cell[2]};
+        if (qa->at && !isnan(arg[2]) && m->nheights > 1 &&
+            vsv_point_locate_at(m, vsv_file_time(f, t), arg[0], arg[1], arg[2], pt, msg, sizeof msg))
+            vsv_cli_die(1, "%s: at %s: %s", qa->path, iso, msg);
+        for (int k = run->k0; k <= run->k1; k++) {
+            double pos[3] = {pt->pos[0], pt->pos[1], pt->pos[2]};
+            int cell[3] = {pt->cell[0], pt->cell[1], pt->cell[2]};
             if (k >= 0)
                 pos[2] = cell[2] = k;
             const double h = vsv_meta_cell_height_at(m, vsv_file_time(f, t), cell[0], cell[1], cell[2]);
@@ -228,19 +273,19 @@ int main(int argc, char **argv)
                 vsv_json_set(row, "i", vsv_json_int(cell[0]));
                 vsv_json_set(row, "j", vsv_json_int(cell[1]));
                 vsv_json_set(row, "k", vsv_json_int(cell[2]));
-                vsv_json_set(row, "lat", isnan(pt.lat) ? vsv_json_null() : vsv_json_number(pt.lat));
-                vsv_json_set(row, "lon", isnan(pt.lon) ? vsv_json_null() : vsv_json_number(pt.lon));
-                vsv_json_set(row, hname, vsv_json_number(h));
+                vsv_json_set(row, "lat", isnan(pt->lat) ? vsv_json_null() : vsv_json_number(pt->lat));
+                vsv_json_set(row, "lon", isnan(pt->lon) ? vsv_json_null() : vsv_json_number(pt->lon));
+                vsv_json_set(row, run->hname, vsv_json_number(h));
                 vals = vsv_json_object();
             } else if (fmt == FMT_CSV) {
-                printf("%s,%d,%d,%d,%.6f,%.6f,%.9g", iso, cell[0], cell[1], cell[2], pt.lat, pt.lon, h);
+                printf("%s,%d,%d,%d,%.6f,%.6f,%.9g", iso, cell[0], cell[1], cell[2], pt->lat, pt->lon, h);
             } else {
-                printf("%-20s %5d %5d %4d %10.4f %11.4f %12.6g", iso, cell[0], cell[1], cell[2], pt.lat, pt.lon, h);
+                printf("%-20s %5d %5d %4d %10.4f %11.4f %12.6g", iso, cell[0], cell[1], cell[2], pt->lat, pt->lon, h);
             }
             for (int l = 0; l < n; l++) {
                 float v;
-                if (vsv_query_sample(q, t, sel[l], pos, interp, &v))
-                    vsv_cli_die(1, "%s", vsv_query_error(q));
+                if (vsv_query_sample(run->q, t, sel[l], pos, qa->interp, &v))
+                    vsv_cli_die(1, "%s", vsv_query_error(run->q));
                 if (fmt == FMT_JSON) {
                     vsv_json_set(vals, m->vars[sel[l]].name, isnan(v) ? vsv_json_null() : vsv_json_number(v));
                 } else if (fmt == FMT_CSV) {
@@ -257,22 +302,35 @@ int main(int argc, char **argv)
             }
             if (fmt == FMT_JSON) {
                 vsv_json_set(row, "values", vals);
-                vsv_json_push(rows, row);
+                vsv_json_push(run->rows, row);
             } else {
                 putchar('\n');
             }
         }
     }
-    if (fmt == FMT_JSON) {
-        vsv_json_set(root, "rows", rows);
-        vsv_json_print(stdout, root, 1);
-        vsv_json_free(root);
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-query");
+    query_args qa = {.interp = VSV_INTERP_NEAREST, .fmt = FMT_TABLE, .arg = {NAN, NAN, NAN}};
+    if (parse_args(argc, argv, &qa))
+        return 0;
+    check_args(argc, argv, &qa);
+    query_run run = {0};
+    open_query(&qa, &run);
+    print_head(&qa, &run);
+    print_rows(&qa, &run);
+    if (qa.fmt == FMT_JSON) {
+        vsv_json_set(run.root, "rows", run.rows);
+        vsv_json_print(stdout, run.root, 1);
+        vsv_json_free(run.root);
     }
     if (fflush(stdout) || ferror(stdout))
         vsv_cli_die(1, "writing the output failed");
-    free(width);
-    free(sel);
-    vsv_query_free(q);
-    vsv_file_free(f);
+    free(run.width);
+    free(run.sel);
+    vsv_query_free(run.q);
+    vsv_file_free(run.f);
     return 0;
 }

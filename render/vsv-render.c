@@ -216,212 +216,254 @@ static void movie_close(movie *mv)
         vsv_cli_die(1, "%s: cannot write: %s", mv->out, strerror(errno));
 }
 
-int main(int argc, char **argv)
-{
-    vsv_cli_init("vsv-render");
-    enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
-    static const struct option longopts[] = {
-        {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
-        {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
-        {"tf", required_argument, 0, O_TF},        {"camera", required_argument, 0, 'c'},
-        {"size", required_argument, 0, O_SIZE},    {"exaggerate", required_argument, 0, 'x'},
-        {"background", required_argument, 0, O_BG}, {"no-terrain", no_argument, 0, O_NOTERRAIN},
-        {"renderer", required_argument, 0, 'r'},   {"threads", required_argument, 0, O_THREADS},
-        {"look-at", required_argument, 0, O_LOOKAT}, {"stereo", no_argument, 0, O_STEREO},
-        {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
-        {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
-        {"view", required_argument, 0, O_VIEW},    {"range", required_argument, 0, O_RANGE},
-        {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
-        {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
-        {"slice-colormap", required_argument, 0, O_SLICECM}, {"gpu-mb", required_argument, 0, O_GPUMB},
-        {"slice-range", required_argument, 0, O_SLICERANGE},
-        {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
-        {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
-    const char *out = NULL, *time = NULL, *times = NULL, *species = NULL, *tfpath = NULL, *movie_out = NULL;
-    int fps = 12;
-    size_t gpu_mb = 0;
-    double az = 225, el = 30, dist = 0, exag = 0;
-    float bg[3] = {0.02f, 0.03f, 0.06f};
-    int width = 800, height = 600, terrain = 1, c, lookat = 0, stereo = 0, plan = 0, nranges = 0;
-    const char *ranges[64], *slice_specs[8], *slice_species = NULL;
-    const char *slice_cmap = "viridis";
-    double slice_range[2] = {NAN, NAN}; /* --slice-range, else each frame's own */
-    int nslice_specs = 0, light = 0;
-    double sun_az = 315, sun_el = 45;
-    unsigned parts = VSV_ANNOT_ALL;
-    double la[6] = {0};
+enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
+static const struct option longopts[] = {
+    {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
+    {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
+    {"tf", required_argument, 0, O_TF},        {"camera", required_argument, 0, 'c'},
+    {"size", required_argument, 0, O_SIZE},    {"exaggerate", required_argument, 0, 'x'},
+    {"background", required_argument, 0, O_BG}, {"no-terrain", no_argument, 0, O_NOTERRAIN},
+    {"renderer", required_argument, 0, 'r'},   {"threads", required_argument, 0, O_THREADS},
+    {"look-at", required_argument, 0, O_LOOKAT}, {"stereo", no_argument, 0, O_STEREO},
+    {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
+    {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
+    {"view", required_argument, 0, O_VIEW},    {"range", required_argument, 0, O_RANGE},
+    {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
+    {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
+    {"slice-colormap", required_argument, 0, O_SLICECM}, {"gpu-mb", required_argument, 0, O_GPUMB},
+    {"slice-range", required_argument, 0, O_SLICERANGE},
+    {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
+    {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
+
+/* The command line, parsed and checked (main). */
+typedef struct render_args {
+    const char *out, *time, *times, *species, *tfpath, *movie_out, *path;
+    int fps, width, height, terrain, lookat, stereo, plan, nranges, nslice_specs, light, sequence;
+    size_t gpu_mb;
+    double az, el, dist, exag, sun_az, sun_el, la[6], slice_range[2]; /* --slice-range, else each frame's own */
+    float bg[3];
+    const char *ranges[64], *slice_specs[8], *slice_species, *slice_cmap;
+    unsigned parts;
     vsv_render_opts ro;
-    vsv_render_opts_init(&ro);
+} render_args;
+
+/* One run: the file, its steps, layers, scene and camera, and what draws them (main). */
+typedef struct render_run {
+    vsv_file *f;
+    const vsv_meta *m;
+    int a, b, nl, slice_layer, ow, exr;
+    vsv_layer *layers;
+    vsv_tf *tfs, slice_tf;
+    vsv_volume **vols;
+    int *sidx;
+    float *opac; /* per species: its layer's opacity, -1 when not drawn */
+    vsv_slice slices[8];
+    vsv_scene sc;
+    vsv_camera cam;
+    double sep, mn[3], mx[3];
+    movie mv;
+    unsigned char *rgb8;
+    vsv_font *font;
+    vsv_outlines *outlines;
+    vsv_annot annot;
+    vsv_renderer *r;
+    vsv_gl_context *glc;
+    vsv_gl *gl;
+} render_run;
+
+/* Reads the options into ra (set to the defaults by main); 1 after --help. */
+static int parse_args(int argc, char **argv, render_args *ra)
+{
+    int c;
     while ((c = getopt_long(argc, argv, "o:t:s:c:x:r:qhV", longopts, NULL)) != -1) {
         long v;
         switch (c) {
-        case 'o': out = optarg; break;
-        case 't': time = optarg; break;
-        case O_TIMES: times = optarg; break;
-        case 's': species = optarg; break;
-        case O_TF: tfpath = optarg; break;
+        case 'o': ra->out = optarg; break;
+        case 't': ra->time = optarg; break;
+        case O_TIMES: ra->times = optarg; break;
+        case 's': ra->species = optarg; break;
+        case O_TF: ra->tfpath = optarg; break;
         case 'c': {
-            int n = sscanf(optarg, "%lf,%lf,%lf", &az, &el, &dist);
-            if (n < 2 || !(el > -90 && el < 90) || dist < 0)
+            int n = sscanf(optarg, "%lf,%lf,%lf", &ra->az, &ra->el, &ra->dist);
+            if (n < 2 || !(ra->el > -90 && ra->el < 90) || ra->dist < 0)
                 vsv_cli_usage_error("--camera %s: expected AZ,EL[,DIST] with -90 < EL < 90", optarg);
-            plan = 0;
+            ra->plan = 0;
             break;
         }
         case O_RANGE: {
             char nm[64];
             double lo, hi;
             int used = 0;
-            if (nranges >= 64 || sscanf(optarg, "%63[^=]=%lf:%lf%n", nm, &lo, &hi, &used) != 3 || optarg[used] ||
+            if (ra->nranges >= 64 || sscanf(optarg, "%63[^=]=%lf:%lf%n", nm, &lo, &hi, &used) != 3 || optarg[used] ||
                 !(lo < hi) || !isfinite(lo) || !isfinite(hi))
                 vsv_cli_usage_error("--range %s: expected SPECIES=LO:HI with LO < HI", optarg);
-            ranges[nranges++] = optarg;
+            ra->ranges[ra->nranges++] = optarg;
             break;
         }
         case O_VIEW:
-            if ((plan = vsv_view_preset(optarg, &az, &el)) < 0)
+            if ((ra->plan = vsv_view_preset(optarg, &ra->az, &ra->el)) < 0)
                 vsv_cli_usage_error("--view %s: plan, south, west or oblique", optarg);
-            dist = 0;
+            ra->dist = 0;
             break;
         case O_SIZE:
-            if (sscanf(optarg, "%dx%d", &width, &height) != 2 || width < 1 || height < 1 || width > 16384 || height > 16384)
+            if (sscanf(optarg, "%dx%d", &ra->width, &ra->height) != 2 || ra->width < 1 || ra->height < 1 ||
+                ra->width > 16384 || ra->height > 16384)
                 vsv_cli_usage_error("--size %s: expected WxH", optarg);
             break;
         case 'x':
-            if (vsv_cli_double(optarg, &exag) || !(exag > 0) || exag > VSV_MAX_EXAGGERATION)
+            if (vsv_cli_double(optarg, &ra->exag) || !(ra->exag > 0) || ra->exag > VSV_MAX_EXAGGERATION)
                 vsv_cli_usage_error("--exaggerate %s: a number above 0 and at most %d", optarg, VSV_MAX_EXAGGERATION);
             break;
         case O_BG:
-            if (sscanf(optarg, "%f,%f,%f", &bg[0], &bg[1], &bg[2]) != 3)
+            if (sscanf(optarg, "%f,%f,%f", &ra->bg[0], &ra->bg[1], &ra->bg[2]) != 3)
                 vsv_cli_usage_error("--background %s: expected R,G,B", optarg);
             break;
-        case O_NOTERRAIN: terrain = 0; break;
+        case O_NOTERRAIN: ra->terrain = 0; break;
         case O_LIGHT:
-            light = 1;
-            if (optarg && vsv_sun_parse(optarg, &sun_az, &sun_el))
+            ra->light = 1;
+            if (optarg && vsv_sun_parse(optarg, &ra->sun_az, &ra->sun_el))
                 vsv_cli_usage_error("--light=%s: expected AZ,EL in degrees with -90 <= EL <= 90", optarg);
             break;
-        case O_NOLIGHT: light = 0; break;
+        case O_NOLIGHT: ra->light = 0; break;
         case O_SLICE:
-            if (nslice_specs >= 8)
+            if (ra->nslice_specs >= 8)
                 vsv_cli_usage_error("--slice %s: at most 8 slices", optarg);
-            slice_specs[nslice_specs++] = optarg;
+            ra->slice_specs[ra->nslice_specs++] = optarg;
             break;
-        case O_SLICESP: slice_species = optarg; break;
+        case O_SLICESP: ra->slice_species = optarg; break;
         case O_SLICECM: {
             int known = 0;
             for (const char *const *cm = vsv_tf_colormaps(); *cm; cm++)
                 known |= !strcmp(*cm, optarg);
             if (!known)
                 vsv_cli_usage_error("--slice-colormap %s: not a colour map name", optarg);
-            slice_cmap = optarg;
+            ra->slice_cmap = optarg;
             break;
         }
         case O_SLICERANGE: {
             int used = 0;
-            if (sscanf(optarg, "%lf:%lf%n", &slice_range[0], &slice_range[1], &used) != 2 || optarg[used] ||
-                !(slice_range[0] < slice_range[1]) || !isfinite(slice_range[0]) || !isfinite(slice_range[1]))
+            if (sscanf(optarg, "%lf:%lf%n", &ra->slice_range[0], &ra->slice_range[1], &used) != 2 || optarg[used] ||
+                !(ra->slice_range[0] < ra->slice_range[1]) || !isfinite(ra->slice_range[0]) ||
+                !isfinite(ra->slice_range[1]))
                 vsv_cli_usage_error("--slice-range %s: expected LO:HI with LO < HI", optarg);
             break;
         }
-        case O_NOANNOT: parts = 0; break;
+        case O_NOANNOT: ra->parts = 0; break;
         case O_ANNOT: {
             char msg[300];
-            if (vsv_annot_parse(optarg, &parts, msg, sizeof msg))
+            if (vsv_annot_parse(optarg, &ra->parts, msg, sizeof msg))
                 vsv_cli_usage_error("%s", msg);
             break;
         }
         case O_LOOKAT:
-            if (sscanf(optarg, "%lf,%lf,%lf,%lf,%lf,%lf", &la[0], &la[1], &la[2], &la[3], &la[4], &la[5]) != 6 ||
-                (la[0] == la[3] && la[1] == la[4] && la[2] == la[5]))
+            if (sscanf(optarg, "%lf,%lf,%lf,%lf,%lf,%lf", &ra->la[0], &ra->la[1], &ra->la[2], &ra->la[3], &ra->la[4],
+                       &ra->la[5]) != 6 || (ra->la[0] == ra->la[3] && ra->la[1] == ra->la[4] && ra->la[2] == ra->la[5]))
                 vsv_cli_usage_error("--look-at %s: expected EX,EY,EZ,TX,TY,TZ with distinct eye and target", optarg);
-            lookat = 1;
+            ra->lookat = 1;
             break;
-        case O_STEREO: stereo = 1; break;
-        case O_MOVIE: movie_out = optarg; break;
+        case O_STEREO: ra->stereo = 1; break;
+        case O_MOVIE: ra->movie_out = optarg; break;
         case O_FPS:
             if (vsv_cli_int(optarg, 1, 240, &v))
                 vsv_cli_usage_error("--fps %s: 1..240", optarg);
-            fps = (int)v;
+            ra->fps = (int)v;
             break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
-                ro.kind = VSV_RENDER_RAYCAST;
+                ra->ro.kind = VSV_RENDER_RAYCAST;
             else if (!strcmp(optarg, "shearwarp"))
-                ro.kind = VSV_RENDER_SHEARWARP;
+                ra->ro.kind = VSV_RENDER_SHEARWARP;
             else if (!strcmp(optarg, "gl"))
-                ro.kind = VSV_RENDER_GL;
+                ra->ro.kind = VSV_RENDER_GL;
             else
                 vsv_cli_usage_error("--renderer %s: raycast, shearwarp or gl", optarg);
             break;
         case O_GPUMB:
             if (vsv_cli_int(optarg, 16, 1 << 20, &v))
                 vsv_cli_usage_error("--gpu-mb %s: a whole number of megabytes, 16 to %d", optarg, 1 << 20);
-            gpu_mb = (size_t)v;
+            ra->gpu_mb = (size_t)v;
             break;
         case O_THREADS:
             if (vsv_cli_int(optarg, 1, 64, &v))
                 vsv_cli_usage_error("--threads %s: 1..64", optarg);
-            ro.threads = (int)v;
+            ra->ro.threads = (int)v;
             break;
         case 'q': vsv_cli_set_quiet(1); break;
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
-        case 'h': fputs(usage, stdout); return 0;
+        case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
         }
     }
-    if (!out && !movie_out)
+    return 0;
+}
+
+/* The options that go together, the output names and the one input (ra->path, ra->sequence). */
+static void check_args(int argc, char **argv, render_args *ra)
+{
+    if (!ra->out && !ra->movie_out)
         vsv_cli_usage_error("no output image (-o OUT.png) or movie (--movie OUT.mp4)");
     if (optind != argc - 1)
         vsv_cli_usage_error("one .vsv file");
-    if (time && times)
+    if (ra->time && ra->times)
         vsv_cli_usage_error("--time and --times exclude each other");
-    if (out) { /* the format is the extension's: never PNG bytes in a .jpg */
-        const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    if (ra->out) { /* the format is the extension's: never PNG bytes in a .jpg */
+        const char *dot = strrchr(ra->out, '.'), *slash = strrchr(ra->out, '/');
         if (!dot || (slash && dot < slash) || (strcasecmp(dot, ".png") && strcasecmp(dot, ".exr")))
-            vsv_cli_usage_error("-o %s: the image format comes from the extension: .png or .exr", out);
+            vsv_cli_usage_error("-o %s: the image format comes from the extension: .png or .exr", ra->out);
     }
-    const int sequence = out ? vsv_cli_pattern(out) : 0;
-    if (sequence < 0)
+    ra->sequence = ra->out ? vsv_cli_pattern(ra->out) : 0;
+    if (ra->sequence < 0)
         vsv_cli_usage_error("-o %s: a '%%' in the name must be %%d or %%0Nd (the frame number, once) or %%%% (a "
-                            "percent sign)", out);
-    const char *path = argv[optind];
-    const char *const ins[2] = {path, tfpath};
-    if (out && !sequence)
-        vsv_cli_refuse_input(out, ins, 2);
-    vsv_cli_refuse_input(movie_out, ins, 2);
-    vsv_file *f = NULL;
-    if (vsv_file_open_any(path, &vsv_cli_http, &f))
-        vsv_cli_die(1, "%s", vsv_file_error(f));
-    const vsv_meta *m = vsv_file_meta(f);
+                            "percent sign)", ra->out);
+    ra->path = argv[optind];
+    const char *const ins[2] = {ra->path, ra->tfpath};
+    if (ra->out && !ra->sequence)
+        vsv_cli_refuse_input(ra->out, ins, 2);
+    vsv_cli_refuse_input(ra->movie_out, ins, 2);
+}
+
+/* Opens the file and selects its steps, run->a..run->b; no frame's name may be an input. */
+static void open_steps(const render_args *ra, render_run *run)
+{
+    const char *path = ra->path, *out = ra->out;
+    const char *const ins[2] = {path, ra->tfpath};
+    if (vsv_file_open_any(path, &vsv_cli_http, &run->f))
+        vsv_cli_die(1, "%s", vsv_file_error(run->f));
+    run->m = vsv_file_meta(run->f);
     vsv_file_info info;
-    vsv_file_info_get(f, &info);
-    /* steps */
-    int a, b;
-    vsv_cli_steps(f, path, time, times, sequence || movie_out, &a, &b);
+    vsv_file_info_get(run->f, &info);
+    vsv_cli_steps(run->f, path, ra->time, ra->times, ra->sequence || ra->movie_out, &run->a, &run->b);
+    const int a = run->a, b = run->b;
     if (a < 0 || b >= info.nsteps || a > b)
         vsv_cli_die(1, "%s: no step selected (the file has steps 0..%d)", path, info.nsteps - 1);
-    if (out && !sequence && a != b)
+    if (out && !ra->sequence && a != b)
         vsv_cli_usage_error("several steps need %%04d in the output name");
-    for (int t = a; sequence && t <= b; t++) { /* every name, before any is written */
+    for (int t = a; ra->sequence && t <= b; t++) { /* every name, before any is written */
         char name[4096];
         if (vsv_cli_pattern_name(out, t - a, name, sizeof name))
             vsv_cli_usage_error("-o %s: the name is too long", out);
         vsv_cli_refuse_input(name, ins, 2);
     }
-    /* layers: the species asked for (all by default), each with its opacity */
-    vsv_layer *layers = calloc((size_t)m->nvars, sizeof *layers);
-    vsv_tf *tfs = calloc((size_t)m->nvars, sizeof *tfs);
-    vsv_volume **vols = calloc((size_t)m->nvars, sizeof *vols);
-    int *sidx = calloc((size_t)m->nvars, sizeof *sidx);
-    float *opac = calloc((size_t)m->nvars, sizeof *opac);
+}
+
+/* The layers: the species asked for (all by default) with their opacities and transfer functions, and the slices'. */
+static void make_layers(const render_args *ra, render_run *run)
+{
+    const vsv_meta *m = run->m;
+    const char *path = ra->path, *species = ra->species, *tfpath = ra->tfpath;
+    vsv_layer *layers = run->layers = calloc((size_t)m->nvars, sizeof *layers);
+    vsv_tf *tfs = run->tfs = calloc((size_t)m->nvars, sizeof *tfs);
+    vsv_volume **vols = run->vols = calloc((size_t)m->nvars, sizeof *vols);
+    int *sidx = run->sidx = calloc((size_t)m->nvars, sizeof *sidx);
+    float *opac = run->opac = calloc((size_t)m->nvars, sizeof *opac);
     if (!layers || !tfs || !vols || !sidx || !opac)
         vsv_cli_die(1, "out of memory");
     for (int s = 0; s < m->nvars; s++) /* -1: not drawn */
         opac[s] = !species && vsv_meta_default_shown(m, s) ? 1 : -1;
-    for (int i = 0; i < nranges; i++) {
+    for (int i = 0; i < ra->nranges; i++) {
         char nm[64];
-        sscanf(ranges[i], "%63[^=]", nm);
+        sscanf(ra->ranges[i], "%63[^=]", nm);
         if (vsv_meta_find_var(m, nm) < 0)
             vsv_cli_usage_error("--range: %s has no species '%s'", path, nm);
     }
@@ -443,7 +485,8 @@ int main(int argc, char **argv)
         free(copy);
     }
     int slice_var = -1;
-    if (nslice_specs) { /* the slices' species: named, or the first drawn */
+    const char *slice_species = ra->slice_species;
+    if (ra->nslice_specs) { /* the slices' species: named, or the first drawn */
         for (int s = 0; s < m->nvars && slice_var < 0 && !slice_species; s++)
             slice_var = opac[s] >= 0 ? s : -1;
         if (slice_species && (slice_var = vsv_meta_find_var(m, slice_species)) < 0)
@@ -456,141 +499,158 @@ int main(int argc, char **argv)
         if (opac[s] < 0 && s != slice_var)
             continue;
         char msg[512];
-        const int trc = vsv_tf_for_species(f, s, tfpath, &tfs[nl], msg, sizeof msg);
+        const int trc = vsv_tf_for_species(run->f, s, tfpath, &tfs[nl], msg, sizeof msg);
         if (trc == VSV_EIO)
             vsv_cli_die(1, "%s", msg);
         if (trc)
             vsv_cli_die(1, "%s: %s", tfpath ? tfpath : path, msg);
-        for (int i = 0; i < nranges; i++) { /* --range: absolute values, shared by files and runs */
+        for (int i = 0; i < ra->nranges; i++) { /* --range: absolute values, shared by files and runs */
             char nm[64];
             double lo, hi;
-            if (sscanf(ranges[i], "%63[^=]=%lf:%lf", nm, &lo, &hi) == 3 && !strcmp(nm, m->vars[s].name)) {
+            if (sscanf(ra->ranges[i], "%63[^=]=%lf:%lf", nm, &lo, &hi) == 3 && !strcmp(nm, m->vars[s].name)) {
                 if (tfs[nl].scale == VSV_SCALE_LOG && !(lo > 0))
-                    vsv_cli_usage_error("--range %s: %s is on a log scale, LO must be > 0", ranges[i], nm);
+                    vsv_cli_usage_error("--range %s: %s is on a log scale, LO must be > 0", ra->ranges[i], nm);
                 tfs[nl].lo = lo;
                 tfs[nl].hi = hi;
                 if (vsv_tf_prepare(&tfs[nl]))
-                    vsv_cli_usage_error("--range %s: not a usable range", ranges[i]);
+                    vsv_cli_usage_error("--range %s: not a usable range", ra->ranges[i]);
             }
         }
-        if (vsv_volume_create(f, &vols[nl]))
+        if (vsv_volume_create(run->f, &vols[nl]))
             vsv_cli_die(1, "out of memory");
         layers[nl] = (vsv_layer){vols[nl], &tfs[nl], opac[s] >= 0 ? opac[s] : 0, opac[s] >= 0};
         if (s == slice_var)
             slice_layer = nl;
         sidx[nl++] = s;
     }
-    vsv_slice slices[8];
+    run->nl = nl;
+    run->slice_layer = slice_layer;
+}
+
+/* The slices, the scene and the camera (with the stereo eyes' separation, run->sep). */
+static void make_scene(const render_args *ra, render_run *run)
+{
+    const int nslice_specs = ra->nslice_specs, width = ra->width, height = ra->height;
     for (int i = 0; i < nslice_specs; i++) {
         char msg[512];
-        if (vsv_slice_parse(m, slice_specs[i], &slices[i], msg, sizeof msg))
-            vsv_cli_usage_error("--%s in %s", msg, path);
+        if (vsv_slice_parse(run->m, ra->slice_specs[i], &run->slices[i], msg, sizeof msg))
+            vsv_cli_usage_error("--%s in %s", msg, ra->path);
     }
-    vsv_tf slice_tf = tfs[slice_layer]; /* the species' range and scale, the slices' colour map */
-    snprintf(slice_tf.colormap, sizeof slice_tf.colormap, "%s", slice_cmap);
-    if (isfinite(slice_range[0]))
-        slice_tf.lo = slice_range[0], slice_tf.hi = slice_range[1];
-    if (nslice_specs && vsv_tf_prepare(&slice_tf))
-        vsv_cli_die(1, "%s: the slices' colours cannot be made", path);
-    vsv_scene sc = {.meta = m, .layers = layers, .nlayers = nl, .exaggeration = exag, .show_terrain = terrain,
-                    .slices = slices, .nslices = nslice_specs, .slice_layer = slice_layer, .slice_tf = &slice_tf};
-    if (light)
-        vsv_scene_sun(&sc, sun_az, sun_el);
-    if (!(exag > 0))
-        sc.exaggeration = vsv_scene_default_exaggeration(&sc);
-    vsv_camera cam;
-    if (plan)
-        vsv_camera_plan(&cam, &sc, width, height);
-    else if (dist > 0)
-        vsv_camera_orbit(&cam, &sc, az, el, dist, width, height);
+    vsv_tf *slice_tf = &run->slice_tf;
+    *slice_tf = run->tfs[run->slice_layer]; /* the species' range and scale, the slices' colour map */
+    snprintf(slice_tf->colormap, sizeof slice_tf->colormap, "%s", ra->slice_cmap);
+    if (isfinite(ra->slice_range[0]))
+        slice_tf->lo = ra->slice_range[0], slice_tf->hi = ra->slice_range[1];
+    if (nslice_specs && vsv_tf_prepare(slice_tf))
+        vsv_cli_die(1, "%s: the slices' colours cannot be made", ra->path);
+    vsv_scene *sc = &run->sc;
+    *sc = (vsv_scene){.meta = run->m, .layers = run->layers, .nlayers = run->nl, .exaggeration = ra->exag,
+                      .show_terrain = ra->terrain, .slices = run->slices, .nslices = nslice_specs,
+                      .slice_layer = run->slice_layer, .slice_tf = slice_tf};
+    if (ra->light)
+        vsv_scene_sun(sc, ra->sun_az, ra->sun_el);
+    if (!(ra->exag > 0))
+        sc->exaggeration = vsv_scene_default_exaggeration(sc);
+    vsv_camera *cam = &run->cam;
+    if (ra->plan)
+        vsv_camera_plan(cam, sc, width, height);
+    else if (ra->dist > 0)
+        vsv_camera_orbit(cam, sc, ra->az, ra->el, ra->dist, width, height);
     else
-        vsv_camera_fit(&cam, &sc, az, el, width, height);
-    if (lookat) {
+        vsv_camera_fit(cam, sc, ra->az, ra->el, width, height);
+    if (ra->lookat) {
         for (int i = 0; i < 3; i++) {
-            const double e = i == 2 ? sc.exaggeration : 1;
-            cam.pos[i] = la[i] * e;
-            cam.dir[i] = (la[3 + i] - la[i]) * e;
+            const double e = i == 2 ? sc->exaggeration : 1;
+            cam->pos[i] = ra->la[i] * e;
+            cam->dir[i] = (ra->la[3 + i] - ra->la[i]) * e;
         }
     }
     /* stereo: two eyes a thirtieth of the viewing distance apart */
-    double target[3] = {0, 0, 0}, mn[3], mx[3];
-    vsv_scene_bounds(&sc, mn, mx);
+    double target[3] = {0, 0, 0};
+    vsv_scene_bounds(sc, run->mn, run->mx);
     for (int i = 0; i < 3; i++)
-        target[i] = 0.5 * (mn[i] + mx[i]) - cam.pos[i];
-    const double sep = sqrt(target[0] * target[0] + target[1] * target[1] + target[2] * target[2]) / 30;
-    const int ow = stereo ? 2 * width : width;
-    const int exr = out && strlen(out) > 4 && !strcasecmp(out + strlen(out) - 4, ".exr");
-    movie mv = {0};
-    unsigned char *rgb8 = movie_out ? malloc((size_t)ow * height * 3) : NULL;
+        target[i] = 0.5 * (run->mn[i] + run->mx[i]) - cam->pos[i];
+    run->sep = sqrt(target[0] * target[0] + target[1] * target[1] + target[2] * target[2]) / 30;
+}
+
+/* Starts the movie, loads the annotation's font and outlines and starts the renderer. */
+static void start_drawing(const render_args *ra, render_run *run)
+{
+    const char *out = ra->out, *movie_out = ra->movie_out;
+    const int width = ra->width, height = ra->height, ow = run->ow = ra->stereo ? 2 * width : width;
+    run->exr = out && strlen(out) > 4 && !strcasecmp(out + strlen(out) - 4, ".exr");
+    run->rgb8 = movie_out ? malloc((size_t)ow * height * 3) : NULL;
     if (movie_out) {
-        if (!rgb8)
+        if (!run->rgb8)
             vsv_cli_die(1, "out of memory");
         signal(SIGPIPE, SIG_IGN); /* a dying ffmpeg is an error, not a signal */
-        movie_open(&mv, movie_out, ow, height, fps);
+        movie_open(&run->mv, movie_out, ow, height, ra->fps);
     }
     /* annotation: the font and, for a map, the outlines (a note, not an
      * error, where a package is missing) */
-    vsv_font *font = NULL;
-    vsv_outlines *outlines = NULL;
-    if (parts) {
+    if (ra->parts) {
         char note[1200];
-        if (vsv_annot_load(m, parts, width, height, mx[0] - mn[0], !vsv_cli_quiet(), &font, &outlines, note,
-                           sizeof note))
+        if (vsv_annot_load(run->m, ra->parts, width, height, run->mx[0] - run->mn[0], !vsv_cli_quiet(), &run->font,
+                           &run->outlines, note, sizeof note))
             vsv_cli_die(1, "%s", note);
         vsv_cli_notes(note);
     }
-    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
-    const vsv_annot annot = {parts, font, 0, base, sidx, outlines, NULL, NULL};
-    if (plan && parts && !lookat) { /* the map framed inside the legend's margins */
+    const char *base = strrchr(ra->path, '/') ? strrchr(ra->path, '/') + 1 : ra->path;
+    run->annot = (vsv_annot){ra->parts, run->font, 0, base, run->sidx, run->outlines, NULL, NULL};
+    if (ra->plan && ra->parts && !ra->lookat) { /* the map framed inside the legend's margins */
         int inset[4];
-        vsv_annotate_insets(&annot, &sc, width, height, inset);
-        vsv_camera_plan_inset(&cam, &sc, width, height, inset);
+        vsv_annotate_insets(&run->annot, &run->sc, width, height, inset);
+        vsv_camera_plan_inset(&run->cam, &run->sc, width, height, inset);
     }
-    vsv_renderer *r = NULL;
-    vsv_gl_context *glc = NULL;
-    vsv_gl *gl = NULL;
-    if (ro.kind == VSV_RENDER_GL) { /* asked for: no context is misuse of this machine, exit 2 */
+    if (ra->ro.kind == VSV_RENDER_GL) { /* asked for: no context is misuse of this machine, exit 2 */
         char why[1024];
         vsv_gl_opts go;
         vsv_gl_opts_init(&go);
-        go.threads = ro.threads;
-        if (gpu_mb)
-            go.budget = gpu_mb << 20;
-        if (vsv_gl_context_create(&glc, why, sizeof why) || vsv_gl_create(&go, &gl, why, sizeof why))
+        go.threads = ra->ro.threads;
+        if (ra->gpu_mb)
+            go.budget = ra->gpu_mb << 20;
+        if (vsv_gl_context_create(&run->glc, why, sizeof why) || vsv_gl_create(&go, &run->gl, why, sizeof why))
             vsv_cli_usage_error("--renderer gl: %s", why);
-    } else if (vsv_renderer_create(&ro, &r)) {
+    } else if (vsv_renderer_create(&ra->ro, &run->r)) {
         vsv_cli_die(1, "cannot start the renderer");
     }
+}
+
+/* Renders every selected step, each frame to a listed temporary name (staged, 4200 bytes a frame) and the movie. */
+static void render_frames(const render_args *ra, render_run *run, char *staged)
+{
+    const char *out = ra->out, *path = ra->path;
+    const int width = ra->width, height = ra->height, ow = run->ow, stereo = ra->stereo, a = run->a;
+    vsv_tf *slice_tf = &run->slice_tf;
+    vsv_gl *const gl = run->gl;
     vsv_decoder *d = NULL;
     float *rgba = malloc((size_t)width * height * 4 * sizeof(float));
     float *depth = malloc((size_t)width * height * sizeof(float));
     float *img = malloc((size_t)ow * height * 4 * sizeof(float)), *zimg = malloc((size_t)ow * height * sizeof(float));
-    if (vsv_decoder_create(f, &d) || !rgba || !depth || !img || !zimg)
+    if (vsv_decoder_create(run->f, &d) || !rgba || !depth || !img || !zimg)
         vsv_cli_die(1, "out of memory");
-    char *staged = out ? calloc((size_t)(b - a + 1), 4200) : NULL; /* the frames' temporary names */
-    if (out && !staged)
-        vsv_cli_die(1, "out of memory");
-    for (int t = a; t <= b; t++) {
-        for (int l = 0; l < nl; l++)
-            if (vsv_volume_load(vols[l], d, t, sidx[l]))
+    for (int t = a; t <= run->b; t++) {
+        for (int l = 0; l < run->nl; l++)
+            if (vsv_volume_load(run->vols[l], d, t, run->sidx[l]))
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));
         double slo, shi; /* the slices' own range in this frame */
-        if (nslice_specs && !isfinite(slice_range[0]) && !vsv_slice_range(&sc, &slo, &shi)) {
-            if (slice_tf.scale == VSV_SCALE_LOG)
+        if (ra->nslice_specs && !isfinite(ra->slice_range[0]) && !vsv_slice_range(&run->sc, &slo, &shi)) {
+            if (slice_tf->scale == VSV_SCALE_LOG)
                 slo = slo > 0 ? slo : shi * 1e-6;
             if (!(shi > slo))
                 shi = slo + (slo ? fabs(slo) * 1e-6 : 1e-30);
-            slice_tf.lo = slo, slice_tf.hi = shi;
-            if (vsv_tf_prepare(&slice_tf))
+            slice_tf->lo = slo, slice_tf->hi = shi;
+            if (vsv_tf_prepare(slice_tf))
                 vsv_cli_die(1, "%s: the slices' colours cannot be made", path);
         }
         for (int eye = 0; eye < (stereo ? 2 : 1); eye++) {
-            cam.eye_offset = stereo ? (eye ? sep / 2 : -sep / 2) : 0;
-            if (gl ? vsv_gl_render(gl, &sc, &cam, rgba, depth) : vsv_render(r, &sc, &cam, rgba, depth))
+            run->cam.eye_offset = stereo ? (eye ? run->sep / 2 : -run->sep / 2) : 0;
+            if (gl ? vsv_gl_render(gl, &run->sc, &run->cam, rgba, depth)
+                   : vsv_render(run->r, &run->sc, &run->cam, rgba, depth))
                 vsv_cli_die(1, "render failed%s%s", gl ? ": " : "", gl ? vsv_gl_error(gl) : "");
-            vsv_annot an = annot;
-            an.time = vsv_file_time(f, t);
-            if (parts && vsv_annotate(&an, &sc, &cam, rgba, depth))
+            vsv_annot an = run->annot;
+            an.time = vsv_file_time(run->f, t);
+            if (ra->parts && vsv_annotate(&an, &run->sc, &run->cam, rgba, depth))
                 vsv_cli_die(1, "out of memory");
             for (int y = 0; y < height; y++) {
                 memcpy(img + 4 * ((size_t)y * ow + (size_t)eye * width), rgba + 4 * (size_t)y * width,
@@ -609,55 +669,82 @@ int main(int argc, char **argv)
             if (fd < 0)
                 vsv_cli_die(1, "%s: cannot create: %s", name, strerror(errno));
             close(fd);
-            if (exr ? vsv_exr_write(tmp, img, zimg, ow, height, err, sizeof err)
-                    : write_png(tmp, img, ow, height, bg, err, sizeof err)) {
+            if (run->exr ? vsv_exr_write(tmp, img, zimg, ow, height, err, sizeof err)
+                         : write_png(tmp, img, ow, height, ra->bg, err, sizeof err)) {
                 const size_t n = strlen(tmp);
                 vsv_cli_die(1, "%s%s", name, !strncmp(err, tmp, n) ? err + n : err);
             }
         }
-        if (movie_out) {
-            vsv_image_rgb8(img, ow, height, bg, rgb8);
-            movie_frame(&mv, rgb8, ow, height);
+        if (ra->movie_out) {
+            vsv_image_rgb8(img, ow, height, ra->bg, run->rgb8);
+            movie_frame(&run->mv, run->rgb8, ow, height);
         }
-        vsv_cli_progress("vsv-render", t - a + 1, b - a + 1);
+        vsv_cli_progress("vsv-render", t - a + 1, run->b - a + 1);
     }
-    if (movie_out)
-        movie_close(&mv);
-    /* everything written: into place (a sequence appears all at once, a
-     * signal waits for it) */
-    vsv_cli_hold_signals(1);
-    for (int t = a; out && t <= b; t++) {
-        char name[4096];
-        if (vsv_cli_pattern_name(out, t - a, name, sizeof name))
-            vsv_cli_die(1, "-o %s: the name is too long", out);
-        if (vsv_output_publish(staged + (size_t)(t - a) * 4200, name))
-            vsv_cli_die(1, "%s: cannot rename into place: %s", name, strerror(errno));
-    }
-    if (movie_out && vsv_output_publish(mv.tmp, movie_out))
-        vsv_cli_die(1, "%s: cannot rename into place: %s", movie_out, strerror(errno));
-    vsv_cli_hold_signals(0);
-    free(staged);
-    free(rgb8);
-    if (!vsv_cli_quiet() && !isatty(2))
-        fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g%s%s\n", b - a + 1, b > a ? "s" : "", width,
-                height, sc.exaggeration, movie_out ? ", movie " : "", movie_out ? movie_out : "");
     free(rgba);
     free(depth);
     free(img);
     free(zimg);
     vsv_decoder_free(d);
-    vsv_renderer_free(r);
-    vsv_gl_free(gl);
-    vsv_gl_context_free(glc);
-    vsv_font_free(font);
-    vsv_outlines_free(outlines);
-    for (int l = 0; l < nl; l++)
-        vsv_volume_free(vols[l]);
-    free(vols);
-    free(tfs);
-    free(layers);
-    free(sidx);
-    free(opac);
-    vsv_file_free(f);
+}
+
+/* Everything written: into place (a sequence appears all at once, a signal waits for it). */
+static void publish_outputs(const render_args *ra, render_run *run, const char *staged)
+{
+    const char *out = ra->out, *movie_out = ra->movie_out;
+    if (movie_out)
+        movie_close(&run->mv);
+    vsv_cli_hold_signals(1);
+    for (int t = run->a; out && t <= run->b; t++) {
+        char name[4096];
+        if (vsv_cli_pattern_name(out, t - run->a, name, sizeof name))
+            vsv_cli_die(1, "-o %s: the name is too long", out);
+        if (vsv_output_publish(staged + (size_t)(t - run->a) * 4200, name))
+            vsv_cli_die(1, "%s: cannot rename into place: %s", name, strerror(errno));
+    }
+    if (movie_out && vsv_output_publish(run->mv.tmp, movie_out))
+        vsv_cli_die(1, "%s: cannot rename into place: %s", movie_out, strerror(errno));
+    vsv_cli_hold_signals(0);
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-render");
+    render_args ra = {.fps = 12, .az = 225, .el = 30, .bg = {0.02f, 0.03f, 0.06f}, .width = 800, .height = 600,
+                      .terrain = 1, .slice_cmap = "viridis", .slice_range = {NAN, NAN}, .sun_az = 315, .sun_el = 45,
+                      .parts = VSV_ANNOT_ALL};
+    vsv_render_opts_init(&ra.ro);
+    if (parse_args(argc, argv, &ra))
+        return 0;
+    check_args(argc, argv, &ra);
+    render_run run = {0};
+    open_steps(&ra, &run);
+    make_layers(&ra, &run);
+    make_scene(&ra, &run);
+    start_drawing(&ra, &run);
+    char *staged = ra.out ? calloc((size_t)(run.b - run.a + 1), 4200) : NULL; /* the frames' temporary names */
+    if (ra.out && !staged)
+        vsv_cli_die(1, "out of memory");
+    render_frames(&ra, &run, staged);
+    publish_outputs(&ra, &run, staged);
+    free(staged);
+    free(run.rgb8);
+    if (!vsv_cli_quiet() && !isatty(2))
+        fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g%s%s\n", run.b - run.a + 1,
+                run.b > run.a ? "s" : "", ra.width, ra.height, run.sc.exaggeration, ra.movie_out ? ", movie " : "",
+                ra.movie_out ? ra.movie_out : "");
+    vsv_renderer_free(run.r);
+    vsv_gl_free(run.gl);
+    vsv_gl_context_free(run.glc);
+    vsv_font_free(run.font);
+    vsv_outlines_free(run.outlines);
+    for (int l = 0; l < run.nl; l++)
+        vsv_volume_free(run.vols[l]);
+    free(run.vols);
+    free(run.tfs);
+    free(run.layers);
+    free(run.sidx);
+    free(run.opac);
+    vsv_file_free(run.f);
     return 0;
 }
