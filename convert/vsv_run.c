@@ -60,6 +60,105 @@ static int fail(vsv_run *r, int rc, const char *fmt, ...)
     return rc;
 }
 
+/* The inputs in order make one run: the same grid and calendar, no overlap, and (where a file has two outputs)
+ * no gap; 0 or VSV_EINVAL, the reason in r->err. */
+static int check_sources(vsv_run *r, const char **names)
+{
+    const vsv_meta *g0 = vsv_source_grid(r->src[0]);
+    int64_t dt = 0;
+    for (int i = 0; i < r->nsrc && !dt; i++)
+        if (vsv_source_ntimes(r->src[i]) > 1 &&
+            __builtin_sub_overflow(vsv_source_time(r->src[i], 1), vsv_source_time(r->src[i], 0), &dt))
+            dt = 0; /* (times anywhere in int64: differences checked) */
+    for (int i = 1; i < r->nsrc; i++) {
+        const vsv_meta *g = vsv_source_grid(r->src[i]);
+        if (g->nx != g0->nx || g->ny != g0->ny || g->nz != g0->nz || g->proj.kind != g0->proj.kind ||
+            g->origin[0] != g0->origin[0] || g->origin[1] != g0->origin[1] || g->spacing[0] != g0->spacing[0]) {
+            return fail(r, VSV_EINVAL, "%s and %s: different grids (%dx%dx%d vs %dx%dx%d or another position)",
+                        names[0], names[i], g0->nx, g0->ny, g0->nz, g->nx, g->ny, g->nz);
+        }
+        const int64_t end = vsv_source_time(r->src[i - 1], vsv_source_ntimes(r->src[i - 1]) - 1);
+        const int64_t start = vsv_source_time(r->src[i], 0);
+        char a[40], b[40];
+        if (vsv_meta_calendar(g) != vsv_meta_calendar(g0)) {
+            return fail(r, VSV_EINVAL, "%s and %s: different calendars (%s, %s)", names[0], names[i],
+                        vsv_calendar_name(vsv_meta_calendar(g0)), vsv_calendar_name(vsv_meta_calendar(g)));
+        }
+        vsv_cal_format(vsv_meta_calendar(g), end, a, sizeof a);
+        vsv_cal_format(vsv_meta_calendar(g), start, b, sizeof b);
+        if (start <= end) {
+            return fail(r, VSV_EINVAL, "%s (ends %s) and %s (starts %s) overlap in time", names[i - 1], a, names[i], b);
+        }
+        int64_t gap;
+        if (dt && (__builtin_sub_overflow(start, end, &gap) || gap != dt)) {
+            return fail(r, VSV_EINVAL, "gap between %s (ends %s) and %s (starts %s): the run steps every %lld s",
+                        names[i - 1], a, names[i], b, (long long)dt);
+        }
+    }
+    return 0;
+}
+
+/* The variables: those of vars (NAME,...; NULL: the format's defaults), each in every input, added to r->meta; 0,
+ * VSV_EINVAL, VSV_ENOTFOUND or VSV_ENOMEM, the reason in r->err. */
+static int select_vars(vsv_run *r, const char *vars, const char **names)
+{
+    int rc = 0;
+    const vsv_source *s0 = r->src[0];
+    const int nf = vsv_source_nfields(s0);
+    r->sel = calloc((size_t)nf + 1, sizeof *r->sel);
+    if (!r->sel)
+        return VSV_ENOMEM;
+    if (vars) {
+        char *copy = strdup(vars), *save = NULL;
+        if (!copy)
+            return VSV_ENOMEM;
+        for (char *name = strtok_r(copy, ",", &save); name && !rc; name = strtok_r(NULL, ",", &save)) {
+            const int i = vsv_source_find_field(s0, name);
+            if (i < 0 || !vsv_source_field(s0, i)->is_volume) {
+                size_t n = (size_t)snprintf(r->err, sizeof r->err, "%s: %s '%s'; available:", names[0],
+                                            i < 0 ? "no variable" : "not a 3-D variable", name);
+                for (int k = 0; k < nf && n < sizeof r->err; k++)
+                    if (vsv_source_field(s0, k)->is_volume)
+                        n += (size_t)snprintf(r->err + n, sizeof r->err - n, " %s", vsv_source_field(s0, k)->name);
+                rc = VSV_ENOTFOUND;
+                break;
+            }
+            for (int k = 0; k < r->nsel; k++)
+                if (r->sel[k] == i)
+                    rc = fail(r, VSV_EINVAL, "variable %s named twice", name);
+            if (!rc && r->nsel < nf)
+                r->sel[r->nsel++] = i;
+        }
+        free(copy);
+        if (rc)
+            return rc;
+    } else {
+        for (int i = 0; i < nf; i++)
+            if (vsv_source_field(s0, i)->is_default)
+                r->sel[r->nsel++] = i;
+        int nvol = 0;
+        for (int i = 0; i < nf; i++)
+            nvol += vsv_source_field(s0, i)->is_volume;
+        if (!nvol) {
+            return fail(r, VSV_EINVAL, "%s: no field of this %s file is a volume on the 3-D grid (%s); "
+                        "vsv-extract --list shows what it holds", names[0], vsv_source_format(s0),
+                        nf && vsv_source_field(s0, 0)->role[0] ? vsv_source_field(s0, 0)->role : "2-D fields only");
+        }
+        if (!r->nsel) {
+            return fail(r, VSV_EINVAL, "%s: none of the default variables is present; choose with --vars", names[0]);
+        }
+    }
+    for (int v = 0; v < r->nsel; v++) {
+        const vsv_field_info *f = vsv_source_field(s0, r->sel[v]);
+        for (int i = 1; i < r->nsrc; i++)
+            if (vsv_source_find_field(r->src[i], f->name) < 0) {
+                return fail(r, VSV_EINVAL, "%s has no variable %s (it is in %s)", names[i], f->name, names[0]);
+            }
+        vsv_meta_add_var(&r->meta, f->name, f->units, f->description);
+    }
+    return 0;
+}
+
 int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars,
                  const char *times, vsv_run **out)
 {
@@ -111,40 +210,8 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
             r->bytes += (uint64_t)st.st_size;
     }
     const vsv_meta *g0 = vsv_source_grid(r->src[0]);
-    int64_t dt = 0;
-    for (int i = 0; i < r->nsrc && !dt; i++)
-        if (vsv_source_ntimes(r->src[i]) > 1 &&
-            __builtin_sub_overflow(vsv_source_time(r->src[i], 1), vsv_source_time(r->src[i], 0), &dt))
-            dt = 0; /* (times anywhere in int64: differences checked) */
-    for (int i = 1; i < r->nsrc; i++) {
-        const vsv_meta *g = vsv_source_grid(r->src[i]);
-        if (g->nx != g0->nx || g->ny != g0->ny || g->nz != g0->nz || g->proj.kind != g0->proj.kind ||
-            g->origin[0] != g0->origin[0] || g->origin[1] != g0->origin[1] || g->spacing[0] != g0->spacing[0]) {
-            rc = fail(r, VSV_EINVAL, "%s and %s: different grids (%dx%dx%d vs %dx%dx%d or another position)", names[0],
-                      names[i], g0->nx, g0->ny, g0->nz, g->nx, g->ny, g->nz);
-            goto done;
-        }
-        const int64_t end = vsv_source_time(r->src[i - 1], vsv_source_ntimes(r->src[i - 1]) - 1);
-        const int64_t start = vsv_source_time(r->src[i], 0);
-        char a[40], b[40];
-        if (vsv_meta_calendar(g) != vsv_meta_calendar(g0)) {
-            rc = fail(r, VSV_EINVAL, "%s and %s: different calendars (%s, %s)", names[0], names[i],
-                      vsv_calendar_name(vsv_meta_calendar(g0)), vsv_calendar_name(vsv_meta_calendar(g)));
-            goto done;
-        }
-        vsv_cal_format(vsv_meta_calendar(g), end, a, sizeof a);
-        vsv_cal_format(vsv_meta_calendar(g), start, b, sizeof b);
-        if (start <= end) {
-            rc = fail(r, VSV_EINVAL, "%s (ends %s) and %s (starts %s) overlap in time", names[i - 1], a, names[i], b);
-            goto done;
-        }
-        int64_t gap;
-        if (dt && (__builtin_sub_overflow(start, end, &gap) || gap != dt)) {
-            rc = fail(r, VSV_EINVAL, "gap between %s (ends %s) and %s (starts %s): the run steps every %lld s",
-                      names[i - 1], a, names[i], b, (long long)dt);
-            goto done;
-        }
-    }
+    if ((rc = check_sources(r, names)))
+        goto done;
     if ((rc = vsv_meta_copy(&r->meta, g0)))
         goto done;
     if (!(r->path = calloc((size_t)r->nsrc, sizeof *r->path))) {
@@ -157,62 +224,8 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
             goto done;
         }
     /* variables */
-    const vsv_source *s0 = r->src[0];
-    const int nf = vsv_source_nfields(s0);
-    r->sel = calloc((size_t)nf + 1, sizeof *r->sel);
-    if (!r->sel) {
-        rc = VSV_ENOMEM;
+    if ((rc = select_vars(r, vars, names)))
         goto done;
-    }
-    if (vars) {
-        char *copy = strdup(vars), *save = NULL;
-        for (char *name = strtok_r(copy, ",", &save); name && !rc; name = strtok_r(NULL, ",", &save)) {
-            const int i = vsv_source_find_field(s0, name);
-            if (i < 0 || !vsv_source_field(s0, i)->is_volume) {
-                size_t n = (size_t)snprintf(r->err, sizeof r->err, "%s: %s '%s'; available:", names[0],
-                                            i < 0 ? "no variable" : "not a 3-D variable", name);
-                for (int k = 0; k < nf && n < sizeof r->err; k++)
-                    if (vsv_source_field(s0, k)->is_volume)
-                        n += (size_t)snprintf(r->err + n, sizeof r->err - n, " %s", vsv_source_field(s0, k)->name);
-                rc = VSV_ENOTFOUND;
-                break;
-            }
-            for (int k = 0; k < r->nsel; k++)
-                if (r->sel[k] == i)
-                    rc = fail(r, VSV_EINVAL, "variable %s named twice", name);
-            if (!rc && r->nsel < nf)
-                r->sel[r->nsel++] = i;
-        }
-        free(copy);
-        if (rc)
-            goto done;
-    } else {
-        for (int i = 0; i < nf; i++)
-            if (vsv_source_field(s0, i)->is_default)
-                r->sel[r->nsel++] = i;
-        int nvol = 0;
-        for (int i = 0; i < nf; i++)
-            nvol += vsv_source_field(s0, i)->is_volume;
-        if (!nvol) {
-            rc = fail(r, VSV_EINVAL, "%s: no field of this %s file is a volume on the 3-D grid (%s); "
-                      "vsv-extract --list shows what it holds", names[0], vsv_source_format(s0),
-                      nf && vsv_source_field(s0, 0)->role[0] ? vsv_source_field(s0, 0)->role : "2-D fields only");
-            goto done;
-        }
-        if (!r->nsel) {
-            rc = fail(r, VSV_EINVAL, "%s: none of the default variables is present; choose with --vars", names[0]);
-            goto done;
-        }
-    }
-    for (int v = 0; v < r->nsel; v++) {
-        const vsv_field_info *f = vsv_source_field(s0, r->sel[v]);
-        for (int i = 1; i < r->nsrc; i++)
-            if (vsv_source_find_field(r->src[i], f->name) < 0) {
-                rc = fail(r, VSV_EINVAL, "%s has no variable %s (it is in %s)", names[i], f->name, names[0]);
-                goto done;
-            }
-        vsv_meta_add_var(&r->meta, f->name, f->units, f->description);
-    }
     /* frames */
     int total = 0;
     for (int i = 0; i < r->nsrc; i++)

@@ -161,6 +161,123 @@ static void getstr(cursor *c, char *dst, size_t cap)
         c->bad = 1; /* embedded NUL */
 }
 
+/* The GRID record: the dimensions, origin, spacing and vertical kind; 0 or VSV_ECORRUPT. */
+static int decode_grid(vsv_meta *m, cursor *c, char *msg, size_t cap)
+{
+    m->nx = (int)get32(c);
+    m->ny = (int)get32(c);
+    m->nz = (int)get32(c);
+    m->vert_kind = (int)get32(c);
+    for (int i = 0; i < 3; i++)
+        m->origin[i] = getf64(c);
+    for (int i = 0; i < 3; i++)
+        m->spacing[i] = getf64(c);
+    getstr(c, m->vert_units, sizeof m->vert_units);
+    if (m->nx < 1 || m->ny < 1 || m->nz < 1 || m->nx > VSV_MAX_DIM || m->ny > VSV_MAX_DIM || m->nz > VSV_MAX_DIM) {
+        vsv_msg(msg, cap, "GRID record: dimensions out of range");
+        return VSV_ECORRUPT;
+    }
+    return 0;
+}
+
+/* A LEVL, TERR or LUSE record (the levels, or a plane the size of the grid's); 0 or VSV_ECORRUPT. */
+static int decode_plane(vsv_meta *m, cursor *c, const char *tag, uint32_t len, int have_grid, char *msg, size_t cap)
+{
+    if (!have_grid) {
+        vsv_msg(msg, cap, "'%s' record before GRID", tag);
+        return VSV_ECORRUPT;
+    }
+    if (tag[0] == 'L' && tag[1] == 'E') {
+        if (len != (size_t)m->nz * 8 || m->levels || vsv_meta_alloc_levels(m)) {
+            vsv_msg(msg, cap, "LEVL record: %u bytes for %d levels", len, m->nz);
+            return VSV_ECORRUPT;
+        }
+        for (int k = 0; k < m->nz; k++)
+            m->levels[k] = getf64(c);
+    } else {
+        const size_t plane = (size_t)m->nx * (size_t)m->ny;
+        float **dst = tag[0] == 'T' ? &m->terrain : &m->landuse;
+        if (len != plane * 4 || *dst || (tag[0] == 'T' ? vsv_meta_alloc_terrain(m) : vsv_meta_alloc_landuse(m))) {
+            vsv_msg(msg, cap, "%s record: %u bytes for a %dx%d plane", tag, len, m->nx, m->ny);
+            return VSV_ECORRUPT;
+        }
+        for (size_t i = 0; i < plane; i++)
+            (*dst)[i] = vsv_rdf32(c->p + 4 * i);
+        c->at = len;
+    }
+    return 0;
+}
+
+/* A VAR record: one more variable, and its (zeroed) quantisation in *quant; 0 or VSV_ECORRUPT. */
+static int decode_var(vsv_meta *m, cursor *c, vsv_quant **quant, char *msg, size_t cap)
+{
+    vsv_var v;
+    getstr(c, v.name, sizeof v.name);
+    getstr(c, v.units, sizeof v.units);
+    getstr(c, v.description, sizeof v.description);
+    if (!c->bad) {
+        int idx = vsv_meta_add_var(m, v.name, v.units, v.description);
+        vsv_quant *nq = m->nvars ? realloc(*quant, (size_t)m->nvars * sizeof *nq) : *quant;
+        if (nq)
+            *quant = nq; /* (moved even when the variable was refused) */
+        if (idx < 0 || !nq) {
+            vsv_msg(msg, cap, "too many variables");
+            return VSV_ECORRUPT;
+        }
+        memset(&(*quant)[idx], 0, sizeof **quant);
+    }
+    return 0;
+}
+
+/* A QUAN record: the quantisation of the variable just declared; 0 or VSV_ECORRUPT. */
+static int decode_quan(const vsv_meta *m, cursor *c, vsv_quant *quant, char *msg, size_t cap)
+{
+    uint32_t i = get32(c);
+    if (i != (uint32_t)m->nvars - 1 || !quant) {
+        vsv_msg(msg, cap, "QUAN record for variable %u out of order", i);
+        return VSV_ECORRUPT;
+    }
+    vsv_quant *q = &quant[i];
+    q->bits = (int)get32(c);
+    q->scale = (int)get32(c);
+    const uint32_t flags = get32(c);
+    q->missing = flags & 1;
+    if (flags > 1 || (q->missing && q->scale != VSV_SCALE_LINEAR))
+        c->bad = 1;
+    q->lo = getf64(c);
+    q->hi = getf64(c);
+    q->threshold = getf64(c);
+    q->max_abs_error = getf64(c);
+    q->data_min = getf64(c);
+    q->data_max = getf64(c);
+    if ((q->bits != 8 && q->bits != 16) || (q->scale != 0 && q->scale != 1) || !isfinite(q->lo) ||
+        !isfinite(q->hi) || !(q->hi >= q->lo) || (q->scale == VSV_SCALE_LOG && !(q->lo > 0))) {
+        vsv_msg(msg, cap, "QUAN record of variable %u has invalid parameters", i);
+        return VSV_ECORRUPT;
+    }
+    return 0;
+}
+
+/* A TFUN record: a variable's transfer function text (sbuf: VSV_MAX_STRING + 1 bytes of scratch); 0,
+ * VSV_ECORRUPT or VSV_ENOMEM. */
+static int decode_tfun(vsv_meta *m, cursor *c, char *sbuf, char *msg, size_t cap)
+{
+    uint32_t i = get32(c);
+    getstr(c, sbuf, VSV_MAX_STRING + 1);
+    if (!c->bad) {
+        if (i >= (uint32_t)m->nvars) {
+            vsv_msg(msg, cap, "TFUN record for unknown variable %u", i);
+            return VSV_ECORRUPT;
+        }
+        if (!m->tf && !(m->tf = calloc((size_t)m->nvars + 1, sizeof(char *))))
+            return VSV_ENOMEM;
+        free(m->tf[i]);
+        if (!(m->tf[i] = strdup(sbuf)))
+            return VSV_ENOMEM;
+    }
+    return 0;
+}
+
 int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **quant_out, char *msg,
                     size_t cap)
 {
@@ -192,46 +309,12 @@ int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **q
                 goto fail;
             }
         cursor c = {p + at + 8, len, 0, 0};
+        int e = 0; /* the record's error: VSV_ECORRUPT (the message in msg) or VSV_ENOMEM */
         if (!strcmp(tag, "GRID")) {
-            m->nx = (int)get32(&c);
-            m->ny = (int)get32(&c);
-            m->nz = (int)get32(&c);
-            m->vert_kind = (int)get32(&c);
-            for (int i = 0; i < 3; i++)
-                m->origin[i] = getf64(&c);
-            for (int i = 0; i < 3; i++)
-                m->spacing[i] = getf64(&c);
-            getstr(&c, m->vert_units, sizeof m->vert_units);
-            if (m->nx < 1 || m->ny < 1 || m->nz < 1 || m->nx > VSV_MAX_DIM || m->ny > VSV_MAX_DIM ||
-                m->nz > VSV_MAX_DIM) {
-                vsv_msg(msg, cap, "GRID record: dimensions out of range");
-                goto fail;
-            }
-            have_grid = 1;
+            if (!(e = decode_grid(m, &c, msg, cap)))
+                have_grid = 1;
         } else if (!strcmp(tag, "LEVL") || !strcmp(tag, "TERR") || !strcmp(tag, "LUSE")) {
-            if (!have_grid) {
-                vsv_msg(msg, cap, "'%s' record before GRID", tag);
-                goto fail;
-            }
-            if (tag[0] == 'L' && tag[1] == 'E') {
-                if (len != (size_t)m->nz * 8 || m->levels || vsv_meta_alloc_levels(m)) {
-                    vsv_msg(msg, cap, "LEVL record: %u bytes for %d levels", len, m->nz);
-                    goto fail;
-                }
-                for (int k = 0; k < m->nz; k++)
-                    m->levels[k] = getf64(&c);
-            } else {
-                const size_t plane = (size_t)m->nx * (size_t)m->ny;
-                float **dst = tag[0] == 'T' ? &m->terrain : &m->landuse;
-                if (len != plane * 4 || *dst ||
-                    (tag[0] == 'T' ? vsv_meta_alloc_terrain(m) : vsv_meta_alloc_landuse(m))) {
-                    vsv_msg(msg, cap, "%s record: %u bytes for a %dx%d plane", tag, len, m->nx, m->ny);
-                    goto fail;
-                }
-                for (size_t i = 0; i < plane; i++)
-                    (*dst)[i] = vsv_rdf32(c.p + 4 * i);
-                c.at = len;
-            }
+            e = decode_plane(m, &c, tag, len, have_grid, msg, cap);
         } else if (!strcmp(tag, "PROJ")) {
             m->proj.kind = (int)get32(&c);
             if (get32(&c) != 0)
@@ -248,81 +331,30 @@ int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **q
             char key[64];
             getstr(&c, key, sizeof key);
             getstr(&c, sbuf, 256);
-            if (!c.bad && vsv_meta_add_attr(m, key, sbuf)) {
-                rc = VSV_ENOMEM;
-                goto fail;
-            }
+            if (!c.bad && vsv_meta_add_attr(m, key, sbuf))
+                e = VSV_ENOMEM;
         } else if (!strcmp(tag, "VAR ")) {
-            vsv_var v;
-            getstr(&c, v.name, sizeof v.name);
-            getstr(&c, v.units, sizeof v.units);
-            getstr(&c, v.description, sizeof v.description);
-            if (!c.bad) {
-                int idx = vsv_meta_add_var(m, v.name, v.units, v.description);
-                vsv_quant *nq = realloc(quant, (size_t)m->nvars * sizeof *nq);
-                if (idx < 0 || !nq) {
-                    vsv_msg(msg, cap, "too many variables");
-                    goto fail;
-                }
-                quant = nq;
-                memset(&quant[idx], 0, sizeof *quant);
-            }
+            e = decode_var(m, &c, &quant, msg, cap);
         } else if (!strcmp(tag, "QUAN")) {
-            uint32_t i = get32(&c);
-            if (i != (uint32_t)m->nvars - 1 || !quant) {
-                vsv_msg(msg, cap, "QUAN record for variable %u out of order", i);
-                goto fail;
-            }
-            vsv_quant *q = &quant[i];
-            q->bits = (int)get32(&c);
-            q->scale = (int)get32(&c);
-            const uint32_t flags = get32(&c);
-            q->missing = flags & 1;
-            if (flags > 1 || (q->missing && q->scale != VSV_SCALE_LINEAR))
-                c.bad = 1;
-            q->lo = getf64(&c);
-            q->hi = getf64(&c);
-            q->threshold = getf64(&c);
-            q->max_abs_error = getf64(&c);
-            q->data_min = getf64(&c);
-            q->data_max = getf64(&c);
-            if ((q->bits != 8 && q->bits != 16) || (q->scale != 0 && q->scale != 1) || !isfinite(q->lo) ||
-                !isfinite(q->hi) || !(q->hi >= q->lo) || (q->scale == VSV_SCALE_LOG && !(q->lo > 0))) {
-                vsv_msg(msg, cap, "QUAN record of variable %u has invalid parameters", i);
-                goto fail;
-            }
-            nquant++;
+            if (!(e = decode_quan(m, &c, quant, msg, cap)))
+                nquant++;
         } else if (!strcmp(tag, "TFUN")) {
-            uint32_t i = get32(&c);
-            getstr(&c, sbuf, VSV_MAX_STRING + 1);
-            if (!c.bad) {
-                if (i >= (uint32_t)m->nvars) {
-                    vsv_msg(msg, cap, "TFUN record for unknown variable %u", i);
-                    goto fail;
-                }
-                if (!m->tf && !(m->tf = calloc((size_t)m->nvars + 1, sizeof(char *)))) {
-                    rc = VSV_ENOMEM;
-                    goto fail;
-                }
-                free(m->tf[i]);
-                if (!(m->tf[i] = strdup(sbuf))) {
-                    rc = VSV_ENOMEM;
-                    goto fail;
-                }
-            }
+            e = decode_tfun(m, &c, sbuf, msg, cap);
         } else if (!strcmp(tag, "HGTS")) {
             if (!have_grid) {
                 vsv_msg(msg, cap, "'HGTS' record before GRID");
                 goto fail;
             }
-            if ((rc = vsv_heights_decode(m, c.p, len, msg, cap)))
-                goto fail;
-            rc = VSV_ECORRUPT;
+            e = vsv_heights_decode(m, c.p, len, msg, cap);
             c.at = len;
         } else if (!strcmp(tag, "END ")) {
             have_end = 1;
         } else {
             c.at = len; /* other tags: skipped (added by a later minor version) */
+        }
+        if (e) {
+            rc = e;
+            goto fail;
         }
         if (c.bad || c.at != len) {
             vsv_msg(msg, cap, "metadata record '%s' at byte %zu is malformed", tag, at);

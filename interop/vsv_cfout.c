@@ -113,6 +113,171 @@ static void nc_name(const char *in, char *out, size_t cap)
     out[n] = 0;
 }
 
+/* The time axis's attributes: seconds since step a's time, in the file's calendar. */
+static void def_time(cfw *w, int vt, vsv_file *f, int a)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    char since[64], units[96];
+    const int cal = vsv_meta_calendar(m);
+    vsv_cal_format(cal, vsv_file_time(f, a), since, sizeof since);
+    since[10] = ' ';           /* "YYYY-MM-DD HH:MM:SS", the UDUNITS form */
+    since[19] = 0;
+    snprintf(units, sizeof units, "seconds since %s", since);
+    att_text(w, vt, "standard_name", "time");
+    att_text(w, vt, "long_name", "time");
+    att_text(w, vt, "units", units);
+    att_text(w, vt, "calendar", vsv_calendar_name(cal));
+    att_text(w, vt, "axis", "T");
+}
+
+/* The vertical axis's attributes: CF's altitude counts from sea level, its height from the ground. */
+static void def_z(cfw *w, int vz, const vsv_meta *m, const char *zname, const char *datum)
+{
+    char text[512];
+    switch (m->vert_kind) {
+    case VSV_VERT_EVEN:
+    case VSV_VERT_NATIVE:
+        att_text(w, vz, "standard_name", zname);
+        snprintf(text, sizeof text, "%sheight above %s%s", m->vert_kind == VSV_VERT_EVEN ? "" : "mean ", datum,
+                 m->vert_kind == VSV_VERT_EVEN ? "" : " of the model level");
+        att_text(w, vz, "long_name", text);
+        att_text(w, vz, "units", "m");
+        att_text(w, vz, "positive", "up");
+        break;
+    case VSV_VERT_COORD:
+        att_text(w, vz, "long_name", "model level coordinate");
+        att_text(w, vz, "units", m->vert_units);
+        if (!strcmp(m->vert_units, "hPa") || !strcmp(m->vert_units, "Pa")) {
+            att_text(w, vz, "standard_name", "air_pressure");
+            att_text(w, vz, "positive", "down");
+        }
+        break;
+    default:
+        att_text(w, vz, "standard_name", "model_level_number");
+        att_text(w, vz, "long_name", "layer index");
+        att_text(w, vz, "units", "1");
+        att_text(w, vz, "positive", "up");
+    }
+    att_text(w, vz, "axis", "Z");
+}
+
+/* The horizontal axes' attributes: longitude and latitude, or projection metres. */
+static void def_xy(cfw *w, int vx, int vy, int latlon)
+{
+    if (latlon) {
+        att_text(w, vx, "standard_name", "longitude");
+        att_text(w, vx, "units", "degrees_east");
+        att_text(w, vy, "standard_name", "latitude");
+        att_text(w, vy, "units", "degrees_north");
+    } else {
+        att_text(w, vx, "standard_name", "projection_x_coordinate");
+        att_text(w, vx, "long_name", "x coordinate of projection (cell centre)");
+        att_text(w, vx, "units", "m");
+        att_text(w, vy, "standard_name", "projection_y_coordinate");
+        att_text(w, vy, "long_name", "y coordinate of projection (cell centre)");
+        att_text(w, vy, "units", "m");
+    }
+    att_text(w, vx, "axis", "X");
+    att_text(w, vy, "axis", "Y");
+}
+
+/* One 4-D variable for each species selected, its ids into vid; the number whose unit was spelt anew. */
+static int def_species(cfw *w, vsv_file *f, const int *sel, int n, int *vid, const int d4[4], const char *coords)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    const size_t nx = (size_t)m->nx, ny = (size_t)m->ny, nz = (size_t)m->nz;
+    const int has_proj = m->proj.kind != VSV_PROJ_NONE;
+    int respelt = 0; /* variables whose unit was spelt anew */
+    for (int l = 0; l < n && !w->rc; l++) {
+        const vsv_var *v = &m->vars[sel[l]];
+        const vsv_quant *q = vsv_file_quant(f, sel[l]);
+        char name[NC_MAX_NAME + 1];
+        nc_name(v->name, name, sizeof name);
+        if (!nc_ok(w, nc_def_var(w->nc, name, NC_FLOAT, 4, d4, &vid[l]), v->name))
+            break;
+        const size_t chunk[4] = {1, nz, ny, nx};
+        nc_ok(w, nc_def_var_chunking(w->nc, vid[l], NC_CHUNKED, chunk), "chunking");
+        nc_ok(w, nc_def_var_deflate(w->nc, vid[l], 1, 1, 4), "deflate");
+        { /* no data (the species' own, or below the ground) is NaN */
+            const float nan = NAN;
+            nc_ok(w, nc_def_var_fill(w->nc, vid[l], 0, &nan), "_FillValue");
+        }
+        att_text(w, vid[l], "long_name", v->description[0] ? v->description : v->name);
+        const char *vunits = vsv_cf_units(v->units), *comment;
+        att_text(w, vid[l], "units", vunits);
+        if (strcmp(vunits, v->units)) {
+            att_text(w, vid[l], "vsv_units_original", v->units);
+            respelt++;
+        }
+        const char *sn = vsv_cf_standard_name(m->model, v->name, v->units, &comment);
+        if (sn)
+            att_text(w, vid[l], "standard_name", sn);
+        if (comment)
+            att_text(w, vid[l], "comment", comment);
+        if (coords)
+            att_text(w, vid[l], "coordinates", coords);
+        if (has_proj)
+            att_text(w, vid[l], "grid_mapping", "crs");
+        att_one(w, vid[l], "vsv_max_abs_error", q->max_abs_error);
+        char qs[128];
+        snprintf(qs, sizeof qs, "%d-bit %s over [%.9g, %.9g]%s", q->bits, q->scale == VSV_SCALE_LOG ? "log" : "linear",
+                 q->lo, q->hi, q->missing ? ", no-data cells NaN" : "");
+        att_text(w, vid[l], "vsv_quantisation", qs);
+        if (strcmp(name, v->name))
+            att_text(w, vid[l], "vsv_name", v->name);
+    }
+    return respelt;
+}
+
+/* The global attributes: CF's, the model's and the file's own. */
+static void def_globals(cfw *w, const vsv_meta *m, const char *history, int respelt)
+{
+    char text[512];
+    att_text(w, NC_GLOBAL, "Conventions", "CF-1.8");
+    snprintf(text, sizeof text, "%s%s%s", m->model[0] ? m->model : "Vesuvius", m->run[0] ? ": " : "", m->run);
+    att_text(w, NC_GLOBAL, "title", text);
+    snprintf(text, sizeof text, "%s, through a Vesuvius .vsv file (values as decoded: within each variable's vsv_max_abs_error of the model's)",
+             m->model[0] ? m->model : "unknown model");
+    att_text(w, NC_GLOBAL, "source", text);
+    if (history || respelt) {
+        char hist[1800];
+        snprintf(hist, sizeof hist, "%s%s%s", history ? history : "", history && respelt ? "\n" : "",
+                 respelt ? "units in the model's spelling written as UDUNITS spells them (ppmV as ppm, "
+                           "micrograms/m**3 as ug m-3); each such variable keeps the model's in vsv_units_original"
+                         : "");
+        att_text(w, NC_GLOBAL, "history", hist);
+    }
+    att_text(w, NC_GLOBAL, "vsv_model", m->model);
+    att_text(w, NC_GLOBAL, "vsv_run", m->run);
+    for (int i = 0; i < m->nattrs; i++) {
+        char key[NC_MAX_NAME + 1];
+        char raw[80];
+        snprintf(raw, sizeof raw, "vsv_attr_%s", m->attr_keys[i]);
+        nc_name(raw, key, sizeof key);
+        att_text(w, NC_GLOBAL, key, m->attr_values[i]);
+    }
+}
+
+/* The 1-D coordinates' values: seconds from step a, the levels' heights, y and x; buf holds the longest. */
+static void put_axes(cfw *w, vsv_file *f, int a, size_t nt, double *buf, int vt, int vz, int vy, int vx)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    const size_t nx = (size_t)m->nx, ny = (size_t)m->ny, nz = (size_t)m->nz;
+    int64_t *tv = (int64_t *)buf;
+    for (size_t t = 0; t < nt; t++)
+        tv[t] = vsv_file_time(f, a + (int)t) - vsv_file_time(f, a);
+    nc_ok(w, nc_put_var_longlong(w->nc, vt, (const long long *)tv), "time");
+    for (size_t k = 0; k < nz; k++)
+        buf[k] = vsv_meta_cell_height(m, 0, 0, (int)k);
+    nc_ok(w, nc_put_var_double(w->nc, vz, buf), "z");
+    for (size_t i = 0; i < nx; i++)
+        buf[i] = m->origin[0] + (double)i * m->spacing[0];
+    nc_ok(w, nc_put_var_double(w->nc, vx, buf), "x");
+    for (size_t j = 0; j < ny; j++)
+        buf[j] = m->origin[1] + (double)j * m->spacing[1];
+    nc_ok(w, nc_put_var_double(w->nc, vy, buf), "y");
+}
+
 int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const int *sel, int n, int a, int b,
                       const char *history, void (*progress)(void *ctx, int done, int total), void *ctx, char *err,
                       size_t cap)
@@ -152,63 +317,13 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
     nc_ok(&w, nc_def_var(w.nc, "z", NC_DOUBLE, 1, &dz, &vz), "z");
     nc_ok(&w, nc_def_var(w.nc, "y", NC_DOUBLE, 1, &dy, &vy), "y");
     nc_ok(&w, nc_def_var(w.nc, "x", NC_DOUBLE, 1, &dx, &vx), "x");
-    /* time */
-    char since[64], units[96];
-    const int cal = vsv_meta_calendar(m);
-    vsv_cal_format(cal, vsv_file_time(f, a), since, sizeof since);
-    since[10] = ' ';           /* "YYYY-MM-DD HH:MM:SS", the UDUNITS form */
-    since[19] = 0;
-    snprintf(units, sizeof units, "seconds since %s", since);
-    att_text(&w, vt, "standard_name", "time");
-    att_text(&w, vt, "long_name", "time");
-    att_text(&w, vt, "units", units);
-    att_text(&w, vt, "calendar", vsv_calendar_name(cal));
-    att_text(&w, vt, "axis", "T");
+    def_time(&w, vt, f, a);
     /* vertical: CF's altitude counts from sea level, its height from the ground */
     const int agl = vsv_meta_above_ground(m);
     const char *zname = agl ? "height" : "altitude", *datum = agl ? "the ground" : "sea level";
     char text[512];
-    switch (m->vert_kind) {
-    case VSV_VERT_EVEN:
-    case VSV_VERT_NATIVE:
-        att_text(&w, vz, "standard_name", zname);
-        snprintf(text, sizeof text, "%sheight above %s%s", m->vert_kind == VSV_VERT_EVEN ? "" : "mean ", datum,
-                 m->vert_kind == VSV_VERT_EVEN ? "" : " of the model level");
-        att_text(&w, vz, "long_name", text);
-        att_text(&w, vz, "units", "m");
-        att_text(&w, vz, "positive", "up");
-        break;
-    case VSV_VERT_COORD:
-        att_text(&w, vz, "long_name", "model level coordinate");
-        att_text(&w, vz, "units", m->vert_units);
-        if (!strcmp(m->vert_units, "hPa") || !strcmp(m->vert_units, "Pa")) {
-            att_text(&w, vz, "standard_name", "air_pressure");
-            att_text(&w, vz, "positive", "down");
-        }
-        break;
-    default:
-        att_text(&w, vz, "standard_name", "model_level_number");
-        att_text(&w, vz, "long_name", "layer index");
-        att_text(&w, vz, "units", "1");
-        att_text(&w, vz, "positive", "up");
-    }
-    att_text(&w, vz, "axis", "Z");
-    /* horizontal */
-    if (latlon) {
-        att_text(&w, vx, "standard_name", "longitude");
-        att_text(&w, vx, "units", "degrees_east");
-        att_text(&w, vy, "standard_name", "latitude");
-        att_text(&w, vy, "units", "degrees_north");
-    } else {
-        att_text(&w, vx, "standard_name", "projection_x_coordinate");
-        att_text(&w, vx, "long_name", "x coordinate of projection (cell centre)");
-        att_text(&w, vx, "units", "m");
-        att_text(&w, vy, "standard_name", "projection_y_coordinate");
-        att_text(&w, vy, "long_name", "y coordinate of projection (cell centre)");
-        att_text(&w, vy, "units", "m");
-    }
-    att_text(&w, vx, "axis", "X");
-    att_text(&w, vy, "axis", "Y");
+    def_z(&w, vz, m, zname, datum);
+    def_xy(&w, vx, vy, latlon);
     if (has_proj) {
         nc_ok(&w, nc_def_var(w.nc, "crs", NC_INT, 0, NULL, &vcrs), "crs");
         grid_mapping(&w, vcrs, &m->proj);
@@ -250,85 +365,12 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
         if (has_proj)
             att_text(&w, vter, "grid_mapping", "crs");
     }
-    int respelt = 0; /* variables whose unit was spelt anew */
-    for (int l = 0; l < n && !w.rc; l++) {
-        const vsv_var *v = &m->vars[sel[l]];
-        const vsv_quant *q = vsv_file_quant(f, sel[l]);
-        char name[NC_MAX_NAME + 1];
-        nc_name(v->name, name, sizeof name);
-        if (!nc_ok(&w, nc_def_var(w.nc, name, NC_FLOAT, 4, d4, &vid[l]), v->name))
-            break;
-        const size_t chunk[4] = {1, nz, ny, nx};
-        nc_ok(&w, nc_def_var_chunking(w.nc, vid[l], NC_CHUNKED, chunk), "chunking");
-        nc_ok(&w, nc_def_var_deflate(w.nc, vid[l], 1, 1, 4), "deflate");
-        { /* no data (the species' own, or below the ground) is NaN */
-            const float nan = NAN;
-            nc_ok(&w, nc_def_var_fill(w.nc, vid[l], 0, &nan), "_FillValue");
-        }
-        att_text(&w, vid[l], "long_name", v->description[0] ? v->description : v->name);
-        const char *vunits = vsv_cf_units(v->units), *comment;
-        att_text(&w, vid[l], "units", vunits);
-        if (strcmp(vunits, v->units)) {
-            att_text(&w, vid[l], "vsv_units_original", v->units);
-            respelt++;
-        }
-        const char *sn = vsv_cf_standard_name(m->model, v->name, v->units, &comment);
-        if (sn)
-            att_text(&w, vid[l], "standard_name", sn);
-        if (comment)
-            att_text(&w, vid[l], "comment", comment);
-        if (coords)
-            att_text(&w, vid[l], "coordinates", coords);
-        if (has_proj)
-            att_text(&w, vid[l], "grid_mapping", "crs");
-        att_one(&w, vid[l], "vsv_max_abs_error", q->max_abs_error);
-        char qs[128];
-        snprintf(qs, sizeof qs, "%d-bit %s over [%.9g, %.9g]%s", q->bits, q->scale == VSV_SCALE_LOG ? "log" : "linear",
-                 q->lo, q->hi, q->missing ? ", no-data cells NaN" : "");
-        att_text(&w, vid[l], "vsv_quantisation", qs);
-        if (strcmp(name, v->name))
-            att_text(&w, vid[l], "vsv_name", v->name);
-    }
-    /* globals */
-    att_text(&w, NC_GLOBAL, "Conventions", "CF-1.8");
-    snprintf(text, sizeof text, "%s%s%s", m->model[0] ? m->model : "Vesuvius", m->run[0] ? ": " : "", m->run);
-    att_text(&w, NC_GLOBAL, "title", text);
-    snprintf(text, sizeof text, "%s, through a Vesuvius .vsv file (values as decoded: within each variable's vsv_max_abs_error of the model's)",
-             m->model[0] ? m->model : "unknown model");
-    att_text(&w, NC_GLOBAL, "source", text);
-    if (history || respelt) {
-        char hist[1800];
-        snprintf(hist, sizeof hist, "%s%s%s", history ? history : "", history && respelt ? "\n" : "",
-                 respelt ? "units in the model's spelling written as UDUNITS spells them (ppmV as ppm, "
-                           "micrograms/m**3 as ug m-3); each such variable keeps the model's in vsv_units_original"
-                         : "");
-        att_text(&w, NC_GLOBAL, "history", hist);
-    }
-    att_text(&w, NC_GLOBAL, "vsv_model", m->model);
-    att_text(&w, NC_GLOBAL, "vsv_run", m->run);
-    for (int i = 0; i < m->nattrs; i++) {
-        char key[NC_MAX_NAME + 1];
-        char raw[80];
-        snprintf(raw, sizeof raw, "vsv_attr_%s", m->attr_keys[i]);
-        nc_name(raw, key, sizeof key);
-        att_text(&w, NC_GLOBAL, key, m->attr_values[i]);
-    }
+    const int respelt = def_species(&w, f, sel, n, vid, d4, coords);
+    def_globals(&w, m, history, respelt);
     if (w.rc || !nc_ok(&w, nc_enddef(w.nc), "defining the variables"))
         goto fail;
     /* coordinates */
-    int64_t *tv = (int64_t *)buf;
-    for (size_t t = 0; t < nt; t++)
-        tv[t] = vsv_file_time(f, a + (int)t) - vsv_file_time(f, a);
-    nc_ok(&w, nc_put_var_longlong(w.nc, vt, (const long long *)tv), "time");
-    for (size_t k = 0; k < nz; k++)
-        buf[k] = vsv_meta_cell_height(m, 0, 0, (int)k);
-    nc_ok(&w, nc_put_var_double(w.nc, vz, buf), "z");
-    for (size_t i = 0; i < nx; i++)
-        buf[i] = m->origin[0] + (double)i * m->spacing[0];
-    nc_ok(&w, nc_put_var_double(w.nc, vx, buf), "x");
-    for (size_t j = 0; j < ny; j++)
-        buf[j] = m->origin[1] + (double)j * m->spacing[1];
-    nc_ok(&w, nc_put_var_double(w.nc, vy, buf), "y");
+    put_axes(&w, f, a, nt, buf, vt, vz, vy, vx);
     if (vlat >= 0) {
         double *lat = buf, *lon = buf + nx * ny;
         for (size_t j = 0; j < ny; j++)

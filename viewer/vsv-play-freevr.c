@@ -420,21 +420,21 @@ enum {
     O_FPS, O_NOWAND, O_GPUMB
 };
 
-int main(int argc, char **argv)
-{
-    vsv_cli_init("vsv-play-freevr");
+/* What the command line says beyond the player's options: ours apart from FreeVR's strings. */
+typedef struct freevr_args {
     vsv_player_opts opts;
-    vsv_player_opts_init(&opts);
-    opts.renderer = -1; /* auto: each render process chooses (vsv_freevr_draw.c) */
-    memset(&vsv_fv, 0, sizeof vsv_fv);
-    vsv_fv.scale = 1;
-    vsv_fv.trace_fd = -1;
-    vsv_fv.wand = 1;
-    run r;
-    memset(&r, 0, sizeof r);
-    r.panel = 1;
-    r.last_step = -1;
-    const char *trace_file = NULL;
+    size_t budget;       /* --cache-mb */
+    const char *trace_file;
+    char **ours, **fv;   /* argv split: ours (options and the file), FreeVR's */
+    int nfv;
+} freevr_args;
+
+/* The command line into *a, *r and vsv_fv (usage errors exit 2); 1 when --help was printed. */
+static int parse_args(int argc, char **argv, freevr_args *a, run *r)
+{
+    vsv_player_opts_init(&a->opts);
+    a->opts.renderer = -1; /* auto: each render process chooses (vsv_freevr_draw.c) */
+    a->trace_file = NULL;
     /* ours (options and the file) apart from FreeVR's configuration strings */
     char **ours = calloc((size_t)argc + 1, sizeof *ours), **fv = calloc((size_t)argc + 1, sizeof *fv);
     if (!ours || !fv)
@@ -459,40 +459,40 @@ int main(int argc, char **argv)
         {"gpu-mb", required_argument, 0, O_GPUMB},
         {"help", no_argument, 0, 'h'},                {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
-    size_t budget = (size_t)1 << 30;
+    a->budget = (size_t)1 << 30;
     int c;
     while ((c = getopt_long(nours, ours, "s:r:x:hV", longopts, NULL)) != -1) {
         long v;
         double d;
         switch (c) {
-        case 's': opts.species = optarg; break;
-        case O_TF: opts.tfpath = optarg; break;
+        case 's': a->opts.species = optarg; break;
+        case O_TF: a->opts.tfpath = optarg; break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
-                opts.renderer = VSV_RENDER_RAYCAST;
+                a->opts.renderer = VSV_RENDER_RAYCAST;
             else if (!strcmp(optarg, "shearwarp"))
-                opts.renderer = VSV_RENDER_SHEARWARP;
+                a->opts.renderer = VSV_RENDER_SHEARWARP;
             else if (!strcmp(optarg, "gl"))
-                opts.renderer = VSV_RENDER_GL;
+                a->opts.renderer = VSV_RENDER_GL;
             else if (!strcmp(optarg, "auto"))
-                opts.renderer = -1;
+                a->opts.renderer = -1;
             else
                 vsv_cli_usage_error("--renderer: auto, shearwarp, raycast or gl, not '%s'", optarg);
             break;
         case O_GPUMB:
             if (vsv_cli_int(optarg, 16, 1 << 20, &v))
                 vsv_cli_usage_error("--gpu-mb %s: a whole number of megabytes, 16 to %d", optarg, 1 << 20);
-            opts.gpu_budget = (size_t)v << 20;
+            a->opts.gpu_budget = (size_t)v << 20;
             break;
         case O_CACHE:
             if (vsv_cli_int(optarg, 16, 1 << 30, &v))
                 vsv_cli_usage_error("--cache-mb %s: a whole number of megabytes, 16 to %d", optarg, 1 << 30);
-            budget = (size_t)v << 20;
+            a->budget = (size_t)v << 20;
             break;
         case O_THREADS:
             if (vsv_cli_int(optarg, 1, 64, &v))
                 vsv_cli_usage_error("--threads: 1..64");
-            opts.threads = (int)v;
+            a->opts.threads = (int)v;
             break;
         case O_SCALE:
             if (vsv_cli_double(optarg, &vsv_fv.scale) || !(vsv_fv.scale >= 0.05 && vsv_fv.scale <= 4))
@@ -501,33 +501,33 @@ int main(int argc, char **argv)
         case 'x':
             if (vsv_cli_double(optarg, &d) || !(d > 0))
                 vsv_cli_usage_error("--exaggerate: a number > 0");
-            opts.exaggerate = d;
+            a->opts.exaggerate = d;
             break;
         case O_RATE:
             if (vsv_cli_double(optarg, &d) || !(d > 0))
                 vsv_cli_usage_error("--rate: model seconds per wall second, > 0");
-            opts.rate = d;
+            a->opts.rate = d;
             break;
         case O_LOOP:
-            opts.loop = !optarg || !strcmp(optarg, "on") ? VSV_CLOCK_LOOP
-                        : !strcmp(optarg, "bounce")      ? VSV_CLOCK_BOUNCE
-                                                         : VSV_CLOCK_STOP;
-            if (optarg && !opts.loop && strcmp(optarg, "off"))
+            a->opts.loop = !optarg || !strcmp(optarg, "on") ? VSV_CLOCK_LOOP
+                           : !strcmp(optarg, "bounce")      ? VSV_CLOCK_BOUNCE
+                                                            : VSV_CLOCK_STOP;
+            if (optarg && !a->opts.loop && strcmp(optarg, "off"))
                 vsv_cli_usage_error("--loop: on, off or bounce");
             break;
-        case O_PLAY: opts.play = 1; break;
-        case O_NOTERRAIN: opts.terrain = 0; break;
+        case O_PLAY: a->opts.play = 1; break;
+        case O_NOTERRAIN: a->opts.terrain = 0; break;
         case O_PLACE:
             if (!strcmp(optarg, "table"))
-                r.kind = VSV_PLACE_TABLE;
+                r->kind = VSV_PLACE_TABLE;
             else if (!strcmp(optarg, "room"))
-                r.kind = VSV_PLACE_ROOM;
+                r->kind = VSV_PLACE_ROOM;
             else
                 vsv_cli_usage_error("--place: table or room, not '%s'", optarg);
             break;
-        case O_TRACE: trace_file = optarg; break;
-        case O_NOPANEL: r.panel = 0; break;
-        case O_FPS: r.fps = 1; break;
+        case O_TRACE: a->trace_file = optarg; break;
+        case O_NOPANEL: r->panel = 0; break;
+        case O_FPS: r->fps = 1; break;
         case O_NOWAND: vsv_fv.wand = 0; break;
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h':
@@ -536,7 +536,7 @@ int main(int argc, char **argv)
             fputs(usage_tail, stdout);
             free(ours);
             free(fv);
-            return 0;
+            return 1;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("see --help");
         }
@@ -544,10 +544,19 @@ int main(int argc, char **argv)
     if (optind != nours - 1)
         vsv_cli_usage_error(optind < nours ? "one file at a time (FreeVR configuration strings contain ; = \" { or })"
                                            : "no input file");
-    opts.path = ours[optind];
-    opts.http = &vsv_cli_http;
-    /* the file and the species, checked before FreeVR starts anything */
-    vsv_player_opts io = opts;
+    a->opts.path = ours[optind];
+    a->opts.http = &vsv_cli_http;
+    a->ours = ours;
+    a->fv = fv;
+    a->nfv = nfv;
+    return 0;
+}
+
+/* The file and the species checked, the FreeVR layout read and the room (one decoded copy for every wall)
+ * created, all before FreeVR starts anything; dies on errors. */
+static void open_room(freevr_args *a, run *r)
+{
+    vsv_player_opts io = a->opts;
     io.clock_only = 1;
     vsv_player *in = NULL;
     char err[1024];
@@ -556,13 +565,13 @@ int main(int argc, char **argv)
         vsv_cli_usage_error("%s", err);
     if (orc)
         vsv_cli_die(1, "%s", err);
-    read_layout(fv, nfv, &r.lay);
-    if (r.lay.missing[0])
+    read_layout(a->fv, a->nfv, &r->lay);
+    if (r->lay.missing[0])
         vsv_cli_usage_error("FreeVR configuration: usesystem \"%s\", but no system \"%s\" is defined in "
                             "$FREEVR_HOME/.freevrrc, ~/.freevrrc, ./.freevrrc, $FREEVR or the arguments (FreeVR "
                             "would open its simulator with no input: Escape would not end it); define it, or "
                             "leave usesystem out for the simulator",
-                            r.lay.missing, r.lay.missing);
+                            r->lay.missing, r->lay.missing);
     /* one decoded copy for every wall: the room, mapped before the fork */
     vsv_volume *shape = vsv_pager_volume_new(vsv_player_pager(in));
     if (!shape)
@@ -572,26 +581,30 @@ int main(int argc, char **argv)
      * most) and the pager's slabs' rounding */
     const size_t step_bytes = (size_t)vsv_player_meta(in)->nvars * (size_t)shape->nbricks * (size_t)shape->brick *
                               (size_t)shape->brick * (size_t)shape->brick * sizeof(float);
-    const vsv_room_opts ro = {budget + 3 * step_bytes + ((size_t)64 << 20), vsv_player_meta(in)->nvars,
-                              shape->nbricks, r.lay.windows, sizeof(vsv_fv_tick)};
+    const vsv_room_opts ro = {a->budget + 3 * step_bytes + ((size_t)64 << 20), vsv_player_meta(in)->nvars,
+                              shape->nbricks, r->lay.windows, sizeof(vsv_fv_tick)};
     vsv_volume_free(shape);
     if (ro.nspecies > VSV_PLAYER_MAX_SPECIES * 4)
-        vsv_cli_die(1, "%s: %d species: vsv-play-freevr draws at most %d", opts.path, ro.nspecies,
+        vsv_cli_die(1, "%s: %d species: vsv-play-freevr draws at most %d", a->opts.path, ro.nspecies,
                     VSV_PLAYER_MAX_SPECIES * 4);
     if (vsv_room_create(&ro, &vsv_fv.room, err, sizeof err))
         vsv_cli_die(1, "%s", err);
-    if (trace_file)
-        trace_open(trace_file);
-    vsv_fv.opts = opts;
+    if (a->trace_file)
+        trace_open(a->trace_file);
+    vsv_fv.opts = a->opts;
     vsv_fv.opts.external = 1;
     vsv_fv.t0 = vsv_room_clock();
     vsv_player_free(in);
-    if (!(r.measure = vsv_panel_create()))
+    if (!(r->measure = vsv_panel_create()))
         vsv_cli_die(1, "out of memory");
-    /* FreeVR: its arena (its own per-window state), its processes */
+}
+
+/* FreeVR: its arena (its own per-window state), its processes, and this process's signal handlers. */
+static void start_freevr(run *r, char **fv, int nfv)
+{
     vsv_ipc before, after;
     vsv_ipc_list(&before);
-    vrShmemInit(vsv_freevr_arena_bytes(&r.lay, 0));
+    vrShmemInit(vsv_freevr_arena_bytes(&r->lay, 0));
     fv[nfv] = NULL;
     vrConfigure(&nfv, fv, NULL);
     vsv_ipc_list(&after);
@@ -622,9 +635,27 @@ int main(int argc, char **argv)
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGHUP, &sa, NULL);
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-play-freevr");
+    memset(&vsv_fv, 0, sizeof vsv_fv);
+    vsv_fv.scale = 1;
+    vsv_fv.trace_fd = -1;
+    vsv_fv.wand = 1;
+    run r;
+    memset(&r, 0, sizeof r);
+    r.panel = 1;
+    r.last_step = -1;
+    freevr_args a;
+    if (parse_args(argc, argv, &a, &r))
+        return 0;
+    open_room(&a, &r);
+    start_freevr(&r, a.fv, a.nfv);
     /* the decoding player: its threads start after FreeVR's forks */
-    vsv_player_opts dopts = opts;
-    dopts.cache_bytes = budget;
+    vsv_player_opts dopts = a.opts;
+    dopts.cache_bytes = a.budget;
     dopts.threads = 1;
     dopts.no_renderer = 1; /* (the render processes draw) */
     dopts.slab_alloc = vsv_room_slab;
@@ -688,8 +719,8 @@ int main(int argc, char **argv)
     vsv_player_free(r.dec);
     vsv_panel_free(r.measure);
     vsv_room_free(vsv_fv.room);
-    free(ours);
-    free(fv);
+    free(a.ours);
+    free(a.fv);
     if (sig) {
         signal(sig, SIG_DFL);
         raise(sig);

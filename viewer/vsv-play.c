@@ -233,9 +233,19 @@ static void glfw_error(int code, const char *what)
         fprintf(stderr, "vsv-play: GLFW: %s\n", what);
 }
 
-int main(int argc, char **argv)
+/* The command line as parsed: the player's options and the window's own. */
+typedef struct play_args {
+    vsv_player_opts po;
+    int width, height;
+    int want; /* the renderer asked for: -1 auto */
+    double scale;
+    const char *script, *view;
+    unsigned parts;
+} play_args;
+
+/* The command line into *o (usage errors exit 2); 1 when --help was printed. */
+static int parse_args(int argc, char **argv, play_args *o)
 {
-    vsv_cli_init("vsv-play");
     enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
            O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
     static const struct option longopts[] = {
@@ -357,7 +367,7 @@ int main(int argc, char **argv)
         }
         case 'q': vsv_cli_set_quiet(1); break;
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
-        case 'h': fputs(usage, stdout); return 0;
+        case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("see --help");
         }
@@ -366,43 +376,42 @@ int main(int argc, char **argv)
         vsv_cli_usage_error(optind < argc ? "one file at a time" : "no input file");
     po.path = argv[optind];
     po.http = &vsv_cli_http;
-    int nscript = 0, next = 0;
-    script_line *lines = script ? load_script(script, &nscript) : NULL;
+    *o = (play_args){po, width, height, want, scale, script, view, parts};
+    return 0;
+}
+
+/* The player opened, the script's lines tried first on the clock and state alone; dies on errors. */
+static vsv_player *open_player(const play_args *o, const script_line *lines, int nscript)
+{
     vsv_player *p = NULL;
     char err[1024];
-    vsv_player_opts co = po; /* the script's lines tried first on the clock and state alone */
+    vsv_player_opts co = o->po;
     co.clock_only = 1;
     int orc = lines ? vsv_player_open(&co, &p, err, sizeof err) : 0;
     for (int i = 0; !orc && i < nscript; i++)
         if (vsv_player_do(p, lines[i].action, err, sizeof err))
-            vsv_cli_die(1, "%s: line %d: %s", script, lines[i].line, err);
+            vsv_cli_die(1, "%s: line %d: %s", o->script, lines[i].line, err);
     vsv_player_free(p);
     p = NULL;
     if (!orc)
-        orc = vsv_player_open(&po, &p, err, sizeof err);
+        orc = vsv_player_open(&o->po, &p, err, sizeof err);
     if (orc == VSV_EINVAL)
         vsv_cli_usage_error("%s", err);
     if (orc)
         vsv_cli_die(1, "%s", err);
-    if (view) {
+    if (o->view) {
         char act[64];
-        snprintf(act, sizeof act, "view %s", view);
+        snprintf(act, sizeof act, "view %s", o->view);
         vsv_player_do(p, act, err, sizeof err);
     }
-    glfwSetErrorCallback(glfw_error);
-    if (!glfwInit())
-        vsv_cli_die(1, "cannot open a window: no display (set DISPLAY, or run under xvfb-run)");
-    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
-    char title[1100];
-    snprintf(title, sizeof title, "vsv-play: %s", po.path);
-    app a = {p, NULL, 0, 0, 0, 0};
-    if (!(a.win = glfwCreateWindow(width, height, title, NULL, NULL)))
-        vsv_cli_die(1, "cannot open a window (OpenGL not available)");
-    glfwMakeContextCurrent(a.win);
-    glfwSwapInterval(1);
-    glfwSetWindowUserPointer(a.win, &a);
-    /* the renderer, now that the window's OpenGL context is current: auto
-     * takes the GPU raycaster where OpenGL 3.3 runs on a GPU */
+    return p;
+}
+
+/* The renderer, once the window's OpenGL context is current: auto takes the GPU raycaster where OpenGL 3.3 runs
+ * on a GPU. */
+static void choose_renderer(vsv_player *p, int want)
+{
+    char err[1024];
     if (want == -1 && vsv_gl_context_software()) {
         if (!vsv_cli_quiet())
             fprintf(stderr, "vsv-play: renderer: shear-warp (OpenGL here is %s, a software rasteriser: the CPU "
@@ -419,26 +428,56 @@ int main(int argc, char **argv)
     } else if (want != VSV_RENDER_SHEARWARP) {
         vsv_player_do(p, "renderer raycast", err, sizeof err);
     }
-    glfwSetKeyCallback(a.win, on_key);
-    glfwSetMouseButtonCallback(a.win, on_button);
-    glfwSetCursorPosCallback(a.win, on_move);
-    glfwSetScrollCallback(a.win, on_scroll);
-    vsv_overlay *ov = vsv_overlay_create(15, err, sizeof err);
-    if (!ov)
+}
+
+/* The font and outlines for annotated screenshots, kept between frames. */
+typedef struct annot_cache {
+    vsv_font *font;
+    vsv_outlines *outlines;
+    int font_h; /* the height they were loaded for */
+} annot_cache;
+
+/* The picture annotated (the font sized for it, the outlines loaded at the first screenshot), without the status
+ * lines, drawn and written to path. */
+static void annotated_screenshot(vsv_player *p, unsigned parts, annot_cache *ac, const vsv_camera *cam,
+                                 const double mn[3], const double mx[3], const char *path, int fw, int fh)
+{
+    char err[1024];
+    const int rw = cam->width, rh = cam->height;
+    if (parts && ac->font_h != rh) { /* the first, or at a new size */
+        char note[1200];
+        vsv_font_free(ac->font);
+        vsv_outlines_free(ac->outlines);
+        if (vsv_annot_load(vsv_player_meta(p), parts, rw, rh, mx[0] - mn[0], !ac->font_h && !vsv_cli_quiet(),
+                           &ac->font, &ac->outlines, note, sizeof note))
+            vsv_cli_die(1, "%s", note);
+        if (!ac->font_h)
+            vsv_cli_notes(note);
+        ac->font_h = rh;
+    }
+    const unsigned char *ann = vsv_player_annotated(p, parts, ac->font, ac->outlines, err, sizeof err);
+    if (!ann)
         vsv_cli_die(1, "%s", err);
-    vsv_font *font = NULL;
-    vsv_outlines *outlines = NULL;
-    int font_h = 0; /* the height they were loaded for */
+    draw_picture(p, cam, mn, mx, ann);
+    screenshot(path, fw, fh);
+}
+
+/* The frame loop until the window closes or the player quits; the number of damaged steps met. */
+static int play_loop(app *a, const play_args *o, const script_line *lines, int nscript, vsv_overlay *ov,
+                     annot_cache *ac)
+{
+    vsv_player *p = a->p;
+    char err[1024];
     const double t0 = glfwGetTime();
     double last = t0;
-    int rc = 0, ndamaged = 0;
-    while (!glfwWindowShouldClose(a.win) && !vsv_player_quit(p)) {
+    int next = 0, ndamaged = 0;
+    while (!glfwWindowShouldClose(a->win) && !vsv_player_quit(p)) {
         const double now = glfwGetTime();
         /* the script's actions that are due, up to a screenshot: it takes
          * the picture of everything before it, nothing after */
         while (next < nscript && lines[next].at <= now - t0) {
             if (vsv_player_do(p, lines[next].action, err, sizeof err))
-                vsv_cli_die(1, "%s: line %d: %s", script, lines[next].line, err);
+                vsv_cli_die(1, "%s: line %d: %s", o->script, lines[next].line, err);
             next++;
             if (vsv_player_quit(p) || !strncmp(lines[next - 1].action, "screenshot", 10))
                 break;
@@ -456,18 +495,19 @@ int main(int argc, char **argv)
         if (bad >= 0) { /* once per step; the status line keeps saying it */
             char when[64];
             vsv_cal_format(vsv_meta_calendar(vsv_player_meta(p)), vsv_player_clock(p)->times[bad], when, sizeof when);
-            fprintf(stderr, "vsv-play: %s: step %d (%s) is damaged, not drawn; playing on: %s\n", po.path, bad, when, why);
+            fprintf(stderr, "vsv-play: %s: step %d (%s) is damaged, not drawn; playing on: %s\n", o->po.path, bad, when,
+                    why);
             ndamaged++;
         }
         last = now;
         int fw, fh;
-        glfwGetFramebufferSize(a.win, &fw, &fh);
+        glfwGetFramebufferSize(a->win, &fw, &fh);
         if (fw < 1 || fh < 1) {
             glfwWaitEventsTimeout(0.1);
             continue;
         }
         vsv_camera cam;
-        const int rw = (int)fmax(16, lrint(fw * scale)), rh = (int)fmax(16, lrint(fh * scale));
+        const int rw = (int)fmax(16, lrint(fw * o->scale)), rh = (int)fmax(16, lrint(fh * o->scale));
         vsv_player_camera(p, rw, rh, &cam);
         const unsigned char *img = vsv_player_image(p, &cam, err, sizeof err);
         if (!img)
@@ -475,39 +515,57 @@ int main(int argc, char **argv)
         glViewport(0, 0, fw, fh);
         double mn[3], mx[3];
         vsv_player_bounds(p, mn, mx);
-        if (shot) {
-            /* the picture annotated (the font sized for it, the outlines
-             * loaded at the first screenshot), without the status lines */
-            if (parts && font_h != rh) { /* the first, or at a new size */
-                char note[1200];
-                vsv_font_free(font);
-                vsv_outlines_free(outlines);
-                if (vsv_annot_load(vsv_player_meta(p), parts, rw, rh, mx[0] - mn[0], !font_h && !vsv_cli_quiet(), &font,
-                                   &outlines, note, sizeof note))
-                    vsv_cli_die(1, "%s", note);
-                if (!font_h)
-                    vsv_cli_notes(note);
-                font_h = rh;
-            }
-            const unsigned char *ann = vsv_player_annotated(p, parts, font, outlines, err, sizeof err);
-            if (!ann)
-                vsv_cli_die(1, "%s", err);
-            draw_picture(p, &cam, mn, mx, ann);
-            screenshot(shot_path, fw, fh);
-        }
+        if (shot)
+            annotated_screenshot(p, o->parts, ac, &cam, mn, mx, shot_path, fw, fh);
         draw_picture(p, &cam, mn, mx, img);
         char status[2048];
         vsv_player_status(p, status, sizeof status);
         vsv_overlay_text(ov, fw, fh, 8, -8, status);
         if (vsv_player_help_shown(p))
             vsv_overlay_text(ov, fw, fh, 8, 8, vsv_player_help_text());
-        glfwSwapBuffers(a.win);
+        glfwSwapBuffers(a->win);
         /* nothing moves on screen while paused: sleep until input or a due action */
         if (vsv_player_clock(p)->playing)
             glfwPollEvents();
         else
             glfwWaitEventsTimeout(next < nscript ? fmax(0, fmin(0.1, lines[next].at - (glfwGetTime() - t0))) : 0.1);
     }
+    return ndamaged;
+}
+
+int main(int argc, char **argv)
+{
+    vsv_cli_init("vsv-play");
+    play_args o;
+    if (parse_args(argc, argv, &o))
+        return 0;
+    int nscript = 0;
+    script_line *lines = o.script ? load_script(o.script, &nscript) : NULL;
+    vsv_player *p = open_player(&o, lines, nscript);
+    char err[1024];
+    glfwSetErrorCallback(glfw_error);
+    if (!glfwInit())
+        vsv_cli_die(1, "cannot open a window: no display (set DISPLAY, or run under xvfb-run)");
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+    char title[1100];
+    snprintf(title, sizeof title, "vsv-play: %s", o.po.path);
+    app a = {p, NULL, 0, 0, 0, 0};
+    if (!(a.win = glfwCreateWindow(o.width, o.height, title, NULL, NULL)))
+        vsv_cli_die(1, "cannot open a window (OpenGL not available)");
+    glfwMakeContextCurrent(a.win);
+    glfwSwapInterval(1);
+    glfwSetWindowUserPointer(a.win, &a);
+    choose_renderer(p, o.want);
+    glfwSetKeyCallback(a.win, on_key);
+    glfwSetMouseButtonCallback(a.win, on_button);
+    glfwSetCursorPosCallback(a.win, on_move);
+    glfwSetScrollCallback(a.win, on_scroll);
+    vsv_overlay *ov = vsv_overlay_create(15, err, sizeof err);
+    if (!ov)
+        vsv_cli_die(1, "%s", err);
+    annot_cache ac = {NULL, NULL, 0};
+    int rc = 0;
+    const int ndamaged = play_loop(&a, &o, lines, nscript, ov, &ac);
     if (!vsv_cli_quiet()) {
         vsv_pager_stats st;
         vsv_player_pager_stats(p, &st);
@@ -520,12 +578,12 @@ int main(int argc, char **argv)
                 st.peak_bytes / 1048576.0, st.budget / 1048576.0);
     }
     if (ndamaged) { /* played past them, but the run did not show all of the file */
-        fprintf(stderr, "vsv-play: %s: %d step%s damaged, not drawn\n", po.path, ndamaged, ndamaged > 1 ? "s" : "");
+        fprintf(stderr, "vsv-play: %s: %d step%s damaged, not drawn\n", o.po.path, ndamaged, ndamaged > 1 ? "s" : "");
         rc = 1;
     }
     vsv_overlay_free(ov);
-    vsv_font_free(font);
-    vsv_outlines_free(outlines);
+    vsv_font_free(ac.font);
+    vsv_outlines_free(ac.outlines);
     vsv_player_free(p); /* (its GPU raycaster in the window's context) */
     glfwDestroyWindow(a.win);
     glfwTerminate();

@@ -100,107 +100,80 @@ int vsv_player_use_renderer(vsv_player *p, int kind, char *why, size_t cap)
     return 0;
 }
 
-int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)
+/* The opacities --species asks for (NAME[:OPACITY],...) into opac: 0, VSV_EINVAL or -1 (out of memory), the reason
+ * in err. */
+static int species_opacities(const vsv_player *p, const vsv_player_opts *o, float *opac, char *err, size_t cap)
 {
-    vsv_player *p = *out = calloc(1, sizeof *p);
-    if (!p) {
+    char *copy = strdup(o->species), *save = NULL;
+    int rc = 0;
+    if (!copy) {
         snprintf(err, cap, "out of memory");
         return -1;
     }
-    snprintf(p->path, sizeof p->path, "%s", o->path);
-    p->shown = -1;
-    p->bg[0] = 0.02f, p->bg[1] = 0.03f, p->bg[2] = 0.06f;
-    if (vsv_file_open_any(o->path, o->http, &p->f)) {
-        snprintf(err, cap, "%s", p->f ? vsv_file_error(p->f) : "cannot open");
-        if (!p->f || !strstr(err, o->path)) {
-            char tmp[600];
-            snprintf(tmp, sizeof tmp, "%s: %s", o->path, err[0] ? err : "cannot open");
-            snprintf(err, cap, "%s", tmp);
+    for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
+        char *colon = strchr(it, ':');
+        double op = 1;
+        if (colon) {
+            *colon = 0;
+            char *end;
+            op = strtod(colon + 1, &end);
+            if (*end || !(op >= 0)) {
+                snprintf(err, cap, "--species %s: opacity must be a number >= 0", o->species);
+                rc = VSV_EINVAL;
+                break;
+            }
         }
-        return -1;
+        const int s = vsv_meta_find_var(p->m, it);
+        if (s < 0) {
+            snprintf(err, cap, "--species: %s has no species '%s'", o->path, it);
+            rc = VSV_EINVAL;
+            break;
+        }
+        opac[s] = (float)op;
     }
-    p->m = vsv_file_meta(p->f);
-    vsv_file_info info;
-    vsv_file_info_get(p->f, &info);
-    p->ns = p->m->nvars;
-    p->times = malloc((size_t)info.nsteps * sizeof *p->times);
-    p->tf = calloc((size_t)p->ns, sizeof *p->tf);
-    p->cur = calloc((size_t)p->ns, sizeof *p->cur);
-    p->layers = calloc((size_t)p->ns, sizeof *p->layers);
-    p->want = calloc((size_t)p->ns, 1);
-    p->need = calloc((size_t)p->ns, 1);
-    p->bad = calloc((size_t)info.nsteps, sizeof *p->bad);
-    p->gens = calloc((size_t)(p->ns ? p->ns : 1), sizeof *p->gens);
-    p->news = -1;
-    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need || !p->bad || !p->gens) {
-        snprintf(err, cap, "out of memory");
-        return -1;
-    }
-    for (int t = 0; t < info.nsteps; t++)
-        p->times[t] = vsv_file_time(p->f, t);
-    vsv_pager_opts po;
-    vsv_pager_opts_init(&po);
-    po.budget = o->clock_only || o->external ? (size_t)1 << 20 : o->cache_bytes;
-    po.threads = o->clock_only || o->external ? -1 : 0;
-    po.slab_alloc = o->slab_alloc;
-    po.slab_ctx = o->slab_ctx;
-    if (vsv_pager_open(p->f, &po, &p->pager)) {
-        snprintf(err, cap, "cannot start the pager: out of memory");
-        return -1;
-    }
+    free(copy);
+    return rc;
+}
+
+/* Each species' transfer function, volume and layer, shown as --species says: 0 or -1 / VSV_EINVAL, the reason in
+ * err. */
+static int open_species(vsv_player *p, const vsv_player_opts *o, char *err, size_t cap)
+{
     float *opac = malloc((size_t)p->ns * sizeof *opac);
+    int rc = 0;
     if (!opac) {
         snprintf(err, cap, "out of memory");
         return -1;
     }
     for (int s = 0; s < p->ns; s++) /* -1: hidden (v shows it) */
         opac[s] = !o->species && vsv_meta_default_shown(p->m, s) ? 1 : -1;
-    if (o->species) { /* NAME[:OPACITY],... */
-        char *copy = strdup(o->species), *save = NULL;
-        for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
-            char *colon = strchr(it, ':');
-            double op = 1;
-            if (colon) {
-                *colon = 0;
-                char *end;
-                op = strtod(colon + 1, &end);
-                if (*end || !(op >= 0)) {
-                    snprintf(err, cap, "--species %s: opacity must be a number >= 0", o->species);
-                    free(copy);
-                    free(opac);
-                    return VSV_EINVAL;
-                }
-            }
-            const int s = vsv_meta_find_var(p->m, it);
-            if (s < 0) {
-                snprintf(err, cap, "--species: %s has no species '%s'", o->path, it);
-                free(copy);
-                free(opac);
-                return VSV_EINVAL;
-            }
-            opac[s] = (float)op;
-        }
-        free(copy);
-    }
+    if (o->species && (rc = species_opacities(p, o, opac, err, cap)))
+        goto fail;
     for (int s = 0; s < p->ns; s++) {
         char msg[512];
-        const int rc = vsv_tf_for_species(p->f, s, o->tfpath, &p->tf[s], msg, sizeof msg);
+        rc = vsv_tf_for_species(p->f, s, o->tfpath, &p->tf[s], msg, sizeof msg);
         if (rc) {
             snprintf(err, cap, rc == VSV_EIO ? "%s" : "%s: %s", rc == VSV_EIO ? msg : o->tfpath ? o->tfpath : o->path,
                      msg);
-            free(opac);
-            return -1;
+            rc = -1;
+            goto fail;
         }
         if (!(p->cur[s] = vsv_pager_volume_new(p->pager))) {
             snprintf(err, cap, "out of memory");
-            free(opac);
-            return -1;
+            rc = -1;
+            goto fail;
         }
         p->want[s] = opac[s] >= 0;
         p->layers[s] = (vsv_layer){NULL, &p->tf[s], opac[s] >= 0 ? opac[s] : 1, p->want[s]};
     }
+fail:
     free(opac);
-    /* slices: parsed against the grid, coloured by a species' range */
+    return rc;
+}
+
+/* The slices: parsed against the grid, coloured by a species' range: 0 or VSV_EINVAL, the reason in err. */
+static int open_slices(vsv_player *p, const vsv_player_opts *o, char *err, size_t cap)
+{
     p->slice_var = -1;
     for (int s = 0; s < p->ns && p->slice_var < 0; s++)
         p->slice_var = p->want[s] ? s : -1;
@@ -232,6 +205,60 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
             return VSV_EINVAL;
         }
     }
+    return 0;
+}
+
+int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)
+{
+    int rc = -1;
+    vsv_player *p = *out = calloc(1, sizeof *p);
+    if (!p) {
+        snprintf(err, cap, "out of memory");
+        return -1;
+    }
+    snprintf(p->path, sizeof p->path, "%s", o->path);
+    p->shown = -1;
+    p->bg[0] = 0.02f, p->bg[1] = 0.03f, p->bg[2] = 0.06f;
+    if (vsv_file_open_any(o->path, o->http, &p->f)) {
+        snprintf(err, cap, "%s", p->f ? vsv_file_error(p->f) : "cannot open");
+        if (!p->f || !strstr(err, o->path)) {
+            char tmp[600];
+            snprintf(tmp, sizeof tmp, "%s: %s", o->path, err[0] ? err : "cannot open");
+            snprintf(err, cap, "%s", tmp);
+        }
+        goto fail;
+    }
+    p->m = vsv_file_meta(p->f);
+    vsv_file_info info;
+    vsv_file_info_get(p->f, &info);
+    p->ns = p->m->nvars;
+    p->times = malloc((size_t)info.nsteps * sizeof *p->times);
+    p->tf = calloc((size_t)p->ns, sizeof *p->tf);
+    p->cur = calloc((size_t)p->ns, sizeof *p->cur);
+    p->layers = calloc((size_t)p->ns, sizeof *p->layers);
+    p->want = calloc((size_t)p->ns, 1);
+    p->need = calloc((size_t)p->ns, 1);
+    p->bad = calloc((size_t)info.nsteps, sizeof *p->bad);
+    p->gens = calloc((size_t)(p->ns ? p->ns : 1), sizeof *p->gens);
+    p->news = -1;
+    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need || !p->bad || !p->gens) {
+        snprintf(err, cap, "out of memory");
+        goto fail;
+    }
+    for (int t = 0; t < info.nsteps; t++)
+        p->times[t] = vsv_file_time(p->f, t);
+    vsv_pager_opts po;
+    vsv_pager_opts_init(&po);
+    po.budget = o->clock_only || o->external ? (size_t)1 << 20 : o->cache_bytes;
+    po.threads = o->clock_only || o->external ? -1 : 0;
+    po.slab_alloc = o->slab_alloc;
+    po.slab_ctx = o->slab_ctx;
+    if (vsv_pager_open(p->f, &po, &p->pager)) {
+        snprintf(err, cap, "cannot start the pager: out of memory");
+        goto fail;
+    }
+    if ((rc = open_species(p, o, err, cap)) || (rc = open_slices(p, o, err, cap)))
+        goto fail;
     p->light = o->light;
     p->sun_az = o->sun_az;
     p->sun_el = o->sun_el;
@@ -252,17 +279,23 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     p->ro.kind = VSV_RENDER_SHEARWARP;
     if (vsv_renderer_create(&p->ro, &p->r)) {
         snprintf(err, cap, "cannot start the renderer");
-        return -1;
+        rc = -1;
+        goto fail;
     }
     if (o->renderer != VSV_RENDER_SHEARWARP) {
         char why[1024];
         if (vsv_player_use_renderer(p, o->renderer, why, sizeof why)) {
             snprintf(err, cap, "%s", why);
-            return o->renderer == VSV_RENDER_GL ? VSV_EUNSUPPORTED : -1;
+            rc = o->renderer == VSV_RENDER_GL ? VSV_EUNSUPPORTED : -1;
+            goto fail;
         }
     }
     p->dirty = 1;
     return 0;
+fail:
+    vsv_player_free(p);
+    *out = NULL;
+    return rc;
 }
 
 void vsv_player_free(vsv_player *p)

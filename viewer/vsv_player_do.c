@@ -26,18 +26,7 @@ static int num(const char *s, double *v)
     return end == s || *end || !isfinite(*v) ? -1 : 0; /* inf, nan: not numbers here */
 }
 
-int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
-{
-    char buf[1100], *save = NULL;
-    snprintf(buf, sizeof buf, "%s", action);
-    char *verb = strtok_r(buf, " \t\r\n", &save);
-    char *a1 = strtok_r(NULL, " \t\r\n", &save), *a2 = strtok_r(NULL, " \t\r\n", &save);
-    char *a3 = strtok_r(NULL, " \t\r\n", &save);
-    vsv_clock *c = &p->clock;
-    double v, v2, v3;
-    err[0] = 0;
-    if (!verb)
-        return 0;
+/* Fails the action (-1) with the message unless cond holds. */
 #define NEED(cond, ...)                                                                                                \
     do {                                                                                                               \
         if (!(cond)) {                                                                                                 \
@@ -45,6 +34,12 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
             return -1;                                                                                                 \
         }                                                                                                              \
     } while (0)
+
+/* The clock's actions: play, pause, step, seek, speed, loop and the like; 1 when verb is none of them. */
+static int do_clock(vsv_player *p, const char *verb, const char *a1, char *err, size_t cap)
+{
+    vsv_clock *c = &p->clock;
+    double v;
     if (!strcmp(verb, "play"))
         vsv_clock_play(c);
     else if (!strcmp(verb, "pause"))
@@ -85,7 +80,17 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         vsv_clock_seek_step(c, 0);
     } else if (!strcmp(verb, "end")) {
         vsv_clock_seek_step(c, c->nsteps - 1);
-    } else if (!strcmp(verb, "toggle") || !strcmp(verb, "show") || !strcmp(verb, "hide")) {
+    } else {
+        return 1;
+    }
+    return 0;
+}
+
+/* The species' actions: show, hide, opacity and select; 1 when verb is none of them. */
+static int do_species(vsv_player *p, const char *verb, const char *a1, const char *a2, char *err, size_t cap)
+{
+    double v;
+    if (!strcmp(verb, "toggle") || !strcmp(verb, "show") || !strcmp(verb, "hide")) {
         const int s = a1 ? find_species(p, a1) : p->selected;
         NEED(s >= 0, "%s: no species '%s' (the file has %d)", verb, a1 ? a1 : "", p->ns);
         p->want[s] = !strcmp(verb, "toggle") ? !p->want[s] : !strcmp(verb, "show");
@@ -111,7 +116,18 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
             NEED(s >= 0, "select: no species '%s'", a1);
             p->selected = s;
         }
-    } else if (!strcmp(verb, "camera")) {
+    } else {
+        return 1;
+    }
+    return 0;
+}
+
+/* The camera's actions: camera, view, orbit, zoom and pan; 1 when verb is none of them. */
+static int do_camera(vsv_player *p, const char *verb, const char *a1, const char *a2, const char *a3, char *err,
+                     size_t cap)
+{
+    double v, v2, v3;
+    if (!strcmp(verb, "camera")) {
         NEED(!num(a1, &v) && !num(a2, &v2) && (!a3 || !num(a3, &v3)), "camera: needs AZ EL [DIST]");
         p->az = v, p->el = fmax(-89.9, fmin(89.9, v2)), p->dist = a3 ? fmax(0, v3) : 0;
         p->plan = 0;
@@ -125,12 +141,6 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         p->plan_zoom = 1;
         p->az = az, p->el = el, p->dist = 0;
         memset(p->pan, 0, sizeof p->pan);
-    } else if (!strcmp(verb, "light") || !strcmp(verb, "slices")) {
-        int *on = !strcmp(verb, "light") ? &p->light : &p->slices_on;
-        NEED(!a1 || !strcmp(a1, "on") || !strcmp(a1, "off"), "%s: on or off (nothing: switch)", verb);
-        NEED(on == &p->light || p->nslices, "slices: none given (vsv-play --slice SPEC)");
-        *on = a1 ? !strcmp(a1, "on") : !*on;
-        p->dirty = 1;
     } else if (!strcmp(verb, "orbit")) {
         NEED(!num(a1, &v) && !num(a2, &v2), "orbit: needs DAZ DEL");
         if (p->plan) /* out of the map view: from straight above */
@@ -171,6 +181,35 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         const double span = fmax(mx[0] - mn[0], mx[1] - mn[1]);
         for (int i = 0; i < 3; i++)
             p->pan[i] -= (v * r[i] + v2 * u[i]) * span;
+    } else {
+        return 1;
+    }
+    return 0;
+}
+
+int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
+{
+    char buf[1100], *save = NULL;
+    snprintf(buf, sizeof buf, "%s", action);
+    char *verb = strtok_r(buf, " \t\r\n", &save);
+    char *a1 = strtok_r(NULL, " \t\r\n", &save), *a2 = strtok_r(NULL, " \t\r\n", &save);
+    char *a3 = strtok_r(NULL, " \t\r\n", &save);
+    err[0] = 0;
+    if (!verb)
+        return 0;
+    int rc = do_clock(p, verb, a1, err, cap);
+    if (rc == 1)
+        rc = do_species(p, verb, a1, a2, err, cap);
+    if (rc == 1)
+        rc = do_camera(p, verb, a1, a2, a3, err, cap);
+    if (rc != 1)
+        return rc;
+    if (!strcmp(verb, "light") || !strcmp(verb, "slices")) {
+        int *on = !strcmp(verb, "light") ? &p->light : &p->slices_on;
+        NEED(!a1 || !strcmp(a1, "on") || !strcmp(a1, "off"), "%s: on or off (nothing: switch)", verb);
+        NEED(on == &p->light || p->nslices, "slices: none given (vsv-play --slice SPEC)");
+        *on = a1 ? !strcmp(a1, "on") : !*on;
+        p->dirty = 1;
     } else if (!strcmp(verb, "renderer")) {
         int kind = p->ro.kind;
         if (a1 && !strcmp(a1, "raycast"))
@@ -201,7 +240,7 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         NEED(0, "unknown action '%s'", verb);
     }
     return 0;
-#undef NEED
 }
+#undef NEED
 
 /* ---------------------------------------------------------------- status */
