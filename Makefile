@@ -121,7 +121,7 @@ COMMON_A = $(B)/common/libvsv-common.a
 CORE_OBJ = $(call objs,$(wildcard format/vsv_*.c) $(wildcard format/vsv_*.cc) $(wildcard stream/vsv_*.c)) $(COMMON_OBJ)
 # vsv_*_cli.c: program code a folder's tools share (never in a library)
 CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c)))
-RENDER_OBJ = $(call objs,$(wildcard render/vsv_*.c))
+RENDER_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard render/vsv_*.c)))
 GL_OBJ = $(call objs,$(wildcard render/gl/vsv_*.c))
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc))
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
@@ -180,7 +180,7 @@ HELPER_DIR = $(LIBDIR)/vesuvius
 # the programs: each sees cli/ besides its folder's layers; vsv-extract and
 # vsv-convert read .vdb sequences through interop/
 TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv-query.o $(B)/convert/vsv-info.o $(B)/convert/vsv-extract.o $(B)/convert/vsv-interp.o \
-           $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/interop/vsv-export.o
+           $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(B)/interop/vsv-export.o
 $(TOOL_OBJ): XINC = -Icli
 $(B)/render/vsv-render.o: XINC = -Icli -Irender/gl
 $(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
@@ -343,7 +343,7 @@ $(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o 
 $(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
-$(B)/vsv-render: $(B)/render/vsv-render.o $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+$(B)/vsv-render: $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(GL_EXT)
 
@@ -449,7 +449,7 @@ mutate: all
 # `make test` and `make demo` run the dependency step first (see above),
 # then build and run in a second make that can ask pkg-config.
 test:
-	$(Q)sh tools/deps.sh --install
+	$(Q)sh tools/deps.sh --install-test
 	$(Q)$(MAKE) --no-print-directory test-run
 
 ifeq ($(TSAN),1)

@@ -224,7 +224,8 @@ static double shifted_rmse(const vsv_meta *m, const float *a, const float *b, in
     long n = 0;
     for (int j = sy > 0 ? sy : 0; j < m->ny + (sy < 0 ? sy : 0); j++)
         for (int i = sx > 0 ? sx : 0; i < m->nx + (sx < 0 ? sx : 0); i++) {
-            const float va = a[k * plane + (size_t)(j - sy) * m->nx + (i - sx)], vb = b[k * plane + (size_t)j * m->nx + i];
+            const float va = a[k * plane + (size_t)(j - sy) * m->nx + (i - sx)],
+                        vb = b[k * plane + (size_t)j * m->nx + i];
             const double d = (isfinite(vb) ? vb : 0) - (double)(isfinite(va) ? va : 0);
             s += d * d;
             n++;
@@ -284,7 +285,8 @@ int main(int argc, char **argv)
     const int h = atoi(argv[2]);
     const char *paths[1] = {argv[1]};
     vsv_run *run = NULL;
-    if (vsv_run_open(paths, 1, NULL, argc > 3 && argv[3][0] ? argv[3] : NULL, NULL, &run) || vsv_run_add_winds(run, NULL, NULL)) {
+    if (vsv_run_open(paths, 1, NULL, argc > 3 && argv[3][0] ? argv[3] : NULL, NULL, &run) ||
+        vsv_run_add_winds(run, NULL, NULL)) {
         fprintf(stderr, "bench_advect: %s\n", vsv_run_error(run));
         return 1;
     }

@@ -23,7 +23,8 @@ static void fill(void *p, int hour, int spec, int layer, float *plane)
             const double x = (double)i / c->nx, y = (double)j / c->ny;
             double v = 0.02 + 0.01 * sin(6 * x + phase) * cos(5 * y);
             for (int s = 0; s < 4; s++) {
-                const double cx = 0.2 + 0.2 * s + 0.01 * hour, cy = 0.3 + 0.1 * s, r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / 0.002;
+                const double cx = 0.2 + 0.2 * s + 0.01 * hour, cy = 0.3 + 0.1 * s,
+                             r2 = ((x - cx) * (x - cx) + (y - cy) * (y - cy)) / 0.002;
                 if (r2 < 20)
                     v += 0.08 * exp(-r2) * decay;
             }

@@ -158,13 +158,14 @@ static void run(vp_series *S, int rounds)
     for (size_t i = 0; i < (size_t)m->nx * m->ny * m->nz; i++)
         vis += S->vox[0][4 * i + 2] > 0;
     const double *vbest = p1[0] < p0[0] ? p1 : p0;
-    printf("| %s | %dx%dx%d, %d steps, %.0f%% of voxels above 0 | %.1f (%.1f–%.1f) | %.1f (%.1f–%.1f); cold %.0f | **%.2f** | "
+    printf("| %s | %dx%dx%d, %d steps, %.0f%% of voxels above 0 | %.1f (%.1f–%.1f) | %.1f (%.1f–%.1f); cold %.0f | "
+           "**%.2f** | "
            "%.1f (%.1f–%.1f) / %.1f (%.1f–%.1f) | %.1f (%.1f–%.1f) | %.0f %% | **%.2f** (%.2f–%.2f) | %.1f%s |\n",
            S->name, m->nx, m->ny, m->nz, S->nsteps, 100.0 * vis / ((double)m->nx * m->ny * m->nz), 1e3 * c0[0],
-           1e3 * c0[1], 1e3 * c0[2], 1e3 * c1[0], 1e3 * c1[1], 1e3 * c1[2], 1e3 * cold, c0[0] / c1[0], 1e3 * p0[0], 1e3 * p0[1],
-           1e3 * p0[2], 1e3 * p1[0], 1e3 * p1[1], 1e3 * p1[2], 1e3 * p2[0], 1e3 * p2[1], 1e3 * p2[2],
-           100.0 * bricks / ((double)frames * S->vol[0]->nbricks), vbest[0] / p2[0], vbest[1] / p2[2],
-           vbest[2] / p2[1], pmin, pmin >= 35 ? "" : " (NOT matched: no comparison)");
+           1e3 * c0[1], 1e3 * c0[2], 1e3 * c1[0], 1e3 * c1[1], 1e3 * c1[2], 1e3 * cold, c0[0] / c1[0], 1e3 * p0[0],
+           1e3 * p0[1], 1e3 * p0[2], 1e3 * p1[0], 1e3 * p1[1], 1e3 * p1[2], 1e3 * p2[0], 1e3 * p2[1], 1e3 * p2[2],
+           100.0 * bricks / ((double)frames * S->vol[0]->nbricks), vbest[0] / p2[0], vbest[1] / p2[2], vbest[2] / p2[1],
+           pmin, pmin >= 35 ? "" : " (NOT matched: no comparison)");
     fflush(stdout);
     free(vc), free(oc), free(vp), free(vr), free(op);
     free(img);
@@ -193,7 +194,8 @@ int main(int argc, char **argv)
            "is compared), ours re-classifies the bricks that changed and renders. One thread, CPU ms, median\n"
            "(range) over %d rounds, %dx%d image.\n\n",
            VIEWS, rounds, SIZE, SIZE);
-    printf("| volume | grid | VolPack classify ms | ours ms (cold: first time, buffers allocated) | × | VolPack playing ms/frame: classify+render / raw | "
+    printf("| volume | grid | VolPack classify ms | ours ms (cold: first time, buffers allocated) | × | VolPack "
+           "playing ms/frame: classify+render / raw | "
            "ours ms/frame | bricks re-classified | × VolPack's frame rate | PSNR dB, lowest of the views |\n"
            "|---|---|---|---|---|---|---|---|---|---|\n");
     struct {

@@ -152,7 +152,8 @@ static long long write_nc(const dataset *d, const float *q, const char *path)
     nc_enddef(nc);
     for (int v = 0; v < d->nv; v++)
         for (int t = 0; t < d->nt; t++) {
-            const size_t start[4] = {(size_t)t, 0, 0, 0}, count[4] = {1, (size_t)d->meta.nz, (size_t)d->meta.ny, (size_t)d->meta.nx};
+            const size_t start[4] = {(size_t)t, 0, 0, 0},
+                         count[4] = {1, (size_t)d->meta.nz, (size_t)d->meta.ny, (size_t)d->meta.nx};
             nc_put_vara_float(nc, v, start, count, q + ((size_t)t * d->nv + v) * cells(d));
         }
     nc_close(nc);
@@ -252,10 +253,11 @@ static void run(const dataset *d, const char *work)
         }
     }
     const long long s1 = fsize(v1), s2 = fsize(v2), sn = write_nc(d, q, ncp);
-    printf("| %s | %dx%dx%d, %d species, %d steps | %lld | %zu (%.2f) | %lld | %lld (%.2f) | **%.3f** | **%.3f** | %.2f | "
-           "**%.0f** (%.0f) |\n",
-           d->name, d->meta.nx, d->meta.ny, d->meta.nz, d->nv, d->nt, sn, zbytes, zerr, s1, s2, worst_ratio,
-           (double)s2 / sn, (double)s2 / zbytes, (double)s2 / s1, total / best / 1e6, total / best1 / 1e6);
+    printf(
+        "| %s | %dx%dx%d, %d species, %d steps | %lld | %zu (%.2f) | %lld | %lld (%.2f) | **%.3f** | **%.3f** | %.2f | "
+        "**%.0f** (%.0f) |\n",
+        d->name, d->meta.nx, d->meta.ny, d->meta.nz, d->nv, d->nt, sn, zbytes, zerr, s1, s2, worst_ratio,
+        (double)s2 / sn, (double)s2 / zbytes, (double)s2 / s1, total / best / 1e6, total / best1 / 1e6);
     fflush(stdout);
     (void)worst;
     (void)bound_max;
@@ -322,9 +324,10 @@ int main(int argc, char **argv)
            "error / bound) of the decoded values against the originals. Decode: the format-2 file, all steps and\n"
            "species in order, M voxels/s of one thread's CPU time, best of 3. The terrain and land use a .vsv\n"
            "carries are left out (the peers' files have the species only).\n\n");
-    printf("| data | grid | netCDF-4 deflate 4 + shuffle | ZFP fixed-accuracy (err/bound) | .vsv 1 | .vsv 2 (err/bound) "
-           "| .vsv 2 / netCDF-4 | .vsv 2 / ZFP | .vsv 2 / .vsv 1 | decode M voxels/s, .vsv 2 (.vsv 1) |\n"
-           "|---|---|---|---|---|---|---|---|---|---|\n");
+    printf(
+        "| data | grid | netCDF-4 deflate 4 + shuffle | ZFP fixed-accuracy (err/bound) | .vsv 1 | .vsv 2 (err/bound) "
+        "| .vsv 2 / netCDF-4 | .vsv 2 / ZFP | .vsv 2 / .vsv 1 | decode M voxels/s, .vsv 2 (.vsv 1) |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n");
     const char *mv[] = {"Q", "CLW", "SNOW"}, *wv[] = {"QVAPOR", "QCLOUD"};
     const char *only[] = {"Q", "CLW", "SNOW"};
     for (int i = 0; i < 3; i++) {

@@ -147,7 +147,7 @@ static void run(dataset *d, const char *work)
             zsize = -1;
         fclose(zf);
         float *out = malloc(n * 4);
-        memset(out, 0, n * 4); /* no page faults inside the timing */
+        memset(out, 0, n * 4);              /* no page faults inside the timing */
         for (int rep = 0; rep < 4; rep++) { /* best of 4, like .vsv below */
             double t0 = now();
             size_t got = ZSTD_decompress(out, n * 4, zb, (size_t)zsize);
@@ -267,7 +267,8 @@ int main(int argc, char **argv)
     printf("Sizes in MB; in parentheses, full-decode speed in M voxels/s on one core\n"
            "(best of 4 runs; zstd: libzstd in process; netCDF-4: nc_get_var of every variable; .vsv: every\n"
            "step and species decoded in order to float32; \"x nc4\": the .vsv's size over netCDF-4's).\n\n");
-    printf("| data | shape | raw f32 | zstd -3 | netCDF-4 -d4 | .vsv 16-bit | .vsv 8-bit | .vsv encode M voxels/s (2 threads) |\n");
+    printf("| data | shape | raw f32 | zstd -3 | netCDF-4 -d4 | .vsv 16-bit | .vsv 8-bit | .vsv encode M voxels/s (2 "
+           "threads) |\n");
     printf("|---|---|---|---|---|---|---|---|\n");
     dataset d;
     snprintf(path, sizeof path, "%s/data/grads/model.ctl", shared);

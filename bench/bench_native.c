@@ -147,7 +147,8 @@ int main(int argc, char **argv)
     printf("median of %d interleaved rounds (2 threads for the frames):\n", R);
     printf("  load, per volume (CPU):  even %7.2f ms   native %7.2f ms decode + %7.2f ms resample = %7.2f ms (x%.2f)\n",
            1e3 * de / loads, 1e3 * dn / loads, 1e3 * rn / loads, 1e3 * (dn + rn) / loads, (dn + rn) / de);
-    printf("  raycast frame %dx%d (wall): even %7.1f ms   native %7.1f ms (x%.2f)\n", W, H, 1e3 * fe, 1e3 * fn, fn / fe);
+    printf("  raycast frame %dx%d (wall): even %7.1f ms   native %7.1f ms (x%.2f)\n", W, H, 1e3 * fe, 1e3 * fn,
+           fn / fe);
     printf("  a new step (load every species + one frame): even %.1f ms, native %.1f ms (x%.2f)\n",
            1e3 * (de / s[0].nsteps + fe), 1e3 * ((dn + rn) / s[1].nsteps + fn),
            ((dn + rn) / s[1].nsteps + fn) / (de / s[0].nsteps + fe));

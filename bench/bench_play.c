@@ -257,8 +257,9 @@ static int compare(const char *path, int nb, char **mb)
     printf("file: %s, %.2f GB, %d steps x %d species of %dx%dx%d, keyframe every %d (%.0f MB of floats a step)\n\n",
            path, info.file_bytes / 1e9, info.nsteps, info.nspecies, m->nx, m->ny, m->nz, info.keyframe,
            (double)m->nx * m->ny * m->nz * 4 * info.nspecies / 1e6);
-    printf("| budget | direction | from keyframe: steps/s | incremental: steps/s | ratio | payloads decoded (keyframe / "
-           "incremental) |\n|---|---|---|---|---|---|\n");
+    printf(
+        "| budget | direction | from keyframe: steps/s | incremental: steps/s | ratio | payloads decoded (keyframe / "
+        "incremental) |\n|---|---|---|---|---|---|\n");
     double fwd_back[64][2], cpu_fb[64][2]; /* incremental medians, forward and backward, per budget */
     if (nb > 64)
         nb = 64;
@@ -282,8 +283,9 @@ static int compare(const char *path, int nb, char **mb)
             fwd_back[i][dir < 0] = inc[1];
         }
     }
-    printf("\n| budget | incremental forward steps/s | backward steps/s | forward / backward (target <= 1.5) | CPU ms a "
-           "step forward | backward | backward / forward |\n|---|---|---|---|---|---|---|\n");
+    printf(
+        "\n| budget | incremental forward steps/s | backward steps/s | forward / backward (target <= 1.5) | CPU ms a "
+        "step forward | backward | backward / forward |\n|---|---|---|---|---|---|---|\n");
     for (int i = 0; i < nb; i++)
         printf("| %s MB | %.1f | %.1f | **%.2f** | %.2f | %.2f | **%.2f** |\n", mb[i], fwd_back[i][0], fwd_back[i][1],
                fwd_back[i][0] / fwd_back[i][1], 1e3 * cpu_fb[i][0], 1e3 * cpu_fb[i][1], cpu_fb[i][1] / cpu_fb[i][0]);
@@ -366,8 +368,9 @@ int main(int argc, char **argv)
     if (argc >= 4 && !strcmp(argv[1], "--compare"))
         return compare(argv[2], argc - 3, argv + 3);
     if (argc != 2) {
-        fprintf(stderr, "usage: bench_play FILE.vsv | --compare FILE.vsv MB... | --make OUT.vsv STEPS | --plume OUT.vsv "
-                        "STEPS PLUME_T0.f32\n");
+        fprintf(stderr,
+                "usage: bench_play FILE.vsv | --compare FILE.vsv MB... | --make OUT.vsv STEPS | --plume OUT.vsv "
+                "STEPS PLUME_T0.f32\n");
         return 2;
     }
     const long base_kb = rss_anon_kb();

@@ -155,8 +155,8 @@ int main(int argc, char **argv)
     if (!fp)
         return die("cannot write scene.txt");
     fprintf(fp, "species %s\ndims %d %d %d\n", m->vars[s].name, m->nx, m->ny, m->nz);
-    fprintf(fp, "origin %.17g %.17g %.17g\nspacing %.17g %.17g %.17g\n", m->origin[0], m->origin[1],
-            m->origin[2] * E, dx, dy, dz);
+    fprintf(fp, "origin %.17g %.17g %.17g\nspacing %.17g %.17g %.17g\n", m->origin[0], m->origin[1], m->origin[2] * E,
+            dx, dy, dz);
     fprintf(fp, "step %.17g\nterm %.17g\n", o.step_cells * fmin(fmin(dx, dy), dz), TERM);
     /* extinction per world unit of opacity-curve value 1 (vsv_raycast.c: the
      * slider, 1 here, times VSV_SIGMA_PER_CELL = 3 over the smaller cell edge) */
@@ -164,16 +164,16 @@ int main(int argc, char **argv)
     fprintf(fp, "lut %d\n", VSV_TF_LUT);
     for (int i = 0; i < VSV_TF_LUT; i++) {
         const double x = tf.base + i / tf.inv;
-        fprintf(fp, "%.9g %.7g %.7g %.7g %.7g\n", tf.scale == VSV_SCALE_LOG ? exp(x) : x, tf.lut[i][0],
-                tf.lut[i][1], tf.lut[i][2], tf.lut[i][3]);
+        fprintf(fp, "%.9g %.7g %.7g %.7g %.7g\n", tf.scale == VSV_SCALE_LOG ? exp(x) : x, tf.lut[i][0], tf.lut[i][1],
+                tf.lut[i][2], tf.lut[i][3]);
     }
     fprintf(fp, "lo %.9g\nviews %d\n", tf.lo, VIEWS);
     vsv_camera views[VIEWS];
     for (int k = 0; k < VIEWS; k++) {
         vsv_camera_orbit(&views[k], &sc, 225 + 45 * k, 30, 0, 512, 512);
         const vsv_camera *c = &views[k];
-        fprintf(fp, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", c->pos[0], c->pos[1],
-                c->pos[2], c->dir[0], c->dir[1], c->dir[2], c->up[0], c->up[1], c->up[2], c->fov_deg);
+        fprintf(fp, "%.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g %.17g\n", c->pos[0], c->pos[1], c->pos[2],
+                c->dir[0], c->dir[1], c->dir[2], c->up[0], c->up[1], c->up[2], c->fov_deg);
     }
     if (fclose(fp))
         return die("cannot write scene.txt");

@@ -56,7 +56,8 @@ int main(int argc, char **argv)
         L[0] = L[s];
         nl = 1;
     }
-    vsv_scene sc = {.meta = m, .layers = L, .nlayers = nl, .exaggeration = 1, .show_terrain = !getenv("VSV_BENCH_NO_TERRAIN")};
+    vsv_scene sc = {
+        .meta = m, .layers = L, .nlayers = nl, .exaggeration = 1, .show_terrain = !getenv("VSV_BENCH_NO_TERRAIN")};
     double mn[3], mx[3];
     vsv_scene_bounds(&sc, mn, mx);
     sc.exaggeration = fmax(1, round(0.2 * fmax(mx[0] - mn[0], mx[1] - mn[1]) / (mx[2] - fmin(0, mn[2]))));
@@ -75,51 +76,51 @@ int main(int argc, char **argv)
         fclose(fp);
         vsv_camera cam;
         vsv_camera_orbit(&cam, &sc, 225, 30, 0, 512, 512);
-        printf("geometry %d %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", m->nx, m->ny,
-               m->nz, m->origin[0], m->origin[1], m->origin[2] * sc.exaggeration, m->spacing[0], m->spacing[1],
+        printf("geometry %d %d %d %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g %.9g\n", m->nx, m->ny, m->nz,
+               m->origin[0], m->origin[1], m->origin[2] * sc.exaggeration, m->spacing[0], m->spacing[1],
                m->spacing[2] * sc.exaggeration, cam.pos[0], cam.pos[1], cam.pos[2], L[0].tf->lo, L[0].tf->hi,
                (double)L[0].tf->opacity[L[0].tf->nopacity - 1]);
     }
     printf("| renderer | image | threads | frames/s | ms/frame |\n|---|---|---|---|---|\n");
     const int sizes[2] = {512, 1024};
     for (int kind = getenv("VSV_BENCH_SW_ONLY") ? 1 : 0; kind < 2; kind++)
-    for (int si = 0; si < 2; si++)
-        for (int th = 1; th <= 2; th++) {
-            vsv_render_opts o;
-            vsv_render_opts_init(&o);
-            o.threads = th;
-            o.kind = kind ? VSV_RENDER_SHEARWARP : VSV_RENDER_RAYCAST;
-            vsv_renderer *r = NULL;
-            vsv_renderer_create(&o, &r);
-            const int n = sizes[si];
-            float *img = malloc(sizeof(float) * 4 * (size_t)n * n);
-            vsv_camera cam;
-            vsv_camera_orbit(&cam, &sc, 225, 30, 0, n, n);
-            vsv_render(r, &sc, &cam, img, NULL); /* warm-up (and the shear-warp's classification) */
-            const double rebuild = vsv_renderer_rebuild_seconds(r);
-            const int frames = si ? 4 : 8;
-            double dt = INFINITY;
-            for (int pass = 0; pass < PASSES; pass++) {
-                const double t0 = now();
-                for (int k = 0; k < frames; k++) {
-                    vsv_camera keep = cam;
-                    vsv_camera_orbit(&cam, &sc, 225 + 45 * k, 30, 0, n, n);
-                    cam.fov_deg = keep.fov_deg;
-                    cam.ortho_height = keep.ortho_height;
-                    vsv_render(r, &sc, &cam, img, NULL);
+        for (int si = 0; si < 2; si++)
+            for (int th = 1; th <= 2; th++) {
+                vsv_render_opts o;
+                vsv_render_opts_init(&o);
+                o.threads = th;
+                o.kind = kind ? VSV_RENDER_SHEARWARP : VSV_RENDER_RAYCAST;
+                vsv_renderer *r = NULL;
+                vsv_renderer_create(&o, &r);
+                const int n = sizes[si];
+                float *img = malloc(sizeof(float) * 4 * (size_t)n * n);
+                vsv_camera cam;
+                vsv_camera_orbit(&cam, &sc, 225, 30, 0, n, n);
+                vsv_render(r, &sc, &cam, img, NULL); /* warm-up (and the shear-warp's classification) */
+                const double rebuild = vsv_renderer_rebuild_seconds(r);
+                const int frames = si ? 4 : 8;
+                double dt = INFINITY;
+                for (int pass = 0; pass < PASSES; pass++) {
+                    const double t0 = now();
+                    for (int k = 0; k < frames; k++) {
+                        vsv_camera keep = cam;
+                        vsv_camera_orbit(&cam, &sc, 225 + 45 * k, 30, 0, n, n);
+                        cam.fov_deg = keep.fov_deg;
+                        cam.ortho_height = keep.ortho_height;
+                        vsv_render(r, &sc, &cam, img, NULL);
+                    }
+                    dt = fmin(dt, (now() - t0) / frames);
                 }
-                dt = fmin(dt, (now() - t0) / frames);
+                printf("| %s | %dx%d | %d | %.2f | %.0f |\n", kind ? "shear-warp" : "raycast", n, n, th, 1 / dt,
+                       1000 * dt);
+                if (si == 0)
+                    printf("| (%s) | | %d | | %.1f |\n",
+                           kind ? "shear-warp classification, one viewing axis" : "raycast sampling copy", th,
+                           1000 * rebuild);
+                fflush(stdout);
+                free(img);
+                vsv_renderer_free(r);
             }
-            printf("| %s | %dx%d | %d | %.2f | %.0f |\n", kind ? "shear-warp" : "raycast", n, n,
-                   th, 1 / dt, 1000 * dt);
-            if (si == 0)
-                printf("| (%s) | | %d | | %.1f |\n",
-                       kind ? "shear-warp classification, one viewing axis" : "raycast sampling copy", th,
-                       1000 * rebuild);
-            fflush(stdout);
-            free(img);
-            vsv_renderer_free(r);
-        }
     /* playback: the same view while the time step changes (what vsv-play
      * does while playing): every frame a new step, so the shear-warp
      * reclassifies; the ground is kept */

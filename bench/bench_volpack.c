@@ -155,16 +155,18 @@ int main(int argc, char **argv)
            "views, %d rounds, the three renderers in turn; the pictures: PSNR %.1f dB the lowest of the views, "
            "%.1f dB their mean (%s)\n\n",
            argv[1], argv[2], step, m->nx, m->ny, m->nz, 100.0 * nonzero / (double)nv, VP_SIZE, VP_SIZE, FRAMES, REPEAT,
-           pmin, psum / FRAMES, pmin >= 35 ? "matched: the comparison counts" : "NOT matched: below 35 dB, no comparison");
+           pmin, psum / FRAMES,
+           pmin >= 35 ? "matched: the comparison counts" : "NOT matched: below 35 dB, no comparison");
     printf("Median (range) over the rounds; × is VolPack's time over ours, worked out in each round.\n\n"
-           "| renderer | threads | wall ms/frame | × VolPack's frame rate (wall) | CPU ms/frame | × VolPack (CPU, one thread) "
+           "| renderer | threads | wall ms/frame | × VolPack's frame rate (wall) | CPU ms/frame | × VolPack (CPU, one "
+           "thread) "
            "| classification ms (all axes, wall) |\n"
            "|---|---|---|---|---|---|---|\n");
     double w[3], cc[3];
     bench_stats(wall[0], REPEAT, w);
     bench_stats(cput[0], REPEAT, cc);
-    printf("| VolPack vpRenderClassifiedVolume | 1 | %.2f (%.2f–%.2f) | 1 | %.2f (%.2f–%.2f) | 1 | %.0f |\n", 1e3 * w[0],
-           1e3 * w[1], 1e3 * w[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2], 1e3 * vp_classify);
+    printf("| VolPack vpRenderClassifiedVolume | 1 | %.2f (%.2f–%.2f) | 1 | %.2f (%.2f–%.2f) | 1 | %.0f |\n",
+           1e3 * w[0], 1e3 * w[1], 1e3 * w[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2], 1e3 * vp_classify);
     for (int i = 0; i < 2; i++) {
         double rw[REPEAT], rc[REPEAT], x[3], y[3];
         for (int rep = 0; rep < REPEAT; rep++)
@@ -173,8 +175,8 @@ int main(int argc, char **argv)
         bench_stats(cput[1 + i], REPEAT, cc);
         bench_stats(rw, REPEAT, x);
         bench_stats(rc, REPEAT, y);
-        printf("| Vesuvius shear-warp | %d | %.2f (%.2f–%.2f) | **%.2f** (%.2f–%.2f) | %.2f (%.2f–%.2f) | ", i + 1, 1e3 * w[0],
-               1e3 * w[1], 1e3 * w[2], x[0], x[1], x[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2]);
+        printf("| Vesuvius shear-warp | %d | %.2f (%.2f–%.2f) | **%.2f** (%.2f–%.2f) | %.2f (%.2f–%.2f) | ", i + 1,
+               1e3 * w[0], 1e3 * w[1], 1e3 * w[2], x[0], x[1], x[2], 1e3 * cc[0], 1e3 * cc[1], 1e3 * cc[2]);
         if (i == 0)
             printf("**%.2f** (%.2f–%.2f) | %.0f |\n", y[0], y[1], y[2], 1e3 * cls[i]);
         else

@@ -12,7 +12,8 @@ int vp_series_open(vp_series *S, const char *name, const char *path, const char 
     memset(S, 0, sizeof *S);
     S->name = name;
     if (n < 1 || n > VP_MAXSTEPS || vsv_file_open(path, &S->f) || vsv_decoder_create(S->f, &S->d)) {
-        fprintf(stderr, "%s: %s: %s\n", program_invocation_short_name, path, S->f ? vsv_file_error(S->f) : "cannot open");
+        fprintf(stderr, "%s: %s: %s\n", program_invocation_short_name, path,
+                S->f ? vsv_file_error(S->f) : "cannot open");
         return -1;
     }
     const vsv_meta *m = vsv_file_meta(S->f);

@@ -39,7 +39,7 @@ typedef struct vp_series {
     vsv_volume *vol[VP_MAXSTEPS];
     unsigned char *vox[VP_MAXSTEPS]; /* VolPack's voxels {u16 shade index, u8 density, pad} */
     double lo, hi;
-    vsv_tf tf;    /* the matched transfer function */
+    vsv_tf tf; /* the matched transfer function */
 } vp_series;
 
 /* Opens steps first .. first + n - 1 of species in path; 0 or -1 (told on

@@ -232,18 +232,17 @@ void vsv_cli_duration(const char *opt, const char *s, int64_t *out)
 
 /* ------------------------------------------------------- pack options */
 
-const char vsv_cli_pack_help[] =
-    "Packing:\n"
-    "  --brick N            brick edge in cells: 8, 16, 32 or 64 (default 32)\n"
-    "  --keyframe K         a keyframe every K steps, deltas between (default 8)\n"
-    "  --bits B|LIST        8 or 16 bits per value (default 16); LIST is NAME=B,...\n"
-    "  --scale S|LIST       linear or log quantisation (default linear)\n"
-    "  --threshold V|LIST   values below V are stored as empty\n"
-    "  --range LO:HI|LIST   fixed quantisation range (default: the data's range)\n"
-    "  --log-decades D|LIST log scale spans at most D decades below the maximum\n"
-    "                       (default 3 for 8 bits, 6 for 16 bits)\n"
-    "  --codec C[:LEVEL]    zstd (default, level 3) or none\n"
-    "  --threads N          encoder threads (default: all cores)\n";
+const char vsv_cli_pack_help[] = "Packing:\n"
+                                 "  --brick N            brick edge in cells: 8, 16, 32 or 64 (default 32)\n"
+                                 "  --keyframe K         a keyframe every K steps, deltas between (default 8)\n"
+                                 "  --bits B|LIST        8 or 16 bits per value (default 16); LIST is NAME=B,...\n"
+                                 "  --scale S|LIST       linear or log quantisation (default linear)\n"
+                                 "  --threshold V|LIST   values below V are stored as empty\n"
+                                 "  --range LO:HI|LIST   fixed quantisation range (default: the data's range)\n"
+                                 "  --log-decades D|LIST log scale spans at most D decades below the maximum\n"
+                                 "                       (default 3 for 8 bits, 6 for 16 bits)\n"
+                                 "  --codec C[:LEVEL]    zstd (default, level 3) or none\n"
+                                 "  --threads N          encoder threads (default: all cores)\n";
 
 void vsv_cli_pack_init(vsv_cli_pack *p)
 {

@@ -50,9 +50,9 @@ extern vsv_http_opts vsv_cli_http;
  * (the cache would silently keep nothing); sets vsv_cli_http.cache_dir. */
 void vsv_cli_cache_dir(const char *dir);
 enum { VSV_CLI_CACHE_DIR = 1900 };
-#define VSV_CLI_CACHE_DIR_HELP                                                                     \
-    "      --cache-dir DIR     where parts of files read from http(s):// URLs are kept\n"          \
-    "                          (default $VSV_CACHE_DIR, else $XDG_CACHE_HOME/vesuvius, else\n"     \
+#define VSV_CLI_CACHE_DIR_HELP                                                                                         \
+    "      --cache-dir DIR     where parts of files read from http(s):// URLs are kept\n"                              \
+    "                          (default $VSV_CACHE_DIR, else $XDG_CACHE_HOME/vesuvius, else\n"                         \
     "                          ~/.cache/vesuvius; \"off\": none)\n"
 
 /* Progress on stderr: a bar when stderr is a terminal, nothing otherwise.
@@ -80,7 +80,6 @@ int vsv_cli_double(const char *s, double *out);
 /* The value of option opt as a duration (vsv_duration_parse) into *out;
  * exits 2 saying why it is not one (zero, negative, no unit ...). */
 void vsv_cli_duration(const char *opt, const char *s, int64_t *out);
-
 
 /* Packing options as the tools take them (--brick, --keyframe, --bits,
  * --scale, --threshold, --range, --codec, --threads), shared by vsv-pack and
@@ -112,16 +111,16 @@ enum {
     VSV_CLI_PACK_CODEC,
     VSV_CLI_PACK_THREADS
 };
-#define VSV_CLI_PACK_LONGOPTS                                                                      \
-    {"brick", required_argument, 0, VSV_CLI_PACK_BRICK},                                           \
-        {"keyframe", required_argument, 0, VSV_CLI_PACK_KEYFRAME},                                 \
-        {"bits", required_argument, 0, VSV_CLI_PACK_BITS},                                         \
-        {"scale", required_argument, 0, VSV_CLI_PACK_SCALE},                                       \
-        {"threshold", required_argument, 0, VSV_CLI_PACK_THRESHOLD},                               \
-        {"range", required_argument, 0, VSV_CLI_PACK_RANGE},                                       \
-        {"log-decades", required_argument, 0, VSV_CLI_PACK_DECADES},                               \
-        {"codec", required_argument, 0, VSV_CLI_PACK_CODEC},                                       \
-        {"threads", required_argument, 0, VSV_CLI_PACK_THREADS}
+#define VSV_CLI_PACK_LONGOPTS                                                                                          \
+    {"brick", required_argument, 0, VSV_CLI_PACK_BRICK}, {"keyframe", required_argument, 0, VSV_CLI_PACK_KEYFRAME},    \
+        {"bits", required_argument, 0, VSV_CLI_PACK_BITS}, {"scale", required_argument, 0, VSV_CLI_PACK_SCALE},        \
+        {"threshold", required_argument, 0, VSV_CLI_PACK_THRESHOLD},                                                   \
+        {"range", required_argument, 0, VSV_CLI_PACK_RANGE},                                                           \
+        {"log-decades", required_argument, 0, VSV_CLI_PACK_DECADES},                                                   \
+        {"codec", required_argument, 0, VSV_CLI_PACK_CODEC},                                                           \
+    {                                                                                                                  \
+        "threads", required_argument, 0, VSV_CLI_PACK_THREADS                                                          \
+    }
 
 /* The species --species LIST names (comma-separated; NULL: every species)
  * as indices into sel (caller array of m->nvars ints); returns how many.

@@ -12,8 +12,8 @@ struct vsv_json {
     int type;
     double num;
     long long i;
-    char *str;       /* J_STR value */
-    char **keys;     /* J_OBJ */
+    char *str;   /* J_STR value */
+    char **keys; /* J_OBJ */
     vsv_json **items;
     size_t n, cap;
 };

@@ -39,13 +39,23 @@ static inline float vsv_rdf32(const unsigned char *p)
     memcpy(&f, &u, 4);
     return f;
 }
-static inline void vsv_wr16(unsigned char *p, uint16_t v) { p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8); }
+static inline void vsv_wr16(unsigned char *p, uint16_t v)
+{
+    p[0] = (unsigned char)v;
+    p[1] = (unsigned char)(v >> 8);
+}
 static inline void vsv_wr32(unsigned char *p, uint32_t v)
 {
-    p[0] = (unsigned char)v; p[1] = (unsigned char)(v >> 8);
-    p[2] = (unsigned char)(v >> 16); p[3] = (unsigned char)(v >> 24);
+    p[0] = (unsigned char)v;
+    p[1] = (unsigned char)(v >> 8);
+    p[2] = (unsigned char)(v >> 16);
+    p[3] = (unsigned char)(v >> 24);
 }
-static inline void vsv_wr64(unsigned char *p, uint64_t v) { vsv_wr32(p, (uint32_t)v); vsv_wr32(p + 4, (uint32_t)(v >> 32)); }
+static inline void vsv_wr64(unsigned char *p, uint64_t v)
+{
+    vsv_wr32(p, (uint32_t)v);
+    vsv_wr32(p + 4, (uint32_t)(v >> 32));
+}
 static inline void vsv_wrf64(unsigned char *p, double d)
 {
     uint64_t u;
@@ -136,7 +146,7 @@ int vsv_helper_reap(pid_t pid, double limit_s, int *status);
  * what it writes to stdout (up to cap - 1 bytes, NUL-terminated) in out,
  * its wait status in *status. 0; 1 when killed for time; -1 when it could
  * not be started (the reason in why, wcap bytes). */
-int vsv_helper_run(const char *name, char *const argv[], int extra, double limit_s, char *out, size_t cap,
-                   int *status, char *why, size_t wcap);
+int vsv_helper_run(const char *name, char *const argv[], int extra, double limit_s, char *out, size_t cap, int *status,
+                   char *why, size_t wcap);
 
 #endif

@@ -68,8 +68,10 @@ pid_t vsv_helper_spawn(const char *name, char *const argv[], int in, int out, in
 {
     char path[4200];
     if (vsv_helper_path(name, path, sizeof path)) {
-        snprintf(why, cap, "cannot find the helper program %s (looked next to the program and in %s; "
-                 "VSV_HELPER_DIR overrides)", name, VSV_HELPER_DIR);
+        snprintf(why, cap,
+                 "cannot find the helper program %s (looked next to the program and in %s; "
+                 "VSV_HELPER_DIR overrides)",
+                 name, VSV_HELPER_DIR);
         errno = ENOENT;
         return -1;
     }
@@ -96,7 +98,8 @@ pid_t vsv_helper_spawn(const char *name, char *const argv[], int in, int out, in
     static const int slot[3] = {0, 1, 3};
     for (int k = 0; k < 3 && !rc; k++)
         rc = fd[k] >= 0 ? posix_spawn_file_actions_adddup2(&fa, fd[k], slot[k])
-                        : k < 2 ? posix_spawn_file_actions_addopen(&fa, slot[k], "/dev/null", O_RDWR, 0) : 0;
+             : k < 2    ? posix_spawn_file_actions_addopen(&fa, slot[k], "/dev/null", O_RDWR, 0)
+                        : 0;
     /* the library's own complaints stay out of the caller's stderr */
     if (!rc)
         rc = posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
@@ -173,8 +176,8 @@ int vsv_helper_reap(pid_t pid, double limit_s, int *status)
     }
 }
 
-int vsv_helper_run(const char *name, char *const argv[], int extra, double limit_s, char *out, size_t cap,
-                   int *status, char *why, size_t wcap)
+int vsv_helper_run(const char *name, char *const argv[], int extra, double limit_s, char *out, size_t cap, int *status,
+                   char *why, size_t wcap)
 {
     int p[2];
     if (pipe2(p, O_CLOEXEC)) {

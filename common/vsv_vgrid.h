@@ -13,9 +13,9 @@
 typedef struct vsv_vgrid {
     int nz, kx;
     size_t plane;
-    double z0, dz;    /* centre of even level 0, spacing (m) */
-    int16_t *lev;     /* nz*plane: native level below, -1 = no data */
-    float *wt;        /* nz*plane: weight of the level above */
+    double z0, dz; /* centre of even level 0, spacing (m) */
+    int16_t *lev;  /* nz*plane: native level below, -1 = no data */
+    float *wt;     /* nz*plane: weight of the level above */
 } vsv_vgrid;
 
 /* Plans the mapping for native heights zn (kx*plane, level-major, increasing

@@ -27,6 +27,7 @@
 
 #define PIECE ((size_t)64 << 20) /* bytes per collective write */
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: mpirun -np N vsv-convert-mpi [OPTIONS] FILE... -o OUT.vsv\n"
     "vsv-convert on the N ranks of an MPI job: the same options and inputs, and\n"
@@ -38,7 +39,7 @@ static const char usage[] =
     "Reads, detected from the content (never the name):\n" VSV_CLI_MODEL_FORMATS VSV_CLI_VDB_FORMAT
     "Writes the .vsv format (vsv(5)).\n"
     "\n";
-
+/* clang-format on */
 
 /* ------------------------------------------------------ the steps' plan */
 
@@ -453,8 +454,10 @@ int main(int argc, char **argv)
     make_output(r);
     rank_check(r, -1);
     if (!r->me && dropped && !vsv_cli_quiet())
-        fprintf(stderr, "vsv-convert-mpi: note: %d of %d model times lie between the steps every %s from the first "
-                "and are not kept themselves\n", dropped, vsv_run_within(r->run), r->a.res_text);
+        fprintf(stderr,
+                "vsv-convert-mpi: note: %d of %d model times lie between the steps every %s from the first "
+                "and are not kept themselves\n",
+                dropped, vsv_run_within(r->run), r->a.res_text);
 
     read_phase(r);
     rank_check(r, PHASE_READ);

@@ -5,6 +5,7 @@
 
 #include <stdlib.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-convert [OPTIONS] FILE... -o OUT.vsv\n"
     "Convert model output to a .vsv file. Several files are one run in time order\n"
@@ -14,6 +15,7 @@ static const char usage[] =
     "Reads, detected from the content (never the name):\n" VSV_CLI_MODEL_FORMATS VSV_CLI_VDB_FORMAT
     "Writes the .vsv format (vsv(5)).\n"
     "\n";
+/* clang-format on */
 
 static int add(void *w, int64_t time, const float *const *fields) { return vsv_writer_add_step(w, time, fields); }
 
@@ -89,8 +91,10 @@ int main(int argc, char **argv)
         vsv_cli_die(1, "%s", bad >= 0 ? vsv_run_error(run) : "out of memory");
     }
     if (dropped && !vsv_cli_quiet())
-        fprintf(stderr, "vsv-convert: note: %d of %d model times lie between the steps every %s from the first "
-                "and are not kept themselves\n", dropped, vsv_run_within(run), a.res_text);
+        fprintf(stderr,
+                "vsv-convert: note: %d of %d model times lie between the steps every %s from the first "
+                "and are not kept themselves\n",
+                dropped, vsv_run_within(run), a.res_text);
     if (vsv_writer_finish(w, vsv_cli_progress, "vsv-convert: encoding"))
         vsv_cli_writer_die(w, a.out);
     vsv_writer_free(w);

@@ -11,6 +11,7 @@
 #include <string.h>
 #include <unistd.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-extract [OPTIONS] FILE...\n"
     "Read model output and write the selected 3-D fields as a field stream (the\n"
@@ -33,6 +34,7 @@ static const char usage[] =
     "                       and times, and exit\n"
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n" VSV_SOURCE_HELP;
+/* clang-format on */
 
 static int emit(void *ctx, int64_t time, const float *const *fields)
 {
@@ -43,6 +45,7 @@ int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-extract");
     vsv_vdb_source_register(); /* .vdb sequences too (interop/) */
+    /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {{"vars", required_argument, 0, 'v'},
                                              {"times", required_argument, 0, 't'},
                                              {"list", no_argument, 0, 'l'},
@@ -52,6 +55,7 @@ int main(int argc, char **argv)
                                              {"version", no_argument, 0, 'V'},
                                              VSV_SOURCE_LONGOPTS,
                                              {0, 0, 0, 0}};
+    /* clang-format on */
     const char *vars = NULL, *times = NULL, *winds = NULL;
     int list = 0, c, add_winds = 0;
     vsv_source_opts so;
@@ -111,7 +115,9 @@ int main(int argc, char **argv)
                 char note[80];
                 snprintf(note, sizeof note, "  (%s)", f->role[0] ? f->role : "2-D or not on the grid");
                 printf("  %-10s %-8s %6d %-16s %s%s\n", f->name, f->ordering, f->nlevels, f->units, f->description,
-                       f->is_default ? "  [default]" : f->is_volume ? "" : note);
+                       f->is_default  ? "  [default]"
+                       : f->is_volume ? ""
+                                      : note);
             }
             printf("  times:");
             for (int t = 0; t < vsv_source_ntimes(src); t++) {

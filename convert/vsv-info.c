@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-info [OPTIONS] FILE|URL...\n"
     "Describe .vsv files: grid, projection and corner coordinates, times, species\n"
@@ -32,6 +33,7 @@ static const char usage[] =
     VSV_CLI_CACHE_DIR_HELP
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n";
+/* clang-format on */
 
 /* Whether path starts with OpenVDB's magic number (0x56444220, 64 bits LE). */
 static int is_vdb(const char *path)
@@ -113,7 +115,10 @@ static vsv_json *json_grid(const vsv_meta *m)
     vsv_json_set(grid, "spacing", sp);
     vsv_json *vert = vsv_json_object();
     vsv_json_set(vert, "kind", vsv_json_string(vert_name(m->vert_kind)));
-    vsv_json_set(vert, "units", vsv_json_string(m->vert_kind == VSV_VERT_INDEX ? "layer index" : m->vert_units[0] ? m->vert_units : "m"));
+    vsv_json_set(vert, "units",
+                 vsv_json_string(m->vert_kind == VSV_VERT_INDEX ? "layer index"
+                                 : m->vert_units[0]             ? m->vert_units
+                                                                : "m"));
     if (m->levels) {
         vsv_json *lv = vsv_json_array();
         for (int k = 0; k < m->nz; k++)
@@ -352,7 +357,8 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
             double x, y, lat, lon;
             corner(m, c, &x, &y);
             if (!vsv_proj_inverse(&m->proj, x, y, &lat, &lon))
-                printf(" %s %.3f%c %.3f%c", corner_names[c], fabs(lat), lat < 0 ? 'S' : 'N', fabs(lon), lon < 0 ? 'W' : 'E');
+                printf(" %s %.3f%c %.3f%c", corner_names[c], fabs(lat), lat < 0 ? 'S' : 'N', fabs(lon),
+                       lon < 0 ? 'W' : 'E');
         }
         printf("\n");
     }
@@ -387,8 +393,8 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     printf("  bricks      %d^3, %d x %d x %d per step and species, %d octree levels\n", info.brick, info.bricks[0],
            info.bricks[1], info.bricks[2], info.octree_levels);
     printf("              %llu non-empty of %lld (%.1f %%); %llu payloads stored\n",
-           (unsigned long long)cnt.nonempty_bricks, total, total ? 100.0 * (double)cnt.nonempty_bricks / (double)total : 0,
-           (unsigned long long)cnt.stored_bricks);
+           (unsigned long long)cnt.nonempty_bricks, total,
+           total ? 100.0 * (double)cnt.nonempty_bricks / (double)total : 0, (unsigned long long)cnt.stored_bricks);
     printf("  keyframes   every %d steps; codec %s\n", info.keyframe, info.codec == VSV_CODEC_ZSTD ? "zstd" : "none");
     const double raw = (double)m->nx * m->ny * m->nz * 4.0 * m->nvars * info.nsteps;
     human_bytes(raw, a, sizeof a);
@@ -410,11 +416,13 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-info");
+    /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {{"json", no_argument, 0, 'j'},  {"field", required_argument, 0, 'f'},
                                              {"stats", no_argument, 0, 's'}, {"check", no_argument, 0, 'c'},
                                              {"quiet", no_argument, 0, 'q'}, {"help", no_argument, 0, 'h'},
                                              {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
                                              {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
+    /* clang-format on */
     int json = 0, want_stats = 0, check = 0, c;
     const char *field = NULL;
     while ((c = getopt_long(argc, argv, "jf:scqhV", longopts, NULL)) != -1) {

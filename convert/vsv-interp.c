@@ -8,6 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-interp --time-res DURATION [--interp linear|advect|wind] [STREAM]\n"
     "Read a field stream (stdin by default) and write it with frames every DURATION\n"
@@ -33,6 +34,7 @@ static const char usage[] =
     "  -j, --threads N      advect, wind: threads (default: all cores)\n"
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n";
+/* clang-format on */
 
 /* emit's context: the writer, opened once the emitted variables are known */
 typedef struct out {
@@ -47,12 +49,14 @@ static int emit(void *ctx, int64_t time, const float *const *fields)
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-interp");
+    /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {{"time-res", required_argument, 0, 'r'},
                                              {"interp", required_argument, 0, 'i'},
                                              {"threads", required_argument, 0, 'j'},
                                              {"help", no_argument, 0, 'h'},
                                              {"version", no_argument, 0, 'V'},
                                              {0, 0, 0, 0}};
+    /* clang-format on */
     int64_t dt = 0;
     const char *res_text = "";
     int c;

@@ -63,7 +63,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-
 /* Earth distance (m) between two points on a sphere of radius r. */
 static double great_circle(double lat1, double lon1, double lat2, double lon2, double r)
 {
@@ -179,9 +178,6 @@ void vsv_advect_winds(vsv_advect *a, const float *u0, const float *v0, const flo
     }
 }
 
-
-
-
 /* Trilinear value of f at the corners, clamped to the range of the 8
  * cells; when some hold no data (NaN) they are left out and the weights of
  * the others renormalised; own when none has data. */
@@ -226,15 +222,14 @@ static void set_span(vsv_advect *a, int64_t t0, int64_t t1)
     }
 }
 
-
 /* Species v's end value at cell (i, j, k) displaced by alpha * d: f
  * sampled trilinearly there and limited (sample), own where none has data.
  * zero: f's zero mask. Where the 8 cells are all +0 (most of the grid for
  * a hydrometeor) the answer is +0 without reading them: sample would sum
  * eight +0 times weights >= 0 to +0 and clamp it to [+0, +0], so the
  * shortcut gives the same bits. */
-static inline float carried(const vsv_advect *a, const float *f, const uint64_t *zero, int i, int j, int k,
-                            float alpha, const float d[3], float own)
+static inline float carried(const vsv_advect *a, const float *f, const uint64_t *zero, int i, int j, int k, float alpha,
+                            const float d[3], float own)
 {
     const float p[3] = {(float)i + alpha * d[0], (float)j + alpha * d[1], (float)k + alpha * d[2]};
     float fx, fy, fz;
@@ -278,11 +273,11 @@ enum { JOB_FRAME, JOB_FIT, JOB_MASK, JOB_COARSE };
 
 typedef struct job {
     vsv_advect *a;
-    double s, w; /* the frame's interval time, its linear weight */
+    double s, w;  /* the frame's interval time, its linear weight */
     int ns, kind; /* JOB_FRAME, JOB_FIT (rows FIT_STRIDE apart), JOB_MASK, JOB_COARSE */
     float *const *out;
-    atomic_int next;   /* next row (j + k*ny) to do */
-    atomic_int tid;    /* next worker's scratch */
+    atomic_int next; /* next row (j + k*ny) to do */
+    atomic_int tid;  /* next worker's scratch */
 } job;
 
 /* The scales of level k for every species, into al (ns): the fitted ones,

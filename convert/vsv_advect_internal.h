@@ -20,36 +20,36 @@ enum { NCAND = 11, FIT_STRIDE = 3, MAXTHREADS = 64, MAXVARS = 256 };
 struct vsv_advect {
     int nx, ny, nz, threads, vertical, nvars;
     size_t plane, cells;
-    size_t stride[3];  /* index step per axis (0 for an axis of one cell) */
-    float *sx, *sy;    /* per column: cells per metre along x, y */
-    float *sz;         /* per level: cells per metre upward (0: no vertical motion) */
-    float *wind;       /* per cell 8 floats: u v w 0 at the start, u v w 0 at the end,
-                        * in cells per span seconds */
+    size_t stride[3]; /* index step per axis (0 for an axis of one cell) */
+    float *sx, *sy;   /* per column: cells per metre along x, y */
+    float *sz;        /* per level: cells per metre upward (0: no vertical motion) */
+    float *wind;      /* per cell 8 floats: u v w 0 at the start, u v w 0 at the end,
+                       * in cells per span seconds */
     double span;
-    float scale;       /* > 0: every species moves with the wind times this; 0: fitted */
-    int band, nband;   /* the fit's bands: of band levels, nband of them */
-    float *alpha;      /* the fitted scales: nvars * nband (band fastest) */
-    int fitrows;       /* rows the fit visits: every FIT_STRIDE-th of each level */
-    double *acc;       /* per fit row: nvars * NCAND squared mismatches (summed in
-                        * row order afterwards, so the fit does not depend on
-                        * which thread did which row) */
-    double *sums;      /* nvars * nband * NCAND: the bands' sums */
-    float *scratch;    /* per thread: one row of displacements, 6 floats a cell */
-    int ns;            /* species of the interval's outputs */
+    float scale;                        /* > 0: every species moves with the wind times this; 0: fitted */
+    int band, nband;                    /* the fit's bands: of band levels, nband of them */
+    float *alpha;                       /* the fitted scales: nvars * nband (band fastest) */
+    int fitrows;                        /* rows the fit visits: every FIT_STRIDE-th of each level */
+    double *acc;                        /* per fit row: nvars * NCAND squared mismatches (summed in
+                                         * row order afterwards, so the fit does not depend on
+                                         * which thread did which row) */
+    double *sums;                       /* nvars * nband * NCAND: the bands' sums */
+    float *scratch;                     /* per thread: one row of displacements, 6 floats a cell */
+    int ns;                             /* species of the interval's outputs */
     const float *const *f0, *const *f1; /* its outputs (borrowed: vsv_advect_outputs) */
-    size_t zrow;       /* words of a row of a zero mask */
-    size_t zplane;     /* words of a zero mask: ny * nz rows */
-    size_t zcap;       /* words allocated in zero */
-    uint64_t *zero;    /* per species v and end e, the mask at (2 * v + e) * zplane:
-                        * bit i of row (j, k) set when the 8 cells a sample based at
-                        * cell (i, j, k) reads are all +0 (see carried) */
-    int *ext;          /* per species v and end e, per row r (j + k * ny): the first and
-                        * last column not +0, at ext[((2 * v + e) * ny * nz + r) * 2]
-                        * (first > last for a row all +0) */
-    int cx, cy;        /* the coarse trajectory grid: columns and rows (vsv_advect_traj.c) */
-    float *coarse;     /* its displacements, 6 floats a point (back, then on),
-                        * cx * cy * nz points */
-    unsigned char *cflag; /* per coarse point: C_LEFT_* or C_NONE (not computed) */
+    size_t zrow;                        /* words of a row of a zero mask */
+    size_t zplane;                      /* words of a zero mask: ny * nz rows */
+    size_t zcap;                        /* words allocated in zero */
+    uint64_t *zero;                     /* per species v and end e, the mask at (2 * v + e) * zplane:
+                                         * bit i of row (j, k) set when the 8 cells a sample based at
+                                         * cell (i, j, k) reads are all +0 (see carried) */
+    int *ext;                           /* per species v and end e, per row r (j + k * ny): the first and
+                                         * last column not +0, at ext[((2 * v + e) * ny * nz + r) * 2]
+                                         * (first > last for a row all +0) */
+    int cx, cy;                         /* the coarse trajectory grid: columns and rows (vsv_advect_traj.c) */
+    float *coarse;                      /* its displacements, 6 floats a point (back, then on),
+                                         * cx * cy * nz points */
+    unsigned char *cflag;               /* per coarse point: C_LEFT_* or C_NONE (not computed) */
 };
 
 /* The coarse trajectory grid's step: every COARSE-th column and row. */

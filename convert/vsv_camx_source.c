@@ -15,11 +15,11 @@
 
 typedef struct camx {
     vsv_uamiv *u;
-    vsv_camxmet *zp;    /* the vertical coordinate, or NULL; also in met[] */
-    vsv_camxmet **met;  /* companions, each offering fields */
+    vsv_camxmet *zp;   /* the vertical coordinate, or NULL; also in met[] */
+    vsv_camxmet **met; /* companions, each offering fields */
     int nmet;
-    int *fmet, *fidx;   /* per field beyond the species: companion, its field */
-    float *zm;       /* nz*plane layer-middle heights (m above ground) */
+    int *fmet, *fidx; /* per field beyond the species: companion, its field */
+    float *zm;        /* nz*plane layer-middle heights (m above ground) */
     float *nat;
     vsv_vgrid vg;
     int vg_hour;
@@ -27,9 +27,9 @@ typedef struct camx {
 
 static int is_aerosol(const char *n)
 {
-    static const char *const a[] = {"PSO4", "PNO3", "PNH4", "POA", "PEC", "PCL", "NA", "PH2O", "FPRM", "FCRS", "CPRM",
-                                    "CCRS", "SOPA", "SOPB", "SOA1", "SOA2", "SOA3", "SOA4", "SOA5", "SOA6", "SOA7",
-                                    "PM25", "PM10", NULL};
+    static const char *const a[] = {"PSO4", "PNO3", "PNH4", "POA",  "PEC",  "PCL",  "NA",   "PH2O",
+                                    "FPRM", "FCRS", "CPRM", "CCRS", "SOPA", "SOPB", "SOA1", "SOA2",
+                                    "SOA3", "SOA4", "SOA5", "SOA6", "SOA7", "PM25", "PM10", NULL};
     for (int i = 0; a[i]; i++)
         if (!strcmp(n, a[i]))
             return 1;
@@ -211,7 +211,9 @@ static int camx_open(vsv_source *s)
         default:
             return vsv_source_fail(s, VSV_EUNSUPPORTED,
                                    "projection code %d (%s) is not supported; give one with --proj", h->iproj,
-                                   h->iproj == 1 ? "UTM" : h->iproj == 3 ? "rotated polar stereographic" : "unknown");
+                                   h->iproj == 1   ? "UTM"
+                                   : h->iproj == 3 ? "rotated polar stereographic"
+                                                   : "unknown");
         }
     } else {
         vsv_meta_add_attr(g, "projection", "unknown (CAMx 5 header has none; give --proj lcc --lat1 ... )");
@@ -307,11 +309,12 @@ static int camx_open(vsv_source *s)
         /* a date YYJJJ or YYYYJJJ and an hour 0..24: a NaN or a wild value
          * would make a time of nothing (and undefined arithmetic) */
         if (!isfinite(bh) || bh < 0 || bh > 24 || bd < 0 || bd / 1000 > 9999 || bd % 1000 < 1 || bd % 1000 > 366)
-            return vsv_source_fail(s, VSV_ECORRUPT, "hour %d: begins at date %d, hour %g: not a time (record of hour %d)",
-                                   t, bd, bh, t);
+            return vsv_source_fail(s, VSV_ECORRUPT,
+                                   "hour %d: begins at date %d, hour %g: not a time (record of hour %d)", t, bd, bh, t);
         s->times[t] = vsv_uamiv_time(bd, bh) + (int64_t)zone * 3600;
         if (t && s->times[t] <= s->times[t - 1])
-            return vsv_source_fail(s, VSV_ECORRUPT, "hour %d (date %d, %.2f h) does not follow hour %d", t, bd, bh, t - 1);
+            return vsv_source_fail(s, VSV_ECORRUPT, "hour %d (date %d, %.2f h) does not follow hour %d", t, bd, bh,
+                                   t - 1);
     }
     s->ntimes = h->nhours;
     /* native levels with heights: their heights in every column, every hour they move */
@@ -373,13 +376,14 @@ static char *camx_summary(vsv_source *s)
     const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
     vsv_buf b = {0};
     char line[600];
-    snprintf(line, sizeof line,
-             "CAMx UAM-IV %s file (%s-endian, v%s header)\n  note        %s\n  grid        %d x %d x %d, origin (%g, %g), "
-             "cells %g x %g, projection code %d (true lat %g/%g, centre %g, %g)\n  hours       %d, from date %d %.2f h to "
-             "%d %.2f h\n  species     %d:",
-             h->name, h->little_endian ? "little" : "big", h->v6 ? "6+" : "5", h->note, h->nx, h->ny, h->nz, h->xorg,
-             h->yorg, h->dx, h->dy, h->iproj, h->tlat1, h->tlat2, h->plat, h->plon, h->nhours, h->bdate, h->bhour,
-             h->edate, h->ehour, h->nspec);
+    snprintf(
+        line, sizeof line,
+        "CAMx UAM-IV %s file (%s-endian, v%s header)\n  note        %s\n  grid        %d x %d x %d, origin (%g, %g), "
+        "cells %g x %g, projection code %d (true lat %g/%g, centre %g, %g)\n  hours       %d, from date %d %.2f h to "
+        "%d %.2f h\n  species     %d:",
+        h->name, h->little_endian ? "little" : "big", h->v6 ? "6+" : "5", h->note, h->nx, h->ny, h->nz, h->xorg,
+        h->yorg, h->dx, h->dy, h->iproj, h->tlat1, h->tlat2, h->plat, h->plon, h->nhours, h->bdate, h->bhour, h->edate,
+        h->ehour, h->nspec);
     vsv_buf_put(&b, line, strlen(line));
     for (int i = 0; i < h->nspec; i++) {
         snprintf(line, sizeof line, " %s", h->species[i]);

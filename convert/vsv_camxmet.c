@@ -24,13 +24,13 @@ struct vsv_camxmet {
     const unsigned char *d;
     size_t n;
     int le, kind, nx, ny, nz, nhours, per_hour, nfields, stagger;
-    size_t *rec;     /* payload offset of every record */
-    uint32_t *len;   /* and its length */
+    size_t *rec;   /* payload offset of every record */
+    uint32_t *len; /* and its length */
     int nrec;
     char path[1024], err[600];
 };
 
-static const char *const kind_names[] = {"height/pressure", "wind", "temperature", "humidity",
+static const char *const kind_names[] = {"height/pressure",      "wind",      "temperature", "humidity",
                                          "vertical diffusivity", "cloud/rain"};
 const char *vsv_camxmet_kind_name(int kind) { return kind >= 0 && kind < 6 ? kind_names[kind] : "?"; }
 const char *vsv_camxmet_error(const vsv_camxmet *m) { return m ? m->err : "out of memory"; }
@@ -53,9 +53,7 @@ void vsv_camxmet_field(const vsv_camxmet *m, int i, const char **name, const cha
 {
     static const char *const cloud4[] = {"CWC", "RWC", "SWC", "GWC", "COD"};
     switch (m->kind) {
-    case VSV_MET_ZP:
-        *name = "PRESS", *units = "mb", *desc = "pressure (CAMx height/pressure file)";
-        return;
+    case VSV_MET_ZP: *name = "PRESS", *units = "mb", *desc = "pressure (CAMx height/pressure file)"; return;
     case VSV_MET_WIND:
         *name = i ? "V" : "U", *units = "m/s";
         *desc = i ? "north-south wind (CAMx wind file)" : "east-west wind (CAMx wind file)";
@@ -81,10 +79,7 @@ static void stamp(const vsv_camxmet *m, int r, float *hhmm, int *date)
     *date = (int32_t)vsv_f77_u32(m->le, m->d + m->rec[r] + 4);
 }
 
-static int same_stamp(const vsv_camxmet *m, int a, int b)
-{
-    return !memcmp(m->d + m->rec[a], m->d + m->rec[b], 8);
-}
+static int same_stamp(const vsv_camxmet *m, int a, int b) { return !memcmp(m->d + m->rec[a], m->d + m->rec[b], 8); }
 
 /* Which kind a file of stamped plane records is, from its records per hour. */
 static int stamped_kind(vsv_camxmet *m, int per_hour, const char *base, const char *main_name)
@@ -157,7 +152,8 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
     /* the layout */
     if (m->len[0] == 32 && !memcmp(m->d + m->rec[0], "CAMx", 4)) {
         m->kind = VSV_MET_CLOUD;
-        const int cx = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 20), cy = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 24),
+        const int cx = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 20),
+                  cy = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 24),
                   cz = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 28);
         if (cx != nx || cy != ny || cz != nz)
             return mfail(m, VSV_EINVAL, "cloud/rain grid %d x %d x %d, %s is %d x %d x %d", cx, cy, cz, main_name, nx,
@@ -181,10 +177,11 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
             m->stagger = (int32_t)vsv_f77_u32(m->le, m->d + m->rec[0] + 8) == 1;
         if (m->nrec % m->per_hour || m->len[m->per_hour - 1] != 4 ||
             (m->nrec > m->per_hour && m->len[m->per_hour] != m->len[0]))
-            return mfail(m, VSV_EINVAL,
-                         "wind records do not repeat every %d (time, U and V of %d layer%s, dummy): not the layer count "
-                         "of %s",
-                         m->per_hour, nz, nz == 1 ? "" : "s", main_name);
+            return mfail(
+                m, VSV_EINVAL,
+                "wind records do not repeat every %d (time, U and V of %d layer%s, dummy): not the layer count "
+                "of %s",
+                m->per_hour, nz, nz == 1 ? "" : "s", main_name);
         m->nhours = m->nrec / m->per_hour;
         m->nfields = 2;
     } else if (m->len[0] == 8 + plane) {
@@ -222,8 +219,8 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
                 size_t off;
                 int r = vsv_camxmet_record(m, h, f, k, &off);
                 if (m->len[r] != plane + off)
-                    return mfail(m, VSV_ECORRUPT, "record %d: %u bytes, a %d x %d plane needs %u", r + 1, m->len[r],
-                                 nx, ny, plane + (uint32_t)off);
+                    return mfail(m, VSV_ECORRUPT, "record %d: %u bytes, a %d x %d plane needs %u", r + 1, m->len[r], nx,
+                                 ny, plane + (uint32_t)off);
             }
     return 0;
 }

@@ -18,7 +18,7 @@
 typedef struct cf {
     int nc;
     int *varid;
-    int flip_y;        /* y decreases in the file: rows are reversed */
+    int flip_y; /* y decreases in the file: rows are reversed */
     float *tmp;
 } cf;
 
@@ -84,10 +84,12 @@ static int time_units(const char *u, int cal, double *scale, int64_t *epoch)
     char unit[32], date[80] = "";
     if (sscanf(u, "%31s since %79[^\n]", unit, date) != 2)
         return -1;
-    static const struct { const char *name; double s; } units[] = {
-        {"seconds", 1}, {"second", 1}, {"secs", 1}, {"s", 1}, {"minutes", 60}, {"minute", 60}, {"mins", 60},
-        {"min", 60}, {"hours", 3600}, {"hour", 3600}, {"hrs", 3600}, {"h", 3600}, {"days", 86400}, {"day", 86400},
-        {"d", 86400}};
+    static const struct {
+        const char *name;
+        double s;
+    } units[] = {{"seconds", 1}, {"second", 1}, {"secs", 1},     {"s", 1},        {"minutes", 60},
+                 {"minute", 60}, {"mins", 60},  {"min", 60},     {"hours", 3600}, {"hour", 3600},
+                 {"hrs", 3600},  {"h", 3600},   {"days", 86400}, {"day", 86400},  {"d", 86400}};
     *scale = 0;
     for (size_t i = 0; i < sizeof units / sizeof *units; i++)
         if (!strcmp(unit, units[i].name))
@@ -122,7 +124,9 @@ static int cf_projection(vsv_source *s, int nc, int gm, vsv_proj *p, double *fe,
     p->radius = r > 0 ? r : 6370000;
     double inv = 0;
     if (att_num(nc, gm, "inverse_flattening", &inv, 1) && inv != 0)
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "grid_mapping %s: an ellipsoid (inverse_flattening %g); only a sphere is supported", name, inv);
+        return vsv_source_fail(s, VSV_EUNSUPPORTED,
+                               "grid_mapping %s: an ellipsoid (inverse_flattening %g); only a sphere is supported",
+                               name, inv);
     if (!strcmp(name, "latitude_longitude")) {
         p->kind = VSV_PROJ_LATLON;
     } else if (!strcmp(name, "lambert_conformal_conic") || !strcmp(name, "albers_conical_equal_area")) {
@@ -186,8 +190,11 @@ static double even_step(const double *a, size_t n)
 
 static double unit_scale(const char *u)
 {
-    return !strcmp(u, "km") ? 1000 : !strcmp(u, "m") || !strcmp(u, "metre") || !strcmp(u, "meter") || !strcmp(u, "metres") ||
-                                         !strcmp(u, "meters") ? 1 : 0;
+    return !strcmp(u, "km") ? 1000
+           : !strcmp(u, "m") || !strcmp(u, "metre") || !strcmp(u, "meter") || !strcmp(u, "metres") ||
+                   !strcmp(u, "meters")
+               ? 1
+               : 0;
 }
 
 /* The four axes of the data: (time, z, y, x) dimensions, their lengths and
@@ -218,7 +225,8 @@ static int cf_find_axes(vsv_source *s, int nc, int nvars, cf_axes *ax)
             memcpy(dims, dd, sizeof ax->dims);
     }
     if (dims[0] < 0)
-        return vsv_source_fail(s, VSV_ENOTVSV, "a CF netCDF file without a (time, z, y, x) variable with coordinate variables");
+        return vsv_source_fail(s, VSV_ENOTVSV,
+                               "a CF netCDF file without a (time, z, y, x) variable with coordinate variables");
     for (int d = 0; d < 4; d++) {
         nc_inq_dimlen(nc, dims[d], &len[d]);
         ax->cv[d] = coord_var(nc, dims[d]);
@@ -250,7 +258,8 @@ static int cf_times(vsv_source *s, int nc, const cf_axes *ax)
     if (calendar < 0)
         return vsv_source_fail(s, VSV_EUNSUPPORTED,
                                "variable %s: calendar '%s' (standard, gregorian, proleptic_gregorian, noleap, 365_day, "
-                               "all_leap, 366_day or 360_day)", dn, cal);
+                               "all_leap, 366_day or 360_day)",
+                               dn, cal);
     if (calendar != VSV_CAL_STANDARD && vsv_meta_add_attr(g, VSV_ATTR_CALENDAR, vsv_calendar_name(calendar)) < 0)
         return VSV_ENOMEM;
     if (time_units(u, calendar, &tscale, &epoch))
@@ -320,7 +329,8 @@ static int cf_plan(vsv_source *s, cf *c, const cf_axes *ax, int gm, double fe, d
         goto fail;
     }
     if (!dx || !dy) {
-        rc = vsv_source_fail(s, VSV_EUNSUPPORTED, "the x or y coordinate is not evenly spaced (a regular grid is needed)");
+        rc = vsv_source_fail(s, VSV_EUNSUPPORTED,
+                             "the x or y coordinate is not evenly spaced (a regular grid is needed)");
         goto fail;
     }
     c->flip_y = dy < 0;
@@ -578,12 +588,14 @@ static char *cf_summary(vsv_source *s)
     char line[512];
     const vsv_meta *g = &s->grid;
     snprintf(line, sizeof line,
-             "CF netCDF: %s%s%s\n  projection  %s, lat0 %g, lon0 %g, lat1 %g, lat2 %g\n  grid        %d x %d x %d, %g x %g\n  times       %d\n  fields      %d 4-D\n",
+             "CF netCDF: %s%s%s\n  projection  %s, lat0 %g, lon0 %g, lat1 %g, lat2 %g\n  grid        %d x %d x %d, %g "
+             "x %g\n  times       %d\n  fields      %d 4-D\n",
              g->model, g->run[0] ? ": " : "", g->run, vsv_proj_name(g->proj.kind), g->proj.lat0, g->proj.lon0,
              g->proj.lat1, g->proj.lat2, g->nx, g->ny, g->nz, g->spacing[0], g->spacing[1], s->ntimes, s->nfields);
     vsv_buf_put(&b, line, strlen(line));
     for (int i = 0; i < s->nfields; i++) {
-        snprintf(line, sizeof line, "    %-10s %-12s %s\n", s->fields[i].name, s->fields[i].units, s->fields[i].description);
+        snprintf(line, sizeof line, "    %-10s %-12s %s\n", s->fields[i].name, s->fields[i].units,
+                 s->fields[i].description);
         vsv_buf_put(&b, line, strlen(line));
     }
     vsv_buf_put(&b, "", 1);

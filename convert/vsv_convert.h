@@ -21,23 +21,23 @@ typedef struct vsv_field_info {
     char name[64];
     char units[64];
     char description[128];
-    char ordering[16];  /* the model's own layout name, e.g. "YXS", or "" */
-    int nlevels;        /* 0 for a 2-D field */
-    int is_volume;      /* can be extracted onto the 3-D grid */
-    int is_default;     /* extracted when no --vars is given */
-    char role[48];      /* what a field that is not a volume is, e.g.
-                         * "boundary slab", or "" (2-D or not on the grid) */
+    char ordering[16]; /* the model's own layout name, e.g. "YXS", or "" */
+    int nlevels;       /* 0 for a 2-D field */
+    int is_volume;     /* can be extracted onto the 3-D grid */
+    int is_default;    /* extracted when no --vars is given */
+    char role[48];     /* what a field that is not a volume is, e.g.
+                        * "boundary slab", or "" (2-D or not on the grid) */
 } vsv_field_info;
 
 /* How a source builds its grid: plain info. */
 typedef struct vsv_source_opts {
-    int vertical;       /* VSV_VERT_EVEN (default) or VSV_VERT_NATIVE */
-    int nz;             /* even: number of levels (0: 40) */
-    double ztop;        /* even: top of the grid, m above sea level (0: the model top) */
-    const char *heights;/* CAMx: the height/pressure companion file, or NULL */
-    const char *met;    /* CAMx: a folder of met companions (found by content), or NULL */
-    vsv_proj proj;      /* a projection for files without one (CAMx 5); kind NONE = not given */
-    unsigned proj_set;  /* which of --lat0 --lon0 --lat1 --lat2 were given (bits 0..3) */
+    int vertical;        /* VSV_VERT_EVEN (default) or VSV_VERT_NATIVE */
+    int nz;              /* even: number of levels (0: 40) */
+    double ztop;         /* even: top of the grid, m above sea level (0: the model top) */
+    const char *heights; /* CAMx: the height/pressure companion file, or NULL */
+    const char *met;     /* CAMx: a folder of met companions (found by content), or NULL */
+    vsv_proj proj;       /* a projection for files without one (CAMx 5); kind NONE = not given */
+    unsigned proj_set;   /* which of --lat0 --lon0 --lat1 --lat2 were given (bits 0..3) */
     /* sequences of one-step files without times of their own (OpenVDB):
      * time of file i = time_start + i * time_step when time_step > 0
      * (time_start INT64_MIN: not given) */
@@ -99,35 +99,37 @@ enum {
     VSV_SOURCE_OPT_TIME_START,
     VSV_SOURCE_OPT_MET
 };
-#define VSV_SOURCE_LONGOPTS                                                                        \
-    {"vertical", required_argument, 0, VSV_SOURCE_OPT_VERTICAL},                                   \
-        {"nz", required_argument, 0, VSV_SOURCE_OPT_NZ}, {"ztop", required_argument, 0, VSV_SOURCE_OPT_ZTOP},    \
-        {"heights", required_argument, 0, VSV_SOURCE_OPT_HEIGHTS},                                 \
-        {"proj", required_argument, 0, VSV_SOURCE_OPT_PROJ}, {"lat0", required_argument, 0, VSV_SOURCE_OPT_LAT0}, \
-        {"lon0", required_argument, 0, VSV_SOURCE_OPT_LON0}, {"lat1", required_argument, 0, VSV_SOURCE_OPT_LAT1}, \
-        {"lat2", required_argument, 0, VSV_SOURCE_OPT_LAT2},                                   \
-        {"time-step", required_argument, 0, VSV_SOURCE_OPT_TIME_STEP},                         \
-        {"time-start", required_argument, 0, VSV_SOURCE_OPT_TIME_START},                       \
-        {"met", required_argument, 0, VSV_SOURCE_OPT_MET}
-#define VSV_SOURCE_HELP                                                                            \
-    "Vertical grid:\n"                                                                             \
-    "  --vertical even|native  even heights above sea level (default; cells below\n"              \
-    "                       the ground are empty) or the model's own levels\n"                    \
-    "  --nz N               even: number of levels (default 40)\n"                                \
-    "  --ztop METRES        even: top of the grid (default: the model top)\n"                     \
-    "CAMx:\n"                                                                                      \
-    "  --heights ZPFILE     layer heights from the height/pressure file (without it the\n"       \
-    "                       vertical axis is the layer index)\n"                                  \
-    "  --met DIR            the met input files in DIR, found by their content: the\n"         \
-    "                       height/pressure file as the vertical coordinate, wind as U\n"      \
-    "                       and V, TEMP, HUMIDITY, KV, cloud/rain (CWC RWC ...), PRESS;\n"    \
-    "                       each checked against the file's grid, layers and hours\n"          \
-    "  --proj lcc|pstereo|mercator|latlon --lat0 D --lon0 D --lat1 D --lat2 D\n"                 \
-    "                       the projection of a CAMx 5 file (its header has none)\n"    \
-    "OpenVDB sequences (one .vdb per step, given in time order):\n"                       \
-    "  --time-step DURATION the spacing of the steps (e.g. 10m, 1h) of files without\n"  \
-    "                       \"time\" metadata (files from vsv-export have it; a file\n"  \
-    "                       with its own time and --time-step is an error)\n"             \
+#define VSV_SOURCE_LONGOPTS                                                                                            \
+    {"vertical", required_argument, 0, VSV_SOURCE_OPT_VERTICAL}, {"nz", required_argument, 0, VSV_SOURCE_OPT_NZ},      \
+        {"ztop", required_argument, 0, VSV_SOURCE_OPT_ZTOP},                                                           \
+        {"heights", required_argument, 0, VSV_SOURCE_OPT_HEIGHTS},                                                     \
+        {"proj", required_argument, 0, VSV_SOURCE_OPT_PROJ}, {"lat0", required_argument, 0, VSV_SOURCE_OPT_LAT0},      \
+        {"lon0", required_argument, 0, VSV_SOURCE_OPT_LON0}, {"lat1", required_argument, 0, VSV_SOURCE_OPT_LAT1},      \
+        {"lat2", required_argument, 0, VSV_SOURCE_OPT_LAT2},                                                           \
+        {"time-step", required_argument, 0, VSV_SOURCE_OPT_TIME_STEP},                                                 \
+        {"time-start", required_argument, 0, VSV_SOURCE_OPT_TIME_START},                                               \
+    {                                                                                                                  \
+        "met", required_argument, 0, VSV_SOURCE_OPT_MET                                                                \
+    }
+#define VSV_SOURCE_HELP                                                                                                \
+    "Vertical grid:\n"                                                                                                 \
+    "  --vertical even|native  even heights above sea level (default; cells below\n"                                   \
+    "                       the ground are empty) or the model's own levels\n"                                         \
+    "  --nz N               even: number of levels (default 40)\n"                                                     \
+    "  --ztop METRES        even: top of the grid (default: the model top)\n"                                          \
+    "CAMx:\n"                                                                                                          \
+    "  --heights ZPFILE     layer heights from the height/pressure file (without it the\n"                             \
+    "                       vertical axis is the layer index)\n"                                                       \
+    "  --met DIR            the met input files in DIR, found by their content: the\n"                                 \
+    "                       height/pressure file as the vertical coordinate, wind as U\n"                              \
+    "                       and V, TEMP, HUMIDITY, KV, cloud/rain (CWC RWC ...), PRESS;\n"                             \
+    "                       each checked against the file's grid, layers and hours\n"                                  \
+    "  --proj lcc|pstereo|mercator|latlon --lat0 D --lon0 D --lat1 D --lat2 D\n"                                       \
+    "                       the projection of a CAMx 5 file (its header has none)\n"                                   \
+    "OpenVDB sequences (one .vdb per step, given in time order):\n"                                                    \
+    "  --time-step DURATION the spacing of the steps (e.g. 10m, 1h) of files without\n"                                \
+    "                       \"time\" metadata (files from vsv-export have it; a file\n"                                \
+    "                       with its own time and --time-step is an error)\n"                                          \
     "  --time-start ISO     the time of the first file (required with --time-step)\n"
 /* 1 if id was one of these options, 0 if not, -1 for a bad value. */
 int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg);
@@ -146,8 +148,8 @@ typedef struct vsv_run vsv_run;
 /* vars: comma-separated names or NULL for the default fields; times: "A:B"
  * (indices or ISO times, either end may be empty) or NULL. Caller frees with
  * vsv_run_free; on failure *out may hold a handle whose error says why. */
-int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars,
-                 const char *times, vsv_run **out);
+int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars, const char *times,
+                 vsv_run **out);
 void vsv_run_free(vsv_run *r);
 const char *vsv_run_error(const vsv_run *r);
 /* "" or a note the caller should show: which step a --times of one time

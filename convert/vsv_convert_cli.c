@@ -35,6 +35,7 @@ enum { OPT_STATS = 3000, OPT_WINDS };
 
 void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi)
 {
+    /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"time-res", required_argument, 0, 'r'},
                                              {"interp", required_argument, 0, 'i'},
@@ -48,6 +49,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
                                              VSV_SOURCE_LONGOPTS,
                                              VSV_CLI_PACK_LONGOPTS,
                                              {0, 0, 0, 0}};
+    /* clang-format on */
     memset(a, 0, sizeof *a);
     vsv_cli_pack_init(&a->pack);
     vsv_source_opts_init(&a->so);
@@ -159,14 +161,15 @@ void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, cons
     if (steps * step_bytes > avail) {
         const double need = steps * step_bytes, unit = need >= 1e9 ? 1e9 : 1e6;
         const char *u = unit == 1e9 ? "GB" : "MB";
-        vsv_cli_die(1, "%s: %.0f steps of %.1f MB are kept beside it until they are encoded: %.1f %s, and its file "
+        vsv_cli_die(1,
+                    "%s: %.0f steps of %.1f MB are kept beside it until they are encoded: %.1f %s, and its file "
                     "system has %.1f %s free (fewer --vars or --times, or another place)",
                     a->out, steps, step_bytes / 1e6, need / unit, u, avail / unit, u);
     }
 }
 
-int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
-                       const char *label, int *bad_frame, int *dropped)
+int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit,
+                       void *ctx, const char *label, int *bad_frame, int *dropped)
 {
     const vsv_meta *meta = vsv_run_meta(run);
     vsv_interp *ip = NULL;
@@ -185,7 +188,8 @@ int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last
             break;
         }
         const int64_t t = vsv_run_time(run, i);
-        if ((rc = ip ? vsv_interp_push(ip, t, (const float *const *)fields) : emit(ctx, t, (const float *const *)fields)))
+        if ((rc = ip ? vsv_interp_push(ip, t, (const float *const *)fields)
+                     : emit(ctx, t, (const float *const *)fields)))
             break;
         if (label)
             vsv_cli_progress((void *)label, i - first + 1, last - first + 1);

@@ -11,23 +11,23 @@
 /* What the command line asked for: plain info over argv's strings. */
 typedef struct vsv_convert_args {
     const char *out, *vars, *times;
-    int64_t dt;                 /* --time-res in seconds, 0 for none */
-    const char *res_text;       /* --time-res as given */
-    vsv_cli_pack pack;          /* packing options (opts.vars set by resolve) */
-    vsv_source_opts so;         /* vertical grid, CAMx, OpenVDB options */
-    const char *const *inputs;  /* the model files, borrowed from argv */
+    int64_t dt;                /* --time-res in seconds, 0 for none */
+    const char *res_text;      /* --time-res as given */
+    vsv_cli_pack pack;         /* packing options (opts.vars set by resolve) */
+    vsv_source_opts so;        /* vertical grid, CAMx, OpenVDB options */
+    const char *const *inputs; /* the model files, borrowed from argv */
     int ninputs;
-    int stats;                  /* --stats (vsv-convert-mpi only) */
-    int method;                 /* --interp: VSV_TIME_LINEAR, VSV_TIME_ADVECT or VSV_TIME_WIND */
-    const char *winds;          /* --winds FILE, or NULL */
+    int stats;         /* --stats (vsv-convert-mpi only) */
+    int method;        /* --interp: VSV_TIME_LINEAR, VSV_TIME_ADVECT or VSV_TIME_WIND */
+    const char *winds; /* --winds FILE, or NULL */
 } vsv_convert_args;
 
 /* The formats the conversion tools read, for their --help (vsv-extract,
  * vsv-convert, vsv-convert-mpi; vsv-info describes all but OpenVDB). */
-#define VSV_CLI_MODEL_FORMATS \
-    "  MM5 v3 (MMOUT, TERRAIN, REGRID/INTERPB, INTERPF; BDYOUT and LOWBDY hold no\n" \
-    "  volumes), WRF netCDF (wrfout), CAMx UAM-IV (AVERAGE, INSTANT, AIRQUALITY,\n" \
-    "  EMISSIONS), IOAPI netCDF (CMAQ CONC/ACONC, CAMx netCDF), CF netCDF (e.g.\n" \
+#define VSV_CLI_MODEL_FORMATS                                                                                          \
+    "  MM5 v3 (MMOUT, TERRAIN, REGRID/INTERPB, INTERPF; BDYOUT and LOWBDY hold no\n"                                   \
+    "  volumes), WRF netCDF (wrfout), CAMx UAM-IV (AVERAGE, INSTANT, AIRQUALITY,\n"                                    \
+    "  EMISSIONS), IOAPI netCDF (CMAQ CONC/ACONC, CAMx netCDF), CF netCDF (e.g.\n"                                     \
     "  from vsv-export --netcdf), GrADS .ctl + data"
 #define VSV_CLI_VDB_FORMAT ",\n  and OpenVDB .vdb sequences (one file per step, float grids).\n"
 
@@ -66,7 +66,7 @@ void vsv_convert_check_space(const vsv_convert_args *a, const vsv_run *run, cons
  * frames between grid times (vsv_interp_dropped). Returns 0; or a negative code with *bad_frame the
  * input frame that did not read (vsv_run_error says why), -1 when emit
  * failed, -2 when memory ran out. */
-int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit, void *ctx,
-                       const char *label, int *bad_frame, int *dropped);
+int vsv_convert_frames(vsv_run *run, int64_t dt, int method, int first, int last, float **fields, vsv_frame_fn emit,
+                       void *ctx, const char *label, int *bad_frame, int *dropped);
 
 #endif

@@ -359,9 +359,9 @@ static int grads_fill(vsv_source *s, const grads *g, const grads_ctl *c)
     if (!s->times)
         return VSV_ENOMEM;
     for (int t = 0; t < nt; t++)
-        s->times[t] = dmonths ? (cal365 ? to_noleap(add_months(t0, dmonths * t)) : add_months(t0, dmonths * t))
-                      : cal365  ? to_noleap(t0) + dt * t
-                                : t0 + dt * t;
+        s->times[t] = dmonths  ? (cal365 ? to_noleap(add_months(t0, dmonths * t)) : add_months(t0, dmonths * t))
+                      : cal365 ? to_noleap(t0) + dt * t
+                               : t0 + dt * t;
     if (cal365) /* the model's clock: counted in its own calendar (VSV_ATTR_CALENDAR) */
         vsv_meta_add_attr(&s->grid, VSV_ATTR_CALENDAR, vsv_calendar_name(VSV_CAL_NOLEAP));
     vsv_meta *m = &s->grid;
@@ -427,8 +427,8 @@ static int grads_read(vsv_source *s, int field, int t, float *out)
     const double tol = fabs(g->undef) * 1e-6;
     for (size_t i = 0; i < plane * nl; i++) {
         unsigned char *b = (unsigned char *)&out[i];
-        uint32_t u = g->big_endian ? ((uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3])
-                                   : vsv_rd32(b);
+        uint32_t u =
+            g->big_endian ? ((uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3]) : vsv_rd32(b);
         float v;
         memcpy(&v, &u, 4);
         if (g->undef != 0 && fabs(v - g->undef) <= tol)

@@ -16,8 +16,8 @@ struct vsv_interp {
     int64_t dt, t0, prev_t;
     int64_t win[2]; /* the steps emitted: win[0] <= t <= win[1] */
     int nf, nout, have, method, dropped, origin_set;
-    int wind[3];      /* input index of wind.u, wind.v, wind.w (-1 absent) */
-    int *keep;        /* nout input indices of the emitted fields */
+    int wind[3]; /* input index of wind.u, wind.v, wind.w (-1 absent) */
+    int *keep;   /* nout input indices of the emitted fields */
     size_t cells;
     float **prev, **tmp;
     const float **in0, **in1, **outp; /* nout pointers: scratch for each frame */
@@ -113,9 +113,9 @@ int vsv_interp_open(int64_t dt, const vsv_meta *m, const vsv_interp_opts *o, vsv
     if (ip->wind[0] < 0 || ip->wind[1] < 0) {
         vsv_msg(ip->err, sizeof ip->err,
                 "--interp %s needs the winds, and the input has no %s%s%s (horizontal wind along the grid's "
-                "x and y axes)", ip->method == VSV_TIME_WIND ? "wind" : "advect",
-                ip->wind[0] < 0 ? VSV_WIND_U : "", ip->wind[0] < 0 && ip->wind[1] < 0 ? " and no " : "",
-                ip->wind[1] < 0 ? VSV_WIND_V : "");
+                "x and y axes)",
+                ip->method == VSV_TIME_WIND ? "wind" : "advect", ip->wind[0] < 0 ? VSV_WIND_U : "",
+                ip->wind[0] < 0 && ip->wind[1] < 0 ? " and no " : "", ip->wind[1] < 0 ? VSV_WIND_V : "");
         return VSV_ENOTFOUND;
     }
     if ((rc = vsv_advect_create(m, o->threads, &ip->adv)))
@@ -161,7 +161,9 @@ int vsv_interp_meta(const vsv_interp *ip, const vsv_meta *m, vsv_meta *dst)
         snprintf(buf, sizeof buf, "%s: semi-Lagrangian along %s%s%s", ip->method == VSV_TIME_WIND ? "wind" : "advect",
                  winds ? winds : "the input's winds",
                  ip->wind[2] < 0 || !vsv_advect_has_vertical(ip->adv) ? " (horizontal only)" : "",
-                 ip->method == VSV_TIME_WIND ? "" : ", displacements scaled per species and band of levels as fitted to the outputs");
+                 ip->method == VSV_TIME_WIND
+                     ? ""
+                     : ", displacements scaled per species and band of levels as fitted to the outputs");
         rc = vsv_meta_add_attr(dst, "time interpolation", buf);
     }
     return rc;

@@ -21,7 +21,7 @@ typedef struct ioapi {
     int nc;
     int nx, ny, nk;
     int *varid;
-    int zvar;         /* CAMx `z`, or -1 */
+    int zvar; /* CAMx `z`, or -1 */
     float *zm, *nat, *tmp;
     vsv_vgrid vg;
     int vg_t, even, static_heights;
@@ -58,7 +58,8 @@ static int z_heights(vsv_source *s, ioapi *a, int t)
         return rc;
     for (int k = 0; k < a->nk; k++)
         for (size_t c = 0; c < plane; c++)
-            a->zm[(size_t)k * plane + c] = 0.5f * ((k ? a->tmp[(size_t)(k - 1) * plane + c] : 0.0f) + a->tmp[(size_t)k * plane + c]);
+            a->zm[(size_t)k * plane + c] =
+                0.5f * ((k ? a->tmp[(size_t)(k - 1) * plane + c] : 0.0f) + a->tmp[(size_t)k * plane + c]);
     lift(s, a);
     return 0;
 }
@@ -87,15 +88,18 @@ static int ioapi_times(vsv_source *s, int nc, int tflag)
 {
     int td[3], tnd;
     size_t nt = 0, nv = 0, two = 0;
-    if (nc_inq_varndims(nc, tflag, &tnd) || tnd != 3 || nc_inq_vardimid(nc, tflag, td) || nc_inq_dimlen(nc, td[0], &nt) ||
-        nc_inq_dimlen(nc, td[1], &nv) || nc_inq_dimlen(nc, td[2], &two) || two != 2 || nv < 1)
+    if (nc_inq_varndims(nc, tflag, &tnd) || tnd != 3 || nc_inq_vardimid(nc, tflag, td) ||
+        nc_inq_dimlen(nc, td[0], &nt) || nc_inq_dimlen(nc, td[1], &nv) || nc_inq_dimlen(nc, td[2], &two) || two != 2 ||
+        nv < 1)
         return vsv_source_fail(s, VSV_ECORRUPT, "TFLAG is not (TSTEP, VAR, DATE-TIME=2)");
     /* TFLAG's values lie in the file: a damaged header's time-step count
      * (4294967295, found by fuzz_netcdf) is not allocated */
     struct stat fst;
     if (!stat(s->path, &fst) && nt > (uint64_t)fst.st_size / (nv * 2 * sizeof(int)))
-        return vsv_source_fail(s, VSV_ECORRUPT, "TFLAG declares %zu time steps of %zu variables, more than the file "
-                               "(%lld bytes) holds", nt, nv, (long long)fst.st_size);
+        return vsv_source_fail(s, VSV_ECORRUPT,
+                               "TFLAG declares %zu time steps of %zu variables, more than the file "
+                               "(%lld bytes) holds",
+                               nt, nv, (long long)fst.st_size);
     s->times = calloc(nt + 1, sizeof *s->times);
     if (!s->times)
         return VSV_ENOMEM;
@@ -131,7 +135,10 @@ static int ioapi_grid(vsv_source *s, const ioapi *a)
     switch (gdtyp) {
     case 1: g->proj.kind = VSV_PROJ_LATLON; break;
     case 2: g->proj = (vsv_proj){VSV_PROJ_LCC, ycent, gam, alp, bet, 6370000}; break;
-    case 6: g->proj = (vsv_proj){VSV_PROJ_PSTEREO, ycent, gam, alp >= 0 ? bet : -fabs(bet), alp >= 0 ? bet : -fabs(bet), 6370000}; break;
+    case 6:
+        g->proj =
+            (vsv_proj){VSV_PROJ_PSTEREO, ycent, gam, alp >= 0 ? bet : -fabs(bet), alp >= 0 ? bet : -fabs(bet), 6370000};
+        break;
     case 7: g->proj = (vsv_proj){VSV_PROJ_MERCATOR, ycent, gam, alp, alp, 6370000}; break;
     case 5: /* UTM: P_ALP is the zone; coordinates carry a 500 km false easting */
         if (!(alp >= 1 && alp <= 60))
@@ -141,11 +148,19 @@ static int ioapi_grid(vsv_source *s, const ioapi *a)
     case 8: g->proj = (vsv_proj){VSV_PROJ_TMERC, alp, gam, bet > 0 ? bet : 1, bet > 0 ? bet : 1, 6370000}; break;
     case 9: g->proj = (vsv_proj){VSV_PROJ_ALBERS, ycent, gam, alp, bet, 6370000}; break;
     default: {
-        static const char *names[] = {"?", "lat/lon", "Lambert conformal", "general Mercator", "general stereographic",
-                                      "UTM", "polar stereographic", "equatorial Mercator", "transverse Mercator",
-                                      "Albers equal-area", "Lambert azimuthal equal-area"};
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "GDTYP %d (%s) is not supported (1, 2, 5, 6, 7, 8 and 9 are)", gdtyp,
-                               gdtyp >= 1 && gdtyp <= 10 ? names[gdtyp] : "unknown");
+        static const char *names[] = {"?",
+                                      "lat/lon",
+                                      "Lambert conformal",
+                                      "general Mercator",
+                                      "general stereographic",
+                                      "UTM",
+                                      "polar stereographic",
+                                      "equatorial Mercator",
+                                      "transverse Mercator",
+                                      "Albers equal-area",
+                                      "Lambert azimuthal equal-area"};
+        return vsv_source_fail(s, VSV_EUNSUPPORTED, "GDTYP %d (%s) is not supported (1, 2, 5, 6, 7, 8 and 9 are)",
+                               gdtyp, gdtyp >= 1 && gdtyp <= 10 ? names[gdtyp] : "unknown");
     }
     }
     if (!(xcell > 0) || !(ycell > 0))
@@ -192,8 +207,9 @@ static int ioapi_heights(vsv_source *s, ioapi *a, int *have_heights)
         if ((rc = z_heights(s, a, 0)))
             goto fail;
         *have_heights = 1;
-        vsv_meta_add_attr(g, "heights", g->terrain ? "CAMx z: layer tops above ground, varying in time, on topo"
-                                                   : "CAMx z: layer tops above ground, varying in time");
+        vsv_meta_add_attr(g, "heights",
+                          g->terrain ? "CAMx z: layer tops above ground, varying in time, on topo"
+                                     : "CAMx z: layer tops above ground, varying in time");
     } else if (have_vgl && (vgtyp == 6 || vgtyp == 2 || vgtyp == 7)) {
         const double vgtop = gatt(nc, "VGTOP", 5000);
         for (int k = 0; k < a->nk; k++) {
@@ -211,8 +227,9 @@ static int ioapi_heights(vsv_source *s, ioapi *a, int *have_heights)
         a->zvar = -1;
         a->static_heights = 1;
         *have_heights = 1;
-        vsv_meta_add_attr(g, "heights", vgtyp == 6 ? "VGLVLS in metres above ground"
-                                                   : "sigma-P levels through the ICAO standard atmosphere (approximate)");
+        vsv_meta_add_attr(g, "heights",
+                          vgtyp == 6 ? "VGLVLS in metres above ground"
+                                     : "sigma-P levels through the ICAO standard atmosphere (approximate)");
     }
 fail:
     free(vgl);
@@ -361,8 +378,9 @@ static char *ioapi_summary(vsv_source *s)
     snprintf(line, sizeof line,
              "%s: %s\n  grid        %d x %d columns, %d layers (%s)%s\n  projection  %s (GDTYP %s)\n  times       %d\n"
              "  species     %d:",
-             g->model, g->run, g->nx, g->ny, a->nk, vsv_meta_attr(g, "heights") ? vsv_meta_attr(g, "heights") : "layer index",
-             out, vsv_proj_name(g->proj.kind), vsv_meta_attr(g, "GDTYP"), s->ntimes, s->nfields);
+             g->model, g->run, g->nx, g->ny, a->nk,
+             vsv_meta_attr(g, "heights") ? vsv_meta_attr(g, "heights") : "layer index", out,
+             vsv_proj_name(g->proj.kind), vsv_meta_attr(g, "GDTYP"), s->ntimes, s->nfields);
     vsv_buf_put(&b, line, strlen(line));
     for (int i = 0; i < s->nfields; i++) {
         snprintf(line, sizeof line, " %s", s->fields[i].name);

@@ -188,8 +188,8 @@ static int index_file(vsv_mm5 *m)
             if ((rc = record(m, &at, recno, &p, &len)))
                 return rc;
             if (len != VSV_MM5_SUBHDR)
-                return fail(m, VSV_ECORRUPT, "record %d at byte offset %zu: sub-header has %u bytes, expected %d", recno,
-                            s_at, len, VSV_MM5_SUBHDR);
+                return fail(m, VSV_ECORRUPT, "record %d at byte offset %zu: sub-header has %u bytes, expected %d",
+                            recno, s_at, len, VSV_MM5_SUBHDR);
             vsv_mm5_field f;
             memset(&f, 0, sizeof f);
             f.ndim = (int)u32(m, p);

@@ -14,19 +14,19 @@
 
 /* One field of one output time: plain info. */
 typedef struct vsv_mm5_field {
-    char name[10];      /* trailing blanks removed; may contain spaces */
+    char name[10]; /* trailing blanks removed; may contain spaces */
     char units[26];
     char desc[47];
-    char order[5];      /* "YXS", "YX", "CA", ... */
-    char stag[5];       /* "D", "C", "H" or "" */
-    char date[25];      /* "YYYY-MM-DD_HH:MM:SS.0000" */
+    char order[5]; /* "YXS", "YX", "CA", ... */
+    char stag[5];  /* "D", "C", "H" or "" */
+    char date[25]; /* "YYYY-MM-DD_HH:MM:SS.0000" */
     int ndim, start[4], end[4];
-    float xtime;        /* minutes since the model start */
-    uint64_t offset;    /* file offset of the data payload */
-    uint64_t bytes;     /* payload bytes */
-    int record;         /* 1-based record number of the data record */
-    int period;         /* 0-based output time */
-    int bighdr;         /* which big header was in force */
+    float xtime;     /* minutes since the model start */
+    uint64_t offset; /* file offset of the data payload */
+    uint64_t bytes;  /* payload bytes */
+    int record;      /* 1-based record number of the data record */
+    int period;      /* 0-based output time */
+    int bighdr;      /* which big header was in force */
 } vsv_mm5_field;
 
 typedef struct vsv_mm5 vsv_mm5;

@@ -22,15 +22,15 @@ typedef struct mm5src {
      * the surface; placed by each column's geopotential height H, which
      * changes with time, so the even plan is redone per output time */
     int KP, plev, plan_t;
-    int16_t *zidx;   /* KP*plane: file level of each above-ground level, bottom-up */
-    float *hraw;     /* KP*plane: H of the planned time, cross points */
+    int16_t *zidx; /* KP*plane: file level of each above-ground level, bottom-up */
+    float *hraw;   /* KP*plane: H of the planned time, cross points */
     int has_sigma;
-    float *zn;       /* KX*ny*nx heights of the half-sigma levels, k bottom-up */
-    vsv_vgrid vg;    /* even: the resampling (heights are fixed in time) */
+    float *zn;    /* KX*ny*nx heights of the half-sigma levels, k bottom-up */
+    vsv_vgrid vg; /* even: the resampling (heights are fixed in time) */
     int even;
-    float *raw;      /* scratch: one record */
-    float *nat;      /* scratch: native cross volume */
-    int *period_of;  /* source time → MM5 period */
+    float *raw;     /* scratch: one record */
+    float *nat;     /* scratch: native cross volume */
+    int *period_of; /* source time → MM5 period */
 } mm5src;
 
 static int mm5_probe(const unsigned char *h, size_t n) { return vsv_mm5_probe(h, n); }
@@ -45,9 +45,9 @@ static int cross_plane(vsv_source *s, mm5src *x, int p, const char *name, float 
     const vsv_mm5_field *f = vsv_mm5_field_at(x->m, fi);
     if (strcmp(f->order, "YX") || f->end[0] - f->start[0] + 1 != x->IX || f->end[1] - f->start[1] + 1 != x->JX ||
         f->bytes != (uint64_t)x->IX * x->JX * 4)
-        return vsv_source_fail(s, VSV_ECORRUPT, "record %d at byte offset %llu: %s is not a %dx%d YX field (%llu bytes)",
-                               f->record, (unsigned long long)f->offset, name, x->IX, x->JX,
-                               (unsigned long long)f->bytes);
+        return vsv_source_fail(s, VSV_ECORRUPT,
+                               "record %d at byte offset %llu: %s is not a %dx%d YX field (%llu bytes)", f->record,
+                               (unsigned long long)f->offset, name, x->IX, x->JX, (unsigned long long)f->bytes);
     vsv_mm5_read(x->m, f, x->raw);
     const int dot = !strcmp(f->stag, "D");
     for (int j = 0; j < x->ny; j++)
@@ -94,8 +94,8 @@ static int plev_volume(vsv_source *s, mm5src *x, int p, const char *name, float 
                                "record %d at byte offset %llu: %s (output time %d) is %s %dx%d, %llu bytes; "
                                "expected YXP %dx%dx%d",
                                f->record, (unsigned long long)f->offset, f->name, p, f->order,
-                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1,
-                               (unsigned long long)f->bytes, x->IX, x->JX, x->KP);
+                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1, (unsigned long long)f->bytes,
+                               x->IX, x->JX, x->KP);
     vsv_mm5_read(x->m, f, x->raw);
     const int dot = !strcmp(f->stag, "D");
     const size_t plane = (size_t)x->nx * x->ny, fplane = (size_t)x->IX * x->JX;
@@ -254,8 +254,14 @@ static int mm5_header(vsv_source *s, mm5src *x, mm5_base *b)
     g->proj.radius = 6370000;
     snprintf(g->model, sizeof g->model, "MM5 v3");
     const int prog = vsv_mm5_bhi(m, 1, 1);
-    const char *pname = prog == 1 ? "TERRAIN" : prog == 2 ? "REGRID" : prog == 5 ? "INTERPF" : prog == 6 ? "LOWBDY"
-                        : prog == 7 ? "BDYOUT" : prog == 8 ? "INTERPB" : prog >= 11 && prog <= 16 ? "MM5" : "unknown";
+    const char *pname = prog == 1                  ? "TERRAIN"
+                        : prog == 2                ? "REGRID"
+                        : prog == 5                ? "INTERPF"
+                        : prog == 6                ? "LOWBDY"
+                        : prog == 7                ? "BDYOUT"
+                        : prog == 8                ? "INTERPB"
+                        : prog >= 11 && prog <= 16 ? "MM5"
+                                                   : "unknown";
     char start[40] = "unknown";
     if (vsv_mm5_bhi(m, 5, 11) > 0)
         snprintf(start, sizeof start, "%04d-%02d-%02dT%02d:%02d:%02dZ", vsv_mm5_bhi(m, 5, 11), vsv_mm5_bhi(m, 6, 11),
@@ -383,8 +389,10 @@ static int mm5_plev_axis(vsv_source *s, mm5src *x)
     const vsv_mm5_field *fp = ip >= 0 ? vsv_mm5_field_at(m, ip) : NULL;
     if (fp && fp->bytes == (uint64_t)x->KP * 4) {
         vsv_mm5_read(m, fp, pl);
-        snprintf(buf, sizeof buf, "%d pressure levels, %g hPa (surface) to %g hPa, placed by the geopotential "
-                 "height H of each column and time", x->KP, pl[0] / 100, pl[x->KP - 1] / 100);
+        snprintf(buf, sizeof buf,
+                 "%d pressure levels, %g hPa (surface) to %g hPa, placed by the geopotential "
+                 "height H of each column and time",
+                 x->KP, pl[0] / 100, pl[x->KP - 1] / 100);
     } else {
         snprintf(buf, sizeof buf, "%d pressure levels placed by the geopotential height H of each column and time",
                  x->KP);
@@ -414,8 +422,9 @@ static int mm5_sigma_axis(vsv_source *s, mm5src *x, const mm5_base *b, const flo
         const int hrc = vsv_meta_add_heights(g, INT64_MIN, NULL, mm5, sigma);
         free(sigma);
         if (hrc)
-            return hrc == VSV_ENOMEM ? hrc
-                                     : vsv_source_fail(s, VSV_ECORRUPT, "SIGMAH does not give heights increasing upward");
+            return hrc == VSV_ENOMEM
+                       ? hrc
+                       : vsv_source_fail(s, VSV_ECORRUPT, "SIGMAH does not give heights increasing upward");
     }
     if (even && vsv_vgrid_plan(&x->vg, x->zn, x->KX, plane, g->terrain, g->nz, g->origin[2], g->spacing[2]))
         return VSV_ENOMEM;
@@ -447,7 +456,10 @@ static int mm5_fields(vsv_source *s, mm5src *x)
         snprintf(fi->description, sizeof fi->description, "%s", f->desc);
         snprintf(fi->ordering, sizeof fi->ordering, "%s%s%s", f->order, f->stag[0] ? " " : "", f->stag);
         const int ext2 = f->end[2] - f->start[2] + 1;
-        fi->nlevels = !strcmp(f->order, "YXS") ? ext2 : !strcmp(f->order, "YXW") ? ext2 : !strcmp(f->order, "YXP") ? ext2 : 0;
+        fi->nlevels = !strcmp(f->order, "YXS")   ? ext2
+                      : !strcmp(f->order, "YXW") ? ext2
+                      : !strcmp(f->order, "YXP") ? ext2
+                                                 : 0;
         fi->is_volume = (x->KX > 0 && ((!strcmp(f->order, "YXS") && ext2 == x->KX) ||
                                        (!strcmp(f->order, "YXW") && ext2 == x->KX + 1))) ||
                         (x->plev && !strcmp(f->order, "YXP") && ext2 == x->KP && f->ndim == 3);
@@ -550,8 +562,8 @@ static int mm5_read(vsv_source *s, int field, int t, float *out)
                                "record %d at byte offset %llu: %s (output time %d) is %s %dx%d, %llu bytes; "
                                "the first output time's is %s %dx%dx%d",
                                f->record, (unsigned long long)f->offset, f->name, p, f->order,
-                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1,
-                               (unsigned long long)f->bytes, full ? "YXW" : "YXS", x->IX, x->JX, want);
+                               f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1, (unsigned long long)f->bytes,
+                               full ? "YXW" : "YXS", x->IX, x->JX, want);
     vsv_mm5_read(x->m, f, x->raw);
     const size_t plane = (size_t)x->nx * x->ny, fplane = (size_t)x->IX * x->JX;
     /* native cross volume, bottom-up: file level kk = KX-1-k (k = 1 is the top) */
@@ -619,8 +631,9 @@ static char *mm5_summary(vsv_source *s)
     char line[512], desc[96];
     const int prog = vsv_mm5_bhi(m, 1, 1);
 #define OUT(...) (snprintf(line, sizeof line, __VA_ARGS__), vsv_buf_put(&b, line, strlen(line)))
-    OUT("MM5 v3 file, %s-endian, written by program %d (%s); %d big header%s\n", vsv_mm5_little_endian(m) ? "little" : "big",
-        prog, s->grid.run, vsv_mm5_nbighdr(m), vsv_mm5_nbighdr(m) == 1 ? "" : "s");
+    OUT("MM5 v3 file, %s-endian, written by program %d (%s); %d big header%s\n",
+        vsv_mm5_little_endian(m) ? "little" : "big", prog, s->grid.run, vsv_mm5_nbighdr(m),
+        vsv_mm5_nbighdr(m) == 1 ? "" : "s");
     static const char *pn[] = {"?", "Lambert conformal", "polar stereographic", "Mercator"};
     const int proj = vsv_mm5_bhi(m, 7, 1);
     OUT("  domain      %d: %d x %d dot points (IX south-north, JX west-east), nest level %d, ratio %d\n",
@@ -650,8 +663,8 @@ static char *mm5_summary(vsv_source *s)
     if (vsv_mm5_skipped(m))
         OUT("  note        %d boundary-slab records (YSB XSB YWB XWB): lateral boundary values, not volumes\n",
             vsv_mm5_skipped(m));
-    OUT("  fields      %d per output time\n    %-9s %-7s %-16s %-16s %s\n", s->nfields, "name", "order", "dims", "units",
-        "description");
+    OUT("  fields      %d per output time\n    %-9s %-7s %-16s %-16s %s\n", s->nfields, "name", "order", "dims",
+        "units", "description");
     for (int i = 0; i < vsv_mm5_nfields(m); i++) {
         const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
         if (f->period != vsv_mm5_field_at(m, 0)->period)

@@ -19,15 +19,15 @@ typedef struct rank {
     int me, np;
     vsv_convert_args a;
     vsv_run *run;
-    const vsv_meta *in;    /* the run's variables (with advect, the winds too) */
-    vsv_meta out;          /* those of the frames made: the file's */
-    const vsv_meta *meta;  /* = &out */
+    const vsv_meta *in;   /* the run's variables (with advect, the winds too) */
+    vsv_meta out;         /* those of the frames made: the file's */
+    const vsv_meta *meta; /* = &out */
     size_t cells;
-    int nsteps;            /* output steps of the whole run */
-    int64_t *times;        /* their times */
-    int s0, s1;            /* this rank's steps [s0, s1) */
-    int lead;              /* 1: step s0-1 is made too (s0 is not a keyframe) */
-    int f0, f1;            /* the input frames they need [f0, f1] */
+    int nsteps;     /* output steps of the whole run */
+    int64_t *times; /* their times */
+    int s0, s1;     /* this rank's steps [s0, s1) */
+    int lead;       /* 1: step s0-1 is made too (s0 is not a keyframe) */
+    int f0, f1;     /* the input frames they need [f0, f1] */
     /* reading: frames of [s0, s1) spooled to a local temporary file */
     int spool_fd, spooled;
     float *spool;
@@ -44,8 +44,8 @@ typedef struct rank {
     int sent, *done, *received;
     double t_start, t_phase, secs[3]; /* read, encode, write seconds */
     double last_line;
-    double step_bytes;     /* input bytes per output step (for MB/s) */
-    char *tmp;             /* rank 0: the temporary output */
+    double step_bytes; /* input bytes per output step (for MB/s) */
+    char *tmp;         /* rank 0: the temporary output */
 } rank;
 
 /* Seconds of a monotonic clock. */

@@ -22,7 +22,8 @@ int vsv_nc_guard(vsv_source *s, int limit_s)
     int st = 0;
     char where[4200];
     if (vsv_helper_path("vsv-nc-check", where, sizeof where)) /* an incomplete install */
-        return vsv_source_fail(s, VSV_EUNSUPPORTED, "cannot check the netCDF-4/HDF5 file: cannot find the helper "
+        return vsv_source_fail(s, VSV_EUNSUPPORTED,
+                               "cannot check the netCDF-4/HDF5 file: cannot find the helper "
                                "program vsv-nc-check (VSV_HELPER_DIR, beside the program, or its lib/vesuvius/)");
     /* the helper stops itself after limit_s (SIGALRM); the wall-clock limit
      * here is for a helper that cannot */
@@ -37,8 +38,10 @@ int vsv_nc_guard(vsv_source *s, int limit_s)
     if (!WIFEXITED(st) || WEXITSTATUS(st)) {
         if (msg[0])
             return vsv_source_fail(s, VSV_ECORRUPT, "%s", msg);
-        return vsv_source_fail(s, VSV_ECORRUPT, "damaged netCDF-4/HDF5 file: the HDF5 library failed reading it "
-                               "(its checker exited with status %d)", WIFEXITED(st) ? WEXITSTATUS(st) : -1);
+        return vsv_source_fail(s, VSV_ECORRUPT,
+                               "damaged netCDF-4/HDF5 file: the HDF5 library failed reading it "
+                               "(its checker exited with status %d)",
+                               WIFEXITED(st) ? WEXITSTATUS(st) : -1);
     }
     return 0;
 }

@@ -71,7 +71,8 @@ static int skip(cur *c, uint64_t n, uint64_t from, const char *what, const char 
 {
     const uint64_t left = c->size - c->at;
     if (n > left)
-        return fail(c, "netCDF header: %s%s%s%s at offset %llu declares %llu bytes, past the end of the file (%llu bytes)",
+        return fail(c,
+                    "netCDF header: %s%s%s%s at offset %llu declares %llu bytes, past the end of the file (%llu bytes)",
                     what, name[0] ? " \"" : "", name, name[0] ? "\"" : "", (unsigned long long)from,
                     (unsigned long long)n, (unsigned long long)c->size);
     const uint64_t pad = n % 4 ? 4 - n % 4 : 0;
@@ -89,9 +90,10 @@ static int name(cur *c, const char *what, char *out, size_t cap)
     if (take(c, c->w, &len, what))
         return -1;
     if (len > c->size - c->at)
-        return fail(c, "netCDF header: the name of a %s at offset %llu declares %llu bytes, past the end of the file "
-                    "(%llu bytes)", what, (unsigned long long)from, (unsigned long long)len,
-                    (unsigned long long)c->size);
+        return fail(c,
+                    "netCDF header: the name of a %s at offset %llu declares %llu bytes, past the end of the file "
+                    "(%llu bytes)",
+                    what, (unsigned long long)from, (unsigned long long)len, (unsigned long long)c->size);
     size_t k = len < cap - 1 ? (size_t)len : cap - 1;
     if (peek(c, k, (unsigned char *)out))
         return fail(c, "netCDF header: cannot read the name at offset %llu", (unsigned long long)from);
@@ -136,9 +138,11 @@ static int attrs(cur *c, const char *owner)
                         (unsigned long long)from, (unsigned long long)type);
         const uint64_t sz = (uint64_t)tsize[type];
         if (m > (c->size - c->at) / sz)
-            return fail(c, "netCDF header: attribute \"%s\" of %s at offset %llu declares %llu values of %llu bytes, "
-                        "past the end of the file (%llu bytes)", nm, owner, (unsigned long long)from,
-                        (unsigned long long)m, (unsigned long long)sz, (unsigned long long)c->size);
+            return fail(c,
+                        "netCDF header: attribute \"%s\" of %s at offset %llu declares %llu values of %llu bytes, "
+                        "past the end of the file (%llu bytes)",
+                        nm, owner, (unsigned long long)from, (unsigned long long)m, (unsigned long long)sz,
+                        (unsigned long long)c->size);
         if (skip(c, m * sz, from, "attribute", nm))
             return -1;
     }
@@ -173,9 +177,10 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
         if (name(&c, "variable", nm, sizeof nm) || take(&c, c.w, &ndims, "variable rank"))
             return -1;
         if (ndims > (c.size - c.at) / (uint64_t)c.w)
-            return fail(&c, "netCDF header: variable \"%s\" at offset %llu declares %llu dimensions, more than the "
-                        "file (%llu bytes) holds", nm, (unsigned long long)from, (unsigned long long)ndims,
-                        (unsigned long long)c.size);
+            return fail(&c,
+                        "netCDF header: variable \"%s\" at offset %llu declares %llu dimensions, more than the "
+                        "file (%llu bytes) holds",
+                        nm, (unsigned long long)from, (unsigned long long)ndims, (unsigned long long)c.size);
         snprintf(owner, sizeof owner, "variable \"%s\"", nm);
         uint64_t first = UINT64_MAX, begin;
         if ((ndims && take(&c, c.w, &first, "variable dimension")) ||
@@ -204,10 +209,11 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
      * records (and the WRF reader then asked for 81 GB of times) */
     if (nrec == 1) /* one record variable: its records are not padded */
         recsize = recsize > 3 ? recsize - 3 : 0;
-    if (nrec && !big && recsize && recs > 1 &&
-        (recbegin > size || recs - 1 > (size - recbegin) / recsize))
-        return fail(&c, "netCDF header: the file declares %llu records of at least %llu bytes from offset %llu, past "
-                    "the end of the file (%llu bytes)", (unsigned long long)recs, (unsigned long long)recsize,
-                    (unsigned long long)recbegin, (unsigned long long)size);
+    if (nrec && !big && recsize && recs > 1 && (recbegin > size || recs - 1 > (size - recbegin) / recsize))
+        return fail(&c,
+                    "netCDF header: the file declares %llu records of at least %llu bytes from offset %llu, past "
+                    "the end of the file (%llu bytes)",
+                    (unsigned long long)recs, (unsigned long long)recsize, (unsigned long long)recbegin,
+                    (unsigned long long)size);
     return 0;
 }

@@ -12,21 +12,21 @@ struct vsv_run {
     vsv_source **src;
     int nsrc;
     vsv_meta meta;
-    int *sel;        /* field index per selected variable */
+    int *sel; /* field index per selected variable */
     int nsel;
-    int *fsrc, *ft;  /* per frame: source and its local time index */
+    int *fsrc, *ft; /* per frame: source and its local time index */
     int64_t *ftime;
     int nframes;
     uint64_t bytes;
-    char **path;     /* per source, in time order */
-    int nwind;       /* wind variables appended to meta (0, 2 or 3) */
+    char **path;       /* per source, in time order */
+    int nwind;         /* wind variables appended to meta (0, 2 or 3) */
     char wname[3][16]; /* their fields' names in the model files */
     vsv_source *wsrc;  /* a companion wind file, or NULL for the run's own */
     int *wt;           /* companion: its time index per frame */
     char err[1024];
-    char note[400];  /* a --times of one time between steps: which was taken */
-    int64_t origin;  /* the first time before any selection: the grid's t0 */
-    int64_t win[2];  /* the selected output steps' times (vsv_run_select) */
+    char note[400]; /* a --times of one time between steps: which was taken */
+    int64_t origin; /* the first time before any selection: the grid's t0 */
+    int64_t win[2]; /* the selected output steps' times (vsv_run_select) */
 };
 
 const char *vsv_run_error(const vsv_run *r) { return r ? r->err : "out of memory"; }
@@ -140,8 +140,10 @@ static int select_vars(vsv_run *r, const char *vars, const char **names)
         for (int i = 0; i < nf; i++)
             nvol += vsv_source_field(s0, i)->is_volume;
         if (!nvol) {
-            return fail(r, VSV_EINVAL, "%s: no field of this %s file is a volume on the 3-D grid (%s); "
-                        "vsv-extract --list shows what it holds", names[0], vsv_source_format(s0),
+            return fail(r, VSV_EINVAL,
+                        "%s: no field of this %s file is a volume on the 3-D grid (%s); "
+                        "vsv-extract --list shows what it holds",
+                        names[0], vsv_source_format(s0),
                         nf && vsv_source_field(s0, 0)->role[0] ? vsv_source_field(s0, 0)->role : "2-D fields only");
         }
         if (!r->nsel) {
@@ -159,8 +161,8 @@ static int select_vars(vsv_run *r, const char *vars, const char **names)
     return 0;
 }
 
-int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars,
-                 const char *times, vsv_run **out)
+int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *opts, const char *vars, const char *times,
+                 vsv_run **out)
 {
     vsv_run *r = *out = calloc(1, sizeof *r);
     if (!r)
@@ -429,8 +431,7 @@ int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *
         for (int i = 1; i < r->nsrc; i++)
             for (int d = 0; d < n; d++)
                 if (vsv_source_find_field(r->src[i], r->wname[d]) < 0)
-                    return fail(r, VSV_ENOTFOUND, "%s has no wind %s (it is in %s)", r->path[i], r->wname[d],
-                                from);
+                    return fail(r, VSV_ENOTFOUND, "%s has no wind %s (it is in %s)", r->path[i], r->wname[d], from);
     }
     static const char *const vname[3] = {VSV_WIND_U, VSV_WIND_V, VSV_WIND_W};
     static const char *const what[3] = {"wind along the grid's x axis", "wind along the grid's y axis",
@@ -445,8 +446,7 @@ int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *
     const char *base = strrchr(from, '/');
     char buf[256];
     snprintf(buf, sizeof buf, "%s %s%s%s of %s (%s; grid-relative, m/s)", r->wname[0], r->wname[1], n > 2 ? " " : "",
-             n > 2 ? r->wname[2] : "", base ? base + 1 : from,
-             vsv_source_format(r->wsrc ? r->wsrc : r->src[0]));
+             n > 2 ? r->wname[2] : "", base ? base + 1 : from, vsv_source_format(r->wsrc ? r->wsrc : r->src[0]));
     int rc = vsv_meta_add_attr(&r->meta, VSV_WINDS_ATTR, buf);
     if (rc < 0)
         return rc;

@@ -102,7 +102,10 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
             const int camx = readers[i] == &vsv_camx_ops, vdb = !strcmp(readers[i]->name, "OpenVDB"); /* interop's */
             if (!camx && (s->opts.heights || s->opts.met || s->opts.proj.kind != VSV_PROJ_NONE))
                 return vsv_source_fail(s, VSV_EINVAL, "--%s is for CAMx files; this is a %s file",
-                                       s->opts.heights ? "heights" : s->opts.met ? "met" : "proj", readers[i]->name);
+                                       s->opts.heights ? "heights"
+                                       : s->opts.met   ? "met"
+                                                       : "proj",
+                                       readers[i]->name);
             if (!vdb && s->opts.time_step > 0)
                 return vsv_source_fail(s, VSV_EINVAL, "--time-step is for OpenVDB sequences; this is a %s file",
                                        readers[i]->name);
@@ -114,10 +117,11 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
     char more[256] = "";
     for (int i = BUILTIN; i < nreaders; i++)
         snprintf(more + strlen(more), sizeof more - strlen(more), ", %s", readers[i]->name);
-    return vsv_source_fail(s, VSV_ENOTVSV,
-                           "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF, IOAPI or CF netCDF, "
-                           "GrADS .ctl%s)",
-                           more);
+    return vsv_source_fail(
+        s, VSV_ENOTVSV,
+        "not an MM5 v3 file, nor another format Vesuvius reads (CAMx UAM-IV, WRF, IOAPI or CF netCDF, "
+        "GrADS .ctl%s)",
+        more);
 }
 
 void vsv_source_free(vsv_source *s)
@@ -214,7 +218,8 @@ int vsv_source_opts_check(const vsv_source_opts *o, char *msg, size_t cap)
             for (int i = 0; i < 4; i++)
                 if (need & ~o->proj_set & (1u << i))
                     snprintf(list + strlen(list), sizeof list - strlen(list), " %s", pn[i]);
-            vsv_msg(msg, cap, "--proj %s needs%s (no default puts a grid on the map)", vsv_proj_name(o->proj.kind), list);
+            vsv_msg(msg, cap, "--proj %s needs%s (no default puts a grid on the map)", vsv_proj_name(o->proj.kind),
+                    list);
             return VSV_EINVAL;
         }
         if (o->proj.kind == VSV_PROJ_LATLON && o->proj_set) {

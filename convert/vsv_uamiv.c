@@ -21,7 +21,6 @@ struct vsv_uamiv {
     size_t hdr_bytes, hour_bytes, rec_bytes;
 };
 
-
 /* n characters stored one per 4-byte word, blanks trimmed. */
 static void c4(char *dst, const unsigned char *p, int n, int le)
 {
@@ -102,7 +101,8 @@ static int parse(vsv_uamiv *u)
         return rc;
     c4(h->name, p, 10, le);
     if (!strcmp(h->name, "BOUNDARY"))
-        return ufail(u, VSV_EUNSUPPORTED, "a CAMx lateral boundary file (BOUNDARY): values on the domain's four "
+        return ufail(u, VSV_EUNSUPPORTED,
+                     "a CAMx lateral boundary file (BOUNDARY): values on the domain's four "
                      "edges, not a 3-D grid");
     c4(h->note, p + 40, 60, le);
     h->nseg_or_tz = (int32_t)vsv_f77_u32(le, p + 280);

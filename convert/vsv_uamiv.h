@@ -10,20 +10,20 @@
 
 /* Everything the header records hold: plain info. */
 typedef struct vsv_uamiv_header {
-    char name[11];        /* "AVERAGE", ... */
+    char name[11]; /* "AVERAGE", ... */
     char note[61];
-    int nseg_or_tz;       /* v5: nseg; v6+: time zone */
+    int nseg_or_tz; /* v5: nseg; v6+: time zone */
     int nspec;
-    int bdate, edate;     /* YYJJJ (or YYYYJJJ) */
+    int bdate, edate; /* YYJJJ (or YYYYJJJ) */
     float bhour, ehour;
     float plon, plat;
     int iutm;
     float xorg, yorg, dx, dy;
     int nx, ny, nz, iproj, istag;
     float tlat1, tlat2, spare;
-    int rec3[4];          /* 1, 1, nx, ny */
-    char (*species)[11];  /* nspec names */
-    int v6;               /* 1 when the region record carries a projection */
+    int rec3[4];         /* 1, 1, nx, ny */
+    char (*species)[11]; /* nspec names */
+    int v6;              /* 1 when the region record carries a projection */
     int little_endian;
     int nhours;
 } vsv_uamiv_header;

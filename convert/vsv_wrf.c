@@ -16,13 +16,13 @@
 
 typedef struct wrf {
     int nc;
-    int nx, ny, nk;     /* mass points */
-    int *varid;         /* per field */
-    int *stag;          /* per field: 0 none, 1 x, 2 y, 3 z */
-    float *zw;          /* scratch: (nk+1)*plane w-level heights */
-    float *zm;          /* scratch: nk*plane mass-level heights */
+    int nx, ny, nk; /* mass points */
+    int *varid;     /* per field */
+    int *stag;      /* per field: 0 none, 1 x, 2 y, 3 z */
+    float *zw;      /* scratch: (nk+1)*plane w-level heights */
+    float *zm;      /* scratch: nk*plane mass-level heights */
     float *raw, *nat;
-    int vgrid_t;        /* time the vgrid was planned for, -1 none */
+    int vgrid_t; /* time the vgrid was planned for, -1 none */
     vsv_vgrid vg;
     int even;
     double ztop;
@@ -192,7 +192,8 @@ static int wrf_times(vsv_source *s, int nc, size_t nt)
     int tdims[NC_MAX_VAR_DIMS], tnd = 0;
     size_t tlen = 0;
     if (nc_inq_varndims(nc, tv, &tnd) || tnd != 2 || nc_inq_vardimid(nc, tv, tdims) ||
-        nc_inq_dimlen(nc, tdims[1], &slen) || slen < 19 || slen > 64 || nc_inq_dimlen(nc, tdims[0], &tlen) || tlen != nt)
+        nc_inq_dimlen(nc, tdims[1], &slen) || slen < 19 || slen > 64 || nc_inq_dimlen(nc, tdims[0], &tlen) ||
+        tlen != nt)
         return vsv_source_fail(s, VSV_ECORRUPT, "Times is not a (Time, 19-character) variable");
     char *tbuf = calloc(nt * slen + 1, 1);
     s->times = calloc(nt + 1, sizeof *s->times);
@@ -253,7 +254,8 @@ static int wrf_projection(vsv_source *s, int nc, int *mp_out)
         if (fabs(plat - 90) > 1e-6)
             return vsv_source_fail(s, VSV_EUNSUPPORTED,
                                    "MAP_PROJ 6 with POLE_LAT %g, POLE_LON %g: a rotated-pole lat/lon grid is not "
-                                   "supported (only POLE_LAT 90)", plat, plon);
+                                   "supported (only POLE_LAT 90)",
+                                   plat, plon);
         g->proj.kind = VSV_PROJ_LATLON;
     } else
         return vsv_source_fail(s, VSV_EUNSUPPORTED, "MAP_PROJ %d is not supported (1, 2, 3 and 6 are)", mp);
@@ -315,7 +317,8 @@ static int wrf_position(vsv_source *s, const wrf *w, int mp)
     g->spacing[0] = dx;
     g->spacing[1] = dy;
     /* the far corner must land where DX and DY put it (a check of the projection) */
-    if (mp != 6 && (fabs(x1 - (x0 + dx * (nx - 1))) > 0.02 * dx * nx || fabs(y1 - (y0 + dy * (ny - 1))) > 0.02 * dy * ny))
+    if (mp != 6 &&
+        (fabs(x1 - (x0 + dx * (nx - 1))) > 0.02 * dx * nx || fabs(y1 - (y0 + dy * (ny - 1))) > 0.02 * dy * ny))
         rc = vsv_source_fail(s, VSV_ECORRUPT, "XLAT/XLONG do not match MAP_PROJ %d with DX %g, DY %g", mp, dx, dy);
     else
         rc = 0;
@@ -566,9 +569,11 @@ static char *wrf_summary(vsv_source *s)
     vsv_buf b = {0};
     char line[512];
     const vsv_meta *g = &s->grid;
-    snprintf(line, sizeof line, "WRF output: %s\n  projection  %s (MAP_PROJ %s), lat0 %g, lon0 %g, true lat %g/%g\n  grid        %d x %d, %g x %g m\n  times       %d\n  fields      %d 3-D\n",
-             g->run, vsv_proj_name(g->proj.kind), vsv_meta_attr(g, "MAP_PROJ"), g->proj.lat0, g->proj.lon0, g->proj.lat1,
-             g->proj.lat2, g->nx, g->ny, g->spacing[0], g->spacing[1], s->ntimes, s->nfields);
+    snprintf(line, sizeof line,
+             "WRF output: %s\n  projection  %s (MAP_PROJ %s), lat0 %g, lon0 %g, true lat %g/%g\n  grid        %d x %d, "
+             "%g x %g m\n  times       %d\n  fields      %d 3-D\n",
+             g->run, vsv_proj_name(g->proj.kind), vsv_meta_attr(g, "MAP_PROJ"), g->proj.lat0, g->proj.lon0,
+             g->proj.lat1, g->proj.lat2, g->nx, g->ny, g->spacing[0], g->spacing[1], s->ntimes, s->nfields);
     vsv_buf_put(&b, line, strlen(line));
     for (int i = 0; i < s->nfields; i++) {
         snprintf(line, sizeof line, "    %-10s %-7s %3d %-12s %s\n", s->fields[i].name, s->fields[i].ordering,

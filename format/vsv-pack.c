@@ -7,6 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-pack [OPTIONS] -o OUT.vsv [STREAM]\n"
     "Pack a field stream (from vsv-extract or vsv-interp; stdin by default) into a\n"
@@ -19,16 +20,19 @@ static const char usage[] =
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n"
     "\n";
+/* clang-format on */
 
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-pack");
+    /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {{"output", required_argument, 0, 'o'},
                                              {"quiet", no_argument, 0, 'q'},
                                              {"help", no_argument, 0, 'h'},
                                              {"version", no_argument, 0, 'V'},
                                              VSV_CLI_PACK_LONGOPTS,
                                              {0, 0, 0, 0}};
+    /* clang-format on */
     vsv_cli_pack pack;
     vsv_cli_pack_init(&pack);
     const char *out = NULL;
@@ -39,7 +43,10 @@ int main(int argc, char **argv)
         switch (c) {
         case 'o': out = optarg; break;
         case 'q': vsv_cli_set_quiet(1); break;
-        case 'h': fputs(usage, stdout); fputs(vsv_cli_pack_help, stdout); return 0;
+        case 'h':
+            fputs(usage, stdout);
+            fputs(vsv_cli_pack_help, stdout);
+            return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
         }

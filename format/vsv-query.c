@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-query FILE.vsv|URL (--at LAT,LON[,HEIGHT] | --cell I,J[,K] | --profile LAT,LON)\n"
     "                 [--species LIST] [--time T | --times A:B] [--interp] [--csv | --json]\n"
@@ -38,6 +39,7 @@ static const char usage[] =
     "  -V, --version           print versions\n"
     "Values are the file's decoded values (within each species' stated quantisation\n"
     "bound of the model's); no data is NaN (null in JSON). Times are ISO 8601 UTC.\n";
+/* clang-format on */
 
 enum { FMT_TABLE, FMT_CSV, FMT_JSON };
 
@@ -92,6 +94,7 @@ typedef struct query_run {
 /* Reads the options into qa (set to the defaults by main); 1 after --help. */
 static int parse_args(int argc, char **argv, query_args *qa)
 {
+    /* clang-format off */ /* (a table, laid out by hand) */
     enum { O_AT = 1000, O_CELL, O_PROFILE, O_TIMES, O_INTERP, O_CSV, O_JSON };
     static const struct option longopts[] = {
         {"at", required_argument, 0, O_AT},       {"cell", required_argument, 0, O_CELL},
@@ -100,6 +103,7 @@ static int parse_args(int argc, char **argv, query_args *qa)
         {"interp", no_argument, 0, O_INTERP},     {"csv", no_argument, 0, O_CSV},
         {"json", no_argument, 0, O_JSON},         {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},         {0, 0, 0, 0}};
+    /* clang-format on */
     int c;
     while ((c = getopt_long(argc, argv, "s:t:hV", longopts, NULL)) != -1) {
         switch (c) {
@@ -137,7 +141,8 @@ static void check_args(int argc, char **argv, query_args *qa)
         vsv_cli_usage_error("--at %s: expected LAT,LON or LAT,LON,HEIGHT", at);
     if (profile && nargs != 2)
         vsv_cli_usage_error("--profile %s: expected LAT,LON", profile);
-    if (cellarg && (nargs < 2 || arg[0] != floor(arg[0]) || arg[1] != floor(arg[1]) || (nargs == 3 && arg[2] != floor(arg[2]))))
+    if (cellarg &&
+        (nargs < 2 || arg[0] != floor(arg[0]) || arg[1] != floor(arg[1]) || (nargs == 3 && arg[2] != floor(arg[2]))))
         vsv_cli_usage_error("--cell %s: expected I,J or I,J,K (whole numbers)", cellarg);
     for (int i = 0; cellarg && i < nargs; i++) /* an int each, before it is one */
         if (arg[i] < 0 || arg[i] > 1e9)
@@ -169,10 +174,10 @@ static void open_query(const query_args *qa, query_run *run)
 
     /* the point */
     char msg[512];
-    int rc = qa->cellarg ? vsv_point_cell(m, (int)arg[0], (int)arg[1], qa->nargs == 3 ? (int)arg[2] : -1, &run->pt,
-                                          msg, sizeof msg)
-                         : vsv_point_locate_at(m, vsv_file_time(run->f, run->a), arg[0], arg[1],
-                                               qa->at ? arg[2] : NAN, &run->pt, msg, sizeof msg);
+    int rc = qa->cellarg ? vsv_point_cell(m, (int)arg[0], (int)arg[1], qa->nargs == 3 ? (int)arg[2] : -1, &run->pt, msg,
+                                          sizeof msg)
+                         : vsv_point_locate_at(m, vsv_file_time(run->f, run->a), arg[0], arg[1], qa->at ? arg[2] : NAN,
+                                               &run->pt, msg, sizeof msg);
     if (rc)
         vsv_cli_die(1, "%s: %s", path, msg);
     run->k0 = qa->profile ? 0 : -1;

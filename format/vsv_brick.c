@@ -85,8 +85,7 @@ void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *
  * mod 2^8). The values land in out (a B^3 array); ABS3 decodes into the
  * state itself, DELTA3 into scratch (the rebuilt differences are the next
  * rows' neighbours), each row added to the state while it is in cache. */
-static void inverse3(int bits, const unsigned char *in, int B, const int ext[3], uint16_t *out, uint16_t *add,
-                     int undo)
+static void inverse3(int bits, const unsigned char *in, int B, const int ext[3], uint16_t *out, uint16_t *add, int undo)
 {
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
     const unsigned char *lo = in, *hi = in + n;
@@ -145,7 +144,7 @@ void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const
     }
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
     const unsigned char *lo = in, *hi = in + n;
-    if (kind == VSV_BRICK_DELTA) { /* undo: the residuals subtracted (wrapping) */
+    if (kind == VSV_BRICK_DELTA) {            /* undo: the residuals subtracted (wrapping) */
         const unsigned neg = undo ? ~0u : 0u; /* (r ^ neg) - neg: -r when undoing */
         for (int k = 0; k < ext[2]; k++)
             for (int j = 0; j < ext[1]; j++) {

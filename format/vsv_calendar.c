@@ -35,8 +35,8 @@ void vsv_time_format(int64_t t, char *buf, size_t cap)
     const int64_t d = doy - (153 * mp + 2) / 5 + 1;
     const int64_t m = mp + (mp < 10 ? 3 : -9);
     y += m <= 2;
-    snprintf(buf, cap, "%04lld-%02lld-%02lldT%02lld:%02lld:%02lldZ", (long long)y, (long long)m,
-             (long long)d, (long long)(sec / 3600), (long long)(sec / 60 % 60), (long long)(sec % 60));
+    snprintf(buf, cap, "%04lld-%02lld-%02lldT%02lld:%02lld:%02lldZ", (long long)y, (long long)m, (long long)d,
+             (long long)(sec / 3600), (long long)(sec / 60 % 60), (long long)(sec % 60));
 }
 
 /* The civil fields of "YYYY-MM-DD[T ]HH[:MM[:SS]][Z]"; 0 or VSV_EINVAL. */
@@ -64,8 +64,7 @@ static int civil_fields(const char *s, int f[6])
     }
     if (*p == 'Z')
         p++;
-    if (*p || mo < 1 || mo > 12 || d < 1 || d > 31 || h < 0 || h > 24 || mi < 0 || mi > 59 || se < 0 ||
-        se > 60)
+    if (*p || mo < 1 || mo > 12 || d < 1 || d > 31 || h < 0 || h > 24 || mi < 0 || mi > 59 || se < 0 || se > 60)
         return VSV_EINVAL;
     f[0] = y, f[1] = mo, f[2] = d, f[3] = h, f[4] = mi, f[5] = se;
     return 0;
@@ -102,9 +101,10 @@ int vsv_calendar_named(const char *name)
     static const struct {
         const char *name;
         int cal;
-    } names[] = {{"standard", VSV_CAL_STANDARD}, {"gregorian", VSV_CAL_STANDARD},
-                 {"proleptic_gregorian", VSV_CAL_STANDARD}, {"noleap", VSV_CAL_NOLEAP}, {"365_day", VSV_CAL_NOLEAP},
-                 {"all_leap", VSV_CAL_ALL_LEAP}, {"366_day", VSV_CAL_ALL_LEAP}, {"360_day", VSV_CAL_360_DAY}};
+    } names[] = {
+        {"standard", VSV_CAL_STANDARD}, {"gregorian", VSV_CAL_STANDARD}, {"proleptic_gregorian", VSV_CAL_STANDARD},
+        {"noleap", VSV_CAL_NOLEAP},     {"365_day", VSV_CAL_NOLEAP},     {"all_leap", VSV_CAL_ALL_LEAP},
+        {"366_day", VSV_CAL_ALL_LEAP},  {"360_day", VSV_CAL_360_DAY}};
     for (size_t i = 0; name && i < sizeof names / sizeof *names; i++)
         if (!strcasecmp(name, names[i].name))
             return names[i].cal;
@@ -113,8 +113,10 @@ int vsv_calendar_named(const char *name)
 
 const char *vsv_calendar_name(int cal)
 {
-    return cal == VSV_CAL_NOLEAP ? "noleap" : cal == VSV_CAL_ALL_LEAP ? "all_leap" : cal == VSV_CAL_360_DAY ? "360_day"
-                                                                                                          : "standard";
+    return cal == VSV_CAL_NOLEAP     ? "noleap"
+           : cal == VSV_CAL_ALL_LEAP ? "all_leap"
+           : cal == VSV_CAL_360_DAY  ? "360_day"
+                                     : "standard";
 }
 
 int vsv_meta_calendar(const vsv_meta *m)

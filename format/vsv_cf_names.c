@@ -24,7 +24,7 @@ typedef struct entry {
     const char *model; /* prefix of the file's model ("" any) */
     const char *names; /* the species' names, space-separated */
     const char *standard_name;
-    int kind;          /* what the unit must convert to */
+    int kind; /* what the unit must convert to */
     const char *comment;
 } entry;
 
@@ -76,8 +76,11 @@ static const entry table[] = {
 static const struct {
     const char *model, *udunits;
 } spellings[] = {
-    {"ppmV", "ppm"}, {"ppmv", "ppm"}, {"PPMV", "ppm"}, {"ppbV", "ppb"}, {"ppbv", "ppb"}, {"PPBV", "ppb"},
-    {"pptV", "ppt"}, {"micrograms/m**3", "ug m-3"}, {"ug/m**3", "ug m-3"}, {"molecules/cm**3", "cm-3"},
+    {"ppmV", "ppm"},       {"ppmv", "ppm"},
+    {"PPMV", "ppm"},       {"ppbV", "ppb"},
+    {"ppbv", "ppb"},       {"PPBV", "ppb"},
+    {"pptV", "ppt"},       {"micrograms/m**3", "ug m-3"},
+    {"ug/m**3", "ug m-3"}, {"molecules/cm**3", "cm-3"},
 };
 
 const char *vsv_cf_units(const char *units)
@@ -92,8 +95,8 @@ const char *vsv_cf_units(const char *units)
  * readers write: a unit we do not know gets no standard name). */
 static int unit_of(const char *u, int kind)
 {
-    static const char *const dimless[] = {"1", "kg/kg", "kg kg-1", "g/kg", "g kg-1", "ppm", "ppb", "ppt",
-                                          "mol/mol", "mol mol-1", "ppmv", "ppbv", "pptv"};
+    static const char *const dimless[] = {"1",   "kg/kg",   "kg kg-1",   "g/kg", "g kg-1", "ppm", "ppb",
+                                          "ppt", "mol/mol", "mol mol-1", "ppmv", "ppbv",   "pptv"};
     static const char *const kelvin[] = {"K"};
     static const char *const speed[] = {"m/s", "m s-1"};
     const char *const *set = kind == DIMLESS ? dimless : kind == KELVIN ? kelvin : speed;

@@ -14,7 +14,7 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
         return rc;
     if (!vsv_all_zero(f->data + f->meta_end, (size_t)(first - f->meta_end), &z))
         return vsv_file_fail(f, VSV_ECORRUPT, "non-zero padding after the metadata at offset %llu",
-                   (unsigned long long)(f->meta_end + z));
+                             (unsigned long long)(f->meta_end + z));
     vsv_decoder *d = NULL;
     rc = vsv_decoder_create(f, &d);
     if (rc)
@@ -48,7 +48,7 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
                     const uint64_t off = vsv_rd64(be + 8);
                     if (!vsv_all_zero(c + pos, (size_t)(off - pos), &z)) {
                         rc = vsv_file_fail(f, VSV_ECORRUPT, "chunk %d: non-zero padding at offset %llu", t,
-                                 (unsigned long long)(coff + pos + z));
+                                           (unsigned long long)(coff + pos + z));
                         break;
                     }
                     pos = off + vsv_rd32(be + 16);
@@ -75,8 +75,9 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
                 unsigned omn, omx;
                 vsv_octree_node(oct, (size_t)b, &omn, &omx);
                 if (stray || omn != mn || omx != mx || (f->quant[s].bits == 8 && mx > 255))
-                    rc = vsv_file_fail(f, VSV_ECORRUPT, "chunk %d, species %d, brick %d: decoded codes disagree with the octree", t,
-                             s, b);
+                    rc = vsv_file_fail(f, VSV_ECORRUPT,
+                                       "chunk %d, species %d, brick %d: decoded codes disagree with the octree", t, s,
+                                       b);
             }
             if (!rc) {
                 /* upper octree levels must reduce level 0 */
@@ -96,8 +97,9 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
                     unsigned a0, a1;
                     vsv_octree_node(oct, i, &a0, &a1);
                     if (a0 != nodes[2 * i] || a1 != nodes[2 * i + 1]) {
-                        rc = vsv_file_fail(f, VSV_ECORRUPT, "chunk %d, species %d: octree node %zu disagrees with its children",
-                                 t, s, i);
+                        rc =
+                            vsv_file_fail(f, VSV_ECORRUPT,
+                                          "chunk %d, species %d: octree node %zu disagrees with its children", t, s, i);
                         break;
                     }
                 }
@@ -105,7 +107,8 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
             }
         }
         if (!rc && !vsv_all_zero(c + pos, (size_t)(csize - pos), &z))
-            rc = vsv_file_fail(f, VSV_ECORRUPT, "chunk %d: non-zero padding at offset %llu", t, (unsigned long long)(coff + pos + z));
+            rc = vsv_file_fail(f, VSV_ECORRUPT, "chunk %d: non-zero padding at offset %llu", t,
+                               (unsigned long long)(coff + pos + z));
         if (progress)
             progress(ctx, t + 1, f->nsteps);
     }

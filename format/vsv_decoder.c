@@ -78,8 +78,8 @@ void vsv_decoder_free(vsv_decoder *d)
 
 const char *vsv_decoder_error(const vsv_decoder *d) { return d ? d->err : "out of memory"; }
 
-static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
-                 uint16_t *codes, int back);
+static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes,
+                 int back);
 
 /* Applies the brick entry `be` of chunk c (step t) to codes (back: undoes
  * it, a delta's entry only); a mapping cut by a truncation meanwhile (zeros
@@ -92,13 +92,14 @@ static int apply_checked(vsv_decoder *d, const unsigned char *c, int t, int s, i
     return cut ? cut : rc;
 }
 
-int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes)
+int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
+                      uint16_t *codes)
 {
     return apply_checked(d, c, t, s, b, be, codes, 0);
 }
 
-static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
-                 uint16_t *codes, int back)
+static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes,
+                 int back)
 {
     vsv_file *f = d->f;
     const size_t n = (size_t)f->lay.brick * f->lay.brick * f->lay.brick;
@@ -117,7 +118,8 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
     const uint32_t size = vsv_rd32(be + 16);
     const unsigned char *p = c + off;
     if (f->src) { /* fetch the payload, and the species' payloads after it */
-        const uint64_t at = (uint64_t)(p - f->data), end = __atomic_load_n(&f->span_end[(size_t)t * f->meta.nvars + s], __ATOMIC_RELAXED);
+        const uint64_t at = (uint64_t)(p - f->data),
+                       end = __atomic_load_n(&f->span_end[(size_t)t * f->meta.nvars + s], __ATOMIC_RELAXED);
         const int rc = vsv_file_need(f, at, size, end > at + size ? end - at - size : 0, d->err, sizeof d->err);
         if (rc)
             return rc;
@@ -134,9 +136,9 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
     if (f->codec == VSV_CODEC_ZSTD) {
         size_t got = ZSTD_decompressDCtx(d->dctx, d->raw, raw, p, size);
         if (ZSTD_isError(got) || got != raw) {
-            vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d (offset %llu): payload does not decode (%s)",
-                    f->name, t, s, b, (unsigned long long)(p - f->data),
-                    ZSTD_isError(got) ? ZSTD_getErrorName(got) : "wrong size");
+            vsv_msg(d->err, sizeof d->err,
+                    "%s: chunk %d, species %d, brick %d (offset %llu): payload does not decode (%s)", f->name, t, s, b,
+                    (unsigned long long)(p - f->data), ZSTD_isError(got) ? ZSTD_getErrorName(got) : "wrong size");
             return VSV_ECODEC;
         }
         src = d->raw;
@@ -233,8 +235,7 @@ static const float *lut_of(vsv_file *f, int s)
 /* Not under ThreadSanitizer: the ifunc resolver that picks the clone runs
  * while the dynamic linker relocates the program, before libtsan is set up,
  * and GCC instruments it, so every program crashed at load (SIGSEGV). */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(__SANITIZE_THREAD__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 #define VSV_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define VSV_CLONES
@@ -339,7 +340,8 @@ int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out)
         for (int k = 0; k < ext[2]; k++)
             for (int j = 0; j < ext[1]; j++)
                 vsv_file_dequantise(f, s, codes + ((size_t)k * L->brick + j) * L->brick, (size_t)ext[0],
-                                    out + ((size_t)(org[2] + k) * f->meta.ny + (size_t)(org[1] + j)) * f->meta.nx + org[0]);
+                                    out + ((size_t)(org[2] + k) * f->meta.ny + (size_t)(org[1] + j)) * f->meta.nx +
+                                        org[0]);
     }
     d->state_step[s] = step;
     if (d->under) { /* below the ground: no data, whatever the species */

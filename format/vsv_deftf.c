@@ -46,8 +46,8 @@ void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)
     static const char *const snow[] = {"SNOW", "QSNOW", "QS", NULL};
     static const char *const ozone[] = {"O3", "OZONE", NULL};
     static const char *const nox[] = {"NO", "NO2", "NOX", "NOY", NULL};
-    static const char *const pm[] = {"PM25", "PM2.5", "PM10", "PM", "PSO4", "PNO3", "PNH4", "POA", "PEC", "SOA", "ASO4",
-                                     "ANO3", "ANH4", "AEC", "AORG", NULL};
+    static const char *const pm[] = {"PM25", "PM2.5", "PM10", "PM",   "PSO4", "PNO3", "PNH4", "POA",
+                                     "PEC",  "SOA",   "ASO4", "ANO3", "ANH4", "AEC",  "AORG", NULL};
     static const char *const smoke[] = {"SMOKE", "BC", "OC", "CO", NULL};
     const char *map = "viridis", *kind = "other", *opacity = "0 0.05 0.2 0.45 0.8";
     if (name_is(name, cloud))

@@ -11,13 +11,13 @@
 #include <zstd.h>
 
 struct vsv_pack_plan {
-    vsv_meta meta;       /* with every species' transfer function */
-    vsv_pack_opts opts;  /* opts.vars NULL: the copies are in quant */
+    vsv_meta meta;      /* with every species' transfer function */
+    vsv_pack_opts opts; /* opts.vars NULL: the copies are in quant */
     vsv_quant *quant;
     vsv_layout lay;
     size_t cells;
-    vsv_buf head;        /* metadata records + padding: bytes [128, first_chunk) */
-    size_t meta_size;    /* the records without the padding */
+    vsv_buf head;     /* metadata records + padding: bytes [128, first_chunk) */
+    size_t meta_size; /* the records without the padding */
     char err[512];
 };
 
@@ -310,8 +310,8 @@ static void gather(const vsv_pack_plan *p, const vsv_quant *q, const float *f, i
     *mx = hi;
 }
 
-int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *const *fields,
-                     const float *const *prev, const unsigned char **bytes, size_t *size)
+int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *const *fields, const float *const *prev,
+                     const unsigned char **bytes, size_t *size)
 {
     const vsv_pack_plan *p = e->p;
     const vsv_layout *L = &p->lay;
@@ -321,7 +321,8 @@ int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *con
     *bytes = NULL;
     *size = 0;
     if (t < 0 || (!key && !prev)) {
-        vsv_msg(e->err, sizeof e->err, "step %d: %s", t, t < 0 ? "negative step" : "a delta step needs the step before");
+        vsv_msg(e->err, sizeof e->err, "step %d: %s", t,
+                t < 0 ? "negative step" : "a delta step needs the step before");
         return VSV_EINVAL;
     }
     vsv_buf *o = &e->out;
@@ -386,8 +387,7 @@ int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *con
                 }
             }
             const size_t at = o->len;
-            if (vsv_buf_put(o, payload, psize) ||
-                vsv_buf_zeros(o, (size_t)(vsv_align_up(o->len, VSV_ALIGN) - o->len)))
+            if (vsv_buf_put(o, payload, psize) || vsv_buf_zeros(o, (size_t)(vsv_align_up(o->len, VSV_ALIGN) - o->len)))
                 return VSV_ENOMEM;
             ent = o->p + tab_at + (size_t)b * VSV_BRICK_ENTRY_SIZE;
             ent[0] = (unsigned char)kind;

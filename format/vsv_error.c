@@ -1,7 +1,6 @@
 /* vsv_error.c — error texts of the VSV_E* codes (vsv_strerror). */
 #include "vsv_format_internal.h"
 
-
 const char *vsv_strerror(int code)
 {
     switch (code) {

@@ -31,16 +31,16 @@ VSV_API_BEGIN
 /* Error codes: fallible calls return 0 or one of these. Values never change. */
 enum {
     VSV_OK = 0,
-    VSV_EIO = -1,          /* operating-system I/O error */
-    VSV_ENOMEM = -2,       /* out of memory */
-    VSV_ENOTVSV = -3,      /* not a .vsv file / not a field stream (wrong magic) */
-    VSV_EVERSION = -4,     /* a major version this library does not read */
-    VSV_ECORRUPT = -5,     /* checksum mismatch or inconsistent structure */
-    VSV_ETRUNC = -6,       /* file or stream ends early */
-    VSV_EINVAL = -7,       /* invalid argument or option */
-    VSV_ERANGE = -8,       /* index (time step, species, brick) out of range */
-    VSV_ECODEC = -9,       /* compressed payload does not decode */
-    VSV_ENOTFOUND = -10,   /* named item does not exist */
+    VSV_EIO = -1,           /* operating-system I/O error */
+    VSV_ENOMEM = -2,        /* out of memory */
+    VSV_ENOTVSV = -3,       /* not a .vsv file / not a field stream (wrong magic) */
+    VSV_EVERSION = -4,      /* a major version this library does not read */
+    VSV_ECORRUPT = -5,      /* checksum mismatch or inconsistent structure */
+    VSV_ETRUNC = -6,        /* file or stream ends early */
+    VSV_EINVAL = -7,        /* invalid argument or option */
+    VSV_ERANGE = -8,        /* index (time step, species, brick) out of range */
+    VSV_ECODEC = -9,        /* compressed payload does not decode */
+    VSV_ENOTFOUND = -10,    /* named item does not exist */
     VSV_EUNSUPPORTED = -11, /* valid but not supported by this build */
     VSV_EAGAIN = -12        /* not ready yet (try again later) */
 };
@@ -91,12 +91,12 @@ typedef struct vsv_var {
  * Code 0 is "nothing here": it decodes to `lo` (linear), to NaN (linear with
  * `missing`, when the data had no-data cells) or to 0 (log). */
 typedef struct vsv_quant {
-    int bits;          /* 8 or 16 */
-    int scale;         /* VSV_SCALE_* */
-    int missing;       /* linear only: code 0 means no data (decodes to NaN) */
-    double lo, hi;     /* the range the codes span */
-    double threshold;  /* values below it were stored as code 0 */
-    double max_abs_error; /* bound on |decoded - original| for finite inputs */
+    int bits;                  /* 8 or 16 */
+    int scale;                 /* VSV_SCALE_* */
+    int missing;               /* linear only: code 0 means no data (decodes to NaN) */
+    double lo, hi;             /* the range the codes span */
+    double threshold;          /* values below it were stored as code 0 */
+    double max_abs_error;      /* bound on |decoded - original| for finite inputs */
     double data_min, data_max; /* finite values seen by the writer */
 } vsv_quant;
 
@@ -104,36 +104,36 @@ typedef struct vsv_quant {
  * (SPEC.md "HGTS"): plain info a vsv_meta owns. */
 enum { VSV_HEIGHTS_STORED = 0, VSV_HEIGHTS_MM5 = 1 };
 typedef struct vsv_heights {
-    int64_t time;     /* valid for steps at or after this time (the first record
-                         also before it) */
-    int form;         /* VSV_HEIGHTS_*: stored, or MM5's reference-state formula */
-    double mm5[5];    /* MM5: P00 (Pa), TS0 (K), TLP (K), TISO (K, 0 none), PTOP (Pa) */
-    double *sigma;    /* MM5: nz half-sigma values, bottom level first */
-    float *z;         /* nx*ny*nz heights, m above sea level, x fastest, then y,
-                         then level (for MM5 derived from the terrain) */
+    int64_t time;  /* valid for steps at or after this time (the first record
+                      also before it) */
+    int form;      /* VSV_HEIGHTS_*: stored, or MM5's reference-state formula */
+    double mm5[5]; /* MM5: P00 (Pa), TS0 (K), TLP (K), TISO (K, 0 none), PTOP (Pa) */
+    double *sigma; /* MM5: nz half-sigma values, bottom level first */
+    float *z;      /* nx*ny*nz heights, m above sea level, x fastest, then y,
+                      then level (for MM5 derived from the terrain) */
 } vsv_heights;
 
 /* Everything about a data set except its values: plain info that owns its
  * arrays. Initialise with vsv_meta_init, release with vsv_meta_clear. */
 typedef struct vsv_meta {
     int nx, ny, nz;
-    double origin[3];   /* centre of cell (0,0,0): projected x, y; height z */
-    double spacing[3];  /* cell size in x, y (projected units) and z (metres) */
-    int vert_kind;      /* VSV_VERT_* */
+    double origin[3];  /* centre of cell (0,0,0): projected x, y; height z */
+    double spacing[3]; /* cell size in x, y (projected units) and z (metres) */
+    int vert_kind;     /* VSV_VERT_* */
     char vert_units[32];
-    double *levels;     /* nz values, or NULL for VSV_VERT_EVEN */
+    double *levels; /* nz values, or NULL for VSV_VERT_EVEN */
     vsv_proj proj;
-    char model[64];     /* source model, e.g. "MM5 v3" */
-    char run[256];      /* run description */
+    char model[64]; /* source model, e.g. "MM5 v3" */
+    char run[256];  /* run description */
     int nattrs;
     char (*attr_keys)[64];
     char (*attr_values)[256];
     int nvars;
     vsv_var *vars;
-    char **tf;          /* nvars default transfer functions (text) or NULL entries */
-    float *terrain;     /* nx*ny terrain height (m ASL), x fastest, or NULL */
-    float *landuse;     /* nx*ny land-use category, or NULL */
-    int nheights;       /* VSV_VERT_NATIVE: per-column level heights, in time */
+    char **tf;            /* nvars default transfer functions (text) or NULL entries */
+    float *terrain;       /* nx*ny terrain height (m ASL), x fastest, or NULL */
+    float *landuse;       /* nx*ny land-use category, or NULL */
+    int nheights;         /* VSV_VERT_NATIVE: per-column level heights, in time */
     vsv_heights *heights; /* order (0 = none: levels[] only) */
 } vsv_meta;
 
@@ -249,22 +249,22 @@ enum { VSV_CODEC_NONE = 0, VSV_CODEC_ZSTD = 1 };
 
 /* Per-species packing choices: plain info. */
 typedef struct vsv_pack_var {
-    int bits;          /* 8 or 16 (default 16) */
-    int scale;         /* VSV_SCALE_LINEAR (default) or VSV_SCALE_LOG */
-    double threshold;  /* values below are empty; default 0 = none */
-    double lo, hi;     /* fixed range when lo < hi; else from the data */
-    double log_decades;/* log scale: range spans at most this many decades (0 = default) */
+    int bits;           /* 8 or 16 (default 16) */
+    int scale;          /* VSV_SCALE_LINEAR (default) or VSV_SCALE_LOG */
+    double threshold;   /* values below are empty; default 0 = none */
+    double lo, hi;      /* fixed range when lo < hi; else from the data */
+    double log_decades; /* log scale: range spans at most this many decades (0 = default) */
 } vsv_pack_var;
 
 typedef struct vsv_pack_opts {
-    int brick;         /* brick edge in cells: 8, 16, 32 or 64 (default 32) */
-    int keyframe;      /* keyframe interval K >= 1 (default 8) */
-    int codec;         /* VSV_CODEC_* (default zstd) */
-    int level;         /* zstd level (default 3) */
-    int predict;       /* 1 (default): bricks may use the 3-D kinds where
-                          smaller (format 2.0); 0: format 1.x */
-    int threads;       /* encoder threads; 0 = all cores */
-    vsv_pack_var *vars;/* nvars entries or NULL for defaults; borrowed during create */
+    int brick;          /* brick edge in cells: 8, 16, 32 or 64 (default 32) */
+    int keyframe;       /* keyframe interval K >= 1 (default 8) */
+    int codec;          /* VSV_CODEC_* (default zstd) */
+    int level;          /* zstd level (default 3) */
+    int predict;        /* 1 (default): bricks may use the 3-D kinds where
+                           smaller (format 2.0); 0: format 1.x */
+    int threads;        /* encoder threads; 0 = all cores */
+    vsv_pack_var *vars; /* nvars entries or NULL for defaults; borrowed during create */
 } vsv_pack_opts;
 
 void vsv_pack_opts_init(vsv_pack_opts *o);
@@ -275,16 +275,14 @@ typedef struct vsv_writer vsv_writer;
 /* Starts a .vsv at `path`. Nothing appears at `path` until vsv_writer_finish
  * succeeds: steps are spooled to a temporary file beside it. Caller frees
  * with vsv_writer_free (which removes temporaries if not finished). */
-int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opts *opts,
-                      vsv_writer **out);
+int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opts *opts, vsv_writer **out);
 /* Adds one time step: fields[v] holds nx*ny*nz floats of variable v, x
  * fastest then y then z (borrowed for the call). Times strictly increase.
  * Non-finite values are stored as empty (code 0). */
 int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields);
 /* Quantises, encodes, writes, fsyncs and renames into place. An optional
  * progress callback gets (done, total) steps. */
-int vsv_writer_finish(vsv_writer *w, void (*progress)(void *ctx, int done, int total),
-                      void *ctx);
+int vsv_writer_finish(vsv_writer *w, void (*progress)(void *ctx, int done, int total), void *ctx);
 const char *vsv_writer_error(const vsv_writer *w);
 void vsv_writer_free(vsv_writer *w);
 
@@ -355,8 +353,8 @@ int vsv_chunk_encoder_create(const vsv_pack_plan *p, vsv_chunk_encoder **out);
  * cells of variable v at steps t and t-1 (prev is unused, and may be NULL,
  * at a keyframe). *bytes (borrowed, valid until the next call or free) and
  * *size (a multiple of 64) receive the chunk. */
-int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *const *fields,
-                     const float *const *prev, const unsigned char **bytes, size_t *size);
+int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *const *fields, const float *const *prev,
+                     const unsigned char **bytes, size_t *size);
 const char *vsv_chunk_encoder_error(const vsv_chunk_encoder *e);
 void vsv_chunk_encoder_free(vsv_chunk_encoder *e);
 
@@ -365,29 +363,35 @@ void vsv_chunk_encoder_free(vsv_chunk_encoder *e);
 typedef struct vsv_file vsv_file;
 
 /* Brick kinds in a chunk's brick table (SPEC.md "Brick entry"). */
-enum { VSV_BRICK_EMPTY = 0, VSV_BRICK_UNCHANGED = 1, VSV_BRICK_ABS = 2, VSV_BRICK_DELTA = 3,
-       VSV_BRICK_ABS3 = 4, VSV_BRICK_DELTA3 = 5 /* format 2 */ };
+enum {
+    VSV_BRICK_EMPTY = 0,
+    VSV_BRICK_UNCHANGED = 1,
+    VSV_BRICK_ABS = 2,
+    VSV_BRICK_DELTA = 3,
+    VSV_BRICK_ABS3 = 4,
+    VSV_BRICK_DELTA3 = 5 /* format 2 */
+};
 
 /* Facts about an open file: plain info filled by vsv_file_info. */
 typedef struct vsv_file_info {
     int major, minor;
     int nsteps, nspecies;
-    int brick;                 /* brick edge */
-    int bricks[3];             /* bricks along x, y, z */
-    int nbricks;               /* bricks per (step, species) */
+    int brick;     /* brick edge */
+    int bricks[3]; /* bricks along x, y, z */
+    int nbricks;   /* bricks per (step, species) */
     int keyframe;
     int codec;
-    int octree_levels;         /* level 0 = bricks, last = one root node */
+    int octree_levels; /* level 0 = bricks, last = one root node */
     uint64_t file_bytes;
 } vsv_file_info;
 
 /* Brick counts over the whole file: plain info filled by vsv_file_count. */
 typedef struct vsv_file_counts {
-    uint64_t stored_bricks;    /* bricks with a payload (ABS or DELTA) */
-    uint64_t nonempty_bricks;  /* bricks whose state is not all code 0 */
+    uint64_t stored_bricks;   /* bricks with a payload (ABS or DELTA) */
+    uint64_t nonempty_bricks; /* bricks whose state is not all code 0 */
     uint64_t payload_bytes;
-    int damaged_chunks;        /* chunks whose index failed its checks (not
-                                * counted above); vsv_file_error names the first */
+    int damaged_chunks; /* chunks whose index failed its checks (not
+                         * counted above); vsv_file_error names the first */
 } vsv_file_counts;
 
 /* Maps `path` and validates header, metadata, table of contents and end
@@ -518,20 +522,20 @@ void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t
  * bmax are the brick's value range (from the octree, exact). */
 typedef struct vsv_volume {
     int nx, ny, nz, brick, bdim[3], nbricks;
-    int shift;                /* log2(brick) */
-    int step, species;        /* what is loaded; -1 when nothing */
-    uint64_t gen;             /* new on every load, unique in the process: what
-                                 a renderer keys the copies it derives on (a
-                                 volume freed and another allocated at the same
-                                 address may hold the same step and species) */
-    float empty_value;        /* value of code 0 (0, lo, or NaN for no data) */
-    int64_t time;             /* time of `step` */
+    int shift;         /* log2(brick) */
+    int step, species; /* what is loaded; -1 when nothing */
+    uint64_t gen;      /* new on every load, unique in the process: what
+                          a renderer keys the copies it derives on (a
+                          volume freed and another allocated at the same
+                          address may hold the same step and species) */
+    float empty_value; /* value of code 0 (0, lo, or NaN for no data) */
+    int64_t time;      /* time of `step` */
     float **bricks;
     float *bmin, *bmax;
-    uint64_t *bkey;           /* per brick, or NULL: a key of the brick's
-                                 values (equal non-zero keys, equal values, in
-                                 any volume of the process: vsv_file_brick_key),
-                                 so a renderer redoes only bricks that changed */
+    uint64_t *bkey; /* per brick, or NULL: a key of the brick's
+                       values (equal non-zero keys, equal values, in
+                       any volume of the process: vsv_file_brick_key),
+                       so a renderer redoes only bricks that changed */
     /* private to the volume's maker: how vsv_volume_free gives it back
        (NULL: borrowed or caller-built; vsv_volume_free leaves it alone) */
     void (*release_)(struct vsv_volume *v);
@@ -602,24 +606,23 @@ const char *vsv_meta_height_units(const vsv_meta *m);
 
 /* A point of a grid: plain info filled by vsv_point_locate / vsv_point_cell. */
 typedef struct vsv_point {
-    double pos[3];              /* fractional cell coordinates of the point */
-    int cell[3];                /* the nearest cell */
-    double lat, lon, height;    /* the nearest cell's centre (height as
-                                   vsv_meta_cell_height; lat/lon NaN without
-                                   a projection) */
+    double pos[3];           /* fractional cell coordinates of the point */
+    int cell[3];             /* the nearest cell */
+    double lat, lon, height; /* the nearest cell's centre (height as
+                                vsv_meta_cell_height; lat/lon NaN without
+                                a projection) */
 } vsv_point;
 
 /* The point at (lat, lon) and `height` (units of vsv_meta_cell_height); a
  * NaN height means the lowest level above the ground (on even heights the
  * lowest whose centre is at or above the column's terrain; level 0 on
- * native model levels, which follow the terrain, and without terrain). VSV_ERANGE, with msg naming the grid's valid range, when the
- * point lies outside the grid; VSV_EUNSUPPORTED without a projection. */
-int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, vsv_point *p, char *msg,
-                     size_t cap);
+ * native model levels, which follow the terrain, and without terrain). VSV_ERANGE, with msg naming the grid's valid
+ * range, when the point lies outside the grid; VSV_EUNSUPPORTED without a projection. */
+int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, vsv_point *p, char *msg, size_t cap);
 /* The same with the heights in force at `time` (vsv_meta_cell_height_at):
  * on native levels with per-column heights a height's level moves in time. */
-int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon, double height, vsv_point *p,
-                        char *msg, size_t cap);
+int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon, double height, vsv_point *p, char *msg,
+                        size_t cap);
 /* The point at cell (i, j, k); k < 0 means the lowest level above the
  * ground. VSV_ERANGE (msg names the range) outside the grid. */
 int vsv_point_cell(const vsv_meta *m, int i, int j, int k, vsv_point *p, char *msg, size_t cap);

@@ -31,8 +31,7 @@ int vsv_heights_encode(const vsv_meta *m, const vsv_heights *h, vsv_buf *b);
 int vsv_heights_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg, size_t cap);
 /* Parses records from [p, p+n). quant (nvars entries, may be NULL) is filled
  * from QUAN records; *nquant counts them. msg receives a reason on error. */
-int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **quant,
-                    char *msg, size_t cap);
+int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **quant, char *msg, size_t cap);
 
 /* Quantisation shared by writer and reader (SPEC.md "Quantisation"). */
 unsigned vsv_quant_code(const vsv_quant *q, float v);

@@ -61,7 +61,8 @@ int vsv_heights_copy_all(vsv_meta *dst, const vsv_meta *src)
     dst->nheights = 0;
     for (int i = 0; i < src->nheights; i++) {
         const vsv_heights *h = &src->heights[i];
-        const int rc = vsv_meta_add_heights(dst, h->time, h->form == VSV_HEIGHTS_STORED ? h->z : NULL, h->mm5, h->sigma);
+        const int rc =
+            vsv_meta_add_heights(dst, h->time, h->form == VSV_HEIGHTS_STORED ? h->z : NULL, h->mm5, h->sigma);
         if (rc)
             return rc;
     }
@@ -200,8 +201,10 @@ int vsv_heights_decode(vsv_meta *m, const unsigned char *p, size_t len, char *ms
         return VSV_ECORRUPT;
     }
     if (rc == VSV_EINVAL) {
-        vsv_msg(msg, cap, "HGTS record %d: heights not finite and increasing upward, out of time order, or an MM5 "
-                "formula without terrain or with bad constants", m->nheights);
+        vsv_msg(msg, cap,
+                "HGTS record %d: heights not finite and increasing upward, out of time order, or an MM5 "
+                "formula without terrain or with bad constants",
+                m->nheights);
         return VSV_ECORRUPT;
     }
     return rc;
@@ -216,10 +219,10 @@ typedef struct rs_volume {
 
 struct vsv_resampler {
     const vsv_meta *m;
-    vsv_meta even;      /* shallow: m's arrays */
+    vsv_meta even; /* shallow: m's arrays */
     rs_volume out;
     const float *planned; /* the heights the plan was made for */
-    vsv_vgrid vg;       /* per even cell: native level below, weight */
+    vsv_vgrid vg;         /* per even cell: native level below, weight */
     uint64_t done_gen;
 };
 

@@ -10,14 +10,14 @@
 
 typedef struct vsv_layout {
     int nx, ny, nz, brick;
-    int bdim[3];                       /* bricks per axis */
+    int bdim[3]; /* bricks per axis */
     int nbricks;
     int levels;                        /* octree levels, level 0 = bricks */
     int ldim[VSV_MAX_LEVELS][3];       /* nodes per axis per level */
     size_t lstart[VSV_MAX_LEVELS + 1]; /* first node of each level */
     size_t nnodes;
-    size_t octree_bytes;               /* nnodes * 4 padded to 8 */
-    size_t species_index_bytes;        /* octree + brick table */
+    size_t octree_bytes;        /* nnodes * 4 padded to 8 */
+    size_t species_index_bytes; /* octree + brick table */
 } vsv_layout;
 
 static inline int vsv_layout_init(vsv_layout *l, int nx, int ny, int nz, int brick)

@@ -40,8 +40,8 @@ static void on_sigbus(int sig, siginfo_t *si, void *ctx)
             /* the raw system call: async-signal-safe, and no sanitizer's
              * wrapper in a signal handler */
             const uintptr_t p = a & ~(uintptr_t)(page - 1);
-            const long r = syscall(SYS_mmap, (void *)p, (size_t)page, PROT_READ,
-                                   MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED, -1, 0L);
+            const long r =
+                syscall(SYS_mmap, (void *)p, (size_t)page, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED, -1, 0L);
             if (r != -1) {
                 __atomic_store_n(&slot[i].cut, 1, __ATOMIC_RELEASE);
                 return;

@@ -77,10 +77,7 @@ fail:
     return VSV_ENOMEM;
 }
 
-static void copy_str(char *dst, size_t cap, const char *src)
-{
-    snprintf(dst, cap, "%s", src ? src : "");
-}
+static void copy_str(char *dst, size_t cap, const char *src) { snprintf(dst, cap, "%s", src ? src : ""); }
 
 int vsv_meta_add_var(vsv_meta *m, const char *name, const char *units, const char *desc)
 {
@@ -197,8 +194,7 @@ static int clean_text(const char *s)
 
 int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
 {
-    if (m->nx < 1 || m->ny < 1 || m->nz < 1 || m->nx > VSV_MAX_DIM || m->ny > VSV_MAX_DIM ||
-        m->nz > VSV_MAX_DIM) {
+    if (m->nx < 1 || m->ny < 1 || m->nz < 1 || m->nx > VSV_MAX_DIM || m->ny > VSV_MAX_DIM || m->nz > VSV_MAX_DIM) {
         vsv_msg(msg, cap, "grid %dx%dx%d outside 1..%d", m->nx, m->ny, m->nz, VSV_MAX_DIM);
         return VSV_EINVAL;
     }
@@ -233,8 +229,10 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
             return VSV_EINVAL;
         }
         if (!clean_text(m->vars[i].name) || !clean_text(m->vars[i].units) || !clean_text(m->vars[i].description)) {
-            vsv_msg(msg, cap, "variable %d: its name, units or description is not UTF-8 text (or holds control "
-                    "characters)", i);
+            vsv_msg(msg, cap,
+                    "variable %d: its name, units or description is not UTF-8 text (or holds control "
+                    "characters)",
+                    i);
             return VSV_EINVAL;
         }
         for (int j = 0; j < i; j++)

@@ -24,10 +24,10 @@ int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, vsv_buf *b)
     size_t at;
     int rc = 0;
     const size_t plane = (size_t)m->nx * (size_t)m->ny;
-#define TRY(x)                                                                                     \
-    do {                                                                                           \
-        if ((rc = (x)))                                                                            \
-            return rc;                                                                             \
+#define TRY(x)                                                                                                         \
+    do {                                                                                                               \
+        if ((rc = (x)))                                                                                                \
+            return rc;                                                                                                 \
     } while (0)
     TRY(rec_begin(b, "GRID", &at));
     TRY(vsv_buf_u32(b, (uint32_t)m->nx));
@@ -250,8 +250,8 @@ static int decode_quan(const vsv_meta *m, cursor *c, vsv_quant *quant, char *msg
     q->max_abs_error = getf64(c);
     q->data_min = getf64(c);
     q->data_max = getf64(c);
-    if ((q->bits != 8 && q->bits != 16) || (q->scale != 0 && q->scale != 1) || !isfinite(q->lo) ||
-        !isfinite(q->hi) || !(q->hi >= q->lo) || (q->scale == VSV_SCALE_LOG && !(q->lo > 0))) {
+    if ((q->bits != 8 && q->bits != 16) || (q->scale != 0 && q->scale != 1) || !isfinite(q->lo) || !isfinite(q->hi) ||
+        !(q->hi >= q->lo) || (q->scale == VSV_SCALE_LOG && !(q->lo > 0))) {
         vsv_msg(msg, cap, "QUAN record of variable %u has invalid parameters", i);
         return VSV_ECORRUPT;
     }
@@ -278,8 +278,7 @@ static int decode_tfun(vsv_meta *m, cursor *c, char *sbuf, char *msg, size_t cap
     return 0;
 }
 
-int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **quant_out, char *msg,
-                    size_t cap)
+int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **quant_out, char *msg, size_t cap)
 {
     vsv_meta_clear(m);
     vsv_quant *quant = NULL;

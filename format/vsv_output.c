@@ -133,9 +133,10 @@ int vsv_output_temp(const char *path, const char *suffix, char *tmp, size_t cap)
     const int short_name = base + 32 + (suffix ? strlen(suffix) : 0) > 255;
     for (int tries = 0; tries < 100; tries++) {
         const unsigned n = __atomic_fetch_add(&serial, 1, __ATOMIC_RELAXED);
-        const int len = short_name ? snprintf(tmp, cap, "%.*s.vsv-tmp.%ld.%u%s", (int)dirlen, path, (long)getpid(), n,
-                                              suffix ? suffix : "")
-                                   : snprintf(tmp, cap, "%s.tmp.%ld.%u%s", path, (long)getpid(), n, suffix ? suffix : "");
+        const int len = short_name
+                            ? snprintf(tmp, cap, "%.*s.vsv-tmp.%ld.%u%s", (int)dirlen, path, (long)getpid(), n,
+                                       suffix ? suffix : "")
+                            : snprintf(tmp, cap, "%s.tmp.%ld.%u%s", path, (long)getpid(), n, suffix ? suffix : "");
         if (len < 0 || (size_t)len >= cap) {
             errno = ENAMETOOLONG;
             return -1;

@@ -12,10 +12,11 @@
 
 using GeographicLib::AlbersEqualArea;
 using GeographicLib::LambertConformalConic;
-using GeographicLib::TransverseMercator;
 using GeographicLib::PolarStereographic;
+using GeographicLib::TransverseMercator;
 
-namespace {
+namespace
+{
 
 double radius_of(const vsv_proj *p) { return p->radius > 0 ? p->radius : 6370000.0; }
 
@@ -45,7 +46,10 @@ AlbersEqualArea albers(const vsv_proj *p)
     return AlbersEqualArea(radius_of(p), 0.0, p->lat1, p->lat2, 1.0);
 }
 
-TransverseMercator tmerc(const vsv_proj *p) { return TransverseMercator(radius_of(p), 0.0, p->lat1 > 0 ? p->lat1 : 1.0); }
+TransverseMercator tmerc(const vsv_proj *p)
+{
+    return TransverseMercator(radius_of(p), 0.0, p->lat1 > 0 ? p->lat1 : 1.0);
+}
 
 double wrap(double lon)
 {
@@ -89,8 +93,7 @@ extern "C" int vsv_proj_forward(const vsv_proj *p, double lat, double lon, doubl
             a.Forward(p->lon0, lat, lon, x1, y1, g, k);
             break;
         }
-        default:
-            return VSV_EUNSUPPORTED;
+        default: return VSV_EUNSUPPORTED;
         }
         *x = x1 - x0;
         *y = y1 - y0;
@@ -135,8 +138,7 @@ extern "C" int vsv_proj_inverse(const vsv_proj *p, double x, double y, double *l
             a.Reverse(p->lon0, x + x0, y + y0, *lat, *lon, g, k);
             break;
         }
-        default:
-            return VSV_EUNSUPPORTED;
+        default: return VSV_EUNSUPPORTED;
         }
         return std::isfinite(*lat) && std::isfinite(*lon) ? 0 : VSV_ERANGE;
     } catch (const std::exception &) {

@@ -133,8 +133,8 @@ int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, v
     return vsv_point_locate_at(m, INT64_MIN, lat, lon, height, p, msg, cap);
 }
 
-int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon, double height, vsv_point *p,
-                        char *msg, size_t cap)
+int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon, double height, vsv_point *p, char *msg,
+                        size_t cap)
 {
     if (m->proj.kind == VSV_PROJ_NONE) {
         vsv_msg(msg, cap, "the grid has no map projection: no latitude/longitude is known (use a cell)");
@@ -151,8 +151,8 @@ int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon,
         double la0, la1, lo0, lo1;
         edge_range(m, &la0, &la1, &lo0, &lo1);
         vsv_msg(msg, cap,
-                "%.5g,%.5g is outside the grid (%d x %d cells spanning latitude %.3f..%.3f, longitude %.3f..%.3f)",
-                lat, lon, m->nx, m->ny, la0, la1, lo0, lo1);
+                "%.5g,%.5g is outside the grid (%d x %d cells spanning latitude %.3f..%.3f, longitude %.3f..%.3f)", lat,
+                lon, m->nx, m->ny, la0, la1, lo0, lo1);
         return VSV_ERANGE;
     }
     p->pos[0] = fmin(fmax(fi, 0), m->nx - 1);
@@ -203,7 +203,7 @@ struct vsv_query {
     int brick, shift, bdim[3], nx, ny, nz;
     int key[QUERY_SLOTS][3]; /* step, species, brick; step -1 = empty */
     float *slot[QUERY_SLOTS];
-    int next;                /* the slot to reuse next (round robin) */
+    int next; /* the slot to reuse next (round robin) */
     char err[512];
 };
 
@@ -254,8 +254,8 @@ int vsv_query_cell(vsv_query *q, int step, int s, int i, int j, int k, float *v)
 {
     vsv_file_info info;
     vsv_file_info_get(q->f, &info);
-    if (step < 0 || step >= info.nsteps || s < 0 || s >= info.nspecies || i < 0 || i >= q->nx || j < 0 ||
-        j >= q->ny || k < 0 || k >= q->nz) {
+    if (step < 0 || step >= info.nsteps || s < 0 || s >= info.nspecies || i < 0 || i >= q->nx || j < 0 || j >= q->ny ||
+        k < 0 || k >= q->nz) {
         vsv_msg(q->err, sizeof q->err, "step %d, species %d, cell %d,%d,%d out of range", step, s, i, j, k);
         return VSV_ERANGE;
     }

@@ -21,10 +21,7 @@ int64_t vsv_file_time(const vsv_file *f, int step)
         return 0;
     return (int64_t)vsv_rd64(f->toc + (size_t)step * VSV_TOC_ENTRY_SIZE + 16);
 }
-const vsv_quant *vsv_file_quant(const vsv_file *f, int s)
-{
-    return s >= 0 && s < f->meta.nvars ? &f->quant[s] : NULL;
-}
+const vsv_quant *vsv_file_quant(const vsv_file *f, int s) { return s >= 0 && s < f->meta.nvars ? &f->quant[s] : NULL; }
 
 int vsv_file_find_time(const vsv_file *f, int64_t time)
 {
@@ -74,10 +71,11 @@ static int parse(vsv_file *f)
     if (n < 8 || memcmp(d, VSV_MAGIC, 8))
         return vsv_file_fail(f, VSV_ENOTVSV, "not a .vsv file (no .vsv magic at byte 0)");
     if (n < VSV_HEADER_SIZE)
-        return vsv_file_fail(f, VSV_ETRUNC, "truncated: %zu bytes, shorter than the %d-byte header", n, VSV_HEADER_SIZE);
+        return vsv_file_fail(f, VSV_ETRUNC, "truncated: %zu bytes, shorter than the %d-byte header", n,
+                             VSV_HEADER_SIZE);
     if (vsv_rd16(d + 8) < 1 || vsv_rd16(d + 8) > VSV_FORMAT_MAJOR)
         return vsv_file_fail(f, VSV_EVERSION, "format version %u.%u is not readable by this version (1.x to %d.x)",
-                   vsv_rd16(d + 8), vsv_rd16(d + 10), VSV_FORMAT_MAJOR);
+                             vsv_rd16(d + 8), vsv_rd16(d + 10), VSV_FORMAT_MAJOR);
     f->major = vsv_rd16(d + 8);
     if (vsv_crc32c(0, d, 124) != vsv_rd32(d + 124))
         return vsv_file_fail(f, VSV_ECORRUPT, "header checksum mismatch (bytes 0-127)");
@@ -86,10 +84,12 @@ static int parse(vsv_file *f)
         return vsv_file_fail(f, VSV_ECORRUPT, "header has unknown size or non-zero reserved fields");
     const uint64_t fsize = vsv_rd64(d + 16);
     if (fsize > n)
-        return vsv_file_fail(f, VSV_ETRUNC, "truncated: file has %zu bytes, header says %llu", n, (unsigned long long)fsize);
+        return vsv_file_fail(f, VSV_ETRUNC, "truncated: file has %zu bytes, header says %llu", n,
+                             (unsigned long long)fsize);
     if (fsize < n)
-        return vsv_file_fail(f, VSV_ECORRUPT, "%llu unexpected bytes after the end marker (file %zu bytes, header says %llu)",
-                   (unsigned long long)(n - fsize), n, (unsigned long long)fsize);
+        return vsv_file_fail(f, VSV_ECORRUPT,
+                             "%llu unexpected bytes after the end marker (file %zu bytes, header says %llu)",
+                             (unsigned long long)(n - fsize), n, (unsigned long long)fsize);
     const uint64_t meta_off = vsv_rd64(d + 24), meta_size = vsv_rd64(d + 32);
     const uint64_t toc_off = vsv_rd64(d + 48), toc_size = vsv_rd64(d + 56);
     const uint32_t nsteps = vsv_rd32(d + 44), nspec = vsv_rd32(d + 68);
@@ -113,23 +113,26 @@ static int parse(vsv_file *f)
      * read, with no sum that can wrap. */
     if (meta_off != VSV_HEADER_SIZE || meta_size > n || meta_size > VSV_MAX_META || meta_size % 8 ||
         meta_off + meta_size > n - VSV_TRAILER_SIZE)
-        return vsv_file_fail(f, VSV_ECORRUPT, "metadata section (offset %llu, %llu bytes) outside the file or not a multiple of 8",
-                   (unsigned long long)meta_off, (unsigned long long)meta_size);
+        return vsv_file_fail(f, VSV_ECORRUPT,
+                             "metadata section (offset %llu, %llu bytes) outside the file or not a multiple of 8",
+                             (unsigned long long)meta_off, (unsigned long long)meta_size);
     if ((rc = vsv_file_need(f, meta_off, meta_size, 0, f->err, sizeof f->err)))
         return rc;
     if (vsv_crc32c(0, d + meta_off, meta_size) != vsv_rd32(d + 40))
         return vsv_file_fail(f, VSV_ECORRUPT, "metadata checksum mismatch (offset %llu, %llu bytes)",
-                   (unsigned long long)meta_off, (unsigned long long)meta_size);
-    if (nsteps < 1 || nsteps > VSV_MAX_STEPS || toc_size != (uint64_t)nsteps * VSV_TOC_ENTRY_SIZE ||
-        toc_off % 8 || toc_off > n || toc_size > n || toc_off + toc_size != n - VSV_TRAILER_SIZE)
+                             (unsigned long long)meta_off, (unsigned long long)meta_size);
+    if (nsteps < 1 || nsteps > VSV_MAX_STEPS || toc_size != (uint64_t)nsteps * VSV_TOC_ENTRY_SIZE || toc_off % 8 ||
+        toc_off > n || toc_size > n || toc_off + toc_size != n - VSV_TRAILER_SIZE)
         return vsv_file_fail(f, VSV_ECORRUPT, "table of contents (offset %llu, %u steps) does not fit the file",
-                   (unsigned long long)toc_off, nsteps);
+                             (unsigned long long)toc_off, nsteps);
     if (toc_off < vsv_align_up(meta_off + meta_size, VSV_ALIGN))
-        return vsv_file_fail(f, VSV_ECORRUPT,
-                   "table of contents (offset %llu) overlaps the metadata and its padding (offsets 128 to %llu)",
-                   (unsigned long long)toc_off, (unsigned long long)vsv_align_up(meta_off + meta_size, VSV_ALIGN));
+        return vsv_file_fail(
+            f, VSV_ECORRUPT,
+            "table of contents (offset %llu) overlaps the metadata and its padding (offsets 128 to %llu)",
+            (unsigned long long)toc_off, (unsigned long long)vsv_align_up(meta_off + meta_size, VSV_ALIGN));
     if (vsv_crc32c(0, d + toc_off, toc_size) != vsv_rd32(d + 64))
-        return vsv_file_fail(f, VSV_ECORRUPT, "table of contents checksum mismatch (offset %llu)", (unsigned long long)toc_off);
+        return vsv_file_fail(f, VSV_ECORRUPT, "table of contents checksum mismatch (offset %llu)",
+                             (unsigned long long)toc_off);
     char msg[300];
     rc = vsv_meta_decode(d + meta_off, meta_size, &f->meta, &f->quant, msg, sizeof msg);
     if (rc)
@@ -151,8 +154,9 @@ static int parse(vsv_file *f)
     f->meta_end = meta_off + meta_size;
     const uint64_t index_bytes = (uint64_t)nspec * f->lay.species_index_bytes;
     if (index_bytes > UINT32_MAX)
-        return vsv_file_fail(f, VSV_ECORRUPT, "a chunk index of %llu bytes (%u species of %d bricks) exceeds the 32-bit limit",
-                   (unsigned long long)index_bytes, nspec, f->lay.nbricks);
+        return vsv_file_fail(f, VSV_ECORRUPT,
+                             "a chunk index of %llu bytes (%u species of %d bricks) exceeds the 32-bit limit",
+                             (unsigned long long)index_bytes, nspec, f->lay.nbricks);
     uint64_t expect = vsv_align_up(f->meta_end, VSV_ALIGN); /* <= toc_off, checked above */
     int64_t last_time = 0;
     for (uint32_t t = 0; t < nsteps; t++) {
@@ -161,11 +165,11 @@ static int parse(vsv_file *f)
         const int64_t time = (int64_t)vsv_rd64(e + 16);
         /* off == expect <= toc_off, so toc_off - off cannot wrap */
         if (off != expect || size % VSV_ALIGN || size < VSV_CHUNK_HEADER_SIZE + index_bytes || size > toc_off - off)
-            return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: chunk at %llu (%llu bytes) out of place", t,
-                       (unsigned long long)off, (unsigned long long)size);
+            return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: chunk at %llu (%llu bytes) out of place",
+                                 t, (unsigned long long)off, (unsigned long long)size);
         if (!VSV_TIME_OK(time))
-            return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: time %lld is outside the years 1..9999", t,
-                                 (long long)time);
+            return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: time %lld is outside the years 1..9999",
+                                 t, (long long)time);
         if (t && time <= last_time)
             return vsv_file_fail(f, VSV_ECORRUPT, "table of contents entry %u: time does not increase", t);
         last_time = time;
@@ -173,7 +177,7 @@ static int parse(vsv_file *f)
     }
     if (expect != toc_off)
         return vsv_file_fail(f, VSV_ECORRUPT, "%llu unaccounted bytes before the table of contents",
-                   (unsigned long long)(toc_off - expect));
+                             (unsigned long long)(toc_off - expect));
     f->chunk_ok = calloc(nsteps, 1);
     f->lut = calloc(nspec, sizeof *f->lut);
     if (f->src && !(f->span_end = calloc((size_t)nsteps * nspec, sizeof *f->span_end)))
@@ -343,7 +347,8 @@ static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t ca
     uint64_t expect = vsv_align_up(VSV_CHUNK_HEADER_SIZE + index_bytes, VSV_ALIGN);
     const int key = t % f->keyframe == 0;
     for (int s = 0; s < f->meta.nvars; s++) {
-        const unsigned char *tab = c + VSV_CHUNK_HEADER_SIZE + (size_t)s * f->lay.species_index_bytes + f->lay.octree_bytes;
+        const unsigned char *tab =
+            c + VSV_CHUNK_HEADER_SIZE + (size_t)s * f->lay.species_index_bytes + f->lay.octree_bytes;
         for (int b = 0; b < f->lay.nbricks; b++) {
             int org[3], ext[3];
             vsv_layout_box(&f->lay, b, org, ext);
@@ -364,8 +369,8 @@ static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t ca
                 ok = ok && !off && !size && !vsv_rd32(be + 4);
             }
             if (!ok) {
-                vsv_msg(msg, cap, "%s: chunk %d, species %d, brick %d (offset %llu): invalid brick entry", f->name,
-                        t, s, b, (unsigned long long)(be - f->data));
+                vsv_msg(msg, cap, "%s: chunk %d, species %d, brick %d (offset %llu): invalid brick entry", f->name, t,
+                        s, b, (unsigned long long)(be - f->data));
                 return NULL;
             }
         }
@@ -424,8 +429,8 @@ int vsv_file_brick_kind(vsv_file *f, int step, int s, int b)
 const unsigned char *vsv_file_octree(vsv_file *f, int step, int s, int *dims)
 {
     char msg[sizeof f->err];
-    const unsigned char *c = vsv_file_check_args(f, step, s, 0, msg, sizeof msg) ? NULL
-                                                                                 : vsv_file_chunk_index(f, step, msg, sizeof msg);
+    const unsigned char *c =
+        vsv_file_check_args(f, step, s, 0, msg, sizeof msg) ? NULL : vsv_file_chunk_index(f, step, msg, sizeof msg);
     if (!c) {
         shared_fail(f, msg);
         return NULL;

@@ -30,7 +30,7 @@ struct vsv_file {
     int counted, damaged;
     int guard; /* the mapping's slot in vsv_mapguard.c, or -1 */
     uint64_t stored, nonempty, payload;
-    uint64_t uid; /* unique in the process: brick keys (vsv_file_brick_key) */
+    uint64_t uid;         /* unique in the process: brick keys (vsv_file_brick_key) */
     vsv_byte_source *src; /* NULL: a mapped local file, every byte resident */
     uint64_t *span_end;   /* with src: per (step, species), where its payloads end */
 };
@@ -41,7 +41,7 @@ struct vsv_decoder {
     unsigned char *raw;
     uint16_t *codes;
     uint16_t *scratch; /* a brick: DELTA3's differences */
-    uint16_t **state; /* per species: codes of all bricks at state_step */
+    uint16_t **state;  /* per species: codes of all bricks at state_step */
     int *state_step;
     uint16_t *under; /* per column: how many levels lie below the ground (NULL: none) */
     char err[512];
@@ -86,6 +86,7 @@ void vsv_mapguard_remove(int slot);
  * mapping was cut, else 0. */
 int vsv_file_cut(const vsv_file *f, char *msg, size_t cap);
 /* Applies the brick entry be of chunk c (step t) to codes. */
-int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be, uint16_t *codes);
+int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
+                      uint16_t *codes);
 
 #endif

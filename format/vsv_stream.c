@@ -141,8 +141,7 @@ int vsv_stream_reader_next(vsv_stream_reader *r, int64_t *time, float *const *fi
         return VSV_ECORRUPT;
     }
     if (r->frames && t <= r->last_time) {
-        vsv_msg(r->err, sizeof r->err, "%s: frame %llu time does not increase", r->name,
-                (unsigned long long)r->frames);
+        vsv_msg(r->err, sizeof r->err, "%s: frame %llu time does not increase", r->name, (unsigned long long)r->frames);
         return VSV_ECORRUPT;
     }
     const size_t cells = (size_t)r->meta.nx * (size_t)r->meta.ny * (size_t)r->meta.nz;

@@ -58,8 +58,8 @@ static void valid_range(int cal, const int64_t *times, int n, char *buf, size_t 
 
 /* Resolves one element to a step. how: 0 nearest, 1 first at or after,
  * 2 last at or before. */
-static int resolve(int cal, const int64_t *times, int n, int kind, long long idx, int64_t t, int how,
-                   const char *text, int *step, int *exact, char *msg, size_t cap)
+static int resolve(int cal, const int64_t *times, int n, int kind, long long idx, int64_t t, int how, const char *text,
+                   int *step, int *exact, char *msg, size_t cap)
 {
     char range[128];
     valid_range(cal, times, n, range, sizeof range);
@@ -87,8 +87,7 @@ static int resolve(int cal, const int64_t *times, int n, int kind, long long idx
     return 0;
 }
 
-int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, vsv_timesel *out, char *msg,
-                      size_t cap)
+int vsv_timesel_parse(const char *spec, const int64_t *times, int n, int flags, vsv_timesel *out, char *msg, size_t cap)
 {
     memset(out, 0, sizeof *out);
     const int cal = flags >> 4 & 3;
@@ -183,7 +182,8 @@ static int iso_duration(const char *s, int64_t *out)
         char c;
         int time; /* after the T */
         long long mul;
-    } units[] = {{'Y', 0, 0}, {'M', 0, 0}, {'W', 0, 604800}, {'D', 0, 86400}, {'H', 1, 3600}, {'M', 1, 60}, {'S', 1, 1}};
+    } units[] = {{'Y', 0, 0},    {'M', 0, 0},  {'W', 0, 604800}, {'D', 0, 86400},
+                 {'H', 1, 3600}, {'M', 1, 60}, {'S', 1, 1}};
     const char *p = s;
     int at = 0, time = 0, parts = 0;
     long long sum = 0;

@@ -7,8 +7,8 @@
 
 typedef struct volume_impl {
     vsv_volume pub;
-    uint16_t *codes;  /* nbricks * B^3: the decoded codes, kept for deltas */
-    float *store;     /* nbricks * B^3 floats */
+    uint16_t *codes; /* nbricks * B^3: the decoded codes, kept for deltas */
+    float *store;    /* nbricks * B^3 floats */
 } volume_impl;
 
 uint64_t vsv_volume_new_gen(void)
@@ -22,7 +22,8 @@ uint64_t vsv_volume_new_gen(void)
  * all ones for EMPTY). */
 uint64_t vsv_file_brick_key(const vsv_file *f, int s, int def)
 {
-    return 1ull << 63 | (f->uid & 0x1FFFFFFFu) << 34 | (uint64_t)(s & 0x3FF) << 24 | (uint64_t)(def < 0 ? 0xFFFFFF : def);
+    return 1ull << 63 | (f->uid & 0x1FFFFFFFu) << 34 | (uint64_t)(s & 0x3FF) << 24 |
+           (uint64_t)(def < 0 ? 0xFFFFFF : def);
 }
 
 /* The release of vsv_volume_create's volumes (what marks them as such). */
@@ -90,8 +91,8 @@ int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
         return rc;
     const vsv_layout *L = &f->lay;
     if (pv->nx != f->meta.nx || pv->ny != f->meta.ny || pv->nz != f->meta.nz || pv->brick != L->brick) {
-        vsv_msg(d->err, sizeof d->err, "%s: the volume was made for another grid (%dx%dx%d, brick %d)", f->name,
-                pv->nx, pv->ny, pv->nz, pv->brick);
+        vsv_msg(d->err, sizeof d->err, "%s: the volume was made for another grid (%dx%dx%d, brick %d)", f->name, pv->nx,
+                pv->ny, pv->nz, pv->brick);
         return VSV_EINVAL;
     }
     const size_t n = (size_t)L->brick * L->brick * L->brick;

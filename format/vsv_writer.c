@@ -359,8 +359,7 @@ static int finish_body(vsv_writer *w, void (*progress)(void *, int, int), void *
             progress(ctx, w->nsteps, w->nsteps);
     } else {
         if ((rc = vsv_pack_plan_create(&w->meta, &w->opts, w->st, &w->plan))) {
-            vsv_msg(w->err, sizeof w->err, "%s",
-                    rc == VSV_ENOMEM ? vsv_strerror(rc) : vsv_pack_plan_error(w->plan));
+            vsv_msg(w->err, sizeof w->err, "%s", rc == VSV_ENOMEM ? vsv_strerror(rc) : vsv_pack_plan_error(w->plan));
             goto done;
         }
         w->sizes = calloc((size_t)w->nsteps, sizeof *w->sizes);

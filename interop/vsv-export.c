@@ -14,6 +14,7 @@
 #include <string.h>
 #include <unistd.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-export FILE.vsv|URL (--vdb OUT_%04d.vdb | --netcdf OUT.nc) [--times A:B] [--species LIST]\n"
     "Write each selected time step as an OpenVDB file: one FloatGrid per species,\n"
@@ -39,16 +40,19 @@ static const char usage[] =
     VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
+/* clang-format on */
 
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-export");
+    /* clang-format off */ /* (a table, laid out by hand) */
     enum { O_VDB = 1000, O_TIMES, O_NETCDF };
     static const struct option longopts[] = {{"vdb", required_argument, 0, O_VDB},   {"netcdf", required_argument, 0, O_NETCDF},
                                              {"time", required_argument, 0, 't'},
                                              {"times", required_argument, 0, O_TIMES}, {"species", required_argument, 0, 's'},
                                              {"quiet", no_argument, 0, 'q'},          {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
                                              {"version", no_argument, 0, 'V'},        {0, 0, 0, 0}};
+    /* clang-format on */
     const char *out = NULL, *ncout = NULL, *time = NULL, *times = NULL, *species = NULL;
     int c;
     while ((c = getopt_long(argc, argv, "t:s:qhV", longopts, NULL)) != -1) {
@@ -66,7 +70,8 @@ int main(int argc, char **argv)
         }
     }
     if (!out == !ncout)
-        vsv_cli_usage_error(out ? "--vdb and --netcdf exclude each other" : "no output (--vdb OUT_%%04d.vdb or --netcdf OUT.nc)");
+        vsv_cli_usage_error(out ? "--vdb and --netcdf exclude each other"
+                                : "no output (--vdb OUT_%%04d.vdb or --netcdf OUT.nc)");
     if (optind != argc - 1)
         vsv_cli_usage_error(optind < argc ? "one .vsv file" : "no input file");
     if (time && times)
@@ -75,7 +80,8 @@ int main(int argc, char **argv)
     const int sequence = out ? vsv_cli_pattern(out) : 0;
     if (sequence < 0)
         vsv_cli_usage_error("--vdb %s: a '%%' in the name must be %%d or %%0Nd (the step number, once) or %%%% (a "
-                            "percent sign)", out);
+                            "percent sign)",
+                            out);
     vsv_file *f = NULL;
     if (vsv_file_open_any(path, &vsv_cli_http, &f))
         vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
@@ -98,7 +104,8 @@ int main(int argc, char **argv)
         char history[1024] = "vsv-export", err[4300];
         for (int i = 1; i < argc; i++)
             snprintf(history + strlen(history), sizeof history - strlen(history), " %s", argv[i]);
-        if (vsv_cf_write(ncout, path, f, sel, n, a, b, history, vsv_cli_progress, (void *)"vsv-export", err, sizeof err))
+        if (vsv_cf_write(ncout, path, f, sel, n, a, b, history, vsv_cli_progress, (void *)"vsv-export", err,
+                         sizeof err))
             vsv_cli_die(1, "%s", err);
         if (!vsv_cli_quiet() && !isatty(2))
             fprintf(stderr, "vsv-export: %s: %d step%s, %d species\n", ncout, b - a + 1, b > a ? "s" : "", n);

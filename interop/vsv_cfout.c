@@ -109,7 +109,8 @@ static void nc_name(const char *in, char *out, size_t cap)
 {
     size_t n = 0;
     for (; *in && n + 1 < cap; in++)
-        out[n++] = (char)((*in >= 'a' && *in <= 'z') || (*in >= 'A' && *in <= 'Z') || (*in >= '0' && *in <= '9') ? *in : '_');
+        out[n++] =
+            (char)((*in >= 'a' && *in <= 'z') || (*in >= 'A' && *in <= 'Z') || (*in >= '0' && *in <= '9') ? *in : '_');
     out[n] = 0;
 }
 
@@ -120,7 +121,7 @@ static void def_time(cfw *w, int vt, vsv_file *f, int a)
     char since[64], units[96];
     const int cal = vsv_meta_calendar(m);
     vsv_cal_format(cal, vsv_file_time(f, a), since, sizeof since);
-    since[10] = ' ';           /* "YYYY-MM-DD HH:MM:SS", the UDUNITS form */
+    since[10] = ' '; /* "YYYY-MM-DD HH:MM:SS", the UDUNITS form */
     since[19] = 0;
     snprintf(units, sizeof units, "seconds since %s", since);
     att_text(w, vt, "standard_name", "time");
@@ -236,8 +237,10 @@ static void def_globals(cfw *w, const vsv_meta *m, const char *history, int resp
     att_text(w, NC_GLOBAL, "Conventions", "CF-1.8");
     snprintf(text, sizeof text, "%s%s%s", m->model[0] ? m->model : "Vesuvius", m->run[0] ? ": " : "", m->run);
     att_text(w, NC_GLOBAL, "title", text);
-    snprintf(text, sizeof text, "%s, through a Vesuvius .vsv file (values as decoded: within each variable's vsv_max_abs_error of the model's)",
-             m->model[0] ? m->model : "unknown model");
+    snprintf(
+        text, sizeof text,
+        "%s, through a Vesuvius .vsv file (values as decoded: within each variable's vsv_max_abs_error of the model's)",
+        m->model[0] ? m->model : "unknown model");
     att_text(w, NC_GLOBAL, "source", text);
     if (history || respelt) {
         char hist[1800];

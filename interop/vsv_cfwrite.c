@@ -72,8 +72,8 @@ int vsv_cf_write(const char *path, const char *src, vsv_file *f, const int *sel,
     snprintf(pid, sizeof pid, "%ld", (long)getpid());
     snprintf(sa, sizeof sa, "%d", a);
     snprintf(sb, sizeof sb, "%d", b);
-    char *argv[] = {"vsv-nc-writer", pid, (char *)src, (char *)path, sa, sb, list, (char *)(history ? history : ""),
-                    NULL};
+    char *argv[] = {
+        "vsv-nc-writer", pid, (char *)src, (char *)path, sa, sb, list, (char *)(history ? history : ""), NULL};
     char why[600] = "", msg[4300] = "";
     pid_t child = -1;
     if (pipe2(p, O_CLOEXEC))
@@ -190,8 +190,8 @@ int vsv_cf_helper_main(int argc, char **argv)
         char *s = argv[6];
         for (int l = 0; l < n; l++)
             sel[l] = (int)strtol(s, &s, 10), s += *s == ',';
-        rc = vsv_cf_write_here("/proc/self/fd/3", path, f, sel, n, a, b, argv[7][0] ? argv[7] : NULL, report, NULL,
-                               err, sizeof err);
+        rc = vsv_cf_write_here("/proc/self/fd/3", path, f, sel, n, a, b, argv[7][0] ? argv[7] : NULL, report, NULL, err,
+                               sizeof err);
     }
     if (rc) {
         char *line = malloc(strlen(err) + 4);

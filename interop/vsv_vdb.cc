@@ -18,8 +18,8 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-
-namespace {
+namespace
+{
 
 void say(char *err, size_t cap, const std::string &s) { std::snprintf(err, cap, "%s", s.c_str()); }
 
@@ -50,11 +50,11 @@ std::string meta_string(const openvdb::MetaMap &m, const char *key)
 struct checked_archive : openvdb::io::Archive {
     void put(std::ostream &os, const openvdb::GridPtrVec &grids, const openvdb::MetaMap &meta) const
     {
-        write(os, grids, /*seekable=*/true, meta);  // as io::File writes
+        write(os, grids, /*seekable=*/true, meta); // as io::File writes
     }
 };
 
-}  // namespace
+} // namespace
 
 extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, const vsv_volume *const *vols, int n,
                              char *err, size_t cap)
@@ -97,7 +97,7 @@ extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, con
             for (int b = 0; b < v->nbricks; b++) {
                 const float *d = v->bricks[b];
                 if (!d)
-                    continue;  // EMPTY: stays inactive
+                    continue; // EMPTY: stays inactive
                 const int bi = b % v->bdim[0], bj = b / v->bdim[0] % v->bdim[1], bk = b / (v->bdim[0] * v->bdim[1]);
                 for (int k = 0; k < B && bk * B + k < v->nz; k++)
                     for (int j = 0; j < B && bj * B + j < v->ny; j++)
@@ -157,8 +157,8 @@ extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, con
 extern "C" int vsv_vdb_probe(const unsigned char *head, size_t n)
 {
     // the file starts with the 64-bit magic number 0x56444220 ("VDB "), little-endian
-    return n >= 8 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56 && !head[4] &&
-           !head[5] && !head[6] && !head[7];
+    return n >= 8 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56 && !head[4] && !head[5] &&
+           !head[6] && !head[7];
 }
 
 // ------------------------------------------------------------- reading
@@ -184,8 +184,7 @@ int vsv_vdb_scan_here(const char *const *paths, int n, vsv_vdb_info *info, char 
             info->times[f] = !when.empty() && !vsv_time_parse(when.c_str(), &t) ? t : INT64_MIN;
             if (f == 0 && fm) {
                 std::snprintf(info->model, sizeof info->model, "%s", meta_string(*fm, "source_model").c_str());
-                std::snprintf(info->projection, sizeof info->projection, "%s",
-                              meta_string(*fm, "projection").c_str());
+                std::snprintf(info->projection, sizeof info->projection, "%s", meta_string(*fm, "projection").c_str());
             }
             auto grids = file.readAllGridMetadata();
             for (const auto &g : *grids) {
@@ -201,7 +200,8 @@ int vsv_vdb_scan_here(const char *const *paths, int n, vsv_vdb_info *info, char 
                     std::fabs(ey[0]) + std::fabs(ey[2]) > 1e-9 * std::fabs(ey[1]) ||
                     std::fabs(ez[0]) + std::fabs(ez[1]) > 1e-9 * std::fabs(ez[2]) || !(ex[0] > 0) || !(ey[1] > 0) ||
                     !(ez[2] > 0)) {
-                    say(err, cap, at + ": grid " + g->getName() + ": only axis-aligned, scaled and translated grids are read");
+                    say(err, cap,
+                        at + ": grid " + g->getName() + ": only axis-aligned, scaled and translated grids are read");
                     vsv_vdb_info_free(info);
                     return -1;
                 }
@@ -211,7 +211,8 @@ int vsv_vdb_scan_here(const char *const *paths, int n, vsv_vdb_info *info, char 
                     origin0 = o;
                 } else if ((vs - voxel).length() > 1e-9 * voxel.length() ||
                            (o - origin0).length() > 1e-6 * voxel.length()) {
-                    say(err, cap, at + ": grid " + g->getName() + ": voxel size or lattice differs from the first grid's");
+                    say(err, cap,
+                        at + ": grid " + g->getName() + ": voxel size or lattice differs from the first grid's");
                     vsv_vdb_info_free(info);
                     return -1;
                 }
@@ -259,12 +260,12 @@ int vsv_vdb_scan_here(const char *const *paths, int n, vsv_vdb_info *info, char 
 }
 
 // Grid `name` of an open file onto info's grid.
-static int read_grid(openvdb::io::File &file, const char *path, const char *name, const vsv_vdb_info *info,
-                     float *out, char *err, size_t cap)
+static int read_grid(openvdb::io::File &file, const char *path, const char *name, const vsv_vdb_info *info, float *out,
+                     char *err, size_t cap)
 {
     const size_t nx = info->nx, ny = info->ny, nz = info->nz;
     try {
-        if (!file.hasGrid(name)) {  // missing from this step: nothing there
+        if (!file.hasGrid(name)) { // missing from this step: nothing there
             std::memset(out, 0, nx * ny * nz * sizeof(float));
             return 0;
         }
@@ -280,7 +281,7 @@ static int read_grid(openvdb::io::File &file, const char *path, const char *name
         const openvdb::CoordBBox dom(lo, lo + openvdb::Coord((int)nx - 1, (int)ny - 1, (int)nz - 1));
         for (auto it = g->cbeginValueOn(); it; ++it) {
             openvdb::CoordBBox bb;
-            it.getBoundingBox(bb);  // a voxel, or a whole tile
+            it.getBoundingBox(bb); // a voxel, or a whole tile
             bb.intersect(dom);
             if (bb.empty())
                 continue;
@@ -315,4 +316,3 @@ int vsv_vdb_read_here(const char *path, const vsv_vdb_info *info, const char (*n
         return -1;
     }
 }
-

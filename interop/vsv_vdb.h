@@ -27,8 +27,8 @@ VSV_API_BEGIN
 
 /* Writes species[0..n-1] (decoded volumes of m's grid at model time t) to
  * path. 0, or -1 with the reason in err. */
-int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, const vsv_volume *const *vols, int n,
-                  char *err, size_t cap);
+int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, const vsv_volume *const *vols, int n, char *err,
+                  size_t cap);
 
 /* 1 if the bytes start like an OpenVDB file. */
 int vsv_vdb_probe(const unsigned char *head, size_t n);
@@ -36,13 +36,13 @@ int vsv_vdb_probe(const unsigned char *head, size_t n);
 /* What a sequence of .vdb files holds. */
 typedef struct vsv_vdb_info {
     int nx, ny, nz;
-    int64_t imin[3];      /* index of cell (0, 0, 0) */
-    double origin[3];     /* world position of cell (0, 0, 0) */
-    double voxel[3];      /* voxel size */
+    int64_t imin[3];  /* index of cell (0, 0, 0) */
+    double origin[3]; /* world position of cell (0, 0, 0) */
+    double voxel[3];  /* voxel size */
     int ngrids;
-    char (*names)[64];    /* float grids, in the first file's order */
+    char (*names)[64]; /* float grids, in the first file's order */
     char (*units)[64];
-    int64_t *times;       /* per file: "time" metadata, or INT64_MIN */
+    int64_t *times; /* per file: "time" metadata, or INT64_MIN */
     char model[64];
     char projection[256]; /* "projection" metadata of the first file, or "" */
 } vsv_vdb_info;

@@ -24,9 +24,10 @@ extern "C" {
 #include <sys/wait.h>
 #include <unistd.h>
 
-namespace {
+namespace
+{
 void say(char *err, size_t cap, const std::string &s) { std::snprintf(err, cap, "%s", s.c_str()); }
-}  // namespace
+} // namespace
 
 // Reading grids: OpenVDB files carry no checksums and the library trusts
 // what it reads, so a damaged file can crash it. Every read runs in the
@@ -39,7 +40,8 @@ void say(char *err, size_t cap, const std::string &s) { std::snprintf(err, cap, 
 // reads every grid of the file it is sent; the grids of the file read last
 // stay in the memory, so the next grids of that file (a converter asks for
 // them one by one) cost nothing.
-namespace {
+namespace
+{
 
 struct shared_head {
     int rc, nx, ny, nz, ngrids, nfiles;
@@ -97,7 +99,7 @@ void cache_drop()
     cache.info = nullptr;
     cache.path.clear();
 }
-}  // namespace
+} // namespace
 
 extern "C" void vsv_vdb_info_free(vsv_vdb_info *info)
 {
@@ -114,7 +116,8 @@ extern "C" void vsv_vdb_info_free(vsv_vdb_info *info)
 
 // ------------------------------------------------------------- isolation
 
-namespace {
+namespace
+{
 
 // Seconds a helper may spend on `input` bytes of files: 20, plus one per 4 MB
 // (OpenVDB reads ~100 MB/s).
@@ -138,14 +141,17 @@ void helper_died(const char *what, uint64_t input, int st, int timed_out, char *
 {
     const int sig = WIFSIGNALED(st) ? WTERMSIG(st) : 0;
     if (timed_out || sig == SIGXCPU || sig == SIGALRM)
-        say(err, cap, std::string(what) + ": damaged OpenVDB file (reading it took over " +
-                          std::to_string(time_limit(input)) + " s)");
+        say(err, cap,
+            std::string(what) + ": damaged OpenVDB file (reading it took over " + std::to_string(time_limit(input)) +
+                " s)");
     else if (sig)
-        say(err, cap, std::string(what) + ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
-                          std::to_string(sig) + ")");
+        say(err, cap,
+            std::string(what) + ": damaged OpenVDB file (the OpenVDB library failed reading it, signal " +
+                std::to_string(sig) + ")");
     else
-        say(err, cap, std::string(what) + ": damaged OpenVDB file (its reader exited with status " +
-                          std::to_string(WIFEXITED(st) ? WEXITSTATUS(st) : -1) + ")");
+        say(err, cap,
+            std::string(what) + ": damaged OpenVDB file (its reader exited with status " +
+                std::to_string(WIFEXITED(st) ? WEXITSTATUS(st) : -1) + ")");
 }
 
 // New shared memory of `bytes`: the memfd (for the helper) and its mapping.
@@ -299,7 +305,7 @@ int helper_read(void *m, size_t bytes, uint64_t memory)
     }
 }
 
-}  // namespace
+} // namespace
 
 extern "C" int vsv_vdb_helper_main(int argc, char **argv)
 {
@@ -352,8 +358,8 @@ extern "C" int vsv_vdb_scan(const char *const *paths, int n, vsv_vdb_info *info,
                     const_cast<char *>(memory.c_str()), nullptr};
     char why[600] = "", out[8];
     int st = 0, rc = -1;
-    const int r = vsv_helper_run("vsv-vdb-reader", argv, fd, time_limit(input) + 5, out, sizeof out, &st, why,
-                                 sizeof why);
+    const int r =
+        vsv_helper_run("vsv-vdb-reader", argv, fd, time_limit(input) + 5, out, sizeof out, &st, why, sizeof why);
     close(fd);
     if (r < 0)
         say(err, cap, std::string(what) + ": " + why);

@@ -32,8 +32,8 @@ static void parse_projection(const char *text, vsv_proj *p)
 {
     char name[32];
     double lat0, lon0, lat1, lat2, radius;
-    if (sscanf(text, "%31s lat0=%lf lon0=%lf lat1=%lf lat2=%lf radius=%lf", name, &lat0, &lon0, &lat1, &lat2, &radius) !=
-        6)
+    if (sscanf(text, "%31s lat0=%lf lon0=%lf lat1=%lf lat2=%lf radius=%lf", name, &lat0, &lon0, &lat1, &lat2,
+               &radius) != 6)
         return;
     for (int k = 0; k < VSV_PROJ_COUNT; k++)
         if (!strcmp(name, vsv_proj_name(k))) {
@@ -109,14 +109,17 @@ have:;
         vsv_time_format(in->times[idx], when, sizeof when);
         return vsv_source_fail(s, VSV_EINVAL,
                                "has its own time %s (\"time\" metadata); --time-step would replace it: drop "
-                               "--time-step and --time-start", when);
+                               "--time-step and --time-start",
+                               when);
     }
     if (s->opts.time_step > 0) {
         s->times[0] = s->opts.time_start + (int64_t)idx * s->opts.time_step;
     } else if (in->times[idx] != INT64_MIN) {
         s->times[0] = in->times[idx];
     } else {
-        return vsv_source_fail(s, VSV_EINVAL, "no \"time\" metadata: give the sequence's spacing and start with --time-step and --time-start");
+        return vsv_source_fail(
+            s, VSV_EINVAL,
+            "no \"time\" metadata: give the sequence's spacing and start with --time-step and --time-start");
     }
     return 0;
 }

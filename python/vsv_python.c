@@ -25,8 +25,7 @@ static PyObject *VsvError;
  * holds `busy` (it is taken around library calls only, and a read lets it
  * go before it takes the GIL back). */
 typedef struct {
-    PyObject_HEAD
-    vsv_file *f;
+    PyObject_HEAD vsv_file *f;
     vsv_decoder *d;
     vsv_query *q;
     vsv_file_info info;
@@ -49,10 +48,7 @@ static int check_open(FileObject *self)
 }
 
 /* The metadata of an open file, or NULL with the exception set. */
-static const vsv_meta *meta_of(FileObject *self)
-{
-    return check_open(self) ? NULL : vsv_file_meta(self->f);
-}
+static const vsv_meta *meta_of(FileObject *self) { return check_open(self) ? NULL : vsv_file_meta(self->f); }
 
 static void File_dealloc(FileObject *self)
 {
@@ -129,8 +125,9 @@ static int step_of(FileObject *self, PyObject *o)
         times[i] = vsv_file_time(self->f, i);
     vsv_timesel sel;
     char msg[400];
-    const int rc = vsv_timesel_parse(spec, times, n, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(vsv_meta_calendar(vsv_file_meta(self->f))),
-                                     &sel, msg, sizeof msg);
+    const int rc =
+        vsv_timesel_parse(spec, times, n, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(vsv_meta_calendar(vsv_file_meta(self->f))),
+                          &sel, msg, sizeof msg);
     PyMem_Free(times);
     if (rc) {
         PyErr_Format(VsvError, "time %s: %s", spec, msg);
@@ -158,13 +155,12 @@ static PyObject *File_read(FileObject *self, PyObject *args, PyObject *kw)
         return NULL;
     int rc;
     char err[512];
-    Py_BEGIN_ALLOW_THREADS
-    pthread_mutex_lock(&self->busy);
+    Py_BEGIN_ALLOW_THREADS pthread_mutex_lock(&self->busy);
     rc = self->d ? vsv_decoder_volume(self->d, t, s, (float *)PyArray_DATA(a)) : VSV_EINVAL;
     snprintf(err, sizeof err, "%s", self->d ? vsv_decoder_error(self->d) : "the file is closed");
     pthread_mutex_unlock(&self->busy);
-    Py_END_ALLOW_THREADS
-    if (rc) {
+    Py_END_ALLOW_THREADS if (rc)
+    {
         Py_DECREF(a);
         return fail(err);
     }
@@ -270,7 +266,8 @@ static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
                 return fail(msg);
             }
             pthread_mutex_lock(&self->busy);
-            const int qrc = vsv_query_sample(self->q, t, s, pt.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t]);
+            const int qrc =
+                vsv_query_sample(self->q, t, s, pt.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t]);
             if (qrc)
                 snprintf(msg, sizeof msg, "%s", vsv_query_error(self->q));
             pthread_mutex_unlock(&self->busy);
@@ -347,11 +344,11 @@ static PyObject *File_grid(FileObject *self, void *unused)
             return NULL;
         memcpy(PyArray_DATA((PyArrayObject *)levels), m->levels, (size_t)n * sizeof(double));
     }
-    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:s,s:N,s:N,s:s,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny", m->ny,
-                         "nz", m->nz, "origin", m->origin[0], m->origin[1], m->origin[2], "spacing", m->spacing[0],
-                         m->spacing[1], m->spacing[2], "vertical", vert_name(m->vert_kind), "vert_units",
-                         vsv_meta_height_units(m), "datum", vsv_meta_above_ground(m) ? "ground" : "sea level",
-                         "levels", levels, "column_heights", PyBool_FromLong(m->nheights > 0), "calendar",
+    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:s,s:N,s:N,s:s,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny",
+                         m->ny, "nz", m->nz, "origin", m->origin[0], m->origin[1], m->origin[2], "spacing",
+                         m->spacing[0], m->spacing[1], m->spacing[2], "vertical", vert_name(m->vert_kind), "vert_units",
+                         vsv_meta_height_units(m), "datum", vsv_meta_above_ground(m) ? "ground" : "sea level", "levels",
+                         levels, "column_heights", PyBool_FromLong(m->nheights > 0), "calendar",
                          vsv_calendar_name(vsv_meta_calendar(m)), "model", m->model, "run", m->run, "brick",
                          self->info.brick, "nbricks", self->info.nbricks);
 }
@@ -386,8 +383,16 @@ static PyObject *latlon(FileObject *self, int which)
         }
     return (PyObject *)a;
 }
-static PyObject *File_lat(FileObject *self, void *unused) { (void)unused; return latlon(self, 0); }
-static PyObject *File_lon(FileObject *self, void *unused) { (void)unused; return latlon(self, 1); }
+static PyObject *File_lat(FileObject *self, void *unused)
+{
+    (void)unused;
+    return latlon(self, 0);
+}
+static PyObject *File_lon(FileObject *self, void *unused)
+{
+    (void)unused;
+    return latlon(self, 1);
+}
 
 /* Heights of the levels: (nz,) (the same in every column). */
 static PyObject *File_height(FileObject *self, void *unused)
@@ -471,7 +476,8 @@ static PyMethodDef File_methods[] = {
      "read_brick(species, time, brick) -> (float32 array (B, B, B), (k0, j0, i0), (ez, ey, ex))"},
     {"heights", (PyCFunction)File_heights, METH_VARARGS,
      "heights(time) -> float64 (nz, ny, nx): every cell's height at that step (per-column where the file has them)"},
-    {"brick_kind", (PyCFunction)File_brick_kind, METH_VARARGS, "brick_kind(species, time, brick) -> 0 EMPTY .. 3 DELTA"},
+    {"brick_kind", (PyCFunction)File_brick_kind, METH_VARARGS,
+     "brick_kind(species, time, brick) -> 0 EMPTY .. 3 DELTA"},
     {"_query", (PyCFunction)(void (*)(void))File_query, METH_VARARGS | METH_KEYWORDS, "the point query core"},
     {"close", (PyCFunction)File_close, METH_NOARGS, "close() releases the mapping"},
     {NULL, NULL, 0, NULL}};
@@ -514,13 +520,12 @@ static PyObject *mod_open(PyObject *mod, PyObject *args)
     pthread_mutex_init(&self->busy, NULL); /* (zeroed memory before: PTHREAD_MUTEX_INITIALIZER on glibc) */
     vsv_file *f = NULL;
     int rc;
-    Py_BEGIN_ALLOW_THREADS
-    vsv_http_opts http;
+    Py_BEGIN_ALLOW_THREADS vsv_http_opts http;
     vsv_http_opts_init(&http);
     http.cache_dir = cache_dir;
     rc = vsv_file_open_any(PyBytes_AS_STRING(pathobj), &http, &f);
-    Py_END_ALLOW_THREADS
-    if (rc) {
+    Py_END_ALLOW_THREADS if (rc)
+    {
         PyErr_SetString(VsvError, f ? vsv_file_error(f) : vsv_strerror(rc));
         vsv_file_free(f);
         Py_DECREF(pathobj);
@@ -572,7 +577,8 @@ static PyObject *mod_write(PyObject *mod, PyObject *args)
         if (!n || !u || !d)
             goto done;
         if (strlen(n) > 63 || strlen(u) > 63 || strlen(d) > 127) {
-            PyErr_Format(VsvError, "species '%s': names and units are at most 63 bytes, descriptions 127 (%zu, %zu, %zu)", n,
+            PyErr_Format(VsvError,
+                         "species '%s': names and units are at most 63 bytes, descriptions 127 (%zu, %zu, %zu)", n,
                          strlen(n), strlen(u), strlen(d));
             goto done;
         }
@@ -617,8 +623,8 @@ static PyObject *mod_write(PyObject *mod, PyObject *args)
     const size_t cells = (size_t)m.nx * m.ny * m.nz;
     for (Py_ssize_t v = 0; v < nv; v++) {
         PyArrayObject *a = (PyArrayObject *)PyList_GET_ITEM(arrays, v);
-        if (!PyArray_Check(a) || PyArray_TYPE(a) != NPY_FLOAT32 || !PyArray_IS_C_CONTIGUOUS(a) || PyArray_NDIM(a) != 4 ||
-            PyArray_DIM(a, 0) != nt || PyArray_DIM(a, 1) != m.nz || PyArray_DIM(a, 2) != m.ny ||
+        if (!PyArray_Check(a) || PyArray_TYPE(a) != NPY_FLOAT32 || !PyArray_IS_C_CONTIGUOUS(a) ||
+            PyArray_NDIM(a) != 4 || PyArray_DIM(a, 0) != nt || PyArray_DIM(a, 1) != m.nz || PyArray_DIM(a, 2) != m.ny ||
             PyArray_DIM(a, 3) != m.nx) {
             PyErr_Format(VsvError, "field '%s': expected float32 (%ld, %d, %d, %d) (times, nz, ny, nx)", m.vars[v].name,
                          (long)nt, m.nz, m.ny, m.nx);
@@ -645,13 +651,11 @@ static PyObject *mod_write(PyObject *mod, PyObject *args)
     for (npy_intp t = 0; !rc && t < nt; t++) {
         for (Py_ssize_t v = 0; v < nv; v++)
             fields[v] = (const float *)PyArray_DATA((PyArrayObject *)PyList_GET_ITEM(arrays, v)) + (size_t)t * cells;
-        Py_BEGIN_ALLOW_THREADS
-        rc = vsv_writer_add_step(w, tv[t], fields);
+        Py_BEGIN_ALLOW_THREADS rc = vsv_writer_add_step(w, tv[t], fields);
         Py_END_ALLOW_THREADS
     }
     if (!rc) {
-        Py_BEGIN_ALLOW_THREADS
-        rc = vsv_writer_finish(w, NULL, NULL);
+        Py_BEGIN_ALLOW_THREADS rc = vsv_writer_finish(w, NULL, NULL);
         Py_END_ALLOW_THREADS
     }
     if (rc) {
@@ -679,7 +683,8 @@ static PyObject *mod_proj_kind(PyObject *mod, PyObject *arg)
     for (int k = 0; k < VSV_PROJ_COUNT; k++)
         if (!strcmp(name, vsv_proj_name(k)))
             return PyLong_FromLong(k);
-    return PyErr_Format(VsvError, "unknown projection '%s' (none, latlon, lcc, pstereo, mercator, tmerc, albers)", name);
+    return PyErr_Format(VsvError, "unknown projection '%s' (none, latlon, lcc, pstereo, mercator, tmerc, albers)",
+                        name);
 }
 
 /* _cf(model, name, units) -> (UDUNITS units, standard_name or None,
@@ -701,8 +706,8 @@ static PyMethodDef mod_methods[] = {
     {"_proj_kind", mod_proj_kind, METH_O, "projection kind of a name"},
     {NULL, NULL, 0, NULL}};
 
-static struct PyModuleDef moddef = {PyModuleDef_HEAD_INIT, "_vesuvius", "The C core of vesuvius.", -1, mod_methods,
-                                    NULL, NULL, NULL, NULL};
+static struct PyModuleDef moddef = {
+    PyModuleDef_HEAD_INIT, "_vesuvius", "The C core of vesuvius.", -1, mod_methods, NULL, NULL, NULL, NULL};
 
 PyMODINIT_FUNC PyInit__vesuvius(void)
 {

@@ -1,6 +1,7 @@
 /* vsv-render — headless frames of a .vsv file to PNG. */
 #include "vsv_cli.h"
 #include "vsv_gl.h"
+#include "vsv_movie_cli.h"
 #include "vsv_render.h"
 
 #include <errno.h>
@@ -11,10 +12,9 @@
 #include <strings.h>
 #include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-render FILE.vsv|URL -o OUT.png|OUT.exr [OPTIONS]\n"
     "       vsv-render FILE.vsv|URL --movie OUT.mp4 [--fps N] [OPTIONS]\n"
@@ -80,6 +80,7 @@ static const char usage[] =
     VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
+/* clang-format on */
 
 static int write_png(const char *path, const float *rgba, int w, int h, const float bg[3], char *err, size_t cap)
 {
@@ -94,128 +95,7 @@ static int write_png(const char *path, const float *rgba, int w, int h, const fl
     return rc;
 }
 
-/* A movie: frames piped to ffmpeg, written under a temporary name renamed
- * into place when ffmpeg succeeds. */
-typedef struct movie {
-    pid_t pid;
-    FILE *pipe;
-    char tmp[4200];
-    const char *out;
-} movie;
-
-extern char **environ;
-
-
-static int have_program(const char *name)
-{
-    const char *path = getenv("PATH");
-    if (!path)
-        return 0;
-    char *copy = strdup(path), *save = NULL;
-    int found = 0;
-    for (char *dir = strtok_r(copy, ":", &save); dir && !found; dir = strtok_r(NULL, ":", &save)) {
-        char full[4200];
-        snprintf(full, sizeof full, "%s/%s", *dir ? dir : ".", name);
-        found = access(full, X_OK) == 0;
-    }
-    free(copy);
-    return found;
-}
-
-/* ffmpeg's muxer for the movie's extension (H.264 in each), or NULL. */
-static const char *movie_muxer(const char *out)
-{
-    static const char *const map[][2] = {{".mp4", "mp4"}, {".m4v", "mp4"},      {".mov", "mov"},
-                                         {".mkv", "matroska"}, {".avi", "avi"}, {".flv", "flv"},
-                                         {".ts", "mpegts"}};
-    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
-    if (!dot || (slash && dot < slash))
-        return NULL;
-    for (size_t i = 0; i < sizeof map / sizeof *map; i++)
-        if (!strcasecmp(dot, map[i][0]))
-            return map[i][1];
-    return NULL;
-}
-
-static void movie_open(movie *mv, const char *out, int w, int h, int fps)
-{
-    if (!have_program("ffmpeg"))
-        vsv_cli_die(1, "--movie needs ffmpeg, which is not installed (apt-get install ffmpeg)");
-    const char *muxer = movie_muxer(out);
-    if (!muxer)
-        vsv_cli_usage_error("--movie %s: name a .mp4, .m4v, .mov, .mkv, .avi, .flv or .ts file", out);
-    /* listed (vsv_output.c): removed on an error exit or a signal. ffmpeg
-     * writes it as its descriptor 3 (/proc/self/fd/3), never by name: were
-     * the tool killed before ffmpeg opened its output, a name would be
-     * created again after the tool removed it (the SIGTERM sweep left
-     * 'OUT.tmp.PID.0.mp4' so) */
-    const int tfd = vsv_output_temp(out, strrchr(out, '.'), mv->tmp, sizeof mv->tmp);
-    if (tfd < 0)
-        vsv_cli_die(1, "%s: cannot create: %s", out, strerror(errno));
-    mv->out = out;
-    int fd[2];
-    if (pipe2(fd, O_CLOEXEC))
-        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
-    char size[64], rate[32];
-    snprintf(size, sizeof size, "%dx%d", w, h);
-    snprintf(rate, sizeof rate, "%d", fps);
-    /* -xerror: a failed write of the output (a full disk) is exit 1, not 0 */
-    char *const args[] = {"ffmpeg", "-hide_banner", "-loglevel", "error", "-xerror", "-nostdin", "-y", "-f", "rawvideo",
-                          "-pix_fmt", "rgb24", "-s", size, "-r", rate, "-i", "pipe:0", "-an", "-vf",
-                          "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-crf", "18",
-                          "-f", (char *)muxer, "file:/proc/self/fd/3", NULL};
-    /* posix_spawnp: nothing of ours runs between fork and exec (the
-     * renderer's threads may exist; a forked copy must not touch a lock) */
-    posix_spawn_file_actions_t fa;
-    posix_spawnattr_t at;
-    sigset_t dfl;
-    sigemptyset(&dfl);
-    sigaddset(&dfl, SIGPIPE); /* ignored here (below), not in ffmpeg */
-    int rc = posix_spawn_file_actions_init(&fa);
-    if (!rc && (rc = posix_spawnattr_init(&at)))
-        posix_spawn_file_actions_destroy(&fa);
-    if (rc)
-        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(rc));
-    rc = posix_spawn_file_actions_adddup2(&fa, fd[0], 0);
-    if (!rc)
-        rc = posix_spawn_file_actions_adddup2(&fa, tfd, 3);
-    if (!rc)
-        rc = posix_spawnattr_setsigdefault(&at, &dfl);
-    if (!rc)
-        rc = posix_spawnattr_setflags(&at, POSIX_SPAWN_SETSIGDEF);
-    if (!rc)
-        rc = posix_spawnp(&mv->pid, "ffmpeg", &fa, &at, args, environ);
-    posix_spawnattr_destroy(&at);
-    posix_spawn_file_actions_destroy(&fa);
-    close(fd[0]);
-    close(tfd);
-    if (rc)
-        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(rc));
-    if (!(mv->pipe = fdopen(fd[1], "wb")))
-        vsv_cli_die(1, "cannot start ffmpeg: %s", strerror(errno));
-}
-
-static void movie_frame(movie *mv, const unsigned char *rgb, int w, int h)
-{
-    if (fwrite(rgb, 3, (size_t)w * h, mv->pipe) != (size_t)w * h)
-        vsv_cli_die(1, "%s: ffmpeg stopped taking frames", mv->out);
-}
-
-/* Waits for ffmpeg; the movie stays a listed temporary until every output
- * of the run is complete (main). */
-static void movie_close(movie *mv)
-{
-    int st = 0;
-    const int wrote = fclose(mv->pipe) == 0;
-    while (waitpid(mv->pid, &st, 0) < 0 && errno == EINTR) {
-    }
-    if (!wrote || !WIFEXITED(st) || WEXITSTATUS(st))
-        vsv_cli_die(1, "%s: ffmpeg failed (exit %d)", mv->out, WIFEXITED(st) ? WEXITSTATUS(st) : -1);
-    const int fd = open(mv->tmp, O_RDONLY | O_CLOEXEC);
-    if (fd < 0 || vsv_output_seal(fd))
-        vsv_cli_die(1, "%s: cannot write: %s", mv->out, strerror(errno));
-}
-
+/* clang-format off */ /* (a table, laid out by hand) */
 enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
@@ -234,6 +114,7 @@ static const struct option longopts[] = {
     {"slice-range", required_argument, 0, O_SLICERANGE},
     {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
     {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
+/* clang-format on */
 
 /* The command line, parsed and checked (main). */
 typedef struct render_args {
@@ -261,7 +142,7 @@ typedef struct render_run {
     vsv_scene sc;
     vsv_camera cam;
     double sep, mn[3], mx[3];
-    movie mv;
+    vsv_movie mv;
     unsigned char *rgb8;
     vsv_font *font;
     vsv_outlines *outlines;
@@ -357,7 +238,8 @@ static int parse_args(int argc, char **argv, render_args *ra)
         }
         case O_LOOKAT:
             if (sscanf(optarg, "%lf,%lf,%lf,%lf,%lf,%lf", &ra->la[0], &ra->la[1], &ra->la[2], &ra->la[3], &ra->la[4],
-                       &ra->la[5]) != 6 || (ra->la[0] == ra->la[3] && ra->la[1] == ra->la[4] && ra->la[2] == ra->la[5]))
+                       &ra->la[5]) != 6 ||
+                (ra->la[0] == ra->la[3] && ra->la[1] == ra->la[4] && ra->la[2] == ra->la[5]))
                 vsv_cli_usage_error("--look-at %s: expected EX,EY,EZ,TX,TY,TZ with distinct eye and target", optarg);
             ra->lookat = 1;
             break;
@@ -415,7 +297,8 @@ static void check_args(int argc, char **argv, render_args *ra)
     ra->sequence = ra->out ? vsv_cli_pattern(ra->out) : 0;
     if (ra->sequence < 0)
         vsv_cli_usage_error("-o %s: a '%%' in the name must be %%d or %%0Nd (the frame number, once) or %%%% (a "
-                            "percent sign)", ra->out);
+                            "percent sign)",
+                            ra->out);
     ra->path = argv[optind];
     const char *const ins[2] = {ra->path, ra->tfpath};
     if (ra->out && !ra->sequence)
@@ -544,9 +427,15 @@ static void make_scene(const render_args *ra, render_run *run)
     if (nslice_specs && vsv_tf_prepare(slice_tf))
         vsv_cli_die(1, "%s: the slices' colours cannot be made", ra->path);
     vsv_scene *sc = &run->sc;
-    *sc = (vsv_scene){.meta = run->m, .layers = run->layers, .nlayers = run->nl, .exaggeration = ra->exag,
-                      .show_terrain = ra->terrain, .slices = run->slices, .nslices = nslice_specs,
-                      .slice_layer = run->slice_layer, .slice_tf = slice_tf};
+    *sc = (vsv_scene){.meta = run->m,
+                      .layers = run->layers,
+                      .nlayers = run->nl,
+                      .exaggeration = ra->exag,
+                      .show_terrain = ra->terrain,
+                      .slices = run->slices,
+                      .nslices = nslice_specs,
+                      .slice_layer = run->slice_layer,
+                      .slice_tf = slice_tf};
     if (ra->light)
         vsv_scene_sun(sc, ra->sun_az, ra->sun_el);
     if (!(ra->exag > 0))
@@ -584,7 +473,7 @@ static void start_drawing(const render_args *ra, render_run *run)
         if (!run->rgb8)
             vsv_cli_die(1, "out of memory");
         signal(SIGPIPE, SIG_IGN); /* a dying ffmpeg is an error, not a signal */
-        movie_open(&run->mv, movie_out, ow, height, ra->fps);
+        vsv_movie_open(&run->mv, movie_out, ow, height, ra->fps);
     }
     /* annotation: the font and, for a map, the outlines (a note, not an
      * error, where a package is missing) */
@@ -655,7 +544,8 @@ static void render_frames(const render_args *ra, render_run *run, char *staged)
             for (int y = 0; y < height; y++) {
                 memcpy(img + 4 * ((size_t)y * ow + (size_t)eye * width), rgba + 4 * (size_t)y * width,
                        4 * sizeof(float) * (size_t)width);
-                memcpy(zimg + (size_t)y * ow + (size_t)eye * width, depth + (size_t)y * width, sizeof(float) * (size_t)width);
+                memcpy(zimg + (size_t)y * ow + (size_t)eye * width, depth + (size_t)y * width,
+                       sizeof(float) * (size_t)width);
             }
         }
         char name[4096], err[4200];
@@ -677,7 +567,7 @@ static void render_frames(const render_args *ra, render_run *run, char *staged)
         }
         if (ra->movie_out) {
             vsv_image_rgb8(img, ow, height, ra->bg, run->rgb8);
-            movie_frame(&run->mv, run->rgb8, ow, height);
+            vsv_movie_frame(&run->mv, run->rgb8, ow, height);
         }
         vsv_cli_progress("vsv-render", t - a + 1, run->b - a + 1);
     }
@@ -693,7 +583,7 @@ static void publish_outputs(const render_args *ra, render_run *run, const char *
 {
     const char *out = ra->out, *movie_out = ra->movie_out;
     if (movie_out)
-        movie_close(&run->mv);
+        vsv_movie_close(&run->mv);
     vsv_cli_hold_signals(1);
     for (int t = run->a; out && t <= run->b; t++) {
         char name[4096];
@@ -710,8 +600,17 @@ static void publish_outputs(const render_args *ra, render_run *run, const char *
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-render");
-    render_args ra = {.fps = 12, .az = 225, .el = 30, .bg = {0.02f, 0.03f, 0.06f}, .width = 800, .height = 600,
-                      .terrain = 1, .slice_cmap = "viridis", .slice_range = {NAN, NAN}, .sun_az = 315, .sun_el = 45,
+    render_args ra = {.fps = 12,
+                      .az = 225,
+                      .el = 30,
+                      .bg = {0.02f, 0.03f, 0.06f},
+                      .width = 800,
+                      .height = 600,
+                      .terrain = 1,
+                      .slice_cmap = "viridis",
+                      .slice_range = {NAN, NAN},
+                      .sun_az = 315,
+                      .sun_el = 45,
                       .parts = VSV_ANNOT_ALL};
     vsv_render_opts_init(&ra.ro);
     if (parse_args(argc, argv, &ra))

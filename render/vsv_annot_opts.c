@@ -11,9 +11,10 @@ int vsv_annot_parse(const char *list, unsigned *parts, char *msg, size_t cap)
     static const struct {
         const char *name;
         unsigned bit;
-    } names[] = {{"time", VSV_ANNOT_TIME},         {"bars", VSV_ANNOT_COLOURBAR},  {"exaggeration", VSV_ANNOT_EXAGGERATION},
-                 {"scale", VSV_ANNOT_SCALEBAR},    {"graticule", VSV_ANNOT_GRATICULE},
-                 {"outlines", VSV_ANNOT_OUTLINES}, {"all", VSV_ANNOT_ALL}};
+    } names[] = {
+        {"time", VSV_ANNOT_TIME},      {"bars", VSV_ANNOT_COLOURBAR},      {"exaggeration", VSV_ANNOT_EXAGGERATION},
+        {"scale", VSV_ANNOT_SCALEBAR}, {"graticule", VSV_ANNOT_GRATICULE}, {"outlines", VSV_ANNOT_OUTLINES},
+        {"all", VSV_ANNOT_ALL}};
     unsigned got = 0;
     for (const char *p = list ? list : ""; *p;) {
         const size_t n = strcspn(p, ",");
@@ -21,7 +22,8 @@ int vsv_annot_parse(const char *list, unsigned *parts, char *msg, size_t cap)
         while (i < sizeof names / sizeof *names && (strlen(names[i].name) != n || strncmp(names[i].name, p, n)))
             i++;
         if (i == sizeof names / sizeof *names) {
-            snprintf(msg, cap, "--annotate %s: parts are time, bars, exaggeration, scale, graticule, outlines, all", list);
+            snprintf(msg, cap, "--annotate %s: parts are time, bars, exaggeration, scale, graticule, outlines, all",
+                     list);
             return VSV_EINVAL;
         }
         got |= names[i].bit;

@@ -28,10 +28,10 @@ void vsv_annot_box(float *rgba, int w, int h, int x0, int y0, int x1, int y1, fl
 typedef struct layout {
     int lh, pad, margin;
     int bar_w, bar_h, block;
-    int x0, x1;  /* the bars' columns */
+    int x0, x1; /* the bars' columns */
     int nvis;
-    int plan;    /* an orthographic map view: the scale in the bars' column */
-    int top;     /* the height of the time block's band (0 without it) */
+    int plan; /* an orthographic map view: the scale in the bars' column */
+    int top;  /* the height of the time block's band (0 without it) */
 } layout;
 
 static void placed(const vsv_annot *a, unsigned part, int x0, int y0, int x1, int y1)
@@ -41,10 +41,7 @@ static void placed(const vsv_annot *a, unsigned part, int x0, int y0, int x1, in
         a->placed(a->placed_ctx, part, box);
 }
 
-static int visible(const vsv_layer *l)
-{
-    return l->visible && l->opacity > 0 && l->tf;
-}
+static int visible(const vsv_layer *l) { return l->visible && l->opacity > 0 && l->tf; }
 
 /* Bar k (0..nlayers): layer k's when it is visible, the slices' for
  * k = nlayers when the scene has slices; its transfer function, or NULL. */
@@ -137,16 +134,12 @@ static void text(const vsv_annot *a, float *rgba, int w, int h, int x, int y, co
         vsv_text_draw(a->font, rgba, w, h, x, y, s, fg, 1);
 }
 
-static int width(const vsv_annot *a, const char *s)
-{
-    return a->font ? vsv_text_width(a->font, s) : 0;
-}
+static int width(const vsv_annot *a, const char *s) { return a->font ? vsv_text_width(a->font, s) : 0; }
 
 /* The name line of bar l (layer l, or the slices' for l = nlayers): the
  * variable, its units and scale, and its description where the line stays
  * within `room` pixels. */
-static void bar_name(const vsv_annot *a, const vsv_scene *sc, int l, const vsv_tf *tf, int room, char *name,
-                     size_t cap)
+static void bar_name(const vsv_annot *a, const vsv_scene *sc, int l, const vsv_tf *tf, int room, char *name, size_t cap)
 {
     const vsv_meta *m = sc->meta;
     const int slices = l == sc->nlayers;
@@ -265,8 +258,8 @@ static void time_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera
     char line1[160], line2[512];
     vsv_annot_time_line(m, a->time, line1, sizeof line1);
     snprintf(line2, sizeof line2, "%s%s%s%s%s", a->source ? a->source : "",
-             a->source && (m->model[0] || m->run[0]) ? " \xc2\xb7 " : "", m->model, m->model[0] && m->run[0] ? ": " : "",
-             m->run);
+             a->source && (m->model[0] || m->run[0]) ? " \xc2\xb7 " : "", m->model,
+             m->model[0] && m->run[0] ? ": " : "", m->run);
     /* no wider than the image */
     const int w = cam->width, h = cam->height, room = w - 2 * (L->margin + L->pad);
     if (width(a, line2) > room) { /* cut to whole characters, with an ellipsis */
@@ -279,9 +272,10 @@ static void time_block(const vsv_annot *a, const vsv_scene *sc, const vsv_camera
         }
     }
     const int tw = width(a, line1) > width(a, line2) ? width(a, line1) : width(a, line2);
-    vsv_annot_box(rgba, w, h, L->margin, L->margin, L->margin + tw + 2 * L->pad - 1, L->margin + 2 * L->lh + 2 * L->pad - 1,
-                  0.55f);
-    placed(a, VSV_ANNOT_TIME, L->margin, L->margin, L->margin + tw + 2 * L->pad - 1, L->margin + 2 * L->lh + 2 * L->pad - 1);
+    vsv_annot_box(rgba, w, h, L->margin, L->margin, L->margin + tw + 2 * L->pad - 1,
+                  L->margin + 2 * L->lh + 2 * L->pad - 1, 0.55f);
+    placed(a, VSV_ANNOT_TIME, L->margin, L->margin, L->margin + tw + 2 * L->pad - 1,
+           L->margin + 2 * L->lh + 2 * L->pad - 1);
     text(a, rgba, w, h, L->margin + L->pad, L->margin + L->pad, line1);
     text(a, rgba, w, h, L->margin + L->pad, L->margin + L->pad + L->lh, line2);
 }

@@ -43,7 +43,8 @@ void vsv_scene_geo(const vsv_scene *sc, vsv_geo *g)
     g->bmax[1] = g->oy + (g->ny - 0.5) * g->dy;
     g->bmin[2] = (g->oz - g->dz / 2) * g->E;
     g->bmax[2] = (g->oz + (g->nz - 0.5) * g->dz) * g->E;
-    g->terrain = sc->show_terrain && (m->vert_kind == VSV_VERT_EVEN || m->vert_kind == VSV_VERT_NATIVE) ? m->terrain : NULL;
+    g->terrain =
+        sc->show_terrain && (m->vert_kind == VSV_VERT_EVEN || m->vert_kind == VSV_VERT_NATIVE) ? m->terrain : NULL;
     g->water = g->terrain ? vsv_meta_water(m) : 0;
     g->landuse = g->water ? m->landuse : NULL;
     if (g->terrain) {
@@ -204,7 +205,8 @@ void vsv_rays_cull(vsv_rays *R, const double mn[3], const double mx[3])
             s[0] /= z, s[1] /= z;
         }
         /* the inverse of vsv_rays_get's screen position */
-        const double px = ((s[0] - R->cx) / R->kx + 1) * R->w / 2 - 0.5, py = (1 - (s[1] - R->cy) / R->ky) * R->h / 2 - 0.5;
+        const double px = ((s[0] - R->cx) / R->kx + 1) * R->w / 2 - 0.5,
+                     py = (1 - (s[1] - R->cy) / R->ky) * R->h / 2 - 0.5;
         lo[0] = fmin(lo[0], px), hi[0] = fmax(hi[0], px);
         lo[1] = fmin(lo[1], py), hi[1] = fmax(hi[1], py);
     }
@@ -257,7 +259,8 @@ void vsv_camera_fit(vsv_camera *cam, const vsv_scene *sc, double az, double el, 
         for (int a = 0; a < 3; a++)
             p[a] = ((k >> a & 1) ? mx[a] : mn[a]) - c[a];
         const double depth = dist + p[0] * f[0] + p[1] * f[1] + p[2] * f[2];
-        const double sx = (p[0] * r[0] + p[1] * r[1] + p[2] * r[2]) / depth, sy = (p[0] * u[0] + p[1] * u[1] + p[2] * u[2]) / depth;
+        const double sx = (p[0] * r[0] + p[1] * r[1] + p[2] * r[2]) / depth,
+                     sy = (p[0] * u[0] + p[1] * u[1] + p[2] * u[2]) / depth;
         lo[0] = fmin(lo[0], sx), hi[0] = fmax(hi[0], sx);
         lo[1] = fmin(lo[1], sy), hi[1] = fmax(hi[1], sy);
     }

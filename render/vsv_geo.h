@@ -26,7 +26,7 @@ typedef struct vsv_geo {
     double bmin[3], bmax[3];
     int nx, ny, nz;
     const float *terrain;
-    double ground_top; /* the highest ground, exaggerated (with a terrain) */
+    double ground_top;    /* the highest ground, exaggerated (with a terrain) */
     const float *landuse; /* with a terrain and water categories: the land use */
     uint64_t water;       /* its categories that are water (vsv_meta_water) */
 } vsv_geo;

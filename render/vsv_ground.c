@@ -51,8 +51,9 @@ void vsv_geo_terrain_colour(const vsv_geo *g, double x, double y, float rgb[3])
         const int j = (int)v < g->ny - 1 ? (int)v : (g->ny > 1 ? g->ny - 2 : 0);
         const int i1 = g->nx > 1 ? i + 1 : i, j1 = g->ny > 1 ? j + 1 : j;
         const double fu = u - i, fv = v - j;
-#define WET(ii, jj) (vsv_geo_is_water(g, (size_t)(jj) * g->nx + (ii)) ? 1.0 : 0.0)
-        const double w = (WET(i, j) * (1 - fu) + WET(i1, j) * fu) * (1 - fv) + (WET(i, j1) * (1 - fu) + WET(i1, j1) * fu) * fv;
+#define WET(ii, jj) (vsv_geo_is_water(g, (size_t)(jj)*g->nx + (ii)) ? 1.0 : 0.0)
+        const double w =
+            (WET(i, j) * (1 - fu) + WET(i1, j) * fu) * (1 - fv) + (WET(i, j1) * (1 - fu) + WET(i1, j1) * fu) * fv;
 #undef WET
         water = w >= 0.5;
     }
@@ -122,7 +123,8 @@ double vsv_geo_terrain_hit(const vsv_geo *g, const double o[3], const double d[3
         const double tv = dv > 0 && j < ny - 1 ? (j + 1 - vo) * iv : dv < 0 && j > -1 ? (j - vo) * iv : INFINITY;
         double te = tu < tv ? tu : tv;
         te = te < t1 ? te : t1;
-        const int i0 = i < 0 ? 0 : i, i1 = i + 1 < nx ? i + 1 : nx - 1, j0 = j < 0 ? 0 : j, j1 = j + 1 < ny ? j + 1 : ny - 1;
+        const int i0 = i < 0 ? 0 : i, i1 = i + 1 < nx ? i + 1 : nx - 1, j0 = j < 0 ? 0 : j,
+                  j1 = j + 1 < ny ? j + 1 : ny - 1;
         const double h00 = h[(size_t)j0 * nx + i0] * g->E, h10 = h[(size_t)j0 * nx + i1] * g->E;
         const double h01 = h[(size_t)j1 * nx + i0] * g->E, h11 = h[(size_t)j1 * nx + i1] * g->E;
         const double za = o[2] + t * d[2], zb = o[2] + te * d[2];

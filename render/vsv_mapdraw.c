@@ -53,10 +53,7 @@ typedef struct pen {
     double ax, ay, akey;
 } pen;
 
-static double ground_z(const vsv_geo *g, double x, double y)
-{
-    return g->terrain ? vsv_geo_terrain(g, x, y) : 0;
-}
+static double ground_z(const vsv_geo *g, double x, double y) { return g->terrain ? vsv_geo_terrain(g, x, y) : 0; }
 
 /* How much of a line point at distance t is seen at pixel p: 1, 0 behind
  * the ground, 0.3 behind a cloud. */
@@ -184,7 +181,7 @@ static int label(const vsv_annot *a, float *rgba, int w, int h, double x, double
             if (yy >= 0 && xx >= 0 && legend[4 * ((size_t)yy * w + xx) + 3] > 0)
                 return 0;
     const int box[4] = {tx, ty, tx + tw, ty + lh}; /* with its shadow */
-    for (int i = 0; i < *n; i++) /* nor on another label, 2 pixels apart */
+    for (int i = 0; i < *n; i++)                   /* nor on another label, 2 pixels apart */
         if (box[0] <= boxes[i][2] + 2 && boxes[i][0] <= box[2] + 2 && box[1] <= boxes[i][3] + 2 &&
             boxes[i][1] <= box[3] + 2)
             return 0;
@@ -300,8 +297,10 @@ int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *
     if (!rc && (a->parts & VSV_ANNOT_OUTLINES) && a->outlines) {
         /* thin state lines, then borders, then the shore on top */
         static const int order[] = {VSV_OUTLINE_STATE, VSV_OUTLINE_BORDER, VSV_OUTLINE_LAKE, VSV_OUTLINE_COAST};
-        static const float colour[][4] = {
-            {0.95f, 0.75f, 0.45f, 0.5f}, {1.0f, 0.8f, 0.35f, 0.85f}, {0.75f, 0.9f, 1.0f, 0.9f}, {0.95f, 0.97f, 1.0f, 0.95f}};
+        static const float colour[][4] = {{0.95f, 0.75f, 0.45f, 0.5f},
+                                          {1.0f, 0.8f, 0.35f, 0.85f},
+                                          {0.75f, 0.9f, 1.0f, 0.9f},
+                                          {0.95f, 0.97f, 1.0f, 0.95f}};
         for (int c = 0; c < 4; c++) {
             P.half = order[c] == VSV_OUTLINE_STATE ? 0.4 : 0.7;
             const int nl = vsv_outlines_count(a->outlines);

@@ -207,7 +207,8 @@ static int read_binned(vsv_outlines *o, const vsv_meta *m, const char *path, int
     NCTRY(get_ints(nc, "Id_of_first_point_in_a_segment", 0, (size_t)nsegs, sfirst), "Id_of_first_point_in_a_segment");
     if (border) {
         NCTRY(get_shorts(nc, "N_points_for_a_segment", 0, (size_t)nsegs, sn), "N_points_for_a_segment");
-        NCTRY(get_shorts(nc, "Hierarchial_level_of_a_segment", 0, (size_t)nsegs, slev), "Hierarchial_level_of_a_segment");
+        NCTRY(get_shorts(nc, "Hierarchial_level_of_a_segment", 0, (size_t)nsegs, slev),
+              "Hierarchial_level_of_a_segment");
     } else {
         NCTRY(get_ints(nc, "Embedded_npts_levels_exit_entry_for_a_segment", 0, (size_t)nsegs, sinfo),
               "Embedded_npts_levels_exit_entry_for_a_segment");
@@ -230,8 +231,8 @@ static int read_binned(vsv_outlines *o, const vsv_meta *m, const char *path, int
         if (lw > box[3] && lw + size - 360 < box[2])
             continue;
         if (nseg[b] < 0 || first[b] < 0 || first[b] + nseg[b] > nsegs) {
-            snprintf(msg, cap, "%s: bin %d: segments %d..%d outside the file's %d", path, b, first[b], first[b] + nseg[b],
-                     nsegs);
+            snprintf(msg, cap, "%s: bin %d: segments %d..%d outside the file's %d", path, b, first[b],
+                     first[b] + nseg[b], nsegs);
             rc = VSV_ECORRUPT;
             goto fail;
         }
@@ -349,10 +350,7 @@ void vsv_outlines_free(vsv_outlines *o)
     free(o);
 }
 
-int vsv_outlines_count(const vsv_outlines *o)
-{
-    return o ? o->nlines : 0;
-}
+int vsv_outlines_count(const vsv_outlines *o) { return o ? o->nlines : 0; }
 
 const double *vsv_outlines_line(const vsv_outlines *o, int i, int *kind, int *n)
 {

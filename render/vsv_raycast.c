@@ -217,7 +217,8 @@ static void fine_layer(void *ctx, int bk, int thread)
                 const int *cnt = r->alpha_cnt + (size_t)l * (VSV_TF_LUT + 1);
                 const float *q = L->cells[brick] + off;
                 /* min and max over pairs along x, then y, then z */
-                float lo[VSV_RC_BLOCK + 1][VSV_RC_BLOCK + 1][VSV_RC_BLOCK], hi[VSV_RC_BLOCK + 1][VSV_RC_BLOCK + 1][VSV_RC_BLOCK];
+                float lo[VSV_RC_BLOCK + 1][VSV_RC_BLOCK + 1][VSV_RC_BLOCK],
+                    hi[VSV_RC_BLOCK + 1][VSV_RC_BLOCK + 1][VSV_RC_BLOCK];
                 for (int k = 0; k <= VSV_RC_BLOCK; k++)
                     for (int j = 0; j <= VSV_RC_BLOCK; j++) {
                         const float *row = q + j * e + k * ez;
@@ -414,7 +415,8 @@ static void raycast_march(const vsv_rc_frame *F, const vsv_rc_ray *ray, float *p
             }
             const int cell = (ci[0] & (VSV_RC_BLOCK - 1)) + VSV_RC_BLOCK * (ci[1] & (VSV_RC_BLOCK - 1)) +
                              VSV_RC_BLOCK * VSV_RC_BLOCK * (ci[2] & (VSV_RC_BLOCK - 1));
-            if (F->skip[blk] == VSV_RC_FINE && F->fine[2 * blk + (cell >> 5)] >> (cell & 31) & 1) { /* a clear cell: out of it */
+            if (F->skip[blk] == VSV_RC_FINE &&
+                F->fine[2 * blk + (cell >> 5)] >> (cell & 31) & 1) { /* a clear cell: out of it */
                 n = vsv_rc_leap(F, ray, n, ci, 1, 0) - 1;
                 continue;
             }

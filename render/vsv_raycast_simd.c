@@ -185,7 +185,7 @@ static inline vf join(__m256 lo, __m256 hi)
 BIN(vf, vf, mand, _mm256_and_ps)
 BIN(vf, vf, mandnot, _mm256_andnot_ps) /* ~a & b */
 BIN(vf, vf, mor, _mm256_or_ps)
-BIN(vf, vf, keep, _mm256_and_ps)       /* keep(m, x): m ? x : 0 */
+BIN(vf, vf, keep, _mm256_and_ps) /* keep(m, x): m ? x : 0 */
 static const vm MNONE;
 static inline unsigned bits(vm m)
 {
@@ -224,14 +224,8 @@ static inline vi igather(const uint32_t *words, vi idx, vm m) /* words[idx] wher
                                               _mm256_castps_si256(m.r[h]), 4);
     return o;
 }
-static inline void istore(void *p, vi x)
-{
-    EACH _mm256_storeu_si256((__m256i *)p + h, x.r[h]);
-}
-static inline void fstore(float *p, vf x)
-{
-    EACH _mm256_storeu_ps(p + 8 * h, x.r[h]);
-}
+static inline void istore(void *p, vi x) { EACH _mm256_storeu_si256((__m256i *)p + h, x.r[h]); }
+static inline void fstore(float *p, vf x) { EACH _mm256_storeu_ps(p + 8 * h, x.r[h]); }
 static inline vf mgather(const float *table, vi idx, vm m) /* table[idx] where m, else 0 */
 {
     vf o;
@@ -264,7 +258,8 @@ static inline vm lanes(unsigned b) /* the lanes whose bits are set */
 static inline vi isel(vi a, vi b, vm m) /* m ? b : a */
 {
     vi o;
-    EACH o.r[h] = _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a.r[h]), _mm256_castsi256_ps(b.r[h]), m.r[h]));
+    EACH o.r[h] =
+        _mm256_castps_si256(_mm256_blendv_ps(_mm256_castsi256_ps(a.r[h]), _mm256_castsi256_ps(b.r[h]), m.r[h]));
     return o;
 }
 static inline __m256 half(vf x, int h) { return x.r[h]; }
@@ -516,7 +511,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
             istore(ia, ikeep(valid, i));
             __m256 la[2], lc[3][2];
             for (int h = 0; h < 2; h++) { /* eight lanes at a time */
-                __m256 e[8]; /* r g b a of entry i, then of entry i + 1 */
+                __m256 e[8];              /* r g b a of entry i, then of entry i + 1 */
                 for (int l = 0; l < 8; l++)
                     e[l] = _mm256_loadu_ps(L->lut[ia[8 * h + l]]);
                 transpose8(e);

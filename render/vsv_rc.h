@@ -34,10 +34,10 @@ typedef struct vsv_rc_copy {
     float *empty;
     const float **cells; /* per brick */
     int cells_cap;
-    float *mm;           /* per block (VSV_RC_BLOCK): the smallest and largest
-                            value of its cells and the next one along each
-                            axis, which its trilinear samples read (NaN left
-                            out: a sample touching one is no data) */
+    float *mm; /* per block (VSV_RC_BLOCK): the smallest and largest
+                  value of its cells and the next one along each
+                  axis, which its trilinear samples read (NaN left
+                  out: a sample touching one is no data) */
     size_t mm_cap;
 } vsv_rc_copy;
 /* Blocks of VSV_RC_BLOCK^3 cells, for skipping: block (bi, bj, bk) holds
@@ -46,7 +46,7 @@ typedef struct vsv_rc_copy {
 #define VSV_RC_BSHIFT 2
 #define VSV_RC_BLOCK (1 << VSV_RC_BSHIFT)
 #define VSV_RC_FINE 0x80 /* vsv_rc_frame.skip: a block shown that has clear cells */
-_Static_assert(VSV_RC_BLOCK * VSV_RC_BLOCK * VSV_RC_BLOCK == 64, "vsv_rc_frame.fine: 64 bits a block");
+_Static_assert(VSV_RC_BLOCK *VSV_RC_BLOCK *VSV_RC_BLOCK == 64, "vsv_rc_frame.fine: 64 bits a block");
 static inline void vsv_rc_block_dims(const vsv_volume *v, int nb[3])
 {
     const int n[3] = {v->nx, v->ny, v->nz};
@@ -63,9 +63,9 @@ int vsv_rc_copy_prepare(vsv_rc_copy *c, const vsv_volume *v);
 /* A visible layer as the raycaster reads it, set up once per frame. */
 typedef struct vsv_rc_layer {
     const vsv_volume *vol;
-    vsv_rc_cells cells;         /* per brick: its sampling copy */
-    const float (*lut)[4];      /* the transfer function's table */
-    float lo, inv, off;         /* table position = (value or ln value) * inv + off */
+    vsv_rc_cells cells;    /* per brick: its sampling copy */
+    const float (*lut)[4]; /* the transfer function's table */
+    float lo, inv, off;    /* table position = (value or ln value) * inv + off */
     int log;
     float sigma;                /* extinction per world unit of curve value 1 */
     const float *mm;            /* per block: its samples' min and max (vsv_rc_copy.mm) */
@@ -111,12 +111,12 @@ typedef struct vsv_rc_frame {
     float hi[3];               /* the largest cell coordinate per axis */
     int last[3];               /* the largest lower corner of a trilinear sample */
     int shift, mask, brick, bx, bxy;
-    int ey, ez;                /* the sampling copy's strides: brick + 1, (brick + 1)^2 */
-    double st, inv_st;         /* the step in world units, and 1 / st */
-    float term;                /* early ray termination: T below this */
-    double inv_cell[3];        /* 1 / cell edge (exaggerated in z), world units */
-    vsv_light light;           /* lit frames march one ray at a time */
-    vsv_rc_cam cam;            /* the camera's rays, in cell coordinates */
+    int ey, ez;         /* the sampling copy's strides: brick + 1, (brick + 1)^2 */
+    double st, inv_st;  /* the step in world units, and 1 / st */
+    float term;         /* early ray termination: T below this */
+    double inv_cell[3]; /* 1 / cell edge (exaggerated in z), world units */
+    vsv_light light;    /* lit frames march one ray at a time */
+    vsv_rc_cam cam;     /* the camera's rays, in cell coordinates */
 } vsv_rc_frame;
 
 /* One ray through the volume: sample n (0 <= n < ns) sits at cell

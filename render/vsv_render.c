@@ -42,8 +42,7 @@ int vsv_renderer_create(const vsv_render_opts *o, vsv_renderer **out)
     if (r->simd)
         r->kernel = __builtin_cpu_supports("avx512f") && !(simd && !strcmp(simd, "avx2")) ? vsv_raycast16_avx512
                                                                                           : vsv_raycast16;
-    if (r->o.kind == VSV_RENDER_SHEARWARP &&
-        !(r->sw = vsv_sw_create(VSV_POOL_MAX, r->simd && cpu_f16c())))
+    if (r->o.kind == VSV_RENDER_SHEARWARP && !(r->sw = vsv_sw_create(VSV_POOL_MAX, r->simd && cpu_f16c())))
         return VSV_ENOMEM;
     if (!(r->o.step_cells > 0))
         r->o.step_cells = 0.5;
@@ -104,7 +103,8 @@ int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera
             r->ground_cap = n;
             r->ground_valid = 0;
         }
-        if (!r->ground_valid || memcmp(&r->ground_cam, cam, sizeof *cam) || memcmp(&r->ground_geo, &r->g, sizeof r->g)) {
+        if (!r->ground_valid || memcmp(&r->ground_cam, cam, sizeof *cam) ||
+            memcmp(&r->ground_geo, &r->g, sizeof r->g)) {
             vsv_pool_run(&r->pool, vsv_rc_ground_row, r, cam->height);
             r->ground_cam = *cam;
             r->ground_geo = r->g;

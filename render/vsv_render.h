@@ -47,14 +47,14 @@ VSV_API_BEGIN
 
 /* One species' transfer function: plain info. */
 typedef struct vsv_tf {
-    char colormap[32];           /* viridis magma cividis clouds rain ice snow graupel greys */
-    double lo, hi;               /* value range mapped to the colour map */
-    int scale;                   /* VSV_SCALE_LINEAR or VSV_SCALE_LOG */
-    int nopacity;                /* opacity curve: samples evenly over [lo, hi] */
+    char colormap[32]; /* viridis magma cividis clouds rain ice snow graupel greys */
+    double lo, hi;     /* value range mapped to the colour map */
+    int scale;         /* VSV_SCALE_LINEAR or VSV_SCALE_LOG */
+    int nopacity;      /* opacity curve: samples evenly over [lo, hi] */
     float opacity[VSV_TF_MAXPTS];
     /* derived by vsv_tf_prepare: colour and extinction tables */
     float lut[VSV_TF_LUT][4];
-    double base, inv;            /* table position = (value or ln value - base) * inv */
+    double base, inv; /* table position = (value or ln value - base) * inv */
 } vsv_tf;
 
 /* Names of the colour maps, NULL-terminated; borrowed, static. */
@@ -104,7 +104,7 @@ typedef struct vsv_camera {
 typedef struct vsv_layer {
     const vsv_volume *vol;
     const vsv_tf *tf;
-    float opacity;        /* slider, 0..; 0 = hidden */
+    float opacity; /* slider, 0..; 0 = hidden */
     int visible;
 } vsv_layer;
 
@@ -132,15 +132,15 @@ typedef struct vsv_scene {
     const vsv_meta *meta; /* grid, levels, terrain */
     const vsv_layer *layers;
     int nlayers;
-    double exaggeration;  /* vertical */
+    double exaggeration; /* vertical */
     int show_terrain;
-    int light;            /* lighting (top of this file); 0: unlit */
-    double light_dir[3];  /* toward the light, world axes (vsv_scene_sun) */
+    int light;               /* lighting (top of this file); 0: unlit */
+    double light_dir[3];     /* toward the light, world axes (vsv_scene_sun) */
     const vsv_slice *slices; /* nslices of them, borrowed; coloured by */
     int nslices;
-    int slice_layer;      /* the layer (index in layers) whose values colour
-                             the slices; its volume must be loaded,
-                             visible or not */
+    int slice_layer;        /* the layer (index in layers) whose values colour
+                               the slices; its volume must be loaded,
+                               visible or not */
     const vsv_tf *slice_tf; /* the slices' colours: colour map, range and
                              scale (NULL: the layer's transfer function) */
 } vsv_scene;
@@ -206,12 +206,12 @@ int vsv_view_preset(const char *name, double *az, double *el);
 enum { VSV_RENDER_RAYCAST = 0, VSV_RENDER_SHEARWARP = 1, VSV_RENDER_GL = 2 };
 
 typedef struct vsv_render_opts {
-    int kind;            /* VSV_RENDER_* */
-    int threads;         /* 0 = all cores */
-    double step_cells;   /* sample step in horizontal cells (default 0.5) */
-    int no_skip;         /* disable empty-space skipping (reference renders) */
-    double term;         /* raycaster: a ray ends once its transmittance is
-                            below this (0 or out of (0, 1): 1/512) */
+    int kind;          /* VSV_RENDER_* */
+    int threads;       /* 0 = all cores */
+    double step_cells; /* sample step in horizontal cells (default 0.5) */
+    int no_skip;       /* disable empty-space skipping (reference renders) */
+    double term;       /* raycaster: a ray ends once its transmittance is
+                          below this (0 or out of (0, 1): 1/512) */
 } vsv_render_opts;
 
 void vsv_render_opts_init(vsv_render_opts *o);
@@ -296,30 +296,30 @@ typedef struct vsv_march_layer {
     const float (*lut)[4]; /* VSV_TF_LUT entries: colour, curve */
     float lo, inv, off;    /* table position = (ln v or v) inv + off; v < lo: nothing */
     int log;
-    float sigma;           /* extinction per world unit of curve 1 */
-    float inv_span;        /* lighting: 1 / the range's span (of ln v on a log scale) */
+    float sigma;    /* extinction per world unit of curve 1 */
+    float inv_span; /* lighting: 1 / the range's span (of ln v on a log scale) */
 } vsv_march_layer;
 
 /* The raycaster's frame: plain info, valid until the renderer's next call. */
 typedef struct vsv_march {
-    int nlayers;                    /* 0: nothing to march (the surfaces only) */
+    int nlayers; /* 0: nothing to march (the surfaces only) */
     vsv_march_layer layer[VSV_MARCH_MAX];
-    int n[3];                       /* the grid's cells per axis */
-    float hi[3];                    /* the largest cell coordinate per axis */
-    int last[3];                    /* the largest lower corner of a trilinear sample */
-    int brick, shift, bdim[3];      /* bricks (their edge, log2 of it, per axis) */
-    double st;                      /* the step, world units */
-    float term;                     /* early ray termination: T below this */
-    float o[3], f[3], r[3], u[3];   /* the rays (the rule above) */
+    int n[3];                     /* the grid's cells per axis */
+    float hi[3];                  /* the largest cell coordinate per axis */
+    int last[3];                  /* the largest lower corner of a trilinear sample */
+    int brick, shift, bdim[3];    /* bricks (their edge, log2 of it, per axis) */
+    double st;                    /* the step, world units */
+    float term;                   /* early ray termination: T below this */
+    float o[3], f[3], r[3], u[3]; /* the rays (the rule above) */
     float sx0, sxk, sy0, syk;
     float bmin[3], bmax[3], snear, sfar;
     int persp;
-    int light;                      /* shading on */
-    float light_dir[3];             /* unit, toward the light, world (exaggerated) axes */
-    float inv_cell[3];              /* 1 / the world cell edges dx, dy, dz E */
+    int light;          /* shading on */
+    float light_dir[3]; /* unit, toward the light, world (exaggerated) axes */
+    float inv_cell[3];  /* 1 / the world cell edges dx, dy, dz E */
     int width, height;
-    int x0, x1, y0, y1;             /* the pixels whose rays may meet the scene's box */
-    const vsv_surface *surface;     /* width x height, row 0 at the top; NULL: none */
+    int x0, x1, y0, y1;         /* the pixels whose rays may meet the scene's box */
+    const vsv_surface *surface; /* width x height, row 0 at the top; NULL: none */
 } vsv_march;
 
 /* Works out the raycaster's frame for scene sc and camera cam into m, on
@@ -415,12 +415,12 @@ int vsv_annot_load(const vsv_meta *m, unsigned parts, int w, int h, double span_
 
 /* Annotation of one frame: plain info, everything borrowed for the call. */
 typedef struct vsv_annot {
-    unsigned parts;                 /* VSV_ANNOT_* */
-    vsv_font *font;                 /* NULL: the lines only, no text */
-    int64_t time;                   /* the frame's model time */
-    const char *source;             /* the file's name, shown with the run */
-    const int *species;             /* per scene layer: its variable in the meta */
-    const vsv_outlines *outlines;   /* or NULL */
+    unsigned parts;               /* VSV_ANNOT_* */
+    vsv_font *font;               /* NULL: the lines only, no text */
+    int64_t time;                 /* the frame's model time */
+    const char *source;           /* the file's name, shown with the run */
+    const int *species;           /* per scene layer: its variable in the meta */
+    const vsv_outlines *outlines; /* or NULL */
     /* or NULL: told of every box vsv_annotate draws (part: the VSV_ANNOT_*
      * it belongs to; box: pixels x0, y0, x1, y1), for tests and callers
      * that place more on the frame */

@@ -40,11 +40,11 @@ struct vsv_renderer {
      * this frame rebuilds */
     vsv_rc_copy *copy, **build;
     int copy_cap, nbuild;
-    double copy_seconds; /* the last rebuild of sampling copies */
+    double copy_seconds;   /* the last rebuild of sampling copies */
     int simd;              /* the CPU has AVX2 and FMA (and VSV_SIMD is not 0) */
     vsv_rc_kernel *kernel; /* sixteen rays at once, or NULL: one at a time */
-    vsv_sw *sw;           /* shear-warp state, for VSV_RENDER_SHEARWARP */
-    vsv_rays rays;        /* the camera's rays, for this frame */
+    vsv_sw *sw;            /* shear-warp state, for VSV_RENDER_SHEARWARP */
+    vsv_rays rays;         /* the camera's rays, for this frame */
     /* the ground per pixel, for ground_cam and ground_geo */
     vsv_ground *ground;
     size_t ground_cap;
@@ -57,9 +57,8 @@ struct vsv_renderer {
     const vsv_ground *surf_read;
     vsv_ground *surf;
     size_t surf_cap;
-    vsv_native native;    /* native levels placed at their heights */
+    vsv_native native; /* native levels placed at their heights */
 };
-
 
 /* Before any renderer's frame: native levels placed at their heights (*psc
  * becomes the scene over the resampled volumes), the geometry (r->g), the

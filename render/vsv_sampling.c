@@ -111,7 +111,8 @@ void vsv_rc_copy_minmax(const vsv_rc_copy *c, int b)
                 } else {
                     for (int k = 0; k <= VSV_RC_BLOCK; k++)
                         for (int j = 0; j <= VSV_RC_BLOCK; j++) {
-                            const float *row = cells + ((size_t)(lk * VSV_RC_BLOCK + k) * e + lj * VSV_RC_BLOCK + j) * e +
+                            const float *row = cells +
+                                               ((size_t)(lk * VSV_RC_BLOCK + k) * e + lj * VSV_RC_BLOCK + j) * e +
                                                li * VSV_RC_BLOCK;
                             for (int i = 0; i <= VSV_RC_BLOCK; i++) {
                                 lo = row[i] < lo ? row[i] : lo;

@@ -41,7 +41,6 @@ typedef float v4 __attribute__((vector_size(16)));
 /* pixels in a row of the intermediate image: border, w pixels, two of border */
 static size_t img_stride(const vsv_sw *sw) { return (size_t)sw->w + 3; }
 
-
 int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
                  const vsv_ground *ground, int *rows, int *bricks, int *classify)
 {
@@ -123,7 +122,8 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     const size_t ni = (size_t)sw->na + 4 > nl ? (size_t)sw->na + 4 : nl, nf = VSV_SW_BAND * 4 * ng * VSV_SW_LANES;
     for (int t = 0; t < sw->max_threads; t++) {
         size_t ci = sw->scratch_cap, cf = sw->dscratch_cap;
-        if (vsv_sw_grow((void **)&sw->scratch[t], &ci, ni, sizeof(int)) || vsv_sw_grow((void **)&sw->dscratch[t], &cf, nf, sizeof(float)))
+        if (vsv_sw_grow((void **)&sw->scratch[t], &ci, ni, sizeof(int)) ||
+            vsv_sw_grow((void **)&sw->dscratch[t], &cf, nf, sizeof(float)))
             return VSV_ENOMEM;
     }
     if (ni > sw->scratch_cap)
@@ -181,8 +181,8 @@ static inline float blend(const uint16_t *t0, const uint16_t *t1, size_t ch, con
 /* One pixel: the blend of voxels t0[0], t0[1], t1[0], t1[1] (each four
  * planes P apart) composited over px with d units of ray per slice; opaque
  * pixels are linked past. */
-static inline __attribute__((always_inline)) void sample(v4 *px, int *lk, int x, const uint16_t *t0,
-                                                         const uint16_t *t1, size_t P, const v4 w, float d)
+static inline __attribute__((always_inline)) void sample(v4 *px, int *lk, int x, const uint16_t *t0, const uint16_t *t1,
+                                                         size_t P, const v4 w, float d)
 {
     const float S = blend(t0, t1, 3 * P, w);
     if (!(S > 0))
@@ -206,8 +206,10 @@ void vsv_sw_composite_row(void *p, int y, int thread)
     const int c = sw->c, na = sw->na, nb = sw->nb, w = sw->w;
     const size_t W = img_stride(sw);
     if (!sw->persp) {
-        const vsv_sw_par par = {sw->vox[c], sw->fps[c], sw->ivl[c], VSV_SW_PLANE(na), na, nb, sw->nc, w, sw->front, sw->dk,
-                                sw->sa, sw->sb, sw->ta, sw->tb, (float)(sw->delta * sw->sigma_unit / sw->scale)};
+        const vsv_sw_par par = {
+            sw->vox[c], sw->fps[c], sw->ivl[c], VSV_SW_PLANE(na), na,
+            nb,         sw->nc,     w,          sw->front,        sw->dk,
+            sw->sa,     sw->sb,     sw->ta,     sw->tb,           (float)(sw->delta * sw->sigma_unit / sw->scale)};
         const int y0 = y * VSV_SW_BAND, n = sw->h - y0 < VSV_SW_BAND ? sw->h - y0 : VSV_SW_BAND;
         float *const row = sw->img + ((size_t)y0 + 1) * W * 4;
         for (int j = 0; j < n; j++) { /* the border pixels */
@@ -215,7 +217,7 @@ void vsv_sw_composite_row(void *p, int y, int thread)
             memset(row + (j * W + w + 1) * 4, 0, 2 * 4 * sizeof(float));
         }
         (sw->simd ? vsv_sw_par_rows_avx2 : vsv_sw_par_rows)(&par, y0, n, sw->dscratch[thread], sw->scratch[thread],
-                                                             row + 4, W * 4, sw->boxes + 4 * y);
+                                                            row + 4, W * 4, sw->boxes + 4 * y);
         return;
     }
     float *row = sw->img + ((size_t)y + 1) * W * 4;

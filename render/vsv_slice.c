@@ -199,7 +199,8 @@ int vsv_slice_range(const vsv_scene *in, double *lo, double *hi)
         return rc;
     vsv_geo g;
     vsv_scene_geo(sc, &g);
-    const vsv_volume *v = sc->slice_layer >= 0 && sc->slice_layer < sc->nlayers ? sc->layers[sc->slice_layer].vol : NULL;
+    const vsv_volume *v =
+        sc->slice_layer >= 0 && sc->slice_layer < sc->nlayers ? sc->layers[sc->slice_layer].vol : NULL;
     *lo = INFINITY, *hi = -INFINITY;
     for (int i = 0; v && i < sc->nslices; i++) {
         const vsv_slice *s = &sc->slices[i];
@@ -230,7 +231,8 @@ int vsv_slice_range(const vsv_scene *in, double *lo, double *hi)
 
 /* The distance along ray (o, d) to slice s between t0 and t1, or INFINITY;
  * the nearest crossing for a curtain. */
-static double slice_hit(const vsv_geo *g, const vsv_slice *s, const double o[3], const double d[3], double t0, double t1)
+static double slice_hit(const vsv_geo *g, const vsv_slice *s, const double o[3], const double d[3], double t0,
+                        double t1)
 {
     if (s->kind == VSV_SLICE_Z) {
         if (d[2] == 0)

@@ -86,13 +86,13 @@ static inline float vsv_half_float(uint16_t h)
  * pa = x - (sa k + ta) at pixel x, pb = y - (sb k + tb), with the same
  * bilinear weights all along the row, VSV_SW_LANES pixels a step. */
 typedef struct vsv_sw_par {
-    const uint16_t *vox; /* the classified copy (above) */
+    const uint16_t *vox;  /* the classified copy (above) */
     const vsv_sw_fp *fps; /* its footprints */
     const uint16_t *ivl;
-    size_t plane;        /* VSV_SW_PLANE(na) */
+    size_t plane; /* VSV_SW_PLANE(na) */
     int na, nb, nc, w, front, dk;
     double sa, sb, ta, tb;
-    float delta;         /* ray between slices, in the extinction's units */
+    float delta; /* ray between slices, in the extinction's units */
 } vsv_sw_par;
 /* Composites rows y0 .. y0 + n - 1 front to back, row y0 + j into img +
  * j stride (w pixels of premultiplied rgb, alpha), the smallest box holding
@@ -111,11 +111,10 @@ void vsv_sw_par_rows_avx2(const vsv_sw_par *p, int y0, int n, float *acc, int *l
  * w x h inside an empty border of one pixel left and top, two right and
  * bottom) at border coordinates (x0 + px dx, y0 + px dy), clamped into the
  * border. Built the same two ways. */
-void vsv_sw_par_warp(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0, int p1,
-                     float *out);
+void vsv_sw_par_warp(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0,
+                     int p1, float *out);
 void vsv_sw_par_warp_avx2(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0,
                           int p1, float *out);
-
 
 /* a layer's classification table: VSV_SW_SUB entries per step of the
  * transfer function's */
@@ -136,7 +135,7 @@ struct vsv_sw {
     size_t fps_cap[3], ivl_cap[3];
     uint64_t key; /* what the classification was built from */
     int n[3];
-    int valid[3]; /* the copy for this axis is current */
+    int valid[3];        /* the copy for this axis is current */
     const vsv_scene *sc; /* during classification */
     /* per layer and brick: every value transparent; then per brick: to be
      * classified in this build */
@@ -169,7 +168,7 @@ struct vsv_sw {
     int nclassified, built_bricks; /* bricks classified in this build, the last */
     double sigma_unit;
     vsv_light light; /* the classification's lighting */
-    float scale; /* the classified copy holds extinction in units of sigma_unit, times scale */
+    float scale;     /* the classified copy holds extinction in units of sigma_unit, times scale */
     /* intermediate image (img_stride floats a row), an empty border of one
      * pixel left and top, two right and bottom, and its opaque-pixel links
      * (w + 1 per row, perspective) */

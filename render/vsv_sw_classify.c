@@ -52,12 +52,7 @@ static uint64_t scene_key(const vsv_scene *sc)
 
 /* What brick b of v holds: its key when the loader gave one (equal keys,
  * equal values), else the load's gen (every brick changes with a load). */
-static uint64_t brick_key(const vsv_volume *v, int b)
-{
-    return !v ? 0 : v->bkey && v->gen ? v->bkey[b] : v->gen;
-}
-
-
+static uint64_t brick_key(const vsv_volume *v, int b) { return !v ? 0 : v->bkey && v->gen ? v->bkey[b] : v->gen; }
 
 /* Entry i of a layer's table: the species rule at transfer-function
  * position i / VSV_SW_SUB, o the layer's opacity times the copy's scale
@@ -145,8 +140,8 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
     /* bricks a layer leaves transparent need no transfer-function lookups */
     for (int l = 0; l < sc->nlayers; l++) {
         const vsv_layer *L = &sc->layers[l];
-        const int ok = v0 && L->vol && (size_t)L->vol->nbricks == nbk && L->vol->shift == v0->shift &&
-                       L->visible && L->opacity > 0;
+        const int ok = v0 && L->vol && (size_t)L->vol->nbricks == nbk && L->vol->shift == v0->shift && L->visible &&
+                       L->opacity > 0;
         for (size_t b = 0; b < nbk; b++) {
             const float lo = ok && L->vol->bmin[b] == L->vol->bmin[b] ? L->vol->bmin[b] : -INFINITY;
             sw->clear[l * nbk + b] = !ok || !(vsv_tf_max_opacity(L->tf, lo, L->vol->bmax[b]) > 0);
@@ -390,8 +385,9 @@ void vsv_sw_classify_brick(void *p, int j, int thread)
             }
             uint64_t *const o = out + micro(0, jj, k, sh);
             for (int i = 0; i < ex; i++)
-                o[(i >> 3 << 9) + (i & 7)] = (uint64_t)vsv_half((float)acc[4 * i]) | (uint64_t)vsv_half((float)acc[4 * i + 1]) << 16 |
-                             (uint64_t)vsv_half((float)acc[4 * i + 2]) << 32 | (uint64_t)vsv_half((float)acc[4 * i + 3]) << 48;
+                o[(i >> 3 << 9) + (i & 7)] =
+                    (uint64_t)vsv_half((float)acc[4 * i]) | (uint64_t)vsv_half((float)acc[4 * i + 1]) << 16 |
+                    (uint64_t)vsv_half((float)acc[4 * i + 2]) << 32 | (uint64_t)vsv_half((float)acc[4 * i + 3]) << 48;
         }
     block_flags(sw, bno, out, ex, ey, ez);
 }
@@ -439,7 +435,8 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
             /* the group's layer of blocks, block by block (a block with no
              * cell to see: zeros, already there when the slice was cleared) */
             const uint64_t *const cb = sw->cls + ((size_t)bno << (3 * sh)) + ((size_t)((k0 & m) >> 3) * ba[c]);
-            const unsigned char *const fb = sw->bnz + ((size_t)bno << (3 * nm)) + ((size_t)((k0 & m) >> 3) * (ba[c] >> 9));
+            const unsigned char *const fb =
+                sw->bnz + ((size_t)bno << (3 * nm)) + ((size_t)((k0 & m) >> 3) * (ba[c] >> 9));
             for (int mb = 0; mb < nbt; mb += 8)
                 for (int ma = 0; ma < nat; ma += 8) {
                     const size_t bo = (size_t)(mb >> 3) * ba[b] + (size_t)(ma >> 3) * ba[a];
@@ -475,10 +472,7 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
 
 /* Whether one of the four 16-bit lanes of w is 0 (the lanes are
  * extinctions: half floats >= 0, so no lane has its top bit set). */
-static inline int has_zero16(uint64_t w)
-{
-    return ((w - 0x0001000100010001ull) & ~w & 0x8000800080008000ull) != 0;
-}
+static inline int has_zero16(uint64_t w) { return ((w - 0x0001000100010001ull) & ~w & 0x8000800080008000ull) != 0; }
 
 /* The footprints of slice k's scanline pairs from its classified copy. */
 static void slice_footprints(vsv_sw *sw, int k, int thread)
@@ -486,7 +480,8 @@ static void slice_footprints(vsv_sw *sw, int k, int thread)
     const int c = sw->c, a = vsv_sw_axis_a(c), b = vsv_sw_axis_b(c), na = sw->n[a], nb = sw->n[b];
     const size_t P = VSV_SW_PLANE(na), scan = 4 * P, nbk = (size_t)sw->nbk;
     const unsigned char *zero = sw->clear + nbk * (sw->sc->nlayers + 1);
-    const int sh = sw->shift, B = 1 << sh, m = B - 1, nm = sh - 3, stride[3] = {1, sw->bdim[0], sw->bdim[0] * sw->bdim[1]};
+    const int sh = sw->shift, B = 1 << sh, m = B - 1, nm = sh - 3,
+              stride[3] = {1, sw->bdim[0], sw->bdim[0] * sw->bdim[1]};
     const size_t bs[3] = {512, (size_t)512 << nm, (size_t)512 << (2 * nm)}; /* a block's step along x, y, z */
     const uint16_t *slice = sw->vox[c] + (size_t)k * (nb + 2) * scan;
     vsv_sw_fp *fps = sw->fps[c] + (size_t)k * (nb + 1);

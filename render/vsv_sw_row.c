@@ -237,8 +237,8 @@ void VSV_SW_PAR_ROWS(const vsv_sw_par *p, int y0, int n, float *acc, int *link, 
     }
 }
 
-void VSV_SW_PAR_WARP(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0, int p1,
-                     float *out)
+void VSV_SW_PAR_WARP(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0,
+                     int p1, float *out)
 {
     const vf xmax = splat((float)w + 1), ymax = splat((float)h + 1), zero = splat(0);
     vf lane;

@@ -67,10 +67,7 @@ void vsv_font_free(vsv_font *f)
     free(f);
 }
 
-int vsv_font_line(const vsv_font *f)
-{
-    return f->line;
-}
+int vsv_font_line(const vsv_font *f) { return f->line; }
 
 /* The next code point of UTF-8 text (a malformed byte stands for itself). */
 static unsigned next_char(const char **s)

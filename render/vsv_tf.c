@@ -20,9 +20,13 @@ typedef struct cmap {
 /* Perceptually uniform maps sampled at ten points (viridis, magma, cividis),
  * and simple ramps for hydrometeors. */
 static const cmap maps[] = {
-    {"viridis", 10, {0x440154, 0x482878, 0x3e4989, 0x31688e, 0x26828e, 0x1f9e89, 0x35b779, 0x6ece58, 0xb5de2b, 0xfde725}},
+    {"viridis",
+     10,
+     {0x440154, 0x482878, 0x3e4989, 0x31688e, 0x26828e, 0x1f9e89, 0x35b779, 0x6ece58, 0xb5de2b, 0xfde725}},
     {"magma", 10, {0x000004, 0x180f3d, 0x440f76, 0x721f81, 0x9e2f7f, 0xcd4071, 0xf1605d, 0xfd9668, 0xfeca8d, 0xfcfdbf}},
-    {"cividis", 10, {0x00224e, 0x123570, 0x3b496c, 0x575d6d, 0x707173, 0x8a8779, 0xa69d75, 0xc4b56c, 0xe4cf5b, 0xfee838}},
+    {"cividis",
+     10,
+     {0x00224e, 0x123570, 0x3b496c, 0x575d6d, 0x707173, 0x8a8779, 0xa69d75, 0xc4b56c, 0xe4cf5b, 0xfee838}},
     {"clouds", 2, {0x8c8c99, 0xffffff}},
     {"rain", 3, {0x1a3399, 0x3366cc, 0x66b3ff}},
     {"ice", 2, {0x12a89a, 0x7ff5dc}},
@@ -324,8 +328,6 @@ float vsv_tf_max_opacity(const vsv_tf *tf, float lo, float hi)
         m = tf->lut[i][3] > m ? tf->lut[i][3] : m;
     return m;
 }
-
-
 
 float vsv_opacity_table[VSV_OPACITY_N + 1];
 

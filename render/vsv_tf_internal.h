@@ -26,7 +26,7 @@ static inline float vsv_opacity_series(float u)
 }
 static inline float vsv_opacity_per_u(float u)
 {
-    return u < VSV_OPACITY_SMALL ? vsv_opacity_series(u)
+    return u < VSV_OPACITY_SMALL  ? vsv_opacity_series(u)
            : u < VSV_OPACITY_UMAX ? vsv_opacity_table[(int)(u * (VSV_OPACITY_N / VSV_OPACITY_UMAX) + 0.5f)]
                                   : 1 / u;
 }

@@ -33,12 +33,12 @@ enum { VSV_CLOCK_STOP = 0, VSV_CLOCK_LOOP = 1, VSV_CLOCK_BOUNCE = 2 };
 typedef struct vsv_clock {
     const int64_t *times; /* step times, increasing (borrowed) */
     int nsteps;
-    double model;   /* model time now, seconds */
-    double rate;    /* model seconds per wall second at speed 1 */
-    double speed;   /* signed multiplier: 1, 2 ... 64 or -1 ... -64 (any non-zero) */
+    double model; /* model time now, seconds */
+    double rate;  /* model seconds per wall second at speed 1 */
+    double speed; /* signed multiplier: 1, 2 ... 64 or -1 ... -64 (any non-zero) */
     int playing;
-    int ends;       /* VSV_CLOCK_STOP, _LOOP or _BOUNCE */
-    int step;       /* the step shown */
+    int ends; /* VSV_CLOCK_STOP, _LOOP or _BOUNCE */
+    int step; /* the step shown */
 } vsv_clock;
 
 /* Paused at the first step, speed 1, ends STOP; rate 0 = the default. */

@@ -14,7 +14,6 @@
 #include <sys/mman.h>
 #include <unistd.h>
 
-
 void vsv_pager_opts_init(vsv_pager_opts *o) { memset(o, 0, sizeof *o); }
 
 static void job_free(job *j)
@@ -255,8 +254,7 @@ vsv_volume *vsv_pager_volume_new(vsv_pager *p)
     sh->v.bkey = calloc((size_t)nb, sizeof *sh->v.bkey);
     sh->held = malloc((size_t)nb * sizeof *sh->held);
     sh->def = malloc((size_t)nb * sizeof *sh->def);
-    if (!sh->v.bricks || !sh->v.bmin || !sh->v.bmax || !sh->v.bkey || !sh->held || !sh->def ||
-        job_alloc(p, &sh->job)) {
+    if (!sh->v.bricks || !sh->v.bmin || !sh->v.bmax || !sh->v.bkey || !sh->held || !sh->def || job_alloc(p, &sh->job)) {
         shell_release(&sh->v);
         return NULL;
     }

@@ -65,9 +65,9 @@ typedef struct vsv_pager vsv_pager;
 #define VSV_PAGER_AHEAD 16 /* steps decoded ahead by default */
 
 typedef struct vsv_pager_opts {
-    size_t budget; /* bytes of decoded bricks; 0 = a quarter of physical memory */
-    int threads;   /* decode-ahead workers; 0 = one per CPU beyond the first (at least 1); < 0 none */
-    int ahead;     /* most steps decoded ahead of the playhead; 0 = VSV_PAGER_AHEAD */
+    size_t budget;     /* bytes of decoded bricks; 0 = a quarter of physical memory */
+    int threads;       /* decode-ahead workers; 0 = one per CPU beyond the first (at least 1); < 0 none */
+    int ahead;         /* most steps decoded ahead of the playhead; 0 = VSV_PAGER_AHEAD */
     int from_keyframe; /* 1: keep no decoder state, decode every brick from its
                           last absolute state (the earlier path; benchmarks
                           compare against it) */
@@ -88,20 +88,20 @@ typedef struct vsv_pager_opts {
 void vsv_pager_opts_init(vsv_pager_opts *o);
 
 typedef struct vsv_pager_stats {
-    uint64_t hits, misses;    /* brick lookups by vsv_pager_get: found decoded / not */
-    uint64_t bricks_decoded;  /* by workers and by callers */
-    uint64_t bytes_decoded;   /* decoded float bytes produced */
+    uint64_t hits, misses;     /* brick lookups by vsv_pager_get: found decoded / not */
+    uint64_t bricks_decoded;   /* by workers and by callers */
+    uint64_t bytes_decoded;    /* decoded float bytes produced */
     uint64_t payloads_decoded; /* brick payloads (absolute or delta) decompressed and applied */
-    double decode_seconds;    /* summed over threads */
-    uint64_t stalls;          /* gets that could not be served without waiting */
-    uint64_t evictions;       /* bricks dropped to stay within the budget */
-    int prefetch_depth;       /* steps ahead the workers aim for now */
-    size_t budget;            /* the budget in force */
-    size_t bytes;             /* decoded bytes held now (cached + pinned + decoding) */
-    size_t pinned_bytes;      /* of which pinned or being decoded */
-    size_t peak_bytes;        /* most bytes held at once */
-    size_t track_bytes;       /* of bytes: decoder state (codes per species and brick, and checkpoints) */
-    size_t fixed_bytes;       /* of bytes: the pager's fixed tables */
+    double decode_seconds;     /* summed over threads */
+    uint64_t stalls;           /* gets that could not be served without waiting */
+    uint64_t evictions;        /* bricks dropped to stay within the budget */
+    int prefetch_depth;        /* steps ahead the workers aim for now */
+    size_t budget;             /* the budget in force */
+    size_t bytes;              /* decoded bytes held now (cached + pinned + decoding) */
+    size_t pinned_bytes;       /* of which pinned or being decoded */
+    size_t peak_bytes;         /* most bytes held at once */
+    size_t track_bytes;        /* of bytes: decoder state (codes per species and brick, and checkpoints) */
+    size_t fixed_bytes;        /* of bytes: the pager's fixed tables */
 } vsv_pager_stats;
 
 /* Starts the pager over f (which must outlive it). */

@@ -44,7 +44,7 @@ typedef struct entry {
     int listed;     /* on an LRU list: [L_CK] for a checkpoint, else [L_IN] when mark is the pager's, else [L_OUT] */
     int mark;       /* == the pager's window mark: needed ahead of the playhead */
     void *data;     /* the brick's floats, or a checkpoint's codes */
-    int next; /* hash chain, or free list */
+    int next;       /* hash chain, or free list */
     int lo, halves; /* a checkpoint: the state in its second half (-1 none); halves not yet used (bits 1, 2) */
 } entry;
 
@@ -79,20 +79,20 @@ typedef struct defrow {
  * outputs' defining steps (ascending), each into a claimed LOADING entry. */
 typedef struct job {
     int s, b, n;
-    int *step, *ent; /* n outputs (capacity p->job_cap): defining steps, entries */
-    float **out;     /* the entries' buffers */
-    int track;       /* the busy track used, or -1 (scratch codes) */
-    uint16_t *codes; /* the track's codes, or NULL */
-    int from;        /* first step to apply; rev: the step the track's codes hold */
-    int rev;         /* 1: undo deltas from `from` down (outputs served highest first) */
-    int copy;        /* a READY checkpoint (pinned) whose codes start the job, or -1 */
-    int copy_half;   /* which half of it */
+    int *step, *ent;            /* n outputs (capacity p->job_cap): defining steps, entries */
+    float **out;                /* the entries' buffers */
+    int track;                  /* the busy track used, or -1 (scratch codes) */
+    uint16_t *codes;            /* the track's codes, or NULL */
+    int from;                   /* first step to apply; rev: the step the track's codes hold */
+    int rev;                    /* 1: undo deltas from `from` down (outputs served highest first) */
+    int copy;                   /* a READY checkpoint (pinned) whose codes start the job, or -1 */
+    int copy_half;              /* which half of it */
     const uint16_t *copy_codes; /* that half (read outside the lock: p->ent may move) */
-    int nck;         /* states the walk saves in checkpoints (ascending steps; LOADING) */
-    int *ck_step, *ck_ent; /* each state's step and checkpoint entry (two states an entry) */
-    uint16_t **ck_buf; /* where each state goes */
-    int fresh;       /* 1: from is an absolute (or empty) state: start clean */
-    int payloads;    /* payloads the job decodes */
+    int nck;                    /* states the walk saves in checkpoints (ascending steps; LOADING) */
+    int *ck_step, *ck_ent;      /* each state's step and checkpoint entry (two states an entry) */
+    uint16_t **ck_buf;          /* where each state goes */
+    int fresh;                  /* 1: from is an absolute (or empty) state: start clean */
+    int payloads;               /* payloads the job decodes */
 } job;
 
 struct shell;
@@ -123,11 +123,11 @@ struct vsv_pager {
     unsigned char *want;
     size_t step_bytes; /* the largest step seen (all wanted species) */
     int depth;
-    int mark, marked_gen; /* entries of the prefetch window carry mark */
+    int mark, marked_gen;       /* entries of the prefetch window carry mark */
     int scan_d, scan_s, scan_b; /* where the last prefetch scan stopped (this mark) */
     int focus, focus_dir;       /* the step being decoded ahead: finished before moving on */
-    int quit, idle, kick; /* workers waiting; bumped when a track is released */
-    struct shell *shells; /* volumes handed out and not freed yet */
+    int quit, idle, kick;       /* workers waiting; bumped when a track is released */
+    struct shell *shells;       /* volumes handed out and not freed yet */
     vsv_pager_stats st;
     char err[512];
     /* the workers: each owns dec[i], scratch[i] and jobs[i] */
@@ -156,11 +156,11 @@ struct vsv_pager {
 };
 
 typedef struct shell {
-    vsv_volume v; /* first: callers see a vsv_volume */
-    vsv_pager *p; /* NULL once the pager is freed (the shell outlives it) */
-    int *held;    /* entry index per brick, -1 none */
-    int *def;     /* the defining steps being filled (a copy of the row) */
-    job job;      /* the caller's demand decodes */
+    vsv_volume v;              /* first: callers see a vsv_volume */
+    vsv_pager *p;              /* NULL once the pager is freed (the shell outlives it) */
+    int *held;                 /* entry index per brick, -1 none */
+    int *def;                  /* the defining steps being filled (a copy of the row) */
+    job job;                   /* the caller's demand decodes */
     struct shell *prev, *next; /* the pager's live shells (under p->mu) */
 } shell;
 

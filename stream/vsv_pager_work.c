@@ -196,9 +196,12 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
             int u = step + 1, k = VSV_BRICK_UNCHANGED;
             while (u < p->info.nsteps && (k = vsv_file_brick_kind(p->f, u, s, b)) == VSV_BRICK_UNCHANGED)
                 u++;
-            c = u < p->info.nsteps && (k == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3) ? vsv_cache_lookup(p, s + ns, b, u) : -1;
+            c = u < p->info.nsteps && (k == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3)
+                    ? vsv_cache_lookup(p, s + ns, b, u)
+                    : -1;
             half = 1;
-            if (c >= 0 && (p->ent[c].state != READY || p->ent[c].pins || p->ent[c].lo != step || !(p->ent[c].halves & 2)))
+            if (c >= 0 &&
+                (p->ent[c].state != READY || p->ent[c].pins || p->ent[c].lo != step || !(p->ent[c].halves & 2)))
                 c = -1;
         }
         if (c >= 0) {
@@ -306,8 +309,18 @@ int vsv_pager_job_prewalk(vsv_pager *p, job *j)
                     break;
             if (a < 0 || k < 0 || k == VSV_BRICK_EMPTY)
                 continue; /* damage, reported by the get that needs it; or nothing to walk */
-            *j = (job){.s = s, .b = b, .n = 0, .step = j->step, .ent = j->ent, .out = j->out, .track = -1,
-                       .from = a, .fresh = 1, .copy = -1, .ck_step = j->ck_step, .ck_ent = j->ck_ent,
+            *j = (job){.s = s,
+                       .b = b,
+                       .n = 0,
+                       .step = j->step,
+                       .ent = j->ent,
+                       .out = j->out,
+                       .track = -1,
+                       .from = a,
+                       .fresh = 1,
+                       .copy = -1,
+                       .ck_step = j->ck_step,
+                       .ck_ent = j->ck_ent,
                        .ck_buf = j->ck_buf};
             keep_states(p, j, v);
             if (!j->nck)

@@ -7,10 +7,7 @@
 
 /* The step d frames ahead of the playhead (0: the one on screen), or -1
  * past the list of steps ahead. */
-int vsv_sched_ahead(const vsv_pager *p, int d)
-{
-    return d == 0 ? p->head : d <= p->nnext ? p->next[d - 1] : -1;
-}
+int vsv_sched_ahead(const vsv_pager *p, int d) { return d == 0 ? p->head : d <= p->nnext ? p->next[d - 1] : -1; }
 
 /* Marks every cached brick the prefetch window needs (under the lock, once
  * per playhead change) and sizes the window: as many steps as fit beside the
@@ -35,9 +32,8 @@ void vsv_sched_mark_window(vsv_pager *p)
     /* playing backward, checkpoints of a keyframe group's states (codes:
      * half a step's floats each) save a payload a brick each, where a step
      * of the window only decodes earlier: they come first */
-    const size_t ck = p->incremental && p->dir < 0 && p->info.keyframe > 2
-                          ? (size_t)(p->info.keyframe - 2) * (p->step_bytes / 2)
-                          : 0;
+    const size_t ck =
+        p->incremental && p->dir < 0 && p->info.keyframe > 2 ? (size_t)(p->info.keyframe - 2) * (p->step_bytes / 2) : 0;
     const size_t unit_bytes = p->step_bytes ? p->step_bytes : p->brick_bytes;
     const size_t room = p->budget > ck ? p->budget - ck : 0;
     long fit = (long)(room / unit_bytes) - 2;

@@ -184,6 +184,17 @@ inc=$(make -s --no-print-directory -pn B="$B" help 2>/dev/null |
 long=$(git ls-files 2>/dev/null | grep -E '\.(c|cc|h|py|sh)$' |
     xargs wc -l 2>/dev/null | awk '$2 != "total" && $1 > 750 { print $2 " " $1 }')
 [ -z "$long" ] && pass "no source file over ~700 lines" || fail "no source file over ~700 lines" "$long"
+# every C and C++ source is formatted as .clang-format says (STYLE.md;
+# clang-format-14, installed by `make test`'s dependency step)
+if command -v clang-format-14 > /dev/null 2>&1; then
+    git ls-files '*.c' '*.h' '*.cc' 2> /dev/null | xargs clang-format-14 --dry-run -Werror > "$T/fmt" 2>&1
+    nf=$(grep -c 'error:' "$T/fmt")
+    [ "$nf" = 0 ] && pass "clang-format-14 --dry-run -Werror: every source as .clang-format says" ||
+        fail "clang-format-14 --dry-run -Werror: every source as .clang-format says" \
+            "$nf places, first: $(grep -m 3 'error:' "$T/fmt" | cut -c 1-160 | tr '\n' ' ')"
+else
+    fail "clang-format-14 --dry-run -Werror" "no clang-format-14 (sh tools/deps.sh --install-test)"
+fi
 # no build output committed
 art=$(git ls-files 2>/dev/null | grep -E '\.(o|a|so|d)$|^build|/build/|\.so\.' | head -n 5)
 [ -z "$art" ] && pass "no build output in git ls-files" || fail "no build output in git ls-files" "$art"

@@ -123,7 +123,8 @@ static int view_of(const uint8_t *d, size_t n, view *v)
     v->nspecies = (uint32_t)rd(d + 68, 4);
     const uint32_t nx = (uint32_t)rd(d + 72, 4), ny = (uint32_t)rd(d + 76, 4), nz = (uint32_t)rd(d + 80, 4);
     const uint32_t b = (uint32_t)rd(d + 84, 4);
-    v->have_lay = nx && ny && nz && nx <= 65536 && ny <= 65536 && nz <= 65536 && (b == 8 || b == 16 || b == 32 || b == 64) &&
+    v->have_lay = nx && ny && nz && nx <= 65536 && ny <= 65536 && nz <= 65536 &&
+                  (b == 8 || b == 16 || b == 32 || b == 64) &&
                   (uint64_t)((nx + b - 1) / b) * ((ny + b - 1) / b) * ((nz + b - 1) / b) < ((uint64_t)1 << 24) &&
                   vsv_layout_init(&v->lay, (int)nx, (int)ny, (int)nz, (int)b) == 0;
     return 0;
@@ -173,9 +174,32 @@ static void fix_crcs(uint8_t *d, size_t n)
 /* A new value for a field of w bytes that held old. */
 static uint64_t new_value(uint64_t *s, uint64_t old, int w, size_t n)
 {
-    static const uint64_t special[] = {0, 1, 2, 3, 7, 8, 24, 31, 32, 63, 64, 65, 127, 128, 255, 256, 4095, 4096, 65535,
-                                       65536, 0x7fffffff, 0x80000000, 0xffffffff, 0x7fffffffffffffff,
-                                       0x8000000000000000, UINT64_MAX};
+    static const uint64_t special[] = {0,
+                                       1,
+                                       2,
+                                       3,
+                                       7,
+                                       8,
+                                       24,
+                                       31,
+                                       32,
+                                       63,
+                                       64,
+                                       65,
+                                       127,
+                                       128,
+                                       255,
+                                       256,
+                                       4095,
+                                       4096,
+                                       65535,
+                                       65536,
+                                       0x7fffffff,
+                                       0x80000000,
+                                       0xffffffff,
+                                       0x7fffffffffffffff,
+                                       0x8000000000000000,
+                                       UINT64_MAX};
     switch (rnd(s) % 6) {
     case 0: return special[rnd(s) % (sizeof special / sizeof *special)];
     case 1: return old + 1 + rnd(s) % 8;
@@ -226,9 +250,7 @@ static int pick_field(const uint8_t *d, size_t n, uint64_t *s, uint64_t *at)
             return 0;
         *at = v.toc_off + 24 * (rnd(s) % v.nsteps) + 8 * (rnd(s) % 3);
         return 8;
-    case 4: /* the end marker */
-        *at = n - 32 + 8 * (1 + rnd(s) % 2);
-        return 8;
+    case 4: /* the end marker */ *at = n - 32 + 8 * (1 + rnd(s) % 2); return 8;
     default: { /* a chunk: its header, an octree node, a brick entry or a payload byte */
         if (!v.nsteps || !inside(v.toc_off, (uint64_t)v.nsteps * 24, n))
             return 0;

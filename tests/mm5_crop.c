@@ -48,7 +48,8 @@ int main(int argc, char **argv)
     memcpy(big, vsv_mm5_bighdr_bytes(m), VSV_MM5_BIGHDR);
     put_be32(big + 4 * ((1 - 1) * 50 + (16 - 1)), (uint32_t)ni);
     put_be32(big + 4 * ((1 - 1) * 50 + (17 - 1)), (uint32_t)nj);
-    float f10 = vsv_mm5_bhr(m, 10, 1) + (float)(i0 - 1) / (float)r, f11 = vsv_mm5_bhr(m, 11, 1) + (float)(j0 - 1) / (float)r;
+    float f10 = vsv_mm5_bhr(m, 10, 1) + (float)(i0 - 1) / (float)r,
+          f11 = vsv_mm5_bhr(m, 11, 1) + (float)(j0 - 1) / (float)r;
     uint32_t u;
     memcpy(&u, &f10, 4);
     put_be32(big + 4000 + 4 * (10 - 1), u);
@@ -70,8 +71,8 @@ int main(int argc, char **argv)
             continue;
         vsv_mm5_field g = *f;
         vsv_mm5_read(m, f, in);
-        const int grid = !strcmp(f->order, "YX") || !strcmp(f->order, "YXS") || !strcmp(f->order, "YXW") ||
-                         !strcmp(f->order, "YXP");
+        const int grid =
+            !strcmp(f->order, "YX") || !strcmp(f->order, "YXS") || !strcmp(f->order, "YXW") || !strcmp(f->order, "YXP");
         if (grid) {
             const int nk = f->end[2] - f->start[2] + 1;
             g.end[0] = ni;
@@ -79,7 +80,8 @@ int main(int argc, char **argv)
             for (int k = 0; k < nk; k++)
                 for (int jj = 0; jj < nj; jj++)
                     for (int ii = 0; ii < ni; ii++)
-                        out[((size_t)k * nj + jj) * ni + ii] = in[((size_t)k * JX + (j0 - 1 + jj)) * IX + (i0 - 1 + ii)];
+                        out[((size_t)k * nj + jj) * ni + ii] =
+                            in[((size_t)k * JX + (j0 - 1 + jj)) * IX + (i0 - 1 + ii)];
             vsv_mm5_write_field(&w, &g, out);
         } else {
             vsv_mm5_write_field(&w, &g, in);

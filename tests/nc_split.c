@@ -8,13 +8,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define TRY(call)                                                                                                    \
-    do {                                                                                                             \
-        int rc_ = (call);                                                                                            \
-        if (rc_) {                                                                                                   \
-            fprintf(stderr, "ncsplit: %s: %s\n", #call, nc_strerror(rc_));                                           \
-            exit(1);                                                                                                 \
-        }                                                                                                            \
+#define TRY(call)                                                                                                      \
+    do {                                                                                                               \
+        int rc_ = (call);                                                                                              \
+        if (rc_) {                                                                                                     \
+            fprintf(stderr, "ncsplit: %s: %s\n", #call, nc_strerror(rc_));                                             \
+            exit(1);                                                                                                   \
+        }                                                                                                              \
     } while (0)
 
 static void copy_atts(int in, int vin, int out, int vout, int natts)

@@ -120,8 +120,8 @@ static void test_uniform_wind(void)
     frames adv = {0, 1, {0}, {{0}}}, lin = {0, 1, {0}, {{0}}};
     const int rc = run(VSV_TIME_ADVECT, &m, (const float *const *)a, (const float *const *)b, &adv);
     run(VSV_TIME_LINEAR, &m, (const float *const *)a, (const float *const *)b, &lin);
-    if (CHECK(rc == 0 && adv.n == 5 && lin.n == 5, "advect: five frames from two an hour apart at 15 min", "rc %d, %d frames",
-              rc, adv.n)) {
+    if (CHECK(rc == 0 && adv.n == 5 && lin.n == 5, "advect: five frames from two an hour apart at 15 min",
+              "rc %d, %d frames", rc, adv.n)) {
         /* half way: the cloud at (16, 6), whole */
         cloud(truth, 16, 6);
         double e_adv = 0, e_lin = 0;
@@ -131,12 +131,12 @@ static void test_uniform_wind(void)
             e_adv = fmax(e_adv, fabs(adv.f[2][0][i] - truth[i]));
             e_lin = fmax(e_lin, fabs(lin.f[2][0][i] - truth[i]));
         }
-        CHECK(e_adv < 1e-4, "advect: a cloud in a uniform 3-D wind is rebuilt exactly half way", "max error %.3g", e_adv);
-        CHECK(maxval(lin.f[2][0]) < 0.51f && e_lin > 0.9,
-              "linear: the same cloud is two half-bright ghosts half way", "peak %.3f, max error %.3g",
-              maxval(lin.f[2][0]), e_lin);
-        CHECK(maxval(adv.f[2][0]) > 0.999f && maxval(adv.f[2][0]) <= 1.0f, "advect: the cloud keeps its peak",
-              "%.4f", maxval(adv.f[2][0]));
+        CHECK(e_adv < 1e-4, "advect: a cloud in a uniform 3-D wind is rebuilt exactly half way", "max error %.3g",
+              e_adv);
+        CHECK(maxval(lin.f[2][0]) < 0.51f && e_lin > 0.9, "linear: the same cloud is two half-bright ghosts half way",
+              "peak %.3f, max error %.3g", maxval(lin.f[2][0]), e_lin);
+        CHECK(maxval(adv.f[2][0]) > 0.999f && maxval(adv.f[2][0]) <= 1.0f, "advect: the cloud keeps its peak", "%.4f",
+              maxval(adv.f[2][0]));
         /* a quarter of the way: 3 cells east, 1 up; off-grid samples smooth it a little */
         cloud(truth, 13, 5);
         double e1 = 0;
@@ -261,7 +261,8 @@ static void test_calm(void)
     run(VSV_TIME_LINEAR, &m, (const float *const *)a, (const float *const *)b, &lin);
     int same = adv.n == 5 && lin.n == 5;
     for (int f = 0; same && f < 5; f++)
-        same = adv.t[f] == lin.t[f] && !memcmp(adv.f[f][0], lin.f[f][0], NC * 4) && !memcmp(adv.f[f][1], lin.f[f][1], NC * 4);
+        same = adv.t[f] == lin.t[f] && !memcmp(adv.f[f][0], lin.f[f][0], NC * 4) &&
+               !memcmp(adv.f[f][1], lin.f[f][1], NC * 4);
     CHECK(same, "advect in a calm equals linear interpolation bit for bit (NaN cells too)");
     frames wind = {0, 2, {0}, {{0}}};
     run(VSV_TIME_WIND, &m, (const float *const *)a, (const float *const *)b, &wind);
@@ -296,15 +297,16 @@ static void test_meta_and_errors(void)
     CHECK(!rc && out.nvars == 2 && !strcmp(out.vars[1].name, "SNOW") && !vsv_meta_attr(&out, VSV_WINDS_ATTR) &&
               vsv_meta_attr(&out, "model run") && vsv_meta_attr(&out, "time interpolation") &&
               strstr(vsv_meta_attr(&out, "time interpolation"), "U V of test (horizontal only)"),
-          "emitted metadata: species only, the winds' origin recorded as the interpolation",
-          "%d vars, %s", out.nvars, vsv_meta_attr(&out, "time interpolation") ? vsv_meta_attr(&out, "time interpolation") : "-");
+          "emitted metadata: species only, the winds' origin recorded as the interpolation", "%d vars, %s", out.nvars,
+          vsv_meta_attr(&out, "time interpolation") ? vsv_meta_attr(&out, "time interpolation") : "-");
     vsv_interp_free(ip);
     vsv_meta_clear(&out);
     vsv_meta_clear(&m);
     static const char *const nowind[] = {"CLW", VSV_WIND_V};
     grid(&m, nowind, 2);
     rc = vsv_interp_open(600, &m, &o, keep, &fr, &ip);
-    CHECK(rc == VSV_ENOTFOUND && strstr(vsv_interp_error(ip), "no wind.u") && !strstr(vsv_interp_error(ip), "no wind.v"),
+    CHECK(rc == VSV_ENOTFOUND && strstr(vsv_interp_error(ip), "no wind.u") &&
+              !strstr(vsv_interp_error(ip), "no wind.v"),
           "advect without wind.u is an error naming it", "%d: %s", rc, vsv_interp_error(ip));
     vsv_interp_free(ip);
     o.method = VSV_TIME_LINEAR;
@@ -346,7 +348,8 @@ static void test_map_scale(void)
             if (inside(i))
                 e = fmax(e, fabs(adv.f[2][0][i] - truth[i]));
     }
-    CHECK(e < 0.03, "advect on a latitude/longitude grid: the wind in m/s is scaled to degrees at 60N", "max error %.3g", e);
+    CHECK(e < 0.03, "advect on a latitude/longitude grid: the wind in m/s is scaled to degrees at 60N",
+          "max error %.3g", e);
     /* where the air came from outside the grid, that end is the cell's own
      * value: at x = 2 the earlier frame's, blended with the later frame's
      * from 6 cells downwind */
@@ -430,7 +433,8 @@ static void test_zero_shortcut(void)
     const float got = fr.n == 5 ? fr.f[2][0][c31] : NAN;
     CHECK(e <= 2e-30 && fabsf(got - want) < 1e-6f,
           "advect: ... and so do samples carried past the grid's edge (a fitted scale above 1), "
-          "which take the edge's values", "max difference %.3g; %g, not %g", e, got, want);
+          "which take the edge's values",
+          "max difference %.3g; %g, not %g", e, got, want);
     frames_free(&fr);
     for (int v = 0; v < 5; v++)
         free(a[v]), free(b[v]);
@@ -473,8 +477,10 @@ static void test_coarse_shear(void)
             if (x > u * f / 4 && x < NX - 1 - u * (4 - f) / 4)
                 e = fmax(e, fabs(fr.f[f][0][i] - exp(-r / 8)));
         }
-    CHECK(e < 1e-4, "advect: a wind sheared with height moves each level's part of a cloud its own way, "
-          "traced cells and cells between alike", "max error %.3g", e);
+    CHECK(e < 1e-4,
+          "advect: a wind sheared with height moves each level's part of a cloud its own way, "
+          "traced cells and cells between alike",
+          "max error %.3g", e);
     frames_free(&fr);
     for (int v = 0; v < 4; v++)
         free(a[v]), free(b[v]);
@@ -507,8 +513,10 @@ static void test_wind_in_time(void)
     for (int i = 0; fr.n == 5 && i < NC; i++)
         if (inside(i))
             e = fmax(e, fabs(fr.f[2][0][i] - truth[i]));
-    CHECK(e < 1e-4, "advect: in a wind rising from calm to 16 cells an hour the cloud is 2 cells on half way "
-          "(x0 + 8 s^2)", "max error %.3g", e);
+    CHECK(e < 1e-4,
+          "advect: in a wind rising from calm to 16 cells an hour the cloud is 2 cells on half way "
+          "(x0 + 8 s^2)",
+          "max error %.3g", e);
     frames_free(&fr);
     for (int v = 0; v < 3; v++)
         free(a[v]), free(b[v]);

@@ -116,8 +116,9 @@ static void test_colour_bar(void)
                 worst = fmax(worst, fabs(q[3] - 1));
             }
         }
-        CHECK(worst < 1e-6, l == 0 ? "linear colour bar = transfer function at 2.5, 5, 7.5"
-                                   : "log colour bar = transfer function at 5.6e-6, 3.2e-5, 1.8e-4",
+        CHECK(worst < 1e-6,
+              l == 0 ? "linear colour bar = transfer function at 2.5, 5, 7.5"
+                     : "log colour bar = transfer function at 5.6e-6, 3.2e-5, 1.8e-4",
               "worst channel error %g", worst);
         /* the ends differ: the bar spans the colour map */
         const float *lo = img + 4 * ((size_t)box[2] * 640 + box[0]), *hi = img + 4 * ((size_t)box[2] * 640 + box[1]);
@@ -247,8 +248,8 @@ static void test_outlines_latlon(void)
     m.proj.kind = VSV_PROJ_LATLON;
     vsv_outlines *o = NULL;
     char msg[512];
-    if (!CHECK(vsv_outlines_load(&m, NULL, 'c', &o, msg, sizeof msg) == 0, "outlines load on a global lat/lon grid", "%s",
-               msg))
+    if (!CHECK(vsv_outlines_load(&m, NULL, 'c', &o, msg, sizeof msg) == 0, "outlines load on a global lat/lon grid",
+               "%s", msg))
         return;
     double ux, uy, longest = 0, xmin = INFINITY, xmax = -INFINITY;
     vsv_scene_units(&m, &ux, &uy);
@@ -276,8 +277,8 @@ static void test_outlines_latlon(void)
     m.spacing[0] = m.spacing[1] = m.spacing[2] = 1;
     m.proj.kind = VSV_PROJ_LATLON;
     const int rc = vsv_outlines_load(&m, "/nonexistent", 'l', &o, msg, sizeof msg);
-    CHECK(rc == VSV_ENOTFOUND && !o && strstr(msg, "gmt-gshhg-low"), "missing GSHHG files: VSV_ENOTFOUND naming the package",
-          "%d %s", rc, msg);
+    CHECK(rc == VSV_ENOTFOUND && !o && strstr(msg, "gmt-gshhg-low"),
+          "missing GSHHG files: VSV_ENOTFOUND naming the package", "%d %s", rc, msg);
     vsv_meta_clear(&m);
 }
 
@@ -310,8 +311,9 @@ static void test_coast_vs_landuse(void)
         return;
     }
     const int nx = m->nx, ny = m->ny;
-#define WET(i, j) ((int)m->landuse[(size_t)(j) * nx + (i)] >= 0 && (int)m->landuse[(size_t)(j) * nx + (i)] < 64 && \
-                   (water >> (int)m->landuse[(size_t)(j) * nx + (i)] & 1))
+#define WET(i, j)                                                                                                      \
+    ((int)m->landuse[(size_t)(j)*nx + (i)] >= 0 && (int)m->landuse[(size_t)(j)*nx + (i)] < 64 &&                       \
+     (water >> (int)m->landuse[(size_t)(j)*nx + (i)] & 1))
     /* the coast's points near a land-use shore edge, as drawn and shifted
      * by half a cell each way: drawn where the model has its coast, the
      * unshifted lines agree best */
@@ -347,8 +349,10 @@ static void test_coast_vs_landuse(void)
         else
             best_shifted = fmax(best_shifted, share);
     }
-    printf("(MM5 run, GSHHG low: %.1f %% of %ld coast points within a cell of a land-use shore edge; shifted half a cell, "
-           "at most %.1f %%)\n", 100 * share0, all0, 100 * best_shifted);
+    printf(
+        "(MM5 run, GSHHG low: %.1f %% of %ld coast points within a cell of a land-use shore edge; shifted half a cell, "
+        "at most %.1f %%)\n",
+        100 * share0, all0, 100 * best_shifted);
     CHECK(share0 >= 0.75 && all0 > 1000, "most of the coast drawn lies within a cell of the land-use coastline",
           "%.1f %% of %ld points (the rest: islands and inlets finer than 32 km)", 100 * share0, all0);
     CHECK(share0 > best_shifted, "the coast is registered: half a cell off any way agrees less", "%.1f %% vs %.1f %%",
@@ -373,7 +377,8 @@ static void test_coast_vs_landuse(void)
             int kind, n;
             const double *xy = vsv_outlines_line(o, li, &kind, &n);
             for (int k = 0; (kind == VSV_OUTLINE_COAST || kind == VSV_OUTLINE_LAKE) && k < n; k++) {
-                const double u = (xy[2 * k] - m->origin[0]) / m->spacing[0], v = (xy[2 * k + 1] - m->origin[1]) / m->spacing[1];
+                const double u = (xy[2 * k] - m->origin[0]) / m->spacing[0],
+                             v = (xy[2 * k + 1] - m->origin[1]) / m->spacing[1];
                 const int i = (int)lround(u), j = (int)lround(v);
                 if (i < 0 || j < 0 || i >= nx || j >= ny)
                     continue;
@@ -399,8 +404,8 @@ static void test_coast_vs_landuse(void)
                     near += hit;
                 }
         const double share = edges ? (double)near / edges : 0;
-        printf("(MM5 run: %ld of %ld land-use shore edges within a cell of a GSHHG shore point, %.1f %%)\n", near, edges,
-               100 * share);
+        printf("(MM5 run: %ld of %ld land-use shore edges within a cell of a GSHHG shore point, %.1f %%)\n", near,
+               edges, 100 * share);
         CHECK(share >= 0.9 && edges > 500, "the land-use coastline lies within a cell of the drawn shore",
               "%.1f %% of %ld water/land edges", 100 * share, edges);
     }
@@ -421,8 +426,8 @@ static void test_time_line(void)
     /* CAMx v6+: the file's hours are 5 behind UTC */
     vsv_meta_add_attr(&m, "time zone", "5 (the file's hours are UTC-5; times here are UTC)");
     vsv_annot_time_line(&m, t, buf, sizeof buf);
-    CHECK(!strcmp(buf, "2002-06-03T17:00:00Z   local 2002-06-03T12:00 UTC-5"), "the time line: the file's time zone too",
-          "'%s'", buf);
+    CHECK(!strcmp(buf, "2002-06-03T17:00:00Z   local 2002-06-03T12:00 UTC-5"),
+          "the time line: the file's time zone too", "'%s'", buf);
     vsv_meta_clear(&m);
     vsv_meta_init(&m);
     vsv_meta_add_attr(&m, "time zone", "none in a v5 header: hours taken as UTC");
@@ -481,7 +486,8 @@ static void test_bar_units(void)
             const char *want = withunits ? "CLW (kg/kg)" : "CLW";
             const int tw = vsv_text_width(font, want);
             CHECK(right <= box[1] + 1 && right >= box[1] - 3 && abs((right - left + 1) - tw) <= 3,
-                  withunits ? "the bar's label is its species and units: CLW (kg/kg)" : "without units, the label is the name alone",
+                  withunits ? "the bar's label is its species and units: CLW (kg/kg)"
+                            : "without units, the label is the name alone",
                   "label pixels %d..%d, bar to %d, want %d wide", left, right, box[1], tw);
         } else {
             CHECK(0, "bar units: annotated", "");
@@ -508,10 +514,7 @@ static void collect(void *ctx, unsigned part, const int box[4])
     }
 }
 
-static int meet(const int a[4], const int b[4])
-{
-    return a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3];
-}
+static int meet(const int a[4], const int b[4]) { return a[0] <= b[2] && b[0] <= a[2] && a[1] <= b[3] && b[1] <= a[3]; }
 
 /* The layout, checked by the boxes (issue 32): in a plan view framed by
  * vsv_annotate_insets no box of the legend (time block, colour bars, scale)
@@ -580,10 +583,14 @@ static void test_layout(void)
             CHECK(exag == 0, "plan view: no exaggeration stated");
         }
         CHECK((kinds & (VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR | VSV_ANNOT_SCALEBAR)) ==
-                  (VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR | VSV_ANNOT_SCALEBAR) && labels >= 4,
-              view ? "oblique: time, bars, scale and graticule labels drawn" : "plan: time, bars, scale and graticule labels drawn",
+                      (VSV_ANNOT_TIME | VSV_ANNOT_COLOURBAR | VSV_ANNOT_SCALEBAR) &&
+                  labels >= 4,
+              view ? "oblique: time, bars, scale and graticule labels drawn"
+                   : "plan: time, bars, scale and graticule labels drawn",
               "%d boxes, %d labels, parts %#x", b.n, labels, kinds);
-        CHECK(overlaps == 0, view ? "oblique: no two boxes overlap (labels among them)" : "plan: no two boxes overlap (labels among them)",
+        CHECK(overlaps == 0,
+              view ? "oblique: no two boxes overlap (labels among them)"
+                   : "plan: no two boxes overlap (labels among them)",
               "%d pairs", overlaps);
     }
     free(img);
@@ -625,11 +632,13 @@ static void test_distinct_maps(void)
           tf[2].colormap);
     FILE *fp = fopen(tfp, "w");
     if (fp) {
-        fputs("species AAA\ncolormap rain\nrange 0 63\nopacity 0 1\nspecies BBB\ncolormap rain\nrange 0 63\nopacity 0 1\n",
+        fputs("species AAA\ncolormap rain\nrange 0 63\nopacity 0 1\nspecies BBB\ncolormap rain\nrange 0 63\nopacity 0 "
+              "1\n",
               fp);
         fclose(fp);
     }
-    rc = vsv_tf_for_species(f, 0, tfp, &tf[0], msg, sizeof msg) | vsv_tf_for_species(f, 1, tfp, &tf[1], msg, sizeof msg);
+    rc =
+        vsv_tf_for_species(f, 0, tfp, &tf[0], msg, sizeof msg) | vsv_tf_for_species(f, 1, tfp, &tf[1], msg, sizeof msg);
     CHECK(rc == 0 && !strcmp(tf[0].colormap, "rain") && !strcmp(tf[1].colormap, "rain"),
           "a colour map the --tf file chose stands, shared or not", "%s %s (%s)", tf[0].colormap, tf[1].colormap, msg);
     vsv_file_free(f);

@@ -21,8 +21,8 @@ typedef struct poisoned {
     size_t size;
     unsigned char *asked; /* per byte: made resident */
     uint64_t asked_bytes, calls, refetches, ahead_max;
-    int fail_after;  /* > 0: the need after this many fails */
-    int damage; /* the next `damage` needs deliver a flipped byte each */
+    int fail_after; /* > 0: the need after this many fails */
+    int damage;     /* the next `damage` needs deliver a flipped byte each */
     int closed;
 } poisoned;
 
@@ -110,9 +110,11 @@ int main(void)
     int rc = vsv_file_open_source(&p.pub, "test://x", &f);
     const uint64_t toc = (uint64_t)info.nsteps * 24 + 32;
     CHECK(rc == 0, "a poisoned source opens", "%s", vsv_file_error(f));
-    CHECK(p.calls == 3 && p.asked_bytes <= 128 + 65536 + toc, "opening asks 3 times, for the header, metadata, table of contents",
-          "%llu calls, %llu bytes of %zu", (unsigned long long)p.calls, (unsigned long long)p.asked_bytes, size);
-    CHECK(p.asked_bytes < size / 2, "and not for the chunks", "%llu of %zu bytes", (unsigned long long)p.asked_bytes, size);
+    CHECK(p.calls == 3 && p.asked_bytes <= 128 + 65536 + toc,
+          "opening asks 3 times, for the header, metadata, table of contents", "%llu calls, %llu bytes of %zu",
+          (unsigned long long)p.calls, (unsigned long long)p.asked_bytes, size);
+    CHECK(p.asked_bytes < size / 2, "and not for the chunks", "%llu of %zu bytes", (unsigned long long)p.asked_bytes,
+          size);
     p.ahead_max = 0;
 
     /* every volume decodes as from memory: nothing read without asking */

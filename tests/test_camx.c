@@ -24,9 +24,11 @@ static void w32(w_t *w, uint32_t v)
 {
     unsigned char b[4];
     if (w->le)
-        b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16), b[3] = (unsigned char)(v >> 24);
+        b[0] = (unsigned char)v, b[1] = (unsigned char)(v >> 8), b[2] = (unsigned char)(v >> 16),
+        b[3] = (unsigned char)(v >> 24);
     else
-        b[0] = (unsigned char)(v >> 24), b[1] = (unsigned char)(v >> 16), b[2] = (unsigned char)(v >> 8), b[3] = (unsigned char)v;
+        b[0] = (unsigned char)(v >> 24), b[1] = (unsigned char)(v >> 16), b[2] = (unsigned char)(v >> 8),
+        b[3] = (unsigned char)v;
     fwrite(b, 1, 4, w->fp);
 }
 static void wf(w_t *w, float f)
@@ -103,14 +105,16 @@ static void test_real(void)
     CHECK(!strcmp(h->name, "AVERAGE") && h->nspec == 21 && h->nx == 5 && h->ny == 4 && h->nz == 1 && h->nhours == 1 &&
               h->xorg == -792000 && h->yorg == -1656000 && h->dx == 36000 && !h->v6 && !h->little_endian,
           "test.uamiv header: AVERAGE, 21 species, 5x4x1, 1 hour, 36 km, CAMx 5, big-endian");
-    CHECK(!strcmp(h->note, "CAMx 5.40 Test Problem -- Mech6 CF CB05 v5.40.midwest.36.12."), "note read", "'%s'", h->note);
-    const char *names[21] = {"NO", "NO2", "O3", "SO2", "H2O2", "HNO3", "NH3", "PNO3", "PSO4", "PNH4", "POA",
+    CHECK(!strcmp(h->note, "CAMx 5.40 Test Problem -- Mech6 CF CB05 v5.40.midwest.36.12."), "note read", "'%s'",
+          h->note);
+    const char *names[21] = {"NO",  "NO2",  "O3",   "SO2",  "H2O2", "HNO3", "NH3",  "PNO3", "PSO4", "PNH4", "POA",
                              "PEC", "FPRM", "CPRM", "CCRS", "FCRS", "SOA1", "SOA2", "SOA3", "SOA4", "SOA5"};
     int same = 1;
     for (int s = 0; s < 21; s++)
         same &= !strcmp(h->species[s], names[s]);
     CHECK(same, "the 21 species names");
-    CHECK(vsv_uamiv_time(h->bdate, h->bhour) == vsv_time_from_civil(2002, 6, 3, 0, 0, 0), "YYJJJ 02154 0.0 h = 2002-06-03 00Z");
+    CHECK(vsv_uamiv_time(h->bdate, h->bhour) == vsv_time_from_civil(2002, 6, 3, 0, 0, 0),
+          "YYJJJ 02154 0.0 h = 2002-06-03 00Z");
     float no2[20];
     vsv_uamiv_read(u, 0, 1, 0, no2);
     const float want[4] = {1.24175494e-04f, 2.79196858e-04f, 1.01672206e-03f, 4.36782313e-04f};
@@ -131,7 +135,8 @@ static void test_real(void)
     write_uamiv(copy, h, 0, dates, hours, NULL, u);
     size_t n1, n2;
     unsigned char *a = vsv_test_slurp(path, &n1), *b = vsv_test_slurp(copy, &n2);
-    CHECK(a && b && n1 == n2 && !memcmp(a, b, n1), "a UAM-IV writer reproduces test.uamiv byte for byte", "%zu vs %zu", n1, n2);
+    CHECK(a && b && n1 == n2 && !memcmp(a, b, n1), "a UAM-IV writer reproduces test.uamiv byte for byte", "%zu vs %zu",
+          n1, n2);
     free(a);
     free(b);
     /* through the source: units per species kind, values */
@@ -143,8 +148,9 @@ static void test_real(void)
     CHECK(vsv_source_grid(src)->vert_kind == VSV_VERT_INDEX && vsv_source_grid(src)->proj.kind == VSV_PROJ_NONE,
           "without heights and projection: layer index, no projection");
     int nt = vsv_source_ntimes(src);
-    CHECK(!vsv_source_field(src, vsv_source_find_field(src, "NOPE")) && !vsv_source_field(src, vsv_source_nfields(src)) &&
-              !vsv_source_time(src, nt) && !vsv_source_time(src, -1) && vsv_source_time(src, nt - 1) > 0,
+    CHECK(!vsv_source_field(src, vsv_source_find_field(src, "NOPE")) &&
+              !vsv_source_field(src, vsv_source_nfields(src)) && !vsv_source_time(src, nt) &&
+              !vsv_source_time(src, -1) && vsv_source_time(src, nt - 1) > 0,
           "a field or time outside the source is NULL / 0");
     vsv_source_free(src);
     vsv_uamiv_free(u);
@@ -229,7 +235,8 @@ static void test_written(void)
                         for (int i = 0; i < 40; i++)
                             same &= vol[(k * 30 + j) * 40 + i] == synth(t, s, k, i, j);
             }
-        snprintf(label, sizeof label, "v%s %s-endian: every value read back exactly", v6 ? "6" : "5", le ? "little" : "big");
+        snprintf(label, sizeof label, "v%s %s-endian: every value read back exactly", v6 ? "6" : "5",
+                 le ? "little" : "big");
         CHECK(same, label);
         free(vol);
         vsv_source_free(src);

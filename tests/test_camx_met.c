@@ -102,9 +102,10 @@ static void test_met_dir(void)
     const char *want[] = {"O3", "NO2", "CWC", "RWC", "SWC", "GWC", "COD", "PRESS", "HUMIDITY", "TEMP", "KV", "U", "V"};
     int ok = vsv_source_nfields(s) == 13;
     for (int i = 0; i < 13 && ok; i++)
-        ok &= vsv_source_find_field(s, want[i]) >= 0 && vsv_source_field(s, vsv_source_find_field(s, want[i]))->is_volume;
-    CHECK(ok, "companions found by content: cloud/rain, height/pressure, humidity, temperature, Kv, wind",
-          "%d fields", vsv_source_nfields(s));
+        ok &=
+            vsv_source_find_field(s, want[i]) >= 0 && vsv_source_field(s, vsv_source_find_field(s, want[i]))->is_volume;
+    CHECK(ok, "companions found by content: cloud/rain, height/pressure, humidity, temperature, Kv, wind", "%d fields",
+          vsv_source_nfields(s));
     const vsv_meta *g = vsv_source_grid(s);
     /* layer-middle heights from the real ZP file: layer 0 is half its top */
     const float top0 = raw("camx/test.height_pressure", 0, 8, 0);
@@ -124,7 +125,8 @@ static void test_met_dir(void)
           "%g vs %g", vol[23], tk);
     rc = vsv_source_read(s, vsv_source_find_field(s, "COD"), 1, vol);
     const float rw = raw("camx/test.cloud_rain", 1 + 16 + 1 + 0 * 5 + 4, 0, 1);
-    CHECK(rc == 0 && vol[1] == rw && rw > 2, "COD (hour 1, layer 0) is the cloud/rain file's fifth field", "%g vs %g", vol[1], rw);
+    CHECK(rc == 0 && vol[1] == rw && rw > 2, "COD (hour 1, layer 0) is the cloud/rain file's fifth field", "%g vs %g",
+          vol[1], rw);
     CHECK(vsv_source_time(s, 1) == vsv_time_from_civil(2002, 6, 3, 1, 0, 0), "v5 hours stay as written");
     vsv_source_free(s);
     /* the same through a run, on even heights: U and V by name */
@@ -240,7 +242,8 @@ static void test_advect_winds(void)
         ok &= !vsv_interp_open(600, m, &io, count_frames, &frames, &ip) && !vsv_interp_meta(ip, m, &out) &&
               !vsv_interp_push(ip, vsv_run_time(r, 0), (const float *const *)f[0]) &&
               !vsv_interp_push(ip, vsv_run_time(r, 1), (const float *const *)f[1]);
-        CHECK(ok && frames == 7 && out.nvars == 2 && strstr(vsv_meta_attr(&out, "time interpolation"), "horizontal only"),
+        CHECK(ok && frames == 7 && out.nvars == 2 &&
+                  strstr(vsv_meta_attr(&out, "time interpolation"), "horizontal only"),
               "advect: CAMx O3, NO2 every 10 minutes along the wind file's U V", "%d frames", frames);
         vsv_interp_free(ip);
         vsv_meta_clear(&out);

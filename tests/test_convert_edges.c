@@ -16,8 +16,8 @@ static void test_wrf_default(void)
     vsv_source *s = NULL;
     int rc = vsv_source_open(vsv_test_shared("wrf/wrf_cropped.nc"), NULL, &s);
     const int f = rc ? -1 : vsv_source_find_field(s, "QVAPOR");
-    CHECK(f >= 0 && vsv_source_field(s, f)->is_default, "WRF: QVAPOR is a default field (wrf_cropped.nc has no hydrometeors)",
-          "(%s)", vsv_source_error(s));
+    CHECK(f >= 0 && vsv_source_field(s, f)->is_default,
+          "WRF: QVAPOR is a default field (wrf_cropped.nc has no hydrometeors)", "(%s)", vsv_source_error(s));
     vsv_source_free(s);
     vsv_run *r = NULL;
     const char *paths[] = {vsv_test_shared("wrf/wrf_cropped.nc")};
@@ -166,11 +166,15 @@ static void test_cf_units(void)
     for (int i = 0; ok && i < 4; i++)
         ok = !nc_def_dim(nc, dn[i], len[i], &d[i]) && !nc_def_var(nc, dn[i], NC_DOUBLE, 1, &d[i], &v[i]);
     ok = ok && !nc_def_var(nc, "O3", NC_SHORT, 4, d, &v[4]);
-    static const char *const att[][3] = {
-        {"time", "units", "hours since 2001-01-01 06:00:00"}, {"z", "units", "km"},
-        {"z", "positive", "up"}, {"z", "standard_name", "altitude"}, {"y", "units", "km"},
-        {"y", "standard_name", "projection_y_coordinate"}, {"x", "units", "km"},
-        {"x", "standard_name", "projection_x_coordinate"}, {"O3", "units", "ppm"}};
+    static const char *const att[][3] = {{"time", "units", "hours since 2001-01-01 06:00:00"},
+                                         {"z", "units", "km"},
+                                         {"z", "positive", "up"},
+                                         {"z", "standard_name", "altitude"},
+                                         {"y", "units", "km"},
+                                         {"y", "standard_name", "projection_y_coordinate"},
+                                         {"x", "units", "km"},
+                                         {"x", "standard_name", "projection_x_coordinate"},
+                                         {"O3", "units", "ppm"}};
     for (size_t i = 0; ok && i < sizeof att / sizeof *att; i++) {
         int id;
         ok = !nc_inq_varid(nc, att[i][0], &id) && !nc_put_att_text(nc, id, att[i][1], strlen(att[i][2]), att[i][2]);

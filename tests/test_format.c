@@ -1,8 +1,9 @@
 /* test_format.c — round trips of the .vsv format library on synthetic
  * series: exactness of deltas, random access, empty bricks, quantisation
  * bounds, other brick sizes and codecs, cross-checks with the reference
- * reader, writing in parts, per-column heights and format 2's predicted
- * bricks. Damage, golden files and truncation: test_format_damage.c;
+ * reader, per-column heights and format 2's predicted bricks. Writing in
+ * parts and the planned writer: test_format_writer.c. Damage, golden files
+ * and truncation: test_format_damage.c;
  * CRC, calendar and quantisation rules: test_format_primitives.c. */
 #include "vsv_format_internal.h"
 #include "vsv_refread.h"
@@ -69,9 +70,9 @@ static void test_series(void)
                     }
         }
     CHECK(decoded, "every step decodes sequentially", "%s", vsv_decoder_error(d));
-    CHECK(within, "no drift: every value of 120 steps within the stated bound",
-          "worst %g %g %g, bounds %g %g %g", worst[0], worst[1], worst[2], vsv_file_quant(f, 0)->max_abs_error,
-          vsv_file_quant(f, 1)->max_abs_error, vsv_file_quant(f, 2)->max_abs_error);
+    CHECK(within, "no drift: every value of 120 steps within the stated bound", "worst %g %g %g, bounds %g %g %g",
+          worst[0], worst[1], worst[2], vsv_file_quant(f, 0)->max_abs_error, vsv_file_quant(f, 1)->max_abs_error,
+          vsv_file_quant(f, 2)->max_abs_error);
     printf("  worst errors: CLW %.3g (bound %.3g), T %.3g (bound %.3g), O3 %.3g (bound %.3g)\n", worst[0],
            vsv_file_quant(f, 0)->max_abs_error, worst[1], vsv_file_quant(f, 1)->max_abs_error, worst[2],
            vsv_file_quant(f, 2)->max_abs_error);
@@ -103,8 +104,8 @@ static void test_series(void)
         for (int k = 0; k < ext[2]; k++)
             for (int j = 0; j < ext[1]; j++)
                 for (int i = 0; i < ext[0]; i++)
-                    bok &= brick[(k * 16 + j) * 16 + i] ==
-                           vol[((size_t)(org[2] + k) * 50 + org[1] + j) * 70 + org[0] + i];
+                    bok &=
+                        brick[(k * 16 + j) * 16 + i] == vol[((size_t)(org[2] + k) * 50 + org[1] + j) * 70 + org[0] + i];
     }
     CHECK(bok, "single-brick decode equals the volume");
 
@@ -138,8 +139,8 @@ static void test_series(void)
           "%d such bricks", appear_seen);
     vsv_file_counts cnt;
     vsv_file_count(f, &cnt);
-    CHECK(cnt.stored_bricks < (uint64_t)info.nbricks * 3 * 120, "fewer payloads than bricks",
-          "%llu stored", (unsigned long long)cnt.stored_bricks);
+    CHECK(cnt.stored_bricks < (uint64_t)info.nbricks * 3 * 120, "fewer payloads than bricks", "%llu stored",
+          (unsigned long long)cnt.stored_bricks);
     CHECK(unchanged_frozen, "unchanged steps store no payload");
 
     /* the octree root bounds the volume */
@@ -177,8 +178,8 @@ static void test_series(void)
         ref_close(&rf);
     }
     CHECK(refok, "reference reader decodes identical values", "%s", rerr);
-    CHECK(info.file_bytes * 4 < cells * 4 * 3 * 120, "file is under a quarter of raw float32",
-          "%llu bytes", (unsigned long long)info.file_bytes);
+    CHECK(info.file_bytes * 4 < cells * 4 * 3 * 120, "file is under a quarter of raw float32", "%llu bytes",
+          (unsigned long long)info.file_bytes);
     free(data);
     free(brick);
     free(vol);
@@ -236,117 +237,14 @@ static void test_variants(void)
                                   q->max_abs_error;
             }
         char label[128];
-        snprintf(label, sizeof label, "variant brick %d, %d bits, %s, K=%d, codec %s round trips within bound",
-                 o.brick, pv[0].bits, pv[0].scale ? "log" : "linear", o.keyframe, o.codec ? "zstd" : "none");
+        snprintf(label, sizeof label, "variant brick %d, %d bits, %s, K=%d, codec %s round trips within bound", o.brick,
+                 pv[0].bits, pv[0].scale ? "log" : "linear", o.keyframe, o.codec ? "zstd" : "none");
         CHECK(ok, label, "%s %s", err, f ? vsv_file_error(f) : "");
         free(vol);
         vsv_decoder_free(d);
         vsv_file_free(f);
         unlink(path);
     }
-}
-
-/* Writing in parts (what vsv-convert-mpi's ranks do): statistics gathered in
- * three pieces and merged, chunks encoded by three encoders each over whole
- * keyframe groups, the file put together from the plan's metadata, the
- * chunks and the tail: byte for byte the writer's file. */
-static void test_parts(void)
-{
-    const synth sy = {45, 37, 19, 13, 3, 6};
-    const char *ref = vsv_test_tmp("parts-ref.vsv");
-    vsv_pack_opts o;
-    vsv_pack_opts_init(&o);
-    o.brick = 16;
-    o.keyframe = 4;
-    char err[512];
-    CHECK(!synth_write(&sy, ref, &o, err, sizeof err), "parts: reference file written", "%s", err);
-    vsv_meta m;
-    vsv_meta_init(&m);
-    synth_meta(&sy, &m);
-    const size_t cells = (size_t)sy.nx * sy.ny * sy.nz;
-    float *f = malloc((size_t)sy.nsteps * 3 * cells * sizeof *f);
-    for (int t = 0; t < sy.nsteps; t++)
-        for (int s = 0; s < 3; s++)
-            for (int k = 0; k < sy.nz; k++)
-                for (int j = 0; j < sy.ny; j++)
-                    for (int i = 0; i < sy.nx; i++)
-                        f[((size_t)t * 3 + s) * cells + ((size_t)k * sy.ny + j) * sy.nx + i] =
-                            synth_value(&sy, s, t, i, j, k);
-    /* three "ranks": steps [0,4) [4,12) [12,13), whole keyframe groups */
-    const int from[4] = {0, 4, 12, 13};
-    vsv_pack_stats all[3], part[3];
-    vsv_pack_stats_init(all, 3);
-    for (int r = 0; r < 3; r++) {
-        vsv_pack_stats_init(part, 3);
-        for (int t = from[r]; t < from[r + 1]; t++) {
-            const float *fl[3] = {f + (size_t)t * 3 * cells, f + ((size_t)t * 3 + 1) * cells,
-                                  f + ((size_t)t * 3 + 2) * cells};
-            vsv_pack_stats_add(part, 3, cells, fl);
-        }
-        vsv_pack_stats_merge(all, part, 3);
-    }
-    vsv_pack_plan *plan = NULL;
-    int rc = vsv_pack_plan_create(&m, &o, all, &plan);
-    CHECK(!rc, "parts: plan created", "%s", vsv_pack_plan_error(plan));
-    vsv_buf file = {0};
-    uint64_t sizes[13];
-    int64_t times[13];
-    const uint64_t first = vsv_pack_plan_first_chunk(plan);
-    vsv_buf_zeros(&file, VSV_HEADER_SIZE);
-    vsv_buf_put(&file, vsv_pack_plan_meta_bytes(plan), first - VSV_HEADER_SIZE);
-    for (int r = 0; !rc && r < 3; r++) {
-        vsv_chunk_encoder *e = NULL;
-        rc = vsv_chunk_encoder_create(plan, &e);
-        for (int t = from[r]; !rc && t < from[r + 1]; t++) {
-            const float *cur[3], *prev[3];
-            for (int s = 0; s < 3; s++) {
-                cur[s] = f + ((size_t)t * 3 + s) * cells;
-                prev[s] = t ? f + ((size_t)(t - 1) * 3 + s) * cells : NULL;
-            }
-            const unsigned char *bytes;
-            size_t n;
-            /* a group's first step is a keyframe: it needs no step before */
-            rc = vsv_chunk_encode(e, t, synth_time(t), cur, t == from[r] ? NULL : prev, &bytes, &n);
-            if (!rc) {
-                sizes[t] = n;
-                times[t] = synth_time(t);
-                vsv_buf_put(&file, bytes, n);
-            }
-        }
-        if (rc)
-            CHECK(0, "parts: chunks encoded", "%s", vsv_chunk_encoder_error(e));
-        vsv_chunk_encoder_free(e);
-    }
-    unsigned char *tail = malloc(vsv_pack_tail_bytes(13));
-    uint64_t tail_off = 0;
-    if (!rc)
-        rc = vsv_pack_plan_finish(plan, 13, times, sizes, file.p, tail, &tail_off);
-    CHECK(!rc && tail_off == file.len, "parts: tail starts where the last chunk ends", "%llu vs %zu",
-          (unsigned long long)tail_off, file.len);
-    vsv_buf_put(&file, tail, vsv_pack_tail_bytes(13));
-    size_t nref = 0;
-    unsigned char *want = vsv_test_slurp(ref, &nref);
-    CHECK(want && nref == file.len && !memcmp(want, file.p, nref), "parts: assembled file is the writer's, byte for byte",
-          "%zu vs %zu bytes", file.len, nref);
-    /* misuse is reported, not encoded */
-    vsv_chunk_encoder *e = NULL;
-    const unsigned char *bytes;
-    size_t n;
-    const float *cur[3] = {f, f + cells, f + 2 * cells};
-    CHECK(!vsv_chunk_encoder_create(plan, &e) && vsv_chunk_encode(e, 5, 0, cur, NULL, &bytes, &n) == VSV_EINVAL &&
-              strstr(vsv_chunk_encoder_error(e), "step before"),
-          "parts: a delta step without the step before is refused", "%s", vsv_chunk_encoder_error(e));
-    vsv_chunk_encoder_free(e);
-    times[7] = times[6];
-    CHECK(vsv_pack_plan_finish(plan, 13, times, sizes, file.p, tail, &tail_off) == VSV_EINVAL &&
-              strstr(vsv_pack_plan_error(plan), "step 7"),
-          "parts: times that do not increase are refused", "%s", vsv_pack_plan_error(plan));
-    free(want);
-    free(tail);
-    vsv_buf_free(&file);
-    vsv_pack_plan_free(plan);
-    vsv_meta_clear(&m);
-    free(f);
 }
 
 /* Per-column heights (SPEC.md HGTS, format 1.1): both forms round-trip, the
@@ -371,8 +269,8 @@ static void test_heights(void)
     const double sigma[NZ] = {0.99, 0.95, 0.85, 0.6, 0.3, 0.05};
     CHECK(vsv_meta_add_heights(&m, INT64_MIN, NULL, mm5, sigma) == 0, "MM5 heights from the formula");
     /* a lowest level ~80 m above the ground whatever the ground */
-    CHECK(m.nheights == 1 && fabsf(m.heights[0].z[0] - m.heights[0].z[NX - 1] + 1100.0f) < 80, "MM5 levels follow the terrain",
-          "%g %g", m.heights[0].z[0], m.heights[0].z[NX - 1]);
+    CHECK(m.nheights == 1 && fabsf(m.heights[0].z[0] - m.heights[0].z[NX - 1] + 1100.0f) < 80,
+          "MM5 levels follow the terrain", "%g %g", m.heights[0].z[0], m.heights[0].z[NX - 1]);
     for (int k = 0; k < NZ; k++)
         m.levels[k] = m.heights[0].z[(size_t)k * plane];
     float *z = malloc(n * sizeof *z);
@@ -426,8 +324,9 @@ static void test_heights(void)
     vsv_file *f = NULL;
     CHECK(vsv_file_open(path, &f) == 0, "it reads back", "%s", f ? vsv_file_error(f) : "");
     const vsv_meta *r = f ? vsv_file_meta(f) : NULL;
-    int same = r && r->nheights == 2 && r->heights[0].form == VSV_HEIGHTS_MM5 && r->heights[1].form == VSV_HEIGHTS_STORED &&
-               r->heights[0].time == INT64_MIN && r->heights[1].time == 3600;
+    int same = r && r->nheights == 2 && r->heights[0].form == VSV_HEIGHTS_MM5 &&
+               r->heights[1].form == VSV_HEIGHTS_STORED && r->heights[0].time == INT64_MIN &&
+               r->heights[1].time == 3600;
     for (size_t i = 0; same && i < n; i++)
         same = r->heights[0].z[i] == m.heights[0].z[i] && r->heights[1].z[i] == m.heights[1].z[i];
     CHECK(same, "both records come back exactly");
@@ -544,8 +443,9 @@ static void test_predict(void)
     CHECK(d2 && d1 && d2[8] == 2 && d2[10] == 0 && d1[8] == 1, "their headers say 2.0 and 1.0");
     vsv_file *f2 = NULL, *f1 = NULL;
     vsv_decoder *x2 = NULL, *x1 = NULL;
-    int ok = d2 && d1 && !vsv_file_open_mem(d2, n2, "predict2.vsv", &f2) && !vsv_file_open_mem(d1, n1, "predict1.vsv", &f1) &&
-             !vsv_decoder_create(f2, &x2) && !vsv_decoder_create(f1, &x1);
+    int ok = d2 && d1 && !vsv_file_open_mem(d2, n2, "predict2.vsv", &f2) &&
+             !vsv_file_open_mem(d1, n1, "predict1.vsv", &f1) && !vsv_decoder_create(f2, &x2) &&
+             !vsv_decoder_create(f1, &x1);
     CHECK(ok && vsv_file_check(f2, NULL, NULL) == 0, "the format-2 file checks", "%s", ok ? vsv_file_error(f2) : "");
     int kinds[6] = {0};
     for (int t = 0; t < NT && ok; t++)
@@ -706,45 +606,12 @@ static void test_below_ground(void)
     free(out);
 }
 
-/* vsv_writer_expect: told the statistics in advance, the writer encodes as
- * the steps come (no spool) and writes the same bytes; a promise the steps
- * break fails at finish and leaves nothing. */
-static void test_planned(void)
-{
-    const synth sy = {70, 50, 20, 30, 10, 20};
-    const char *a = vsv_test_tmp("spooled.vsv"), *b = vsv_test_tmp("planned.vsv"), *c = vsv_test_tmp("lied.vsv");
-    for (int threads = 1; threads <= 3; threads += 2) {
-        vsv_pack_opts o;
-        vsv_pack_opts_init(&o);
-        o.brick = 16;
-        o.keyframe = 4;
-        o.threads = threads;
-        char err[512] = "";
-        int rc = synth_write(&sy, a, &o, err, sizeof err);
-        rc |= synth_write_planned(&sy, b, &o, 0, err, sizeof err);
-        size_t na = 0, nb = 0;
-        unsigned char *da = vsv_test_slurp(a, &na), *db = vsv_test_slurp(b, &nb);
-        CHECK(rc == 0 && da && db && na == nb && !memcmp(da, db, na),
-              threads == 1 ? "planned writer, 1 thread: byte for byte the spooled file"
-                           : "planned writer, 3 threads: byte for byte the spooled file",
-              "%s (%zu vs %zu bytes)", err, na, nb);
-        free(da);
-        free(db);
-    }
-    char err[512] = "";
-    int rc = synth_write_planned(&sy, c, NULL, 1, err, sizeof err);
-    CHECK(rc == VSV_EINVAL && strstr(err, "do not have the statistics promised") && access(c, F_OK) != 0,
-          "a broken promise fails at finish and leaves no file", "rc %d: %s", rc, err);
-}
-
 int main(void)
 {
     test_series();
     test_variants();
-    test_parts();
     test_heights();
     test_predict();
     test_below_ground();
-    test_planned();
     return vsv_test_done();
 }

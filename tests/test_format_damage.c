@@ -41,8 +41,8 @@ static void test_atomic(void)
     int rc = vsv_writer_create(path, &m, NULL, &w);
     rc |= vsv_writer_add_step(w, 10, (const float *const *)f);
     CHECK(rc == 0 && access(path, F_OK) != 0, "nothing at the output path before finish");
-    CHECK(vsv_writer_add_step(w, 10, (const float *const *)f) == VSV_EINVAL, "non-increasing time rejected",
-          "%s", vsv_writer_error(w));
+    CHECK(vsv_writer_add_step(w, 10, (const float *const *)f) == VSV_EINVAL, "non-increasing time rejected", "%s",
+          vsv_writer_error(w));
     vsv_writer_free(w);
     char dir[1024];
     snprintf(dir, sizeof dir, "%s", path);
@@ -72,7 +72,8 @@ static void test_atomic(void)
     CHECK(rc == VSV_EINVAL &&
               strstr(vsv_writer_error(w), "a chunk index of 4793521520 bytes (5 species of 33554432 bricks of 8 cells) "
                                           "exceeds the format's 4 GiB limit"),
-          "a grid whose chunk index exceeds 32 bits is refused at create", "%s", w ? vsv_writer_error(w) : "(no handle)");
+          "a grid whose chunk index exceeds 32 bits is refused at create", "%s",
+          w ? vsv_writer_error(w) : "(no handle)");
     vsv_writer_free(w);
     vsv_meta_clear(&big);
     w = NULL;
@@ -289,7 +290,8 @@ static void test_truncated_while_reading(void)
             msg = vsv_decoder_error(d);
         }
         CHECK(rc == VSV_ETRUNC && strstr(msg, "cut.vsv: truncated while reading"),
-              pass ? "decoding a file cut while open: VSV_ETRUNC, named" : "checking a file cut while open: VSV_ETRUNC, named",
+              pass ? "decoding a file cut while open: VSV_ETRUNC, named"
+                   : "checking a file cut while open: VSV_ETRUNC, named",
               "rc %d: %s", rc, msg);
         free(vol);
         vsv_decoder_free(d);

@@ -160,8 +160,8 @@ static void test_depth(const char *path)
     vsv_renderer *r = NULL;
     vsv_gl *g = NULL;
     float *d0 = malloc(160 * 120 * sizeof(float)), *d1 = malloc(160 * 120 * sizeof(float));
-    if (!vsv_renderer_create(&ro, &r) && !vsv_gl_create(NULL, &g, err, sizeof err) && !vsv_render(r, &sc, &cam, NULL, d0) &&
-        !vsv_gl_render(g, &sc, &cam, NULL, d1)) {
+    if (!vsv_renderer_create(&ro, &r) && !vsv_gl_create(NULL, &g, err, sizeof err) &&
+        !vsv_render(r, &sc, &cam, NULL, d0) && !vsv_gl_render(g, &sc, &cam, NULL, d1)) {
         int both = 0, agree = 0, inf = 0;
         for (int i = 0; i < 160 * 120; i++) {
             if (isinf(d0[i]) || isinf(d1[i])) {
@@ -311,8 +311,8 @@ int main(void)
     snprintf(dir, sizeof dir, "%s", vsv_test_tmp("gl-plume"));
     snprintf(cmd, sizeof cmd,
              "test -f %s && mkdir -p %s && cc -O2 -o %s/gen %s -lm 2>/dev/null && %s/gen %s > /dev/null",
-             vsv_test_shared("../tools/gen-plume/gen_volume.c"), dir, dir, vsv_test_shared("../tools/gen-plume/gen_volume.c"),
-             dir, dir);
+             vsv_test_shared("../tools/gen-plume/gen_volume.c"), dir, dir,
+             vsv_test_shared("../tools/gen-plume/gen_volume.c"), dir, dir);
     if (!vsv_test_absent(vsv_test_shared("../tools/gen-plume/gen_volume.c"), "gen-plume's plume and haze on the GPU") &&
         CHECK(system(cmd) == 0, "gen-plume builds and writes its volumes", " ")) {
         const char *plume = vsv_test_tmp("gl-plume.vsv"), *haze = vsv_test_tmp("gl-haze.vsv");

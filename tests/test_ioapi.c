@@ -23,7 +23,10 @@ typedef struct spec {
 
 enum { NX = 30, NY = 20, NZ = 5, NT = 3 };
 
-static float value(int v, int t, int k, int j, int i) { return (float)((v + 1) * 0.01 * (1 + 0.1 * k) + 0.001 * i + 0.0001 * j + t * 0.5); }
+static float value(int v, int t, int k, int j, int i)
+{
+    return (float)((v + 1) * 0.01 * (1 + 0.1 * k) + 0.001 * i + 0.0001 * j + t * 0.5);
+}
 
 /* 1: topo written as ROW x COL x LAY, five times the grid's plane (crafted) */
 static int big_topo;
@@ -54,7 +57,8 @@ static int write_ioapi(const char *path, const spec *sp)
         nc_def_var(nc, "topo", NC_FLOAT, big_topo ? 3 : 2, big_topo ? bdims : pdims, &topo);
         nc_put_att_text(nc, NC_GLOBAL, "CAMx_NAME", 7, "AVERAGE");
     }
-    int ncols = NX, nrows = NY, nlays = NZ, gd = sp->gdtyp, sdate = 2016182, stime = 0, tstep = 10000, vgtyp = sp->vgtyp;
+    int ncols = NX, nrows = NY, nlays = NZ, gd = sp->gdtyp, sdate = 2016182, stime = 0, tstep = 10000,
+        vgtyp = sp->vgtyp;
     nc_put_att_int(nc, NC_GLOBAL, "NCOLS", NC_INT, 1, &ncols);
     nc_put_att_int(nc, NC_GLOBAL, "NROWS", NC_INT, 1, &nrows);
     nc_put_att_int(nc, NC_GLOBAL, "NLAYS", NC_INT, 1, &nlays);
@@ -105,7 +109,8 @@ static int write_ioapi(const char *path, const spec *sp)
 static void lcc(double p1, double p2, double lat0, double lon0, double lat, double lon, double *x, double *y)
 {
     p1 *= D2R, p2 *= D2R;
-    double n = fabs(p1 - p2) < 1e-12 ? sin(p1) : log(cos(p1) / cos(p2)) / log(tan(M_PI / 4 + p2 / 2) / tan(M_PI / 4 + p1 / 2));
+    double n =
+        fabs(p1 - p2) < 1e-12 ? sin(p1) : log(cos(p1) / cos(p2)) / log(tan(M_PI / 4 + p2 / 2) / tan(M_PI / 4 + p1 / 2));
     double F = cos(p1) * pow(tan(M_PI / 4 + p1 / 2), n) / n;
     double r = R_E * F / pow(tan(M_PI / 4 + lat * D2R / 2), n), r0 = R_E * F / pow(tan(M_PI / 4 + lat0 * D2R / 2), n);
     *x = r * sin(n * (lon - lon0) * D2R);
@@ -244,7 +249,8 @@ static void test_big_topo(void)
     big_topo = 0;
     vsv_source *src = NULL;
     const int rc = vsv_source_open(path, NULL, &src);
-    CHECK(rc == VSV_ECORRUPT && strstr(vsv_source_error(src), "bigtopo.nc: variable topo is 20 x 30 x 5, expected [time x] 20 x 30"),
+    CHECK(rc == VSV_ECORRUPT &&
+              strstr(vsv_source_error(src), "bigtopo.nc: variable topo is 20 x 30 x 5, expected [time x] 20 x 30"),
           "IOAPI topo larger than the grid: an error naming the variable and shapes", "rc %d: %s", rc,
           vsv_source_error(src));
     vsv_source_free(src);
@@ -275,7 +281,8 @@ int main(void)
     write_ioapi(p, &laea);
     vsv_source *src = NULL;
     int rc = vsv_source_open(p, NULL, &src);
-    CHECK(rc == VSV_EUNSUPPORTED && strstr(vsv_source_error(src), "GDTYP 10 (Lambert azimuthal equal-area) is not supported"),
+    CHECK(rc == VSV_EUNSUPPORTED &&
+              strstr(vsv_source_error(src), "GDTYP 10 (Lambert azimuthal equal-area) is not supported"),
           "GDTYP 10 (Lambert azimuthal) is refused by name", "%s", vsv_source_error(src));
     vsv_source_free(src);
     return vsv_test_done();

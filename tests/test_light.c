@@ -111,7 +111,8 @@ static double lum_at(const float *img, const vsv_scene *sc, double i, double j)
     vsv_camera_plan(&cam, sc, W, H);
     const double x = sc->meta->origin[0] + i * sc->meta->spacing[0], y = sc->meta->origin[1] + j * sc->meta->spacing[1];
     const double wh = cam.ortho_height, ww = wh * W / H;
-    const int px = (int)floor((x - cam.pos[0]) / ww * W + W / 2.0), py = (int)floor(H / 2.0 - (y - cam.pos[1]) / wh * H);
+    const int px = (int)floor((x - cam.pos[0]) / ww * W + W / 2.0),
+              py = (int)floor(H / 2.0 - (y - cam.pos[1]) / wh * H);
     const float *p = img + 4 * ((size_t)py * W + px);
     return (p[0] + p[1] + p[2]) / 3;
 }
@@ -147,8 +148,8 @@ static void test_lit_sphere(void)
         const double re = lum_at(img[kind][1], &sc, c + 6, c) / lum_at(img[kind][0], &sc, c + 6, c);
         const double rw = lum_at(img[kind][1], &sc, c - 6, c) / lum_at(img[kind][0], &sc, c - 6, c);
         char what[160];
-        snprintf(what, sizeof what, "light (%s): the side facing the light %.3f of unlit, the far side %.3f", name, east,
-                 west);
+        snprintf(what, sizeof what, "light (%s): the side facing the light %.3f of unlit, the far side %.3f", name,
+                 east, west);
         CHECK(fabs(re - east) < 0.04 && fabs(rw - west) < 0.04, what, "east %.4f west %.4f", re, rw);
         /* north and south of the centre the normal is across the light: n.L = 0 */
         const double rn = lum_at(img[kind][1], &sc, c, c + 6) / lum_at(img[kind][0], &sc, c, c + 6);
@@ -199,7 +200,8 @@ static void test_slice_linear(void)
         for (int k = 0; k < B; k++)
             for (int j = 0; j < B; j++)
                 for (int i = 0; i < B; i++)
-                    v->bricks[b][i + B * (j + B * k)] = (float)(0.2 + 0.6 * (i0 + i) / (N - 1) + 0.1 * (k0 + k) / (N - 1));
+                    v->bricks[b][i + B * (j + B * k)] =
+                        (float)(0.2 + 0.6 * (i0 + i) / (N - 1) + 0.1 * (k0 + k) / (N - 1));
     }
     vsv_tf tf;
     char msg[128];
@@ -208,8 +210,14 @@ static void test_slice_linear(void)
     vsv_slice s[2];
     CHECK(vsv_slice_parse(&m, "z=10000m", &s[0], msg, sizeof msg) == 0 && s[0].kind == VSV_SLICE_Z && s[0].z == 10000,
           "slice: z=10000m parsed", "%s", msg);
-    vsv_scene sc = {.meta = &m, .layers = &L, .nlayers = 1, .exaggeration = 1, .show_terrain = 0,
-                    .slices = s, .nslices = 1, .slice_layer = 0};
+    vsv_scene sc = {.meta = &m,
+                    .layers = &L,
+                    .nlayers = 1,
+                    .exaggeration = 1,
+                    .show_terrain = 0,
+                    .slices = s,
+                    .nslices = 1,
+                    .slice_layer = 0};
     for (int view = 0; view < 2; view++) {
         vsv_camera cam;
         if (view == 0) {
@@ -288,7 +296,8 @@ static void test_slice_linear(void)
         free(img);
     }
     /* bad slices: clear reasons */
-    CHECK(vsv_slice_parse(&m, "z=90000", &s[0], msg, sizeof msg) == VSV_EINVAL && strstr(msg, "outside the grid's heights"),
+    CHECK(vsv_slice_parse(&m, "z=90000", &s[0], msg, sizeof msg) == VSV_EINVAL &&
+              strstr(msg, "outside the grid's heights"),
           "slice: a height above the grid is refused", "%s", msg);
     CHECK(vsv_slice_parse(&m, "height=3", &s[0], msg, sizeof msg) == VSV_EINVAL && strstr(msg, "expected z=HEIGHT"),
           "slice: an unknown kind is refused", "%s", msg);
@@ -339,8 +348,14 @@ static void test_slice_heights(void)
     vsv_layer L = {v, &tf, 1, 0};
     vsv_slice s;
     const int prc = vsv_slice_parse(&m, "z=3000", &s, msg, sizeof msg);
-    vsv_scene sc = {.meta = &m, .layers = &L, .nlayers = 1, .exaggeration = 1, .show_terrain = 1,
-                    .slices = &s, .nslices = 1, .slice_layer = 0};
+    vsv_scene sc = {.meta = &m,
+                    .layers = &L,
+                    .nlayers = 1,
+                    .exaggeration = 1,
+                    .show_terrain = 1,
+                    .slices = &s,
+                    .nslices = 1,
+                    .slice_layer = 0};
     float *img = prc ? NULL : render_plan(&sc, VSV_RENDER_RAYCAST);
     float want[4];
     vsv_tf_eval(&tf, 3000, want);
@@ -411,16 +426,21 @@ static void test_slab_closed_form(void)
         double step, tol;
         const char *name;
     } runs[] = {
-        {VSV_RENDER_RAYCAST, 0, 0.08f, 0.75, 1e-5, "slab: the raycaster's pixels are 1 - exp(-sigma L) of the colour at 0.5, "
-                                                "L the ray's length in the box (a part step by its length)"},
-        {VSV_RENDER_SHEARWARP, 0, 0.08f, 0.5, 5e-4, "slab: shear-warp's pixels are 1 - exp(-sigma L) of the colour at 0.5, "
-                                                 "L the slices' spacing along the oblique ray"},
-        {VSV_RENDER_RAYCAST, 0, 0.8f / 3 / 0.375f, 0.25, 1e-5, "slab: a thick slab's rays stop at the first sample "
-                                                               "below 1/512 transmittance: alpha 1 - exp(-6.4)"},
-        {VSV_RENDER_RAYCAST, 1, 0.08f, 0.75, 1e-5, "slab: the raycaster on a log scale 0.01 .. 100: opacity "
-                                                   "ln 50 / ln 10^4 at 0.5"},
-        {VSV_RENDER_SHEARWARP, 1, 0.08f, 0.5, 5e-4, "slab: shear-warp on a log scale 0.01 .. 100: opacity "
-                                                    "ln 50 / ln 10^4 at 0.5"},
+        {VSV_RENDER_RAYCAST, 0, 0.08f, 0.75, 1e-5,
+         "slab: the raycaster's pixels are 1 - exp(-sigma L) of the colour at 0.5, "
+         "L the ray's length in the box (a part step by its length)"},
+        {VSV_RENDER_SHEARWARP, 0, 0.08f, 0.5, 5e-4,
+         "slab: shear-warp's pixels are 1 - exp(-sigma L) of the colour at 0.5, "
+         "L the slices' spacing along the oblique ray"},
+        {VSV_RENDER_RAYCAST, 0, 0.8f / 3 / 0.375f, 0.25, 1e-5,
+         "slab: a thick slab's rays stop at the first sample "
+         "below 1/512 transmittance: alpha 1 - exp(-6.4)"},
+        {VSV_RENDER_RAYCAST, 1, 0.08f, 0.75, 1e-5,
+         "slab: the raycaster on a log scale 0.01 .. 100: opacity "
+         "ln 50 / ln 10^4 at 0.5"},
+        {VSV_RENDER_SHEARWARP, 1, 0.08f, 0.5, 5e-4,
+         "slab: shear-warp on a log scale 0.01 .. 100: opacity "
+         "ln 50 / ln 10^4 at 0.5"},
     };
     for (int run = 0; run < 5; run++) {
         vsv_render_opts o;
@@ -473,8 +493,8 @@ static void test_slab_closed_form(void)
                 if (e > worst)
                     worst = e, first = p[3] - alpha;
             }
-        CHECK(on > 1000 && bad == 0, runs[run].name, "%d of %d pixels off (worst %.3g, alpha off by %.3g)", bad, on, worst,
-              first);
+        CHECK(on > 1000 && bad == 0, runs[run].name, "%d of %d pixels off (worst %.3g, alpha off by %.3g)", bad, on,
+              worst, first);
         vsv_renderer_free(r);
         free(img);
     }

@@ -116,8 +116,8 @@ static void test_mmout(void)
         vsv_mm5_free(m);
         return;
     }
-    CHECK(vsv_mm5_nperiods(m) == 4 && vsv_mm5_nfields(m) == 4 * 51, "MMOUT: 4 periods of 51 fields", "%d periods %d fields",
-          vsv_mm5_nperiods(m), vsv_mm5_nfields(m));
+    CHECK(vsv_mm5_nperiods(m) == 4 && vsv_mm5_nfields(m) == 4 * 51, "MMOUT: 4 periods of 51 fields",
+          "%d periods %d fields", vsv_mm5_nperiods(m), vsv_mm5_nfields(m));
     /* every field of every period reads, with finite values */
     float *buf = malloc((size_t)143 * 208 * 16 * 4);
     int finite = 1, read = 0;
@@ -378,7 +378,8 @@ static void test_split(void)
     int rc1 = convert(whole, 1, vsv_test_tmp("whole.vsv"), err, sizeof err);
     int rc2 = convert(split, 2, vsv_test_tmp("split.vsv"), err, sizeof err);
     size_t n1 = 0, n2 = 0;
-    unsigned char *d1 = vsv_test_slurp(vsv_test_tmp("whole.vsv"), &n1), *d2 = vsv_test_slurp(vsv_test_tmp("split.vsv"), &n2);
+    unsigned char *d1 = vsv_test_slurp(vsv_test_tmp("whole.vsv"), &n1),
+                  *d2 = vsv_test_slurp(vsv_test_tmp("split.vsv"), &n2);
     CHECK(!rc1 && !rc2 && d1 && d2 && n1 == n2 && !memcmp(d1, d2, n1),
           "split files _00 _01 convert to the same bytes as the whole run", "%s", err);
     free(d1);
@@ -419,14 +420,16 @@ static void test_split(void)
     vsv_mm5_write_flag(&w, 2);
     fclose(fp);
     int ok = vsv_mm5_open(vsv_test_tmp("le.mm5"), &le) == 0 && vsv_mm5_little_endian(le) &&
-             vsv_mm5_nfields(le) == vsv_mm5_nfields(m) && vsv_mm5_nbighdr(le) == 4 &&
-             vsv_mm5_bhi(le, 16, 1) == 40 && vsv_mm5_bhr(le, 2, 2) == 10000;
+             vsv_mm5_nfields(le) == vsv_mm5_nfields(m) && vsv_mm5_nbighdr(le) == 4 && vsv_mm5_bhi(le, 16, 1) == 40 &&
+             vsv_mm5_bhr(le, 2, 2) == 10000;
     for (int i = 0; ok && i < vsv_mm5_nfields(m); i++) {
         vsv_mm5_read(m, vsv_mm5_field_at(m, i), buf);
         vsv_mm5_read(le, vsv_mm5_field_at(le, i), buf2);
-        ok &= !memcmp(buf, buf2, vsv_mm5_field_at(m, i)->bytes) && !strcmp(vsv_mm5_field_at(le, i)->name, vsv_mm5_field_at(m, i)->name);
+        ok &= !memcmp(buf, buf2, vsv_mm5_field_at(m, i)->bytes) &&
+              !strcmp(vsv_mm5_field_at(le, i)->name, vsv_mm5_field_at(m, i)->name);
     }
-    CHECK(ok, "little-endian framing with repeated big headers reads the same fields", "%s", le ? vsv_mm5_error(le) : "");
+    CHECK(ok, "little-endian framing with repeated big headers reads the same fields", "%s",
+          le ? vsv_mm5_error(le) : "");
     /* a second big header that differs (BHI(16,1) 41, BHR(2,2) 5000): the
      * first one is in force (vsv_mm5.h), in either byte order; fields after
      * the second say so */
@@ -512,7 +515,8 @@ static void test_bad(void)
     vsv_test_write(badp, bad, n);
     m = NULL;
     rc = vsv_mm5_open(badp, &m);
-    CHECK(rc == VSV_ECORRUPT && strstr(vsv_mm5_error(m), "field U has 96000 bytes of data, its sub-header implies 102400"),
+    CHECK(rc == VSV_ECORRUPT &&
+              strstr(vsv_mm5_error(m), "field U has 96000 bytes of data, its sub-header implies 102400"),
           "a field whose size disagrees with its sub-header is an error", "%s", vsv_mm5_error(m));
     vsv_mm5_free(m);
     /* the big header record's trailing length marker one off */
@@ -630,12 +634,18 @@ static int craft_levels(const char *out, int n)
 
 static void test_crafted(void)
 {
-    static const char *const what[] = {NULL, "a later period's T with 30 levels", "a later period's T with 4 dimensions",
-                                       "TERRAIN with 40 levels", "PSTARCRS with a fourth dimension",
+    static const char *const what[] = {NULL,
+                                       "a later period's T with 30 levels",
+                                       "a later period's T with 4 dimensions",
+                                       "TERRAIN with 40 levels",
+                                       "PSTARCRS with a fourth dimension",
                                        "a period with the date 1995-13-45_99"};
-    static const char *const want[] = {NULL, "the first output time's is YXS 40x40x15",
-                                       "the first output time's is YXS 40x40x15", "TERRAIN is not a 40x40 YX field",
-                                       "PSTARCRS is not a 40x40 YX field", "is not a date"};
+    static const char *const want[] = {NULL,
+                                       "the first output time's is YXS 40x40x15",
+                                       "the first output time's is YXS 40x40x15",
+                                       "TERRAIN is not a 40x40 YX field",
+                                       "PSTARCRS is not a 40x40 YX field",
+                                       "is not a date"};
     float *vol = malloc((size_t)40 * 40 * 64 * 4);
     for (craft_case = 1; craft_case <= 5; craft_case++) {
         char name[32];

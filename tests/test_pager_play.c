@@ -97,9 +97,10 @@ static void test_advance(vsv_file *f, const char *label)
                     bad = 1 + t;
                 checked++;
             }
-    snprintf(name, sizeof name,
-             "%s: vsv_decoder_brick_retreat undoes a step exactly (DELTA, DELTA3, UNCHANGED); an absolute state: VSV_EINVAL",
-             label);
+    snprintf(
+        name, sizeof name,
+        "%s: vsv_decoder_brick_retreat undoes a step exactly (DELTA, DELTA3, UNCHANGED); an absolute state: VSV_EINVAL",
+        label);
     CHECK(!bad && kinds[VSV_BRICK_DELTA] > 0 && kinds[VSV_BRICK_DELTA3] > 0 && kinds[VSV_BRICK_UNCHANGED] > 0, name,
           "(%d undone: %d DELTA, %d DELTA3, %d UNCHANGED; first bad step %d)", checked, kinds[VSV_BRICK_DELTA],
           kinds[VSV_BRICK_DELTA3], kinds[VSV_BRICK_UNCHANGED], bad - 1);
@@ -214,12 +215,11 @@ static void test_counts(const char *path)
     /* species 1 (smooth, dense) changes every brick at every step */
     int dense = 1;
     for (int t = 0; t < ns; t++)
-        for (int b = 0; b < nb; b++)
-            {
-                const int kind = vsv_file_brick_kind(f, t, 1, b);
-                dense &= t % K ? kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3
-                               : kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
-            }
+        for (int b = 0; b < nb; b++) {
+            const int kind = vsv_file_brick_kind(f, t, 1, b);
+            dense &= t % K ? kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3
+                           : kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
+        }
     CHECK(dense, "species 1 of the series: every brick a delta at every step off the keyframes", " ");
     const uint64_t all = payloads(f, 1, 0, ns - 1, nb);
     uint64_t key = 0;
@@ -249,14 +249,16 @@ static void test_counts(const char *path)
      * where decoding each window of a step or two from the keyframe costs
      * more */
     const uint64_t undo = (uint64_t)(2 * K - 1) * nb * (ns / K);
-    CHECK(!bad && fwd == all && back <= undo,
-          "under a 3-step budget: forward one payload a changed brick; backward one walk a group, then a payload a step",
-          "(forward %llu of %llu, backward %llu, at most %llu) %s", (unsigned long long)fwd, (unsigned long long)all,
-          (unsigned long long)back, (unsigned long long)undo, why);
+    CHECK(
+        !bad && fwd == all && back <= undo,
+        "under a 3-step budget: forward one payload a changed brick; backward one walk a group, then a payload a step",
+        "(forward %llu of %llu, backward %llu, at most %llu) %s", (unsigned long long)fwd, (unsigned long long)all,
+        (unsigned long long)back, (unsigned long long)undo, why);
     /* the walk keeps the states it passes as checkpoints (codes, half a
      * step's floats each) while they fit: with room for about three, the
      * steps below a group's top cost a copy, not a payload */
-    CHECK(!bad && 2 * back <= 3 * fwd, "under a 3-step budget backward decodes at most 1.5x forward's payloads (checkpoints)",
+    CHECK(!bad && 2 * back <= 3 * fwd,
+          "under a 3-step budget backward decodes at most 1.5x forward's payloads (checkpoints)",
           "(forward %llu, backward %llu)", (unsigned long long)fwd, (unsigned long long)back);
     /* a budget of a step and its decoder state (no window): each step
      * backward is a get of its own */
@@ -378,9 +380,11 @@ static void test_budget_exact(void)
         vsv_volume_free(v);
         vsv_pager_free(p);
     }
-    CHECK(!bad && gets == 2 * in.nsteps && in.nbricks == 1, "one-brick series under a budget of one brick: every get exact",
-          "(%d gets of %d, %d bricks)", gets, 2 * in.nsteps, in.nbricks);
-    CHECK(worst <= o.budget, "one-brick series: the peak never exceeds the budget (making room counts the incoming brick)",
+    CHECK(!bad && gets == 2 * in.nsteps && in.nbricks == 1,
+          "one-brick series under a budget of one brick: every get exact", "(%d gets of %d, %d bricks)", gets,
+          2 * in.nsteps, in.nbricks);
+    CHECK(worst <= o.budget,
+          "one-brick series: the peak never exceeds the budget (making room counts the incoming brick)",
           "(peak %zu bytes, budget %zu: %zu over)", worst, o.budget, worst > o.budget ? worst - o.budget : 0);
     vsv_decoder_free(d);
     vsv_file_free(f);
@@ -440,8 +444,8 @@ static void test_mm5(void)
         bad = bad || play(f, s, 64 << 20, 1, -1, &kf, &kb, &over, why, sizeof why);
         sf += fwd, sb += back, skf += kf, skb += kb;
     }
-    CHECK(!bad && info.nsteps == 19, "real MM5 (19 steps, 5 species): every brick forward and backward equals the keyframe decode",
-          "%s", why);
+    CHECK(!bad && info.nsteps == 19,
+          "real MM5 (19 steps, 5 species): every brick forward and backward equals the keyframe decode", "%s", why);
     /* with one worker the counts include what it decoded ahead; with none
      * (below) they are exact */
     bad = 0;

@@ -67,13 +67,13 @@ static void test_lakes(void)
             }
         CHECK(lakes > 30 && lakes_blue == lakes, "plan view: inland water (Great Lakes) drawn as water",
               "%d of %d lake cells", lakes_blue, lakes);
-        CHECK(land > 1000 && land_blue == 0, "plan view: land drawn as land", "%d of %d land cells blue", land_blue, land);
+        CHECK(land > 1000 && land_blue == 0, "plan view: land drawn as land", "%d of %d land cells blue", land_blue,
+              land);
     }
     vsv_renderer_free(r);
     free(rgba);
     vsv_source_free(src);
 }
-
 
 /* A latitude/longitude grid (GrADS model.ctl: 72 x 46 cells of 5 x 4
  * degrees, the whole globe) is drawn in metres on the sphere: the world box
@@ -103,7 +103,6 @@ static void test_latlon(void)
     vsv_source_free(src);
 }
 
-
 /* Every model's own water: WRF's LU_INDEX with ISWATER/ISLAKE, CAMx's
  * land-use file among its met companions (dominant of 11 categories, 7 is
  * water). */
@@ -114,7 +113,8 @@ static void test_water_sources(void)
         CHECK(1, "WRF land use: skipped (no ../shared)");
     } else {
         const vsv_meta *m = vsv_source_grid(src);
-        CHECK(m->landuse && vsv_meta_water(m) == ((1ull << 16) | (1ull << 28)), "WRF: LU_INDEX with water 16 and lake 28");
+        CHECK(m->landuse && vsv_meta_water(m) == ((1ull << 16) | (1ull << 28)),
+              "WRF: LU_INDEX with water 16 and lake 28");
     }
     vsv_source_free(src);
     src = NULL;
@@ -141,13 +141,12 @@ static void test_water_sources(void)
     int cats = 0;
     for (int c = 0; m && m->landuse && c < m->nx * m->ny; c++)
         cats |= m->landuse[c] >= 1 && m->landuse[c] <= 11 ? 1 : 2;
-    CHECK(m && m->landuse && cats == 1 && vsv_meta_water(m) == (1ull << 7), "CAMx: the land-use file's dominant category, 7 water",
-          "%s", rc ? vsv_source_error(src) : "");
+    CHECK(m && m->landuse && cats == 1 && vsv_meta_water(m) == (1ull << 7),
+          "CAMx: the land-use file's dominant category, 7 water", "%s", rc ? vsv_source_error(src) : "");
     vsv_source_free(src);
     unlink(lu);
     rmdir(dir);
 }
-
 
 /* The default colours of the hydrometeors differ: cloud water, rain, ice,
  * snow and graupel at the top of their ranges are at least 0.2 apart (RGB,
@@ -168,7 +167,8 @@ static void test_colours(void)
     double least = 1e9;
     for (int i = 0; i < 5; i++)
         for (int j = 0; j < i; j++) {
-            const double d = sqrt(pow(rgb[i][0] - rgb[j][0], 2) + pow(rgb[i][1] - rgb[j][1], 2) + pow(rgb[i][2] - rgb[j][2], 2));
+            const double d =
+                sqrt(pow(rgb[i][0] - rgb[j][0], 2) + pow(rgb[i][1] - rgb[j][1], 2) + pow(rgb[i][2] - rgb[j][2], 2));
             least = d < least ? d : least;
         }
     CHECK(least >= 0.2, "hydrometeors' default colours are distinct", "closest pair %.3f apart", least);
@@ -220,8 +220,12 @@ static void test_views(void)
         int where = 0;
         switch (v) {
         case 0: where = plan == 1 && cam.ortho_height > 0 && cam.dir[2] < 0 && cam.up[1] > 0 && !cam.up[0]; break;
-        case 1: where = !plan && dy < 0 && fabs(dx) < 1e-6 * fabs(dy) && dz > 0 && dz < fabs(dy) * tan(10 * M_PI / 180); break;
-        case 2: where = !plan && dx < 0 && fabs(dy) < 1e-6 * fabs(dx) && dz > 0 && dz < fabs(dx) * tan(10 * M_PI / 180); break;
+        case 1:
+            where = !plan && dy < 0 && fabs(dx) < 1e-6 * fabs(dy) && dz > 0 && dz < fabs(dy) * tan(10 * M_PI / 180);
+            break;
+        case 2:
+            where = !plan && dx < 0 && fabs(dy) < 1e-6 * fabs(dx) && dz > 0 && dz < fabs(dx) * tan(10 * M_PI / 180);
+            break;
         case 3: where = !plan && dx < 0 && dy < 0 && fabs(dx - dy) < 1e-6 * fabs(dx) && dz > 0.4 * hypot(dx, dy); break;
         }
         CHECK(where, "a view from where it says", "%s: eye %.0f, %.0f, %.0f from the centre", names[v], dx, dy, dz);
@@ -239,7 +243,8 @@ static void test_views(void)
         const double fw = (x1 - x0 + 1.0) / W, fh = (y1 - y0 + 1.0) / H;
         const double offx = fabs((x0 + x1 + 1) / 2.0 - W / 2.0) / W, offy = fabs((y0 + y1 + 1) / 2.0 - H / 2.0) / H;
         CHECK(x1 >= 0 && (fw >= 0.8 || fh >= 0.8) && (fw >= 0.8 ? offx : offy) < 0.05,
-              "the ground fills most of the image", "%s: it spans %.0f %% x %.0f %% of it", names[v], 100 * fw, 100 * fh);
+              "the ground fills most of the image", "%s: it spans %.0f %% x %.0f %% of it", names[v], 100 * fw,
+              100 * fh);
         /* the box's eight corners (the volume above the ground): inside the
          * image, and spanning at least 85 % of its width or height */
         double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};

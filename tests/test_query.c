@@ -30,7 +30,8 @@ static double dist_m(double lat1, double lon1, double lat2, double lon2)
 static double float_rounding_m(float lat, float lon)
 {
     const double m_per_deg = 6370000 * M_PI / 180;
-    const double ulat = nextafterf(fabsf(lat), INFINITY) - fabsf(lat), ulon = nextafterf(fabsf(lon), INFINITY) - fabsf(lon);
+    const double ulat = nextafterf(fabsf(lat), INFINITY) - fabsf(lat),
+                 ulon = nextafterf(fabsf(lon), INFINITY) - fabsf(lon);
     return 2 * (ulat * m_per_deg + ulon * m_per_deg * cos(lat * M_PI / 180));
 }
 
@@ -48,7 +49,8 @@ static vsv_file *through_file(const vsv_meta *grid, const char *name)
     vsv_writer *w = NULL;
     const float *fields[1] = {z};
     vsv_file *f = NULL;
-    if (!vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) && !vsv_writer_finish(w, NULL, NULL))
+    if (!vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) &&
+        !vsv_writer_finish(w, NULL, NULL))
         vsv_file_open(path, &f);
     vsv_writer_free(w);
     free(z);
@@ -157,8 +159,9 @@ static void test_wrf_positions(const char *rel)
                 lowest0 += !vsv_point_cell(m, i, j, -1, &p, msg, sizeof msg) && p.cell[2] == 0;
                 above_mean += m->terrain && m->terrain[(size_t)j * m->nx + i] > m->levels[0];
             }
-        snprintf(name, sizeof name, "%s, native levels: no height means level 0 in every column (%d above level 0's mean height)",
-                 rel, above_mean);
+        snprintf(name, sizeof name,
+                 "%s, native levels: no height means level 0 in every column (%d above level 0's mean height)", rel,
+                 above_mean);
         CHECK(lowest0 == m->nx * m->ny, name, "%d of %d", lowest0, m->nx * m->ny);
         /* per-column heights at the last time: the mass levels halfway between w-levels (PH+PHB)/g */
         const int nt = vsv_source_ntimes(src), nk = m->nz;
@@ -167,8 +170,8 @@ static void test_wrf_positions(const char *rel)
         int vph, vphb;
         size_t s4[4] = {(size_t)nt - 1, 0, 0, 0}, c4[4] = {1, (size_t)nk + 1, (size_t)m->ny, (size_t)m->nx};
         double worst = -1;
-        if (!nc_inq_varid(nc, "PH", &vph) && !nc_inq_varid(nc, "PHB", &vphb) && !nc_get_vara_float(nc, vph, s4, c4, ph) &&
-            !nc_get_vara_float(nc, vphb, s4, c4, phb)) {
+        if (!nc_inq_varid(nc, "PH", &vph) && !nc_inq_varid(nc, "PHB", &vphb) &&
+            !nc_get_vara_float(nc, vph, s4, c4, ph) && !nc_get_vara_float(nc, vphb, s4, c4, phb)) {
             worst = 0;
             const int64_t tl = vsv_source_time(src, nt - 1);
             for (int k = 0; k < nk; k++)
@@ -179,8 +182,10 @@ static void test_wrf_positions(const char *rel)
                     worst = fmax(worst, fabs(h - 0.5 * (zlo + zhi)));
                 }
         }
-        snprintf(name, sizeof name, "%s: every cell's height at the last time is WRF's mass level from PH+PHB within 0.01 m", rel);
-        CHECK(worst >= 0 && worst < 0.01 && m->nheights > 0, name, "worst %.4f m, %d height records", worst, m->nheights);
+        snprintf(name, sizeof name,
+                 "%s: every cell's height at the last time is WRF's mass level from PH+PHB within 0.01 m", rel);
+        CHECK(worst >= 0 && worst < 0.01 && m->nheights > 0, name, "worst %.4f m, %d height records", worst,
+              m->nheights);
         free(ph);
         free(phb);
         free(la);
@@ -252,11 +257,12 @@ static void test_values(void)
         float v = 0, near = 0;
         vsv_query_sample(qy, 3, 0, pos, VSV_INTERP_LINEAR, &v);
         vsv_query_sample(qy, 3, 0, pos, VSV_INTERP_NEAREST, &near);
-        CHECK(v == (float)want && want > 0, "trilinear Q at (100.25, 60.5, 20.75) is the weighted eight cells", "%.9g vs %.9g",
-              v, want);
-        CHECK(near == vol[((size_t)21 * m.ny + 61) * m.nx + 100], "nearest Q at (100.25, 60.5, 20.75) is cell 100,61,21",
-              "%.9g", near);
-        CHECK(vsv_query_cell(qy, 4, 0, 0, 0, 0, &v) == VSV_ERANGE && vsv_query_cell(qy, 0, 0, m.nx, 0, 0, &v) == VSV_ERANGE,
+        CHECK(v == (float)want && want > 0, "trilinear Q at (100.25, 60.5, 20.75) is the weighted eight cells",
+              "%.9g vs %.9g", v, want);
+        CHECK(near == vol[((size_t)21 * m.ny + 61) * m.nx + 100],
+              "nearest Q at (100.25, 60.5, 20.75) is cell 100,61,21", "%.9g", near);
+        CHECK(vsv_query_cell(qy, 4, 0, 0, 0, 0, &v) == VSV_ERANGE &&
+                  vsv_query_cell(qy, 0, 0, m.nx, 0, 0, &v) == VSV_ERANGE,
               "a step or cell outside the file is VSV_ERANGE");
         /* points */
         const vsv_meta *fm = vsv_file_meta(f);
@@ -264,8 +270,8 @@ static void test_values(void)
         char msg[256];
         int rc = vsv_point_locate(fm, 41.88, -87.63, 3000, &p, msg, sizeof msg);
         CHECK(rc == 0 && p.cell[0] == 127 && p.cell[1] == 85 && p.cell[2] == 8 && fabs(p.height - 3060) < 1e-9,
-              "Chicago at 3000 m is cell 127,85,8 (centre 3060 m)", "%d %d,%d,%d %g", rc, p.cell[0], p.cell[1], p.cell[2],
-              p.height);
+              "Chicago at 3000 m is cell 127,85,8 (centre 3060 m)", "%d %d,%d,%d %g", rc, p.cell[0], p.cell[1],
+              p.cell[2], p.height);
         rc = vsv_point_locate(fm, 41.88, -87.63, NAN, &p, msg, sizeof msg);
         const double ground = fm->terrain[(size_t)85 * fm->nx + 127];
         CHECK(rc == 0 && p.cell[2] == (int)ceil((ground - 180) / 360) && p.height >= ground && p.height - 360 < ground,

@@ -53,7 +53,8 @@ static void unload(world *w)
 /* Renders layers (species indices, opacities) into a new image. */
 static int g_kind = VSV_RENDER_RAYCAST, g_ortho = 0;
 
-static float *render(world *w, const int *idx, const float *op, int n, int threads, double step, int noskip, float *depth)
+static float *render(world *w, const int *idx, const float *op, int n, int threads, double step, int noskip,
+                     float *depth)
 {
     vsv_layer layers[8];
     for (int i = 0; i < n; i++)
@@ -297,8 +298,8 @@ static void test_simd_paths(world *w)
     for (int i = 0; i < SW * SH; i++)
         shown += img[0][4 * i + 3] > 0.05f;
     CHECK(shown > 200 && !memcmp(img[0], img[1], sizeof(float) * 4 * SW * SH) &&
-              !memcmp(dep[0], dep[1], sizeof(float) * SW * SH) && !memcmp(img[0], img[2], sizeof(float) * 4 * SW * SH) &&
-              !memcmp(dep[0], dep[2], sizeof(float) * SW * SH),
+              !memcmp(dep[0], dep[1], sizeof(float) * SW * SH) &&
+              !memcmp(img[0], img[2], sizeof(float) * 4 * SW * SH) && !memcmp(dep[0], dep[2], sizeof(float) * SW * SH),
           "log scale, 101x67 image: the sixteen-ray loop (both builds) and the one-ray loop give identical pixels "
           "and depths",
           "%d pixels shown", shown);
@@ -330,8 +331,9 @@ static void test_sampling_copy(world *w)
                     bad += !(got == want || (got != got && want != want));
                 }
     }
-    CHECK(copy && bad == 0 && cells > 10000, "the raycaster's sampling copy holds the grid's cells, the last again past it",
-          "%ld of %ld differ", bad, cells);
+    CHECK(copy && bad == 0 && cells > 10000,
+          "the raycaster's sampling copy holds the grid's cells, the last again past it", "%ld of %ld differ", bad,
+          cells);
     free(copy);
     /* the same renderer after the volume is loaded with another step */
     vsv_layer L = {w->vol[0], &w->tf[0], 1, 1};
@@ -436,8 +438,8 @@ static void test_ground(world *w)
             }
     }
     CHECK(rays > 1000 && hits > 500 && bad == 0,
-          "real MMOUT terrain: every ray meets the ground where a fine march says, exactly on it", "%d rays, %d hits, %d wrong",
-          rays, hits, bad);
+          "real MMOUT terrain: every ray meets the ground where a fine march says, exactly on it",
+          "%d rays, %d hits, %d wrong", rays, hits, bad);
     /* an exaggeration beyond numbers (vsv-render -x 1e308 overflowed the heap
      * here, issue 33): a whole frame renders, nothing out of bounds */
     sc.exaggeration = 1e308;
@@ -573,8 +575,8 @@ static void test_mm5(void)
     const char *path = vsv_test_tmp("render-mm5.vsv");
     /* convert the bundled sample with the library, as vsv-convert does */
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s", getenv("B") ? getenv("B") : "build",
-             path);
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
+             getenv("B") ? getenv("B") : "build", path);
     if (!CHECK(system(cmd) == 0, "the MM5 sample converts for rendering"))
         return;
     world w;

@@ -47,7 +47,8 @@ static void test_tf(void)
     vsv_tf_eval(&tf, NAN, rgba);
     CHECK(rgba[3] == 0, "no data is transparent");
     rc = vsv_tf_parse(&tf, "colormap rainbow\n", msg, sizeof msg);
-    CHECK(rc != 0 && strstr(msg, "line 1: unknown colour map"), "an unknown colour map is named with its line", "%s", msg);
+    CHECK(rc != 0 && strstr(msg, "line 1: unknown colour map"), "an unknown colour map is named with its line", "%s",
+          msg);
     rc = vsv_tf_parse(&tf, "range 1 2\nscale log\nopacity 0 2\n", msg, sizeof msg);
     CHECK(rc != 0 && strstr(msg, "line 3"), "opacity outside [0, 1] is refused", "%s", msg);
     /* found by fuzzing (tests/corpus/text/crash-tf-infinite-range): an
@@ -101,7 +102,9 @@ static void test_exr(void)
         ch->user_bytes_per_element = 4;
         ch->user_pixel_stride = 4;
         ch->user_line_stride = 4 * EW;
-        ch->decode_to_ptr = !strcmp(ch->channel_name, "Z") ? (uint8_t *)z : !strcmp(ch->channel_name, "A") ? (uint8_t *)a : NULL;
+        ch->decode_to_ptr = !strcmp(ch->channel_name, "Z")   ? (uint8_t *)z
+                            : !strcmp(ch->channel_name, "A") ? (uint8_t *)a
+                                                             : NULL;
     }
     ok = ok && exr_decoding_choose_default_routines(ctx, 0, &dec) == EXR_ERR_SUCCESS &&
          exr_decoding_run(ctx, 0, &dec) == EXR_ERR_SUCCESS;

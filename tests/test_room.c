@@ -292,8 +292,8 @@ static void test_room(const char *path)
     const double user = 42.5;
     CHECK(vsv_room_can_publish(r), "an empty room can publish", " ");
     int64_t t1 = 0;
-    const int rc1 = vsv_room_publish(r, vsv_player_pager(p), 2, vsv_player_step_time(p, 2), NULL, vols, &user, &t1,
-                                     err, sizeof err);
+    const int rc1 = vsv_room_publish(r, vsv_player_pager(p), 2, vsv_player_step_time(p, 2), NULL, vols, &user, &t1, err,
+                                     sizeof err);
     CHECK(!rc1 && t1 == 1, "the first tick", "(%d %lld: %s)", rc1, (long long)t1, err);
     int fds[2];
     if (pipe(fds))

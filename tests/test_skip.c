@@ -145,7 +145,8 @@ static void same_pixels(const char *label, one *o, float op)
     int bad = 0;
     for (int view = 0; view < 3; view++)
         for (int l = 0; l < 3; l++) {
-            float *a = draw(o, 225 + 120 * view, op, 0, loops[l], NULL), *b = draw(o, 225 + 120 * view, op, 1, loops[l], NULL);
+            float *a = draw(o, 225 + 120 * view, op, 0, loops[l], NULL),
+                  *b = draw(o, 225 + 120 * view, op, 1, loops[l], NULL);
             if (!a || !b) {
                 bad = 1;
             } else {
@@ -215,7 +216,8 @@ static void slab(void)
     vsv_tf_parse(&shown, "colormap greys\nrange -1 1\nscale linear\nopacity 0 0.8\n", msg, sizeof msg);
     o.tf = shown;
     float *c = draw(&o, -1, op, 0, NULL, &r);
-    CHECK(c && r && r->frame.skip == NULL, "a transfer function that shows 0: no block is clear (skipping follows the table)");
+    CHECK(c && r && r->frame.skip == NULL,
+          "a transfer function that shows 0: no block is clear (skipping follows the table)");
     vsv_renderer_free(r);
     free(c);
     close_one(&o);
@@ -301,7 +303,8 @@ static void plume(void)
     snprintf(dir, sizeof dir, "%s", vsv_test_tmp("plume"));
     snprintf(f32, sizeof f32, "%s/plume_t0.f32", dir);
     snprintf(cmd, sizeof cmd,
-             "test -f %s/tools/gen-plume/gen_volume.c && mkdir -p %s && cc -O2 -o %s/gen %s/tools/gen-plume/gen_volume.c -lm "
+             "test -f %s/tools/gen-plume/gen_volume.c && mkdir -p %s && cc -O2 -o %s/gen "
+             "%s/tools/gen-plume/gen_volume.c -lm "
              "&& %s/gen %s > /dev/null",
              shared, dir, dir, shared, dir, dir);
     FILE *fp = system(cmd) == 0 ? fopen(f32, "rb") : NULL;
@@ -317,7 +320,8 @@ static void plume(void)
                     double s = 0;
                     for (int p = 0; p < 4; p++) {
                         const double cx = 50 + 50 * p + 0.6 * (k - 10), cy = 60 + 45 * p, cz = 8 + 5 * p;
-                        const double e = ((i - cx) * (i - cx) / 400 + (j - cy) * (j - cy) / 100 + (k - cz) * (k - cz) / 16);
+                        const double e =
+                            ((i - cx) * (i - cx) / 400 + (j - cy) * (j - cy) / 100 + (k - cz) * (k - cz) / 16);
                         s += e < 30 ? exp(-0.5 * e) : 0;
                     }
                     const double noise = (double)(vsv_test_rand(&seed) >> 11) / 9007199254740992.0;

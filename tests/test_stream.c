@@ -91,9 +91,7 @@ static void random_walk(vsv_file *f, size_t budget, int threads, const char *lab
                     bad |= rc != VSV_EAGAIN || v[h]->step != -1;
             }
             break;
-        case 2: /* let the workers run a little */
-            usleep(200);
-            break;
+        case 2: /* let the workers run a little */ usleep(200); break;
         default: /* a blocking get: always the right volume */
             gets++;
             if (vsv_pager_get(p, step, s, 1, v[h]) || !same_as_direct(v[h], step, s))
@@ -269,7 +267,8 @@ static void test_volume_owner(vsv_file *f)
     CHECK(pinned > 0 && st.pinned_bytes == 0, "vsv_volume_free on a pager volume unpins its bricks",
           "(pinned %zu, then %zu bytes)", pinned, st.pinned_bytes);
     CHECK(vsv_pager_get(p, 6, 1, 1, w) == 0 && same_as_direct(w, 6, 1), "and the pager works on", " ");
-    CHECK(vsv_volume_load(w, d, 3, 0) == VSV_EINVAL && strstr(vsv_decoder_error(d), "not a volume of vsv_volume_create"),
+    CHECK(vsv_volume_load(w, d, 3, 0) == VSV_EINVAL &&
+              strstr(vsv_decoder_error(d), "not a volume of vsv_volume_create"),
           "vsv_volume_load refuses a pager volume", "(%s)", vsv_decoder_error(d));
     CHECK(same_as_direct(w, 6, 1), "which still holds what it held", " ");
     CHECK(vsv_pager_get(p, 3, 0, 1, r) == VSV_EINVAL && strstr(vsv_pager_error(p), "not a volume of this pager"),
@@ -453,8 +452,9 @@ static void test_clock(void)
             seen[vsv_clock_tick(&c, 0.1)]++;
         for (int k = 0; k < 10; k++)
             lo = seen[k] < lo ? seen[k] : lo, hi = seen[k] > hi ? seen[k] : hi;
-        CHECK(lo >= 8 && hi <= 12, dir > 0 ? "loop forward: every step is shown, the last as long as the others"
-                                           : "loop backward: every step is shown, the first as long as the others",
+        CHECK(lo >= 8 && hi <= 12,
+              dir > 0 ? "loop forward: every step is shown, the last as long as the others"
+                      : "loop backward: every step is shown, the first as long as the others",
               "(ticks per step: first %d, last %d, fewest %d, most %d)", seen[0], seen[9], lo, hi);
     }
     vsv_clock_set_speed(&c, 1);
@@ -475,8 +475,8 @@ static void test_clock(void)
     vsv_clock_seek_step(&c, 0);
     vsv_clock_set_speed(&c, -1);
     vsv_clock_play(&c);
-    CHECK(c.step == 9 && c.playing && c.speed == -1, "play backward at the start starts over from the end",
-          "(step %d)", c.step);
+    CHECK(c.step == 9 && c.playing && c.speed == -1, "play backward at the start starts over from the end", "(step %d)",
+          c.step);
     vsv_clock_seek_step(&c, 7);
     vsv_clock_step(&c, 3);
     CHECK(c.step == 9 && !c.playing, "step +3 pauses and clamps at the end", "(step %d)", c.step);
@@ -505,8 +505,8 @@ static void test_clock(void)
     vsv_clock_seek_step(&c, 6);
     vsv_clock_set_speed(&c, -1);
     vsv_clock_tick(&c, 0.125);
-    CHECK(c.step == 6 && c.model < (double)times[6], "backwards, the step at or after model time is shown",
-          "(step %d)", c.step);
+    CHECK(c.step == 6 && c.model < (double)times[6], "backwards, the step at or after model time is shown", "(step %d)",
+          c.step);
     vsv_clock_tick(&c, 0.125);
     CHECK(c.step == 5, "and the previous step once it is reached", "(step %d)", c.step);
     vsv_clock_set_speed(&c, 0);
@@ -551,8 +551,8 @@ static void test_clock_ahead(void)
     vsv_clock_play(&c);
     n = vsv_clock_ahead(&c, frame, s, 20);
     CHECK(list_is(s, n, (int[]){1, 3, 4, 6, 7, 9}, 6),
-          "1.5 steps a frame: the steps the frames show, the ones jumped over left out, to the end", "(%d: %d %d %d)", n,
-          s[0], s[1], s[2]);
+          "1.5 steps a frame: the steps the frames show, the ones jumped over left out, to the end", "(%d: %d %d %d)",
+          n, s[0], s[1], s[2]);
     CHECK(vsv_clock_ahead(&c, frame, s, 3) == 3 && s[2] == 4, "no more than asked", " ");
     vsv_clock_seek_step(&c, 9);
     vsv_clock_set_speed(&c, -8);
@@ -565,8 +565,8 @@ static void test_clock_ahead(void)
     vsv_clock_set_speed(&c, 8);
     vsv_clock_play(&c);
     n = vsv_clock_ahead(&c, frame, s, 4);
-    CHECK(list_is(s, n, (int[]){8, 0, 1, 3}, 4), "looping: through the wrap as the clock goes", "(%d: %d %d %d %d)",
-          n, s[0], s[1], s[2], s[3]);
+    CHECK(list_is(s, n, (int[]){8, 0, 1, 3}, 4), "looping: through the wrap as the clock goes", "(%d: %d %d %d %d)", n,
+          s[0], s[1], s[2], s[3]);
     n = vsv_clock_ahead(&c, frame, s, 20);
     CHECK(n == 9 && s[8] != 7, "a lap lists each other step once", "(%d)", n);
     vsv_clock_set_speed(&c, 1.0 / 64);

@@ -28,7 +28,7 @@ int main(void)
     const int ns = m->nvars, nt = info.nsteps;
     const size_t cells = (size_t)m->nx * m->ny * m->nz;
     vsv_volume **vols = calloc((size_t)ns, sizeof *vols);
-    char (*paths)[512] = calloc((size_t)nt, sizeof *paths);
+    char(*paths)[512] = calloc((size_t)nt, sizeof *paths);
     const char **pp = calloc((size_t)nt, sizeof *pp);
     char err[1024] = "";
     int ok = 1;
@@ -68,7 +68,8 @@ int main(void)
     const char *aniso = vsv_test_tmp("vdb-aniso.vdb");
     int aok = !vsv_meta_copy(&m2, m);
     m2.spacing[1] = 2 * m->spacing[0], m2.origin[1] = m->origin[1] + 7000;
-    aok = aok && !vsv_vdb_write(aniso, &m2, vsv_file_time(f, nt - 1), (const vsv_volume *const *)vols, ns, err, sizeof err) &&
+    aok = aok &&
+          !vsv_vdb_write(aniso, &m2, vsv_file_time(f, nt - 1), (const vsv_volume *const *)vols, ns, err, sizeof err) &&
           !vsv_vdb_scan(&aniso, 1, &v2, err, sizeof err);
     double werr = 0;
     for (int a = 0; aok && a < 3; a++) {
@@ -76,7 +77,8 @@ int main(void)
         werr = fmax(werr, fabs(v2.voxel[a] - m2.spacing[a]) + fabs(cell - round(cell)));
     }
     CHECK(aok && werr < 1e-6, "a grid of 1 x 2 cells: voxel size per axis and origin on the grid's own lattice",
-          "(%s) voxel %g %g %g, origin y %g (grid's %g)", err, v2.voxel[0], v2.voxel[1], v2.voxel[2], v2.origin[1], m2.origin[1]);
+          "(%s) voxel %g %g %g, origin y %g (grid's %g)", err, v2.voxel[0], v2.voxel[1], v2.voxel[2], v2.origin[1],
+          m2.origin[1]);
     if (aok)
         vsv_vdb_info_free(&v2);
     vsv_meta_clear(&m2);
@@ -192,8 +194,8 @@ int main(void)
     const int rc = vsv_vdb_scan(one, 1, &ci, err, sizeof err);
     if (rc)
         vsv_vdb_info_free(&ci);
-    CHECK(rc == -1 && strstr(err, "cut.vdb") && strstr(err, "OpenVDB"), "a truncated .vdb is a clear error",
-          "(%s)", err);
+    CHECK(rc == -1 && strstr(err, "cut.vdb") && strstr(err, "OpenVDB"), "a truncated .vdb is a clear error", "(%s)",
+          err);
     free(bytes);
     vsv_vdb_info_free(&vi);
     free(ref);

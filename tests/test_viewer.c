@@ -26,16 +26,27 @@ static void test_actions(vsv_player *p)
           "status: model time, step, paused, species with opacity (water vapour hidden, as vsv-render)", "(%s)", st);
     struct {
         const char *action, *why;
-    } bad[] = {{"speed 0", "non-zero"},       {"seek 99", "out of range"},   {"seek yesterday", "neither"},
-               {"toggle NOPE", "NOPE"},        {"opacity Q x", ">= 0"},      {"frobnicate", "unknown action"},
-               {"renderer gpu", "raycast"},    {"camera 10", "AZ EL"},        {"loop sometimes", "on, off"},
-               {"screenshot", "FILE.png"},     {"step many", "not a number"}, {"zoom 0", "> 0"},
+    } bad[] = {{"speed 0", "non-zero"},
+               {"seek 99", "out of range"},
+               {"seek yesterday", "neither"},
+               {"toggle NOPE", "NOPE"},
+               {"opacity Q x", ">= 0"},
+               {"frobnicate", "unknown action"},
+               {"renderer gpu", "raycast"},
+               {"camera 10", "AZ EL"},
+               {"loop sometimes", "on, off"},
+               {"screenshot", "FILE.png"},
+               {"step many", "not a number"},
+               {"zoom 0", "> 0"},
                {"seek 1995-10-25T00:00:00Z", "after the last step (steps 0..3"},
-               {"seek 1995-10-23T00:00:00Z", "before the first step"}, {"seek 0:2", "one step is wanted"},
+               {"seek 1995-10-23T00:00:00Z", "before the first step"},
+               {"seek 0:2", "one step is wanted"},
                /* found by fuzzing (tests/corpus/player/edge-values): an int
                 * conversion out of range, infinities taken as numbers */
-               {"step 1e300", "not a number of steps"}, {"speed inf", "non-zero number"},
-               {"camera 10 nan", "AZ EL"}, {"pan inf 0", "DX DY"}};
+               {"step 1e300", "not a number of steps"},
+               {"speed inf", "non-zero number"},
+               {"camera 10 nan", "AZ EL"},
+               {"pan inf 0", "DX DY"}};
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         const int rc = vsv_player_do(p, bad[i].action, err, sizeof err);
         char name[128];
@@ -169,13 +180,27 @@ static void test_camera_from_gl(vsv_player *p)
     const double eye[3] = {1, 5.5, 2};
     const double MV[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -eye[0], -eye[1], -eye[2], 1};
     const double l = -0.7, r = 0.4, b = -0.5, t = 0.3, n = 0.1, f = 100;
-    const double P[16] = {2 * n / (r - l), 0, 0, 0, 0, 2 * n / (t - b), 0, 0, (r + l) / (r - l), (t + b) / (t - b),
-                          -(f + n) / (f - n), -1, 0, 0, -2 * f * n / (f - n), 0};
+    const double P[16] = {2 * n / (r - l),
+                          0,
+                          0,
+                          0,
+                          0,
+                          2 * n / (t - b),
+                          0,
+                          0,
+                          (r + l) / (r - l),
+                          (t + b) / (t - b),
+                          -(f + n) / (f - n),
+                          -1,
+                          0,
+                          0,
+                          -2 * f * n / (f - n),
+                          0};
     vsv_camera cam;
     /* the scene k feet a metre, its box's centre at `at` */
     const double c0[3] = {0.5 * (mn[0] + mx[0]), 0.5 * (mn[1] + mx[1]), 0.5 * (mn[2] + mx[2])};
-    const double place[16] = {k, 0, 0, 0, 0, 0, -k, 0, 0, k, 0, 0, at[0] - k * c0[0], at[1] - k * c0[2],
-                              at[2] + k * c0[1], 1};
+    const double place[16] = {
+        k, 0, 0, 0, 0, 0, -k, 0, 0, k, 0, 0, at[0] - k * c0[0], at[1] - k * c0[2], at[2] + k * c0[1], 1};
     vsv_player_camera_from_gl(place, P, MV, 200, 100, &cam);
     /* the eye in world metres: east = x, north = -z, up = y */
     const double cx = 0.5 * (mn[0] + mx[0]), cy = 0.5 * (mn[1] + mx[1]), cz = 0.5 * (mn[2] + mx[2]);
@@ -202,8 +227,8 @@ static void test_freevr_layout(void)
 {
     vsv_freevr_layout l;
     vsv_freevr_layout_count(NULL, 0, &l);
-    CHECK(l.windows == 1 && l.visren == 1 && !l.explicit, "no configuration: FreeVR's simulator, one window",
-          "(%d %d)", l.windows, l.visren);
+    CHECK(l.windows == 1 && l.visren == 1 && !l.explicit, "no configuration: FreeVR's simulator, one window", "(%d %d)",
+          l.windows, l.visren);
     const char *cave =
         "# four walls\n"
         "system \"cave\" = { type = \"cave\"; procs = \"pf\", \"pl\", \"pr\", \"pb\", \"pin\"; }\n"
@@ -227,8 +252,8 @@ static void test_freevr_layout(void)
     const char *nosys[1] = {"usesystem \"none\"; window \"a\" = {} window \"b\" = {}\n"
                             "process \"p\" = { type = visren; objects = \"a\"; }"};
     vsv_freevr_layout_count(nosys, 1, &l);
-    CHECK(l.windows == 2 && l.visren == 1 && !l.explicit, "an unknown system: a bound from every definition",
-          "(%d %d)", l.windows, l.visren);
+    CHECK(l.windows == 2 && l.visren == 1 && !l.explicit, "an unknown system: a bound from every definition", "(%d %d)",
+          l.windows, l.visren);
     l = (vsv_freevr_layout){.windows = 8, .visren = 8, .explicit = 1};
     CHECK(vsv_freevr_arena_bytes(&l, 1000) == 16ul << 20, "eight windows: FreeVR's default arena, 16 MiB", " ");
     l = (vsv_freevr_layout){.windows = 100, .visren = 100, .explicit = 1};
@@ -359,8 +384,8 @@ static void test_skipping(const char *path, vsv_player_opts o)
         settle(p);
     }
     vsv_player_pager_stats(p, &st);
-    CHECK(depth == 1 && frames >= 25, "1.25 steps a frame with one step decoded ahead", "(depth %d, %d frames, %zu bytes a step)",
-          depth, frames, step);
+    CHECK(depth == 1 && frames >= 25, "1.25 steps a frame with one step decoded ahead",
+          "(depth %d, %d frames, %zu bytes a step)", depth, frames, step);
     CHECK(st.stalls == st0.stalls && behind == 0,
           "a frame that jumps over a step finds the step it shows decoded (no stall)",
           "(%llu stalls in %d frames; %d behind the clock)", (unsigned long long)(st.stalls - st0.stalls), frames,

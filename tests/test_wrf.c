@@ -71,7 +71,8 @@ static void check_file(const char *rel, int nx, int ny, int nk, int proj)
     for (int j = 0; j < ny; j++)
         for (int i = 0; i < nx; i++) {
             double plat, plon;
-            vsv_proj_inverse(&g->proj, g->origin[0] + i * g->spacing[0], g->origin[1] + j * g->spacing[1], &plat, &plon);
+            vsv_proj_inverse(&g->proj, g->origin[0] + i * g->spacing[0], g->origin[1] + j * g->spacing[1], &plat,
+                             &plon);
             worst = fmax(worst, dist_m(plat, plon, la[j * nx + i], lo[j * nx + i]));
         }
     snprintf(name, sizeof name, "%s: every cell within 10 m of XLAT/XLONG", rel);
@@ -83,7 +84,8 @@ static void check_file(const char *rel, int nx, int ny, int nk, int proj)
     int mono = 1;
     for (int k = 1; k < nk; k++)
         mono &= g->levels[k] > g->levels[k - 1];
-    snprintf(name, sizeof name, "%s: mass-level heights increase (%.0f .. %.0f m)", rel, g->levels[0], g->levels[nk - 1]);
+    snprintf(name, sizeof name, "%s: mass-level heights increase (%.0f .. %.0f m)", rel, g->levels[0],
+             g->levels[nk - 1]);
     CHECK(mono && g->levels[0] > 0, name);
     /* values equal a direct read after destaggering */
     const char *vars[] = {"U", "V", "W", "QCLOUD", "T"};
@@ -102,11 +104,14 @@ static void check_file(const char *rel, int nx, int ny, int nk, int proj)
                     for (int i = 0; i < nx; i++) {
                         float want;
                         if (v == 0)
-                            want = 0.5f * (raw[((size_t)k * ny + j) * (nx + 1) + i] + raw[((size_t)k * ny + j) * (nx + 1) + i + 1]);
+                            want = 0.5f * (raw[((size_t)k * ny + j) * (nx + 1) + i] +
+                                           raw[((size_t)k * ny + j) * (nx + 1) + i + 1]);
                         else if (v == 1)
-                            want = 0.5f * (raw[((size_t)k * (ny + 1) + j) * nx + i] + raw[((size_t)k * (ny + 1) + j + 1) * nx + i]);
+                            want = 0.5f * (raw[((size_t)k * (ny + 1) + j) * nx + i] +
+                                           raw[((size_t)k * (ny + 1) + j + 1) * nx + i]);
                         else if (v == 2)
-                            want = 0.5f * (raw[((size_t)k * ny + j) * nx + i] + raw[((size_t)(k + 1) * ny + j) * nx + i]);
+                            want =
+                                0.5f * (raw[((size_t)k * ny + j) * nx + i] + raw[((size_t)(k + 1) * ny + j) * nx + i]);
                         else
                             want = raw[((size_t)k * ny + j) * nx + i];
                         same &= vol[((size_t)k * ny + j) * nx + i] == want;
@@ -274,7 +279,8 @@ static void write_wrf(const char *path, int t0, int nt)
 
 static void test_run(void)
 {
-    const char *a = vsv_test_tmp("wrfout_d01_a"), *b = vsv_test_tmp("wrfout_d01_b"), *all = vsv_test_tmp("wrfout_d01_all");
+    const char *a = vsv_test_tmp("wrfout_d01_a"), *b = vsv_test_tmp("wrfout_d01_b"),
+               *all = vsv_test_tmp("wrfout_d01_all");
     write_wrf(a, 0, 2);
     write_wrf(b, 2, 2);
     write_wrf(all, 0, 4);
@@ -286,11 +292,13 @@ static void test_run(void)
     const size_t cells = m ? (size_t)m->nx * m->ny * m->nz : 0;
     float *f1 = malloc(cells * 4 + 4), *f2 = malloc(cells * 4 + 4);
     for (int i = 0; ok && i < 4; i++) {
-        ok &= vsv_run_time(r1, i) == vsv_run_time(r2, i) && vsv_run_read(r1, i, &f1) == 0 && vsv_run_read(r2, i, &f2) == 0;
+        ok &= vsv_run_time(r1, i) == vsv_run_time(r2, i) && vsv_run_read(r1, i, &f1) == 0 &&
+              vsv_run_read(r2, i, &f2) == 0;
         ok &= !memcmp(f1, f2, cells * 4);
     }
-    CHECK(ok && !strcmp(m->vars[0].name, "QCLOUD"), "two wrfout files given out of order are one run equal to the whole",
-          "%s %s", vsv_run_error(r1), vsv_run_error(r2));
+    CHECK(ok && !strcmp(m->vars[0].name, "QCLOUD"),
+          "two wrfout files given out of order are one run equal to the whole", "%s %s", vsv_run_error(r1),
+          vsv_run_error(r2));
     /* heights move with PH in time: the even grid follows them */
     free(f1);
     free(f2);
@@ -313,7 +321,8 @@ static void test_hgt4(void)
     hgt4 = 0;
     vsv_source *src = NULL;
     const int rc = vsv_source_open(path, NULL, &src);
-    CHECK(rc == VSV_ECORRUPT && strstr(vsv_source_error(src), "hgt4.nc: variable HGT is 1 x 6 x 10 x 12, expected [time x] 10 x 12"),
+    CHECK(rc == VSV_ECORRUPT &&
+              strstr(vsv_source_error(src), "hgt4.nc: variable HGT is 1 x 6 x 10 x 12, expected [time x] 10 x 12"),
           "WRF with a 4-D HGT: an error naming the variable and shapes", "rc %d: %s", rc, vsv_source_error(src));
     vsv_source_free(src);
 }

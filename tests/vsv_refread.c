@@ -35,7 +35,11 @@ uint32_t ref_crc32c(const unsigned char *p, size_t n)
     return c ^ 0xFFFFFFFFu;
 }
 
-#define FAIL(...) do { snprintf(err, cap, __VA_ARGS__); return -1; } while (0)
+#define FAIL(...)                                                                                                      \
+    do {                                                                                                               \
+        snprintf(err, cap, __VA_ARGS__);                                                                               \
+        return -1;                                                                                                     \
+    } while (0)
 
 int ref_open(ref_file *rf, const unsigned char *d, size_t n, char *err, size_t cap)
 {
@@ -155,7 +159,8 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
         const unsigned char *c = rf->d + get(te, 8);
         const size_t index_bytes = rf->nspecies * S;
         if (memcmp(c, "VCHK", 4) || get(c + 4, 4) != u || get(c + 16, 4) != index_bytes) {
-            free(state); free(buf);
+            free(state);
+            free(buf);
             FAIL("chunk %u header", u);
         }
         unsigned char *tmp = malloc(28 + index_bytes);
@@ -164,7 +169,8 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
         uint32_t crc = ref_crc32c(tmp, 28 + index_bytes);
         free(tmp);
         if (crc != get(c + 28, 4)) {
-            free(state); free(buf);
+            free(state);
+            free(buf);
             FAIL("chunk %u index crc", u);
         }
         for (unsigned b = 0; b < nb; b++) {
@@ -179,7 +185,8 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
                 continue;
             /* kinds 4 (ABS3) and 5 (DELTA3) in major 2 only; absolute kinds at keyframes */
             if (kind > (rf->major == 2 ? 5u : 3u) || (u % rf->keyframe == 0 && kind != 2 && kind != 4)) {
-                free(state); free(buf);
+                free(state);
+                free(buf);
                 FAIL("chunk %u brick %u kind %u", u, b, kind);
             }
             unsigned inside = 1;
@@ -192,18 +199,21 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
             const unsigned char *p = c + get(e + 8, 8);
             size_t size = get(e + 16, 4);
             if (ref_crc32c(p, size) != get(e + 4, 4)) {
-                free(state); free(buf);
+                free(state);
+                free(buf);
                 FAIL("chunk %u brick %u payload crc", u, b);
             }
             if (rf->codec == 1) {
                 size_t got = ZSTD_decompress(buf, raw, p, size);
                 if (ZSTD_isError(got) || got != raw) {
-                    free(state); free(buf);
+                    free(state);
+                    free(buf);
                     FAIL("chunk %u brick %u zstd", u, b);
                 }
             } else {
                 if (size != raw) {
-                    free(state); free(buf);
+                    free(state);
+                    free(buf);
                     FAIL("raw size");
                 }
                 memcpy(buf, p, raw);

@@ -43,6 +43,7 @@
 #include <time.h>
 #include <unistd.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-play-freevr FILE.vsv|URL [OPTIONS] [FREEVR-CONFIGURATION...]\n"
     "Play a .vsv file in a CAVE, on a wall or in FreeVR's simulator: every wall\n"
@@ -81,21 +82,21 @@ static const char usage[] =
     "\n"
     "The wand (FreeVR's 2switches 1-3 and the joystick; the simulator: mouse\n"
     "buttons, and the pointer while space is held):\n";
+/* clang-format on */
 
-static const char usage_tail[] =
-    "\n"
-    "FreeVR reads its configuration from $FREEVR_HOME/.freevrrc, ~/.freevrrc,\n"
-    "./.freevrrc and the FREEVR variable (none: its simulator). An argument that\n"
-    "contains any of ; = \" { } is FreeVR configuration and goes to FreeVR as it is,\n"
-    "e.g. 'usesystem \"cave\";'. See vsv-play-freevr(1).\n";
+static const char usage_tail[] = "\n"
+                                 "FreeVR reads its configuration from $FREEVR_HOME/.freevrrc, ~/.freevrrc,\n"
+                                 "./.freevrrc and the FREEVR variable (none: its simulator). An argument that\n"
+                                 "contains any of ; = \" { } is FreeVR configuration and goes to FreeVR as it is,\n"
+                                 "e.g. 'usesystem \"cave\";'. See vsv-play-freevr(1).\n";
 
 vsv_fv_app vsv_fv;
 
 /* ----------------------------------------------------------- life cycle */
 
 static volatile sig_atomic_t got_signal;
-static vsv_ipc fv_ipc;          /* the IPC objects FreeVR made */
-static pid_t kids[64];          /* FreeVR's processes, as vrStart left them */
+static vsv_ipc fv_ipc; /* the IPC objects FreeVR made */
+static pid_t kids[64]; /* FreeVR's processes, as vrStart left them */
 static volatile sig_atomic_t nkids;
 static volatile sig_atomic_t end_status;
 
@@ -224,19 +225,19 @@ static void read_layout(char **fv, int nfv, vsv_freevr_layout *lay)
 /* ------------------------------------------------------------ main loop */
 
 typedef struct run {
-    vsv_player *dec;      /* clock, actions, the one pager */
+    vsv_player *dec; /* clock, actions, the one pager */
     vsv_freevr_layout lay;
-    int kind;             /* VSV_PLACE_* */
+    int kind; /* VSV_PLACE_* */
     double base[16], nav[16];
     vsv_wand wand;
-    vsv_fv_tick last;     /* published last */
+    vsv_fv_tick last; /* published last */
     int last_step;
     const char *last_damage;
-    int fps;              /* --fps */
-    int panel;            /* draw the panel */
-    vsv_panel *measure;   /* the panel's size (no GL) */
-    double panel_at;      /* when it was sized last (monotonic seconds) */
-    double lh, where[9];  /* its line height, corner and directions then */
+    int fps;             /* --fps */
+    int panel;           /* draw the panel */
+    vsv_panel *measure;  /* the panel's size (no GL) */
+    double panel_at;     /* when it was sized last (monotonic seconds) */
+    double lh, where[9]; /* its line height, corner and directions then */
 } run;
 
 static void place_base(run *r)
@@ -355,8 +356,8 @@ static int dead_process(char *why, size_t cap)
         for (int i = 0; i < n && i < 64 && !name; i++)
             name = w[i].pid == kids[k] ? w[i].name : NULL;
         if (name)
-            snprintf(why, cap, "the render process of the %s window (pid %d) %s: the run is ended", name,
-                     (int)kids[k], how);
+            snprintf(why, cap, "the render process of the %s window (pid %d) %s: the run is ended", name, (int)kids[k],
+                     how);
         else
             snprintf(why, cap, "FreeVR's process %d (it drew no window yet, or read the input) %s: the run is ended",
                      (int)kids[k], how);
@@ -416,16 +417,28 @@ static int publish(run *r, char *err, size_t cap)
 }
 
 enum {
-    O_TF = 1000, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_PLACE, O_TRACE, O_NOPANEL,
-    O_FPS, O_NOWAND, O_GPUMB
+    O_TF = 1000,
+    O_CACHE,
+    O_THREADS,
+    O_SCALE,
+    O_RATE,
+    O_LOOP,
+    O_PLAY,
+    O_NOTERRAIN,
+    O_PLACE,
+    O_TRACE,
+    O_NOPANEL,
+    O_FPS,
+    O_NOWAND,
+    O_GPUMB
 };
 
 /* What the command line says beyond the player's options: ours apart from FreeVR's strings. */
 typedef struct freevr_args {
     vsv_player_opts opts;
-    size_t budget;       /* --cache-mb */
+    size_t budget; /* --cache-mb */
     const char *trace_file;
-    char **ours, **fv;   /* argv split: ours (options and the file), FreeVR's */
+    char **ours, **fv; /* argv split: ours (options and the file), FreeVR's */
     int nfv;
 } freevr_args;
 
@@ -447,6 +460,7 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
         else
             ours[nours++] = argv[i];
     }
+    /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},       {"tf", required_argument, 0, O_TF},
         {"renderer", required_argument, 0, 'r'},      {"cache-mb", required_argument, 0, O_CACHE},
@@ -459,6 +473,7 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
         {"gpu-mb", required_argument, 0, O_GPUMB},
         {"help", no_argument, 0, 'h'},                {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
+    /* clang-format on */
     a->budget = (size_t)1 << 30;
     int c;
     while ((c = getopt_long(nours, ours, "s:r:x:hV", longopts, NULL)) != -1) {

@@ -15,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
     "Usage: vsv-play FILE.vsv|URL [OPTIONS]\n"
     "Play a .vsv file in a window: play, pause, step, rewind and fast-forward through\n"
@@ -58,6 +59,7 @@ static const char usage[] =
     VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n";
+/* clang-format on */
 
 typedef struct script_line {
     double at;
@@ -166,9 +168,7 @@ static void on_button(GLFWwindow *w, int button, int act, int mods)
 {
     app *a = glfwGetWindowUserPointer(w);
     glfwGetCursorPos(w, &a->mx, &a->my);
-    a->drag = act != GLFW_PRESS                                             ? 0
-              : button == GLFW_MOUSE_BUTTON_RIGHT || (mods & GLFW_MOD_SHIFT) ? 2
-                                                                             : 1;
+    a->drag = act != GLFW_PRESS ? 0 : button == GLFW_MOUSE_BUTTON_RIGHT || (mods & GLFW_MOD_SHIFT) ? 2 : 1;
 }
 
 static void on_move(GLFWwindow *w, double x, double y)
@@ -246,8 +246,28 @@ typedef struct play_args {
 /* The command line into *o (usage errors exit 2); 1 when --help was printed. */
 static int parse_args(int argc, char **argv, play_args *o)
 {
-    enum { O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
-           O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
+    enum {
+        O_TF = 1000,
+        O_CACHE,
+        O_THREADS,
+        O_SIZE,
+        O_SCALE,
+        O_RATE,
+        O_LOOP,
+        O_PLAY,
+        O_NOTERRAIN,
+        O_SCRIPT,
+        O_VIEW,
+        O_LIGHT,
+        O_SLICE,
+        O_SLICESP,
+        O_SLICECM,
+        O_NOANNOT,
+        O_ANNOT,
+        O_GPUMB,
+        O_SLICERANGE
+    };
+    /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
         {"renderer", required_argument, 0, 'r'},   {"cache-mb", required_argument, 0, O_CACHE},
@@ -264,6 +284,7 @@ static int parse_args(int argc, char **argv, play_args *o)
         {"slice-range", required_argument, 0, O_SLICERANGE},
         {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
         {0, 0, 0, 0}};
+    /* clang-format on */
     vsv_player_opts po;
     vsv_player_opts_init(&po);
     int width = 960, height = 600, c;
@@ -414,8 +435,9 @@ static void choose_renderer(vsv_player *p, int want)
     char err[1024];
     if (want == -1 && vsv_gl_context_software()) {
         if (!vsv_cli_quiet())
-            fprintf(stderr, "vsv-play: renderer: shear-warp (OpenGL here is %s, a software rasteriser: the CPU "
-                            "renderers are faster; --renderer gl to use it anyway)\n",
+            fprintf(stderr,
+                    "vsv-play: renderer: shear-warp (OpenGL here is %s, a software rasteriser: the CPU "
+                    "renderers are faster; --renderer gl to use it anyway)\n",
                     (const char *)glGetString(GL_RENDERER));
     } else if (want == VSV_RENDER_GL || want == -1) {
         if (vsv_player_do(p, "renderer gl", err, sizeof err)) { /* err: "renderer gl: why" */
@@ -448,8 +470,8 @@ static void annotated_screenshot(vsv_player *p, unsigned parts, annot_cache *ac,
         char note[1200];
         vsv_font_free(ac->font);
         vsv_outlines_free(ac->outlines);
-        if (vsv_annot_load(vsv_player_meta(p), parts, rw, rh, mx[0] - mn[0], !ac->font_h && !vsv_cli_quiet(),
-                           &ac->font, &ac->outlines, note, sizeof note))
+        if (vsv_annot_load(vsv_player_meta(p), parts, rw, rh, mx[0] - mn[0], !ac->font_h && !vsv_cli_quiet(), &ac->font,
+                           &ac->outlines, note, sizeof note))
             vsv_cli_die(1, "%s", note);
         if (!ac->font_h)
             vsv_cli_notes(note);
@@ -573,9 +595,8 @@ int main(int argc, char **argv)
                 "vsv-play: %llu bricks decoded (%.1f MB, %.2f s) from %llu payloads, %llu hits, %llu misses, %llu "
                 "stalls, cache peak %.1f MiB of %.0f MiB\n",
                 (unsigned long long)st.bricks_decoded, st.bytes_decoded / 1e6, st.decode_seconds,
-                (unsigned long long)st.payloads_decoded,
-                (unsigned long long)st.hits, (unsigned long long)st.misses, (unsigned long long)st.stalls,
-                st.peak_bytes / 1048576.0, st.budget / 1048576.0);
+                (unsigned long long)st.payloads_decoded, (unsigned long long)st.hits, (unsigned long long)st.misses,
+                (unsigned long long)st.stalls, st.peak_bytes / 1048576.0, st.budget / 1048576.0);
     }
     if (ndamaged) { /* played past them, but the run did not show all of the file */
         fprintf(stderr, "vsv-play: %s: %d step%s damaged, not drawn\n", o.po.path, ndamaged, ndamaged > 1 ? "s" : "");

@@ -14,13 +14,13 @@
 /* The back end's data in every tick (vsv_room: plain data). */
 typedef struct vsv_fv_tick {
     vsv_player_state st;
-    double place[16];  /* world metres -> room (feet), navigation included */
-    double wand[3];    /* the wand in the room (feet) */
-    double wdir[3];    /* where it points (unit) */
-    double tip[3];     /* its tip: what the scene scales about */
-    double lh;         /* the panel's line height (feet); 0: no panel */
-    double panel[9];   /* its top-left corner, right and down directions */
-    double fps;        /* the slowest window's frames a second; < 0: not shown */
+    double place[16]; /* world metres -> room (feet), navigation included */
+    double wand[3];   /* the wand in the room (feet) */
+    double wdir[3];   /* where it points (unit) */
+    double tip[3];    /* its tip: what the scene scales about */
+    double lh;        /* the panel's line height (feet); 0: no panel */
+    double panel[9];  /* its top-left corner, right and down directions */
+    double fps;       /* the slowest window's frames a second; < 0: not shown */
     int nsteps;
 } vsv_fv_tick;
 
@@ -29,10 +29,10 @@ typedef struct vsv_fv_tick {
 typedef struct vsv_fv_app {
     vsv_player_opts opts; /* the render processes' player (external) */
     vsv_room *room;
-    double scale;         /* --render-scale */
-    int trace_fd;         /* --trace: lines appended here; -1 none */
-    double t0;            /* vsv_room_clock() at the start */
-    int wand;             /* draw the wand's pointer */
+    double scale; /* --render-scale */
+    int trace_fd; /* --trace: lines appended here; -1 none */
+    double t0;    /* vsv_room_clock() at the start */
+    int wand;     /* draw the wand's pointer */
 } vsv_fv_app;
 
 extern vsv_fv_app vsv_fv;
@@ -50,7 +50,7 @@ void vsv_fv_display_exit(void);
  * ends, the selected species, the frame rate with fps, a damaged step) of
  * tick t showing step of m; t NULL: the widest they can be (the panel is
  * sized for them, so it keeps its size). */
-void vsv_fv_panel_lines(const vsv_fv_tick *t, const vsv_meta *m, int nsteps, int step, int damaged, int fps,
-                        char *buf, size_t cap);
+void vsv_fv_panel_lines(const vsv_fv_tick *t, const vsv_meta *m, int nsteps, int step, int damaged, int fps, char *buf,
+                        size_t cap);
 
 #endif

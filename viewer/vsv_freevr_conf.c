@@ -23,10 +23,10 @@ typedef struct {
 
 typedef struct {
     char name[NAMELEN];
-    int fixed;       /* mount = "fixed" (a wall) */
-    int w, h;        /* geometry=WxH..., 0 when not given */
-    int ncorners;    /* numbers of rw2w_coords read (9: all) */
-    double c[9];     /* lower-left, lower-right, upper-left corners (feet) */
+    int fixed;    /* mount = "fixed" (a wall) */
+    int w, h;     /* geometry=WxH..., 0 when not given */
+    int ncorners; /* numbers of rw2w_coords read (9: all) */
+    double c[9];  /* lower-left, lower-right, upper-left corners (feet) */
 } win_def;
 
 typedef struct {
@@ -223,10 +223,10 @@ static void read_text(conf *c, const char *text)
             skip_statement(&lx);
             continue;
         }
-        const int kind = !strcasecmp(what, "process") ? 'p'
+        const int kind = !strcasecmp(what, "process")  ? 'p'
                          : !strcasecmp(what, "system") ? 's'
                          : !strcasecmp(what, "window") ? 'w'
-                                                        : 0;
+                                                       : 0;
         if (!kind || lx.type != T_STR) {
             skip_statement(&lx);
             continue;

@@ -18,11 +18,11 @@
 #define VSV_FREEVR_CONF_H
 
 typedef struct vsv_freevr_layout {
-    int windows;  /* windows the render processes open (>= 1) */
-    int visren;   /* render processes (>= 1) */
-    int explicit; /* 1: counted from the system named by usesystem; 0: no
-                     such system (FreeVR's simulator: 1 and 1), or an
-                     upper bound from every window and process defined */
+    int windows;      /* windows the render processes open (>= 1) */
+    int visren;       /* render processes (>= 1) */
+    int explicit;     /* 1: counted from the system named by usesystem; 0: no
+                         such system (FreeVR's simulator: 1 and 1), or an
+                         upper bound from every window and process defined */
     char missing[64]; /* the system usesystem names when no text defines it
                          (FreeVR then opens its simulator with no input);
                          "" when it is defined, "simulator" or not named */

@@ -34,18 +34,18 @@ typedef struct fvwin {
     GLXDrawable drawable; /* which window the current context draws */
     int room;             /* its record in the room; -1 when it could not join */
     char name[64];
-    int have;             /* a tick is taken for this frame */
+    int have; /* a tick is taken for this frame */
     unsigned long long frames;
     int64_t tick, time;
-    double when;          /* when the tick was taken */
+    double when; /* when the tick was taken */
     int step, eye;
     const char *damage;
     const vsv_volume *const *vols; /* its volumes per species (the room's) */
-    uint64_t content;     /* what the tick's picture depends on, but the eye */
+    uint64_t content;              /* what the tick's picture depends on, but the eye */
     vsv_fv_tick tk;
     vsv_panel *panel;
-    vsv_gl *gl;           /* the GPU raycaster of this window's context */
-    GLuint tex[2];        /* each eye's picture, and what it shows */
+    vsv_gl *gl;    /* the GPU raycaster of this window's context */
+    GLuint tex[2]; /* each eye's picture, and what it shows */
     uint64_t key[2];
     vsv_camera cam[2];
 } fvwin;
@@ -133,8 +133,9 @@ void vsv_fv_display_init(void)
             }
         } else if (want < 0) {
             if (w->room == 0)
-                fprintf(stderr, "vsv-play-freevr: renderer: shear-warp (OpenGL here is %s, a software rasteriser: "
-                                "the CPU renderers are faster; --renderer gl to use it anyway)\n",
+                fprintf(stderr,
+                        "vsv-play-freevr: renderer: shear-warp (OpenGL here is %s, a software rasteriser: "
+                        "the CPU renderers are faster; --renderer gl to use it anyway)\n",
                         (const char *)glGetString(GL_RENDERER));
             o.renderer = VSV_RENDER_SHEARWARP;
         }
@@ -185,8 +186,8 @@ static void trace(const fvwin *w)
     char when[40], line[256];
     vsv_cal_format(vsv_meta_calendar(vsv_player_meta(player)), w->time, when, sizeof when);
     const int n = snprintf(line, sizeof line, "%s %llu %lld %d %s %.4f %.4f %d\n", w->name,
-                           (unsigned long long)w->frames, (long long)w->tick, w->step, when,
-                           w->when - vsv_fv.t0, (double)cpu.tv_sec + cpu.tv_nsec * 1e-9, (int)getpid());
+                           (unsigned long long)w->frames, (long long)w->tick, w->step, when, w->when - vsv_fv.t0,
+                           (double)cpu.tv_sec + cpu.tv_nsec * 1e-9, (int)getpid());
     if (n > 0 && write(vsv_fv.trace_fd, line, (size_t)n) != n)
         return; /* a trace that cannot be written is not the display's failure */
 }
@@ -294,8 +295,8 @@ static void draw_wand(const vsv_fv_tick *t)
     glDisable(GL_BLEND);
 }
 
-void vsv_fv_panel_lines(const vsv_fv_tick *t, const vsv_meta *m, int nsteps, int step, int damaged, int fps,
-                        char *buf, size_t cap)
+void vsv_fv_panel_lines(const vsv_fv_tick *t, const vsv_meta *m, int nsteps, int step, int damaged, int fps, char *buf,
+                        size_t cap)
 {
     static const char *ends[] = {"", "  loop", "  bounce"};
     if (!t) { /* the widest they get: the longest species name, the most digits */
@@ -303,7 +304,8 @@ void vsv_fv_panel_lines(const vsv_fv_tick *t, const vsv_meta *m, int nsteps, int
         for (int s = 0; s < m->nvars; s++)
             longest = strlen(m->vars[s].name) > longest ? strlen(m->vars[s].name) : longest;
         char name[64], num[32];
-        snprintf(name, sizeof name, "%.*s", (int)(longest < 60 ? longest : 60), "WWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWW");
+        snprintf(name, sizeof name, "%.*s", (int)(longest < 60 ? longest : 60),
+                 "WWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWWW");
         snprintf(num, sizeof num, "%d", nsteps > 0 ? nsteps - 1 : 0);
         for (char *c = num; *c; c++)
             *c = '0';
@@ -339,7 +341,7 @@ static void overlays(fvwin *w, int eye, const double P[16], const double MV[16],
         vsv_scene sc;
         vsv_player_scene(player, &sc);
         const double density = vsv_panel_draw(w->panel, &legend, &sc, lines, w->tk.panel, w->tk.panel + 3,
-                                               w->tk.panel + 6, w->tk.lh, P, MV, vp);
+                                              w->tk.panel + 6, w->tk.lh, P, MV, vp);
         if (eye == 0)
             vsv_room_report(vsv_fv.room, w->room, density);
     }

@@ -15,10 +15,10 @@
 
 struct vsv_panel {
     vsv_font *font;
-    int px;            /* the font's size */
-    vsv_font *ref;     /* REF_PX, for measuring */
+    int px;        /* the font's size */
+    vsv_font *ref; /* REF_PX, for measuring */
     GLuint tex;
-    uint64_t key;      /* what the texture shows */
+    uint64_t key; /* what the texture shows */
     int tw, th;
     float *rgba;
     unsigned char *rgba8;
@@ -63,8 +63,8 @@ static uint64_t content_key(const vsv_annot *a, const vsv_scene *sc, const char 
     return fnv(h, &sc->nslices, sizeof sc->nslices);
 }
 
-int vsv_panel_measure(vsv_panel *pn, const vsv_annot *a, const vsv_scene *sc, const char *lines, double lh,
-                      double *w, double *h, char *err, size_t cap)
+int vsv_panel_measure(vsv_panel *pn, const vsv_annot *a, const vsv_scene *sc, const char *lines, double lh, double *w,
+                      double *h, char *err, size_t cap)
 {
     if (!pn->ref && vsv_font_open(NULL, REF_PX, &pn->ref, err, cap))
         return -1;

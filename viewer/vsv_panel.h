@@ -20,8 +20,8 @@ void vsv_panel_free(vsv_panel *pn);
 
 /* The panel's size in room units when its lines are lh units apart. 0, or
  * -1 when no font can be had (err says why). */
-int vsv_panel_measure(vsv_panel *pn, const vsv_annot *a, const vsv_scene *sc, const char *lines, double lh,
-                      double *w, double *h, char *err, size_t cap);
+int vsv_panel_measure(vsv_panel *pn, const vsv_annot *a, const vsv_scene *sc, const char *lines, double lh, double *w,
+                      double *h, char *err, size_t cap);
 
 /* Draws it: its top-left corner at `at`, its width along `right` and its
  * height along `down` (unit vectors, room units), lines lh apart, in the

@@ -62,8 +62,8 @@ void vsv_mat4_point(const double M[16], const double p[3], double out[3])
     memcpy(out, o, sizeof o);
 }
 
-void vsv_place_base(int kind, const double room_lo[3], const double room_hi[3], const double mn[3],
-                    const double mx[3], double M[16])
+void vsv_place_base(int kind, const double room_lo[3], const double room_hi[3], const double mn[3], const double mx[3],
+                    double M[16])
 {
     const double span = fmax(mx[0] - mn[0], mx[1] - mn[1]), tall = mx[2] - mn[2];
     const double rw = room_hi[0] - room_lo[0], rh = room_hi[1] - room_lo[1], rd = room_hi[2] - room_lo[2];

@@ -28,8 +28,8 @@ enum {
 #define VSV_PLACE_TABLE_HEIGHT 3.0
 
 /* The placement of the box mn..mx (world metres) in the room lo..hi. */
-void vsv_place_base(int kind, const double room_lo[3], const double room_hi[3], const double mn[3],
-                    const double mx[3], double M[16]);
+void vsv_place_base(int kind, const double room_lo[3], const double room_hi[3], const double mn[3], const double mx[3],
+                    double M[16]);
 
 /* N = the identity (where the placement put the scene). */
 void vsv_nav_identity(double N[16]);

@@ -29,8 +29,13 @@ static void colour_slices(vsv_player *p)
     if (!p->slices_on || !p->nslices || isfinite(p->slice_fixed[0]) || !memcmp(key, p->slice_key, sizeof key))
         return;
     memcpy(p->slice_key, key, sizeof key);
-    vsv_scene sc = {.meta = p->m, .layers = p->layers, .nlayers = p->ns, .exaggeration = p->exaggeration,
-                    .slices = p->slices, .nslices = p->nslices, .slice_layer = p->slice_var};
+    vsv_scene sc = {.meta = p->m,
+                    .layers = p->layers,
+                    .nlayers = p->ns,
+                    .exaggeration = p->exaggeration,
+                    .slices = p->slices,
+                    .nslices = p->nslices,
+                    .slice_layer = p->slice_var};
     double lo, hi;
     if (p->slice_var < 0 || !p->layers[p->slice_var].vol || vsv_slice_range(&sc, &lo, &hi))
         return;
@@ -48,7 +53,10 @@ static void colour_slices(vsv_player *p)
 
 static vsv_scene scene(const vsv_player *p)
 {
-    vsv_scene sc = {.meta = p->m, .layers = p->layers, .nlayers = p->ns, .exaggeration = p->exaggeration,
+    vsv_scene sc = {.meta = p->m,
+                    .layers = p->layers,
+                    .nlayers = p->ns,
+                    .exaggeration = p->exaggeration,
                     .show_terrain = p->terrain};
     if (p->light)
         vsv_scene_sun(&sc, p->sun_az, p->sun_el);
@@ -153,7 +161,10 @@ static int open_species(vsv_player *p, const vsv_player_opts *o, char *err, size
         char msg[512];
         rc = vsv_tf_for_species(p->f, s, o->tfpath, &p->tf[s], msg, sizeof msg);
         if (rc) {
-            snprintf(err, cap, rc == VSV_EIO ? "%s" : "%s: %s", rc == VSV_EIO ? msg : o->tfpath ? o->tfpath : o->path,
+            snprintf(err, cap, rc == VSV_EIO ? "%s" : "%s: %s",
+                     rc == VSV_EIO ? msg
+                     : o->tfpath   ? o->tfpath
+                                   : o->path,
                      msg);
             rc = -1;
             goto fail;
@@ -201,7 +212,8 @@ static int open_slices(vsv_player *p, const vsv_player_opts *o, char *err, size_
         if (isfinite(p->slice_fixed[0]))
             p->slice_tf.lo = p->slice_fixed[0], p->slice_tf.hi = p->slice_fixed[1];
         if (vsv_tf_prepare(&p->slice_tf)) {
-            snprintf(err, cap, "--slice-colormap %s: not a colour map name", o->slice_colormap ? o->slice_colormap : "");
+            snprintf(err, cap, "--slice-colormap %s: not a colour map name",
+                     o->slice_colormap ? o->slice_colormap : "");
             return VSV_EINVAL;
         }
     }
@@ -403,7 +415,6 @@ int vsv_player_damage(vsv_player *p, const char **why)
 }
 
 vsv_pager *vsv_player_pager(vsv_player *p) { return p->pager; }
-
 
 const vsv_volume *vsv_player_volume(const vsv_player *p, int s)
 {

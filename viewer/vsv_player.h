@@ -29,44 +29,44 @@
 #include <stddef.h>
 
 typedef struct vsv_player_opts {
-    const char *path;       /* a .vsv file or an http(s):// URL */
+    const char *path;          /* a .vsv file or an http(s):// URL */
     const vsv_http_opts *http; /* URLs: the cache and retries; NULL = the defaults */
-    size_t cache_bytes;     /* 0 = the pager's default */
-    int threads;            /* render threads; 0 = all cores */
-    int renderer;           /* VSV_RENDER_* (-1, only with no_renderer: to be
-                               chosen where it draws); VSV_RENDER_GL: the GPU raycaster in
-                               the OpenGL context current when the player is
-                               opened and used (vsv_gl.h); opening fails with
-                               VSV_EUNSUPPORTED when it cannot be made */
-    size_t gpu_budget;      /* its brick memory; 0 = its default */
-    int no_renderer;        /* never draws: `renderer` is only named (the process
-                               that decodes for render processes, vsv_room.h) */
-    int gl_by_caller;       /* with VSV_RENDER_GL: the caller draws with its own
-                               GPU raycaster per context (vsv_player_draw); the
-                               player makes none */
-    const char *species;    /* NAME[:OPACITY],... visible at start; NULL = all but water vapour (vsv_meta_default_shown) */
-    const char *tfpath;     /* transfer functions file or NULL */
-    double exaggerate;      /* 0 = the default */
-    double rate;            /* model seconds per wall second at x1; 0 = the default */
-    int loop;               /* VSV_CLOCK_STOP / LOOP / BOUNCE */
-    int play;               /* start playing */
-    int terrain;            /* draw the ground */
-    int clock_only;         /* no pager, no renderer: the input process of a
-                               multi-process back end (state and clock only) */
-    int external;           /* the volumes come from elsewhere (vsv_player_show:
-                               a render process of a multi-process back end,
-                               vsv_room.h): no decoding, no pager threads */
+    size_t cache_bytes;        /* 0 = the pager's default */
+    int threads;               /* render threads; 0 = all cores */
+    int renderer;              /* VSV_RENDER_* (-1, only with no_renderer: to be
+                                  chosen where it draws); VSV_RENDER_GL: the GPU raycaster in
+                                  the OpenGL context current when the player is
+                                  opened and used (vsv_gl.h); opening fails with
+                                  VSV_EUNSUPPORTED when it cannot be made */
+    size_t gpu_budget;         /* its brick memory; 0 = its default */
+    int no_renderer;           /* never draws: `renderer` is only named (the process
+                                  that decodes for render processes, vsv_room.h) */
+    int gl_by_caller;          /* with VSV_RENDER_GL: the caller draws with its own
+                                  GPU raycaster per context (vsv_player_draw); the
+                                  player makes none */
+    const char *species; /* NAME[:OPACITY],... visible at start; NULL = all but water vapour (vsv_meta_default_shown) */
+    const char *tfpath;  /* transfer functions file or NULL */
+    double exaggerate;   /* 0 = the default */
+    double rate;         /* model seconds per wall second at x1; 0 = the default */
+    int loop;            /* VSV_CLOCK_STOP / LOOP / BOUNCE */
+    int play;            /* start playing */
+    int terrain;         /* draw the ground */
+    int clock_only;      /* no pager, no renderer: the input process of a
+                            multi-process back end (state and clock only) */
+    int external;        /* the volumes come from elsewhere (vsv_player_show:
+                            a render process of a multi-process back end,
+                            vsv_room.h): no decoding, no pager threads */
     void *(*slab_alloc)(void *ctx, size_t bytes); /* the pager's brick memory */
-    void *slab_ctx;         /* (vsv_pager_opts.slab_alloc; NULL: the heap) */
-    int light;              /* gradient shading at start */
-    double sun_az, sun_el;  /* its sun (degrees; default 315, 45) */
-    const char *slices[8];  /* --slice specs (vsv_slice_parse), shown at start */
+    void *slab_ctx;                               /* (vsv_pager_opts.slab_alloc; NULL: the heap) */
+    int light;                                    /* gradient shading at start */
+    double sun_az, sun_el;                        /* its sun (degrees; default 315, 45) */
+    const char *slices[8];                        /* --slice specs (vsv_slice_parse), shown at start */
     int nslices;
-    const char *slice_species; /* the slices' species (NULL: the first visible) */
+    const char *slice_species;  /* the slices' species (NULL: the first visible) */
     const char *slice_colormap; /* their colour map (NULL: viridis) */
-    double slice_range[2];  /* their colours' range fixed (NaN: the range of
-                               the values they show in the step shown,
-                               vsv_slice_range, as vsv-render) */
+    double slice_range[2];      /* their colours' range fixed (NaN: the range of
+                                   the values they show in the step shown,
+                                   vsv_slice_range, as vsv-render) */
 } vsv_player_opts;
 
 void vsv_player_opts_init(vsv_player_opts *o);

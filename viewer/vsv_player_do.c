@@ -54,8 +54,8 @@ static int do_clock(vsv_player *p, const char *verb, const char *a1, char *err, 
         NEED(a1, "seek: needs an ISO time or a step index");
         vsv_timesel sel;
         char why[300];
-        NEED(!vsv_timesel_parse(a1, p->times, c->nsteps, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(vsv_meta_calendar(p->m)), &sel,
-                                why, sizeof why),
+        NEED(!vsv_timesel_parse(a1, p->times, c->nsteps, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(vsv_meta_calendar(p->m)),
+                                &sel, why, sizeof why),
              "seek %s: %s", a1, why);
         vsv_clock_seek_step(c, sel.first);
     } else if (!strcmp(verb, "speed")) {
@@ -219,14 +219,15 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         else if (a1 && !strcmp(a1, "gl"))
             kind = VSV_RENDER_GL;
         else if (a1 && !strcmp(a1, "switch")) /* shear-warp, raycast, the GPU's where it runs */
-            kind = kind == VSV_RENDER_SHEARWARP ? VSV_RENDER_RAYCAST
+            kind = kind == VSV_RENDER_SHEARWARP             ? VSV_RENDER_RAYCAST
                    : kind == VSV_RENDER_RAYCAST && p->gl_ok ? VSV_RENDER_GL
                                                             : VSV_RENDER_SHEARWARP;
         else
             NEED(0, "renderer: raycast, shearwarp, gl or switch");
         if (kind != p->ro.kind) {
             char why[1024];
-            NEED(!vsv_player_use_renderer(p, kind, why, sizeof why), "renderer %s: %s", kind == VSV_RENDER_GL ? "gl" : "", why);
+            NEED(!vsv_player_use_renderer(p, kind, why, sizeof why), "renderer %s: %s",
+                 kind == VSV_RENDER_GL ? "gl" : "", why);
         }
     } else if (!strcmp(verb, "help")) {
         p->help = !p->help;

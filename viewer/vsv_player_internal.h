@@ -20,10 +20,10 @@ struct vsv_player {
     vsv_layer *layers;   /* per species */
     unsigned char *want; /* per species: visible */
     int selected;
-    int shown;           /* the step on screen; -1 before the first */
-    double frame;        /* wall seconds between updates (smoothed); 0 before the second */
-    char **bad;          /* per step: why it cannot be decoded, or NULL */
-    int news;            /* a step found damaged and not yet taken, or -1 */
+    int shown;    /* the step on screen; -1 before the first */
+    double frame; /* wall seconds between updates (smoothed); 0 before the second */
+    char **bad;   /* per step: why it cannot be decoded, or NULL */
+    int news;     /* a step found damaged and not yet taken, or -1 */
     double exaggeration;
     int terrain;
     /* camera: an orbit about the scene centre (dist 0: the box filling the
@@ -38,24 +38,24 @@ struct vsv_player {
     double slice_fixed[2]; /* --slice-range, or NaN: each step's own */
     int slice_key[4];      /* what slice_tf's range was taken for (shown,
                               slices_on, nslices, slice_var) */
-    unsigned char *need; /* per species: pinned (drawn, or the slices' species) */
-    uint64_t *gens;      /* per species: the gen of the volume shown (external) */
+    unsigned char *need;   /* per species: pinned (drawn, or the slices' species) */
+    uint64_t *gens;        /* per species: the gen of the volume shown (external) */
     /* rendering */
-    vsv_render_opts ro;  /* ro.kind: the renderer in use (VSV_RENDER_GL: gl) */
-    vsv_renderer *r;     /* the CPU renderer (the last CPU kind used) */
-    vsv_gl *gl;          /* the GPU raycaster, once asked for */
-    int gl_ok;           /* it could be made */
-    int no_renderer;     /* never draws: the renderer is only named */
-    int gl_by_caller;    /* gl: the caller's raycasters draw (vsv_player_draw) */
+    vsv_render_opts ro; /* ro.kind: the renderer in use (VSV_RENDER_GL: gl) */
+    vsv_renderer *r;    /* the CPU renderer (the last CPU kind used) */
+    vsv_gl *gl;         /* the GPU raycaster, once asked for */
+    int gl_ok;          /* it could be made */
+    int no_renderer;    /* never draws: the renderer is only named */
+    int gl_by_caller;   /* gl: the caller's raycasters draw (vsv_player_draw) */
     size_t gpu_budget;
     float *rgba, *depth;
     unsigned char *rgb;
     /* the annotated copy of the frame (vsv_player_annotated) */
     float *argba;
     unsigned char *argb;
-    int *sidx;           /* per layer: its species (the identity) */
+    int *sidx; /* per layer: its species (the identity) */
     int iw, ih;
-    size_t icap;         /* pixels the image buffers hold */
+    size_t icap; /* pixels the image buffers hold */
     vsv_camera last_cam;
     int dirty;
     float bg[3];

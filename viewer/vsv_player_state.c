@@ -20,8 +20,8 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
                                 p->ro.kind == VSV_RENDER_RAYCAST ? "raycast"
                                 : p->ro.kind == VSV_RENDER_GL    ? "GPU raycast"
                                                                  : "shear-warp",
-                                p->plan ? "  plan" : "",
-                                p->light ? "  lit" : "", p->slices_on && p->nslices ? "  slices of " : "",
+                                p->plan ? "  plan" : "", p->light ? "  lit" : "",
+                                p->slices_on && p->nslices ? "  slices of " : "",
                                 p->slices_on && p->nslices ? p->m->vars[p->slice_var].name : "");
     for (int s = 0; s < p->ns && n < cap; s++) {
         const int sel = s == p->selected;
@@ -113,9 +113,10 @@ int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err,
     p->light = st->light;
     p->slices_on = st->slices;
     if (st->renderer >= 0 && st->renderer != p->ro.kind) /* (-1: each display chose) */
-        return vsv_player_do(p, st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast"
-                                : st->renderer == VSV_RENDER_GL    ? "renderer gl"
-                                                                   : "renderer shearwarp",
+        return vsv_player_do(p,
+                             st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast"
+                             : st->renderer == VSV_RENDER_GL    ? "renderer gl"
+                                                                : "renderer shearwarp",
                              err, cap);
     return 0;
 }

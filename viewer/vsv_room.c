@@ -38,8 +38,8 @@ typedef struct win {
     pid_t pid;
     char name[64];
     uint64_t frames;
-    int64_t taken;  /* the tick its current frame draws (-1 none) */
-    int64_t shown;  /* the tick of its frame before (-1 none) */
+    int64_t taken; /* the tick its current frame draws (-1 none) */
+    int64_t shown; /* the tick of its frame before (-1 none) */
     double last, rate, rate_t0;
     uint64_t rate_f0;
     double report;
@@ -47,8 +47,8 @@ typedef struct win {
 
 typedef struct head {
     pthread_mutex_t mu;
-    int64_t tick;   /* the newest published; 0 none */
-    int cur;        /* its slot */
+    int64_t tick; /* the newest published; 0 none */
+    int cur;      /* its slot */
     int nwin;
     win w[MAX_WINDOWS];
     size_t arena_used;
@@ -72,12 +72,12 @@ struct vsv_room {
     /* the views in the process that draws: per species, two volumes (the
      * loads of the two live ticks), each with the publisher's gen behind it
      * and when it was taken last; per window its volume pointers and data */
-    vsv_volume *local;    /* [species][2] */
-    uint64_t *seen_gen;   /* [species][2] */
-    uint64_t *used;       /* [species][2] */
+    vsv_volume *local;  /* [species][2] */
+    uint64_t *seen_gen; /* [species][2] */
+    uint64_t *used;     /* [species][2] */
     uint64_t takes;
     const vsv_volume **vptr; /* [window][species] */
-    unsigned char *user;  /* [window] user_bytes */
+    unsigned char *user;     /* [window] user_bytes */
 };
 
 double vsv_room_clock(void)
@@ -104,8 +104,8 @@ int vsv_room_create(const vsv_room_opts *o, vsv_room **out, char *err, size_t ca
 {
     *out = NULL;
     if (o->nspecies < 0 || o->nbricks < 1 || o->windows < 1 || o->windows > MAX_WINDOWS) {
-        snprintf(err, cap, "a room of %d windows, %d species, %d bricks: out of range (at most %d windows)",
-                 o->windows, o->nspecies, o->nbricks, MAX_WINDOWS);
+        snprintf(err, cap, "a room of %d windows, %d species, %d bricks: out of range (at most %d windows)", o->windows,
+                 o->nspecies, o->nbricks, MAX_WINDOWS);
         return VSV_EINVAL;
     }
     vsv_room *r = calloc(1, sizeof *r);
@@ -271,8 +271,9 @@ int vsv_room_publish(vsv_room *r, vsv_pager *pg, int step, int64_t time, const c
          * values (and the same cached bricks), so the same load for the
          * renderers, which then keep what they derived from it */
         const uint64_t gen = now && now[s].present && now[s].step == p->step ? now[s].gen : p->gen;
-        sp[s] = (spec){1,           p->nx,      p->ny, p->nz, p->brick, {p->bdim[0], p->bdim[1], p->bdim[2]},
-                       p->nbricks, p->shift,    p->step, p->species, gen, p->empty_value, p->time, p->bkey != NULL};
+        sp[s] = (spec){1,          p->nx,          p->ny,   p->nz,      p->brick, {p->bdim[0], p->bdim[1], p->bdim[2]},
+                       p->nbricks, p->shift,       p->step, p->species, gen,      p->empty_value,
+                       p->time,    p->bkey != NULL};
         memcpy(bricks + s * nb, p->bricks, nb * sizeof *bricks);
         memcpy(bmin + s * nb, p->bmin, nb * sizeof *bmin);
         memcpy(bmax + s * nb, p->bmax, nb * sizeof *bmax);
@@ -370,10 +371,10 @@ static int local_alloc(vsv_room *r)
 static vsv_volume *local_for(vsv_room *r, int s, uint64_t gen)
 {
     const size_t a = 2 * (size_t)s;
-    size_t k = r->seen_gen[a] == gen && r->local[a].gen ? a
+    size_t k = r->seen_gen[a] == gen && r->local[a].gen           ? a
                : r->seen_gen[a + 1] == gen && r->local[a + 1].gen ? a + 1
-               : r->used[a] <= r->used[a + 1] ? a
-                                              : a + 1;
+               : r->used[a] <= r->used[a + 1]                     ? a
+                                                                  : a + 1;
     if (r->seen_gen[k] != gen || !r->local[k].gen) { /* a new load: a gen unique in this process */
         r->seen_gen[k] = gen;
         r->local[k].gen = vsv_volume_new_gen();

@@ -38,11 +38,11 @@
 typedef struct vsv_room vsv_room;
 
 typedef struct vsv_room_opts {
-    size_t arena_bytes; /* the decoded bricks' arena (virtual: pages cost
-                           memory only once written) */
+    size_t arena_bytes;    /* the decoded bricks' arena (virtual: pages cost
+                              memory only once written) */
     int nspecies, nbricks; /* of the file */
-    int windows;        /* most windows that join (at least 1) */
-    size_t user_bytes;  /* the back end's data published with each tick */
+    int windows;           /* most windows that join (at least 1) */
+    size_t user_bytes;     /* the back end's data published with each tick */
 } vsv_room_opts;
 
 /* Maps the room (before any fork). 0, or VSV_EINVAL / VSV_ENOMEM with the
@@ -87,13 +87,13 @@ int64_t vsv_room_tick(vsv_room *r);
 
 /* A window as the publisher sees it: plain info. */
 typedef struct vsv_room_window {
-    pid_t pid;          /* the process that draws it */
+    pid_t pid; /* the process that draws it */
     char name[64];
-    uint64_t frames;    /* frames it has started */
-    int64_t shown;      /* the newest tick it has shown (-1: none yet) */
-    double last;        /* CLOCK_MONOTONIC seconds of its last frame start */
-    double rate;        /* its frames per second, over about a second */
-    double report;      /* what it said last with vsv_room_report */
+    uint64_t frames; /* frames it has started */
+    int64_t shown;   /* the newest tick it has shown (-1: none yet) */
+    double last;     /* CLOCK_MONOTONIC seconds of its last frame start */
+    double rate;     /* its frames per second, over about a second */
+    double report;   /* what it said last with vsv_room_report */
 } vsv_room_window;
 /* Copies up to cap windows' records into w; returns how many joined. */
 int vsv_room_windows(vsv_room *r, vsv_room_window *w, int cap);

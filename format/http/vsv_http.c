@@ -36,7 +36,7 @@ typedef struct http_src {
     int retries;
     double time_limit;
     char failed[512]; /* once the file changed: every later need fails so */
-    int down; /* the last range outlasted its retries: the next gets one attempt */
+    int down;         /* the last range outlasted its retries: the next gets one attempt */
 } http_src;
 
 typedef struct reply {
@@ -178,15 +178,13 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
         case CURLE_OPERATION_TIMEDOUT:
         case CURLE_HTTP2:
         case CURLE_HTTP2_STREAM:
-        case CURLE_SSL_CONNECT_ERROR:
-            *transient = 1;
-            break;
-        default:
-            break;
+        case CURLE_SSL_CONNECT_ERROR: *transient = 1; break;
+        default: break;
         }
-        snprintf(why, cap, "%s%s", rc == CURLE_PARTIAL_FILE ? "truncated response (the connection closed early)"
-                                   : rc == CURLE_GOT_NOTHING ? "connection dropped (no response)"
-                                                             : curl_easy_strerror(rc),
+        snprintf(why, cap, "%s%s",
+                 rc == CURLE_PARTIAL_FILE  ? "truncated response (the connection closed early)"
+                 : rc == CURLE_GOT_NOTHING ? "connection dropped (no response)"
+                                           : curl_easy_strerror(rc),
                  rc == CURLE_PEER_FAILED_VERIFICATION ? " (a certificate not signed by an authority the system "
                                                         "trusts: CURL_CA_BUNDLE=FILE.pem names one to trust)"
                                                       : "");
@@ -210,7 +208,8 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
     if (st == 416 || ((st == 200 || st == 206) && (etag_moved || lm_moved))) {
         *changed = 1;
         if (etag_moved)
-            snprintf(why, cap, "the file changed on the server while it was read (ETag %s became %s)", h->id.etag, r->etag);
+            snprintf(why, cap, "the file changed on the server while it was read (ETag %s became %s)", h->id.etag,
+                     r->etag);
         else if (lm_moved)
             snprintf(why, cap, "the file changed on the server while it was read (Last-Modified %s became %s)",
                      h->id.lastmod, r->lastmod);
@@ -219,8 +218,9 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
         return -1;
     }
     if (st == 200) {
-        snprintf(why, cap, "the server ignores range requests (HTTP 200, the whole file, for a range); "
-                           "remote .vsv files are read by range");
+        snprintf(why, cap,
+                 "the server ignores range requests (HTTP 200, the whole file, for a range); "
+                 "remote .vsv files are read by range");
         return -1;
     }
     if (st != 206) {
@@ -228,8 +228,8 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
         return -1;
     }
     if (!r->has_cr || r->cr_first != a || r->cr_last != a + n - 1) {
-        snprintf(why, cap, "the server answered with another range (Content-Range %s%llu-%llu)", r->has_cr ? "" : "missing, ",
-                 (unsigned long long)r->cr_first, (unsigned long long)r->cr_last);
+        snprintf(why, cap, "the server answered with another range (Content-Range %s%llu-%llu)",
+                 r->has_cr ? "" : "missing, ", (unsigned long long)r->cr_first, (unsigned long long)r->cr_last);
         return -1;
     }
     if (r->cr_total != UINT64_MAX && r->cr_total != h->id.size) {
@@ -240,8 +240,8 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
     }
     if (r->overflow || r->got != r->want) {
         *transient = 1;
-        snprintf(why, cap, "%s: %zu of %zu bytes", r->overflow ? "response longer than the range" : "truncated response",
-                 r->got, r->want);
+        snprintf(why, cap, "%s: %zu of %zu bytes",
+                 r->overflow ? "response longer than the range" : "truncated response", r->got, r->want);
         return -1;
     }
     return 0;
@@ -487,8 +487,10 @@ static int src_open(const char *url, const vsv_http_opts *o, http_src **out, vsv
         goto fail;
     }
     if (r.ranges_none) {
-        snprintf(msg, sizeof msg, "%s: the server does not support range requests (Accept-Ranges: none); "
-                                  "remote .vsv files are read by range", url);
+        snprintf(msg, sizeof msg,
+                 "%s: the server does not support range requests (Accept-Ranges: none); "
+                 "remote .vsv files are read by range",
+                 url);
         rc = VSV_EUNSUPPORTED;
         goto fail;
     }

@@ -15,12 +15,12 @@
  * of them, so that the two eyes of a stereo pair (or two views drawn in
  * turn) each keep their ground while their view stays. */
 typedef struct eye_state {
-    vsv_renderer *cpu;     /* the CPU renderer's set-up: surfaces, the frame */
-    vsv_camera cam;        /* the view it was used for last */
+    vsv_renderer *cpu; /* the CPU renderer's set-up: surfaces, the frame */
+    vsv_camera cam;    /* the view it was used for last */
     uint64_t used;
-    GLuint surf;           /* its surfaces on the GPU */
+    GLuint surf; /* its surfaces on the GPU */
     int sw, sh;
-    uint64_t surf_key;     /* what they hold */
+    uint64_t surf_key; /* what they hold */
 } eye_state;
 
 struct vsv_gl {
@@ -29,10 +29,10 @@ struct vsv_gl {
     uint64_t frames;
     vsv_gl_prog prog;
     GLuint vao, fbo, tex_rgba, tex_depth, lut;
-    int fw, fh;            /* the offscreen framebuffer's size */
+    int fw, fh; /* the offscreen framebuffer's size */
     int lut_w, lut_h;
     vsv_gl_bricks bricks;
-    float *buf;            /* surfaces or tables, on their way to the GPU */
+    float *buf; /* surfaces or tables, on their way to the GPU */
     size_t buf_cap;
     char device[256];
     char err[1024];
@@ -115,8 +115,8 @@ void vsv_gl_free(vsv_gl *g)
 int vsv_gl_context_software(void)
 {
     const char *d = epoxy_gl_version() ? (const char *)glGetString(GL_RENDERER) : NULL;
-    return d && (strstr(d, "llvmpipe") || strstr(d, "softpipe") || strstr(d, "swrast") ||
-                 strstr(d, "Software Rasterizer"));
+    return d &&
+           (strstr(d, "llvmpipe") || strstr(d, "softpipe") || strstr(d, "swrast") || strstr(d, "Software Rasterizer"));
 }
 
 const char *vsv_gl_device(const vsv_gl *g) { return g->device; }
@@ -187,8 +187,8 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     es->used = ++g->frames;
     int rc = vsv_render_march(es->cpu, sc, cam, m);
     if (rc) {
-        snprintf(g->err, sizeof g->err, "%s", rc == VSV_EUNSUPPORTED ? "more layers than the GPU raycaster draws"
-                                                                      : vsv_strerror(rc));
+        snprintf(g->err, sizeof g->err, "%s",
+                 rc == VSV_EUNSUPPORTED ? "more layers than the GPU raycaster draws" : vsv_strerror(rc));
         return rc;
     }
     if ((rc = vsv_gl_bricks_frame(&g->bricks, m, g->err, sizeof g->err)))
@@ -254,7 +254,8 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
         const vsv_march_layer *L = &m->layer[l];
         const float ev = L->vol->empty_value;
         par[4 * l] = L->lo, par[4 * l + 1] = L->inv, par[4 * l + 2] = L->off, par[4 * l + 3] = (float)L->log;
-        par2[4 * l] = L->sigma, par2[4 * l + 1] = L->inv_span, par2[4 * l + 2] = ev != ev, par2[4 * l + 3] = ev == ev ? ev : 0;
+        par2[4 * l] = L->sigma, par2[4 * l + 1] = L->inv_span, par2[4 * l + 2] = ev != ev,
+                 par2[4 * l + 3] = ev == ev ? ev : 0;
     }
     if (nl) {
         glUniform4fv(p->par, nl, par);

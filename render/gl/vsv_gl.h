@@ -39,10 +39,10 @@ extern "C" {
 typedef struct vsv_gl vsv_gl;
 
 typedef struct vsv_gl_opts {
-    size_t budget;      /* bytes of GPU memory for bricks; 0 = 512 MiB */
-    int threads;        /* CPU threads for the surfaces; 0 = all cores */
-    double step_cells;  /* as vsv_render_opts (0: its default) */
-    double term;        /* as vsv_render_opts (0: its default) */
+    size_t budget;     /* bytes of GPU memory for bricks; 0 = 512 MiB */
+    int threads;       /* CPU threads for the surfaces; 0 = all cores */
+    double step_cells; /* as vsv_render_opts (0: its default) */
+    double term;       /* as vsv_render_opts (0: its default) */
 } vsv_gl_opts;
 
 void vsv_gl_opts_init(vsv_gl_opts *o);

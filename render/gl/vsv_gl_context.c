@@ -79,8 +79,9 @@ int vsv_gl_context_create(vsv_gl_context **out, char *err, size_t cap)
         vsv_gl_context_free(c);
         return VSV_EUNSUPPORTED;
     }
-    const EGLint core[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                           EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+    const EGLint core[] = {
+        EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+        EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
     const EGLConfig none = (EGLConfig)0; /* (EGL_KHR_no_config_context, which Mesa has) */
     c->ctx = eglCreateContext(c->dpy, none, EGL_NO_CONTEXT, core);
     if (c->ctx == EGL_NO_CONTEXT) {

@@ -34,27 +34,27 @@ int vsv_gl_program(vsv_gl_prog *p, char *err, size_t cap);
  * page tables of the frame's layers (one 3-D texture, the layers stacked
  * along z: x slot or -1, y 1 where the brick is clear in that layer). */
 typedef struct vsv_gl_slot {
-    uint64_t key;    /* 0: free */
-    uint64_t used;   /* the frame that used it last */
-    float lo, hi;    /* its values' range (NaN left out; lo > hi: none) */
+    uint64_t key;  /* 0: free */
+    uint64_t used; /* the frame that used it last */
+    float lo, hi;  /* its values' range (NaN left out; lo > hi: none) */
 } vsv_gl_slot;
 
 typedef struct vsv_gl_bricks {
     GLuint atlas, pages, pbo;
-    int e, brick;            /* slot edge (brick + 1) and the brick edge */
-    int sx, sy, sz, nslots;  /* slots per axis, in all */
+    int e, brick;           /* slot edge (brick + 1) and the brick edge */
+    int sx, sy, sz, nslots; /* slots per axis, in all */
     vsv_gl_slot *slot;
-    uint32_t *hash;          /* open addressing: slot + 1, 0 empty */
-    int nhash;               /* a power of two, at least twice nslots */
+    uint32_t *hash; /* open addressing: slot + 1, 0 empty */
+    int nhash;      /* a power of two, at least twice nslots */
     size_t budget;
-    uint64_t frame;          /* frames drawn (slot.used) */
-    int *page;               /* the frame's page table (2 ints a brick and layer) */
+    uint64_t frame; /* frames drawn (slot.used) */
+    int *page;      /* the frame's page table (2 ints a brick and layer) */
     size_t page_cap;
-    int pw, ph, pd;          /* the page texture's size */
-    float *copy;             /* one brick's copy, filled on the CPU */
+    int pw, ph, pd; /* the page texture's size */
+    float *copy;    /* one brick's copy, filled on the CPU */
     size_t copy_cap;
-    int hand;                /* where the search for a slot goes on */
-    int *cnt;                /* the layers' opacity counts (vsv_march_counts) */
+    int hand; /* where the search for a slot goes on */
+    int *cnt; /* the layers' opacity counts (vsv_march_counts) */
     uint64_t uploads, last_uploads, last_bricks;
 } vsv_gl_bricks;
 

@@ -7,11 +7,12 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char VERT[] = "#version 330 core\n"
-                           "void main() {\n"
-                           "    vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);\n"
-                           "    gl_Position = vec4(p, 0.0, 1.0);\n"
-                           "}\n";
+static const char VERT[] =
+    "#version 330 core\n"
+    "void main() {\n"
+    "    vec2 p = vec2(float((gl_VertexID & 1) << 2) - 1.0, float((gl_VertexID & 2) << 1) - 1.0);\n"
+    "    gl_Position = vec4(p, 0.0, 1.0);\n"
+    "}\n";
 
 /* GLSL 3.30 has no fma: a * b + c, rounded twice where the CPU rounds once
  * (the pictures differ in the last bits); no infinity literal: BIG stands
@@ -52,9 +53,12 @@ static const char FRAG[] =
     "    ivec3 q = ivec3(pg.x % u_slots.x, (pg.x / u_slots.x) % u_slots.y, pg.x / (u_slots.x * u_slots.y)) * u_e\n"
     "              + (ci & u_mask);\n"
     "    float c000 = texelFetch(u_atlas, q, 0).r, c100 = texelFetch(u_atlas, q + ivec3(1, 0, 0), 0).r;\n"
-    "    float c010 = texelFetch(u_atlas, q + ivec3(0, 1, 0), 0).r, c110 = texelFetch(u_atlas, q + ivec3(1, 1, 0), 0).r;\n"
-    "    float c001 = texelFetch(u_atlas, q + ivec3(0, 0, 1), 0).r, c101 = texelFetch(u_atlas, q + ivec3(1, 0, 1), 0).r;\n"
-    "    float c011 = texelFetch(u_atlas, q + ivec3(0, 1, 1), 0).r, c111 = texelFetch(u_atlas, q + ivec3(1, 1, 1), 0).r;\n"
+    "    float c010 = texelFetch(u_atlas, q + ivec3(0, 1, 0), 0).r, c110 = texelFetch(u_atlas, q + ivec3(1, 1, 0), "
+    "0).r;\n"
+    "    float c001 = texelFetch(u_atlas, q + ivec3(0, 0, 1), 0).r, c101 = texelFetch(u_atlas, q + ivec3(1, 0, 1), "
+    "0).r;\n"
+    "    float c011 = texelFetch(u_atlas, q + ivec3(0, 1, 1), 0).r, c111 = texelFetch(u_atlas, q + ivec3(1, 1, 1), "
+    "0).r;\n"
     "    float a0 = lerp1(c000, c100, f.x), a1 = lerp1(c010, c110, f.x);\n"
     "    float a2 = lerp1(c001, c101, f.x), a3 = lerp1(c011, c111, f.x);\n"
     "    return lerp1(lerp1(a0, a1, f.y), lerp1(a2, a3, f.y), f.z);\n"
@@ -92,7 +96,8 @@ static const char FRAG[] =
     "}\n"
     "float opacity_per_u(float u) {\n"
     "    if (u < SMALL_U)\n"
-    "        return 1.0 + u * (-1.0 / 2.0 + u * (1.0 / 6.0 + u * (-1.0 / 24.0 + u * (1.0 / 120.0 + u * (-1.0 / 720.0)))));\n"
+    "        return 1.0 + u * (-1.0 / 2.0 + u * (1.0 / 6.0 + u * (-1.0 / 24.0 + u * (1.0 / 120.0 + u * (-1.0 / "
+    "720.0)))));\n"
     "    return (1.0 - exp(-u)) / u;\n"
     "}\n"
     "void main() {\n"
@@ -233,8 +238,7 @@ static GLuint compile(GLenum kind, const char *src, char *err, size_t cap)
     if (!ok) {
         char log[2048] = "";
         glGetShaderInfoLog(s, sizeof log, NULL, log);
-        snprintf(err, cap, "the %s shader does not compile: %s", kind == GL_VERTEX_SHADER ? "vertex" : "fragment",
-                 log);
+        snprintf(err, cap, "the %s shader does not compile: %s", kind == GL_VERTEX_SHADER ? "vertex" : "fragment", log);
         glDeleteShader(s);
         return 0;
     }

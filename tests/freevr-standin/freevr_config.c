@@ -121,7 +121,10 @@ static void parse_input(dev_def *d, const char *spec)
         return;
     snprintf(what, sizeof what, "%.*s", (int)(e - b - 1), b + 1);
     if (strstr(spec, "mouse:")) {
-        const int btn = !strcasecmp(what, "left") ? 1 : !strcasecmp(what, "middle") ? 2 : !strcasecmp(what, "right") ? 3 : atoi(what);
+        const int btn = !strcasecmp(what, "left")     ? 1
+                        : !strcasecmp(what, "middle") ? 2
+                        : !strcasecmp(what, "right")  ? 3
+                                                      : atoi(what);
         if (btn >= 1 && btn <= 3)
             d->in[d->nin++].button = btn;
     } else if (strstr(spec, "keyboard:")) {

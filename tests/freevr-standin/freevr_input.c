@@ -102,10 +102,10 @@ static void pose(double m[16], const double pos[3], double yaw, double pitch)
 {
     const double a = yaw * M_PI / 180, p = pitch * M_PI / 180;
     const double ca = cos(a), sa = sin(a), cp = cos(p), sp = sin(p);
-    const double cols[16] = {ca,      0,   -sa,     0, /* right */
-                             sa * sp, cp,  ca * sp, 0, /* up */
-                             sa * cp, -sp, ca * cp, 0, /* back */
-                             pos[0],  pos[1], pos[2], 1};
+    const double cols[16] = {ca,      0,      -sa,     0, /* right */
+                             sa * sp, cp,     ca * sp, 0, /* up */
+                             sa * cp, -sp,    ca * cp, 0, /* back */
+                             pos[0],  pos[1], pos[2],  1};
     memcpy(m, cols, sizeof cols);
 }
 

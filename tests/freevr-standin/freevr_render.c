@@ -95,7 +95,10 @@ void vrFunctionSetCallback(vrFuncType type, vrCallback *cb)
 
 /* ------------------------------------------------------------ projection */
 
-static void sub3(const double *a, const double *b, double *o) { o[0] = a[0] - b[0], o[1] = a[1] - b[1], o[2] = a[2] - b[2]; }
+static void sub3(const double *a, const double *b, double *o)
+{
+    o[0] = a[0] - b[0], o[1] = a[1] - b[1], o[2] = a[2] - b[2];
+}
 static double dot3(const double *a, const double *b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 static void cross3(const double *a, const double *b, double *o)
 {
@@ -285,8 +288,8 @@ void fvs_render_process(const proc_def *p)
         _exit(1);
     }
     XSetErrorHandler(x_error);
-    int attrs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 1, GLX_GREEN_SIZE, 1, GLX_BLUE_SIZE, 1, GLX_DEPTH_SIZE, 16,
-                   None};
+    int attrs[] = {GLX_RGBA, GLX_DOUBLEBUFFER, GLX_RED_SIZE, 1,   GLX_GREEN_SIZE, 1, GLX_BLUE_SIZE,
+                   1,        GLX_DEPTH_SIZE,   16,           None};
     XVisualInfo *vi = glXChooseVisual(dpy, DefaultScreen(dpy), attrs);
     if (!vi) {
         fprintf(stderr, "FreeVR: no double-buffered RGBA visual with depth\n");

@@ -67,7 +67,6 @@ static size_t per_window_state(int windows)
     return (size_t)((total - BASE_STATE) / (windows > 0 ? windows : 1));
 }
 
-
 long vrShmemInit(size_t bytes)
 {
     if (!g_arena_asked && !g_arena) { /* only the first call counts */
@@ -103,8 +102,8 @@ void fvs_shmem_create(int windows)
     }
     for (int i = 0; i < NSEMS; i++)
         semctl(g_semid, i, SETVAL, 1);
-    fprintf(stderr, "FreeVR stand-in: semaphore set %d (%d semaphores), arena %zu bytes, %d window%s\n", g_semid,
-            NSEMS, g_arena_size, windows, windows == 1 ? "" : "s");
+    fprintf(stderr, "FreeVR stand-in: semaphore set %d (%d semaphores), arena %zu bytes, %d window%s\n", g_semid, NSEMS,
+            g_arena_size, windows, windows == 1 ? "" : "s");
     fvs_base = fvs_amalloc(BASE_STATE);
     if (!fvs_base) {
         for (;;)

@@ -195,7 +195,7 @@ typedef struct {
     char name[NAMELEN];
     int xwindows, nin;
     struct {
-        int button;         /* 1..3: a mouse button, else a key */
+        int button; /* 1..3: a mouse button, else a key */
         unsigned long keysym;
     } in[NSW];
     int nsensor;    /* its 6sensor inputs */

@@ -112,9 +112,8 @@ static void print_sensors(void)
         vrPointGetRWFrom6sensor(&p, n);
         vrVectorGetRWFrom6sensorDir(&fore, n, VRDIR_FORE);
         vrVectorGetRWFrom6sensorDir(&right, n, VRDIR_RIGHT);
-        printf("sensor %d (%s) at (%.3f, %.3f, %.3f), fore (%.3f, %.3f, %.3f), right (%.3f, %.3f, %.3f)\n", n,
-               names[n], p.v[0], p.v[1], p.v[2], fore.v[0], fore.v[1], fore.v[2], right.v[0], right.v[1],
-               right.v[2]);
+        printf("sensor %d (%s) at (%.3f, %.3f, %.3f), fore (%.3f, %.3f, %.3f), right (%.3f, %.3f, %.3f)\n", n, names[n],
+               p.v[0], p.v[1], p.v[2], fore.v[0], fore.v[1], fore.v[2], right.v[0], right.v[1], right.v[2]);
     }
 }
 
