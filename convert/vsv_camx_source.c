@@ -172,26 +172,11 @@ static int camx_companions(vsv_source *s, camx *c)
     return rc;
 }
 
-static int camx_open(vsv_source *s)
+/* The grid's projection (the header's, v6+; else the options'; else none),
+ * the run's names and the time zone, into s->grid; 0 or the error. */
+static int camx_describe(vsv_source *s, const vsv_uamiv_header *h)
 {
-    camx *c = calloc(1, sizeof *c);
-    if (!c)
-        return VSV_ENOMEM;
-    s->priv = c;
-    c->vg_hour = -1;
-    int rc = vsv_uamiv_open(s->path, &c->u);
-    if (rc) {
-        vsv_msg(s->err, sizeof s->err, "%s", vsv_uamiv_error(c->u));
-        return rc;
-    }
-    const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
     vsv_meta *g = &s->grid;
-    g->nx = h->nx;
-    g->ny = h->ny;
-    g->origin[0] = h->xorg + h->dx / 2.0;
-    g->origin[1] = h->yorg + h->dy / 2.0;
-    g->spacing[0] = h->dx;
-    g->spacing[1] = h->dy;
     /* projection: the header's (v6+), else the options', else none */
     if (s->opts.proj.kind != VSV_PROJ_NONE) {
         g->proj = s->opts.proj;
@@ -235,6 +220,31 @@ static int camx_open(vsv_source *s)
         vsv_meta_add_attr(g, "nseg", buf);
         vsv_meta_add_attr(g, "time zone", "none in a v5 header: hours taken as UTC");
     }
+    return 0;
+}
+
+static int camx_open(vsv_source *s)
+{
+    camx *c = calloc(1, sizeof *c);
+    if (!c)
+        return VSV_ENOMEM;
+    s->priv = c;
+    c->vg_hour = -1;
+    int rc = vsv_uamiv_open(s->path, &c->u);
+    if (rc) {
+        vsv_msg(s->err, sizeof s->err, "%s", vsv_uamiv_error(c->u));
+        return rc;
+    }
+    const vsv_uamiv_header *h = vsv_uamiv_header_get(c->u);
+    vsv_meta *g = &s->grid;
+    g->nx = h->nx;
+    g->ny = h->ny;
+    g->origin[0] = h->xorg + h->dx / 2.0;
+    g->origin[1] = h->yorg + h->dy / 2.0;
+    g->spacing[0] = h->dx;
+    g->spacing[1] = h->dy;
+    if ((rc = camx_describe(s, h)))
+        return rc;
     const size_t plane = (size_t)h->nx * h->ny;
     c->nat = malloc(plane * (size_t)h->nz * sizeof *c->nat);
     c->zm = malloc(plane * (size_t)h->nz * sizeof *c->zm);

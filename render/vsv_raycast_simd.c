@@ -358,6 +358,106 @@ static __attribute__((noinline)) vi leap_to(const vsv_rc_frame *F, const vf P[3]
     return isel(N, imax(kn, iadd(N, ONEI)), leap);
 }
 
+/* The layers' classification at one sample of each lane of comp: the summed
+ * extinction (sig) and colour weighted by it (col), as the scalar march. */
+static inline __attribute__((always_inline)) void classify(const vsv_rc_frame *F, vm comp, int ublk, vi blk, int uni,
+                                                           const unsigned *bidx_a, const unsigned *off_a, const vf f[3],
+                                                           vf *sig, vf col[3])
+{
+    const vf LUTMAX = fset(VSV_TF_LUT - 1), ZERO = fset(0);
+    const vi LUTI = iset(VSV_TF_LUT - 2);
+    *sig = ZERO;
+    for (int ch = 0; ch < 3; ch++)
+        col[ch] = ZERO;
+    for (int li = 0; li < F->nlayers; li++) {
+        const vsv_rc_layer *L = &F->layer[li];
+        vm m = comp;
+        if (F->skip && F->layer_clear) /* transparent in this block */
+            m = ublk ? (L->clear[lane0(blk)] ? MNONE : m) : mandnot(flags(L->clear, blk), m);
+        if (!bits(m))
+            continue;
+        const vf v = sample(L, uni, bidx_a, off_a, F->ey, F->ez, f);
+        const vm valid = mand(m, ge(v, fset(L->lo)));
+        const unsigned vb = bits(valid);
+        if (!vb)
+            continue;
+        vf xv = v;
+        if (L->log) {
+            float t[W];
+            fstore(t, v);
+            for (int l = 0; l < W; l++)
+                t[l] = vb >> l & 1 ? logf(t[l]) : 0;
+            xv = fload(t);
+        }
+        const vf x = vmin(fma3(xv, fset(L->inv), fset(L->off)), LUTMAX);
+        const vi i = imin(to_i(x), LUTI);
+        const vf fx = sub(x, to_f(i));
+        /* each lane's two table entries (eight floats in a row), transposed */
+        unsigned ia[W];
+        istore(ia, ikeep(valid, i));
+        __m256 la[2], lc[3][2];
+        for (int h = 0; h < 2; h++) { /* eight lanes at a time */
+            __m256 e[8];              /* r g b a of entry i, then of entry i + 1 */
+            for (int l = 0; l < 8; l++)
+                e[l] = _mm256_loadu_ps(L->lut[ia[8 * h + l]]);
+            transpose8(e);
+            const __m256 t = half(fx, h);
+            la[h] = lerp1(e[3], e[7], t);
+            for (int ch = 0; ch < 3; ch++)
+                lc[ch][h] = lerp1(e[ch], e[ch + 4], t);
+        }
+        /* s <= 0 (a hair below the table) and lanes without a value add 0;
+         * products summed by plain additions: two species give the same
+         * bits in either order */
+        const vf s = keep(valid, vmax(mul(join(la[0], la[1]), fset(L->sigma)), ZERO));
+        *sig = add(*sig, s);
+        for (int ch = 0; ch < 3; ch++)
+            col[ch] = add(col[ch], mul(s, join(lc[ch][0], lc[ch][1])));
+    }
+}
+
+/* The step's opacity for the lanes of cm (as vsv_rc_opacity_per_u: the
+ * series, the table, 1/u), composited front to back into T and acc; the
+ * depth of each lane where it first passes 0.1 opacity. */
+static inline __attribute__((always_inline)) void composite(const vsv_rc_frame *F, vm cm, vm lastm, vf sig,
+                                                            const vf col[3], vf WL, vi N, const float *ts, vf *T,
+                                                            vf acc[3], unsigned *deep_set, float depth[W])
+{
+    const vf ONE = fset(1), ST = fset((float)F->st), DEPTH = fset(0.1f);
+    const vf UMAX = fset(VSV_OPACITY_UMAX), UK = fset(VSV_OPACITY_N / VSV_OPACITY_UMAX), HALF = fset(0.5f);
+    const vf SMALL = fset(VSV_OPACITY_SMALL);
+    const vf SERIES[5] = {fset(1.0f / 120), fset(-1.0f / 24), fset(1.0f / 6), fset(-1.0f / 2), ONE};
+    /* the step's opacity as vsv_rc_opacity_per_u: the series, the table, 1/u */
+    const vf STN = sel(ST, mul(ST, WL), lastm);
+    const vf us = mul(sig, STN);
+    vf fo = fset(-1.0f / 720);
+    for (int t = 0; t < 5; t++)
+        fo = fma3(us, fo, SERIES[t]);
+    const vm thick = mand(cm, ge(us, SMALL));
+    if (bits(thick)) {
+        const vm in = mand(thick, lt(us, UMAX));
+        const vi ti = to_i(keep(in, add(mul(us, UK), HALF)));
+        fo = sel(fo, mgather(vsv_opacity_table, ti, in), in);
+        if (bits(in) != bits(thick)) { /* beyond the table: 1/u */
+            fo = sel(fo, vdiv(ONE, us), mandnot(in, thick));
+        }
+    }
+    /* the other lanes have sig = 0, so us = 0, fo = 1, a = 0, col = 0: no change */
+    const vf a = mul(us, fo), k = mul(mul(*T, fo), STN);
+    for (int ch = 0; ch < 3; ch++)
+        acc[ch] = fma3(k, col[ch], acc[ch]);
+    *T = fnma3(*T, a, *T);
+    const unsigned deep = bits(mand(cm, gt(sub(ONE, *T), DEPTH))) & ~*deep_set;
+    if (deep) {
+        int n_a[W];
+        istore(n_a, N);
+        for (int l = 0; l < W; l++)
+            if (deep >> l & 1 && depth[l] == INFINITY)
+                depth[l] = (float)(F->st * ((double)ts[l] + n_a[l]));
+    }
+    *deep_set |= deep;
+}
+
 void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const float s_hit[W], float T_out[W],
                    float acc_out[3][W], float depth[W])
 {
@@ -420,12 +520,7 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
     const vi NBX = iset(F->nbx), NBXY = iset(F->nbxy), ONEI = iset(1);
     const vi B3 = iset(VSV_RC_BLOCK - 1), B31 = iset(31);
     const int sh = F->shift;
-    const vf ST = fset((float)F->st);
-    const vf TERM = fset(F->term), LUTMAX = fset(VSV_TF_LUT - 1), DEPTH = fset(0.1f);
-    const vi LUTI = iset(VSV_TF_LUT - 2);
-    const vf UMAX = fset(VSV_OPACITY_UMAX), UK = fset(VSV_OPACITY_N / VSV_OPACITY_UMAX), HALF = fset(0.5f);
-    const vf SMALL = fset(VSV_OPACITY_SMALL);
-    const vf SERIES[5] = {fset(1.0f / 120), fset(-1.0f / 24), fset(1.0f / 6), fset(-1.0f / 2), ONE};
+    const vf TERM = fset(F->term);
     vf T = ONE, acc[3] = {ZERO, ZERO, ZERO};
     vi N = ZEROI;          /* each ray's sample: rays leap on their own */
     unsigned deep_set = 0; /* lanes whose depth is set */
@@ -482,84 +577,11 @@ void VSV_RC_KERNEL(const vsv_rc_frame *F, int px, float sy, unsigned live, const
         const vi off = iadd(iadd(iand(ci[0], M), imul(iand(ci[1], M), EY)), imul(iand(ci[2], M), EZ));
         unsigned off_a[W];
         istore(off_a, off);
-        vf sig = ZERO, col[3] = {ZERO, ZERO, ZERO};
-        for (int li = 0; li < F->nlayers; li++) {
-            const vsv_rc_layer *L = &F->layer[li];
-            vm m = comp;
-            if (F->skip && F->layer_clear) /* transparent in this block */
-                m = ublk ? (L->clear[lane0(blk)] ? MNONE : m) : mandnot(flags(L->clear, blk), m);
-            if (!bits(m))
-                continue;
-            const vf v = sample(L, uni, bidx_a, off_a, F->ey, F->ez, f);
-            const vm valid = mand(m, ge(v, fset(L->lo)));
-            const unsigned vb = bits(valid);
-            if (!vb)
-                continue;
-            vf xv = v;
-            if (L->log) {
-                float t[W];
-                fstore(t, v);
-                for (int l = 0; l < W; l++)
-                    t[l] = vb >> l & 1 ? logf(t[l]) : 0;
-                xv = fload(t);
-            }
-            const vf x = vmin(fma3(xv, fset(L->inv), fset(L->off)), LUTMAX);
-            const vi i = imin(to_i(x), LUTI);
-            const vf fx = sub(x, to_f(i));
-            /* each lane's two table entries (eight floats in a row), transposed */
-            unsigned ia[W];
-            istore(ia, ikeep(valid, i));
-            __m256 la[2], lc[3][2];
-            for (int h = 0; h < 2; h++) { /* eight lanes at a time */
-                __m256 e[8];              /* r g b a of entry i, then of entry i + 1 */
-                for (int l = 0; l < 8; l++)
-                    e[l] = _mm256_loadu_ps(L->lut[ia[8 * h + l]]);
-                transpose8(e);
-                const __m256 t = half(fx, h);
-                la[h] = lerp1(e[3], e[7], t);
-                for (int ch = 0; ch < 3; ch++)
-                    lc[ch][h] = lerp1(e[ch], e[ch + 4], t);
-            }
-            /* s <= 0 (a hair below the table) and lanes without a value add 0;
-             * products summed by plain additions: two species give the same
-             * bits in either order */
-            const vf s = keep(valid, vmax(mul(join(la[0], la[1]), fset(L->sigma)), ZERO));
-            sig = add(sig, s);
-            for (int ch = 0; ch < 3; ch++)
-                col[ch] = add(col[ch], mul(s, join(lc[ch][0], lc[ch][1])));
-        }
+        vf sig, col[3];
+        classify(F, comp, ublk, blk, uni, bidx_a, off_a, f, &sig, col);
         const vm cm = gt(sig, ZERO); /* only lanes of comp have added anything */
-        if (bits(cm)) {
-            /* the step's opacity as vsv_rc_opacity_per_u: the series, the table, 1/u */
-            const vf STN = sel(ST, mul(ST, WL), lastm);
-            const vf us = mul(sig, STN);
-            vf fo = fset(-1.0f / 720);
-            for (int t = 0; t < 5; t++)
-                fo = fma3(us, fo, SERIES[t]);
-            const vm thick = mand(cm, ge(us, SMALL));
-            if (bits(thick)) {
-                const vm in = mand(thick, lt(us, UMAX));
-                const vi ti = to_i(keep(in, add(mul(us, UK), HALF)));
-                fo = sel(fo, mgather(vsv_opacity_table, ti, in), in);
-                if (bits(in) != bits(thick)) { /* beyond the table: 1/u */
-                    fo = sel(fo, vdiv(ONE, us), mandnot(in, thick));
-                }
-            }
-            /* the other lanes have sig = 0, so us = 0, fo = 1, a = 0, col = 0: no change */
-            const vf a = mul(us, fo), k = mul(mul(T, fo), STN);
-            for (int ch = 0; ch < 3; ch++)
-                acc[ch] = fma3(k, col[ch], acc[ch]);
-            T = fnma3(T, a, T);
-            const unsigned deep = bits(mand(cm, gt(sub(ONE, T), DEPTH))) & ~deep_set;
-            if (deep) {
-                int n_a[W];
-                istore(n_a, N);
-                for (int l = 0; l < W; l++)
-                    if (deep >> l & 1 && depth[l] == INFINITY)
-                        depth[l] = (float)(F->st * ((double)ts[l] + n_a[l]));
-            }
-            deep_set |= deep;
-        }
+        if (bits(cm))
+            composite(F, cm, lastm, sig, col, WL, N, ts, &T, acc, &deep_set, depth);
         N = isel(iadd(N, ONEI), N, leap); /* the leaping rays have moved on */
     }
     fstore(T_out, T);

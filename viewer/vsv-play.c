@@ -246,28 +246,11 @@ typedef struct play_args {
 /* The command line into *o (usage errors exit 2); 1 when --help was printed. */
 static int parse_args(int argc, char **argv, play_args *o)
 {
-    enum {
-        O_TF = 1000,
-        O_CACHE,
-        O_THREADS,
-        O_SIZE,
-        O_SCALE,
-        O_RATE,
-        O_LOOP,
-        O_PLAY,
-        O_NOTERRAIN,
-        O_SCRIPT,
-        O_VIEW,
-        O_LIGHT,
-        O_SLICE,
-        O_SLICESP,
-        O_SLICECM,
-        O_NOANNOT,
-        O_ANNOT,
-        O_GPUMB,
-        O_SLICERANGE
-    };
     /* clang-format off */ /* (a table, laid out by hand) */
+    enum {
+        O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
+        O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE
+    };
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
         {"renderer", required_argument, 0, 'r'},   {"cache-mb", required_argument, 0, O_CACHE},
