@@ -184,6 +184,10 @@ inc=$(make -s --no-print-directory -pn B="$B" help 2>/dev/null |
 long=$(git ls-files 2>/dev/null | grep -E '\.(c|cc|h|py|sh)$' |
     xargs wc -l 2>/dev/null | awk '$2 != "total" && $1 > 750 { print $2 " " $1 }')
 [ -z "$long" ] && pass "no source file over ~700 lines" || fail "no source file over ~700 lines" "$long"
+# functions one screen long (STYLE.md; issue 34): none over 150 lines
+long=$(/usr/bin/python3 tests/funclen.py 150 2> /dev/null)
+[ -z "$long" ] && pass "no function over 150 lines (tests/funclen.py)" ||
+    fail "no function over 150 lines (tests/funclen.py)" "$(echo "$long" | head -n 5 | tr '\n' ';')"
 # every C and C++ source is formatted as .clang-format says (STYLE.md;
 # clang-format-14, installed by `make test`'s dependency step)
 if command -v clang-format-14 > /dev/null 2>&1; then

@@ -156,118 +156,136 @@ static void test_real(void)
     vsv_uamiv_free(u);
 }
 
-static void test_written(void)
+/* The header of test file `variant`: v6 (bit 0) with a zone and a projection, 40x30x6 cells, 25 hours, the
+ * three species named in sp (borrowed by h). */
+static void written_header(vsv_uamiv_header *h, int variant, char (*sp)[11])
 {
-    for (int variant = 0; variant < 4; variant++) {
-        const int v6 = variant & 1, le = variant >> 1;
-        vsv_uamiv_header h;
-        memset(&h, 0, sizeof h);
-        snprintf(h.name, sizeof h.name, "AVERAGE");
-        snprintf(h.note, sizeof h.note, "Vesuvius test file %d", variant);
-        h.nseg_or_tz = v6 ? 5 : 1;
-        h.nspec = 3;
-        char sp[3][11] = {"O3", "NO2", "PSO4"};
-        h.species = sp;
-        h.bdate = 2154;
-        h.edate = 2155;
-        h.bhour = 0;
-        h.ehour = 1.5f;
-        h.xorg = -900000;
-        h.yorg = -600000;
-        h.dx = h.dy = 12000;
-        h.nx = 40;
-        h.ny = 30;
-        h.nz = 6;
-        h.nhours = 25;
-        if (v6) {
-            h.iproj = 2;
-            h.plon = -97;
-            h.plat = 40;
-            h.tlat1 = 33;
-            h.tlat2 = 45;
-        }
-        h.rec3[0] = h.rec3[1] = 1;
-        h.rec3[2] = h.nx;
-        h.rec3[3] = h.ny;
-        int dates[50];
-        float hours[50];
-        for (int t = 0; t < 25; t++) {
-            dates[2 * t] = t < 24 ? 2154 : 2155;
-            hours[2 * t] = (float)(t % 24) + (t == 3 ? 0.5f : 0); /* a half hour: 03:30 */
-            dates[2 * t + 1] = dates[2 * t];
-            hours[2 * t + 1] = hours[2 * t] + 1;
-        }
-        char label[200];
-        const char *path = vsv_test_tmp(le ? "big-le.avrg" : "big-be.avrg"), *zp = vsv_test_tmp("big.zp");
-        write_uamiv(path, &h, le, dates, hours, synth, NULL);
-        write_zp(zp, h.nx, h.ny, h.nz, 25, le, dates, hours);
-        vsv_source_opts so;
-        vsv_source_opts_init(&so);
-        so.heights = zp;
-        so.vertical = VSV_VERT_NATIVE;
-        vsv_source *src = NULL;
-        int rc = vsv_source_open(path, &so, &src);
-        snprintf(label, sizeof label, "v%s %s-endian 40x30x6, 25 hours, 3 species: opens with heights", v6 ? "6" : "5",
-                 le ? "little" : "big");
-        if (!CHECK(rc == 0, label, "%s", vsv_source_error(src))) {
-            vsv_source_free(src);
-            continue;
-        }
-        const vsv_meta *g = vsv_source_grid(src);
-        const int64_t zone = v6 ? 5 * 3600 : 0; /* v6: hours in zone 5, times UTC */
-        int ok = vsv_source_ntimes(src) == 25 && g->nz == 6 && g->vert_kind == VSV_VERT_NATIVE &&
-                 vsv_source_time(src, 3) == vsv_time_from_civil(2002, 6, 3, 3, 30, 0) + zone &&
-                 vsv_source_time(src, 24) == vsv_time_from_civil(2002, 6, 4, 0, 0, 0) + zone &&
-                 g->proj.kind == (v6 ? VSV_PROJ_LCC : VSV_PROJ_NONE) && g->origin[0] == -894000;
-        /* mean layer-middle height of layer 2: tops 50*k^2 + i + j */
-        double mean_top1 = 50 * 4 + (39 + 29) / 2.0, mean_top0 = 50 * 1 + (39 + 29) / 2.0;
-        ok &= fabs(g->levels[1] - 0.5 * (mean_top0 + mean_top1)) < 1e-3;
-        snprintf(label, sizeof label, "v%s %s-endian: times (decimal hours exact), projection %s, heights from ZP",
-                 v6 ? "6" : "5", le ? "little" : "big", v6 ? "from the header" : "none");
-        CHECK(ok, label, "t3 %lld proj %d lev %g", (long long)vsv_source_time(src, 3), g->proj.kind, g->levels[1]);
-        float *vol = malloc((size_t)40 * 30 * 6 * 4);
-        int same = 1;
-        for (int t = 0; t < 25; t += 6)
-            for (int s = 0; s < 3; s++) {
-                same &= vsv_source_read(src, s, t, vol) == 0;
-                for (int k = 0; k < 6; k++)
-                    for (int j = 0; j < 30; j++)
-                        for (int i = 0; i < 40; i++)
-                            same &= vol[(k * 30 + j) * 40 + i] == synth(t, s, k, i, j);
-            }
-        snprintf(label, sizeof label, "v%s %s-endian: every value read back exactly", v6 ? "6" : "5",
-                 le ? "little" : "big");
-        CHECK(same, label);
-        free(vol);
-        vsv_source_free(src);
-        /* even heights from the ZP file through a .vsv */
-        if (variant == 3) {
-            const char *out = vsv_test_tmp("camx.vsv");
-            so.vertical = VSV_VERT_EVEN;
-            so.nz = 20;
-            vsv_run *run = NULL;
-            const char *paths[] = {path};
-            rc = vsv_run_open(paths, 1, &so, "O3", NULL, &run);
-            if (!rc) {
-                const vsv_meta *m = vsv_run_meta(run);
-                float *f[1] = {malloc((size_t)40 * 30 * 20 * 4)};
-                vsv_writer *wr = NULL;
-                rc = vsv_writer_create(out, m, NULL, &wr);
-                for (int i = 0; !rc && i < vsv_run_nframes(run); i++)
-                    if (!(rc = vsv_run_read(run, i, f)))
-                        rc = vsv_writer_add_step(wr, vsv_run_time(run, i), (const float *const *)f);
-                if (!rc)
-                    rc = vsv_writer_finish(wr, NULL, NULL);
-                vsv_writer_free(wr);
-                free(f[0]);
-            }
-            vsv_file *vf = NULL;
-            CHECK(rc == 0 && vsv_file_open(out, &vf) == 0 && vsv_file_check(vf, NULL, NULL) == 0,
-                  "CAMx on even heights packs into a checked .vsv", "%s", vsv_run_error(run));
-            vsv_file_free(vf);
-            vsv_run_free(run);
-        }
+    const int v6 = variant & 1;
+    memset(h, 0, sizeof *h);
+    snprintf(h->name, sizeof h->name, "AVERAGE");
+    snprintf(h->note, sizeof h->note, "Vesuvius test file %d", variant);
+    h->nseg_or_tz = v6 ? 5 : 1;
+    h->nspec = 3;
+    h->species = sp;
+    h->bdate = 2154;
+    h->edate = 2155;
+    h->bhour = 0;
+    h->ehour = 1.5f;
+    h->xorg = -900000;
+    h->yorg = -600000;
+    h->dx = h->dy = 12000;
+    h->nx = 40;
+    h->ny = 30;
+    h->nz = 6;
+    h->nhours = 25;
+    if (v6) {
+        h->iproj = 2;
+        h->plon = -97;
+        h->plat = 40;
+        h->tlat1 = 33;
+        h->tlat2 = 45;
     }
+    h->rec3[0] = h->rec3[1] = 1;
+    h->rec3[2] = h->nx;
+    h->rec3[3] = h->ny;
+}
+
+/* even heights from the ZP file through a .vsv */
+static void written_even_vsv(const char *path, vsv_source_opts *so)
+{
+    const char *out = vsv_test_tmp("camx.vsv");
+    so->vertical = VSV_VERT_EVEN;
+    so->nz = 20;
+    vsv_run *run = NULL;
+    const char *paths[] = {path};
+    int rc = vsv_run_open(paths, 1, so, "O3", NULL, &run);
+    if (!rc) {
+        const vsv_meta *m = vsv_run_meta(run);
+        float *f[1] = {malloc((size_t)40 * 30 * 20 * 4)};
+        vsv_writer *wr = NULL;
+        rc = vsv_writer_create(out, m, NULL, &wr);
+        for (int i = 0; !rc && i < vsv_run_nframes(run); i++)
+            if (!(rc = vsv_run_read(run, i, f)))
+                rc = vsv_writer_add_step(wr, vsv_run_time(run, i), (const float *const *)f);
+        if (!rc)
+            rc = vsv_writer_finish(wr, NULL, NULL);
+        vsv_writer_free(wr);
+        free(f[0]);
+    }
+    vsv_file *vf = NULL;
+    CHECK(rc == 0 && vsv_file_open(out, &vf) == 0 && vsv_file_check(vf, NULL, NULL) == 0,
+          "CAMx on even heights packs into a checked .vsv", "%s", vsv_run_error(run));
+    vsv_file_free(vf);
+    vsv_run_free(run);
+}
+
+/* One written file (v5 or v6 by bit 0 of variant, little-endian by bit 1) with its ZP file: opens with heights,
+ * times, projection and every value as written; the last variant also packs into a .vsv. */
+static void written_variant(int variant)
+{
+    const int v6 = variant & 1, le = variant >> 1;
+    vsv_uamiv_header h;
+    char sp[3][11] = {"O3", "NO2", "PSO4"};
+    written_header(&h, variant, sp);
+    int dates[50];
+    float hours[50];
+    for (int t = 0; t < 25; t++) {
+        dates[2 * t] = t < 24 ? 2154 : 2155;
+        hours[2 * t] = (float)(t % 24) + (t == 3 ? 0.5f : 0); /* a half hour: 03:30 */
+        dates[2 * t + 1] = dates[2 * t];
+        hours[2 * t + 1] = hours[2 * t] + 1;
+    }
+    char label[200];
+    const char *path = vsv_test_tmp(le ? "big-le.avrg" : "big-be.avrg"), *zp = vsv_test_tmp("big.zp");
+    write_uamiv(path, &h, le, dates, hours, synth, NULL);
+    write_zp(zp, h.nx, h.ny, h.nz, 25, le, dates, hours);
+    vsv_source_opts so;
+    vsv_source_opts_init(&so);
+    so.heights = zp;
+    so.vertical = VSV_VERT_NATIVE;
+    vsv_source *src = NULL;
+    int rc = vsv_source_open(path, &so, &src);
+    snprintf(label, sizeof label, "v%s %s-endian 40x30x6, 25 hours, 3 species: opens with heights", v6 ? "6" : "5",
+             le ? "little" : "big");
+    if (!CHECK(rc == 0, label, "%s", vsv_source_error(src))) {
+        vsv_source_free(src);
+        return;
+    }
+    const vsv_meta *g = vsv_source_grid(src);
+    const int64_t zone = v6 ? 5 * 3600 : 0; /* v6: hours in zone 5, times UTC */
+    int ok = vsv_source_ntimes(src) == 25 && g->nz == 6 && g->vert_kind == VSV_VERT_NATIVE &&
+             vsv_source_time(src, 3) == vsv_time_from_civil(2002, 6, 3, 3, 30, 0) + zone &&
+             vsv_source_time(src, 24) == vsv_time_from_civil(2002, 6, 4, 0, 0, 0) + zone &&
+             g->proj.kind == (v6 ? VSV_PROJ_LCC : VSV_PROJ_NONE) && g->origin[0] == -894000;
+    /* mean layer-middle height of layer 2: tops 50*k^2 + i + j */
+    double mean_top1 = 50 * 4 + (39 + 29) / 2.0, mean_top0 = 50 * 1 + (39 + 29) / 2.0;
+    ok &= fabs(g->levels[1] - 0.5 * (mean_top0 + mean_top1)) < 1e-3;
+    snprintf(label, sizeof label, "v%s %s-endian: times (decimal hours exact), projection %s, heights from ZP",
+             v6 ? "6" : "5", le ? "little" : "big", v6 ? "from the header" : "none");
+    CHECK(ok, label, "t3 %lld proj %d lev %g", (long long)vsv_source_time(src, 3), g->proj.kind, g->levels[1]);
+    float *vol = malloc((size_t)40 * 30 * 6 * 4);
+    int same = 1;
+    for (int t = 0; t < 25; t += 6)
+        for (int s = 0; s < 3; s++) {
+            same &= vsv_source_read(src, s, t, vol) == 0;
+            for (int k = 0; k < 6; k++)
+                for (int j = 0; j < 30; j++)
+                    for (int i = 0; i < 40; i++)
+                        same &= vol[(k * 30 + j) * 40 + i] == synth(t, s, k, i, j);
+        }
+    snprintf(label, sizeof label, "v%s %s-endian: every value read back exactly", v6 ? "6" : "5",
+             le ? "little" : "big");
+    CHECK(same, label);
+    free(vol);
+    vsv_source_free(src);
+    if (variant == 3)
+        written_even_vsv(path, &so);
+}
+
+/* Damaged copies of the big-endian written file: a size that is not whole hours, a wrong record length, and
+ * truncation at many lengths are errors that say what is wrong. */
+static void written_damage(void)
+{
     /* a size that does not divide into hours names expected and actual sizes */
     const char *path = vsv_test_tmp("big-be.avrg");
     size_t n;
@@ -306,6 +324,13 @@ static void test_written(void)
     CHECK(errors == tries, "every truncation is an error", "%d of %d", errors, tries);
     free(bad);
     free(d);
+}
+
+static void test_written(void)
+{
+    for (int variant = 0; variant < 4; variant++)
+        written_variant(variant);
+    written_damage();
 }
 
 int main(void)

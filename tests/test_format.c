@@ -15,6 +15,139 @@
 #include <string.h>
 #include <unistd.h>
 
+/* random access with fresh decoders, and backwards with one decoder, equal the sequential decode */
+static void series_random_access(vsv_file *f, vsv_decoder *d, float *vol, size_t cells, uint32_t (*crcs)[3],
+                                 uint64_t *rs)
+{
+    int same = 1;
+    for (int n = 0; n < 60; n++) {
+        int t = (int)(vsv_test_rand(rs) % 120), s = (int)(vsv_test_rand(rs) % 3);
+        vsv_decoder *d2 = NULL;
+        vsv_decoder_create(f, &d2);
+        same &= vsv_decoder_volume(d2, t, s, vol) == 0 && vsv_crc32c(0, vol, cells * 4) == crcs[t][s];
+        vsv_decoder_free(d2);
+    }
+    /* and backwards with one decoder */
+    for (int t = 119; t >= 0; t -= 7)
+        same &= vsv_decoder_volume(d, t, 1, vol) == 0 && vsv_crc32c(0, vol, cells * 4) == crcs[t][1];
+    CHECK(same, "random access and backward decode equal sequential decode bit for bit");
+}
+
+/* one brick equals its part of the volume */
+static void series_single_bricks(vsv_file *f, vsv_decoder *d, const vsv_file_info *info, float *vol, uint64_t *rs)
+{
+    float *brick = malloc(16 * 16 * 16 * 4);
+    int bok = 1;
+    for (int n = 0; n < 40; n++) {
+        int t = (int)(vsv_test_rand(rs) % 120), s = (int)(vsv_test_rand(rs) % 3),
+            b = (int)(vsv_test_rand(rs) % (unsigned)info->nbricks);
+        int org[3], ext[3];
+        vsv_file_brick_box(f, b, org, ext);
+        bok &= vsv_decoder_brick(d, t, s, b, brick) == 0 && vsv_decoder_volume(d, t, s, vol) == 0;
+        for (int k = 0; k < ext[2]; k++)
+            for (int j = 0; j < ext[1]; j++)
+                for (int i = 0; i < ext[0]; i++)
+                    bok &=
+                        brick[(k * 16 + j) * 16 + i] == vol[((size_t)(org[2] + k) * 50 + org[1] + j) * 70 + org[0] + i];
+    }
+    CHECK(bok, "single-brick decode equals the volume");
+    free(brick);
+}
+
+/* empty bricks cost nothing; the octree says which */
+static void series_brick_kinds(vsv_file *f, const vsv_file_info *info)
+{
+    int kinds_ok = 1, empty_seen = 0, unchanged_frozen = 1, appear_seen = 0, appear_abs = 1;
+    for (int t = 0; t < 120; t++) {
+        int dims[3 * 16];
+        const unsigned char *oct = vsv_file_octree(f, t, 0, dims);
+        const unsigned char *before = t ? vsv_file_octree(f, t - 1, 0, dims) : NULL;
+        for (int b = 0; b < info->nbricks; b++) {
+            unsigned mn, mx, pmn, pmx;
+            vsv_octree_node(oct, (size_t)b, &mn, &mx);
+            int kind = vsv_file_brick_kind(f, t, 0, b);
+            if (mx == 0) {
+                empty_seen++;
+                kinds_ok &= kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_UNCHANGED;
+            }
+            if (before && mx > 0) { /* a plume entering an empty brick: a DELTA against zeros costs more */
+                vsv_octree_node(before, (size_t)b, &pmn, &pmx);
+                if (pmx == 0) {
+                    appear_seen++;
+                    appear_abs &= kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
+                }
+            }
+            if (t > 40 && t <= 60 && t % 8)
+                unchanged_frozen &= vsv_file_brick_kind(f, t, 2, b) == VSV_BRICK_UNCHANGED;
+        }
+    }
+    CHECK(empty_seen > 0 && kinds_ok, "empty bricks are stored as EMPTY/UNCHANGED", "%d empty", empty_seen);
+    CHECK(appear_seen > 0 && appear_abs, "a brick empty the step before is stored ABS/ABS3, not as a DELTA",
+          "%d such bricks", appear_seen);
+    vsv_file_counts cnt;
+    vsv_file_count(f, &cnt);
+    CHECK(cnt.stored_bricks < (uint64_t)info->nbricks * 3 * 120, "fewer payloads than bricks", "%llu stored",
+          (unsigned long long)cnt.stored_bricks);
+    CHECK(unchanged_frozen, "unchanged steps store no payload");
+}
+
+/* the octree root bounds the volume */
+static void series_octree_root(vsv_file *f, vsv_decoder *d, const vsv_file_info *info, float *vol, size_t cells)
+{
+    int dims[3 * 16];
+    const unsigned char *oct = vsv_file_octree(f, 77, 1, dims);
+    unsigned rmn, rmx;
+    vsv_octree_node(oct, vsv_file_octree_level_start(f, info->octree_levels - 1), &rmn, &rmx);
+    vsv_decoder_volume(d, 77, 1, vol);
+    float vmn = INFINITY, vmx = -INFINITY;
+    for (size_t i = 0; i < cells; i++) {
+        vmn = vol[i] < vmn ? vol[i] : vmn;
+        vmx = vol[i] > vmx ? vol[i] : vmx;
+    }
+    CHECK(vsv_quant_value(vsv_file_quant(f, 1), rmn) == vmn && vsv_quant_value(vsv_file_quant(f, 1), rmx) == vmx,
+          "octree root min/max equal the volume's");
+}
+
+/* reference reader agrees exactly */
+static void series_reference(const char *path, vsv_file *f, size_t cells, uint32_t (*crcs)[3])
+{
+    size_t n = 0;
+    unsigned char *data = vsv_test_slurp(path, &n);
+    ref_file rf;
+    char rerr[200] = "";
+    int refok = data && ref_open(&rf, data, n, rerr, sizeof rerr) == 0;
+    if (refok) {
+        uint16_t *rc16 = malloc(cells * 2);
+        float *rv = malloc(cells * 4);
+        const int ts[] = {0, 7, 8, 9, 45, 63, 119};
+        for (size_t a = 0; a < sizeof ts / sizeof *ts && refok; a++)
+            for (int s = 0; s < 3 && refok; s++) {
+                refok &= ref_decode(&rf, (unsigned)ts[a], (unsigned)s, rc16, rv, rerr, sizeof rerr) == 0;
+                refok &= vsv_crc32c(0, rv, cells * 4) == crcs[ts[a]][s];
+                refok &= ref_time(&rf, (unsigned)ts[a]) == vsv_file_time(f, ts[a]);
+            }
+        free(rc16);
+        free(rv);
+        ref_close(&rf);
+    }
+    CHECK(refok, "reference reader decodes identical values", "%s", rerr);
+    free(data);
+}
+
+/* the thread count does not change a byte */
+static void series_threads(const synth *sy, vsv_pack_opts *o, const char *path, char *err, size_t errsz)
+{
+    const char *p1 = vsv_test_tmp("series-t1.vsv");
+    o->threads = 1;
+    synth_write(sy, p1, o, err, errsz);
+    size_t n1, n2;
+    unsigned char *a1 = vsv_test_slurp(p1, &n1), *a2 = vsv_test_slurp(path, &n2);
+    CHECK(a1 && a2 && n1 == n2 && !memcmp(a1, a2, n1), "1 and 2 encoder threads write identical files");
+    free(a1);
+    free(a2);
+    unlink(p1);
+}
+
 /* Decodes every (step, species) sequentially; checks the bound against the
  * synthetic truth and remembers a CRC of each volume. */
 static void test_series(void)
@@ -77,125 +210,19 @@ static void test_series(void)
            vsv_file_quant(f, 0)->max_abs_error, worst[1], vsv_file_quant(f, 1)->max_abs_error, worst[2],
            vsv_file_quant(f, 2)->max_abs_error);
 
-    /* random access with fresh decoders equals the sequential decode */
     uint64_t rs = 42;
-    int same = 1;
-    for (int n = 0; n < 60; n++) {
-        int t = (int)(vsv_test_rand(&rs) % 120), s = (int)(vsv_test_rand(&rs) % 3);
-        vsv_decoder *d2 = NULL;
-        vsv_decoder_create(f, &d2);
-        same &= vsv_decoder_volume(d2, t, s, vol) == 0 && vsv_crc32c(0, vol, cells * 4) == crcs[t][s];
-        vsv_decoder_free(d2);
-    }
-    /* and backwards with one decoder */
-    for (int t = 119; t >= 0; t -= 7)
-        same &= vsv_decoder_volume(d, t, 1, vol) == 0 && vsv_crc32c(0, vol, cells * 4) == crcs[t][1];
-    CHECK(same, "random access and backward decode equal sequential decode bit for bit");
-
-    /* one brick equals its part of the volume */
-    float *brick = malloc(16 * 16 * 16 * 4);
-    int bok = 1;
-    for (int n = 0; n < 40; n++) {
-        int t = (int)(vsv_test_rand(&rs) % 120), s = (int)(vsv_test_rand(&rs) % 3),
-            b = (int)(vsv_test_rand(&rs) % (unsigned)info.nbricks);
-        int org[3], ext[3];
-        vsv_file_brick_box(f, b, org, ext);
-        bok &= vsv_decoder_brick(d, t, s, b, brick) == 0 && vsv_decoder_volume(d, t, s, vol) == 0;
-        for (int k = 0; k < ext[2]; k++)
-            for (int j = 0; j < ext[1]; j++)
-                for (int i = 0; i < ext[0]; i++)
-                    bok &=
-                        brick[(k * 16 + j) * 16 + i] == vol[((size_t)(org[2] + k) * 50 + org[1] + j) * 70 + org[0] + i];
-    }
-    CHECK(bok, "single-brick decode equals the volume");
-
-    /* empty bricks cost nothing; the octree says which */
-    int kinds_ok = 1, empty_seen = 0, unchanged_frozen = 1, appear_seen = 0, appear_abs = 1;
-    for (int t = 0; t < 120; t++) {
-        int dims[3 * 16];
-        const unsigned char *oct = vsv_file_octree(f, t, 0, dims);
-        const unsigned char *before = t ? vsv_file_octree(f, t - 1, 0, dims) : NULL;
-        for (int b = 0; b < info.nbricks; b++) {
-            unsigned mn, mx, pmn, pmx;
-            vsv_octree_node(oct, (size_t)b, &mn, &mx);
-            int kind = vsv_file_brick_kind(f, t, 0, b);
-            if (mx == 0) {
-                empty_seen++;
-                kinds_ok &= kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_UNCHANGED;
-            }
-            if (before && mx > 0) { /* a plume entering an empty brick: a DELTA against zeros costs more */
-                vsv_octree_node(before, (size_t)b, &pmn, &pmx);
-                if (pmx == 0) {
-                    appear_seen++;
-                    appear_abs &= kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
-                }
-            }
-            if (t > 40 && t <= 60 && t % 8)
-                unchanged_frozen &= vsv_file_brick_kind(f, t, 2, b) == VSV_BRICK_UNCHANGED;
-        }
-    }
-    CHECK(empty_seen > 0 && kinds_ok, "empty bricks are stored as EMPTY/UNCHANGED", "%d empty", empty_seen);
-    CHECK(appear_seen > 0 && appear_abs, "a brick empty the step before is stored ABS/ABS3, not as a DELTA",
-          "%d such bricks", appear_seen);
-    vsv_file_counts cnt;
-    vsv_file_count(f, &cnt);
-    CHECK(cnt.stored_bricks < (uint64_t)info.nbricks * 3 * 120, "fewer payloads than bricks", "%llu stored",
-          (unsigned long long)cnt.stored_bricks);
-    CHECK(unchanged_frozen, "unchanged steps store no payload");
-
-    /* the octree root bounds the volume */
-    int dims[3 * 16];
-    const unsigned char *oct = vsv_file_octree(f, 77, 1, dims);
-    unsigned rmn, rmx;
-    vsv_octree_node(oct, vsv_file_octree_level_start(f, info.octree_levels - 1), &rmn, &rmx);
-    vsv_decoder_volume(d, 77, 1, vol);
-    float vmn = INFINITY, vmx = -INFINITY;
-    for (size_t i = 0; i < cells; i++) {
-        vmn = vol[i] < vmn ? vol[i] : vmn;
-        vmx = vol[i] > vmx ? vol[i] : vmx;
-    }
-    CHECK(vsv_quant_value(vsv_file_quant(f, 1), rmn) == vmn && vsv_quant_value(vsv_file_quant(f, 1), rmx) == vmx,
-          "octree root min/max equal the volume's");
-
-    /* reference reader agrees exactly */
-    size_t n = 0;
-    unsigned char *data = vsv_test_slurp(path, &n);
-    ref_file rf;
-    char rerr[200] = "";
-    int refok = data && ref_open(&rf, data, n, rerr, sizeof rerr) == 0;
-    if (refok) {
-        uint16_t *rc16 = malloc(cells * 2);
-        float *rv = malloc(cells * 4);
-        const int ts[] = {0, 7, 8, 9, 45, 63, 119};
-        for (size_t a = 0; a < sizeof ts / sizeof *ts && refok; a++)
-            for (int s = 0; s < 3 && refok; s++) {
-                refok &= ref_decode(&rf, (unsigned)ts[a], (unsigned)s, rc16, rv, rerr, sizeof rerr) == 0;
-                refok &= vsv_crc32c(0, rv, cells * 4) == crcs[ts[a]][s];
-                refok &= ref_time(&rf, (unsigned)ts[a]) == vsv_file_time(f, ts[a]);
-            }
-        free(rc16);
-        free(rv);
-        ref_close(&rf);
-    }
-    CHECK(refok, "reference reader decodes identical values", "%s", rerr);
+    series_random_access(f, d, vol, cells, crcs, &rs);
+    series_single_bricks(f, d, &info, vol, &rs);
+    series_brick_kinds(f, &info);
+    series_octree_root(f, d, &info, vol, cells);
+    series_reference(path, f, cells, crcs);
     CHECK(info.file_bytes * 4 < cells * 4 * 3 * 120, "file is under a quarter of raw float32", "%llu bytes",
           (unsigned long long)info.file_bytes);
-    free(data);
-    free(brick);
     free(vol);
     vsv_decoder_free(d);
     vsv_file_free(f);
 
-    /* the thread count does not change a byte */
-    const char *p1 = vsv_test_tmp("series-t1.vsv");
-    o.threads = 1;
-    synth_write(&sy, p1, &o, err, sizeof err);
-    size_t n1, n2;
-    unsigned char *a1 = vsv_test_slurp(p1, &n1), *a2 = vsv_test_slurp(path, &n2);
-    CHECK(a1 && a2 && n1 == n2 && !memcmp(a1, a2, n1), "1 and 2 encoder threads write identical files");
-    free(a1);
-    free(a2);
-    unlink(p1);
+    series_threads(&sy, &o, path, err, sizeof err);
     unlink(path);
 }
 

@@ -106,20 +106,9 @@ static void test_terrain(void)
     vsv_mm5_free(m);
 }
 
-static void test_mmout(void)
+/* every field of every period reads, with finite values; T at 3 h within its documented range */
+static void mmout_fields(vsv_mm5 *m, float *buf)
 {
-    const char *path = vsv_test_shared("mm5/run1/MMOUT_DOMAIN1");
-    vsv_mm5 *m = NULL;
-    if (vsv_test_absent(path, "the real MM5 run"))
-        return;
-    if (!CHECK(vsv_mm5_open(path, &m) == 0, "MMOUT_DOMAIN1 opens", "%s", vsv_mm5_error(m))) {
-        vsv_mm5_free(m);
-        return;
-    }
-    CHECK(vsv_mm5_nperiods(m) == 4 && vsv_mm5_nfields(m) == 4 * 51, "MMOUT: 4 periods of 51 fields",
-          "%d periods %d fields", vsv_mm5_nperiods(m), vsv_mm5_nfields(m));
-    /* every field of every period reads, with finite values */
-    float *buf = malloc((size_t)143 * 208 * 16 * 4);
     int finite = 1, read = 0;
     for (int i = 0; i < vsv_mm5_nfields(m); i++) {
         const vsv_mm5_field *f = vsv_mm5_field_at(m, i);
@@ -142,20 +131,56 @@ static void test_mmout(void)
                 tmax = fmaxf(tmax, v);
             }
     CHECK(tmin > 205 && tmin < 212 && tmax > 300 && tmax < 306, "T at 3 h spans 208..303 K", "%g..%g", tmin, tmax);
+}
 
-    /* native conversion: .vsv values equal MM5 values within the bound */
+/* Samples of the written native .vsv against the MM5 values (U and W moved to the cross points and half
+ * levels), each within the species' bound; vol is scratch for one volume. */
+static void mmout_native_samples(vsv_mm5 *m, const char *out, float *vol, float *buf)
+{
+    vsv_file *f = NULL;
+    vsv_decoder *d = NULL;
+    int ok = vsv_file_open(out, &f) == 0 && vsv_decoder_create(f, &d) == 0;
+    uint64_t rs = 99;
+    const char *names[] = {"T", "CLW", "SNOW", "U", "W"};
+    int within = 1, samples = 0;
+    for (int t = 0; ok && t < 4; t++)
+        for (int s = 0; s < 5; s++) {
+            ok &= vsv_decoder_volume(d, t, s, vol) == 0;
+            const vsv_mm5_field *mf = vsv_mm5_field_at(m, vsv_mm5_find(m, t, names[s]));
+            vsv_mm5_read(m, mf, buf);
+            const double bound = vsv_file_quant(f, s)->max_abs_error;
+            for (int n = 0; n < 400; n++) {
+                int i = (int)(vsv_test_rand(&rs) % 207), j = (int)(vsv_test_rand(&rs) % 142),
+                    k = (int)(vsv_test_rand(&rs) % 15), kk = 14 - k;
+                double want;
+                if (s == 3) /* U: dot → cross */
+                    want = 0.25 * ((double)buf[(kk * 208 + i) * 143 + j] + buf[(kk * 208 + i) * 143 + j + 1] +
+                                   buf[(kk * 208 + i + 1) * 143 + j] + buf[(kk * 208 + i + 1) * 143 + j + 1]);
+                else if (s == 4) /* W: full levels kk, kk+1 around half level kk */
+                    want = 0.5 * ((double)buf[(kk * 208 + i) * 143 + j] + buf[((kk + 1) * 208 + i) * 143 + j]);
+                else
+                    want = buf[(kk * 208 + i) * 143 + j];
+                double got = vol[((size_t)k * 142 + j) * 207 + i];
+                within &= fabs(got - want) <= bound + 1e-6 * fabs(want);
+                samples++;
+            }
+        }
+    CHECK(ok && within, "sampled .vsv values equal MM5 values within the bound (T, CLW, SNOW, U dot->cross, W)",
+          "%d samples", samples);
+    vsv_decoder_free(d);
+    vsv_file_free(f);
+}
+
+/* native conversion: .vsv values equal MM5 values within the bound; 0 if the run does not open */
+static int mmout_native(vsv_mm5 *m, const char *path, const vsv_source_opts *so, float *buf)
+{
     const char *out = vsv_test_tmp("mmout-native.vsv");
-    vsv_source_opts so;
-    vsv_source_opts_init(&so);
-    so.vertical = VSV_VERT_NATIVE;
     vsv_run *run = NULL;
     const char *paths[] = {path};
-    int rc = vsv_run_open(paths, 1, &so, "T,CLW,SNOW,U,W", NULL, &run);
+    int rc = vsv_run_open(paths, 1, so, "T,CLW,SNOW,U,W", NULL, &run);
     if (!CHECK(rc == 0, "native run opens", "%s", vsv_run_error(run))) {
         vsv_run_free(run);
-        free(buf);
-        vsv_mm5_free(m);
-        return;
+        return 0;
     }
     const vsv_meta *meta = vsv_run_meta(run);
     CHECK(meta->nz == 15 && meta->vert_kind == VSV_VERT_NATIVE && meta->levels, "native: 15 levels with heights");
@@ -179,48 +204,21 @@ static void test_mmout(void)
         rc = vsv_writer_finish(w, NULL, NULL);
     CHECK(rc == 0, "native .vsv written", "%s %s", vsv_writer_error(w), vsv_run_error(run));
     vsv_writer_free(w);
-    vsv_file *f = NULL;
-    vsv_decoder *d = NULL;
-    int ok = vsv_file_open(out, &f) == 0 && vsv_decoder_create(f, &d) == 0;
-    uint64_t rs = 99;
-    const char *names[] = {"T", "CLW", "SNOW", "U", "W"};
-    int within = 1, samples = 0;
-    for (int t = 0; ok && t < 4; t++)
-        for (int s = 0; s < 5; s++) {
-            ok &= vsv_decoder_volume(d, t, s, fields[0]) == 0;
-            const vsv_mm5_field *mf = vsv_mm5_field_at(m, vsv_mm5_find(m, t, names[s]));
-            vsv_mm5_read(m, mf, buf);
-            const double bound = vsv_file_quant(f, s)->max_abs_error;
-            for (int n = 0; n < 400; n++) {
-                int i = (int)(vsv_test_rand(&rs) % 207), j = (int)(vsv_test_rand(&rs) % 142),
-                    k = (int)(vsv_test_rand(&rs) % 15), kk = 14 - k;
-                double want;
-                if (s == 3) /* U: dot → cross */
-                    want = 0.25 * ((double)buf[(kk * 208 + i) * 143 + j] + buf[(kk * 208 + i) * 143 + j + 1] +
-                                   buf[(kk * 208 + i + 1) * 143 + j] + buf[(kk * 208 + i + 1) * 143 + j + 1]);
-                else if (s == 4) /* W: full levels kk, kk+1 around half level kk */
-                    want = 0.5 * ((double)buf[(kk * 208 + i) * 143 + j] + buf[((kk + 1) * 208 + i) * 143 + j]);
-                else
-                    want = buf[(kk * 208 + i) * 143 + j];
-                double got = fields[0][((size_t)k * 142 + j) * 207 + i];
-                within &= fabs(got - want) <= bound + 1e-6 * fabs(want);
-                samples++;
-            }
-        }
-    CHECK(ok && within, "sampled .vsv values equal MM5 values within the bound (T, CLW, SNOW, U dot->cross, W)",
-          "%d samples", samples);
-    vsv_decoder_free(d);
-    vsv_file_free(f);
+    mmout_native_samples(m, out, fields[0], buf);
     unlink(out);
     for (int v = 0; v < 5; v++)
         free(fields[v]);
     vsv_run_free(run);
+    return 1;
+}
 
-    /* heights: per column increasing, lowest level tens of metres above ground, top near PTOP */
+/* the even grid: 50 levels to the model top; a column's cells are empty below ground and filled above it */
+static void mmout_even(const char *path, vsv_source_opts *so)
+{
     vsv_source *src = NULL;
-    so.vertical = VSV_VERT_EVEN;
-    so.nz = 50;
-    rc = vsv_source_open(path, &so, &src);
+    so->vertical = VSV_VERT_EVEN;
+    so->nz = 50;
+    const int rc = vsv_source_open(path, so, &src);
     const vsv_meta *g = vsv_source_grid(src);
     CHECK(rc == 0 && g->nz == 50 && g->vert_kind == VSV_VERT_EVEN && g->spacing[2] > 250 && g->spacing[2] < 400,
           "even grid: 50 levels up to the model top");
@@ -244,15 +242,19 @@ static void test_mmout(void)
     CHECK(above_ok, "even cells above the terrain hold plausible temperatures");
     free(vol);
     vsv_source_free(src);
-    /* the heights themselves, from the formula, per column */
+}
+
+/* the native heights themselves, from the formula, per column: top near PTOP, lowest tens of metres up */
+static void mmout_heights(vsv_mm5 *m, const char *path, vsv_source_opts *so)
+{
     const double PTOP = vsv_mm5_bhr(m, 2, 2), P00 = vsv_mm5_bhr(m, 2, 5), TS0 = vsv_mm5_bhr(m, 3, 5),
                  A = vsv_mm5_bhr(m, 4, 5);
     const double lp = log(PTOP / P00);
     const double ztop = -((287.04 * A / (2 * 9.81)) * lp * lp + (287.04 * TS0 / 9.81) * lp);
-    so.vertical = VSV_VERT_NATIVE;
-    src = NULL;
-    vsv_source_open(path, &so, &src);
-    g = vsv_source_grid(src);
+    so->vertical = VSV_VERT_NATIVE;
+    vsv_source *src = NULL;
+    vsv_source_open(path, so, &src);
+    const vsv_meta *g = vsv_source_grid(src);
     CHECK(g->levels[14] < ztop && g->levels[14] > ztop - 2000, "model top level near the PTOP height",
           "top %.0f m, PTOP at %.0f m", g->levels[14], ztop);
     const double agl = g->levels[0] - 0; /* mean over columns of the lowest level ASL */
@@ -264,6 +266,30 @@ static void test_mmout(void)
     printf("  lowest layer %.1f m above ground on average; model top %.0f m (PTOP height %.0f m)\n", lowest_agl,
            g->levels[14], ztop);
     vsv_source_free(src);
+}
+
+static void test_mmout(void)
+{
+    const char *path = vsv_test_shared("mm5/run1/MMOUT_DOMAIN1");
+    vsv_mm5 *m = NULL;
+    if (vsv_test_absent(path, "the real MM5 run"))
+        return;
+    if (!CHECK(vsv_mm5_open(path, &m) == 0, "MMOUT_DOMAIN1 opens", "%s", vsv_mm5_error(m))) {
+        vsv_mm5_free(m);
+        return;
+    }
+    CHECK(vsv_mm5_nperiods(m) == 4 && vsv_mm5_nfields(m) == 4 * 51, "MMOUT: 4 periods of 51 fields",
+          "%d periods %d fields", vsv_mm5_nperiods(m), vsv_mm5_nfields(m));
+    float *buf = malloc((size_t)143 * 208 * 16 * 4);
+    mmout_fields(m, buf);
+    vsv_source_opts so;
+    vsv_source_opts_init(&so);
+    so.vertical = VSV_VERT_NATIVE;
+    if (mmout_native(m, path, &so, buf)) {
+        /* heights: per column increasing, lowest level tens of metres above ground, top near PTOP */
+        mmout_even(path, &so);
+        mmout_heights(m, path, &so);
+    }
     free(buf);
     vsv_mm5_free(m);
 }

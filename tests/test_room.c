@@ -243,6 +243,127 @@ static int child(vsv_room *r, const char *name, int s, int i, int j, int k, floa
     return got == want ? 0 : 1;
 }
 
+/* A cell of species s with cloud water in it, and its value (0 if none). */
+typedef struct {
+    int s, i, j, k;
+    float want;
+} cloudy_cell;
+
+/* The first cell of cur with cloud water in it, in storage order. */
+static void find_cloudy(const vsv_volume *cur, cloudy_cell *c)
+{
+    int ci = 0, cj = 0, ck = 0;
+    float want = 0;
+    for (int k = 0; k < cur->nz && want == 0; k++)
+        for (int j = 0; j < cur->ny && want == 0; j++)
+            for (int i = 0; i < cur->nx && want == 0; i++)
+                if ((want = vsv_volume_at(cur, i, j, k)) > 0)
+                    ci = i, cj = j, ck = k;
+    c->i = ci, c->j = cj, c->k = ck, c->want = want;
+}
+
+/* Two forked windows join the room, show tick 1 and read the cloudy cell through it; tick 3 waits until a
+ * window has shown tick 2. 0 if no pipe could be made (nothing checked). */
+static int room_forked_windows(vsv_room *r, vsv_player *p, const cloudy_cell *cell, const vsv_volume **vols, int ns,
+                               const double *user, char *err, size_t cap)
+{
+    int fds[2];
+    if (pipe(fds))
+        return 0;
+    pid_t kids[2];
+    for (int c = 0; c < 2; c++) {
+        kids[c] = fork();
+        if (kids[c] == 0) {
+            close(fds[0]);
+            _exit(child(r, c ? "left" : "front", cell->s, cell->i, cell->j, cell->k, cell->want, fds[1]));
+        }
+    }
+    close(fds[1]);
+    /* the windows join and take tick 1; until each has started a frame
+     * after it, tick 2 waits */
+    usleep(5000);
+    vsv_room_window w[4];
+    int joined = 0;
+    for (int f = 0; f < 300 && (joined = vsv_room_windows(r, w, 4)) < 2; f++)
+        usleep(10000);
+    CHECK(joined == 2, "two windows joined", "(%d)", joined);
+    int shown_all = 0;
+    for (int f = 0; f < 300 && !(shown_all = vsv_room_can_publish(r)); f++)
+        usleep(2000);
+    CHECK(shown_all, "every window shows tick 1: the next may come", " ");
+    vsv_player_do(p, "step", err, cap);
+    vsv_player_update(p, 0, 1);
+    for (int k = 0; k < ns && k < 64; k++)
+        vols[k] = vsv_player_volume(p, k);
+    int64_t t2 = 0;
+    CHECK(!vsv_room_publish(r, vsv_player_pager(p), 3, vsv_player_step_time(p, 3), NULL, vols, user, &t2, err, cap) &&
+              t2 == 2,
+          "tick 2", "(%lld)", (long long)t2);
+    CHECK(vsv_room_publish(r, vsv_player_pager(p), 3, 0, NULL, vols, user, NULL, err, cap) == VSV_EAGAIN,
+          "tick 3 waits: no window has shown tick 2 yet", " ");
+    char buf[256] = "";
+    size_t got = 0;
+    ssize_t n;
+    while ((n = read(fds[0], buf + got, sizeof buf - 1 - got)) > 0)
+        got += (size_t)n;
+    buf[got] = 0;
+    close(fds[0]);
+    int ok = 1;
+    for (int c = 0; c < 2; c++) {
+        int st = 0;
+        waitpid(kids[c], &st, 0);
+        ok &= WIFEXITED(st) && WEXITSTATUS(st) == 0;
+    }
+    CHECK(ok && strstr(buf, "front 1 2") && strstr(buf, "left 1 2"),
+          "both processes read the decoded cell through the room: tick 1, step 2, the same value", "(%s)", buf);
+    vsv_room_window after[4];
+    vsv_room_windows(r, after, 4);
+    CHECK(after[0].frames >= 30 && after[1].frames >= 30 && after[0].shown >= 1,
+          "each window's frames are counted, with the tick it showed", "(%llu %llu %lld)",
+          (unsigned long long)after[0].frames, (unsigned long long)after[1].frames, (long long)after[0].shown);
+    return 1;
+}
+
+/* a window of this process: the same step published again keeps its
+ * load (renderers keep what they derived), a new step is a new load */
+static void room_own_window(const vsv_room_opts *ro, vsv_player_opts *o, int s, int ns, const vsv_volume **vols,
+                            const double *user, char *err, size_t cap)
+{
+    vsv_room *r2 = NULL;
+    vsv_player *p2 = NULL;
+    o->slab_ctx = NULL;
+    if (!vsv_room_create(ro, &r2, err, cap) && (o->slab_ctx = r2) && !vsv_player_open(o, &p2, err, cap)) {
+        const int me = vsv_room_join(r2, "here");
+        vsv_room_view v;
+        uint64_t gens[3];
+        const vsv_volume *ptrs[3];
+        const int steps[3] = {3, 3, 2};
+        for (int i = 0; i < 3; i++) {
+            vsv_player_do(p2, i == 2 ? "seek 2" : "seek 3", err, cap);
+            vsv_player_update(p2, 0, 1);
+            for (int k = 0; k < ns && k < 64; k++)
+                vols[k] = vsv_player_volume(p2, k);
+            const int rc = vsv_room_publish(r2, vsv_player_pager(p2), steps[i], 0, NULL, vols, user, NULL, err, cap);
+            memset(&v, 0, sizeof v);
+            const int f1 = vsv_room_frame(r2, me, &v), f2 = vsv_room_frame(r2, me, &v); /* (shown) */
+            gens[i] = !f2 && v.vols[s] ? v.vols[s]->gen : 0;
+            ptrs[i] = !f2 ? v.vols[s] : NULL;
+            CHECK(!rc && !f1 && !f2 && v.tick == i + 1 && v.step == steps[i],
+                  "a window of this process takes each tick (one that joined first too)", "(%d %d %lld)", rc, f1,
+                  (long long)v.tick);
+        }
+        CHECK(gens[0] && gens[1] == gens[0] && ptrs[1] == ptrs[0],
+              "the same step again: the same volume and gen in the window (no re-render)", "(%llu %llu)",
+              (unsigned long long)gens[0], (unsigned long long)gens[1]);
+        CHECK(gens[2] != gens[1], "another step: a new gen", "(%llu)", (unsigned long long)gens[2]);
+        vsv_room_unpin(r2);
+    } else {
+        CHECK(0, "a second room and player", "(%s)", err);
+    }
+    vsv_player_free(p2);
+    vsv_room_free(r2);
+}
+
 static void test_room(const char *path)
 {
     vsv_player_opts o;
@@ -275,14 +396,9 @@ static void test_room(const char *path)
     if (!CHECK(cur && s >= 0, "step 2's CLW is shown", " "))
         return;
     /* a cell with cloud water in it */
-    int ci = 0, cj = 0, ck = 0;
-    float want = 0;
-    for (int k = 0; k < cur->nz && want == 0; k++)
-        for (int j = 0; j < cur->ny && want == 0; j++)
-            for (int i = 0; i < cur->nx && want == 0; i++)
-                if ((want = vsv_volume_at(cur, i, j, k)) > 0)
-                    ci = i, cj = j, ck = k;
-    CHECK(want > 0, "a cloudy cell to read back", " ");
+    cloudy_cell cell = {s, 0, 0, 0, 0};
+    find_cloudy(cur, &cell);
+    CHECK(cell.want > 0, "a cloudy cell to read back", " ");
     CHECK(vsv_room_arena_used(r) > 0, "the pager's bricks are in the room's arena", "(%zu bytes)",
           vsv_room_arena_used(r));
     const vsv_volume *vols[64] = {0};
@@ -295,98 +411,9 @@ static void test_room(const char *path)
     const int rc1 = vsv_room_publish(r, vsv_player_pager(p), 2, vsv_player_step_time(p, 2), NULL, vols, &user, &t1, err,
                                      sizeof err);
     CHECK(!rc1 && t1 == 1, "the first tick", "(%d %lld: %s)", rc1, (long long)t1, err);
-    int fds[2];
-    if (pipe(fds))
+    if (!room_forked_windows(r, p, &cell, vols, ns, &user, err, sizeof err))
         return;
-    pid_t kids[2];
-    for (int c = 0; c < 2; c++) {
-        kids[c] = fork();
-        if (kids[c] == 0) {
-            close(fds[0]);
-            _exit(child(r, c ? "left" : "front", s, ci, cj, ck, want, fds[1]));
-        }
-    }
-    close(fds[1]);
-    /* the windows join and take tick 1; until each has started a frame
-     * after it, tick 2 waits */
-    usleep(5000);
-    vsv_room_window w[4];
-    int joined = 0;
-    for (int f = 0; f < 300 && (joined = vsv_room_windows(r, w, 4)) < 2; f++)
-        usleep(10000);
-    CHECK(joined == 2, "two windows joined", "(%d)", joined);
-    int shown_all = 0;
-    for (int f = 0; f < 300 && !(shown_all = vsv_room_can_publish(r)); f++)
-        usleep(2000);
-    CHECK(shown_all, "every window shows tick 1: the next may come", " ");
-    vsv_player_do(p, "step", err, sizeof err);
-    vsv_player_update(p, 0, 1);
-    for (int k = 0; k < ns && k < 64; k++)
-        vols[k] = vsv_player_volume(p, k);
-    int64_t t2 = 0;
-    CHECK(!vsv_room_publish(r, vsv_player_pager(p), 3, vsv_player_step_time(p, 3), NULL, vols, &user, &t2, err,
-                            sizeof err) &&
-              t2 == 2,
-          "tick 2", "(%lld)", (long long)t2);
-    CHECK(vsv_room_publish(r, vsv_player_pager(p), 3, 0, NULL, vols, &user, NULL, err, sizeof err) == VSV_EAGAIN,
-          "tick 3 waits: no window has shown tick 2 yet", " ");
-    char buf[256] = "";
-    size_t got = 0;
-    ssize_t n;
-    while ((n = read(fds[0], buf + got, sizeof buf - 1 - got)) > 0)
-        got += (size_t)n;
-    buf[got] = 0;
-    close(fds[0]);
-    int ok = 1;
-    for (int c = 0; c < 2; c++) {
-        int st = 0;
-        waitpid(kids[c], &st, 0);
-        ok &= WIFEXITED(st) && WEXITSTATUS(st) == 0;
-    }
-    CHECK(ok && strstr(buf, "front 1 2") && strstr(buf, "left 1 2"),
-          "both processes read the decoded cell through the room: tick 1, step 2, the same value", "(%s)", buf);
-    vsv_room_window after[4];
-    vsv_room_windows(r, after, 4);
-    CHECK(after[0].frames >= 30 && after[1].frames >= 30 && after[0].shown >= 1,
-          "each window's frames are counted, with the tick it showed", "(%llu %llu %lld)",
-          (unsigned long long)after[0].frames, (unsigned long long)after[1].frames, (long long)after[0].shown);
-    /* a window of this process: the same step published again keeps its
-     * load (renderers keep what they derived), a new step is a new load */
-    vsv_room *r2 = NULL;
-    vsv_player *p2 = NULL;
-    o.slab_ctx = NULL;
-    if (!vsv_room_create(&ro, &r2, err, sizeof err) && (o.slab_ctx = r2) &&
-        !vsv_player_open(&o, &p2, err, sizeof err)) {
-        const int me = vsv_room_join(r2, "here");
-        vsv_room_view v;
-        uint64_t gens[3];
-        const vsv_volume *ptrs[3];
-        const int steps[3] = {3, 3, 2};
-        for (int i = 0; i < 3; i++) {
-            vsv_player_do(p2, i == 2 ? "seek 2" : "seek 3", err, sizeof err);
-            vsv_player_update(p2, 0, 1);
-            for (int k = 0; k < ns && k < 64; k++)
-                vols[k] = vsv_player_volume(p2, k);
-            const int rc =
-                vsv_room_publish(r2, vsv_player_pager(p2), steps[i], 0, NULL, vols, &user, NULL, err, sizeof err);
-            memset(&v, 0, sizeof v);
-            const int f1 = vsv_room_frame(r2, me, &v), f2 = vsv_room_frame(r2, me, &v); /* (shown) */
-            gens[i] = !f2 && v.vols[s] ? v.vols[s]->gen : 0;
-            ptrs[i] = !f2 ? v.vols[s] : NULL;
-            CHECK(!rc && !f1 && !f2 && v.tick == i + 1 && v.step == steps[i],
-                  "a window of this process takes each tick (one that joined first too)", "(%d %d %lld)", rc, f1,
-                  (long long)v.tick);
-        }
-        CHECK(gens[0] && gens[1] == gens[0] && ptrs[1] == ptrs[0],
-              "the same step again: the same volume and gen in the window (no re-render)", "(%llu %llu)",
-              (unsigned long long)gens[0], (unsigned long long)gens[1]);
-        CHECK(gens[2] != gens[1], "another step: a new gen", "(%llu)", (unsigned long long)gens[2]);
-        vsv_room_unpin(r2);
-    } else {
-        CHECK(0, "a second room and player", "(%s)", err);
-    }
-    vsv_player_free(p2);
-    vsv_room_free(r2);
+    room_own_window(&ro, &o, s, ns, vols, &user, err, sizeof err);
     vsv_room_fail(r, 2, "first");
     vsv_room_fail(r, 1, "second");
     char why[64];
