@@ -180,7 +180,10 @@ void helper_limits(uint64_t input, uint64_t memory)
 {
     struct rlimit rl;
     if (input) {
-        rl.rlim_cur = rl.rlim_max = time_limit(input);
+        /* SIGXCPU at the limit, which the caller reports as time; the
+         * hard limit's SIGKILL (a crash to the caller) only if ignored */
+        rl.rlim_cur = time_limit(input);
+        rl.rlim_max = time_limit(input) + 5;
         setrlimit(RLIMIT_CPU, &rl);
         alarm(time_limit(input));
     }

@@ -36,7 +36,10 @@ expect "--time-step without --time-start exits 2" 2 "$B/vsv-extract" --time-step
 has "no silent start in 2000" "$T/err" "--time-step needs --time-start"
 head -c 3000 "$T/s_0001.vdb" > "$T/cut.vdb"
 expect "a truncated .vdb exits 1" 1 "$B/vsv-extract" "$T/cut.vdb"
-has "with a clear message" "$T/err" "cut.vdb: not a readable OpenVDB file"
+# (OpenVDB's reading of a cut stream depends on memory it never filled: it
+# throws, or under the sanitizers' allocator may loop until the time limit)
+grep -qE "cut.vdb: (not a readable OpenVDB file|damaged OpenVDB file \(reading it took over)" "$T/err" &&
+    pass "with a clear message" || fail "with a clear message" "$(head -c 300 "$T/err")"
 expect "a rotated or foreign file is not taken for OpenVDB" 1 "$B/vsv-extract" "$T/crop.vsv"
 expect "vsv-extract --list describes a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
 has "its grids" "$T/out" "CLW"
