@@ -164,6 +164,48 @@ static void json_set_projection(vsv_json *root, const vsv_meta *m)
     vsv_json_set(root, "corners", corners);
 }
 
+/* A moving nest's placements after the first (SPEC.md "MOVE"): from when,
+ * its south-west corner, and how many cells it moved from GRID's place. */
+static void json_set_moves(vsv_json *root, const vsv_meta *m)
+{
+    vsv_json *moves = vsv_json_array();
+    for (int i = 0; i < m->nmoves; i++) {
+        const vsv_move *v = &m->moves[i];
+        char iso[40];
+        double lat, lon;
+        vsv_cal_format(vsv_meta_calendar(m), v->time, iso, sizeof iso);
+        vsv_json *mj = vsv_json_object();
+        vsv_json_set(mj, "time", vsv_json_string(iso));
+        vsv_json_set(mj, "x", vsv_json_number(v->origin[0]));
+        vsv_json_set(mj, "y", vsv_json_number(v->origin[1]));
+        const int ok =
+            m->proj.kind != VSV_PROJ_NONE && !vsv_proj_inverse(&m->proj, v->origin[0], v->origin[1], &lat, &lon);
+        vsv_json_set(mj, "sw_lat", ok ? vsv_json_number(lat) : vsv_json_null());
+        vsv_json_set(mj, "sw_lon", ok ? vsv_json_number(lon) : vsv_json_null());
+        vsv_json_push(moves, mj);
+    }
+    vsv_json_set(root, "moves", moves);
+}
+
+/* The same as text: one line a placement. */
+static void print_moves(const vsv_meta *m)
+{
+    if (!m->nmoves)
+        return;
+    printf("  moves       a moving nest: %d more placement%s\n", m->nmoves, m->nmoves == 1 ? "" : "s");
+    for (int i = 0; i < m->nmoves; i++) {
+        const vsv_move *v = &m->moves[i];
+        char iso[40];
+        double lat, lon;
+        vsv_cal_format(vsv_meta_calendar(m), v->time, iso, sizeof iso);
+        printf("              from %s", iso);
+        if (m->proj.kind != VSV_PROJ_NONE && !vsv_proj_inverse(&m->proj, v->origin[0], v->origin[1], &lat, &lon))
+            printf("  SW %.3f%c %.3f%c", fabs(lat), lat < 0 ? 'S' : 'N', fabs(lon), lon < 0 ? 'W' : 'E');
+        printf("  (%+.0f, %+.0f cells)\n", (v->origin[0] - m->origin[0]) / m->spacing[0],
+               (v->origin[1] - m->origin[1]) / m->spacing[1]);
+    }
+}
+
 /* The steps' times and the interval between them. */
 static void json_set_times(vsv_json *root, vsv_file *f, int nsteps)
 {
@@ -250,6 +292,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     vsv_json_set(root, "source", src);
     vsv_json_set(root, "grid", json_grid(m));
     json_set_projection(root, m);
+    json_set_moves(root, m);
     json_set_times(root, f, info.nsteps);
     vsv_json_set(root, "species", json_species(f));
 
@@ -362,6 +405,7 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
         }
         printf("\n");
     }
+    print_moves(m);
     if (m->terrain || m->landuse)
         printf("  surface     %s%s%s\n", m->terrain ? "terrain height" : "", m->terrain && m->landuse ? ", " : "",
                m->landuse ? "land use" : "");

@@ -22,6 +22,13 @@ struct vsv_interp {
     float **prev, **tmp;
     const float **in0, **in1, **outp; /* nout pointers: scratch for each frame */
     vsv_advect *adv;
+    /* a moving nest: its placements (origin per time, GRID's first), and
+       the next frame moved into the last one's place (cells of nx*ny*nz) */
+    int nx, ny, nplace;
+    double dx, dy;
+    int64_t *ptime;
+    double (*porig)[2];
+    float **moved;
     vsv_frame_fn emit;
     void *ctx;
     char err[256];
@@ -68,6 +75,73 @@ static int setup(vsv_interp *ip, int64_t dt, int nfields, size_t cells, vsv_fram
     return 0;
 }
 
+/* The placements of a moving grid (none: it stays put). */
+static int placements(vsv_interp *ip, const vsv_meta *m)
+{
+    ip->nx = m->nx, ip->ny = m->ny, ip->dx = m->spacing[0], ip->dy = m->spacing[1];
+    if (!m->nmoves)
+        return 0;
+    ip->nplace = m->nmoves + 1;
+    ip->ptime = malloc((size_t)ip->nplace * sizeof *ip->ptime);
+    ip->porig = malloc((size_t)ip->nplace * sizeof *ip->porig);
+    ip->moved = calloc((size_t)ip->nf + 1, sizeof *ip->moved);
+    if (!ip->ptime || !ip->porig || !ip->moved)
+        return VSV_ENOMEM;
+    ip->ptime[0] = INT64_MIN;
+    memcpy(ip->porig[0], m->origin, sizeof ip->porig[0]);
+    for (int i = 0; i < m->nmoves; i++) {
+        ip->ptime[i + 1] = m->moves[i].time;
+        memcpy(ip->porig[i + 1], m->moves[i].origin, sizeof ip->porig[0]);
+    }
+    for (int v = 0; v < ip->nf; v++)
+        if (!(ip->moved[v] = malloc(ip->cells * sizeof(float))))
+            return VSV_ENOMEM;
+    return 0;
+}
+
+/* The origin of the placement in force at t. */
+static const double *origin_at(const vsv_interp *ip, int64_t t)
+{
+    int i = 0;
+    while (i + 1 < ip->nplace && ip->ptime[i + 1] <= t)
+        i++;
+    return ip->porig[i];
+}
+
+/* Frames between two placements of a moving nest are interpolated where the
+ * air is, not where the cells are: the next frame's fields moved by whole
+ * cells into the last frame's place (a cell it does not cover keeps the last
+ * frame's value). *next: the fields to interpolate toward (fields itself
+ * where the grid did not move); 0, or VSV_EUNSUPPORTED with ip->err set. */
+static int moved_fields(vsv_interp *ip, int64_t time, const float *const *fields, const float *const **next)
+{
+    *next = fields;
+    if (!ip->nplace || !fields)
+        return 0;
+    const double *a = origin_at(ip, ip->prev_t), *b = origin_at(ip, time);
+    const double fx = (a[0] - b[0]) / ip->dx, fy = (a[1] - b[1]) / ip->dy;
+    const long sx = lround(fx), sy = lround(fy);
+    if (!sx && !sy)
+        return 0;
+    if (fabs(fx - (double)sx) > 0.01 || fabs(fy - (double)sy) > 0.01) {
+        vsv_msg(ip->err, sizeof ip->err, "the grid moves by %.3f x %.3f cells: frames between are not interpolated", fx,
+                fy);
+        return VSV_EUNSUPPORTED;
+    }
+    const size_t plane = (size_t)ip->nx * ip->ny, nz = ip->cells / plane;
+    for (int v = 0; v < ip->nf; v++)
+        for (size_t k = 0; k < nz; k++)
+            for (long j = 0; j < ip->ny; j++)
+                for (long i = 0; i < ip->nx; i++) {
+                    const size_t c = k * plane + (size_t)j * ip->nx + (size_t)i;
+                    const long i1 = i + sx, j1 = j + sy;
+                    const int in = i1 >= 0 && i1 < ip->nx && j1 >= 0 && j1 < ip->ny;
+                    ip->moved[v][c] = in ? fields[v][k * plane + (size_t)j1 * ip->nx + (size_t)i1] : ip->prev[v][c];
+                }
+    *next = (const float *const *)ip->moved;
+    return 0;
+}
+
 int vsv_interp_create(int64_t dt, int nfields, size_t cells, vsv_frame_fn emit, void *ctx, vsv_interp **out)
 {
     vsv_interp *ip = *out = calloc(1, sizeof *ip);
@@ -108,6 +182,8 @@ int vsv_interp_open(int64_t dt, const vsv_meta *m, const vsv_interp_opts *o, vsv
     }
     const size_t cells = (size_t)m->nx * m->ny * m->nz;
     int rc = setup(ip, dt, m->nvars, cells, emit, ctx);
+    if (!rc)
+        rc = placements(ip, m);
     if (rc || ip->method == VSV_TIME_LINEAR)
         return rc;
     if (ip->wind[0] < 0 || ip->wind[1] < 0) {
@@ -172,12 +248,15 @@ int vsv_interp_meta(const vsv_interp *ip, const vsv_meta *m, vsv_meta *dst)
 int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
 {
     int rc;
+    const float *const *next = fields; /* what the frames between lead to */
+    if (ip->have && time > ip->prev_t && (rc = moved_fields(ip, time, fields, &next)))
+        return rc;
     if (ip->have) {
         if (time <= ip->prev_t)
             return VSV_EINVAL;
         for (int v = 0; v < ip->nout; v++) {
             ip->in0[v] = ip->prev[ip->keep[v]];
-            ip->in1[v] = fields[ip->keep[v]];
+            ip->in1[v] = next[ip->keep[v]];
             ip->outp[v] = ip->tmp[v];
         }
         /* grid times strictly between the previous frame and this one */
@@ -193,7 +272,7 @@ int vsv_interp_push(vsv_interp *ip, int64_t time, const float *const *fields)
                 if (!winds_set) {
                     const int *w = ip->wind;
                     vsv_advect_winds(ip->adv, ip->prev[w[0]], ip->prev[w[1]], w[2] >= 0 ? ip->prev[w[2]] : NULL,
-                                     fields[w[0]], fields[w[1]], w[2] >= 0 ? fields[w[2]] : NULL);
+                                     next[w[0]], next[w[1]], w[2] >= 0 ? next[w[2]] : NULL);
                     if ((rc = vsv_advect_outputs(ip->adv, ip->nout, ip->in0, ip->in1))) {
                         vsv_msg(ip->err, sizeof ip->err, "out of memory");
                         return rc;
@@ -265,6 +344,11 @@ void vsv_interp_free(vsv_interp *ip)
         if (ip->tmp)
             free(ip->tmp[v]);
     }
+    for (int v = 0; ip->moved && v < ip->nf; v++)
+        free(ip->moved[v]);
+    free(ip->moved);
+    free(ip->ptime);
+    free(ip->porig);
     free(ip->prev);
     free(ip->tmp);
     free(ip->in0);

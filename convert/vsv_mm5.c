@@ -180,7 +180,12 @@ static int index_file(vsv_mm5 *m)
                         q[2] = t1;
                         q[3] = t0;
                     }
-            }
+            } else if (u32(m, p + 4036) != be32(m->big + 4036) || u32(m, p + 4040) != be32(m->big + 4040))
+                /* bhr(10,1), bhr(11,1): where the nest lies in the coarse domain */
+                return fail(m, VSV_EUNSUPPORTED,
+                            "record %d at byte offset %zu: a big header that moves the nest (a moving MM5 nest: "
+                            "its placement in time is not read, so it is refused)",
+                            recno, h_at);
             m->nbig++;
         } else if (flag == 1) {
             recno++;

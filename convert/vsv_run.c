@@ -4,6 +4,7 @@
 #include "vsv_convert.h"
 #include "vsv_common.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -72,8 +73,12 @@ static int check_sources(vsv_run *r, const char **names)
             dt = 0; /* (times anywhere in int64: differences checked) */
     for (int i = 1; i < r->nsrc; i++) {
         const vsv_meta *g = vsv_source_grid(r->src[i]);
+        /* a WRF nest whose files stand in different places moves (run_moves) */
+        const int moves = !strcmp(g->model, "WRF") && !strcmp(g0->model, "WRF");
         if (g->nx != g0->nx || g->ny != g0->ny || g->nz != g0->nz || g->proj.kind != g0->proj.kind ||
-            g->origin[0] != g0->origin[0] || g->origin[1] != g0->origin[1] || g->spacing[0] != g0->spacing[0]) {
+            (!moves && (g->origin[0] != g0->origin[0] || g->origin[1] != g0->origin[1])) ||
+            fabs(g->spacing[0] - g0->spacing[0]) > 1e-6 * g0->spacing[0] ||
+            fabs(g->spacing[1] - g0->spacing[1]) > 1e-6 * g0->spacing[1] || !g->terrain != !g0->terrain) {
             return fail(r, VSV_EINVAL, "%s and %s: different grids (%dx%dx%d vs %dx%dx%d or another position)",
                         names[0], names[i], g0->nx, g0->ny, g0->nz, g->nx, g->ny, g->nz);
         }
@@ -93,6 +98,59 @@ static int check_sources(vsv_run *r, const char **names)
         if (dt && (__builtin_sub_overflow(start, end, &gap) || gap != dt)) {
             return fail(r, VSV_EINVAL, "gap between %s (ends %s) and %s (starts %s): the run steps every %lld s",
                         names[i - 1], a, names[i], b, (long long)dt);
+        }
+    }
+    return 0;
+}
+
+/* A placement of r's grid from time t on, where it differs from the one in
+ * force then: the next file of a moving nest, or a move inside one. */
+static int place(vsv_run *r, int64_t t, const double o[2], const float *terrain)
+{
+    vsv_meta *m = &r->meta;
+    const vsv_move *now = vsv_meta_move_at(m, t);
+    const double *at = now ? now->origin : m->origin;
+    if (fabs(o[0] - at[0]) < 0.01 * m->spacing[0] && fabs(o[1] - at[1]) < 0.01 * m->spacing[1])
+        return 0;
+    const int rc = vsv_meta_add_move(m, t, o, terrain);
+    return rc == VSV_EINVAL ? fail(r, rc, "the grid's placements are out of time order") : rc;
+}
+
+/* The placements of a moving nest over all the inputs (SPEC.md "MOVE"). */
+static int run_moves(vsv_run *r)
+{
+    int rc = 0;
+    for (int i = 1; i < r->nsrc && !rc; i++) {
+        const vsv_meta *g = vsv_source_grid(r->src[i]);
+        rc = place(r, vsv_source_time(r->src[i], 0), g->origin, g->terrain);
+        for (int k = 0; k < g->nmoves && !rc; k++)
+            rc = place(r, g->moves[k].time, g->moves[k].origin, g->moves[k].terrain);
+    }
+    return rc;
+}
+
+/* The per-column heights of native levels over all the inputs: each file's
+ * records from its first time on, where they differ from those in force
+ * (WRF's levels move with the air, and with a moving nest's ground). */
+static int run_heights(vsv_run *r)
+{
+    vsv_meta *m = &r->meta;
+    const size_t n = (size_t)m->nx * m->ny * m->nz;
+    for (int i = 1; i < r->nsrc && m->nheights; i++) {
+        const vsv_meta *g = vsv_source_grid(r->src[i]);
+        for (int k = 0; k < g->nheights; k++) {
+            const vsv_heights *h = &g->heights[k], *last = &m->heights[m->nheights - 1];
+            const int64_t t = k ? h->time : vsv_source_time(r->src[i], 0);
+            if (h->form != VSV_HEIGHTS_STORED || last->form != VSV_HEIGHTS_STORED)
+                continue; /* MM5's formula: fixed in time */
+            size_t c = 0;
+            while (c < n && fabsf(h->z[c] - last->z[c]) <= 0.5f)
+                c++;
+            if (c == n)
+                continue;
+            const int rc = vsv_meta_add_heights(m, t, h->z, NULL, NULL);
+            if (rc)
+                return rc == VSV_EINVAL ? fail(r, rc, "the inputs' level heights are out of time order") : rc;
         }
     }
     return 0;
@@ -214,7 +272,7 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
     const vsv_meta *g0 = vsv_source_grid(r->src[0]);
     if ((rc = check_sources(r, names)))
         goto done;
-    if ((rc = vsv_meta_copy(&r->meta, g0)))
+    if ((rc = vsv_meta_copy(&r->meta, g0)) || (rc = run_moves(r)) || (rc = run_heights(r)))
         goto done;
     if (!(r->path = calloc((size_t)r->nsrc, sizeof *r->path))) {
         rc = VSV_ENOMEM;

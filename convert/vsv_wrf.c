@@ -262,13 +262,17 @@ static int wrf_projection(vsv_source *s, int nc, int *mp_out)
     return 0;
 }
 
-/* The grid's origin and spacing from XLAT/XLONG placed in the projection,
- * checked against DX and DY. */
-static int wrf_position(vsv_source *s, const wrf *w, int mp)
+/* Where the grid lies at time t: XLAT/XLONG placed in the projection, the
+ * origin that fits every cell best (WRF rounded each to float32, about a
+ * metre, so one cell alone places the grid that far off; the mean over all
+ * cells of (projected cell - its offset) does not). The spacing is DX, DY
+ * (*dx, *dy as given when positive, else from the corners: lat/lon grids),
+ * checked by the far corner landing where they put it. */
+static int wrf_place(vsv_source *s, const wrf *w, int t, int mp, double *dx, double *dy, double o[2])
 {
     const int nc = w->nc;
     const size_t nx = (size_t)w->nx, ny = (size_t)w->ny, plane = nx * ny;
-    vsv_meta *g = &s->grid;
+    const vsv_meta *g = &s->grid;
     int vlat, vlon;
     if (nc_inq_varid(nc, "XLAT", &vlat) || nc_inq_varid(nc, "XLONG", &vlon))
         return vsv_source_fail(s, VSV_ECORRUPT, "WRF file without XLAT/XLONG: its position is unknown");
@@ -277,23 +281,19 @@ static int wrf_position(vsv_source *s, const wrf *w, int mp)
     int rc = VSV_ENOMEM;
     if (!la || !lo)
         goto fail;
-    if ((rc = vsv_nc_read(s, nc, vlat, "XLAT", 0, pshape, 2, la)) ||
-        (rc = vsv_nc_read(s, nc, vlon, "XLONG", 0, pshape, 2, lo)))
+    if ((rc = vsv_nc_read(s, nc, vlat, "XLAT", t, pshape, 2, la)) ||
+        (rc = vsv_nc_read(s, nc, vlon, "XLONG", t, pshape, 2, lo)))
         goto fail;
     double x0 = 0, y0 = 0, x1 = 0, y1 = 0;
     if (vsv_proj_forward(&g->proj, la[0], lo[0], &x0, &y0) ||
         vsv_proj_forward(&g->proj, la[plane - 1], lo[plane - 1], &x1, &y1)) {
-        rc = vsv_source_fail(s, VSV_ECORRUPT, "cannot place XLAT/XLONG in the projection");
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "cannot place XLAT/XLONG at time %d in the projection", t);
         goto fail;
     }
-    double dx = att_double(nc, "DX", 0), dy = att_double(nc, "DY", 0);
-    if (mp == 6 || !(dx > 0) || !(dy > 0)) { /* lat/lon grids: spacing from the corners */
-        dx = (x1 - x0) / (nx - 1);
-        dy = (y1 - y0) / (ny - 1);
+    if (!(*dx > 0) || !(*dy > 0)) {
+        *dx = (x1 - x0) / (double)(nx - 1);
+        *dy = (y1 - y0) / (double)(ny - 1);
     }
-    /* The origin that fits every cell best: WRF rounded each XLAT/XLONG to
-     * float32 (about a metre), so one cell alone places the grid that far
-     * off; the mean over all cells of (projected cell - its offset) does not. */
     if (mp != 6) {
         double sx = 0, sy = 0;
         size_t used = 0;
@@ -301,8 +301,8 @@ static int wrf_position(vsv_source *s, const wrf *w, int mp)
             double x, y;
             if (vsv_proj_forward(&g->proj, la[c], lo[c], &x, &y))
                 continue;
-            sx += x - (double)(c % nx) * dx;
-            sy += y - (double)(c / nx) * dy;
+            sx += x - (double)(c % nx) * *dx;
+            sy += y - (double)(c / nx) * *dy;
             used++;
         }
         if (used == plane) {
@@ -312,19 +312,78 @@ static int wrf_position(vsv_source *s, const wrf *w, int mp)
             y0 = sy / (double)used;
         }
     }
-    g->origin[0] = x0;
-    g->origin[1] = y0;
-    g->spacing[0] = dx;
-    g->spacing[1] = dy;
-    /* the far corner must land where DX and DY put it (a check of the projection) */
-    if (mp != 6 &&
-        (fabs(x1 - (x0 + dx * (nx - 1))) > 0.02 * dx * nx || fabs(y1 - (y0 + dy * (ny - 1))) > 0.02 * dy * ny))
-        rc = vsv_source_fail(s, VSV_ECORRUPT, "XLAT/XLONG do not match MAP_PROJ %d with DX %g, DY %g", mp, dx, dy);
+    o[0] = x0;
+    o[1] = y0;
+    if (mp != 6 && (fabs(x1 - (x0 + *dx * (double)(nx - 1))) > 0.02 * *dx * (double)nx ||
+                    fabs(y1 - (y0 + *dy * (double)(ny - 1))) > 0.02 * *dy * (double)ny))
+        rc = vsv_source_fail(s, VSV_ECORRUPT, "XLAT/XLONG at time %d do not match MAP_PROJ %d with DX %g, DY %g", t, mp,
+                             *dx, *dy);
     else
         rc = 0;
 fail:
     free(la);
     free(lo);
+    return rc;
+}
+
+/* The grid's origin and spacing: its place at the first time. */
+static int wrf_position(vsv_source *s, const wrf *w, int mp)
+{
+    vsv_meta *g = &s->grid;
+    const int nc = w->nc;
+    double dx = mp == 6 ? 0 : att_double(nc, "DX", 0), dy = mp == 6 ? 0 : att_double(nc, "DY", 0), o[2];
+    const int rc = wrf_place(s, w, 0, mp, &dx, &dy, o);
+    if (rc)
+        return rc;
+    g->origin[0] = o[0];
+    g->origin[1] = o[1];
+    g->spacing[0] = dx;
+    g->spacing[1] = dy;
+    return 0;
+}
+
+/* A moving nest (XLAT/XLONG that change in time): each time it stands
+ * somewhere new, its placement and the ground under it (SPEC.md "MOVE").
+ * WRF moves a nest by whole cells of its parent; a place that is not a
+ * whole number of the nest's own cells away is refused (every reader
+ * shifts frames by whole cells between placements). */
+static int wrf_moves(vsv_source *s, wrf *w, int mp)
+{
+    vsv_meta *g = &s->grid;
+    const size_t plane = (size_t)w->nx * w->ny;
+    const size_t pshape[2] = {(size_t)w->ny, (size_t)w->nx};
+    double last[2] = {g->origin[0], g->origin[1]};
+    float *hgt = NULL;
+    int hv = -1, rc = 0;
+    if (nc_inq_varid(w->nc, "HGT", &hv) != NC_NOERR)
+        hv = -1;
+    for (int t = 1; t < s->ntimes && !rc; t++) {
+        double dx = g->spacing[0], dy = g->spacing[1], o[2];
+        if ((rc = wrf_place(s, w, t, mp, &dx, &dy, o)))
+            break;
+        const double fx = (o[0] - last[0]) / dx, fy = (o[1] - last[1]) / dy;
+        if (fabs(fx) < 0.01 && fabs(fy) < 0.01)
+            continue; /* the same place (float32 noise in XLAT/XLONG) */
+        if (fabs(fx - round(fx)) > 0.01 || fabs(fy - round(fy)) > 0.01) {
+            rc = vsv_source_fail(s, VSV_EUNSUPPORTED,
+                                 "the grid moves by %.3f x %.3f cells at time %d: a moving nest moves by whole cells",
+                                 fx, fy, t);
+            break;
+        }
+        last[0] += round(fx) * dx; /* whole cells: no drift from float32 noise */
+        last[1] += round(fy) * dy;
+        if (g->terrain && !hgt && !(hgt = malloc(plane * sizeof *hgt + 1))) {
+            rc = VSV_ENOMEM;
+            break;
+        }
+        if (g->terrain && hv >= 0)
+            rc = vsv_nc_read(s, w->nc, hv, "HGT", t, pshape, 2, hgt);
+        else if (g->terrain && !(rc = w_heights(s, w, t)))
+            memcpy(hgt, w->zw, plane * sizeof *hgt);
+        if (!rc && (rc = vsv_meta_add_move(g, s->times[t], last, hgt)) == VSV_EINVAL)
+            rc = vsv_source_fail(s, VSV_ECORRUPT, "HGT at time %d is not finite", t);
+    }
+    free(hgt);
     return rc;
 }
 
@@ -489,7 +548,7 @@ static int wrf_open(vsv_source *s, int nc)
     if ((rc = wrf_projection(s, nc, &mp)) || (rc = wrf_position(s, w, mp)))
         return rc;
     wrf_describe(s, w, mp);
-    if ((rc = wrf_surface(s, w)) || (rc = wrf_vertical(s, w)))
+    if ((rc = wrf_surface(s, w)) || (rc = wrf_moves(s, w, mp)) || (rc = wrf_vertical(s, w)))
         return rc;
     return wrf_fields(s, w);
 }
@@ -530,8 +589,8 @@ static int wrf_read(vsv_source *s, int field, int t, float *out)
     if (w->vgrid_t != t) {
         if ((rc = w_heights(s, w, t)))
             return rc;
-        const vsv_meta *g = &s->grid;
-        if (vsv_vgrid_plan(&w->vg, w->zm, nk, plane, g->terrain, g->nz, g->origin[2], g->spacing[2]))
+        const vsv_meta g = vsv_meta_placed(&s->grid, s->times[t]); /* the ground under a moving nest then */
+        if (vsv_vgrid_plan(&w->vg, w->zm, nk, plane, g.terrain, g.nz, g.origin[2], g.spacing[2]))
             return VSV_ENOMEM;
         w->vgrid_t = t;
     }

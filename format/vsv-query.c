@@ -178,6 +178,10 @@ static void open_query(const query_args *qa, query_run *run)
                                           sizeof msg)
                          : vsv_point_locate_at(m, vsv_file_time(run->f, run->a), arg[0], arg[1], qa->at ? arg[2] : NAN,
                                                &run->pt, msg, sizeof msg);
+    /* a moving nest may reach the point only later: its first step there */
+    for (int t = run->a + 1; rc == VSV_ERANGE && m->nmoves && !qa->cellarg && t <= run->b; t++)
+        if (!vsv_point_locate_at(m, vsv_file_time(run->f, t), arg[0], arg[1], qa->at ? arg[2] : NAN, &run->pt, NULL, 0))
+            rc = 0;
     if (rc)
         vsv_cli_die(1, "%s: %s", path, msg);
     run->k0 = qa->profile ? 0 : -1;
@@ -260,17 +264,29 @@ static void print_rows(const query_args *qa, query_run *run)
     char msg[512];
     for (int t = run->a; t <= run->b; t++) {
         char iso[32];
+        int outside = 0;
         vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), iso, sizeof iso);
-        /* per-column heights of native levels move in time: a height's level too */
-        if (qa->at && !isnan(arg[2]) && m->nheights > 1 &&
-            vsv_point_locate_at(m, vsv_file_time(f, t), arg[0], arg[1], arg[2], pt, msg, sizeof msg))
-            vsv_cli_die(1, "%s: at %s: %s", qa->path, iso, msg);
+        /* per-column heights of native levels move in time: a height's level too;
+           a moving nest moves its cells under the point (and a cell's place) */
+        if (m->nmoves && qa->cellarg) {
+            const vsv_meta pm = vsv_meta_placed(m, vsv_file_time(f, t));
+            if (vsv_meta_cell_latlon(&pm, pt->cell[0], pt->cell[1], &pt->lat, &pt->lon))
+                pt->lat = pt->lon = NAN;
+        } else if ((qa->at && !isnan(arg[2]) && m->nheights > 1) || (m->nmoves && !qa->cellarg)) {
+            const int lrc =
+                vsv_point_locate_at(m, vsv_file_time(f, t), arg[0], arg[1], qa->at ? arg[2] : NAN, pt, msg, sizeof msg);
+            outside = lrc == VSV_ERANGE && m->nmoves; /* the nest has left the point: no data then */
+            if (lrc && !outside)
+                vsv_cli_die(1, "%s: at %s: %s", qa->path, iso, msg);
+        }
         for (int k = run->k0; k <= run->k1; k++) {
             double pos[3] = {pt->pos[0], pt->pos[1], pt->pos[2]};
             int cell[3] = {pt->cell[0], pt->cell[1], pt->cell[2]};
             if (k >= 0)
                 pos[2] = cell[2] = k;
-            const double h = vsv_meta_cell_height_at(m, vsv_file_time(f, t), cell[0], cell[1], cell[2]);
+            const double h = outside ? NAN : vsv_meta_cell_height_at(m, vsv_file_time(f, t), cell[0], cell[1], cell[2]);
+            if (outside)
+                cell[0] = cell[1] = cell[2] = -1;
             vsv_json *row = NULL, *vals = NULL;
             if (fmt == FMT_JSON) {
                 row = vsv_json_object();
@@ -288,8 +304,8 @@ static void print_rows(const query_args *qa, query_run *run)
                 printf("%-20s %5d %5d %4d %10.4f %11.4f %12.6g", iso, cell[0], cell[1], cell[2], pt->lat, pt->lon, h);
             }
             for (int l = 0; l < n; l++) {
-                float v;
-                if (vsv_query_sample(run->q, t, sel[l], pos, qa->interp, &v))
+                float v = NAN;
+                if (!outside && vsv_query_sample(run->q, t, sel[l], pos, qa->interp, &v))
                     vsv_cli_die(1, "%s", vsv_query_error(run->q));
                 if (fmt == FMT_JSON) {
                     vsv_json_set(vals, m->vars[sel[l]].name, isnan(v) ? vsv_json_null() : vsv_json_number(v));

@@ -10,10 +10,10 @@
  * heights over a terrain, z0 + k*dz < terrain (the converter's rule,
  * vsv_vgrid_plan). NULL when no column has any (or without a terrain:
  * native levels follow the ground; heights above the ground start at it). */
-static uint16_t *under_ground(const vsv_meta *m, int *rc)
+static uint16_t *under_ground(const vsv_meta *m, const float *terrain, int *rc)
 {
     *rc = 0;
-    if (m->vert_kind != VSV_VERT_EVEN || !m->terrain || vsv_meta_above_ground(m))
+    if (m->vert_kind != VSV_VERT_EVEN || !terrain || vsv_meta_above_ground(m))
         return NULL;
     const size_t plane = (size_t)m->nx * m->ny;
     uint16_t *u = malloc(plane * sizeof *u);
@@ -24,7 +24,7 @@ static uint16_t *under_ground(const vsv_meta *m, int *rc)
     int any = 0;
     for (size_t c = 0; c < plane; c++) {
         int k = 0;
-        while (k < m->nz && m->origin[2] + k * m->spacing[2] < (double)m->terrain[c])
+        while (k < m->nz && m->origin[2] + k * m->spacing[2] < (double)terrain[c])
             k++;
         u[c] = (uint16_t)k;
         any |= k;
@@ -49,9 +49,12 @@ int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
     d->scratch = malloc(2 * n);
     d->state = calloc((size_t)f->meta.nvars, sizeof *d->state);
     d->state_step = calloc((size_t)f->meta.nvars, sizeof *d->state_step);
-    int urc;
-    d->under = under_ground(&f->meta, &urc);
-    if (urc || !d->dctx || !d->raw || !d->codes || !d->scratch || !d->state || !d->state_step) {
+    /* one mask per placement of a moving grid: GRID's, then each MOVE's */
+    int urc = 0;
+    d->under = calloc((size_t)f->meta.nmoves + 1, sizeof *d->under);
+    for (int i = 0; d->under && !urc && i <= f->meta.nmoves; i++)
+        d->under[i] = under_ground(&f->meta, i ? f->meta.moves[i - 1].terrain : f->meta.terrain, &urc);
+    if (urc || !d->under || !d->dctx || !d->raw || !d->codes || !d->scratch || !d->state || !d->state_step) {
         vsv_decoder_free(d);
         *out = NULL;
         return VSV_ENOMEM;
@@ -64,6 +67,8 @@ void vsv_decoder_free(vsv_decoder *d)
     if (!d)
         return;
     ZSTD_freeDCtx(d->dctx);
+    for (int i = 0; d->under && i <= d->f->meta.nmoves; i++)
+        free(d->under[i]);
     free(d->under);
     free(d->raw);
     free(d->codes);
@@ -285,6 +290,17 @@ void vsv_file_dequantise(const vsv_file *cf, int s, const uint16_t *codes, size_
     }
 }
 
+/* The mask of the placement in force at step (NULL: nothing below ground). */
+static const uint16_t *step_under(const vsv_decoder *d, int step)
+{
+    const vsv_meta *m = &d->f->meta;
+    const int64_t t = vsv_file_time(d->f, step);
+    int i = 0;
+    while (i < m->nmoves && m->moves[i].time <= t)
+        i++;
+    return d->under[i];
+}
+
 int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out)
 {
     int rc = vsv_decoder_brick_codes(d, step, s, b, d->codes);
@@ -293,12 +309,13 @@ int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out)
     const vsv_layout *L = &d->f->lay;
     const int n = L->brick;
     vsv_file_dequantise(d->f, s, d->codes, (size_t)n * n * n, out);
-    if (d->under) { /* below the ground: no data, whatever the species */
+    const uint16_t *under = step_under(d, step);
+    if (under) { /* below the ground: no data, whatever the species */
         int org[3], ext[3];
         vsv_layout_box(L, b, org, ext);
         for (int j = 0; j < ext[1]; j++)
             for (int i = 0; i < ext[0]; i++) {
-                const int top = d->under[(size_t)(org[1] + j) * d->f->meta.nx + org[0] + i] - org[2];
+                const int top = under[(size_t)(org[1] + j) * d->f->meta.nx + org[0] + i] - org[2];
                 for (int k = 0; k < top && k < ext[2]; k++)
                     out[((size_t)k * n + j) * n + i] = NAN;
             }
@@ -344,10 +361,11 @@ int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out)
                                         org[0]);
     }
     d->state_step[s] = step;
-    if (d->under) { /* below the ground: no data, whatever the species */
+    const uint16_t *under = step_under(d, step);
+    if (under) { /* below the ground: no data, whatever the species */
         const size_t plane = (size_t)f->meta.nx * f->meta.ny;
         for (size_t c = 0; c < plane; c++)
-            for (int k = 0; k < d->under[c]; k++)
+            for (int k = 0; k < under[c]; k++)
                 out[(size_t)k * plane + c] = NAN;
     }
     return 0;

@@ -227,8 +227,9 @@ int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, con
     memset(h, 0, VSV_HEADER_SIZE);
     memcpy(h, VSV_MAGIC, 8);
     /* the lowest major and minor that have what the file may use */
-    vsv_wr16(h + 8, p->opts.predict ? 2 : 1);
-    vsv_wr16(h + 10, !p->opts.predict && p->meta.nheights ? 1 : 0);
+    const int major = p->opts.predict || p->meta.nmoves ? 2 : 1;
+    vsv_wr16(h + 8, (uint16_t)major);
+    vsv_wr16(h + 10, p->meta.nmoves ? 1 : major == 1 && p->meta.nheights ? 1 : 0);
     vsv_wr32(h + 12, VSV_HEADER_SIZE);
     vsv_wr64(h + 16, file_size);
     vsv_wr64(h + 24, VSV_HEADER_SIZE);

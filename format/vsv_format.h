@@ -113,6 +113,16 @@ typedef struct vsv_heights {
                       then level (for MM5 derived from the terrain) */
 } vsv_heights;
 
+/* Where a moving grid (a WRF moving nest) lies from one time on (SPEC.md
+ * "MOVE"): plain info a vsv_meta owns. Steps before the first use GRID's
+ * origin and TERR. */
+typedef struct vsv_move {
+    int64_t time;     /* in force for steps at or after this time */
+    double origin[2]; /* projected x, y of the centre of column (0, 0) */
+    float *terrain;   /* nx*ny ground under the grid there (m ASL), or NULL
+                         when the file has no terrain */
+} vsv_move;
+
 /* Everything about a data set except its values: plain info that owns its
  * arrays. Initialise with vsv_meta_init, release with vsv_meta_clear. */
 typedef struct vsv_meta {
@@ -135,6 +145,8 @@ typedef struct vsv_meta {
     float *landuse;       /* nx*ny land-use category, or NULL */
     int nheights;         /* VSV_VERT_NATIVE: per-column level heights, in time */
     vsv_heights *heights; /* order (0 = none: levels[] only) */
+    int nmoves;           /* a grid that moves: its placements in time order */
+    vsv_move *moves;      /* (0 = none: it stays at origin over terrain) */
 } vsv_meta;
 
 void vsv_meta_init(vsv_meta *m);
@@ -180,6 +192,22 @@ int vsv_meta_alloc_landuse(vsv_meta *m);
  * (which must be set). 0, VSV_EINVAL (not increasing upward, not finite,
  * no terrain) or VSV_ENOMEM. */
 int vsv_meta_add_heights(vsv_meta *m, int64_t time, const float *z, const double mm5[5], const double *sigma);
+/* Adds a placement of a moving grid from `time` on (after every earlier
+ * one): origin (projected x, y of column (0, 0)) and the nx*ny terrain
+ * under it (copied; given exactly when m has a terrain). 0, VSV_EINVAL or
+ * VSV_ENOMEM. */
+int vsv_meta_add_move(vsv_meta *m, int64_t time, const double origin[2], const float *terrain);
+/* The placement in force at `time` (borrowed from m), or NULL: GRID's. */
+const vsv_move *vsv_meta_move_at(const vsv_meta *m, int64_t time);
+/* m as it lies at `time`: origin and terrain of the placement in force, no
+ * moves. A shallow copy whose arrays are m's (valid while m is; never
+ * clear it): what a reader locates, draws and masks one step with. */
+vsv_meta vsv_meta_placed(const vsv_meta *m, int64_t time);
+/* m grown to cover every placement of a moving grid (origin the lowest, nx
+ * and ny reaching the farthest; no terrain, land use, heights or moves):
+ * what a view is framed on. m itself where it does not move. Shallow, as
+ * vsv_meta_placed's. */
+vsv_meta vsv_meta_span(const vsv_meta *m);
 /* The heights (nx*ny*nz) in force at `time`, or NULL when the file has none. */
 const float *vsv_meta_heights_at(const vsv_meta *m, int64_t time);
 /* MM5's reference-state height (m above sea level) of pressure p (Pa) for

@@ -29,6 +29,11 @@ void vsv_heights_clear_all(vsv_meta *m);
 int vsv_heights_copy_all(vsv_meta *dst, const vsv_meta *src);
 int vsv_heights_encode(const vsv_meta *m, const vsv_heights *h, vsv_buf *b);
 int vsv_heights_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg, size_t cap);
+/* The MOVE records (vsv_moves.c): the same four. */
+void vsv_moves_clear_all(vsv_meta *m);
+int vsv_moves_copy_all(vsv_meta *dst, const vsv_meta *src);
+int vsv_moves_encode(const vsv_meta *m, const vsv_move *v, vsv_buf *b);
+int vsv_moves_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg, size_t cap);
 /* Parses records from [p, p+n). quant (nvars entries, may be NULL) is filled
  * from QUAN records; *nquant counts them. msg receives a reason on error. */
 int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **quant, char *msg, size_t cap);

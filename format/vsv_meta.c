@@ -28,6 +28,7 @@ void vsv_meta_clear(vsv_meta *m)
     free(m->terrain);
     free(m->landuse);
     vsv_heights_clear_all(m);
+    vsv_moves_clear_all(m);
     vsv_meta_init(m);
 }
 
@@ -55,13 +56,16 @@ int vsv_meta_copy(vsv_meta *dst, const vsv_meta *src)
     dst->terrain = dst->landuse = NULL;
     dst->heights = NULL;
     dst->nheights = 0;
+    dst->moves = NULL;
+    dst->nmoves = 0;
     size_t plane = (size_t)src->nx * (size_t)src->ny * sizeof(float);
     if (dup_array((void **)&dst->levels, src->levels, (size_t)src->nz * sizeof(double)) ||
         dup_array((void **)&dst->attr_keys, src->attr_keys, (size_t)src->nattrs * 64) ||
         dup_array((void **)&dst->attr_values, src->attr_values, (size_t)src->nattrs * 256) ||
         dup_array((void **)&dst->vars, src->vars, (size_t)src->nvars * sizeof(vsv_var)) ||
         dup_array((void **)&dst->terrain, src->terrain, plane) ||
-        dup_array((void **)&dst->landuse, src->landuse, plane) || vsv_heights_copy_all(dst, src))
+        dup_array((void **)&dst->landuse, src->landuse, plane) || vsv_heights_copy_all(dst, src) ||
+        vsv_moves_copy_all(dst, src))
         goto fail;
     if (src->tf) {
         dst->tf = calloc((size_t)src->nvars + 1, sizeof(char *));
@@ -219,6 +223,12 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
         vsv_msg(msg, cap, "vertical kind %d needs levels", m->vert_kind);
         return VSV_EINVAL;
     }
+    for (int i = 0; i < m->nmoves; i++)
+        if (!m->moves[i].terrain != !m->terrain) {
+            vsv_msg(msg, cap, "placement %d of the moving grid %s terrain where the grid %s", i,
+                    m->moves[i].terrain ? "has" : "lacks", m->terrain ? "has one" : "has none");
+            return VSV_EINVAL;
+        }
     if (m->proj.kind < 0 || m->proj.kind >= VSV_PROJ_COUNT) {
         vsv_msg(msg, cap, "unknown projection %d", m->proj.kind);
         return VSV_EINVAL;

@@ -110,6 +110,11 @@ int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, vsv_buf *b)
         TRY(vsv_heights_encode(m, &m->heights[i], b));
         TRY(rec_end(b, at));
     }
+    for (int i = 0; i < m->nmoves; i++) {
+        TRY(rec_begin(b, "MOVE", &at));
+        TRY(vsv_moves_encode(m, &m->moves[i], b));
+        TRY(rec_end(b, at));
+    }
     TRY(rec_begin(b, "END ", &at));
     TRY(rec_end(b, at));
 #undef TRY
@@ -345,6 +350,13 @@ int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **q
                 goto fail;
             }
             e = vsv_heights_decode(m, c.p, len, msg, cap);
+            c.at = len;
+        } else if (!strcmp(tag, "MOVE")) {
+            if (!have_grid) {
+                vsv_msg(msg, cap, "'MOVE' record before GRID");
+                goto fail;
+            }
+            e = vsv_moves_decode(m, c.p, len, msg, cap);
             c.at = len;
         } else if (!strcmp(tag, "END ")) {
             have_end = 1;

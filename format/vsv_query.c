@@ -133,9 +133,10 @@ int vsv_point_locate(const vsv_meta *m, double lat, double lon, double height, v
     return vsv_point_locate_at(m, INT64_MIN, lat, lon, height, p, msg, cap);
 }
 
-int vsv_point_locate_at(const vsv_meta *m, int64_t time, double lat, double lon, double height, vsv_point *p, char *msg,
-                        size_t cap)
+int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double lon, double height, vsv_point *p,
+                        char *msg, size_t cap)
 {
+    const vsv_meta placed = vsv_meta_placed(grid, time), *m = &placed; /* a moving grid where it is then */
     if (m->proj.kind == VSV_PROJ_NONE) {
         vsv_msg(msg, cap, "the grid has no map projection: no latitude/longitude is known (use a cell)");
         return VSV_EUNSUPPORTED;

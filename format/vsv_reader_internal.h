@@ -43,7 +43,8 @@ struct vsv_decoder {
     uint16_t *scratch; /* a brick: DELTA3's differences */
     uint16_t **state;  /* per species: codes of all bricks at state_step */
     int *state_step;
-    uint16_t *under; /* per column: how many levels lie below the ground (NULL: none) */
+    uint16_t **under; /* per placement (GRID's, then each MOVE's), per column: how
+                         many levels lie below the ground (NULL: none) */
     char err[512];
 };
 

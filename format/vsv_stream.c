@@ -183,7 +183,9 @@ int vsv_stream_writer_open(FILE *fp, const vsv_meta *meta, vsv_stream_writer **o
         rc = vsv_meta_encode(meta, NULL, &b);
     if (!rc) {
         vsv_wr16(b.p + 8, VSV_STREAM_MAJOR);
-        vsv_wr16(b.p + 10, meta->nheights ? 1 : 0); /* the lowest minor that has what the stream uses */
+        vsv_wr16(b.p + 10, meta->nmoves     ? 2
+                           : meta->nheights ? 1
+                                            : 0); /* the lowest minor that has what the stream uses */
         vsv_wr32(b.p + 12, (uint32_t)(b.len - 16));
         if (fwrite(b.p, 1, b.len, fp) != b.len)
             rc = VSV_EIO;

@@ -158,7 +158,8 @@ int main(int argc, char **argv)
         if (fd < 0)
             vsv_cli_die(1, "%s: cannot create: %s", name, strerror(errno));
         close(fd);
-        if (vsv_vdb_write(tmp, out_meta, vsv_file_time(f, t), out_vols, n, err, sizeof err)) {
+        const vsv_meta placed = vsv_meta_placed(out_meta, vsv_file_time(f, t)); /* a moving nest where it is then */
+        if (vsv_vdb_write(tmp, &placed, vsv_file_time(f, t), out_vols, n, err, sizeof err)) {
             const size_t k = strlen(tmp);
             vsv_cli_die(1, "%s%s", name, !strncmp(err, tmp, k) ? err + k : err);
         }

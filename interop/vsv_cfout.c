@@ -262,9 +262,9 @@ static void def_globals(cfw *w, const vsv_meta *m, const char *history, int resp
 }
 
 /* The 1-D coordinates' values: seconds from step a, the levels' heights, y and x; buf holds the longest. */
-static void put_axes(cfw *w, vsv_file *f, int a, size_t nt, double *buf, int vt, int vz, int vy, int vx)
+static void put_axes(cfw *w, vsv_file *f, const vsv_meta *m, int a, size_t nt, double *buf, int vt, int vz, int vy,
+                     int vx)
 {
-    const vsv_meta *m = vsv_file_meta(f);
     const size_t nx = (size_t)m->nx, ny = (size_t)m->ny, nz = (size_t)m->nz;
     int64_t *tv = (int64_t *)buf;
     for (size_t t = 0; t < nt; t++)
@@ -281,11 +281,30 @@ static void put_axes(cfw *w, vsv_file *f, int a, size_t nt, double *buf, int vt,
     nc_ok(w, nc_put_var_double(w->nc, vy, buf), "y");
 }
 
+/* One file, one place: steps a..b of a moving nest at one placement (its x
+ * and y differ between placements); 0, or VSV_EUNSUPPORTED with err set. */
+static int one_place(vsv_file *f, int a, int b, const char *path, char *err, size_t cap)
+{
+    const vsv_meta *fm = vsv_file_meta(f);
+    const vsv_move *ma = vsv_meta_move_at(fm, vsv_file_time(f, a));
+    for (int t = a + 1; t <= b; t++)
+        if (vsv_meta_move_at(fm, vsv_file_time(f, t)) != ma) {
+            char iso[40];
+            vsv_cal_format(vsv_meta_calendar(fm), vsv_file_time(f, t), iso, sizeof iso);
+            snprintf(err, cap,
+                     "%s: the grid moves at %s (step %d; a moving nest): a netCDF file holds one placement, "
+                     "so export the steps before it and from it apart (--times)",
+                     path, iso, t);
+            return VSV_EUNSUPPORTED;
+        }
+    return 0;
+}
+
 int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const int *sel, int n, int a, int b,
                       const char *history, void (*progress)(void *ctx, int done, int total), void *ctx, char *err,
                       size_t cap)
 {
-    const vsv_meta *m = vsv_file_meta(f);
+    const vsv_meta *fm = vsv_file_meta(f);
     vsv_file_info info;
     vsv_file_info_get(f, &info);
     cfw w = {-1, 0, path, err, cap};
@@ -293,6 +312,9 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
         snprintf(err, cap, "%s: nothing selected (steps %d..%d of 0..%d, %d species)", path, a, b, info.nsteps - 1, n);
         return VSV_EINVAL;
     }
+    if (one_place(f, a, b, path, err, cap))
+        return VSV_EUNSUPPORTED;
+    const vsv_meta placed = vsv_meta_placed(fm, vsv_file_time(f, a)), *m = &placed;
     const size_t nx = (size_t)m->nx, ny = (size_t)m->ny, nz = (size_t)m->nz, nt = (size_t)(b - a + 1);
     float *vol = malloc(nx * ny * nz * sizeof *vol);
     size_t nbuf = 2 * nx * ny; /* lat and lon; also the time, z, y, x axes */
@@ -373,7 +395,7 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
     if (w.rc || !nc_ok(&w, nc_enddef(w.nc), "defining the variables"))
         goto fail;
     /* coordinates */
-    put_axes(&w, f, a, nt, buf, vt, vz, vy, vx);
+    put_axes(&w, f, m, a, nt, buf, vt, vz, vy, vx);
     if (vlat >= 0) {
         double *lat = buf, *lon = buf + nx * ny;
         for (size_t j = 0; j < ny; j++)

@@ -243,7 +243,12 @@ static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
         if (PyErr_Occurred())
             return NULL;
         rc = vsv_point_locate_at(m, vsv_file_time(self->f, 0), lat, lon, h, &p, msg, sizeof msg);
-        relocate = !isnan(h) && m->nheights > 1; /* per-column heights move a height's level in time */
+        /* a moving nest may reach the point only later: its first step there */
+        for (int t = 1; rc == VSV_ERANGE && m->nmoves && t < self->info.nsteps; t++)
+            if (!vsv_point_locate_at(m, vsv_file_time(self->f, t), lat, lon, h, &p, NULL, 0))
+                rc = 0;
+        /* per-column heights move a height's level in time; a moving nest its cells */
+        relocate = (!isnan(h) && m->nheights > 1) || m->nmoves;
     }
     if (rc)
         return fail(msg);
@@ -260,15 +265,16 @@ static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
         float *out = PyArray_DATA(a);
         for (int t = 0; t < n; t++) {
             vsv_point pt = p;
-            if (relocate && vsv_point_locate_at(m, vsv_file_time(self->f, t), lat, lon, h, &pt, msg, sizeof msg)) {
-                Py_DECREF(a);
-                Py_DECREF(vals);
-                return fail(msg);
-            }
+            const int lrc =
+                relocate ? vsv_point_locate_at(m, vsv_file_time(self->f, t), lat, lon, h, &pt, msg, sizeof msg) : 0;
+            out[t] = NAN; /* where a moving nest has left the point: no data */
+            if (lrc == VSV_ERANGE && m->nmoves)
+                continue;
             pthread_mutex_lock(&self->busy);
             const int qrc =
-                vsv_query_sample(self->q, t, s, pt.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t]);
-            if (qrc)
+                lrc ? lrc
+                    : vsv_query_sample(self->q, t, s, pt.pos, interp ? VSV_INTERP_LINEAR : VSV_INTERP_NEAREST, &out[t]);
+            if (qrc && !lrc)
                 snprintf(msg, sizeof msg, "%s", vsv_query_error(self->q));
             pthread_mutex_unlock(&self->busy);
             if (qrc) {
@@ -344,13 +350,25 @@ static PyObject *File_grid(FileObject *self, void *unused)
             return NULL;
         memcpy(PyArray_DATA((PyArrayObject *)levels), m->levels, (size_t)n * sizeof(double));
     }
-    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:s,s:N,s:N,s:s,s:s,s:s,s:i,s:i}", "nx", m->nx, "ny",
+    PyObject *moves = PyList_New(0); /* a moving nest's later placements: (time, x, y) */
+    for (int i = 0; moves && i < m->nmoves; i++) {
+        PyObject *mv =
+            Py_BuildValue("(Ldd)", (long long)m->moves[i].time, m->moves[i].origin[0], m->moves[i].origin[1]);
+        if (!mv || PyList_Append(moves, mv))
+            Py_CLEAR(moves);
+        Py_XDECREF(mv);
+    }
+    if (!moves) {
+        Py_DECREF(levels);
+        return NULL;
+    }
+    return Py_BuildValue("{s:i,s:i,s:i,s:(ddd),s:(ddd),s:s,s:s,s:s,s:N,s:N,s:s,s:s,s:s,s:i,s:i,s:N}", "nx", m->nx, "ny",
                          m->ny, "nz", m->nz, "origin", m->origin[0], m->origin[1], m->origin[2], "spacing",
                          m->spacing[0], m->spacing[1], m->spacing[2], "vertical", vert_name(m->vert_kind), "vert_units",
                          vsv_meta_height_units(m), "datum", vsv_meta_above_ground(m) ? "ground" : "sea level", "levels",
                          levels, "column_heights", PyBool_FromLong(m->nheights > 0), "calendar",
                          vsv_calendar_name(vsv_meta_calendar(m)), "model", m->model, "run", m->run, "brick",
-                         self->info.brick, "nbricks", self->info.nbricks);
+                         self->info.brick, "nbricks", self->info.nbricks, "moves", moves);
 }
 
 static PyObject *File_projection(FileObject *self, void *unused)

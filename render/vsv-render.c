@@ -132,6 +132,7 @@ typedef struct render_args {
 typedef struct render_run {
     vsv_file *f;
     const vsv_meta *m;
+    vsv_meta placed; /* m at the frame's time (vsv_meta_placed: shallow) */
     int a, b, nl, slice_layer, ow, exr;
     vsv_layer *layers;
     vsv_tf *tfs, slice_tf;
@@ -519,6 +520,8 @@ static void render_frames(const render_args *ra, render_run *run, char *staged)
     if (vsv_decoder_create(run->f, &d) || !rgba || !depth || !img || !zimg)
         vsv_cli_die(1, "out of memory");
     for (int t = a; t <= run->b; t++) {
+        run->placed = vsv_meta_placed(run->m, vsv_file_time(run->f, t)); /* a moving nest where it is then */
+        run->sc.meta = &run->placed;
         for (int l = 0; l < run->nl; l++)
             if (vsv_volume_load(run->vols[l], d, t, run->sidx[l]))
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));

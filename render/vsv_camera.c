@@ -93,7 +93,10 @@ int vsv_scene_world(const vsv_meta *m, double lat, double lon, double *x, double
 void vsv_scene_bounds(const vsv_scene *sc, double mn[3], double mx[3])
 {
     vsv_geo g;
-    vsv_scene_geo(sc, &g);
+    vsv_scene all = *sc; /* a moving nest: every place it stands */
+    const vsv_meta span = vsv_meta_span(sc->meta);
+    all.meta = &span;
+    vsv_scene_geo(&all, &g);
     memcpy(mn, g.bmin, sizeof g.bmin);
     memcpy(mx, g.bmax, sizeof g.bmax);
 }

@@ -295,8 +295,9 @@ done:
     return rc;
 }
 
-int vsv_outlines_load(const vsv_meta *m, const char *dir, char res, vsv_outlines **out, char *msg, size_t cap)
+int vsv_outlines_load(const vsv_meta *grid, const char *dir, char res, vsv_outlines **out, char *msg, size_t cap)
 {
+    const vsv_meta span = vsv_meta_span(grid), *m = &span; /* a moving nest: every place it stands */
     *out = NULL;
     if (!dir || !*dir)
         dir = getenv("VSV_GSHHG");

@@ -174,7 +174,10 @@ void vsv_scene_units(const vsv_meta *m, double *ux, double *uy);
 int vsv_scene_latlon(const vsv_meta *m, double x, double y, double *lat, double *lon);
 int vsv_scene_world(const vsv_meta *m, double lat, double lon, double *x, double *y);
 
-/* World box of the scene (metres, z exaggerated): min[3], max[3]. */
+/* World box of the scene (metres, z exaggerated): min[3], max[3]; of every
+ * placement when the scene's grid moves (vsv_meta_span): cameras framed on
+ * it hold still while a moving nest travels. Renderers take a scene whose
+ * meta is placed at the time drawn (vsv_meta_placed). */
 void vsv_scene_bounds(const vsv_scene *sc, double min[3], double max[3]);
 /* A camera looking at the scene's centre from azimuth az (degrees clockwise
  * from north), elevation el (degrees), distance dist (world metres; 0 = frame

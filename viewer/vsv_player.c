@@ -20,6 +20,17 @@ void vsv_player_opts_init(vsv_player_opts *o)
     o->slice_range[0] = o->slice_range[1] = NAN;
 }
 
+/* The grid as it lies at the step shown: a moving nest's placement then
+ * (p->placed holds one view per placement). */
+static const vsv_meta *shown_meta(const vsv_player *p)
+{
+    const int64_t t = p->shown >= 0 ? p->times[p->shown] : p->times[0];
+    int i = 0;
+    while (i < p->m->nmoves && p->m->moves[i].time <= t)
+        i++;
+    return &p->placed[i];
+}
+
 /* The slices' colours over the range of what they show in the step shown
  * (vsv_slice_range, as vsv-render colours them), taken again only when the
  * step or the slices change; a fixed --slice-range stays. */
@@ -29,7 +40,7 @@ static void colour_slices(vsv_player *p)
     if (!p->slices_on || !p->nslices || isfinite(p->slice_fixed[0]) || !memcmp(key, p->slice_key, sizeof key))
         return;
     memcpy(p->slice_key, key, sizeof key);
-    vsv_scene sc = {.meta = p->m,
+    vsv_scene sc = {.meta = shown_meta(p),
                     .layers = p->layers,
                     .nlayers = p->ns,
                     .exaggeration = p->exaggeration,
@@ -53,7 +64,7 @@ static void colour_slices(vsv_player *p)
 
 static vsv_scene scene(const vsv_player *p)
 {
-    vsv_scene sc = {.meta = p->m,
+    vsv_scene sc = {.meta = shown_meta(p),
                     .layers = p->layers,
                     .nlayers = p->ns,
                     .exaggeration = p->exaggeration,
@@ -241,6 +252,12 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         goto fail;
     }
     p->m = vsv_file_meta(p->f);
+    if (!(p->placed = malloc(((size_t)p->m->nmoves + 1) * sizeof *p->placed))) {
+        snprintf(err, cap, "out of memory");
+        goto fail;
+    }
+    for (int i = 0; i <= p->m->nmoves; i++)
+        p->placed[i] = vsv_meta_placed(p->m, i ? p->m->moves[i - 1].time : INT64_MIN);
     vsv_file_info info;
     vsv_file_info_get(p->f, &info);
     p->ns = p->m->nvars;
@@ -324,6 +341,7 @@ void vsv_player_free(vsv_player *p)
         free(p->bad[t]);
     free(p->bad);
     free(p->times);
+    free(p->placed);
     free(p->tf);
     free(p->cur);
     free(p->layers);
@@ -484,6 +502,7 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
 void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam)
 {
     vsv_scene sc = scene(p);
+    sc.meta = p->m; /* framed on every place a moving nest stands (vsv_scene_bounds) */
     if (p->plan) {
         vsv_camera_plan(cam, &sc, w, h);
         cam->ortho_height /= p->plan_zoom > 0 ? p->plan_zoom : 1;
@@ -505,6 +524,7 @@ void vsv_player_scene(vsv_player *p, vsv_scene *sc)
 void vsv_player_bounds(const vsv_player *p, double mn[3], double mx[3])
 {
     vsv_scene sc = scene(p);
+    sc.meta = p->m; /* every place a moving nest stands: the room holds still */
     vsv_scene_bounds(&sc, mn, mx);
 }
 

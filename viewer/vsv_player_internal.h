@@ -10,6 +10,7 @@
 struct vsv_player {
     vsv_file *f;
     const vsv_meta *m;
+    vsv_meta *placed; /* m at each placement of a moving grid (GRID's first) */
     char path[1024];
     int ns;
     vsv_pager *pager;

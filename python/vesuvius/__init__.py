@@ -81,10 +81,13 @@ class File:
                     doc="nx, ny, nz, origin, spacing (projected units, metres); vertical (even, native, index, "
                         "coord), vert_units (m for heights, the coordinate's unit, '' for an index), datum "
                         "('sea level' or 'ground': what heights count from), levels, column_heights (native "
-                        "levels with per-column heights), model, run, brick, nbricks")
+                        "levels with per-column heights), model, run, brick, nbricks, moves (a moving nest's "
+                        "later placements: (time, x, y of column (0, 0)) each; origin is its first)")
     projection = property(lambda self: self._f.projection, doc="kind (lcc, pstereo, ...) and parameters (degrees, metres)")
-    lat = property(lambda self: self._f.lat, doc="latitude of every column's centre, float64 (ny, nx)")
-    lon = property(lambda self: self._f.lon, doc="longitude of every column's centre, float64 (ny, nx)")
+    lat = property(lambda self: self._f.lat,
+                   doc="latitude of every column's centre, float64 (ny, nx) (a moving nest: at its first place)")
+    lon = property(lambda self: self._f.lon,
+                   doc="longitude of every column's centre, float64 (ny, nx) (a moving nest: at its first place)")
     height = property(lambda self: self._f.height,
                       doc="height of every level's centre, float64 (nz,) (native levels: the mean; see heights())")
     terrain = property(lambda self: self._f.terrain, doc="terrain height, float32 (ny, nx), or None")
@@ -159,6 +162,9 @@ class File:
         except ImportError as e:
             raise ImportError("to_xarray needs xarray (apt-get install python3-xarray)") from e
         g = self.grid
+        if g["moves"]:
+            raise Error("the grid moves (a moving nest, grid['moves']): a Dataset holds one placement; "
+                        "read() the steps of each placement apart")
         names = species or self.names
         sp = {s.name: s for s in self.species}
         nt = len(self.times)
