@@ -6,7 +6,8 @@
 # there says no data before the nest arrives; frames interpolated across a
 # move blend the same place; the nest split into one file per time gives
 # the same file; netCDF export and Python's to_xarray refuse to mix
-# placements; the renderer draws each step where the nest stands.
+# placements; the renderer and the player draw each step where the nest
+# stands.
 B=${B:-build}
 SHARED=${SHARED:-../shared}
 PY=${PYTHON:-/usr/bin/python3}
@@ -123,6 +124,16 @@ w0, w3 = b0[2] - b0[0], b3[2] - b3[0]
 sys.exit(0 if b3[0] < b0[0] and b3[1] < b0[1] and abs(w0 - w3) <= 2 else 1)" "$T/r0.png" "$T/r3.png"
 fi
 
+if [ "${VIEWER:-1}" = 1 ] && [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/null; then
+    for t in 0 3; do
+        printf '0.2 seek %s\n0.6 screenshot %s\n0.8 quit\n' $t "$T/p$t.png" > "$T/play$t"
+        ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
+        expect "vsv-play shows the nest at step $t (Xvfb)" 0 \
+            xvfb-run -a -s "-screen 0 800x600x24" "$B/vsv-play" "$T/n.vsv" --size 320x240 --script "$T/play$t"
+    done
+    [ -s "$T/p0.png" ] && [ -s "$T/p3.png" ] && ! cmp -s "$T/p0.png" "$T/p3.png" &&
+        pass "and the two places differ" || fail "and the two places differ" "screenshots missing or equal"
+fi
 if [ -n "${PYMOD:-}" ] && [ -z "${PY_MISSING:-}" ]; then
     PYTHONPATH="$B/python" expect "Python: the moves, a point reached later, to_xarray refused" 0 "$PY" -c "
 import sys, math, vesuvius
