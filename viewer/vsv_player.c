@@ -31,37 +31,6 @@ static const vsv_meta *shown_meta(const vsv_player *p)
     return &p->placed[i];
 }
 
-/* The slices' colours over the range of what they show in the step shown
- * (vsv_slice_range, as vsv-render colours them), taken again only when the
- * step or the slices change; a fixed --slice-range stays. */
-static void colour_slices(vsv_player *p)
-{
-    const int key[4] = {p->shown, p->slices_on, p->nslices, p->slice_var};
-    if (!p->slices_on || !p->nslices || isfinite(p->slice_fixed[0]) || !memcmp(key, p->slice_key, sizeof key))
-        return;
-    memcpy(p->slice_key, key, sizeof key);
-    vsv_scene sc = {.meta = shown_meta(p),
-                    .layers = p->layers,
-                    .nlayers = p->ns,
-                    .exaggeration = p->exaggeration,
-                    .slices = p->slices,
-                    .nslices = p->nslices,
-                    .slice_layer = p->slice_var};
-    double lo, hi;
-    if (p->slice_var < 0 || !p->layers[p->slice_var].vol || vsv_slice_range(&sc, &lo, &hi))
-        return;
-    if (p->slice_tf.scale == VSV_SCALE_LOG)
-        lo = lo > 0 ? lo : hi * 1e-6;
-    if (!(hi > lo))
-        hi = lo + (lo ? fabs(lo) * 1e-6 : 1e-30);
-    vsv_tf t = p->slice_tf;
-    t.lo = lo, t.hi = hi;
-    if (!vsv_tf_prepare(&t)) {
-        p->slice_tf = t;
-        p->dirty = 1;
-    }
-}
-
 static vsv_scene scene(const vsv_player *p)
 {
     vsv_scene sc = {.meta = shown_meta(p),
@@ -78,6 +47,32 @@ static vsv_scene scene(const vsv_player *p)
         sc.slice_tf = &p->slice_tf;
     }
     return sc;
+}
+
+/* The slices' colours over the range of what they show in the step shown
+ * (vsv_slice_range, as vsv-render colours them), taken again only when the
+ * step or the slices change; a fixed --slice-range stays. */
+static void colour_slices(vsv_player *p)
+{
+    const int key[4] = {p->shown, p->slices_on, p->nslices, p->slice_var};
+    if (!p->slices_on || !p->nslices || isfinite(p->slice_fixed[0]) || !memcmp(key, p->slice_key, sizeof key))
+        return;
+    memcpy(p->slice_key, key, sizeof key);
+    /* the scene drawn (its ground too: what lies below it is not shown) */
+    const vsv_scene sc = scene(p);
+    double lo, hi;
+    if (p->slice_var < 0 || !p->layers[p->slice_var].vol || vsv_slice_range(&sc, &lo, &hi))
+        return;
+    if (p->slice_tf.scale == VSV_SCALE_LOG)
+        lo = lo > 0 ? lo : hi * 1e-6;
+    if (!(hi > lo))
+        hi = lo + (lo ? fabs(lo) * 1e-6 : 1e-30);
+    vsv_tf t = p->slice_tf;
+    t.lo = lo, t.hi = hi;
+    if (!vsv_tf_prepare(&t)) {
+        p->slice_tf = t;
+        p->dirty = 1;
+    }
 }
 
 /* The species to pin: those drawn, and the slices' while they show. */
