@@ -257,11 +257,45 @@ void vsv_resampler_free(vsv_resampler *r)
     free(r->out.pub.bricks);
     free(r->out.pub.bmin);
     free(r->out.pub.bmax);
+    free(r->out.pub.bkey);
     free(r->out.store);
     free(r);
 }
 
 const vsv_meta *vsv_resampler_meta(const vsv_resampler *r) { return &r->even; }
+
+static uint64_t mix64(uint64_t x)
+{
+    x ^= x >> 30;
+    x *= 0xbf58476d1ce4e5b9ull;
+    x ^= x >> 27;
+    x *= 0x94d049bb133111ebull;
+    return x ^ (x >> 31);
+}
+
+/* The keys of the resampled bricks (vsv_volume.bkey): a brick's values
+ * follow from its column of native bricks and the heights in force, so the
+ * same native keys under the same heights give the same key, and a player
+ * classifies again only the bricks whose column changed. Without native
+ * keys, none (renderers then go by the volume's gen). */
+static void resampled_keys(vsv_resampler *r, const vsv_volume *nat, const float *zn)
+{
+    vsv_volume *e = &r->out.pub;
+    if (!nat->bkey) {
+        free(e->bkey);
+        e->bkey = NULL;
+        return;
+    }
+    if (!e->bkey && !(e->bkey = calloc((size_t)(unsigned)e->nbricks + 1, sizeof *e->bkey)))
+        return; /* (no keys: renderers go by gen) */
+    for (int ob = 0; ob < e->nbricks; ob++) {
+        const int bi = ob % e->bdim[0], bj = ob / e->bdim[0] % e->bdim[1];
+        uint64_t h = mix64((uint64_t)(uintptr_t)zn ^ 0x7265736d706c6564ull) ^ (uint64_t)ob;
+        for (int nk = 0; nk < nat->bdim[2]; nk++)
+            h = mix64(h ^ nat->bkey[bi + nat->bdim[0] * (bj + nat->bdim[1] * nk)]);
+        e->bkey[ob] = h | 1; /* never 0 */
+    }
+}
 
 int vsv_resampler_run(vsv_resampler *r, const vsv_volume *nat, const vsv_volume **out)
 {
@@ -379,6 +413,7 @@ int vsv_resampler_run(vsv_resampler *r, const vsv_volume *nat, const vsv_volume 
                 e->bmax[b] = empty;
         }
     }
+    resampled_keys(r, nat, zn);
     e->gen = vsv_volume_new_gen();
     r->done_gen = nat->gen;
     return 0;
