@@ -46,7 +46,7 @@ done
 echo
 echo "### Diagnostic: how far the patterns moved, against how far the air moved (01:00 to 03:00), and a free motion field"
 echo
-"$B/vsv-extract" --add-winds "$MM5" > "$W/mm5.fs"
+"$B/vsv-extract" --add-winds --vertical even "$MM5" > "$W/mm5.fs"
 /usr/bin/python3 bench/advect_motion.py "$W/mm5.fs" 2
 rm -f "$W/mm5.fs"
 
@@ -57,7 +57,7 @@ best() { sort -n | head -n 1; }
 for m in linear advect wind; do : > "$W/$m.t"; done
 for r in $(seq "$ROUNDS"); do
     for m in linear advect wind; do
-        /usr/bin/time -f '%e %U %S' -o "$W/t" "$B/vsv-convert" -q --time-res 10m --interp $m "$MM5" -o "$W/$m.vsv"
+        /usr/bin/time -f '%e %U %S' -o "$W/t" "$B/vsv-convert" -q --vertical even --time-res 10m --interp $m "$MM5" -o "$W/$m.vsv"
         cat "$W/t" >> "$W/$m.t"
     done
 done
@@ -73,7 +73,7 @@ echo
 echo "### Movies and frames: the MM5 run every 10 minutes, cloud ice (a map of the domain)"
 echo
 for m in linear advect; do
-    "$B/vsv-extract" --add-winds -v ICE,SNOW,CLW "$MM5" | "$B/vsv-interp" --time-res 10m --interp $m > "$W/$m.fs"
+    "$B/vsv-extract" --add-winds --vertical even -v ICE,SNOW,CLW "$MM5" | "$B/vsv-interp" --time-res 10m --interp $m > "$W/$m.fs"
     "$B/vsv-pack" -q -o "$W/$m.vsv" < "$W/$m.fs"
     if command -v ffmpeg > /dev/null; then
         "$B/vsv-render" -q "$W/$m.vsv" --movie "$OUT/mm5-$m.mp4" --fps 4 --species ICE:3 --view plan --size 828x568

@@ -26,10 +26,10 @@ row() { # name seconds output-file
 }
 printf 'input: %s (%.1f MB); machine: %s cores; %s\n\n' "$IN" "$(echo "$bytes / 1000000" | bc -l)" "$(nproc)" "$(date -u +%Y-%m-%d)"
 printf '| command | seconds | MB/s of input | output MB |\n|---|---|---|---|\n'
-t=$(best "$B/vsv-convert" -q --threads 1 "$IN" -o "$W/a.vsv"); row "vsv-convert --threads 1 (CLW RNW ICE SNOW Q, 40 even levels)" "$t" "$W/a.vsv"
-t=$(best "$B/vsv-convert" -q --threads 2 "$IN" -o "$W/b.vsv"); row "vsv-convert --threads 2" "$t" "$W/b.vsv"
+t=$(best "$B/vsv-convert" -q --vertical even --threads 1 "$IN" -o "$W/a.vsv"); row "vsv-convert --threads 1 (CLW RNW ICE SNOW Q, 40 even levels)" "$t" "$W/a.vsv"
+t=$(best "$B/vsv-convert" -q --vertical even --threads 2 "$IN" -o "$W/b.vsv"); row "vsv-convert --threads 2" "$t" "$W/b.vsv"
 t=$(best "$B/vsv-convert" -q --threads 2 --vertical native "$IN" -o "$W/c.vsv"); row "vsv-convert --threads 2 --vertical native" "$t" "$W/c.vsv"
-t=$(best "$B/vsv-convert" -q --threads 2 --time-res 10m "$IN" -o "$W/d.vsv"); row "vsv-convert --threads 2 --time-res 10m (19 frames)" "$t" "$W/d.vsv"
+t=$(best "$B/vsv-convert" -q --vertical even --threads 2 --time-res 10m "$IN" -o "$W/d.vsv"); row "vsv-convert --threads 2 --time-res 10m (19 frames)" "$t" "$W/d.vsv"
 t=$(best sh -c "'$B/vsv-extract' '$IN' | '$B/vsv-pack' -q -o '$W/e.vsv'"); row "vsv-extract \\| vsv-pack (the pipe)" "$t" "$W/e.vsv"
 t=$(best sh -c "zstd -3 -T1 -q -c '$IN' > '$W/in.zst'"); row "zstd -3 (one thread)" "$t" "$W/in.zst"
 t=$(best sh -c "zstd -3 -T2 -q -c '$IN' > '$W/in2.zst'"); row "zstd -3 -T2" "$t" "$W/in2.zst"

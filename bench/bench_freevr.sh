@@ -33,7 +33,7 @@ printf '%s cores; %s; %s\n\n' "$(nproc)" "$(date -u +%Y-%m-%d)" "$(uptime | sed 
 # the data: the real MM5 run, the plume and the haze
 sets=""
 if [ -f "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" ]; then
-    "$B/vsv-convert" -q --time-res 10m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
+    "$B/vsv-convert" -q --vertical even --time-res 10m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
     sets="mm5"
 fi
 if [ -f "$SHARED/tools/gen-plume/gen_volume.c" ]; then

@@ -16,7 +16,7 @@ trap 'rm -rf "$W"' EXIT
 printf '%s cores; %s; %s\n' "$(nproc)" "$(date -u +%Y-%m-%dT%H:%MZ)" "$(uptime | sed 's/.*load/load/')"
 sets=""
 if [ -f "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" ]; then
-    "$B/vsv-convert" -q --times 3 "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
+    "$B/vsv-convert" -q --vertical even --times 3 "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
     sets="mm5:Q,CLW,SNOW"
 fi
 if [ -f "$SHARED/tools/gen-plume/gen_volume.c" ]; then

@@ -21,8 +21,8 @@ now() { date +%s.%N; }
 requests() { wc -l < "$T/access.log"; }
 
 printf '%s cores; %s; load %s\n\n' "$(nproc)" "$(date -u '+%Y-%m-%d %H:%M UTC')" "$(cut -d' ' -f1-3 /proc/loadavg)"
-"$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/www/run.vsv"
-"$B/vsv-convert" -q --time-res 5m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/www/run5m.vsv"
+"$B/vsv-convert" -q --vertical even "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/www/run.vsv"
+"$B/vsv-convert" -q --vertical even --time-res 5m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$T/www/run5m.vsv"
 touch -d '1 hour ago' "$T/www/run.vsv" "$T/www/run5m.vsv" # lighttpd sends validators for files not just written
 echo "| file | size | run | body bytes sent | share of the file | requests | seconds | PNG equals the local file's |"
 echo "|---|---|---|---|---|---|---|---|"

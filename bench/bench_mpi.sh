@@ -27,9 +27,9 @@ printf '| round | load (1 min) | vsv-convert s | np 1 s | np 2 s | np 2 / np 1 |
 : > "$W/rows"
 for r in $(seq 1 "$ROUNDS"); do
     l=$(load)
-    c=$(secs "$B/vsv-convert" -q --time-res 10m "$IN" -o "$W/c.vsv")
-    m1=$(secs $MPIRUN -np 1 "$B/vsv-convert-mpi" -q --time-res 10m "$IN" -o "$W/m1.vsv")
-    m2=$(secs $MPIRUN -np 2 "$B/vsv-convert-mpi" -q --time-res 10m "$IN" -o "$W/m2.vsv")
+    c=$(secs "$B/vsv-convert" -q --vertical even --time-res 10m "$IN" -o "$W/c.vsv")
+    m1=$(secs $MPIRUN -np 1 "$B/vsv-convert-mpi" -q --vertical even --time-res 10m "$IN" -o "$W/m1.vsv")
+    m2=$(secs $MPIRUN -np 2 "$B/vsv-convert-mpi" -q --vertical even --time-res 10m "$IN" -o "$W/m2.vsv")
     cmp -s "$W/c.vsv" "$W/m2.vsv" && cmp -s "$W/c.vsv" "$W/m1.vsv" || { echo "bench_mpi: outputs differ" >&2; exit 1; }
     r21=$(echo "$m1 / $m2" | bc -l)
     r2c=$(echo "$c / $m2" | bc -l)
@@ -42,7 +42,7 @@ printf '\nrates (median): vsv-convert %.2f steps/s, np 1 %.2f steps/s, np 2 %.2f
     "$(echo "$steps / $(col 1)" | bc -l)" "$(echo "$steps / $(col 2)" | bc -l)" "$(echo "$steps / $(col 3)" | bc -l)"
 
 printf '\nper-step costs on one rank (--stats), load %s:\n\n' "$(load)"
-$MPIRUN -np 1 "$B/vsv-convert-mpi" -q --stats --time-res 10m "$IN" -o "$W/m1.vsv" | sed 's/^/    /'
+$MPIRUN -np 1 "$B/vsv-convert-mpi" -q --vertical even --stats --time-res 10m "$IN" -o "$W/m1.vsv" | sed 's/^/    /'
 HOURS=${HOURS:-6}
 if [ -x "$B/bench/bench_camx" ]; then
     "$B/bench/bench_camx" "$W/run.avrg" "$HOURS" > /dev/null

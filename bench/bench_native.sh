@@ -8,7 +8,7 @@ SHARED=${SHARED:-../shared}
 W=$(mktemp -d "${TMPDIR:-/tmp}/vsv-bench-native.XXXXXX")
 trap 'rm -rf "$W"' EXIT
 MM5="$SHARED/data/mm5/run1/MMOUT_DOMAIN1"
-"$B/vsv-convert" -q "$MM5" --vars CLW,RNW,ICE,SNOW -o "$W/even.vsv"
+"$B/vsv-convert" -q --vertical even "$MM5" --vars CLW,RNW,ICE,SNOW -o "$W/even.vsv"
 "$B/vsv-convert" -q --vertical native "$MM5" --vars CLW,RNW,ICE,SNOW -o "$W/native.vsv"
 printf 'data: MMOUT_DOMAIN1, CLW RNW ICE SNOW, 4 steps; %s cores; %s\n' "$(nproc)" "$(date -u +%Y-%m-%d)"
 "$B/bench/bench_native" "$W/even.vsv" "$W/native.vsv" "${ROUNDS:-5}"

@@ -94,13 +94,13 @@ def datasets(args, work):
     sets = []
     if os.path.exists(mm5):
         out = os.path.join(work, "mm5.vsv")
-        subprocess.run([conv, "-q", mm5, "-o", out], check=True)
+        subprocess.run([conv, "-q", "--vertical", "even", mm5, "-o", out], check=True)
         for sp, what in [("Q", "MM5 Q (vapour, dense)"), ("CLW", "MM5 CLW (cloud water, sparse)"),
                          ("SNOW", "MM5 SNOW (sparse)")]:
             sets.append((sp.lower(), what, [out, "3", sp]))
     if os.path.exists(wrf):
         out = os.path.join(work, "wrf.vsv")
-        subprocess.run([conv, "-q", wrf, "-o", out], check=True)
+        subprocess.run([conv, "-q", "--vertical", "even", wrf, "-o", out], check=True)
         sets.append(("wrf", "WRF Katrina QCLOUD", [out, "3", "QCLOUD"]))
     gen = os.path.join(args.shared, "tools/gen-plume/gen_volume.c")
     if os.path.exists(gen):

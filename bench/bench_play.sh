@@ -12,7 +12,7 @@ SHARED=${SHARED:-../shared}
 W=$(mktemp -d "${TMPDIR:-/tmp}/vsv-bench-play.XXXXXX")
 trap 'rm -rf "$W"' EXIT
 printf '%s cores; %s\n\n' "$(nproc)" "$(date -u +%Y-%m-%d)"
-"$B/vsv-convert" -q --time-res 5m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
+"$B/vsv-convert" -q --vertical even --time-res 5m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
 if [ -z "${BENCH_COMPARE_ONLY:-}" ]; then
     "$B/bench/bench_play" "$W/mm5.vsv"
     echo

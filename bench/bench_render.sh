@@ -6,6 +6,6 @@ B=${B:-build}
 SHARED=${SHARED:-../shared}
 W=$(mktemp -d "${TMPDIR:-/tmp}/vsv-bench-render.XXXXXX")
 trap 'rm -rf "$W"' EXIT
-"$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
+"$B/vsv-convert" -q --vertical even "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
 printf 'data: MMOUT_DOMAIN1 at 3 h, 207x142x40, 5 species (Q CLW RNW ICE SNOW); %s cores; %s\n\n' "$(nproc)" "$(date -u +%Y-%m-%d)"
 "$B/bench/bench_render" "$W/mm5.vsv"

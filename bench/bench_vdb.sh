@@ -8,9 +8,9 @@ SHARED=${SHARED:-../shared}
 W=$(mktemp -d "${TMPDIR:-/tmp}/vsv-bench-vdb.XXXXXX")
 trap 'rm -rf "$W"' EXIT
 now() { date +%s.%N; }
-"$B/vsv-convert" -q --time-res 10m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
+"$B/vsv-convert" -q --vertical even --time-res 10m "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
 t0=$(now); "$B/vsv-export" -q "$W/mm5.vsv" --vdb "$W/f_%04d.vdb"; t1=$(now)
-"$B/vsv-extract" "$W"/f_*.vdb > "$W/stream"; t2=$(now)
+"$B/vsv-extract" --vertical even "$W"/f_*.vdb > "$W/stream"; t2=$(now)
 "$B/vsv-pack" -q -o "$W/back.vsv" < "$W/stream"; t3=$(now)
 "$B/vsv-info" --check "$W/mm5.vsv" > /dev/null; t4=$(now)
 vsv=$(stat -c %s "$W/mm5.vsv"); vdb=$(cat "$W"/f_*.vdb | wc -c)

@@ -11,7 +11,7 @@ B=${B:-build}
 SHARED=${SHARED:-../shared}
 W=$(mktemp -d "${TMPDIR:-/tmp}/vsv-bench-volpack.XXXXXX")
 trap 'rm -rf "$W"' EXIT
-"$B/vsv-convert" -q "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
+"$B/vsv-convert" -q --vertical even "$SHARED/data/mm5/run1/MMOUT_DOMAIN1" -o "$W/mm5.vsv"
 printf '%s cores; %s; load average %s at the start\n\n' "$(nproc)" "$(date -u '+%Y-%m-%d %H:%M UTC')" \
     "$(cut -d' ' -f1 /proc/loadavg)"
 # the closed-form case first: a box off the middle of an otherwise empty grid
@@ -23,7 +23,7 @@ echo
 echo
 "$B/bench/bench_volpack" "$W/mm5.vsv" SNOW 3
 # the real WRF file: QCLOUD at its fourth time (21 UTC)
-"$B/vsv-convert" -q "$SHARED/data/wrf/katrina_ci_test_file.nc" -o "$W/wrf.vsv"
+"$B/vsv-convert" -q --vertical even "$SHARED/data/wrf/katrina_ci_test_file.nc" -o "$W/wrf.vsv"
 echo
 "$B/bench/bench_volpack" "$W/wrf.vsv" QCLOUD 3
 # gen-plume's synthetic volumes: the sparse plume and the hazy one

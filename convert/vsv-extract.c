@@ -104,7 +104,7 @@ int main(int argc, char **argv)
                         layers = f->nlevels;
                 }
             if (g->vert_kind == VSV_VERT_EVEN && layers && layers != g->nz)
-                printf("%s: %s, grid %d x %d, %d model layers (on %d even levels by default), %d times\n", argv[a],
+                printf("%s: %s, grid %d x %d, %d model layers (resampled onto %d even levels), %d times\n", argv[a],
                        vsv_source_format(src), g->nx, g->ny, layers, g->nz, vsv_source_ntimes(src));
             else
                 printf("%s: %s, grid %d x %d x %d, %d times\n", argv[a], vsv_source_format(src), g->nx, g->ny, g->nz,

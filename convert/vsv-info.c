@@ -238,6 +238,7 @@ static vsv_json *json_species(vsv_file *f)
         vsv_json_set(sj, "name", vsv_json_string(m->vars[s].name));
         vsv_json_set(sj, "units", vsv_json_string(m->vars[s].units));
         vsv_json_set(sj, "description", vsv_json_string(m->vars[s].description));
+        vsv_json_set(sj, "min_max_of", vsv_json_string(vsv_meta_attr(m, VSV_ATTR_RESAMPLED) ? "resampled" : "data"));
         vsv_json_set(sj, "min", vsv_json_number(q->data_min));
         vsv_json_set(sj, "max", vsv_json_number(q->data_max));
         vsv_json_set(sj, "bits", vsv_json_int(q->bits));
@@ -433,6 +434,8 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
         printf("    %-10s %-12s %12.5g %12.5g %5d %7s %12.3g  %s\n", m->vars[s].name, m->vars[s].units, q->data_min,
                q->data_max, q->bits, scale_name(q->scale), q->max_abs_error, m->vars[s].description);
     }
+    if (vsv_meta_attr(m, VSV_ATTR_RESAMPLED))
+        printf("              min and max are of the values resampled onto even heights, not the model's own\n");
     const long long total = (long long)info.nbricks * info.nspecies * info.nsteps;
     printf("  bricks      %d^3, %d x %d x %d per step and species, %d octree levels\n", info.brick, info.bricks[0],
            info.bricks[1], info.bricks[2], info.octree_levels);

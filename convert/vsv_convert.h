@@ -31,7 +31,8 @@ typedef struct vsv_field_info {
 
 /* How a source builds its grid: plain info. */
 typedef struct vsv_source_opts {
-    int vertical;        /* VSV_VERT_EVEN (default) or VSV_VERT_NATIVE */
+    int vertical;        /* VSV_VERT_NATIVE (default) or VSV_VERT_EVEN */
+    int vertical_set;    /* given by --vertical (else --nz or --ztop mean even) */
     int nz;              /* even: number of levels (0: 40) */
     double ztop;         /* even: top of the grid, m above sea level (0: the model top) */
     const char *heights; /* CAMx: the height/pressure companion file, or NULL */
@@ -113,10 +114,12 @@ enum {
     }
 #define VSV_SOURCE_HELP                                                                                                \
     "Vertical grid:\n"                                                                                                 \
-    "  --vertical even|native  even heights above sea level (default; cells below\n"                                   \
-    "                       the ground are empty) or the model's own levels\n"                                         \
-    "  --nz N               even: number of levels (default 40)\n"                                                     \
-    "  --ztop METRES        even: top of the grid (default: the model top)\n"                                          \
+    "  --vertical native|even  the model's own levels (default: every value as the\n"                                  \
+    "                       model wrote it) or even heights above sea level (linear\n"                                 \
+    "                       in height between levels: peaks between two even levels\n"                                 \
+    "                       are lost; cells below the ground are empty)\n"                                             \
+    "  --nz N               even: number of levels (default 40; implies even)\n"                                       \
+    "  --ztop METRES        even: top of the grid (default: the model top; implies even)\n"                            \
     "CAMx:\n"                                                                                                          \
     "  --heights ZPFILE     layer heights from the height/pressure file (without it the\n"                             \
     "                       vertical axis is the layer index)\n"                                                       \

@@ -72,8 +72,8 @@ int vsv_source_register(const vsv_source_ops *ops)
 void vsv_source_opts_init(vsv_source_opts *o)
 {
     memset(o, 0, sizeof *o);
-    o->vertical = VSV_VERT_EVEN;
-    o->time_start = INT64_MIN; /* not given: no invented start */
+    o->vertical = VSV_VERT_NATIVE; /* the model's own levels: no peak resampled away */
+    o->time_start = INT64_MIN;     /* not given: no invented start */
 }
 
 char *vsv_source_summary(vsv_source *s) { return s->ops && s->ops->summary ? s->ops->summary(s) : NULL; }
@@ -147,12 +147,15 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
             o->vertical = VSV_VERT_NATIVE;
         else
             return -1;
+        o->vertical_set = 1;
         return 1;
     case VSV_SOURCE_OPT_NZ: {
         long v = strtol(arg, &end, 10);
         if (*end || v < 1 || v > 4096)
             return -1;
         o->nz = (int)v;
+        if (!o->vertical_set) /* the even grid's shape: the even grid */
+            o->vertical = VSV_VERT_EVEN;
         return 1;
     }
     case VSV_SOURCE_OPT_ZTOP: {
@@ -160,6 +163,8 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
         if (*end || !(v > 0 && v < 1e6))
             return -1;
         o->ztop = v;
+        if (!o->vertical_set)
+            o->vertical = VSV_VERT_EVEN;
         return 1;
     }
     case VSV_SOURCE_OPT_HEIGHTS: o->heights = arg; return 1;
@@ -227,6 +232,10 @@ int vsv_source_opts_check(const vsv_source_opts *o, char *msg, size_t cap)
             return VSV_EINVAL;
         }
     }
+    if (o->vertical == VSV_VERT_NATIVE && (o->nz > 0 || o->ztop > 0)) {
+        vsv_msg(msg, cap, "--nz and --ztop shape the even grid: not with --vertical native");
+        return VSV_EINVAL;
+    }
     if (o->time_step > 0 && o->time_start == INT64_MIN) {
         vsv_msg(msg, cap, "--time-step needs --time-start (the time of the first file)");
         return VSV_EINVAL;
@@ -267,7 +276,12 @@ int vsv_source_axis(vsv_source *s, const float *zn, int kx, double round_to)
     g->vert_kind = VSV_VERT_EVEN;
     g->spacing[2] = ztop / g->nz;
     g->origin[2] = g->spacing[2] / 2;
-    return 1;
+    char how[160];
+    snprintf(how, sizeof how,
+             "from the model's %d levels onto %d even heights of %.4g m, linear in height (extremes between two "
+             "even levels are lost)",
+             kx, g->nz, g->spacing[2]);
+    return vsv_meta_add_attr(g, VSV_ATTR_RESAMPLED, how) < 0 ? VSV_ENOMEM : 1;
 }
 
 int vsv_source_native_heights(vsv_source *s, int t, const float *zn)

@@ -170,6 +170,10 @@ int vsv_meta_above_ground(const vsv_meta *m);
  * came every so often: "every 3600 s from 1995-10-24T00:00:00Z". A step
  * off that grid was interpolated (vsv-convert --time-res). */
 #define VSV_ATTR_OUTPUTS "model_outputs"
+/* The attribute that says the values were resampled from the model's own
+ * levels onto even heights (vsv-convert --vertical even): what from, and
+ * how. Statistics of such a file are the resampled values', not the model's. */
+#define VSV_ATTR_RESAMPLED "resampled"
 /* Its first time and interval: 1, or 0 when m has no such attribute. */
 int vsv_meta_outputs(const vsv_meta *m, int64_t *first, int64_t *every);
 /* CF's words for a species (format/vsv_cf_names.c; the netCDF export and

@@ -17,17 +17,17 @@ for tool in vsv-interp vsv-convert; do
 done
 expect "vsv-extract --help" 0 "$B/vsv-extract" --help
 has "vsv-extract --help names --add-winds" "$T/out" "--add-winds"
-expect "vsv-convert --interp advect without --time-res exits 2" 2 "$B/vsv-convert" --interp advect "$CROP" -o "$T/x.vsv"
+expect "vsv-convert --interp advect without --time-res exits 2" 2 "$B/vsv-convert" --vertical even --interp advect "$CROP" -o "$T/x.vsv"
 expect "vsv-interp --threads 0 exits 2" 2 "$B/vsv-interp" --time-res 10m --threads 0
 
 # the sample carries MM5's U V W: advect works, pipe = one process
-expect "vsv-convert --time-res 10m --interp advect" 0 "$B/vsv-convert" -q --time-res 10m --interp advect "$CROP" -o "$T/adv.vsv"
-"$B/vsv-extract" --add-winds "$CROP" | "$B/vsv-interp" --time-res 10m --interp advect | "$B/vsv-pack" -q -o "$T/pipe.vsv"
+expect "vsv-convert --time-res 10m --interp advect" 0 "$B/vsv-convert" --vertical even -q --time-res 10m --interp advect "$CROP" -o "$T/adv.vsv"
+"$B/vsv-extract" --vertical even --add-winds "$CROP" | "$B/vsv-interp" --time-res 10m --interp advect | "$B/vsv-pack" -q -o "$T/pipe.vsv"
 same "advect: vsv-convert is byte-identical to extract --add-winds | interp | pack" "$T/adv.vsv" "$T/pipe.vsv"
 "$B/vsv-info" "$T/adv.vsv" > "$T/info"
 has "the file records how it was interpolated" "$T/info" "advect: semi-Lagrangian along U V W of MMOUT_DOMAIN1_CROP (MM5 v3"
 has "... with its scales fitted to the outputs" "$T/info" "displacements scaled per species and band of levels"
-expect "vsv-convert --interp wind (the air's own displacement)" 0 "$B/vsv-convert" -q --time-res 10m --interp wind "$CROP" -o "$T/wind.vsv"
+expect "vsv-convert --interp wind (the air's own displacement)" 0 "$B/vsv-convert" --vertical even -q --time-res 10m --interp wind "$CROP" -o "$T/wind.vsv"
 "$B/vsv-info" "$T/wind.vsv" > "$T/info"
 has "... recorded as wind" "$T/info" "wind: semi-Lagrangian along U V W of MMOUT_DOMAIN1_CROP"
 "$B/vsv-info" -f species "$T/adv.vsv" > "$T/sp"
@@ -36,8 +36,8 @@ if grep -q wind "$T/sp"; then fail "the winds are not written to the file" "$(ca
 has "advect: 10-minute frames" "$T/out" '1995-10-24T00:10:00Z'
 
 # the stream: originals bit for bit, frames between them moved
-"$B/vsv-extract" --add-winds "$CROP" | "$B/vsv-interp" --time-res 10m --interp advect > "$T/adv.fs"
-"$B/vsv-extract" "$CROP" | "$B/vsv-interp" --time-res 10m > "$T/lin.fs"
+"$B/vsv-extract" --vertical even --add-winds "$CROP" | "$B/vsv-interp" --time-res 10m --interp advect > "$T/adv.fs"
+"$B/vsv-extract" --vertical even "$CROP" | "$B/vsv-interp" --time-res 10m > "$T/lin.fs"
 if /usr/bin/python3 - "$T/adv.fs" "$T/lin.fs" <<'PY'
 import sys
 # 19 frames of 5 species on 39 x 39 x 40 cells, then the 16-byte end marker
@@ -56,17 +56,17 @@ else fail "advect: hourly outputs bit-exact, the 15 frames between differ from l
 mkdir -p "$T/a"
 "$B/tests/mm5crop" "$CROP" "$T/a/MMOUT_DOMAIN1_CROP" 1 1 40 40 \
     "T,Q,CLW,RNW,ICE,SNOW,PSTARCRS,TERRAIN,LAND USE,LATITCRS,LONGICRS,SIGMAH,RAIN CON,RAIN NON" 2> "$T/err"
-expect "advect on a file without winds exits 1" 1 "$B/vsv-convert" --time-res 10m --interp advect "$T/a/MMOUT_DOMAIN1_CROP" -o "$T/x.vsv"
+expect "advect on a file without winds exits 1" 1 "$B/vsv-convert" --vertical even --time-res 10m --interp advect "$T/a/MMOUT_DOMAIN1_CROP" -o "$T/x.vsv"
 has "... naming U and V and --winds" "$T/err" "has no 3-D U and V"
 if [ -e "$T/x.vsv" ]; then fail "no output file after the error" "$T/x.vsv exists"; else pass "no output file after the error"; fi
-"$B/vsv-extract" "$T/a/MMOUT_DOMAIN1_CROP" > "$T/nowind.fs"
+"$B/vsv-extract" --vertical even "$T/a/MMOUT_DOMAIN1_CROP" > "$T/nowind.fs"
 expect "vsv-interp --interp advect on a stream without winds exits 1" 1 "$B/vsv-interp" --time-res 10m --interp advect "$T/nowind.fs"
 has "... naming wind.u and wind.v" "$T/err" "no wind.u and no wind.v"
-expect "vsv-extract --add-winds on a file without winds exits 1" 1 "$B/vsv-extract" --add-winds "$T/a/MMOUT_DOMAIN1_CROP"
+expect "vsv-extract --add-winds on a file without winds exits 1" 1 "$B/vsv-extract" --vertical even --add-winds "$T/a/MMOUT_DOMAIN1_CROP"
 
 # the winds from a companion file (same grid and times): the same file
-expect "--winds FILE" 0 "$B/vsv-convert" -q --time-res 10m --interp advect --winds "$CROP" "$T/a/MMOUT_DOMAIN1_CROP" -o "$T/comp.vsv"
+expect "--winds FILE" 0 "$B/vsv-convert" --vertical even -q --time-res 10m --interp advect --winds "$CROP" "$T/a/MMOUT_DOMAIN1_CROP" -o "$T/comp.vsv"
 same "advect with --winds: the same bytes as the model's own winds" "$T/comp.vsv" "$T/adv.vsv"
-expect "--winds of another grid exits 1" 1 "$B/vsv-convert" -q --time-res 10m --interp advect --winds "$(data wrf/wrf_cropped.nc)" "$CROP" -o "$T/x.vsv"
+expect "--winds of another grid exits 1" 1 "$B/vsv-convert" --vertical even -q --time-res 10m --interp advect --winds "$(data wrf/wrf_cropped.nc)" "$CROP" -o "$T/x.vsv"
 has "... saying the grids differ" "$T/err" "is not the grid of"
-expect "--winds without --interp advect exits 2" 2 "$B/vsv-convert" --time-res 10m --winds "$CROP" "$CROP" -o "$T/x.vsv"
+expect "--winds without --interp advect exits 2" 2 "$B/vsv-convert" --vertical even --time-res 10m --winds "$CROP" "$CROP" -o "$T/x.vsv"

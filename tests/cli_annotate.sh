@@ -24,7 +24,7 @@ d = np.abs(a - b).max(axis=2) if a.shape == b.shape else np.full((1, 1), 999)
 print(int(d.max()), int((d > 0).sum()))" "$1" "$2"
 }
 
-"$B/vsv-convert" -q --vars CLW,SNOW,ICE samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
+"$B/vsv-convert" --vertical even -q --vars CLW,SNOW,ICE samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
 R="$B/vsv-render -q $T/s.vsv --size 160x120"
 expect "--no-annotate renders" 0 $R --no-annotate -o "$T/bare.png"
 set -- $(pixdiff "$T/bare.png" tests/golden/bare-160x120.png)
@@ -89,7 +89,7 @@ has "--help names --no-annotate" "$(sh -c "$B/vsv-render --help > $T/help; echo 
 # the GrADS global lat/lon sample: coastlines over the globe
 CTL=$(data grads/model.ctl)
 if [ -f "$CTL" ] && [ -f /usr/share/gmt-gshhg/binned_GSHHS_c.nc ]; then
-    "$B/vsv-convert" -q "$CTL" -o "$T/g.vsv"
+    "$B/vsv-convert" --vertical even -q "$CTL" -o "$T/g.vsv"
     G="$B/vsv-render -q $T/g.vsv --view plan --size 400x300"
     expect "model.ctl renders in plan view" 0 $G --no-annotate -o "$T/g-bare.png"
     expect "... with its outlines" 0 $G --annotate outlines -o "$T/g-coast.png"

@@ -20,7 +20,7 @@ cf() {
     f=$1
     shift
     rm -f "$T/$f.vsv" "$T/$f.nc"
-    expect "$f: converts" 0 "$B/vsv-convert" -q "$@" -o "$T/$f.vsv"
+    expect "$f: converts" 0 "$B/vsv-convert" --vertical even -q "$@" -o "$T/$f.vsv"
     expect "$f: exports" 0 "$B/vsv-export" -q "$T/$f.vsv" --netcdf "$T/$f.nc"
     /usr/bin/python3 tests/cf_check.py "$T/$f.nc" > "$T/check" 2>&1
     n=$(grep -c '^PASS' "$T/check")
@@ -54,7 +54,7 @@ if grep -q 'PM25:standard_name' "$T/cmaq.h"; then fail "PM2.5 in ug m-3 gets no 
 "$B/vsv-info" "$T/cmaq.vsv" > "$T/info"
 has "vsv-info: CMAQ heights count from the ground" "$T/info" "heights count from the ground"
 # the round trip keeps the datum
-expect "the CMAQ export converts back" 0 "$B/vsv-convert" -q "$T/cmaq.nc" -o "$T/back.vsv"
+expect "the CMAQ export converts back" 0 "$B/vsv-convert" --vertical even -q "$T/cmaq.nc" -o "$T/back.vsv"
 "$B/vsv-info" "$T/back.vsv" > "$T/info"
 has "... with its heights above the ground" "$T/info" "heights count from the ground"
 

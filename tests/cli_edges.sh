@@ -22,7 +22,7 @@ if ! absent "MM5 REGRID, BDYOUT and LOWBDY files" mm5/run1/REGRID_DOMAIN1; then
     expect "vsv-extract --list on REGRID" 0 "$B/vsv-extract" --list "$R/REGRID_DOMAIN1"
     has "REGRID T is a default volume on 23 levels" "$T/out" "T          YXP C        23 K                Cross point temperature  [default]"
     has "REGRID 2-D fields say so" "$T/out" "(2-D)"
-    expect "REGRID_DOMAIN1 converts" 0 "$B/vsv-convert" -q "$R/REGRID_DOMAIN1" -o "$T/regrid.vsv"
+    expect "REGRID_DOMAIN1 converts" 0 "$B/vsv-convert" --vertical even -q "$R/REGRID_DOMAIN1" -o "$T/regrid.vsv"
     "$B/vsv-info" --json "$T/regrid.vsv" > "$T/regrid.json"
     if /usr/bin/python3 - "$T/regrid.json" <<'PY'
 import json, sys
@@ -36,29 +36,29 @@ PY
     has "BDYOUT slabs named as not volumes" "$T/out" "UEB        YSB D        15 kPa m/s          U-component of velocity          east boundary  (boundary slab, not a volume)"
     expect "vsv-info on BDYOUT" 0 "$B/vsv-info" "$R/BDYOUT_DOMAIN1"
     has "vsv-info BDYOUT: program and slabs" "$T/out" "48 boundary-slab records (YSB XSB YWB XWB): lateral boundary values, not volumes"
-    expect "BDYOUT does not convert" 1 "$B/vsv-convert" "$R/BDYOUT_DOMAIN1" -o "$T/bdy.vsv"
+    expect "BDYOUT does not convert" 1 "$B/vsv-convert" --vertical even "$R/BDYOUT_DOMAIN1" -o "$T/bdy.vsv"
     has "BDYOUT: why is named" "$T/err" "no field of this MM5 v3 file is a volume on the 3-D grid (boundary slab"
     expect "vsv-info on LOWBDY" 0 "$B/vsv-info" "$R/LOWBDY_DOMAIN1"
     has "vsv-info LOWBDY: its fields" "$T/out" "TSEASFC"
     expect "vsv-extract --list on LOWBDY" 0 "$B/vsv-extract" --list "$R/LOWBDY_DOMAIN1"
     has "LOWBDY 2-D fields say so" "$T/out" "RES TEMP   YX C          0 K                Temperature of the infinite reservoir  (2-D)"
 fi
-expect "wrf_cropped.nc converts by default" 0 "$B/vsv-convert" -q "$D/wrf/wrf_cropped.nc" -o "$T/wrfc.vsv"
+expect "wrf_cropped.nc converts by default" 0 "$B/vsv-convert" --vertical even -q "$D/wrf/wrf_cropped.nc" -o "$T/wrfc.vsv"
 "$B/vsv-info" -f species.0.name "$T/wrfc.vsv" > "$T/out"
 has "wrf_cropped.nc: QVAPOR" "$T/out" "QVAPOR"
 
 # --proj needs its parameters; they need --proj; options for another format
 C="$D/camx/test.uamiv"
-expect "--proj lcc without parameters exits 2" 2 "$B/vsv-convert" --proj lcc "$C" -o "$T/p.vsv"
+expect "--proj lcc without parameters exits 2" 2 "$B/vsv-convert" --vertical even --proj lcc "$C" -o "$T/p.vsv"
 has "--proj names what it needs" "$T/err" "--proj lcc needs --lat0 --lon0 --lat1"
 if [ ! -e "$T/p.vsv" ]; then pass "nothing written after --proj lcc alone"; else fail "nothing written after --proj lcc alone" "exists"; fi
-expect "--lat1 without --proj exits 2" 2 "$B/vsv-extract" --lat1 33 "$C"
-expect "--proj lcc with its parameters converts" 0 "$B/vsv-convert" -q --proj lcc --lat0 40 --lon0 -97 --lat1 33 --lat2 45 "$C" -o "$T/p.vsv"
-expect "--heights on an MM5 file exits 1" 1 "$B/vsv-convert" --heights "$D/camx/test.height_pressure" samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/h.vsv"
+expect "--lat1 without --proj exits 2" 2 "$B/vsv-extract" --vertical even --lat1 33 "$C"
+expect "--proj lcc with its parameters converts" 0 "$B/vsv-convert" --vertical even -q --proj lcc --lat0 40 --lon0 -97 --lat1 33 --lat2 45 "$C" -o "$T/p.vsv"
+expect "--heights on an MM5 file exits 1" 1 "$B/vsv-convert" --vertical even --heights "$D/camx/test.height_pressure" samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/h.vsv"
 has "--heights is named as CAMx-only" "$T/err" "--heights is for CAMx files; this is a MM5 v3 file"
 
 # vsv-render: the image format is the extension's
-"$B/vsv-convert" -q --vars CLW samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
+"$B/vsv-convert" --vertical even -q --vars CLW samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
 expect "vsv-render -o x.jpg exits 2" 2 "$B/vsv-render" "$T/s.vsv" -o "$T/x.jpg" --size 32x24
 has "the extension is named" "$T/err" "the image format comes from the extension: .png or .exr"
 if [ ! -e "$T/x.jpg" ]; then pass "no .jpg of PNG bytes"; else fail "no .jpg of PNG bytes" "exists"; fi
@@ -82,8 +82,8 @@ open(t + "/cal.ctl", "w").write(ctl.replace("OPTIONS little_endian", "OPTIONS by
 open(t + "/unk.ctl", "w").write(ctl.replace("OPTIONS little_endian", "OPTIONS little_endian frobnicate"))
 PY
 then
-    "$B/vsv-extract" --vars T "$G/model.ctl" | "$B/vsv-pack" -q --codec none -o "$T/g1.vsv"
-    "$B/vsv-extract" --vars T "$T/swapped.ctl" | "$B/vsv-pack" -q --codec none -o "$T/g2.vsv"
+    "$B/vsv-extract" --vertical even --vars T "$G/model.ctl" | "$B/vsv-pack" -q --codec none -o "$T/g1.vsv"
+    "$B/vsv-extract" --vertical even --vars T "$T/swapped.ctl" | "$B/vsv-pack" -q --codec none -o "$T/g2.vsv"
     "$B/vsv-info" -f species.0.max "$T/g1.vsv" > "$T/m1"
     "$B/vsv-info" -f species.0.max "$T/g2.vsv" > "$T/m2"
     if cmp -s "$T/m1" "$T/m2" && grep -q '^303' "$T/m1"; then pass "OPTIONS byteswapped: a big-endian copy reads the same T"; else fail "OPTIONS byteswapped: a big-endian copy reads the same T" "$(cat "$T/m1") vs $(cat "$T/m2")"; fi

@@ -55,10 +55,10 @@ if ! command -v xvfb-run > /dev/null || ! command -v xdotool > /dev/null; then
     fail "xvfb-run and xdotool are installed (sh tools/deps.sh --install)" "missing"
     exit 0
 fi
-"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv" || { fail "convert the MM5 sample" "vsv-convert failed"; exit 0; }
+"$B/vsv-convert" --vertical even -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv" || { fail "convert the MM5 sample" "vsv-convert failed"; exit 0; }
 REAL=$(data mm5/run1/MMOUT_DOMAIN1)
 if ! absent "the real MM5 run in the room (time lock and memory)" mm5/run1/MMOUT_DOMAIN1; then
-    "$B/vsv-convert" -q --time-res 10m "$REAL" -o "$T/mm5-10m.vsv" || fail "convert the real MM5 run" "vsv-convert failed"
+    "$B/vsv-convert" --vertical even -q --time-res 10m "$REAL" -o "$T/mm5-10m.vsv" || fail "convert the real MM5 run" "vsv-convert failed"
 fi
 cd "$T/run" || exit 1
 

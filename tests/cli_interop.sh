@@ -5,7 +5,7 @@ B=${B:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-interop.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
-"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
+"$B/vsv-convert" --vertical even -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
 expect "vsv-export --help exits 0" 0 "$B/vsv-export" --help
 has "the help names --vdb" "$T/out" "--vdb OUT"
 expect "vsv-export without --vdb exits 2" 2 "$B/vsv-export" "$T/crop.vsv"
@@ -26,21 +26,21 @@ expect "one step with --time" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/t1.vd
 expect "vsv-extract --list on a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
 has "lists its grids" "$T/out" "CLW"
 has "at its time" "$T/out" "1995-10-24T01:00:00Z"
-timeout 120 "$B/vsv-extract" "$T"/s_*.vdb | timeout 120 "$B/vsv-pack" -q -o "$T/back.vsv"
+timeout 120 "$B/vsv-extract" --vertical even "$T"/s_*.vdb | timeout 120 "$B/vsv-pack" -q -o "$T/back.vsv"
 expect "a .vdb sequence packs back into a .vsv" 0 "$B/vsv-info" "$T/back.vsv"
 has "with the four steps" "$T/out" "4 steps, 1995-10-24T00:00:00Z"
 # files with their own times: --time-step would replace them, so it is refused
-expect "--time-step on .vdb files with times exits 1" 1 "$B/vsv-extract" --time-step 10m --time-start 2020-06-01T12:00:00Z "$T"/s_*.vdb
+expect "--time-step on .vdb files with times exits 1" 1 "$B/vsv-extract" --vertical even --time-step 10m --time-start 2020-06-01T12:00:00Z "$T"/s_*.vdb
 has "--time-step refusal names the file and its time" "$T/err" "s_0000.vdb: has its own time 1995-10-24T00:00:00Z (\"time\" metadata); --time-step would replace it"
-expect "--time-step without --time-start exits 2" 2 "$B/vsv-extract" --time-step 10m "$T"/s_*.vdb
+expect "--time-step without --time-start exits 2" 2 "$B/vsv-extract" --vertical even --time-step 10m "$T"/s_*.vdb
 has "no silent start in 2000" "$T/err" "--time-step needs --time-start"
 head -c 3000 "$T/s_0001.vdb" > "$T/cut.vdb"
-expect "a truncated .vdb exits 1" 1 "$B/vsv-extract" "$T/cut.vdb"
+expect "a truncated .vdb exits 1" 1 "$B/vsv-extract" --vertical even "$T/cut.vdb"
 # (OpenVDB's reading of a cut stream depends on memory it never filled: it
 # throws, or under the sanitizers' allocator may loop until the time limit)
 grep -qE "cut.vdb: (not a readable OpenVDB file|damaged OpenVDB file \(reading it took over)" "$T/err" &&
     pass "with a clear message" || fail "with a clear message" "$(head -c 300 "$T/err")"
-expect "a rotated or foreign file is not taken for OpenVDB" 1 "$B/vsv-extract" "$T/crop.vsv"
+expect "a rotated or foreign file is not taken for OpenVDB" 1 "$B/vsv-extract" --vertical even "$T/crop.vsv"
 expect "vsv-extract --list describes a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
 has "its grids" "$T/out" "CLW"
 has "and its time" "$T/out" "times: 1995-10-24T01:00:00Z"
@@ -57,7 +57,7 @@ while [ $i -le 40 ]; do
     off=$(( (i * 7919 * 31) % size ))
     cp "$T/d.vdb" "$T/x.vdb"
     printf '\377' | dd of="$T/x.vdb" bs=1 seek=$off conv=notrunc 2> /dev/null
-    timeout 120 "$B/vsv-extract" "$T/x.vdb" < /dev/null > /dev/null 2> "$T/xerr"
+    timeout 120 "$B/vsv-extract" --vertical even "$T/x.vdb" < /dev/null > /dev/null 2> "$T/xerr"
     rc=$?
     if [ $rc -gt 1 ] || { [ $rc = 1 ] && ! grep -q "x.vdb" "$T/xerr"; }; then bad=$((bad + 1)); echo "byte $off: exit $rc: $(head -c 200 "$T/xerr")"; fi
     i=$((i + 1))
@@ -65,9 +65,9 @@ done
 [ $bad = 0 ] && pass "40 damaged .vdb files: never a crash, errors name the file" || fail "40 damaged .vdb files: never a crash, errors name the file" "$bad"
 # the reading runs in an exec'd helper (vsv-vdb-reader), never a fork of a
 # process with threads (log4cplus starts four when OpenVDB loads; issue 18)
-execs_only "reading .vdb files: exec'd helpers only, no fork" "$B/vsv-extract" "$T/d.vdb"
+execs_only "reading .vdb files: exec'd helpers only, no fork" "$B/vsv-extract" --vertical even "$T/d.vdb"
 mkdir -p "$T/fakehelper"
 printf '#!/bin/sh\nkill -SEGV $$\n' > "$T/fakehelper/vsv-vdb-reader"
 chmod +x "$T/fakehelper/vsv-vdb-reader"
-expect "a reader that crashes: exit 1" 1 env VSV_HELPER_DIR="$T/fakehelper" "$B/vsv-extract" "$T/d.vdb"
+expect "a reader that crashes: exit 1" 1 env VSV_HELPER_DIR="$T/fakehelper" "$B/vsv-extract" --vertical even "$T/d.vdb"
 has "a crash is a damaged-file error naming it" "$T/err" "d.vdb: damaged OpenVDB file (the OpenVDB library failed reading it, signal 11)"

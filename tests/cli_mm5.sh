@@ -21,8 +21,8 @@ expect "vsv-interp --time-res 10x exits 2" 2 "$B/vsv-interp" --time-res 10x
 expect "vsv-convert --vertical sideways exits 2" 2 "$B/vsv-convert" --vertical sideways -o "$T/x.vsv" "$CROP"
 
 # the pipe and the one process give the same bytes
-"$B/vsv-extract" "$CROP" | "$B/vsv-interp" --time-res 10m | "$B/vsv-pack" -q -o "$T/pipe.vsv"
-expect "vsv-convert --time-res 10m" 0 "$B/vsv-convert" -q --time-res 10m "$CROP" -o "$T/conv.vsv"
+"$B/vsv-extract" --vertical even "$CROP" | "$B/vsv-interp" --time-res 10m | "$B/vsv-pack" -q -o "$T/pipe.vsv"
+expect "vsv-convert --time-res 10m" 0 "$B/vsv-convert" --vertical even -q --time-res 10m "$CROP" -o "$T/conv.vsv"
 same "vsv-convert is byte-identical to extract | interp | pack" "$T/pipe.vsv" "$T/conv.vsv"
 "$B/vsv-extract" --vertical native --vars T,CLW,RNW --times 1:3 "$CROP" | "$B/vsv-pack" -q --bits 8 --scale CLW=log -o "$T/pipe2.vsv"
 "$B/vsv-convert" -q --vertical native --vars T,CLW,RNW --times 1:3 --bits 8 --scale CLW=log "$CROP" -o "$T/conv2.vsv"
@@ -53,28 +53,28 @@ has "MM5 base state" "$T/out" "P00 100000 Pa, TS0 290 K, TLP 50 K"
 if ! absent "the MM5 TERRAIN file" mm5/TERRAIN_DOMAIN1; then
     expect "vsv-info on the TERRAIN file" 0 "$B/vsv-info" "$SHARED/data/mm5/TERRAIN_DOMAIN1"
     has "TERRAIN written by program 1" "$T/out" "written by program 1 (TERRAIN"
-    expect "vsv-extract of a TERRAIN file (no times) exits 1" 1 "$B/vsv-extract" "$SHARED/data/mm5/TERRAIN_DOMAIN1"
+    expect "vsv-extract of a TERRAIN file (no times) exits 1" 1 "$B/vsv-extract" --vertical even "$SHARED/data/mm5/TERRAIN_DOMAIN1"
     has "no output times is named" "$T/err" "no output times"
 fi
 
 # selections and bad input
-expect "a 2-D field is refused, listing the 3-D ones" 1 "$B/vsv-extract" --vars TERRAIN "$CROP"
+expect "a 2-D field is refused, listing the 3-D ones" 1 "$B/vsv-extract" --vertical even --vars TERRAIN "$CROP"
 has "2-D refusal lists 3-D variables" "$T/err" "not a 3-D variable 'TERRAIN'; available: U V T Q CLW RNW ICE SNOW W"
-expect "an unknown variable is refused" 1 "$B/vsv-extract" --vars NOPE "$CROP"
+expect "an unknown variable is refused" 1 "$B/vsv-extract" --vertical even --vars NOPE "$CROP"
 head -c 200000 "$CROP" > "$T/MMOUT_CUT"
-expect "a cut file exits 1" 1 "$B/vsv-convert" "$T/MMOUT_CUT" -o "$T/cut.vsv"
+expect "a cut file exits 1" 1 "$B/vsv-convert" --vertical even "$T/MMOUT_CUT" -o "$T/cut.vsv"
 has "cut file: record and byte offset" "$T/err" "vsv-convert: $T/MMOUT_CUT: record 5 at byte offset 117792: file ends inside the record"
 if [ ! -e "$T/cut.vsv" ]; then pass "no output after a failed conversion"; else fail "no output after a failed conversion" "exists"; fi
 printf 'not a model file at all, just text\n' > "$T/notes.txt"
-expect "a text file exits 1" 1 "$B/vsv-extract" "$T/notes.txt"
+expect "a text file exits 1" 1 "$B/vsv-extract" --vertical even "$T/notes.txt"
 has "text file: not an MM5 v3 file" "$T/err" "not an MM5 v3 file"
-expect "the same file twice overlaps" 1 "$B/vsv-convert" "$CROP" "$CROP" -o "$T/twice.vsv"
+expect "the same file twice overlaps" 1 "$B/vsv-convert" --vertical even "$CROP" "$CROP" -o "$T/twice.vsv"
 has "overlap names both files" "$T/err" "overlap in time"
 
 # the real MMOUT through vsv-convert with both byte orders of threads
 if ! absent "the real MMOUT" mm5/run1/MMOUT_DOMAIN1; then
-    expect "real MMOUT converts" 0 "$B/vsv-convert" -q --threads 2 "$MMOUT" -o "$T/mm5-2.vsv"
-    expect "real MMOUT converts with one thread" 0 "$B/vsv-convert" -q --threads 1 "$MMOUT" -o "$T/mm5-1.vsv"
+    expect "real MMOUT converts" 0 "$B/vsv-convert" --vertical even -q --threads 2 "$MMOUT" -o "$T/mm5-2.vsv"
+    expect "real MMOUT converts with one thread" 0 "$B/vsv-convert" --vertical even -q --threads 1 "$MMOUT" -o "$T/mm5-1.vsv"
     same "thread count does not change the file" "$T/mm5-1.vsv" "$T/mm5-2.vsv"
     expect "real MMOUT .vsv checks" 0 "$B/vsv-info" --check "$T/mm5-2.vsv"
 fi

@@ -7,7 +7,7 @@ B=${B:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-netcdf.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
-"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
+"$B/vsv-convert" --vertical even -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
 expect "vsv-export --help names --netcdf" 0 "$B/vsv-export" --help
 has "--netcdf OUT.nc" "$T/out" "--netcdf OUT.nc"
 expect "--vdb and --netcdf together exit 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/a%d.vdb" --netcdf "$T/a.nc"
@@ -49,7 +49,7 @@ expect "vsv-info describes it" 0 "$B/vsv-info" "$T/crop.nc"
 has "as CF netCDF, projection restored" "$T/out" "projection  lcc, lat0 38, lon0 -97, lat1 50, lat2 33"
 expect "vsv-extract --list reads it" 0 "$B/vsv-extract" --list "$T/crop.nc"
 has "its variables" "$T/out" "SNOW       CF           40 kg/kg"
-timeout 120 "$B/vsv-extract" "$T/crop.nc" | timeout 120 "$B/vsv-pack" -q -o "$T/back.vsv"
+timeout 120 "$B/vsv-extract" --vertical even "$T/crop.nc" | timeout 120 "$B/vsv-pack" -q -o "$T/back.vsv"
 expect "packs back into a .vsv" 0 "$B/vsv-info" "$T/back.vsv"
 has "same grid" "$T/out" "grid        39 x 39 x 40 cells"
 has "same projection" "$T/out" "projection  lcc (lat0 38, lon0 -97, true lat 50/33, R 6370000 m)"

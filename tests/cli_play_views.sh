@@ -13,7 +13,7 @@ if [ "${VIEWER:-1}" != 1 ]; then
     echo "(vsv-play not built: viewer tests skipped)"
     exit 0
 fi
-"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv" --vars Q,CLW,SNOW
+"$B/vsv-convert" --vertical even -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv" --vars Q,CLW,SNOW
 P="$B/vsv-play $T/s.vsv --size 480x320 --species CLW,SNOW --slice z=2000 --slice-species Q --no-annotate"
 expect "vsv-play --view sideways exits 2" 2 $P --view sideways
 expect "vsv-play --light=0,95 exits 2" 2 $P --light=0,95

@@ -8,7 +8,7 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-query.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
 Q="$B/vsv-query"
-"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
+"$B/vsv-convert" --vertical even -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
 expect "vsv-query --help exits 0" 0 "$Q" --help
 has "the help names --profile" "$T/out" "--profile LAT,LON"
 expect "no point exits 2" 2 "$Q" "$T/crop.vsv"
@@ -63,7 +63,7 @@ has "level 8 the series' value" "$T/out" ",30,3,8,46.005392,-115.952608,3017.5,$
 
 # the issue's example on the full run: Chicago, one row per step
 if ! absent "Chicago on the full MM5 run" mm5/run1/MMOUT_DOMAIN1; then
-    "$B/vsv-convert" -q "$(data mm5/run1/MMOUT_DOMAIN1)" -o "$T/run.vsv"
+    "$B/vsv-convert" --vertical even -q "$(data mm5/run1/MMOUT_DOMAIN1)" -o "$T/run.vsv"
     expect "Chicago on the full MM5 run" 0 "$Q" --at 41.88,-87.63 --species CLW,SNOW --csv "$T/run.vsv"
     [ "$(wc -l < "$T/out")" = 5 ] && pass "one row per step" || fail "one row per step" "$(cat "$T/out")"
     has "Chicago is cell 127,85 (41.8363N 87.6066W)" "$T/out" "1995-10-24T03:00:00Z,127,85,"

@@ -132,6 +132,7 @@ static void test_met_dir(void)
     /* the same through a run, on even heights: U and V by name */
     vsv_source_opts_init(&o);
     o.met = vsv_test_shared("camx");
+    o.vertical = VSV_VERT_EVEN;
     vsv_run *r = NULL;
     const char *paths[] = {avrg};
     rc = vsv_run_open(paths, 1, &o, "O3,U,V", NULL, &r);

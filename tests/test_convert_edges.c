@@ -102,7 +102,10 @@ static void test_native_heights(void)
     free(z0);
     free(z3);
     /* even grids have no native heights to give */
-    rc = vsv_source_open(path, NULL, &s);
+    vsv_source_opts even;
+    vsv_source_opts_init(&even);
+    even.vertical = VSV_VERT_EVEN;
+    rc = vsv_source_open(path, &even, &s);
     float one[1];
     CHECK(!rc && vsv_source_heights(s, 0, one) == VSV_EUNSUPPORTED, "even grid: vsv_source_heights is unsupported");
     vsv_source_free(s);

@@ -41,7 +41,7 @@ def tool(*args):
 def convert(src, out):
     path = os.path.join(TMP, out)
     if not os.path.exists(path):
-        tool("vsv-convert", "-q", src, "-o", path)
+        tool("vsv-convert", "-q", "--vertical", "even", src, "-o", path)
     return path
 
 

@@ -490,7 +490,11 @@ static void test_sw_playing(const char *label, world *w, int nsteps, int first, 
     vsv_renderer *r = NULL;
     float *a = malloc(sizeof(float) * 4 * W * H), *b = malloc(sizeof(float) * 4 * W * H);
     int ok = !vsv_renderer_create(&o, &r) && a && b, same = 1, fewest = INT32_MAX, most = 0, frames = 0;
-    const int order[] = {1, 2, 3, 0, 1, 3, 2}, nb = w->vol[0]->nbricks;
+    const int order[] = {1, 2, 3, 0, 1, 3, 2};
+    int nb = w->vol[0]->nbricks, enz; /* bricks of the grid drawn: native levels on their even axis */
+    double ez0, edz;
+    if (!vsv_heights_axis(m, &enz, &ez0, &edz))
+        nb = w->vol[0]->bdim[0] * w->vol[0]->bdim[1] * ((enz + w->vol[0]->brick - 1) / w->vol[0]->brick);
     double diff = 0;
     for (size_t i = 0; ok && i < sizeof order / sizeof order[0]; i++) {
         const int t = order[i] % nsteps;
@@ -530,7 +534,7 @@ static void test_mmout_playing(void)
     char cmd[2048];
     if (vsv_test_absent(vsv_test_shared("mm5/run1/MMOUT_DOMAIN1"), "playing the real MMOUT"))
         return;
-    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q %s -o %s", getenv("B") ? getenv("B") : "build",
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --vertical even %s -o %s", getenv("B") ? getenv("B") : "build",
              vsv_test_shared("mm5/run1/MMOUT_DOMAIN1"), path);
     if (!CHECK(system(cmd) == 0, "the real MMOUT converts, four periods"))
         return;
@@ -575,7 +579,7 @@ static void test_mm5(void)
     const char *path = vsv_test_tmp("render-mm5.vsv");
     /* convert the bundled sample with the library, as vsv-convert does */
     char cmd[2048];
-    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
              getenv("B") ? getenv("B") : "build", path);
     if (!CHECK(system(cmd) == 0, "the MM5 sample converts for rendering"))
         return;
@@ -615,6 +619,15 @@ static void test_mm5(void)
     pw->tf[2] = t2;
     test_sw_playing("MM5 sample, all species", pw, 4, 0, 0);
     test_sw_playing("MM5 sample, hydrometeors", pw, 4, 1, 0);
+    unload(&w);
+    unlink(path);
+    /* the model's own levels (the default), resampled as they are drawn:
+       only the bricks over a changed column of native bricks again */
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
+             getenv("B") ? getenv("B") : "build", path);
+    if (!CHECK(system(cmd) == 0 && load(&w, path, 3) == 0, "the MM5 sample on its own levels loads"))
+        return;
+    test_sw_playing("MM5 sample, native levels, hydrometeors", &w, 4, 1, 0);
     unload(&w);
     unlink(path);
 }

@@ -226,7 +226,7 @@ int main(void)
     const char *b = getenv("B") ? getenv("B") : "build";
     const char *src = vsv_test_tmp("vdb-crop.vsv"), *rt = vsv_test_tmp("vdb-rt.vsv");
     char cmd[4096];
-    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q samples/mm5/MMOUT_DOMAIN1_CROP -o %s", b, src);
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o %s", b, src);
     if (!CHECK(system(cmd) == 0, "convert the bundled MM5 sample", " "))
         return vsv_test_done();
     vdb_case c = {0};
