@@ -7,7 +7,7 @@
 #   make mutate     the mutation harness: tests/mutants/*.patch, score and survivors
 #   make demo       install what is missing, build, run the main job on samples/
 #   make bench      run the benchmarks in bench/ (results: bench/RESULTS.md)
-#   make install    PREFIX=/usr/local DESTDIR=
+#   make install    PREFIX=/usr/local DESTDIR= (LIBDIR=PREFIX/lib); make uninstall the same
 #   make fuzz       build the libFuzzer targets with clang (build-fuzz/), run each FUZZ_SECONDS
 #   MPI=1 / MPI=0 builds vsv-convert-mpi or not (default: when mpicc is found).
 #   V=1 for verbose commands, WERROR=1 (default under CI) for -Werror.
@@ -76,8 +76,8 @@ WARN = -Wall -Wextra -Wshadow -Wno-format-truncation $(WFLAGS_ERR)
 # and those of the layers under it (DESIGN.md §1), so an include against the
 # arrows does not compile; XINC adds cli/ for the programs.
 CFLAGS_ALL = -std=c11 -D_GNU_SOURCE -fPIC $(OPT) $(WARN) -Wstrict-prototypes $(SANFLAGS) -pthread -MMD -MP \
-             $(INC) $(XINC) $(PKG_CFLAGS) $(CFLAGS)
-CXXFLAGS_ALL = -std=c++17 -fPIC $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP $(INC) $(PKG_CFLAGS) $(CXXFLAGS)
+             $(INC) $(XINC) $(PKG_CFLAGS) $(CPPFLAGS) $(CFLAGS)
+CXXFLAGS_ALL = -std=c++17 -fPIC $(OPT) $(WARN) $(SANFLAGS) -pthread -MMD -MP $(INC) $(PKG_CFLAGS) $(CPPFLAGS) $(CXXFLAGS)
 
 ifeq ($(V),1)
   Q =
@@ -206,10 +206,6 @@ PY_NUMPY_INC := $(shell $(PYTHON) -c "import numpy; print(numpy.get_include())" 
 PY_EXT := $(shell $(PYTHON) -c "import sysconfig; print(sysconfig.get_config_var('EXT_SUFFIX'))" 2>/dev/null)
 PY_MISSING := $(if $(wildcard $(PY_INC)/Python.h),,python3-dev )$(if $(PY_NUMPY_INC),,python3-numpy)
 PY_MISSING := $(if $(strip $(PY_MISSING)),apt-get install $(PY_MISSING))
-# where Debian's python3 looks (/usr/local/lib/python3.11/dist-packages for
-# /usr/local; other prefixes need PYTHONPATH)
-PY_VER := $(shell $(PYTHON) -c "import sys; print('%d.%d' % sys.version_info[:2])" 2>/dev/null)
-PYDIR = $(PREFIX)/lib/python$(PY_VER)/dist-packages
 ifeq ($(SAN),1)
   PY_MISSING := not under SAN=1
 endif
@@ -219,6 +215,11 @@ endif
 ifeq ($(strip $(PY_MISSING)),)
   PYMOD = $(B)/python/vesuvius/_vesuvius$(PY_EXT) $(B)/python/vesuvius/__init__.py
 endif
+# where that interpreter looks for modules installed under PREFIX, asked of
+# it (tools/pydir.py): on Debian /usr/lib/python3/dist-packages for /usr and
+# /usr/local/lib/python3.X/dist-packages for /usr/local, both on its path;
+# PREFIX/lib/python3.X/site-packages elsewhere (with PYTHONPATH)
+PYDIR := $(if $(PYMOD),$(shell $(PYTHON) tools/pydir.py $(PREFIX) 2>/dev/null))
 
 .PHONY: fuzz-bin demo-bin all test test-run mutate demo bench install uninstall clean fuzz help deps freevr freevr-syntax
 .SECONDARY:
@@ -236,7 +237,7 @@ $(B)/python/vsv_python.o: INC = -Iformat -Icommon
 $(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(HTTP_A) $(CORE_A)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
-	$(Q)$(CC) -shared -o $@ $^ -Wl,--as-needed $(HTTP_EXT) $(CORE_EXT)
+	$(Q)$(CC) $(LDFLAGS) -shared -o $@ $^ -Wl,--as-needed $(HTTP_EXT) $(CORE_EXT)
 
 $(B)/python/vesuvius/%.py: python/vesuvius/%.py
 	@mkdir -p $(dir $@)
@@ -293,7 +294,7 @@ $(foreach l,vesuvius vesuvius-convert vesuvius-render vesuvius-gl vesuvius-inter
 $(B)/%.map:
 	@mkdir -p $(dir $@)
 	$(Q){ echo '{ global:'; grep -ho 'vsv_[A-Za-z0-9_]*' $^ | sort -u | sed 's/$$/;/'; echo 'local: *; };'; } > $@
-shlib = $(Q)$(CC) -shared -Wl,-soname,$(patsubst %.$(VERSION),%,$(notdir $@)).$(SOVERSION) \
+shlib = $(Q)$(CC) $(LDFLAGS) -shared -Wl,-soname,$(patsubst %.$(VERSION),%,$(notdir $@)).$(SOVERSION) \
         -Wl,--version-script=$(patsubst %.so.$(VERSION),%.map,$@) -o $@ $(1)
 $(call so,vesuvius): $(B)/libvesuvius.map $(CORE_OBJ)
 	@$(if $(Q),echo "  LD      $@")
@@ -320,47 +321,47 @@ link = @$(if $(Q),echo "  LD      $@")
 # the programs that read a .vsv read URLs too (format/http/, libcurl)
 $(B)/vsv-pack: $(B)/format/vsv-pack.o $(CLI_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(CORE_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CORE_EXT)
 $(B)/vsv-query: $(B)/format/vsv-query.o $(CLI_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(CORE_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(CORE_EXT)
 $(B)/vsv-interp: $(B)/convert/vsv-interp.o $(CLI_A) $(CONVERT_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(CONVERT_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CONVERT_EXT)
 $(B)/vsv-info: $(B)/convert/vsv-info.o $(CLI_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(CONVERT_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(CONVERT_EXT)
 $(B)/vsv-extract: $(B)/convert/vsv-extract.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT)
 $(B)/vsv-convert: $(B)/convert/vsv-convert.o $(B)/convert/vsv_convert_cli.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT)
 $(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o $(B)/convert/vsv_convert_cli.o $(CLI_A) \
                      $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT) $(MPI_LIBS)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT) $(MPI_LIBS)
 $(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
 $(B)/vsv-render: $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(GL_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(GL_EXT)
 
 $(B)/vsv-nc-check: $(B)/convert/vsv-nc-check.o
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(CONVERT_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CONVERT_EXT)
 $(B)/vsv-vdb-reader: $(B)/interop/vsv-vdb-reader.o $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT)
 $(B)/vsv-nc-writer: $(B)/interop/vsv-nc-writer.o $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(INTEROP_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT)
 
 $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o: CFLAGS_ALL += $(VIEWER_CFLAGS)
 $(B)/vsv-play: $(B)/viewer/vsv-play.o $(B)/viewer/vsv_overlay.o $(PLAYER_A) $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(HTTP_EXT) $(GL_EXT) $(VIEWER_LIBS)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(GL_EXT) $(VIEWER_LIBS)
 
 # The FreeVR back end: `make FREEVR_DIR=DIR freevr` builds it against a
 # FreeVR install (DIR/include/freevr.h, DIR/lib/libfreevr.a; its headers as
@@ -376,7 +377,7 @@ VIEWER_INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icommon -Icli
 define freevr_link
 	@mkdir -p $(dir $(1))
 	@$(if $(Q),echo "  CC/LD   $(1)")
-	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include -o $(1) $(FREEVR_SRC) \
+	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include $(LDFLAGS) -o $(1) $(FREEVR_SRC) \
 	  $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(GL_EXT) \
 	  $(VIEWER_LIBS) $(FREEVR_LIBS)
 endef
@@ -422,10 +423,10 @@ freevr-syntax:
 # ----------------------------------------------------------------- tests
 $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIBS)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
 $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(TEST_LIBS)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
 # the test shim that truncates a file right after a tool maps it (no
 # sanitizer: it is preloaded into sanitized programs)
@@ -435,11 +436,11 @@ $(B)/tests/libcutmap.so: tests/cut_preload.c
 
 # cuts a netCDF file by time (the multi-file WRF run of tests/cli_mpi.sh)
 $(B)/tests/ncsplit: $(B)/tests/nc_split.o
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
 $(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(B)/tests/fuzz_source.o $(TEST_HELPERS) $(TEST_LIBS)
 	$(link)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
 # the mutation harness: each patch of tests/mutants/ applied alone to a
 # scratch copy, rebuilt, and the tests it names run (tests/mutate.sh)
@@ -482,15 +483,15 @@ demo-bin: $(FREEVR_TEST)
 BENCH_BIN = $(B)/bench/bench_rc_peer $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
             $(B)/bench/bench_play $(B)/bench/bench_advect $(B)/bench/bench_native $(B)/bench/bench_gl
 $(B)/bench/%: $(B)/bench/%.o $(TEST_LIBS)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
 # VolPack and the shear-warp set up alike (bench/vp_match.h)
 $(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(B)/bench/vp_match.o $(B)/bench/bench_stats.o $(TEST_LIBS)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lvolpack
 $(B)/bench/bench_classify: $(B)/bench/bench_classify.o $(B)/bench/vp_match.o $(B)/bench/bench_stats.o $(TEST_LIBS)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lvolpack
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lvolpack
 $(B)/bench/bench_codec: $(B)/bench/bench_codec.o $(TEST_LIBS)
-	$(Q)$(CC) -o $@ $^ $(ALL_EXT) -lzfp
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lzfp
 
 bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_format.sh
@@ -533,7 +534,7 @@ fuzz-bin: $(patsubst %,$(B)/fuzz/fuzz_%,$(FUZZ))
 $(B)/fuzz/fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_source.o $(FUZZ_LIBS)
 	@mkdir -p $(dir $@)
 	$(link)
-	$(Q)$(CC) -fsanitize=fuzzer -o $@ $^ $(HTTP_EXT) $(RENDER_EXT) $(CONVERT_EXT)
+	$(Q)$(CC) $(LDFLAGS) -fsanitize=fuzzer -o $@ $^ $(HTTP_EXT) $(RENDER_EXT) $(CONVERT_EXT)
 
 # Installed: each library (static, shared with its soname, a pkg-config file)
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
@@ -566,7 +567,13 @@ pc_req_vesuvius-http = vesuvius
 pc_reqp_vesuvius-http = libcurl
 pc_libsp_vesuvius-http =
 
+# the .pc files' libdir, relative to ${exec_prefix} when under PREFIX (a
+# Debian build sets LIBDIR=/usr/lib/<multiarch triplet>)
+PC_LIBDIR = $(patsubst $(PREFIX)/%,$${exec_prefix}/%,$(LIBDIR))
+
 install: all
+	@test -z "$(PYMOD)" -o -n "$(PYDIR)" || { echo "no Python module folder for PREFIX=$(PREFIX)" \
+	  "($(PYTHON) tools/pydir.py $(PREFIX) failed)" >&2; exit 2; }
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR)/pkgconfig $(DESTDIR)$(INCDIR) $(DESTDIR)$(MANDIR)/man1 \
 	  $(DESTDIR)$(MANDIR)/man5 $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(DATADIR)/bash-completion/completions
 	install -m 755 $(TOOL_BIN) $(DESTDIR)$(BINDIR)/
@@ -576,7 +583,7 @@ install: all
 	install -m 755 $(SHLIBS) $(DESTDIR)$(LIBDIR)/
 	$(foreach l,$(PC_LIBS),ln -sf lib$(l).so.$(VERSION) $(DESTDIR)$(LIBDIR)/lib$(l).so.$(SOVERSION) && \
 	  ln -sf lib$(l).so.$(SOVERSION) $(DESTDIR)$(LIBDIR)/lib$(l).so && \
-	  sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' -e 's|@NAME@|$(l)|' -e 's|@DESC@|$(pc_desc_$(l))|' \
+	  sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@LIBDIR@|$(PC_LIBDIR)|' -e 's|@VERSION@|$(VERSION)|' -e 's|@NAME@|$(l)|' -e 's|@DESC@|$(pc_desc_$(l))|' \
 	    -e 's|@REQUIRES@|$(pc_req_$(l))|' -e 's|@REQUIRES_PRIVATE@|$(pc_reqp_$(l))|' -e 's|@LIBS_PRIVATE@|$(pc_libsp_$(l))|' \
 	    tools/vesuvius.pc.in > $(DESTDIR)$(LIBDIR)/pkgconfig/$(l).pc;)
 	install -m 644 $(PUBLIC_H) $(DESTDIR)$(INCDIR)/
@@ -592,7 +599,8 @@ uninstall:
 	rm -f $(foreach l,$(PC_LIBS),$(DESTDIR)$(LIBDIR)/lib$(l).a $(DESTDIR)$(LIBDIR)/lib$(l).so* $(DESTDIR)$(LIBDIR)/pkgconfig/$(l).pc)
 	rm -f $(addprefix $(DESTDIR)$(DATADIR)/bash-completion/completions/,$(TOOLS))
 	rm -f $(addprefix $(DESTDIR)$(MANDIR)/man1/,$(addsuffix .1,$(TOOLS))) $(DESTDIR)$(MANDIR)/man5/vsv.5
-	rm -rf $(DESTDIR)$(INCDIR) $(DESTDIR)$(DATADIR)/vesuvius $(DESTDIR)$(PYDIR)/vesuvius
+	rm -rf $(DESTDIR)$(INCDIR) $(DESTDIR)$(DATADIR)/vesuvius
+	$(if $(PYDIR),rm -rf $(DESTDIR)$(PYDIR)/vesuvius)
 
 clean:
 	rm -rf build build-san build-tsan build-fuzz

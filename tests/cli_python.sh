@@ -26,8 +26,12 @@ else
     exit 0
 fi
 V=$("$PYTHON" -c "import sys; print('%d.%d' % sys.version_info[:2])")
-D="$P/lib/python$V/dist-packages"
-expect "python3 imports the installed module with only PYTHONPATH=\$PREFIX/lib/python$V/dist-packages" 0 \
+# where the interpreter looks for PREFIX (tools/pydir.py asks it): for a
+# prefix of no scheme of its own, upstream's PREFIX/lib/python3.X/site-packages
+D=$("$PYTHON" tools/pydir.py "$P")
+[ "$D" = "$P/lib/python$V/site-packages" ] && pass "PREFIX=$P: the module goes to \$PREFIX/lib/python$V/site-packages" ||
+    fail "PREFIX=$P: the module goes to \$PREFIX/lib/python$V/site-packages" "'$D'"
+expect "python3 imports the installed module with only PYTHONPATH=$D" 0 \
     env -i PATH=/usr/bin:/bin PYTHONPATH="$D" "$PYTHON" -c \
     'import vesuvius, sys; f = vesuvius.open(sys.argv[1]); print(vesuvius.__file__, f.read(0, 3).shape)' \
     "$(pwd)/tests/golden/small.vsv"
@@ -39,6 +43,16 @@ if [ -f "$T/root/usr/local/lib/python$V/dist-packages/vesuvius/__init__.py" ] &&
     pass "make install puts the module in /usr/local/lib/python$V/dist-packages, on python3's path"
 else
     fail "make install puts the module on python3's path" "$(find "$T/root" -name __init__.py)"
+fi
+# PREFIX=/usr (a Debian package's): Debian's own folder for every python3,
+# /usr/lib/python3/dist-packages, also on the path
+make -s --no-print-directory B="$B" install PREFIX=/usr DESTDIR="$T/usr-root" > "$T/log" 2>&1
+D=$("$PYTHON" tools/pydir.py /usr)
+if [ -f "$T/usr-root$D/vesuvius/__init__.py" ] &&
+    (cd / && "$PYTHON" -c "import sys; sys.exit('$D' not in sys.path)"); then
+    pass "make install PREFIX=/usr puts the module in $D, on python3's path"
+else
+    fail "make install PREFIX=/usr puts the module on python3's path" "$D; $(find "$T/usr-root" -name __init__.py)"
 fi
 # a folder named vesuvius in the working directory (the checkout, from its
 # parent) is not taken for the module: the installed one is imported
