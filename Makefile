@@ -8,6 +8,8 @@
 #   make demo       install what is missing, build, run the main job on samples/
 #   make bench      run the benchmarks in bench/ (results: bench/RESULTS.md)
 #   make install    PREFIX=/usr/local DESTDIR= (LIBDIR=PREFIX/lib); make uninstall the same
+#   make deb        the Debian packages (debian/) in build/deb/, lintian-checked
+#   make test-deb   build them from a clone, install, use and purge them (root)
 #   make fuzz       build the libFuzzer targets with clang (build-fuzz/), run each FUZZ_SECONDS
 #   MPI=1 / MPI=0 builds vsv-convert-mpi or not (default: when mpicc is found).
 #   V=1 for verbose commands, WERROR=1 (default under CI) for -Werror.
@@ -53,7 +55,7 @@ endif
 # tools/deps.sh --install (as root it installs what is missing, otherwise it
 # prints the one apt-get line and stops) before anything asks pkg-config.
 # Other build goals stop here with that line when a library is missing.
-NODEP_GOALS = demo test deps help clean fuzz
+NODEP_GOALS = demo test deps help clean fuzz deb test-deb
 ifneq ($(filter-out $(NODEP_GOALS),$(or $(MAKECMDGOALS),all)),)
   MISSING := $(foreach p,$(PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) 2>/dev/null && echo y),,$(p)))
   ifneq ($(strip $(MISSING)),)
@@ -221,7 +223,8 @@ endif
 # PREFIX/lib/python3.X/site-packages elsewhere (with PYTHONPATH)
 PYDIR := $(if $(PYMOD),$(shell $(PYTHON) tools/pydir.py $(PREFIX) 2>/dev/null))
 
-.PHONY: fuzz-bin demo-bin all test test-run mutate demo bench install uninstall clean fuzz help deps freevr freevr-syntax
+.PHONY: fuzz-bin demo-bin all test test-run mutate demo bench install uninstall clean fuzz help deps freevr freevr-syntax \
+  deb test-deb
 .SECONDARY:
 all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(HELPER_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
@@ -514,6 +517,17 @@ bench: all $(BENCH_BIN)
 
 deps:
 	$(Q)sh tools/deps.sh --install
+
+# `make deb`: the Debian packages of debian/, built by dpkg-buildpackage
+# from a copy of this tree and written to build/deb/, then lintian
+# (tools/deb.sh; it installs what it needs first, as root). `make
+# test-deb`: on a fresh clone, make deb, install the packages with apt-get,
+# use them from /, purge them; and make install PREFIX=/usr/local for
+# python3 (tests/cli_deb.sh; root, changes the system, run by CI)
+deb:
+	$(Q)B=$(B) sh tools/deb.sh
+test-deb:
+	$(Q)B=$(B) SHARED=$(SHARED) sh tests/cli_deb.sh
 
 # `make fuzz`: every target built with clang's libFuzzer, ASan and UBSan
 # (build-fuzz/), then run FUZZ_SECONDS each from its seed corpus

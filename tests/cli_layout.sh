@@ -3,8 +3,9 @@
 # not keep: every #include follows the arrows (a folder sees its own headers
 # and the public headers of the layers under it; libraries never see the
 # programs' cli/; each layer includes only its own dependencies' headers), no
-# source file is over 700 lines, and no build output is committed. A copy of
-# the tree with bad includes planted in it must fail the same check.
+# source file is over 700 lines, no build output is committed, and the code,
+# debian/changelog and NEWS hold one version. A copy of the tree with bad
+# includes planted in it must fail the same check.
 B=${B:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-layout.XXXXXX")
 trap 'rm -rf "$T"' EXIT
@@ -229,3 +230,16 @@ for spec in "vesuvius format/vsv_format.h format/vsv_time.h stream/vsv_pager.h s
     [ -z "$extra" ] && pass "lib$name.so exports only its public API ($n names)" ||
         fail "lib$name.so exports only its public API" "also: $extra"
 done
+
+# one version (NEWS): VSV_VERSION_STRING, debian/changelog's first entry and
+# NEWS's first heading agree; the library package is named after the soname
+v=$(sed -n 's/^#define VSV_VERSION_STRING "\(.*\)"$/\1/p' format/vsv_format.h)
+c=$(sed -n '1s/^vesuvius (\([^)]*\)).*/\1/p' debian/changelog 2> /dev/null)
+n=$(sed -n 's/^## \([0-9][0-9.]*\)\( .*\)\{0,1\}$/\1/p' NEWS 2> /dev/null | head -n 1)
+[ -n "$v" ] && [ "$c" = "$v" ] && [ "$n" = "$v" ] &&
+    pass "one version: vsv_format.h, debian/changelog and NEWS say $v" ||
+    fail "one version: vsv_format.h, debian/changelog and NEWS agree" "'$v', '$c', '$n'"
+so=$(sed -n 's/^SOVERSION = //p' Makefile)
+grep -q "^Package: libvesuvius$so\$" debian/control 2> /dev/null && [ -f "debian/libvesuvius$so.install" ] &&
+    pass "the shared libraries' package is libvesuvius$so (SOVERSION $so)" ||
+    fail "the shared libraries' package is named after SOVERSION" "no libvesuvius$so in debian/"
