@@ -224,7 +224,7 @@ endif
 PYDIR := $(if $(PYMOD),$(shell $(PYTHON) tools/pydir.py $(PREFIX) 2>/dev/null))
 
 .PHONY: fuzz-bin demo-bin all test test-run mutate demo bench install uninstall clean fuzz help deps freevr freevr-syntax \
-  deb test-deb
+  deb test-deb install-freevr
 .SECONDARY:
 all: $(LIBS_A) $(SHLIBS) $(TOOL_BIN) $(HELPER_BIN) $(PYMOD)
 ifneq ($(strip $(PY_MISSING)),)
@@ -376,24 +376,42 @@ ifneq ($(FREEVR_DIR),)
 TOOLS += vsv-play-freevr
 endif
 VIEWER_INC = -Iviewer -Irender/gl -Irender -Istream -Iformat -Icommon -Icli
+# The libraries it links: this tree's archives, or with VSV_LIBDIR=DIR those
+# of an installed libvesuvius-dev of the same version (DIR: `pkg-config
+# --variable=libdir vesuvius`; the Debian package's). The player core and
+# cli/ are the programs' own, never installed: compiled here either way.
+ifneq ($(VSV_LIBDIR),)
+  FREEVR_VSV_A = $(addprefix $(VSV_LIBDIR)/,libvesuvius-gl.a libvesuvius-render.a libvesuvius-http.a libvesuvius.a)
+else
+  FREEVR_VSV_A = $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+endif
 # $(call freevr_link,OUTPUT,FREEVR-DIR)
 define freevr_link
 	@mkdir -p $(dir $(1))
 	@$(if $(Q),echo "  CC/LD   $(1)")
 	$(Q)$(CC) $(CFLAGS_ALL) $(VIEWER_INC) $(VIEWER_CFLAGS) -isystem $(2)/include $(LDFLAGS) -o $(1) $(FREEVR_SRC) \
-	  $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(GL_EXT) \
+	  $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(FREEVR_VSV_A) $(2)/lib/libfreevr.a $(HTTP_EXT) $(GL_EXT) \
 	  $(VIEWER_LIBS) $(FREEVR_LIBS)
 endef
 # the back end's two halves: the main process and the render processes
 FREEVR_SRC = viewer/vsv-play-freevr.c viewer/vsv_freevr_draw.c
-FREEVR_DEPS = $(FREEVR_SRC) viewer/vsv_freevr_app.h $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+FREEVR_DEPS = $(FREEVR_SRC) viewer/vsv_freevr_app.h $(B)/viewer/vsv_overlay.o $(B)/viewer/vsv_panel.o $(PLAYER_A) $(CLI_A) $(FREEVR_VSV_A)
 freevr: $(B)/vsv-play-freevr
 $(B)/vsv-play-freevr: $(FREEVR_DEPS)
 	@test -n "$(FREEVR_DIR)" || { echo "vsv-play-freevr needs FreeVR: make FREEVR_DIR=DIR freevr" \
 	  "(DIR/include/freevr.h, DIR/lib/libfreevr.a)" >&2; exit 2; }
 	@test -f "$(FREEVR_DIR)/include/freevr.h" -a -f "$(FREEVR_DIR)/lib/libfreevr.a" || { echo "FREEVR_DIR=$(FREEVR_DIR):" \
 	  "no include/freevr.h or lib/libfreevr.a there" >&2; exit 2; }
+	@test -z "$(VSV_LIBDIR)" || { v=$$(sed -n 's/^Version: //p' "$(VSV_LIBDIR)/pkgconfig/vesuvius.pc" 2>/dev/null); \
+	  test "$$v" = "$(VERSION)" || { echo "VSV_LIBDIR=$(VSV_LIBDIR) holds Vesuvius '$$v', this tree is $(VERSION):" \
+	  "build the back end from the source of the installed version" >&2; exit 2; }; }
 	$(call freevr_link,$@,$(FREEVR_DIR))
+# the back end alone into PREFIX (beside a packaged Vesuvius: /usr/local)
+install-freevr: $(B)/vsv-play-freevr
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(MANDIR)/man1 $(DESTDIR)$(DATADIR)/bash-completion/completions
+	install -m 755 $(B)/vsv-play-freevr $(DESTDIR)$(BINDIR)/
+	install -m 644 man/vsv-play-freevr.1 $(DESTDIR)$(MANDIR)/man1/
+	install -m 644 tools/completion/vesuvius.bash $(DESTDIR)$(DATADIR)/bash-completion/completions/vsv-play-freevr
 
 # the stand-in: FreeVR's calls and conventions (../shared/docs/FREEVR.md)
 # written by the project for tests, laid out like an install
