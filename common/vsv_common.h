@@ -112,11 +112,38 @@ FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap)
  * substitution), whose open waits for its writer; a directory, device or
  * socket is refused. NULL with the reason in why. */
 FILE *vsv_input_fopen_stream(const char *path, char *why, size_t cap);
-/* Maps a whole input file (opened as vsv_input_open) read-only: 0 with
- * *data and *n set (munmap it); 1, nothing mapped, when it is shorter than
- * min_bytes or empty (*n its size: the caller says what it is not); -1
- * with the reason in why. */
-int vsv_input_map(const char *path, size_t min_bytes, const unsigned char **data, size_t *n, char *why, size_t cap);
+/* Mappings guarded against a file that shrinks while it is read
+ * (vsv_mapguard.c): add returns a slot (or -1: unguarded, a truncation then
+ * kills as before); cut says whether an access past the file's new end has
+ * happened since (it read zeros, not the file); remove before munmap. */
+int vsv_mapguard_add(const void *p, size_t n);
+int vsv_mapguard_cut(int slot);
+void vsv_mapguard_remove(int slot);
+/* What every reader says of an input cut while it reads it. */
+#define VSV_CUT_TEXT "truncated while reading (the file shrank after it was opened)"
+
+/* A whole input file mapped read-only, guarded (vsv_mapguard.c), its
+ * descriptor kept to learn its size again. */
+typedef struct vsv_mapped {
+    const unsigned char *data; /* NULL: nothing mapped */
+    size_t n;
+    int fd;    /* -1: none */
+    int guard; /* the vsv_mapguard slot, or -1 */
+} vsv_mapped;
+/* Maps an input file (opened as vsv_input_open): 0 with m set (caller frees
+ * with vsv_input_unmap); 1, nothing mapped, when it is shorter than
+ * min_bytes or empty (m->n its size: the caller says what it is not); -1
+ * with the reason in why. m is always safe to unmap. */
+int vsv_input_map(const char *path, size_t min_bytes, vsv_mapped *m, char *why, size_t cap);
+/* 1 when the file under m has shrunk since it was mapped, so what was read
+ * from it since may be zeros, not its bytes: the guard saw an access past
+ * its new end, or, with look set, fstat says it is shorter (the rest of the
+ * last page past a new end reads zeros without a signal; a system call, for
+ * failure paths and once per large read). 0 otherwise. */
+int vsv_input_cut(const vsv_mapped *m, int look);
+/* Unguards, unmaps and closes what m holds (a guard alone: a byte source's
+ * range, registered by its reader). */
+void vsv_input_unmap(vsv_mapped *m);
 
 /* Writes all n bytes of p to fd (vsv_fdio.c): at offset off with pwrite(2),
  * or where the descriptor stands with write(2) when off < 0; short writes

@@ -1,7 +1,8 @@
 /* vsv_input.c — opening an input file: only regular files. A FIFO would
  * block open() and read() forever (every tool hung on one), a device or a
  * directory has no size to check reads against; each is refused at open,
- * without blocking (O_NONBLOCK until the type is known). */
+ * without blocking (O_NONBLOCK until the type is known). A mapped input is
+ * guarded against shrinking while it is read (vsv_mapguard.c). */
 #include "vsv_common.h"
 
 #include <stdio.h>
@@ -60,10 +61,11 @@ FILE *vsv_input_fopen(const char *path, const char *mode, char *why, size_t cap)
     return fp;
 }
 
-int vsv_input_map(const char *path, size_t min_bytes, const unsigned char **data, size_t *n, char *why, size_t cap)
+int vsv_input_map(const char *path, size_t min_bytes, vsv_mapped *m, char *why, size_t cap)
 {
-    *data = NULL;
-    *n = 0;
+    m->data = NULL;
+    m->n = 0;
+    m->fd = m->guard = -1;
     const int fd = vsv_input_open(path, why, cap);
     if (fd < 0)
         return -1;
@@ -73,19 +75,40 @@ int vsv_input_map(const char *path, size_t min_bytes, const unsigned char **data
         close(fd);
         return -1;
     }
-    *n = (size_t)size;
-    if (*n < min_bytes || *n == 0) {
+    m->n = (size_t)size;
+    if (m->n < min_bytes || m->n == 0) {
         close(fd);
         return 1;
     }
-    void *p = mmap(NULL, *n, PROT_READ, MAP_SHARED, fd, 0);
-    close(fd);
+    void *p = mmap(NULL, m->n, PROT_READ, MAP_SHARED, fd, 0);
     if (p == MAP_FAILED) {
         snprintf(why, cap, "cannot map: %s", strerror(errno));
+        close(fd);
         return -1;
     }
-    *data = p;
+    m->data = p;
+    m->fd = fd;
+    m->guard = vsv_mapguard_add(p, m->n);
     return 0;
+}
+
+int vsv_input_cut(const vsv_mapped *m, int look)
+{
+    if (vsv_mapguard_cut(m->guard))
+        return 1;
+    struct stat st;
+    return look && m->fd >= 0 && !fstat(m->fd, &st) && (uint64_t)st.st_size < (uint64_t)m->n;
+}
+
+void vsv_input_unmap(vsv_mapped *m)
+{
+    vsv_mapguard_remove(m->guard);
+    if (m->data)
+        munmap((void *)m->data, m->n);
+    if (m->fd >= 0)
+        close(m->fd);
+    m->data = NULL;
+    m->fd = m->guard = -1;
 }
 
 FILE *vsv_input_fopen_stream(const char *path, char *why, size_t cap)

@@ -23,6 +23,7 @@
 struct vsv_camxmet {
     const unsigned char *d;
     size_t n;
+    vsv_mapped map;
     int le, kind, nx, ny, nz, nhours, per_hour, nfields, stagger;
     size_t *rec;   /* payload offset of every record */
     uint32_t *len; /* and its length */
@@ -42,6 +43,10 @@ const char *vsv_camxmet_path(const vsv_camxmet *m) { return m->path; }
 static int mfail(vsv_camxmet *m, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int mfail(vsv_camxmet *m, int rc, const char *fmt, ...)
 {
+    if (vsv_input_cut(&m->map, 1)) { /* zeros read past a new end: not the file's damage */
+        vsv_msg(m->err, sizeof m->err, "%s: %s", m->path, VSV_CUT_TEXT);
+        return VSV_ETRUNC;
+    }
     va_list ap;
     va_start(ap, fmt);
     vsv_vmsg_path(m->err, sizeof m->err, m->path, fmt, ap);
@@ -117,7 +122,9 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
     snprintf(m->path, sizeof m->path, "%s", path);
     m->nx = nx, m->ny = ny, m->nz = nz, m->kind = -1;
     char why[160];
-    const int mapped = vsv_input_map(path, 12, &m->d, &m->n, why, sizeof why);
+    const int mapped = vsv_input_map(path, 12, &m->map, why, sizeof why);
+    m->d = m->map.data;
+    m->n = m->map.n;
     if (mapped < 0)
         return mfail(m, VSV_EIO, "%s", why);
     if (mapped > 0)
@@ -222,7 +229,7 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
                     return mfail(m, VSV_ECORRUPT, "record %d: %u bytes, a %d x %d plane needs %u", r + 1, m->len[r], nx,
                                  ny, plane + (uint32_t)off);
             }
-    return 0;
+    return vsv_input_cut(&m->map, 1) ? mfail(m, VSV_ETRUNC, VSV_CUT_TEXT) : 0;
 }
 
 int vsv_camxmet_record(const vsv_camxmet *m, int hour, int field, int layer, size_t *skip)
@@ -262,7 +269,8 @@ int vsv_camxmet_read(vsv_camxmet *m, int hour, int field, int layer, float *out)
             }
             out[c] = v;
         }
-    return 0;
+    /* the values are the file's only if it did not shrink meanwhile */
+    return vsv_input_cut(&m->map, 1) ? mfail(m, VSV_ETRUNC, VSV_CUT_TEXT) : 0;
 }
 
 int vsv_camxmet_heights(vsv_camxmet *m, int hour, float *out)
@@ -276,15 +284,14 @@ int vsv_camxmet_heights(vsv_camxmet *m, int hour, float *out)
         for (size_t c = 0; c < plane; c++)
             out[(size_t)k * plane + c] = vsv_f77_f32(m->le, p + 4 * c);
     }
-    return 0;
+    return vsv_input_cut(&m->map, 1) ? mfail(m, VSV_ETRUNC, VSV_CUT_TEXT) : 0;
 }
 
 void vsv_camxmet_free(vsv_camxmet *m)
 {
     if (!m)
         return;
-    if (m->d)
-        munmap((void *)m->d, m->n);
+    vsv_input_unmap(&m->map);
     free(m->rec);
     free(m->len);
     free(m);

@@ -17,7 +17,8 @@
 struct vsv_mm5 {
     const unsigned char *d;
     size_t n;
-    int le, mapped;
+    vsv_mapped map; /* a file's mapping (open), or none (open_mem) */
+    int le;
     char path[1024];
     char err[512];
     unsigned char big[VSV_MM5_BIGHDR]; /* first big header, normalised to big-endian */
@@ -110,6 +111,10 @@ int vsv_mm5_date(const char *date, int64_t *t)
 static int fail(vsv_mm5 *m, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int fail(vsv_mm5 *m, int rc, const char *fmt, ...)
 {
+    if (vsv_input_cut(&m->map, 1)) { /* zeros read past a new end: not the file's damage */
+        vsv_msg(m->err, sizeof m->err, "%s: %s", m->path, VSV_CUT_TEXT);
+        return VSV_ETRUNC;
+    }
     va_list ap;
     va_start(ap, fmt);
     vsv_vmsg_path(m->err, sizeof m->err, m->path, fmt, ap);
@@ -261,16 +266,18 @@ int vsv_mm5_open(const char *path, vsv_mm5 **out)
         return VSV_ENOMEM;
     snprintf(m->path, sizeof m->path, "%s", path);
     char why[160];
-    const int rc = vsv_input_map(path, 16, &m->d, &m->n, why, sizeof why);
+    const int rc = vsv_input_map(path, 16, &m->map, why, sizeof why);
+    m->d = m->map.data;
+    m->n = m->map.n;
     if (rc < 0)
         return fail(m, VSV_EIO, "%s", why);
     if (rc > 0)
         return fail(m, VSV_ENOTVSV, "not an MM5 v3 file (%zu bytes)", m->n);
-    m->mapped = 1;
     if (!vsv_mm5_probe(m->d, m->n))
         return fail(m, VSV_ENOTVSV, "not an MM5 v3 file (no flag record and big header at byte 0)");
     m->le = m->d[0] == 4;
-    return index_file(m);
+    const int irc = index_file(m);
+    return irc || !vsv_input_cut(&m->map, 1) ? irc : fail(m, VSV_ETRUNC, VSV_CUT_TEXT);
 }
 
 int vsv_mm5_open_mem(const void *data, size_t n, const char *name, vsv_mm5 **out)
@@ -279,6 +286,7 @@ int vsv_mm5_open_mem(const void *data, size_t n, const char *name, vsv_mm5 **out
     if (!m)
         return VSV_ENOMEM;
     snprintf(m->path, sizeof m->path, "%s", name);
+    m->map = (vsv_mapped){NULL, 0, -1, -1};
     m->d = data;
     m->n = n;
     if (!vsv_mm5_probe(m->d, m->n))
@@ -291,8 +299,7 @@ void vsv_mm5_free(vsv_mm5 *m)
 {
     if (!m)
         return;
-    if (m->mapped)
-        munmap((void *)m->d, m->n);
+    vsv_input_unmap(&m->map);
     free(m->f);
     free(m);
 }
@@ -305,7 +312,7 @@ int vsv_mm5_find(const vsv_mm5 *m, int period, const char *name)
     return -1;
 }
 
-void vsv_mm5_read(const vsv_mm5 *m, const vsv_mm5_field *f, float *out)
+int vsv_mm5_read(const vsv_mm5 *m, const vsv_mm5_field *f, float *out)
 {
     const unsigned char *p = m->d + f->offset;
     const size_t n = f->bytes / 4;
@@ -313,6 +320,8 @@ void vsv_mm5_read(const vsv_mm5 *m, const vsv_mm5_field *f, float *out)
         uint32_t u = u32(m, p + 4 * i);
         memcpy(&out[i], &u, 4);
     }
+    /* the values are the file's only if it did not shrink meanwhile */
+    return vsv_input_cut(&m->map, 1) ? VSV_ETRUNC : 0;
 }
 
 /* ------------------------------------------------------------------ writer */

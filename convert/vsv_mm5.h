@@ -60,8 +60,10 @@ int vsv_mm5_find(const vsv_mm5 *m, int period, const char *name);
  * field, never volumes). */
 int vsv_mm5_skipped(const vsv_mm5 *m);
 /* Reads a field's values as native floats in file order (caller buffer of
- * field->bytes/4 floats). */
-void vsv_mm5_read(const vsv_mm5 *m, const vsv_mm5_field *f, float *out);
+ * field->bytes/4 floats). 0, or VSV_ETRUNC when the file shrank while it
+ * was read (the values are then not the file's; the caller says so, with
+ * VSV_CUT_TEXT). */
+int vsv_mm5_read(const vsv_mm5 *m, const vsv_mm5_field *f, float *out);
 
 /* Seconds since 1970 of an MM5 date "YYYY-MM-DD_HH:MM:SS" in *t: 0; 1 for
  * the all-zero date of set-up files (no time); -1 for anything else. */

@@ -48,7 +48,8 @@ static int cross_plane(vsv_source *s, mm5src *x, int p, const char *name, float 
         return vsv_source_fail(s, VSV_ECORRUPT,
                                "record %d at byte offset %llu: %s is not a %dx%d YX field (%llu bytes)", f->record,
                                (unsigned long long)f->offset, name, x->IX, x->JX, (unsigned long long)f->bytes);
-    vsv_mm5_read(x->m, f, x->raw);
+    if (vsv_mm5_read(x->m, f, x->raw))
+        return vsv_source_fail(s, VSV_ETRUNC, VSV_CUT_TEXT);
     const int dot = !strcmp(f->stag, "D");
     for (int j = 0; j < x->ny; j++)
         for (int i = 0; i < x->nx; i++) {
@@ -96,7 +97,8 @@ static int plev_volume(vsv_source *s, mm5src *x, int p, const char *name, float 
                                f->record, (unsigned long long)f->offset, f->name, p, f->order,
                                f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1, (unsigned long long)f->bytes,
                                x->IX, x->JX, x->KP);
-    vsv_mm5_read(x->m, f, x->raw);
+    if (vsv_mm5_read(x->m, f, x->raw))
+        return vsv_source_fail(s, VSV_ETRUNC, VSV_CUT_TEXT);
     const int dot = !strcmp(f->stag, "D");
     const size_t plane = (size_t)x->nx * x->ny, fplane = (size_t)x->IX * x->JX;
     for (int k = 0; k < x->KP; k++) {
@@ -333,7 +335,8 @@ static int mm5_sigma_heights(vsv_source *s, mm5src *x, const mm5_base *b, float 
     if ((int)(fs->bytes / 4) != x->KX)
         return vsv_source_fail(s, VSV_ECORRUPT, "record %d: SIGMAH has %llu levels, 3-D fields %d", fs->record,
                                (unsigned long long)(fs->bytes / 4), x->KX);
-    vsv_mm5_read(m, fs, sig);
+    if (vsv_mm5_read(m, fs, sig))
+        return vsv_source_fail(s, VSV_ETRUNC, VSV_CUT_TEXT);
     float *pstar = malloc(plane * sizeof *pstar);
     x->zn = malloc(plane * (size_t)x->KX * sizeof *x->zn);
     int rc = VSV_ENOMEM;
@@ -388,7 +391,8 @@ static int mm5_plev_axis(vsv_source *s, mm5src *x)
     const int ip = vsv_mm5_find(m, 0, "PRESSURE");
     const vsv_mm5_field *fp = ip >= 0 ? vsv_mm5_field_at(m, ip) : NULL;
     if (fp && fp->bytes == (uint64_t)x->KP * 4) {
-        vsv_mm5_read(m, fp, pl);
+        if (vsv_mm5_read(m, fp, pl))
+            return vsv_source_fail(s, VSV_ETRUNC, VSV_CUT_TEXT);
         snprintf(buf, sizeof buf,
                  "%d pressure levels, %g hPa (surface) to %g hPa, placed by the geopotential "
                  "height H of each column and time",
@@ -564,7 +568,8 @@ static int mm5_read(vsv_source *s, int field, int t, float *out)
                                f->record, (unsigned long long)f->offset, f->name, p, f->order,
                                f->end[0] - f->start[0] + 1, f->end[1] - f->start[1] + 1, (unsigned long long)f->bytes,
                                full ? "YXW" : "YXS", x->IX, x->JX, want);
-    vsv_mm5_read(x->m, f, x->raw);
+    if (vsv_mm5_read(x->m, f, x->raw))
+        return vsv_source_fail(s, VSV_ETRUNC, VSV_CUT_TEXT);
     const size_t plane = (size_t)x->nx * x->ny, fplane = (size_t)x->IX * x->JX;
     /* native cross volume, bottom-up: file level kk = KX-1-k (k = 1 is the top) */
     for (int k = 0; k < x->KX; k++) {

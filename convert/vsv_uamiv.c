@@ -14,7 +14,7 @@
 struct vsv_uamiv {
     const unsigned char *d;
     size_t n;
-    int mapped;
+    vsv_mapped map; /* a file's mapping (open), or none (open_mem) */
     char path[1024];
     char err[512];
     vsv_uamiv_header h;
@@ -40,6 +40,10 @@ const vsv_uamiv_header *vsv_uamiv_header_get(const vsv_uamiv *u) { return &u->h;
 static int ufail(vsv_uamiv *u, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 static int ufail(vsv_uamiv *u, int rc, const char *fmt, ...)
 {
+    if (vsv_input_cut(&u->map, 1)) { /* zeros read past a new end: not the file's damage */
+        vsv_msg(u->err, sizeof u->err, "%s: %s", u->path, VSV_CUT_TEXT);
+        return VSV_ETRUNC;
+    }
     va_list ap;
     va_start(ap, fmt);
     vsv_vmsg_path(u->err, sizeof u->err, u->path, fmt, ap);
@@ -174,6 +178,7 @@ int vsv_uamiv_open_mem(const void *data, size_t n, const char *name, vsv_uamiv *
     if (!u)
         return VSV_ENOMEM;
     snprintf(u->path, sizeof u->path, "%s", name);
+    u->map = (vsv_mapped){NULL, 0, -1, -1};
     u->d = data;
     u->n = n;
     return parse(u);
@@ -186,21 +191,22 @@ int vsv_uamiv_open(const char *path, vsv_uamiv **out)
         return VSV_ENOMEM;
     snprintf(u->path, sizeof u->path, "%s", path);
     char why[160];
-    const int rc = vsv_input_map(path, 16, &u->d, &u->n, why, sizeof why);
+    const int rc = vsv_input_map(path, 16, &u->map, why, sizeof why);
+    u->d = u->map.data;
+    u->n = u->map.n;
     if (rc < 0)
         return ufail(u, VSV_EIO, "%s", why);
     if (rc > 0)
         return ufail(u, VSV_ENOTVSV, "not a CAMx UAM-IV file");
-    u->mapped = 1;
-    return parse(u);
+    const int prc = parse(u);
+    return prc || !vsv_input_cut(&u->map, 1) ? prc : ufail(u, VSV_ETRUNC, VSV_CUT_TEXT);
 }
 
 void vsv_uamiv_free(vsv_uamiv *u)
 {
     if (!u)
         return;
-    if (u->mapped)
-        munmap((void *)u->d, u->n);
+    vsv_input_unmap(&u->map);
     free(u->h.species);
     free(u);
 }
@@ -234,7 +240,8 @@ int vsv_uamiv_read(vsv_uamiv *u, int hour, int spec, int layer, float *out)
     const size_t n = (size_t)h->nx * h->ny;
     for (size_t i = 0; i < n; i++)
         out[i] = vsv_f77_f32(h->little_endian, p + 44 + 4 * i);
-    return 0;
+    /* the values are the file's only if it did not shrink meanwhile */
+    return vsv_input_cut(&u->map, 1) ? ufail(u, VSV_ETRUNC, VSV_CUT_TEXT) : 0;
 }
 
 /* ------------------------------------------------------------- writer */

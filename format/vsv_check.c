@@ -115,6 +115,5 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
     free(state);
     vsv_decoder_free(d);
     /* zeros a truncation left (vsv_mapguard.c) are not the file's damage */
-    const int cut = vsv_file_cut(f, f->err, sizeof f->err);
-    return cut ? cut : rc;
+    return vsv_file_cut(f, rc, f->err, sizeof f->err);
 }

@@ -92,9 +92,7 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
 static int apply_checked(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
                          uint16_t *codes, int back)
 {
-    const int rc = apply(d, c, t, s, b, be, codes, back);
-    const int cut = vsv_file_cut(d->f, d->err, sizeof d->err);
-    return cut ? cut : rc;
+    return vsv_file_cut(d->f, apply(d, c, t, s, b, be, codes, back), d->err, sizeof d->err);
 }
 
 int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,

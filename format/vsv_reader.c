@@ -196,7 +196,7 @@ static vsv_file *file_new(const char *name)
     vsv_meta_init(&f->meta);
     pthread_mutex_init(&f->lock, NULL);
     f->uid = vsv_volume_new_gen();
-    f->guard = -1;
+    f->map.fd = f->map.guard = -1;
     return f;
 }
 
@@ -232,37 +232,23 @@ int vsv_file_open(const char *path, vsv_file **out)
     if (!f)
         return VSV_ENOMEM;
     char why[160];
-    int fd = vsv_input_open(path, why, sizeof why);
-    if (fd < 0 && strstr(path, "://") && access(path, F_OK)) /* ftp://, s3:// ... */
+    const int rc = vsv_input_map(path, 1, &f->map, why, sizeof why);
+    if (rc < 0 && strstr(path, "://") && access(path, F_OK)) /* ftp://, s3:// ... */
         return vsv_file_fail(f, VSV_EIO, "no such file; of URLs, only http:// and https:// ones are read");
-    if (fd < 0)
+    if (rc < 0)
         return vsv_file_fail(f, VSV_EIO, "%s", why);
-    struct stat st;
-    if (fstat(fd, &st)) {
-        close(fd);
-        return vsv_file_fail(f, VSV_EIO, "cannot open: %s", strerror(errno));
-    }
-    f->size = (size_t)st.st_size;
-    if (f->size == 0) {
-        close(fd);
+    if (rc > 0)
         return vsv_file_fail(f, VSV_ENOTVSV, "not a .vsv file (empty)");
-    }
-    void *p = mmap(NULL, f->size, PROT_READ, MAP_SHARED, fd, 0);
-    close(fd);
-    if (p == MAP_FAILED)
-        return vsv_file_fail(f, VSV_EIO, "cannot map: %s", strerror(errno));
-    f->data = p;
-    f->mapped = 1;
-    f->guard = vsv_mapguard_add(p, f->size);
-    const int rc = parse(f);
-    return rc && vsv_file_cut(f, f->err, sizeof f->err) ? VSV_ETRUNC : rc;
+    f->data = f->map.data;
+    f->size = f->map.n;
+    return vsv_file_cut(f, parse(f), f->err, sizeof f->err);
 }
 
-int vsv_file_cut(const vsv_file *f, char *msg, size_t cap)
+int vsv_file_cut(const vsv_file *f, int rc, char *msg, size_t cap)
 {
-    if (!vsv_mapguard_cut(f->guard))
-        return 0;
-    vsv_msg(msg, cap, "%s: truncated while reading (the file shrank after it was opened)", f->name);
+    if (!vsv_input_cut(&f->map, rc != 0))
+        return rc;
+    vsv_msg(msg, cap, "%s: %s", f->name, VSV_CUT_TEXT);
     return VSV_ETRUNC;
 }
 
@@ -270,10 +256,7 @@ void vsv_file_free(vsv_file *f)
 {
     if (!f)
         return;
-    if (f->mapped) {
-        vsv_mapguard_remove(f->guard);
-        munmap((void *)f->data, f->size);
-    }
+    vsv_input_unmap(&f->map);
     if (f->src)
         f->src->close(f->src);
     free(f->span_end);
@@ -298,7 +281,7 @@ static __thread int chunk_rc;
 
 int vsv_file_chunk_rc(const vsv_file *f, char *msg, size_t cap)
 {
-    return vsv_file_cut(f, msg, cap) ? VSV_ETRUNC : chunk_rc ? chunk_rc : VSV_ECORRUPT;
+    return vsv_file_cut(f, chunk_rc ? chunk_rc : VSV_ECORRUPT, msg, cap);
 }
 
 /* Verified index of chunk t (header included), or NULL with f->err / msg set:
@@ -307,9 +290,9 @@ int vsv_file_chunk_rc(const vsv_file *f, char *msg, size_t cap)
 const unsigned char *vsv_file_chunk_index(vsv_file *f, int t, char *msg, size_t cap)
 {
     chunk_rc = 0;
-    const unsigned char *c = vsv_file_cut(f, msg, cap) ? NULL : chunk_index(f, t, msg, cap);
+    const unsigned char *c = vsv_file_cut(f, 0, msg, cap) ? NULL : chunk_index(f, t, msg, cap);
     if (!c)
-        vsv_file_cut(f, msg, cap);
+        vsv_file_cut(f, VSV_ECORRUPT, msg, cap);
     return c;
 }
 

@@ -14,7 +14,7 @@
 struct vsv_file {
     const unsigned char *data;
     size_t size;
-    int mapped;
+    vsv_mapped map; /* a local file's mapping, or a byte source's guard alone */
     char name[256];
     char err[512];
     vsv_meta meta;
@@ -28,7 +28,6 @@ struct vsv_file {
     float **lut;           /* per species: 2^bits values, built on first use */
     pthread_mutex_t lock;
     int counted, damaged;
-    int guard; /* the mapping's slot in vsv_mapguard.c, or -1 */
     uint64_t stored, nonempty, payload;
     uint64_t uid;         /* unique in the process: brick keys (vsv_file_brick_key) */
     vsv_byte_source *src; /* NULL: a mapped local file, every byte resident */
@@ -77,15 +76,11 @@ int vsv_file_chunk_rc(const vsv_file *f, char *msg, size_t cap);
 const unsigned char *vsv_file_brick_entry(const vsv_file *f, const unsigned char *c, int s, int b);
 /* VSV_ERANGE with msg set when (step, s, b) is outside the file. */
 int vsv_file_check_args(vsv_file *f, int step, int s, int b, char *msg, size_t cap);
-/* Mappings guarded against truncation while they are read (vsv_mapguard.c):
- * add returns a slot (or -1: unguarded), cut says whether an access past the
- * file's new end has happened (and read zeros) since. */
-int vsv_mapguard_add(const void *p, size_t n);
-int vsv_mapguard_cut(int slot);
-void vsv_mapguard_remove(int slot);
-/* VSV_ETRUNC with msg set to "name: truncated while reading" when f's
- * mapping was cut, else 0. */
-int vsv_file_cut(const vsv_file *f, char *msg, size_t cap);
+/* What rc becomes when f's file may have shrunk while it was read: with
+ * msg set to "name: truncated while reading ...", VSV_ETRUNC when the guard
+ * saw an access past its end (whatever rc), or when rc is an error and the
+ * file is shorter now (a system call, on failure paths only); else rc. */
+int vsv_file_cut(const vsv_file *f, int rc, char *msg, size_t cap);
 /* Applies the brick entry be of chunk c (step t) to codes. */
 int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
                       uint16_t *codes);

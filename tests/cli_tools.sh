@@ -205,6 +205,16 @@ for tool in vsv-info vsv-render vsv-export vsv-query; do
     has "$tool says it was truncated while reading" "$T/err" "$tool: $T/trunc/a.vsv: truncated while reading"
 done
 [ ! -e "$T/trunc/a.png" ] && [ ! -e "$T/trunc/a_0.vdb" ] && pass "nothing written from a cut file" || fail "nothing written from a cut file" "$(ls "$T/trunc")"
+# model inputs cut the same way while vsv-convert reads them (issue 33:
+# SIGBUS in the MM5 reader; zeros read as a CAMx file's values)
+for input in samples/mm5/MMOUT_DOMAIN1_CROP tests/data/camx/test.uamiv; do
+    cp "$input" "$T/trunc/in"
+    expect "vsv-convert on ${input##*/} cut while it reads it exits 1" 1 env LD_PRELOAD="$(pwd)/$B/tests/libcutmap.so" \
+        VSV_TEST_CUT="$T/trunc/in" ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0" \
+        "$B/vsv-convert" "$T/trunc/in" -o "$T/trunc/in.vsv"
+    has "vsv-convert says ${input##*/} was truncated while reading" "$T/err" "vsv-convert: $T/trunc/in: truncated while reading (the file shrank after it was opened)"
+    [ ! -e "$T/trunc/in.vsv" ] && pass "nothing written from a cut ${input##*/}" || fail "nothing written from a cut ${input##*/}" "$(ls "$T/trunc")"
+done
 rm -rf "$T/trunc"
 
 # netCDF-4/HDF5 files that crash libhdf5 (one flipped bit in a deflated

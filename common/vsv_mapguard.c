@@ -1,19 +1,23 @@
 /* vsv_mapguard.c — a mapped file that shrinks while it is read (another
  * program truncates or rewrites it in place) makes every access past its new
- * end raise SIGBUS, which kills the process. The reader registers each
- * mapping here; on SIGBUS inside one, the handler puts a page of zeros over
- * the faulting page and marks the mapping "cut", so the access completes
- * (reading zeros, which fail the checksums) and the reader then reports
- * "truncated while reading" (vsv_reader.c checks the mark). Chosen over
- * sigsetjmp around every read (per-thread jump buffers across the pager's
- * workers, and every mapped access would need one) and over pread (the format
- * is designed to be mapped: O(1) open, zero-copy payloads). A SIGBUS outside
- * every mapping goes to the handler installed before, or kills as before. */
-#include "vsv_reader_internal.h"
+ * end raise SIGBUS, which kills the process. Every mapping of an input is
+ * registered here (the .vsv reader's, a byte source's, the model readers'
+ * through vsv_input_map); on SIGBUS inside one, the handler puts a page of
+ * zeros over the faulting page and marks the mapping "cut", so the access
+ * completes (reading zeros) and the reader then reports "truncated while
+ * reading" (vsv_input_cut). Chosen over sigsetjmp around every read
+ * (per-thread jump buffers across the pager's workers, and every mapped
+ * access would need one) and over pread (the format is designed to be mapped:
+ * O(1) open, zero-copy payloads). A SIGBUS outside every mapping goes to the
+ * handler installed before, or kills as before. Each library that links this
+ * file privately (ARCHITECTURE.md) has its own slots and handler; each
+ * handler passes a fault outside its slots to the one installed before it. */
+#include "vsv_common.h"
 
 #include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
+#include <string.h>
 #include <sys/mman.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -34,21 +38,26 @@ static long page;
 static void on_sigbus(int sig, siginfo_t *si, void *ctx)
 {
     const uintptr_t a = (uintptr_t)si->si_addr;
-    for (int i = 0; i < SLOTS; i++) {
+    int zeroed = 0, failed = 0;
+    /* every slot that holds the address is marked (one range may be
+     * registered twice: a byte source's base and its owner's) */
+    for (int i = 0; i < SLOTS && !failed; i++) {
         const uintptr_t lo = __atomic_load_n(&slot[i].lo, __ATOMIC_ACQUIRE);
         if (lo && a >= lo && a < __atomic_load_n(&slot[i].hi, __ATOMIC_ACQUIRE)) {
-            /* the raw system call: async-signal-safe, and no sanitizer's
-             * wrapper in a signal handler */
-            const uintptr_t p = a & ~(uintptr_t)(page - 1);
-            const long r =
-                syscall(SYS_mmap, (void *)p, (size_t)page, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED, -1, 0L);
-            if (r != -1) {
-                __atomic_store_n(&slot[i].cut, 1, __ATOMIC_RELEASE);
-                return;
+            if (!zeroed) {
+                /* the raw system call: async-signal-safe, and no
+                 * sanitizer's wrapper in a signal handler */
+                const uintptr_t p = a & ~(uintptr_t)(page - 1);
+                failed = syscall(SYS_mmap, (void *)p, (size_t)page, PROT_READ, MAP_PRIVATE | MAP_ANONYMOUS | MAP_FIXED,
+                                 -1, 0L) == -1;
+                zeroed = !failed;
             }
-            break;
+            if (zeroed)
+                __atomic_store_n(&slot[i].cut, 1, __ATOMIC_RELEASE);
         }
     }
+    if (zeroed)
+        return;
     if (previous.sa_flags & SA_SIGINFO) {
         previous.sa_sigaction(sig, si, ctx);
         return;
