@@ -45,13 +45,19 @@ int vsv_file_check(vsv_file *f, void (*progress)(void *, int, int), void *ctx)
                 const unsigned char *be = vsv_file_brick_entry(f, c, s, b);
                 uint16_t *codes = state + ((size_t)s * L->nbricks + b) * n;
                 if (vsv_brick_stored(be[0])) {
-                    const uint64_t off = vsv_rd64(be + 8);
+                    const uint64_t off = vsv_rd64(be + 8), size = vsv_rd32(be + 16);
+                    if (off < pos || off > csize || size > csize - off) { /* the mapping changed since */
+                        rc = vsv_file_fail(f, VSV_ECORRUPT,
+                                           "chunk %d, species %d, brick %d: brick entry changed after it was checked",
+                                           t, s, b);
+                        break;
+                    }
                     if (!vsv_all_zero(c + pos, (size_t)(off - pos), &z)) {
                         rc = vsv_file_fail(f, VSV_ECORRUPT, "chunk %d: non-zero padding at offset %llu", t,
                                            (unsigned long long)(coff + pos + z));
                         break;
                     }
-                    pos = off + vsv_rd32(be + 16);
+                    pos = off + size;
                 }
                 if ((rc = vsv_decoder_apply(d, c, t, s, b, be, codes))) {
                     vsv_msg(f->err, sizeof f->err, "%s", d->err);

@@ -119,6 +119,16 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
     const size_t raw = vsv_brick_raw_bytes(bits, ext);
     const uint64_t off = vsv_rd64(be + 8);
     const uint32_t size = vsv_rd32(be + 16);
+    /* checked again where it is used: the entry was verified with its
+     * chunk, but the mapping may have changed since (a file cut or
+     * rewritten while it is read); the chunk's extent is the table's copy */
+    const uint64_t csize = vsv_rd64(f->toc + (size_t)t * VSV_TOC_ENTRY_SIZE + 8);
+    if (kind > (f->major >= 2 ? VSV_BRICK_DELTA3 : VSV_BRICK_DELTA) || off > csize || size > csize - off || !size ||
+        (f->codec != VSV_CODEC_ZSTD && size != raw)) {
+        vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d: brick entry changed after it was checked",
+                f->name, t, s, b);
+        return VSV_ECORRUPT;
+    }
     const unsigned char *p = c + off;
     if (f->src) { /* fetch the payload, and the species' payloads after it */
         const uint64_t at = (uint64_t)(p - f->data),
@@ -204,7 +214,13 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
         const int kind = vsv_file_brick_entry(f, c, s, b)[0];
         if (vsv_brick_absolute(kind))
             break;
-        t0--; /* keyframes hold only absolute kinds (checked), so t0 stays >= 0 */
+        /* keyframes hold only absolute kinds (checked), so t0 stays >= 0,
+         * unless the mapping changed since */
+        if (t0-- == 0) {
+            vsv_msg(d->err, sizeof d->err,
+                    "%s: chunk 0, species %d, brick %d: brick entry changed after it was checked", f->name, s, b);
+            return vsv_file_cut(f, VSV_ECORRUPT, d->err, sizeof d->err);
+        }
     }
     for (int t = t0; t <= step; t++) {
         const unsigned char *c = vsv_file_chunk_index(f, t, d->err, sizeof d->err);

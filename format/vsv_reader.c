@@ -77,6 +77,7 @@ static int parse(vsv_file *f)
         return vsv_file_fail(f, VSV_EVERSION, "format version %u.%u is not readable by this version (1.x to %d.x)",
                              vsv_rd16(d + 8), vsv_rd16(d + 10), VSV_FORMAT_MAJOR);
     f->major = vsv_rd16(d + 8);
+    f->minor = vsv_rd16(d + 10);
     if (vsv_crc32c(0, d, 124) != vsv_rd32(d + 124))
         return vsv_file_fail(f, VSV_ECORRUPT, "header checksum mismatch (bytes 0-127)");
     size_t z;
@@ -130,7 +131,11 @@ static int parse(vsv_file *f)
             f, VSV_ECORRUPT,
             "table of contents (offset %llu) overlaps the metadata and its padding (offsets 128 to %llu)",
             (unsigned long long)toc_off, (unsigned long long)vsv_align_up(meta_off + meta_size, VSV_ALIGN));
-    if (vsv_crc32c(0, d + toc_off, toc_size) != vsv_rd32(d + 64))
+    /* checked and used as one copy: what was checked is what is used */
+    if (!(f->toc = malloc(toc_size)))
+        return vsv_file_fail(f, VSV_ENOMEM, "out of memory");
+    memcpy(f->toc, d + toc_off, toc_size);
+    if (vsv_crc32c(0, f->toc, toc_size) != vsv_rd32(d + 64))
         return vsv_file_fail(f, VSV_ECORRUPT, "table of contents checksum mismatch (offset %llu)",
                              (unsigned long long)toc_off);
     char msg[300];
@@ -149,7 +154,6 @@ static int parse(vsv_file *f)
     f->nsteps = (int)nsteps;
     f->keyframe = (int)key;
     f->codec = (int)codec;
-    f->toc = d + toc_off;
     f->toc_off = toc_off;
     f->meta_end = meta_off + meta_size;
     const uint64_t index_bytes = (uint64_t)nspec * f->lay.species_index_bytes;
@@ -265,6 +269,7 @@ void vsv_file_free(vsv_file *f)
             free(f->lut[s]);
     free(f->lut);
     free(f->chunk_ok);
+    free(f->toc);
     free(f->quant);
     vsv_meta_clear(&f->meta);
     pthread_mutex_destroy(&f->lock);
@@ -402,9 +407,13 @@ int vsv_file_brick_kind(vsv_file *f, int step, int s, int b)
         return rc;
     }
     const unsigned char *c = vsv_file_chunk_index(f, step, msg, sizeof msg);
-    if (c)
-        return vsv_file_brick_entry(f, c, s, b)[0];
-    rc = vsv_file_chunk_rc(f, msg, sizeof msg);
+    if (c) { /* read from the mapping: a cut meanwhile made it a zero */
+        const int kind = vsv_file_brick_entry(f, c, s, b)[0];
+        if (!(rc = vsv_file_cut(f, 0, msg, sizeof msg)))
+            return kind;
+    } else {
+        rc = vsv_file_chunk_rc(f, msg, sizeof msg);
+    }
     shared_fail(f, msg);
     return rc;
 }
@@ -475,8 +484,8 @@ void vsv_file_count(vsv_file *f, vsv_file_counts *out)
 void vsv_file_info_get(const vsv_file *f, vsv_file_info *info)
 {
     memset(info, 0, sizeof *info);
-    info->major = vsv_rd16(f->data + 8);
-    info->minor = vsv_rd16(f->data + 10);
+    info->major = f->major;
+    info->minor = f->minor;
     info->nsteps = f->nsteps;
     info->nspecies = f->meta.nvars;
     info->brick = f->lay.brick;

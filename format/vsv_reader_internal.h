@@ -21,8 +21,10 @@ struct vsv_file {
     vsv_quant *quant;
     vsv_layout lay;
     int nsteps, keyframe, codec;
-    int major; /* 1, or 2: the 3-D brick kinds may appear */
-    const unsigned char *toc;
+    int major, minor;   /* major 1, or 2: the 3-D brick kinds may appear */
+    unsigned char *toc; /* a copy of the table of contents, checked at open:
+                         * never read from the mapping again (a file cut
+                         * meanwhile would read zeros: every chunk at 0) */
     uint64_t meta_end, toc_off;
     signed char *chunk_ok; /* per step: 0 unchecked, 1 index verified */
     float **lut;           /* per species: 2^bits values, built on first use */

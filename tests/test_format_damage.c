@@ -301,11 +301,70 @@ static void test_truncated_while_reading(void)
     }
 }
 
+/* The same cut after every chunk index was verified: the table of contents
+ * now lies past the end, and reading it gave zeros, so a verified chunk
+ * "was" at byte 0 and its brick entries came from the header (SIGSEGV in
+ * vsv-render, vsv-export; issue 33). The table is the one read at open, a
+ * brick's kind past the cut is an error, and every decode afterwards gives
+ * the values decoded before the cut or VSV_ETRUNC, never others. */
+static void test_truncated_after_verify(void)
+{
+    synth sy = {40, 30, 10, 12, 0, 0};
+    const char *path = vsv_test_tmp("cut2.vsv");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 8;
+    char err[512] = "";
+    if (!CHECK(synth_write(&sy, path, &o, err, sizeof err) == 0, "write a file to cut", "%s", err))
+        return;
+    struct stat st;
+    stat(path, &st);
+    vsv_file *f = NULL;
+    vsv_decoder *d = NULL;
+    const size_t nv = (size_t)sy.nx * sy.ny * sy.nz;
+    float *vol = malloc(nv * sizeof *vol), *all = malloc(nv * 3 * sy.nsteps * sizeof *all);
+    int rc = vol && all ? vsv_file_open(path, &f) : VSV_ENOMEM;
+    if (!rc)
+        rc = vsv_decoder_create(f, &d);
+    for (int t = 0; t < sy.nsteps && !rc; t++)
+        for (int s = 0; s < 3 && !rc; s++)
+            rc = vsv_decoder_volume(d, t, s, all + nv * (size_t)(3 * t + s));
+    if (!CHECK(rc == 0, "open and decode every step", "%s", f ? vsv_file_error(f) : "out of memory"))
+        goto done;
+    const int last = sy.nsteps - 1;
+    const int64_t when = vsv_file_time(f, last);
+    if (!CHECK(truncate(path, st.st_size / 3) == 0, "cut it to a third after every chunk was verified"))
+        goto done;
+    rc = vsv_file_brick_kind(f, last, 1, 0);
+    CHECK(rc == VSV_ETRUNC && strstr(vsv_file_error(f), "cut2.vsv: truncated while reading"),
+          "a brick's kind in a verified chunk past the cut: VSV_ETRUNC, named", "rc %d: %s", rc, vsv_file_error(f));
+    int cut = 0, wrong = 0;
+    for (int t = last; t >= 0; t--)
+        for (int s = 0; s < 3; s++) {
+            rc = vsv_decoder_volume(d, t, s, vol);
+            if (rc == VSV_ETRUNC && strstr(vsv_decoder_error(d), "cut2.vsv: truncated while reading"))
+                cut++;
+            else if (rc || memcmp(vol, all + nv * (size_t)(3 * t + s), nv * sizeof *vol))
+                wrong += !CHECK(0, "decoding after the cut: the values from before it, or VSV_ETRUNC",
+                                "step %d species %d: rc %d: %s", t, s, rc, vsv_decoder_error(d));
+        }
+    CHECK(cut > 0 && !wrong, "decoding every step after the cut: VSV_ETRUNC past it, named; never other values",
+          "%d truncated, %d wrong", cut, wrong);
+    CHECK(vsv_file_time(f, last) == when, "step times are still the file's (not zeros)", "%lld",
+          (long long)vsv_file_time(f, last));
+done:
+    free(vol);
+    free(all);
+    vsv_decoder_free(d);
+    vsv_file_free(f);
+}
+
 int main(void)
 {
     test_atomic();
     test_damage();
     test_golden();
     test_truncated_while_reading();
+    test_truncated_after_verify();
     return vsv_test_done();
 }
