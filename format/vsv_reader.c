@@ -227,7 +227,10 @@ int vsv_file_open_source(vsv_byte_source *src, const char *name, vsv_file **out)
     if ((uint64_t)f->size != src->size)
         return vsv_file_fail(f, VSV_EUNSUPPORTED, "%llu bytes: too large for this machine's address space",
                              (unsigned long long)src->size);
-    return parse(f);
+    /* a source's bytes may be a mapped file too (the HTTP cache's): a
+     * truncation of it is then an error here, not a SIGBUS */
+    f->map.guard = vsv_mapguard_add(f->data, f->size);
+    return vsv_file_cut(f, parse(f), f->err, sizeof f->err);
 }
 
 int vsv_file_open(const char *path, vsv_file **out)
@@ -252,7 +255,7 @@ int vsv_file_cut(const vsv_file *f, int rc, char *msg, size_t cap)
 {
     if (!vsv_input_cut(&f->map, rc != 0))
         return rc;
-    vsv_msg(msg, cap, "%s: %s", f->name, VSV_CUT_TEXT);
+    vsv_msg(msg, cap, "%s: %s", f->name, f->src ? "truncated while reading (its cached copy shrank)" : VSV_CUT_TEXT);
     return VSV_ETRUNC;
 }
 
