@@ -70,8 +70,10 @@ expect "the second run exits 0" 0 "$B/vsv-render" "$URL" --species CLW --time $S
 same "and gives the same PNG" "$T/x2.png" "$T/local.png"
 stop_server
 sent=$(body_bytes)
-[ "$sent" = 0 ] && pass "the second run costs no body bytes (the cache; the log: $(wc -l < "$T/access.log") request)" ||
-    fail "the second run costs no body bytes" "$sent bytes: $(head -c 300 "$T/access.log")"
+# (the file's first block is fetched and compared on every open: issue 33)
+first=$((SIZE < 16384 ? SIZE : 16384))
+[ "$sent" = "$first" ] && pass "the second run costs only the first block, $first bytes (the cache; the log: $(wc -l < "$T/access.log") requests)" ||
+    fail "the second run costs only the first block ($first bytes)" "$sent bytes: $(head -c 300 "$T/access.log")"
 
 # ---- every tool that reads a .vsv
 start_server
@@ -142,6 +144,51 @@ a = vesuvius.open(sys.argv[1]).read('CLW', 2)
 b = vesuvius.open(sys.argv[2]).read('CLW', 2)
 sys.exit(0 if numpy.array_equal(a, b, equal_nan=True) and numpy.nanmax(a) > 0 else 1)" "$URL" "$T/www/run.vsv"
 fi
+
+# ---- a file replaced by another of the same length, its date kept (the
+# same inode: lighttpd's ETag and Last-Modified do not change): the cache
+# held the first file's metadata and mixed it with the second's bricks
+# (issue 33: 0.5569 printed where the files give 0.4275 or 3.898)
+cp "$T/www/run.vsv" "$T/www/swap.vsv"
+touch -d '1 hour ago' "$T/www/swap.vsv"
+touch -r "$T/www/swap.vsv" "$T/swap.date"
+# the second file: every species' quantisation range doubled (the metadata
+# and header checksums made again), so every value that is not 0 doubles
+"$PY" - "$T/www/swap.vsv" "$T/swapB.vsv" <<'EOF2'
+import struct, sys, zlib
+d = bytearray(open(sys.argv[1], "rb").read())
+def crc32c(b):
+    c = 0xFFFFFFFF
+    for x in b:
+        c ^= x
+        for _ in range(8):
+            c = (c >> 1) ^ (0x82F63B78 & -(c & 1))
+    return c ^ 0xFFFFFFFF
+meta_off, meta_size = struct.unpack_from("<QQ", d, 24)
+at = meta_off
+while at < meta_off + meta_size:
+    tag, n = d[at:at + 4], struct.unpack_from("<I", d, at + 4)[0]
+    if tag == b"QUAN":
+        lo, hi = struct.unpack_from("<dd", d, at + 8 + 16)
+        struct.pack_into("<dd", d, at + 8 + 16, lo * 2, hi * 2)
+    at += 8 + (n + 7) // 8 * 8
+struct.pack_into("<I", d, 40, crc32c(d[meta_off:meta_off + meta_size]))
+struct.pack_into("<I", d, 124, crc32c(d[:124]))
+open(sys.argv[2], "wb").write(d)
+EOF2
+"$B/vsv-query" "$T/www/swap.vsv" --cell $CELL --species CLW,Q > "$T/qA"
+"$B/vsv-query" "$T/swapB.vsv" --cell $CELL --species CLW,Q > "$T/qB"
+! cmp -s "$T/qA" "$T/qB" && [ "$(wc -c < "$T/swapB.vsv")" = "$SIZE" ] && pass "two files of one length that give other values" ||
+    fail "two files of one length that give other values" "$(head -c 200 "$T/qB")"
+SWAP=http://127.0.0.1:$PORT/swap.vsv
+VSV_CACHE_DIR="$T/cache-swap" expect "the first file through a cache: exits 0" 0 "$B/vsv-query" "$SWAP" --cell $CELL --species CLW,Q
+same "... and gives its values" "$T/out" "$T/qA"
+cat "$T/swapB.vsv" > "$T/www/swap.vsv"
+touch -r "$T/swap.date" "$T/www/swap.vsv"
+VSV_CACHE_DIR="$T/cache-swap" expect "the file replaced in place, same length and date: exits 0" 0 "$B/vsv-query" "$SWAP" --cell $CELL --species CLW,Q
+same "... and gives the new file's values, never a mix of the two" "$T/out" "$T/qB"
+VSV_CACHE_DIR="$T/cache-swap" expect "once more, its cache confirmed: exits 0" 0 "$B/vsv-query" "$SWAP" --cell $CELL --species CLW,Q
+same "... with the new file's values" "$T/out" "$T/qB"
 
 # ---- a cache data file cut while a run has it mapped (another program
 # truncates it; the test shim cuts it right after the map, so no timing):
@@ -229,8 +276,8 @@ n1=$(cat "$T/pport.count" 2> /dev/null || echo 0)
 VSV_CACHE_DIR="$T/cache-etag" expect "again, the same ETag: exits 0" 0 \
     "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/e2.png"
 n2=$(cat "$T/pport.count" 2> /dev/null || echo 0)
-[ "$n1" -gt 0 ] && [ "$n2" = "$n1" ] && pass "... and fetches no range (the cache; $n1 ranges the first time)" ||
-    fail "... and fetches no range (the cache)" "range requests: $n1 after the first run, $n2 after the second"
+[ "$n1" -gt 0 ] && [ "$n2" = $((n1 + 1)) ] && pass "... and fetches one range, the first block (the cache; $n1 ranges the first time)" ||
+    fail "... and fetches one range, the first block (the cache)" "range requests: $n1 after the first run, $n2 after the second"
 : > "$T/pport.etag"
 VSV_CACHE_DIR="$T/cache-etag" expect "the file replaced (another ETag, the same length): exits 0" 0 \
     "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/e3.png"

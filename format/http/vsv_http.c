@@ -457,6 +457,28 @@ static int failed_handle(const char *url, int rc, const char *msg, vsv_file **ou
     return rc;
 }
 
+/* An entry of the cache used again holds this file only if its first block
+ * is the server's now (vsv_http_cache_confirm): fetched on every such open.
+ * 0, or the fetch's error with msg set. */
+static int confirm_cache(http_src *h, char *msg, size_t cap)
+{
+    if (!h->cache.reused)
+        return 0;
+    const size_t n = h->id.size < VSV_HTTP_BLOCK ? (size_t)h->id.size : VSV_HTTP_BLOCK;
+    unsigned char *first = malloc(n);
+    if (!first) {
+        snprintf(msg, cap, "%s: out of memory", h->url);
+        return VSV_ENOMEM;
+    }
+    reply r;
+    char why[400];
+    int rc = fetch(h, 0, 0, n, first, &r, msg, cap);
+    if (!rc && (rc = vsv_http_cache_confirm(&h->cache, h->url, &h->id, first, n, why, sizeof why)))
+        snprintf(msg, cap, "%s: %s", h->url, why);
+    free(first);
+    return rc;
+}
+
 /* The source for url, its cache opened; *reused: blocks came from the cache. */
 static int src_open(const char *url, const vsv_http_opts *o, http_src **out, vsv_file **fout, size_t *reused)
 {
@@ -515,6 +537,8 @@ static int src_open(const char *url, const vsv_http_opts *o, http_src **out, vsv
         snprintf(msg, sizeof msg, "%s: %s", url, why);
         goto fail;
     }
+    if ((rc = confirm_cache(h, msg, sizeof msg)))
+        goto fail;
     *reused = h->cache.reused;
     h->pub.base = h->cache.map;
     h->pub.size = h->id.size;

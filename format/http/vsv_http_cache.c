@@ -8,7 +8,8 @@
  * that claims no block it lacks). The entry is used again only when the
  * record matches what the server says now (its ETag, or its length and
  * Last-Modified when it gives no ETag; a server that gives neither gets no
- * reuse). The data file is locked (flock) while a process uses it: a second
+ * reuse) and its first block is the server's now (fetched on every open:
+ * two files of one length and date never mix). The data file is locked (flock) while a process uses it: a second
  * process reading the same URL meanwhile works from memory. The directory is
  * kept under its bound by removing the least recently used entries (by the
  * record's time, touched on every use). */
@@ -221,6 +222,37 @@ int vsv_http_cache_open(vsv_http_cache *c, const char *dir, uint64_t max, const 
         return memory_only(c, id->size, msg, cap);
     }
     return 0;
+}
+
+int vsv_http_cache_confirm(vsv_http_cache *c, const char *url, const vsv_http_ident *id, const unsigned char *p,
+                           size_t n, char *msg, size_t cap)
+{
+    if (!c->reused || c->fd < 0)
+        return 0;
+    unsigned char *mine = malloc(n ? n : 1);
+    const int same = mine && c->have[0] && pread(c->fd, mine, n, 0) == (ssize_t)n && !memcmp(mine, p, n);
+    free(mine);
+    if (same)
+        return 0;
+    /* another file under the same validators: nothing of the entry is its */
+    memset(c->have, 0, c->nblocks);
+    c->reused = 0;
+    if (c->meta_fd >= 0)
+        close(c->meta_fd);
+    c->meta_fd = -1;
+    unlink(c->meta_path);
+    if (ftruncate(c->fd, 0) || ftruncate(c->fd, (off_t)id->size)) {
+        snprintf(msg, cap, "cannot empty the cache %s: %s (--cache-dir off reads without one)", c->data_path,
+                 strerror(errno));
+        return VSV_EIO;
+    }
+    c->meta_fd = new_record(c, url, id); /* none: the entry is not used again */
+    const int rc = vsv_http_cache_put(c, 0, p, n, msg, cap);
+    if (!rc) {
+        __atomic_store_n(&c->have[0], 1, __ATOMIC_RELEASE);
+        vsv_http_cache_mark(c, 0);
+    }
+    return rc;
 }
 
 void vsv_http_cache_mark(vsv_http_cache *c, size_t b)

@@ -42,6 +42,15 @@ typedef struct vsv_http_cache {
  * memory. 0, or VSV_ENOMEM / VSV_EIO with msg set. */
 int vsv_http_cache_open(vsv_http_cache *c, const char *dir, uint64_t max, const char *url, const vsv_http_ident *id,
                         char *msg, size_t cap);
+/* Confirms an entry used again (c->reused) against p, the server's bytes
+ * [0, n) now (its first block: the .vsv header with its CRC, and what
+ * follows): the same length and validators do not prove the same file (a
+ * server without ETag, a file replaced in place and its date kept). The
+ * entry's copy is read from its data file (not the mapping); a different
+ * copy, or none, empties the entry, and p is then its first block held.
+ * 0, or VSV_EIO with msg set. */
+int vsv_http_cache_confirm(vsv_http_cache *c, const char *url, const vsv_http_ident *id, const unsigned char *p,
+                           size_t n, char *msg, size_t cap);
 /* Puts n fetched bytes at off (into the data file, or memory); the caller
  * then marks their blocks held. 0, or VSV_EIO with msg set (a full disk). */
 int vsv_http_cache_put(vsv_http_cache *c, uint64_t off, const unsigned char *p, size_t n, char *msg, size_t cap);
