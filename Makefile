@@ -455,6 +455,12 @@ $(B)/tests/libcutmap.so: tests/cut_preload.c
 	@mkdir -p $(dir $@)
 	$(Q)$(CC) -std=c11 -D_GNU_SOURCE -O1 -fPIC -shared $(WARN) -o $@ $< -ldl
 
+# the test shim that stops a tool right after it made its temporary output
+# (tests/cli_mpi.sh signals it there)
+$(B)/tests/libholdtmp.so: tests/hold_preload.c
+	@mkdir -p $(dir $@)
+	$(Q)$(CC) -std=c11 -D_GNU_SOURCE -O1 -fPIC -shared $(WARN) -o $@ $< -ldl
+
 # cuts a netCDF file by time (the multi-file WRF run of tests/cli_mpi.sh)
 $(B)/tests/ncsplit: $(B)/tests/nc_split.o
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
@@ -485,7 +491,7 @@ test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
 	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" NOASLR=1 \
 	  TSAN_OPTIONS="halt_on_error=1 exitcode=66 second_deadlock_stack=1 $(TSAN_OPTIONS)" sh tests/run.sh
 else
-test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(B)/tests/libcutmap.so $(FREEVR_TEST)
+test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(B)/tests/libcutmap.so $(B)/tests/libholdtmp.so $(FREEVR_TEST)
 	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" VIEWER=$(VIEWER) \
 	  PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
 endif

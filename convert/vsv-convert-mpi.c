@@ -343,23 +343,16 @@ static void write_phase(rank *r, vsv_pack_plan *plan)
 static void publish(rank *r)
 {
     int ok = 1;
-    if (!r->me) {
-        if (rename(r->tmp, r->a.out)) {
-            rank_fail(r, "%s: renaming the temporary output into place: %s", r->a.out, strerror(errno));
-            ok = 0;
-        } else {
-            free(r->tmp);
-            r->tmp = NULL;
-            char *dir = strdup(r->a.out);
-            int dfd = dir ? open(dirname(dir), O_RDONLY | O_DIRECTORY) : -1;
-            if (dfd >= 0) {
-                fsync(dfd);
-                close(dfd);
-            }
-            free(dir);
-        }
+    if (!r->me && vsv_output_publish(r->tmp, r->a.out)) {
+        rank_fail(r, "%s: renaming the temporary output into place: %s", r->a.out, strerror(errno));
+        ok = 0;
     }
     MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+    if (ok) { /* renamed (a rank that removes the name meanwhile finds none) */
+        vsv_output_forget(r->tmp);
+        free(r->tmp);
+        r->tmp = NULL;
+    }
     if (!ok)
         rank_give_up(r, 0);
 }
@@ -382,25 +375,22 @@ static void print_stats(rank *r, double wall)
 }
 
 /* Rank 0 makes the temporary output beside OUT (so the rename is atomic)
- * and tells the others its name. */
+ * and tells the others its name. Every rank lists it (vsv_output.c), so
+ * SIGINT, SIGTERM or SIGHUP on any rank removes it before the rank dies of
+ * the signal (vsv_cli.c): a scheduler's time limit left OUT.tmp.XXXXXX
+ * after every interrupted run. */
 static void make_output(rank *r)
 {
     int len = 0;
-    char *name = NULL;
     if (!r->me) {
-        size_t n = strlen(r->a.out) + 16;
-        name = malloc(n);
-        snprintf(name, n, "%s.tmp.XXXXXX", r->a.out);
-        int fd = mkstemp(name);
+        const size_t n = strlen(r->a.out) + 64;
+        char *name = malloc(n);
+        const int fd = name ? vsv_output_temp(r->a.out, NULL, name, n) : -1;
         if (fd < 0) {
-            rank_fail(r, "%s: cannot create a temporary file beside it: %s", r->a.out, strerror(errno));
+            rank_fail(r, "%s: cannot create a temporary file beside it: %s", r->a.out, strerror(name ? errno : ENOMEM));
             free(name);
-            name = NULL;
         } else {
-            mode_t um = umask(0);
-            umask(um);
-            fchmod(fd, 0666 & ~um);
-            close(fd);
+            close(fd); /* MPI-IO opens it by name */
             r->tmp = name;
             len = (int)strlen(name) + 1;
         }
@@ -413,6 +403,8 @@ static void make_output(rank *r)
     }
     if (len)
         MPI_Bcast(r->tmp, len, MPI_CHAR, 0, MPI_COMM_WORLD);
+    if (r->me && len)
+        vsv_output_claim(r->tmp);
 }
 
 int main(int argc, char **argv)

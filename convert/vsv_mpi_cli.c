@@ -176,8 +176,8 @@ _Noreturn void rank_give_up(rank *r, int first)
         fprintf(stderr, "vsv-convert-mpi: rank %d: %s\n", first, r->err);
     }
     if (!r->me && r->tmp)
-        unlink(r->tmp);
-    exit(1);
+        vsv_output_discard(r->tmp);
+    exit(1); /* (the other ranks' listing of it: at exit, vsv_cli.c) */
 }
 
 void rank_check(rank *r, int phase)

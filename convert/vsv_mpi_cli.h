@@ -45,7 +45,7 @@ typedef struct rank {
     double t_start, t_phase, secs[3]; /* read, encode, write seconds */
     double last_line;
     double step_bytes; /* input bytes per output step (for MB/s) */
-    char *tmp;         /* rank 0: the temporary output */
+    char *tmp;         /* the temporary output (rank 0 made it; every rank lists it) */
 } rank;
 
 /* Seconds of a monotonic clock. */

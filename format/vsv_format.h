@@ -712,6 +712,10 @@ int vsv_output_commit(int fd, const char *tmp, const char *path);
 void vsv_output_discard(const char *tmp);
 /* Unlists tmp (when something else renamed or removed it). */
 void vsv_output_forget(const char *tmp);
+/* Lists tmp, a temporary another process made (the ranks of an MPI job
+ * share the one rank 0 makes), so vsv_output_cleanup removes it here too;
+ * vsv_output_forget unlists it. A name of 1024 bytes or more is not listed. */
+void vsv_output_claim(const char *tmp);
 /* Removes every listed temporary: async-signal-safe, for a program's
  * SIGINT/SIGTERM/SIGHUP handler (vsv_cli.c installs one). */
 void vsv_output_cleanup(void);

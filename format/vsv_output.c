@@ -91,6 +91,8 @@ static void remember(const char *tmp)
     pthread_mutex_unlock(&lock);
 }
 
+void vsv_output_claim(const char *tmp) { remember(tmp); }
+
 void vsv_output_forget(const char *tmp)
 {
     pthread_mutex_lock(&lock);

@@ -3,7 +3,8 @@
 # on 1 to 4 ranks, for the MM5 run cut into its periods (the bundled crop,
 # and the whole domain from ../shared) and for a WRF run cut by time; a
 # damaged input read by one rank stops every rank with one message naming
-# the rank and the file, exit 1, nothing left behind; help and misuse.
+# the rank and the file, exit 1, nothing left behind; a run interrupted by a
+# signal leaves no temporary; help and misuse.
 # Skipped, with a note, where vsv-convert-mpi is not built (no Open MPI).
 B=${B:-build}
 SHARED=${SHARED:-../shared}
@@ -123,6 +124,47 @@ left=$(ls "$T" | grep -c "^bad.vsv")
 [ "$left" = 0 ] && pass "the failed job leaves no output and no temporary" || fail "the failed job leaves no output" "$(ls "$T")"
 left=$(ls -A "$T/spool" | wc -l)
 [ "$left" = 0 ] && pass "the failed job leaves no spool files" || fail "the failed job leaves no spool files" "$(ls -A "$T/spool")"
+# interrupted runs: a scheduler's time limit (SIGTERM to mpirun), a hang-up
+# (SIGHUP), Ctrl-C reaching the ranks (SIGINT to rank 0) and SIGTERM to the
+# other rank: the temporary output is removed before the job dies of the
+# signal, and the output from before stays (issue 33: OUT.tmp.XXXXXX was
+# left after every interrupted run). A test shim stops rank 0 right after it
+# made the temporary, so the signal comes there, with no timing.
+cp "$T/crop.vsv" "$T/sig.vsv"
+interrupt() { # NAME SIGNAL WHOM (mpirun, rank0 or rank1)
+    rm -f "$T/held"
+    $MPIRUN -np 2 -x LD_PRELOAD="$(pwd)/$B/tests/libholdtmp.so" -x VSV_TEST_HOLD="$T/sig.vsv.tmp." \
+        -x VSV_TEST_HOLD_MARK="$T/held" -x ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}verify_asan_link_order=0" \
+        "$MPI" -q --time-res 10m "$T"/crop_0? -o "$T/sig.vsv" > "$T/out" 2> "$T/err" &
+    job=$!
+    i=0
+    while [ ! -s "$T/held" ] && [ $i -lt 600 ] && kill -0 $job 2> /dev/null; do sleep 0.1; i=$((i + 1)); done
+    if [ ! -s "$T/held" ] || ! ls "$T" | grep -q '^sig\.vsv\.tmp\.'; then
+        fail "$1: rank 0 stops with its temporary made" "$(ls "$T" | grep sig) $(head -c 300 "$T/err")"
+        kill -KILL $job 2> /dev/null
+        wait $job
+        return
+    fi
+    case $3 in
+    mpirun) kill -$2 $job ;;
+    rank0) kill -$2 "$(cat "$T/held")" ;;
+    rank1) # (mpirun starts the ranks of one machine itself)
+        pgrep -P $job | grep -vx "$(cat "$T/held")" | xargs kill -$2 ;;
+    esac
+    wait $job
+    rc=$?
+    [ $rc != 0 ] && pass "$1: the job fails (exit $rc)" || fail "$1: the job fails" "exit 0"
+    left=$(ls "$T" | grep -c '^sig\.vsv\.')
+    [ "$left" = 0 ] && pass "$1: no temporary left" || fail "$1: no temporary left" "$(ls "$T" | grep sig)"
+    same "$1: the output from before is intact" "$T/crop.vsv" "$T/sig.vsv"
+    left=$(ls -A "$T/spool" | wc -l)
+    [ "$left" = 0 ] && pass "$1: no spool file left" || fail "$1: no spool file left" "$(ls -A "$T/spool")"
+}
+interrupt "SIGTERM to mpirun (a time limit)" TERM mpirun
+interrupt "SIGHUP to mpirun" HUP mpirun
+interrupt "SIGINT to rank 0" INT rank0
+interrupt "SIGTERM to rank 1" TERM rank1
+
 expect "an output directory that does not exist: exit 1" 1 $MPIRUN -np 2 "$MPI" -q "$T"/crop_00 -o "$T/nowhere/x.vsv"
 has "... said by rank 0" "$T/err" "vsv-convert-mpi: rank 0: $T/nowhere/x.vsv: cannot create a temporary file beside it"
 exit 0

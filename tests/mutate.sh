@@ -40,7 +40,7 @@ make_quiet() { make -s --no-print-directory -j"${JOBS:-2}" "$@" > build.log 2>&1
 # targets and commands for a test name
 target() {
     case $1 in
-    cli_*.sh) echo all build/tests/mm5crop build/tests/ncsplit build/tests/libcutmap.so ;;
+    cli_*.sh) echo all build/tests/mm5crop build/tests/ncsplit build/tests/libcutmap.so build/tests/libholdtmp.so ;;
     *) echo "build/tests/$1" ;;
     esac
 }
