@@ -39,8 +39,15 @@ static const char usage[] =
     "  -c, --camera AZ,EL[,DIST] azimuth clockwise from north, elevation (degrees),\n"
     "                          distance in world metres (default 225,30: from the\n"
     "                          south-west, 30 degrees up, the domain filling the image)\n"
-    "      --range SPECIES=LO:HI  the values the species' colours span (its transfer\n"
-    "                          function's range; repeatable), so files share a scale\n"
+    "      --range SPECIES:LO:HI  the values the species' colours span (its transfer\n"
+    "                          function's range; also SPECIES=LO:HI), so files share\n"
+    "                          a scale\n"
+    "      --colormap SPECIES:NAME  its colour map: viridis, magma, cividis, inferno,\n"
+    "                          plasma (perceptually uniform, matplotlib's), clouds,\n"
+    "                          rain, ice, snow, graupel, greys\n"
+    "      --log SPECIES       its colours on a log scale (over its range; a range\n"
+    "                          from 0 starts 4 decades below its top)\n"
+    "                          (these three repeat, per species, in the order given)\n"
     "      --view NAME         plan (a map: orthographic, north up), south, west\n"
     "                          (from 8 degrees up) or oblique (225,30)\n"
     "      --look-at EX,EY,EZ,TX,TY,TZ  eye and target in metres (projection x, y;\n"
@@ -96,7 +103,7 @@ static int write_png(const char *path, const float *rgba, int w, int h, const fl
 }
 
 /* clang-format off */ /* (a table, laid out by hand) */
-enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
+enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
     {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -108,6 +115,7 @@ static const struct option longopts[] = {
     {"movie", required_argument, 0, O_MOVIE},  {"fps", required_argument, 0, O_FPS},
     {"quiet", no_argument, 0, 'q'},            {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
     {"view", required_argument, 0, O_VIEW},    {"range", required_argument, 0, O_RANGE},
+    {"colormap", required_argument, 0, O_COLORMAP}, {"log", required_argument, 0, O_LOG},
     {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
     {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
     {"slice-colormap", required_argument, 0, O_SLICECM}, {"gpu-mb", required_argument, 0, O_GPUMB},
@@ -119,11 +127,12 @@ static const struct option longopts[] = {
 /* The command line, parsed and checked (main). */
 typedef struct render_args {
     const char *out, *time, *times, *species, *tfpath, *movie_out, *path;
-    int fps, width, height, terrain, lookat, stereo, plan, nranges, nslice_specs, light, sequence;
+    int fps, width, height, terrain, lookat, stereo, plan, nchanges, nslice_specs, light, sequence;
     size_t gpu_mb;
     double az, el, dist, exag, sun_az, sun_el, la[6], slice_range[2]; /* --slice-range, else each frame's own */
     float bg[3];
-    const char *ranges[64], *slice_specs[8], *slice_species, *slice_cmap;
+    const char *slice_specs[8], *slice_species, *slice_cmap;
+    vsv_tf_change changes[64]; /* --colormap, --log, --range */
     unsigned parts;
     vsv_render_opts ro;
 } render_args;
@@ -172,14 +181,15 @@ static int parse_args(int argc, char **argv, render_args *ra)
             ra->plan = 0;
             break;
         }
-        case O_RANGE: {
-            char nm[64];
-            double lo, hi;
-            int used = 0;
-            if (ra->nranges >= 64 || sscanf(optarg, "%63[^=]=%lf:%lf%n", nm, &lo, &hi, &used) != 3 || optarg[used] ||
-                !(lo < hi) || !isfinite(lo) || !isfinite(hi))
-                vsv_cli_usage_error("--range %s: expected SPECIES=LO:HI with LO < HI", optarg);
-            ra->ranges[ra->nranges++] = optarg;
+        case O_RANGE:
+        case O_COLORMAP:
+        case O_LOG: {
+            char msg[512];
+            const char *opt = c == O_RANGE ? "range" : c == O_LOG ? "log" : "colormap";
+            if (ra->nchanges >= 64)
+                vsv_cli_usage_error("--%s: at most 64 colour and scale changes", opt);
+            if (vsv_tf_change_parse(opt, optarg, &ra->changes[ra->nchanges++], msg, sizeof msg))
+                vsv_cli_usage_error("%s", msg);
             break;
         }
         case O_VIEW:
@@ -345,12 +355,11 @@ static void make_layers(const render_args *ra, render_run *run)
         vsv_cli_die(1, "out of memory");
     for (int s = 0; s < m->nvars; s++) /* -1: not drawn */
         opac[s] = !species && vsv_meta_default_shown(m, s) ? 1 : -1;
-    for (int i = 0; i < ra->nranges; i++) {
-        char nm[64];
-        sscanf(ra->ranges[i], "%63[^=]", nm);
-        if (vsv_meta_find_var(m, nm) < 0)
-            vsv_cli_usage_error("--range: %s has no species '%s'", path, nm);
-    }
+    for (int i = 0; i < ra->nchanges; i++)
+        if (vsv_meta_find_var(m, ra->changes[i].species) < 0)
+            vsv_cli_usage_error("--%.*s: %s has no species '%s'", (int)strcspn(ra->changes[i].line, " "),
+                                !strncmp(ra->changes[i].line, "scale", 5) ? "log" : ra->changes[i].line, path,
+                                ra->changes[i].species);
     if (species) {
         char *copy = strdup(species), *save = NULL;
         for (char *it = copy ? strtok_r(copy, ",", &save) : NULL; it; it = strtok_r(NULL, ",", &save)) {
@@ -388,18 +397,10 @@ static void make_layers(const render_args *ra, render_run *run)
             vsv_cli_die(1, "%s", msg);
         if (trc)
             vsv_cli_die(1, "%s: %s", tfpath ? tfpath : path, msg);
-        for (int i = 0; i < ra->nranges; i++) { /* --range: absolute values, shared by files and runs */
-            char nm[64];
-            double lo, hi;
-            if (sscanf(ra->ranges[i], "%63[^=]=%lf:%lf", nm, &lo, &hi) == 3 && !strcmp(nm, m->vars[s].name)) {
-                if (tfs[nl].scale == VSV_SCALE_LOG && !(lo > 0))
-                    vsv_cli_usage_error("--range %s: %s is on a log scale, LO must be > 0", ra->ranges[i], nm);
-                tfs[nl].lo = lo;
-                tfs[nl].hi = hi;
-                if (vsv_tf_prepare(&tfs[nl]))
-                    vsv_cli_usage_error("--range %s: not a usable range", ra->ranges[i]);
-            }
-        }
+        for (int i = 0; i < ra->nchanges; i++) /* --colormap, --log, --range: in the order given */
+            if (!strcmp(ra->changes[i].species, m->vars[s].name) &&
+                vsv_tf_change_apply(&tfs[nl], &ra->changes[i], msg, sizeof msg))
+                vsv_cli_usage_error("%s", msg);
         if (vsv_volume_create(run->f, &vols[nl]))
             vsv_cli_die(1, "out of memory");
         layers[nl] = (vsv_layer){vols[nl], &tfs[nl], opac[s] >= 0 ? opac[s] : 0, opac[s] >= 0};

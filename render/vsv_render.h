@@ -85,6 +85,21 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
  * from the file). */
 int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf, char *msg, size_t cap);
 
+/* One change to a species' transfer function from the command line, in
+ * every renderer alike: --colormap SPECIES:NAME, --log SPECIES, --range
+ * SPECIES:LO:HI (or SPECIES=LO:HI). Plain info. */
+typedef struct vsv_tf_change {
+    char species[64];
+    char line[96]; /* a transfer-function line (SPEC.md §14) */
+} vsv_tf_change;
+/* Parses option opt ("colormap", "log" or "range") with its argument into
+ * c. 0, or VSV_EINVAL with the reason in msg. */
+int vsv_tf_change_parse(const char *opt, const char *arg, vsv_tf_change *c, char *msg, size_t cap);
+/* Applies c to tf (the key it names changes, the rest stays) and prepares
+ * it. A log scale over a range that starts at or below 0 starts 4 decades
+ * below its top instead. 0, or VSV_EINVAL with the reason in msg. */
+int vsv_tf_change_apply(vsv_tf *tf, const vsv_tf_change *c, char *msg, size_t cap);
+
 /* ------------------------------------------------------------------ scene */
 
 typedef struct vsv_camera {

@@ -17,8 +17,11 @@ typedef struct cmap {
     unsigned rgb[10];
 } cmap;
 
-/* Perceptually uniform maps sampled at ten points (viridis, magma, cividis),
- * and simple ramps for hydrometeors. */
+/* Perceptually uniform maps sampled at ten points (viridis, magma, cividis,
+ * inferno, plasma: matplotlib's, by Stefan van der Walt and Nathaniel Smith,
+ * CC0; cividis by Nuñez, Anderton and Renslow, PLOS ONE 2018), and simple
+ * ramps for hydrometeors. New maps go last: the order decides which map a
+ * species that shares one is given (vsv_tf_for_species). */
 static const cmap maps[] = {
     {"viridis",
      10,
@@ -33,6 +36,12 @@ static const cmap maps[] = {
     {"snow", 2, {0x7a4fd0, 0xc4a8ff}},
     {"graupel", 2, {0xd9822b, 0xffd699}},
     {"greys", 2, {0x404040, 0xe0e0e0}},
+    {"inferno",
+     10,
+     {0x000004, 0x1b0c41, 0x4a0c6b, 0x781c6d, 0xa52c60, 0xcf4446, 0xed6925, 0xfb9b06, 0xf7d13d, 0xfcffa4}},
+    {"plasma",
+     10,
+     {0x0d0887, 0x47039f, 0x7301a8, 0x9c179e, 0xbd3786, 0xd8576b, 0xed7953, 0xfa9f3a, 0xfdc926, 0xf0f921}},
 };
 
 const char *const *vsv_tf_colormaps(void)
@@ -305,6 +314,68 @@ int vsv_tf_for_species(const vsv_file *f, int s, const char *tfpath, vsv_tf *tf,
         rc = vsv_tf_prepare(tf) ? VSV_EINVAL : 0;
     }
     return rc;
+}
+
+int vsv_tf_change_parse(const char *opt, const char *arg, vsv_tf_change *c, char *msg, size_t cap)
+{
+    memset(c, 0, sizeof *c);
+    const char *sep = strcmp(opt, "log") ? strpbrk(arg, !strcmp(opt, "range") ? ":=" : ":") : NULL;
+    const size_t n = sep ? (size_t)(sep - arg) : strlen(arg);
+    if (!n || n >= sizeof c->species || (strcmp(opt, "log") && !sep)) {
+        snprintf(msg, cap, "--%s %s: expected %s", opt, arg,
+                 !strcmp(opt, "log")        ? "a species name"
+                 : !strcmp(opt, "colormap") ? "SPECIES:NAME"
+                                            : "SPECIES:LO:HI");
+        return VSV_EINVAL;
+    }
+    memcpy(c->species, arg, n);
+    if (!strcmp(opt, "log")) {
+        snprintf(c->line, sizeof c->line, "scale log");
+    } else if (!strcmp(opt, "colormap")) {
+        if (!find_map(sep + 1)) {
+            char names[256] = "";
+            for (const char *const *cm = vsv_tf_colormaps(); *cm; cm++)
+                snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", *cm, cm[1] ? ", " : "");
+            snprintf(msg, cap, "--colormap %s: no colour map '%s' (%s)", arg, sep + 1, names);
+            return VSV_EINVAL;
+        }
+        snprintf(c->line, sizeof c->line, "colormap %s", sep + 1);
+    } else if (!strcmp(opt, "range")) {
+        double lo, hi;
+        int used = 0;
+        if (sscanf(sep + 1, "%lf:%lf%n", &lo, &hi, &used) != 2 || sep[1 + used] || !(lo < hi) || !isfinite(hi - lo)) {
+            snprintf(msg, cap, "--range %s: expected SPECIES:LO:HI with LO < HI", arg);
+            return VSV_EINVAL;
+        }
+        snprintf(c->line, sizeof c->line, "range %.17g %.17g", lo, hi);
+    } else {
+        snprintf(msg, cap, "--%s: not a transfer-function option", opt);
+        return VSV_EINVAL;
+    }
+    return 0;
+}
+
+int vsv_tf_change_apply(vsv_tf *tf, const vsv_tf_change *c, char *msg, size_t cap)
+{
+    char text[1024], why[256];
+    vsv_tf t = *tf;
+    if (!strcmp(c->line, "scale log") && !(t.lo > 0)) {
+        if (!(t.hi > 0)) {
+            snprintf(msg, cap, "--log %s: its range (%g to %g) has nothing above 0 to put on a log scale", c->species,
+                     t.lo, t.hi);
+            return VSV_EINVAL;
+        }
+        t.lo = t.hi * 1e-4; /* four decades below the top */
+    }
+    vsv_tf_format(&t, text, sizeof text);
+    snprintf(text + strlen(text), sizeof text - strlen(text), "\n%s\n", c->line);
+    if (vsv_tf_parse(&t, text, why, sizeof why)) {
+        snprintf(msg, cap, "%s: %s", c->species,
+                 strstr(why, "log scale") ? "a log scale needs a range above 0 (--range SPECIES:LO:HI, LO > 0)" : why);
+        return VSV_EINVAL;
+    }
+    *tf = t;
+    return 0;
 }
 
 /* Largest opacity of a transfer function over the values [lo, hi]. */

@@ -18,7 +18,26 @@ expect "--range of an unknown species exits 2" 2 $R -o "$T/x.png" --range NOPE=0
 expect "--range without a species exits 2" 2 $R -o "$T/x.png" --range 0:1
 expect "--view plan" 0 $R -o "$T/plan.png" --view plan
 expect "--view sideways exits 2" 2 $R -o "$T/x.png" --view sideways
-has "--help names --range" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "--range SPECIES=LO:HI"
+has "--help names --range" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "--range SPECIES:LO:HI"
+# colour maps and log scales by species, in every renderer alike
+expect "--colormap CLW:magma" 0 $R -o "$T/magma.png" --colormap CLW:magma
+if cmp -s "$T/magma.png" "$T/default.png"; then fail "--colormap changes the colours" "same image"; else pass "--colormap changes the colours"; fi
+expect "--log CLW" 0 $R -o "$T/log.png" --log CLW
+if cmp -s "$T/log.png" "$T/default.png"; then fail "--log changes the colours" "same image"; else pass "--log changes the colours"; fi
+expect "--colormap CLW:rainbow exits 2" 2 $R -o "$T/x.png" --colormap CLW:rainbow
+has "... naming the maps there are" "$T/err" "no colour map 'rainbow' (viridis, magma, cividis"
+expect "--log NOPE exits 2" 2 $R -o "$T/x.png" --log NOPE
+has "... naming the file and species" "$T/err" "--log: $T/s.vsv has no species 'NOPE'"
+expect "--log CLW --range CLW:0:1 exits 2" 2 $R -o "$T/x.png" --log CLW --range CLW:0:1
+has "... a log scale needs a range above 0" "$T/err" "a log scale needs a range above 0"
+for tool in vsv-play vsv-play-freevr; do
+    [ -x "$B/$tool" ] || continue
+    "$B/$tool" --help > "$T/help"
+    has "$tool --help names --colormap, --log and --range" "$T/help" "--log SPECIES"
+    expect "$tool --colormap CLW:rainbow exits 2" 2 "$B/$tool" "$T/s.vsv" --colormap CLW:rainbow
+    expect "$tool --log NOPE exits 2" 2 "$B/$tool" "$T/s.vsv" --log NOPE
+    has "... naming the species" "$T/err" "has no species 'NOPE'"
+done
 # a shared scale: two files of the same data, one quantised over another
 # range (vsv-convert --range), differ by default (each colours its own
 # range) and agree within 1/255 with the same --range (one colour, one value)

@@ -54,6 +54,7 @@ static const char usage[] =
     "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all\n"
     "                          but water vapour)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
+    VSV_PLAYER_TF_HELP
     "  -r, --renderer NAME     auto (default: gl where OpenGL 3.3 runs on a GPU, else\n"
     "                          shearwarp), shearwarp, raycast, or gl: the raycaster on\n"
     "                          the GPU, each eye of each wall in its own frustum\n"
@@ -416,22 +417,10 @@ static int publish(run *r, char *err, size_t cap)
     return 0;
 }
 
-enum {
-    O_TF = 1000,
-    O_CACHE,
-    O_THREADS,
-    O_SCALE,
-    O_RATE,
-    O_LOOP,
-    O_PLAY,
-    O_NOTERRAIN,
-    O_PLACE,
-    O_TRACE,
-    O_NOPANEL,
-    O_FPS,
-    O_NOWAND,
-    O_GPUMB
-};
+/* clang-format off */
+enum { O_TF = 1000, O_COLORMAP, O_LOG, O_RANGE, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN,
+       O_PLACE, O_TRACE, O_NOPANEL, O_FPS, O_NOWAND, O_GPUMB };
+/* clang-format on */
 
 /* What the command line says beyond the player's options: ours apart from FreeVR's strings. */
 typedef struct freevr_args {
@@ -441,6 +430,14 @@ typedef struct freevr_args {
     char **ours, **fv; /* argv split: ours (options and the file), FreeVR's */
     int nfv;
 } freevr_args;
+
+/* --colormap, --log, --range into the player's options (misuse exits 2). */
+static void tf_option(vsv_player_opts *po, const char *opt, const char *arg)
+{
+    char msg[512];
+    if (vsv_player_tf_option(po, opt, arg, msg, sizeof msg))
+        vsv_cli_usage_error("%s", msg);
+}
 
 /* The command line into *a, *r and vsv_fv (usage errors exit 2); 1 when --help was printed. */
 static int parse_args(int argc, char **argv, freevr_args *a, run *r)
@@ -470,7 +467,8 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
         {"no-terrain", no_argument, 0, O_NOTERRAIN},  {"place", required_argument, 0, O_PLACE},
         {"trace", required_argument, 0, O_TRACE},     {"no-panel", no_argument, 0, O_NOPANEL},
         {"fps", no_argument, 0, O_FPS},               {"no-wand", no_argument, 0, O_NOWAND},
-        {"gpu-mb", required_argument, 0, O_GPUMB},
+        {"gpu-mb", required_argument, 0, O_GPUMB},      {"colormap", required_argument, 0, O_COLORMAP},
+        {"log", required_argument, 0, O_LOG},          {"range", required_argument, 0, O_RANGE},
         {"help", no_argument, 0, 'h'},                {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
     /* clang-format on */
@@ -482,6 +480,9 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
         switch (c) {
         case 's': a->opts.species = optarg; break;
         case O_TF: a->opts.tfpath = optarg; break;
+        case O_COLORMAP: tf_option(&a->opts, "colormap", optarg); break;
+        case O_LOG: tf_option(&a->opts, "log", optarg); break;
+        case O_RANGE: tf_option(&a->opts, "range", optarg); break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
                 a->opts.renderer = VSV_RENDER_RAYCAST;

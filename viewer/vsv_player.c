@@ -163,9 +163,26 @@ static int open_species(vsv_player *p, const vsv_player_opts *o, char *err, size
         opac[s] = !o->species && vsv_meta_default_shown(p->m, s) ? 1 : -1;
     if (o->species && (rc = species_opacities(p, o, opac, err, cap)))
         goto fail;
+    for (int i = 0; i < o->ntf_changes; i++)
+        if (vsv_meta_find_var(p->m, o->tf_changes[i].species) < 0) {
+            snprintf(err, cap, "--%s: %s has no species '%s'",
+                     !strncmp(o->tf_changes[i].line, "scale", 5)   ? "log"
+                     : !strncmp(o->tf_changes[i].line, "range", 5) ? "range"
+                                                                   : "colormap",
+                     o->path, o->tf_changes[i].species);
+            rc = VSV_EINVAL;
+            goto fail;
+        }
     for (int s = 0; s < p->ns; s++) {
         char msg[512];
         rc = vsv_tf_for_species(p->f, s, o->tfpath, &p->tf[s], msg, sizeof msg);
+        for (int i = 0; !rc && i < o->ntf_changes; i++)
+            if (!strcmp(o->tf_changes[i].species, p->m->vars[s].name) &&
+                vsv_tf_change_apply(&p->tf[s], &o->tf_changes[i], msg, sizeof msg)) {
+                snprintf(err, cap, "%s", msg);
+                rc = VSV_EINVAL;
+                goto fail;
+            }
         if (rc) {
             snprintf(err, cap, rc == VSV_EIO ? "%s" : "%s: %s",
                      rc == VSV_EIO ? msg
@@ -224,6 +241,17 @@ static int open_slices(vsv_player *p, const vsv_player_opts *o, char *err, size_
         }
     }
     return 0;
+}
+
+int vsv_player_tf_option(vsv_player_opts *o, const char *opt, const char *arg, char *msg, size_t cap)
+{
+    if (o->ntf_changes >= VSV_PLAYER_MAX_TF_CHANGES) {
+        snprintf(msg, cap, "--%s: at most %d colour and scale changes", opt, VSV_PLAYER_MAX_TF_CHANGES);
+        return VSV_EINVAL;
+    }
+    const int rc = vsv_tf_change_parse(opt, arg, &o->tf_changes[o->ntf_changes], msg, cap);
+    o->ntf_changes += !rc;
+    return rc;
 }
 
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)

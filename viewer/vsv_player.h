@@ -28,6 +28,18 @@
 
 #include <stddef.h>
 
+/* How many --colormap, --log and --range options a player takes. */
+#define VSV_PLAYER_MAX_TF_CHANGES 16
+/* Their help, the same in vsv-play and vsv-play-freevr (and vsv-render). */
+#define VSV_PLAYER_TF_HELP                                                                                             \
+    "      --colormap SPECIES:NAME  its colour map: viridis, magma, cividis, inferno,\n"                               \
+    "                          plasma (perceptually uniform, matplotlib's), clouds,\n"                                 \
+    "                          rain, ice, snow, graupel, greys\n"                                                      \
+    "      --log SPECIES       its colours on a log scale (over its range; a range\n"                                  \
+    "                          from 0 starts 4 decades below its top)\n"                                               \
+    "      --range SPECIES:LO:HI  the values its colours span (also SPECIES=LO:HI)\n"                                  \
+    "                          (these repeat, per species, in the order given)\n"
+
 typedef struct vsv_player_opts {
     const char *path;          /* a .vsv file or an http(s):// URL */
     const vsv_http_opts *http; /* URLs: the cache and retries; NULL = the defaults */
@@ -46,16 +58,18 @@ typedef struct vsv_player_opts {
                                   player makes none */
     const char *species; /* NAME[:OPACITY],... visible at start; NULL = all but water vapour (vsv_meta_default_shown) */
     const char *tfpath;  /* transfer functions file or NULL */
-    double exaggerate;   /* 0 = the default */
-    double rate;         /* model seconds per wall second at x1; 0 = the default */
-    int loop;            /* VSV_CLOCK_STOP / LOOP / BOUNCE */
-    int play;            /* start playing */
-    int terrain;         /* draw the ground */
-    int clock_only;      /* no pager, no renderer: the input process of a
-                            multi-process back end (state and clock only) */
-    int external;        /* the volumes come from elsewhere (vsv_player_show:
-                            a render process of a multi-process back end,
-                            vsv_room.h): no decoding, no pager threads */
+    vsv_tf_change tf_changes[VSV_PLAYER_MAX_TF_CHANGES]; /* --colormap, --log, --range */
+    int ntf_changes;                              /* (vsv_player_tf_option), applied in order over each species' */
+    double exaggerate;                            /* 0 = the default */
+    double rate;                                  /* model seconds per wall second at x1; 0 = the default */
+    int loop;                                     /* VSV_CLOCK_STOP / LOOP / BOUNCE */
+    int play;                                     /* start playing */
+    int terrain;                                  /* draw the ground */
+    int clock_only;                               /* no pager, no renderer: the input process of a
+                                                     multi-process back end (state and clock only) */
+    int external;                                 /* the volumes come from elsewhere (vsv_player_show:
+                                                     a render process of a multi-process back end,
+                                                     vsv_room.h): no decoding, no pager threads */
     void *(*slab_alloc)(void *ctx, size_t bytes); /* the pager's brick memory */
     void *slab_ctx;                               /* (vsv_pager_opts.slab_alloc; NULL: the heap) */
     int light;                                    /* gradient shading at start */
@@ -73,6 +87,9 @@ void vsv_player_opts_init(vsv_player_opts *o);
 
 typedef struct vsv_player vsv_player;
 
+/* Takes option opt ("colormap", "log" or "range") with its argument into
+ * o->tf_changes. 0, or VSV_EINVAL with the reason in msg. */
+int vsv_player_tf_option(vsv_player_opts *o, const char *opt, const char *arg, char *msg, size_t cap);
 /* Opens the file and starts the pager and the renderer. 0; -1 with the
  * reason in err ("FILE: what"); or VSV_EINVAL when an option does not fit
  * the file (a species, slice, slice species or colour map: misuse, as
