@@ -20,16 +20,17 @@ void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double d
     const int fixed = opt->lo < opt->hi;
     double err;
     if (q->scale == VSV_SCALE_LINEAR) {
-        q->lo = fixed ? opt->lo : (dmin <= dmax ? dmin : 0);
+        const int none = !(dmin <= dmax); /* no finite value: every cell is no data */
+        q->lo = fixed ? opt->lo : (!none ? dmin : 1);
         /* round-off below zero in a non-negative field (WRF's hydrometeors
          * carry -1e-14 and the like): keep 0 as the floor so zeros stay empty */
         if (!fixed && dmin < 0 && dmax > 0 && -dmin < 1e-6 * dmax)
             q->lo = 0;
-        q->hi = fixed ? opt->hi : (dmin <= dmax ? dmax : 0);
+        q->hi = fixed ? opt->hi : (!none ? dmax : 2);
         q->threshold = isnan(opt->threshold) ? -INFINITY : opt->threshold;
         /* no-data cells of a field whose smallest value is 0 (a concentration)
          * share code 0 with the zeros: both mean "nothing here" */
-        q->missing = missing != 0 && q->lo != 0;
+        q->missing = missing != 0 && (q->lo != 0 || none);
         const double step = (q->hi - q->lo) / (q->missing ? M - 1 : M);
         err = step / 2;
         if (q->threshold > q->lo && dmin < q->threshold && !q->missing)

@@ -12,6 +12,7 @@
 #include "vsv_format.h"
 #include "vsv_http.h"
 
+#include <limits.h>
 #include <math.h>
 #include <pthread.h>
 #include <string.h>
@@ -79,8 +80,10 @@ static int species_of(FileObject *self, PyObject *o)
     const vsv_meta *m = vsv_file_meta(self->f);
     if (PyLong_Check(o)) {
         long s = PyLong_AsLong(o);
+        if (s == -1 && PyErr_Occurred()) /* beyond a C long: out of range too */
+            PyErr_Clear(), s = LONG_MIN;
         if (s < 0 || s >= m->nvars) {
-            PyErr_Format(VsvError, "species %ld out of range (0..%d)", s, m->nvars - 1);
+            PyErr_Format(VsvError, "species %S out of range (0..%d)", o, m->nvars - 1);
             return -1;
         }
         return (int)s;
@@ -105,10 +108,12 @@ static int step_of(FileObject *self, PyObject *o)
     const int n = self->info.nsteps;
     if (PyLong_Check(o)) {
         long t = PyLong_AsLong(o);
-        if (t < 0)
+        if (t == -1 && PyErr_Occurred()) /* beyond a C long: out of range too */
+            PyErr_Clear(), t = LONG_MIN;
+        else if (t < 0)
             t += n;
         if (t < 0 || t >= n) {
-            PyErr_Format(VsvError, "time step %ld out of range (0..%d)", PyLong_AsLong(o), n - 1);
+            PyErr_Format(VsvError, "time step %S out of range (0..%d)", o, n - 1);
             return -1;
         }
         return (int)t;

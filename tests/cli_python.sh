@@ -18,6 +18,10 @@ rc=$?
 # 1: a failed test, reported by its FAIL line; anything else (a crash) ends
 # the suite without one
 [ $rc -le 1 ] || fail "tests/test_python.py runs to its end" "exit status $rc"
+# properties of the API over drawn inputs (python3-hypothesis; the long run: tests/FUZZING.md)
+PYTHONPATH="$B/python" "$PYTHON" tests/test_python_props.py
+rc=$?
+[ $rc -le 1 ] || fail "tests/test_python_props.py runs to its end" "exit status $rc"
 P="$T/x"
 if make -s --no-print-directory B="$B" install PREFIX="$P" > "$T/log" 2>&1; then
     pass "make install PREFIX=$P"
