@@ -386,8 +386,8 @@ static PyObject *File_projection(FileObject *self, void *unused)
                          "lat1", p->lat1, "lat2", p->lat2, "radius", p->radius > 0 ? p->radius : 6370000.0);
 }
 
-/* lat (0) or lon (1) of every column: float64 (ny, nx). */
-static PyObject *latlon(FileObject *self, int which)
+/* lat (closure NULL) or lon (non-NULL) of every column: float64 (ny, nx). */
+static PyObject *File_latlon(FileObject *self, void *lon)
 {
     const vsv_meta *m = meta_of(self);
     if (!m)
@@ -402,19 +402,9 @@ static PyObject *latlon(FileObject *self, int which)
             double la = NAN, lo = NAN;
             if (vsv_meta_cell_latlon(m, i, j, &la, &lo))
                 la = lo = NAN;
-            o[(size_t)j * m->nx + i] = which ? lo : la;
+            o[(size_t)j * m->nx + i] = lon ? lo : la;
         }
     return (PyObject *)a;
-}
-static PyObject *File_lat(FileObject *self, void *unused)
-{
-    (void)unused;
-    return latlon(self, 0);
-}
-static PyObject *File_lon(FileObject *self, void *unused)
-{
-    (void)unused;
-    return latlon(self, 1);
 }
 
 /* Heights of the levels: (nz,) (the same in every column). */
@@ -510,8 +500,8 @@ static PyGetSetDef File_getset[] = {
     {"_species", (getter)File_species, NULL, "species tuples", NULL},
     {"grid", (getter)File_grid, NULL, "the grid: sizes, origin, spacing, vertical axis", NULL},
     {"projection", (getter)File_projection, NULL, "the map projection", NULL},
-    {"lat", (getter)File_lat, NULL, "latitude of every column's centre, (ny, nx)", NULL},
-    {"lon", (getter)File_lon, NULL, "longitude of every column's centre, (ny, nx)", NULL},
+    {"lat", (getter)File_latlon, NULL, "latitude of every column's centre, (ny, nx)", NULL},
+    {"lon", (getter)File_latlon, NULL, "longitude of every column's centre, (ny, nx)", (void *)"lon"},
     {"height", (getter)File_height, NULL, "height of every level's centre, (nz,)", NULL},
     {"terrain", (getter)File_terrain, NULL, "terrain height (ny, nx) or None", NULL},
     {"attrs", (getter)File_attrs, NULL, "run metadata", NULL},

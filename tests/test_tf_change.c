@@ -42,8 +42,8 @@ static void test_apply(void)
     CHECK(!vsv_tf_parse(&lin, "colormap viridis\nrange 0 0.001\nopacity 1 1\n", msg, sizeof msg), "a linear tf");
     lg = lin;
     parse("log", "CLW", &c, msg);
-    CHECK(!vsv_tf_change_apply(&lg, &c, msg, sizeof msg) && lg.scale == VSV_SCALE_LOG &&
-              fabs(lg.lo - 1e-7) < 1e-20 && lg.hi == 0.001,
+    CHECK(!vsv_tf_change_apply(&lg, &c, msg, sizeof msg) && lg.scale == VSV_SCALE_LOG && fabs(lg.lo - 1e-7) < 1e-20 &&
+              lg.hi == 0.001,
           "--log over 0..top spans the four decades below the top", "%g..%g", lg.lo, lg.hi);
     float a[4], b[4];
     vsv_tf_eval(&lg, 1e-5f, a);  /* two decades below the top: the middle of the map */
@@ -53,8 +53,8 @@ static void test_apply(void)
           b[0], b[1], b[2]);
     vsv_tf t = lin;
     parse("colormap", "CLW:magma", &c, msg);
-    CHECK(!vsv_tf_change_apply(&t, &c, msg, sizeof msg) && !strcmp(t.colormap, "magma") && t.lo == 0 &&
-              t.hi == 0.001 && t.scale == VSV_SCALE_LINEAR,
+    CHECK(!vsv_tf_change_apply(&t, &c, msg, sizeof msg) && !strcmp(t.colormap, "magma") && t.lo == 0 && t.hi == 0.001 &&
+              t.scale == VSV_SCALE_LINEAR,
           "--colormap changes the map alone");
     vsv_tf_eval(&t, 0.001f, a);
     CHECK(a[0] > 0.95f && a[1] > 0.95f && a[2] > 0.7f, "magma's top is its pale yellow", "%g %g %g", a[0], a[1], a[2]);
