@@ -30,6 +30,8 @@ PKGS = libzstd geographiclib netcdf libpng OpenEXR freetype2 tbb blosc Imath lib
 # OpenVDB (libopenvdb-dev) ships no pkg-config file: its header and -lopenvdb,
 # with its own dependencies (tbb, blosc, Imath) through pkg-config above
 OPENVDB_LIBS = -lopenvdb
+# the plots (render/vsv_plot*.c, vsv-plot) only: PNG, SVG and PDF through cairo
+PLOT_PKGS = cairo
 # the desktop viewer (vsv-play) only
 VIEWER_PKGS = glfw3 gl freetype2 fontconfig
 ifeq ($(SAN),1)
@@ -57,7 +59,7 @@ endif
 # Other build goals stop here with that line when a library is missing.
 NODEP_GOALS = demo test deps help clean fuzz deb test-deb
 ifneq ($(filter-out $(NODEP_GOALS),$(or $(MAKECMDGOALS),all)),)
-  MISSING := $(foreach p,$(PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) 2>/dev/null && echo y),,$(p)))
+  MISSING := $(foreach p,$(PKGS) $(PLOT_PKGS),$(if $(shell $(PKG_CONFIG) --exists $(p) 2>/dev/null && echo y),,$(p)))
   ifneq ($(strip $(MISSING)),)
     $(error missing libraries (pkg-config): $(strip $(MISSING)); run `make deps` as root, or: sudo apt-get install -y $(shell sh tools/deps.sh --names))
   endif
@@ -69,6 +71,7 @@ VIEWER ?= $(shell $(PKG_CONFIG) --exists $(VIEWER_PKGS) 2>/dev/null && echo 1 ||
 
 PKG_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(PKGS) 2>/dev/null)
 pkglibs = $(shell $(PKG_CONFIG) --libs $(1) 2>/dev/null)
+PLOT_CFLAGS := $(shell $(PKG_CONFIG) --cflags $(PLOT_PKGS) 2>/dev/null)
 VIEWER_CFLAGS := $(if $(filter 1,$(VIEWER)),$(shell $(PKG_CONFIG) --cflags $(VIEWER_PKGS) 2>/dev/null))
 VIEWER_LIBS := $(if $(filter 1,$(VIEWER)),$(shell $(PKG_CONFIG) --libs $(VIEWER_PKGS) 2>/dev/null))
 
@@ -146,11 +149,13 @@ LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(GL_A) $(INTEROP_A) $(HTTP_A)
 CORE_EXT = $(call pkglibs,libzstd geographiclib) -lstdc++ -lm -pthread $(SANFLAGS)
 CONVERT_EXT = $(call pkglibs,netcdf) $(CORE_EXT)
 RENDER_EXT = $(call pkglibs,libpng OpenEXR freetype2 netcdf) $(CORE_EXT)
+# what a program that draws plots (vsv_plot_*) needs besides RENDER_EXT
+PLOT_EXT = $(call pkglibs,$(PLOT_PKGS))
 # the GPU raycaster: libepoxy, which loads libGL or libEGL when asked
 GL_EXT = $(call pkglibs,epoxy) $(RENDER_EXT)
 INTEROP_EXT = $(OPENVDB_LIBS) $(call pkglibs,tbb blosc Imath) $(CONVERT_EXT)
 HTTP_EXT = $(call pkglibs,libcurl)
-ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS)) -lstdc++ -lm -pthread $(SANFLAGS) $(LDLIBS)
+ALL_EXT = $(OPENVDB_LIBS) $(call pkglibs,$(PKGS) $(PLOT_PKGS)) -lstdc++ -lm -pthread $(SANFLAGS) $(LDLIBS)
 
 VERSION := $(shell sed -n 's/^\#define VSV_VERSION_STRING "\(.*\)"/\1/p' format/vsv_format.h)
 SOVERSION = 0
@@ -257,6 +262,8 @@ $(B)/%.o: %.c
 # the raycaster's sixteen-ray march: AVX2 + FMA code, called only on CPUs that have them
 $(B)/render/vsv_raycast_simd.o: CFLAGS_ALL += -mavx2 -mfma
 $(B)/render/vsv_raycast_avx512.o: CFLAGS_ALL += -mavx2 -mfma -mavx512f
+# the plots: cairo's headers for their files only
+$(B)/render/vsv_plot%.o: CFLAGS_ALL += $(PLOT_CFLAGS)
 # the shear-warp's eight-pixel rows, built for any x86-64 (its eight-float
 # vectors never cross a call, so -Wpsabi's ABI note is moot) and for AVX2 + FMA
 $(B)/render/vsv_sw_row.o: CFLAGS_ALL += -Wno-psabi
@@ -307,7 +314,7 @@ $(call so,vesuvius-convert): $(B)/libvesuvius-convert.map $(CONVERT_OBJ) $(COMMO
 	$(call shlib,$(filter-out %.map,$^) $(CONVERT_EXT))
 $(call so,vesuvius-render): $(B)/libvesuvius-render.map $(RENDER_OBJ) $(COMMON_A) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
-	$(call shlib,$(filter-out %.map,$^) $(RENDER_EXT))
+	$(call shlib,$(filter-out %.map,$^) $(PLOT_EXT) $(RENDER_EXT))
 $(call so,vesuvius-gl): $(B)/libvesuvius-gl.map $(GL_OBJ) $(call so,vesuvius-render) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(call pkglibs,epoxy))
@@ -588,9 +595,9 @@ pc_desc_vesuvius-convert = Vesuvius model readers (MM5, CAMx, WRF, IOAPI, GrADS)
 pc_req_vesuvius-convert = vesuvius
 pc_reqp_vesuvius-convert = netcdf
 pc_libsp_vesuvius-convert = -lm
-pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, annotation, PNG and EXR output
+pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, annotation, plots, PNG and EXR output
 pc_req_vesuvius-render = vesuvius
-pc_reqp_vesuvius-render = libpng OpenEXR freetype2 netcdf
+pc_reqp_vesuvius-render = libpng OpenEXR freetype2 netcdf cairo
 pc_libsp_vesuvius-render = -lm -pthread
 pc_desc_vesuvius-gl = Vesuvius GPU raycaster (OpenGL 3.3, headless through EGL)
 pc_req_vesuvius-gl = vesuvius-render vesuvius

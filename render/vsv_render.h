@@ -478,6 +478,73 @@ void vsv_annotate_insets(const vsv_annot *a, const vsv_scene *sc, int w, int h, 
 void vsv_legend_size(const vsv_annot *a, const vsv_scene *sc, const char *lines, int *w, int *h);
 void vsv_legend_draw(const vsv_annot *a, const vsv_scene *sc, const char *lines, float *rgba, int w, int h);
 
+/* ------------------------------------------------------------------ plots
+ * Plots with axes, as NCL and GrADS users draw them (vsv-plot): a vertical
+ * cross-section along a line (distance against height, one species in the
+ * colours of a colour map, a colour bar), a time series at a point (one line
+ * per species against time, a legend) and a profile (height against value),
+ * each titled with its time, place, species and units, written as PNG, SVG
+ * or PDF through cairo. The values drawn are the file's decoded values at
+ * the nearest cells, located as vsv-query locates them (vsv_point_locate_at
+ * at the step's time, vsv_query_sample nearest): a series' and a profile's
+ * rows are vsv-query's. A section samples the straight line between its
+ * ends in the grid's projection (as vsv_slice_parse's line=) every half
+ * cell; each sample is the nearest column, its levels drawn from level to
+ * level at that column's heights at the time (vsv_meta_cell_height_at: a
+ * native level spans the midpoints to its neighbours, the lowest starts at
+ * the ground), the ground grey under the terrain, and no data grey too. */
+enum { VSV_PLOT_SECTION = 0, VSV_PLOT_SERIES = 1, VSV_PLOT_PROFILE = 2 };
+#define VSV_PLOT_MAXSPECIES 8
+
+/* What to plot: plain info; vsv_plot_opts_init sets the defaults. */
+typedef struct vsv_plot_opts {
+    int kind;                         /* VSV_PLOT_* */
+    double lat[2], lon[2];            /* degrees: the section's two ends; a series' or profile's point is [0] */
+    double at_height;                 /* series: metres above sea level (the grid's level unit when its
+                                         levels are not heights); NaN (default): the lowest level above
+                                         the ground, as vsv-query --at LAT,LON */
+    int nspecies;                     /* 1..VSV_PLOT_MAXSPECIES (a section: 1) */
+    int species[VSV_PLOT_MAXSPECIES]; /* variables of the file */
+    int step0, step1;                 /* a section's and profile's step is step0; a series' step0..step1 */
+    int size[2];                      /* width x height in pixels (PDF: points); default 800 x 600 */
+    char colormap[32];                /* a vsv_tf_colormaps name; "" (default): viridis for a section,
+                                         a qualitative palette for lines */
+    int log;                          /* the values on a log scale (colour bar, or value axis) */
+    double lo, hi;                    /* the values' range; NaN (default): the values drawn */
+    double top;                       /* the height axis' top (as at_height); NaN: the model's top */
+    const char *title;                /* NULL or "": made of the species and time (series: place) */
+    const char *source;               /* the file's name, in the subtitle; NULL: none */
+} vsv_plot_opts;
+
+void vsv_plot_opts_init(vsv_plot_opts *o);
+
+typedef struct vsv_plot vsv_plot;
+/* Reads what o asks of f (through a vsv_query of its own; f is borrowed
+ * for the call). Caller frees with vsv_plot_free. 0; VSV_ERANGE when a
+ * point lies off the grid (msg names the grid's range, as vsv_point_locate
+ * does) or there is nothing to put on a log scale; VSV_EINVAL for options
+ * that do not fit together (msg says why); a reader's error (msg names the
+ * file). msg: caller buffer of cap bytes. */
+int vsv_plot_create(vsv_file *f, const vsv_plot_opts *o, vsv_plot **out, char *msg, size_t cap);
+void vsv_plot_free(vsv_plot *p);
+/* The formats, from an output name's extension (any case): .png, .svg,
+ * .pdf. VSV_PLOT_PNG.. or -1 for another. */
+enum { VSV_PLOT_PNG = 0, VSV_PLOT_SVG = 1, VSV_PLOT_PDF = 2 };
+int vsv_plot_format(const char *path);
+/* Draws p and writes it to path in the format of its extension, through a
+ * temporary beside it renamed into place (vsv_output_*): all or nothing.
+ * In SVG every text is a <text> element (class title, subtitle, xlabel,
+ * ylabel, xtick, ytick, xdate, cbar-label, cbar-tick, legend), so scripts,
+ * search and editors read it; PNG and PDF draw DejaVu Sans. 0; VSV_EINVAL
+ * (another extension), VSV_EIO ("path: cannot write: why"), VSV_ENOMEM. */
+int vsv_plot_write(const vsv_plot *p, const char *path, char *msg, size_t cap);
+/* The values drawn, as CSV on fp: vsv-query --csv's columns (a section's
+ * with "distance (km)" after the time), one row per time (series), level
+ * (profile) or sample and level (section, along the line). 0 or VSV_EIO. */
+int vsv_plot_csv(const vsv_plot *p, FILE *fp);
+/* The value range drawn: the colour bar's ends, or the value axis'. */
+void vsv_plot_range(const vsv_plot *p, double *lo, double *hi);
+
 /* ------------------------------------------------------------------ files */
 
 /* A rendered image (w*h*4 floats, premultiplied) over a background colour,

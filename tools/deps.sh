@@ -12,7 +12,7 @@
 #              tools (dpkg-buildpackage, debhelper, dh-python, lintian) and
 #              man-db for the installed pages (--install-deb)
 set -eu
-PKGS="build-essential pkg-config udunits-bin python3 python3-dev python3-numpy python3-scipy python3-xarray python3-netcdf4 python3-pyproj bc libopenmpi-dev openmpi-bin libzstd-dev zstd libgeographiclib-dev libnetcdf-dev netcdf-bin libpng-dev libopenexr-dev libglfw3-dev libgl-dev libepoxy-dev libegl-dev libegl-mesa0 libfreetype-dev libfontconfig-dev fonts-dejavu-core gmt-gshhg-low xvfb xauth xdotool libx11-dev libxi-dev libopenvdb-dev libboost-dev libopenvdb-tools ffmpeg procps strace libcurl4-gnutls-dev lighttpd"
+PKGS="build-essential pkg-config udunits-bin python3 python3-dev python3-numpy python3-scipy python3-xarray python3-netcdf4 python3-pyproj bc libopenmpi-dev openmpi-bin libzstd-dev zstd libgeographiclib-dev libnetcdf-dev netcdf-bin libpng-dev libopenexr-dev libglfw3-dev libgl-dev libepoxy-dev libegl-dev libegl-mesa0 libfreetype-dev libfontconfig-dev libcairo2-dev fonts-dejavu-core gmt-gshhg-low xvfb xauth xdotool libx11-dev libxi-dev libopenvdb-dev libboost-dev libopenvdb-tools ffmpeg procps strace libcurl4-gnutls-dev lighttpd"
 TEST_PKGS="clang-format-14 python3-hypothesis"
 BENCH_PKGS="python3-vtk9 libvolpack1-dev libzfp-dev"
 FUZZ_PKGS="clang libclang-rt-14-dev"
