@@ -164,7 +164,7 @@ SHLIBS = $(call so,vesuvius) $(call so,vesuvius-convert) $(call so,vesuvius-rend
          $(call so,vesuvius-http)
 DATADIR = $(PREFIX)/share
 
-TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-export vsv-query
+TOOLS = vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-export vsv-query vsv-plot
 ifeq ($(VIEWER),1)
 TOOLS += vsv-play
 endif
@@ -187,7 +187,8 @@ HELPER_DIR = $(LIBDIR)/vesuvius
 # the programs: each sees cli/ besides its folder's layers; vsv-extract and
 # vsv-convert read .vdb sequences through interop/
 TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv-query.o $(B)/convert/vsv-info.o $(B)/convert/vsv-extract.o $(B)/convert/vsv-interp.o \
-           $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(B)/interop/vsv-export.o
+           $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(B)/interop/vsv-export.o \
+           $(B)/render/vsv-plot.o
 $(TOOL_OBJ): XINC = -Icli
 $(B)/render/vsv-render.o: XINC = -Icli -Irender/gl
 $(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
@@ -354,6 +355,9 @@ $(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o 
 $(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
+$(B)/vsv-plot: $(B)/render/vsv-plot.o $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
+	$(link)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(PLOT_EXT) $(RENDER_EXT)
 $(B)/vsv-render: $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(CLI_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(GL_EXT)

@@ -17,14 +17,15 @@ else
     fail "make install PREFIX=$P DESTDIR=... succeeds" "$(tail -c 400 "$T/log")"
     exit 0
 fi
-for f in bin/vsv-info bin/vsv-render lib/libvesuvius.a lib/libvesuvius.so lib/libvesuvius.so.0 \
+for f in bin/vsv-info bin/vsv-render bin/vsv-plot lib/libvesuvius.a lib/libvesuvius.so lib/libvesuvius.so.0 \
     lib/libvesuvius-convert.so.0 lib/libvesuvius-render.so.0 lib/libvesuvius-interop.so.0 \
     lib/libvesuvius-convert.a lib/libvesuvius-render.a lib/libvesuvius-interop.a \
     include/vesuvius/vsv_format.h include/vesuvius/vsv_time.h include/vesuvius/vsv_render.h include/vesuvius/vsv_pager.h \
     include/vesuvius/vsv_convert.h include/vesuvius/vsv_vdb.h \
     lib/pkgconfig/vesuvius.pc lib/pkgconfig/vesuvius-convert.pc lib/pkgconfig/vesuvius-render.pc \
-    lib/pkgconfig/vesuvius-interop.pc share/man/man1/vsv-play.1 share/man/man1/vsv-info.1 share/man/man5/vsv.5 \
-    share/vesuvius/transfer-functions.tf share/bash-completion/completions/vsv-render; do
+    lib/pkgconfig/vesuvius-interop.pc share/man/man1/vsv-play.1 share/man/man1/vsv-info.1 share/man/man1/vsv-plot.1 share/man/man5/vsv.5 \
+    share/vesuvius/transfer-functions.tf share/bash-completion/completions/vsv-render \
+    share/bash-completion/completions/vsv-plot; do
     [ -e "$R$P/$f" ] && pass "installed: $f" || fail "installed: $f" "missing"
 done
 soname=$(readelf -d "$R$P/lib/libvesuvius.so" 2>/dev/null | sed -n 's/.*SONAME.*\[\(.*\)\]/\1/p')
@@ -80,7 +81,8 @@ int main(void)
     if (vsv_proj_inverse(&p, 0, 0, &lat, &lon))
         return 1;
     /* (the default vertical grid: the model's own levels) */
-    printf("%.1f %.1f %s %d\n", lat, lon, o.kind == VSV_RENDER_RAYCAST ? "raycast" : "?", so.vertical == VSV_VERT_NATIVE);
+    printf("%.1f %.1f %s %d %s\n", lat, lon, o.kind == VSV_RENDER_RAYCAST ? "raycast" : "?", so.vertical == VSV_VERT_NATIVE,
+           vsv_plot_format("x.SVG") == VSV_PLOT_SVG ? "svg" : "?");
     return 0;
 }
 EOC
@@ -90,7 +92,7 @@ else
     fail "a program over convert and render builds with their .pc files" "$(head -c 400 "$T/cc")"
 fi
 expect "and runs: the projection's origin is (lat0, lon0)" 0 env LD_LIBRARY_PATH="$R$P/lib" "$T/layers"
-has "and prints it" "$T/out" "40.0 -100.0 raycast 1"
+has "and prints it (the plots' API too)" "$T/out" "40.0 -100.0 raycast 1 svg"
 # the static archive, with the libraries the .pc names as private (shared ones:
 # Debian's netCDF has no static HDF5 on the default path)
 deps=$(pkg-config --print-requires-private vesuvius | awk '{print $1}')
@@ -103,7 +105,7 @@ else
     fail "and statically (libvesuvius.a with the .pc's private requirements)" "$(head -c 400 "$T/cc")"
 fi
 # every tool: --version names the tool, the project and the format
-tools="vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-export"
+tools="vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-render vsv-export vsv-query vsv-plot"
 [ "${VIEWER:-1}" = 1 ] && tools="$tools vsv-play"
 for t in $tools; do
     v=$("$R$P/bin/$t" --version 2>&1)

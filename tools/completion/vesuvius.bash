@@ -12,6 +12,8 @@ _vsv_complete()
     --scale) COMPREPLY=($(compgen -W "linear log" -- "$cur")); return ;;
     --codec) COMPREPLY=($(compgen -W "zstd none" -- "$cur")); return ;;
     --bits) COMPREPLY=($(compgen -W "8 16" -- "$cur")); return ;;
+    --colormap) [[ ${tool##*/} == vsv-plot ]] &&
+        { COMPREPLY=($(compgen -W "viridis magma cividis inferno plasma clouds rain ice snow graupel greys" -- "$cur")); return; } ;;
     -s|--species|--vars)
         # species of the first .vsv named on the line
         local w f
@@ -37,4 +39,4 @@ _vsv_complete()
         COMPREPLY=($(compgen -f -- "$cur"))
     fi
 }
-complete -F _vsv_complete vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-convert-mpi vsv-render vsv-play vsv-export vsv-query
+complete -F _vsv_complete vsv-pack vsv-info vsv-extract vsv-interp vsv-convert vsv-convert-mpi vsv-render vsv-play vsv-export vsv-query vsv-plot
