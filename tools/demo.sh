@@ -65,6 +65,19 @@ step "Ask for numbers: cloud and snow over Idaho at 3000 m (the on-the-hour rows
 step "... and the column above it at 02:00, as CSV" \
      "vsv-query $OUT/storm.vsv --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv"
 "$B/vsv-query" "$OUT/storm.vsv" --profile 46,-116 --species SNOW --time 1995-10-24T02:00:00Z --csv | sed -n '1p;9,18p'
+step "Plots with axes, as NCL and GrADS draw them: cloud water in a cross-section from the coast to the Rockies at 03:00" \
+     "vsv-plot $OUT/storm.vsv --section 45,-125:52,-115 --species CLW --top 6000 --time 1995-10-24T03:00:00Z -o $OUT/section.svg"
+"$B/vsv-plot" "$OUT/storm.vsv" --section 45,-125:52,-115 --species CLW --top 6000 --time 1995-10-24T03:00:00Z \
+    -o "$OUT/section.svg"
+"$B/vsv-plot" "$OUT/storm.vsv" --section 45,-125:52,-115 --species CLW --top 6000 --time 1995-10-24T03:00:00Z \
+    -o "$OUT/section.png"
+echo "$OUT/section.svg, $OUT/section.png; what the SVG says (its <text> elements, by class):"
+/usr/bin/python3 tests/svgtext.py "$OUT/section.svg" | awk -F '\t' '/^(title|subtitle|xlabel|ylabel|cbar-label)\t/ { printf "  %-10s %s\n", $1, $2 }'
+step "... a time series of cloud water and snow at 51N 126W, 2000 m (every 10-minute frame), and a profile of moisture" \
+     "vsv-plot $OUT/storm.vsv --series 51,-126,2000 --species CLW,SNOW -o $OUT/series.png; vsv-plot ... --profile 50,-120 --species Q --log -o $OUT/profile.pdf"
+"$B/vsv-plot" "$OUT/storm.vsv" --series 51,-126,2000 --species CLW,SNOW -o "$OUT/series.png" && echo "$OUT/series.png"
+"$B/vsv-plot" "$OUT/storm.vsv" --profile 50,-120 --species Q --log --time 1995-10-24T03:00:00Z -o "$OUT/profile.pdf" &&
+    echo "$OUT/profile.pdf"
 step "Hand the numbers to xarray, CDO or NCL: one CF-1.8 netCDF-4 file" \
      "vsv-export $OUT/storm.vsv --netcdf $OUT/storm.nc --species CLW,SNOW --times 1995-10-24T01:00:00Z:"
 "$B/vsv-export" "$OUT/storm.vsv" --netcdf "$OUT/storm.nc" --species CLW,SNOW --times 1995-10-24T01:00:00Z:
@@ -259,4 +272,4 @@ for _ in range(100):
 else
     printf '\n(the web-server demo needs lighttpd: sh tools/deps.sh --install)\n'
 fi
-printf '\nDone: %s/storm.vsv, storm.png, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"
+printf '\nDone: %s/storm.vsv, storm.png, section.svg, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"
