@@ -2,7 +2,7 @@
  * own object, so the tools that never read URLs do not link libcurl). */
 #include "vsv_cli.h"
 
-vsv_http_opts vsv_cli_http = {NULL, 0, -1, 0};
+vsv_http_opts vsv_cli_http = {NULL, 0, -1, 0, 0};
 
 void vsv_cli_cache_dir(const char *dir)
 {

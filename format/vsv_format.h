@@ -443,17 +443,34 @@ int vsv_file_open_mem(const void *data, size_t size, const char *name, vsv_file 
  * returns 0 or a VSV_E* code with "name: what, where" in msg. `refetch`
  * (may be NULL) replaces a resident range whose checksum failed by a fresh
  * copy (a damaged cache), returning 0 if it fetched one. `close` releases the
- * source. A local file needs none of this: vsv_file_open maps it. */
+ * source. `interrupt` (may be NULL; any thread, at any time) makes the
+ * transfers under way end soon (a second or so) and every later `need` fail
+ * at once, VSV_EIO: a program closing while a server stalls. A need that
+ * fails for a transfer (a dropped connection, a stalled server, an
+ * interruption: another attempt may succeed) returns VSV_EIO; damaged bytes
+ * are the reader's to find (their checksums). A local file needs none of
+ * this: vsv_file_open maps it. */
 typedef struct vsv_byte_source {
     const unsigned char *base;
     uint64_t size;
     int (*need)(struct vsv_byte_source *src, uint64_t off, uint64_t n, uint64_t ahead, char *msg, size_t cap);
     int (*refetch)(struct vsv_byte_source *src, uint64_t off, uint64_t n, char *msg, size_t cap);
     void (*close)(struct vsv_byte_source *src);
+    void (*interrupt)(struct vsv_byte_source *src);
 } vsv_byte_source;
 /* Opens the .vsv that src holds, as vsv_file_open does a mapped file; the
  * handle owns src (closed by vsv_file_free, and on failure). */
 int vsv_file_open_source(vsv_byte_source *src, const char *name, vsv_file **out);
+/* 1 when reading step's chunk index waits for no transfer: a local file, or
+ * a byte source that has fetched and verified that index (vsv_file_brick_kind
+ * and vsv_file_octree of step then never call `need`); else 0. Cheap, no
+ * I/O: the pager asks it under its lock. */
+int vsv_file_chunk_resident(const vsv_file *f, int step);
+/* Ends f's transfers (its byte source's `interrupt`; nothing for a local
+ * file): for a handle about to be freed while other threads may wait on a
+ * stalled server (a player quitting). Every later read of bytes not
+ * resident fails, VSV_EIO. */
+void vsv_file_interrupt(vsv_file *f);
 void vsv_file_free(vsv_file *f);
 const char *vsv_file_error(const vsv_file *f);
 /* Borrowed, valid until vsv_file_free. */

@@ -8,11 +8,14 @@
  * and a record of the ranges it holds) that is used again only while the
  * server's ETag, or its length and Last-Modified, still match; each
  * structure's CRC is checked as for a local file, and a mismatch on cached
- * bytes fetches them again. A server that ignores Range, a file that changes
- * on the server while it is read (its ETag or length), or a failure that
- * outlasts the retries is an error, "URL: what, where"; data never reaches
- * the reader unverified. The core library (vsv_format.h) never needs libcurl:
- * programs that read URLs link this library too. */
+ * bytes fetches them again. A transfer that gets no byte for opts.stall
+ * seconds fails as stalled ("URL: the server stalled: headers, then no data
+ * for 30 s (bytes A-B)"), a transient failure; vsv_file_interrupt ends one
+ * under way within a second or so. A server that ignores Range, a file that
+ * changes on the server while it is read (its ETag or length), or a failure
+ * that outlasts the retries is an error, "URL: what, where"; data never
+ * reaches the reader unverified. The core library (vsv_format.h) never needs
+ * libcurl: programs that read URLs link this library too. */
 #ifndef VSV_HTTP_H
 #define VSV_HTTP_H
 
@@ -35,6 +38,11 @@ typedef struct vsv_http_opts {
     int retries;
     /* seconds one range may take, its retries included (0: 120) */
     double time_limit;
+    /* seconds a transfer may go without a byte (a server that sent its
+     * headers and then nothing) before it fails as stalled, a transient
+     * failure retried as a dropped connection is (0: $VSV_HTTP_STALL
+     * seconds, else 30; whole seconds, at least 1) */
+    double stall;
 } vsv_http_opts;
 
 void vsv_http_opts_init(vsv_http_opts *o);

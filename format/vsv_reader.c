@@ -259,6 +259,18 @@ int vsv_file_cut(const vsv_file *f, int rc, char *msg, size_t cap)
     return VSV_ETRUNC;
 }
 
+int vsv_file_chunk_resident(const vsv_file *f, int step)
+{
+    return step >= 0 && step < f->nsteps &&
+           (!f->src || (f->chunk_ok && __atomic_load_n(&f->chunk_ok[step], __ATOMIC_ACQUIRE) == 1));
+}
+
+void vsv_file_interrupt(vsv_file *f)
+{
+    if (f && f->src && f->src->interrupt)
+        f->src->interrupt(f->src);
+}
+
 void vsv_file_free(vsv_file *f)
 {
     if (!f)

@@ -259,6 +259,31 @@ fault "the file changes while read" etag 3 1 "the file changed on the server whi
 fault "garbled bytes" garble 2 1 "checksum mismatch|end marker damaged"
 # (the default: 5 retries, 6 attempts in all)
 fault "every connection dropped" drop 1000 1 "after 6 attempts"
+# a server that stalls: the headers of a chunk's range, then nothing, held
+# open until the proxy is killed (issue 33: vsv-play froze, minutes). Each
+# attempt fails after $VSV_HTTP_STALL s without a byte, its message saying
+# so; the two tools run at once (6 attempts and their back-off: 14 s)
+start_proxy stall
+PURL=http://127.0.0.1:$PPORT/run.vsv
+t0=$(date +%s)
+VSV_HTTP_STALL=1 timeout 100 "$B/vsv-query" "$PURL" --cell $CELL --species CLW > "$T/sq.out" 2> "$T/sq.err" &
+qpid=$!
+VSV_HTTP_STALL=1 timeout 100 "$B/vsv-render" "$PURL" --species CLW --time $STEP -o "$T/s.png" > "$T/sr.out" 2> "$T/sr.err"
+rrc=$?
+wait $qpid
+qrc=$?
+took=$(($(date +%s) - t0))
+for tool in query render; do
+    [ $tool = query ] && rc=$qrc err="$T/sq.err" || rc=$rrc err="$T/sr.err"
+    [ "$rc" = 1 ] && pass "a stalled server: vsv-$tool exits 1" || fail "a stalled server: vsv-$tool exits 1" "exit $rc: $(head -c 300 "$err")"
+    grep -qE "^vsv-$tool: $PURL: the server stalled: headers, then no data for 1 s \(bytes [0-9]+-[0-9]+\), after 6 attempts\$" "$err" &&
+        pass "... vsv-$tool says the server stalled, for how long, where" ||
+        fail "... vsv-$tool says the server stalled, for how long, where" "$(head -c 300 "$err")"
+done
+[ "$took" -lt 40 ] && pass "... both within $took s (6 attempts of 1 s and the back-off)" ||
+    fail "... both within 40 s" "$took s"
+[ ! -e "$T/s.png" ] && pass "... and no PNG written" || fail "... and no PNG written" "$T/s.png exists"
+stop_proxy
 # the ETag alone changes (a file replaced by one of the same length: the
 # proxy's etag mode changes the length too, which tells on its own)
 fault "the ETag alone changes while read" etagonly 3 1 "the file changed on the server while it was read \\(ETag "

@@ -26,6 +26,10 @@ replies to range requests as MODE says, counted by request, never by time:
   garble N     flips every bit of the body of range replies from N on
                (the length and headers intact: only the checksums can
                tell; every byte, so whatever part of a block is used)
+  stall        answers the range requests that neither start at byte 0 nor
+               end at the file's last byte (the chunks: what opening a
+               file does not read) with their headers, then nothing: each
+               held open until the proxy is killed (a server that stalls)
   down         closes the connection without an answer for every range
                request while the file PORT_FILE.down exists (the server
                gone), else forwards
@@ -103,6 +107,8 @@ class Handler(http.server.BaseHTTPRequestHandler):
                     out[key] = "%s-%d/%s" % (a, int(b) - 1, total)
                 elif key.lower() == "content-length":
                     out[key] = str(len(body))
+        if k > 0 and MODE == "stall" and r.status == 206 and self.stalls(out):
+            return
         if k > 0 and MODE == "garble" and k >= N and body:
             body = bytes(b ^ 0xFF for b in body)
         cut = k > 0 and MODE == "truncate" and k <= N
@@ -117,6 +123,25 @@ class Handler(http.server.BaseHTTPRequestHandler):
         if not head:
             self.wfile.write(body[: len(body) // 2] if cut else body)
         self.wfile.flush()
+
+    def stalls(self, out):
+        """A reply for a range inside the file: its headers, then held."""
+        cr = {key.lower(): v for key, v in out.items()}.get("content-range", "")
+        try:
+            a_b, total = cr.split(" ")[1].split("/")
+            a, b = (int(x) for x in a_b.split("-"))
+        except (IndexError, ValueError):
+            return False
+        if a == 0 or b == int(total) - 1:
+            return False
+        self.send_response_only(206, "Partial Content")
+        for key, v in out.items():
+            if key.lower() not in ("connection", "keep-alive", "transfer-encoding"):
+                self.send_header(key, v)
+        self.end_headers()
+        self.wfile.flush()
+        threading.Event().wait()  # until the proxy is killed
+        return True
 
     def do_GET(self):
         self.forward(False)

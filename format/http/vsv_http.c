@@ -12,6 +12,7 @@
 #include <curl/curl.h>
 #include <errno.h>
 #include <inttypes.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,6 +36,8 @@ typedef struct http_src {
     vsv_http_cache cache;
     int retries;
     double time_limit;
+    long stall;       /* seconds without a byte: a stalled transfer */
+    int stop;         /* (atomic) interrupted: every transfer ends, no more start */
     char failed[512]; /* once the file changed: every later need fails so */
     int down;         /* the last range outlasted its retries: the next gets one attempt */
 } http_src;
@@ -49,6 +52,7 @@ typedef struct reply {
     size_t want, got;
     int overflow, refused; /* more bytes than asked; a body that is not a 206 */
     CURL *curl;
+    const int *stop; /* the source's interruption flag */
 } reply;
 
 static pthread_once_t curl_once = PTHREAD_ONCE_INIT;
@@ -127,6 +131,29 @@ static size_t on_body(char *p, size_t size, size_t nitems, void *ctx)
     return n;
 }
 
+/* libcurl's progress callback, called about once a second even while no
+ * byte comes: an interruption ends the transfer. */
+static int on_progress(void *ctx, curl_off_t dltotal, curl_off_t dlnow, curl_off_t ultotal, curl_off_t ulnow)
+{
+    (void)dltotal, (void)dlnow, (void)ultotal, (void)ulnow;
+    return __atomic_load_n(((const reply *)ctx)->stop, __ATOMIC_ACQUIRE) != 0;
+}
+
+/* Why a transfer that libcurl timed out failed: the server stalled (no
+ * byte for h->stall seconds), or the range's time ran out. */
+static void timed_out(const http_src *h, const reply *r, double took, char *why, size_t cap)
+{
+    if (took + 0.5 < (double)h->stall) /* (the stall clock had not run out) */
+        snprintf(why, cap, "no complete answer within the %.0f s a range may take (%zu of %zu bytes came)",
+                 h->time_limit, r->got, r->want);
+    else if (!r->status)
+        snprintf(why, cap, "the server stalled: no answer for %ld s", h->stall);
+    else if (!r->got)
+        snprintf(why, cap, "the server stalled: headers, then no data for %ld s", h->stall);
+    else
+        snprintf(why, cap, "the server stalled: no data for %ld s after %zu of %zu bytes", h->stall, r->got, r->want);
+}
+
 /* One attempt. 0, or -1 with why set and *transient saying whether another
  * attempt may succeed; *changed when the file is no longer the one opened. */
 static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char *buf, double deadline, reply *r,
@@ -137,6 +164,7 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
     r->buf = buf;
     r->want = (size_t)n;
     r->curl = c;
+    r->stop = &h->stop;
     *transient = 0;
     *changed = 0;
     curl_easy_reset(c);
@@ -151,11 +179,15 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
     curl_easy_setopt(c, CURLOPT_HEADERDATA, r);
     curl_easy_setopt(c, CURLOPT_WRITEFUNCTION, on_body);
     curl_easy_setopt(c, CURLOPT_WRITEDATA, r);
-    /* a stalled transfer (under 1 byte/s for 30 s) is a transient failure */
+    /* a stalled transfer (under 1 byte/s for h->stall s) is a transient
+     * failure; an interruption ends one at the next progress call */
     curl_easy_setopt(c, CURLOPT_LOW_SPEED_LIMIT, 1L);
-    curl_easy_setopt(c, CURLOPT_LOW_SPEED_TIME, 30L);
+    curl_easy_setopt(c, CURLOPT_LOW_SPEED_TIME, h->stall);
     curl_easy_setopt(c, CURLOPT_CONNECTTIMEOUT_MS, 30000L);
-    const double left = deadline - now();
+    curl_easy_setopt(c, CURLOPT_NOPROGRESS, 0L);
+    curl_easy_setopt(c, CURLOPT_XFERINFOFUNCTION, on_progress);
+    curl_easy_setopt(c, CURLOPT_XFERINFODATA, r);
+    const double t0 = now(), left = deadline - t0;
     curl_easy_setopt(c, CURLOPT_TIMEOUT_MS, (long)(left > 0.001 ? left * 1000 : 1));
     const char *ca = getenv("CURL_CA_BUNDLE");
     if (ca && *ca)
@@ -168,6 +200,15 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
         curl_easy_setopt(c, CURLOPT_RANGE, range);
     const CURLcode rc = curl_easy_perform(c);
     curl_easy_getinfo(c, CURLINFO_RESPONSE_CODE, &r->status);
+    if (rc == CURLE_ABORTED_BY_CALLBACK) {
+        snprintf(why, cap, "interrupted (the program is closing)");
+        return -1;
+    }
+    if (rc == CURLE_OPERATION_TIMEDOUT) {
+        *transient = 1;
+        timed_out(h, r, now() - t0, why, cap);
+        return -1;
+    }
     if (rc != CURLE_OK && !(rc == CURLE_WRITE_ERROR && (r->refused || r->overflow))) {
         switch (rc) {
         case CURLE_COULDNT_CONNECT:
@@ -247,6 +288,19 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
     return 0;
 }
 
+/* Sleeps t seconds, or less when interrupted: 1 then. */
+static int pause_for(const http_src *h, double t)
+{
+    const double end = now() + t;
+    for (double left = t; left > 0 && !__atomic_load_n(&h->stop, __ATOMIC_ACQUIRE); left = end - now()) {
+        const double d = left < 0.1 ? left : 0.1;
+        struct timespec ts = {0, (long)(d * 1e9)};
+        while (nanosleep(&ts, &ts) && errno == EINTR) {
+        }
+    }
+    return __atomic_load_n(&h->stop, __ATOMIC_ACQUIRE) != 0;
+}
+
 /* A transfer with retries: back-off from 0.25 s doubling to 4 s, at most
  * h->retries more attempts, within h->time_limit seconds. Once a range has
  * failed after all its attempts (the server went away), the next ones get
@@ -256,6 +310,10 @@ static int fetch(http_src *h, int head, uint64_t a, uint64_t n, unsigned char *b
 {
     if (h->failed[0]) {
         snprintf(msg, cap, "%s", h->failed);
+        return VSV_EIO;
+    }
+    if (__atomic_load_n(&h->stop, __ATOMIC_ACQUIRE)) {
+        snprintf(msg, cap, "%s: interrupted (the program is closing)", h->url);
         return VSV_EIO;
     }
     const double deadline = now() + h->time_limit;
@@ -268,7 +326,8 @@ static int fetch(http_src *h, int head, uint64_t a, uint64_t n, unsigned char *b
             h->down = 0;
             return 0;
         }
-        if (!transient || attempt >= retries || now() + delay >= deadline) {
+        const int stopped = __atomic_load_n(&h->stop, __ATOMIC_ACQUIRE) != 0;
+        if (!transient || stopped || attempt >= retries || now() + delay >= deadline) {
             char where[96] = "";
             if (!head)
                 snprintf(where, sizeof where, " (bytes %" PRIu64 "-%" PRIu64 ")", a, a + n - 1);
@@ -283,11 +342,10 @@ static int fetch(http_src *h, int head, uint64_t a, uint64_t n, unsigned char *b
                 h->cache.stale = 1;
                 snprintf(h->failed, sizeof h->failed, "%s", msg);
             }
-            return changed || transient ? VSV_EIO : VSV_EUNSUPPORTED;
+            return changed || transient || stopped ? VSV_EIO : VSV_EUNSUPPORTED;
         }
-        struct timespec ts = {(time_t)delay, (long)((delay - (double)(time_t)delay) * 1e9)};
-        while (nanosleep(&ts, &ts) && errno == EINTR) {
-        }
+        if (pause_for(h, delay))
+            transient = 0; /* (the next attempt is refused at once) */
         delay = delay * 2 > 4 ? 4 : delay * 2;
     }
 }
@@ -386,6 +444,8 @@ static int src_refetch(vsv_byte_source *s, uint64_t off, uint64_t n, char *msg, 
     pthread_mutex_unlock(&h->lock);
     return rc;
 }
+
+static void src_interrupt(vsv_byte_source *s) { __atomic_store_n(&((http_src *)s)->stop, 1, __ATOMIC_RELEASE); }
 
 static void src_close(vsv_byte_source *s)
 {
@@ -492,6 +552,11 @@ static int src_open(const char *url, const vsv_http_opts *o, http_src **out, vsv
     snprintf(h->url, sizeof h->url, "%s", url);
     h->retries = o->retries < 0 ? 5 : o->retries;
     h->time_limit = o->time_limit > 0 ? o->time_limit : 120;
+    double stall = o->stall;
+    const char *st = getenv("VSV_HTTP_STALL");
+    if (!(stall > 0) && st && *st)
+        stall = strtod(st, NULL);
+    h->stall = !(stall > 0) ? 30 : stall > 86400 ? 86400 : (long)ceil(stall);
     pthread_once(&curl_once, curl_init);
     if (curl_init_rc != CURLE_OK || !(h->curl = curl_easy_init())) {
         snprintf(msg, sizeof msg, "%s: cannot start libcurl", url);
@@ -545,6 +610,7 @@ static int src_open(const char *url, const vsv_http_opts *o, http_src **out, vsv
     h->pub.need = src_need;
     h->pub.refetch = src_refetch;
     h->pub.close = src_close;
+    h->pub.interrupt = src_interrupt;
     return 0;
 fail_nomem:
     rc = VSV_ENOMEM;
