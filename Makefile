@@ -496,7 +496,7 @@ ifeq ($(TSAN),1)
 # abandoned writer's), the pager, the render pool, the player, advection;
 # any data race or lock-order inversion ThreadSanitizer sees is a failure
 # (they run the tools too)
-TSAN_TESTS = test_format test_format_damage test_stream test_pager_play test_render test_viewer test_room \
+TSAN_TESTS = test_format test_format_damage test_stream test_pager_play test_pager_io test_render test_viewer test_room \
   test_advect test_picture
 test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
 	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" NOASLR=1 \

@@ -443,13 +443,11 @@ int vsv_file_open_mem(const void *data, size_t size, const char *name, vsv_file 
  * returns 0 or a VSV_E* code with "name: what, where" in msg. `refetch`
  * (may be NULL) replaces a resident range whose checksum failed by a fresh
  * copy (a damaged cache), returning 0 if it fetched one. `close` releases the
- * source. `interrupt` (may be NULL; any thread, at any time) makes the
- * transfers under way end soon (a second or so) and every later `need` fail
- * at once, VSV_EIO: a program closing while a server stalls. A need that
- * fails for a transfer (a dropped connection, a stalled server, an
- * interruption: another attempt may succeed) returns VSV_EIO; damaged bytes
- * are the reader's to find (their checksums). A local file needs none of
- * this: vsv_file_open maps it. */
+ * source. `interrupt` (may be NULL; any thread) ends the transfers under way
+ * soon (a second or so) and fails every later `need` at once: a program
+ * closing while a server stalls. A transfer that fails (a dropped
+ * connection, a stalled server, an interruption) is VSV_EIO; damaged bytes
+ * are the reader's to find. A local file needs none of this. */
 typedef struct vsv_byte_source {
     const unsigned char *base;
     uint64_t size;
@@ -461,15 +459,16 @@ typedef struct vsv_byte_source {
 /* Opens the .vsv that src holds, as vsv_file_open does a mapped file; the
  * handle owns src (closed by vsv_file_free, and on failure). */
 int vsv_file_open_source(vsv_byte_source *src, const char *name, vsv_file **out);
-/* 1 when reading step's chunk index waits for no transfer: a local file, or
- * a byte source that has fetched and verified that index (vsv_file_brick_kind
- * and vsv_file_octree of step then never call `need`); else 0. Cheap, no
- * I/O: the pager asks it under its lock. */
+/* 1 when step's chunk index is there without a transfer (a local file, or
+ * fetched and verified): reading it (vsv_file_brick_kind, vsv_file_octree)
+ * calls no `need`. No I/O: the pager asks it under its lock. */
 int vsv_file_chunk_resident(const vsv_file *f, int step);
-/* Ends f's transfers (its byte source's `interrupt`; nothing for a local
- * file): for a handle about to be freed while other threads may wait on a
- * stalled server (a player quitting). Every later read of bytes not
- * resident fails, VSV_EIO. */
+/* Fetches and verifies step's chunk index: 0, or VSV_EIO (the transfer
+ * failed), VSV_ECORRUPT / VSV_ETRUNC (damaged) with "name: what, where" in
+ * msg (caller buffer of cap bytes). May wait on a server. */
+int vsv_file_chunk_fetch(vsv_file *f, int step, char *msg, size_t cap);
+/* Ends f's transfers (its source's `interrupt`; nothing for a local file)
+ * before freeing it while a thread waits on a stalled server. */
 void vsv_file_interrupt(vsv_file *f);
 void vsv_file_free(vsv_file *f);
 const char *vsv_file_error(const vsv_file *f);

@@ -265,6 +265,14 @@ int vsv_file_chunk_resident(const vsv_file *f, int step)
            (!f->src || (f->chunk_ok && __atomic_load_n(&f->chunk_ok[step], __ATOMIC_ACQUIRE) == 1));
 }
 
+int vsv_file_chunk_fetch(vsv_file *f, int step, char *msg, size_t cap)
+{
+    const int rc = vsv_file_check_args(f, step, 0, 0, msg, cap);
+    if (rc)
+        return rc;
+    return vsv_file_chunk_index(f, step, msg, cap) ? 0 : vsv_file_chunk_rc(f, msg, cap);
+}
+
 void vsv_file_interrupt(vsv_file *f)
 {
     if (f && f->src && f->src->interrupt)

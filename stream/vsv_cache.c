@@ -123,7 +123,7 @@ int vsv_cache_claim(vsv_pager *p, int s, int b, int step)
         }
     }
     entry *E = &p->ent[e];
-    *E = (entry){{-1, -1}, s, b, step, LOADING, 1, 0, ck ? -1 : p->mark, buf, 0, -1, 0};
+    *E = (entry){{-1, -1}, s, b, step, LOADING, 1, 0, ck ? -1 : p->mark, buf, 0, -1, 0, 0};
     const unsigned h = hash3(s, b, step) & (p->nbucket - 1);
     E->next = p->bucket[h];
     p->bucket[h] = e;
@@ -189,7 +189,7 @@ void vsv_cache_unpin(vsv_pager *p, int e)
     if (--E->pins)
         return;
     p->pinned -= vsv_cache_size(p, e);
-    if (E->state == READY || E->state == FAILED) {
+    if (E->state != LOADING) { /* READY, FAILED, STALLED: evictable */
         vsv_lru_push(list_of(p, E), p->ent, sizeof *p->ent, e);
         E->listed = 1;
     }

@@ -41,6 +41,10 @@ static void release(vsv_pager *p)
     if (p->rows)
         free(p->rows[0].def);
     free(p->rows);
+    for (int t = 0; p->cmsg && t < p->info.nsteps; t++)
+        free(p->cmsg[t]);
+    free(p->cmsg);
+    free(p->cst);
     free(p->tracks);
     free(p->want);
     free(p->next);
@@ -101,6 +105,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     p->job_cap = p->ahead + 2;
     p->dir = 1;
     p->freelist = -1;
+    p->missing = -1;
     p->focus = -1;
     for (int l = 0; l < 4; l++)
         vsv_lru_init(&p->lru[l]);
@@ -119,8 +124,10 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     p->want = calloc((size_t)ns, 1);
     p->next = calloc((size_t)p->ahead + 1, sizeof *p->next);
     p->own_scratch = malloc(p->codes_bytes);
-    if (!defs || !p->tracks || !p->want || !p->next || !p->own_scratch || vsv_cache_rehash(p, 2048) ||
-        vsv_decoder_create(f, &p->own)) {
+    p->cst = calloc((size_t)p->info.nsteps, sizeof *p->cst);
+    p->cmsg = calloc((size_t)p->info.nsteps, sizeof *p->cmsg);
+    if (!defs || !p->tracks || !p->want || !p->next || !p->own_scratch || !p->cst || !p->cmsg ||
+        vsv_cache_rehash(p, 2048) || vsv_decoder_create(f, &p->own)) {
         if (p->rows)
             p->rows[0].def = defs;
         release(p);
@@ -145,6 +152,7 @@ int vsv_pager_open(vsv_file *f, const vsv_pager_opts *o, vsv_pager **out)
     /* the fixed tables count against the budget as well */
     p->fixed = sizeof *p + (size_t)p->nrows * (sizeof *p->rows + (size_t)nb * sizeof(int)) +
                (size_t)ns * nb * sizeof *p->tracks + p->nbucket * sizeof(int) +
+               (size_t)p->info.nsteps * (sizeof *p->cst + sizeof *p->cmsg) +
                (size_t)(n + 1) * (p->codes_bytes + (size_t)p->job_cap * (4 * sizeof(int) + 2 * sizeof(void *)));
     p->bytes = p->peak = p->fixed;
     for (int i = 0; i < n; i++) { /* as many workers as start */
@@ -352,8 +360,9 @@ static int track_busy(const vsv_pager *p, int s, int b)
 }
 
 /* Decodes on this thread what is missing of (step, s) and nobody is
- * decoding, and waits for the rest (under the lock, which it drops while
- * decoding and waiting). */
+ * decoding, fetching what that needs, and waits for the rest (under the
+ * lock, which it drops while fetching, decoding and waiting). A brick that
+ * failed is tried once more here. 0 or the error (folded, error set). */
 static int fill(vsv_pager *p, shell *sh, int need)
 {
     vsv_volume *v = &sh->v;
@@ -372,7 +381,7 @@ static int fill(vsv_pager *p, shell *sh, int need)
                 progressed = 1;
                 continue;
             }
-            if (e >= 0 && p->ent[e].state == FAILED) {
+            if (e >= 0 && (p->ent[e].state == FAILED || p->ent[e].state == STALLED)) {
                 vsv_cache_drop(p, e); /* retry once here: the error is reported below */
                 e = -1;
             }
@@ -380,20 +389,25 @@ static int fill(vsv_pager *p, shell *sh, int need)
                 continue; /* another thread decodes it, or carries its track forward */
             vsv_cache_make_room(p, p->brick_bytes, 1);
             int rc = vsv_pager_job_make(p, j, s, b, def[b]);
+            if (rc == VSV_EAGAIN) { /* a chunk index to fetch first */
+                vsv_pager_wait_chunk(p);
+                progressed = 1;
+                break;
+            }
             if (rc)
-                return rc;
+                return vsv_pager_fold(rc);
             pthread_mutex_unlock(&p->mu);
-            char msg[256];
+            char msg[512];
             pthread_mutex_lock(&p->own_mu);
             const double t0 = vsv_pager_now();
-            const int ok = !vsv_pager_job_run(p, p->own, j, p->own_scratch, msg, sizeof msg);
+            rc = vsv_pager_job_run(p, p->own, j, p->own_scratch, msg, sizeof msg);
             const double t1 = vsv_pager_now();
             pthread_mutex_unlock(&p->own_mu);
             pthread_mutex_lock(&p->mu);
-            vsv_pager_job_finish(p, j, ok, t1 - t0, 1);
-            if (!ok) {
+            vsv_pager_job_finish(p, j, rc, t1 - t0, 1, msg);
+            if (rc) {
                 vsv_pager_set_err(p, "%s", msg);
-                return VSV_ECORRUPT;
+                return vsv_pager_fold(rc);
             }
             e = j->ent[j->n - 1]; /* pinned for us */
             sh->held[b] = e;
@@ -406,6 +420,24 @@ static int fill(vsv_pager *p, shell *sh, int need)
             pthread_cond_wait(&p->ready, &p->mu);
     }
     return 0;
+}
+
+/* A get without wait that meets brick entry e failed (under the lock): a
+ * damaged one stays so, its code and message; one a transfer left is
+ * VSV_EIO with its message, or once it may be tried again, dropped and the
+ * workers told (VSV_EAGAIN). */
+static int failed_get(vsv_pager *p, int e)
+{
+    entry *E = &p->ent[e];
+    if (E->state == STALLED && vsv_pager_due(p)) {
+        vsv_cache_drop(p, e);
+        p->gen++; /* the window scanned again: its bricks left so are made again */
+        pthread_cond_broadcast(&p->work);
+        vsv_pager_set_err(p, "fetched again: %s", p->ioerr);
+        return VSV_EAGAIN;
+    }
+    vsv_pager_set_err(p, "%s", (const char *)E->data);
+    return vsv_pager_fold(E->why);
 }
 
 int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
@@ -423,18 +455,24 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
     pthread_mutex_lock(&p->mu);
     unpin(p, sh);
     vsv_cache_make_room(p, 0, 1);
-    vsv_sched_mark_window(p);
-    const int *def = vsv_pager_defs(p, step, s);
+    int rc = 0;
+    const int *def;
+    for (;;) { /* (waiting: the chunk indexes it needs fetched here, or by others) */
+        vsv_sched_mark_window(p);
+        if ((def = vsv_pager_defs(p, step, s, &rc)) || rc != VSV_EAGAIN || !wait)
+            break;
+        vsv_pager_wait_chunk(p);
+    }
     const unsigned char *oct = def ? vsv_file_octree(p->f, step, s, NULL) : NULL;
     if (!def || !oct) {
         pthread_mutex_unlock(&p->mu);
-        return VSV_ECORRUPT;
+        return def ? VSV_ECORRUPT : vsv_pager_fold(rc);
     }
     memcpy(sh->def, def, (size_t)nb * sizeof *def); /* the row cache may reuse the slot */
     const vsv_quant *q = vsv_file_quant(p->f, s);
     v->empty_value = vsv_quant_value(q, 0);
     v->species = s;
-    int need = 0, rc = 0;
+    int need = 0, failed = -1; /* a brick that failed: damaged first, else a transfer */
     for (int b = 0; b < nb; b++) {
         unsigned mn, mx;
         vsv_octree_node(oct, (size_t)b, &mn, &mx);
@@ -451,14 +489,17 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
         } else {
             p->st.misses++;
             need++;
+            if (e >= 0 && (p->ent[e].state == FAILED || (p->ent[e].state == STALLED && failed < 0)))
+                failed = e;
         }
     }
     if (need && !wait) { /* not all there: nothing stays pinned */
         p->st.stalls++;
         unpin(p, sh);
+        rc = failed >= 0 ? failed_get(p, failed) : VSV_EAGAIN;
         vsv_cache_make_room(p, 0, 1);
         pthread_mutex_unlock(&p->mu);
-        return VSV_EAGAIN;
+        return rc;
     }
     if (need) {
         p->st.stalls++;
@@ -486,16 +527,17 @@ int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species)
     for (int s = 0; s < p->info.nspecies && ok == 1; s++) {
         if (species && !species[s])
             continue;
-        const int *def = vsv_pager_defs(p, step, s);
+        int rc = 0;
+        const int *def = vsv_pager_defs(p, step, s, &rc);
         if (!def) {
-            ok = -1; /* its chunk index fails its checks */
+            ok = rc == VSV_EAGAIN ? 0 : -1; /* not fetched yet; or failed its checks, or its fetch */
             break;
         }
         for (int b = 0; b < p->info.nbricks && ok == 1; b++) {
             if (def[b] < 0)
                 continue;
             const int e = vsv_cache_lookup(p, s, b, def[b]);
-            ok = e >= 0 && p->ent[e].state == READY ? 1 : e >= 0 && p->ent[e].state == FAILED ? -1 : 0;
+            ok = e < 0 || p->ent[e].state == LOADING ? 0 : p->ent[e].state == READY ? 1 : -1;
         }
     }
     pthread_mutex_unlock(&p->mu);

@@ -32,13 +32,26 @@
  * the least recently used brick outside the prefetch window, then
  * checkpoints, then idle decoder tracks, then bricks inside the window.
  *
- * Failures: a damaged chunk index or brick payload fails the vsv_pager_get
- * that needs it (VSV_ECORRUPT, or VSV_ECODEC folded into it) with a message
- * naming the file, step, species, brick and offset (vsv_pager_error); other
- * steps and species keep playing. A worker's failure is recorded in the
- * cache and retried once by the get that needs the brick. Out of memory is
- * VSV_ENOMEM from the get. Nothing fails silently and nothing is retried in
- * a loop.
+ * Failures keep their kind. A damaged chunk index or brick payload fails
+ * the vsv_pager_get that needs it (VSV_ECORRUPT, with VSV_ECODEC and the
+ * like folded into it, or VSV_ETRUNC for a file cut while read) with a
+ * message naming the file, step, species, brick and offset
+ * (vsv_pager_error); other steps and species keep playing, and the brick
+ * stays damaged: a worker's failure is recorded in the cache, a get without
+ * wait reports it, a get with wait tries once more. A transfer that fails
+ * (a byte source: a dropped connection, a stalled server) is not damage:
+ * the get says VSV_EIO with the source's message, and what it left is
+ * tried again a second later (VSV_PAGER_RETRY), by the workers or the next
+ * get that needs it. Out of memory is VSV_ENOMEM from the get. Nothing
+ * fails silently and nothing is retried in a loop.
+ *
+ * Transfers: no call holds the pager's lock while it waits for a server, so
+ * a get without wait, vsv_pager_ready, vsv_pager_playhead and the rest
+ * return at once while a worker waits on a stalled one: the workers fetch
+ * what the window needs (chunk indexes, payloads); a get without wait of a
+ * step whose chunk index is not fetched yet is VSV_EAGAIN. A program
+ * quitting ends the transfers under way with vsv_file_interrupt before
+ * vsv_pager_free, which joins the workers.
  *
  * Thread safety: every call may be made from any thread (one mutex; see
  * vsv_pager_internal.h for the lock discipline), except that a volume is
@@ -88,20 +101,21 @@ typedef struct vsv_pager_opts {
 void vsv_pager_opts_init(vsv_pager_opts *o);
 
 typedef struct vsv_pager_stats {
-    uint64_t hits, misses;     /* brick lookups by vsv_pager_get: found decoded / not */
-    uint64_t bricks_decoded;   /* by workers and by callers */
-    uint64_t bytes_decoded;    /* decoded float bytes produced */
-    uint64_t payloads_decoded; /* brick payloads (absolute or delta) decompressed and applied */
-    double decode_seconds;     /* summed over threads */
-    uint64_t stalls;           /* gets that could not be served without waiting */
-    uint64_t evictions;        /* bricks dropped to stay within the budget */
-    int prefetch_depth;        /* steps ahead the workers aim for now */
-    size_t budget;             /* the budget in force */
-    size_t bytes;              /* decoded bytes held now (cached + pinned + decoding) */
-    size_t pinned_bytes;       /* of which pinned or being decoded */
-    size_t peak_bytes;         /* most bytes held at once */
-    size_t track_bytes;        /* of bytes: decoder state (codes per species and brick, and checkpoints) */
-    size_t fixed_bytes;        /* of bytes: the pager's fixed tables */
+    uint64_t hits, misses;      /* brick lookups by vsv_pager_get: found decoded / not */
+    uint64_t bricks_decoded;    /* by workers and by callers */
+    uint64_t bytes_decoded;     /* decoded float bytes produced */
+    uint64_t payloads_decoded;  /* brick payloads (absolute or delta) decompressed and applied */
+    double decode_seconds;      /* summed over threads */
+    uint64_t stalls;            /* gets that could not be served without waiting */
+    uint64_t evictions;         /* bricks dropped to stay within the budget */
+    int prefetch_depth;         /* steps ahead the workers aim for now */
+    size_t budget;              /* the budget in force */
+    size_t bytes;               /* decoded bytes held now (cached + pinned + decoding) */
+    size_t pinned_bytes;        /* of which pinned or being decoded */
+    size_t peak_bytes;          /* most bytes held at once */
+    size_t track_bytes;         /* of bytes: decoder state (codes per species and brick, and checkpoints) */
+    size_t fixed_bytes;         /* of bytes: the pager's fixed tables */
+    uint64_t transfer_failures; /* transfers that failed (a byte source), each tried again later */
 } vsv_pager_stats;
 
 /* Starts the pager over f (which must outlive it). */
@@ -130,16 +144,20 @@ vsv_volume *vsv_pager_volume_new(vsv_pager *p);
 
 /* Fills v (a volume of vsv_pager_volume_new(p), else VSV_EINVAL) with
  * species s at step, every brick pinned until vsv_pager_put.
- * wait: decode what is missing on this thread (and wait for bricks other
- * threads are decoding); otherwise VSV_EAGAIN when any brick is not decoded
- * yet (nothing stays pinned then; counted as a stall). A v that holds bricks
- * is released first. */
+ * wait: fetch and decode what is missing on this thread (and wait for bricks
+ * and chunk indexes other threads are fetching or decoding); otherwise
+ * VSV_EAGAIN when any brick is not decoded yet (nothing stays pinned then;
+ * counted as a stall), never waiting for a transfer. Errors (nothing stays
+ * pinned; vsv_pager_error says why): VSV_ECORRUPT or VSV_ETRUNC, damage;
+ * VSV_EIO, a transfer that failed (not damage: tried again later);
+ * VSV_ENOMEM. A v that holds bricks is released first. */
 int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v);
 /* Unpins v's bricks (v->step becomes -1); a volume not of p is left alone. */
 void vsv_pager_put(vsv_pager *p, vsv_volume *v);
 /* 1 when every wanted species of step is decoded (species as in playhead);
  * -1 when one is known to fail (its chunk index or a brick failed its
- * checks: vsv_pager_get of it says why); else 0. */
+ * checks, or a transfer for it failed: vsv_pager_get of it says why); else
+ * 0. Never waits for a transfer. */
 int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species);
 
 void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st);

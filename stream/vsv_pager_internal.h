@@ -12,7 +12,16 @@
  * by claim: the LOADING entries of its job and the busy track (nothing else
  * touches them until the job is finished under p->mu). own_mu is only ever
  * taken without p->mu held. A thread waits (on `ready`) only for LOADING
- * entries and busy tracks, and a job never waits: no cycle. */
+ * entries, busy tracks and chunk indexes being fetched, and a job never
+ * waits: no cycle.
+ *
+ * Transfers (a byte source: a file on a web server) never happen under
+ * p->mu, so no call waits for a stalled server behind the lock: the code
+ * under it reads chunk indexes only through vsv_pager_chunk, which lets
+ * through those the reader holds (vsv_file_chunk_resident) and names a
+ * missing one in p->missing instead of fetching it; a worker, or a caller
+ * that waits, fetches it with the lock dropped (vsv_pager_fetch_missing).
+ * Payloads are fetched by jobs, outside the lock already. */
 #ifndef VSV_PAGER_INTERNAL_H
 #define VSV_PAGER_INTERNAL_H
 
@@ -23,7 +32,16 @@
 #include <stdint.h>
 #include <time.h>
 
-enum { LOADING, READY, FAILED };
+/* an entry: being decoded; decoded; damaged (stays so: its code in `why`,
+ * its message in `data`); a transfer failed (the same, retried once
+ * p->retry_at has passed) */
+enum { LOADING, READY, FAILED, STALLED };
+/* a step's chunk index, for the lock's code (p->cst): not fetched; being
+ * fetched (outside the lock); there; its fetch failed (retried once
+ * p->retry_at has passed); a negative VSV_E* code: damaged */
+enum { C_UNKNOWN, C_LOADING, C_RESIDENT, C_STALLED };
+/* seconds before what a failed transfer left is tried again */
+#define VSV_PAGER_RETRY 1.0
 /* the least-recently-used lists an entry can be on: unpinned READY or
  * FAILED bricks outside / inside the prefetch window, and checkpoints
  * (pinned and LOADING entries are on none: eviction never sees them) */
@@ -46,6 +64,7 @@ typedef struct entry {
     void *data;     /* the brick's floats, or a checkpoint's codes */
     int next;       /* hash chain, or free list */
     int lo, halves; /* a checkpoint: the state in its second half (-1 none); halves not yet used (bits 1, 2) */
+    int why;        /* FAILED, STALLED: the error code */
 } entry;
 
 /* A checkpoint is an entry keyed (s + nspecies, b, step) holding the
@@ -130,6 +149,14 @@ struct vsv_pager {
     struct shell *shells;       /* volumes handed out and not freed yet */
     vsv_pager_stats st;
     char err[512];
+    /* transfers: per step its chunk index's C_* state (and a damaged one's
+     * message), the step whose index a thread should fetch (-1 none), when
+     * what a failed transfer left is tried again, that failure's message */
+    signed char *cst;
+    char **cmsg;
+    int missing;
+    double retry_at;
+    char ioerr[512];
     /* the workers: each owns dec[i], scratch[i] and jobs[i] */
     pthread_t *tid;
     int nthreads;
@@ -215,14 +242,43 @@ void vsv_slab_free_all(vsv_pager *p);
 /* the prefetch scheduler (vsv_sched.c) */
 int vsv_sched_ahead(const vsv_pager *p, int d);
 void vsv_sched_mark_window(vsv_pager *p);
+/* The next job: 1 with j made, 0 none, or the error of one that could not
+ * be made (its outputs failed, or released: VSV_EAGAIN, VSV_ENOMEM). */
 int vsv_sched_next(vsv_pager *p, job *j);
+/* transfers (vsv_pager_io.c) */
+/* What a failure's code says of the data: 1 damaged (stays so), 0 not (a
+ * transfer that failed, a chunk index not fetched yet, out of memory). */
+static inline int vsv_pager_damage(int rc) { return rc && rc != VSV_EIO && rc != VSV_EAGAIN && rc != VSV_ENOMEM; }
+/* The code vsv_pager_get returns for rc: a damage other than a truncation
+ * is VSV_ECORRUPT; VSV_ETRUNC, VSV_EIO, VSV_EAGAIN, VSV_ENOMEM stay. */
+static inline int vsv_pager_fold(int rc) { return !vsv_pager_damage(rc) || rc == VSV_ETRUNC ? rc : VSV_ECORRUPT; }
+/* 0 when step t's chunk index can be read without a transfer; else (error
+ * set) VSV_EAGAIN (not fetched yet: p->missing names it, or a thread
+ * fetches it now), VSV_EIO (its fetch failed; tried again after
+ * p->retry_at) or its damage code. */
+int vsv_pager_chunk(vsv_pager *p, int t);
+/* vsv_file_brick_kind through vsv_pager_chunk: the kind, or an error (set). */
+int vsv_pager_kind(vsv_pager *p, int t, int s, int b);
+/* Fetches the chunk index p->missing names with the lock dropped: 1 if
+ * there was one, else 0. */
+int vsv_pager_fetch_missing(vsv_pager *p);
+/* A caller that waits (vsv_pager_get with wait): a missing chunk index
+ * fetched, else the wait for the one being fetched. */
+void vsv_pager_wait_chunk(vsv_pager *p);
+/* A transfer failed (msg says how): what it left is tried again after
+ * VSV_PAGER_RETRY seconds. */
+void vsv_pager_stalled(vsv_pager *p, const char *msg);
+/* Whether what a failed transfer left may be tried again now. */
+int vsv_pager_due(const vsv_pager *p);
 /* decoding (vsv_pager_work.c) */
 void vsv_pager_set_err(vsv_pager *p, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-const int *vsv_pager_defs(vsv_pager *p, int step, int s);
+/* The defining steps of (step, s), or NULL with *rc (may be NULL) the
+ * error (vsv_pager_chunk's, or the chunk's damage). */
+const int *vsv_pager_defs(vsv_pager *p, int step, int s, int *rc);
 int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step);
 int vsv_pager_job_prewalk(vsv_pager *p, job *j);
 int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, char *msg, size_t cap);
-void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_first);
+void vsv_pager_job_finish(vsv_pager *p, job *j, int rc, double secs, int keep_last, const char *msg);
 void *vsv_pager_worker(void *arg); /* a wslot, which it frees */
 
 #endif

@@ -19,9 +19,10 @@ void vsv_pager_set_err(vsv_pager *p, const char *fmt, ...)
 /* The defining step of every brick of (step, s) (under the lock): the last
  * step at or before `step` whose payload set the brick (walking back over
  * UNCHANGED, from the row of step-1 when it is cached), -1 where the brick
- * is empty. NULL on a damaged chunk (error set). Borrowed until the next
- * call: the rows are a direct-mapped cache of fixed size. */
-const int *vsv_pager_defs(vsv_pager *p, int step, int s)
+ * is empty. NULL on a damaged chunk, or one not fetched yet (error set,
+ * *rc its code). Borrowed until the next call: the rows are a
+ * direct-mapped cache of fixed size. */
+const int *vsv_pager_defs(vsv_pager *p, int step, int s, int *rc)
 {
     const int ns = p->info.nspecies, nb = p->info.nbricks;
     const size_t key = (size_t)step * ns + s;
@@ -30,24 +31,30 @@ const int *vsv_pager_defs(vsv_pager *p, int step, int s)
         return r->def;
     const defrow *q = step > 0 ? &p->rows[(key - ns) & (size_t)(p->nrows - 1)] : NULL;
     const int *prev = q && q->step == step - 1 && q->s == s ? q->def : NULL;
-    const unsigned char *oct = vsv_file_octree(p->f, step, s, NULL);
-    r->step = -1; /* until it is complete */
+    r->step = -1;                          /* until it is complete */
+    int k = vsv_pager_kind(p, step, s, 0); /* (the chunk there, checked: the octree too) */
+    const unsigned char *oct = k < 0 ? NULL : vsv_file_octree(p->f, step, s, NULL);
     if (!oct) {
-        vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
+        if (k >= 0)
+            vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
+        if (rc)
+            *rc = k < 0 ? k : VSV_ECORRUPT;
         return NULL;
     }
     for (int b = 0; b < nb; b++) {
         unsigned mn, mx;
         vsv_octree_node(oct, (size_t)b, &mn, &mx);
-        int k = vsv_file_brick_kind(p->f, step, s, b), t = step;
+        int t = step;
+        k = b ? vsv_pager_kind(p, step, s, b) : k;
         if (k == VSV_BRICK_UNCHANGED && prev) {
             r->def[b] = prev[b];
             continue;
         }
         while (k == VSV_BRICK_UNCHANGED && t > 0)
-            k = vsv_file_brick_kind(p->f, --t, s, b);
+            k = vsv_pager_kind(p, --t, s, b);
         if (k < 0) {
-            vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
+            if (rc)
+                *rc = k;
             return NULL;
         }
         r->def[b] = mx == 0 || k == VSV_BRICK_EMPTY ? -1 : t;
@@ -108,13 +115,14 @@ static int add_output(vsv_pager *p, job *j, int v)
 
 /* Payloads (ABS, DELTA, ABS3, DELTA3) of brick b of species s over steps
  * [a, z]; *absolute: whether one of (a, z] is an absolute state (EMPTY,
- * ABS, ABS3). A negative error for a damaged chunk index. */
+ * ABS, ABS3), and then the count stops there (the callers want no more).
+ * A negative error for a damaged chunk index, or one not fetched yet. */
 static long payloads_in(vsv_pager *p, int s, int b, int a, int z, int *absolute)
 {
     long n = 0;
     *absolute = 0;
-    for (int t = a; t <= z; t++) {
-        const int k = vsv_file_brick_kind(p->f, t, s, b);
+    for (int t = a; t <= z && !*absolute; t++) {
+        const int k = vsv_pager_kind(p, t, s, b);
         if (k < 0)
             return k;
         n += k >= VSV_BRICK_ABS;
@@ -134,7 +142,7 @@ static void keep_states(vsv_pager *p, job *j, int top)
     const int s = j->s, b = j->b, ns = p->info.nspecies;
     int e = -1; /* the entry whose second half is free */
     for (int v = top; v >= j->from && j->nck < p->job_cap; v--) {
-        if (vsv_file_brick_kind(p->f, v, s, b) < VSV_BRICK_ABS || vsv_cache_lookup(p, s, b, v) >= 0 ||
+        if (vsv_pager_kind(p, v, s, b) < VSV_BRICK_ABS || vsv_cache_lookup(p, s, b, v) >= 0 ||
             vsv_cache_lookup(p, s + ns, b, v) >= 0)
             continue;
         uint16_t *buf;
@@ -185,7 +193,7 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     j->copy = -1;
     j->nck = 0;
     if (add_output(p, j, step)) {
-        vsv_pager_set_err(p, "out of memory");
+        vsv_pager_set_err(p, "out of memory: a brick of step %d", step);
         return VSV_ENOMEM;
     }
     const int ns = p->info.nspecies;
@@ -194,7 +202,7 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
         if (c < 0 || p->ent[c].state != READY || p->ent[c].pins || !(p->ent[c].halves & 1)) {
             /* or in the second half of the one keyed by the next defining step */
             int u = step + 1, k = VSV_BRICK_UNCHANGED;
-            while (u < p->info.nsteps && (k = vsv_file_brick_kind(p->f, u, s, b)) == VSV_BRICK_UNCHANGED)
+            while (u < p->info.nsteps && (k = vsv_pager_kind(p, u, s, b)) == VSV_BRICK_UNCHANGED)
                 u++;
             c = u < p->info.nsteps && (k == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3)
                     ? vsv_cache_lookup(p, s + ns, b, u)
@@ -220,11 +228,13 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     const int have = j->track >= 0 ? p->tracks[j->track].step : -1;
     int rc = 0, a = step; /* the brick's last absolute state at or before step */
     for (;; a--) {
-        const int k = vsv_file_brick_kind(p->f, a, s, b);
+        const int k = vsv_pager_kind(p, a, s, b);
         if (k == VSV_BRICK_ABS || k == VSV_BRICK_ABS3 || k == VSV_BRICK_EMPTY)
             break;
         if (k < 0 || a == 0) { /* keyframes hold absolute states: a == 0 is damage */
             rc = k < 0 ? k : VSV_ECORRUPT;
+            if (!(k < 0))
+                vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
             break;
         }
     }
@@ -233,10 +243,10 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     if (!rc)
         fresh = payloads_in(p, s, b, a, step, &absolute);
     if (!rc && fresh >= 0 && have >= a && have <= step)
-        inc = payloads_in(p, s, b, have, step, &absolute) - (vsv_file_brick_kind(p->f, have, s, b) >= VSV_BRICK_ABS);
+        inc = payloads_in(p, s, b, have, step, &absolute) - (vsv_pager_kind(p, have, s, b) >= VSV_BRICK_ABS);
     if (!rc && fresh >= 0 && have > step) {
         /* undoing steps have..step+1 (their payloads) reaches step */
-        rev = payloads_in(p, s, b, step, have, &absolute) - (vsv_file_brick_kind(p->f, step, s, b) >= VSV_BRICK_ABS);
+        rev = payloads_in(p, s, b, step, have, &absolute) - (vsv_pager_kind(p, step, s, b) >= VSV_BRICK_ABS);
         if (absolute)
             rev = -1;
     }
@@ -268,10 +278,8 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
         if (!j->rev)
             keep_states(p, j, j->step[0] - 1);
     }
-    if (rc) {
-        vsv_pager_set_err(p, "%s", vsv_file_error(p->f));
-        vsv_pager_job_finish(p, j, 0, 0, 0);
-    }
+    if (rc)
+        vsv_pager_job_finish(p, j, rc, 0, 0, p->err);
     return rc;
 }
 
@@ -291,7 +299,7 @@ int vsv_pager_job_prewalk(vsv_pager *p, job *j)
     if (w < 0)
         return 0;
     for (int s = 0; s < ns; s++) {
-        const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, w, s) : NULL;
+        const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, w, s, NULL) : NULL;
         for (int b = 0; def && b < nb; b++) {
             const int v = def[b];
             if (v < 0 || vsv_cache_lookup(p, s, b, v) >= 0 || vsv_cache_lookup(p, s + ns, b, v) >= 0)
@@ -303,7 +311,7 @@ int vsv_pager_job_prewalk(vsv_pager *p, job *j)
             if (T->codes && T->step > v && payloads_in(p, s, b, v, T->step, &absolute) >= 0 && !absolute)
                 continue; /* undoing from the track is as cheap */
             int a = v, k;
-            while ((k = vsv_file_brick_kind(p->f, a, s, b)) == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3 ||
+            while ((k = vsv_pager_kind(p, a, s, b)) == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3 ||
                    k == VSV_BRICK_UNCHANGED)
                 if (--a < 0)
                     break;
@@ -334,8 +342,9 @@ int vsv_pager_job_prewalk(vsv_pager *p, job *j)
 }
 
 /* Runs job j with decoder d (outside the lock: it owns the job's buffers
- * and track); scratch holds the codes when the job has no track. 0, or -1
- * with the error text in msg. */
+ * and track; the payloads' transfers happen here); scratch holds the codes
+ * when the job has no track. 0, or the decoder's error (VSV_EIO for a
+ * transfer that failed, a damage code) with its text in msg. */
 int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, char *msg, size_t cap)
 {
     const int n = p->info.brick;
@@ -352,18 +361,21 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
     for (int o = 0; o < j->n; o++) {
         const int i = j->rev ? j->n - 1 - o : o; /* undoing: the outputs from the highest down */
         while (t < j->step[i]) {
-            if (vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes)) {
+            const int rc = vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes);
+            if (rc) {
                 snprintf(msg, cap, "%s", vsv_decoder_error(d));
-                return -1;
+                return rc;
             }
             if (c < j->nck && j->ck_step[c] == t)
                 memcpy(j->ck_buf[c++], codes, cells * sizeof *codes);
         }
-        while (t > j->step[i])
-            if (vsv_decoder_brick_retreat(d, t--, j->s, j->b, codes)) {
+        while (t > j->step[i]) {
+            const int rc = vsv_decoder_brick_retreat(d, t--, j->s, j->b, codes);
+            if (rc) {
                 snprintf(msg, cap, "%s", vsv_decoder_error(d));
-                return -1;
+                return rc;
             }
+        }
         float *out = j->out[i];
         vsv_file_dequantise(p->f, j->s, codes, cells, out);
         if (partial) { /* outside the grid: the empty value */
@@ -376,9 +388,10 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
         }
     }
     while (c < j->nck) { /* a walk that only keeps states (vsv_pager_job_prewalk) */
-        if (vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes)) {
+        const int rc = vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes);
+        if (rc) {
             snprintf(msg, cap, "%s", vsv_decoder_error(d));
-            return -1;
+            return rc;
         }
         if (j->ck_step[c] == t)
             memcpy(j->ck_buf[c++], codes, cells * sizeof *codes);
@@ -386,18 +399,31 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
     return 0;
 }
 
-/* Marks j's outputs decoded, or failed, and releases them and its track
- * (under the lock); with keep_last the last output (the step the caller
- * asked for: outputs ascend and the others precede it) stays pinned for
- * the caller when decoded. */
-void vsv_pager_job_finish(vsv_pager *p, job *j, int ok, double secs, int keep_last)
+/* Marks j's outputs as rc says and releases them and its track (under the
+ * lock): 0 decoded; damage FAILED and VSV_EIO STALLED, each keeping rc and
+ * msg (in its brick buffer, unused then); else (a chunk index not fetched
+ * yet, out of memory) dropped, to be made again. With keep_last the last
+ * output (the step the caller asked for: outputs ascend and the others
+ * precede it) stays pinned for the caller when decoded. */
+void vsv_pager_job_finish(vsv_pager *p, job *j, int rc, double secs, int keep_last, const char *msg)
 {
+    const int ok = !rc, state = ok ? READY : rc == VSV_EIO ? STALLED : vsv_pager_damage(rc) ? FAILED : -1;
+    if (state == STALLED)
+        vsv_pager_stalled(p, msg);
+    const size_t room = p->brick_bytes < 512 ? p->brick_bytes : 512;
     for (int i = 0; i < j->n; i++) {
         const int e = j->ent[i];
-        p->ent[e].state = ok ? READY : FAILED;
+        if (state < 0) {
+            vsv_cache_drop(p, e);
+            continue;
+        }
+        p->ent[e].state = state;
+        p->ent[e].why = rc;
         if (ok) {
             p->st.bricks_decoded++;
             p->st.bytes_decoded += p->brick_bytes;
+        } else {
+            snprintf(p->ent[e].data, room, "%s", msg);
         }
         if (!(ok && keep_last && i == j->n - 1))
             vsv_cache_unpin(p, e);
@@ -449,10 +475,17 @@ void *vsv_pager_worker(void *arg)
     free(ws);
     vsv_decoder *d = p->dec[w];
     job *j = &p->jobs[w];
-    char msg[256];
+    char msg[512];
     pthread_mutex_lock(&p->mu);
     while (!p->quit) {
-        if (!vsv_sched_next(p, j)) {
+        if (vsv_pager_fetch_missing(p)) /* a chunk index the window needs */
+            continue;
+        const int got = vsv_sched_next(p, j);
+        if (got < 0 && got != VSV_EAGAIN && got != VSV_ENOMEM)
+            continue; /* a job that failed at once: its bricks marked, look again */
+        if (got <= 0) {
+            if (p->missing >= 0)
+                continue;
             const int gen = p->gen, kick = p->kick;
             p->idle++;
             while (!p->quit && gen == p->gen && kick == p->kick)
@@ -462,12 +495,12 @@ void *vsv_pager_worker(void *arg)
         }
         pthread_mutex_unlock(&p->mu);
         const double t0 = vsv_pager_now();
-        const int ok = !vsv_pager_job_run(p, d, j, p->scratch[w], msg, sizeof msg);
+        const int rc = vsv_pager_job_run(p, d, j, p->scratch[w], msg, sizeof msg);
         const double t1 = vsv_pager_now();
         pthread_mutex_lock(&p->mu);
-        if (!ok)
+        if (rc)
             vsv_pager_set_err(p, "%s", msg);
-        vsv_pager_job_finish(p, j, ok, t1 - t0, 0);
+        vsv_pager_job_finish(p, j, rc, t1 - t0, 0, msg);
         vsv_cache_make_room(p, 0, 1);
     }
     pthread_mutex_unlock(&p->mu);

@@ -23,7 +23,7 @@ void vsv_sched_mark_window(vsv_pager *p)
     p->scan_d = p->scan_s = p->scan_b = 0;
     size_t unit = 0;
     for (int s = 0; s < p->info.nspecies; s++) {
-        const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, p->head, s) : NULL;
+        const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, p->head, s, NULL) : NULL;
         for (int b = 0; def && b < p->info.nbricks; b++)
             unit += def[b] >= 0 ? p->brick_bytes : 0;
     }
@@ -49,7 +49,7 @@ void vsv_sched_mark_window(vsv_pager *p)
         if (t < 0)
             break;
         for (int s = 0; s < p->info.nspecies; s++) {
-            const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, t, s) : NULL;
+            const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, t, s, NULL) : NULL;
             for (int b = 0; def && b < p->info.nbricks; b++) {
                 const int e = def[b] >= 0 ? vsv_cache_lookup(p, s, b, def[b]) : -1;
                 if (e >= 0)
@@ -65,6 +65,19 @@ static int track_busy(const vsv_pager *p, int s, int b)
     return p->incremental && p->tracks[(size_t)s * p->info.nbricks + b].busy;
 }
 
+/* Whether brick b of species s at defining step v is in the cache (under
+ * the lock): decoded, being decoded, damaged, or left by a failed transfer
+ * a moment ago; one left so earlier is dropped, to be made again. */
+static int cached(vsv_pager *p, int s, int b, int v, int due)
+{
+    const int e = vsv_cache_lookup(p, s, b, v);
+    if (e >= 0 && due && p->ent[e].state == STALLED && !p->ent[e].pins) {
+        vsv_cache_drop(p, e);
+        return 0;
+    }
+    return e >= 0;
+}
+
 /* The next decode job ahead of the playhead (under the lock): 1 with j
  * made (its entries claimed, LOADING), 0 when there is nothing to do
  * within the budget. A brick whose track is busy is left for later: the
@@ -72,15 +85,16 @@ static int track_busy(const vsv_pager *p, int s, int b)
 int vsv_sched_next(vsv_pager *p, job *j)
 {
     vsv_sched_mark_window(p);
+    const int due = vsv_pager_due(p);
     /* finish the step under way first, even if the playhead has moved past
      * it: when decoding cannot keep up, complete steps are what the player
      * can show (the newest complete one), half-decoded ones are not */
     if (p->focus >= 0 && p->focus_dir == p->dir && p->depth > 0) {
         int blocked = 0;
         for (int s = 0; s < p->info.nspecies; s++) {
-            const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, p->focus, s) : NULL;
+            const int *def = vsv_sched_wanted(p, s) ? vsv_pager_defs(p, p->focus, s, NULL) : NULL;
             for (int b = 0; def && b < p->info.nbricks; b++) {
-                if (def[b] < 0 || vsv_cache_lookup(p, s, b, def[b]) >= 0)
+                if (def[b] < 0 || cached(p, s, b, def[b], due))
                     continue;
                 if (track_busy(p, s, b)) {
                     blocked = 1;
@@ -88,7 +102,8 @@ int vsv_sched_next(vsv_pager *p, job *j)
                 }
                 if (!vsv_cache_make_room(p, p->brick_bytes, 0))
                     goto scan;
-                return vsv_pager_job_make(p, j, s, b, def[b]) == 0;
+                const int rc = vsv_pager_job_make(p, j, s, b, def[b]);
+                return rc ? rc : 1;
             }
         }
         if (!blocked)
@@ -105,11 +120,11 @@ scan:;
         for (int s = d == p->scan_d ? p->scan_s : 0; s < p->info.nspecies; s++) {
             if (!vsv_sched_wanted(p, s))
                 continue;
-            const int *def = vsv_pager_defs(p, t, s);
+            const int *def = vsv_pager_defs(p, t, s, NULL);
             if (!def)
-                continue; /* a damaged chunk: the get that needs it says why */
+                continue; /* a damaged chunk (the get that needs it says why), or one to fetch */
             for (int b = d == p->scan_d && s == p->scan_s ? p->scan_b : 0; b < p->info.nbricks; b++) {
-                if (def[b] < 0 || vsv_cache_lookup(p, s, b, def[b]) >= 0)
+                if (def[b] < 0 || cached(p, s, b, def[b], due))
                     continue;
                 if (!held)
                     p->scan_d = d, p->scan_s = s, p->scan_b = b;
@@ -121,7 +136,8 @@ scan:;
                     return 0;
                 p->focus = t;
                 p->focus_dir = p->dir;
-                return vsv_pager_job_make(p, j, s, b, def[b]) == 0;
+                const int rc = vsv_pager_job_make(p, j, s, b, def[b]);
+                return rc ? rc : 1;
             }
         }
     }
