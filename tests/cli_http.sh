@@ -283,7 +283,56 @@ done
 [ "$took" -lt 40 ] && pass "... both within $took s (6 attempts of 1 s and the back-off)" ||
     fail "... both within 40 s" "$took s"
 [ ! -e "$T/s.png" ] && pass "... and no PNG written" || fail "... and no PNG written" "$T/s.png exists"
+# vsv-play never waits for the server on its main thread: the script's quit
+# runs at its time while a worker waits (the default 30 s stall), and a
+# screenshot whose step never comes is said, not waited for
+if [ "${VIEWER:-1}" = 1 ] && [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/null; then
+    printf '0.2 seek %s\n0.3 play\n1 quit\n' $STEP > "$T/stall.script"
+    printf '0.2 seek %s\n0.4 screenshot %s\n1 quit\n' $STEP "$T/stall.png" > "$T/stallshot.script"
+    for run in quit shot; do
+        [ $run = quit ] && script="$T/stall.script" want=0 || script="$T/stallshot.script" want=1
+        t0=$(date +%s)
+        ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 timeout 100 \
+            xvfb-run -a -s "-screen 0 800x600x24" "$B/vsv-play" "$PURL" --size 320x240 --script "$script" \
+            > "$T/sp.out" 2> "$T/sp.err"
+        rc=$? took=$(($(date +%s) - t0))
+        [ $rc = $want ] && [ $took -lt 20 ] &&
+            pass "a stalled server: vsv-play --script quits at 1 s, exit $want ($took s)" ||
+            fail "a stalled server: vsv-play --script quits at 1 s, exit $want" "exit $rc after $took s: $(tail -c 300 "$T/sp.err")"
+    done
+    has "... a screenshot whose step never came: said, exit 1" "$T/sp.err" "vsv-play: $PURL: screenshot $T/stall.png not taken: step $STEP not loaded when the run ended"
+    [ ! -e "$T/stall.png" ] && pass "... and not written" || fail "... and not written" "$T/stall.png exists"
+fi
 stop_proxy
+# the server stalls until the player has said that a step's transfer failed
+# (VSV_HTTP_STALL=1: 6 attempts, 14 s), then answers: a later frame tries
+# again (a failed transfer is not damage), and the screenshot comes
+if [ "${VIEWER:-1}" = 1 ] && [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/null; then
+    : > "$T/pport.stall"
+    start_proxy stallflag
+    PURL=http://127.0.0.1:$PPORT/run.vsv
+    printf '0.2 seek %s\n0.4 screenshot %s\n30 quit\n' $STEP "$T/back.png" > "$T/back.script"
+    ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 VSV_HTTP_STALL=1 timeout 100 \
+        xvfb-run -a -s "-screen 0 800x600x24" "$B/vsv-play" "$PURL" --size 320x240 --script "$T/back.script" \
+        > "$T/back.out" 2> "$T/back.err" &
+    bpid=$!
+    i=0
+    while ! grep -q "not loaded yet, trying again" "$T/back.err" 2> /dev/null && [ $i -lt 600 ] && kill -0 $bpid 2> /dev/null; do
+        sleep 0.1
+        i=$((i + 1))
+    done
+    rm -f "$T/pport.stall"
+    wait $bpid
+    rc=$?
+    [ $rc = 0 ] && pass "a server that stalls, then answers: vsv-play exits 0" ||
+        fail "a server that stalls, then answers: vsv-play exits 0" "exit $rc: $(tail -c 300 "$T/back.err")"
+    has "... it said the step was not loaded yet, naming the stall" "$T/back.err" \
+        "not loaded yet, trying again: $PURL: the server stalled: headers, then no data for 1 s"
+    ! grep -q "damaged" "$T/back.err" && pass "... never called it damaged" || fail "... never called it damaged" "$(grep damaged "$T/back.err")"
+    [ -s "$T/back.png" ] && pass "... and the screenshot came once the server answered (tried again)" ||
+        fail "... and the screenshot came once the server answered" "no $T/back.png: $(tail -c 300 "$T/back.err")"
+    stop_proxy
+fi
 # the ETag alone changes (a file replaced by one of the same length: the
 # proxy's etag mode changes the length too, which tells on its own)
 fault "the ETag alone changes while read" etagonly 3 1 "the file changed on the server while it was read \\(ETag "

@@ -26,10 +26,14 @@ replies to range requests as MODE says, counted by request, never by time:
   garble N     flips every bit of the body of range replies from N on
                (the length and headers intact: only the checksums can
                tell; every byte, so whatever part of a block is used)
-  stall        answers the range requests that neither start at byte 0 nor
+  stall        answers the range requests past the metadata that do not
                end at the file's last byte (the chunks: what opening a
-               file does not read) with their headers, then nothing: each
-               held open until the proxy is killed (a server that stalls)
+               file does not read; the metadata's end read from the .vsv
+               header in the reply for byte 0) with their headers, then
+               nothing: each held open until the proxy is killed (a server
+               that stalls)
+  stallflag    as stall while the file PORT_FILE.stall exists, else
+               forwards (a server that stalls, then recovers)
   down         closes the connection without an answer for every range
                request while the file PORT_FILE.down exists (the server
                gone), else forwards
@@ -51,6 +55,7 @@ MODE = sys.argv[3]
 N = int(sys.argv[4]) if len(sys.argv) > 4 else 0
 lock = threading.Lock()
 count = [0]
+meta_end = [None]  # stall: where the .vsv's metadata ends
 
 
 class Handler(http.server.BaseHTTPRequestHandler):
@@ -107,7 +112,8 @@ class Handler(http.server.BaseHTTPRequestHandler):
                     out[key] = "%s-%d/%s" % (a, int(b) - 1, total)
                 elif key.lower() == "content-length":
                     out[key] = str(len(body))
-        if k > 0 and MODE == "stall" and r.status == 206 and self.stalls(out):
+        stalling = MODE == "stall" or (MODE == "stallflag" and os.path.exists(sys.argv[2] + ".stall"))
+        if k > 0 and stalling and r.status == 206 and self.stalls(out, body):
             return
         if k > 0 and MODE == "garble" and k >= N and body:
             body = bytes(b ^ 0xFF for b in body)
@@ -124,15 +130,20 @@ class Handler(http.server.BaseHTTPRequestHandler):
             self.wfile.write(body[: len(body) // 2] if cut else body)
         self.wfile.flush()
 
-    def stalls(self, out):
-        """A reply for a range inside the file: its headers, then held."""
+    def stalls(self, out, body):
+        """A reply for a range of chunks: its headers, then held."""
         cr = {key.lower(): v for key, v in out.items()}.get("content-range", "")
         try:
             a_b, total = cr.split(" ")[1].split("/")
             a, b = (int(x) for x in a_b.split("-"))
         except (IndexError, ValueError):
             return False
-        if a == 0 or b == int(total) - 1:
+        if a == 0 and len(body) >= 40:  # the header: where the metadata ends
+            with lock:
+                meta_end[0] = int.from_bytes(body[24:32], "little") + int.from_bytes(body[32:40], "little")
+        with lock:
+            end = meta_end[0]
+        if end is None or a < end or b == int(total) - 1:
             return False
         self.send_response_only(206, "Partial Content")
         for key, v in out.items():

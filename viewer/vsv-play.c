@@ -482,43 +482,72 @@ static void annotated_screenshot(vsv_player *p, unsigned parts, annot_cache *ac,
     screenshot(path, fw, fh);
 }
 
-/* The frame loop until the window closes or the player quits; the number of damaged steps met. */
+/* The script's actions that are due, up to a screenshot: it takes the
+ * picture of everything before it, nothing after. While one waits for its
+ * step (a URL's, on its way), the due actions wait too, but a quit among
+ * them runs at its time. */
+static void run_due(vsv_player *p, const play_args *o, const script_line *lines, int nscript, int *next, double elapsed,
+                    int shot_waits)
+{
+    char err[1024];
+    for (int i = *next; shot_waits && i < nscript && lines[i].at <= elapsed; i++)
+        if (!strncmp(lines[i].action, "quit", 4) && !lines[i].action[4 + strspn(lines[i].action + 4, " \t\r\n")]) {
+            vsv_player_do(p, "quit", err, sizeof err);
+            return;
+        }
+    while (!shot_waits && *next < nscript && lines[*next].at <= elapsed) {
+        if (vsv_player_do(p, lines[*next].action, err, sizeof err))
+            vsv_cli_die(1, "%s: line %d: %s", o->script, lines[*next].line, err);
+        ++*next;
+        if (vsv_player_quit(p) || !strncmp(lines[*next - 1].action, "screenshot", 10))
+            break;
+    }
+}
+
+/* Says once on stderr a step newly found damaged (1 then), or one whose
+ * transfer failed (a URL's: tried again). */
+static int say_news(vsv_player *p, const play_args *o)
+{
+    const char *why, *how;
+    char when[64];
+    const int bad = vsv_player_damage(p, &why), stalled = vsv_player_stalled(p, &how);
+    if (bad >= 0) { /* once per step; the status line keeps saying it */
+        vsv_cal_format(vsv_meta_calendar(vsv_player_meta(p)), vsv_player_clock(p)->times[bad], when, sizeof when);
+        fprintf(stderr, "vsv-play: %s: step %d (%s) is damaged, not drawn; playing on: %s\n", o->po.path, bad, when,
+                why);
+    }
+    if (stalled >= 0 && !vsv_cli_quiet()) {
+        vsv_cal_format(vsv_meta_calendar(vsv_player_meta(p)), vsv_player_clock(p)->times[stalled], when, sizeof when);
+        fprintf(stderr, "vsv-play: %s: step %d (%s) not loaded yet, trying again: %s\n", o->po.path, stalled, when,
+                how);
+    }
+    return bad >= 0;
+}
+
+/* The frame loop until the window closes or the player quits; the number of damaged steps met; *unshot: a
+ * screenshot still waiting for its step then (said on stderr). */
 static int play_loop(app *a, const play_args *o, const script_line *lines, int nscript, vsv_overlay *ov,
-                     annot_cache *ac)
+                     annot_cache *ac, int *unshot)
 {
     vsv_player *p = a->p;
     char err[1024];
     const double t0 = glfwGetTime();
     double last = t0;
-    int next = 0, ndamaged = 0;
+    int next = 0, ndamaged = 0, shot_waits = 0;
+    char shot_path[1024];
     while (!glfwWindowShouldClose(a->win) && !vsv_player_quit(p)) {
         const double now = glfwGetTime();
-        /* the script's actions that are due, up to a screenshot: it takes
-         * the picture of everything before it, nothing after */
-        while (next < nscript && lines[next].at <= now - t0) {
-            if (vsv_player_do(p, lines[next].action, err, sizeof err))
-                vsv_cli_die(1, "%s: line %d: %s", o->script, lines[next].line, err);
-            next++;
-            if (vsv_player_quit(p) || !strncmp(lines[next - 1].action, "screenshot", 10))
-                break;
-        }
+        run_due(p, o, lines, nscript, &next, now - t0, shot_waits);
         if (vsv_player_quit(p))
             break;
-        const char *shot = vsv_player_take_screenshot(p);
-        char shot_path[1024];
-        if (shot)
+        const char *shot = shot_waits ? NULL : vsv_player_take_screenshot(p);
+        if (shot) {
             snprintf(shot_path, sizeof shot_path, "%s", shot);
-        if (vsv_player_update(p, now - last, shot != NULL))
-            vsv_cli_die(1, "%s", vsv_player_error(p));
-        const char *why;
-        const int bad = vsv_player_damage(p, &why);
-        if (bad >= 0) { /* once per step; the status line keeps saying it */
-            char when[64];
-            vsv_cal_format(vsv_meta_calendar(vsv_player_meta(p)), vsv_player_clock(p)->times[bad], when, sizeof when);
-            fprintf(stderr, "vsv-play: %s: step %d (%s) is damaged, not drawn; playing on: %s\n", o->po.path, bad, when,
-                    why);
-            ndamaged++;
+            shot_waits = 1;
         }
+        if (vsv_player_update(p, now - last, shot_waits))
+            vsv_cli_die(1, "%s", vsv_player_error(p));
+        ndamaged += say_news(p, o);
         last = now;
         int fw, fh;
         glfwGetFramebufferSize(a->win, &fw, &fh);
@@ -535,8 +564,11 @@ static int play_loop(app *a, const play_args *o, const script_line *lines, int n
         glViewport(0, 0, fw, fh);
         double mn[3], mx[3];
         vsv_player_bounds(p, mn, mx);
-        if (shot)
+        /* the picture of the clock's step, once all of it is there */
+        if (shot_waits && vsv_player_shown_step(p) == vsv_player_clock(p)->step && vsv_player_waiting(p, NULL) < 0) {
             annotated_screenshot(p, o->parts, ac, &cam, mn, mx, shot_path, fw, fh);
+            shot_waits = 0;
+        }
         draw_picture(p, &cam, mn, mx, img);
         char status[2048];
         vsv_player_status(p, status, sizeof status);
@@ -550,6 +582,13 @@ static int play_loop(app *a, const play_args *o, const script_line *lines, int n
         else
             glfwWaitEventsTimeout(next < nscript ? fmax(0, fmin(0.1, lines[next].at - (glfwGetTime() - t0))) : 0.1);
     }
+    if (shot_waits) {
+        const char *why = NULL;
+        const int t = vsv_player_waiting(p, &why);
+        fprintf(stderr, "vsv-play: %s: screenshot %s not taken: step %d not loaded when the run ended%s%s\n",
+                o->po.path, shot_path, t >= 0 ? t : vsv_player_clock(p)->step, why ? ": " : "", why ? why : "");
+    }
+    *unshot = shot_waits;
     return ndamaged;
 }
 
@@ -584,8 +623,8 @@ int main(int argc, char **argv)
     if (!ov)
         vsv_cli_die(1, "%s", err);
     annot_cache ac = {NULL, NULL, 0};
-    int rc = 0;
-    const int ndamaged = play_loop(&a, &o, lines, nscript, ov, &ac);
+    int rc = 0, unshot = 0;
+    const int ndamaged = play_loop(&a, &o, lines, nscript, ov, &ac, &unshot);
     if (!vsv_cli_quiet()) {
         vsv_pager_stats st;
         vsv_player_pager_stats(p, &st);
@@ -595,11 +634,16 @@ int main(int argc, char **argv)
                 (unsigned long long)st.bricks_decoded, st.bytes_decoded / 1e6, st.decode_seconds,
                 (unsigned long long)st.payloads_decoded, (unsigned long long)st.hits, (unsigned long long)st.misses,
                 (unsigned long long)st.stalls, st.peak_bytes / 1048576.0, st.budget / 1048576.0);
+        if (st.transfer_failures)
+            fprintf(stderr, "vsv-play: %s: %llu transfers failed (each tried again)\n", o.po.path,
+                    (unsigned long long)st.transfer_failures);
     }
     if (ndamaged) { /* played past them, but the run did not show all of the file */
         fprintf(stderr, "vsv-play: %s: %d step%s damaged, not drawn\n", o.po.path, ndamaged, ndamaged > 1 ? "s" : "");
         rc = 1;
     }
+    if (unshot) /* (said above) */
+        rc = 1;
     vsv_overlay_free(ov);
     vsv_font_free(ac.font);
     vsv_outlines_free(ac.outlines);

@@ -192,7 +192,8 @@ static int open_species(vsv_player *p, const vsv_player_opts *o, char *err, size
             rc = -1;
             goto fail;
         }
-        if (!(p->cur[s] = vsv_pager_volume_new(p->pager))) {
+        if (!(p->cur[s] = vsv_pager_volume_new(p->pager)) ||
+            (p->nowait && !(p->alt[s] = vsv_pager_volume_new(p->pager)))) {
             snprintf(err, cap, "out of memory");
             rc = -1;
             goto fail;
@@ -287,13 +288,14 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     p->times = malloc((size_t)info.nsteps * sizeof *p->times);
     p->tf = calloc((size_t)p->ns, sizeof *p->tf);
     p->cur = calloc((size_t)p->ns, sizeof *p->cur);
+    p->alt = calloc((size_t)p->ns, sizeof *p->alt);
     p->layers = calloc((size_t)p->ns, sizeof *p->layers);
     p->want = calloc((size_t)p->ns, 1);
     p->need = calloc((size_t)p->ns, 1);
     p->bad = calloc((size_t)info.nsteps, sizeof *p->bad);
     p->gens = calloc((size_t)(p->ns ? p->ns : 1), sizeof *p->gens);
-    p->news = -1;
-    if (!p->times || !p->tf || !p->cur || !p->layers || !p->want || !p->need || !p->bad || !p->gens) {
+    p->news = p->waiting = p->stall_step = p->stall_news = -1;
+    if (!p->times || !p->tf || !p->cur || !p->alt || !p->layers || !p->want || !p->need || !p->bad || !p->gens) {
         snprintf(err, cap, "out of memory");
         goto fail;
     }
@@ -305,6 +307,9 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
     po.threads = o->clock_only || o->external ? -1 : 0;
     po.slab_alloc = o->slab_alloc;
     po.slab_ctx = o->slab_ctx;
+    /* a URL: what is shown comes from the workers, never a wait on the
+     * server on this thread (vsv-play froze behind a stalled one) */
+    p->nowait = vsv_is_url(o->path) && po.threads >= 0;
     if (vsv_pager_open(p->f, &po, &p->pager)) {
         snprintf(err, cap, "cannot start the pager: out of memory");
         goto fail;
@@ -356,6 +361,9 @@ void vsv_player_free(vsv_player *p)
         return;
     for (int s = 0; p->cur && s < p->ns; s++)
         vsv_volume_free(p->cur[s]);
+    for (int s = 0; p->alt && s < p->ns; s++)
+        vsv_volume_free(p->alt[s]);
+    vsv_file_interrupt(p->f); /* a worker waiting on a stalled server: at once */
     vsv_pager_free(p->pager);
     vsv_renderer_free(p->r);
     vsv_gl_free(p->gl);
@@ -367,6 +375,7 @@ void vsv_player_free(vsv_player *p)
     free(p->placed);
     free(p->tf);
     free(p->cur);
+    free(p->alt);
     free(p->layers);
     free(p->want);
     free(p->need);
@@ -410,6 +419,42 @@ static int show(vsv_player *p, int t, int wait)
     return 0;
 }
 
+/* Shows step t without waiting (nowait: a URL): every needed species got
+ * into its spare volume, then all swapped in at once, so they always show
+ * the same step; else what is shown stays, but hidden species are
+ * released. 0, or the first get's error (VSV_EAGAIN: not decoded yet). */
+static int show_nowait(vsv_player *p, int t)
+{
+    needed(p);
+    int rc = 0;
+    for (int s = 0; s < p->ns && !rc; s++)
+        if (p->need[s] && p->cur[s]->step != t)
+            rc = vsv_pager_get(p->pager, t, s, 0, p->alt[s]);
+    for (int s = 0; s < p->ns; s++) {
+        if (p->alt[s]->step >= 0 && rc) /* (nothing of a step half there) */
+            vsv_pager_put(p->pager, p->alt[s]);
+        if (!p->need[s]) {
+            if (p->cur[s]->step >= 0)
+                vsv_pager_put(p->pager, p->cur[s]);
+            p->dirty |= p->layers[s].vol != NULL;
+            p->layers[s].vol = NULL;
+        } else if (!rc && p->alt[s]->step == t) {
+            vsv_volume *was = p->cur[s];
+            p->cur[s] = p->alt[s];
+            p->alt[s] = was;
+            if (was->step >= 0)
+                vsv_pager_put(p->pager, was);
+            p->layers[s].vol = p->cur[s];
+        }
+    }
+    if (rc)
+        return rc;
+    if (t != p->shown)
+        p->dirty = 1;
+    p->shown = t;
+    return 0;
+}
+
 const char *vsv_player_error(const vsv_player *p) { return p->err; }
 
 /* Step t is damaged: shown as nothing (no species drawn, the step's time
@@ -430,12 +475,29 @@ static int show_checked(vsv_player *p, int t)
 {
     if (p->bad[t]) {
         show_blank(p, t);
+        p->waiting = -1;
         return 0;
     }
-    const int rc = show(p, t, 1);
-    if (!rc)
+    const int rc = p->nowait ? show_nowait(p, t) : show(p, t, 1);
+    if (!rc) {
+        p->waiting = p->stall_step = -1;
         return 0;
+    }
     snprintf(p->err, sizeof p->err, "%s", vsv_pager_error(p->pager));
+    if (rc == VSV_EAGAIN || rc == VSV_EIO) {
+        /* not there yet, or a transfer for it failed (not damage: tried
+         * again on a later frame); what is shown stays (nowait) */
+        if (!p->nowait)
+            show_blank(p, t);
+        p->waiting = t;
+        if (rc == VSV_EIO) {
+            snprintf(p->stall, sizeof p->stall, "%s", p->err);
+            if (p->stall_step != t)
+                p->stall_news = t;
+            p->stall_step = t;
+        }
+        return 0;
+    }
     if (rc != VSV_ECORRUPT && rc != VSV_ETRUNC)
         return -1;
     /* a damaged step: reported once (vsv_player_damage), playback goes on */
@@ -452,6 +514,22 @@ int vsv_player_damage(vsv_player *p, const char **why)
     p->news = -1;
     if (why)
         *why = t >= 0 ? p->bad[t] : NULL;
+    return t;
+}
+
+int vsv_player_waiting(const vsv_player *p, const char **why)
+{
+    if (why)
+        *why = p->waiting >= 0 && p->stall_step == p->waiting && p->stall[0] ? p->stall : NULL;
+    return p->waiting;
+}
+
+int vsv_player_stalled(vsv_player *p, const char **why)
+{
+    const int t = p->stall_news;
+    p->stall_news = -1;
+    if (why)
+        *why = t >= 0 ? p->stall : NULL;
     return t;
 }
 

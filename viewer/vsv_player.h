@@ -104,10 +104,11 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap);
 /* Advances the clock by dt wall seconds and brings the shown step up to it:
  * the clock's step when decoded, else (while playing) the newest decoded
  * step between the one shown and it (counted as a stall). exact: wait until
- * the clock's step itself is shown (screenshots, paused seeks). 0, or -1
- * when a step cannot be decoded for another reason than damage (out of
- * memory; vsv_player_error says why); nothing is drawn from a step that
- * failed. */
+ * the clock's step itself is shown (screenshots, paused seeks); for a URL,
+ * never waiting: try it each call until it is (vsv_player_waiting). 0, or
+ * -1 when a step cannot be decoded for another reason than damage or a
+ * failed transfer (out of memory; vsv_player_error says why); nothing is
+ * drawn from a step that failed. */
 int vsv_player_update(vsv_player *p, double dt, int exact);
 const char *vsv_player_error(const vsv_player *p);
 /* A damaged step (a chunk or brick that fails its checks) is not an error
@@ -118,6 +119,18 @@ const char *vsv_player_error(const vsv_player *p);
  * once on stderr. */
 int vsv_player_damage(vsv_player *p, const char **why);
 
+/* A URL's steps come as the pager's workers fetch and decode them: the
+ * player never waits for a server (update shows what is there; a stalled
+ * server never freezes the caller's frame loop). This is the step update
+ * could not show yet for want of its bricks (the clock's step in exact
+ * mode), or -1 when none waits; with *why (may be NULL) NULL while it is
+ * only loading, else the message of the transfer that failed for it
+ * (owned by the player): not damage, it is tried again on a later frame. */
+int vsv_player_waiting(const vsv_player *p, const char **why);
+/* A step whose transfer newly failed (a server stalled or went away) since
+ * the last call, once until a step shows again, with the message in *why
+ * (owned by the player), or -1: a back end says it once on stderr. */
+int vsv_player_stalled(vsv_player *p, const char **why);
 /* The camera for a w x h view from the orbit state. */
 void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam);
 /* Renders the scene for cam into 8-bit RGB over the background (w*h*3

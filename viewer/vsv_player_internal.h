@@ -18,6 +18,12 @@ struct vsv_player {
     int64_t *times;
     vsv_tf *tf;
     vsv_volume **cur;    /* per species: the volume shown (step -1: none) */
+    vsv_volume **alt;    /* nowait: per species, the next step's, swapped in when all are there */
+    int nowait;          /* never waits for the pager: a URL (the main thread never waits for a server) */
+    int waiting;         /* the step not shown yet for want of its bricks (being fetched, decoded), or -1 */
+    int stall_step;      /* the step whose transfer failed last (tried again), or -1 once one shows */
+    int stall_news;      /* that step, not yet taken by vsv_player_stalled, or -1 */
+    char stall[1024];    /* why (the pager's message) */
     vsv_layer *layers;   /* per species */
     unsigned char *want; /* per species: visible */
     int selected;

@@ -33,7 +33,11 @@ void vsv_player_status(const vsv_player *p, char *buf, size_t cap)
                                   sel ? "]" : "");
     }
     if (p->shown >= 0 && p->bad[p->shown] && n < cap)
-        snprintf(buf + n, cap - n, "\nstep %d DAMAGED, not drawn: %s", p->shown, p->bad[p->shown]);
+        n += (size_t)snprintf(buf + n, cap - n, "\nstep %d DAMAGED, not drawn: %s", p->shown, p->bad[p->shown]);
+    const char *why = NULL;
+    if (vsv_player_waiting(p, &why) >= 0 && n < cap) /* (a URL's step on its way) */
+        snprintf(buf + n, cap - n, why ? "\nstep %d not loaded yet, trying again: %s" : "\nstep %d loading", p->waiting,
+                 why);
 }
 
 const char *vsv_player_help_text(void)
