@@ -26,8 +26,15 @@ void vsv_annot_time_line(const vsv_meta *m, int64_t t, char *buf, size_t cap);
 
 /* Draws the graticule and the outlines on the ground (the parts of a that
  * ask for them), labels with a's font where the legend, an RGBA overlay of
- * the frame's size, leaves the frame clear (alpha 0). 0 or VSV_ENOMEM. */
+ * the frame's size, leaves the frame clear (alpha 0). Only the parts of
+ * lines inside the grid and the view are followed, in steps no shorter
+ * than a pixel, and the lines stop at vsv_annot_ground_budget(w, h) units
+ * of work (a point set on the terrain, a brush step), whatever the grid's
+ * spacing; *work (when not NULL) gets the units spent, for tests. 0 or
+ * VSV_ENOMEM. */
 int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth,
-                     const float *legend);
+                     const float *legend, int64_t *work);
+/* The most work vsv_annot_ground spends on a frame of w x h pixels. */
+int64_t vsv_annot_ground_budget(int w, int h);
 
 #endif

@@ -397,7 +397,7 @@ int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam,
         time_block(a, sc, cam, &L, legend);
     if (a->parts & (VSV_ANNOT_EXAGGERATION | VSV_ANNOT_SCALEBAR))
         scale_block(a, sc, cam, &L, legend);
-    const int rc = vsv_annot_ground(a, sc, cam, rgba, depth, legend);
+    const int rc = vsv_annot_ground(a, sc, cam, rgba, depth, legend, NULL);
     for (size_t p = 0; !rc && p < n; p++) {
         const float *o = legend + 4 * p;
         if (o[3] <= 0)

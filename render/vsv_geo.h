@@ -69,6 +69,31 @@ static inline int vsv_box_hit(const double o[3], const double d[3], const double
     *t1 = hi;
     return !out & (hi >= lo) & (hi > 0);
 }
+/* The part of segment a-b (x, y) inside the rectangle [mn, mx] (x, y; a
+ * box's first two axes): the parameters f0 <= f1 along it, in [0, 1]; 0
+ * when no part is inside or a coordinate is not finite. Lines are drawn
+ * only over their part inside the grid or the image, so their cost follows
+ * that part, not how long they are. */
+static inline int vsv_segment_clip(const double a[2], const double b[2], const double mn[2], const double mx[2],
+                                   double *f0, double *f1)
+{
+    double lo = 0, hi = 1;
+    for (int k = 0; k < 2; k++) {
+        const double d = b[k] - a[k];
+        if (!isfinite(a[k]) || !isfinite(d))
+            return 0;
+        if (d == 0) {
+            if (a[k] < mn[k] || a[k] > mx[k])
+                return 0;
+            continue;
+        }
+        const double ta = (mn[k] - a[k]) / d, tb = (mx[k] - a[k]) / d;
+        lo = fmax(lo, fmin(ta, tb));
+        hi = fmin(hi, fmax(ta, tb));
+    }
+    *f0 = lo, *f1 = hi;
+    return lo <= hi;
+}
 /* Distance along the ray (o, d) where it first meets the ground (the
  * bilinear height field through the cell centres, flat beyond them) between
  * t0 and t1: exact, patch by patch; INFINITY if never. */

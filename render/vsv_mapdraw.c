@@ -1,9 +1,10 @@
 /* vsv_mapdraw.c — lines on the ground of a rendered frame: the
  * latitude/longitude graticule (labelled) and the coast, lake and border
- * outlines. Each line is followed in world metres in steps of half a cell,
- * set on the terrain (the same bilinear surface the renderers draw), and
- * projected with the frame's camera; the frame's depth image hides it where
- * the ground in front is nearer, and dims it where a cloud is. */
+ * outlines. Each line's part inside the grid and the view is followed in
+ * steps of half a cell (no shorter than a pixel), set on the terrain (the
+ * same bilinear surface the renderers draw), and projected with the frame's
+ * camera; the frame's depth image hides it where the ground in front is
+ * nearer, and dims it where a cloud is. */
 #include "vsv_annot_internal.h"
 
 #include <math.h>
@@ -47,6 +48,10 @@ typedef struct pen {
     double pix_ortho; /* world size of a pixel (orthographic) */
     double slope;     /* 1 / sine of the view's elevation, at most 10 */
     double half;      /* line half-width, pixels */
+    double zlo, zhi;  /* the lowest and the highest ground (exaggerated) */
+    int seg_cap;      /* the most samples along one segment, and brush steps between two */
+    int64_t work;     /* samples set on the terrain and brush steps so far */
+    int64_t budget;   /* the most work the frame's lines may take */
     /* the label anchor of the current line: its visible point furthest
      * down (meridians) or left (parallels) on the screen */
     int want; /* 0 none, 1 lowest, 2 leftmost */
@@ -77,6 +82,7 @@ static float seen(const pen *P, size_t p, double t)
 static void splat(pen *P, double sx, double sy, double t)
 {
     const double r = P->half + 0.5;
+    P->work++;
     const int x0 = (int)floor(sx - r), x1 = (int)floor(sx + r), y0 = (int)floor(sy - r), y1 = (int)floor(sy + r);
     float vis_centre = -1;
     for (int y = y0 > 0 ? y0 : 0; y <= y1 && y < P->h; y++)
@@ -99,43 +105,134 @@ static void splat(pen *P, double sx, double sy, double t)
     }
 }
 
-static int inside(const vsv_geo *g, double x, double y)
+/* Narrows [*f0, *f1] along segment c0-c1 (world x, y) to the part whose
+ * column of ground heights (P->zlo to P->zhi) may show on the image, with
+ * the brush's margin; 0 when none. The eye's plane and each side of the
+ * view bound a half-space whose value is linear along the segment and in
+ * height (the same height is the best at both ends), so the part is one
+ * interval: a frame pays only for the lines it shows. */
+static int view_clip(const pen *P, const double c0[2], const double c1[2], double *f0, double *f1)
 {
-    return x >= g->bmin[0] && x <= g->bmax[0] && y >= g->bmin[1] && y <= g->bmax[1];
+    const vsv_rays *R = &P->R;
+    const double mx = R->kx * (1 + 2 * (P->half + 2) / R->w), my = R->ky * (1 + 2 * (P->half + 2) / R->h);
+    /* inside where a s + b u + c f + d >= 0, (s, u, f) the point along the camera's r, u, f */
+    const double k = R->persp ? 1 : 0;
+    const double pl[5][4] = {{0, 0, 1, 0},
+                             {1, 0, -(R->cx - mx) * k, -(R->cx - mx) * (1 - k)},
+                             {-1, 0, (R->cx + mx) * k, (R->cx + mx) * (1 - k)},
+                             {0, 1, -(R->cy - my) * k, -(R->cy - my) * (1 - k)},
+                             {0, -1, (R->cy + my) * k, (R->cy + my) * (1 - k)}};
+    double lo = *f0, hi = *f1;
+    for (int i = 0; i < 5; i++) {
+        double v[2] = {-INFINITY, -INFINITY}; /* at each end, at its best height */
+        for (int e = 0; e < 2; e++)
+            for (int z = 0; z < 2; z++) {
+                const double p[3] = {(e ? c1 : c0)[0], (e ? c1 : c0)[1], z ? P->zhi : P->zlo};
+                double s = 0, u = 0, f = 0;
+                for (int a = 0; a < 3; a++) {
+                    const double d = p[a] - R->o[a];
+                    s += d * R->r[a], u += d * R->u[a], f += d * R->f[a];
+                }
+                v[e] = fmax(v[e], pl[i][0] * s + pl[i][1] * u + pl[i][2] * f + pl[i][3]);
+            }
+        if (!(v[0] >= 0 || v[1] >= 0)) /* both outside (or not numbers) */
+            return 0;
+        if (v[0] < 0)
+            lo = fmax(lo, v[0] / (v[0] - v[1]));
+        else if (v[1] < 0)
+            hi = fmin(hi, v[0] / (v[0] - v[1]));
+        if (!(lo <= hi))
+            return 0;
+    }
+    *f0 = lo, *f1 = hi;
+    return 1;
 }
 
-/* Draws the polyline xy (n world points) into the mask: each segment in
- * world steps of P->step, the parts inside the grid only. */
+/* How many steps segment c0-c1 (world x, y, inside the grid) is followed
+ * in: half a cell apart, so its points sit on the terrain's patches, but
+ * never closer than a pixel's width at the segment's nearest to the eye,
+ * nor more than P->seg_cap: its cost follows the image, not the grid's
+ * spacing. */
+static int steps(const pen *P, const double c0[2], const double c1[2])
+{
+    const double ex = c1[0] - c0[0], ey = c1[1] - c0[1], len = hypot(ex, ey);
+    double foot = P->pix_ortho;
+    if (P->R.persp) { /* the eye's distance to the segment, then to the ground's heights */
+        const double *o = P->R.o, l2 = ex * ex + ey * ey;
+        const double f = l2 > 0 ? fmin(1, fmax(0, ((o[0] - c0[0]) * ex + (o[1] - c0[1]) * ey) / l2)) : 0;
+        const double dz = o[2] > P->zhi ? o[2] - P->zhi : o[2] < P->zlo ? P->zlo - o[2] : 0;
+        foot = hypot(hypot(c0[0] + f * ex - o[0], c0[1] + f * ey - o[1]), dz) * P->pix_angle;
+    }
+    const double ns = ceil(len / fmax(P->step, foot));
+    return ns >= 1 ? (ns < P->seg_cap ? (int)ns : P->seg_cap) : 1;
+}
+
+/* The brush from screen point (lx, ly) at distance lt to (sx, sy) at t, in
+ * half-pixel steps over the part on the image (with the brush's margin);
+ * the first point is already drawn. */
+static void stroke(pen *P, double lx, double ly, double lt, double sx, double sy, double t)
+{
+    const double m0 = -P->half - 2, a[2] = {lx, ly}, b[2] = {sx, sy};
+    const double mn[2] = {m0, m0}, mx[2] = {P->w - m0, P->h - m0};
+    double g0, g1;
+    if (!vsv_segment_clip(a, b, mn, mx, &g0, &g1))
+        return;
+    const double sl = (g1 - g0) * hypot(sx - lx, sy - ly); /* at most the image's diagonal */
+    const int m = sl > 0.5 ? (int)fmin(ceil(sl / 0.5), P->seg_cap) : 1;
+    for (int j = 1; j <= m; j++) {
+        const double g = g0 + (g1 - g0) * j / m;
+        splat(P, lx + g * (sx - lx), ly + g * (sy - ly), lt + g * (t - lt));
+    }
+}
+
+/* Draws the polyline xy (n world points) into the mask: the parts of its
+ * segments inside the grid and the view, each in steps(), while the
+ * frame's work is under P->budget. */
 static void polyline(pen *P, const double *xy, int n)
 {
+    const vsv_geo *g = P->g;
     int have = 0;
     double lx = 0, ly = 0, lt = 0;
-    for (int i = 0; i + 1 < n; i++) {
-        const double ax = xy[2 * i], ay = xy[2 * i + 1], bx = xy[2 * i + 2], by = xy[2 * i + 3];
-        const double len = hypot(bx - ax, by - ay);
-        if (!(len < INFINITY))
+    for (int i = 0; i + 1 < n && P->work < P->budget; i++) {
+        const double *a = xy + 2 * i, *b = a + 2;
+        double f0, f1;
+        if (!vsv_segment_clip(a, b, g->bmin, g->bmax, &f0, &f1)) {
+            have = 0;
             continue;
-        const int ns = len > P->step ? (int)fmin(ceil(len / P->step), 100000) : 1;
-        for (int k = i ? 1 : 0; k <= ns; k++) {
-            const double f = (double)k / ns, x = ax + f * (bx - ax), y = ay + f * (by - ay);
+        }
+        double c0[2], c1[2]; /* the part in the grid, held inside against rounding */
+        for (int k = 0; k < 2; k++) {
+            c0[k] = fmin(g->bmax[k], fmax(g->bmin[k], a[k] + f0 * (b[k] - a[k])));
+            c1[k] = fmin(g->bmax[k], fmax(g->bmin[k], a[k] + f1 * (b[k] - a[k])));
+        }
+        double v0 = 0, v1 = 1;
+        if (!view_clip(P, c0, c1, &v0, &v1)) {
+            have = 0;
+            continue;
+        }
+        if (f0 > 0 || v0 > 0)
+            have = 0;
+        double d0[2], d1[2];
+        for (int k = 0; k < 2; k++)
+            d0[k] = c0[k] + v0 * (c1[k] - c0[k]), d1[k] = c0[k] + v1 * (c1[k] - c0[k]);
+        const int ns = steps(P, d0, d1);
+        for (int k = have ? 1 : 0; k <= ns; k++) {
+            const double f = (double)k / ns, x = d0[0] + f * (d1[0] - d0[0]), y = d0[1] + f * (d1[1] - d0[1]);
+            const double p[3] = {x, y, ground_z(g, x, y)};
             double sx, sy, t;
-            const double p[3] = {x, y, ground_z(P->g, x, y)};
-            if (!inside(P->g, x, y) || !vsv_rays_project(&P->R, p, &sx, &sy, &t)) {
+            P->work++;
+            if (!vsv_rays_project(&P->R, p, &sx, &sy, &t)) {
                 have = 0;
                 continue;
             }
-            if (have) { /* the screen segment from the last point, in half-pixel steps */
-                const double sl = hypot(sx - lx, sy - ly);
-                const int m = sl > 0.5 ? (int)fmin(ceil(sl / 0.5), 8192) : 1;
-                for (int j = 1; j <= m; j++) {
-                    const double g = (double)j / m;
-                    splat(P, lx + g * (sx - lx), ly + g * (sy - ly), lt + g * (t - lt));
-                }
-            } else {
+            if (have)
+                stroke(P, lx, ly, lt, sx, sy, t);
+            else
                 splat(P, sx, sy, t);
-            }
             have = 1, lx = sx, ly = sy, lt = t;
         }
+        if (f1 < 1 || v1 < 1)
+            have = 0;
     }
 }
 
@@ -270,8 +367,12 @@ static int graticule(const vsv_annot *a, const vsv_scene *sc, pen *P, float *rgb
     return 0;
 }
 
+/* 8 units a pixel: a real map (the MM5 domain's coast, lakes, borders and
+ * graticule at 828 x 568) takes about a third of one */
+int64_t vsv_annot_ground_budget(int w, int h) { return 8 * (int64_t)w * h + 64 * ((int64_t)w + h); }
+
 int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth,
-                     const float *legend)
+                     const float *legend, int64_t *work)
 {
     if (!(a->parts & (VSV_ANNOT_GRATICULE | VSV_ANNOT_OUTLINES)))
         return 0;
@@ -287,6 +388,10 @@ int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *
     P.pix_angle = 2 * P.R.ky / P.h;
     P.pix_ortho = P.R.persp ? 0 : 2 * P.R.ky / P.h;
     P.slope = fmin(10, 1 / fmax(0.1, fabs(P.R.f[2])));
+    P.zlo = g.terrain ? g.bmin[2] : 0; /* below the lowest ground */
+    P.zhi = g.terrain ? g.ground_top : 0;
+    P.seg_cap = 4 * (P.w + P.h);
+    P.budget = vsv_annot_ground_budget(P.w, P.h);
     if (!(P.mask = calloc((size_t)P.w * P.h, sizeof *P.mask)))
         return VSV_ENOMEM;
     int rc = 0;
@@ -314,5 +419,7 @@ int vsv_annot_ground(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *
         }
     }
     free(P.mask);
+    if (work)
+        *work = P.work;
     return rc;
 }

@@ -7,7 +7,8 @@
  * split at the seam and pass the Cape of Good Hope; on the real MM5 run the
  * GSHHG coast and the model's own land-use coastline lie within a cell of
  * each other (79 % of coast points, 96 % of land-use shore edges), best
- * unshifted. */
+ * unshifted; the lines' work on grids of extreme spacing is bounded by the
+ * image. */
 #include "vsv_annot_internal.h"
 #include "vsv_convert.h"
 #include "vsv_source_reader.h"
@@ -645,6 +646,77 @@ static void test_distinct_maps(void)
     vsv_meta_clear(&m);
 }
 
+/* The work of drawing the lines on the ground follows the image, not the
+ * grid's spacing (issue 33 item 9): a grid of 1 mm by 1000 km cells once
+ * sampled every coast segment 100,000 times (74 s for 160 x 120 pixels).
+ * Each frame's work (points set on the terrain, brush steps) is counted:
+ * on the real MM5 domain it stays far under the frame's budget, so the
+ * budget never cuts a real map short; on extreme grids it stays under a
+ * few hundred units a segment of image, and the lines still draw. */
+static double ground_work(const vsv_meta *m, const vsv_outlines *o, int view, int w, int h, int *drawn)
+{
+    const vsv_scene sc = {.meta = m, .exaggeration = 20};
+    vsv_camera cam;
+    if (view)
+        vsv_camera_fit(&cam, &sc, 225, 30, w, h);
+    else
+        vsv_camera_plan(&cam, &sc, w, h);
+    float *img = calloc((size_t)w * h * 4, sizeof *img);
+    const vsv_annot a = {VSV_ANNOT_OUTLINES | VSV_ANNOT_GRATICULE, NULL, 0, NULL, NULL, o, NULL, NULL};
+    int64_t work = -1;
+    if (!img || vsv_annot_ground(&a, &sc, &cam, img, NULL, NULL, &work))
+        work = -1;
+    *drawn = 0;
+    for (size_t p = 0; img && p < (size_t)w * h; p++)
+        *drawn += img[4 * p + 3] > 0;
+    free(img);
+    return (double)work;
+}
+
+static void test_ground_work(void)
+{
+    if (access("/usr/share/gmt-gshhg/binned_GSHHS_l.nc", R_OK))
+        return;
+    vsv_meta m;
+    mm5_meta(&m);
+    vsv_outlines *o = NULL;
+    char msg[512];
+    int drawn;
+    if (!CHECK(vsv_outlines_load(&m, NULL, 'l', &o, msg, sizeof msg) == 0, "outlines load for the MM5 domain", "%s",
+               msg))
+        return;
+    for (int view = 0; view < 2; view++) {
+        const double work = ground_work(&m, o, view, 828, 568, &drawn);
+        const double budget = (double)vsv_annot_ground_budget(828, 568);
+        CHECK(work > 0 && work < budget / 4 && drawn > 10000, "MM5 map lines: the frame's work far under its budget",
+              "%s view: %.0f units of %.0f, %d pixels drawn", view ? "oblique" : "plan", work, budget, drawn);
+    }
+    vsv_outlines_free(o);
+    vsv_meta_clear(&m);
+    /* cells of 1 mm by 1000 km (and milder: 1 m by 10 km), Lambert conformal as MM5's */
+    static const double sp[][2] = {{1e-3, 1e6}, {1, 1e4}, {1e6, 1e-3}};
+    for (size_t k = 0; k < sizeof sp / sizeof *sp; k++) {
+        mm5_meta(&m);
+        m.nx = 16, m.ny = 12, m.nz = 4;
+        m.origin[0] = m.origin[1] = 0;
+        m.spacing[0] = sp[k][0], m.spacing[1] = sp[k][1], m.spacing[2] = 1e-3;
+        o = NULL;
+        if (!CHECK(vsv_outlines_load(&m, NULL, 'l', &o, msg, sizeof msg) == 0, "outlines load for an extreme grid",
+                   "%g x %g m: %s", sp[k][0], sp[k][1], msg))
+            continue;
+        for (int view = 0; view < 2; view++) {
+            const int w = 160, h = 120;
+            const double work = ground_work(&m, o, view, w, h, &drawn);
+            CHECK(work >= 0 && work <= 200.0 * (w + h) && drawn > 0,
+                  "lines on an extreme grid: work bounded by the image, not the spacing",
+                  "%g x %g m cells, %s view: %.0f units (at most %d), %d pixels drawn", sp[k][0], sp[k][1],
+                  view ? "oblique" : "plan", work, 200 * (w + h), drawn);
+        }
+        vsv_outlines_free(o);
+        vsv_meta_clear(&m);
+    }
+}
+
 int main(void)
 {
     test_layout();
@@ -656,5 +728,6 @@ int main(void)
     test_outlines_mm5();
     test_outlines_latlon();
     test_coast_vs_landuse();
+    test_ground_work();
     return vsv_test_done();
 }
