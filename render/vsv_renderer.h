@@ -84,5 +84,9 @@ void vsv_rc_copy_brick(void *ctx, int item, int thread);
 /* Pool job: one image row of r->surf, the ground and the scene's slices
  * (vsv_slice.c), for r->sc, r->cam, r->g and r->rays. */
 void vsv_rc_slice_row(void *ctx, int py, int thread);
+/* vsv_slice_range, with *work (when not NULL) set to the values it took:
+ * per curtain edge a column per cell it crosses on the grid, whatever the
+ * cells' size (for tests). */
+int vsv_slice_range_work(const vsv_scene *sc, double *lo, double *hi, int64_t *work);
 
 #endif

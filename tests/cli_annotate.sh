@@ -5,8 +5,8 @@
 # the same sample; written again when the raycaster's last partial step came
 # to count by its length: 322 pixels changed, by at most 6/255, 17 by more
 # than 2), --annotate picks parts, a missing font or GSHHG data set
-# is a note and not a failure, and the GrADS global lat/lon sample gets its
-# coastlines.
+# is a note and not a failure, the GrADS global lat/lon sample gets its
+# coastlines, and grids of extreme spacing render.
 B=${B:-build}
 SHARED=${SHARED:-../shared}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-annotate.XXXXXX")
@@ -107,4 +107,30 @@ if [ -f "$CTL" ] && [ -f /usr/share/gmt-gshhg/binned_GSHHS_c.nc ]; then
         fail "coast pixels at four coast points, none at sea" "fewest at a coast point ${3:-?}, most at sea ${4:-?}"
 else
     echo "(GrADS sample or GSHHG absent: the global coastline check is skipped)"
+fi
+
+# grids of extreme spacing, written by the Python module (issue 33 item 9):
+# cells of 1 mm by 1000 km once made the outlines sample every coast segment
+# 100,000 times (74 s for 160 x 120 pixels), a curtain slice take 10^10
+# values, and a curtain across a grid 12 mm wide was "does not cross the
+# grid"; now the work is bounded by the image and the cells crossed
+# (tests/test_annotate.c and test_light.c count it)
+if [ -n "${PYMOD:-}" ] && [ -z "${PY_MISSING:-}" ]; then
+    for c in 1e-3,1e6,1e-3:lon=-97 1e6,1e-3,1e-3:lat=20; do
+        sp=${c%%:*}
+        PYTHONPATH="$B/python" "${PYTHON:-/usr/bin/python3}" - "$T/x.vsv" "$sp" <<'PY'
+import sys
+import numpy as np
+import vesuvius
+nx, ny, nz = 16, 12, 4
+sp = tuple(float(v) for v in sys.argv[2].split(","))
+rs = np.random.RandomState(1)
+vesuvius.write(sys.argv[1], {"nx": nx, "ny": ny, "nz": nz, "origin": (0, 0, 0), "spacing": sp}, [0],
+               {"O3": rs.rand(1, nz, ny, nx).astype(np.float32)}, terrain=(rs.rand(ny, nx) * 2e-3).astype(np.float32),
+               projection={"kind": "lcc", "lat0": 38, "lon0": -97, "lat1": 33, "lat2": 50, "radius": 6370000})
+PY
+        expect "spacing $sp: an annotated frame with a curtain (${c#*:}) renders" 0 \
+            "$B/vsv-render" -q "$T/x.vsv" --size 160x120 --slice "${c#*:}" -o "$T/x.png"
+        expect "spacing $sp: the plan view renders" 0 "$B/vsv-render" -q "$T/x.vsv" --size 160x120 --view plan -o "$T/x.png"
+    done
 fi

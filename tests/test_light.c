@@ -3,10 +3,12 @@
  * shading rule's amount in both renderers, a uniform slab is unchanged by
  * lighting; a linear field's slices show the linear colour ramp, and a
  * horizontal slice of native levels with per-column heights shows the
- * value at its height. */
+ * value at its height; a curtain's range on grids of extreme spacing takes
+ * a column per cell crossed. */
 #include "vsv_format.h"
 #include "vsv_geo.h"
 #include "vsv_render.h"
+#include "vsv_renderer.h"
 #include "vsv_testlib.h"
 
 #include <math.h>
@@ -501,11 +503,49 @@ static void test_slab_closed_form(void)
     free_volume(u);
 }
 
+/* A curtain's range on grids of extreme spacing (issue 33 item 9): the
+ * values are taken per cell the curtain crosses, not per metre of the
+ * smallest cell (a 1 mm by 1000 km grid took 10^10 values and hung
+ * vsv-render --slice lon=); the part of the curtain off the grid costs
+ * nothing. */
+static double ramp_x(int i, int j, int k) { return (void)j, (void)k, i / 15.0; }
+
+static void test_slice_extreme(void)
+{
+    static const double sp[][2] = {{1, 1e4}, {1e-3, 1e6}, {1e6, 1e-3}};
+    for (size_t c = 0; c < sizeof sp / sizeof *sp; c++) {
+        vsv_meta m;
+        grid(&m, 16, 12, 4, 1e-3);
+        m.spacing[0] = sp[c][0], m.spacing[1] = sp[c][1];
+        vsv_volume *v = make_volume(16, 12, 4, ramp_x);
+        vsv_tf tf;
+        char msg[128];
+        vsv_tf_parse(&tf, "colormap viridis\nrange 0 1\nopacity 0 1\n", msg, sizeof msg);
+        vsv_layer L = {v, &tf, 1, 0};
+        vsv_slice s = {.kind = VSV_SLICE_CURTAIN, .npts = 2};
+        /* corner to corner, and as far again beyond each */
+        s.xy[0][0] = -16.5 * sp[c][0], s.xy[0][1] = -12.5 * sp[c][1];
+        s.xy[1][0] = 31.5 * sp[c][0], s.xy[1][1] = 23.5 * sp[c][1];
+        const vsv_scene sc = {
+            .meta = &m, .layers = &L, .nlayers = 1, .exaggeration = 1, .slices = &s, .nslices = 1, .slice_layer = 0};
+        double lo, hi;
+        int64_t work = -1;
+        const int rc = vsv_slice_range_work(&sc, &lo, &hi, &work);
+        CHECK(rc == 0 && lo == 0 && fabs(hi - 1) < 1e-6 && work > 0 && work <= (16 + 12 + 2) * 4,
+              "slice range on an extreme grid: the curtain's values, a column per cell crossed",
+              "%g x %g m cells: rc %d, %g .. %g from %lld values (at most %d)", sp[c][0], sp[c][1], rc, lo, hi,
+              (long long)work, (16 + 12 + 2) * 4);
+        free_volume(v);
+        vsv_meta_clear(&m);
+    }
+}
+
 int main(void)
 {
     test_lit_sphere();
     test_slab_closed_form();
     test_slice_linear();
     test_slice_heights();
+    test_slice_extreme();
     return vsv_test_done();
 }
