@@ -92,9 +92,11 @@ pid_t vsv_helper_spawn(const char *name, char *const argv[], int in, int out, in
         return -1;
     }
     int rc = 0;
+    /* (F_DUPFD says EINVAL, not EMFILE, when the descriptor limit is at or
+     * under the lowest number asked for: out of descriptors all the same) */
     for (int k = 0; k < 3 && !rc; k++)
         if (want[k] >= 0 && (fd[k] = fcntl(want[k], F_DUPFD_CLOEXEC, 10)) < 0)
-            rc = errno;
+            rc = errno == EINVAL ? EMFILE : errno;
     static const int slot[3] = {0, 1, 3};
     for (int k = 0; k < 3 && !rc; k++)
         rc = fd[k] >= 0 ? posix_spawn_file_actions_adddup2(&fa, fd[k], slot[k])

@@ -1,0 +1,46 @@
+#!/bin/sh
+# cli_limits.sh — resources that run out (issue 33 item 11): descriptors
+# (ulimit -n), each an exit 1 whose message names the cause, never another
+# errno's text, an empty message or a crash.
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-limits.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/a.vsv" || { fail "convert the sample" "exit $?"; exit 0; }
+mkdir "$T/vdb"
+"$B/vsv-export" -q "$T/a.vsv" --vdb "$T/vdb/v_%d.vdb" || { fail "export the sample as .vdb" "exit $?"; exit 0; }
+
+# out_of NAME WANT OPT CMD... : under each limit `ulimit OPT N` for N in
+# $LIMITS (set in a subshell), CMD exits 0, or 1 with WANT (an extended
+# regular expression, case ignored) in its message; one PASS or FAIL line
+# for them all
+out_of() {
+    name=$1 want=$2 how=$3
+    shift 3
+    bad= seen=0
+    for lim in $LIMITS; do
+        (ulimit "$how" "$lim" && exec "$@") < /dev/null > "$T/out" 2> "$T/err"
+        rc=$?
+        [ $rc = 1 ] && seen=$((seen + 1))
+        if [ $rc != 0 ] && { [ $rc != 1 ] || ! grep -qiE -- "$want" "$T/err"; }; then
+            bad="$bad; at $lim: exit $rc: $(head -c 200 "$T/err" | tr '\n' ' ')"
+        fi
+    done
+    if [ -n "$bad" ]; then
+        fail "$name" "${bad#; }"
+    elif [ $seen = 0 ]; then
+        fail "$name" "no limit of $LIMITS made it fail: not tested"
+    else
+        pass "$name ($seen limits failed it, each saying so)"
+    fi
+}
+
+# descriptors: the helper programs said "Invalid argument" (F_DUPFD's
+# EINVAL when the limit is at or under the lowest number asked for)
+LIMITS="5 6 7 8 9 10 11 12 13 14"
+out_of "vsv-export --netcdf (vsv-nc-writer) out of descriptors: 'too many open files'" "too many open files" \
+    -n "$B/vsv-export" -q "$T/a.vsv" --netcdf "$T/n.nc"
+out_of "vsv-convert of .vdb files (vsv-vdb-reader) out of descriptors: 'too many open files'" "too many open files" \
+    -n "$B/vsv-convert" -q "$T"/vdb/v_0.vdb "$T"/vdb/v_1.vdb -o "$T/v.vsv"
+out_of "vsv-convert of a netCDF-4 file (vsv-nc-check) out of descriptors: 'too many open files'" \
+    "too many open files" -n "$B/vsv-convert" -q tests/data/wrf/wrf_cropped.nc -o "$T/w.vsv"
