@@ -25,9 +25,15 @@ static int nc_ok(cfw *w, int status, const char *what)
 {
     const int e = errno; /* a failed write's cause, which HDF5 reports only as "HDF error" */
     if (status != NC_NOERR && !w->rc) {
-        const int io = status == NC_EHDFERR && (e == ENOSPC || e == EFBIG || e == EDQUOT || e == EIO);
-        snprintf(w->err, w->cap, "%s: %s: %s%s%s", w->path, what, nc_strerror(status), io ? ": " : "",
-                 io ? strerror(e) : "");
+        /* netCDF-4 returns EACCES for any failed H5Fcreate: on a full disk
+         * that read "cannot create: Permission denied"; errno has the cause */
+        const int io =
+            (status == NC_EHDFERR || status == EACCES) && (e == ENOSPC || e == EFBIG || e == EDQUOT || e == EIO);
+        if (io && status == EACCES)
+            snprintf(w->err, w->cap, "%s: %s: %s", w->path, what, strerror(e));
+        else
+            snprintf(w->err, w->cap, "%s: %s: %s%s%s", w->path, what, nc_strerror(status), io ? ": " : "",
+                     io ? strerror(e) : "");
         w->rc = VSV_EIO;
     }
     return status == NC_NOERR;

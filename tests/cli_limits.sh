@@ -1,10 +1,11 @@
 #!/bin/sh
 # cli_limits.sh — resources that run out (issue 33 item 11): descriptors
-# (ulimit -n), each an exit 1 whose message names the cause, never another
-# errno's text, an empty message or a crash.
+# (ulimit -n) and the disk (a full tmpfs where mounting one is allowed, a
+# file size limit everywhere), each an exit 1 whose message names the
+# cause, never another errno's text, an empty message or a crash.
 B=${B:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-limits.XXXXXX")
-trap 'rm -rf "$T"' EXIT
+trap 'umount "$T/full" 2> /dev/null; rm -rf "$T"' EXIT
 . tests/cli_lib.sh
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/a.vsv" || { fail "convert the sample" "exit $?"; exit 0; }
 mkdir "$T/vdb"
@@ -44,3 +45,24 @@ out_of "vsv-convert of .vdb files (vsv-vdb-reader) out of descriptors: 'too many
     -n "$B/vsv-convert" -q "$T"/vdb/v_0.vdb "$T"/vdb/v_1.vdb -o "$T/v.vsv"
 out_of "vsv-convert of a netCDF-4 file (vsv-nc-check) out of descriptors: 'too many open files'" \
     "too many open files" -n "$B/vsv-convert" -q tests/data/wrf/wrf_cropped.nc -o "$T/w.vsv"
+
+# a full disk: netCDF-4 returns EACCES for any failed H5Fcreate, and the
+# export said "cannot create: Permission denied". A file size limit of 0
+# (SIGXFSZ ignored: writes fail with EFBIG) fails it the same way; the
+# messages go through a pipe, which the limit does not cover
+( trap "" XFSZ; ulimit -f 0; "$B/vsv-export" -q "$T/a.vsv" --netcdf "$T/n.nc" < /dev/null; echo "exit $?" ) 2>&1 |
+    cat > "$T/err"
+has "vsv-export --netcdf, no byte may be written: exit 1" "$T/err" "exit 1"
+has "saying why: 'File too large'" "$T/err" "vsv-export: $T/n.nc: cannot create: File too large"
+mkdir "$T/full"
+if mount -t tmpfs -o size=64k tmpfs "$T/full" 2> /dev/null; then
+    dd if=/dev/zero of="$T/full/fill" bs=1k count=1024 2> /dev/null
+    expect "vsv-export --netcdf on a full disk exits 1" 1 "$B/vsv-export" -q "$T/a.vsv" --netcdf "$T/full/n.nc"
+    has "saying 'No space left on device'" "$T/err" "vsv-export: $T/full/n.nc: cannot create: No space left on device"
+    expect "vsv-export --vdb on a full disk exits 1" 1 "$B/vsv-export" -q "$T/a.vsv" --vdb "$T/full/v.vdb" -t 0
+    has "saying 'No space left on device'" "$T/err" "vsv-export: $T/full/v.vdb: cannot write: No space left on device"
+    [ "$(ls "$T/full")" = fill ] && pass "nothing left on the full disk" || fail "nothing left on the full disk" "$(ls "$T/full")"
+    umount "$T/full"
+else
+    echo "note: a full tmpfs not tried (mounting one is not allowed here)"
+fi
