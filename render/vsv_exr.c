@@ -11,6 +11,18 @@
 #include <string.h>
 #include <unistd.h>
 
+/* OpenEXR's complaints: its default handler prints them; here the errno of
+ * a failed write (OpenEXR's text of it is "Error writing to stream") is
+ * kept for the message, per thread as the library calls it */
+static _Thread_local int exr_errno;
+
+static void on_exr_error(exr_const_context_t ctx, exr_result_t code, const char *msg)
+{
+    (void)ctx, (void)msg;
+    if (code == EXR_ERR_WRITE_IO && !exr_errno)
+        exr_errno = errno;
+}
+
 int vsv_exr_write(const char *path, const float *rgba, const float *depth, int w, int h, char *err, size_t cap)
 {
     char tmp[4200];
@@ -22,6 +34,8 @@ int vsv_exr_write(const char *path, const float *rgba, const float *depth, int w
     close(fd);
     exr_context_t ctx = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = on_exr_error;
+    exr_errno = 0;
     int part = 0;
     exr_result_t rc = exr_start_write(&ctx, tmp, EXR_WRITE_FILE_DIRECTLY, &init);
     if (!rc)
@@ -73,6 +87,11 @@ int vsv_exr_write(const char *path, const float *rgba, const float *depth, int w
     exr_result_t fr = exr_finish(&ctx);
     if (!rc)
         rc = fr;
+    if (rc == EXR_ERR_WRITE_IO && exr_errno) {
+        snprintf(err, cap, "%s: cannot write: %s", path, strerror(exr_errno));
+        vsv_output_discard(tmp);
+        return -1;
+    }
     if (rc) {
         snprintf(err, cap, "%s: EXR writing failed: %s", path, exr_get_default_error_message(rc));
         vsv_output_discard(tmp);

@@ -24,6 +24,23 @@ void vsv_image_rgb8(const float *rgba, int w, int h, const float bg[3], unsigned
     }
 }
 
+/* libpng's complaints: kept for the message (its default handler prints
+ * them), with errno at the time (a failed write's cause) */
+typedef struct png_why {
+    char msg[128];
+    int err;
+} png_why;
+
+static void on_png_error(png_structp png, png_const_charp msg)
+{
+    png_why *w = png_get_error_ptr(png);
+    w->err = errno;
+    snprintf(w->msg, sizeof w->msg, "%s", msg);
+    png_longjmp(png, 1);
+}
+
+static void on_png_warning(png_structp png, png_const_charp msg) { (void)png, (void)msg; }
+
 int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char *err, size_t cap)
 {
     char tmp[4200];
@@ -35,13 +52,21 @@ int vsv_png_write(const char *path, const unsigned char *rgb, int w, int h, char
             close(fd), vsv_output_discard(tmp);
         return -1;
     }
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_why why = {"", 0};
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &why, on_png_error, on_png_warning);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!png || !info || setjmp(png_jmpbuf(png))) {
         png_destroy_write_struct(&png, &info);
+        const int wrote = ferror(fp); /* a failed write (a full disk), not the encoder */
         fclose(fp);
         vsv_output_discard(tmp);
-        snprintf(err, cap, "%s: PNG encoding failed", path);
+        if (wrote)
+            snprintf(err, cap, "%s: cannot write: %s", path, strerror(why.err ? why.err : EIO));
+        else
+            snprintf(err, cap, "%s: PNG encoding failed%s%s", path, why.msg[0] ? ": " : "",
+                     why.msg[0] ? why.msg
+                     : png      ? ""
+                                : " (out of memory)");
         return -1;
     }
     png_init_io(png, fp);

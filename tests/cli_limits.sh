@@ -54,6 +54,16 @@ out_of "vsv-convert of a netCDF-4 file (vsv-nc-check) out of descriptors: 'too m
     cat > "$T/err"
 has "vsv-export --netcdf, no byte may be written: exit 1" "$T/err" "exit 1"
 has "saying why: 'File too large'" "$T/err" "vsv-export: $T/n.nc: cannot create: File too large"
+# images: libpng printed "libpng error: Write Error" and the tool "PNG
+# encoding failed", OpenEXR its own line and "EXR writing failed: Error
+# writing to stream": neither said why
+for ext in png exr; do
+    ( trap "" XFSZ; ulimit -f 0; "$B/vsv-render" -q "$T/a.vsv" -o "$T/f.$ext" --size 320x240 < /dev/null; echo "exit $?" ) 2>&1 |
+        cat > "$T/err"
+    has "vsv-render $ext, no byte may be written: exit 1" "$T/err" "exit 1"
+    [ "$(head -n 1 "$T/err")" = "vsv-render: $T/f.$ext: cannot write: File too large" ] &&
+        pass "one line, the tool's, saying why" || fail "one line, the tool's, saying why" "$(head -c 300 "$T/err")"
+done
 mkdir "$T/full"
 if mount -t tmpfs -o size=64k tmpfs "$T/full" 2> /dev/null; then
     dd if=/dev/zero of="$T/full/fill" bs=1k count=1024 2> /dev/null
@@ -61,6 +71,11 @@ if mount -t tmpfs -o size=64k tmpfs "$T/full" 2> /dev/null; then
     has "saying 'No space left on device'" "$T/err" "vsv-export: $T/full/n.nc: cannot create: No space left on device"
     expect "vsv-export --vdb on a full disk exits 1" 1 "$B/vsv-export" -q "$T/a.vsv" --vdb "$T/full/v.vdb" -t 0
     has "saying 'No space left on device'" "$T/err" "vsv-export: $T/full/v.vdb: cannot write: No space left on device"
+    for ext in png exr; do
+        expect "vsv-render $ext on a full disk exits 1" 1 "$B/vsv-render" -q "$T/a.vsv" -o "$T/full/f.$ext" --size 320x240
+        [ "$(cat "$T/err")" = "vsv-render: $T/full/f.$ext: cannot write: No space left on device" ] &&
+            pass "one line, saying 'No space left on device'" || fail "one line, saying 'No space left on device'" "$(head -c 300 "$T/err")"
+    done
     [ "$(ls "$T/full")" = fill ] && pass "nothing left on the full disk" || fail "nothing left on the full disk" "$(ls "$T/full")"
     umount "$T/full"
 else
