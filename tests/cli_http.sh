@@ -6,7 +6,8 @@
 # fetched again), HTTPS with a self-signed certificate, and the failures a
 # fault-injecting proxy of our own makes (tests/http_proxy.py): dropped
 # connections and truncated replies retried, a server that ignores Range, a
-# file that changes while read and garbled bytes reported, exit 1.
+# file that changes while read, garbled bytes and gzip-encoded replies
+# reported, exit 1.
 set -u
 B=${B:-build}
 SHARED=${SHARED:-../shared}
@@ -336,6 +337,12 @@ fi
 # the ETag alone changes (a file replaced by one of the same length: the
 # proxy's etag mode changes the length too, which tells on its own)
 fault "the ETag alone changes while read" etagonly 3 1 "the file changed on the server while it was read \\(ETag "
+# a reply gzip-encoded though no encoding was asked for (issue 33 item 11):
+# it read as a truncated reply and was retried six times
+rm -f "$T/pport.count"
+fault "gzip-encoded replies" gzip 1 1 "the server sent the range gzip-encoded \\(Content-Encoding: gzip\\)"
+[ "$(cat "$T/pport.count" 2> /dev/null)" = 1 ] && pass "gzip-encoded replies: not retried (one range request)" ||
+    fail "gzip-encoded replies: not retried" "$(cat "$T/pport.count" 2> /dev/null) range requests"
 # a reply for a range other than the one asked, consistent in itself (its
 # body as long as its Content-Range says): refused, not used nor retried
 fault "a reply one byte short of the range asked, Content-Range saying so" crend 2 1 "the server answered with another range"

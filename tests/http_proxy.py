@@ -34,6 +34,10 @@ replies to range requests as MODE says, counted by request, never by time:
                that stalls)
   stallflag    as stall while the file PORT_FILE.stall exists, else
                forwards (a server that stalls, then recovers)
+  gzip N       from range request N on, sends the body gzip-compressed
+               (Content-Encoding: gzip, Content-Length its length), the
+               Content-Range unchanged: a server or proxy that compresses
+               what was not asked to be
   down         closes the connection without an answer for every range
                request while the file PORT_FILE.down exists (the server
                gone), else forwards
@@ -43,6 +47,7 @@ Every range request is counted in PORT_FILE.count as it arrives.
 Usage: http_proxy.py UPSTREAM_PORT PORT_FILE MODE [N]: listens on a free
 loopback port, writes it to PORT_FILE, serves until killed.
 """
+import gzip
 import http.client
 import http.server
 import os
@@ -117,6 +122,11 @@ class Handler(http.server.BaseHTTPRequestHandler):
             return
         if k > 0 and MODE == "garble" and k >= N and body:
             body = bytes(b ^ 0xFF for b in body)
+        if k > 0 and MODE == "gzip" and k >= N and body:
+            body = gzip.compress(body)
+            out = {key: v for key, v in out.items() if key.lower() != "content-length"}
+            out["Content-Encoding"] = "gzip"
+            out["Content-Length"] = str(len(body))
         cut = k > 0 and MODE == "truncate" and k <= N
         self.send_response_only(r.status, r.reason)
         for key, v in out.items():

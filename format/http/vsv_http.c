@@ -51,6 +51,7 @@ typedef struct reply {
     unsigned char *buf;
     size_t want, got;
     int overflow, refused; /* more bytes than asked; a body that is not a 206 */
+    char encoding[64];     /* a Content-Encoding other than identity: the body is not the file's bytes */
     CURL *curl;
     const int *stop; /* the source's interruption flag */
 } reply;
@@ -86,6 +87,7 @@ static size_t on_header(char *line, size_t size, size_t nitems, void *ctx)
         r->has_cr = 0;
         r->etag[0] = r->lastmod[0] = 0;
         r->ranges_none = 0;
+        r->encoding[0] = 0;
         return n;
     }
     const char *colon = memchr(line, ':', n);
@@ -98,6 +100,9 @@ static size_t on_header(char *line, size_t size, size_t nitems, void *ctx)
         snprintf(r->etag, sizeof r->etag, "%s", v);
     } else if (klen == 13 && !strncasecmp(line, "last-modified", 13)) {
         snprintf(r->lastmod, sizeof r->lastmod, "%s", v);
+    } else if (klen == 16 && !strncasecmp(line, "content-encoding", 16)) {
+        if (v[0] && strcasecmp(v, "identity"))
+            snprintf(r->encoding, sizeof r->encoding, "%s", v);
     } else if (klen == 13 && !strncasecmp(line, "accept-ranges", 13)) {
         r->ranges_none = !strcasecmp(v, "none");
     } else if (klen == 13 && !strncasecmp(line, "content-range", 13)) {
@@ -118,7 +123,7 @@ static size_t on_body(char *p, size_t size, size_t nitems, void *ctx)
     const size_t n = size * nitems;
     long status = 0;
     curl_easy_getinfo(r->curl, CURLINFO_RESPONSE_CODE, &status);
-    if (status != 206) { /* a whole file, or an error page: not read */
+    if (status != 206 || r->encoding[0]) { /* a whole file, an error page, encoded bytes: not read */
         r->refused = 1;
         return 0;
     }
@@ -232,6 +237,16 @@ static int transfer(http_src *h, int head, uint64_t a, uint64_t n, unsigned char
         return -1;
     }
     const long st = r->status;
+    if (r->encoding[0] && (st == 200 || st == 206)) {
+        /* none was asked for (no Accept-Encoding): a server or proxy that
+         * compresses anyway sends other bytes than the range's, every time
+         * (it read as a truncated reply, retried six times) */
+        snprintf(why, cap,
+                 "the server sent the %s %s-encoded (Content-Encoding: %s) instead of its bytes as they are; remote "
+                 ".vsv files are read by range, unencoded",
+                 head ? "file" : "range", r->encoding, r->encoding);
+        return -1;
+    }
     if (st == 408 || st == 429 || (st >= 500 && st <= 599)) {
         *transient = 1;
         snprintf(why, cap, "HTTP %ld from the server", st);
