@@ -129,6 +129,10 @@ CONVERT_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard convert/vsv_*.c)))
 RENDER_OBJ = $(call objs,$(filter-out %_cli.c,$(wildcard render/vsv_*.c)))
 GL_OBJ = $(call objs,$(wildcard render/gl/vsv_*.c))
 INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.cc))
+# OpenVDB's calls and the helper's side of them: only the helper program
+# vsv-vdb-reader links them (from the archive), so neither a tool nor the
+# shared library loads OpenVDB (issue 33)
+INTEROP_HELPER_OBJ = $(B)/interop/vsv_vdb.o $(B)/interop/vsv_vdb_helper.o
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
 HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))
 PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_do.o $(B)/viewer/vsv_player_state.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o \
@@ -319,7 +323,8 @@ $(call so,vesuvius-render): $(B)/libvesuvius-render.map $(RENDER_OBJ) $(COMMON_A
 $(call so,vesuvius-gl): $(B)/libvesuvius-gl.map $(GL_OBJ) $(call so,vesuvius-render) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(call pkglibs,epoxy))
-$(call so,vesuvius-interop): $(B)/libvesuvius-interop.map $(INTEROP_OBJ) $(COMMON_A) $(call so,vesuvius-convert) $(call so,vesuvius)
+$(call so,vesuvius-interop): $(B)/libvesuvius-interop.map $(filter-out $(INTEROP_HELPER_OBJ),$(INTEROP_OBJ)) $(COMMON_A) \
+                             $(call so,vesuvius-convert) $(call so,vesuvius)
 	@$(if $(Q),echo "  LD      $@")
 	$(call shlib,$(filter-out %.map,$^) $(INTEROP_EXT))
 $(call so,vesuvius-http): $(B)/libvesuvius-http.map $(HTTP_OBJ) $(call so,vesuvius)

@@ -1,6 +1,8 @@
 /* vsv-vdb-reader.c — the private helper (installed in $(libdir)/vesuvius/,
- * started by vsv_vdb.cc, never by hand) that reads .vdb files, so that a
- * damaged file crashing OpenVDB kills this process, not the tool. */
+ * started by vsv_vdb_isolate.cc, never by hand) that reads and writes .vdb
+ * files, the one program that loads OpenVDB: a damaged file crashing it
+ * kills this process, not the tool, and no tool loads its logging library
+ * (which aborts before main under a small address-space limit). */
 #include "vsv_vdb_internal.h"
 
 #include <stdio.h>

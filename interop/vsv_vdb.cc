@@ -1,7 +1,7 @@
-// vsv_vdb.cc — the OpenVDB shim behind vsv_vdb.h (C++17 over libopenvdb).
-// Every OpenVDB call is wrapped: exceptions become "FILE: what" errors.
-// Writing happens here; reading, here too, but only in the helper program
-// (vsv_vdb_isolate.cc).
+// vsv_vdb.cc — the OpenVDB calls behind vsv_vdb.h (C++17 over libopenvdb),
+// made only in the helper program vsv-vdb-reader (vsv_vdb_helper.cc), the
+// one program that links OpenVDB. Every call is wrapped: exceptions become
+// "FILE: what" errors.
 #include "vsv_vdb.h"
 #include "vsv_vdb_internal.h"
 
@@ -14,6 +14,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <new>
 #include <string>
 #include <fcntl.h>
 #include <unistd.h>
@@ -29,13 +30,6 @@ void say(char *err, size_t cap, const std::string &s) { std::snprintf(err, cap, 
 struct one_thread {
     tbb::global_control gc{tbb::global_control::max_allowed_parallelism, 1};
 };
-
-std::string iso(int64_t t)
-{
-    char buf[64];
-    vsv_time_format(t, buf, sizeof buf);
-    return buf;
-}
 
 std::string meta_string(const openvdb::MetaMap &m, const char *key)
 {
@@ -56,109 +50,87 @@ struct checked_archive : openvdb::io::Archive {
 
 } // namespace
 
-extern "C" int vsv_vdb_write(const char *path, const vsv_meta *m, int64_t t, const vsv_volume *const *vols, int n,
-                             char *err, size_t cap)
+// ------------------------------------------------------------- writing
+// In this process: the helper vsv-vdb-reader calls it (vsv_vdb_helper.cc)
+// for vsv_vdb_write (vsv_vdb_isolate.cc), which made the file and commits it
+
+int vsv_vdb_write_here(const vsv_vdb_shm::write_request *rq, const vsv_vdb_shm::write_grid *grids, const float *values,
+                       char *err, size_t cap)
 {
-    // the temporary beside path, listed (vsv_output.c); OpenVDB writes it by name
-    char tmpbuf[4200];
-    const int tfd = vsv_output_temp(path, NULL, tmpbuf, sizeof tmpbuf);
-    if (tfd < 0) {
-        say(err, cap, std::string(path) + ": cannot create: " + std::strerror(errno));
+    // the caller's temporary, opened without O_CREAT: this process never
+    // makes a file by name (after the caller is gone nothing can appear)
+    const int fd = open(rq->path, O_WRONLY | O_TRUNC | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) {
+        say(err, cap, std::string("cannot write: ") + std::strerror(errno));
         return -1;
     }
-    close(tfd);
-    const std::string tmp = tmpbuf;
+    const std::string target = "/proc/self/fd/" + std::to_string(fd);
+    const size_t cells = (size_t)rq->nx * rq->ny * rq->nz;
     try {
         const one_thread serial;
         openvdb::initialize();
-        // the vertical axis: even heights, or (a file of format 1.0, which has
-        // no per-column heights) the native levels' mean spacing
-        double z0 = m->origin[2], dz = m->spacing[2];
-        if (m->vert_kind != VSV_VERT_EVEN && m->levels && m->nz > 1) {
-            z0 = m->levels[0];
-            dz = (m->levels[m->nz - 1] - m->levels[0]) / (m->nz - 1);
-        }
         openvdb::math::Mat4d mat = openvdb::math::Mat4d::identity();
-        mat.setToScale(openvdb::Vec3d(m->spacing[0], m->spacing[1], dz));
-        mat.setTranslation(openvdb::Vec3d(m->origin[0], m->origin[1], z0));
+        mat.setToScale(openvdb::Vec3d(rq->spacing[0], rq->spacing[1], rq->spacing[2]));
+        mat.setTranslation(openvdb::Vec3d(rq->origin[0], rq->origin[1], rq->origin[2]));
         const auto xf = openvdb::math::Transform::createLinearTransform(mat);
-        openvdb::GridPtrVec grids;
-        for (int l = 0; l < n; l++) {
-            const vsv_volume *v = vols[l];
-            const vsv_var &var = m->vars[v->species];
+        openvdb::GridPtrVec out;
+        for (int l = 0; l < rq->ngrids; l++) {
+            const vsv_vdb_shm::write_grid &gr = grids[l];
             auto g = openvdb::FloatGrid::create(0.0f);
-            g->setName(var.name);
+            g->setName(std::string(gr.name, strnlen(gr.name, sizeof gr.name)));
             g->setGridClass(openvdb::GRID_FOG_VOLUME);
             g->setTransform(xf->copy());
-            g->insertMeta("units", openvdb::StringMetadata(var.units));
-            g->insertMeta("description", openvdb::StringMetadata(var.description));
+            g->insertMeta("units", openvdb::StringMetadata(std::string(gr.units, strnlen(gr.units, sizeof gr.units))));
+            g->insertMeta("description", openvdb::StringMetadata(std::string(
+                                             gr.description, strnlen(gr.description, sizeof gr.description))));
             auto acc = g->getAccessor();
-            const int B = v->brick;
-            for (int b = 0; b < v->nbricks; b++) {
-                const float *d = v->bricks[b];
-                if (!d)
-                    continue; // EMPTY: stays inactive
-                const int bi = b % v->bdim[0], bj = b / v->bdim[0] % v->bdim[1], bk = b / (v->bdim[0] * v->bdim[1]);
-                for (int k = 0; k < B && bk * B + k < v->nz; k++)
-                    for (int j = 0; j < B && bj * B + j < v->ny; j++)
-                        for (int i = 0; i < B && bi * B + i < v->nx; i++) {
-                            const float x = d[((size_t)k * B + j) * B + i];
-                            if (x == x && x != v->empty_value)
-                                acc.setValueOn(openvdb::Coord(bi * B + i, bj * B + j, bk * B + k), x);
-                        }
-            }
-            grids.push_back(g);
+            const float *v = values + (size_t)l * cells;
+            for (int k = 0; k < rq->nz; k++)
+                for (int j = 0; j < rq->ny; j++)
+                    for (int i = 0; i < rq->nx; i++) {
+                        const float x = v[((size_t)k * rq->ny + j) * rq->nx + i];
+                        if (x == x) // NaN: inactive
+                            acc.setValueOn(openvdb::Coord(i, j, k), x);
+                    }
+            out.push_back(g);
         }
         openvdb::MetaMap meta;
-        meta.insertMeta("time", openvdb::StringMetadata(iso(t)));
-        meta.insertMeta("source_model", openvdb::StringMetadata(m->model));
-        meta.insertMeta("run", openvdb::StringMetadata(m->run));
-        char proj[256];
-        std::snprintf(proj, sizeof proj, "%s lat0=%.10g lon0=%.10g lat1=%.10g lat2=%.10g radius=%.10g",
-                      vsv_proj_name(m->proj.kind), m->proj.lat0, m->proj.lon0, m->proj.lat1, m->proj.lat2,
-                      m->proj.radius);
-        meta.insertMeta("projection", openvdb::StringMetadata(proj));
-        meta.insertMeta("vertical", openvdb::StringMetadata(m->vert_kind == VSV_VERT_EVEN
-                                                                ? "even heights above sea level, metres"
-                                                                : "native levels at their mean spacing, metres"));
+        const auto text = [](const char *s, size_t n) {
+            return openvdb::StringMetadata(std::string(s, strnlen(s, n)));
+        };
+        meta.insertMeta("time", text(rq->time, sizeof rq->time));
+        meta.insertMeta("source_model", text(rq->model, sizeof rq->model));
+        meta.insertMeta("run", text(rq->run, sizeof rq->run));
+        meta.insertMeta("projection", text(rq->projection, sizeof rq->projection));
+        meta.insertMeta("vertical", text(rq->vertical, sizeof rq->vertical));
         // through a stream of ours, its state checked after the last write
         // and after the close (the writes' errno is not kept by the stream:
-        // the sync below names the cause when it fails the same way)
+        // the caller's sync names the cause when it fails the same way)
         errno = 0;
-        std::ofstream os(tmp, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
+        std::ofstream os(target, std::ios_base::out | std::ios_base::binary | std::ios_base::trunc);
         if (os)
-            checked_archive().put(os, grids, meta);
+            checked_archive().put(os, out, meta);
         if (os)
             os.flush();
         const bool wrote = os.good();
         os.close();
         if (!wrote || os.fail()) {
             const int e = errno;
-            vsv_output_discard(tmp.c_str());
-            say(err, cap, std::string(path) + ": cannot write" + (e ? std::string(": ") + std::strerror(e) : ""));
+            close(fd);
+            say(err, cap, std::string("cannot write") + (e ? std::string(": ") + std::strerror(e) : ""));
             return -1;
         }
-        // synced before the rename
-        const int fd = open(tmp.c_str(), O_RDONLY | O_CLOEXEC);
-        if (fd < 0 || vsv_output_commit(fd, tmp.c_str(), path)) {
-            say(err, cap, std::string(path) + ": cannot write: " + std::strerror(errno));
-            if (fd < 0)
-                vsv_output_discard(tmp.c_str());
-            return -1;
-        }
+        close(fd);
         return 0;
+    } catch (const std::bad_alloc &) {
+        close(fd);
+        say(err, cap, "out of memory in the OpenVDB writer");
+        return -1;
     } catch (const std::exception &e) {
-        vsv_output_discard(tmp.c_str());
-        say(err, cap, std::string(path) + ": OpenVDB: " + e.what());
+        close(fd);
+        say(err, cap, std::string("OpenVDB: ") + e.what());
         return -1;
     }
-}
-
-extern "C" int vsv_vdb_probe(const unsigned char *head, size_t n)
-{
-    // the file starts with the 64-bit magic number 0x56444220 ("VDB "), little-endian
-    return n >= 8 && head[0] == 0x20 && head[1] == 0x42 && head[2] == 0x44 && head[3] == 0x56 && !head[4] && !head[5] &&
-           !head[6] && !head[7];
 }
 
 // ------------------------------------------------------------- reading
@@ -239,6 +211,10 @@ int vsv_vdb_scan_here(const char *const *paths, int n, vsv_vdb_info *info, char 
             }
             file.close();
         }
+    } catch (const std::bad_alloc &) { // memory, or a damaged size asking for more than the helper's limit
+        say(err, cap, at + ": not a readable OpenVDB file, or out of memory reading it (std::bad_alloc)");
+        vsv_vdb_info_free(info);
+        return -1;
     } catch (const std::exception &e) {
         say(err, cap, at + ": not a readable OpenVDB file (" + e.what() + ")");
         vsv_vdb_info_free(info);
@@ -292,6 +268,11 @@ static int read_grid(openvdb::io::File &file, const char *path, const char *name
                         out[((size_t)(k - lo.z()) * ny + (j - lo.y())) * nx + (i - lo.x())] = v;
         }
         return 0;
+    } catch (const std::bad_alloc &) {
+        say(err, cap,
+            std::string(path) + ": not a readable OpenVDB file, or out of memory reading grid " + name +
+                " (std::bad_alloc)");
+        return -1;
     } catch (const std::exception &e) {
         say(err, cap, std::string(path) + ": not a readable OpenVDB file (" + e.what() + ")");
         return -1;
@@ -311,6 +292,10 @@ int vsv_vdb_read_here(const char *path, const vsv_vdb_info *info, const char (*n
             st[g].rc = read_grid(file, path, names[g], info, out + g * cells, st[g].err, sizeof st[g].err);
         file.close();
         return 0;
+    } catch (const std::bad_alloc &) {
+        say(st[0].err, sizeof st[0].err,
+            std::string(path) + ": not a readable OpenVDB file, or out of memory reading it (std::bad_alloc)");
+        return -1;
     } catch (const std::exception &e) {
         say(st[0].err, sizeof st[0].err, std::string(path) + ": not a readable OpenVDB file (" + e.what() + ")");
         return -1;
