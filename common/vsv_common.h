@@ -91,6 +91,9 @@ int vsv_buf_f64(vsv_buf *b, double v);
 int vsv_buf_str(vsv_buf *b, const char *s);
 void vsv_buf_free(vsv_buf *b);
 
+/* errno's text for a message, as the tools say it: "out of memory" for
+ * ENOMEM (whose strerror is "Cannot allocate memory"), else strerror(e). */
+const char *vsv_errno_text(int e);
 /* printf into a fixed message buffer. */
 void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 /* "path: " followed by the formatted message: the shape of every error a

@@ -82,7 +82,7 @@ int vsv_input_map(const char *path, size_t min_bytes, vsv_mapped *m, char *why, 
     }
     void *p = mmap(NULL, m->n, PROT_READ, MAP_SHARED, fd, 0);
     if (p == MAP_FAILED) {
-        snprintf(why, cap, "cannot map: %s", strerror(errno));
+        snprintf(why, cap, "cannot map: %s", vsv_errno_text(errno));
         close(fd);
         return -1;
     }

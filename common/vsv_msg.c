@@ -2,8 +2,11 @@
  * buffers (vsv_common.h). */
 #include "vsv_common.h"
 
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
+
+const char *vsv_errno_text(int e) { return e == ENOMEM ? "out of memory" : strerror(e); }
 
 void vsv_msg(char *buf, size_t cap, const char *fmt, ...)
 {

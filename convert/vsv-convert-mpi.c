@@ -211,7 +211,7 @@ static void encode_phase(rank *r, const vsv_pack_plan *plan)
         r->spool_bytes = (size_t)(n + r->lead) * nv * r->cells * sizeof(float);
         void *map = mmap(NULL, r->spool_bytes, PROT_READ, MAP_PRIVATE, r->spool_fd, 0);
         if (map == MAP_FAILED)
-            rank_fail(r, "mapping the spool file: %s", strerror(errno));
+            rank_fail(r, "mapping the spool file: %s", vsv_errno_text(errno));
         else
             r->spool = map;
     }
@@ -284,7 +284,7 @@ static void write_phase(rank *r, vsv_pack_plan *plan)
     if (r->chunk_bytes) {
         void *map = mmap(NULL, r->chunk_bytes, PROT_READ, MAP_PRIVATE, r->chunk_fd, 0);
         if (map == MAP_FAILED)
-            rank_fail(r, "mapping the chunk spool file: %s", strerror(errno));
+            rank_fail(r, "mapping the chunk spool file: %s", vsv_errno_text(errno));
         else
             chunks = map;
     }

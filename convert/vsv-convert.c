@@ -64,9 +64,10 @@ int main(int argc, char **argv)
     float **fields = calloc((size_t)meta->nvars, sizeof *fields);
     for (int v = 0; fields && v < meta->nvars; v++)
         if (!(fields[v] = malloc(cells * sizeof(float))))
-            vsv_cli_die(1, "out of memory");
+            fields = NULL;
     if (!fields)
-        vsv_cli_die(1, "out of memory");
+        vsv_cli_die(1, "%s: out of memory (%.1f MB for a step's %d fields)", a.inputs[0],
+                    (double)meta->nvars * cells * 4 / 1048576, meta->nvars);
     int bad, dropped;
     if (planned) {
         vsv_pack_stats *st = calloc((size_t)out.nvars, sizeof *st);

@@ -232,7 +232,7 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
     const char **names = calloc((size_t)npaths, sizeof *names);
     if (!r->src || !names) {
         free(names);
-        return VSV_ENOMEM;
+        return fail(r, VSV_ENOMEM, "%s: out of memory", paths[0]);
     }
     int rc = 0;
     for (int i = 0; i < npaths; i++) {
@@ -324,6 +324,8 @@ int vsv_run_open(const char *const *paths, int npaths, const vsv_source_opts *op
         rc = vsv_run_select(r, times, 0);
 done:
     free(names);
+    if (rc && !r->err[0]) /* a step that gave only the code (out of memory) */
+        fail(r, rc, "%s: %s opening the run", paths[0], vsv_strerror(rc));
     return rc;
 }
 

@@ -32,7 +32,11 @@ int vsv_source_read(vsv_source *s, int field, int t, float *out)
         vsv_msg(s->err, sizeof s->err, "%s: field %d, time %d out of range", s->path, field, t);
         return VSV_ERANGE;
     }
-    return s->ops->read(s, field, t, out);
+    s->err[0] = 0;
+    const int rc = s->ops->read(s, field, t, out);
+    if (rc && !s->err[0]) /* a reader that gave only the code (out of memory) */
+        vsv_source_fail(s, rc, "%s reading %s at step %d", vsv_strerror(rc), s->fields[field].name, t);
+    return rc;
 }
 
 int vsv_source_heights(vsv_source *s, int t, float *out)
@@ -42,7 +46,11 @@ int vsv_source_heights(vsv_source *s, int t, float *out)
     if (s->grid.vert_kind != VSV_VERT_NATIVE || !s->ops->heights)
         return vsv_source_fail(s, VSV_EUNSUPPORTED, "no per-column heights of native levels (%s grid, %s)",
                                s->grid.vert_kind == VSV_VERT_NATIVE ? "native" : "not a native", s->ops->name);
-    return s->ops->heights(s, t, out);
+    s->err[0] = 0;
+    const int rc = s->ops->heights(s, t, out);
+    if (rc && !s->err[0])
+        vsv_source_fail(s, rc, "%s reading the heights at step %d", vsv_strerror(rc), t);
+    return rc;
 }
 
 int vsv_source_fail(vsv_source *s, int rc, const char *fmt, ...)
@@ -111,7 +119,7 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
                                        readers[i]->name);
             const int rc = readers[i]->open(s);
             if (rc && !s->err[0]) /* a reader that gave only the code (out of memory) */
-                vsv_source_fail(s, rc, "%s", vsv_strerror(rc));
+                vsv_source_fail(s, rc, "%s opening it (%s)", vsv_strerror(rc), readers[i]->name);
             return rc;
         }
     char more[256] = "";

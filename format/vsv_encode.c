@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <zstd.h>
+#include <zstd_errors.h>
 
 struct vsv_pack_plan {
     vsv_meta meta;      /* with every species' transfer function */
@@ -311,6 +312,18 @@ static void gather(const vsv_pack_plan *p, const vsv_quant *q, const float *f, i
     *mx = hi;
 }
 
+/* A failed compression: out of memory said as such (zstd's text for it is
+ * "Allocation error : not enough memory"), anything else as zstd says it. */
+static int zstd_failed(vsv_chunk_encoder *e, size_t code)
+{
+    if (ZSTD_getErrorCode(code) == ZSTD_error_memory_allocation) {
+        vsv_msg(e->err, sizeof e->err, "out of memory (zstd)");
+        return VSV_ENOMEM;
+    }
+    vsv_msg(e->err, sizeof e->err, "zstd: %s", ZSTD_getErrorName(code));
+    return VSV_ECODEC;
+}
+
 int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *const *fields, const float *const *prev,
                      const unsigned char **bytes, size_t *size)
 {
@@ -367,19 +380,15 @@ int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *con
             size_t psize = raw;
             if (p->opts.codec == VSV_CODEC_ZSTD) {
                 psize = ZSTD_compressCCtx(e->cctx, e->z, e->zcap, e->raw, raw, p->opts.level);
-                if (ZSTD_isError(psize)) {
-                    vsv_msg(e->err, sizeof e->err, "zstd: %s", ZSTD_getErrorName(psize));
-                    return VSV_ECODEC;
-                }
+                if (ZSTD_isError(psize))
+                    return zstd_failed(e, psize);
                 payload = e->z;
                 if (p->opts.predict) { /* the 3-D kind where its payload is smaller */
                     const int k3 = kind == VSV_BRICK_ABS ? VSV_BRICK_ABS3 : VSV_BRICK_DELTA3;
                     vsv_brick_forward(q->bits, k3, e->cur, e->prev, L->brick, ext, e->raw3);
                     const size_t s3 = ZSTD_compressCCtx(e->cctx, e->z3, e->zcap, e->raw3, raw, p->opts.level);
-                    if (ZSTD_isError(s3)) {
-                        vsv_msg(e->err, sizeof e->err, "zstd: %s", ZSTD_getErrorName(s3));
-                        return VSV_ECODEC;
-                    }
+                    if (ZSTD_isError(s3))
+                        return zstd_failed(e, s3);
                     if (s3 < psize) {
                         kind = k3;
                         psize = s3;

@@ -15,6 +15,7 @@
 #include <libgen.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -66,8 +67,24 @@ const char *vsv_writer_error(const vsv_writer *w) { return w ? w->err : "out of 
 
 static int fail_errno(vsv_writer *w, const char *what)
 {
-    vsv_msg(w->err, sizeof w->err, "%s: %s", what, strerror(errno));
+    vsv_msg(w->err, sizeof w->err, "%s: %s", what, vsv_errno_text(errno));
     return VSV_EIO;
+}
+
+/* A failure's message where the step that failed left none (an allocation
+ * that failed says nothing): the code's text and what was being done. */
+static int said(vsv_writer *w, int rc, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int said(vsv_writer *w, int rc, const char *fmt, ...)
+{
+    if (rc && !w->err[0]) {
+        char doing[200];
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(doing, sizeof doing, fmt, ap);
+        va_end(ap);
+        vsv_msg(w->err, sizeof w->err, "%s %s", vsv_strerror(rc), doing);
+    }
+    return rc;
 }
 
 /* A temporary file in the directory of `path` (so rename is atomic). */
@@ -87,15 +104,8 @@ static int make_temp(const char *path, const char *suffix, char **name_out)
     return fd;
 }
 
-int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opts *opts, vsv_writer **out)
+static int create_body(vsv_writer *w, const char *path, const vsv_meta *meta, const vsv_pack_opts *opts)
 {
-    *out = NULL;
-    vsv_writer *w = calloc(1, sizeof *w);
-    if (!w)
-        return VSV_ENOMEM;
-    *out = w;
-    w->spool_fd = w->out_fd = -1;
-    vsv_meta_init(&w->meta);
     w->path = strdup(path);
     if (!w->path)
         return VSV_ENOMEM;
@@ -132,9 +142,21 @@ int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opt
     return 0;
 }
 
+int vsv_writer_create(const char *path, const vsv_meta *meta, const vsv_pack_opts *opts, vsv_writer **out)
+{
+    *out = NULL;
+    vsv_writer *w = calloc(1, sizeof *w);
+    if (!w)
+        return VSV_ENOMEM;
+    *out = w;
+    w->spool_fd = w->out_fd = -1;
+    vsv_meta_init(&w->meta);
+    return said(w, create_body(w, path, meta, opts), "setting the writer up");
+}
+
 static int encode_steps(vsv_writer *w, int t0, int t1, void (*progress)(void *, int, int), void *ctx);
 
-int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
+static int add_step_body(vsv_writer *w, int64_t time, const float *const *fields)
 {
     if (w->finished || (w->spool_fd < 0 && !w->ring))
         return VSV_EINVAL;
@@ -298,7 +320,12 @@ static int start_output(vsv_writer *w, const vsv_pack_plan *plan)
     return 0;
 }
 
-int vsv_writer_expect(vsv_writer *w, const vsv_pack_stats *stats)
+int vsv_writer_add_step(vsv_writer *w, int64_t time, const float *const *fields)
+{
+    return said(w, add_step_body(w, time, fields), "adding step %d", w->nsteps);
+}
+
+static int expect_body(vsv_writer *w, const vsv_pack_stats *stats)
 {
     if (w->finished || w->nsteps || w->plan || w->spool_fd < 0)
         return VSV_EINVAL;
@@ -323,6 +350,11 @@ int vsv_writer_expect(vsv_writer *w, const vsv_pack_stats *stats)
     close(w->spool_fd);
     w->spool_fd = -1;
     return start_output(w, w->plan);
+}
+
+int vsv_writer_expect(vsv_writer *w, const vsv_pack_stats *stats)
+{
+    return said(w, expect_body(w, stats), "planning the encoding");
 }
 
 /* 1 when the statistics of the steps added are the ones promised. */
@@ -416,7 +448,7 @@ int vsv_writer_finish(vsv_writer *w, void (*progress)(void *, int, int), void *c
     if (w->finished)
         return VSV_EINVAL;
     w->finished = 1;
-    int rc = finish_body(w, progress, ctx);
+    int rc = said(w, finish_body(w, progress, ctx), "encoding the %d steps", w->nsteps);
     if (w->spool) {
         munmap((void *)w->spool, w->spool_bytes);
         w->spool = NULL;

@@ -538,13 +538,14 @@ static void render_frames(const render_args *ra, render_run *run, char *staged)
         }
         for (int eye = 0; eye < (stereo ? 2 : 1); eye++) {
             run->cam.eye_offset = stereo ? (eye ? run->sep / 2 : -run->sep / 2) : 0;
-            if (gl ? vsv_gl_render(gl, &run->sc, &run->cam, rgba, depth)
-                   : vsv_render(run->r, &run->sc, &run->cam, rgba, depth))
-                vsv_cli_die(1, "render failed%s%s", gl ? ": " : "", gl ? vsv_gl_error(gl) : "");
+            int rc = gl ? vsv_gl_render(gl, &run->sc, &run->cam, rgba, depth)
+                        : vsv_render(run->r, &run->sc, &run->cam, rgba, depth);
+            if (rc) /* (out of memory, mostly: the renderers fail of nothing else) */
+                vsv_cli_die(1, "%s: rendering step %d: %s", path, t, gl ? vsv_gl_error(gl) : vsv_strerror(rc));
             vsv_annot an = run->annot;
             an.time = vsv_file_time(run->f, t);
-            if (ra->parts && vsv_annotate(&an, &run->sc, &run->cam, rgba, depth))
-                vsv_cli_die(1, "out of memory");
+            if (ra->parts && (rc = vsv_annotate(&an, &run->sc, &run->cam, rgba, depth)))
+                vsv_cli_die(1, "%s: annotating step %d: %s", path, t, vsv_strerror(rc));
             for (int y = 0; y < height; y++) {
                 memcpy(img + 4 * ((size_t)y * ow + (size_t)eye * width), rgba + 4 * (size_t)y * width,
                        4 * sizeof(float) * (size_t)width);

@@ -39,15 +39,19 @@ int vsv_font_open(const char *path, int px, vsv_font **out, char *err, size_t ca
         snprintf(err, cap, "out of memory");
         return VSV_ENOMEM;
     }
-    if (FT_Init_FreeType(&f->lib)) {
-        snprintf(err, cap, "FreeType does not start");
+    FT_Error fe = FT_Init_FreeType(&f->lib);
+    if (fe) {
+        snprintf(err, cap, "FreeType does not start%s", fe == FT_Err_Out_Of_Memory ? ": out of memory" : "");
         free(f);
-        return VSV_EUNSUPPORTED;
+        return fe == FT_Err_Out_Of_Memory ? VSV_ENOMEM : VSV_EUNSUPPORTED;
     }
-    if (FT_New_Face(f->lib, path, 0, &f->face) || FT_Set_Pixel_Sizes(f->face, 0, (FT_UInt)px)) {
-        snprintf(err, cap, "%s: not a font FreeType reads at %d pixels", path, px);
+    if ((fe = FT_New_Face(f->lib, path, 0, &f->face)) || (fe = FT_Set_Pixel_Sizes(f->face, 0, (FT_UInt)px))) {
+        if (fe == FT_Err_Out_Of_Memory)
+            snprintf(err, cap, "%s: out of memory opening the font", path);
+        else
+            snprintf(err, cap, "%s: not a font FreeType reads at %d pixels", path, px);
         vsv_font_free(f);
-        return VSV_EINVAL;
+        return fe == FT_Err_Out_Of_Memory ? VSV_ENOMEM : VSV_EINVAL;
     }
     f->px = px;
     f->ascent = (int)((f->face->size->metrics.ascender + 63) >> 6);

@@ -670,9 +670,12 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
             snprintf(err, cap, "render failed: %s", vsv_gl_error(p->gl));
             return NULL;
         }
-    } else if (vsv_render(p->r, &sc, cam, p->rgba, p->depth)) {
-        snprintf(err, cap, "render failed");
-        return NULL;
+    } else {
+        const int rc = vsv_render(p->r, &sc, cam, p->rgba, p->depth);
+        if (rc) {
+            snprintf(err, cap, "render failed: %s", vsv_strerror(rc));
+            return NULL;
+        }
     }
     vsv_image_rgb8(p->rgba, w, h, p->bg, p->rgb);
     p->last_cam = *cam;
