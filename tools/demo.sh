@@ -14,7 +14,7 @@ step "The sample: real MM5 v3 output (a 40x40 crop of a 3-hour forecast)" "vsv-i
 step "What can be extracted" "vsv-extract --list $MM5"
 "$B/vsv-extract" --list "$MM5"
 
-step "Convert with the Unix tools: clouds, rain, ice, snow, moisture on 40 even heights, every 10 minutes" \
+step "Convert with the Unix tools: clouds, rain, ice, snow, moisture on the model's own 15 levels, every 10 minutes" \
      "vsv-extract $MM5 | vsv-interp --time-res 10m | vsv-pack -o $OUT/storm-pipe.vsv"
 "$B/vsv-extract" "$MM5" | "$B/vsv-interp" --time-res 10m | "$B/vsv-pack" -o "$OUT/storm-pipe.vsv"
 
@@ -112,10 +112,13 @@ step "What a frame says about itself: time and run, colour bars with units and r
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --view plan -o "$OUT/annotated.png" && echo "$OUT/annotated.png"
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --view plan --no-annotate -o "$OUT/bare.png" && echo "$OUT/bare.png"
 
-step "The model's own levels at their heights: --vertical native (MM5 sigma over the terrain), seen from the south" \
-     "vsv-convert --vertical native $MM5 -o $OUT/native.vsv; vsv-render $OUT/native.vsv --view south --no-terrain"
-"$B/vsv-convert" -q --vertical native --vars CLW,ICE,SNOW "$MM5" -o "$OUT/native.vsv"
+step "The model's own levels (the default) beside even heights (--vertical even: resampled, a peak between two levels lost, and the file says so)" \
+     "vsv-convert --vertical even $MM5 -o $OUT/even.vsv; vsv-info both; vsv-render $OUT/native.vsv --view south --no-terrain"
+"$B/vsv-convert" -q --vars CLW,ICE,SNOW "$MM5" -o "$OUT/native.vsv"
+"$B/vsv-convert" -q --vertical even --vars CLW,ICE,SNOW "$MM5" -o "$OUT/even.vsv"
 "$B/vsv-info" "$OUT/native.vsv" | grep -A1 "vertical"
+"$B/vsv-info" "$OUT/even.vsv" | grep "CLW\|resampled"
+"$B/vsv-info" "$OUT/native.vsv" | grep "CLW"
 "$B/vsv-render" -q "$OUT/native.vsv" --view south --no-terrain -x 60 -o "$OUT/native.png" && echo "$OUT/native.png"
 
 step "Lit clouds (gradient shading, a sun in the north-west) over a section of moisture at 1500 m" \
