@@ -52,8 +52,8 @@ int vsv_native_scene(vsv_native *n, const vsv_scene *in, const vsv_scene **out)
 
 void vsv_native_free(vsv_native *n)
 {
-    if (n->rs)
-        for (int l = 0; l < n->cap; l++)
+    if (n->rs) /* cap + 1: the spare one a scene with nothing visible takes */
+        for (int l = 0; l <= n->cap; l++)
             vsv_resampler_free(n->rs[l]);
     free(n->rs);
     free(n->layers);

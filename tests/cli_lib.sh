@@ -56,3 +56,15 @@ execs_only() {
     *) fail "$name" "$r" ;;
     esac
 }
+# mpi_env: $MPIRUN runs N ranks on this machine alone (as root, in a
+# container without a network: shared memory between the ranks, no remote
+# shell, no single-copy (ptrace) path); under a sanitizer build Open MPI's
+# own allocations at exit are not ours (its components stay loaded, and full
+# stacks name them, so tests/lsan.supp matches: slow under ASan, so a
+# script that runs other tools after the ranks calls it in a subshell)
+mpi_env() {
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    export OMPI_MCA_mca_base_component_disable_dlclose=1
+    export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan.supp:fast_unwind_on_malloc=0:print_suppressions=0"
+    MPIRUN="mpirun -q --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca plm_rsh_agent false"
+}

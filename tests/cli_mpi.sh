@@ -15,18 +15,11 @@ fi
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-mpi.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
-# as root, in a container without a network: shared memory between the
-# ranks of this one machine, no remote shell, no single-copy (ptrace) path
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
-MPIRUN="mpirun -q --oversubscribe --mca btl self,vader --mca btl_vader_single_copy_mechanism none --mca plm_rsh_agent false"
+mpi_env
 # the ranks' spool files go here, so "nothing left behind" can be seen
 mkdir "$T/spool"
 export TMPDIR="$T/spool"
 MPI="$B/vsv-convert-mpi"
-# a sanitizer build: Open MPI's own allocations at exit are not ours (its
-# components stay loaded, and full stacks name them, so the suppressions match)
-export OMPI_MCA_mca_base_component_disable_dlclose=1
-export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$(pwd)/tests/lsan.supp:fast_unwind_on_malloc=0:print_suppressions=0"
 
 expect "vsv-convert-mpi --help exits 0" 0 $MPIRUN -np 2 "$MPI" --help
 has "vsv-convert-mpi --help prints usage" "$T/out" "Usage: mpirun -np N vsv-convert-mpi"
