@@ -88,11 +88,13 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
 
 /* Applies the brick entry `be` of chunk c (step t) to codes (back: undoes
  * it, a delta's entry only); a mapping cut by a truncation meanwhile (zeros
- * read) is an error, whatever they decoded to. */
+ * read) is an error, whatever they decoded to. Zeros are a valid EMPTY
+ * entry, so after one the file's size is looked at. */
 static int apply_checked(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
                          uint16_t *codes, int back)
 {
-    return vsv_file_cut(d->f, apply(d, c, t, s, b, be, codes, back), d->err, sizeof d->err);
+    const int rc = apply(d, c, t, s, b, be, codes, back);
+    return vsv_file_cut_look(d->f, rc, rc || be[0] == VSV_BRICK_EMPTY, d->err, sizeof d->err);
 }
 
 int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,

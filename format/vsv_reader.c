@@ -253,7 +253,12 @@ int vsv_file_open(const char *path, vsv_file **out)
 
 int vsv_file_cut(const vsv_file *f, int rc, char *msg, size_t cap)
 {
-    if (!vsv_input_cut(&f->map, rc != 0))
+    return vsv_file_cut_look(f, rc, rc != 0, msg, cap);
+}
+
+int vsv_file_cut_look(const vsv_file *f, int rc, int look, char *msg, size_t cap)
+{
+    if (!vsv_input_cut(&f->map, look))
         return rc;
     vsv_msg(msg, cap, "%s: %s", f->name, f->src ? "truncated while reading (its cached copy shrank)" : VSV_CUT_TEXT);
     return VSV_ETRUNC;
@@ -432,7 +437,7 @@ int vsv_file_brick_kind(vsv_file *f, int step, int s, int b)
     const unsigned char *c = vsv_file_chunk_index(f, step, msg, sizeof msg);
     if (c) { /* read from the mapping: a cut meanwhile made it a zero */
         const int kind = vsv_file_brick_entry(f, c, s, b)[0];
-        if (!(rc = vsv_file_cut(f, 0, msg, sizeof msg)))
+        if (!(rc = vsv_file_cut_look(f, 0, kind == VSV_BRICK_EMPTY, msg, sizeof msg)))
             return kind;
     } else {
         rc = vsv_file_chunk_rc(f, msg, sizeof msg);
@@ -495,6 +500,9 @@ void vsv_file_count(vsv_file *f, vsv_file_counts *out)
                 }
             }
         }
+        /* zeros read past a new end would have counted as empty bricks */
+        if (vsv_file_cut_look(f, 0, 1, f->err, sizeof f->err))
+            f->damaged++;
         f->counted = 1;
     }
     out->stored_bricks = f->stored;

@@ -83,6 +83,10 @@ int vsv_file_check_args(vsv_file *f, int step, int s, int b, char *msg, size_t c
  * saw an access past its end (whatever rc), or when rc is an error and the
  * file is shorter now (a system call, on failure paths only); else rc. */
 int vsv_file_cut(const vsv_file *f, int rc, char *msg, size_t cap);
+/* vsv_file_cut, looking at the file's size (a system call) when look is set
+ * whatever rc is: after reading an EMPTY brick entry, which is all zeros, as
+ * the rest of a page past a new end of the file reads without a signal. */
+int vsv_file_cut_look(const vsv_file *f, int rc, int look, char *msg, size_t cap);
 /* Applies the brick entry be of chunk c (step t) to codes. */
 int vsv_decoder_apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, const unsigned char *be,
                       uint16_t *codes);

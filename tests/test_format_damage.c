@@ -359,6 +359,58 @@ done:
     vsv_file_free(f);
 }
 
+/* Cuts inside a page (issue 33's gap): the bytes between the new end and
+ * the end of its page read as zeros without a signal, and a zeroed brick
+ * entry is a valid EMPTY one, so a decode could return zeros as values.
+ * Cut at many offsets over the file's second half, after every chunk was
+ * verified: every decode afterwards gives the values from before the cut
+ * or VSV_ETRUNC, never others. */
+static void test_truncated_in_page_tail(void)
+{
+    synth sy = {24, 20, 8, 6, 0, 0};
+    const char *orig = vsv_test_tmp("tail0.vsv"), *path = vsv_test_tmp("tail.vsv");
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 8;
+    char err[512] = "";
+    if (!CHECK(synth_write(&sy, orig, &o, err, sizeof err) == 0, "write a file to cut in a page", "%s", err))
+        return;
+    size_t size = 0;
+    unsigned char *bytes = vsv_test_slurp(orig, &size);
+    const size_t nv = (size_t)sy.nx * sy.ny * sy.nz;
+    float *vol = malloc(nv * sizeof *vol), *all = malloc(nv * 3 * sy.nsteps * sizeof *all);
+    int cuts = 0, seen = 0, wrong = 0;
+    for (size_t at = size / 2 + 1; bytes && vol && all && at < size; at += 61) {
+        vsv_file *f = NULL;
+        vsv_decoder *d = NULL;
+        int rc = vsv_test_write(path, bytes, size) ? VSV_EIO : vsv_file_open(path, &f);
+        if (!rc)
+            rc = vsv_decoder_create(f, &d);
+        for (int t = 0; t < sy.nsteps && !rc; t++)
+            for (int s = 0; s < 3 && !rc; s++)
+                rc = vsv_decoder_volume(d, t, s, all + nv * (size_t)(3 * t + s));
+        if (!rc && truncate(path, (off_t)at) == 0) {
+            cuts++;
+            for (int t = sy.nsteps - 1; t >= 0; t--)
+                for (int s = 0; s < 3; s++) {
+                    rc = vsv_decoder_volume(d, t, s, vol);
+                    if (rc == VSV_ETRUNC && strstr(vsv_decoder_error(d), "tail.vsv: truncated while reading"))
+                        seen++;
+                    else if (rc || memcmp(vol, all + nv * (size_t)(3 * t + s), nv * sizeof *vol))
+                        wrong++;
+                }
+        }
+        vsv_decoder_free(d);
+        vsv_file_free(f);
+    }
+    CHECK(cuts > 100 && seen > 0 && !wrong,
+          "cut inside a page after verifying: the values from before the cut or VSV_ETRUNC, never zeros",
+          "%d cuts, %d truncated, %d wrong", cuts, seen, wrong);
+    free(bytes);
+    free(vol);
+    free(all);
+}
+
 int main(void)
 {
     test_atomic();
@@ -366,5 +418,6 @@ int main(void)
     test_golden();
     test_truncated_while_reading();
     test_truncated_after_verify();
+    test_truncated_in_page_tail();
     return vsv_test_done();
 }
