@@ -533,7 +533,7 @@ $(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(B)/bench/vp_match.o $(B)/
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lvolpack
 $(B)/bench/bench_classify: $(B)/bench/bench_classify.o $(B)/bench/vp_match.o $(B)/bench/bench_stats.o $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lvolpack
-$(B)/bench/bench_codec: $(B)/bench/bench_codec.o $(TEST_LIBS)
+$(B)/bench/bench_codec $(B)/bench/bench_size: $(B)/bench/%: $(B)/bench/%.o $(B)/bench/bench_data.o $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lzfp
 
 bench: all $(BENCH_BIN)
@@ -553,8 +553,9 @@ bench: all $(BENCH_BIN)
 	  B=$(B) SHARED=$(SHARED) sh bench/bench_volpack.sh; else echo "(VolPack comparison skipped: apt-get install libvolpack1-dev)"; fi
 	$(Q)if [ -f /usr/include/volpack.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_classify && \
 	  B=$(B) SHARED=$(SHARED) sh bench/bench_classify.sh; else echo "(classification vs VolPack skipped: apt-get install libvolpack1-dev)"; fi
-	$(Q)if [ -f /usr/include/zfp.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_codec && \
-	  B=$(B) SHARED=$(SHARED) sh bench/bench_codec.sh; else echo "(brick coding vs ZFP skipped: apt-get install libzfp-dev)"; fi
+	$(Q)if [ -f /usr/include/zfp.h ]; then $(MAKE) --no-print-directory $(B)/bench/bench_codec $(B)/bench/bench_size && \
+	  B=$(B) SHARED=$(SHARED) sh bench/bench_codec.sh && B=$(B) SHARED=$(SHARED) sh bench/bench_size.sh; \
+	  else echo "(brick coding vs ZFP and CF packing skipped: apt-get install libzfp-dev)"; fi
 
 deps:
 	$(Q)sh tools/deps.sh --install

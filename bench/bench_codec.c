@@ -14,8 +14,7 @@
  * Usage:
  *   bench_codec SHARED_DIR PLUME_DIR WORK_DIR
  *   bench_codec --decode FILE.vsv PASSES   (the decode alone, to profile) */
-#include "vsv_convert.h"
-#include "vsv_format.h"
+#include "bench_data.h"
 
 #include <math.h>
 #include <netcdf.h>
@@ -40,80 +39,7 @@ static long long fsize(const char *p)
     return stat(p, &st) ? -1 : (long long)st.st_size;
 }
 
-typedef struct dataset {
-    const char *name;
-    vsv_meta meta;
-    int nt, nv;
-    float *data; /* nt * nv * cells, step-major */
-} dataset;
-
-static size_t cells(const dataset *d) { return (size_t)d->meta.nx * d->meta.ny * d->meta.nz; }
-static float *field(const dataset *d, int t, int v) { return d->data + ((size_t)t * d->nv + v) * cells(d); }
-
-static int load_source(dataset *d, const char *name, const char *path, const char *const *vars, int nv)
-{
-    vsv_source *s = NULL;
-    d->name = name;
-    if (vsv_source_open(path, NULL, &s)) {
-        fprintf(stderr, "bench_codec: %s\n", vsv_source_error(s));
-        vsv_source_free(s);
-        return -1;
-    }
-    vsv_meta_init(&d->meta);
-    vsv_meta_copy(&d->meta, vsv_source_grid(s));
-    /* the species only: the terrain and land use a .vsv also carries are not
-     * in the peers' files */
-    free(d->meta.terrain);
-    free(d->meta.landuse);
-    d->meta.terrain = d->meta.landuse = NULL;
-    d->nt = vsv_source_ntimes(s);
-    d->nv = nv;
-    d->data = malloc((size_t)d->nt * nv * cells(d) * sizeof(float));
-    int rc = d->data ? 0 : -1;
-    for (int v = 0; v < nv && !rc; v++) {
-        const int fi = vsv_source_find_field(s, vars[v]);
-        if (fi < 0) {
-            fprintf(stderr, "bench_codec: %s: no field %s\n", path, vars[v]);
-            rc = -1;
-            break;
-        }
-        const vsv_field_info *f = vsv_source_field(s, fi);
-        vsv_meta_add_var(&d->meta, f->name, f->units, f->description);
-        for (int t = 0; t < d->nt && !rc; t++)
-            rc = vsv_source_read(s, fi, t, field(d, t, v));
-    }
-    if (rc)
-        fprintf(stderr, "bench_codec: %s: %s\n", path, vsv_source_error(s));
-    vsv_source_free(s);
-    return rc;
-}
-
-static int load_plume(dataset *d, const char *dir)
-{
-    d->name = "gen-plume plume";
-    vsv_meta_init(&d->meta);
-    d->meta.nx = 256, d->meta.ny = 256, d->meta.nz = 64;
-    d->meta.spacing[0] = d->meta.spacing[1] = d->meta.spacing[2] = 1000;
-    vsv_meta_add_var(&d->meta, "plume", "1", "gen-plume");
-    d->nt = 2, d->nv = 1;
-    d->data = malloc(2 * cells(d) * sizeof(float));
-    const char *names[2] = {"plume_t0.f32", "plume_t1.f32"};
-    for (int t = 0; t < 2; t++) {
-        char path[1024];
-        snprintf(path, sizeof path, "%s/%s", dir, names[t]);
-        FILE *fp = fopen(path, "rb");
-        const size_t got = fp ? fread(field(d, t, 0), 4, cells(d), fp) : 0;
-        if (fp)
-            fclose(fp);
-        if (got != cells(d)) {
-            fprintf(stderr, "bench_codec: %s: cannot read %zu floats\n", path, cells(d));
-            return -1;
-        }
-    }
-    return 0;
-}
-
-static int write_vsv(const dataset *d, const char *path, int predict)
+static int write_vsv(const bench_data *d, const char *path, int predict)
 {
     vsv_pack_opts o;
     vsv_pack_opts_init(&o);
@@ -123,7 +49,7 @@ static int write_vsv(const dataset *d, const char *path, int predict)
     const float **f = calloc((size_t)d->nv, sizeof *f);
     for (int t = 0; t < d->nt && !rc; t++) {
         for (int v = 0; v < d->nv; v++)
-            f[v] = field(d, t, v);
+            f[v] = bench_field(d, t, v);
         rc = vsv_writer_add_step(w, 3600 * (int64_t)t, f);
     }
     if (!rc)
@@ -136,7 +62,7 @@ static int write_vsv(const dataset *d, const char *path, int predict)
 }
 
 /* netCDF-4, deflate 4 with shuffle, one variable per species (time, z, y, x) */
-static long long write_nc(const dataset *d, const float *q, const char *path)
+static long long write_nc(const bench_data *d, const float *q, const char *path)
 {
     int nc, dim[4], var;
     if (nc_create(path, NC_NETCDF4 | NC_CLOBBER, &nc))
@@ -154,7 +80,7 @@ static long long write_nc(const dataset *d, const float *q, const char *path)
         for (int t = 0; t < d->nt; t++) {
             const size_t start[4] = {(size_t)t, 0, 0, 0},
                          count[4] = {1, (size_t)d->meta.nz, (size_t)d->meta.ny, (size_t)d->meta.nx};
-            nc_put_vara_float(nc, v, start, count, q + ((size_t)t * d->nv + v) * cells(d));
+            nc_put_vara_float(nc, v, start, count, q + ((size_t)t * d->nv + v) * bench_cells(d));
         }
     nc_close(nc);
     return fsize(path);
@@ -162,9 +88,9 @@ static long long write_nc(const dataset *d, const float *q, const char *path)
 
 /* ZFP fixed-accuracy of one field; its compressed bytes, *err the largest
  * error made (non-finite cells given to ZFP as 0 and not counted). */
-static size_t zfp_size(const dataset *d, const float *in, double tol, double *err)
+static size_t zfp_size(const bench_data *d, const float *in, double tol, double *err)
 {
-    const size_t n = cells(d);
+    const size_t n = bench_cells(d);
     float *a = malloc(n * sizeof *a), *b = malloc(n * sizeof *b);
     for (size_t i = 0; i < n; i++)
         a[i] = isfinite(in[i]) ? in[i] : 0;
@@ -192,7 +118,7 @@ static size_t zfp_size(const dataset *d, const float *in, double tol, double *er
     return size;
 }
 
-static void run(const dataset *d, const char *work)
+static void run(const bench_data *d, const char *work)
 {
     char v1[1024], v2[1024], ncp[1024];
     snprintf(v1, sizeof v1, "%s/f1.vsv", work);
@@ -200,7 +126,7 @@ static void run(const dataset *d, const char *work)
     snprintf(ncp, sizeof ncp, "%s/q.nc", work);
     if (write_vsv(d, v1, 0) || write_vsv(d, v2, 1))
         exit(1);
-    const size_t n = cells(d), total = n * d->nv * d->nt;
+    const size_t n = bench_cells(d), total = n * d->nv * d->nt;
     float *q = malloc(total * sizeof *q);
     vsv_file *f = NULL;
     vsv_decoder *dec = NULL;
@@ -239,7 +165,7 @@ static void run(const dataset *d, const char *work)
         const double bound = vsv_file_quant(f, v)->max_abs_error;
         bound_max = fmax(bound_max, bound);
         for (int t = 0; t < d->nt; t++) {
-            const float *o = field(d, t, v), *g = q + ((size_t)t * d->nv + v) * n;
+            const float *o = bench_field(d, t, v), *g = q + ((size_t)t * d->nv + v) * n;
             for (size_t i = 0; i < n; i++)
                 if (isfinite(o[i]) && isfinite(g[i])) {
                     const double e = fabs((double)g[i] - o[i]);
@@ -329,27 +255,24 @@ int main(int argc, char **argv)
         "| .vsv 2 / netCDF-4 | .vsv 2 / ZFP | .vsv 2 / .vsv 1 | decode M voxels/s, .vsv 2 (.vsv 1) |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n");
     const char *mv[] = {"Q", "CLW", "SNOW"}, *wv[] = {"QVAPOR", "QCLOUD"};
-    const char *only[] = {"Q", "CLW", "SNOW"};
+    const char *only[] = {"Q", "CLW", "SNOW"}, *plume[] = {"plume_t0.f32", "plume_t1.f32"};
     for (int i = 0; i < 3; i++) {
-        dataset d;
+        bench_data d;
         char name[64];
         snprintf(name, sizeof name, "MM5 %s", only[i]);
-        if (load_source(&d, name, mm5, &mv[i], 1))
+        if (bench_data_source(&d, name, mm5, &mv[i], 1))
             return 1;
         run(&d, argv[3]);
-        vsv_meta_clear(&d.meta);
-        free(d.data);
+        bench_data_free(&d);
     }
-    dataset d;
-    if (load_source(&d, "WRF Katrina QVAPOR+QCLOUD", wrf, wv, 2))
+    bench_data d;
+    if (bench_data_source(&d, "WRF Katrina QVAPOR+QCLOUD", wrf, wv, 2))
         return 1;
     run(&d, argv[3]);
-    vsv_meta_clear(&d.meta);
-    free(d.data);
-    if (load_plume(&d, argv[2]))
+    bench_data_free(&d);
+    if (bench_data_plume(&d, "gen-plume plume", argv[2], plume, 2))
         return 1;
     run(&d, argv[3]);
-    vsv_meta_clear(&d.meta);
-    free(d.data);
+    bench_data_free(&d);
     return 0;
 }
