@@ -22,12 +22,21 @@
 
 static inline uint64_t vsv_align_up(uint64_t v, uint64_t a) { return (v + a - 1) / a * a; }
 
-/* Metadata records. `with_quant` adds QUAN records (the .vsv, not the stream). */
-int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, vsv_buf *out);
+/* Metadata records. quant (a .vsv, not the stream) adds QUAN records;
+ * coded writes stored heights as HGTS form 2 (format 3, vsv_fcode.c). */
+int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, int coded, vsv_buf *out);
+/* Lossless float coding (vsv_fcode.c): n values, each as its bits minus
+ * those stride places before, byte planes, one zstd frame appended to b. */
+int vsv_floats_code(const float *v, size_t n, size_t stride, vsv_buf *b);
+/* Decodes that frame (exactly len bytes) into out[n]; VSV_ECORRUPT unless
+ * it is one frame of exactly n values. */
+int vsv_floats_decode(const unsigned char *p, size_t len, size_t n, size_t stride, float *out);
+/* The on-disk form of stored heights coded by vsv_floats_code. */
+enum { VSV_HEIGHTS_CODED = 2 };
 /* The HGTS records (vsv_heights.c): free, deep copy, one record's payload. */
 void vsv_heights_clear_all(vsv_meta *m);
 int vsv_heights_copy_all(vsv_meta *dst, const vsv_meta *src);
-int vsv_heights_encode(const vsv_meta *m, const vsv_heights *h, vsv_buf *b);
+int vsv_heights_encode(const vsv_meta *m, const vsv_heights *h, int coded, vsv_buf *b);
 int vsv_heights_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg, size_t cap);
 /* The MOVE records (vsv_moves.c): the same four. */
 void vsv_moves_clear_all(vsv_meta *m);

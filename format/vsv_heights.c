@@ -143,10 +143,11 @@ int vsv_heights_axis(const vsv_meta *m, int *nz, double *z0, double *dz)
 
 /* ----------------------------------------------------------- the record */
 
-int vsv_heights_encode(const vsv_meta *m, const vsv_heights *h, vsv_buf *b)
+int vsv_heights_encode(const vsv_meta *m, const vsv_heights *h, int coded, vsv_buf *b)
 {
     const size_t n = (size_t)m->nx * m->ny * m->nz;
-    int rc = vsv_buf_u32(b, (uint32_t)h->form);
+    coded = coded && h->form == VSV_HEIGHTS_STORED;
+    int rc = vsv_buf_u32(b, coded ? VSV_HEIGHTS_CODED : (uint32_t)h->form);
     if (!rc)
         rc = vsv_buf_u32(b, 0);
     if (!rc)
@@ -160,6 +161,8 @@ int vsv_heights_encode(const vsv_meta *m, const vsv_heights *h, vsv_buf *b)
             rc = vsv_buf_f64(b, h->sigma[k]);
         return rc;
     }
+    if (coded) /* each height against the one below it */
+        return vsv_floats_code(h->z, n, (size_t)m->nx * m->ny, b);
     if ((rc = vsv_buf_reserve(b, n * 4)))
         return rc;
     for (size_t i = 0; i < n; i++)
@@ -178,13 +181,25 @@ int vsv_heights_decode(vsv_meta *m, const unsigned char *p, size_t len, char *ms
     const uint32_t form = vsv_rd32(p), zero = vsv_rd32(p + 4);
     const int64_t time = (int64_t)vsv_rd64(p + 8);
     int rc;
-    if (form == VSV_HEIGHTS_STORED && zero == 0 && len == 16 + 4 * n) {
+    if ((form == VSV_HEIGHTS_STORED && zero == 0 && len == 16 + 4 * n) ||
+        (form == VSV_HEIGHTS_CODED && zero == 0 && len > 16)) {
         float *z = malloc(n * sizeof *z + 1);
         if (!z)
             return VSV_ENOMEM;
-        for (size_t i = 0; i < n; i++)
-            z[i] = vsv_rdf32(p + 16 + 4 * i);
-        rc = vsv_meta_add_heights(m, time, z, NULL, NULL);
+        rc = 0;
+        if (form == VSV_HEIGHTS_CODED)
+            rc = vsv_floats_decode(p + 16, len - 16, n, (size_t)m->nx * m->ny, z);
+        else
+            for (size_t i = 0; i < n; i++)
+                z[i] = vsv_rdf32(p + 16 + 4 * i);
+        if (rc == VSV_ECORRUPT) {
+            free(z);
+            vsv_msg(msg, cap, "HGTS record %d: its coded heights do not decode to %dx%dx%d values", m->nheights, m->nx,
+                    m->ny, m->nz);
+            return rc;
+        }
+        if (!rc)
+            rc = vsv_meta_add_heights(m, time, z, NULL, NULL);
         free(z);
     } else if (form == VSV_HEIGHTS_MM5 && zero == 0 && len == 16 + 40 + 8 * (size_t)m->nz) {
         double mm5[5], *sigma = malloc((size_t)m->nz * sizeof *sigma);

@@ -19,7 +19,7 @@ static int rec_end(vsv_buf *b, size_t at)
     return vsv_buf_zeros(b, (size_t)(vsv_align_up(b->len, 8) - b->len));
 }
 
-int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, vsv_buf *b)
+int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, int coded, vsv_buf *b)
 {
     size_t at;
     int rc = 0;
@@ -107,7 +107,7 @@ int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, vsv_buf *b)
     }
     for (int i = 0; i < m->nheights; i++) {
         TRY(rec_begin(b, "HGTS", &at));
-        TRY(vsv_heights_encode(m, &m->heights[i], b));
+        TRY(vsv_heights_encode(m, &m->heights[i], coded, b));
         TRY(rec_end(b, at));
     }
     for (int i = 0; i < m->nmoves; i++) {

@@ -180,7 +180,7 @@ int vsv_stream_writer_open(FILE *fp, const vsv_meta *meta, vsv_stream_writer **o
     if (!rc)
         rc = vsv_buf_zeros(&b, 8);
     if (!rc)
-        rc = vsv_meta_encode(meta, NULL, &b);
+        rc = vsv_meta_encode(meta, NULL, 0, &b); /* streams keep heights raw (stream 1.x) */
     if (!rc) {
         vsv_wr16(b.p + 8, VSV_STREAM_MAJOR);
         vsv_wr16(b.p + 10, meta->nmoves     ? 2

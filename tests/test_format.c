@@ -279,6 +279,54 @@ static void test_variants(void)
  * (which knows nothing of HGTS) still reads it, bad heights are refused, and
  * the resampler puts a field equal to each cell's height at the even cell's
  * own height. */
+/* Format 3.0: the same heights written by the default writer (predict on)
+ * are HGTS form 2, coded losslessly: the header says 3.0, the records come
+ * back bit for bit, the reference reader still reads the file (it skips
+ * HGTS), and the coded file is smaller than the 1.1 one of raw heights. */
+static void heights_coded(const vsv_meta *m, float *const *v, int nt, size_t raw_size)
+{
+    const size_t n = (size_t)m->nx * m->ny * m->nz;
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.brick = 8;
+    o.threads = 1;
+    const char *path = vsv_test_tmp("heights3.vsv");
+    vsv_writer *w = NULL;
+    int rc = vsv_writer_create(path, m, &o, &w);
+    for (int t = 0; t < nt && !rc; t++)
+        rc = vsv_writer_add_step(w, t * 3600, (const float *const *)&v[t]);
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    size_t sz = 0;
+    unsigned char *d = rc ? NULL : vsv_test_slurp(path, &sz);
+    CHECK(d && sz > 16 && d[8] == 3 && d[9] == 0 && d[10] == 0 && d[11] == 0,
+          "written by default, a file with stored heights says format 3.0", "rc %d", rc);
+    CHECK(d && sz + 4 * n / 2 < raw_size, "its coded heights take under half their raw bytes",
+          "%zu bytes against 1.1's %zu", sz, raw_size);
+    ref_file rf;
+    char err[256];
+    uint16_t *codes = malloc(n * sizeof *codes);
+    float *vals = malloc(n * sizeof *vals);
+    CHECK(d && codes && vals && ref_open(&rf, d, sz, err, sizeof err) == 0 &&
+              ref_decode(&rf, 2, 0, codes, vals, err, sizeof err) == 0 && fabsf(vals[n - 1] - v[2][n - 1]) < 1,
+          "the reference reader reads a 3.0 file", "%s", err);
+    if (d)
+        ref_close(&rf);
+    vsv_file *f = NULL;
+    CHECK(vsv_file_open(path, &f) == 0, "a 3.0 file reads back", "%s", f ? vsv_file_error(f) : "");
+    const vsv_meta *r = f ? vsv_file_meta(f) : NULL;
+    int same = r && r->nheights == m->nheights;
+    for (int h = 0; same && h < m->nheights; h++)
+        same = r->heights[h].form == m->heights[h].form && r->heights[h].time == m->heights[h].time &&
+               !memcmp(r->heights[h].z, m->heights[h].z, n * sizeof *r->heights[h].z);
+    CHECK(same, "its heights come back bit for bit (the MM5 formula's and the coded ones)");
+    vsv_file_free(f);
+    free(d);
+    free(codes);
+    free(vals);
+}
+
 static void test_heights(void)
 {
     enum { NX = 12, NY = 10, NZ = 6, NT = 3 };
@@ -357,6 +405,7 @@ static void test_heights(void)
     for (size_t i = 0; same && i < n; i++)
         same = r->heights[0].z[i] == m.heights[0].z[i] && r->heights[1].z[i] == m.heights[1].z[i];
     CHECK(same, "both records come back exactly");
+    heights_coded(&m, v, NT, sz);
     /* the resampler: value = height, so each even cell holds its own height */
     vsv_resampler *rs = NULL;
     vsv_volume *vol = NULL;

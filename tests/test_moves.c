@@ -120,7 +120,7 @@ static void test_bad_records(void)
     vsv_buf b = {0};
     vsv_meta_init(&back);
     char msg[256];
-    int rc = vsv_meta_encode(&m, NULL, &b);
+    int rc = vsv_meta_encode(&m, NULL, 0, &b);
     CHECK(!rc && !vsv_meta_decode(b.p, b.len, &back, NULL, msg, sizeof msg) && back.nmoves == 1 &&
               back.moves[0].time == 10800,
           "encoded and decoded");

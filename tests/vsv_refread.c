@@ -49,7 +49,7 @@ int ref_open(ref_file *rf, const unsigned char *d, size_t n, char *err, size_t c
     if (n < 160 || memcmp(d, "\x89VSV\r\n\x1a\n", 8))
         FAIL("not a .vsv file");
     const unsigned major = (unsigned)get(d + 8, 2);
-    if ((major != 1 && major != 2) || get(d + 12, 4) != 128)
+    if (major < 1 || major > 3 || get(d + 12, 4) != 128)
         FAIL("version/header size");
     if (ref_crc32c(d, 124) != get(d + 124, 4))
         FAIL("header crc");
@@ -183,8 +183,8 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
             }
             if (kind == 1)
                 continue;
-            /* kinds 4 (ABS3) and 5 (DELTA3) in major 2 only; absolute kinds at keyframes */
-            if (kind > (rf->major == 2 ? 5u : 3u) || (u % rf->keyframe == 0 && kind != 2 && kind != 4)) {
+            /* kinds 4 (ABS3) and 5 (DELTA3) from major 2 on; absolute kinds at keyframes */
+            if (kind > (rf->major >= 2 ? 5u : 3u) || (u % rf->keyframe == 0 && kind != 2 && kind != 4)) {
                 free(state);
                 free(buf);
                 FAIL("chunk %u brick %u kind %u", u, b, kind);
