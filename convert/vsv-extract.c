@@ -30,6 +30,7 @@ static const char usage[] =
     "                       (which uses them and drops them)\n"
     "      --winds FILE     the same, the winds taken from FILE (a model file on the\n"
     "                       same grid with U and V at every time)\n"
+    VSV_CLI_DERIVE_HELP
     "  -l, --list           list each file's fields (ordering, units, description)\n"
     "                       and times, and exit\n"
     "  -h, --help           this help\n"
@@ -51,12 +52,15 @@ int main(int argc, char **argv)
                                              {"list", no_argument, 0, 'l'},
                                              {"add-winds", no_argument, 0, 'w'},
                                              {"winds", required_argument, 0, 'W'},
+                                             {"derive", required_argument, 0, 'D'},
                                              {"help", no_argument, 0, 'h'},
                                              {"version", no_argument, 0, 'V'},
                                              VSV_SOURCE_LONGOPTS,
                                              {0, 0, 0, 0}};
     /* clang-format on */
     const char *vars = NULL, *times = NULL, *winds = NULL;
+    const char *derive[VSV_CLI_MAX_DERIVE];
+    int nderive = 0;
     int list = 0, c, add_winds = 0;
     vsv_source_opts so;
     vsv_source_opts_init(&so);
@@ -72,6 +76,11 @@ int main(int argc, char **argv)
         case 'l': list = 1; break;
         case 'w': add_winds = 1; break;
         case 'W': winds = optarg, add_winds = 1; break;
+        case 'D':
+            if (nderive >= VSV_CLI_MAX_DERIVE)
+                vsv_cli_usage_error("more than %d --derive", VSV_CLI_MAX_DERIVE);
+            derive[nderive++] = optarg;
+            break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
         default: vsv_cli_usage_error("unknown option");
@@ -135,6 +144,9 @@ int main(int argc, char **argv)
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (*vsv_run_note(run))
         fprintf(stderr, "vsv-extract: %s\n", vsv_run_note(run));
+    for (int i = 0; i < nderive; i++) /* before the winds: they stay last */
+        if (vsv_run_add_derived(run, derive[i]))
+            vsv_cli_die(1, "%s", vsv_run_error(run));
     if (add_winds && vsv_run_add_winds(run, winds, &so))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (isatty(1))

@@ -188,6 +188,51 @@ int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *
 /* Bytes of model input the run covers (for throughput figures). */
 uint64_t vsv_run_input_bytes(const vsv_run *r);
 
+/* Appends the derived variable of spec (vsv-convert --derive; the grammar
+ * and the built-ins are in vsv_derive.c and vsv-convert(1)): NAME=EXPR or
+ * NAME=EXPR:UNITS, an expression over the run's 3-D fields, numbers and
+ * `pressure`; or the name of a built-in (condensate, wind_speed, theta, rh).
+ * Computed at every frame from the fields as read (on the run's grid, before
+ * any time interpolation), whether or not they are selected themselves. Its
+ * description holds the formula, and the attribute "derived NAME" the whole
+ * formula with where its inputs come from. Before vsv_run_add_winds.
+ * VSV_EINVAL (a bad expression, saying at which character of spec; a name
+ * taken), VSV_ENOTFOUND (an unknown name listing the file's fields; a
+ * built-in's missing inputs, named), the reason in vsv_run_error. */
+int vsv_run_add_derived(vsv_run *r, const char *spec);
+
+/* --------------------------------------------------------- expressions */
+
+/* An arithmetic expression over named float inputs, compiled once and
+ * evaluated over arrays (the engine of vsv_run_add_derived). Grammar:
+ *   expr  := term (('+' | '-') term)*
+ *   term  := unary (('*' | '/') unary)*
+ *   unary := ('-' | '+') unary | power
+ *   power := value ('^' unary)?          right-associative, above unary minus
+ *   value := NUMBER | NAME | "QUOTED NAME" | FUNC '(' expr (',' expr)* ')'
+ *          | '(' expr ')'
+ * NUMBER: digits, fraction, exponent (1, 2.5, .5, 6.112e2). FUNC: sqrt exp
+ * log abs (one argument), min max (two or more). Blanks are ignored. */
+typedef struct vsv_expr vsv_expr;
+enum { VSV_EXPR_MAX_OPS = 256, VSV_EXPR_MAX_DEPTH = 32 };
+
+/* Compiles text against the nnames input names (borrowed for the call).
+ * Caller frees *out with vsv_expr_free. VSV_EINVAL with msg (caller buffer
+ * of cap bytes) saying what was wrong and *pos the 1-based character of text
+ * where (an unknown name: where it starts; msg has no position in it);
+ * VSV_ENOMEM. */
+int vsv_expr_compile(const char *text, const char *const *names, int nnames, vsv_expr **out, char *msg, size_t cap,
+                     int *pos);
+/* 1 if the expression reads input i. */
+int vsv_expr_uses(const vsv_expr *e, int input);
+/* out[c] = the expression at cell c, c < n, in double precision, from
+ * inputs[i][c] (arrays of n floats for the inputs it uses; the others may
+ * be NULL). A NaN input gives NaN (min and max too); a result that is not a
+ * finite float (division by zero, log of 0, sqrt of a negative, overflow)
+ * is NaN, the empty value of a .vsv. No allocation. */
+void vsv_expr_eval(const vsv_expr *e, const float *const *inputs, size_t n, float *out);
+void vsv_expr_free(vsv_expr *e);
+
 /* ------------------------------------------------------- interpolation */
 
 /* Linear interpolation in time between consecutive frames onto the regular

@@ -26,12 +26,11 @@ const char vsv_convert_options_help[] =
     "  -t, --times A:B      steps A..B: indices or ISO times (which may hold colons);\n"
     "                       either end may be empty; one index or time: that step.\n"
     "                       With --time-res, the output steps (00:45..00:55 with\n"
-    "                       10m picks the 00:50 frame)\n"
-    "  -q, --quiet          no progress bar\n"
+    "                       10m picks the 00:50 frame)\n" VSV_CLI_DERIVE_HELP "  -q, --quiet          no progress bar\n"
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n" VSV_SOURCE_HELP;
 
-enum { OPT_STATS = 3000, OPT_WINDS };
+enum { OPT_STATS = 3000, OPT_WINDS, OPT_DERIVE };
 
 void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi)
 {
@@ -40,6 +39,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
                                              {"time-res", required_argument, 0, 'r'},
                                              {"interp", required_argument, 0, 'i'},
                                              {"winds", required_argument, 0, OPT_WINDS},
+                                             {"derive", required_argument, 0, OPT_DERIVE},
                                              {"vars", required_argument, 0, 'v'},
                                              {"times", required_argument, 0, 't'},
                                              {"quiet", no_argument, 0, 'q'},
@@ -71,6 +71,11 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
                 vsv_cli_usage_error("--interp %s: expected linear, advect or wind", optarg);
             break;
         case OPT_WINDS: a->winds = optarg; break;
+        case OPT_DERIVE:
+            if (a->nderive >= VSV_CLI_MAX_DERIVE)
+                vsv_cli_usage_error("more than %d --derive", VSV_CLI_MAX_DERIVE);
+            a->derive[a->nderive++] = optarg;
+            break;
         case 'v': a->vars = optarg; break;
         case 't': a->times = optarg; break;
         case 'q': vsv_cli_set_quiet(1); break;
@@ -108,9 +113,17 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
     a->ninputs = argc - optind;
 }
 
+void vsv_convert_derive(const vsv_convert_args *a, vsv_run *run)
+{
+    for (int i = 0; i < a->nderive; i++)
+        if (vsv_run_add_derived(run, a->derive[i]))
+            vsv_cli_die(1, "%s", vsv_run_error(run));
+}
+
 void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
 {
     vsv_meta_init(out);
+    vsv_convert_derive(a, run);
     if (a->times && vsv_run_select(run, a->times, a->dt))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (*vsv_run_note(run))

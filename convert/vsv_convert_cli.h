@@ -8,6 +8,19 @@
 #include "vsv_cli.h"
 #include "vsv_convert.h"
 
+enum { VSV_CLI_MAX_DERIVE = 32 };
+
+/* The help of --derive, shared by vsv-convert, vsv-convert-mpi and
+ * vsv-extract. */
+#define VSV_CLI_DERIVE_HELP                                                                                            \
+    "      --derive SPEC    add a variable computed at every model time from the\n"                                    \
+    "                       file's 3-D fields (read whether or not in --vars):\n"                                      \
+    "                       NAME=EXPR[:UNITS] with + - * / ^ ( ) numbers, field\n"                                     \
+    "                       names (\"QUOTED\" when odd), pressure (Pa), sqrt exp log\n"                                \
+    "                       abs min max; or a built-in: condensate, wind_speed,\n"                                     \
+    "                       theta, rh (formulas in the man page and the file);\n"                                      \
+    "                       repeatable\n"
+
 /* What the command line asked for: plain info over argv's strings. */
 typedef struct vsv_convert_args {
     const char *out, *vars, *times;
@@ -20,6 +33,9 @@ typedef struct vsv_convert_args {
     int stats;         /* --stats (vsv-convert-mpi only) */
     int method;        /* --interp: VSV_TIME_LINEAR, VSV_TIME_ADVECT or VSV_TIME_WIND */
     const char *winds; /* --winds FILE, or NULL */
+    /* --derive SPEC, in order (vsv_run_add_derived) */
+    const char *derive[VSV_CLI_MAX_DERIVE];
+    int nderive;
 } vsv_convert_args;
 
 /* The formats the conversion tools read, for their --help (vsv-extract,
@@ -39,7 +55,10 @@ extern const char vsv_convert_options_help[];
  * (exit 0), the version (exit 0) or a usage error (exit 2) itself. */
 void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi);
 
-/* After vsv_run_open (with times NULL): selects --times (among the output
+/* Adds each --derive of a to the run (exits 1 with the reason). */
+void vsv_convert_derive(const vsv_convert_args *a, vsv_run *run);
+
+/* After vsv_run_open (with times NULL): adds --derive (vsv_convert_derive), selects --times (among the output
  * steps with --time-res: vsv_run_select; a note on stderr when a single
  * time fell between steps), with --interp advect adds the winds to the run
  * (exits 1 naming what is wrong with either); fills out (uninitialised) with the

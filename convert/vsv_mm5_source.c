@@ -26,6 +26,9 @@ typedef struct mm5src {
     float *hraw;   /* KP*plane: H of the planned time, cross points */
     int has_sigma;
     float *zn;    /* KX*ny*nx heights of the half-sigma levels, k bottom-up */
+    float *pstar; /* ny*nx reference p* (Pa) of the sigma levels, and their */
+    float *sigma; /* KX sigma values (file order, k = 1 the top) and PTOP: */
+    double ptop;  /* the reference pressure p0 = p* sigma + PTOP */
     vsv_vgrid vg; /* even: the resampling (heights are fixed in time) */
     int even;
     float *raw;     /* scratch: one record */
@@ -337,18 +340,19 @@ static int mm5_sigma_heights(vsv_source *s, mm5src *x, const mm5_base *b, float 
                                (unsigned long long)(fs->bytes / 4), x->KX);
     if (vsv_mm5_read(m, fs, sig))
         return vsv_source_fail(s, VSV_ETRUNC, VSV_CUT_TEXT);
-    float *pstar = malloc(plane * sizeof *pstar);
+    float *pstar = x->pstar = malloc(plane * sizeof *pstar);
     x->zn = malloc(plane * (size_t)x->KX * sizeof *x->zn);
-    int rc = VSV_ENOMEM;
-    if (!pstar || !x->zn)
-        goto fail;
+    x->sigma = malloc((size_t)x->KX * sizeof *x->sigma);
+    if (!pstar || !x->zn || !x->sigma)
+        return VSV_ENOMEM;
+    memcpy(x->sigma, sig, (size_t)x->KX * sizeof *sig);
+    x->ptop = PTOP;
+    int rc;
     if ((rc = cross_plane(s, x, 0, "PSTARCRS", pstar)) < 0)
-        goto fail;
+        return rc;
     if (rc) {
-        if (!g->terrain) {
-            rc = vsv_source_fail(s, VSV_ECORRUPT, "neither PSTARCRS nor TERRAIN: heights unknown");
-            goto fail;
-        }
+        if (!g->terrain)
+            return vsv_source_fail(s, VSV_ECORRUPT, "neither PSTARCRS nor TERRAIN: heights unknown");
         for (size_t c = 0; c < plane; c++) {
             double ps0 = P00 * exp(-TS0 / A + sqrt((TS0 / A) * (TS0 / A) - 2 * G0 * g->terrain[c] / (A * R_DRY)));
             pstar[c] = (float)(ps0 - PTOP);
@@ -358,10 +362,7 @@ static int mm5_sigma_heights(vsv_source *s, mm5src *x, const mm5_base *b, float 
     for (int k = 0; k < x->KX; k++)
         for (size_t c = 0; c < plane; c++)
             x->zn[(size_t)k * plane + c] = (float)vsv_mm5_ref_height(pstar[c] * sig[x->KX - 1 - k] + PTOP, ref);
-    rc = 0;
-fail:
-    free(pstar);
-    return rc;
+    return 0;
 }
 
 /* The vertical axis of a pressure-level file: heights from H at the first
@@ -538,19 +539,10 @@ static int mm5_open(vsv_source *s)
     return mm5_times(s, x);
 }
 
-static int mm5_read(vsv_source *s, int field, int t, float *out)
+/* A sigma-level field at time t as a native cross volume into x->nat,
+ * bottom-up. */
+static int sigma_native(vsv_source *s, mm5src *x, const vsv_field_info *fi, int t)
 {
-    mm5src *x = s->priv;
-    const vsv_field_info *fi = &s->fields[field];
-    if (!fi->is_volume && !x->KX && !x->plev)
-        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a volume (%s); this file has no 3-D levels", fi->name,
-                               fi->ordering, fi->role[0] ? fi->role : "2-D");
-    if (!fi->is_volume)
-        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a 3-D field on the %d %s levels%s%s", fi->name,
-                               fi->ordering, x->plev ? x->KP : x->KX, x->plev ? "pressure" : "sigma",
-                               fi->role[0] ? ": " : "", fi->role);
-    if (x->plev)
-        return plev_read(s, x, fi, t, out);
     const int p = x->period_of[t];
     const int idx = vsv_mm5_find(x->m, p, fi->name);
     if (idx < 0)
@@ -587,10 +579,57 @@ static int mm5_read(vsv_source *s, int field, int t, float *out)
                 o[(size_t)j * x->nx + i] = v;
             }
     }
+    return 0;
+}
+
+/* x->nat onto the grid: as it is (native) or resampled (even). */
+static void sigma_out(const mm5src *x, float *out)
+{
     if (!x->even)
-        memcpy(out, x->nat, plane * (size_t)x->KX * sizeof *out);
+        memcpy(out, x->nat, (size_t)x->nx * x->ny * (size_t)x->KX * sizeof *out);
     else
         vsv_vgrid_apply(&x->vg, x->nat, out);
+}
+
+static int mm5_read(vsv_source *s, int field, int t, float *out)
+{
+    mm5src *x = s->priv;
+    const vsv_field_info *fi = &s->fields[field];
+    if (!fi->is_volume && !x->KX && !x->plev)
+        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a volume (%s); this file has no 3-D levels", fi->name,
+                               fi->ordering, fi->role[0] ? fi->role : "2-D");
+    if (!fi->is_volume)
+        return vsv_source_fail(s, VSV_EINVAL, "%s (%s) is not a 3-D field on the %d %s levels%s%s", fi->name,
+                               fi->ordering, x->plev ? x->KP : x->KX, x->plev ? "pressure" : "sigma",
+                               fi->role[0] ? ": " : "", fi->role);
+    if (x->plev)
+        return plev_read(s, x, fi, t, out);
+    const int rc = sigma_native(s, x, fi, t);
+    if (!rc)
+        sigma_out(x, out);
+    return rc;
+}
+
+int vsv_mm5_pressure(vsv_source *s, int t, float *out)
+{
+    mm5src *x = s->priv;
+    const int f = vsv_source_find_field(s, "PP");
+    if (s->ops != &vsv_mm5_ops || !x->pstar || f < 0 || !s->fields[f].is_volume)
+        return vsv_source_fail(s, VSV_ENOTFOUND, "no pressure: it needs sigma levels with a reference state and PP");
+    if (t < 0 || t >= s->ntimes)
+        return vsv_source_fail(s, VSV_ERANGE, "time %d out of range 0..%d", t, s->ntimes - 1);
+    const int rc = sigma_native(s, x, &s->fields[f], t);
+    if (rc)
+        return rc;
+    /* p = p* sigma + PTOP + PP, level k bottom-up (file level KX-1-k) */
+    const size_t plane = (size_t)x->nx * x->ny;
+    for (int k = 0; k < x->KX; k++) {
+        const double sg = x->sigma[x->KX - 1 - k];
+        float *o = x->nat + (size_t)k * plane;
+        for (size_t c = 0; c < plane; c++)
+            o[c] = (float)(x->pstar[c] * sg + x->ptop + o[c]);
+    }
+    sigma_out(x, out);
     return 0;
 }
 
@@ -619,6 +658,8 @@ static void mm5_close(vsv_source *s)
         return;
     vsv_mm5_free(x->m);
     free(x->zn);
+    free(x->pstar);
+    free(x->sigma);
     free(x->zidx);
     free(x->hraw);
     vsv_vgrid_free(&x->vg);

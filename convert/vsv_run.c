@@ -1,8 +1,9 @@
 /* vsv_run.c — several model files as one run: sorted by first time, checked
  * for matching grids, overlaps and gaps; variables and times selected once.
  * The single extraction path behind vsv-extract and vsv-convert. */
-#include "vsv_convert.h"
 #include "vsv_common.h"
+#include "vsv_convert.h"
+#include "vsv_derive.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -24,6 +25,8 @@ struct vsv_run {
     char wname[3][16]; /* their fields' names in the model files */
     vsv_source *wsrc;  /* a companion wind file, or NULL for the run's own */
     int *wt;           /* companion: its time index per frame */
+    vsv_derive *der;   /* derived variables, after the selected ones, or NULL */
+    int nder;
     char err[1024];
     char note[400]; /* a --times of one time between steps: which was taken */
     int64_t origin; /* the first time before any selection: the grid's t0 */
@@ -412,14 +415,43 @@ int vsv_run_read(vsv_run *r, int i, float *const *fields)
         if (rc)
             return fail(r, rc, "%s", vsv_source_error(s));
     }
+    int rc = r->nder ? vsv_derive_frame(r->der, s, r->ft[i], fields + r->nsel, r->err, sizeof r->err) : 0;
+    if (rc)
+        return rc;
     for (int d = 0; d < r->nwind; d++) {
         vsv_source *ws = r->wsrc ? r->wsrc : s;
         const int f = vsv_source_find_field(ws, r->wname[d]);
-        int rc = f < 0 ? fail(r, VSV_ENOTFOUND, "%s: no wind %s", r->path[r->fsrc[i]], r->wname[d])
-                       : vsv_source_read(ws, f, r->wsrc ? r->wt[i] : r->ft[i], fields[r->nsel + d]);
+        rc = f < 0 ? fail(r, VSV_ENOTFOUND, "%s: no wind %s", r->path[r->fsrc[i]], r->wname[d])
+                   : vsv_source_read(ws, f, r->wsrc ? r->wt[i] : r->ft[i], fields[r->nsel + r->nder + d]);
         if (rc)
             return f < 0 ? rc : fail(r, rc, "%s", vsv_source_error(ws));
     }
+    return 0;
+}
+
+int vsv_run_add_derived(vsv_run *r, const char *spec)
+{
+    if (r->nwind)
+        return fail(r, VSV_EINVAL, "--derive %s: derived variables come before the winds", spec);
+    if (!r->der && !(r->der = vsv_derive_create()))
+        return fail(r, VSV_ENOMEM, "out of memory");
+    int rc = vsv_derive_add(r->der, r->src[0], &r->meta, spec, r->err, sizeof r->err);
+    if (rc)
+        return rc;
+    for (int i = 1; i < r->nsrc; i++) {
+        const char *lack = vsv_derive_missing(r->der, r->src[i]);
+        if (lack)
+            return fail(r, VSV_ENOTFOUND, "--derive %s: %s has no %s (it is in %s)", spec, r->path[i], lack,
+                        r->path[0]);
+    }
+    const int k = vsv_derive_count(r->der) - 1;
+    const vsv_var *v = vsv_derive_var(r->der, k);
+    char key[80];
+    snprintf(key, sizeof key, "derived %s", v->name);
+    if (vsv_meta_add_var(&r->meta, v->name, v->units, v->description) < 0 ||
+        vsv_meta_add_attr(&r->meta, key, vsv_derive_formula(r->der, k)) < 0)
+        return fail(r, VSV_ENOMEM, "out of memory");
+    r->nder++;
     return 0;
 }
 
@@ -527,6 +559,7 @@ void vsv_run_free(vsv_run *r)
     free(r->ftime);
     free(r->wt);
     vsv_source_free(r->wsrc);
+    vsv_derive_free(r->der);
     for (int i = 0; r->path && i < r->nsrc; i++)
         free(r->path[i]);
     free(r->path);

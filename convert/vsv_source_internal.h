@@ -25,6 +25,12 @@ int vsv_source_native_heights(vsv_source *s, int t, const float *zn);
 int vsv_camx_is_landuse(const unsigned char *head, size_t n);
 int vsv_camx_landuse(vsv_source *s, const char *path);
 
+/* MM5 sigma files (vsv_mm5_source.c): the full pressure at time t, Pa, on
+ * the source's grid like a field: p* sigma + PTOP + PP, p* = PSTARCRS (or
+ * from the terrain) of the reference state. VSV_ENOTFOUND in a file without
+ * sigma levels, a reference state or PP, or not MM5. */
+int vsv_mm5_pressure(vsv_source *s, int t, float *out);
+
 extern const vsv_source_ops vsv_grads_ops;
 extern const vsv_source_ops vsv_mm5_ops;
 extern const vsv_source_ops vsv_netcdf_ops;
