@@ -281,6 +281,54 @@ static void test_landuse_fifo(void)
     rmdir(dir);
 }
 
+/* --derive on CAMx met (vsv_run_add_derived): theta and rh from TEMP,
+ * HUMIDITY (ppm) and PRESS (mb) at every cell, against the formulas of
+ * vsv-convert(1) computed here; condensate refused naming what it looks for. */
+static void test_derive_met(void)
+{
+    const char *avrg = write_avrg("derive.avrg", 3, 2, 0, 0);
+    vsv_source_opts o;
+    vsv_source_opts_init(&o);
+    o.met = vsv_test_shared("camx");
+    vsv_run *r = NULL;
+    const char *paths[] = {avrg};
+    int rc = vsv_run_open(paths, 1, &o, "TEMP,HUMIDITY,PRESS", NULL, &r);
+    if (!rc)
+        rc = vsv_run_add_derived(r, "theta");
+    if (!rc)
+        rc = vsv_run_add_derived(r, "rh");
+    if (!CHECK(rc == 0 && vsv_run_meta(r)->nvars == 5, "CAMx --met: --derive theta and rh", "(%s)", vsv_run_error(r))) {
+        vsv_run_free(r);
+        return;
+    }
+    CHECK(vsv_run_add_derived(r, "condensate") == VSV_ENOTFOUND &&
+              strstr(vsv_run_error(r), "no hydrometeor mixing ratio"),
+          "CAMx: condensate refused naming the mixing ratios it looks for", "(%s)", vsv_run_error(r));
+    const vsv_meta *m = vsv_run_meta(r);
+    const size_t n = (size_t)m->nx * m->ny * m->nz;
+    float *f[5];
+    for (int v = 0; v < 5; v++)
+        f[v] = malloc(n * sizeof(float));
+    double worst[2] = {0, 0};
+    for (int t = 0; t < vsv_run_nframes(r) && f[4]; t++) {
+        rc |= vsv_run_read(r, t, f);
+        for (size_t c = 0; c < n && !rc; c++) {
+            const double T = f[0][c], h = f[1][c], p = f[2][c] * 100.0;
+            const double th = T * pow(100000 / p, 0.2857);
+            const double rh = 100 * (h * 1e-6 * p) / (611.2 * exp(17.67 * (T - 273.15) / (T - 29.65)));
+            /* NaN compares false: counted as a difference of 1 */
+            worst[0] = fmax(worst[0], fabs(f[3][c] - th) / th < 1e-6 ? fabs(f[3][c] - th) / th : 1);
+            worst[1] = fmax(worst[1], fabs(f[4][c] - rh) / rh < 1e-6 ? fabs(f[4][c] - rh) / rh : 1);
+        }
+    }
+    CHECK(rc == 0 && worst[0] < 1e-6 && worst[1] < 1e-6 && f[0][0] > 200,
+          "CAMx: theta = TEMP*(100000/(PRESS*100))^0.2857, rh from HUMIDITY ppm, every cell of both hours",
+          "(rc %d, relative differences %g %g)", rc, worst[0], worst[1]);
+    for (int v = 0; v < 5; v++)
+        free(f[v]);
+    vsv_run_free(r);
+}
+
 int main(void)
 {
     test_landuse_fifo();
@@ -288,5 +336,6 @@ int main(void)
     test_advect_winds();
     test_mismatch();
     test_zone();
+    test_derive_met();
     return vsv_test_done();
 }
