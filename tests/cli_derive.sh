@@ -3,7 +3,7 @@
 # against a hand computation from the MM5 file itself (tests/derive_check.py,
 # its own MM5 reader) on the bundled crop and the real run, at the model
 # times and interpolated with --time-res; inputs read but not written; the
-# units and formula in the file; WRF's theta; vsv-extract and
+# units and formula in the file; WRF by hand too; vsv-extract and
 # vsv-convert-mpi giving the same bytes; bad specs exit 1 naming the
 # character or what the file has, writing nothing. Prints PASS/FAIL lines.
 B=${B:-build}
@@ -133,6 +133,17 @@ PY
     pass "WRF: theta spans T's extremes + 300 K, rh 0..110 %, pressure P+PB in Pa"
 elif [ $have_py = 1 ]; then
     fail "WRF: theta spans T's extremes + 300 K, rh 0..110 %, pressure P+PB in Pa" "see above"
+fi
+
+# WRF by hand: Katrina (staggered U V, QCLOUD QRAIN) and the cropped run
+KAT=$(data wrf/katrina_ci_test_file.nc)
+if [ $have_py = 1 ] && "$PY" -c 'import netCDF4' 2> /dev/null; then
+    expect "WRF Katrina: the four built-ins" 0 "$B/vsv-convert" -q --vars '' --derive condensate \
+        --derive wind_speed --derive theta --derive rh "$KAT" -o "$T/kat.vsv"
+    check "$KAT" "$T/kat.vsv" condensate wind_speed theta rh
+    check "$WRF" "$T/wrf.vsv" theta rh
+else
+    echo "  (python3-netcdf4 missing: the WRF hand computations skipped)"
 fi
 
 # the real MM5 run: every built-in, at the model times and every 30 min

@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """derive_check.py — the built-ins of vsv-convert --derive computed by hand
-from an MM5 v3 file, read here independently of Vesuvius (from ../shared/docs/
-INPUT-FORMATS.md alone), against the values of a .vsv read back through the
-Python module. Native levels only (the .vsv's levels are the file's).
-   derive_check.py MMOUT VSV NAME...
+from an MM5 v3 file or a WRF wrfout, read here independently of Vesuvius
+(from ../shared/docs/INPUT-FORMATS.md alone; WRF through python3-netcdf4),
+against the values of a .vsv read back through the Python module. Native
+levels only (the .vsv's levels are the file's).
+   derive_check.py MMOUT|WRFOUT VSV NAME...
 For each NAME among condensate, wind_speed, theta, rh and each time of the
 .vsv, the hand value (at a model time, or interpolated linearly between the
 two around it: --time-res interpolates the derived field) must be within the
@@ -18,7 +19,7 @@ import numpy
 
 import vesuvius
 
-HYDRO = ["CLW", "RNW", "ICE", "SNOW", "GRAUPEL"]
+HYDRO = ["CLW", "RNW", "ICE", "SNOW", "GRAUPEL", "QCLOUD", "QRAIN", "QICE", "QSNOW", "QGRAUP"]
 
 
 def mm5_periods(path):
@@ -69,25 +70,53 @@ def mm5_periods(path):
     return ptop, periods
 
 
+def wrf_periods(path):
+    """Per time: its date and the fields on mass points, [k, y, x] bottom-up
+    as WRF stores them (staggered winds the mean of their two faces)."""
+    import netCDF4
+    d = netCDF4.Dataset(path)
+    want = ["T", "P", "PB", "QVAPOR", "U", "V"] + HYDRO
+    periods = []
+    for t in range(d.dimensions["Time"].size):
+        f = {"wrf": True, "date": b"".join(d["Times"][t]).decode().replace("_", "T")}
+        for n in want:
+            if n in d.variables:
+                a = numpy.asarray(d[n][t], numpy.float64)
+                if n == "U":
+                    a = 0.5 * (a[:, :, :-1] + a[:, :, 1:])
+                elif n == "V":
+                    a = 0.5 * (a[:, :-1, :] + a[:, 1:, :])
+                f[n] = a
+        periods.append(f)
+    return None, periods
+
+
 def hand(ptop, f, name):
     """One built-in at one output time, float64, as vsv-convert(1) defines it."""
     if name == 'condensate':
         return sum(f[q] for q in HYDRO if q in f)
     if name == 'wind_speed':
         return numpy.sqrt(f['U'] ** 2 + f['V'] ** 2)
-    sigma = f['SIGMAH'][::-1]  # bottom-up like the levels
-    p = f['PSTARCRS'][0][None, :, :] * sigma[:, None, None] + ptop + f['PP']
-    t = f['T']
-    if name == 'theta':
-        return t * (100000.0 / p) ** 0.2857
-    e = f['Q'] * p / (0.622 + f['Q'])
+    if f.get('wrf'):  # T is theta - 300 K; the pressure P + PB
+        p, q = f['P'] + f['PB'], f['QVAPOR']
+        if name == 'theta':
+            return f['T'] + 300
+        t = (f['T'] + 300) * (p / 100000.0) ** 0.2857
+    else:
+        sigma = f['SIGMAH'][::-1]  # bottom-up like the levels
+        p = f['PSTARCRS'][0][None, :, :] * sigma[:, None, None] + ptop + f['PP']
+        t, q = f['T'], f['Q']
+        if name == 'theta':
+            return t * (100000.0 / p) ** 0.2857
+    e = q * p / (0.622 + q)
     es = 611.2 * numpy.exp(17.67 * (t - 273.15) / (t - 29.65))  # Bolton (1980), Pa
     return 100.0 * e / es
 
 
 def main():
     path, vsv, names = sys.argv[1], sys.argv[2], sys.argv[3:]
-    ptop, periods = mm5_periods(path)
+    head = open(path, 'rb').read(4)
+    ptop, periods = wrf_periods(path) if head[:3] in (b'CDF', b'\x89HD') else mm5_periods(path)
     # the model times that hold a period (set-up files have none)
     mt = numpy.array([numpy.datetime64(p['date']) for p in periods])
     v = vesuvius.open(vsv)
