@@ -371,14 +371,15 @@ int vsv_derive_frame(vsv_derive *d, vsv_source *s, int t, float *const *out, cha
 {
     const vsv_meta *g = vsv_source_grid(s);
     const size_t cells = (size_t)g->nx * g->ny * g->nz;
-    if (d->cells != cells) { /* once: the buffers of the inputs */
-        for (int i = 0; i < d->nin; i++) {
+    /* the buffers of the inputs: at the first frame (and for inputs added
+     * since, or a grid of another size) */
+    for (int i = 0; i < d->nin; i++)
+        if (!d->buf[i] || d->cells != cells) {
             free(d->buf[i]);
             if (!(d->buf[i] = malloc(cells * sizeof(float))))
-                return VSV_ENOMEM;
+                return vsv_msg(msg, cap, "out of memory"), VSV_ENOMEM;
         }
-        d->cells = cells;
-    }
+    d->cells = cells;
     int pslot = -1, rc = 0;
     for (int i = 0; i < d->nin && !rc; i++) {
         if (!strcmp(d->in[i], PRESSURE) && !has(s, PRESSURE)) {
