@@ -269,6 +269,7 @@ int vsv_derive_add(vsv_derive *d, const vsv_source *s, const vsv_meta *m, const 
     memset(v, 0, sizeof *v);
     if (cap)
         msg[0] = 0;
+    const int nin0 = d->nin; /* a spec refused adds no input */
     const char *etext, *units = NULL, *title = NULL;
     size_t elen;
     int rc = split(spec, v->var.name, sizeof v->var.name, &etext, &elen, v->var.units, sizeof v->var.units, msg, cap);
@@ -302,7 +303,7 @@ int vsv_derive_add(vsv_derive *d, const vsv_source *s, const vsv_meta *m, const 
     int nnames, pos;
     const char **names = names_of(s, &nnames);
     if (!names)
-        return VSV_ENOMEM;
+        return vsv_msg(msg, cap, "--derive '%s': out of memory", spec), VSV_ENOMEM;
     char why[160];
     rc = vsv_expr_compile(text, names, nnames, &v->e, why, sizeof why, &pos);
     const int off = etext ? (int)(etext - spec) : 0;
@@ -333,15 +334,17 @@ int vsv_derive_add(vsv_derive *d, const vsv_source *s, const vsv_meta *m, const 
             rc = VSV_EINVAL;
     if (rc == VSV_EINVAL && !*msg)
         vsv_msg(msg, cap, "--derive '%s': more than %d input fields in all", spec, MAX_INPUTS);
+    if (rc == VSV_ENOMEM)
+        vsv_msg(msg, cap, "--derive '%s': out of memory", spec);
     v->nnames = nnames;
     free(names);
     if (rc) {
+        d->nin = nin0;
         vsv_expr_free(v->e);
         free(v->slot);
         free(v->ptr);
         return rc;
     }
-    v->nnames = nnames;
     describe(v, title, text, how);
     d->n++;
     return 0;
