@@ -285,6 +285,14 @@ int vsv_derive_add(vsv_derive *d, const vsv_source *s, const vsv_meta *m, const 
                        "--derive '%s': %s is taken (a field of %s, a variable or wind.*): choose another name", spec,
                        v->var.name, vsv_source_format(s)),
                VSV_EINVAL;
+    static const char *const builtins[] = {"condensate", "wind_speed", "theta", "rh"};
+    for (size_t i = 0; etext && i < sizeof builtins / sizeof *builtins; i++)
+        if (!strcmp(v->var.name, builtins[i]))
+            return vsv_msg(msg, cap,
+                           "--derive '%s': %s is a built-in's name (--derive %s): an expression takes another, so a "
+                           "file's %s is always the built-in",
+                           spec, v->var.name, v->var.name, v->var.name),
+                   VSV_EINVAL;
     char text[256];
     if (!etext) {
         if ((rc = builtin(s, v->var.name, text, sizeof text, &units, &title, msg, cap)) == 1)

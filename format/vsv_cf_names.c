@@ -28,7 +28,7 @@ typedef struct entry {
     const char *comment;
 } entry;
 
-enum { DIMLESS, KELVIN, SPEED };
+enum { DIMLESS, KELVIN, SPEED, PERCENT };
 
 static const char approx[] =
     "the model's mixing ratio (per kg of dry air); CF has only the mass fraction (per kg of moist air), "
@@ -70,6 +70,11 @@ static const entry table[] = {
     {"", "TOL", "mole_fraction_of_toluene_in_air", DIMLESS, NULL},
     {"", "CH4", "mole_fraction_of_methane_in_air", DIMLESS, NULL},
     {"CAMx", "HUMIDITY", "mole_fraction_of_water_vapor_in_air", DIMLESS, NULL},
+    /* the built-ins of vsv-convert --derive (an expression may not take
+     * their names); total condensate has no CF name */
+    {"", "theta", "air_potential_temperature", KELVIN, NULL},
+    {"", "wind_speed", "wind_speed", SPEED, NULL},
+    {"", "rh", "relative_humidity", PERCENT, NULL},
 };
 
 /* Model spellings UDUNITS does not know, and the unit they mean. */
@@ -99,7 +104,8 @@ static int unit_of(const char *u, int kind)
                                           "ppt", "mol/mol", "mol mol-1", "ppmv", "ppbv",   "pptv"};
     static const char *const kelvin[] = {"K"};
     static const char *const speed[] = {"m/s", "m s-1"};
-    const char *const *set = kind == DIMLESS ? dimless : kind == KELVIN ? kelvin : speed;
+    static const char *const percent[] = {"%", "1"};
+    const char *const *set = kind == DIMLESS ? dimless : kind == KELVIN ? kelvin : kind == SPEED ? speed : percent;
     const size_t n = kind == DIMLESS ? sizeof dimless / sizeof *dimless : kind == KELVIN ? 1 : 2;
     for (size_t i = 0; i < n; i++)
         if (!strcmp(u, set[i]))

@@ -9,7 +9,8 @@ Rules (CF-1.8 sections in brackets):
     are not.
  3. A variable with a standard_name has units that convert to the name's
     canonical units [3.3]: mole and mass fractions and mixing ratios 1,
-    altitude and height m, air_temperature K, winds m s-1, latitude
+    altitude and height m, air_temperature and air_potential_temperature K,
+    winds and wind_speed m s-1, relative_humidity 1 (% converts), latitude
     degrees_north, longitude degrees_east, projected x/y m, time a
     "seconds since" reference.
  4. The vertical coordinate z: standard_name altitude (above sea level) or
@@ -35,6 +36,7 @@ CANON = {
     "latitude": "degrees_north", "longitude": "degrees_east",
     "projection_x_coordinate": "m", "projection_y_coordinate": "m",
     "air_pressure": "Pa", "model_level_number": "1",
+    "air_potential_temperature": "K", "wind_speed": "m s-1", "relative_humidity": "1",
 }
 
 

@@ -101,6 +101,7 @@ refuse "a name of the file's" "--derive 'T=CLW': T is taken" --derive 'T=CLW'
 refuse "a name twice" "--derive 'c=RNW': c is taken" --derive 'c=CLW' --derive 'c=RNW'
 refuse "a wind name" "wind.u is taken" --derive 'wind.u=U'
 refuse "a bad name" "the name must be 1 to 55 letters" --derive '2x=CLW'
+refuse "an expression named as a built-in" "--derive 'theta=T': theta is a built-in's name" --derive 'theta=T'
 refuse "an unknown built-in" "--derive 'dewpoint': no such built-in (condensate, wind_speed, theta, rh)" \
     --derive dewpoint
 refuse "theta without PP" "--derive theta: this MM5 v3 file lacks PP (pressure = PSTARCRS*SIGMAH+PTOP+PP)" \
@@ -160,4 +161,22 @@ if ! absent "MM5 run: the built-ins by hand" mm5/run1/MMOUT_DOMAIN1 && [ $have_p
         "potential temperature: T*(100000/pressure)^0.2857; pressure = PSTARCRS*SIGMAH+PTOP+PP (Pa)"
     has "... rh's with Bolton's es" "$T/out" \
         "100*(Q*pressure/(0.622+Q))/(611.2*exp(17.67*(T-273.15)/(T-29.65)))"
+    # exported to CF netCDF: the built-ins get their standard names
+    if command -v udunits2 > /dev/null && "$PY" -c 'import netCDF4' 2> /dev/null; then
+        expect "MM5 run: the built-ins export to CF netCDF" 0 "$B/vsv-export" -q "$T/run.vsv" --netcdf "$T/run.nc"
+        "$PY" tests/cf_check.py "$T/run.nc" > "$T/cf" 2>&1
+        if ! grep -q '^FAIL' "$T/cf" && grep -q "rule 3 rh: units % convert to 1" "$T/cf"; then
+            pass "... every CF rule holds: theta air_potential_temperature, wind_speed, rh relative_humidity"
+        else
+            fail "... every CF rule holds" "$(grep -v '^PASS' "$T/cf" | head -5)"
+        fi
+        ncdump -h "$T/run.nc" > "$T/h"
+        has "... theta is air_potential_temperature" "$T/h" 'theta:standard_name = "air_potential_temperature"'
+        has "... rh is relative_humidity" "$T/h" 'rh:standard_name = "relative_humidity"'
+        if grep -q 'condensate:standard_name' "$T/h"; then
+            fail "... condensate gets no standard name (CF has none for the total)" "$(grep condensate: "$T/h")"
+        else
+            pass "... condensate gets no standard name (CF has none for the total)"
+        fi
+    fi
 fi
