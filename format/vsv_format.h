@@ -25,8 +25,9 @@ extern "C" {
 VSV_API_BEGIN
 
 #define VSV_VERSION_STRING "0.1.0"
-#define VSV_FORMAT_MAJOR 3 /* the newest read and written (3.0: coded heights, in files with stored
-                              heights only; 2.x otherwise); 1.x is read, and written on request */
+/* The newest format read and written: 3.0 (coded heights) only in files that
+ * store heights, 2.x otherwise; 1.x is read, and written on request. */
+#define VSV_FORMAT_MAJOR 3
 #define VSV_FORMAT_MINOR 0
 
 /* Error codes: fallible calls return 0 or one of these. Values never change. */
