@@ -169,7 +169,7 @@ int vsv_pack_plan_create(const vsv_meta *meta, const vsv_pack_opts *opts, const 
             if (!(p->meta.tf[s] = strdup(tf)))
                 return VSV_ENOMEM;
         }
-    /* heights coded only where the 1.x writer was not asked for */
+    /* planes and heights coded (format 3) unless a 1.x file was asked for */
     if (vsv_meta_encode(&p->meta, p->quant, p->opts.predict, &p->head))
         return VSV_ENOMEM;
     p->meta_size = p->head.len;
@@ -229,9 +229,11 @@ int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, con
     memset(h, 0, VSV_HEADER_SIZE);
     memcpy(h, VSV_MAGIC, 8);
     /* the lowest major and minor that have what the file may use */
-    int coded = 0;
+    /* what vsv_meta_encode coded: planes and stored heights (format 3) */
+    int coded = p->meta.terrain || p->meta.landuse;
     for (int i = 0; i < p->meta.nheights; i++)
-        coded |= p->opts.predict && p->meta.heights[i].form == VSV_HEIGHTS_STORED;
+        coded |= p->meta.heights[i].form == VSV_HEIGHTS_STORED;
+    coded = coded && p->opts.predict;
     const int major = coded ? 3 : p->opts.predict || p->meta.nmoves ? 2 : 1;
     vsv_wr16(h + 8, (uint16_t)major);
     vsv_wr16(h + 10, major == 2 && p->meta.nmoves ? 1 : major == 1 && p->meta.nheights ? 1 : 0);

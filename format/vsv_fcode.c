@@ -62,3 +62,14 @@ int vsv_floats_decode(const unsigned char *p, size_t len, size_t n, size_t strid
     free(planes);
     return rc;
 }
+
+int vsv_plane_code(const float *v, size_t n, vsv_buf *b)
+{
+    /* along x: neighbouring cells of terrain and land use share high bits */
+    return vsv_floats_code(v, n, 1, b);
+}
+
+int vsv_plane_decode(const unsigned char *p, size_t len, size_t n, float *out)
+{
+    return vsv_floats_decode(p, len, n, 1, out);
+}

@@ -31,6 +31,10 @@ int vsv_floats_code(const float *v, size_t n, size_t stride, vsv_buf *b);
 /* Decodes that frame (exactly len bytes) into out[n]; VSV_ECORRUPT unless
  * it is one frame of exactly n values. */
 int vsv_floats_decode(const unsigned char *p, size_t len, size_t n, size_t stride, float *out);
+/* A plane of nx*ny floats (TERZ, LUSZ, a coded MOVE's terrain) coded and
+ * decoded the same way, each value against the one before it in x. */
+int vsv_plane_code(const float *v, size_t n, vsv_buf *b);
+int vsv_plane_decode(const unsigned char *p, size_t len, size_t n, float *out);
 /* The on-disk form of stored heights coded by vsv_floats_code. */
 enum { VSV_HEIGHTS_CODED = 2 };
 /* The HGTS records (vsv_heights.c): free, deep copy, one record's payload. */
@@ -41,7 +45,7 @@ int vsv_heights_decode(vsv_meta *m, const unsigned char *p, size_t len, char *ms
 /* The MOVE records (vsv_moves.c): the same four. */
 void vsv_moves_clear_all(vsv_meta *m);
 int vsv_moves_copy_all(vsv_meta *dst, const vsv_meta *src);
-int vsv_moves_encode(const vsv_meta *m, const vsv_move *v, vsv_buf *b);
+int vsv_moves_encode(const vsv_meta *m, const vsv_move *v, int coded, vsv_buf *b);
 int vsv_moves_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg, size_t cap);
 /* Parses records from [p, p+n). quant (nvars entries, may be NULL) is filled
  * from QUAN records; *nquant counts them. msg receives a reason on error. */

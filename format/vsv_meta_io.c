@@ -94,15 +94,19 @@ int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, int coded, vsv_bu
         }
     }
     const float *planes[2] = {m->terrain, m->landuse};
-    const char *tags[2] = {"TERR", "LUSE"};
+    const char *tags[2][2] = {{"TERR", "LUSE"}, {"TERZ", "LUSZ"}}; /* raw; coded (format 3) */
     for (int p = 0; p < 2; p++) {
         if (!planes[p])
             continue;
-        TRY(rec_begin(b, tags[p], &at));
-        TRY(vsv_buf_reserve(b, plane * 4));
-        for (size_t i = 0; i < plane; i++)
-            vsv_wrf32(b->p + b->len + 4 * i, planes[p][i]);
-        b->len += plane * 4;
+        TRY(rec_begin(b, tags[coded != 0][p], &at));
+        if (coded) {
+            TRY(vsv_plane_code(planes[p], plane, b));
+        } else {
+            TRY(vsv_buf_reserve(b, plane * 4));
+            for (size_t i = 0; i < plane; i++)
+                vsv_wrf32(b->p + b->len + 4 * i, planes[p][i]);
+            b->len += plane * 4;
+        }
         TRY(rec_end(b, at));
     }
     for (int i = 0; i < m->nheights; i++) {
@@ -112,7 +116,7 @@ int vsv_meta_encode(const vsv_meta *m, const vsv_quant *quant, int coded, vsv_bu
     }
     for (int i = 0; i < m->nmoves; i++) {
         TRY(rec_begin(b, "MOVE", &at));
-        TRY(vsv_moves_encode(m, &m->moves[i], b));
+        TRY(vsv_moves_encode(m, &m->moves[i], coded, b));
         TRY(rec_end(b, at));
     }
     TRY(rec_begin(b, "END ", &at));
@@ -185,7 +189,8 @@ static int decode_grid(vsv_meta *m, cursor *c, char *msg, size_t cap)
     return 0;
 }
 
-/* A LEVL, TERR or LUSE record (the levels, or a plane the size of the grid's); 0 or VSV_ECORRUPT. */
+/* A LEVL, TERR or LUSE record (the levels, or a plane the size of the grid's),
+ * or TERZ, LUSZ (the plane coded); 0 or VSV_ECORRUPT. */
 static int decode_plane(vsv_meta *m, cursor *c, const char *tag, uint32_t len, int have_grid, char *msg, size_t cap)
 {
     if (!have_grid) {
@@ -202,12 +207,22 @@ static int decode_plane(vsv_meta *m, cursor *c, const char *tag, uint32_t len, i
     } else {
         const size_t plane = (size_t)m->nx * (size_t)m->ny;
         float **dst = tag[0] == 'T' ? &m->terrain : &m->landuse;
-        if (len != plane * 4 || *dst || (tag[0] == 'T' ? vsv_meta_alloc_terrain(m) : vsv_meta_alloc_landuse(m))) {
-            vsv_msg(msg, cap, "%s record: %u bytes for a %dx%d plane", tag, len, m->nx, m->ny);
+        const int coded = tag[3] == 'Z';
+        if ((coded ? !len : len != plane * 4) || *dst ||
+            (tag[0] == 'T' ? vsv_meta_alloc_terrain(m) : vsv_meta_alloc_landuse(m))) {
+            vsv_msg(msg, cap, "%s record: %u bytes for a %dx%d plane, or a second one", tag, len, m->nx, m->ny);
             return VSV_ECORRUPT;
         }
-        for (size_t i = 0; i < plane; i++)
-            (*dst)[i] = vsv_rdf32(c->p + 4 * i);
+        int rc = 0;
+        if (coded)
+            rc = vsv_plane_decode(c->p, len, plane, *dst);
+        else
+            for (size_t i = 0; i < plane; i++)
+                (*dst)[i] = vsv_rdf32(c->p + 4 * i);
+        if (rc) {
+            vsv_msg(msg, cap, "%s record: %u bytes that do not decode to a %dx%d plane", tag, len, m->nx, m->ny);
+            return rc;
+        }
         c->at = len;
     }
     return 0;
@@ -317,7 +332,8 @@ int vsv_meta_decode(const unsigned char *p, size_t n, vsv_meta *m, vsv_quant **q
         if (!strcmp(tag, "GRID")) {
             if (!(e = decode_grid(m, &c, msg, cap)))
                 have_grid = 1;
-        } else if (!strcmp(tag, "LEVL") || !strcmp(tag, "TERR") || !strcmp(tag, "LUSE")) {
+        } else if (!strcmp(tag, "LEVL") || !strcmp(tag, "TERR") || !strcmp(tag, "LUSE") || !strcmp(tag, "TERZ") ||
+                   !strcmp(tag, "LUSZ")) {
             e = decode_plane(m, &c, tag, len, have_grid, msg, cap);
         } else if (!strcmp(tag, "PROJ")) {
             m->proj.kind = (int)get32(&c);

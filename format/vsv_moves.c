@@ -98,13 +98,17 @@ int vsv_moves_copy_all(vsv_meta *dst, const vsv_meta *src)
     return 0;
 }
 
-int vsv_moves_encode(const vsv_meta *m, const vsv_move *v, vsv_buf *b)
+int vsv_moves_encode(const vsv_meta *m, const vsv_move *v, int coded, vsv_buf *b)
 {
     const size_t plane = v->terrain ? (size_t)m->nx * m->ny : 0;
+    coded = coded && plane;
     int rc;
-    if ((rc = vsv_buf_u32(b, 0)) || (rc = vsv_buf_u32(b, 0)) || (rc = vsv_buf_u64(b, (uint64_t)v->time)) ||
-        (rc = vsv_buf_f64(b, v->origin[0])) || (rc = vsv_buf_f64(b, v->origin[1])) ||
-        (rc = vsv_buf_reserve(b, plane * 4)))
+    if ((rc = vsv_buf_u32(b, coded ? 1 : 0)) || (rc = vsv_buf_u32(b, 0)) || (rc = vsv_buf_u64(b, (uint64_t)v->time)) ||
+        (rc = vsv_buf_f64(b, v->origin[0])) || (rc = vsv_buf_f64(b, v->origin[1])))
+        return rc;
+    if (coded)
+        return vsv_plane_code(v->terrain, plane, b);
+    if ((rc = vsv_buf_reserve(b, plane * 4)))
         return rc;
     for (size_t i = 0; i < plane; i++)
         vsv_wrf32(b->p + b->len + 4 * i, v->terrain[i]);
@@ -116,7 +120,8 @@ int vsv_moves_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg,
 {
     const size_t plane = (size_t)m->nx * m->ny;
     const size_t want = 32 + (m->terrain ? 4 * plane : 0);
-    if (len != want || vsv_rd32(p) || vsv_rd32(p + 4)) {
+    const int coded = len >= 32 && vsv_rd32(p) == 1; /* format 3: the terrain coded */
+    if ((coded ? !m->terrain || len == 32 : len != want || vsv_rd32(p)) || vsv_rd32(p + 4)) {
         vsv_msg(msg, cap, "MOVE record %d: %zu bytes where a %dx%d grid %s terrain needs %zu, or reserved bytes set",
                 m->nmoves, (size_t)len, m->nx, m->ny, m->terrain ? "with" : "without", want);
         return VSV_ECORRUPT;
@@ -126,7 +131,14 @@ int vsv_moves_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg,
     if (m->terrain) {
         if (!(t = malloc(plane * sizeof *t + 1)))
             return VSV_ENOMEM;
-        for (size_t i = 0; i < plane; i++)
+        const int crc = coded ? vsv_plane_decode(p + 32, len - 32, plane, t) : 0;
+        if (crc) {
+            free(t);
+            vsv_msg(msg, cap, "MOVE record %d: its coded terrain does not decode to a %dx%d plane", m->nmoves, m->nx,
+                    m->ny);
+            return crc;
+        }
+        for (size_t i = 0; i < plane && !coded; i++)
             t[i] = vsv_rdf32(p + 32 + 4 * i);
     }
     const int rc = vsv_meta_add_move(m, (int64_t)vsv_rd64(p + 8), origin, t);

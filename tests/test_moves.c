@@ -32,7 +32,9 @@ static void nest(vsv_meta *m, float *t0, float *t1)
     memcpy(m->terrain, t0, PLANE * sizeof *t0);
 }
 
-static void test_roundtrip(void)
+/* predict: the default writer (format 3.0: every place's terrain coded);
+ * else the 1.x writer, which a moving nest makes 2.1 (raw planes) */
+static void test_roundtrip(int predict)
 {
     float t0[PLANE], t1[PLANE], *v0 = malloc(NC * sizeof *v0), *v1 = malloc(NC * sizeof *v1);
     float *out = malloc(NC * sizeof *out);
@@ -52,7 +54,10 @@ static void test_roundtrip(void)
     const char *path = vsv_test_tmp("moves.vsv");
     vsv_writer *w = NULL;
     const float *s0[1] = {v0}, *s1[1] = {v1};
-    int rc = vsv_writer_create(path, &m, NULL, &w);
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.predict = predict;
+    int rc = vsv_writer_create(path, &m, &o, &w);
     if (!rc)
         rc = vsv_writer_add_step(w, 0, s0);
     if (!rc)
@@ -65,7 +70,9 @@ static void test_roundtrip(void)
     vsv_file_info info = {0};
     if (f)
         vsv_file_info_get(f, &info);
-    CHECK(info.major == 2 && info.minor == 1, "its header says 2.1", "%d.%d", info.major, info.minor);
+    CHECK(info.major == (predict ? 3 : 2) && info.minor == !predict,
+          predict ? "its header says 3.0 (coded terrain)" : "written for 1.x readers, its header says 2.1", "%d.%d",
+          info.major, info.minor);
     const vsv_meta *fm = f ? vsv_file_meta(f) : &m;
     CHECK(fm->nmoves == 1 && fm->moves[0].time == 10800 && fm->moves[0].origin[0] == o1[0] &&
               fm->moves[0].origin[1] == o1[1] && fm->moves[0].terrain && !memcmp(fm->moves[0].terrain, t1, sizeof t1),
@@ -210,7 +217,8 @@ static void test_interp(void)
 
 int main(void)
 {
-    test_roundtrip();
+    test_roundtrip(1);
+    test_roundtrip(0);
     test_bad_records();
     test_interp();
     return vsv_test_done();
