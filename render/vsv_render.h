@@ -363,6 +363,60 @@ int vsv_march_clear(const vsv_march_layer *L, const int *cnt, float lo, float hi
  * (at least 1): the tools' default. */
 double vsv_scene_default_exaggeration(const vsv_scene *sc);
 
+/* ------------------------------------------------------------ isosurfaces
+ * The surface where one species' value equals VALUE, as triangles per
+ * brick: marching tetrahedra over the cell centres (each cube of eight
+ * centres cut into the six tetrahedra around its diagonal from the lowest
+ * corner to the highest, so no case is ambiguous and neighbouring cubes and
+ * bricks cut their shared faces alike: no holes, no cracks, a closed
+ * surface wherever it stays inside the grid). A point is above the surface
+ * where its value is greater than VALUE; cubes with a NaN (no data) are
+ * left out. Vertices lie in world metres: x, y as the renderers place
+ * columns (vsv_scene_units; projected metres for a projected grid), z
+ * metres above sea level not exaggerated, at each column's own heights
+ * where the file has per-column native levels (a vertex on a vertical edge
+ * lies at the height interpolated in its column), else on the renderers'
+ * even axis (vsv_scene_geo). Normals are unit, down the field's gradient
+ * (central differences between neighbouring points, in world units): out
+ * of a cloud, as the lighting rule's. Triangles wind counter-clockwise seen
+ * from the side their normals face. Bricks none of whose points straddle
+ * VALUE (the volumes' bmin/bmax of the brick and the next one along each
+ * axis) are skipped; a brick whose values and neighbours' are unchanged
+ * since the last extraction of the same value (the volumes' brick keys, or
+ * the same volume) keeps its triangles. */
+
+typedef struct vsv_iso vsv_iso;
+/* An extractor with its own threads (0: all cores). Caller frees with
+ * vsv_iso_free (NULL accepted). 0 or VSV_ENOMEM. */
+int vsv_iso_create(int threads, vsv_iso **out);
+void vsv_iso_free(vsv_iso *s);
+/* Extracts the surface of value in v, a volume on m's grid (borrowed for
+ * the call; m placed at v's time when the grid moves: vsv_meta_placed),
+ * replacing the last one. 0, VSV_EINVAL (v not on m's grid, value not
+ * finite) or VSV_ENOMEM. */
+int vsv_iso_extract(vsv_iso *s, const vsv_meta *m, const vsv_volume *v, float value);
+/* What the last extraction did: plain info. */
+typedef struct vsv_iso_info {
+    int nbricks; /* bricks of the volume */
+    int visited; /* those whose values straddle VALUE */
+    int reused;  /* of those, bricks whose triangles were kept */
+    size_t nverts, ntris;
+    double seconds; /* the extraction's wall time */
+} vsv_iso_info;
+void vsv_iso_get_info(const vsv_iso *s, vsv_iso_info *info);
+/* One brick's triangles: plain info over the extractor's arrays, borrowed
+ * until its next extraction or free. A vertex on a face two bricks share
+ * appears in both, at the same position bit for bit. */
+typedef struct vsv_iso_mesh {
+    const float *pos;    /* nverts * 3: x, y, z world metres */
+    const float *nrm;    /* nverts * 3: unit normals */
+    const uint32_t *tri; /* ntris * 3 indices into pos */
+    int nverts, ntris;
+} vsv_iso_mesh;
+/* Brick b's mesh (empty for a skipped brick). 0, or VSV_ERANGE for b out
+ * of the last extraction's bricks. */
+int vsv_iso_brick(const vsv_iso *s, int b, vsv_iso_mesh *mesh);
+
 /* ------------------------------------------------------------- annotation */
 
 /* A font for text drawn into frames (FreeType). */
