@@ -195,6 +195,7 @@ TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv
            $(B)/render/vsv-plot.o
 $(TOOL_OBJ): XINC = -Icli
 $(B)/render/vsv-render.o: XINC = -Icli -Irender/gl
+$(B)/interop/vsv-export.o: XINC = -Icli -Irender
 $(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
 $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o: XINC = -Icli -Iinterop $(MPI_CFLAGS)
 
@@ -357,9 +358,9 @@ $(B)/vsv-convert-mpi: $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o 
                      $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT) $(MPI_LIBS)
-$(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
+$(B)/vsv-export: $(B)/interop/vsv-export.o $(CLI_A) $(INTEROP_A) $(RENDER_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT) $(RENDER_EXT)
 $(B)/vsv-plot: $(B)/render/vsv-plot.o $(CLI_A) $(RENDER_A) $(HTTP_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(PLOT_EXT) $(RENDER_EXT)

@@ -417,6 +417,35 @@ typedef struct vsv_iso_mesh {
  * of the last extraction's bricks. */
 int vsv_iso_brick(const vsv_iso *s, int b, vsv_iso_mesh *mesh);
 
+/* An isosurface as the tools' --iso takes it: plain info. */
+typedef struct vsv_iso_spec {
+    int species;  /* variable of the file */
+    float value;  /* in the species' units */
+    float rgb[3]; /* its colour, 0..1 (default white) */
+} vsv_iso_spec;
+/* Parses SPECIES:VALUE[:COLOUR] (COLOUR: white grey red orange yellow
+ * green cyan blue purple, or #RRGGBB) against m's species. 0, or
+ * VSV_EINVAL with the reason in msg (caller buffer of cap bytes; it names
+ * the option and, for an unknown species, the file's). */
+int vsv_iso_parse(const vsv_meta *m, const char *arg, vsv_iso_spec *spec, char *msg, size_t cap);
+
+/* The formats vsv_iso_write writes. */
+enum { VSV_ISO_PLY = 0, VSV_ISO_GLTF = 1 };
+/* Writes the last extraction of s as one mesh to path, through a temporary
+ * renamed into place (vsv_output_*): all or nothing. PLY: binary little
+ * endian, vertices x y z (float, world metres: x east, y north, z up, as
+ * vsv_iso_extract places them) nx ny nz (float) red green blue (uchar,
+ * rgb), faces as lists of three uint indices; comment lines hold title.
+ * glTF 2.0 (.gltf): one JSON file, its buffer embedded as base64, one mesh
+ * of POSITION and NORMAL (float VEC3, with POSITION's min and max) and
+ * uint32 indices, a material of colour rgb; glTF's axes: +X east, +Y up,
+ * +Z south (x, z, -y of the world), metres; title names the node. Bricks'
+ * shared vertices appear once per brick. 0; VSV_ERANGE when s holds no
+ * triangle; VSV_EIO ("path: cannot write: why") or VSV_ENOMEM with the
+ * reason in msg (caller buffer of cap bytes). */
+int vsv_iso_write(const vsv_iso *s, const char *path, int format, const float rgb[3], const char *title, char *msg,
+                  size_t cap);
+
 /* ------------------------------------------------------------- annotation */
 
 /* A font for text drawn into frames (FreeType). */

@@ -64,6 +64,7 @@ check() {
         case $f in convert/vsv-extract.c | convert/vsv-convert.c | convert/vsv-convert-mpi.c)
             folders="$folders interop" ;;
         render/vsv-render.c) folders="$folders gl" ;; # --renderer gl
+        interop/vsv-export.c) folders="$folders render" ;; # --iso: the isosurfaces render/ extracts
         esac
         bad=$(foreign "$dir")
         case $f in format/http/*) bad=$(foreign http) ;; esac
