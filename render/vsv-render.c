@@ -71,6 +71,10 @@ static const char usage[] =
     "                          for the names) over the range of the values the\n"
     "                          slices show in each frame (said on their bar)\n"
     "      --slice-range LO:HI   that range fixed instead (the same for every frame)\n"
+    "      --iso S:V[:COLOUR]  an opaque, lit isosurface where species S equals V, at\n"
+    "                          the model's own heights (COLOUR: white grey red orange\n"
+    "                          yellow green cyan blue purple #RRGGBB; default white);\n"
+    "                          repeatable (8 at most); such frames are raycast\n"
     "  -r, --renderer NAME     raycast (default), shearwarp (faster; frames whose eye\n"
     "                          is inside the volume are raycast) or gl (the raycaster\n"
     "                          on the GPU, OpenGL 3.3 through EGL: no display needed)\n"
@@ -103,7 +107,7 @@ static int write_png(const char *path, const float *rgba, int w, int h, const fl
 }
 
 /* clang-format off */ /* (a table, laid out by hand) */
-enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE };
+enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE, O_ISO };
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
     {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -119,7 +123,7 @@ static const struct option longopts[] = {
     {"light", optional_argument, 0, O_LIGHT},  {"no-light", no_argument, 0, O_NOLIGHT},
     {"slice", required_argument, 0, O_SLICE},  {"slice-species", required_argument, 0, O_SLICESP},
     {"slice-colormap", required_argument, 0, O_SLICECM}, {"gpu-mb", required_argument, 0, O_GPUMB},
-    {"slice-range", required_argument, 0, O_SLICERANGE},
+    {"slice-range", required_argument, 0, O_SLICERANGE}, {"iso", required_argument, 0, O_ISO},
     {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
     {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
 /* clang-format on */
@@ -132,6 +136,8 @@ typedef struct render_args {
     double az, el, dist, exag, sun_az, sun_el, la[6], slice_range[2]; /* --slice-range, else each frame's own */
     float bg[3];
     const char *slice_specs[8], *slice_species, *slice_cmap;
+    const char *iso_specs[VSV_SCENE_ISO_MAX]; /* --iso, parsed against the file in make_layers */
+    int niso;
     vsv_tf_change changes[64]; /* --colormap, --log, --range */
     unsigned parts;
     vsv_render_opts ro;
@@ -149,6 +155,7 @@ typedef struct render_run {
     int *sidx;
     float *opac; /* per species: its layer's opacity, -1 when not drawn */
     vsv_slice slices[8];
+    vsv_scene_iso isos[VSV_SCENE_ISO_MAX];
     vsv_scene sc;
     vsv_camera cam;
     double sep, mn[3], mx[3];
@@ -223,6 +230,11 @@ static int parse_args(int argc, char **argv, render_args *ra)
             ra->slice_specs[ra->nslice_specs++] = optarg;
             break;
         case O_SLICESP: ra->slice_species = optarg; break;
+        case O_ISO:
+            if (ra->niso >= VSV_SCENE_ISO_MAX)
+                vsv_cli_usage_error("--iso %s: at most %d isosurfaces", optarg, VSV_SCENE_ISO_MAX);
+            ra->iso_specs[ra->niso++] = optarg;
+            break;
         case O_SLICECM: {
             int known = 0;
             for (const char *const *cm = vsv_tf_colormaps(); *cm; cm++)
@@ -387,9 +399,21 @@ static void make_layers(const render_args *ra, render_run *run)
         if (slice_var < 0)
             vsv_cli_usage_error("--slice: no species to colour the slices (--slice-species NAME)");
     }
+    vsv_iso_spec iso[VSV_SCENE_ISO_MAX];
+    for (int i = 0; i < ra->niso; i++) { /* their species are loaded, drawn or not */
+        char msg[1024];
+        if (vsv_iso_parse(m, ra->iso_specs[i], &iso[i], msg, sizeof msg))
+            vsv_cli_usage_error("%s", msg);
+    }
     int nl = 0, slice_layer = 0;
     for (int s = 0; s < m->nvars; s++) {
-        if (opac[s] < 0 && s != slice_var)
+        int iso_var = 0;
+        for (int i = 0; i < ra->niso; i++)
+            if (iso[i].species == s) {
+                run->isos[i] = (vsv_scene_iso){nl, iso[i].value, {iso[i].rgb[0], iso[i].rgb[1], iso[i].rgb[2]}};
+                iso_var = 1;
+            }
+        if (opac[s] < 0 && s != slice_var && !iso_var)
             continue;
         char msg[512];
         const int trc = vsv_tf_for_species(run->f, s, tfpath, &tfs[nl], msg, sizeof msg);
@@ -437,7 +461,9 @@ static void make_scene(const render_args *ra, render_run *run)
                       .slices = run->slices,
                       .nslices = nslice_specs,
                       .slice_layer = run->slice_layer,
-                      .slice_tf = slice_tf};
+                      .slice_tf = slice_tf,
+                      .isos = run->isos,
+                      .nisos = ra->niso};
     if (ra->light)
         vsv_scene_sun(sc, ra->sun_az, ra->sun_el);
     if (!(ra->exag > 0))

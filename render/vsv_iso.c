@@ -39,7 +39,7 @@ typedef struct iso_scratch {
 } iso_scratch;
 
 struct vsv_iso {
-    vsv_pool pool;
+    vsv_pool pool, *run; /* its own pool, or the renderer's it runs on */
     int nthreads;
     iso_scratch scr[VSV_POOL_MAX];
     int brick; /* scratch made for this brick size (0: none) */
@@ -57,14 +57,24 @@ struct vsv_iso {
     vsv_iso_info info;
 };
 
+static void free_scratch(vsv_iso *s);
+
 int vsv_iso_create(int threads, vsv_iso **out)
 {
     vsv_iso *s = *out = calloc(1, sizeof *s);
     if (!s)
         return VSV_ENOMEM;
     vsv_pool_start(&s->pool, threads > 0 ? threads : vsv_ncpus());
+    s->run = &s->pool;
     s->nthreads = s->pool.nthreads;
     return 0;
+}
+
+void vsv_iso_use_pool(vsv_iso *s, vsv_pool *pool)
+{
+    free_scratch(s); /* made again for the pool's threads */
+    s->run = pool;
+    s->nthreads = pool->nthreads;
 }
 
 static void free_bricks(vsv_iso *s)
@@ -470,7 +480,7 @@ int vsv_iso_extract(vsv_iso *s, const vsv_meta *m, const vsv_volume *v, float va
     for (int t = 0; t < s->nthreads; t++)
         s->scr[t].err = 0;
     if (s->ntodo)
-        vsv_pool_run(&s->pool, brick_job, s, s->ntodo);
+        vsv_pool_run(s->run, brick_job, s, s->ntodo);
     s->v = NULL;
     for (int t = 0; t < s->nthreads; t++)
         if (s->scr[t].err)

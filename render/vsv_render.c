@@ -72,12 +72,13 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r->surf);
     vsv_sw_free(r->sw);
     vsv_native_free(&r->native);
+    vsv_rc_isos_free(r);
     free(r);
 }
 
 int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera *cam)
 {
-    const vsv_scene *sc = *psc;
+    const vsv_scene *sc = *psc, *in = sc;
     if (cam->width < 1 || cam->height < 1 || !sc->meta)
         return VSV_EINVAL;
     int nrc = vsv_native_scene(&r->native, sc, &sc);
@@ -128,7 +129,9 @@ int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera
         vsv_pool_run(&r->pool, vsv_rc_slice_row, r, cam->height);
         r->surf_read = r->surf;
     }
-    return 0;
+    /* the isosurfaces in front of both, from the volumes as given (the
+     * file's own heights) */
+    return in->nisos > 0 ? vsv_rc_isos(r, in, cam) : 0;
 }
 
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth)
@@ -136,7 +139,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     int rc0 = vsv_render_surfaces(r, &sc, cam);
     if (rc0)
         return rc0;
-    const int sliced = sc->nslices > 0;
+    const int sliced = sc->nslices > 0 || sc->nisos > 0; /* surfaces inside the volume: raycast */
     if (r->o.kind == VSV_RENDER_SHEARWARP && !sliced) {
         int rows = 0, bricks = 0, classify = 0;
         int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &bricks, &classify);

@@ -28,7 +28,10 @@
  * as opaque surfaces in the colours of one layer's values through
  * vsv_scene.slice_tf (values clamped into its range; no data and the part below the ground not drawn),
  * behind the volume in front of them and hiding what is behind, as the
- * ground does. Frames with slices are raycast whatever the renderer. */
+ * ground does. Frames with slices are raycast whatever the renderer.
+ *
+ * Isosurfaces (vsv_scene.isos) are opaque surfaces too, lit, drawn the
+ * same way (vsv_scene_iso). */
 #ifndef VSV_RENDER_H
 #define VSV_RENDER_H
 
@@ -153,12 +156,33 @@ typedef struct vsv_scene {
     double light_dir[3];     /* toward the light, world axes (vsv_scene_sun) */
     const vsv_slice *slices; /* nslices of them, borrowed; coloured by */
     int nslices;
-    int slice_layer;        /* the layer (index in layers) whose values colour
-                               the slices; its volume must be loaded,
-                               visible or not */
-    const vsv_tf *slice_tf; /* the slices' colours: colour map, range and
-                             scale (NULL: the layer's transfer function) */
+    int slice_layer;                  /* the layer (index in layers) whose values colour
+                                         the slices; its volume must be loaded,
+                                         visible or not */
+    const vsv_tf *slice_tf;           /* the slices' colours: colour map, range and
+                                       scale (NULL: the layer's transfer function) */
+    const struct vsv_scene_iso *isos; /* nisos isosurfaces, borrowed */
+    int nisos;
 } vsv_scene;
+
+/* An isosurface drawn in a scene (vsv_scene.isos): the surface where layer
+ * `layer`'s volume (loaded, visible or not) equals value, extracted as
+ * vsv_iso_extract does (at the file's own per-column heights) and drawn
+ * as an opaque surface in colour rgb (0..1, as given: gamma-encoded),
+ * shaded by VSV_LIGHT_AMBIENT + VSV_LIGHT_DIFFUSE max(0, n . L) (at most
+ * 1) with n its normal turned toward the eye and L the scene's light, or
+ * the eye's direction when the scene is unlit. The volume in front of it
+ * is composited over it and it hides what is behind, as the ground and
+ * slices do. Frames with isosurfaces are raycast whatever the renderer
+ * (the shear-warp composites whole slices and cannot stop at a surface
+ * inside the volume); each renderer keeps the triangles of the bricks
+ * that did not change from one step to the next. Plain info. */
+#define VSV_SCENE_ISO_MAX 8
+typedef struct vsv_scene_iso {
+    int layer;
+    float value;
+    float rgb[3];
+} vsv_scene_iso;
 
 /* Lights the scene from a sun at azimuth az (degrees clockwise from north)
  * and elevation el (degrees). */

@@ -58,6 +58,10 @@ struct vsv_renderer {
     vsv_ground *surf;
     size_t surf_cap;
     vsv_native native; /* native levels placed at their heights */
+    /* isosurfaces (vsv_iso_draw.c): an extractor per scene iso, kept
+     * across frames, and this frame's triangles on the screen */
+    vsv_iso *iso[VSV_SCENE_ISO_MAX];
+    struct vsv_iso_frame *isof;
 };
 
 /* Before any renderer's frame: native levels placed at their heights (*psc
@@ -84,6 +88,14 @@ void vsv_rc_copy_brick(void *ctx, int item, int thread);
 /* Pool job: one image row of r->surf, the ground and the scene's slices
  * (vsv_slice.c), for r->sc, r->cam, r->g and r->rays. */
 void vsv_rc_slice_row(void *ctx, int py, int thread);
+/* The scene's isosurfaces (in: the scene as given, before native levels
+ * are resampled) extracted and drawn into r->surf over what it holds
+ * (r->surf_read's surfaces, copied first when r->surf does not hold them
+ * yet), on the renderer's pool. 0 or a VSV_E* code. */
+int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam);
+void vsv_rc_isos_free(vsv_renderer *r);
+/* Runs extractor s on pool (instead of its own threads) from now on. */
+void vsv_iso_use_pool(vsv_iso *s, vsv_pool *pool);
 /* vsv_slice_range, with *work (when not NULL) set to the values it took:
  * per curtain edge a column per cell it crosses on the grid, whatever the
  * cells' size (for tests). */

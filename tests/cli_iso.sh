@@ -1,5 +1,5 @@
 #!/bin/sh
-# cli_iso.sh — vsv-export --iso: an isosurface of the bundled MM5 sample's
+# cli_iso.sh — vsv-export --iso and vsv-render --iso: an isosurface of the bundled MM5 sample's
 # cloud water as binary PLY and glTF 2.0 (headers and JSON that parse,
 # accessor counts, min and max that match the data, indices in range, unit
 # normals, coordinates in the grid's projected frame), and bad arguments
@@ -88,4 +88,18 @@ bad "--iso with --vdb" 2 "--iso takes one step" --iso CLW:5e-5 --ply "$T/x.ply" 
 bad "a value above the data" 1 "no surface: CLW = 1 kg/kg" --iso CLW:1 --ply "$T/x.ply"
 bad "a step outside the file" 1 "--time 9: step 9 is out of range" --iso CLW:5e-5 --ply "$T/x.ply" -t 9
 bad "a folder that is not there" 1 "$T/none/x.ply: cannot create" --iso CLW:5e-5 --ply "$T/none/x.ply"
+
+# vsv-render --iso: the surface drawn, the same pixels from either renderer
+# (such frames are raycast), and the same bad arguments refused
+expect "vsv-render --iso (raycast)" 0 "$B/vsv-render" -q "$T/a.vsv" --iso CLW:5e-5:orange -t 1 --size 320x240 \
+    --light -o "$T/rc.png"
+expect "vsv-render --iso (shear-warp)" 0 "$B/vsv-render" -q "$T/a.vsv" --iso CLW:5e-5:orange -t 1 --size 320x240 \
+    --light -r shearwarp -o "$T/sw.png"
+same "the two renderers' pictures with an isosurface are the same" "$T/rc.png" "$T/sw.png"
+"$B/vsv-render" -q "$T/a.vsv" -t 1 --size 320x240 --light -o "$T/none.png"
+cmp -s "$T/rc.png" "$T/none.png" && fail "the isosurface shows" "the picture is the one without it" ||
+    pass "the isosurface shows"
+expect "vsv-render --iso NOPE:1 exits 2" 2 "$B/vsv-render" -q "$T/a.vsv" --iso NOPE:1 -o "$T/x.png"
+has "naming the file's species" "$T/err" "vsv-render: --iso NOPE:1: no species NOPE (the file has Q, CLW"
+[ -e "$T/x.png" ] && fail "vsv-render: nothing written" "x.png" || pass "vsv-render: nothing written"
 exit 0

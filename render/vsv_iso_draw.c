@@ -1,0 +1,233 @@
+/* vsv_iso_draw.c — a scene's isosurfaces drawn as opaque surfaces
+ * (vsv_scene_iso): extracted per brick (vsv_iso.c, kept across steps), then
+ * each triangle met by the rays of the pixels its screen box covers, the
+ * nearest hit per pixel written into the surface buffer the volume's rays
+ * stop at, as the ground and the slices are. Exact ray-triangle hits, not
+ * a projected rasteriser, so a pixel's surface distance is measured along
+ * the very ray the raycaster marches. */
+#include "vsv_renderer.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define ISO_BAND 8 /* image rows a pool item */
+
+/* This frame's triangles of every isosurface (kept between frames: the
+ * arrays grow, never shrink). */
+typedef struct vsv_iso_frame {
+    double *wp; /* nv * 3: world position, z exaggerated */
+    float *nrm; /* nv * 3: unit normal in the exaggerated world */
+    uint32_t *tri;
+    int *box;             /* nt * 4: the pixels x0, x1, y0, y1 its rays may meet */
+    unsigned char *which; /* nt: its isosurface */
+    size_t vcap, tcap, nv, nt;
+    float rgb[VSV_SCENE_ISO_MAX][3]; /* linear colours */
+} vsv_iso_frame;
+
+void vsv_rc_isos_free(vsv_renderer *r)
+{
+    for (int i = 0; i < VSV_SCENE_ISO_MAX; i++)
+        vsv_iso_free(r->iso[i]);
+    if (r->isof) {
+        free(r->isof->wp);
+        free(r->isof->nrm);
+        free(r->isof->tri);
+        free(r->isof->box);
+        free(r->isof->which);
+    }
+    free(r->isof);
+}
+
+static int grow(vsv_iso_frame *F, size_t nv, size_t nt)
+{
+    if (nv > F->vcap) {
+        double *wp = realloc(F->wp, nv * 3 * sizeof *wp);
+        if (wp)
+            F->wp = wp;
+        float *nrm = wp ? realloc(F->nrm, nv * 3 * sizeof *nrm) : NULL;
+        if (!nrm)
+            return VSV_ENOMEM;
+        F->nrm = nrm;
+        F->vcap = nv;
+    }
+    if (nt > F->tcap) {
+        uint32_t *tri = realloc(F->tri, nt * 3 * sizeof *tri);
+        if (tri)
+            F->tri = tri;
+        int *box = tri ? realloc(F->box, nt * 4 * sizeof *box) : NULL;
+        if (box)
+            F->box = box;
+        unsigned char *which = box ? realloc(F->which, nt) : NULL;
+        if (!which)
+            return VSV_ENOMEM;
+        F->which = which;
+        F->tcap = nt;
+    }
+    return 0;
+}
+
+/* Pixel coordinates (x, y; pixel centres at whole numbers) of world point p
+ * as vsv_rays_get casts them; 0 when p is not in front of the eye. */
+static int project(const vsv_rays *R, const double p[3], double *x, double *y)
+{
+    double v[3] = {p[0] - R->o[0], p[1] - R->o[1], p[2] - R->o[2]};
+    double sx = v[0] * R->r[0] + v[1] * R->r[1] + v[2] * R->r[2];
+    double sy = v[0] * R->u[0] + v[1] * R->u[1] + v[2] * R->u[2];
+    if (R->persp) {
+        const double z = v[0] * R->f[0] + v[1] * R->f[1] + v[2] * R->f[2];
+        if (!(z > 1e-9))
+            return 0;
+        sx /= z, sy /= z;
+    }
+    *x = ((sx - R->cx) / R->kx + 1) * R->w / 2 - 0.5;
+    *y = (1 - (sy - R->cy) / R->ky) * R->h / 2 - 0.5;
+    return 1;
+}
+
+/* Gathers isosurface q's triangles into F: world positions exaggerated,
+ * normals for that scale, the screen box of each triangle (the whole image
+ * when a corner lies behind the eye). */
+static int gather(vsv_iso_frame *F, const vsv_iso *s, int q, const vsv_rays *R, double E, int w, int h)
+{
+    vsv_iso_info in;
+    vsv_iso_get_info(s, &in);
+    if (grow(F, F->nv + in.nverts, F->nt + in.ntris))
+        return VSV_ENOMEM;
+    vsv_iso_mesh b;
+    for (int i = 0; vsv_iso_brick(s, i, &b) == 0; i++) {
+        const size_t v0 = F->nv;
+        for (int v = 0; v < b.nverts; v++) {
+            double *p = F->wp + 3 * (F->nv + v), n[3] = {b.nrm[3 * v], b.nrm[3 * v + 1], b.nrm[3 * v + 2] / E};
+            p[0] = b.pos[3 * v], p[1] = b.pos[3 * v + 1], p[2] = (double)b.pos[3 * v + 2] * E;
+            vsv_normalize(n); /* a normal under z scaled by E: z divided by E */
+            for (int k = 0; k < 3; k++)
+                F->nrm[3 * (F->nv + v) + k] = (float)n[k];
+        }
+        for (int t = 0; t < b.ntris; t++) {
+            uint32_t *T = F->tri + 3 * F->nt;
+            int *box = F->box + 4 * F->nt;
+            double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+            int front = 1;
+            for (int k = 0; k < 3; k++) {
+                T[k] = (uint32_t)v0 + b.tri[3 * t + k];
+                double x = 0, y = 0;
+                front &= project(R, F->wp + 3 * T[k], &x, &y);
+                x0 = fmin(x0, x), x1 = fmax(x1, x), y0 = fmin(y0, y), y1 = fmax(y1, y);
+            }
+            box[0] = front ? (int)fmax(0, floor(x0)) : 0;
+            box[1] = front ? (int)fmin(w - 1, ceil(x1)) : w - 1;
+            box[2] = front ? (int)fmax(0, floor(y0)) : 0;
+            box[3] = front ? (int)fmin(h - 1, ceil(y1)) : h - 1;
+            if (box[0] > box[1] || box[2] > box[3])
+                continue; /* off the image */
+            F->which[F->nt++] = (unsigned char)q;
+        }
+        F->nv += (size_t)b.nverts;
+    }
+    return 0;
+}
+
+/* Möller and Trumbore's ray-triangle test: the distance along (o, d) and
+ * the barycentric weights (u, v) of corners 1 and 2; INFINITY if missed. */
+static double hit(const double *a, const double *b, const double *c, const double o[3], const double d[3], double *u,
+                  double *v)
+{
+    const double e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]}, e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
+    const double p[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]};
+    const double det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+    if (det == 0)
+        return INFINITY;
+    const double inv = 1 / det, s[3] = {o[0] - a[0], o[1] - a[1], o[2] - a[2]};
+    *u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;
+    if (*u < 0 || *u > 1)
+        return INFINITY;
+    const double q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
+    *v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
+    if (*v < 0 || *u + *v > 1)
+        return INFINITY;
+    return (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
+}
+
+/* Pool job: image rows band * ISO_BAND onwards; every triangle whose box
+ * meets them, nearest hit per pixel in front of the surface there. */
+static void band_job(void *ctx, int band, int thread)
+{
+    vsv_renderer *r = ctx;
+    const vsv_iso_frame *F = r->isof;
+    const vsv_camera *cam = r->cam;
+    const vsv_scene *sc = r->sc;
+    const int py0 = band * ISO_BAND, py1 = py0 + ISO_BAND - 1 < cam->height - 1 ? py0 + ISO_BAND - 1 : cam->height - 1;
+    const double tmin = cam->znear > 0 ? cam->znear : 0;
+    (void)thread;
+    for (size_t t = 0; t < F->nt; t++) {
+        const int *box = F->box + 4 * t;
+        if (box[3] < py0 || box[2] > py1)
+            continue;
+        const uint32_t *T = F->tri + 3 * t;
+        const double *A = F->wp + 3 * T[0], *Bv = F->wp + 3 * T[1], *C = F->wp + 3 * T[2];
+        const int ya = box[2] > py0 ? box[2] : py0, yb = box[3] < py1 ? box[3] : py1;
+        for (int py = ya; py <= yb; py++)
+            for (int px = box[0]; px <= box[1]; px++) {
+                double o[3], d[3], u = 0, v = 0;
+                vsv_rays_get(&r->rays, px, py, o, d);
+                const double th = hit(A, Bv, C, o, d, &u, &v);
+                vsv_ground *out = &r->surf[(size_t)py * cam->width + px];
+                if (!(th >= tmin && th < out->t))
+                    continue;
+                double n[3], ndl = 0, ndd = 0;
+                for (int k = 0; k < 3; k++) {
+                    n[k] = (1 - u - v) * F->nrm[3 * T[0] + k] + u * F->nrm[3 * T[1] + k] + v * F->nrm[3 * T[2] + k];
+                    ndd += n[k] * d[k];
+                }
+                vsv_normalize(n);
+                for (int k = 0; k < 3; k++) /* the side the eye sees; lit by the sun, else from the eye */
+                    ndl += (ndd > 0 ? -n[k] : n[k]) * (sc->light ? sc->light_dir[k] : -d[k]);
+                const float shade = fminf(1, VSV_LIGHT_AMBIENT + VSV_LIGHT_DIFFUSE * (float)fmax(0, ndl));
+                out->t = (float)th;
+                for (int k = 0; k < 3; k++)
+                    out->rgb[k] = F->rgb[F->which[t]][k] * shade;
+            }
+    }
+}
+
+int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
+{
+    if (in->nisos < 0 || in->nisos > VSV_SCENE_ISO_MAX || (in->nisos && !in->isos))
+        return VSV_EINVAL;
+    if (!r->isof && !(r->isof = calloc(1, sizeof *r->isof)))
+        return VSV_ENOMEM;
+    vsv_iso_frame *F = r->isof;
+    const size_t n = (size_t)cam->width * cam->height;
+    if (n > r->surf_cap) {
+        vsv_ground *ns = realloc(r->surf, n * sizeof *ns);
+        if (!ns)
+            return VSV_ENOMEM;
+        r->surf = ns;
+        r->surf_cap = n;
+    }
+    if (r->surf_read != r->surf) { /* the ground (or nothing) under the isosurfaces */
+        for (size_t i = 0; i < n; i++)
+            r->surf[i] = r->surf_read ? r->surf_read[i] : (vsv_ground){INFINITY, {0, 0, 0}};
+        r->surf_read = r->surf;
+    }
+    F->nv = F->nt = 0;
+    for (int q = 0; q < in->nisos; q++) {
+        const vsv_scene_iso *I = &in->isos[q];
+        if (I->layer < 0 || I->layer >= in->nlayers || !in->layers[I->layer].vol)
+            return VSV_EINVAL;
+        if (!r->iso[q]) {
+            if (vsv_iso_create(1, &r->iso[q]))
+                return VSV_ENOMEM;
+            vsv_iso_use_pool(r->iso[q], &r->pool);
+        }
+        int rc = vsv_iso_extract(r->iso[q], in->meta, in->layers[I->layer].vol, I->value);
+        if (rc || (rc = gather(F, r->iso[q], q, &r->rays, r->g.E, cam->width, cam->height)))
+            return rc;
+        for (int k = 0; k < 3; k++) /* the colour as given is gamma-encoded; the image is linear */
+            F->rgb[q][k] = powf(fminf(fmaxf(I->rgb[k], 0), 1), 2.2f);
+    }
+    r->cam = cam;
+    r->sc = in;
+    vsv_pool_run(&r->pool, band_job, r, (cam->height + ISO_BAND - 1) / ISO_BAND);
+    return 0;
+}
