@@ -126,6 +126,12 @@ step "Lit clouds (gradient shading, a sun in the north-west) over a section of m
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --slice z=1500 --slice-species Q --size 480x360 \
     -o "$OUT/lit.png" && echo "$OUT/lit.png"
 
+step "Isosurfaces at the model's own heights: cloud water at 0.05 g/kg, snow at 0.02 g/kg (lit, opaque; the volumes of rain and ice through them), and the cloud's surface as glTF 2.0 for Blender or three.js" \
+     "vsv-render $OUT/storm.vsv --species RNW,ICE --iso CLW:5e-5:white --iso SNOW:2e-5:cyan --light; vsv-export ... --iso CLW:5e-5 --gltf $OUT/cloud.gltf"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species RNW,ICE --iso CLW:5e-5:white --iso SNOW:2e-5:cyan --light \
+    --size 480x360 -o "$OUT/iso.png" && echo "$OUT/iso.png"
+"$B/vsv-export" "$OUT/storm.vsv" --iso CLW:5e-5 --gltf "$OUT/cloud.gltf"
+
 step "The same lit frame raycast on the GPU (OpenGL 3.3 through EGL, no display; here Mesa's llvmpipe, a CPU: slow)" \
      "vsv-render $OUT/storm.vsv --species CLW,SNOW --light --slice z=1500 --slice-species Q --renderer gl"
 if "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --slice z=1500 --slice-species Q --size 320x240 \
