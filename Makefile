@@ -135,7 +135,7 @@ INTEROP_OBJ = $(call objs,$(wildcard interop/vsv_*.c) $(wildcard interop/vsv_*.c
 INTEROP_HELPER_OBJ = $(B)/interop/vsv_vdb.o $(B)/interop/vsv_vdb_helper.o
 CLI_OBJ = $(call objs,$(wildcard cli/vsv_*.c))
 HTTP_OBJ = $(call objs,$(wildcard format/http/vsv_*.c))
-PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_do.o $(B)/viewer/vsv_player_state.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o \
+PLAYER_OBJ = $(B)/viewer/vsv_player.o $(B)/viewer/vsv_player_opts.o $(B)/viewer/vsv_player_do.o $(B)/viewer/vsv_player_state.o $(B)/viewer/vsv_player_gl.o $(B)/viewer/vsv_freevr_conf.o \
              $(B)/viewer/vsv_room.o $(B)/viewer/vsv_place.o $(B)/viewer/vsv_wand.o $(B)/viewer/vsv_procs.o
 
 CORE_A = $(B)/libvesuvius.a

@@ -81,6 +81,9 @@ before "a missing file exits 1" 1 "$T/none.vsv"
 has "and names it" "$T/err" "none.vsv"
 before "an unknown species: usage error (as vsv-play, vsv-render)" 2 "$VSV" --species NOPE
 has "and names the species" "$T/err" "'NOPE'"
+before "--iso of an unknown species: usage error (as vsv-play, vsv-render)" 2 "$VSV" --iso NOPE:1e-5
+has "and names the file's species" "$T/err" "--iso NOPE:1e-5: no species NOPE (the file has"
+before "--iso with no number: usage error" 2 "$VSV" --iso CLW:lots
 mkfifo "$T/run/.freevrrc"
 CMD_TIMEOUT=20 before "a FIFO as ./.freevrrc exits 1 (no wait for a writer)" 1 "$VSV"
 has "and names it" "$T/err" "./.freevrrc: a FIFO, not a regular file: refused"

@@ -96,10 +96,47 @@ expect "vsv-render --iso (raycast)" 0 "$B/vsv-render" -q "$T/a.vsv" --iso CLW:5e
 expect "vsv-render --iso (shear-warp)" 0 "$B/vsv-render" -q "$T/a.vsv" --iso CLW:5e-5:orange -t 1 --size 320x240 \
     --light -r shearwarp -o "$T/sw.png"
 same "the two renderers' pictures with an isosurface are the same" "$T/rc.png" "$T/sw.png"
+# the GPU raycaster stops its rays at the same surfaces (EGL; llvmpipe here)
+if "$B/vsv-render" -q "$T/a.vsv" --iso CLW:5e-5:orange -t 1 --size 320x240 --light -r gl -o "$T/gl.png" 2> "$T/gl.err"; then
+    db=$("$PYTHON" tests/imgcmp.py "$T/gl.png" "$T/rc.png" 2> /dev/null | awk '{ print $2 }')
+    if awk "BEGIN { exit !(${db:-0} >= 40) }"; then pass "--renderer gl draws it as the CPU does ($db dB)"
+    else fail "--renderer gl draws it as the CPU does" "PSNR ${db:-none}"; fi
+else
+    pass "--renderer gl: skipped ($(head -c 120 "$T/gl.err"))"
+fi
 "$B/vsv-render" -q "$T/a.vsv" -t 1 --size 320x240 --light -o "$T/none.png"
 cmp -s "$T/rc.png" "$T/none.png" && fail "the isosurface shows" "the picture is the one without it" ||
     pass "the isosurface shows"
 expect "vsv-render --iso NOPE:1 exits 2" 2 "$B/vsv-render" -q "$T/a.vsv" --iso NOPE:1 -o "$T/x.png"
 has "naming the file's species" "$T/err" "vsv-render: --iso NOPE:1: no species NOPE (the file has Q, CLW"
 [ -e "$T/x.png" ] && fail "vsv-render: nothing written" "x.png" || pass "vsv-render: nothing written"
+
+# vsv-play --iso: the shared option; its screenshot is vsv-render's picture
+expect "vsv-play --iso NOPE:1 exits 2" 2 "$B/vsv-play" "$T/a.vsv" --iso NOPE:1
+has "in vsv-render's words" "$T/err" "--iso NOPE:1: no species NOPE (the file has Q, CLW"
+if [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/null && "$PYTHON" -c "import numpy, PIL" 2> /dev/null; then
+    printf '0.2 seek 1\n0.4 screenshot %s\n0.6 quit\n' "$T/p.png" > "$T/play.script"
+    ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
+    expect "vsv-play --iso takes a screenshot (Xvfb)" 0 xvfb-run -a -s "-screen 0 1024x768x24" "$B/vsv-play" \
+        "$T/a.vsv" --size 480x320 --species RNW --iso CLW:5e-5:orange --no-annotate -r raycast -q --script "$T/play.script"
+    "$B/vsv-render" -q "$T/a.vsv" -t 1 --size 480x320 --species RNW --iso CLW:5e-5:orange --no-annotate -o "$T/r.png"
+    "$B/vsv-render" -q "$T/a.vsv" -t 1 --size 480x320 --species RNW --no-annotate -o "$T/r0.png"
+    db=$("$PYTHON" - "$T/p.png" "$T/r.png" "$T/r0.png" << 'EOP'
+import sys
+import numpy as np
+from PIL import Image
+p, r, r0 = (np.asarray(Image.open(f).convert("RGB"), dtype=float) for f in sys.argv[1:4])
+db = lambda a, b: 99.0 if ((a - b) ** 2).mean() == 0 else 10 * np.log10(255.0 ** 2 / ((a - b) ** 2).mean())
+print("%.1f %.1f" % (db(p, r), db(p, r0)))
+EOP
+)
+    set -- $db
+    if awk "BEGIN { exit !($1 >= 40 && $2 < 40) }"; then
+        pass "vsv-play shows the isosurface vsv-render draws ($1 dB; $2 dB against the picture without it)"
+    else
+        fail "vsv-play shows the isosurface vsv-render draws" "$1 dB against vsv-render, $2 dB against no isosurface"
+    fi
+else
+    pass "vsv-play --iso picture: skipped (no vsv-play, xvfb-run or numpy/PIL)"
+fi
 exit 0

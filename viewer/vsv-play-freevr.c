@@ -55,6 +55,7 @@ static const char usage[] =
     "                          but water vapour)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
     VSV_PLAYER_TF_HELP
+    VSV_PLAYER_ISO_HELP
     "  -r, --renderer NAME     auto (default: gl where OpenGL 3.3 runs on a GPU, else\n"
     "                          shearwarp), shearwarp, raycast, or gl: the raycaster on\n"
     "                          the GPU, each eye of each wall in its own frustum\n"
@@ -419,7 +420,7 @@ static int publish(run *r, char *err, size_t cap)
 
 /* clang-format off */
 enum { O_TF = 1000, O_COLORMAP, O_LOG, O_RANGE, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN,
-       O_PLACE, O_TRACE, O_NOPANEL, O_FPS, O_NOWAND, O_GPUMB };
+       O_PLACE, O_TRACE, O_NOPANEL, O_FPS, O_NOWAND, O_GPUMB, O_ISO };
 /* clang-format on */
 
 /* What the command line says beyond the player's options: ours apart from FreeVR's strings. */
@@ -431,11 +432,12 @@ typedef struct freevr_args {
     int nfv;
 } freevr_args;
 
-/* --colormap, --log, --range into the player's options (misuse exits 2). */
+/* --colormap, --log, --range, --iso into the player's options (misuse exits 2). */
 static void tf_option(vsv_player_opts *po, const char *opt, const char *arg)
 {
     char msg[512];
-    if (vsv_player_tf_option(po, opt, arg, msg, sizeof msg))
+    if (!strcmp(opt, "iso") ? vsv_player_iso_option(po, arg, msg, sizeof msg)
+                            : vsv_player_tf_option(po, opt, arg, msg, sizeof msg))
         vsv_cli_usage_error("%s", msg);
 }
 
@@ -468,7 +470,7 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
         {"trace", required_argument, 0, O_TRACE},     {"no-panel", no_argument, 0, O_NOPANEL},
         {"fps", no_argument, 0, O_FPS},               {"no-wand", no_argument, 0, O_NOWAND},
         {"gpu-mb", required_argument, 0, O_GPUMB},      {"colormap", required_argument, 0, O_COLORMAP},
-        {"log", required_argument, 0, O_LOG},          {"range", required_argument, 0, O_RANGE},
+        {"log", required_argument, 0, O_LOG},          {"range", required_argument, 0, O_RANGE}, {"iso", required_argument, 0, O_ISO},
         {"help", no_argument, 0, 'h'},                {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
         {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
     /* clang-format on */
@@ -483,6 +485,7 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
         case O_COLORMAP: tf_option(&a->opts, "colormap", optarg); break;
         case O_LOG: tf_option(&a->opts, "log", optarg); break;
         case O_RANGE: tf_option(&a->opts, "range", optarg); break;
+        case O_ISO: tf_option(&a->opts, "iso", optarg); break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
                 a->opts.renderer = VSV_RENDER_RAYCAST;

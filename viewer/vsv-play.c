@@ -46,6 +46,7 @@ static const char usage[] =
     "      --slice SPEC        a section, as vsv-render: z=HEIGHT, lat=DEG, lon=DEG\n"
     "                          or line=LAT1,LON1:LAT2,LON2 (repeatable); c switches\n"
     VSV_PLAYER_TF_HELP
+    VSV_PLAYER_ISO_HELP
     "      --slice-species NAME, --slice-colormap NAME, --slice-range LO:HI\n"
     "                          as vsv-render (the slices coloured over the range\n"
     "                          of what they show in the step shown, or LO:HI)\n"
@@ -244,11 +245,12 @@ typedef struct play_args {
     unsigned parts;
 } play_args;
 
-/* --colormap, --log, --range into the player's options (misuse exits 2). */
+/* --colormap, --log, --range, --iso into the player's options (misuse exits 2). */
 static void tf_option(vsv_player_opts *po, const char *opt, const char *arg)
 {
     char msg[512];
-    if (vsv_player_tf_option(po, opt, arg, msg, sizeof msg))
+    if (!strcmp(opt, "iso") ? vsv_player_iso_option(po, arg, msg, sizeof msg)
+                            : vsv_player_tf_option(po, opt, arg, msg, sizeof msg))
         vsv_cli_usage_error("%s", msg);
 }
 
@@ -259,7 +261,7 @@ static int parse_args(int argc, char **argv, play_args *o)
     enum {
         O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
         O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE,
-        O_COLORMAP, O_LOG, O_RANGE
+        O_COLORMAP, O_LOG, O_RANGE, O_ISO
     };
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
@@ -277,7 +279,7 @@ static int parse_args(int argc, char **argv, play_args *o)
         {"slice-range", required_argument, 0, O_SLICERANGE},
         {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
         {"colormap", required_argument, 0, O_COLORMAP}, {"log", required_argument, 0, O_LOG},
-        {"range", required_argument, 0, O_RANGE},
+        {"range", required_argument, 0, O_RANGE},  {"iso", required_argument, 0, O_ISO},
         {0, 0, 0, 0}};
     /* clang-format on */
     vsv_player_opts po;
@@ -296,6 +298,7 @@ static int parse_args(int argc, char **argv, play_args *o)
         case O_COLORMAP: tf_option(&po, "colormap", optarg); break;
         case O_LOG: tf_option(&po, "log", optarg); break;
         case O_RANGE: tf_option(&po, "range", optarg); break;
+        case O_ISO: tf_option(&po, "iso", optarg); break;
         case 'r':
             if (!strcmp(optarg, "raycast"))
                 want = VSV_RENDER_RAYCAST;

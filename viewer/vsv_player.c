@@ -10,16 +10,6 @@
 #include <string.h>
 #include <strings.h>
 
-void vsv_player_opts_init(vsv_player_opts *o)
-{
-    memset(o, 0, sizeof *o);
-    o->renderer = VSV_RENDER_SHEARWARP;
-    o->terrain = 1;
-    o->sun_az = 315;
-    o->sun_el = 45;
-    o->slice_range[0] = o->slice_range[1] = NAN;
-}
-
 /* The grid as it lies at the step shown: a moving nest's placement then
  * (p->placed holds one view per placement). */
 static const vsv_meta *shown_meta(const vsv_player *p)
@@ -46,6 +36,8 @@ static vsv_scene scene(const vsv_player *p)
         sc.slice_layer = p->slice_var;
         sc.slice_tf = &p->slice_tf;
     }
+    sc.isos = p->isos;
+    sc.nisos = p->nisos;
     return sc;
 }
 
@@ -80,6 +72,8 @@ static const unsigned char *needed(vsv_player *p)
 {
     for (int s = 0; s < p->ns; s++)
         p->need[s] = p->want[s] || (p->slices_on && p->nslices && s == p->slice_var);
+    for (int i = 0; i < p->nisos; i++)
+        p->need[p->isos[i].layer] = 1;
     return p->need;
 }
 
@@ -244,17 +238,6 @@ static int open_slices(vsv_player *p, const vsv_player_opts *o, char *err, size_
     return 0;
 }
 
-int vsv_player_tf_option(vsv_player_opts *o, const char *opt, const char *arg, char *msg, size_t cap)
-{
-    if (o->ntf_changes >= VSV_PLAYER_MAX_TF_CHANGES) {
-        snprintf(msg, cap, "--%s: at most %d colour and scale changes", opt, VSV_PLAYER_MAX_TF_CHANGES);
-        return VSV_EINVAL;
-    }
-    const int rc = vsv_tf_change_parse(opt, arg, &o->tf_changes[o->ntf_changes], msg, cap);
-    o->ntf_changes += !rc;
-    return rc;
-}
-
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap)
 {
     int rc = -1;
@@ -314,7 +297,8 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         snprintf(err, cap, "cannot start the pager: out of memory");
         goto fail;
     }
-    if ((rc = open_species(p, o, err, cap)) || (rc = open_slices(p, o, err, cap)))
+    if ((rc = open_species(p, o, err, cap)) || (rc = open_slices(p, o, err, cap)) ||
+        (rc = vsv_player_open_isos(p, o, err, cap)))
         goto fail;
     p->light = o->light;
     p->sun_az = o->sun_az;

@@ -40,6 +40,12 @@
     "      --range SPECIES:LO:HI  the values its colours span (also SPECIES=LO:HI)\n"                                  \
     "                          (these repeat, per species, in the order given)\n"
 
+/* The --iso option's help, the same in vsv-play and vsv-play-freevr. */
+#define VSV_PLAYER_ISO_HELP                                                                                            \
+    "      --iso S:V[:COLOUR]  an opaque, lit isosurface where species S equals V, at\n"                               \
+    "                          the model's own heights (COLOUR: white grey red orange\n"                               \
+    "                          yellow green cyan blue purple #RRGGBB); repeatable (8)\n"
+
 typedef struct vsv_player_opts {
     const char *path;          /* a .vsv file or an http(s):// URL */
     const vsv_http_opts *http; /* URLs: the cache and retries; NULL = the defaults */
@@ -76,11 +82,14 @@ typedef struct vsv_player_opts {
     double sun_az, sun_el;                        /* its sun (degrees; default 315, 45) */
     const char *slices[8];                        /* --slice specs (vsv_slice_parse), shown at start */
     int nslices;
-    const char *slice_species;  /* the slices' species (NULL: the first visible) */
-    const char *slice_colormap; /* their colour map (NULL: viridis) */
-    double slice_range[2];      /* their colours' range fixed (NaN: the range of
-                                   the values they show in the step shown,
-                                   vsv_slice_range, as vsv-render) */
+    const char *slice_species;           /* the slices' species (NULL: the first visible) */
+    const char *slice_colormap;          /* their colour map (NULL: viridis) */
+    double slice_range[2];               /* their colours' range fixed (NaN: the range of
+                                            the values they show in the step shown,
+                                            vsv_slice_range, as vsv-render) */
+    const char *isos[VSV_SCENE_ISO_MAX]; /* --iso SPECIES:VALUE[:COLOUR] (vsv_player_iso_option),
+                                            parsed against the file when opened */
+    int nisos;
 } vsv_player_opts;
 
 void vsv_player_opts_init(vsv_player_opts *o);
@@ -90,9 +99,13 @@ typedef struct vsv_player vsv_player;
 /* Takes option opt ("colormap", "log" or "range") with its argument into
  * o->tf_changes. 0, or VSV_EINVAL with the reason in msg. */
 int vsv_player_tf_option(vsv_player_opts *o, const char *opt, const char *arg, char *msg, size_t cap);
+/* Takes an --iso argument into o->isos (checked against the file by
+ * vsv_player_open, as vsv_iso_parse). 0, or VSV_EINVAL (too many) with the
+ * reason in msg. */
+int vsv_player_iso_option(vsv_player_opts *o, const char *arg, char *msg, size_t cap);
 /* Opens the file and starts the pager and the renderer. 0; -1 with the
  * reason in err ("FILE: what"); or VSV_EINVAL when an option does not fit
- * the file (a species, slice, slice species or colour map: misuse, as
+ * the file (a species, slice, slice species, isosurface or colour map: misuse, as
  * vsv-render takes it), the reason in err. On failure *out is NULL (what
  * was made is freed). */
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap);

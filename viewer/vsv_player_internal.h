@@ -42,11 +42,13 @@ struct vsv_player {
     double sun_az, sun_el;
     vsv_slice slices[8];
     vsv_tf slice_tf;
-    double slice_fixed[2]; /* --slice-range, or NaN: each step's own */
-    int slice_key[4];      /* what slice_tf's range was taken for (shown,
-                              slices_on, nslices, slice_var) */
-    unsigned char *need;   /* per species: pinned (drawn, or the slices' species) */
-    uint64_t *gens;        /* per species: the gen of the volume shown (external) */
+    double slice_fixed[2];                 /* --slice-range, or NaN: each step's own */
+    int slice_key[4];                      /* what slice_tf's range was taken for (shown,
+                                              slices_on, nslices, slice_var) */
+    vsv_scene_iso isos[VSV_SCENE_ISO_MAX]; /* --iso: layer = the species */
+    int nisos;
+    unsigned char *need; /* per species: pinned (drawn, the slices' or an isosurface's species) */
+    uint64_t *gens;      /* per species: the gen of the volume shown (external) */
     /* rendering */
     vsv_render_opts ro; /* ro.kind: the renderer in use (VSV_RENDER_GL: gl) */
     vsv_renderer *r;    /* the CPU renderer (the last CPU kind used) */
@@ -76,5 +78,9 @@ struct vsv_player {
 /* Makes kind the renderer in use: the CPU's (started anew), or the GPU's
  * (made once, in the GL context current now). 0, or -1 with why. */
 int vsv_player_use_renderer(vsv_player *p, int kind, char *why, size_t cap);
+
+/* The isosurfaces of o (--iso), parsed against p's file into p->isos:
+ * 0, or VSV_EINVAL with the reason in err (vsv_player_opts.c). */
+int vsv_player_open_isos(vsv_player *p, const vsv_player_opts *o, char *err, size_t cap);
 
 #endif

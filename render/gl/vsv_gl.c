@@ -207,14 +207,14 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     glActiveTexture(GL_TEXTURE2);
     tex2d(&g->lut, &g->lut_w, &g->lut_h, VSV_TF_LUT, nl ? nl : 1, t);
     glActiveTexture(GL_TEXTURE0);
-    /* the surfaces: again only when they may have changed (slices: every
-     * frame; the ground: with the view or the geometry) */
+    /* the surfaces: again only when they may have changed (slices and
+     * isosurfaces: every frame; the ground: with the view or the geometry) */
     const int w = cam->width, h = cam->height;
     uint64_t key = fnv(1469598103934665603ull, cam, sizeof *cam);
     key = fnv(key, &sc->exaggeration, sizeof sc->exaggeration);
     key = fnv(key, &sc->show_terrain, sizeof sc->show_terrain);
     key = fnv(key, &sc->meta, sizeof sc->meta);
-    const int fresh = sc->nslices > 0 || key != es->surf_key || !es->surf;
+    const int fresh = sc->nslices > 0 || sc->nisos > 0 || key != es->surf_key || !es->surf;
     if (m->surface && fresh) {
         float *s = buffer(g, (size_t)w * h * 4);
         if (!s) {
