@@ -34,6 +34,8 @@ static int gather(const vsv_iso *s, iso_all *A)
         return VSV_ENOMEM;
     vsv_iso_mesh b;
     for (int i = 0; vsv_iso_brick(s, i, &b) == 0; i++) {
+        if (!b.nverts) /* a skipped brick: no arrays */
+            continue;
         memcpy(A->pos + 3 * A->nv, b.pos, (size_t)b.nverts * 3 * sizeof *A->pos);
         memcpy(A->nrm + 3 * A->nv, b.nrm, (size_t)b.nverts * 3 * sizeof *A->nrm);
         for (int t = 0; t < 3 * b.ntris; t++)

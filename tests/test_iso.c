@@ -95,6 +95,8 @@ static mesh gather(const vsv_iso *s)
     mesh M = {malloc(in.nverts * 12 + 12), malloc(in.nverts * 12 + 12), malloc(in.ntris * 12 + 12), 0, 0};
     vsv_iso_mesh b;
     for (int i = 0; vsv_iso_brick(s, i, &b) == 0; i++) {
+        if (!b.nverts) /* a skipped brick: no arrays */
+            continue;
         memcpy(M.pos + 3 * M.nv, b.pos, (size_t)b.nverts * 12);
         memcpy(M.nrm + 3 * M.nv, b.nrm, (size_t)b.nverts * 12);
         for (int t = 0; t < 3 * b.ntris; t++)
