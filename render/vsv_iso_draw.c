@@ -67,7 +67,7 @@ static int grow(vsv_iso_frame *F, size_t nv, size_t nt)
 }
 
 /* Pixel coordinates (x, y; pixel centres at whole numbers) of world point p
- * as vsv_rays_get casts them; 0 when p is not in front of the eye. */
+ * as vsv_rays_get casts them: 1; 0 when p is not in front of the eye. */
 static int project(const vsv_rays *R, const double p[3], double *x, double *y)
 {
     double v[3] = {p[0] - R->o[0], p[1] - R->o[1], p[2] - R->o[2]};
@@ -85,8 +85,8 @@ static int project(const vsv_rays *R, const double p[3], double *x, double *y)
 }
 
 /* Gathers isosurface q's triangles into F: world positions exaggerated,
- * normals for that scale, the screen box of each triangle (the whole image
- * when a corner lies behind the eye). */
+ * normals for that scale, the screen box of each triangle (none when it
+ * lies behind the eye, the whole image when it crosses the eye's plane). */
 static int gather(vsv_iso_frame *F, const vsv_iso *s, int q, const vsv_rays *R, double E, int w, int h)
 {
     vsv_iso_info in;
@@ -107,13 +107,16 @@ static int gather(vsv_iso_frame *F, const vsv_iso *s, int q, const vsv_rays *R, 
             uint32_t *T = F->tri + 3 * F->nt;
             int *box = F->box + 4 * F->nt;
             double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-            int front = 1;
+            int nfront = 0;
             for (int k = 0; k < 3; k++) {
                 T[k] = (uint32_t)v0 + b.tri[3 * t + k];
                 double x = 0, y = 0;
-                front &= project(R, F->wp + 3 * T[k], &x, &y);
-                x0 = fmin(x0, x), x1 = fmax(x1, x), y0 = fmin(y0, y), y1 = fmax(y1, y);
+                if (project(R, F->wp + 3 * T[k], &x, &y))
+                    nfront++, x0 = fmin(x0, x), x1 = fmax(x1, x), y0 = fmin(y0, y), y1 = fmax(y1, y);
             }
+            if (!nfront) /* wholly behind the eye (an eye among the clouds) */
+                continue;
+            const int front = nfront == 3; /* else it crosses the eye's plane: every pixel may see it */
             box[0] = front ? (int)fmax(0, floor(x0)) : 0;
             box[1] = front ? (int)fmin(w - 1, ceil(x1)) : w - 1;
             box[2] = front ? (int)fmax(0, floor(y0)) : 0;
@@ -128,7 +131,11 @@ static int gather(vsv_iso_frame *F, const vsv_iso *s, int q, const vsv_rays *R, 
 }
 
 /* Möller and Trumbore's ray-triangle test: the distance along (o, d) and
- * the barycentric weights (u, v) of corners 1 and 2; INFINITY if missed. */
+ * the barycentric weights (u, v) of corners 1 and 2; INFINITY if missed.
+ * The weights may stray EDGE_EPS outside the triangle: a ray through an
+ * edge two triangles share would otherwise miss both by rounding now and
+ * then (pinholes in a closed surface). */
+#define EDGE_EPS 1e-7
 static double hit(const double *a, const double *b, const double *c, const double o[3], const double d[3], double *u,
                   double *v)
 {
@@ -139,11 +146,11 @@ static double hit(const double *a, const double *b, const double *c, const doubl
         return INFINITY;
     const double inv = 1 / det, s[3] = {o[0] - a[0], o[1] - a[1], o[2] - a[2]};
     *u = (s[0] * p[0] + s[1] * p[1] + s[2] * p[2]) * inv;
-    if (*u < 0 || *u > 1)
+    if (*u < -EDGE_EPS || *u > 1 + EDGE_EPS)
         return INFINITY;
     const double q[3] = {s[1] * e1[2] - s[2] * e1[1], s[2] * e1[0] - s[0] * e1[2], s[0] * e1[1] - s[1] * e1[0]};
     *v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
-    if (*v < 0 || *u + *v > 1)
+    if (*v < -EDGE_EPS || *u + *v > 1 + EDGE_EPS)
         return INFINITY;
     return (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
 }

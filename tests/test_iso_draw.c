@@ -157,8 +157,53 @@ done:
     vsv_meta_clear(&m);
 }
 
+/* An eye at the ball's centre looking east (the surface all around it, half
+ * of it behind the eye): every pixel meets it, the middle one at the
+ * radius. */
+static void test_inside(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = m.ny = m.nz = N;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    m.vert_kind = VSV_VERT_EVEN;
+    vsv_volume *vb = make_volume(ball);
+    vsv_tf tf;
+    char msg[128];
+    vsv_tf_parse(&tf, "colormap greys\nrange 0.1 1\nopacity 1 1\n", msg, sizeof msg);
+    vsv_layer L = {vb, &tf, 1, 0};
+    const vsv_scene_iso iso = {0, 0, {0.9f, 0.5f, 0.2f}};
+    vsv_scene sc = {.meta = &m, .layers = &L, .nlayers = 1, .exaggeration = 1, .isos = &iso, .nisos = 1};
+    vsv_camera cam = {.pos = {C * 1000, C * 1000, C * 1000},
+                      .dir = {1, 0, 0},
+                      .up = {0, 0, 1},
+                      .fov_deg = 60,
+                      .znear = 1,
+                      .zfar = 1e7,
+                      .width = W,
+                      .height = H};
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    o.threads = 2;
+    vsv_renderer *r = NULL;
+    float *img = malloc(sizeof(float) * 4 * W * H), *depth = malloc(sizeof(float) * W * H);
+    if (CHECK(vsv_renderer_create(&o, &r) == 0 && vsv_render(r, &sc, &cam, img, depth) == 0, "inside: rendered")) {
+        int all = 1;
+        for (int i = 0; i < W * H; i++)
+            all &= img[4 * i + 3] == 1;
+        const float mid = depth[(H / 2) * W + W / 2];
+        CHECK(all && fabs(mid - R * 1000) < 100, "inside: the surface all around, at the radius ahead",
+              "(every pixel %s, middle at %.0f m)", all ? "covered" : "not covered", mid);
+    }
+    vsv_renderer_free(r);
+    free(img), free(depth);
+    free_volume(vb);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_draw();
+    test_inside();
     return vsv_test_done();
 }
