@@ -16,11 +16,18 @@
  * arrays grow, never shrink). */
 typedef struct vsv_iso_frame {
     double *wp; /* nv * 3: world position, z exaggerated */
+    double *sp; /* nv * 2: pixel coordinates (valid in front of the eye) */
     float *nrm; /* nv * 3: unit normal in the exaggerated world */
     uint32_t *tri;
     int *box;             /* nt * 4: the pixels x0, x1, y0, y1 its rays may meet */
     unsigned char *which; /* nt: its isosurface */
+    unsigned char *front; /* nt: wholly in front of the eye (sp valid) */
     size_t vcap, tcap, nv, nt;
+    /* the triangles per band of ISO_BAND rows: band b's are blist[bstart[b]
+     * .. bstart[b + 1] - 1], in the order gathered */
+    int *bstart, *bfill, bcap;
+    uint32_t *blist;
+    size_t blcap;
     float rgb[VSV_SCENE_ISO_MAX][3]; /* linear colours */
 } vsv_iso_frame;
 
@@ -30,7 +37,12 @@ void vsv_rc_isos_free(vsv_renderer *r)
         vsv_iso_free(r->iso[i]);
     if (r->isof) {
         free(r->isof->wp);
+        free(r->isof->sp);
         free(r->isof->nrm);
+        free(r->isof->front);
+        free(r->isof->bstart);
+        free(r->isof->bfill);
+        free(r->isof->blist);
         free(r->isof->tri);
         free(r->isof->box);
         free(r->isof->which);
@@ -44,7 +56,10 @@ static int grow(vsv_iso_frame *F, size_t nv, size_t nt)
         double *wp = realloc(F->wp, nv * 3 * sizeof *wp);
         if (wp)
             F->wp = wp;
-        float *nrm = wp ? realloc(F->nrm, nv * 3 * sizeof *nrm) : NULL;
+        double *sp = wp ? realloc(F->sp, nv * 2 * sizeof *sp) : NULL;
+        if (sp)
+            F->sp = sp;
+        float *nrm = sp ? realloc(F->nrm, nv * 3 * sizeof *nrm) : NULL;
         if (!nrm)
             return VSV_ENOMEM;
         F->nrm = nrm;
@@ -58,9 +73,12 @@ static int grow(vsv_iso_frame *F, size_t nv, size_t nt)
         if (box)
             F->box = box;
         unsigned char *which = box ? realloc(F->which, nt) : NULL;
-        if (!which)
+        if (which)
+            F->which = which;
+        unsigned char *front = which ? realloc(F->front, nt) : NULL;
+        if (!front)
             return VSV_ENOMEM;
-        F->which = which;
+        F->front = front;
         F->tcap = nt;
     }
     return 0;
@@ -110,9 +128,9 @@ static int gather(vsv_iso_frame *F, const vsv_iso *s, int q, const vsv_rays *R, 
             int nfront = 0;
             for (int k = 0; k < 3; k++) {
                 T[k] = (uint32_t)v0 + b.tri[3 * t + k];
-                double x = 0, y = 0;
-                if (project(R, F->wp + 3 * T[k], &x, &y))
-                    nfront++, x0 = fmin(x0, x), x1 = fmax(x1, x), y0 = fmin(y0, y), y1 = fmax(y1, y);
+                double *x = F->sp + 2 * T[k];
+                if (project(R, F->wp + 3 * T[k], &x[0], &x[1]))
+                    nfront++, x0 = fmin(x0, x[0]), x1 = fmax(x1, x[0]), y0 = fmin(y0, x[1]), y1 = fmax(y1, x[1]);
             }
             if (!nfront) /* wholly behind the eye (an eye among the clouds) */
                 continue;
@@ -123,6 +141,7 @@ static int gather(vsv_iso_frame *F, const vsv_iso *s, int q, const vsv_rays *R, 
             box[3] = front ? (int)fmin(h - 1, ceil(y1)) : h - 1;
             if (box[0] > box[1] || box[2] > box[3])
                 continue; /* off the image */
+            F->front[F->nt] = (unsigned char)front;
             F->which[F->nt++] = (unsigned char)q;
         }
         F->nv += (size_t)b.nverts;
@@ -155,46 +174,118 @@ static double hit(const double *a, const double *b, const double *c, const doubl
     return (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
 }
 
-/* Pool job: image rows band * ISO_BAND onwards; every triangle whose box
- * meets them, nearest hit per pixel in front of the surface there. */
+/* Where a pixel centre may lie for a triangle in front of the eye: its
+ * screen triangle grown by PIX_MARGIN pixels (the exact test decides; this
+ * only spares it the pixels plainly outside). */
+#define PIX_MARGIN 1e-3
+typedef struct screen_tri {
+    double e[3][3]; /* per edge: a x + b y + c >= 0 inside (a, b unit) */
+    int on;         /* 0: no test (behind the eye's plane, or edge-on) */
+} screen_tri;
+
+static void screen_setup(const vsv_iso_frame *F, size_t t, screen_tri *S)
+{
+    const uint32_t *T = F->tri + 3 * t;
+    const double *p[3] = {F->sp + 2 * T[0], F->sp + 2 * T[1], F->sp + 2 * T[2]};
+    const double area = (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+    S->on = F->front[t] && fabs(area) > 1e-9;
+    for (int k = 0; k < 3 && S->on; k++) {
+        const double *a = p[k], *b = p[(k + 1) % 3];
+        const double dx = b[0] - a[0], dy = b[1] - a[1], len = sqrt(dx * dx + dy * dy), sg = area > 0 ? 1 : -1;
+        if (!(len > 0)) {
+            S->on = 0;
+            break;
+        }
+        S->e[k][0] = -dy * sg / len, S->e[k][1] = dx * sg / len;
+        S->e[k][2] = -(S->e[k][0] * a[0] + S->e[k][1] * a[1]) + PIX_MARGIN;
+    }
+}
+
+/* Triangle t over rows ya..yb of its box: the nearest hit per pixel. */
+static void draw_tri(vsv_renderer *r, size_t t, int ya, int yb, double tmin)
+{
+    const vsv_iso_frame *F = r->isof;
+    const vsv_scene *sc = r->sc;
+    const int *box = F->box + 4 * t, w = r->cam->width;
+    const uint32_t *T = F->tri + 3 * t;
+    const double *A = F->wp + 3 * T[0], *Bv = F->wp + 3 * T[1], *C = F->wp + 3 * T[2];
+    screen_tri S;
+    screen_setup(F, t, &S);
+    for (int py = ya; py <= yb; py++)
+        for (int px = box[0]; px <= box[1]; px++) {
+            if (S.on &&
+                (S.e[0][0] * px + S.e[0][1] * py + S.e[0][2] < 0 || S.e[1][0] * px + S.e[1][1] * py + S.e[1][2] < 0 ||
+                 S.e[2][0] * px + S.e[2][1] * py + S.e[2][2] < 0))
+                continue;
+            double o[3], d[3], u = 0, v = 0;
+            vsv_rays_get(&r->rays, px, py, o, d);
+            const double th = hit(A, Bv, C, o, d, &u, &v);
+            vsv_ground *out = &r->surf[(size_t)py * w + px];
+            if (!(th >= tmin && th < out->t))
+                continue;
+            double n[3], ndl = 0, ndd = 0;
+            for (int k = 0; k < 3; k++) {
+                n[k] = (1 - u - v) * F->nrm[3 * T[0] + k] + u * F->nrm[3 * T[1] + k] + v * F->nrm[3 * T[2] + k];
+                ndd += n[k] * d[k];
+            }
+            vsv_normalize(n);
+            for (int k = 0; k < 3; k++) /* the side the eye sees; lit by the sun, else from the eye */
+                ndl += (ndd > 0 ? -n[k] : n[k]) * (sc->light ? sc->light_dir[k] : -d[k]);
+            const float shade = fminf(1, VSV_LIGHT_AMBIENT + VSV_LIGHT_DIFFUSE * (float)fmax(0, ndl));
+            out->t = (float)th;
+            for (int k = 0; k < 3; k++)
+                out->rgb[k] = F->rgb[F->which[t]][k] * shade;
+        }
+}
+
+/* Pool job: image rows band * ISO_BAND onwards; the band's triangles in
+ * the order gathered (so a tie in depth goes to the same one whatever the
+ * threads). */
 static void band_job(void *ctx, int band, int thread)
 {
     vsv_renderer *r = ctx;
     const vsv_iso_frame *F = r->isof;
-    const vsv_camera *cam = r->cam;
-    const vsv_scene *sc = r->sc;
-    const int py0 = band * ISO_BAND, py1 = py0 + ISO_BAND - 1 < cam->height - 1 ? py0 + ISO_BAND - 1 : cam->height - 1;
-    const double tmin = cam->znear > 0 ? cam->znear : 0;
+    const int h = r->cam->height, py0 = band * ISO_BAND, py1 = py0 + ISO_BAND - 1 < h - 1 ? py0 + ISO_BAND - 1 : h - 1;
+    const double tmin = r->cam->znear > 0 ? r->cam->znear : 0;
     (void)thread;
-    for (size_t t = 0; t < F->nt; t++) {
-        const int *box = F->box + 4 * t;
-        if (box[3] < py0 || box[2] > py1)
-            continue;
-        const uint32_t *T = F->tri + 3 * t;
-        const double *A = F->wp + 3 * T[0], *Bv = F->wp + 3 * T[1], *C = F->wp + 3 * T[2];
-        const int ya = box[2] > py0 ? box[2] : py0, yb = box[3] < py1 ? box[3] : py1;
-        for (int py = ya; py <= yb; py++)
-            for (int px = box[0]; px <= box[1]; px++) {
-                double o[3], d[3], u = 0, v = 0;
-                vsv_rays_get(&r->rays, px, py, o, d);
-                const double th = hit(A, Bv, C, o, d, &u, &v);
-                vsv_ground *out = &r->surf[(size_t)py * cam->width + px];
-                if (!(th >= tmin && th < out->t))
-                    continue;
-                double n[3], ndl = 0, ndd = 0;
-                for (int k = 0; k < 3; k++) {
-                    n[k] = (1 - u - v) * F->nrm[3 * T[0] + k] + u * F->nrm[3 * T[1] + k] + v * F->nrm[3 * T[2] + k];
-                    ndd += n[k] * d[k];
-                }
-                vsv_normalize(n);
-                for (int k = 0; k < 3; k++) /* the side the eye sees; lit by the sun, else from the eye */
-                    ndl += (ndd > 0 ? -n[k] : n[k]) * (sc->light ? sc->light_dir[k] : -d[k]);
-                const float shade = fminf(1, VSV_LIGHT_AMBIENT + VSV_LIGHT_DIFFUSE * (float)fmax(0, ndl));
-                out->t = (float)th;
-                for (int k = 0; k < 3; k++)
-                    out->rgb[k] = F->rgb[F->which[t]][k] * shade;
-            }
+    for (int i = F->bstart[band]; i < F->bstart[band + 1]; i++) {
+        const int *box = F->box + 4 * F->blist[i];
+        draw_tri(r, F->blist[i], box[2] > py0 ? box[2] : py0, box[3] < py1 ? box[3] : py1, tmin);
     }
+}
+
+/* Lists each triangle under every band of rows its box meets. */
+static int bin_bands(vsv_iso_frame *F, int nbands)
+{
+    if (nbands + 1 > F->bcap) {
+        int *st = realloc(F->bstart, (size_t)(nbands + 1) * sizeof *st);
+        if (st)
+            F->bstart = st;
+        int *fi = st ? realloc(F->bfill, (size_t)(nbands + 1) * sizeof *fi) : NULL;
+        if (!fi)
+            return VSV_ENOMEM;
+        F->bfill = fi;
+        F->bcap = nbands + 1;
+    }
+    memset(F->bstart, 0, (size_t)(nbands + 1) * sizeof *F->bstart);
+    for (size_t t = 0; t < F->nt; t++)
+        for (int b = F->box[4 * t + 2] / ISO_BAND; b <= F->box[4 * t + 3] / ISO_BAND; b++)
+            F->bstart[b + 1]++;
+    for (int b = 0; b < nbands; b++)
+        F->bstart[b + 1] += F->bstart[b];
+    const size_t n = (size_t)F->bstart[nbands];
+    if (n > F->blcap) {
+        uint32_t *bl = realloc(F->blist, n * sizeof *bl);
+        if (!bl)
+            return VSV_ENOMEM;
+        F->blist = bl;
+        F->blcap = n;
+    }
+    memcpy(F->bfill, F->bstart, (size_t)nbands * sizeof *F->bfill);
+    for (size_t t = 0; t < F->nt; t++)
+        for (int b = F->box[4 * t + 2] / ISO_BAND; b <= F->box[4 * t + 3] / ISO_BAND; b++)
+            F->blist[F->bfill[b]++] = (uint32_t)t;
+    return 0;
 }
 
 int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
@@ -233,8 +324,11 @@ int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
         for (int k = 0; k < 3; k++) /* the colour as given is gamma-encoded; the image is linear */
             F->rgb[q][k] = powf(fminf(fmaxf(I->rgb[k], 0), 1), 2.2f);
     }
+    const int nbands = (cam->height + ISO_BAND - 1) / ISO_BAND;
+    if (bin_bands(F, nbands))
+        return VSV_ENOMEM;
     r->cam = cam;
     r->sc = in;
-    vsv_pool_run(&r->pool, band_job, r, (cam->height + ISO_BAND - 1) / ISO_BAND);
+    vsv_pool_run(&r->pool, band_job, r, nbands);
     return 0;
 }
