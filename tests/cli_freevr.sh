@@ -213,6 +213,17 @@ PLAY=${VSV_FREEVR_PLAY:---play --loop --rate 1800 --render-scale 0.5}
 
 # the simulator: no configuration at all
 layout sim "simulator" "simulator" $PLAY
+# an isosurface on the walls (drawn magenta: nothing else is), at the steps
+# with cloud (one of the two dumps may show step 0, before any)
+layout sim-iso "simulator" "simulator" $PLAY --species RNW --iso 'CLW:5e-5:#ff00ff'
+m0=$($SHOT magenta "$T/sim/shot2/simulator.ppm" 2> /dev/null)
+m1=$($SHOT magenta "$T/sim-iso/shot1/simulator.ppm" 2> /dev/null)
+m2=$($SHOT magenta "$T/sim-iso/shot2/simulator.ppm" 2> /dev/null)
+if [ -n "$m1" ] && [ -n "$m2" ] && [ "$(echo "$m1 + $m2 >= 0.0005 && ${m0:-0} == 0" | bc)" = 1 ]; then
+    pass "sim-iso: the isosurface shows on the wall ($m1, $m2 of its pixels; $m0 without it)"
+else
+    fail "sim-iso: the isosurface shows on the wall" "magenta ${m1:-none} and ${m2:-none} of the pixels; ${m0:-none} without it"
+fi
 
 # the simulator reading the file from a web server (lighttpd on a loopback
 # port, tests/lighttpd_lib.sh): every render process fetches ranges of it

@@ -12,6 +12,8 @@ tests/freevr-standin/freevr_render.c) shows, for tests/cli_freevr.sh.
                                      halves; the red and the green channel):
                                      the share of each that is not background,
                                      and whether they differ ("same"/"differ")
+  freevr_shot.py magenta FILE.ppm    the share of magenta pixels (an isosurface
+                                     drawn #ff00ff: nothing else is), 0..1
   freevr_shot.py frame FILE.ppm      the frame number the stand-in wrote
   freevr_shot.py same A.ppm B.ppm    exit 0 when the pixels are identical
   freevr_shot.py png OUT.png A.ppm... the dumps side by side in one PNG
@@ -72,6 +74,11 @@ def main():
         w, h, _, px = read(sys.argv[2])
         g, b = px[1::3], px[2::3]
         print('%.4f' % (sum(1 for k in range(w * h) if g[k] > b[k] + 10) / (w * h)))
+    elif what == 'magenta':
+        w, h, _, px = read(sys.argv[2])
+        r, g, b = px[0::3], px[1::3], px[2::3]
+        print('%.4f' % (sum(1 for k in range(w * h) if r[k] > 60 and b[k] > 60 and g[k] < 0.6 * min(r[k], b[k])) /
+                        (w * h)))
     elif what in ('shown', 'centre'):
         w, h, _, px = read(sys.argv[2])
         counts = {}
