@@ -147,7 +147,8 @@ static inline float sample(const iso_job *J, int a, int b, int c)
 
 /* The field's gradient at local point (a, b, c) in world units, by central
  * differences between the neighbours in the grid's cell directions (one
- * side at the grid's edges, where the block repeats the last point). */
+ * side at the grid's edges, where the block repeats the last point, and
+ * beside cells without data). */
 static void gradient(const iso_job *J, int a, int b, int c, double g[3])
 {
     const int d[3] = {a, b, c}, gi[3] = {J->i0 + a, J->j0 + b, J->k0 + c};
@@ -157,7 +158,12 @@ static void gradient(const iso_job *J, int a, int b, int c, double g[3])
         const int glo = clampi(gi[ax] - 1, 0, nmax[ax]), ghi = clampi(gi[ax] + 1, 0, nmax[ax]);
         lo[ax] += glo - gi[ax];
         hi[ax] += ghi - gi[ax];
-        if (glo == ghi) {
+        /* a neighbour without data (NaN): one side only, from this point */
+        if (isnan(sample(J, hi[0], hi[1], hi[2])))
+            hi[ax] = d[ax];
+        if (isnan(sample(J, lo[0], lo[1], lo[2])))
+            lo[ax] = d[ax];
+        if (lo[ax] == hi[ax]) {
             g[ax] = 0;
             continue;
         }
@@ -214,6 +220,13 @@ static uint32_t edge_vertex(iso_job *J, int a, int b, int c, int dir)
         n[x] = -(g0[x] + t * (g1[x] - g0[x])); /* down the gradient: out of the cloud */
     }
     vsv_normalize(n);
+    const double len = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+    if (!(len > 0.5)) { /* no gradient to go by: along the edge, toward the point below */
+        const double sg = f1 > f0 ? -1 : 1;
+        for (int x = 0; x < 3; x++)
+            n[x] = sg * (p1[x] - p0[x]);
+        vsv_normalize(n);
+    }
     const uint32_t id = add_vertex(J->out, p, n);
     S->stamp[key] = S->visit;
     S->slot[key] = id;

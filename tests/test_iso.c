@@ -262,6 +262,37 @@ done:
     vsv_meta_clear(&m);
 }
 
+/* The sphere with no data (NaN) west of x = 9.5: its cap there is cut off. */
+static double sphere_cut(const double *c, int i, int j, int k) { return i <= 9 ? NAN : sphere(c, i, j, k); }
+
+/* Beside cells without data the cubes that hold them are left out and the
+ * normals come from one side: every normal a unit vector. */
+static void test_nodata(void)
+{
+    const double c[3] = {23.3, 24.1, 22.7};
+    vsv_meta m;
+    grid(&m, 48, 48, 48, 1, 1);
+    vsv_volume *v = make_volume(48, 48, 48, sphere_cut, c);
+    vsv_iso *s = NULL;
+    if (!CHECK(vsv_iso_create(1, &s) == 0 && vsv_iso_extract(s, &m, v, 15) == 0, "no data: extracted"))
+        goto done;
+    mesh M = gather(s);
+    size_t bad = 0;
+    double west = INFINITY;
+    for (size_t i = 0; i < M.nv; i++) {
+        const float *n = M.nrm + 3 * i;
+        bad += !(fabs(sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) - 1) < 1e-5);
+        west = fmin(west, M.pos[3 * i]);
+    }
+    CHECK(M.nt > 0 && bad == 0 && west >= 10, "no data: the cubes with none left out, every normal a unit vector",
+          "(%zu triangles, %zu bad normals, westmost vertex %.2f)", M.nt, bad, west);
+    mesh_free(&M);
+done:
+    vsv_iso_free(s);
+    free_volume(v);
+    vsv_meta_clear(&m);
+}
+
 static double zlevel(const double *c, int i, int j, int k) { return (void)c, (void)i, (void)j, k; }
 
 /* f = k over 40 x 37 x 20 cells of 1000 x 1000 x 250 m (bricks cut short
@@ -457,6 +488,7 @@ int main(void)
     test_plane();
     test_native();
     test_nothing();
+    test_nodata();
     test_steps();
     return vsv_test_done();
 }
