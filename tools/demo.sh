@@ -281,4 +281,4 @@ for _ in range(100):
 else
     printf '\n(the web-server demo needs lighttpd: sh tools/deps.sh --install)\n'
 fi
-printf '\nDone: %s/storm.vsv, storm.png, section.svg, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"
+printf '\nDone: %s/storm.vsv, storm.png, section.svg, iso.png, cloud.gltf, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"
