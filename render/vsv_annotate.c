@@ -69,6 +69,7 @@ static void lay_out_size(const vsv_annot *a, const vsv_scene *sc, int w, int pla
     L->nvis = 0;
     for (int l = 0; l <= sc->nlayers; l++)
         L->nvis += bar_tf(sc, l) != NULL;
+    L->nvis += sc->nisos > 0 && sc->isos ? sc->nisos : 0; /* an entry per isosurface, after the bars */
     L->plan = plan;
     L->top = (a->parts & VSV_ANNOT_TIME) && a->font ? L->margin + 2 * L->lh + 2 * L->pad : 0;
 }
@@ -193,6 +194,9 @@ static void bar_fill(const vsv_tf *tf, int x0, int x1, int top, int bar_h, float
     }
 }
 
+static void iso_entries(const vsv_annot *a, const vsv_scene *sc, const layout *L, int k, float *rgba, int w, int h);
+static void iso_entry(const vsv_annot *a, const vsv_scene *sc, int q, char *name, size_t cap, float rgb[3]);
+
 static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, const layout *L, float *rgba)
 {
     const int w = cam->width, h = cam->height;
@@ -218,6 +222,50 @@ static void colour_bars(const vsv_annot *a, const vsv_scene *sc, const vsv_camer
         fmt_value(tf->hi, hi, sizeof hi);
         text(a, rgba, w, h, L->x0, top + L->bar_h + 1, lo);
         text(a, rgba, w, h, L->x1 + 1 - width(a, hi), top + L->bar_h + 1, hi);
+    }
+    int k = 0;
+    for (int l = 0; l <= sc->nlayers; l++)
+        k += bar_tf(sc, l) != NULL;
+    iso_entries(a, sc, L, k, rgba, w, h);
+}
+
+/* Isosurface q's entry: its name line ("CLW = 5e-05 (kg/kg), isosurface")
+ * and its colour as the image holds it (linear: the colour given is
+ * gamma-encoded). */
+static void iso_entry(const vsv_annot *a, const vsv_scene *sc, int q, char *name, size_t cap, float rgb[3])
+{
+    const vsv_scene_iso *I = &sc->isos[q];
+    const int s = a->species && I->layer >= 0 && I->layer < sc->nlayers ? a->species[I->layer] : -1;
+    const vsv_var *v = s >= 0 && s < sc->meta->nvars ? &sc->meta->vars[s] : NULL;
+    char val[32];
+    fmt_value(I->value, val, sizeof val);
+    snprintf(name, cap, "%s = %s%s%s%s, isosurface", v ? v->name : "?", val, v && v->units[0] ? " (" : "",
+             v ? v->units : "", v && v->units[0] ? ")" : "");
+    for (int k = 0; k < 3; k++)
+        rgb[k] = powf(fminf(fmaxf(I->rgb[k], 0), 1), 2.2f);
+}
+
+/* The isosurfaces' entries below the colour bars: bar k onwards, each a
+ * name line over a swatch of its colour. */
+static void iso_entries(const vsv_annot *a, const vsv_scene *sc, const layout *L, int k, float *rgba, int w, int h)
+{
+    for (int q = 0; q < sc->nisos && sc->isos; q++) {
+        const int top = bar_top(a, L, h, k++);
+        if (L->bar_w < 8 || top - (a->font ? L->lh : 0) - L->pad < 0)
+            continue;
+        char name[256];
+        float rgb[3];
+        iso_entry(a, sc, q, name, sizeof name, rgb);
+        const int nw = width(a, name), bx0 = (L->x1 + 1 - nw < L->x0 ? L->x1 + 1 - nw : L->x0) - L->pad;
+        const int y0 = top - (a->font ? L->lh : 0) - L->pad, y1 = top + L->bar_h - 1 + L->pad;
+        vsv_annot_box(rgba, w, h, bx0, y0, L->x1 + L->pad, y1, 0.55f);
+        placed(a, VSV_ANNOT_COLOURBAR, bx0, y0, L->x1 + L->pad, y1);
+        text(a, rgba, w, h, L->x1 + 1 - nw, top - L->lh, name);
+        for (int y = top < 0 ? 0 : top; y < top + L->bar_h && y < h; y++)
+            for (int x = L->x0 < 0 ? 0 : L->x0; x <= L->x1 && x < w; x++) {
+                float *px = rgba + 4 * ((size_t)y * w + x);
+                px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2], px[3] = 1;
+            }
     }
 }
 
@@ -455,6 +503,20 @@ static void legend(const vsv_annot *a, const vsv_scene *sc, const char *lines, f
             text(a, rgba, w, h, w - pad - rw, y, range);
             bar_fill(tf, pad, w - 1 - pad, y + lh, bar_h, rgba, w, h);
         }
+        y += lh + bar_h;
+    }
+    for (int q = 0; q < sc->nisos && sc->isos; q++) { /* the isosurfaces: a name over a swatch */
+        float rgb[3];
+        iso_entry(a, sc, q, line, sizeof line, rgb);
+        y += pad;
+        wide = width(a, line) > wide ? width(a, line) : wide;
+        for (int yy = y + lh; rgba && yy < y + lh + bar_h && yy < h; yy++)
+            for (int x = pad; x < w - pad; x++) {
+                float *px = rgba + 4 * ((size_t)yy * w + x);
+                px[0] = rgb[0], px[1] = rgb[1], px[2] = rgb[2], px[3] = 1;
+            }
+        if (rgba)
+            text(a, rgba, w, h, pad, y, line);
         y += lh + bar_h;
     }
     if (need_w)

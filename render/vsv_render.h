@@ -558,7 +558,9 @@ typedef struct vsv_annot {
  * NULL. Lines on the ground are hidden by the terrain in front of them and
  * dimmed behind clouds (depth); text and bars go on top. The colour bar of
  * each visible layer, and of the slices, shows its transfer function's
- * colours from lo to hi (evenly in value, or in log value on a log scale).
+ * colours from lo to hi (evenly in value, or in log value on a log scale);
+ * each isosurface of sc gets an entry below them ("NAME = VALUE (units),
+ * isosurface" over a swatch of its colour), in the panel too.
  * 0, or VSV_ENOMEM. */
 int vsv_annotate(const vsv_annot *a, const vsv_scene *sc, const vsv_camera *cam, float *rgba, const float *depth);
 /* Where vsv_annotate draws the colour bar of layer l (l = sc->nlayers: the

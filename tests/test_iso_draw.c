@@ -201,9 +201,71 @@ static void test_inside(void)
     vsv_meta_clear(&m);
 }
 
+/* The boxes vsv_annotate draws, as its placed callback reports them. */
+typedef struct boxes {
+    int n, bars, box[32][4];
+} boxes;
+static void on_placed(void *ctx, unsigned part, const int box[4])
+{
+    boxes *b = ctx;
+    b->bars += part == VSV_ANNOT_COLOURBAR;
+    if (b->n < 32)
+        memcpy(b->box[b->n++], box, sizeof b->box[0]);
+}
+
+/* The annotation lists each isosurface under the colour bars: a box of
+ * its own (none overlapping) with a swatch of its colour. */
+static void test_legend(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = m.ny = m.nz = N;
+    m.spacing[0] = m.spacing[1] = m.spacing[2] = 1000;
+    m.vert_kind = VSV_VERT_EVEN;
+    vsv_meta_add_var(&m, "CLW", "kg/kg", "cloud water");
+    vsv_volume *vb = make_volume(ball);
+    vsv_tf tf;
+    char msg[128];
+    vsv_tf_parse(&tf, "colormap greys\nrange 0.1 1\nopacity 1 1\n", msg, sizeof msg);
+    vsv_layer L = {vb, &tf, 0.02f, 1};
+    const vsv_scene_iso iso = {0, 0, {0.9f, 0.5f, 0.2f}};
+    vsv_scene sc = {.meta = &m, .layers = &L, .nlayers = 1, .exaggeration = 1, .isos = &iso, .nisos = 1};
+    vsv_font *font = NULL;
+    vsv_font_open(NULL, 14, &font, msg, sizeof msg); /* without one: the boxes and swatches only */
+    const int species[1] = {0};
+    boxes b = {0, 0, {{0}}};
+    vsv_annot a = {VSV_ANNOT_COLOURBAR, font, 0, "test.vsv", species, NULL, on_placed, &b};
+    vsv_camera cam;
+    float *d = NULL, *img = render_plan(&sc, VSV_RENDER_RAYCAST, &d, &cam);
+    if (CHECK(img && vsv_annotate(&a, &sc, &cam, img, d) == 0, "legend: annotated")) {
+        int overlap = 0;
+        for (int i = 0; i < b.n; i++)
+            for (int j = i + 1; j < b.n; j++)
+                overlap += b.box[i][0] <= b.box[j][2] && b.box[j][0] <= b.box[i][2] && b.box[i][1] <= b.box[j][3] &&
+                           b.box[j][1] <= b.box[i][3];
+        /* the swatch: a row of the last box, near its right end, in the colour */
+        const int *q = b.box[b.n - 1], x = q[2] - 12;
+        double off = INFINITY;
+        for (int y = q[1]; y <= q[3] && y >= 0 && y < H; y++) {
+            const float *px = img + 4 * ((size_t)y * W + x);
+            double o = 0;
+            for (int k = 0; k < 3; k++)
+                o = fmax(o, fabs(px[k] - powf(iso.rgb[k], 2.2f)));
+            off = fmin(off, o);
+        }
+        CHECK(b.bars == 2 && overlap == 0 && off < 1e-6, "legend: an entry for the isosurface, in its colour",
+              "(%d colour-bar boxes, %d overlapping, swatch %.3g off)", b.bars, overlap, off);
+    }
+    free(img), free(d);
+    vsv_font_free(font);
+    free_volume(vb);
+    vsv_meta_clear(&m);
+}
+
 int main(void)
 {
     test_draw();
     test_inside();
+    test_legend();
     return vsv_test_done();
 }
