@@ -204,7 +204,7 @@ TEST_BIN = $(patsubst tests/%.c,$(B)/tests/%,$(TEST_SRC))
 TEST_HELPERS = $(B)/tests/vsv_refread.o $(B)/tests/vsv_testlib.o $(B)/tests/vsv_synth.o
 # the fuzz targets (tests/fuzz_*.c, tests/FUZZING.md): each runs in `make
 # test` over its corpus as test_fuzz_NAME, and under libFuzzer in `make fuzz`
-FUZZ_TARGETS = vsv mm5 uamiv camxmet netcdf grads stream text player
+FUZZ_TARGETS = vsv mm5 uamiv camxmet netcdf grads stream text player argv
 FUZZ_BIN = $(patsubst %,$(B)/tests/test_fuzz_%,$(FUZZ_TARGETS))
 # tests and benchmarks are white-box: every library, every dependency
 TEST_LIBS = $(PLAYER_A) $(INTEROP_A) $(CONVERT_A) $(GL_A) $(RENDER_A) $(HTTP_A) $(CORE_A) $(CLI_A)
@@ -486,6 +486,29 @@ $(B)/tests/test_fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_main.o $(B)/tests/fu
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
+# the argv target (tests/fuzz_argv.c): each tool's main compiled again as
+# vsv_fuzz_main_<tool>, all linked into one program; exit, atexit, the
+# spawns and the opens of what a tool holds are wrapped (fuzz_argv_rt.c)
+ARGV_TOOLS = format/vsv-pack format/vsv-query convert/vsv-info convert/vsv-extract convert/vsv-interp \
+             convert/vsv-convert interop/vsv-export render/vsv-render render/vsv-plot
+ARGV_OBJ = $(patsubst %,$(B)/tests/argv/%.o,$(ARGV_TOOLS)) $(B)/convert/vsv_convert_cli.o $(B)/render/vsv_movie_cli.o \
+           $(B)/tests/fuzz_argv_rt.o $(B)/cli/vsv_cli_http.o
+ARGV_WRAP = $(addprefix -Wl$(comma)--wrap=,exit atexit fopen fdopen fclose posix_spawn posix_spawnp vsv_file_open_any \
+            vsv_file_free vsv_run_open vsv_run_free vsv_source_open vsv_source_free vsv_renderer_create vsv_renderer_free \
+            vsv_gl_context_create vsv_output_temp)
+comma = ,
+# GCC reasons about main's arguments less once it is not main: vsv-export's
+# (checked) step count then looks like it may be negative
+ARGV_CFLAGS = -Wno-alloc-size-larger-than
+$(B)/tests/argv/%.o: %.c
+	@mkdir -p $(dir $@)
+	@$(if $(Q),echo "  CC      $< (argv fuzz)")
+	$(Q)$(CC) $(CFLAGS_ALL) $(ARGV_CFLAGS) -Dmain=vsv_fuzz_main_$(subst -,_,$(notdir $*)) -c $< -o $@
+$(B)/tests/test_fuzz_argv: $(B)/tests/fuzz_argv.o $(B)/tests/fuzz_main.o $(B)/tests/fuzz_source.o $(ARGV_OBJ) $(TEST_HELPERS) \
+                           $(TEST_LIBS)
+	$(link)
+	$(Q)$(CC) $(LDFLAGS) $(ARGV_WRAP) -o $@ $^ $(ALL_EXT)
+
 # the mutation harness: each patch of tests/mutants/ applied alone to a
 # scratch copy, rebuilt, and the tests it names run (tests/mutate.sh)
 mutate: all
@@ -595,6 +618,10 @@ $(B)/fuzz/fuzz_%: $(B)/tests/fuzz_%.o $(B)/tests/fuzz_source.o $(FUZZ_LIBS)
 	@mkdir -p $(dir $@)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -fsanitize=fuzzer -o $@ $^ $(HTTP_EXT) $(RENDER_EXT) $(CONVERT_EXT)
+$(B)/fuzz/fuzz_argv: $(B)/tests/fuzz_argv.o $(B)/tests/fuzz_source.o $(ARGV_OBJ) $(INTEROP_A) $(FUZZ_LIBS)
+	@mkdir -p $(dir $@)
+	$(link)
+	$(Q)$(CC) $(LDFLAGS) -fsanitize=fuzzer $(ARGV_WRAP) -o $@ $^ $(ALL_EXT)
 
 # Installed: each library (static, shared with its soname, a pkg-config file)
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
