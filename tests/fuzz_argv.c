@@ -285,7 +285,7 @@ int fuzz_report(char *msg, size_t cap)
     snprintf(msg, cap, "%ld skipped; exit 0: %ld, 1: %ld, 2: %ld, other: %ld", n_skipped, n_exit[0], n_exit[1],
              n_exit[2], n_exit[3]);
     /* the seeds are command lines that work: some inputs must get through */
-    return n_exit[0] > 0 && n_exit[1] > 0 && n_exit[2] > 0 ? 0 : -1;
+    return n_exit[0] > 0 && n_exit[1] > 0 && n_exit[2] > 0 && !n_exit[3] ? 0 : -1;
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -311,6 +311,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     } else {
         const int rc = run(t, argc, argv);
         n_exit[rc >= 0 && rc <= 2 ? rc : 3]++;
+        /* the tools' contract (their man pages): 0, 1 for a failure, 2 for
+         * a misuse; anything else is a finding */
+        if (rc < 0 || rc > 2) {
+            fprintf(stderr, "fuzz_argv: %s exited %d\n", tools[t].name, rc);
+            abort();
+        }
     }
     free(buf);
     return 0;
