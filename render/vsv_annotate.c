@@ -363,10 +363,12 @@ static int scale_lines(const vsv_annot *a, const vsv_scene *sc, const vsv_camera
     }
     if (a->parts & VSV_ANNOT_SCALEBAR) {
         const double mpp = metres_per_pixel(cam);
-        if (mpp > 0) {
-            /* a round length near a sixth of the image's width (in a plan
-             * view, at most the bars' column) */
-            const double want = mpp * (L->plan ? fmin(cam->width / 6.0, L->bar_w) : cam->width / 6.0);
+        /* a round length near a sixth of the image's width (in a plan
+         * view, at most the bars' column); none where that has no room (a
+         * plan view a few pixels wide: its bars' column is negative, and
+         * log10 of it made the bar's length NaN, found by fuzz_argv) */
+        const double want = mpp * (L->plan ? fmin(cam->width / 6.0, L->bar_w) : cam->width / 6.0);
+        if (mpp > 0 && want > 0 && isfinite(want)) {
             const double p10 = pow(10, floor(log10(want)));
             const double len = want >= 5 * p10 ? 5 * p10 : want >= 2 * p10 ? 2 * p10 : p10;
             *len_px = len / mpp;
