@@ -39,28 +39,6 @@ static long long fsize(const char *p)
     return stat(p, &st) ? -1 : (long long)st.st_size;
 }
 
-static int write_vsv(const bench_data *d, const char *path, int predict)
-{
-    vsv_pack_opts o;
-    vsv_pack_opts_init(&o);
-    o.predict = predict;
-    vsv_writer *w = NULL;
-    int rc = vsv_writer_create(path, &d->meta, &o, &w);
-    const float **f = calloc((size_t)d->nv, sizeof *f);
-    for (int t = 0; t < d->nt && !rc; t++) {
-        for (int v = 0; v < d->nv; v++)
-            f[v] = bench_field(d, t, v);
-        rc = vsv_writer_add_step(w, 3600 * (int64_t)t, f);
-    }
-    if (!rc)
-        rc = vsv_writer_finish(w, NULL, NULL);
-    if (rc)
-        fprintf(stderr, "bench_codec: %s: %s\n", path, w ? vsv_writer_error(w) : "cannot create");
-    vsv_writer_free(w);
-    free(f);
-    return rc;
-}
-
 /* netCDF-4, deflate 4 with shuffle, one variable per species (time, z, y, x) */
 static long long write_nc(const bench_data *d, const float *q, const char *path)
 {
@@ -124,7 +102,7 @@ static void run(const bench_data *d, const char *work)
     snprintf(v1, sizeof v1, "%s/f1.vsv", work);
     snprintf(v2, sizeof v2, "%s/f2.vsv", work);
     snprintf(ncp, sizeof ncp, "%s/q.nc", work);
-    if (write_vsv(d, v1, 0) || write_vsv(d, v2, 1))
+    if (bench_data_write(d, 0, d->nv, 0, v1) || bench_data_write(d, 0, d->nv, 1, v2))
         exit(1);
     const size_t n = bench_cells(d), total = n * d->nv * d->nt;
     float *q = malloc(total * sizeof *q);

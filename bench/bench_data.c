@@ -84,6 +84,36 @@ int bench_data_plume(bench_data *d, const char *name, const char *dir, const cha
     return 0;
 }
 
+int bench_data_write(const bench_data *d, int v0, int v1, int predict, const char *path)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    int rc = vsv_meta_copy(&m, &d->meta);
+    m.nvars = 0; /* the grid's copy, with the species asked for */
+    for (int v = v0; v < v1 && !rc; v++)
+        rc = vsv_meta_add_var(&m, d->meta.vars[v].name, d->meta.vars[v].units, d->meta.vars[v].description) < 0;
+    vsv_pack_opts o;
+    vsv_pack_opts_init(&o);
+    o.predict = predict;
+    vsv_writer *w = NULL;
+    const float **f = calloc((size_t)(v1 - v0) + 1, sizeof *f);
+    if (!rc && f)
+        rc = vsv_writer_create(path, &m, &o, &w);
+    for (int t = 0; t < d->nt && !rc; t++) {
+        for (int v = v0; v < v1; v++)
+            f[v - v0] = bench_field(d, t, v);
+        rc = vsv_writer_add_step(w, 3600 * (int64_t)t, f);
+    }
+    if (!rc)
+        rc = vsv_writer_finish(w, NULL, NULL);
+    if (rc || !f)
+        fprintf(stderr, "bench: %s: %s\n", path, w ? vsv_writer_error(w) : "cannot create");
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    free(f);
+    return rc || !f;
+}
+
 void bench_data_free(bench_data *d)
 {
     vsv_meta_clear(&d->meta);

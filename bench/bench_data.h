@@ -30,6 +30,10 @@ static inline float *bench_field(const bench_data *d, int t, int v)
 int bench_data_source(bench_data *d, const char *name, const char *path, const char *const *vars, int nv);
 /* Reads gen-plume's 256x256x64 floats: the files dir/names[0..nt). */
 int bench_data_plume(bench_data *d, const char *name, const char *dir, const char *const *names, int nt);
+/* Writes the species [v0, v1) of d as a .vsv at path, step t at t hours
+ * (predict: format 2's predictive kinds, else 1.x). 0, or non-zero with
+ * the reason printed. */
+int bench_data_write(const bench_data *d, int v0, int v1, int predict, const char *path);
 void bench_data_free(bench_data *d);
 
 #endif

@@ -41,29 +41,7 @@ typedef struct row {
 static long long write_vsv(const bench_data *d, int v0, int v1, const char *path, float *q, double *bound,
                            vsv_file_counts *counts)
 {
-    vsv_meta m;
-    vsv_meta_init(&m);
-    vsv_meta_copy(&m, &d->meta);
-    m.nvars = 0;
-    for (int v = v0; v < v1; v++)
-        vsv_meta_add_var(&m, d->meta.vars[v].name, d->meta.vars[v].units, d->meta.vars[v].description);
-    vsv_pack_opts o;
-    vsv_pack_opts_init(&o);
-    o.predict = 1;
-    vsv_writer *w = NULL;
-    const float *f[64];
-    int rc = vsv_writer_create(path, &m, &o, &w);
-    for (int t = 0; t < d->nt && !rc; t++) {
-        for (int v = v0; v < v1; v++)
-            f[v - v0] = bench_field(d, t, v);
-        rc = vsv_writer_add_step(w, 3600 * (int64_t)t, f);
-    }
-    if (!rc)
-        rc = vsv_writer_finish(w, NULL, NULL);
-    if (rc)
-        fprintf(stderr, "bench_size: %s: %s\n", path, w ? vsv_writer_error(w) : "cannot create");
-    vsv_writer_free(w);
-    vsv_meta_clear(&m);
+    int rc = bench_data_write(d, v0, v1, 1, path);
     vsv_file *vf = NULL;
     vsv_decoder *dec = NULL;
     if (!rc && q && !(rc = vsv_file_open(path, &vf)) && !(rc = vsv_decoder_create(vf, &dec)))
