@@ -18,6 +18,7 @@ import sys
 import numpy
 
 import vesuvius
+from mm5_records import mm5_records
 
 HYDRO = ["CLW", "RNW", "ICE", "SNOW", "GRAUPEL", "QCLOUD", "QRAIN", "QICE", "QSNOW", "QGRAUP"]
 
@@ -26,24 +27,14 @@ def mm5_periods(path):
     """Per output time: its date (datetime64) and the 3-D, 2-D and 1-D fields
     on cross points as [k bottom-up, I south-north, J west-east] (dot-point
     fields averaged from their four corners); PTOP from the big header."""
-    data = open(path, 'rb').read()
-    at, ptop, periods, cur = 0, None, [], {}
-
-    def record():
-        nonlocal at
-        n = struct.unpack('>i', data[at:at + 4])[0]
-        r = data[at + 4:at + 4 + n]
-        at += 8 + n
-        return r
-
-    while at < len(data):
-        flag = struct.unpack('>i', record())[0]
+    ptop, periods, cur = None, [], {}
+    for rec in mm5_records(path):
+        flag = rec[0]
         if flag == 0:
-            big = record()
+            big = rec[1]
             ptop = struct.unpack('>f', big[4000 + 4 * (1 * 20 + 1):4000 + 4 * (1 * 20 + 1) + 4])[0]  # bhr(2,2)
         elif flag == 1:
-            sub, field = record(), record()
-            ndim = struct.unpack('>i', sub[0:4])[0]
+            sub, field = rec[1], rec[2]
             end = struct.unpack('>4i', sub[20:36])
             stagger = sub[40:44].decode().strip()
             order = sub[44:48].decode().strip()

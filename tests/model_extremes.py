@@ -9,24 +9,14 @@ import sys
 
 import numpy
 
+from mm5_records import mm5_records
+
 
 def mm5(path, names):
-    data = open(path, 'rb').read()
-    at, lo, hi = 0, {}, {}
-
-    def record():
-        nonlocal at
-        n = struct.unpack('>i', data[at:at + 4])[0]
-        r = data[at + 4:at + 4 + n]
-        at += 8 + n
-        return r
-
-    while at < len(data):
-        flag = struct.unpack('>i', record())[0]
-        if flag == 0:
-            record()                      # the big header
-        elif flag == 1:
-            sub, field = record(), record()
+    lo, hi = {}, {}
+    for rec in mm5_records(path):
+        if rec[0] == 1:
+            sub, field = rec[1], rec[2]
             ndim = struct.unpack('>i', sub[0:4])[0]
             end = struct.unpack('>4i', sub[20:36])
             stagger = sub[40:44].decode().strip()
