@@ -296,13 +296,8 @@ int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
         return VSV_ENOMEM;
     vsv_iso_frame *F = r->isof;
     const size_t n = (size_t)cam->width * cam->height;
-    if (n > r->surf_cap) {
-        vsv_ground *ns = realloc(r->surf, n * sizeof *ns);
-        if (!ns)
-            return VSV_ENOMEM;
-        r->surf = ns;
-        r->surf_cap = n;
-    }
+    if (vsv_rc_surf_reserve(r, n))
+        return VSV_ENOMEM;
     if (r->surf_read != r->surf) { /* the ground (or nothing) under the isosurfaces */
         for (size_t i = 0; i < n; i++)
             r->surf[i] = r->surf_read ? r->surf_read[i] : (vsv_ground){INFINITY, {0, 0, 0}};

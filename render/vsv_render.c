@@ -76,6 +76,18 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r);
 }
 
+int vsv_rc_surf_reserve(vsv_renderer *r, size_t n)
+{
+    if (n <= r->surf_cap)
+        return 0;
+    vsv_ground *ns = realloc(r->surf, n * sizeof *ns);
+    if (!ns)
+        return VSV_ENOMEM;
+    r->surf = ns;
+    r->surf_cap = n;
+    return 0;
+}
+
 int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera *cam)
 {
     const vsv_scene *sc = *psc, *in = sc;
@@ -117,14 +129,8 @@ int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera
         if (sc->slice_layer < 0 || sc->slice_layer >= sc->nlayers || !sc->layers[sc->slice_layer].vol ||
             !sc->layers[sc->slice_layer].tf || !sc->slices)
             return VSV_EINVAL;
-        const size_t n = (size_t)cam->width * cam->height;
-        if (n > r->surf_cap) {
-            vsv_ground *ns = realloc(r->surf, n * sizeof *ns);
-            if (!ns)
-                return VSV_ENOMEM;
-            r->surf = ns;
-            r->surf_cap = n;
-        }
+        if (vsv_rc_surf_reserve(r, (size_t)cam->width * cam->height))
+            return VSV_ENOMEM;
         r->sc = sc;
         vsv_pool_run(&r->pool, vsv_rc_slice_row, r, cam->height);
         r->surf_read = r->surf;

@@ -88,6 +88,8 @@ void vsv_rc_copy_brick(void *ctx, int item, int thread);
 /* Pool job: one image row of r->surf, the ground and the scene's slices
  * (vsv_slice.c), for r->sc, r->cam, r->g and r->rays. */
 void vsv_rc_slice_row(void *ctx, int py, int thread);
+/* r->surf grown to hold n pixels (kept between frames); 0 or VSV_ENOMEM. */
+int vsv_rc_surf_reserve(vsv_renderer *r, size_t n);
 /* The scene's isosurfaces (in: the scene as given, before native levels
  * are resampled) extracted and drawn into r->surf over what it holds
  * (r->surf_read's surfaces, copied first when r->surf does not hold them
