@@ -743,4 +743,6 @@ VSV_API_END
 #ifdef __cplusplus
 }
 #endif
+/* Vector species and the projection's local geometry. */
+#include "vsv_vector.h"
 #endif
