@@ -306,6 +306,24 @@ if [ "${VIEWER:-1}" = 1 ] && [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/
     [ ! -e "$T/stall.png" ] && pass "... and not written" || fail "... and not written" "$T/stall.png exists"
 fi
 stop_proxy
+# a server that stalls before the file is open (every range request, the
+# first included): the script's quit still ends the run at its time, counted
+# from the start, said, exit 1; no display needed (no window was opened)
+if [ -x "$B/vsv-play" ]; then
+    start_proxy stallopen
+    PURL=http://127.0.0.1:$PPORT/run.vsv
+    printf '0.5 seek %s\n3 quit\n' $STEP > "$T/open.script"
+    t0=$(date +%s.%N)
+    ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 timeout 100 env -u DISPLAY \
+        "$B/vsv-play" "$PURL" --script "$T/open.script" > "$T/op.out" 2> "$T/op.err"
+    rc=$? took=$(awk -v a="$t0" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+    [ $rc = 1 ] && awk -v t="$took" 'BEGIN { exit !(t >= 3 && t <= 5) }' &&
+        pass "a server stalled at the open: vsv-play quits at the script's 3 s, exit 1 ($took s)" ||
+        fail "a server stalled at the open: vsv-play quits at the script's 3 s, exit 1" "exit $rc after $took s: $(tail -c 300 "$T/op.err")"
+    has "... and says the file was still opening" "$T/op.err" \
+        "vsv-play: $PURL: still opening when the script quit at 3 s (line 2): nothing shown"
+    stop_proxy
+fi
 # the server stalls until the player has said that a step's transfer failed
 # (VSV_HTTP_STALL=1: 6 attempts, 14 s), then answers: a later frame tries
 # again (a failed transfer is not damage), and the screenshot comes

@@ -32,6 +32,8 @@ replies to range requests as MODE says, counted by request, never by time:
                header in the reply for byte 0) with their headers, then
                nothing: each held open until the proxy is killed (a server
                that stalls)
+  stallopen    as stall, for every range request, the first included (a
+               server that stalls before the file can be opened)
   stallflag    as stall while the file PORT_FILE.stall exists, else
                forwards (a server that stalls, then recovers)
   gzip N       from range request N on, sends the body gzip-compressed
@@ -120,6 +122,9 @@ class Handler(http.server.BaseHTTPRequestHandler):
         stalling = MODE == "stall" or (MODE == "stallflag" and os.path.exists(sys.argv[2] + ".stall"))
         if k > 0 and stalling and r.status == 206 and self.stalls(out, body):
             return
+        if k > 0 and MODE == "stallopen" and r.status == 206:
+            self.hold(out)
+            return
         if k > 0 and MODE == "garble" and k >= N and body:
             body = bytes(b ^ 0xFF for b in body)
         if k > 0 and MODE == "gzip" and k >= N and body:
@@ -155,6 +160,11 @@ class Handler(http.server.BaseHTTPRequestHandler):
             end = meta_end[0]
         if end is None or a < end or b == int(total) - 1:
             return False
+        self.hold(out)
+        return True
+
+    def hold(self, out):
+        """Sends the reply's headers, then nothing until the proxy is killed."""
         self.send_response_only(206, "Partial Content")
         for key, v in out.items():
             if key.lower() not in ("connection", "keep-alive", "transfer-encoding"):
@@ -162,7 +172,6 @@ class Handler(http.server.BaseHTTPRequestHandler):
         self.end_headers()
         self.wfile.flush()
         threading.Event().wait()  # until the proxy is killed
-        return True
 
     def do_GET(self):
         self.forward(False)

@@ -11,9 +11,12 @@
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
+#include <unistd.h>
 
 /* clang-format off */ /* (the help text as it prints, a line a line) */
 static const char usage[] =
@@ -429,6 +432,74 @@ static vsv_player *open_player(const play_args *o, const script_line *lines, int
     return p;
 }
 
+/* The script's first quit (its index), or -1 when it has none. */
+static int quit_line(const script_line *lines, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!strncmp(lines[i].action, "quit", 4) && (!lines[i].action[4] || strchr(" \t", lines[i].action[4])))
+            return i;
+    return -1;
+}
+
+typedef struct opening {
+    const play_args *o;
+    const script_line *lines;
+    int nscript, done;
+    vsv_player *p;
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+} opening;
+
+static void *open_job(void *arg)
+{
+    opening *g = arg;
+    vsv_player *p = open_player(g->o, g->lines, g->nscript);
+    pthread_mutex_lock(&g->mu);
+    g->p = p, g->done = 1;
+    pthread_cond_signal(&g->cv);
+    pthread_mutex_unlock(&g->mu);
+    return NULL;
+}
+
+/* open_player, on a thread of its own when the script quits: a file that is
+ * still opening when the quit comes due, counted from `start` (a server that
+ * stalls before the first byte of the file), ends the run there, said, exit
+ * 1 (_exit: the thread is still inside the transfer; nothing is written
+ * yet). */
+static vsv_player *open_watched(const play_args *o, const script_line *lines, int nscript, struct timespec start)
+{
+    const int q = quit_line(lines, nscript);
+    opening g = {o, lines, nscript, 0, NULL, PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER};
+    pthread_condattr_t ca;
+    pthread_t th;
+    if (q < 0 || pthread_condattr_init(&ca))
+        return open_player(o, lines, nscript);
+    pthread_condattr_setclock(&ca, CLOCK_MONOTONIC);
+    const int ok = !pthread_cond_init(&g.cv, &ca);
+    pthread_condattr_destroy(&ca);
+    if (!ok || pthread_create(&th, NULL, open_job, &g))
+        return open_player(o, lines, nscript);
+    const double quit = lines[q].at;
+    struct timespec due = start;
+    due.tv_sec += (time_t)quit;
+    due.tv_nsec += (long)((quit - floor(quit)) * 1e9);
+    if (due.tv_nsec >= 1000000000L)
+        due.tv_sec++, due.tv_nsec -= 1000000000L;
+    pthread_mutex_lock(&g.mu);
+    while (!g.done && pthread_cond_timedwait(&g.cv, &g.mu, &due) != ETIMEDOUT)
+        ;
+    const int done = g.done;
+    pthread_mutex_unlock(&g.mu);
+    if (!done) {
+        fprintf(stderr, "vsv-play: %s: still opening when the script quit at %g s (line %d): nothing shown\n",
+                o->po.path, quit, lines[q].line);
+        fflush(stderr);
+        _exit(1);
+    }
+    pthread_join(th, NULL);
+    return g.p;
+}
+
 /* The renderer, once the window's OpenGL context is current: auto takes the GPU raycaster where OpenGL 3.3 runs
  * on a GPU. */
 static void choose_renderer(vsv_player *p, int want)
@@ -597,13 +668,15 @@ static int play_loop(app *a, const play_args *o, const script_line *lines, int n
 
 int main(int argc, char **argv)
 {
+    struct timespec start;
+    clock_gettime(CLOCK_MONOTONIC, &start);
     vsv_cli_init("vsv-play");
     play_args o;
     if (parse_args(argc, argv, &o))
         return 0;
     int nscript = 0;
     script_line *lines = o.script ? load_script(o.script, &nscript) : NULL;
-    vsv_player *p = open_player(&o, lines, nscript);
+    vsv_player *p = open_watched(&o, lines, nscript, start);
     char err[1024];
     glfwSetErrorCallback(glfw_error);
     if (!glfwInit())
