@@ -152,7 +152,7 @@ LIBS_A = $(CORE_A) $(CONVERT_A) $(RENDER_A) $(GL_A) $(INTEROP_A) $(HTTP_A)
 # shared libraries)
 CORE_EXT = $(call pkglibs,libzstd geographiclib) -lstdc++ -lm -pthread $(SANFLAGS)
 CONVERT_EXT = $(call pkglibs,netcdf) $(CORE_EXT)
-RENDER_EXT = $(call pkglibs,libpng OpenEXR freetype2 netcdf) $(CORE_EXT)
+RENDER_EXT = $(call pkglibs,libpng OpenEXR freetype2) $(CORE_EXT)
 # what a program that draws plots (vsv_plot_*) needs besides RENDER_EXT
 PLOT_EXT = $(call pkglibs,$(PLOT_PKGS))
 # the GPU raycaster: libepoxy, which loads libGL or libEGL when asked
@@ -185,7 +185,7 @@ TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 # private helper programs (common/vsv_helper.c): the libraries exec them to
 # read files with a library that can crash on them; beside the tools in the
 # build tree, in $(LIBDIR)/vesuvius/ when installed
-HELPERS = vsv-nc-check vsv-vdb-reader vsv-nc-writer
+HELPERS = vsv-nc-check vsv-vdb-reader vsv-nc-writer vsv-gshhg
 HELPER_BIN = $(addprefix $(B)/,$(HELPERS))
 HELPER_DIR = $(LIBDIR)/vesuvius
 # the programs: each sees cli/ besides its folder's layers; vsv-extract and
@@ -371,6 +371,9 @@ $(B)/vsv-render: $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(CLI_A) $
 $(B)/vsv-nc-check: $(B)/convert/vsv-nc-check.o
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CONVERT_EXT)
+$(B)/vsv-gshhg: $(B)/render/vsv-gshhg.o
+	$(link)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(call pkglibs,netcdf) -lm
 $(B)/vsv-vdb-reader: $(B)/interop/vsv-vdb-reader.o $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT)
@@ -639,7 +642,7 @@ pc_reqp_vesuvius-convert = netcdf
 pc_libsp_vesuvius-convert = -lm
 pc_desc_vesuvius-render = Vesuvius raycaster and shear-warp renderers, annotation, plots, PNG and EXR output
 pc_req_vesuvius-render = vesuvius
-pc_reqp_vesuvius-render = libpng OpenEXR freetype2 netcdf cairo
+pc_reqp_vesuvius-render = libpng OpenEXR freetype2 cairo
 pc_libsp_vesuvius-render = -lm -pthread
 pc_desc_vesuvius-gl = Vesuvius GPU raycaster (OpenGL 3.3, headless through EGL)
 pc_req_vesuvius-gl = vesuvius-render vesuvius

@@ -1,22 +1,23 @@
 /* vsv_outlines.c — coast, lake and border lines for the map under a grid,
- * read straight from the GSHHG binned netCDF files of Debian's
- * gmt-gshhg-low (binned_GSHHS_R.nc: shorelines by level, 1 land/sea, 2 lake,
- * 3 island in a lake, 4 pond; binned_border_R.nc: 1 national, 2 state or
- * province, 3 maritime) and projected with the grid's own projection.
- *
- * Both files cut the world into square bins (Bin_size_in_minutes; bin b has
- * its south-west corner at longitude (b mod nx) * size, latitude 90 -
- * (b / nx + 1) * size); a bin lists its segments, a segment its points as
- * unsigned 16-bit offsets from that corner in 1/65535 of the bin size. A
- * shore segment's Embedded_npts_levels_exit_entry word holds its point count
- * (bits 9 up) and level (bits 6-8). */
+ * from the GSHHG binned netCDF files of Debian's gmt-gshhg-low
+ * (binned_GSHHS_R.nc: shorelines by level, 1 land/sea, 2 lake, 3 island in a
+ * lake, 4 pond; binned_border_R.nc: 1 national, 2 state or province, 3
+ * maritime), read by the helper program vsv-gshhg (render/vsv-gshhg.c: the
+ * files' layout is described there; libhdf5 runs in it, not here) and
+ * projected with the grid's own projection. */
 #include "vsv_annot_internal.h"
 
+#include "vsv_common.h"
+
+#include <errno.h>
+#include <fcntl.h>
 #include <math.h>
-#include <netcdf.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #define VSV_GSHHG_DIR "/usr/share/gmt-gshhg"
@@ -122,177 +123,150 @@ static int project(const vsv_meta *m, double lat, double lon, double x0, double 
     return vsv_scene_world(m, lat, lon, x, y);
 }
 
-typedef struct reader {
-    int nc;
-    int bin_nx, bsize_min, nbins;
-    int *first_seg;
-    short *nseg;
-    const char *path;
-} reader;
-
-static int nc_fail(const char *path, int rc, const char *what, char *msg, size_t cap)
+/* Reads exactly n bytes of fd by the deadline (CLOCK_MONOTONIC seconds):
+ * 0, or -1 (the helper closed its end early, or took too long). */
+static int take(int fd, void *p, size_t n, double deadline)
 {
-    snprintf(msg, cap, "%s: %s: %s", path, what, nc_strerror(rc));
-    return VSV_ECORRUPT;
-}
-
-#define NCTRY(call, what)                                                                                              \
-    do {                                                                                                               \
-        const int nc_rc_ = (call);                                                                                     \
-        if (nc_rc_ != NC_NOERR) {                                                                                      \
-            rc = nc_fail(path, nc_rc_, what, msg, cap);                                                                \
-            goto fail;                                                                                                 \
-        }                                                                                                              \
-    } while (0)
-
-static int get_int(int nc, const char *name, int *v)
-{
-    int id;
-    const size_t at = 0;
-    int rc = nc_inq_varid(nc, name, &id);
-    return rc ? rc : nc_get_var1_int(nc, id, &at, v);
-}
-
-static int get_ints(int nc, const char *name, size_t start, size_t count, int *v)
-{
-    int id;
-    int rc = nc_inq_varid(nc, name, &id);
-    return rc ? rc : count ? nc_get_vara_int(nc, id, &start, &count, v) : 0;
-}
-
-static int get_shorts(int nc, const char *name, size_t start, size_t count, short *v)
-{
-    int id;
-    int rc = nc_inq_varid(nc, name, &id);
-    return rc ? rc : count ? nc_get_vara_short(nc, id, &start, &count, v) : 0;
-}
-
-/* Reads one binned file (border = 0: shorelines, 1: borders) and adds the
- * segments of the bins that meet [s, n] x [w, e]. */
-static int read_binned(vsv_outlines *o, const vsv_meta *m, const char *path, int border, const double box[4], char *msg,
-                       size_t cap)
-{
-    int rc = 0, nc = -1, nsegs = 0, npts = 0;
-    int *first = NULL, *sfirst = NULL, *sinfo = NULL;
-    short *nseg = NULL, *slev = NULL, *sn = NULL, *dx = NULL, *dy = NULL;
-    NCTRY(nc_open(path, NC_NOWRITE, &nc), "cannot open");
-    int bsize, bin_nx, bin_ny, nbins;
-    NCTRY(get_int(nc, "Bin_size_in_minutes", &bsize), "Bin_size_in_minutes");
-    NCTRY(get_int(nc, "N_bins_in_360_longitude_range", &bin_nx), "N_bins_in_360_longitude_range");
-    NCTRY(get_int(nc, "N_bins_in_180_degree_latitude_range", &bin_ny), "N_bins_in_180_degree_latitude_range");
-    NCTRY(get_int(nc, "N_bins_in_file", &nbins), "N_bins_in_file");
-    NCTRY(get_int(nc, "N_segments_in_file", &nsegs), "N_segments_in_file");
-    NCTRY(get_int(nc, "N_points_in_file", &npts), "N_points_in_file");
-    if (bsize <= 0 || bsize > 10800 || bin_nx * bsize != 21600 || bin_ny * bsize != 10800 || nbins != bin_nx * bin_ny ||
-        nsegs < 0 || npts < 0 || nsegs > 100000000 || npts > 500000000) {
-        snprintf(msg, cap, "%s: not a GSHHG binned file (bins %d x %d of %d minutes)", path, bin_nx, bin_ny, bsize);
-        rc = VSV_ECORRUPT;
-        goto fail;
+    char *c = p;
+    while (n) {
+        struct timespec ts;
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        const double left = deadline - (ts.tv_sec + ts.tv_nsec * 1e-9);
+        if (left <= 0 || vsv_helper_poll(fd, left) != 1)
+            return -1;
+        const ssize_t r = read(fd, c, n);
+        if (r < 0 && errno == EINTR)
+            continue;
+        if (r <= 0)
+            return -1;
+        c += r, n -= (size_t)r;
     }
-    first = malloc((size_t)nbins * sizeof *first);
-    nseg = malloc((size_t)nbins * sizeof *nseg);
-    sfirst = malloc(((size_t)nsegs + 1) * sizeof *sfirst);
-    sinfo = malloc(((size_t)nsegs + 1) * sizeof *sinfo);
-    slev = malloc(((size_t)nsegs + 1) * sizeof *slev);
-    sn = malloc(((size_t)nsegs + 1) * sizeof *sn);
-    dx = malloc(((size_t)npts + 1) * sizeof *dx);
-    dy = malloc(((size_t)npts + 1) * sizeof *dy);
-    if (!first || !nseg || !sfirst || !sinfo || !slev || !sn || !dx || !dy) {
-        snprintf(msg, cap, "out of memory");
-        rc = VSV_ENOMEM;
-        goto fail;
-    }
-    NCTRY(get_ints(nc, "Id_of_first_segment_in_a_bin", 0, (size_t)nbins, first), "Id_of_first_segment_in_a_bin");
-    NCTRY(get_shorts(nc, "N_segments_in_a_bin", 0, (size_t)nbins, nseg), "N_segments_in_a_bin");
-    NCTRY(get_ints(nc, "Id_of_first_point_in_a_segment", 0, (size_t)nsegs, sfirst), "Id_of_first_point_in_a_segment");
-    if (border) {
-        NCTRY(get_shorts(nc, "N_points_for_a_segment", 0, (size_t)nsegs, sn), "N_points_for_a_segment");
-        NCTRY(get_shorts(nc, "Hierarchial_level_of_a_segment", 0, (size_t)nsegs, slev),
-              "Hierarchial_level_of_a_segment");
-    } else {
-        NCTRY(get_ints(nc, "Embedded_npts_levels_exit_entry_for_a_segment", 0, (size_t)nsegs, sinfo),
-              "Embedded_npts_levels_exit_entry_for_a_segment");
-    }
-    NCTRY(get_shorts(nc, "Relative_longitude_from_SW_corner_of_bin", 0, (size_t)npts, dx),
-          "Relative_longitude_from_SW_corner_of_bin");
-    NCTRY(get_shorts(nc, "Relative_latitude_from_SW_corner_of_bin", 0, (size_t)npts, dy),
-          "Relative_latitude_from_SW_corner_of_bin");
-    const double size = bsize / 60.0, scale = size / 65535.0;
+    return 0;
+}
+
+/* Adds one segment's points (lat/lon from its bin's corner and offsets),
+ * projected, split where the projection fails or a latitude/longitude
+ * grid's seam cuts it. */
+static int add_segment(vsv_outlines *o, const vsv_meta *m, int kind, int n, const double corner[3],
+                       const unsigned short *dx, const unsigned short *dy)
+{
     const double x0 = m->origin[0] - 0.5 * m->spacing[0]; /* a latitude/longitude grid's west edge */
     double ux, uy;
     vsv_scene_units(m, &ux, &uy);
     const double half_turn = m->proj.kind == VSV_PROJ_LATLON ? 180 * ux : INFINITY;
-    for (int b = 0; b < nbins; b++) {
-        const double lon_sw = (b % bin_nx) * size, lat_sw = 90 - (b / bin_nx + 1) * size;
-        if (lat_sw > box[1] || lat_sw + size < box[0])
-            continue;
-        /* the bin's copy nearest the box in longitude */
-        const double lw = box[2] + fmod(fmod(lon_sw - box[2], 360) + 360, 360);
-        if (lw > box[3] && lw + size - 360 < box[2])
-            continue;
-        if (nseg[b] < 0 || first[b] < 0 || first[b] + nseg[b] > nsegs) {
-            snprintf(msg, cap, "%s: bin %d: segments %d..%d outside the file's %d", path, b, first[b],
-                     first[b] + nseg[b], nsegs);
-            rc = VSV_ECORRUPT;
-            goto fail;
+    size_t start = o->npts;
+    int rc = 0;
+    for (int p = 0; p < n && !rc; p++) {
+        const double lon = corner[0] + dx[p] * corner[2], lat = corner[1] + dy[p] * corner[2];
+        double x, y;
+        const int ok = !project(m, lat, lon, x0, &x, &y) && isfinite(x) && isfinite(y);
+        /* a latitude/longitude grid's seam: the line leaves on one side and
+         * comes back on the other */
+        if (!ok || (o->npts > start && fabs(x - o->xy[2 * o->npts - 2]) > half_turn)) {
+            rc = end_line(o, kind, start);
+            start = o->npts;
         }
-        for (int k = first[b]; k < first[b] + nseg[b]; k++) {
-            int level, count;
-            if (border) {
-                level = slev[k];
-                count = sn[k];
-            } else {
-                level = (sinfo[k] >> 6) & 7;
-                count = (int)((unsigned)sinfo[k] >> 9);
+        if (ok && !rc)
+            rc = add_point(o, x, y);
+    }
+    return rc ? rc : end_line(o, kind, start);
+}
+
+/* The records the helper vsv-gshhg writes on fd (its header says how),
+ * added to o. 0, VSV_ECORRUPT (its error, said in msg), VSV_ENOMEM, or
+ * VSV_EIO when the stream breaks off (the caller reports how it ended). */
+static int take_records(vsv_outlines *o, const vsv_meta *m, int fd, double deadline, char *msg, size_t cap)
+{
+    unsigned short *d = NULL;
+    size_t dcap = 0;
+    int rc = 0;
+    for (;;) {
+        int32_t head[2];
+        double corner[3];
+        if (take(fd, head, sizeof head, deadline)) {
+            rc = VSV_EIO;
+            break;
+        }
+        if (head[0] == 0 && head[1] == -1) /* the end */
+            break;
+        if (head[0] == -1) { /* its error, saying where */
+            char why[600] = "";
+            const size_t n = head[1] > 0 && (size_t)head[1] < sizeof why ? (size_t)head[1] : 0;
+            rc = n && !take(fd, why, n, deadline) ? VSV_ECORRUPT : VSV_EIO;
+            snprintf(msg, cap, "%s", why);
+            break;
+        }
+        if (head[0] < VSV_OUTLINE_COAST || head[0] > VSV_OUTLINE_STATE || head[1] < 0 || head[1] > 10000000 ||
+            take(fd, corner, sizeof corner, deadline)) {
+            rc = VSV_EIO;
+            break;
+        }
+        if ((size_t)head[1] * 2 > dcap) {
+            unsigned short *g = realloc(d, (size_t)head[1] * 2 * sizeof *d + 2);
+            if (!g) {
+                rc = VSV_ENOMEM;
+                snprintf(msg, cap, "out of memory");
+                break;
             }
-            int kind;
-            if (border)
-                kind = level == 1 ? VSV_OUTLINE_BORDER : level == 2 ? VSV_OUTLINE_STATE : 0;
-            else /* level 5, 6: Antarctica's grounding line, drawn as its ice front (level 1) */
-                kind = level == 1 ? VSV_OUTLINE_COAST : level >= 2 && level <= 4 ? VSV_OUTLINE_LAKE : 0;
-            if (!kind)
-                continue;
-            if (count < 0 || sfirst[k] < 0 || (int64_t)sfirst[k] + count > npts) {
-                snprintf(msg, cap, "%s: segment %d: points %d..%lld outside the file's %d", path, k, sfirst[k],
-                         (long long)sfirst[k] + count, npts);
-                rc = VSV_ECORRUPT;
-                goto fail;
-            }
-            size_t start = o->npts;
-            for (int p = sfirst[k]; p < sfirst[k] + count; p++) {
-                const double lon = lon_sw + (unsigned short)dx[p] * scale, lat = lat_sw + (unsigned short)dy[p] * scale;
-                double x, y;
-                const int ok = !project(m, lat, lon, x0, &x, &y) && isfinite(x) && isfinite(y);
-                /* a latitude/longitude grid's seam: the line leaves on one
-                 * side and comes back on the other */
-                const int seam = ok && o->npts > start && fabs(x - o->xy[2 * o->npts - 2]) > half_turn;
-                if (seam) {
-                    if ((rc = end_line(o, kind, start)))
-                        goto oom;
-                    start = o->npts;
-                }
-                if (!ok) {
-                    if ((rc = end_line(o, kind, start)))
-                        goto oom;
-                    start = o->npts;
-                    continue;
-                }
-                if ((rc = add_point(o, x, y)))
-                    goto oom;
-            }
-            if ((rc = end_line(o, kind, start)))
-                goto oom;
+            d = g, dcap = (size_t)head[1] * 2;
+        }
+        if (take(fd, d, (size_t)head[1] * 2 * sizeof *d, deadline)) {
+            rc = VSV_EIO;
+            break;
+        }
+        if ((rc = add_segment(o, m, head[0], head[1], corner, d, d + head[1]))) {
+            snprintf(msg, cap, "out of memory");
+            break;
         }
     }
-    goto done;
-oom:
-    snprintf(msg, cap, "out of memory");
-fail:
-done:
-    if (nc >= 0)
-        nc_close(nc);
-    free(first), free(nseg), free(sfirst), free(sinfo), free(slev), free(sn), free(dx), free(dy);
+    free(d);
     return rc;
+}
+
+/* Reads one binned file (border = 0: shorelines, 1: borders) in the helper
+ * vsv-gshhg and adds the segments of the bins that meet [s, n] x [w, e]: a
+ * libhdf5 that fails under it (a damaged file, an address-space limit) ends
+ * the helper, said here, never the program drawing the map. */
+static int read_binned(vsv_outlines *o, const vsv_meta *m, const char *path, int border, const double box[4], char *msg,
+                       size_t cap)
+{
+    enum { LIMIT_S = 60 };
+    char arg[6][32], why[300] = "";
+    snprintf(arg[0], sizeof arg[0], "%d", border);
+    for (int i = 0; i < 4; i++)
+        snprintf(arg[1 + i], sizeof arg[1 + i], "%.17g", box[i]);
+    snprintf(arg[5], sizeof arg[5], "%d", LIMIT_S);
+    char *argv[] = {"vsv-gshhg", (char *)path, arg[0], arg[1], arg[2], arg[3], arg[4], arg[5], NULL};
+    int fds[2], st = 0;
+    if (pipe2(fds, O_CLOEXEC)) {
+        snprintf(msg, cap, "%s: cannot read it: %s", path, strerror(errno));
+        return VSV_EIO;
+    }
+    const pid_t pid = vsv_helper_spawn("vsv-gshhg", argv, -1, fds[1], -1, why, sizeof why);
+    close(fds[1]);
+    if (pid < 0) {
+        close(fds[0]);
+        snprintf(msg, cap, "%s: cannot read it: %s", path, why);
+        return VSV_EIO;
+    }
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    int rc = take_records(o, m, fds[0], ts.tv_sec + ts.tv_nsec * 1e-9 + LIMIT_S + 5, msg, cap);
+    close(fds[0]);
+    const int late = vsv_helper_reap(pid, rc ? 5 : LIMIT_S + 5, &st);
+    if (rc != VSV_EIO)
+        return rc;
+    if (late || (WIFSIGNALED(st) && WTERMSIG(st) == SIGALRM))
+        snprintf(msg, cap, "%s: reading it took more than %d s: stopped", path, LIMIT_S);
+    else if (WIFSIGNALED(st))
+        snprintf(msg, cap, "%s: the netCDF/HDF5 library crashed reading it (%s; out of memory?)", path,
+                 strsignal(WTERMSIG(st)));
+    else if (WIFEXITED(st) && WEXITSTATUS(st) == 127)
+        snprintf(msg, cap, "%s: its reader (vsv-gshhg) could not start (out of memory?)", path);
+    else
+        snprintf(msg, cap, "%s: its reader (vsv-gshhg) ended early (exit status %d)", path,
+                 WIFEXITED(st) ? WEXITSTATUS(st) : -1);
+    return VSV_ECORRUPT;
 }
 
 int vsv_outlines_load(const vsv_meta *grid, const char *dir, char res, vsv_outlines **out, char *msg, size_t cap)

@@ -113,7 +113,7 @@ for t in $tools; do
 done
 # the private helpers in lib/vesuvius/, found by the installed tools (the
 # library's isolation of libhdf5 and OpenVDB; issue 18)
-for h in vsv-nc-check vsv-vdb-reader vsv-nc-writer; do
+for h in vsv-nc-check vsv-vdb-reader vsv-nc-writer vsv-gshhg; do
     [ -x "$R$P/lib/vesuvius/$h" ] && pass "installed: lib/vesuvius/$h" || fail "installed: lib/vesuvius/$h" "missing"
 done
 expect "an installed tool finds its helper: a libhdf5 crash is an error" 1 "$R$P/bin/vsv-info" tests/corpus/netcdf/hdf5-segv.nc
