@@ -15,12 +15,12 @@ VSV_API_BEGIN
 
 /* One point of a path: plain info. */
 typedef struct vsv_traj_point {
-    double t;                /* seconds since 1970 (the file's calendar), fractional */
-    double x, y;             /* projected position in the grid's projection (as GRID's origin) */
-    double z;                /* height in the file's vertical datum: metres above sea level
-                                (above the ground where vsv_meta_above_ground) */
-    double lat, lon;         /* degrees */
-    float east, north, up;   /* the wind there and then, m/s */
+    double t;              /* seconds since 1970 (the file's calendar), fractional */
+    double x, y;           /* projected position in the grid's projection (as GRID's origin) */
+    double z;              /* height in the file's vertical datum: metres above sea level
+                              (above the ground where vsv_meta_above_ground) */
+    double lat, lon;       /* degrees */
+    float east, north, up; /* the wind there and then, m/s */
 } vsv_traj_point;
 
 /* Why a path ended. */
@@ -34,9 +34,9 @@ enum {
 
 /* A path: plain info that owns its points; clear with vsv_traj_path_clear. */
 typedef struct vsv_traj_path {
-    int n;               /* points, the seed first, in the order travelled */
+    int n; /* points, the seed first, in the order travelled */
     vsv_traj_point *pts;
-    int end;             /* VSV_TRAJ_END_* */
+    int end; /* VSV_TRAJ_END_* */
 } vsv_traj_path;
 
 typedef struct vsv_traj vsv_traj;

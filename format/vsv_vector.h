@@ -5,6 +5,8 @@
 #ifndef VSV_VECTOR_H
 #define VSV_VECTOR_H
 
+#include "vsv_format.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
