@@ -27,6 +27,7 @@ EXAMPLES = int(os.environ.get("VSV_PROPS_EXAMPLES", "60"))
 SEED = int(os.environ.get("VSV_PROPS_SEED", "20261127"))
 TMP = tempfile.mkdtemp(prefix="vsv-props.")
 RUNS = {"n": 0}
+CALLS = {"n": 0}  # examples a property was run on
 CFG = settings(max_examples=EXAMPLES, deadline=None, database=None, derandomize=False,
                suppress_health_check=list(HealthCheck))
 
@@ -71,6 +72,7 @@ def grid(nx, ny, nz):
 @seed(SEED)
 @given(fields())
 def round_trip(case):
+    CALLS["n"] += 1
     (nx, ny, nz), nt, a, bits = case
     p = path("rt")
     vesuvius.write(p, grid(nx, ny, nz), np.arange(nt) * 600, {"X": a}, bits=bits)
@@ -105,6 +107,7 @@ bad_value = st.one_of(st.just(float("nan")), st.just(float("inf")), st.just(-1.0
        st.sampled_from(["times", "fields", "grid", "bits", "scale", "names"]), st.data())
 def bad_arguments(overrides, what, data):
     """Any wrong argument is an exception (never a crash, never a file)."""
+    CALLS["n"] += 1
     g = grid(4, 3, 2)
     times, flds, bits, scale = [0], {"X": np.zeros((1, 2, 3, 4), np.float32)}, 16, "linear"
     if what == "grid":
@@ -140,6 +143,7 @@ def bad_arguments(overrides, what, data):
        st.tuples(st.integers(-2 ** 40, 2 ** 40), st.integers(-2 ** 40, 2 ** 40), st.integers(-2 ** 40, 2 ** 40)))
 def bad_reads(species, time, cell):
     """Out-of-range species, steps and cells: exceptions, never a crash."""
+    CALLS["n"] += 1
     with vesuvius.open(GOLDEN) as f:
         try:
             f.read(species, 0 if time is None else time)
@@ -154,10 +158,11 @@ def bad_reads(species, time, cell):
 GOLDEN = os.path.join(os.path.dirname(os.path.abspath(__file__)), "golden", "small.vsv")
 failed = 0
 for prop in (round_trip, bad_arguments, bad_reads):
-    name = "python property %s (%d examples)" % (prop.__name__, EXAMPLES)
+    name = "python property %s (%d examples asked)" % (prop.__name__, EXAMPLES)
+    CALLS["n"] = 0
     try:
         prop()
-        print("PASS " + name)
+        print("PASS %s: %d runs" % (name, CALLS["n"]))
     except Exception:  # a falsified property: Hypothesis prints the example
         failed += 1
         print("FAIL %s: %s" % (name, traceback.format_exc(limit=3).replace("\n", " | ")[-900:]))
