@@ -61,6 +61,13 @@ void vsv_quant_table(const vsv_quant *q, float *out);
 /* missing: the data had non-finite (no-data) values. */
 void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos, int missing);
 
+/* Fractional level *kf of height h in column (i, j) of m at `time`
+ * (vsv_meta_cell_height_at): piecewise linear between the levels' centres,
+ * half a level beyond the first and last; range the column's extent (lowest
+ * and highest face). 0, or VSV_ERANGE when h lies outside it (vsv_query.c;
+ * the trajectories use it too). */
+int vsv_meta_level_of(const vsv_meta *m, int64_t time, int i, int j, double h, double *kf, double range[2]);
+
 /* Checks packing options against a grid; fills err (cap bytes) on error. */
 int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err, size_t cap);
 

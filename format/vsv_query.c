@@ -68,7 +68,7 @@ static int lowest_above_ground(const vsv_meta *m, int i, int j)
 /* Fractional level of height h in column (i, j): piecewise linear between
  * the levels' centres, half a level beyond the first and last. Levels may
  * increase (heights) or decrease (pressure). */
-static int level_of(const vsv_meta *m, int64_t time, int i, int j, double h, double *kf, double range[2])
+int vsv_meta_level_of(const vsv_meta *m, int64_t time, int i, int j, double h, double *kf, double range[2])
 {
     const int nz = m->nz;
     const double z0 = vsv_meta_cell_height_at(m, time, i, j, 0), z1 = vsv_meta_cell_height_at(m, time, i, j, nz - 1);
@@ -163,7 +163,7 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
         p->pos[2] = lowest_above_ground(m, ci, cj);
     } else {
         double kf, r[2];
-        if (level_of(m, time, ci, cj, height, &kf, r)) {
+        if (vsv_meta_level_of(m, time, ci, cj, height, &kf, r)) {
             const char *u = vsv_meta_height_units(m);
             vsv_msg(msg, cap, "height %g%s%s is outside the grid's levels (%g..%g%s%s at this column)", height,
                     *u ? " " : "", u, r[0], r[1], *u ? " " : "", u);

@@ -64,6 +64,23 @@ const char *vsv_traj_error(const vsv_traj *t);
 int vsv_traj_run(vsv_traj *t, const double seed[3], double from, double to, double every, vsv_traj_path *out);
 void vsv_traj_path_clear(vsv_traj_path *p);
 
+/* Seeds for vsv_traj_run, as projected (x, y) and height (caller buffer of
+ * 3 * n doubles, x y z a seed). Along a line: n >= 1 seeds evenly spaced in
+ * the grid's projection from end a to end b (each latitude, longitude in
+ * degrees and height as vsv_traj_point.z; heights linear between them; one
+ * seed: a). 0, VSV_EINVAL (n < 1, non-finite) or VSV_EUNSUPPORTED (a grid
+ * without a projection). Nothing is checked against the grid: a seed
+ * outside it is vsv_traj_run's VSV_EINVAL. */
+int vsv_traj_seed_line(const vsv_meta *m, const double a[3], const double b[3], int n, double *seeds);
+/* On a horizontal slice: the centres of every `every`-th column of m as it
+ * lies at `time` (vsv_meta_placed) in x and y, starting at the middle of the
+ * first interval (every / 2), at height z, leaving out the columns where z
+ * is below the ground or outside the column's levels. Writes at most cap
+ * seeds and returns how many there are (more than cap: only cap written;
+ * seeds may be NULL with cap 0 to count), or VSV_EINVAL (every < 1, z not
+ * finite). */
+int vsv_traj_seed_plane(const vsv_meta *m, int64_t time, double z, int every, double *seeds, int cap);
+
 VSV_API_END
 
 #ifdef __cplusplus
