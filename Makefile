@@ -469,6 +469,10 @@ $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIBS)
 $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
+# a .vsv with a known wind (tests/cli_traj.sh)
+$(B)/tests/windfile: $(B)/tests/wind_file.o $(TEST_LIBS)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
+
 # the test shim that truncates a file right after a tool maps it (no
 # sanitizer: it is preloaded into sanitized programs)
 $(B)/tests/libcutmap.so: tests/cut_preload.c
@@ -535,7 +539,7 @@ test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
 	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" NOASLR=1 \
 	  TSAN_OPTIONS="halt_on_error=1 exitcode=66 second_deadlock_stack=1 $(TSAN_OPTIONS)" sh tests/run.sh
 else
-test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/ncsplit $(B)/tests/libcutmap.so $(B)/tests/libholdtmp.so $(FREEVR_TEST)
+test-run: all $(TEST_BIN) $(FUZZ_BIN) $(B)/tests/mm5crop $(B)/tests/windfile $(B)/tests/ncsplit $(B)/tests/libcutmap.so $(B)/tests/libholdtmp.so $(FREEVR_TEST)
 	$(Q)B=$(B) SHARED=$(SHARED) SANFLAGS="$(SANFLAGS)" VIEWER=$(VIEWER) \
 	  PYTHON=$(PYTHON) PYMOD="$(PYMOD)" PY_MISSING="$(PY_MISSING)" sh tests/run.sh
 endif

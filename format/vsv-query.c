@@ -3,6 +3,7 @@
  * range of times or all, as an aligned table, CSV or JSON. The locating and
  * sampling live in the library (vsv_point_*, vsv_query_*). */
 #include "vsv_cli.h"
+#include "vsv_traj.h"
 
 #include <getopt.h>
 #include <math.h>
@@ -14,6 +15,8 @@
 static const char usage[] =
     "Usage: vsv-query FILE.vsv|URL (--at LAT,LON[,HEIGHT] | --cell I,J[,K] | --profile LAT,LON)\n"
     "                 [--species LIST] [--time T | --times A:B] [--interp] [--csv | --json]\n"
+    "       vsv-query FILE.vsv|URL --trajectory LAT,LON,HEIGHT ... [--from T]\n"
+    "                 [--to T | --for DURATION] [--back] [--every DURATION] [--csv | --json]\n"
     "Print the decoded values of species at a point of the grid: one row per time\n"
     "(every step unless --time/--times), or one row per level and time with\n"
     "--profile. Each row names the cell (i, j, k), its centre's latitude,\n"
@@ -32,13 +35,26 @@ static const char usage[] =
     "      --times A:B         steps A..B (indices or ISO times; either end may be empty)\n"
     "      --interp            trilinear between the eight cells around the point\n"
     "                          (default: the nearest cell's value, exactly as decoded)\n"
+    "      --trajectory LAT,LON,HEIGHT  the path of the air there at --from through\n"
+    "                          the stored wind (RK4; repeat for several paths): a\n"
+    "                          row a point, time, lat, lon, height, projected x, y\n"
+    "                          and the wind east, north, up (m/s)\n"
+    "      --from T            its start: a step index or an ISO time, between steps\n"
+    "                          too (default: the first step; with --back the last)\n"
+    "      --to T              its end (earlier than --from: backward in time)\n"
+    "      --for DURATION      its length (\"6h\", \"90m\"; default: to the file's end)\n"
+    "      --back              backward in time from --from (where the air came from)\n"
+    "      --every DURATION    a point every DURATION of model time (default: every\n"
+    "                          step of the scheme) and at the end\n"
     "      --csv               comma-separated values, a header row first\n"
     "      --json              one JSON document\n"
     VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
     "  -V, --version           print versions\n"
     "Values are the file's decoded values (within each species' stated quantisation\n"
-    "bound of the model's); no data is NaN (null in JSON). Times are ISO 8601 UTC.\n";
+    "bound of the model's); no data is NaN (null in JSON). Times are ISO 8601 UTC.\n"
+    "A path ends early where it leaves the grid (its side, the ground, the top) or\n"
+    "the file's times end (a note on stderr says which).\n";
 /* clang-format on */
 
 enum { FMT_TABLE, FMT_CSV, FMT_JSON };
@@ -72,8 +88,12 @@ static void print_value(FILE *fp, float v, int fmt)
 }
 
 /* The command line, parsed and checked (main). */
+#define MAX_TRAJ 64
+
 typedef struct query_args {
     const char *at, *cellarg, *profile, *species, *time, *times, *path;
+    const char *traj[MAX_TRAJ], *from, *to, *dur, *every; /* --trajectory and its times */
+    int ntraj, back;
     int interp, fmt, nargs;
     double arg[3]; /* --at, --cell or --profile's numbers, nargs of them */
 } query_args;
@@ -95,13 +115,16 @@ typedef struct query_run {
 static int parse_args(int argc, char **argv, query_args *qa)
 {
     /* clang-format off */ /* (a table, laid out by hand) */
-    enum { O_AT = 1000, O_CELL, O_PROFILE, O_TIMES, O_INTERP, O_CSV, O_JSON };
+    enum { O_AT = 1000, O_CELL, O_PROFILE, O_TIMES, O_INTERP, O_CSV, O_JSON, O_TRAJ, O_FROM, O_TO, O_FOR, O_EVERY, O_BACK };
     static const struct option longopts[] = {
         {"at", required_argument, 0, O_AT},       {"cell", required_argument, 0, O_CELL},
         {"profile", required_argument, 0, O_PROFILE}, {"species", required_argument, 0, 's'},
         {"time", required_argument, 0, 't'},      {"times", required_argument, 0, O_TIMES},
         {"interp", no_argument, 0, O_INTERP},     {"csv", no_argument, 0, O_CSV},
         {"json", no_argument, 0, O_JSON},         {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
+        {"trajectory", required_argument, 0, O_TRAJ}, {"from", required_argument, 0, O_FROM},
+        {"to", required_argument, 0, O_TO},       {"for", required_argument, 0, O_FOR},
+        {"every", required_argument, 0, O_EVERY}, {"back", no_argument, 0, O_BACK},
         {"version", no_argument, 0, 'V'},         {0, 0, 0, 0}};
     /* clang-format on */
     int c;
@@ -116,6 +139,16 @@ static int parse_args(int argc, char **argv, query_args *qa)
         case O_INTERP: qa->interp = VSV_INTERP_LINEAR; break;
         case O_CSV: qa->fmt = FMT_CSV; break;
         case O_JSON: qa->fmt = FMT_JSON; break;
+        case O_TRAJ:
+            if (qa->ntraj == MAX_TRAJ)
+                vsv_cli_usage_error("at most %d --trajectory options", MAX_TRAJ);
+            qa->traj[qa->ntraj++] = optarg;
+            break;
+        case O_FROM: qa->from = optarg; break;
+        case O_TO: qa->to = optarg; break;
+        case O_FOR: qa->dur = optarg; break;
+        case O_EVERY: qa->every = optarg; break;
+        case O_BACK: qa->back = 1; break;
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
@@ -125,11 +158,202 @@ static int parse_args(int argc, char **argv, query_args *qa)
     return 0;
 }
 
+/* ------------------------------------------------------------ trajectories */
+
+/* --trajectory's options, checked (check_args): the seeds' numbers are
+ * parsed again where they are used. */
+static void check_traj_args(int argc, char **argv, query_args *qa)
+{
+    if (qa->at || qa->cellarg || qa->profile)
+        vsv_cli_usage_error("--trajectory excludes --at, --cell and --profile");
+    if (qa->species || qa->time || qa->times || qa->interp)
+        vsv_cli_usage_error("--trajectory prints the wind: no --species, --time, --times or --interp");
+    if (qa->to && qa->dur)
+        vsv_cli_usage_error("--to and --for exclude each other");
+    if (qa->to && qa->back)
+        vsv_cli_usage_error("--back goes with --for (--to earlier than --from goes backward itself)");
+    for (int i = 0; i < qa->ntraj; i++) {
+        double v[3];
+        if (parse_list(qa->traj[i], v) != 3)
+            vsv_cli_usage_error("--trajectory %s: expected LAT,LON,HEIGHT", qa->traj[i]);
+        if (fabs(v[0]) > 90 || fabs(v[1]) > 360)
+            vsv_cli_usage_error("--trajectory %s: latitude must be within -90..90 and longitude within -360..360",
+                                qa->traj[i]);
+    }
+    if (optind != argc - 1)
+        vsv_cli_usage_error(optind < argc ? "one .vsv file" : "no input file");
+    qa->path = argv[optind];
+}
+
+/* The time of --from or --to's SPEC in f: a step index that step's time, an
+ * ISO time itself (between steps too); exits 2 on a malformed SPEC, 1 on
+ * one outside the file's times. */
+static double when_of(vsv_file *f, const char *path, const char *opt, const char *spec)
+{
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    int64_t *t = malloc((size_t)info.nsteps * sizeof *t);
+    if (!t)
+        vsv_cli_die(1, "out of memory");
+    for (int i = 0; i < info.nsteps; i++)
+        t[i] = vsv_file_time(f, i);
+    const int cal = vsv_meta_calendar(vsv_file_meta(f));
+    vsv_timesel sel;
+    char msg[400];
+    const int rc =
+        vsv_timesel_parse(spec, t, info.nsteps, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(cal), &sel, msg, sizeof msg);
+    if (rc == VSV_EINVAL)
+        vsv_cli_usage_error("%s %s: %s", opt, spec, msg);
+    if (rc)
+        vsv_cli_die(1, "%s: %s %s: %s", path, opt, spec, msg);
+    int64_t w = t[sel.first];
+    if (spec[strspn(spec, "0123456789")] && vsv_cal_parse(cal, spec, &w))
+        vsv_cli_usage_error("%s %s: not a time", opt, spec);
+    free(t);
+    return (double)w;
+}
+
+/* ISO 8601 of a fractional time: whole seconds, or milliseconds where the
+ * time has a fraction (a path's end between the scheme's steps). */
+static void format_when(int cal, double t, char *buf, size_t cap)
+{
+    const double s = floor(t);
+    const long ms = lround((t - s) * 1000);
+    vsv_cal_format(cal, (int64_t)s + (ms == 1000), buf, cap);
+    const size_t n = strlen(buf);
+    if (ms % 1000 && n > 1 && buf[n - 1] == 'Z')
+        snprintf(buf + n - 1, cap - (n - 1), ".%03ldZ", ms);
+}
+
+static const char *const end_names[] = {"time", "edge", "ground", "top", "data"};
+static const char *const end_words[] = {"", "left the grid sideways", "met the ground", "left through the top",
+                                        "ran out of the file's times"};
+
+/* One path's rows: CSV or table lines, or a JSON object pushed onto arr. */
+static void print_path(const query_args *qa, int cal, int which, const vsv_traj_path *p, vsv_json *arr)
+{
+    vsv_json *pts = qa->fmt == FMT_JSON ? vsv_json_array() : NULL;
+    for (int i = 0; i < p->n; i++) {
+        const vsv_traj_point *q = &p->pts[i];
+        char iso[48];
+        format_when(cal, q->t, iso, sizeof iso);
+        if (qa->fmt == FMT_JSON) {
+            vsv_json *o = vsv_json_object();
+            vsv_json_set(o, "time", vsv_json_string(iso));
+            vsv_json_set(o, "lat", isnan(q->lat) ? vsv_json_null() : vsv_json_number(q->lat));
+            vsv_json_set(o, "lon", isnan(q->lon) ? vsv_json_null() : vsv_json_number(q->lon));
+            vsv_json_set(o, "height", vsv_json_number(q->z));
+            vsv_json_set(o, "x", vsv_json_number(q->x));
+            vsv_json_set(o, "y", vsv_json_number(q->y));
+            vsv_json_set(o, "east", vsv_json_number(q->east));
+            vsv_json_set(o, "north", vsv_json_number(q->north));
+            vsv_json_set(o, "up", vsv_json_number(q->up));
+            vsv_json_push(pts, o);
+        } else if (qa->fmt == FMT_CSV) {
+            if (qa->ntraj > 1)
+                printf("%d,", which + 1);
+            printf("%s,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", iso, q->lat, q->lon, q->z, q->x, q->y, q->east,
+                   q->north, q->up);
+        } else {
+            if (qa->ntraj > 1)
+                printf("%4d ", which + 1);
+            printf("%-24s %10.4f %11.4f %10.2f %12.1f %12.1f %8.3f %8.3f %8.4f\n", iso, q->lat, q->lon, q->z, q->x,
+                   q->y, q->east, q->north, q->up);
+        }
+    }
+    if (pts) {
+        vsv_json *o = vsv_json_object();
+        vsv_json_set(o, "seed", vsv_json_string(qa->traj[which]));
+        vsv_json_set(o, "end", vsv_json_string(end_names[p->end]));
+        vsv_json_set(o, "points", pts);
+        vsv_json_push(arr, o);
+    }
+}
+
+/* --trajectory: each seed's path through the wind, printed. */
+static int run_trajectories(const query_args *qa)
+{
+    const char *path = qa->path;
+    vsv_file *f = NULL;
+    vsv_traj *tr = NULL;
+    if (vsv_file_open_any(path, &vsv_cli_http, &f))
+        vsv_cli_die(1, "%s", f ? vsv_file_error(f) : path);
+    const vsv_meta *m = vsv_file_meta(f);
+    const int rc0 = vsv_traj_create(f, &tr);
+    if (rc0 == VSV_ENOTFOUND)
+        vsv_cli_die(1, "%s: no wind stored (convert with --winds)", path);
+    if (rc0)
+        vsv_cli_die(1, "%s: %s", path, vsv_traj_error(tr));
+    if (m->proj.kind == VSV_PROJ_NONE)
+        vsv_cli_die(1, "%s: the grid has no map projection: no latitude/longitude is known", path);
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    const double first = (double)vsv_file_time(f, 0), last = (double)vsv_file_time(f, info.nsteps - 1);
+    const double from = qa->from ? when_of(f, path, "--from", qa->from) : qa->back ? last : first;
+    double to = qa->to ? when_of(f, path, "--to", qa->to) : qa->back ? first : last, every = 0;
+    if (qa->dur) {
+        int64_t d;
+        vsv_cli_duration("--for", qa->dur, &d);
+        to = from + (qa->back ? -1.0 : 1.0) * (double)d;
+    }
+    if (qa->every) {
+        int64_t d;
+        vsv_cli_duration("--every", qa->every, &d);
+        every = (double)d;
+    }
+    const int cal = vsv_meta_calendar(m);
+    vsv_json *root = NULL, *arr = NULL;
+    if (qa->fmt == FMT_JSON) {
+        root = vsv_json_object();
+        vsv_json_set(root, "file", vsv_json_string(path));
+        vsv_json_set(root, "height_units", vsv_json_string(vsv_meta_height_units(m)));
+        arr = vsv_json_array();
+    } else if (qa->fmt == FMT_CSV) {
+        printf("%stime,lat,lon,height,x,y,east,north,up\n", qa->ntraj > 1 ? "path," : "");
+    } else {
+        printf("%s%-24s %10s %11s %10s %12s %12s %8s %8s %8s\n", qa->ntraj > 1 ? "path " : "", "time", "lat", "lon",
+               "height", "x", "y", "east", "north", "up");
+    }
+    for (int i = 0; i < qa->ntraj; i++) {
+        double v[3], seed[3];
+        vsv_traj_path p = {0};
+        parse_list(qa->traj[i], v);
+        int rc = vsv_proj_forward(&m->proj, v[0], v[1], &seed[0], &seed[1]);
+        seed[2] = v[2];
+        if (rc || (rc = vsv_traj_run(tr, seed, from, to, every, &p)))
+            vsv_cli_die(1, "%s: --trajectory %s: %s", path, qa->traj[i],
+                        rc == VSV_EINVAL ? vsv_traj_error(tr) : vsv_strerror(rc));
+        print_path(qa, cal, i, &p, arr);
+        if (p.end != VSV_TRAJ_END_TIME) {
+            char iso[48];
+            format_when(cal, p.pts[p.n - 1].t, iso, sizeof iso);
+            fprintf(stderr, "vsv-query: %s: trajectory %s %s at %s\n", path, qa->traj[i], end_words[p.end], iso);
+        }
+        vsv_traj_path_clear(&p);
+    }
+    if (root) {
+        vsv_json_set(root, "trajectories", arr);
+        vsv_json_print(stdout, root, 1);
+        vsv_json_free(root);
+    }
+    if (fflush(stdout) || ferror(stdout))
+        vsv_cli_die(1, "writing the output failed");
+    vsv_traj_free(tr);
+    vsv_file_free(f);
+    return 0;
+}
+
 /* One point, one input, and the point's numbers into qa->arg (qa->path too). */
 static void check_args(int argc, char **argv, query_args *qa)
 {
     const char *at = qa->at, *cellarg = qa->cellarg, *profile = qa->profile;
     double *arg = qa->arg;
+    if (qa->ntraj) {
+        check_traj_args(argc, argv, qa);
+        return;
+    }
+    if (qa->from || qa->to || qa->dur || qa->every || qa->back)
+        vsv_cli_usage_error("--from, --to, --for, --every and --back go with --trajectory");
     if (!!at + !!cellarg + !!profile != 1)
         vsv_cli_usage_error("give one of --at LAT,LON[,HEIGHT], --cell I,J[,K] or --profile LAT,LON");
     if (optind != argc - 1)
@@ -338,6 +562,8 @@ int main(int argc, char **argv)
     if (parse_args(argc, argv, &qa))
         return 0;
     check_args(argc, argv, &qa);
+    if (qa.ntraj)
+        return run_trajectories(&qa);
     query_run run = {0};
     open_query(&qa, &run);
     print_head(&qa, &run);

@@ -1,0 +1,68 @@
+#!/bin/sh
+# cli_traj.sh — vsv-query --trajectory: a path through a known wind (10 m/s
+# east on a Lambert grid, tests/wind_file.c) as CSV, table and JSON, forward,
+# backward and several at once; its length; the end at the grid's edge; the
+# errors (no wind, no projection, seeds outside, times, option clashes).
+B=${B:-build}
+T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-traj.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+. tests/cli_lib.sh
+Q="$B/vsv-query"
+"$B/tests/windfile" "$T/east.vsv" east && "$B/tests/windfile" "$T/flat.vsv" flat &&
+    "$B/tests/windfile" "$T/nowind.vsv" nowind || { fail "tests/windfile writes the test files" "$?"; exit 0; }
+expect "vsv-query --help names --trajectory" 0 "$Q" --help
+has "the help: --trajectory LAT,LON,HEIGHT" "$T/out" "--trajectory LAT,LON,HEIGHT"
+has "the help: --every" "$T/out" "--every DURATION"
+
+# two hours east at 10 m/s: 72 km along the parallel, a point every 30 min
+expect "a path as CSV" 0 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --for 2h --every 30m --csv
+cp "$T/out" "$T/path.csv"
+[ "$(head -n 1 "$T/path.csv")" = "time,lat,lon,height,x,y,east,north,up" ] && pass "CSV: its header" ||
+    fail "CSV: its header" "$(head -n 1 "$T/path.csv")"
+[ "$(wc -l < "$T/path.csv")" = 6 ] && pass "CSV: 5 points and the header" || fail "CSV: 5 points" "$(cat "$T/path.csv")"
+has "CSV: the seed first, at the first step, with its wind" "$T/path.csv" "2020-01-01T00:00:00Z,40.000000,-100.500000,300,"
+has "CSV: the end 2 h later on the same parallel" "$T/path.csv" "2020-01-01T02:00:00Z,40.000000,-99.654601,300,"
+python3 - "$T/path.csv" > "$T/err" 2>&1 << 'PY' && pass "CSV: 72 km travelled, 10 m/s for 2 h (1 m)" || fail "CSV: 72 km" "$(cat "$T/err")"
+import csv, math, sys
+r = list(csv.DictReader(open(sys.argv[1])))
+d = sum(6370000 * math.acos(min(1, math.sin(math.radians(float(a["lat"]))) * math.sin(math.radians(float(b["lat"])))
+        + math.cos(math.radians(float(a["lat"]))) * math.cos(math.radians(float(b["lat"])))
+        * math.cos(math.radians(float(b["lon"]) - float(a["lon"]))))) for a, b in zip(r, r[1:]))
+print(d)
+assert abs(d - 72000) < 1, d
+PY
+
+expect "the same path as JSON" 0 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --for 2h --every 30m --json
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); t=d["trajectories"][0]; assert t["end"] == "time" and len(t["points"]) == 5 and abs(t["points"][4]["lon"] + 99.654601) < 1e-6 and d["height_units"] == "m", t' "$T/out" 2> "$T/err" &&
+    pass "JSON: one path, 5 points, ended at the time asked, the same end" || fail "JSON" "$(cat "$T/err")"
+expect "backward from step 3 for 20 min" 0 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --from 3 --back --for 20m --every 10m --csv
+[ "$(sed -n 2p "$T/out" | cut -d, -f1)" = 2020-01-01T03:00:00Z ] && [ "$(sed -n 4p "$T/out" | cut -d, -f1)" = 2020-01-01T02:40:00Z ] &&
+    pass "backward: 03:00 back to 02:40" || fail "backward" "$(cat "$T/out")"
+has "backward: it came from the west (12 km)" "$T/out" "2020-01-01T02:40:00Z,40.000000,-100.640900,"
+expect "--to earlier than --from goes backward too" 0 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --from 2020-01-01T03:00 --to 2020-01-01T02:40 --every 10m --csv
+has "--to: the same point" "$T/out" "2020-01-01T02:40:00Z,40.000000,-100.640900,"
+expect "two paths, a table" 0 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --trajectory 40.3,-100,250 --from 2020-01-01T01:30 --for 30m --every 15m
+has "table: a path column" "$T/out" "path time"
+has "table: the second path's end" "$T/out" "   2 2020-01-01T02:00:00Z        40.3000    -99.7877     250.00"
+# from the west edge for 6 h: it leaves the grid after 214 km
+expect "a path to the grid's edge exits 0" 0 "$Q" "$T/east.vsv" --trajectory 40,-101.05,300 --every 1h --csv
+has "a note says it left the grid" "$T/err" "trajectory 40,-101.05,300 left the grid sideways at 2020-01-01T0"
+tail -n 1 "$T/out" | awk -F, '{ exit !($5 > 119999.999 && $5 < 120000.001) }' && pass "it ends at the east edge (x 120 km, 1 mm)" ||
+    fail "it ends at the east edge" "$(tail -n 1 "$T/out")"
+
+# errors
+expect "a file without wind exits 1" 1 "$Q" "$T/nowind.vsv" --trajectory 40,-100,300
+has "naming what is missing" "$T/err" "nowind.vsv: no wind stored (convert with --winds)"
+expect "a grid without a projection exits 1" 1 "$Q" "$T/flat.vsv" --trajectory 40,-100,300
+has "saying so" "$T/err" "the grid has no map projection"
+expect "a seed outside the grid exits 1" 1 "$Q" "$T/east.vsv" --trajectory 45,-100,300
+has "naming the seed" "$T/err" "--trajectory 45,-100,300: seed x"
+has "and why" "$T/err" "is outside the grid at 2020-01-01T00:00:00Z"
+expect "a seed above the top exits 1" 1 "$Q" "$T/east.vsv" --trajectory 40,-100,900
+has "above the grid's top" "$T/err" "above the grid's top"
+expect "--from after the file exits 1" 1 "$Q" "$T/east.vsv" --trajectory 40,-100,300 --from 2020-01-02
+expect "a malformed --trajectory exits 2" 2 "$Q" "$T/east.vsv" --trajectory 40,-100
+expect "--to with --for exits 2" 2 "$Q" "$T/east.vsv" --trajectory 40,-100,300 --to 3 --for 1h
+expect "--trajectory with --at exits 2" 2 "$Q" "$T/east.vsv" --trajectory 40,-100,300 --at 40,-100
+expect "--from without --trajectory exits 2" 2 "$Q" "$T/east.vsv" --at 40,-100 --from 1
+expect "a bad --every exits 2" 2 "$Q" "$T/east.vsv" --trajectory 40,-100,300 --every 10
