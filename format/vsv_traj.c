@@ -30,11 +30,16 @@
 
 #define TRAJ_COURANT 0.5
 #define TRAJ_MIN_DT 1.0
+/* Decoded wind kept per handle: as many steps as fit (at least the two a
+ * moment needs), so paths run one after another over the same hours decode
+ * each brick once. */
+#define TRAJ_CACHE_BYTES ((size_t)256 << 20)
 
 /* The decoded bricks of one step, decoded when first touched. */
 typedef struct traj_slot {
     int step;           /* -1: none */
     unsigned gen;       /* bricks decoded for this step carry it */
+    unsigned long used; /* when it was last used (the least recently used is reused) */
     float **brick[3];   /* per component, nbricks buffers (allocated on first use) */
     unsigned *stamp[3]; /* the gen each brick was decoded at */
 } traj_slot;
@@ -46,8 +51,9 @@ struct vsv_traj {
     int idx[3], nsteps, brick, shift, bdim[3], nbricks;
     int vertical; /* 1: levels are heights (metres), the upward wind moves them */
     double *times;
-    traj_slot slot[2];
-    int recent; /* the slot used last */
+    traj_slot *slot;
+    int nslots;
+    unsigned long tick;
     char err[512];
 };
 
@@ -82,7 +88,12 @@ int vsv_traj_create(vsv_file *f, vsv_traj **out)
     int rc = (t->times = malloc((size_t)(t->nsteps > 0 ? t->nsteps : 1) * sizeof *t->times)) ? 0 : VSV_ENOMEM;
     for (int s = 0; !rc && s < t->nsteps; s++)
         t->times[s] = (double)vsv_file_time(f, s);
-    for (int s = 0; s < 2 && !rc; s++) {
+    const size_t volume = (size_t)3 * t->nbricks * t->brick * t->brick * t->brick * sizeof(float);
+    const size_t fit = TRAJ_CACHE_BYTES / (volume ? volume : 1);
+    t->nslots = fit < 2 ? 2 : fit > (size_t)t->nsteps ? (t->nsteps > 2 ? t->nsteps : 2) : (int)fit;
+    if (!rc && !(t->slot = calloc((size_t)t->nslots, sizeof *t->slot)))
+        rc = VSV_ENOMEM;
+    for (int s = 0; s < t->nslots && !rc; s++) {
         t->slot[s].step = -1;
         for (int c = 0; c < 3 && !rc; c++)
             if (!(t->slot[s].brick[c] = calloc((size_t)t->nbricks, sizeof(float *))) ||
@@ -100,7 +111,7 @@ void vsv_traj_free(vsv_traj *t)
 {
     if (!t)
         return;
-    for (int s = 0; s < 2; s++)
+    for (int s = 0; t->slot && s < t->nslots; s++)
         for (int c = 0; c < 3; c++) {
             for (int b = 0; t->slot[s].brick[c] && b < t->nbricks; b++)
                 free(t->slot[s].brick[c][b]);
@@ -108,6 +119,7 @@ void vsv_traj_free(vsv_traj *t)
             free(t->slot[s].stamp[c]);
         }
     vsv_decoder_free(t->d);
+    free(t->slot);
     free(t->times);
     free(t);
 }
@@ -124,16 +136,24 @@ void vsv_traj_path_clear(vsv_traj_path *p)
     p->end = VSV_TRAJ_END_TIME;
 }
 
-/* The slot holding step's bricks (the one used less recently is reused). */
+/* The slot holding step's bricks (the least recently used is reused). */
 static traj_slot *slot_for(vsv_traj *t, int step)
 {
-    int s = t->slot[0].step == step ? 0 : t->slot[1].step == step ? 1 : !t->recent;
+    int s = 0;
+    for (int i = 0; i < t->nslots; i++) {
+        if (t->slot[i].step == step) {
+            s = i;
+            break;
+        }
+        if (t->slot[i].used < t->slot[s].used)
+            s = i;
+    }
     traj_slot *sl = &t->slot[s];
     if (sl->step != step) {
         sl->step = step;
         sl->gen++;
     }
-    t->recent = s;
+    sl->used = ++t->tick;
     return sl;
 }
 
