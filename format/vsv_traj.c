@@ -500,7 +500,7 @@ int vsv_traj_run(vsv_traj *t, const double seed[3], double from, double to, doub
         double dt = fmax(rate > 0 ? TRAJ_COURANT / rate : INFINITY, TRAJ_MIN_DT), land = NAN;
         const double stops[3] = {to, bound, next_rec};
         for (int s = 0; s < 3; s++)
-            if (!isnan(stops[s]) && dir * (stops[s] - when) <= dt)
+            if (!isnan(stops[s]) && dir * (stops[s] - when) > 0 && dir * (stops[s] - when) <= dt)
                 dt = dir * (stops[s] - when), land = stops[s];
         for (;;) {
             rc = rk4(t, when, pos, &ev, dir * dt, np, &ev1);
