@@ -482,6 +482,9 @@ static PyObject *File_attrs(FileObject *self, void *unused)
     return d;
 }
 
+PyObject *vsv_py_trajectory(vsv_file *f, PyObject *args); /* vsv_python_traj.c */
+static PyObject *File_traj(FileObject *s, PyObject *a) { return check_open(s) ? NULL : vsv_py_trajectory(s->f, a); }
+
 static PyMethodDef File_methods[] = {
     {"read", (PyCFunction)(void (*)(void))File_read, METH_VARARGS | METH_KEYWORDS,
      "read(species, time=0) -> float32 array (nz, ny, nx): the decoded volume"},
@@ -492,6 +495,7 @@ static PyMethodDef File_methods[] = {
     {"brick_kind", (PyCFunction)File_brick_kind, METH_VARARGS,
      "brick_kind(species, time, brick) -> 0 EMPTY .. 3 DELTA"},
     {"_query", (PyCFunction)(void (*)(void))File_query, METH_VARARGS | METH_KEYWORDS, "the point query core"},
+    {"_trajectory", (PyCFunction)File_traj, METH_VARARGS, "the trajectory core (vsv_python_traj.c)"},
     {"close", (PyCFunction)File_close, METH_NOARGS, "close() releases the mapping"},
     {NULL, NULL, 0, NULL}};
 

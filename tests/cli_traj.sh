@@ -66,3 +66,31 @@ expect "--to with --for exits 2" 2 "$Q" "$T/east.vsv" --trajectory 40,-100,300 -
 expect "--trajectory with --at exits 2" 2 "$Q" "$T/east.vsv" --trajectory 40,-100,300 --at 40,-100
 expect "--from without --trajectory exits 2" 2 "$Q" "$T/east.vsv" --at 40,-100 --from 1
 expect "a bad --every exits 2" 2 "$Q" "$T/east.vsv" --trajectory 40,-100,300 --every 10
+
+# Python's File.trajectory: the same path as the CLI's
+PYTHON=${PYTHON:-/usr/bin/python3}
+if [ ! -f "$B/python/vesuvius/__init__.py" ]; then
+    echo "  (the Python module is not built here: File.trajectory's checks are skipped)"
+    exit 0
+fi
+PYTHONPATH="$B/python" "$PYTHON" - "$T/east.vsv" "$T/path.csv" > "$T/err" 2>&1 << 'PY' &&
+import csv, sys
+import numpy as np
+import vesuvius
+f = vesuvius.open(sys.argv[1])
+r = f.trajectory(40, -100.5, 300, 0, "2020-01-01T02:00:00Z", every=np.timedelta64(30, "m"))
+rows = list(csv.DictReader(open(sys.argv[2])))
+assert r["end"] == "time" and len(r["lat"]) == len(rows) == 5, r
+for k in ("lat", "lon", "height", "x", "y", "east", "north", "up"):
+    assert np.allclose(r[k], [float(w[k]) for w in rows], rtol=1e-8, atol=1e-6), k
+assert str(r["time"][4]) == "2020-01-01T02:00:00.000" and r["east"].dtype == np.float32, r["time"]
+b = f.trajectory(40, -100.5, 300, 3, np.datetime64("2020-01-01T02:40"), every=600)
+assert abs(b["lon"][-1] + 100.6409) < 1e-6 and b["seconds"][-1] - b["seconds"][0] == -1200, b
+try:
+    f.trajectory(45, -100, 300, 0, 1)
+    raise SystemExit("no error for a seed outside the grid")
+except vesuvius.Error as e:
+    assert "is outside the grid" in str(e), e
+PY
+    pass "Python: File.trajectory gives the CLI's path, backward too, and vesuvius.Error outside the grid" ||
+    fail "Python: File.trajectory" "$(tail -n 5 "$T/err")"

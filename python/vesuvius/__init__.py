@@ -6,6 +6,7 @@
     f.species                    # [Species(name, units, description, max_abs_error, ...)]
     clw = f.read("CLW", time=3)  # float32 (nz, ny, nx), decoded straight into the array
     f.query(41.88, -87.63)       # the values at a point, every step
+    f.trajectory(41.88, -87.63, 1500, 0, 3)   # the air's path through the stored wind
     ds = f.to_xarray()           # an xarray.Dataset (when xarray is installed)
     vesuvius.write("x.vsv", grid=..., projection=..., times=..., fields={...})
 
@@ -145,6 +146,36 @@ class File:
                 raise TypeError("query: lat and lon, or cell=(i, j[, k])")
             c, la, lo, h, vals, pos = self._f._query(float(lat), float(lon), height, interp=interp)
         return Point(c, la, lo, h, pos, self.times, vals)
+
+    def trajectory(self, lat, lon, height, start, end, every=None):
+        """The path of the air at lat, lon (degrees) and height (as the file's heights)
+        at time start through the stored wind (vector species "wind") until end
+        (earlier: backward in time); start and end are step indices, ISO times (between
+        steps too), numpy datetime64 or datetimes. every: a point every so many seconds
+        of model time (a number or a numpy timedelta64; None: every step of the scheme)
+        and at the end. The scheme and its step rule are vsv-query(1)'s (RK4, Courant
+        0.5). Returns a dict of arrays, the seed first: time (datetime64[ms]; in a file
+        of another calendar, cftime dates), seconds (since 1970 in the file's calendar),
+        lat, lon, height, x, y (projected), east, north, up (float32, m/s), and "end":
+        why it stopped ("time", "edge", "ground", "top", "data")."""
+        if isinstance(every, np.timedelta64):
+            every = every / np.timedelta64(1, "s")
+        r = self._f._trajectory(float(lat), float(lon), float(height), self._step(start), self._step(end),
+                                float(every or 0))
+        if isinstance(r, str):
+            raise Error(r)
+        cols, end_ = r
+        out = {k: np.asarray(v, dtype=np.float32 if k in ("east", "north", "up") else np.float64)
+               for k, v in cols.items()}
+        cal = self._f.grid["calendar"]
+        if cal == "standard":
+            out["time"] = np.round(out["seconds"] * 1000).astype(np.int64).astype("datetime64[ms]")
+        else:
+            import cftime
+            out["time"] = np.asarray(cftime.num2date(out["seconds"], "seconds since 1970-01-01 00:00:00",
+                                                     calendar=cal))
+        out["end"] = end_
+        return out
 
     def to_xarray(self, species=None):
         """An xarray.Dataset of every (or the named) species over (time, z, y, x), as
