@@ -45,12 +45,13 @@ static vsv_file *wind_file(const char *name, vsv_meta *m, int nsteps, const int6
     vsv_file *f = NULL;
     int rc = vsv_writer_create(path, m, NULL, &w);
     for (int s = 0; s < nsteps && !rc; s++) {
+        const vsv_meta pm = vsv_meta_placed(m, times[s]); /* a moving grid where it is then */
         for (int k = 0; k < m->nz; k++)
             for (int j = 0; j < m->ny; j++)
                 for (int i = 0; i < m->nx; i++) {
                     float o[3];
-                    fn(s, m->origin[0] + i * m->spacing[0], m->origin[1] + j * m->spacing[1],
-                       m->origin[2] + k * m->spacing[2], o);
+                    fn(s, pm.origin[0] + i * m->spacing[0], pm.origin[1] + j * m->spacing[1],
+                       vsv_meta_cell_height_at(&pm, times[s], i, j, k), o);
                     for (int c = 0; c < 3; c++)
                         v[c][((size_t)k * m->ny + j) * m->nx + i] = o[c];
                 }
@@ -106,6 +107,20 @@ static void up(int s, double x, double y, double z, float o[3])
 {
     (void)s, (void)x, (void)y, (void)z;
     o[0] = 0, o[1] = 0, o[2] = 1;
+}
+
+/* east = z / 100 m/s: a shear in height */
+static void shear(int s, double x, double y, double z, float o[3])
+{
+    (void)s, (void)x, (void)y;
+    o[0] = (float)(z / 100), o[1] = 0, o[2] = 1;
+}
+
+/* east = 5 + x / 10000 m/s in the projection's x, wherever the grid is */
+static void stretch(int s, double x, double y, double z, float o[3])
+{
+    (void)s, (void)y, (void)z;
+    o[0] = (float)(5 + x / 10000), o[1] = 0, o[2] = 0;
 }
 
 static int run(vsv_traj *t, double x, double y, double z, double from, double to, double every, vsv_traj_path *p)
@@ -346,6 +361,87 @@ static void test_no_wind(void)
     vsv_file_free(f);
 }
 
+/* Native levels whose heights differ by column (100 + 200 k + 10 i m) in a
+ * wind that grows with height: at a fixed height the wind is the same in
+ * every column only when each is sampled at its own heights; pressure
+ * levels keep the air's level whatever the upward wind. */
+static void test_levels(void)
+{
+    vsv_meta m;
+    grid(&m, 40, 6, 14, 1000);
+    m.vert_kind = VSV_VERT_NATIVE;
+    vsv_meta_alloc_levels(&m);
+    float *z = malloc((size_t)40 * 6 * 14 * sizeof *z);
+    for (int k = 0; k < 14; k++) {
+        m.levels[k] = 100 + 200 * k + 195;
+        for (int c = 0; c < 240; c++)
+            z[(size_t)k * 240 + c] = (float)(100 + 200 * k + 10 * (c % 40));
+    }
+    vsv_meta_add_heights(&m, 0, z, NULL, NULL);
+    free(z);
+    const int64_t times[2] = {0, 3600};
+    vsv_file *f = wind_file("native.vsv", &m, 2, times, shear), *g = NULL;
+    vsv_traj *t = NULL, *u = NULL;
+    vsv_traj_path p = {0};
+    if (!CHECK(f && vsv_traj_create(f, &t) == 0, "native levels: the file opens"))
+        goto done;
+    /* rising 1 m/s from 300 m: east = z / 100, x(t) = x0 + 3 t + t^2 / 200 */
+    int rc = run(t, 2000, 2500, 300, 0, 1800, 0, &p);
+    const vsv_traj_point *e = &p.pts[p.n - 1];
+    const double x = 2000 + 3 * 1800.0 + 1800.0 * 1800 / 200;
+    CHECK(rc == 0 && p.end == VSV_TRAJ_END_TIME && fabs(e->z - 2100) < 1e-3 && fabs(e->x - x) < 0.5,
+          "native levels: the wind at the columns' own heights (x and z as integrated, 0.5 m)",
+          "end %d, x %.3f (expected %.3f), z %.3f", p.end, e->x, x, e->z);
+    vsv_meta m2;
+    grid(&m2, 40, 40, 4, 1000);
+    m2.vert_kind = VSV_VERT_COORD;
+    snprintf(m2.vert_units, sizeof m2.vert_units, "hPa");
+    vsv_meta_alloc_levels(&m2);
+    for (int k = 0; k < 4; k++)
+        m2.levels[k] = 1000 - 100 * k;
+    g = wind_file("pressure.vsv", &m2, 2, times, uniform); /* up 0.01 m/s: not used */
+    if (!CHECK(g && vsv_traj_create(g, &u) == 0, "pressure levels: the file opens"))
+        goto done;
+    rc = run(u, 2000, 2500, 850, 0, 1800, 0, &p);
+    e = &p.pts[p.n - 1];
+    CHECK(rc == 0 && e->z == 850 && fabs(e->x - 20000) < 1e-6 && fabs(e->y - 11500) < 1e-6 && e->up != 0,
+          "pressure levels: the air keeps its level (the upward wind printed, not used)", "z %g, x %.6f, y %.6f", e->z,
+          e->x, e->y);
+    CHECK(run(u, 2000, 2500, 500, 0, 1800, 0, &p) == VSV_EINVAL, "pressure levels: a seed off the levels: VSV_EINVAL");
+done:
+    vsv_traj_path_clear(&p);
+    vsv_traj_free(t);
+    vsv_traj_free(u);
+    vsv_file_free(f);
+    vsv_file_free(g);
+}
+
+/* A grid that moves 5 cells east at 30 min, in a wind tied to the ground
+ * (east = 5 + x / 10000): dx/dt = 5 + x / 1e4, x(t) = (x0 + 5e4) e^(t/1e4) - 5e4. */
+static void test_moving(void)
+{
+    vsv_meta m;
+    grid(&m, 40, 6, 3, 1000);
+    const double o1[2] = {5000, 0};
+    vsv_meta_add_move(&m, 1800, o1, NULL);
+    const int64_t times[3] = {0, 1800, 3600};
+    vsv_file *f = wind_file("moving.vsv", &m, 3, times, stretch);
+    vsv_traj *t = NULL;
+    vsv_traj_path p = {0};
+    if (!CHECK(f && vsv_traj_create(f, &t) == 0, "a moving grid: the file opens"))
+        goto done;
+    int rc = run(t, 6000, 2500, 150, 0, 3600, 0, &p);
+    const vsv_traj_point *e = &p.pts[p.n - 1];
+    const double x = 56000 * exp(0.36) - 50000;
+    CHECK(rc == 0 && p.end == VSV_TRAJ_END_TIME && fabs(e->x - x) < 0.5,
+          "a moving grid: the wind of each step where the grid is then (0.5 m)", "end %d, x %.3f (expected %.3f)",
+          p.end, e->x, x);
+done:
+    vsv_traj_path_clear(&p);
+    vsv_traj_free(t);
+    vsv_file_free(f);
+}
+
 int main(void)
 {
     test_uniform();
@@ -354,5 +450,7 @@ int main(void)
     test_time_varying();
     test_ground_top();
     test_no_wind();
+    test_levels();
+    test_moving();
     return vsv_test_done();
 }
