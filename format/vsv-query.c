@@ -16,7 +16,8 @@ static const char usage[] =
     "Usage: vsv-query FILE.vsv|URL (--at LAT,LON[,HEIGHT] | --cell I,J[,K] | --profile LAT,LON)\n"
     "                 [--species LIST] [--time T | --times A:B] [--interp] [--csv | --json]\n"
     "       vsv-query FILE.vsv|URL --trajectory LAT,LON,HEIGHT ... [--from T]\n"
-    "                 [--to T | --for DURATION] [--back] [--every DURATION] [--csv | --json]\n"
+    "                 [--to T | --for DURATION] [--back] [--streamline] [--every DURATION]\n"
+    "                 [--csv | --json]\n"
     "Print the decoded values of species at a point of the grid: one row per time\n"
     "(every step unless --time/--times), or one row per level and time with\n"
     "--profile. Each row names the cell (i, j, k), its centre's latitude,\n"
@@ -44,6 +45,8 @@ static const char usage[] =
     "      --to T              its end (earlier than --from: backward in time)\n"
     "      --for DURATION      its length (\"6h\", \"90m\"; default: to the file's end)\n"
     "      --back              backward in time from --from (where the air came from)\n"
+    "      --streamline        a streamline: the path through the wind of --from held\n"
+    "                          still (times then count the travel at that wind)\n"
     "      --every DURATION    a point every DURATION of model time (default: every\n"
     "                          step of the scheme) and at the end\n"
     "      --csv               comma-separated values, a header row first\n"
@@ -93,7 +96,7 @@ static void print_value(FILE *fp, float v, int fmt)
 typedef struct query_args {
     const char *at, *cellarg, *profile, *species, *time, *times, *path;
     const char *traj[MAX_TRAJ], *from, *to, *dur, *every; /* --trajectory and its times */
-    int ntraj, back;
+    int ntraj, back, steady;
     int interp, fmt, nargs;
     double arg[3]; /* --at, --cell or --profile's numbers, nargs of them */
 } query_args;
@@ -115,7 +118,7 @@ typedef struct query_run {
 static int parse_args(int argc, char **argv, query_args *qa)
 {
     /* clang-format off */ /* (a table, laid out by hand) */
-    enum { O_AT = 1000, O_CELL, O_PROFILE, O_TIMES, O_INTERP, O_CSV, O_JSON, O_TRAJ, O_FROM, O_TO, O_FOR, O_EVERY, O_BACK };
+    enum { O_AT = 1000, O_CELL, O_PROFILE, O_TIMES, O_INTERP, O_CSV, O_JSON, O_TRAJ, O_FROM, O_TO, O_FOR, O_EVERY, O_BACK, O_STEADY };
     static const struct option longopts[] = {
         {"at", required_argument, 0, O_AT},       {"cell", required_argument, 0, O_CELL},
         {"profile", required_argument, 0, O_PROFILE}, {"species", required_argument, 0, 's'},
@@ -125,7 +128,7 @@ static int parse_args(int argc, char **argv, query_args *qa)
         {"trajectory", required_argument, 0, O_TRAJ}, {"from", required_argument, 0, O_FROM},
         {"to", required_argument, 0, O_TO},       {"for", required_argument, 0, O_FOR},
         {"every", required_argument, 0, O_EVERY}, {"back", no_argument, 0, O_BACK},
-        {"version", no_argument, 0, 'V'},         {0, 0, 0, 0}};
+        {"streamline", no_argument, 0, O_STEADY}, {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
     /* clang-format on */
     int c;
     while ((c = getopt_long(argc, argv, "s:t:hV", longopts, NULL)) != -1) {
@@ -149,6 +152,7 @@ static int parse_args(int argc, char **argv, query_args *qa)
         case O_FOR: qa->dur = optarg; break;
         case O_EVERY: qa->every = optarg; break;
         case O_BACK: qa->back = 1; break;
+        case O_STEADY: qa->steady = 1; break;
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
@@ -301,6 +305,8 @@ static int run_trajectories(const query_args *qa)
         vsv_cli_duration("--every", qa->every, &d);
         every = (double)d;
     }
+    if (qa->steady && vsv_traj_freeze(tr, from))
+        vsv_cli_die(1, "%s: --streamline: %s", path, vsv_traj_error(tr));
     const int cal = vsv_meta_calendar(m);
     vsv_json *root = NULL, *arr = NULL;
     if (qa->fmt == FMT_JSON) {
@@ -352,8 +358,8 @@ static void check_args(int argc, char **argv, query_args *qa)
         check_traj_args(argc, argv, qa);
         return;
     }
-    if (qa->from || qa->to || qa->dur || qa->every || qa->back)
-        vsv_cli_usage_error("--from, --to, --for, --every and --back go with --trajectory");
+    if (qa->from || qa->to || qa->dur || qa->every || qa->back || qa->steady)
+        vsv_cli_usage_error("--from, --to, --for, --every, --back and --streamline go with --trajectory");
     if (!!at + !!cellarg + !!profile != 1)
         vsv_cli_usage_error("give one of --at LAT,LON[,HEIGHT], --cell I,J[,K] or --profile LAT,LON");
     if (optind != argc - 1)

@@ -49,7 +49,8 @@ struct vsv_traj {
     const vsv_meta *m;
     vsv_decoder *d;
     int idx[3], nsteps, brick, shift, bdim[3], nbricks;
-    int vertical; /* 1: levels are heights (metres), the upward wind moves them */
+    int vertical;  /* 1: levels are heights (metres), the upward wind moves them */
+    double frozen; /* the time of the frozen wind (streamlines), or NAN */
     double *times;
     traj_slot *slot;
     int nslots;
@@ -71,6 +72,7 @@ int vsv_traj_create(vsv_file *f, vsv_traj **out)
         return VSV_ENOMEM;
     const vsv_meta *m = t->m = vsv_file_meta(f);
     t->f = f;
+    t->frozen = NAN;
     if (vsv_meta_vector(m, VSV_WIND, t->idx)) {
         vsv_msg(t->err, sizeof t->err, "no wind stored (the vector species \"%s\")", VSV_WIND);
         return VSV_ENOTFOUND;
@@ -304,6 +306,8 @@ static int bracket(const vsv_traj *t, double when, double *w)
  * a read error < 0. */
 static int wind_at(vsv_traj *t, double when, const double pos[3], traj_eval *ev)
 {
+    if (!isnan(t->frozen))
+        when = t->frozen;
     if (!(when >= t->times[0] && when <= t->times[t->nsteps - 1]))
         return VSV_TRAJ_END_DATA;
     if (!(isfinite(pos[0]) && isfinite(pos[1]) && isfinite(pos[2])))
@@ -434,6 +438,8 @@ static int leave(vsv_traj *t, double when, const double pos[3], const traj_eval 
 /* The file's next time after `when` going dir (+1, -1), or NAN at its end. */
 static double next_time(const vsv_traj *t, double when, int dir)
 {
+    if (!isnan(t->frozen)) /* a streamline: no step ends its wind */
+        return dir * INFINITY;
     double w;
     const int s = bracket(t, when, &w);
     if (dir > 0) {
@@ -458,7 +464,7 @@ static int check_seed(vsv_traj *t, const double seed[3], double from, double to,
         return VSV_EINVAL;
     }
     const int cal = vsv_meta_calendar(t->m);
-    if (!(t->nsteps > 0 && from >= t->times[0] && from <= t->times[t->nsteps - 1])) {
+    if (isnan(t->frozen) && !(t->nsteps > 0 && from >= t->times[0] && from <= t->times[t->nsteps - 1])) {
         char a[40], b[40];
         vsv_cal_format(cal, (int64_t)floor(from), when, sizeof when);
         vsv_cal_format(cal, t->nsteps ? vsv_file_time(t->f, 0) : 0, a, sizeof a);
@@ -539,6 +545,16 @@ int vsv_traj_run(vsv_traj *t, const double seed[3], double from, double to, doub
     if (!last_in && (rc = push(t, out, &cap, when, pos, &ev)))
         return rc;
     return 0;
+}
+
+int vsv_traj_freeze(vsv_traj *t, double at)
+{
+    if (isnan(at) || (t->nsteps > 0 && at >= t->times[0] && at <= t->times[t->nsteps - 1])) {
+        t->frozen = at;
+        return 0;
+    }
+    vsv_msg(t->err, sizeof t->err, "a streamline's time outside the file's times");
+    return VSV_EINVAL;
 }
 
 int vsv_traj_seed_line(const vsv_meta *m, const double a[3], const double b[3], int n, double *seeds)

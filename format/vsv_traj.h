@@ -63,6 +63,14 @@ const char *vsv_traj_error(const vsv_traj *t);
  * VSV_ECORRUPT, VSV_ETRUNC). */
 int vsv_traj_run(vsv_traj *t, const double seed[3], double from, double to, double every, vsv_traj_path *out);
 void vsv_traj_path_clear(vsv_traj_path *p);
+/* Streamlines: after this, t's paths follow the wind as it was at time `at`
+ * (seconds, within the file's times), frozen: `from` and `to` of
+ * vsv_traj_run then only measure the travel (its points' t is `from` plus
+ * the seconds the air took at that wind), and the file's times do not end
+ * a path (VSV_TRAJ_END_DATA only where the wind has no data). NAN: the wind
+ * changes in time again (trajectories, the default). 0, or VSV_EINVAL (`at`
+ * outside the file's times). */
+int vsv_traj_freeze(vsv_traj *t, double at);
 
 /* Seeds for vsv_traj_run, as projected (x, y) and height (caller buffer of
  * 3 * n doubles, x y z a seed). Along a line: n >= 1 seeds evenly spaced in

@@ -50,6 +50,15 @@ has "a note says it left the grid" "$T/err" "trajectory 40,-101.05,300 left the 
 tail -n 1 "$T/out" | awk -F, '{ exit !($5 > 119999.999 && $5 < 120000.001) }' && pass "it ends at the east edge (x 120 km, 1 mm)" ||
     fail "it ends at the east edge" "$(tail -n 1 "$T/out")"
 
+# a streamline: the wind of the last step (06:00) held still, 2 h of travel
+# past the file's end (a trajectory stops there: its times ran out)
+expect "a trajectory from the last step stops at once" 0 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --from 6 --for 2h --csv
+has "... saying the file's times ran out" "$T/err" "trajectory 40,-100.5,300 "
+expect "--streamline from the last step for 2 h" 0 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --from 6 --for 2h --every 1h --streamline --csv
+has "--streamline: 72 km east along the wind of 06:00, its clock counting the travel" "$T/out" "2020-01-01T08:00:00Z,40.000000,-99.654601,300,"
+expect "--streamline without --trajectory is misuse" 2 "$Q" "$T/east.vsv" --at 40,-100.5 --streamline
+has "... saying so" "$T/err" "--streamline go with --trajectory"
+
 # errors
 expect "a file without wind exits 1" 1 "$Q" "$T/nowind.vsv" --trajectory 40,-100,300
 has "naming what is missing" "$T/err" "nowind.vsv: no wind stored (convert with --winds)"

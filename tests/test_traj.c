@@ -297,6 +297,19 @@ static void test_time_varying(void)
           p.n > 2 ? p.pts[1].x : 0, p.n > 2 ? p.pts[2].x : 0);
     CHECK(p.n == 3 && p.pts[1].east == 15, "the wind halfway between the steps is their mean", "%g",
           p.n > 1 ? p.pts[1].east : 0);
+    /* streamlines: the wind frozen at one moment, whatever the clock says */
+    CHECK(vsv_traj_freeze(t, 0) == 0 && run(t, 2000, 5000, 150, 0, 3600, 0, &p) == 0 && p.n > 1 &&
+              fabs(p.pts[p.n - 1].x - 38000) < 1e-6 * 38000 && p.pts[p.n - 1].t == 3600,
+          "a streamline of the wind at 0 s: 10 m/s for the hour (38000 m)", "%.6f", p.n ? p.pts[p.n - 1].x : 0);
+    CHECK(vsv_traj_freeze(t, 3600) == 0 && run(t, 2000, 5000, 150, 10000, 13000, 0, &p) == 0 &&
+              p.end == VSV_TRAJ_END_TIME && fabs(p.pts[p.n - 1].x - 62000) < 1e-6 * 62000,
+          "a streamline of the wind at 3600 s: 20 m/s for 3000 s of travel (62000 m), the clock past the file's "
+          "times",
+          "%.6f end %d", p.n ? p.pts[p.n - 1].x : 0, p.end);
+    CHECK(vsv_traj_freeze(t, 3601) == VSV_EINVAL, "a streamline's time outside the file's is refused", "");
+    CHECK(vsv_traj_freeze(t, NAN) == 0 && run(t, 2000, 5000, 150, 0, 3600, 0, &p) == 0 &&
+              fabs(p.pts[p.n - 1].x - 56000) < 1e-6 * 56000,
+          "unfrozen: the wind changes in time again (56000 m)", "%.6f", p.n ? p.pts[p.n - 1].x : 0);
 done:
     vsv_traj_path_clear(&p);
     vsv_traj_free(t);
