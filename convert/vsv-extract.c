@@ -29,7 +29,9 @@ static const char usage[] =
     "                       wind.u wind.v (wind.w), for vsv-interp --interp advect\n"
     "                       (which uses them and drops them)\n"
     "      --winds FILE     the same, the winds taken from FILE (a model file on the\n"
-    "                       same grid with U and V at every time)\n"
+    "                       same grid with U and V at every time), stored from it too\n"
+    "      --no-winds       do not store the wind (by default, where the input has\n"
+    "                       U and V: wind_east wind_north (wind_up), as vsv-convert)\n"
     VSV_CLI_DERIVE_HELP
     "  -l, --list           list each file's fields (ordering, units, description)\n"
     "                       and times, and exit\n"
@@ -52,6 +54,7 @@ int main(int argc, char **argv)
                                              {"list", no_argument, 0, 'l'},
                                              {"add-winds", no_argument, 0, 'w'},
                                              {"winds", required_argument, 0, 'W'},
+                                             {"no-winds", no_argument, 0, 'N'},
                                              {"derive", required_argument, 0, 'D'},
                                              {"help", no_argument, 0, 'h'},
                                              {"version", no_argument, 0, 'V'},
@@ -61,7 +64,7 @@ int main(int argc, char **argv)
     const char *vars = NULL, *times = NULL, *winds = NULL;
     const char *derive[VSV_CLI_MAX_DERIVE];
     int nderive = 0;
-    int list = 0, c, add_winds = 0;
+    int list = 0, c, add_winds = 0, no_winds = 0;
     vsv_source_opts so;
     vsv_source_opts_init(&so);
     while ((c = getopt_long(argc, argv, "v:t:lwhV", longopts, NULL)) != -1) {
@@ -76,6 +79,7 @@ int main(int argc, char **argv)
         case 'l': list = 1; break;
         case 'w': add_winds = 1; break;
         case 'W': winds = optarg, add_winds = 1; break;
+        case 'N': no_winds = 1; break;
         case 'D':
             if (nderive >= VSV_CLI_MAX_DERIVE)
                 vsv_cli_usage_error("more than %d --derive", VSV_CLI_MAX_DERIVE);
@@ -147,6 +151,8 @@ int main(int argc, char **argv)
     for (int i = 0; i < nderive; i++) /* before the winds: they stay last */
         if (vsv_run_add_derived(run, derive[i]))
             vsv_cli_die(1, "%s", vsv_run_error(run));
+    if (!no_winds && vsv_run_store_winds(run, winds, &so) < 0)
+        vsv_cli_die(1, "%s", vsv_run_error(run));
     if (add_winds && vsv_run_add_winds(run, winds, &so))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (isatty(1))

@@ -179,6 +179,27 @@ void vsv_run_window(const vsv_run *r, int64_t *first, int64_t *last);
 int vsv_run_within(const vsv_run *r);
 /* Reads frame i: fields[v] are caller buffers of nx*ny*nz floats. */
 int vsv_run_read(vsv_run *r, int i, float *const *fields);
+/* Stores the model's wind (vsv-convert's default): appends the species
+ * wind_east, wind_north and, where the model has a vertical wind, wind_up
+ * (VSV_WIND_EAST ..., m s-1, earth-relative at mass points: the source's
+ * destaggered U and V rotated column by column with vsv_wind_rotation, W as
+ * it is), the attribute "vector:wind" naming them and VSV_WIND_SOURCE_ATTR
+ * saying what the model's winds were. From companion or the run's own files
+ * as vsv_run_add_winds; after the derived variables, before the auxiliary
+ * winds. 1, with no message, when the run's files have no wind (no U and V
+ * nor UWIND and VWIND in the first); errors with the reason. */
+int vsv_run_store_winds(vsv_run *r, const char *companion, const vsv_source_opts *opts);
+/* The rotation of a grid-relative wind to east and north in each column of
+ * m placed with cell (0, 0) at projected origin: rot[4 c .. 4 c + 3] for
+ * column c (i fastest) such that east = u rot[0] + v rot[1] and north =
+ * u rot[2] + v rot[3] (from vsv_proj_jacobian). 0, or its error. */
+int vsv_wind_rotation(const vsv_meta *m, const double origin[2], float *rot);
+/* u and v (nz planes of plane cells) rotated in place with rot. */
+void vsv_wind_rotate(const float *rot, size_t plane, int nz, float *u, float *v);
+/* The text of VSV_WIND_SOURCE_ATTR: the n components' field names, the
+ * file and its format, and how the model (g->model) places its winds. */
+void vsv_wind_origin(const vsv_meta *g, const char *format, const char *file, char names[3][16], int n, char *buf,
+                     size_t cap);
 /* Appends the winds as the variables wind.u, wind.v (and wind.w when there
  * is a vertical wind) and the attribute "winds" saying whence (see
  * VSV_WIND_U): from companion (a model file on the same grid, with U and V,

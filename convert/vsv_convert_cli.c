@@ -20,8 +20,12 @@ const char vsv_convert_options_help[] =
     "                       own winds U V W, each species as far as fits its two\n"
     "                       outputs); wind (carried as far as the air moves); see\n"
     "                       vsv-interp(1)\n"
-    "      --winds FILE     advect, wind: the winds from FILE (a model file on the same grid\n"
-    "                       with U and V at every time) instead of the input\n"
+    "      --winds FILE     the winds from FILE (a model file on the same grid with U\n"
+    "                       and V at every time) instead of the input: stored, and\n"
+    "                       for advect and wind\n"
+    "      --no-winds       do not store the wind (by default, where the input has\n"
+    "                       U and V, the species wind_east wind_north (wind_up from\n"
+    "                       W), m/s, earth-relative at mass points: vsv(5) Vectors)\n"
     "  -v, --vars LIST      variables (default: CLW RNW ICE SNOW GRAUPEL Q present)\n"
     "  -t, --times A:B      steps A..B: indices or ISO times (which may hold colons);\n"
     "                       either end may be empty; one index or time: that step.\n"
@@ -30,7 +34,7 @@ const char vsv_convert_options_help[] =
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n" VSV_SOURCE_HELP;
 
-enum { OPT_STATS = 3000, OPT_WINDS, OPT_DERIVE };
+enum { OPT_STATS = 3000, OPT_WINDS, OPT_NO_WINDS, OPT_DERIVE };
 
 void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const char *head, int mpi)
 {
@@ -39,6 +43,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
                                              {"time-res", required_argument, 0, 'r'},
                                              {"interp", required_argument, 0, 'i'},
                                              {"winds", required_argument, 0, OPT_WINDS},
+                                             {"no-winds", no_argument, 0, OPT_NO_WINDS},
                                              {"derive", required_argument, 0, OPT_DERIVE},
                                              {"vars", required_argument, 0, 'v'},
                                              {"times", required_argument, 0, 't'},
@@ -71,6 +76,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
                 vsv_cli_usage_error("--interp %s: expected linear, advect or wind", optarg);
             break;
         case OPT_WINDS: a->winds = optarg; break;
+        case OPT_NO_WINDS: a->no_winds = 1; break;
         case OPT_DERIVE:
             if (a->nderive >= VSV_CLI_MAX_DERIVE)
                 vsv_cli_usage_error("more than %d --derive", VSV_CLI_MAX_DERIVE);
@@ -107,8 +113,8 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
         vsv_cli_usage_error("--times %s: %s", a->times, tmsg);
     if (a->method != VSV_TIME_LINEAR && !a->dt)
         vsv_cli_usage_error("--interp %s needs --time-res", a->method == VSV_TIME_WIND ? "wind" : "advect");
-    if (a->winds && a->method == VSV_TIME_LINEAR)
-        vsv_cli_usage_error("--winds is for --interp advect or wind");
+    if (a->winds && a->no_winds && a->method == VSV_TIME_LINEAR)
+        vsv_cli_usage_error("--winds with --no-winds: the winds are for --interp advect or wind only");
     a->inputs = (const char *const *)argv + optind;
     a->ninputs = argc - optind;
 }
@@ -128,6 +134,9 @@ void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out)
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (*vsv_run_note(run))
         fprintf(stderr, "%s: %s\n", vsv_cli_tool(), vsv_run_note(run));
+    int rc = a->no_winds ? 0 : vsv_run_store_winds(run, a->winds, &a->so);
+    if (rc < 0)
+        vsv_cli_die(1, "%s", vsv_run_error(run));
     if (a->method != VSV_TIME_LINEAR && vsv_run_add_winds(run, a->winds, &a->so))
         vsv_cli_die(1, "%s", vsv_run_error(run));
     const vsv_meta *m = vsv_run_meta(run);

@@ -33,6 +33,7 @@ typedef struct vsv_convert_args {
     int stats;         /* --stats (vsv-convert-mpi only) */
     int method;        /* --interp: VSV_TIME_LINEAR, VSV_TIME_ADVECT or VSV_TIME_WIND */
     const char *winds; /* --winds FILE, or NULL */
+    int no_winds;      /* --no-winds: the wind is not stored */
     /* --derive SPEC, in order (vsv_run_add_derived) */
     const char *derive[VSV_CLI_MAX_DERIVE];
     int nderive;
@@ -60,10 +61,12 @@ void vsv_convert_derive(const vsv_convert_args *a, vsv_run *run);
 
 /* After vsv_run_open (with times NULL): adds --derive (vsv_convert_derive), selects --times (among the output
  * steps with --time-res: vsv_run_select; a note on stderr when a single
- * time fell between steps), with --interp advect adds the winds to the run
+ * time fell between steps), stores the wind unless --no-winds
+ * (vsv_run_store_winds: where the input, or --winds FILE, has one), with
+ * --interp advect adds the auxiliary winds to the run
  * (exits 1 naming what is wrong with either); fills out (uninitialised) with the
  * metadata of the frames vsv_convert_frames emits: the run's without the
- * winds. Caller clears out with vsv_meta_clear. */
+ * auxiliary winds. Caller clears out with vsv_meta_clear. */
 void vsv_convert_setup(const vsv_convert_args *a, vsv_run *run, vsv_meta *out);
 
 /* How many steps the conversion writes: the run's frames, or (with

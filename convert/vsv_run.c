@@ -21,8 +21,12 @@ struct vsv_run {
     int nframes;
     uint64_t bytes;
     char **path;       /* per source, in time order */
-    int nwind;         /* wind variables appended to meta (0, 2 or 3) */
+    int ncomp;         /* wind components found (0, 2 or 3; wind_source) */
+    int store;         /* stored earth-relative components (0 or ncomp) */
+    int nwind;         /* auxiliary wind variables appended to meta (0 or ncomp) */
     char wname[3][16]; /* their fields' names in the model files */
+    float *rot;        /* stored: per column, the rotation (vsv_wind_rotation) */
+    double rot_at[2];  /* ... for the grid placed there */
     vsv_source *wsrc;  /* a companion wind file, or NULL for the run's own */
     int *wt;           /* companion: its time index per frame */
     vsv_derive *der;   /* derived variables, after the selected ones, or NULL */
@@ -403,6 +407,43 @@ int vsv_run_select(vsv_run *r, const char *times, int64_t dt)
     return 0;
 }
 
+/* Frame i's winds into w: the stored components earth-relative, then the
+ * auxiliary ones grid-relative. */
+static int read_winds(vsv_run *r, int i, float *const *w)
+{
+    vsv_source *ws = r->wsrc ? r->wsrc : r->src[r->fsrc[i]];
+    const size_t plane = (size_t)r->meta.nx * r->meta.ny, cells = plane * (size_t)r->meta.nz;
+    for (int d = 0; d < r->ncomp; d++) {
+        const int f = vsv_source_find_field(ws, r->wname[d]);
+        if (f < 0)
+            return fail(r, VSV_ENOTFOUND, "%s: no wind %s", r->path[r->fsrc[i]], r->wname[d]);
+        int rc = vsv_source_read(ws, f, r->wsrc ? r->wt[i] : r->ft[i], w[d]);
+        if (rc)
+            return fail(r, rc, "%s", vsv_source_error(ws));
+        if (r->store && r->nwind)
+            memcpy(w[r->store + d], w[d], cells * sizeof(float));
+    }
+    if (!r->store)
+        return 0;
+    const vsv_move *mv = vsv_meta_move_at(&r->meta, r->ftime[i]);
+    const double *o = mv ? mv->origin : r->meta.origin;
+    if (!r->rot || o[0] != r->rot_at[0] || o[1] != r->rot_at[1]) {
+        if (!r->rot && !(r->rot = malloc(plane * 4 * sizeof *r->rot)))
+            return fail(r, VSV_ENOMEM, "out of memory");
+        int rc = vsv_wind_rotation(&r->meta, o, r->rot);
+        if (rc) {
+            free(r->rot), r->rot = NULL;
+            return fail(r, rc,
+                        "%s: the winds cannot be rotated to east and north: the grid reaches beyond its %s "
+                        "projection",
+                        r->path[0], vsv_proj_name(r->meta.proj.kind));
+        }
+        r->rot_at[0] = o[0], r->rot_at[1] = o[1];
+    }
+    vsv_wind_rotate(r->rot, plane, r->meta.nz, w[0], w[1]);
+    return 0;
+}
+
 int vsv_run_read(vsv_run *r, int i, float *const *fields)
 {
     if (i < 0 || i >= r->nframes)
@@ -418,20 +459,12 @@ int vsv_run_read(vsv_run *r, int i, float *const *fields)
     int rc = r->nder ? vsv_derive_frame(r->der, s, r->ft[i], fields + r->nsel, r->err, sizeof r->err) : 0;
     if (rc)
         return rc;
-    for (int d = 0; d < r->nwind; d++) {
-        vsv_source *ws = r->wsrc ? r->wsrc : s;
-        const int f = vsv_source_find_field(ws, r->wname[d]);
-        rc = f < 0 ? fail(r, VSV_ENOTFOUND, "%s: no wind %s", r->path[r->fsrc[i]], r->wname[d])
-                   : vsv_source_read(ws, f, r->wsrc ? r->wt[i] : r->ft[i], fields[r->nsel + r->nder + d]);
-        if (rc)
-            return f < 0 ? rc : fail(r, rc, "%s", vsv_source_error(ws));
-    }
-    return 0;
+    return r->store || r->nwind ? read_winds(r, i, fields + r->nsel + r->nder) : 0;
 }
 
 int vsv_run_add_derived(vsv_run *r, const char *spec)
 {
-    if (r->nwind)
+    if (r->ncomp)
         return fail(r, VSV_EINVAL, "--derive %s: derived variables come before the winds", spec);
     if (!r->der && !(r->der = vsv_derive_create()))
         return fail(r, VSV_ENOMEM, "out of memory");
@@ -476,11 +509,13 @@ static int find_winds(const vsv_source *s, char names[3][16])
     return 0;
 }
 
-int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *opts)
+/* Finds the winds once (r->ncomp components, their names, and where:
+ * companion or the run's own files); 0, or VSV_ENOTFOUND when there are
+ * none (with quiet, 1 and no message). */
+static int wind_source(vsv_run *r, const char *companion, const vsv_source_opts *opts, int quiet)
 {
-    if (r->nwind)
+    if (r->ncomp)
         return 0;
-    const char *from = r->path[0];
     int n;
     if (companion) {
         vsv_source_opts o;
@@ -497,7 +532,7 @@ int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *
             g->origin[1] != r->meta.origin[1] || g->spacing[0] != r->meta.spacing[0] ||
             g->spacing[1] != r->meta.spacing[1])
             return fail(r, VSV_EINVAL, "--winds %s: its grid (%d x %d x %d) is not the grid of %s (%d x %d x %d)",
-                        companion, g->nx, g->ny, g->nz, from, r->meta.nx, r->meta.ny, r->meta.nz);
+                        companion, g->nx, g->ny, g->nz, r->path[0], r->meta.nx, r->meta.ny, r->meta.nz);
         if (!(n = find_winds(r->wsrc, r->wname)))
             return fail(r, VSV_ENOTFOUND, "--winds %s: no wind in it (3-D fields U and V, or UWIND and VWIND)",
                         companion);
@@ -513,18 +548,69 @@ int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *
             }
             r->wt[i] = t;
         }
-        from = companion;
     } else {
         if (!(n = find_winds(r->src[0], r->wname)))
-            return fail(r, VSV_ENOTFOUND,
-                        "%s: advection needs winds, and this %s file has no 3-D U and V (nor UWIND and VWIND); "
-                        "name a file with them: --winds FILE",
-                        from, vsv_source_format(r->src[0]));
+            return quiet ? 1
+                         : fail(r, VSV_ENOTFOUND,
+                                "%s: advection needs winds, and this %s file has no 3-D U and V (nor UWIND and "
+                                "VWIND); name a file with them: --winds FILE",
+                                r->path[0], vsv_source_format(r->src[0]));
         for (int i = 1; i < r->nsrc; i++)
             for (int d = 0; d < n; d++)
                 if (vsv_source_find_field(r->src[i], r->wname[d]) < 0)
-                    return fail(r, VSV_ENOTFOUND, "%s has no wind %s (it is in %s)", r->path[i], r->wname[d], from);
+                    return fail(r, VSV_ENOTFOUND, "%s has no wind %s (it is in %s)", r->path[i], r->wname[d],
+                                r->path[0]);
     }
+    r->ncomp = n;
+    return 0;
+}
+
+/* The name of the file the winds come from, without its directory. */
+static const char *wind_file(const vsv_run *r, const char *companion)
+{
+    const char *from = companion ? companion : r->path[0], *base = strrchr(from, '/');
+    return base ? base + 1 : from;
+}
+
+int vsv_run_store_winds(vsv_run *r, const char *companion, const vsv_source_opts *opts)
+{
+    if (r->store)
+        return 0;
+    if (r->nwind)
+        return fail(r, VSV_EINVAL, "the stored winds come before the auxiliary ones");
+    int rc = wind_source(r, companion, opts, 1);
+    if (rc)
+        return rc;
+    static const char *const vname[3] = {VSV_WIND_EAST, VSV_WIND_NORTH, VSV_WIND_UP};
+    static const char *const what[3] = {"eastward wind", "northward wind", "upward wind"};
+    char list[64] = "";
+    for (int d = 0; d < r->ncomp; d++) {
+        char desc[160];
+        snprintf(desc, sizeof desc, "%s (earth-relative, at mass points; from %s)", what[d], r->wname[d]);
+        if (vsv_meta_find_var(&r->meta, vname[d]) >= 0)
+            return fail(r, VSV_EINVAL, "the winds: the run already has a variable %s", vname[d]);
+        if (vsv_meta_add_var(&r->meta, vname[d], "m s-1", desc) < 0)
+            return fail(r, VSV_ENOMEM, "out of memory");
+        snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", d ? " " : "", vname[d]);
+    }
+    char buf[512];
+    vsv_wind_origin(&r->meta, vsv_source_format(r->wsrc ? r->wsrc : r->src[0]), wind_file(r, companion), r->wname,
+                    r->ncomp, buf, sizeof buf);
+    if (vsv_meta_add_attr(&r->meta, VSV_VECTOR_ATTR VSV_WIND, list) < 0 ||
+        vsv_meta_add_attr(&r->meta, VSV_WIND_SOURCE_ATTR, buf) < 0)
+        return fail(r, VSV_ENOMEM, "out of memory");
+    r->store = r->ncomp;
+    return 0;
+}
+
+int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *opts)
+{
+    if (r->nwind)
+        return 0;
+    int rc = wind_source(r, companion, opts, 0);
+    if (rc)
+        return rc;
+    const int n = r->ncomp;
     static const char *const vname[3] = {VSV_WIND_U, VSV_WIND_V, VSV_WIND_W};
     static const char *const what[3] = {"wind along the grid's x axis", "wind along the grid's y axis",
                                         "vertical wind"};
@@ -535,11 +621,10 @@ int vsv_run_add_winds(vsv_run *r, const char *companion, const vsv_source_opts *
         if (v < 0)
             return v;
     }
-    const char *base = strrchr(from, '/');
     char buf[256];
     snprintf(buf, sizeof buf, "%s %s%s%s of %s (%s; grid-relative, m/s)", r->wname[0], r->wname[1], n > 2 ? " " : "",
-             n > 2 ? r->wname[2] : "", base ? base + 1 : from, vsv_source_format(r->wsrc ? r->wsrc : r->src[0]));
-    int rc = vsv_meta_add_attr(&r->meta, VSV_WINDS_ATTR, buf);
+             n > 2 ? r->wname[2] : "", wind_file(r, companion), vsv_source_format(r->wsrc ? r->wsrc : r->src[0]));
+    rc = vsv_meta_add_attr(&r->meta, VSV_WINDS_ATTR, buf);
     if (rc < 0)
         return rc;
     r->nwind = n;
@@ -558,6 +643,7 @@ void vsv_run_free(vsv_run *r)
     free(r->ft);
     free(r->ftime);
     free(r->wt);
+    free(r->rot);
     vsv_source_free(r->wsrc);
     vsv_derive_free(r->der);
     for (int i = 0; r->path && i < r->nsrc; i++)

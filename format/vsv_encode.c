@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 #include <zstd.h>
 #include <zstd_errors.h>
 
@@ -236,7 +237,11 @@ int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, con
     coded = coded && p->opts.predict;
     const int major = coded ? 3 : p->opts.predict || p->meta.nmoves ? 2 : 1;
     vsv_wr16(h + 8, (uint16_t)major);
-    vsv_wr16(h + 10, major == 2 && p->meta.nmoves ? 1 : major == 1 && p->meta.nheights ? 1 : 0);
+    /* 3.1: a vector (an attribute "vector:NAME"; older readers see only species) */
+    int vector = 0;
+    for (int a = 0; a < p->meta.nattrs; a++)
+        vector |= !strncmp(p->meta.attr_keys[a], VSV_VECTOR_ATTR, strlen(VSV_VECTOR_ATTR));
+    vsv_wr16(h + 10, major == 3 ? vector : major == 2 ? p->meta.nmoves > 0 : p->meta.nheights > 0);
     vsv_wr32(h + 12, VSV_HEADER_SIZE);
     vsv_wr64(h + 16, file_size);
     vsv_wr64(h + 24, VSV_HEADER_SIZE);

@@ -25,10 +25,11 @@ extern "C" {
 VSV_API_BEGIN
 
 #define VSV_VERSION_STRING "0.1.0"
-/* The newest format read and written: 3.0 (coded heights) only in files that
- * store heights, 2.x otherwise; 1.x is read, and written on request. */
+/* The newest format read and written: 3.x (coded heights) only in files that
+ * store heights, 2.x otherwise; 1.x is read, and written on request. 3.1: a
+ * vector species (the wind, vsv_vector.h). */
 #define VSV_FORMAT_MAJOR 3
-#define VSV_FORMAT_MINOR 0
+#define VSV_FORMAT_MINOR 1
 
 /* Error codes: fallible calls return 0 or one of these. Values never change. */
 enum {

@@ -15,11 +15,14 @@ int vsv_meta_vector(const vsv_meta *m, const char *name, int idx[3])
     const char *v = vsv_meta_attr(m, key);
     if (!v)
         return VSV_ENOTFOUND;
+    idx[2] = -1;
     for (int c = 0; c < 3; c++) {
         char one[64];
         size_t n;
         v += strspn(v, " ");
         n = strcspn(v, " ");
+        if (!n && c == 2)
+            break; /* a horizontal vector */
         if (!n || n >= sizeof one)
             return VSV_ENOTFOUND;
         memcpy(one, v, n);
@@ -38,7 +41,7 @@ int vsv_meta_var_in_vector(const vsv_meta *m, int v)
         int idx[3];
         if (strncmp(m->attr_keys[a], VSV_VECTOR_ATTR, n) || vsv_meta_vector(m, m->attr_keys[a] + n, idx))
             continue;
-        if (idx[0] == v || idx[1] == v || idx[2] == v)
+        if (idx[0] == v || idx[1] == v || (idx[2] >= 0 && idx[2] == v))
             return 1;
     }
     return 0;

@@ -15,17 +15,22 @@ VSV_API_BEGIN
 
 /* A vector species (SPEC.md §4 "Vectors", since 3.1): the attribute
  * "vector:NAME" lists, space-separated, the three species that hold its
- * earth-relative components, eastward, northward and upward, in that order. */
+ * earth-relative components, eastward, northward and upward, in that order;
+ * or only the first two, a horizontal vector (a model without a vertical
+ * wind: nothing is stored for it, never zeros). */
 #define VSV_VECTOR_ATTR "vector:"
 /* The wind: its species and its vector's name. */
 #define VSV_WIND "wind"
 #define VSV_WIND_EAST "wind_east"
 #define VSV_WIND_NORTH "wind_north"
 #define VSV_WIND_UP "wind_up"
+/* What the model's winds were and how they were made earth-relative (free
+ * text, written with the wind). */
+#define VSV_WIND_SOURCE_ATTR "wind source"
 
-/* The species of m's vector `name`: idx[0..2] east, north, up. 0, or
- * VSV_ENOTFOUND when m has no such vector (or a species it lists is not
- * in m). */
+/* The species of m's vector `name`: idx[0..2] east, north, up; idx[2] is -1
+ * for a horizontal vector. 0, or VSV_ENOTFOUND when m has no such vector
+ * (or a species it lists is not in m). */
 int vsv_meta_vector(const vsv_meta *m, const char *name, int idx[3]);
 /* 1 when species v of m is a component of one of its vectors, else 0. */
 int vsv_meta_var_in_vector(const vsv_meta *m, int v);
