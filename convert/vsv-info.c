@@ -227,6 +227,29 @@ static void json_set_times(vsv_json *root, vsv_file *f, int nsteps)
     vsv_json_set(root, "time_step", step ? vsv_json_int(step) : vsv_json_null());
 }
 
+/* The vectors of m (SPEC.md §4 "Vectors"): to json (an object NAME: [east,
+ * north, up], up null for a horizontal one) or printed when json is NULL. */
+static void vectors(const vsv_meta *m, vsv_json *json)
+{
+    const size_t n = strlen(VSV_VECTOR_ATTR);
+    for (int a = 0; a < m->nattrs; a++) {
+        int idx[3];
+        const char *name = m->attr_keys[a] + n;
+        if (strncmp(m->attr_keys[a], VSV_VECTOR_ATTR, n) || vsv_meta_vector(m, name, idx))
+            continue;
+        if (json) {
+            vsv_json *c = vsv_json_array();
+            for (int d = 0; d < 3; d++)
+                vsv_json_push(c, idx[d] < 0 ? vsv_json_null() : vsv_json_string(m->vars[idx[d]].name));
+            vsv_json_set(json, name, c);
+            continue;
+        }
+        printf("  vector      %s: %s %s%s%s (east, north%s; earth-relative)\n", name, m->vars[idx[0]].name,
+               m->vars[idx[1]].name, idx[2] < 0 ? "" : " ", idx[2] < 0 ? "" : m->vars[idx[2]].name,
+               idx[2] < 0 ? ": horizontal" : ", up");
+    }
+}
+
 /* Each species: names, units, range and quantisation. */
 static vsv_json *json_species(vsv_file *f)
 {
@@ -296,6 +319,9 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     json_set_moves(root, m);
     json_set_times(root, f, info.nsteps);
     vsv_json_set(root, "species", json_species(f));
+    vsv_json *vec = vsv_json_object();
+    vectors(m, vec);
+    vsv_json_set(root, "vectors", vec);
 
     vsv_json *bricks = vsv_json_object();
     vsv_json_set(bricks, "size", vsv_json_int(info.brick));
@@ -436,6 +462,7 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     }
     if (vsv_meta_attr(m, VSV_ATTR_RESAMPLED))
         printf("              min and max are of the values resampled onto even heights, not the model's own\n");
+    vectors(m, NULL);
     const long long total = (long long)info.nbricks * info.nspecies * info.nsteps;
     printf("  bricks      %d^3, %d x %d x %d per step and species, %d octree levels\n", info.brick, info.bricks[0],
            info.bricks[1], info.bricks[2], info.octree_levels);

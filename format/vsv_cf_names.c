@@ -75,6 +75,10 @@ static const entry table[] = {
     {"", "theta", "air_potential_temperature", KELVIN, NULL},
     {"", "wind_speed", "wind_speed", SPEED, NULL},
     {"", "rh", "relative_humidity", PERCENT, NULL},
+    /* the stored wind (vsv_vector.h: earth-relative components) */
+    {"", VSV_WIND_EAST, "eastward_wind", SPEED, NULL},
+    {"", VSV_WIND_NORTH, "northward_wind", SPEED, NULL},
+    {"", VSV_WIND_UP, "upward_air_velocity", SPEED, NULL},
 };
 
 /* Model spellings UDUNITS does not know, and the unit they mean. */

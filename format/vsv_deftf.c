@@ -27,14 +27,14 @@ static int is_vapour(const char *name)
 
 int vsv_meta_default_shown(const vsv_meta *m, int s)
 {
-    if (s < 0 || s >= m->nvars)
-        return 0;
+    if (s < 0 || s >= m->nvars || vsv_meta_var_in_vector(m, s))
+        return 0; /* a wind component is no cloud: drawn only when named */
     if (!is_vapour(m->vars[s].name))
         return 1;
     for (int i = 0; i < m->nvars; i++)
-        if (!is_vapour(m->vars[i].name))
+        if (!is_vapour(m->vars[i].name) && !vsv_meta_var_in_vector(m, i))
             return 0;
-    return 1; /* nothing but vapour */
+    return 1; /* nothing but vapour (and vectors) */
 }
 
 void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap)

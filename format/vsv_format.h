@@ -496,7 +496,8 @@ int vsv_file_find_time(const vsv_file *f, int64_t time);
 void vsv_tf_default(const char *name, const vsv_quant *q, char *buf, size_t cap);
 /* Whether species s is drawn when the user names none (vsv-render, the
  * player): every species but water vapour (Q, QVAPOR, QV, H2O: a haze over
- * everything), unless vapour is all the file holds. */
+ * everything), unless vapour is all the file holds besides vectors, and but
+ * the components of a vector (the wind: a speed is no cloud), ever. */
 int vsv_meta_default_shown(const vsv_meta *m, int s);
 
 /* Decoded value of a code under a quantisation. */

@@ -33,7 +33,7 @@ static const char usage[] =
     "                          1995-10-24T01:00Z:1995-10-24T02:00Z; either end may be\n"
     "                          empty; outside the file's steps is an error)\n"
     "  -s, --species LIST      NAME[:OPACITY],... (default: every species but water\n"
-    "                          vapour Q/QVAPOR, opacity 1)\n"
+    "                          vapour Q/QVAPOR and the wind's components, opacity 1)\n"
     "      --tf FILE           transfer functions: 'species NAME' blocks of\n"
     "                          colormap / range / scale / opacity lines\n"
     "  -c, --camera AZ,EL[,DIST] azimuth clockwise from north, elevation (degrees),\n"

@@ -33,6 +33,7 @@ import numpy as np
 CANON = {
     "altitude": "m", "height": "m", "surface_altitude": "m", "air_temperature": "K",
     "x_wind": "m s-1", "y_wind": "m s-1", "upward_air_velocity": "m s-1",
+    "eastward_wind": "m s-1", "northward_wind": "m s-1",
     "latitude": "degrees_north", "longitude": "degrees_east",
     "projection_x_coordinate": "m", "projection_y_coordinate": "m",
     "air_pressure": "Pa", "model_level_number": "1",

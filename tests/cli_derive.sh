@@ -33,14 +33,15 @@ if "$PY" - "$T/crop.json" << 'PY'; then
 import json, sys
 d = json.load(open(sys.argv[1]))
 sp = {s["name"]: s for s in d["species"]}
-assert list(sp) == ["Q", "condensate", "wind_speed"], list(sp)
+assert list(sp) == ["Q", "condensate", "wind_speed", "wind_east", "wind_north", "wind_up"], list(sp)
 assert sp["condensate"]["units"] == "kg kg-1" and "CLW+RNW+ICE+SNOW" in sp["condensate"]["description"]
 assert sp["wind_speed"]["units"] == "m s-1" and "sqrt(U^2+V^2)" in sp["wind_speed"]["description"]
 assert d["attributes"]["derived condensate"] == "total condensate: CLW+RNW+ICE+SNOW", d["attributes"]
 PY
-    pass "crop: species Q condensate wind_speed (inputs read, not written), units and formulas in the file"
+    pass "crop: species Q condensate wind_speed and the wind (inputs read, not written), units and formulas in the file"
 else
-    fail "crop: species Q condensate wind_speed (inputs read, not written), units and formulas in the file" "see above"
+    fail "crop: species Q condensate wind_speed and the wind (inputs read, not written), units and formulas in the file" \
+        "see above"
 fi
 expect "vsv-info shows the formula" 0 "$B/vsv-info" "$T/crop.vsv"
 has "... in the species' description" "$T/out" "total condensate: CLW+RNW+ICE+SNOW"

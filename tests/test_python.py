@@ -59,8 +59,10 @@ class Sample(unittest.TestCase):
 
     def test_species_names_units_bounds(self):
         sp = self.f.species
-        self.assertEqual([s.name for s in sp], ["Q", "CLW", "RNW", "ICE", "SNOW"])
-        self.assertTrue(all(s.units == "kg/kg" and s.bits == 16 and 0 < s.max_abs_error < 1e-6 for s in sp))
+        self.assertEqual([s.name for s in sp], ["Q", "CLW", "RNW", "ICE", "SNOW", "wind_east", "wind_north", "wind_up"])
+        self.assertTrue(all(s.units == "kg/kg" and s.bits == 16 and 0 < s.max_abs_error < 1e-6 for s in sp[:5]))
+        # the stored wind (vsv-convert's default): m/s, 16 bits, a bound of a few 1e-4 m/s
+        self.assertTrue(all(s.units == "m s-1" and s.bits == 16 and 0 < s.max_abs_error < 1e-3 for s in sp[5:]))
         info = json.loads(tool("vsv-info", "--json", self.path))
         for s, j in zip(sp, info["species"]):
             self.assertAlmostEqual(s.max_abs_error, j["max_abs_error"], delta=s.max_abs_error * 1e-8)
@@ -76,7 +78,7 @@ class Sample(unittest.TestCase):
     def test_read_matches_vsv_info_stats(self):
         """f.read of every species and step: min, max exactly and the mean as vsv-info --stats prints them."""
         stats = json.loads(tool("vsv-info", "--stats", "--json", self.path))["stats"]
-        self.assertEqual(len(stats), 20)
+        self.assertEqual(len(stats), 32)  # 8 species (5 and the wind's 3) x 4 steps
         for row in stats:
             a = self.f.read(row["species"], time=row["time"])
             self.assertEqual(a.shape, (40, 39, 39))
@@ -102,13 +104,14 @@ class Sample(unittest.TestCase):
         np.testing.assert_array_equal(self.f.heights(np.int64(3)), self.f.heights(3))
 
     def test_species_index_bounds(self):
-        """Species by index: 0..4 of five, the last one included; 5 and -1 refused by name."""
-        np.testing.assert_array_equal(self.f.read(4, 1), self.f.read("SNOW", 1))
-        for s in (5, -1):
-            with self.assertRaisesRegex(vesuvius.Error, r"species %d out of range \(0..4\)" % s):
+        """Species by index: 0..7 of eight (five and the wind's three), the last one
+        included; 8 and -1 refused by name."""
+        np.testing.assert_array_equal(self.f.read(7, 1), self.f.read("wind_up", 1))
+        for s in (8, -1):
+            with self.assertRaisesRegex(vesuvius.Error, r"species %d out of range \(0..7\)" % s):
                 self.f.read(s, 0)
-        with self.assertRaisesRegex(vesuvius.Error, r"species 5 out of range \(0..4\)"):
-            self.f.read_brick(5, 0, 0)
+        with self.assertRaisesRegex(vesuvius.Error, r"species 8 out of range \(0..7\)"):
+            self.f.read_brick(8, 0, 0)
 
     def test_query_csv_equals_read(self):
         """vsv-query --csv at a snowy point: every row equals f.read at the same cell."""
@@ -199,8 +202,8 @@ class Sample(unittest.TestCase):
 
     def test_below_ground_is_nan_for_every_species(self):
         """One rule below the ground: every species reads NaN in the cells whose centre
-        lies below the terrain (Q and the hydrometeors alike), in read, query and the
-        netCDF export."""
+        lies below the terrain (Q, the hydrometeors and the wind alike), in read, query and
+        the netCDF export."""
         under = self.f.height[:, None, None] < self.f.terrain[None, :, :]
         self.assertGreater(under.sum(), 1000)
         for s in self.f.species:
@@ -209,7 +212,7 @@ class Sample(unittest.TestCase):
         k, j, i = np.argwhere(under)[0]
         row = list(csv.DictReader(io.StringIO(tool("vsv-query", self.path, "--cell", "%d,%d,%d" % (i, j, k), "--csv",
                                                     "--time", "3"))))[0]
-        self.assertTrue(all(math.isnan(float(row["%s (kg/kg)" % s.name])) for s in self.f.species), row)
+        self.assertTrue(all(math.isnan(float(row["%s (%s)" % (s.name, s.units)])) for s in self.f.species), row)
 
     def test_write_round_trip(self):
         """A file written from numpy with a File's grid and projection reads back within the

@@ -52,7 +52,7 @@ static const char usage[] =
     "configuration (.freevrrc, $FREEVR, or strings given here); writes only --trace.\n"
     "\n"
     "  -s, --species LIST      NAME[:OPACITY],... visible at start (default: all\n"
-    "                          but water vapour)\n"
+    "                          but water vapour and the wind's components)\n"
     "      --tf FILE           transfer functions (as vsv-render)\n"
     VSV_PLAYER_TF_HELP
     VSV_PLAYER_ISO_HELP

@@ -5,6 +5,7 @@
     f.times                      # numpy datetime64[s], one per step
     f.species                    # [Species(name, units, description, max_abs_error, ...)]
     clw = f.read("CLW", time=3)  # float32 (nz, ny, nx), decoded straight into the array
+    uvw = f.read("wind", time=3) # a vector: float32 (3, nz, ny, nx), east, north, up (m/s)
     f.query(41.88, -87.63)       # the values at a point, every step
     f.trajectory(41.88, -87.63, 1500, 0, 3)   # the air's path through the stored wind
     ds = f.to_xarray()           # an xarray.Dataset (when xarray is installed)
@@ -103,11 +104,30 @@ class File:
             time = int(time)
         return time
 
+    @property
+    def vectors(self):
+        """The vectors (vsv(5) "Vectors"; the wind, "wind"): {name: (east, north, up)
+        species names, up None for a horizontal vector}."""
+        names, out = set(self.names), {}
+        for k, v in self.attrs.items():
+            c = v.split()
+            if k.startswith("vector:") and len(c) in (2, 3) and all(n in names for n in c):
+                out[k[len("vector:"):]] = tuple(c) + ((None,) if len(c) == 2 else ())
+        return out
+
     def read(self, species, time=0):
         """The decoded volume of species (name or index) at time (a step index, an
         ISO time string, a numpy datetime64 or a datetime: the nearest step):
         float32 (nz, ny, nx), decoded straight into the array; NaN where there is no
-        data, among them every cell below the ground (even heights over a terrain)."""
+        data, among them every cell below the ground (even heights over a terrain).
+        A vector's name ("wind") instead reads its components: float32
+        (3, nz, ny, nx), eastward, northward and upward (earth-relative; the wind in
+        m/s), or (2, nz, ny, nx) for a horizontal vector (a model without W)."""
+        if isinstance(species, str) and species not in self.names:
+            vec = self.vectors.get(species)
+            if vec:
+                t = self._step(time)
+                return np.stack([self._f.read(c, t) for c in vec if c is not None])
         return self._f.read(species, self._step(time))
 
     def read_brick(self, species, time, brick):
