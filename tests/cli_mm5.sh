@@ -30,12 +30,12 @@ same "identical with native levels, selections and pack options" "$T/pipe2.vsv" 
 "$B/vsv-info" -f times.1 "$T/conv.vsv" > "$T/out"
 has "10-minute frames from 00:00" "$T/out" '1995-10-24T00:10:00Z'
 "$B/vsv-info" -f bricks.total "$T/conv.vsv" > "$T/out"
-has "19 frames x 5 species x 8 bricks" "$T/out" "760"
+has "19 frames x 8 species (5 and the wind's 3) x 8 bricks" "$T/out" "1216"
 "$B/vsv-info" --json "$T/conv.vsv" > "$T/conv.json"
 if /usr/bin/python3 - "$T/conv.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert [s["name"] for s in d["species"]] == ["Q", "CLW", "RNW", "ICE", "SNOW"]
+assert [s["name"] for s in d["species"]] == ["Q", "CLW", "RNW", "ICE", "SNOW", "wind_east", "wind_north", "wind_up"]
 assert d["projection"]["name"] == "lcc" and d["projection"]["lat1"] == 50 and d["projection"]["lat2"] == 33
 assert abs(d["corners"][0]["lat"] - 42.70) < 0.01 and abs(d["corners"][0]["lon"] + 127.32) < 0.01
 assert d["grid"]["vertical"]["kind"] == "even" and d["grid"]["terrain"] and d["grid"]["landuse"]

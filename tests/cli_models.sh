@@ -48,7 +48,8 @@ expect "wrfout converts (hydrometeors and vapour by default)" 0 "$B/vsv-convert"
 if /usr/bin/python3 - "$T/wrf.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert [s["name"] for s in d["species"]] == ["QCLOUD", "QGRAUP", "QICE", "QRAIN", "QSNOW", "QVAPOR"]
+assert [s["name"] for s in d["species"]] == ["QCLOUD", "QGRAUP", "QICE", "QRAIN", "QSNOW", "QVAPOR", "wind_east",
+                                             "wind_north", "wind_up"]
 assert len(d["times"]) == 10 and d["times"][1] == "2005-09-21T01:00:00Z"
 assert d["projection"]["name"] == "lcc" and d["grid"]["terrain"]
 PY
