@@ -27,11 +27,12 @@ if ! absent "MM5 REGRID, BDYOUT and LOWBDY files" mm5/run1/REGRID_DOMAIN1; then
     if /usr/bin/python3 - "$T/regrid.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
-assert [s["name"] for s in d["species"]] == ["T", "U", "V", "RH", "H"], d["species"]
+# U and V, and the wind stored from them (horizontal: REGRID has no W)
+assert [s["name"] for s in d["species"]] == ["T", "U", "V", "RH", "H", "wind_east", "wind_north"], d["species"]
 assert d["grid"]["vertical"]["kind"] == "even" and len(d["times"]) == 2
 assert 190 < d["species"][0]["min"] < d["species"][0]["max"] < 310
 PY
-    then pass "REGRID .vsv: T U V RH H on even heights, 2 times"; else fail "REGRID .vsv: T U V RH H on even heights, 2 times" "see above"; fi
+    then pass "REGRID .vsv: T U V RH H and the wind on even heights, 2 times"; else fail "REGRID .vsv: T U V RH H and the wind on even heights, 2 times" "see above"; fi
     expect "vsv-extract --list on BDYOUT" 0 "$B/vsv-extract" --list "$R/BDYOUT_DOMAIN1"
     has "BDYOUT slabs named as not volumes" "$T/out" "UEB        YSB D        15 kPa m/s          U-component of velocity          east boundary  (boundary slab, not a volume)"
     expect "vsv-info on BDYOUT" 0 "$B/vsv-info" "$R/BDYOUT_DOMAIN1"

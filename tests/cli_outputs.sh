@@ -8,7 +8,8 @@ B=${B:-build}
 T=$(mktemp -d "${TMPDIR:-/tmp}/vsv-cli-outputs.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
-"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/a.vsv" || { fail "convert the sample" "exit $?"; exit 0; }
+# (without the wind: the .vdb sizes below are the five species')
+"$B/vsv-convert" -q --no-winds samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/a.vsv" || { fail "convert the sample" "exit $?"; exit 0; }
 # empty NAME DIR : DIR holds no file
 empty() { if [ -z "$(ls -A "$2")" ]; then pass "$1"; else fail "$1" "left: $(ls -A "$2" | head -c 300)"; fi; }
 
