@@ -75,7 +75,7 @@ bad() { # NAME CODE TEXT ARGS...: exits CODE saying TEXT, writes no x.*
     else fail "$n: says 'vsv-export: ...$t'" "$(head -c 300 "$T/err")"; fi
     ls "$T" | grep -q '^x\.' && fail "$n: nothing written" "$(ls "$T")" || pass "$n: nothing written"
 }
-bad "an unknown species" 2 "--iso NOPE:1e-5: no species NOPE (the file has Q, CLW, RNW, ICE, SNOW)" \
+bad "an unknown species" 2 "--iso NOPE:1e-5: no species NOPE (the file has Q, CLW, RNW, ICE, SNOW, wind_east, wind_north, wind_up)" \
     --iso NOPE:1e-5 --ply "$T/x.ply"
 bad "a value that is no number" 2 "--iso CLW:lots: the value must be a finite number" --iso CLW:lots --ply "$T/x.ply"
 bad "no value" 2 "--iso CLW: expected SPECIES:VALUE[:COLOUR]" --iso CLW --ply "$T/x.ply"
