@@ -49,7 +49,10 @@ int vsv_floats_decode(const unsigned char *p, size_t len, size_t n, size_t strid
     if (!planes)
         return VSV_ENOMEM;
     const size_t got = ZSTD_decompress(planes, 4 * n, p, len);
-    int rc = ZSTD_isError(got) || got != 4 * n ? VSV_ECORRUPT : 0;
+    /* (zstd's own context may not be had under a memory limit: no damage) */
+    int rc = ZSTD_isError(got) && ZSTD_getErrorCode(got) == ZSTD_error_memory_allocation ? VSV_ENOMEM
+             : ZSTD_isError(got) || got != 4 * n                                         ? VSV_ECORRUPT
+                                                                                         : 0;
     for (size_t i = 0; i < n && !rc; i++) {
         uint32_t u = 0, w = 0;
         for (int k = 0; k < 4; k++)

@@ -219,6 +219,10 @@ static int decode_plane(vsv_meta *m, cursor *c, const char *tag, uint32_t len, i
         else
             for (size_t i = 0; i < plane; i++)
                 (*dst)[i] = vsv_rdf32(c->p + 4 * i);
+        if (rc == VSV_ENOMEM) {
+            vsv_msg(msg, cap, "%s record: out of memory decoding its %dx%d plane", tag, m->nx, m->ny);
+            return rc;
+        }
         if (rc) {
             vsv_msg(msg, cap, "%s record: %u bytes that do not decode to a %dx%d plane", tag, len, m->nx, m->ny);
             return rc;

@@ -134,8 +134,8 @@ int vsv_moves_decode(vsv_meta *m, const unsigned char *p, size_t len, char *msg,
         const int crc = coded ? vsv_plane_decode(p + 32, len - 32, plane, t) : 0;
         if (crc) {
             free(t);
-            vsv_msg(msg, cap, "MOVE record %d: its coded terrain does not decode to a %dx%d plane", m->nmoves, m->nx,
-                    m->ny);
+            vsv_msg(msg, cap, "MOVE record %d: its coded terrain %s a %dx%d plane", m->nmoves,
+                    crc == VSV_ENOMEM ? "(out of memory) does not decode to" : "does not decode to", m->nx, m->ny);
             return crc;
         }
         for (size_t i = 0; i < plane && !coded; i++)
