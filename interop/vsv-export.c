@@ -46,7 +46,8 @@ static const char usage[] =
     "                          (said on stderr when not exact; default: all steps)\n"
     "      --times A:B         steps A..B (indices or ISO times, which may hold colons;\n"
     "                          either end may be empty; outside the file is an error)\n"
-    "  -s, --species LIST      NAME,... (default: every species)\n"
+    "  -s, --species LIST      NAME,... (default: every species; --vdb: but the\n"
+    "                          wind's components, written only when named)\n"
     "  -q, --quiet             no progress\n"
     VSV_CLI_CACHE_DIR_HELP
     "  -h, --help              this help\n"
@@ -125,6 +126,20 @@ static int export_iso(int argc, char **argv, const char *const iso[3], int other
     return 0;
 }
 
+/* A .vdb is drawn as a volume (Blender, Houdini): of the n species in sel,
+ * the wind's components are written only when named; the others' count. */
+static int drop_vectors(const vsv_meta *m, const char *path, int *sel, int n)
+{
+    int kept = 0;
+    for (int l = 0; l < n; l++)
+        if (!vsv_meta_var_in_vector(m, sel[l]))
+            sel[kept++] = sel[l];
+    if (!kept)
+        vsv_cli_die(1, "%s: its species are the wind's components, which --vdb writes only when named (--species)",
+                    path);
+    return kept;
+}
+
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-export");
@@ -188,9 +203,11 @@ int main(int argc, char **argv)
     int *sel = calloc((size_t)m->nvars, sizeof *sel);
     if (!sel)
         vsv_cli_die(1, "out of memory");
-    const int n = vsv_cli_species(m, species, path, sel);
+    int n = vsv_cli_species(m, species, path, sel);
     if (ncout)
         return export_netcdf(argc, argv, f, path, ncout, sel, n, a, b);
+    if (!species)
+        n = drop_vectors(m, path, sel, n);
     vsv_volume **vols = calloc((size_t)n, sizeof *vols);
     vsv_decoder *d = NULL;
     if (!vols || vsv_decoder_create(f, &d))

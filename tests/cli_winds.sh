@@ -162,6 +162,20 @@ else
     skip "netCDF standard names" "ncdump absent"
 fi
 
+# .vdb (drawn as volumes by Blender, Houdini): the wind's grids only when named
+mkdir -p "$T/vdb"
+if "$B/vsv-export" -q "$T/w.vsv" --vdb "$T/vdb/a_%d.vdb" --time 1 2> "$T/err"; then
+    "$B/vsv-extract" --list "$T/vdb/a_0.vdb" > "$T/out" 2>&1
+    has "vsv-export --vdb: the species' grids" "$T/out" "SNOW       XYZ"
+    if grep -q wind_ "$T/out"; then fail "... but not the wind's" "$(grep wind_ "$T/out")"; else pass "... but not the wind's"; fi
+    expect "... --species CLW,wind_up" 0 "$B/vsv-export" -q "$T/w.vsv" --vdb "$T/vdb/b_%d.vdb" --time 1 \
+        --species CLW,wind_up
+    "$B/vsv-extract" --list "$T/vdb/b_0.vdb" > "$T/out" 2>&1
+    has "... writes the wind's component named" "$T/out" "wind_up    XYZ"
+else
+    skip "vsv-export --vdb" "$(head -c 200 "$T/err")"
+fi
+
 # the default picture leaves the wind out: CLW + wind renders as CLW alone
 mkdir -p "$T/a" "$T/b"
 "$B/vsv-convert" -q --vars CLW "$CROP" -o "$T/a/x.vsv"
