@@ -1,7 +1,8 @@
 /* vsv_traj.c — trajectories through a .vsv's wind (vsv_traj.h): the air
  * moved in the grid's projected x, y and in height by classic RK4.
  *
- * The wind: the vector species "wind" (vsv_vector.h), earth-relative m/s,
+ * The wind: the vector species "wind" (vsv_vector.h), earth-relative m/s
+ * (a wind stored without its upward component moves the air level),
  * turned into projected units a second by the inverse of the projection's
  * local Jacobian (vsv_proj_jacobian) at the point; the upward wind moves
  * the height in metres. On levels that are not heights (a layer index,
@@ -162,6 +163,10 @@ static traj_slot *slot_for(vsv_traj *t, int step)
 /* The decoded value of component c at cell (i, j, k) of sl's step. */
 static int cell_value(vsv_traj *t, traj_slot *sl, int c, int i, int j, int k, float *v)
 {
+    if (t->idx[c] < 0) { /* a wind without its upward component: none */
+        *v = 0;
+        return 0;
+    }
     const int sh = t->shift, msk = t->brick - 1;
     const int b = (i >> sh) + t->bdim[0] * ((j >> sh) + t->bdim[1] * (k >> sh));
     if (sl->stamp[c][b] != sl->gen) {

@@ -352,6 +352,41 @@ done:
     vsv_file_free(g);
 }
 
+/* A wind of two components (a model without W): the air keeps its height. */
+static void test_horizontal(void)
+{
+    vsv_meta m;
+    grid(&m, 20, 10, 3, 1000);
+    vsv_meta_add_var(&m, VSV_WIND_EAST, "m s-1", "eastward wind");
+    vsv_meta_add_var(&m, VSV_WIND_NORTH, "m s-1", "northward wind");
+    vsv_meta_add_attr(&m, VSV_VECTOR_ATTR VSV_WIND, VSV_WIND_EAST " " VSV_WIND_NORTH);
+    static float e[600], n[600];
+    for (int c = 0; c < 600; c++)
+        e[c] = 5, n[c] = 2;
+    const float *fields[2] = {e, n};
+    vsv_writer *w = NULL;
+    vsv_file *f = NULL;
+    vsv_traj *t = NULL;
+    vsv_traj_path p = {0};
+    const char *path = vsv_test_tmp("horizontal.vsv");
+    if (!vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) &&
+        !vsv_writer_add_step(w, 3600, fields) && !vsv_writer_finish(w, NULL, NULL))
+        vsv_file_open(path, &f);
+    vsv_writer_free(w);
+    vsv_meta_clear(&m);
+    if (!CHECK(f && vsv_traj_create(f, &t) == 0, "a wind without its upward component: a handle", ""))
+        goto done;
+    const int rc = run(t, 2000, 2000, 150, 0, 1000, 0, &p);
+    const vsv_traj_point *q = p.n ? &p.pts[p.n - 1] : NULL;
+    CHECK(rc == 0 && q && fabs(q->x - 7000) < 1e-6 && fabs(q->y - 4000) < 1e-6 && q->z == 150 && q->up == 0,
+          "a wind without its upward component: 5 and 2 m/s for 1000 s at its height, up 0", "%.6f %.6f %.6f",
+          q ? q->x : 0, q ? q->y : 0, q ? q->z : 0);
+done:
+    vsv_traj_path_clear(&p);
+    vsv_traj_free(t);
+    vsv_file_free(f);
+}
+
 static void test_no_wind(void)
 {
     vsv_meta m;
@@ -463,6 +498,7 @@ int main(void)
     test_time_varying();
     test_ground_top();
     test_no_wind();
+    test_horizontal();
     test_levels();
     test_moving();
     return vsv_test_done();
