@@ -72,7 +72,7 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r->surf);
     vsv_sw_free(r->sw);
     vsv_native_free(&r->native);
-    vsv_rc_isos_free(r);
+    vsv_rc_meshes_free(r);
     free(r);
 }
 
@@ -135,9 +135,9 @@ int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera
         vsv_pool_run(&r->pool, vsv_rc_slice_row, r, cam->height);
         r->surf_read = r->surf;
     }
-    /* the isosurfaces in front of both, from the volumes as given (the
-     * file's own heights) */
-    return in->nisos > 0 ? vsv_rc_isos(r, in, cam) : 0;
+    /* the isosurfaces and lines in front of both, from the volumes as
+     * given (the file's own heights) */
+    return in->nisos > 0 || in->nlines > 0 ? vsv_rc_meshes(r, in, cam) : 0;
 }
 
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth)
@@ -145,7 +145,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     int rc0 = vsv_render_surfaces(r, &sc, cam);
     if (rc0)
         return rc0;
-    const int sliced = sc->nslices > 0 || sc->nisos > 0; /* surfaces inside the volume: raycast */
+    const int sliced = sc->nslices > 0 || sc->nisos > 0 || sc->nlines > 0; /* surfaces inside the volume: raycast */
     if (r->o.kind == VSV_RENDER_SHEARWARP && !sliced) {
         int rows = 0, bricks = 0, classify = 0;
         int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &bricks, &classify);

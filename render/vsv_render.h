@@ -30,8 +30,9 @@
  * behind the volume in front of them and hiding what is behind, as the
  * ground does. Frames with slices are raycast whatever the renderer.
  *
- * Isosurfaces (vsv_scene.isos) are opaque surfaces too, lit, drawn the
- * same way (vsv_scene_iso). */
+ * Isosurfaces (vsv_scene.isos) and lines (vsv_scene.lines: trajectories,
+ * wind arrows) are opaque surfaces too, lit, drawn the same way
+ * (vsv_scene_iso, vsv_scene_line). */
 #ifndef VSV_RENDER_H
 #define VSV_RENDER_H
 
@@ -163,6 +164,8 @@ typedef struct vsv_scene {
                                        scale (NULL: the layer's transfer function) */
     const struct vsv_scene_iso *isos; /* nisos isosurfaces, borrowed */
     int nisos;
+    const struct vsv_scene_line *lines; /* nlines lines, borrowed */
+    int nlines;
 } vsv_scene;
 
 /* An isosurface drawn in a scene (vsv_scene.isos): the surface where layer
@@ -183,6 +186,46 @@ typedef struct vsv_scene_iso {
     float value;
     float rgb[3];
 } vsv_scene_iso;
+
+/* A line drawn in a scene (vsv_scene.lines): a polyline of npts points
+ * (xyz: x, y world metres as the renderers place columns, vsv_scene_units;
+ * z metres above sea level, not exaggerated, as isosurfaces' vertices)
+ * drawn as a tube of `radius` world metres (round in the exaggerated
+ * world: the same radius across and up) with VSV_TUBE_SIDES sides and
+ * smooth normals, ending (with `arrow`) in a cone VSV_ARROW_LEN radii long
+ * and VSV_ARROW_WIDTH radii wide at its base whose tip is the last point:
+ * the direction of travel. The tube's first end is closed by a disc.
+ * Opaque, in colour rgb (0..1, as given: gamma-encoded), shaded as
+ * isosurfaces are; composited with the volumes, ground, slices and
+ * isosurfaces as they are (frames with lines are raycast whatever the
+ * renderer). Points closer than a thousandth of the radius to the one
+ * before are skipped; a line of one point draws nothing. Plain info. */
+#define VSV_TUBE_SIDES 8
+#define VSV_ARROW_LEN 6
+#define VSV_ARROW_WIDTH 2.5
+typedef struct vsv_scene_line {
+    const double *xyz; /* npts * 3 */
+    int npts;
+    double radius;
+    int arrow;
+    float rgb[3];
+} vsv_scene_line;
+
+/* Wind arrows on the horizontal plane at height z (metres, as the file's
+ * heights: above sea level, or above the ground where
+ * vsv_meta_above_ground): from the centre of every `every`-th column
+ * (i and j multiples of every) where z lies between the column's lowest
+ * and highest level and above its ground, an arrow along the wind there
+ * (east, north: volumes of m's wind components at one step, m placed at
+ * that step; linear in height within the column), as long as the air
+ * goes in `seconds` seconds, turned onto the grid's axes by the
+ * projection's Jacobian (vsv_proj_jacobian). Writes at most cap arrows:
+ * xyz + 6 a holds arrow a's tail then its tip, in vsv_scene_line's
+ * coordinates; *n the arrows written (calm columns included: tail ==
+ * tip), *fastest the largest speed among them (m/s, horizontal). 0 or
+ * VSV_EINVAL. */
+int vsv_wind_arrows(const vsv_meta *m, const vsv_volume *east, const vsv_volume *north, double z, int every,
+                    double seconds, double *xyz, int cap, int *n, double *fastest);
 
 /* Lights the scene from a sun at azimuth az (degrees clockwise from north)
  * and elevation el (degrees). */

@@ -58,10 +58,10 @@ struct vsv_renderer {
     vsv_ground *surf;
     size_t surf_cap;
     vsv_native native; /* native levels placed at their heights */
-    /* isosurfaces (vsv_iso_draw.c): an extractor per scene iso, kept
+    /* opaque meshes (vsv_mesh_draw.c): an extractor per scene iso, kept
      * across frames, and this frame's triangles on the screen */
     vsv_iso *iso[VSV_SCENE_ISO_MAX];
-    struct vsv_iso_frame *isof;
+    struct vsv_mesh_frame *meshf;
 };
 
 /* Before any renderer's frame: native levels placed at their heights (*psc
@@ -90,12 +90,28 @@ void vsv_rc_copy_brick(void *ctx, int item, int thread);
 void vsv_rc_slice_row(void *ctx, int py, int thread);
 /* r->surf grown to hold n pixels (kept between frames); 0 or VSV_ENOMEM. */
 int vsv_rc_surf_reserve(vsv_renderer *r, size_t n);
-/* The scene's isosurfaces (in: the scene as given, before native levels
- * are resampled) extracted and drawn into r->surf over what it holds
- * (r->surf_read's surfaces, copied first when r->surf does not hold them
- * yet), on the renderer's pool. 0 or a VSV_E* code. */
-int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam);
-void vsv_rc_isos_free(vsv_renderer *r);
+/* The scene's opaque meshes (in: the scene as given, before native levels
+ * are resampled): its isosurfaces extracted and its lines' tubes built,
+ * drawn into r->surf over what it holds (r->surf_read's surfaces, copied
+ * first when r->surf does not hold them yet), on the renderer's pool. 0 or
+ * a VSV_E* code. */
+int vsv_rc_meshes(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam);
+void vsv_rc_meshes_free(vsv_renderer *r);
+/* A line's tube and arrowhead (vsv_tube.c): vertices in world metres with
+ * z already exaggerated, unit normals, triangles; the arrays grow (kept
+ * between lines). */
+typedef struct vsv_tube {
+    float *pos, *nrm;
+    uint32_t *tri;
+    int nv, nt, vcap, tcap;
+    double *q; /* the line's points kept, exaggerated (scratch) */
+    int qcap;
+} vsv_tube;
+/* Builds line L's tube under exaggeration E into t (replacing what it
+ * held). 0, VSV_EINVAL (a point not finite, a radius not positive) or
+ * VSV_ENOMEM. */
+int vsv_tube_build(vsv_tube *t, const vsv_scene_line *L, double E);
+void vsv_tube_free(vsv_tube *t);
 /* Runs extractor s on pool (instead of its own threads) from now on. */
 void vsv_iso_use_pool(vsv_iso *s, vsv_pool *pool);
 /* vsv_slice_range, with *work (when not NULL) set to the values it took:

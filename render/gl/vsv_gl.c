@@ -208,13 +208,13 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
     tex2d(&g->lut, &g->lut_w, &g->lut_h, VSV_TF_LUT, nl ? nl : 1, t);
     glActiveTexture(GL_TEXTURE0);
     /* the surfaces: again only when they may have changed (slices and
-     * isosurfaces: every frame; the ground: with the view or the geometry) */
+     * isosurfaces and lines: every frame; the ground: with the view or the geometry) */
     const int w = cam->width, h = cam->height;
     uint64_t key = fnv(1469598103934665603ull, cam, sizeof *cam);
     key = fnv(key, &sc->exaggeration, sizeof sc->exaggeration);
     key = fnv(key, &sc->show_terrain, sizeof sc->show_terrain);
     key = fnv(key, &sc->meta, sizeof sc->meta);
-    const int fresh = sc->nslices > 0 || sc->nisos > 0 || key != es->surf_key || !es->surf;
+    const int fresh = sc->nslices > 0 || sc->nisos > 0 || sc->nlines > 0 || key != es->surf_key || !es->surf;
     if (m->surface && fresh) {
         float *s = buffer(g, (size_t)w * h * 4);
         if (!s) {
@@ -229,7 +229,7 @@ static int prepare(vsv_gl *g, const vsv_scene *sc, const vsv_camera *cam, vsv_ma
         glActiveTexture(GL_TEXTURE3);
         tex2d(&es->surf, &es->sw, &es->sh, w, h, s);
         glActiveTexture(GL_TEXTURE0);
-        es->surf_key = sc->nslices > 0 ? 0 : key;
+        es->surf_key = sc->nslices > 0 || sc->nisos > 0 || sc->nlines > 0 ? 0 : key;
     }
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_3D, g->bricks.atlas);

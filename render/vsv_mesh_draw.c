@@ -1,6 +1,7 @@
-/* vsv_iso_draw.c — a scene's isosurfaces drawn as opaque surfaces
- * (vsv_scene_iso): extracted per brick (vsv_iso.c, kept across steps), then
- * each triangle met by the rays of the pixels its screen box covers, the
+/* vsv_mesh_draw.c — a scene's opaque meshes: its isosurfaces
+ * (vsv_scene_iso, extracted per brick by vsv_iso.c, kept across steps) and
+ * its lines (vsv_scene_line, tubes built by vsv_tube.c), each triangle
+ * met by the rays of the pixels its screen box covers, the
  * nearest hit per pixel written into the surface buffer the volume's rays
  * stop at, as the ground and the slices are. Exact ray-triangle hits, not
  * a projected rasteriser, so a pixel's surface distance is measured along
@@ -10,47 +11,51 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define ISO_BAND 8 /* image rows a pool item */
+#define MESH_BAND 8 /* image rows a pool item */
 
-/* This frame's triangles of every isosurface (kept between frames: the
- * arrays grow, never shrink). */
-typedef struct vsv_iso_frame {
+/* This frame's triangles of every mesh (kept between frames: the arrays
+ * grow, never shrink). */
+typedef struct vsv_mesh_frame {
     double *wp; /* nv * 3: world position, z exaggerated */
     double *sp; /* nv * 2: pixel coordinates (valid in front of the eye) */
     float *nrm; /* nv * 3: unit normal in the exaggerated world */
     uint32_t *tri;
     int *box;             /* nt * 4: the pixels x0, x1, y0, y1 its rays may meet */
-    unsigned char *which; /* nt: its isosurface */
+    uint32_t *which;      /* nt: its colour (index in rgb) */
     unsigned char *front; /* nt: wholly in front of the eye (sp valid) */
     size_t vcap, tcap, nv, nt;
-    /* the triangles per band of ISO_BAND rows: band b's are blist[bstart[b]
+    /* the triangles per band of MESH_BAND rows: band b's are blist[bstart[b]
      * .. bstart[b + 1] - 1], in the order gathered */
     int *bstart, *bfill, bcap;
     uint32_t *blist;
     size_t blcap;
-    float rgb[VSV_SCENE_ISO_MAX][3]; /* linear colours */
-} vsv_iso_frame;
+    float (*rgb)[3]; /* ncol linear colours */
+    int ncol, colcap;
+    vsv_tube tube; /* a line's tube, built here */
+} vsv_mesh_frame;
 
-void vsv_rc_isos_free(vsv_renderer *r)
+void vsv_rc_meshes_free(vsv_renderer *r)
 {
     for (int i = 0; i < VSV_SCENE_ISO_MAX; i++)
         vsv_iso_free(r->iso[i]);
-    if (r->isof) {
-        free(r->isof->wp);
-        free(r->isof->sp);
-        free(r->isof->nrm);
-        free(r->isof->front);
-        free(r->isof->bstart);
-        free(r->isof->bfill);
-        free(r->isof->blist);
-        free(r->isof->tri);
-        free(r->isof->box);
-        free(r->isof->which);
+    if (r->meshf) {
+        free(r->meshf->wp);
+        free(r->meshf->sp);
+        free(r->meshf->nrm);
+        free(r->meshf->front);
+        free(r->meshf->bstart);
+        free(r->meshf->bfill);
+        free(r->meshf->blist);
+        free(r->meshf->tri);
+        free(r->meshf->box);
+        free(r->meshf->which);
+        free(r->meshf->rgb);
+        vsv_tube_free(&r->meshf->tube);
     }
-    free(r->isof);
+    free(r->meshf);
 }
 
-static int grow(vsv_iso_frame *F, size_t nv, size_t nt)
+static int grow(vsv_mesh_frame *F, size_t nv, size_t nt)
 {
     if (nv > F->vcap) {
         double *wp = realloc(F->wp, nv * 3 * sizeof *wp);
@@ -72,7 +77,7 @@ static int grow(vsv_iso_frame *F, size_t nv, size_t nt)
         int *box = tri ? realloc(F->box, nt * 4 * sizeof *box) : NULL;
         if (box)
             F->box = box;
-        unsigned char *which = box ? realloc(F->which, nt) : NULL;
+        uint32_t *which = box ? realloc(F->which, nt * sizeof *which) : NULL;
         if (which)
             F->which = which;
         unsigned char *front = which ? realloc(F->front, nt) : NULL;
@@ -102,50 +107,62 @@ static int project(const vsv_rays *R, const double p[3], double *x, double *y)
     return 1;
 }
 
-/* Gathers isosurface q's triangles into F: world positions exaggerated,
- * normals for that scale, the screen box of each triangle (none when it
- * lies behind the eye, the whole image when it crosses the eye's plane). */
-static int gather(vsv_iso_frame *F, const vsv_iso *s, int q, const vsv_rays *R, double E, int w, int h)
+/* Colour rgb (as given: gamma-encoded, 0..1) added to F's, linear: its
+ * index, or -1 (out of memory). */
+static int add_colour(vsv_mesh_frame *F, const float rgb[3])
 {
-    vsv_iso_info in;
-    vsv_iso_get_info(s, &in);
-    if (grow(F, F->nv + in.nverts, F->nt + in.ntris))
-        return VSV_ENOMEM;
-    vsv_iso_mesh b;
-    for (int i = 0; vsv_iso_brick(s, i, &b) == 0; i++) {
-        const size_t v0 = F->nv;
-        for (int v = 0; v < b.nverts; v++) {
-            double *p = F->wp + 3 * (F->nv + v), n[3] = {b.nrm[3 * v], b.nrm[3 * v + 1], b.nrm[3 * v + 2] / E};
-            p[0] = b.pos[3 * v], p[1] = b.pos[3 * v + 1], p[2] = (double)b.pos[3 * v + 2] * E;
-            vsv_normalize(n); /* a normal under z scaled by E: z divided by E */
-            for (int k = 0; k < 3; k++)
-                F->nrm[3 * (F->nv + v) + k] = (float)n[k];
-        }
-        for (int t = 0; t < b.ntris; t++) {
-            uint32_t *T = F->tri + 3 * F->nt;
-            int *box = F->box + 4 * F->nt;
-            double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
-            int nfront = 0;
-            for (int k = 0; k < 3; k++) {
-                T[k] = (uint32_t)v0 + b.tri[3 * t + k];
-                double *x = F->sp + 2 * T[k];
-                if (project(R, F->wp + 3 * T[k], &x[0], &x[1]))
-                    nfront++, x0 = fmin(x0, x[0]), x1 = fmax(x1, x[0]), y0 = fmin(y0, x[1]), y1 = fmax(y1, x[1]);
-            }
-            if (!nfront) /* wholly behind the eye (an eye among the clouds) */
-                continue;
-            const int front = nfront == 3; /* else it crosses the eye's plane: every pixel may see it */
-            box[0] = front ? (int)fmax(0, floor(x0)) : 0;
-            box[1] = front ? (int)fmin(w - 1, ceil(x1)) : w - 1;
-            box[2] = front ? (int)fmax(0, floor(y0)) : 0;
-            box[3] = front ? (int)fmin(h - 1, ceil(y1)) : h - 1;
-            if (box[0] > box[1] || box[2] > box[3])
-                continue; /* off the image */
-            F->front[F->nt] = (unsigned char)front;
-            F->which[F->nt++] = (unsigned char)q;
-        }
-        F->nv += (size_t)b.nverts;
+    if (F->ncol == F->colcap) {
+        const int cap = F->colcap ? 2 * F->colcap : 16;
+        float(*c)[3] = realloc(F->rgb, (size_t)cap * sizeof *c);
+        if (!c)
+            return -1;
+        F->rgb = c, F->colcap = cap;
     }
+    for (int k = 0; k < 3; k++) /* the image is linear */
+        F->rgb[F->ncol][k] = powf(fminf(fmaxf(rgb[k], 0), 1), 2.2f);
+    return F->ncol++;
+}
+
+/* Gathers mesh b's triangles into F in colour col: world positions with z
+ * times E, normals for that scale, the screen box of each triangle (none
+ * when it lies behind the eye, the whole image when it crosses the eye's
+ * plane). */
+static int gather(vsv_mesh_frame *F, const vsv_iso_mesh *b, int col, const vsv_rays *R, double E, int w, int h)
+{
+    if (grow(F, F->nv + (size_t)b->nverts, F->nt + (size_t)b->ntris))
+        return VSV_ENOMEM;
+    const size_t v0 = F->nv;
+    for (int v = 0; v < b->nverts; v++) {
+        double *p = F->wp + 3 * (F->nv + v), n[3] = {b->nrm[3 * v], b->nrm[3 * v + 1], b->nrm[3 * v + 2] / E};
+        p[0] = b->pos[3 * v], p[1] = b->pos[3 * v + 1], p[2] = (double)b->pos[3 * v + 2] * E;
+        vsv_normalize(n); /* a normal under z scaled by E: z divided by E */
+        for (int k = 0; k < 3; k++)
+            F->nrm[3 * (F->nv + v) + k] = (float)n[k];
+    }
+    for (int t = 0; t < b->ntris; t++) {
+        uint32_t *T = F->tri + 3 * F->nt;
+        int *box = F->box + 4 * F->nt;
+        double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+        int nfront = 0;
+        for (int k = 0; k < 3; k++) {
+            T[k] = (uint32_t)v0 + b->tri[3 * t + k];
+            double *x = F->sp + 2 * T[k];
+            if (project(R, F->wp + 3 * T[k], &x[0], &x[1]))
+                nfront++, x0 = fmin(x0, x[0]), x1 = fmax(x1, x[0]), y0 = fmin(y0, x[1]), y1 = fmax(y1, x[1]);
+        }
+        if (!nfront) /* wholly behind the eye (an eye among the clouds) */
+            continue;
+        const int front = nfront == 3; /* else it crosses the eye's plane: every pixel may see it */
+        box[0] = front ? (int)fmax(0, floor(x0)) : 0;
+        box[1] = front ? (int)fmin(w - 1, ceil(x1)) : w - 1;
+        box[2] = front ? (int)fmax(0, floor(y0)) : 0;
+        box[3] = front ? (int)fmin(h - 1, ceil(y1)) : h - 1;
+        if (box[0] > box[1] || box[2] > box[3])
+            continue; /* off the image */
+        F->front[F->nt] = (unsigned char)front;
+        F->which[F->nt++] = (uint32_t)col;
+    }
+    F->nv += (size_t)b->nverts;
     return 0;
 }
 
@@ -183,7 +200,7 @@ typedef struct screen_tri {
     int on;         /* 0: no test (behind the eye's plane, or edge-on) */
 } screen_tri;
 
-static void screen_setup(const vsv_iso_frame *F, size_t t, screen_tri *S)
+static void screen_setup(const vsv_mesh_frame *F, size_t t, screen_tri *S)
 {
     const uint32_t *T = F->tri + 3 * t;
     const double *p[3] = {F->sp + 2 * T[0], F->sp + 2 * T[1], F->sp + 2 * T[2]};
@@ -204,7 +221,7 @@ static void screen_setup(const vsv_iso_frame *F, size_t t, screen_tri *S)
 /* Triangle t over rows ya..yb of its box: the nearest hit per pixel. */
 static void draw_tri(vsv_renderer *r, size_t t, int ya, int yb, double tmin)
 {
-    const vsv_iso_frame *F = r->isof;
+    const vsv_mesh_frame *F = r->meshf;
     const vsv_scene *sc = r->sc;
     const int *box = F->box + 4 * t, w = r->cam->width;
     const uint32_t *T = F->tri + 3 * t;
@@ -238,14 +255,15 @@ static void draw_tri(vsv_renderer *r, size_t t, int ya, int yb, double tmin)
         }
 }
 
-/* Pool job: image rows band * ISO_BAND onwards; the band's triangles in
+/* Pool job: image rows band * MESH_BAND onwards; the band's triangles in
  * the order gathered (so a tie in depth goes to the same one whatever the
  * threads). */
 static void band_job(void *ctx, int band, int thread)
 {
     vsv_renderer *r = ctx;
-    const vsv_iso_frame *F = r->isof;
-    const int h = r->cam->height, py0 = band * ISO_BAND, py1 = py0 + ISO_BAND - 1 < h - 1 ? py0 + ISO_BAND - 1 : h - 1;
+    const vsv_mesh_frame *F = r->meshf;
+    const int h = r->cam->height, py0 = band * MESH_BAND,
+              py1 = py0 + MESH_BAND - 1 < h - 1 ? py0 + MESH_BAND - 1 : h - 1;
     const double tmin = r->cam->znear > 0 ? r->cam->znear : 0;
     (void)thread;
     for (int i = F->bstart[band]; i < F->bstart[band + 1]; i++) {
@@ -255,7 +273,7 @@ static void band_job(void *ctx, int band, int thread)
 }
 
 /* Lists each triangle under every band of rows its box meets. */
-static int bin_bands(vsv_iso_frame *F, int nbands)
+static int bin_bands(vsv_mesh_frame *F, int nbands)
 {
     if (nbands + 1 > F->bcap) {
         int *st = realloc(F->bstart, (size_t)(nbands + 1) * sizeof *st);
@@ -269,7 +287,7 @@ static int bin_bands(vsv_iso_frame *F, int nbands)
     }
     memset(F->bstart, 0, (size_t)(nbands + 1) * sizeof *F->bstart);
     for (size_t t = 0; t < F->nt; t++)
-        for (int b = F->box[4 * t + 2] / ISO_BAND; b <= F->box[4 * t + 3] / ISO_BAND; b++)
+        for (int b = F->box[4 * t + 2] / MESH_BAND; b <= F->box[4 * t + 3] / MESH_BAND; b++)
             F->bstart[b + 1]++;
     for (int b = 0; b < nbands; b++)
         F->bstart[b + 1] += F->bstart[b];
@@ -283,27 +301,17 @@ static int bin_bands(vsv_iso_frame *F, int nbands)
     }
     memcpy(F->bfill, F->bstart, (size_t)nbands * sizeof *F->bfill);
     for (size_t t = 0; t < F->nt; t++)
-        for (int b = F->box[4 * t + 2] / ISO_BAND; b <= F->box[4 * t + 3] / ISO_BAND; b++)
+        for (int b = F->box[4 * t + 2] / MESH_BAND; b <= F->box[4 * t + 3] / MESH_BAND; b++)
             F->blist[F->bfill[b]++] = (uint32_t)t;
     return 0;
 }
 
-int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
+/* The scene's isosurfaces gathered into F. */
+static int gather_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
 {
+    vsv_mesh_frame *F = r->meshf;
     if (in->nisos < 0 || in->nisos > VSV_SCENE_ISO_MAX || (in->nisos && !in->isos))
         return VSV_EINVAL;
-    if (!r->isof && !(r->isof = calloc(1, sizeof *r->isof)))
-        return VSV_ENOMEM;
-    vsv_iso_frame *F = r->isof;
-    const size_t n = (size_t)cam->width * cam->height;
-    if (vsv_rc_surf_reserve(r, n))
-        return VSV_ENOMEM;
-    if (r->surf_read != r->surf) { /* the ground (or nothing) under the isosurfaces */
-        for (size_t i = 0; i < n; i++)
-            r->surf[i] = r->surf_read ? r->surf_read[i] : (vsv_ground){INFINITY, {0, 0, 0}};
-        r->surf_read = r->surf;
-    }
-    F->nv = F->nt = 0;
     for (int q = 0; q < in->nisos; q++) {
         const vsv_scene_iso *I = &in->isos[q];
         if (I->layer < 0 || I->layer >= in->nlayers || !in->layers[I->layer].vol)
@@ -314,12 +322,59 @@ int vsv_rc_isos(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
             vsv_iso_use_pool(r->iso[q], &r->pool);
         }
         int rc = vsv_iso_extract(r->iso[q], in->meta, in->layers[I->layer].vol, I->value);
-        if (rc || (rc = gather(F, r->iso[q], q, &r->rays, r->g.E, cam->width, cam->height)))
+        if (rc)
             return rc;
-        for (int k = 0; k < 3; k++) /* the colour as given is gamma-encoded; the image is linear */
-            F->rgb[q][k] = powf(fminf(fmaxf(I->rgb[k], 0), 1), 2.2f);
+        const int col = add_colour(F, I->rgb);
+        if (col < 0)
+            return VSV_ENOMEM;
+        vsv_iso_mesh b;
+        for (int i = 0; vsv_iso_brick(r->iso[q], i, &b) == 0; i++)
+            if ((rc = gather(F, &b, col, &r->rays, r->g.E, cam->width, cam->height)))
+                return rc;
     }
-    const int nbands = (cam->height + ISO_BAND - 1) / ISO_BAND;
+    return 0;
+}
+
+/* The scene's lines' tubes gathered into F. */
+static int gather_lines(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
+{
+    vsv_mesh_frame *F = r->meshf;
+    if (in->nlines < 0 || (in->nlines && !in->lines))
+        return VSV_EINVAL;
+    for (int q = 0; q < in->nlines; q++) {
+        const vsv_scene_line *L = &in->lines[q];
+        int rc = vsv_tube_build(&F->tube, L, r->g.E);
+        if (rc)
+            return rc;
+        const int col = add_colour(F, L->rgb);
+        if (col < 0)
+            return VSV_ENOMEM;
+        const vsv_iso_mesh b = {F->tube.pos, F->tube.nrm, F->tube.tri, F->tube.nv, F->tube.nt};
+        if ((rc = gather(F, &b, col, &r->rays, 1, cam->width, cam->height))) /* built exaggerated */
+            return rc;
+    }
+    return 0;
+}
+
+int vsv_rc_meshes(vsv_renderer *r, const vsv_scene *in, const vsv_camera *cam)
+{
+    if (!r->meshf && !(r->meshf = calloc(1, sizeof *r->meshf)))
+        return VSV_ENOMEM;
+    vsv_mesh_frame *F = r->meshf;
+    const size_t n = (size_t)cam->width * cam->height;
+    if (vsv_rc_surf_reserve(r, n))
+        return VSV_ENOMEM;
+    if (r->surf_read != r->surf) { /* the ground (or nothing) under the meshes */
+        for (size_t i = 0; i < n; i++)
+            r->surf[i] = r->surf_read ? r->surf_read[i] : (vsv_ground){INFINITY, {0, 0, 0}};
+        r->surf_read = r->surf;
+    }
+    F->nv = F->nt = 0;
+    F->ncol = 0;
+    int rc = gather_isos(r, in, cam);
+    if (rc || (rc = gather_lines(r, in, cam)))
+        return rc;
+    const int nbands = (cam->height + MESH_BAND - 1) / MESH_BAND;
     if (bin_bands(F, nbands))
         return VSV_ENOMEM;
     r->cam = cam;
