@@ -1,5 +1,6 @@
 /* vsv-render — headless frames of a .vsv file to PNG. */
 #include "vsv_cli.h"
+#include "vsv_flow.h"
 #include "vsv_gl.h"
 #include "vsv_movie_cli.h"
 #include "vsv_render.h"
@@ -75,6 +76,20 @@ static const char usage[] =
     "                          the model's own heights (COLOUR: white grey red orange\n"
     "                          yellow green cyan blue purple #RRGGBB; default white);\n"
     "                          repeatable (8 at most); such frames are raycast\n"
+    "      --trajectory LAT,LON,HEIGHT[:COLOUR]  the path of the air from there\n"
+    "                          (HEIGHT in metres as the file's heights), drawn up to\n"
+    "                          each frame's time as a lit tube with an arrowhead;\n"
+    "                          repeatable (64 at most)\n"
+    "      --seed-line LAT,LON,H:LAT,LON,H:N[:COLOUR]  N paths along a line\n"
+    "      --seed-slice HEIGHT:EVERY[:COLOUR]  a path from every EVERY-th column\n"
+    "      --traj-from T       the air leaves at step or time T (default: the first)\n"
+    "      --traj-for DURATION  followed so long (1h30m; default: to the last step)\n"
+    "      --barbs HEIGHT[:EVERY]  wind arrows on a horizontal plane from every\n"
+    "                          EVERY-th column (default: about 24 across); an arrow\n"
+    "                          of 20 m/s spans EVERY columns\n"
+    "      --tube-radius M     the tubes' radius in metres (default: 1/300 of the\n"
+    "                          domain's larger side; arrows 0.6 of it)\n"
+    "                          (these need the wind in the file; frames are raycast)\n"
     "  -r, --renderer NAME     raycast (default), shearwarp (faster; frames whose eye\n"
     "                          is inside the volume are raycast) or gl (the raycaster\n"
     "                          on the GPU, OpenGL 3.3 through EGL: no display needed)\n"
@@ -107,7 +122,7 @@ static int write_png(const char *path, const float *rgba, int w, int h, const fl
 }
 
 /* clang-format off */ /* (a table, laid out by hand) */
-enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE, O_ISO };
+enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE, O_ISO, O_TRAJ, O_SEEDLINE, O_SEEDSLICE, O_TRAJFROM, O_TRAJFOR, O_BARBS, O_TUBER };
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
     {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -125,6 +140,10 @@ static const struct option longopts[] = {
     {"slice-colormap", required_argument, 0, O_SLICECM}, {"gpu-mb", required_argument, 0, O_GPUMB},
     {"slice-range", required_argument, 0, O_SLICERANGE}, {"iso", required_argument, 0, O_ISO},
     {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
+    {"trajectory", required_argument, 0, O_TRAJ}, {"seed-line", required_argument, 0, O_SEEDLINE},
+    {"seed-slice", required_argument, 0, O_SEEDSLICE}, {"traj-from", required_argument, 0, O_TRAJFROM},
+    {"traj-for", required_argument, 0, O_TRAJFOR}, {"barbs", required_argument, 0, O_BARBS},
+    {"tube-radius", required_argument, 0, O_TUBER},
     {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
 /* clang-format on */
 
@@ -139,6 +158,7 @@ typedef struct render_args {
     const char *iso_specs[VSV_SCENE_ISO_MAX]; /* --iso, parsed against the file in make_layers */
     int niso;
     vsv_tf_change changes[64]; /* --colormap, --log, --range */
+    vsv_flow_opts flow;        /* --trajectory, --barbs, ... */
     unsigned parts;
     vsv_render_opts ro;
 } render_args;
@@ -167,6 +187,7 @@ typedef struct render_run {
     vsv_renderer *r;
     vsv_gl_context *glc;
     vsv_gl *gl;
+    vsv_flow *flow; /* trajectories and wind arrows, or NULL */
 } render_run;
 
 /* Reads the options into ra (set to the defaults by main); 1 after --help. */
@@ -297,6 +318,19 @@ static int parse_args(int argc, char **argv, render_args *ra)
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
+        case O_TRAJ:
+        case O_SEEDLINE:
+        case O_SEEDSLICE:
+        case O_TRAJFROM:
+        case O_TRAJFOR:
+        case O_BARBS:
+        case O_TUBER: {
+            char msg[512];
+            for (int i = 0; longopts[i].name; i++)
+                if (longopts[i].val == c && vsv_flow_opt(&ra->flow, longopts[i].name, optarg, msg, sizeof msg))
+                    vsv_cli_usage_error("%s", msg);
+            break;
+        }
         default: vsv_cli_usage_error("unknown option");
         }
     }
@@ -488,6 +522,9 @@ static void make_scene(const render_args *ra, render_run *run)
     for (int i = 0; i < 3; i++)
         target[i] = 0.5 * (run->mn[i] + run->mx[i]) - cam->pos[i];
     run->sep = sqrt(target[0] * target[0] + target[1] * target[1] + target[2] * target[2]) / 30;
+    char msg[1024];
+    if (vsv_flow_any(&ra->flow) && vsv_flow_open(run->f, &ra->flow, &run->flow, msg, sizeof msg))
+        vsv_cli_die(1, "%s: %s", ra->path, msg);
 }
 
 /* Starts the movie, loads the annotation's font and outlines and starts the renderer. */
@@ -552,6 +589,9 @@ static void render_frames(const render_args *ra, render_run *run, char *staged)
         for (int l = 0; l < run->nl; l++)
             if (vsv_volume_load(run->vols[l], d, t, run->sidx[l]))
                 vsv_cli_die(1, "%s", vsv_decoder_error(d));
+        char msg[1024];
+        if (run->flow && vsv_flow_frame(run->flow, t, 1, 1, &run->sc.lines, &run->sc.nlines, msg, sizeof msg))
+            vsv_cli_die(1, "%s: step %d: %s", path, t, msg);
         double slo, shi; /* the slices' own range in this frame */
         if (ra->nslice_specs && !isfinite(ra->slice_range[0]) && !vsv_slice_range(&run->sc, &slo, &shi)) {
             if (slice_tf->scale == VSV_SCALE_LOG)
@@ -663,6 +703,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "vsv-render: %d frame%s, %dx%d, exaggeration %g%s%s\n", run.b - run.a + 1,
                 run.b > run.a ? "s" : "", ra.width, ra.height, run.sc.exaggeration, ra.movie_out ? ", movie " : "",
                 ra.movie_out ? ra.movie_out : "");
+    vsv_flow_free(run.flow);
     vsv_renderer_free(run.r);
     vsv_gl_free(run.gl);
     vsv_gl_context_free(run.glc);

@@ -1,5 +1,6 @@
 /* vsv_iso_opt.c — the --iso SPECIES:VALUE[:COLOUR] option every tool that
  * draws or exports isosurfaces reads alike (vsv_iso_parse). */
+#include "vsv_flow.h"
 #include "vsv_render.h"
 
 #include <math.h>
@@ -15,8 +16,7 @@ static const struct {
              {"orange", {0.95f, 0.55f, 0.1f}}, {"yellow", {0.95f, 0.85f, 0.2f}}, {"green", {0.3f, 0.7f, 0.3f}},
              {"cyan", {0.3f, 0.8f, 0.9f}},     {"blue", {0.25f, 0.4f, 0.9f}},    {"purple", {0.6f, 0.35f, 0.8f}}};
 
-/* A colour: a name of the table above, or #RRGGBB. 0 or -1. */
-static int colour(const char *s, float rgb[3])
+int vsv_colour_parse(const char *s, float rgb[3])
 {
     for (size_t i = 0; i < sizeof named / sizeof *named; i++)
         if (!strcmp(s, named[i].name)) {
@@ -66,7 +66,7 @@ int vsv_iso_parse(const vsv_meta *m, const char *arg, vsv_iso_spec *spec, char *
         snprintf(msg, cap, "--iso %s: the value must be a finite number", arg);
         return VSV_EINVAL;
     }
-    if (c2 && colour(c2 + 1, spec->rgb)) {
+    if (c2 && vsv_colour_parse(c2 + 1, spec->rgb)) {
         snprintf(msg, cap,
                  "--iso %s: colour %s: a name (white grey red orange yellow green cyan blue purple) or #RRGGBB", arg,
                  c2 + 1);

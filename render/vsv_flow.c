@@ -1,0 +1,435 @@
+/* vsv_flow.c — trajectories and wind arrows as the tools' options ask for
+ * them (vsv_flow.h): the options read, the paths integrated once through
+ * the file's wind (vsv_traj), and each frame's lines: every path up to
+ * the frame's time, growing frame by frame (as Vis5D draws them), and the
+ * arrows of the wind at that step. */
+#include "vsv_flow.h"
+
+#include "vsv_format.h"
+#include "vsv_traj.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The trajectories' colours, one per option given, in turn. */
+static const char *const palette[] = {"yellow", "cyan", "orange", "purple", "green", "red", "blue", "white"};
+
+typedef struct flow_path {
+    vsv_traj_path p;
+    float rgb[3];
+} flow_path;
+
+struct vsv_flow {
+    vsv_file *f;
+    const vsv_meta *m;
+    vsv_flow_opts o;
+    int wind[3];
+    double ux, uy, radius;
+    flow_path *paths;
+    int npaths, pcap;
+    /* the frame's lines and their points (grown, kept) */
+    vsv_scene_line *lines;
+    int lcap;
+    double *xyz;
+    size_t xcap;
+    size_t *off; /* per line, its first coordinate in xyz */
+    /* the wind arrows: the flow's own decoder and volumes */
+    vsv_decoder *d;
+    vsv_volume *ve, *vn;
+};
+
+/* Parses "LAT,LON,HEIGHT" (HEIGHT with an optional trailing m) at s into p;
+ * *end just after it. 0 or -1. */
+static int parse_point(const char *s, double p[3], const char **end)
+{
+    char *e = NULL;
+    for (int k = 0; k < 3; k++) {
+        p[k] = strtod(s, &e);
+        if (e == s || !isfinite(p[k]))
+            return -1;
+        if (k < 2 && *e != ',')
+            return -1;
+        s = k < 2 ? e + 1 : e;
+    }
+    if (*e == 'm')
+        e++;
+    *end = e;
+    return fabs(p[0]) <= 90 && fabs(p[1]) <= 360 ? 0 : -1;
+}
+
+/* An optional ":COLOUR" at s (end of the argument): 0 or -1. */
+static int parse_colour(const char *s, float rgb[3], int *given)
+{
+    *given = 0;
+    if (!*s)
+        return 0;
+    *given = 1;
+    return *s == ':' && !vsv_colour_parse(s + 1, rgb) ? 0 : -1;
+}
+
+/* "HEIGHT:EVERY[...]" at s: the height (metres, trailing m allowed), the
+ * spacing (a positive integer; optional when need_every is 0), *end after
+ * them. 0 or -1. */
+static int parse_plane(const char *s, int need_every, double *z, int *every, const char **end)
+{
+    char *e = NULL;
+    *z = strtod(s, &e);
+    if (e == s || !isfinite(*z))
+        return -1;
+    if (*e == 'm')
+        e++;
+    if (*e != ':') {
+        *end = e;
+        return need_every ? -1 : 0;
+    }
+    const char *q = e + 1;
+    const long k = strtol(q, &e, 10);
+    if (e == q || k < 1 || k > 100000)
+        return -1;
+    *every = (int)k;
+    *end = e;
+    return 0;
+}
+
+/* Checks one option's argument (the syntax: what vsv_flow_open reads). */
+static int check(const char *opt, const char *arg)
+{
+    double p[3], q[3], z;
+    float rgb[3];
+    int every = 0, given;
+    const char *e = arg;
+    char *x = NULL;
+    if (!strcmp(opt, "trajectory"))
+        return parse_point(arg, p, &e) || parse_colour(e, rgb, &given);
+    if (!strcmp(opt, "seed-line")) {
+        if (parse_point(arg, p, &e) || *e != ':' || parse_point(e + 1, q, &e) || *e != ':')
+            return -1;
+        const long n = strtol(e + 1, &x, 10);
+        return x == e + 1 || n < 2 || n > 10000 || parse_colour(x, rgb, &given);
+    }
+    if (!strcmp(opt, "seed-slice"))
+        return parse_plane(arg, 1, &z, &every, &e) || parse_colour(e, rgb, &given);
+    if (!strcmp(opt, "barbs"))
+        return parse_plane(arg, 0, &z, &every, &e) || *e;
+    return -1;
+}
+
+int vsv_flow_opt(vsv_flow_opts *o, const char *opt, const char *arg, char *msg, size_t cap)
+{
+    const char *why = NULL;
+    int64_t d = 0;
+    if (!strcmp(opt, "traj-from")) {
+        vsv_timesel sel;
+        char w[256];
+        if (vsv_timesel_parse(arg, NULL, 0, VSV_TIMESEL_ONE, &sel, w, sizeof w)) {
+            snprintf(msg, cap, "--traj-from %s: %s", arg, w);
+            return VSV_EINVAL;
+        }
+        o->from = arg;
+        return 0;
+    } else if (!strcmp(opt, "traj-for")) {
+        if (vsv_duration_parse(arg, &d))
+            why = vsv_duration_why(arg);
+        else
+            o->dur = d;
+    } else if (!strcmp(opt, "tube-radius")) {
+        char *e = NULL;
+        o->radius = strtod(arg, &e);
+        if (e == arg || *e || !(o->radius > 0) || !isfinite(o->radius))
+            why = "a radius in metres, more than 0";
+    } else if (check(opt, arg)) {
+        why = !strcmp(opt, "trajectory")   ? "expected LAT,LON,HEIGHT[:COLOUR] (degrees, metres)"
+              : !strcmp(opt, "seed-line")  ? "expected LAT,LON,HEIGHT:LAT,LON,HEIGHT:N[:COLOUR] (N from 2)"
+              : !strcmp(opt, "seed-slice") ? "expected HEIGHT:EVERY[:COLOUR] (metres, columns)"
+                                           : "expected HEIGHT[:EVERY] (metres, columns)";
+    } else {
+        const char **slot = NULL;
+        int *n = NULL, max = 8;
+        if (!strcmp(opt, "trajectory"))
+            slot = o->traj, n = &o->ntraj, max = VSV_FLOW_MAX;
+        else if (!strcmp(opt, "seed-line"))
+            slot = o->line, n = &o->nline;
+        else if (!strcmp(opt, "seed-slice"))
+            slot = o->slice, n = &o->nslice;
+        else
+            slot = o->barbs, n = &o->nbarbs;
+        if (*n >= max) {
+            snprintf(msg, cap, "--%s %s: at most %d", opt, arg, max);
+            return VSV_EINVAL;
+        }
+        slot[(*n)++] = arg;
+    }
+    if (why) {
+        snprintf(msg, cap, "--%s %s: %s", opt, arg, why);
+        return VSV_EINVAL;
+    }
+    return 0;
+}
+
+int vsv_flow_any(const vsv_flow_opts *o) { return o->ntraj || o->nline || o->nslice || o->nbarbs; }
+
+void vsv_flow_free(vsv_flow *fl)
+{
+    if (!fl)
+        return;
+    for (int i = 0; i < fl->npaths; i++)
+        vsv_traj_path_clear(&fl->paths[i].p);
+    free(fl->paths);
+    free(fl->lines);
+    free(fl->xyz);
+    free(fl->off);
+    vsv_volume_free(fl->ve);
+    vsv_volume_free(fl->vn);
+    vsv_decoder_free(fl->d);
+    free(fl);
+}
+
+int vsv_flow_paths(const vsv_flow *fl) { return fl->npaths; }
+
+/* The path of the air at projected (x, y), height z, from `from` to `to`,
+ * added in colour rgb. 0; VSV_EINVAL (the seed outside the grid or under
+ * the ground) with strict set, else skipped; or an error of vsv_traj_run. */
+static int add_path(vsv_flow *fl, vsv_traj *tr, const double seed[3], double from, double to, const float rgb[3],
+                    int strict)
+{
+    if (fl->npaths == fl->pcap) {
+        const int cap = fl->pcap ? 2 * fl->pcap : 16;
+        flow_path *p = realloc(fl->paths, (size_t)cap * sizeof *p);
+        if (!p)
+            return VSV_ENOMEM;
+        fl->paths = p, fl->pcap = cap;
+    }
+    flow_path *P = &fl->paths[fl->npaths];
+    memset(P, 0, sizeof *P);
+    const int rc = vsv_traj_run(tr, seed, from, to, VSV_FLOW_EVERY, &P->p);
+    if (rc) {
+        vsv_traj_path_clear(&P->p);
+        return rc == VSV_EINVAL && !strict ? 0 : rc;
+    }
+    memcpy(P->rgb, rgb, sizeof P->rgb);
+    fl->npaths++;
+    return 0;
+}
+
+/* Every seed of fl's options integrated from `from` to `to`. */
+static int seed_all(vsv_flow *fl, vsv_traj *tr, double from, double to, char *msg, size_t cap)
+{
+    const vsv_meta *m = fl->m;
+    const vsv_flow_opts *o = &fl->o;
+    int col = 0, given, rc = 0;
+    for (int i = 0; i < o->ntraj + o->nline + o->nslice && !rc; i++) {
+        float rgb[3];
+        vsv_colour_parse(palette[col++ % 8], rgb);
+        double p[3], q[3], s[3];
+        const char *e = "";
+        char *x = NULL;
+        if (i < o->ntraj) { /* one seed */
+            parse_point(o->traj[i], p, &e);
+            parse_colour(e, rgb, &given);
+            if (vsv_proj_forward(&m->proj, p[0], p[1], &s[0], &s[1])) {
+                snprintf(msg, cap, "--trajectory %s: not in the grid's projection", o->traj[i]);
+                return VSV_EINVAL;
+            }
+            s[2] = p[2];
+            if ((rc = add_path(fl, tr, s, from, to, rgb, 1)) == VSV_EINVAL)
+                snprintf(msg, cap, "--trajectory %s: outside the grid, under the ground or outside its times",
+                         o->traj[i]);
+        } else if (i < o->ntraj + o->nline) { /* n seeds evenly along a straight line (in the projection) */
+            const char *a = o->line[i - o->ntraj];
+            parse_point(a, p, &e);
+            parse_point(e + 1, q, &e);
+            const long n = strtol(e + 1, &x, 10);
+            parse_colour(x, rgb, &given);
+            double x0, y0, x1, y1;
+            if (vsv_proj_forward(&m->proj, p[0], p[1], &x0, &y0) || vsv_proj_forward(&m->proj, q[0], q[1], &x1, &y1)) {
+                snprintf(msg, cap, "--seed-line %s: not in the grid's projection", a);
+                return VSV_EINVAL;
+            }
+            for (long k = 0; k < n && !rc; k++) {
+                const double f = (double)k / (double)(n - 1);
+                s[0] = x0 + f * (x1 - x0), s[1] = y0 + f * (y1 - y0), s[2] = p[2] + f * (q[2] - p[2]);
+                rc = add_path(fl, tr, s, from, to, rgb, 0);
+            }
+        } else { /* every k-th column at one height */
+            double z;
+            int every = 1;
+            parse_plane(o->slice[i - o->ntraj - o->nline], 1, &z, &every, &e);
+            parse_colour(e, rgb, &given);
+            for (int j = 0; j < m->ny && !rc; j += every)
+                for (int c = 0; c < m->nx && !rc; c += every) {
+                    s[0] = m->origin[0] + c * m->spacing[0], s[1] = m->origin[1] + j * m->spacing[1], s[2] = z;
+                    rc = add_path(fl, tr, s, from, to, rgb, 0);
+                }
+        }
+    }
+    if (rc && rc != VSV_EINVAL)
+        snprintf(msg, cap, "%s", vsv_traj_error(tr));
+    return rc;
+}
+
+int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg, size_t cap)
+{
+    vsv_flow *fl = *out = calloc(1, sizeof *fl);
+    if (!fl) {
+        snprintf(msg, cap, "out of memory");
+        return VSV_ENOMEM;
+    }
+    fl->f = f, fl->m = vsv_file_meta(f), fl->o = *o;
+    const vsv_meta *m = fl->m;
+    if (vsv_meta_vector(m, VSV_WIND, fl->wind)) {
+        snprintf(msg, cap, "no wind stored");
+        return VSV_ENOTFOUND;
+    }
+    vsv_scene_units(m, &fl->ux, &fl->uy);
+    const double wx = m->nx * m->spacing[0] * fl->ux, wy = m->ny * m->spacing[1] * fl->uy;
+    fl->radius = o->radius > 0 ? o->radius : fmax(wx, wy) / 300;
+    if (!o->ntraj && !o->nline && !o->nslice)
+        return 0;
+    vsv_file_info info;
+    vsv_file_info_get(f, &info);
+    int64_t *times = malloc((size_t)info.nsteps * sizeof *times);
+    if (!times) {
+        snprintf(msg, cap, "out of memory");
+        return VSV_ENOMEM;
+    }
+    for (int t = 0; t < info.nsteps; t++)
+        times[t] = vsv_file_time(f, t);
+    int first = 0, rc = 0;
+    if (o->from) {
+        vsv_timesel sel;
+        char why[512];
+        rc = vsv_timesel_parse(o->from, times, info.nsteps, VSV_TIMESEL_ONE | VSV_TIMESEL_CAL(vsv_meta_calendar(m)),
+                               &sel, why, sizeof why);
+        if (rc)
+            snprintf(msg, cap, "--traj-from %s", why);
+        first = sel.first;
+    }
+    const double from = (double)times[first], last = (double)times[info.nsteps - 1];
+    const double to = o->dur > 0 && from + (double)o->dur < last ? from + (double)o->dur : last;
+    free(times);
+    if (rc)
+        return VSV_EINVAL;
+    vsv_traj *tr = NULL;
+    if ((rc = vsv_traj_create(f, &tr))) {
+        snprintf(msg, cap, "%s", rc == VSV_ENOTFOUND ? "no wind stored" : vsv_strerror(rc));
+        return rc;
+    }
+    rc = to > from ? seed_all(fl, tr, from, to, msg, cap) : 0;
+    vsv_traj_free(tr);
+    return rc;
+}
+
+/* Room for n more lines of k more points. */
+static int room(vsv_flow *fl, int nl, size_t nx, int n, size_t k)
+{
+    if (nl + n > fl->lcap) {
+        const int c = 2 * (nl + n);
+        vsv_scene_line *l = realloc(fl->lines, (size_t)c * sizeof *l);
+        if (l)
+            fl->lines = l;
+        size_t *o = l ? realloc(fl->off, (size_t)c * sizeof *o) : NULL;
+        if (!o)
+            return VSV_ENOMEM;
+        fl->off = o, fl->lcap = c;
+    }
+    if (nx + 3 * k > fl->xcap) {
+        const size_t c = 2 * (nx + 3 * k);
+        double *x = realloc(fl->xyz, c * sizeof *x);
+        if (!x)
+            return VSV_ENOMEM;
+        fl->xyz = x, fl->xcap = c;
+    }
+    return 0;
+}
+
+/* Path P up to time T as a line (none before it starts or when it has one
+ * point by then). */
+static int path_line(vsv_flow *fl, const flow_path *P, double T, int *nl, size_t *nx)
+{
+    const vsv_traj_path *p = &P->p;
+    if (p->n < 2 || p->pts[0].t > T)
+        return 0;
+    if (room(fl, *nl, *nx, 1, (size_t)p->n + 1))
+        return VSV_ENOMEM;
+    double *x = fl->xyz + *nx;
+    int k = 0;
+    for (int i = 0; i < p->n; i++) {
+        const vsv_traj_point *a = &p->pts[i];
+        if (a->t <= T) {
+            x[3 * k] = a->x * fl->ux, x[3 * k + 1] = a->y * fl->uy, x[3 * k + 2] = a->z;
+            k++;
+            continue;
+        }
+        const vsv_traj_point *b = &p->pts[i - 1]; /* the point at T, between b and a */
+        const double f = (T - b->t) / (a->t - b->t);
+        x[3 * k] = (b->x + f * (a->x - b->x)) * fl->ux, x[3 * k + 1] = (b->y + f * (a->y - b->y)) * fl->uy;
+        x[3 * k + 2] = b->z + f * (a->z - b->z);
+        k++;
+        break;
+    }
+    if (k < 2)
+        return 0;
+    fl->off[*nl] = *nx;
+    fl->lines[(*nl)++] = (vsv_scene_line){NULL, k, fl->radius, 1, {P->rgb[0], P->rgb[1], P->rgb[2]}};
+    *nx += 3 * (size_t)k;
+    return 0;
+}
+
+/* The wind arrows of every --barbs plane at step. */
+static int barb_lines(vsv_flow *fl, int step, int *nl, size_t *nx, char *msg, size_t cap)
+{
+    const vsv_meta *m = fl->m;
+    if (!fl->d &&
+        (vsv_decoder_create(fl->f, &fl->d) || vsv_volume_create(fl->f, &fl->ve) || vsv_volume_create(fl->f, &fl->vn))) {
+        snprintf(msg, cap, "out of memory");
+        return VSV_ENOMEM;
+    }
+    if (vsv_volume_load(fl->ve, fl->d, step, fl->wind[0]) || vsv_volume_load(fl->vn, fl->d, step, fl->wind[1])) {
+        snprintf(msg, cap, "%s", vsv_decoder_error(fl->d));
+        return VSV_EIO;
+    }
+    const vsv_meta placed = vsv_meta_placed(m, vsv_file_time(fl->f, step));
+    const float white[3] = {0.92f, 0.92f, 0.92f};
+    for (int b = 0; b < fl->o.nbarbs; b++) {
+        double z;
+        int every = 0, na = 0;
+        const char *e = "";
+        parse_plane(fl->o.barbs[b], 0, &z, &every, &e);
+        if (!every) /* about 24 arrows across the larger side */
+            every = (m->nx > m->ny ? m->nx : m->ny) / 24 > 1 ? (m->nx > m->ny ? m->nx : m->ny) / 24 : 1;
+        const int most = ((m->nx + every - 1) / every) * ((m->ny + every - 1) / every);
+        if (room(fl, *nl, *nx, most, 2 * (size_t)most))
+            return VSV_ENOMEM;
+        /* VSV_FLOW_BARB m/s spans the arrows' spacing */
+        const double spacing = every * fmax(m->spacing[0] * fl->ux, m->spacing[1] * fl->uy);
+        double top;
+        if (vsv_wind_arrows(&placed, fl->ve, fl->vn, z, every, spacing / VSV_FLOW_BARB, fl->xyz + *nx, most, &na, &top))
+            return VSV_EINVAL;
+        for (int a = 0; a < na; a++) {
+            fl->off[*nl] = *nx + 6 * (size_t)a;
+            fl->lines[(*nl)++] = (vsv_scene_line){NULL, 2, fl->radius * 0.6, 1, {white[0], white[1], white[2]}};
+        }
+        *nx += 6 * (size_t)na;
+    }
+    return 0;
+}
+
+int vsv_flow_frame(vsv_flow *fl, int step, int trajectories, int barbs, const vsv_scene_line **lines, int *n, char *msg,
+                   size_t cap)
+{
+    int nl = 0, rc = 0;
+    size_t nx = 0;
+    const double T = (double)vsv_file_time(fl->f, step);
+    for (int i = 0; trajectories && i < fl->npaths && !rc; i++)
+        if ((rc = path_line(fl, &fl->paths[i], T, &nl, &nx)))
+            snprintf(msg, cap, "out of memory");
+    if (!rc && barbs && fl->o.nbarbs)
+        rc = barb_lines(fl, step, &nl, &nx, msg, cap);
+    for (int i = 0; i < nl; i++) /* the points are in place: the lines' pointers */
+        fl->lines[i].xyz = fl->xyz + fl->off[i];
+    *lines = fl->lines;
+    *n = rc ? 0 : nl;
+    return rc;
+}
