@@ -236,32 +236,36 @@ static int seed_all(vsv_flow *fl, vsv_traj *tr, double from, double to, char *ms
             if ((rc = add_path(fl, tr, s, from, to, rgb, 1)) == VSV_EINVAL)
                 snprintf(msg, cap, "--trajectory %s: outside the grid, under the ground or outside its times",
                          o->traj[i]);
-        } else if (i < o->ntraj + o->nline) { /* n seeds evenly along a straight line (in the projection) */
-            const char *a = o->line[i - o->ntraj];
-            parse_point(a, p, &e);
-            parse_point(e + 1, q, &e);
-            const long n = strtol(e + 1, &x, 10);
-            parse_colour(x, rgb, &given);
-            double x0, y0, x1, y1;
-            if (vsv_proj_forward(&m->proj, p[0], p[1], &x0, &y0) || vsv_proj_forward(&m->proj, q[0], q[1], &x1, &y1)) {
+        } else { /* n seeds along a line, or one every k-th column (vsv_traj_seed_*) */
+            const int line = i < o->ntraj + o->nline;
+            const char *a = line ? o->line[i - o->ntraj] : o->slice[i - o->ntraj - o->nline];
+            double z;
+            int every = 1;
+            long n = 0;
+            if (line) {
+                parse_point(a, p, &e);
+                parse_point(e + 1, q, &e);
+                n = strtol(e + 1, &x, 10);
+                e = x;
+            } else {
+                parse_plane(a, 1, &z, &every, &e);
+                n = vsv_traj_seed_plane(m, (int64_t)from, z, every, NULL, 0);
+            }
+            parse_colour(e, rgb, &given);
+            double *seeds = n > 0 ? malloc((size_t)n * 3 * sizeof *seeds) : NULL;
+            if (n > 0 && !seeds)
+                return VSV_ENOMEM;
+            const int got = !line ? vsv_traj_seed_plane(m, (int64_t)from, z, every, seeds, (int)n)
+                            : vsv_traj_seed_line(m, p, q, (int)n, seeds) ? -1
+                                                                         : (int)n;
+            if (got < 0) {
+                free(seeds);
                 snprintf(msg, cap, "--seed-line %s: not in the grid's projection", a);
                 return VSV_EINVAL;
             }
-            for (long k = 0; k < n && !rc; k++) {
-                const double f = (double)k / (double)(n - 1);
-                s[0] = x0 + f * (x1 - x0), s[1] = y0 + f * (y1 - y0), s[2] = p[2] + f * (q[2] - p[2]);
-                rc = add_path(fl, tr, s, from, to, rgb, 0);
-            }
-        } else { /* every k-th column at one height */
-            double z;
-            int every = 1;
-            parse_plane(o->slice[i - o->ntraj - o->nline], 1, &z, &every, &e);
-            parse_colour(e, rgb, &given);
-            for (int j = 0; j < m->ny && !rc; j += every)
-                for (int c = 0; c < m->nx && !rc; c += every) {
-                    s[0] = m->origin[0] + c * m->spacing[0], s[1] = m->origin[1] + j * m->spacing[1], s[2] = z;
-                    rc = add_path(fl, tr, s, from, to, rgb, 0);
-                }
+            for (int k = 0; k < got && !rc; k++)
+                rc = add_path(fl, tr, seeds + 3 * k, from, to, rgb, 0);
+            free(seeds);
         }
     }
     if (rc && rc != VSV_EINVAL)

@@ -37,6 +37,9 @@ for s in 1 2; do
     expect "--trajectory from step 0, step $s" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/t$s.png" $R -t $s \
         --trajectory 40,-100,3000 --traj-from 0 --traj-for 3h
 done
+expect "--seed-slice 3000:10" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/ss.png" $R -t 1 --seed-slice 3000:10:cyan
+expect "--seed-line 3 seeds" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/sl.png" $R -t 1 \
+    --seed-line 39.9,-100.1,3000:40.1,-100.1,3000:3
 expect "--traj-from 2: nothing at step 1" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/t0.png" $R -t 1 \
     --trajectory 40,-100,3000 --traj-from 2
 
@@ -79,12 +82,29 @@ for s, km in ((1, 18), (2, 36)):
     D = drawn(f"t{s}")
     ys, xs = np.nonzero(D)
     sx, sy, ex = px(0), py(0), px(km * 1000)
-    assert len(xs) and abs(xs.min() - sx) <= 2.5 and abs(xs.max() - ex) <= 1.5, ("ends", s, xs.min(), xs.max(), sx, ex)
+    # (the head's tip is a point: the last pixel whose centre it covers is up to 2 short of it)
+    assert len(xs) and abs(xs.min() - sx) <= 2.5 and -2.5 <= xs.max() - ex <= 1, ("ends", s, xs.min(), xs.max(), sx, ex)
     assert np.abs(ys - sy).max() <= 4.5, ("off its row", s, np.abs(ys - sy).max())
     row = D[int(np.floor(sy)):int(np.ceil(sy)) + 1].any(axis=0)
     assert row[int(np.ceil(sx)) + 1:int(ex) - 1].all(), ("a gap along it", s)
     print(f"step {s}: from pixel {xs.min()} to {xs.max()} (want {sx:.1f} to {ex:.1f}), rows {ys.min()}..{ys.max()}")
 assert not drawn("t0").any(), "a trajectory drawn before its start"
+# seeds every 10th column from the 5th: 4 x 3 paths, each on its row from its seed
+D = drawn("ss")
+ys, xs = np.nonzero(D)
+rows = [py(-30000 + 2000 * j) for j in (5, 15, 25)]
+assert all(min(abs(y - r) for r in rows) <= 4.5 for y in ys), "a pixel off the seeds' rows"
+for r in rows:
+    for i in (5, 15, 25, 35):
+        sx = px(-40000 + 2000 * i)
+        near = D[int(r) - 1:int(r) + 3, int(sx) - 1:int(sx) + 4]
+        assert near.any() and not D[int(r) - 4:int(r) + 5, int(sx) - 6:int(sx) - 2].any(), ("seed", i, r)
+# three seeds along a meridian 0.2 degrees long: three rows, about 11 km apart
+ys = np.nonzero(drawn("sl").any(axis=1))[0]
+groups = np.split(ys, np.nonzero(np.diff(ys) > 1)[0] + 1)
+mid = [g.mean() for g in groups]
+assert len(groups) == 3 and all(abs((mid[k + 1] - mid[k]) * 204 - 11120) < 400 for k in range(2)), mid
+print(f"seed-slice: 12 paths on 3 rows; seed-line: rows at {[round(m, 1) for m in mid]}")
 PY
 then pass "arrows east along the wind; the path on its row, growing with the frame ($(tr '\n' ';' < "$T/py"))"
 else fail "arrows and paths where the wind takes them" "$(tail -c 600 "$T/py")"; fi
