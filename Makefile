@@ -469,8 +469,8 @@ $(B)/tests/test_%: $(B)/tests/test_%.o $(TEST_HELPERS) $(TEST_LIBS)
 $(B)/tests/mm5crop: $(B)/tests/mm5_crop.o $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
-# a .vsv with a known wind (tests/cli_traj.sh)
-$(B)/tests/windfile: $(B)/tests/wind_file.o $(TEST_LIBS)
+# a .vsv with a known wind (tests/cli_traj.sh, cli_flow.sh, cli_freevr_room.sh)
+$(B)/tests/windfile: $(B)/tests/wind_file.o $(TEST_HELPERS) $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
 # the test shim that truncates a file right after a tool maps it (no
@@ -635,7 +635,7 @@ $(B)/fuzz/fuzz_argv: $(B)/tests/fuzz_argv.o $(B)/tests/fuzz_source.o $(ARGV_OBJ)
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
 # `pkg-config --cflags --libs vesuvius`).
 PUBLIC_H = format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
-           render/vsv_render.h render/gl/vsv_gl.h interop/vsv_vdb.h interop/vsv_cf.h format/vsv_http.h
+           render/vsv_render.h render/vsv_flow.h render/gl/vsv_gl.h interop/vsv_vdb.h interop/vsv_cf.h format/vsv_http.h
 PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-gl vesuvius-interop vesuvius-http
 pc_desc_vesuvius = The .vsv format (writer, reader, field stream, queries, projections) and the streaming pager
 pc_req_vesuvius =

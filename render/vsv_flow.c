@@ -38,6 +38,7 @@ struct vsv_flow {
     /* the wind arrows: the flow's own decoder and volumes */
     vsv_decoder *d;
     vsv_volume *ve, *vn;
+    int barb_step; /* the step ve and vn hold, or -1 */
 };
 
 /* Parses "LAT,LON,HEIGHT" (HEIGHT with an optional trailing m) at s into p;
@@ -273,6 +274,33 @@ static int seed_all(vsv_flow *fl, vsv_traj *tr, double from, double to, char *ms
     return rc;
 }
 
+int vsv_flow_add(vsv_flow *fl, const double seed[3], int step, char *msg, size_t cap)
+{
+    vsv_file_info info;
+    vsv_file_info_get(fl->f, &info);
+    if (step < 0 || step >= info.nsteps) {
+        snprintf(msg, cap, "no step %d", step);
+        return VSV_EINVAL;
+    }
+    const double from = (double)vsv_file_time(fl->f, step), last = (double)vsv_file_time(fl->f, info.nsteps - 1);
+    const double to = fl->o.dur > 0 && from + (double)fl->o.dur < last ? from + (double)fl->o.dur : last;
+    float rgb[3];
+    vsv_colour_parse(palette[fl->npaths % 8], rgb);
+    vsv_traj *tr = NULL;
+    int rc = vsv_traj_create(fl->f, &tr);
+    if (!rc && !(to > from))
+        rc = VSV_EINVAL;
+    if (!rc)
+        rc = add_path(fl, tr, seed, from, to, rgb, 1);
+    if (rc)
+        snprintf(msg, cap, "%s",
+                 rc == VSV_EINVAL ? "outside the grid, under the ground or at the last step"
+                 : tr             ? vsv_traj_error(tr)
+                                  : vsv_strerror(rc));
+    vsv_traj_free(tr);
+    return rc;
+}
+
 int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg, size_t cap)
 {
     vsv_flow *fl = *out = calloc(1, sizeof *fl);
@@ -280,7 +308,7 @@ int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg
         snprintf(msg, cap, "out of memory");
         return VSV_ENOMEM;
     }
-    fl->f = f, fl->m = vsv_file_meta(f), fl->o = *o;
+    fl->f = f, fl->m = vsv_file_meta(f), fl->o = *o, fl->barb_step = -1;
     const vsv_meta *m = fl->m;
     if (vsv_meta_vector(m, VSV_WIND, fl->wind)) {
         snprintf(msg, cap, "no wind stored");
@@ -390,10 +418,13 @@ static int barb_lines(vsv_flow *fl, int step, int *nl, size_t *nx, char *msg, si
         snprintf(msg, cap, "out of memory");
         return VSV_ENOMEM;
     }
-    if (vsv_volume_load(fl->ve, fl->d, step, fl->wind[0]) || vsv_volume_load(fl->vn, fl->d, step, fl->wind[1])) {
+    if (step != fl->barb_step &&
+        (vsv_volume_load(fl->ve, fl->d, step, fl->wind[0]) || vsv_volume_load(fl->vn, fl->d, step, fl->wind[1]))) {
+        fl->barb_step = -1;
         snprintf(msg, cap, "%s", vsv_decoder_error(fl->d));
         return VSV_EIO;
     }
+    fl->barb_step = step;
     const vsv_meta placed = vsv_meta_placed(m, vsv_file_time(fl->f, step));
     const float white[3] = {0.92f, 0.92f, 0.92f};
     for (int b = 0; b < fl->o.nbarbs; b++) {

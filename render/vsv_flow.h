@@ -63,6 +63,13 @@ void vsv_flow_free(vsv_flow *fl);
  * read error with the reason in msg. */
 int vsv_flow_frame(vsv_flow *fl, int step, int trajectories, int barbs, const vsv_scene_line **lines, int *n, char *msg,
                    size_t cap);
+/* One more trajectory: the air at projected (x, y) and height z (as
+ * vsv_traj_run's seed) leaving at step `step`, followed for --traj-for (or
+ * to the last step), drawn in the next colour of the palette. 0, or
+ * VSV_EINVAL (the seed outside the grid or under the ground) or an error
+ * of vsv_traj, with the reason in msg. */
+int vsv_flow_add(vsv_flow *fl, const double seed[3], int step, char *msg, size_t cap);
+
 /* The wind arrows' scale: an arrow VSV_FLOW_BARB m/s long spans the
  * spacing between arrows. */
 #define VSV_FLOW_BARB 20

@@ -12,8 +12,8 @@ trap 'rm -rf "$T"' EXIT
 . tests/cli_lib.sh
 
 # 40 x 30 columns of 2 km centred on 40N 100W, a wind of 5 (w10: 10) m/s east, 4 hourly steps
-"$B/tests/windfile" "$T/w.vsv" 5 0 0 && "$B/tests/windfile" "$T/n.vsv" 5 0 0 nowind &&
-    "$B/tests/windfile" "$T/w10.vsv" 10 0 0 ||
+"$B/tests/windfile" "$T/w.vsv" uniform 5 0 0 && "$B/tests/windfile" "$T/n.vsv" uniform 5 0 0 novector &&
+    "$B/tests/windfile" "$T/w10.vsv" uniform 10 0 0 ||
     { fail "make the wind files" "exit $?"; exit 0; }
 R="-q -s CLW --view plan --size 400x300 --no-annotate"
 

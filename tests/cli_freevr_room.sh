@@ -15,6 +15,8 @@
 #    (more of the window), a turn moves it sideways, button 1 with the
 #    joystick scales it up, and buttons 1 and 2 together put it back, pixel
 #    for pixel;
+#  - a trajectory from the wand (switch 13) on a file with wind: nothing at
+#    the step it leaves, a path drawn at the next;
 #  - the end of a run: SIGTERM, SIGHUP and SIGINT (which FreeVR ignores) to
 #    the main process, and a render process killed: within 3 s no process of
 #    the run is left, the exit status is the signal's (128 + N) or 1 with the
@@ -278,6 +280,46 @@ for k in 1 2 3; do
     $SHOT same "$O/start.ppm" "$O/reset$k.ppm" && pass "wand: buttons 1 and 2 put the scene back, pixel for pixel ($k)" ||
         fail "wand: buttons 1 and 2 put the scene back, pixel for pixel ($k)" "the picture differs from the start"
 done
+
+# ------------------------------------------------- a trajectory from the wand
+# a uniform wind of 5 m/s east; one wall whose input lists keys 1..9 as
+# switches 4..12 (key 1: a step forward) and t as switch 13 (a trajectory
+# from the wand's tip); the scene standing in the room (--place room: its
+# box floor to ceiling, centred), the wand 5 feet up in the middle pointing
+# north (its tip a foot ahead: in the middle of the box)
+VSV=$T/wind.vsv
+"$TOP/$B/tests/windfile" "$VSV" uniform 5 0 0 || fail "write the wind file" "windfile failed"
+{
+    echo 'system "wind1" = { type = "cave"; procs = "pw", "pinw"; }'
+    wall windw 300x300+0+0 "-5,0,-5, 5,0,-5, -5,10,-5"
+    echo 'process "pw" = { type = visren; objects = "windw"; }'
+    input windw | sed 's/"pin"/"pinw"/; s/"xin"/"xinw"/g; $ s/; }$/;/'
+    for k in 1 2 3 4 5 6 7 8 9; do printf '  input "k%s" = "2switch(keyboard:key[%s])";\n' $k $k; done
+    printf '  input "seed" = "2switch(keyboard:key[t])"; }\n'
+} > "$T/wind1.rc"
+cat > "$T/wind.sh" << 'EOS'
+snap() { sleep 1; cp "$O/dump/windw.ppm" "$O/$1.ppm"; }
+press() { xdotool mousemove 150 150 keydown "$1"; sleep 0.2; xdotool keyup "$1"; }
+snap s0
+press 1
+snap s1
+press t
+snap s1t
+press 1
+snap s2
+EOS
+FREEVR_STANDIN_WAND=0,5,0 session wind windw "$T/wind.sh" "$VSV" --no-panel --place room \
+    "$(cat "$T/wind1.rc")" 'usesystem "wind1";'
+O=$T/wind
+r=$(cat "$O/result" 2> /dev/null)
+[ "$r" = "exit 0" ] && pass "wand trajectory: Escape ends it, exit 0" ||
+    fail "wand trajectory: Escape ends it, exit 0" "${r:-no result}; $(tail -c 300 "$O/stderr")"
+if $SHOT same "$O/s0.ppm" "$O/s1.ppm" && $SHOT same "$O/s1.ppm" "$O/s1t.ppm" && ! $SHOT same "$O/s1.ppm" "$O/s2.ppm"; then
+    pass "wand trajectory: switch 13 seeds a path at the wand's tip, drawn from the next step"
+else
+    fail "wand trajectory: switch 13 seeds a path at the wand's tip, drawn from the next step" \
+        "$(ls "$O"/*.ppm 2> /dev/null | wc -l) pictures; $(tail -c 300 "$O/stderr")"
+fi
 
 # ------------------------------------------------------------------ stereo
 # one front wall seen by both eyes, as FreeVR's dual-viewport and anaglyphic

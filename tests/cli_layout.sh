@@ -216,7 +216,7 @@ exports() { # LIB HEADER...: the exported names no header declares
 }
 for spec in "vesuvius format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h" \
     "vesuvius-convert convert/vsv_convert.h convert/vsv_source_reader.h" \
-    "vesuvius-render render/vsv_render.h" "vesuvius-interop interop/vsv_vdb.h interop/vsv_cf.h" \
+    "vesuvius-render render/vsv_render.h render/vsv_flow.h" "vesuvius-interop interop/vsv_vdb.h interop/vsv_cf.h" \
     "vesuvius-http format/vsv_http.h"; do
     set -- $spec
     name=$1

@@ -184,6 +184,11 @@ static void test_wand(void)
     in.sw[11] = 0, in.sw[12] = 1;
     vsv_wand_update(&w, &in, &o);
     CHECK(has_act(&o, "loop"), "switch 12: loop", " ");
+    in.sw[12] = 0, in.sw[13] = 1;
+    vsv_wand_update(&w, &in, &o);
+    CHECK(o.seed && !o.nact, "switch 13: a trajectory from the wand's tip", " ");
+    vsv_wand_update(&w, &in, &o);
+    CHECK(!o.seed, "held on: one trajectory", " ");
 }
 
 /* ------------------------------------------------------- configuration */

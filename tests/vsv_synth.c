@@ -111,3 +111,71 @@ int synth_write_planned(const synth *sy, const char *path, const vsv_pack_opts *
 {
     return write_series(sy, path, opts, lie ? 2 : 1, err, cap);
 }
+
+void synth_wind_uniform(synth_wind *w, float east, float north, float up)
+{
+    *w = (synth_wind){.nx = 40,
+                      .ny = 30,
+                      .nz = 10,
+                      .nsteps = 4,
+                      .dxy = 2000,
+                      .dz = 1000,
+                      .x0 = -40000,
+                      .y0 = -30000,
+                      .z0 = 500,
+                      .lat1 = 40,
+                      .lat2 = 40,
+                      .t0 = 946684800,
+                      .wind = {east, north, up},
+                      .vector = 1,
+                      .scalar = "CLW",
+                      .units = "kg/kg"};
+}
+
+int synth_wind_write(const char *path, const synth_wind *sw, char *err, size_t cap)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = sw->nx, m.ny = sw->ny, m.nz = sw->nz;
+    m.spacing[0] = m.spacing[1] = sw->dxy, m.spacing[2] = sw->dz;
+    m.origin[0] = sw->x0, m.origin[1] = sw->y0, m.origin[2] = sw->z0;
+    m.vert_kind = VSV_VERT_EVEN;
+    if (!sw->flat)
+        m.proj = (vsv_proj){VSV_PROJ_LCC, 40, -100, sw->lat1, sw->lat2, 0};
+    snprintf(m.model, sizeof m.model, "test");
+    int nf = 0;
+    if (sw->scalar)
+        vsv_meta_add_var(&m, sw->scalar, sw->units, "zeros"), nf++;
+    if (sw->vector >= 0) {
+        vsv_meta_add_var(&m, VSV_WIND_EAST, "m s-1", "eastward wind");
+        vsv_meta_add_var(&m, VSV_WIND_NORTH, "m s-1", "northward wind");
+        vsv_meta_add_var(&m, VSV_WIND_UP, "m s-1", "upward wind");
+        nf += 3;
+    }
+    if (sw->vector > 0)
+        vsv_meta_add_attr(&m, VSV_VECTOR_ATTR VSV_WIND, VSV_WIND_EAST " " VSV_WIND_NORTH " " VSV_WIND_UP);
+    const size_t cells = (size_t)m.nx * m.ny * m.nz;
+    float *f[4] = {NULL, NULL, NULL, NULL};
+    int rc = 0;
+    for (int s = 0; s < nf && !rc; s++) {
+        const float v = s < nf - 3 || sw->vector < 0 ? 0 : sw->wind[s - (nf - 3)];
+        if (!(f[s] = malloc(cells * sizeof(float))))
+            rc = VSV_ENOMEM;
+        for (size_t c = 0; f[s] && c < cells; c++)
+            f[s][c] = v;
+    }
+    vsv_writer *wr = NULL;
+    if (!rc)
+        rc = vsv_writer_create(path, &m, NULL, &wr);
+    for (int t = 0; !rc && t < sw->nsteps; t++)
+        rc = vsv_writer_add_step(wr, sw->t0 + 3600 * t, (const float *const *)f);
+    if (!rc)
+        rc = vsv_writer_finish(wr, NULL, NULL);
+    if (rc)
+        snprintf(err, cap, "%s: %s", path, wr ? vsv_writer_error(wr) : vsv_strerror(rc));
+    vsv_writer_free(wr);
+    vsv_meta_clear(&m);
+    for (int s = 0; s < 4; s++)
+        free(f[s]);
+    return rc;
+}

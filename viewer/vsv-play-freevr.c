@@ -56,6 +56,7 @@ static const char usage[] =
     "      --tf FILE           transfer functions (as vsv-render)\n"
     VSV_PLAYER_TF_HELP
     VSV_PLAYER_ISO_HELP
+    VSV_PLAYER_FLOW_HELP
     "  -r, --renderer NAME     auto (default: gl where OpenGL 3.3 runs on a GPU, else\n"
     "                          shearwarp), shearwarp, raycast, or gl: the raycaster on\n"
     "                          the GPU, each eye of each wall in its own frustum\n"
@@ -324,6 +325,11 @@ static void input(run *r, double dt)
         r->last.wdir[i] = len > 0 ? wd.v[i] / len : i == 2 ? -1 : 0;
         r->last.tip[i] = r->last.wand[i] + r->last.wdir[i]; /* a foot along it */
     }
+    double M[16], inv[16], w[3]; /* a trajectory from the wand's tip, where it is in the world */
+    vsv_mat4_mul(r->nav, r->base, M);
+    if (o.seed && vsv_mat4_invert(M, inv) && (vsv_mat4_point(inv, r->last.tip, w), 1) &&
+        vsv_player_seed_world(r->dec, w, err, sizeof err))
+        fprintf(stderr, "vsv-play-freevr: %s\n", err);
     if (o.reset)
         vsv_nav_identity(r->nav);
     if (o.place) {
@@ -419,8 +425,8 @@ static int publish(run *r, char *err, size_t cap)
 }
 
 /* clang-format off */
-enum { O_TF = 1000, O_COLORMAP, O_LOG, O_RANGE, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN,
-       O_PLACE, O_TRACE, O_NOPANEL, O_FPS, O_NOWAND, O_GPUMB, O_ISO };
+enum { O_TF = 1000, O_CACHE, O_THREADS, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN,
+       O_PLACE, O_TRACE, O_NOPANEL, O_FPS, O_NOWAND, O_GPUMB, O_FLOW };
 /* clang-format on */
 
 /* What the command line says beyond the player's options: ours apart from FreeVR's strings. */
@@ -431,15 +437,6 @@ typedef struct freevr_args {
     char **ours, **fv; /* argv split: ours (options and the file), FreeVR's */
     int nfv;
 } freevr_args;
-
-/* --colormap, --log, --range, --iso into the player's options (misuse exits 2). */
-static void tf_option(vsv_player_opts *po, const char *opt, const char *arg)
-{
-    char msg[512];
-    if (!strcmp(opt, "iso") ? vsv_player_iso_option(po, arg, msg, sizeof msg)
-                            : vsv_player_tf_option(po, opt, arg, msg, sizeof msg))
-        vsv_cli_usage_error("%s", msg);
-}
 
 /* The command line into *a, *r and vsv_fv (usage errors exit 2); 1 when --help was printed. */
 static int parse_args(int argc, char **argv, freevr_args *a, run *r)
@@ -469,23 +466,25 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
         {"no-terrain", no_argument, 0, O_NOTERRAIN},  {"place", required_argument, 0, O_PLACE},
         {"trace", required_argument, 0, O_TRACE},     {"no-panel", no_argument, 0, O_NOPANEL},
         {"fps", no_argument, 0, O_FPS},               {"no-wand", no_argument, 0, O_NOWAND},
-        {"gpu-mb", required_argument, 0, O_GPUMB},      {"colormap", required_argument, 0, O_COLORMAP},
-        {"log", required_argument, 0, O_LOG},          {"range", required_argument, 0, O_RANGE}, {"iso", required_argument, 0, O_ISO},
+        {"gpu-mb", required_argument, 0, O_GPUMB},      {"colormap", required_argument, 0, O_FLOW},
+        {"log", required_argument, 0, O_FLOW},          {"range", required_argument, 0, O_FLOW}, {"iso", required_argument, 0, O_FLOW},
         {"help", no_argument, 0, 'h'},                {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
-        {"version", no_argument, 0, 'V'},             {0, 0, 0, 0}};
+        VSV_PLAYER_FLOW_LONGOPTS(O_FLOW), {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
     /* clang-format on */
     a->budget = (size_t)1 << 30;
-    int c;
-    while ((c = getopt_long(nours, ours, "s:r:x:hV", longopts, NULL)) != -1) {
+    int c, li = 0;
+    while ((c = getopt_long(nours, ours, "s:r:x:hV", longopts, &li)) != -1) {
         long v;
         double d;
         switch (c) {
         case 's': a->opts.species = optarg; break;
         case O_TF: a->opts.tfpath = optarg; break;
-        case O_COLORMAP: tf_option(&a->opts, "colormap", optarg); break;
-        case O_LOG: tf_option(&a->opts, "log", optarg); break;
-        case O_RANGE: tf_option(&a->opts, "range", optarg); break;
-        case O_ISO: tf_option(&a->opts, "iso", optarg); break;
+        case O_FLOW: { /* --colormap, --log, --range, --iso, the wind: vsv_player_option */
+            char msg[512];
+            if (vsv_player_option(&a->opts, longopts[li].name, optarg, msg, sizeof msg))
+                vsv_cli_usage_error("%s", msg);
+            break;
+        }
         case 'r':
             if (!strcmp(optarg, "raycast"))
                 a->opts.renderer = VSV_RENDER_RAYCAST;

@@ -51,6 +51,7 @@ static const char usage[] =
     "                          or line=LAT1,LON1:LAT2,LON2 (repeatable); c switches\n"
     VSV_PLAYER_TF_HELP
     VSV_PLAYER_ISO_HELP
+    VSV_PLAYER_FLOW_HELP
     "      --slice-species NAME, --slice-colormap NAME, --slice-range LO:HI\n"
     "                          as vsv-render (the slices coloured over the range\n"
     "                          of what they show in the step shown, or LO:HI)\n"
@@ -154,6 +155,7 @@ static void on_key(GLFWwindow *w, int key, int scancode, int act, int mods)
     case GLFW_KEY_F5: run(a, "view oblique"); break;
     case GLFW_KEY_G: run(a, "light"); break;
     case GLFW_KEY_C: run(a, "slices"); break;
+    case GLFW_KEY_W: run(a, "wind"); break;
     case GLFW_KEY_P:
         snprintf(buf, sizeof buf, "screenshot vsv-play-%04d.png", a->shots++);
         run(a, buf);
@@ -249,15 +251,6 @@ typedef struct play_args {
     unsigned parts;
 } play_args;
 
-/* --colormap, --log, --range, --iso into the player's options (misuse exits 2). */
-static void tf_option(vsv_player_opts *po, const char *opt, const char *arg)
-{
-    char msg[512];
-    if (!strcmp(opt, "iso") ? vsv_player_iso_option(po, arg, msg, sizeof msg)
-                            : vsv_player_tf_option(po, opt, arg, msg, sizeof msg))
-        vsv_cli_usage_error("%s", msg);
-}
-
 /* The command line into *o (usage errors exit 2); 1 when --help was printed. */
 static int parse_args(int argc, char **argv, play_args *o)
 {
@@ -265,7 +258,7 @@ static int parse_args(int argc, char **argv, play_args *o)
     enum {
         O_TF = 1000, O_CACHE, O_THREADS, O_SIZE, O_SCALE, O_RATE, O_LOOP, O_PLAY, O_NOTERRAIN, O_SCRIPT,
         O_VIEW, O_LIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE,
-        O_COLORMAP, O_LOG, O_RANGE, O_ISO
+        O_FLOW
     };
     static const struct option longopts[] = {
         {"species", required_argument, 0, 's'},    {"tf", required_argument, 0, O_TF},
@@ -282,9 +275,9 @@ static int parse_args(int argc, char **argv, play_args *o)
         {"slice-colormap", required_argument, 0, O_SLICECM},
         {"slice-range", required_argument, 0, O_SLICERANGE},
         {"no-annotate", no_argument, 0, O_NOANNOT}, {"annotate", required_argument, 0, O_ANNOT},
-        {"colormap", required_argument, 0, O_COLORMAP}, {"log", required_argument, 0, O_LOG},
-        {"range", required_argument, 0, O_RANGE},  {"iso", required_argument, 0, O_ISO},
-        {0, 0, 0, 0}};
+        {"colormap", required_argument, 0, O_FLOW}, {"log", required_argument, 0, O_FLOW},
+        {"range", required_argument, 0, O_FLOW},  {"iso", required_argument, 0, O_FLOW},
+        VSV_PLAYER_FLOW_LONGOPTS(O_FLOW),          {0, 0, 0, 0}};
     /* clang-format on */
     vsv_player_opts po;
     vsv_player_opts_init(&po);
@@ -293,16 +286,19 @@ static int parse_args(int argc, char **argv, play_args *o)
     double scale = 1;
     const char *script = NULL, *view = NULL;
     unsigned parts = VSV_ANNOT_ALL;
-    while ((c = getopt_long(argc, argv, "s:r:x:qhV", longopts, NULL)) != -1) {
+    int li = 0;
+    while ((c = getopt_long(argc, argv, "s:r:x:qhV", longopts, &li)) != -1) {
         long v;
         double d;
         switch (c) {
         case 's': po.species = optarg; break;
         case O_TF: po.tfpath = optarg; break;
-        case O_COLORMAP: tf_option(&po, "colormap", optarg); break;
-        case O_LOG: tf_option(&po, "log", optarg); break;
-        case O_RANGE: tf_option(&po, "range", optarg); break;
-        case O_ISO: tf_option(&po, "iso", optarg); break;
+        case O_FLOW: { /* --colormap, --log, --range, --iso, the wind: vsv_player_option */
+            char msg[512];
+            if (vsv_player_option(&po, longopts[li].name, optarg, msg, sizeof msg))
+                vsv_cli_usage_error("%s", msg);
+            break;
+        }
         case 'r':
             if (!strcmp(optarg, "raycast"))
                 want = VSV_RENDER_RAYCAST;

@@ -38,6 +38,8 @@ static vsv_scene scene(const vsv_player *p)
     }
     sc.isos = p->isos;
     sc.nisos = p->nisos;
+    sc.lines = p->lines;
+    sc.nlines = p->wind_on ? p->nlines : 0;
     return sc;
 }
 
@@ -298,7 +300,7 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         goto fail;
     }
     if ((rc = open_species(p, o, err, cap)) || (rc = open_slices(p, o, err, cap)) ||
-        (rc = vsv_player_open_isos(p, o, err, cap)))
+        (rc = vsv_player_open_isos(p, o, err, cap)) || (rc = vsv_player_open_flow(p, o, err, cap)))
         goto fail;
     p->light = o->light;
     p->sun_az = o->sun_az;
@@ -347,6 +349,7 @@ void vsv_player_free(vsv_player *p)
         vsv_volume_free(p->cur[s]);
     for (int s = 0; p->alt && s < p->ns; s++)
         vsv_volume_free(p->alt[s]);
+    vsv_flow_free(p->flow);
     vsv_file_interrupt(p->f); /* a worker waiting on a stalled server: at once */
     vsv_pager_free(p->pager);
     vsv_renderer_free(p->r);
@@ -603,6 +606,7 @@ void vsv_player_camera(const vsv_player *p, int w, int h, vsv_camera *cam)
 void vsv_player_scene(vsv_player *p, vsv_scene *sc)
 {
     colour_slices(p);
+    vsv_player_wind_lines(p);
     *sc = scene(p);
 }
 
@@ -646,6 +650,7 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
         p->dirty = 1;
     }
     colour_slices(p);
+    vsv_player_wind_lines(p);
     if (!p->dirty && !memcmp(cam, &p->last_cam, sizeof *cam))
         return p->rgb;
     vsv_scene sc = scene(p);
@@ -672,6 +677,7 @@ int vsv_player_draw(vsv_player *p, vsv_gl *gl, const vsv_camera *cam, const int 
     if (p->ro.kind != VSV_RENDER_GL || !gl)
         return VSV_EUNSUPPORTED;
     colour_slices(p);
+    vsv_player_wind_lines(p);
     vsv_scene sc = scene(p);
     const int rc = vsv_gl_draw(gl, &sc, cam, viewport, p->bg);
     if (rc)

@@ -11,7 +11,9 @@
  *   select +1|-1|#INDEX|SPECIES | camera AZ EL [DIST] | orbit DAZ DEL | zoom FACTOR
  *   pan DX DY (fractions of the view) | renderer raycast|shearwarp|gl|switch
  *   view plan|south|west|oblique (vsv-render's --view, the domain filling
- *   the view) | light [on|off] | slices [on|off] (no argument: switch)
+ *   the view) | light [on|off] | slices [on|off] | wind [on|off] (the
+ *   trajectories and wind arrows; no argument: switch)
+ *   trajectory LAT LON HEIGHT (a path from there, from the step shown)
  *   help | screenshot FILE.png | quit
  *
  * Display back ends (viewer/vsv-play.c: GLFW; viewer/vsv-play-freevr.c: FreeVR)
@@ -25,6 +27,7 @@
 #include "vsv_pager.h"
 #include "vsv_http.h"
 #include "vsv_render.h"
+#include "vsv_flow.h"
 
 #include <stddef.h>
 
@@ -45,6 +48,28 @@
     "      --iso S:V[:COLOUR]  an opaque, lit isosurface where species S equals V, at\n"                               \
     "                          the model's own heights (COLOUR: white grey red orange\n"                               \
     "                          yellow green cyan blue purple #RRGGBB); repeatable (8)\n"
+
+/* The wind's options (vsv_flow.h), the same in vsv-play and vsv-play-freevr:
+ * their help, and their getopt_long entries, all of value v (the name tells
+ * them apart: vsv_player_option). */
+#define VSV_PLAYER_FLOW_HELP                                                                                           \
+    "      --trajectory LAT,LON,HEIGHT[:COLOUR]  the path of the air from there\n"                                     \
+    "                          (HEIGHT in metres as the file's heights), drawn up to\n"                                \
+    "                          the time shown as a lit tube with an arrowhead\n"                                       \
+    "      --seed-line LAT,LON,H:LAT,LON,H:N[:COLOUR]  N paths along a line\n"                                         \
+    "      --seed-slice HEIGHT:EVERY[:COLOUR]  a path from every EVERY-th column\n"                                    \
+    "      --traj-from T       the air leaves at step or time T (default: the first)\n"                                \
+    "      --traj-for DURATION  followed so long (1h30m; default: to the last step)\n"                                 \
+    "      --barbs HEIGHT[:EVERY]  wind arrows on a horizontal plane (20 m/s spans\n"                                  \
+    "                          EVERY columns)\n"                                                                       \
+    "      --tube-radius M     the tubes' radius in metres (default: 1/300 of the domain)\n"
+#define VSV_PLAYER_FLOW_LONGOPTS(v)                                                                                    \
+    {"trajectory", required_argument, 0, (v)}, {"seed-line", required_argument, 0, (v)},                               \
+        {"seed-slice", required_argument, 0, (v)}, {"traj-from", required_argument, 0, (v)},                           \
+        {"traj-for", required_argument, 0, (v)}, {"barbs", required_argument, 0, (v)},                                 \
+    {                                                                                                                  \
+        "tube-radius", required_argument, 0, (v)                                                                       \
+    }
 
 typedef struct vsv_player_opts {
     const char *path;          /* a .vsv file or an http(s):// URL */
@@ -90,6 +115,8 @@ typedef struct vsv_player_opts {
     const char *isos[VSV_SCENE_ISO_MAX]; /* --iso SPECIES:VALUE[:COLOUR] (vsv_player_iso_option),
                                             parsed against the file when opened */
     int nisos;
+    vsv_flow_opts flow; /* --trajectory, --seed-line, --seed-slice, --traj-from,
+                           --traj-for, --barbs, --tube-radius (vsv_flow_opt) */
 } vsv_player_opts;
 
 void vsv_player_opts_init(vsv_player_opts *o);
@@ -99,6 +126,10 @@ typedef struct vsv_player vsv_player;
 /* Takes option opt ("colormap", "log" or "range") with its argument into
  * o->tf_changes. 0, or VSV_EINVAL with the reason in msg. */
 int vsv_player_tf_option(vsv_player_opts *o, const char *opt, const char *arg, char *msg, size_t cap);
+/* Takes option opt (its name without dashes: colormap, log, range, iso or
+ * one of the wind's) with its argument into o. 0, or VSV_EINVAL with the
+ * reason in msg. */
+int vsv_player_option(vsv_player_opts *o, const char *opt, const char *arg, char *msg, size_t cap);
 /* Takes an --iso argument into o->isos (checked against the file by
  * vsv_player_open, as vsv_iso_parse). 0, or VSV_EINVAL (too many) with the
  * reason in msg. */
@@ -110,6 +141,17 @@ int vsv_player_iso_option(vsv_player_opts *o, const char *arg, char *msg, size_t
  * was made is freed). */
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap);
 void vsv_player_free(vsv_player *p);
+
+/* The action "trajectory LAT LON HEIGHT": a path added from there, leaving
+ * at the step shown. 0, or -1 with the reason in err. */
+int vsv_player_add_trajectory(vsv_player *p, const char *lat, const char *lon, const char *height, char *err,
+                              size_t cap);
+/* The same from projected (x, y) and height z (vsv_traj_run's seed); at
+ * most VSV_PLAYER_MAX_SEEDS a run. */
+int vsv_player_add_seed(vsv_player *p, const double seed[3], char *err, size_t cap);
+/* The same from a point of the scene's world (metres, z exaggerated, as the
+ * box of vsv_player_bounds): the wand's tip in vsv-play-freevr. */
+int vsv_player_seed_world(vsv_player *p, const double world[3], char *err, size_t cap);
 
 /* Runs one action (the language above). 0, or -1 with the reason in err. */
 int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap);
@@ -174,9 +216,12 @@ const char *vsv_player_help_text(void);
  * data, fit for shared memory. Species beyond the first 64 keep their
  * start settings. */
 #define VSV_PLAYER_MAX_SPECIES 64
+#define VSV_PLAYER_MAX_SEEDS 16
 typedef struct vsv_player_state {
     double model, speed;
-    int step, playing, ends, renderer, selected, help, light, slices;
+    int step, playing, ends, renderer, selected, help, light, slices, wind;
+    int nseeds;                            /* the trajectories seeded while playing (vsv_player_add_seed), */
+    double seeds[VSV_PLAYER_MAX_SEEDS][4]; /* in order: projected x, y, height, step */
     unsigned char visible[VSV_PLAYER_MAX_SPECIES];
     float opacity[VSV_PLAYER_MAX_SPECIES];
 } vsv_player_state;

@@ -204,12 +204,15 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
         rc = do_camera(p, verb, a1, a2, a3, err, cap);
     if (rc != 1)
         return rc;
-    if (!strcmp(verb, "light") || !strcmp(verb, "slices")) {
-        int *on = !strcmp(verb, "light") ? &p->light : &p->slices_on;
+    if (!strcmp(verb, "light") || !strcmp(verb, "slices") || !strcmp(verb, "wind")) {
+        int *on = !strcmp(verb, "light") ? &p->light : !strcmp(verb, "wind") ? &p->wind_on : &p->slices_on;
         NEED(!a1 || !strcmp(a1, "on") || !strcmp(a1, "off"), "%s: on or off (nothing: switch)", verb);
-        NEED(on == &p->light || p->nslices, "slices: none given (vsv-play --slice SPEC)");
+        NEED(on != &p->slices_on || p->nslices, "slices: none given (vsv-play --slice SPEC)");
+        NEED(on != &p->wind_on || p->flow, "wind: none given (vsv-play --trajectory, --barbs, ...)");
         *on = a1 ? !strcmp(a1, "on") : !*on;
         p->dirty = 1;
+    } else if (!strcmp(verb, "trajectory")) {
+        return vsv_player_add_trajectory(p, a1, a2, a3, err, cap);
     } else if (!strcmp(verb, "renderer")) {
         int kind = p->ro.kind;
         if (a1 && !strcmp(a1, "raycast"))

@@ -47,6 +47,14 @@ struct vsv_player {
                                               slices_on, nslices, slice_var) */
     vsv_scene_iso isos[VSV_SCENE_ISO_MAX]; /* --iso: layer = the species */
     int nisos;
+    /* the wind (vsv_flow.h): its options, the flow made from them, whether
+     * it shows, and the lines of the step shown (for lines_key) */
+    vsv_flow_opts flow_opts;
+    vsv_flow *flow;
+    int wind_on, nlines, lines_key[2];
+    int nseeds; /* the paths seeded while playing: where and when (the state's) */
+    double seeds[VSV_PLAYER_MAX_SEEDS][4];
+    const vsv_scene_line *lines;
     unsigned char *need; /* per species: pinned (drawn, the slices' or an isosurface's species) */
     uint64_t *gens;      /* per species: the gen of the volume shown (external) */
     /* rendering */
@@ -82,5 +90,13 @@ int vsv_player_use_renderer(vsv_player *p, int kind, char *why, size_t cap);
 /* The isosurfaces of o (--iso), parsed against p's file into p->isos:
  * 0, or VSV_EINVAL with the reason in err (vsv_player_opts.c). */
 int vsv_player_open_isos(vsv_player *p, const vsv_player_opts *o, char *err, size_t cap);
+/* The trajectories and wind arrows of o, integrated through p's file
+ * (vsv_flow_open): 0, or -1 with "FILE: why" in err ("no wind stored"). */
+int vsv_player_open_flow(vsv_player *p, const vsv_player_opts *o, char *err, size_t cap);
+/* A path from projected seed (x, y, height) leaving at step, recorded in
+ * p->seeds: 0, or -1 with the reason in err. */
+int vsv_player_seed_step(vsv_player *p, const double seed[3], int step, char *err, size_t cap);
+/* p->lines made for the step shown when it or wind_on changed. */
+void vsv_player_wind_lines(vsv_player *p);
 
 #endif

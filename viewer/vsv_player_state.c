@@ -91,6 +91,9 @@ void vsv_player_state_get(const vsv_player *p, vsv_player_state *st)
     st->help = p->help;
     st->light = p->light;
     st->slices = p->slices_on;
+    st->wind = p->wind_on;
+    st->nseeds = p->nseeds;
+    memcpy(st->seeds, p->seeds, sizeof st->seeds);
     for (int s = 0; s < p->ns && s < VSV_PLAYER_MAX_SPECIES; s++) {
         st->visible[s] = p->want[s];
         st->opacity[s] = p->layers[s].opacity;
@@ -116,6 +119,11 @@ int vsv_player_state_apply(vsv_player *p, const vsv_player_state *st, char *err,
         p->dirty = 1;
     p->light = st->light;
     p->slices_on = st->slices;
+    if (p->wind_on != st->wind)
+        p->wind_on = st->wind, p->lines_key[0] = -2;
+    for (int i = p->nseeds; i < st->nseeds && i < VSV_PLAYER_MAX_SEEDS; i++) /* the seeds new to p */
+        if (vsv_player_seed_step(p, st->seeds[i], (int)st->seeds[i][3], err, cap))
+            return -1;
     if (st->renderer >= 0 && st->renderer != p->ro.kind) /* (-1: each display chose) */
         return vsv_player_do(p,
                              st->renderer == VSV_RENDER_RAYCAST ? "renderer raycast"

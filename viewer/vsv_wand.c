@@ -8,7 +8,7 @@ enum { B1 = 1, B2 = 2, B3 = 3 };
 
 /* the further switches, 4 .. 12 (the simulator's keys, or more buttons) */
 static const char *const KEYS[] = {"step +1", "step -1", "start", "end", "faster", "slower", NULL, NULL, "loop"};
-enum { SW_FIRST = 4, SW_RESET = 10, SW_PLACE = 11 };
+enum { SW_FIRST = 4, SW_RESET = 10, SW_PLACE = 11, SW_SEED = 13 };
 
 void vsv_wand_init(vsv_wand *w, double speed)
 {
@@ -113,6 +113,8 @@ void vsv_wand_update(vsv_wand *w, const vsv_wand_in *in, vsv_wand_out *o)
             o->reset = 1;
         else if (k == SW_PLACE)
             o->place = 1;
+        else if (k == SW_SEED)
+            o->seed = 1;
         else if (k - SW_FIRST < (int)(sizeof KEYS / sizeof *KEYS) && KEYS[k - SW_FIRST])
             act(o, KEYS[k - SW_FIRST]);
     }
@@ -132,5 +134,7 @@ const char *vsv_wand_help(void)
            "buttons 1 and 2    together: the scene back where it started\n"
            "switch 4 .. 12     step forward, step back, start, end, faster, slower,\n"
            "                   reset the view, table / room, loop (map keys to them)\n"
+           "switch 13          a trajectory from the wand's tip, leaving at the step shown\n"
+           "                   (drawn where the file has wind; see --trajectory)\n"
            "switch 0           quit (Escape in the simulator)\n";
 }

@@ -30,6 +30,7 @@ typedef struct vsv_wand_out {
     double scale;  /* factor to grow the scene about the wand's tip (1: none) */
     int reset;     /* the scene back where its placement put it */
     int place;     /* switch the placement (table, room) */
+    int seed;      /* a trajectory from the wand's tip */
 } vsv_wand_out;
 
 typedef struct vsv_wand {
