@@ -557,7 +557,7 @@ demo-bin: $(FREEVR_TEST)
 
 BENCH_BIN = $(B)/bench/bench_rc_peer $(B)/bench/bench_format $(B)/bench/bench_camx $(B)/bench/bench_camx_nc $(B)/bench/bench_render \
             $(B)/bench/bench_play $(B)/bench/bench_advect $(B)/bench/bench_native $(B)/bench/bench_gl $(B)/bench/bench_plot \
-            $(B)/bench/bench_iso $(B)/bench/bench_traj
+            $(B)/bench/bench_iso $(B)/bench/bench_traj $(B)/bench/bench_tubes
 $(B)/bench/%: $(B)/bench/%.o $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 
@@ -580,6 +580,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_plot.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_iso.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_traj.sh
+	$(Q)$(B)/bench/bench_tubes
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_http.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vdb.sh

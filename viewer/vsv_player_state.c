@@ -55,6 +55,7 @@ const char *vsv_player_help_text(void)
            "F2 F3 F4 F5 view: plan (map) / from the south / west / oblique\n"
            "g          lighting on / off\n"
            "c          slices on / off (given with --slice)\n"
+           "w          the wind on / off (--trajectory, --barbs)\n"
            "p          screenshot (vsv-play-NNNN.png)\n"
            "h          this help\n"
            "q / esc    quit\n"
