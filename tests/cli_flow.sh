@@ -40,6 +40,14 @@ done
 expect "--seed-slice 3000:10" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/ss.png" $R -t 1 --seed-slice 3000:10:cyan
 expect "--seed-line 3 seeds" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/sl.png" $R -t 1 \
     --seed-line 39.9,-100.1,3000:40.1,-100.1,3000:3
+# the GPU raycaster stops at the same tubes (the surfaces are the CPU's)
+expect "--renderer gl: paths lit, from the south-west" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/gl.png" -q -s CLW \
+    --size 320x240 --no-annotate --light -t 3 --seed-slice 3000:8 -r gl
+expect "... and the raycaster's" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/rc.png" -q -s CLW \
+    --size 320x240 --no-annotate --light -t 3 --seed-slice 3000:8
+d=$("$PYTHON" tests/imgregion.py diff "$T/gl.png" "$T/rc.png" 2>&1)
+[ "$d" = "0 0" ] && pass "the GPU raycaster's picture is the raycaster's, pixel for pixel" ||
+    fail "the GPU raycaster's picture is the raycaster's, pixel for pixel" "$d (largest difference, pixels)"
 expect "--traj-from 2: nothing at step 1" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/t0.png" $R -t 1 \
     --trajectory 40,-100,3000 --traj-from 2
 
