@@ -49,7 +49,8 @@ typedef struct vsv_flow vsv_flow;
  * recorded every VSV_FLOW_EVERY seconds). VSV_ENOTFOUND ("no wind stored")
  * when f has no wind, VSV_EINVAL ("--opt ARG: why": a seed outside the
  * grid or under the ground, a time outside the file's), VSV_ENOMEM or a
- * read error, with the reason in msg. Free with vsv_flow_free. */
+ * read error, with the reason in msg. *out is set even on failure: free
+ * it with vsv_flow_free either way. */
 #define VSV_FLOW_EVERY 300
 int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg, size_t cap);
 void vsv_flow_free(vsv_flow *fl);
