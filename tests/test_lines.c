@@ -1,7 +1,8 @@
 /* test_lines.c — lines drawn in a scene (vsv_scene.lines, issue 35): a
  * tube seen side-on covers a band two radii wide, lit brighter on the
  * light's side; its arrowhead is wider and ends at the last point; a tube
- * above the ground hides it and one below is hidden; the shear-warp hands
+ * above the ground or an isosurface hides it and one below is hidden
+ * (depth compositing with the other surfaces); the shear-warp hands
  * such frames to the raycaster; wind arrows on a slice point along the
  * wind. */
 #include "vsv_format.h"
@@ -150,6 +151,52 @@ static void test_depth(void)
     vsv_meta_clear(&m);
 }
 
+/* An isosurface: the plane z = 20 km (a field equal to its level's index
+ * in km, at 20); a tube above it hides it, one below it is hidden. */
+static void test_iso(void)
+{
+    vsv_meta m;
+    grid(&m);
+    vsv_volume v = {0};
+    v.nx = v.ny = v.nz = N, v.brick = 64, v.shift = 6, v.bdim[0] = v.bdim[1] = v.bdim[2] = 1, v.nbricks = 1;
+    float *p = calloc(64 * 64 * 64, sizeof(float)), *bricks[1] = {p}, bmin = 0, bmax = N - 1;
+    for (int k = 0; k < N; k++)
+        for (int j = 0; j < N; j++)
+            for (int i = 0; i < N; i++)
+                p[i + 64 * (j + 64 * k)] = (float)k;
+    v.bricks = bricks, v.bmin = &bmin, v.bmax = &bmax, v.gen = vsv_volume_new_gen();
+    vsv_tf tf;
+    char msg[128];
+    vsv_tf_parse(&tf, "colormap greys\nrange 0 40\nopacity 0 0\n", msg, sizeof msg);
+    vsv_layer layer = {&v, &tf, 0, 0};
+    const vsv_scene_iso iso = {0, 20, {0, 0, 1}};
+    double pts[] = {5000, 20000, 25000, 35000, 20000, 25000};
+    vsv_scene_line L = {pts, 2, 1000, 0, {1, 0, 0}};
+    vsv_scene sc = {
+        .meta = &m, .layers = &layer, .nlayers = 1, .exaggeration = 1, .isos = &iso, .nisos = 1, .lines = &L};
+    vsv_camera cam;
+    vsv_camera_plan(&cam, &sc, W, H);
+    float *d0, *d1, *d2, *bare = render(&sc, &cam, VSV_RENDER_RAYCAST, &d0);
+    sc.nlines = 1;
+    float *over = render(&sc, &cam, VSV_RENDER_RAYCAST, &d1);
+    pts[2] = pts[5] = 15000;
+    float *under = render(&sc, &cam, VSV_RENDER_RAYCAST, &d2);
+    if (CHECK(bare && over && under, "iso: rendered")) {
+        const double pix = cam.ortho_height / H;
+        const int px = (int)floor((20000 - cam.pos[0]) / pix + W / 2.0),
+                  py = (int)floor(H / 2.0 - (20000 - cam.pos[1]) / pix);
+        const size_t at = (size_t)py * W + px;
+        CHECK(bare[4 * at + 2] > 0.5f && over[4 * at] > 0.9f && over[4 * at + 2] < 0.05f &&
+                  fabs(d1[at] - (cam.pos[2] - 26000)) < 30,
+              "iso: a tube above an isosurface hides it", "(blue %.2f bare; red %.2f blue %.2f over it, depth %.0f)",
+              bare[4 * at + 2], over[4 * at], over[4 * at + 2], d1[at]);
+        CHECK(!memcmp(under, bare, sizeof(float) * 4 * W * H) && !memcmp(d2, d0, sizeof(float) * W * H),
+              "iso: a tube under it hidden by it");
+    }
+    free(bare), free(over), free(under), free(d0), free(d1), free(d2), free(p);
+    vsv_meta_clear(&m);
+}
+
 /* A uniform wind from the west (10 m/s east, 5 north) on an even grid: its
  * arrows on a slice, every 4th column, point east-north-east, 10 * 60 m
  * east and 5 * 60 north of their tails; drawn due east, each head is east
@@ -227,6 +274,7 @@ int main(void)
 {
     test_tube();
     test_depth();
+    test_iso();
     test_arrows();
     return vsv_test_done();
 }
