@@ -1,4 +1,4 @@
-/* vsv_wind.c — wind arrows on a horizontal plane (vsv_wind_arrows): the
+/* vsv_arrows.c — wind arrows on a horizontal plane (vsv_wind_arrows): the
  * wind species' east and north components sampled at a height in every
  * k-th column, turned onto the grid's axes, as lines a renderer draws
  * with arrowheads (vsv_scene_line). */
