@@ -132,6 +132,13 @@ step "Isosurfaces at the model's own heights: cloud water at 0.05 g/kg, snow at 
     --size 480x360 -o "$OUT/iso.png" && echo "$OUT/iso.png"
 "$B/vsv-export" "$OUT/storm.vsv" --iso CLW:5e-5 --gltf "$OUT/cloud.gltf"
 
+step "The wind: the air's paths from every 6th column at 1500 m (lit tubes drawn up to the frame's time, an arrowhead where the air is then) and wind arrows at 3000 m (an arrow as long as their spacing is 20 m/s)" \
+     "vsv-render $OUT/storm.vsv --species CLW,SNOW --view plan --seed-slice 1500:6 --barbs 3000:3; ... --light (oblique)"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --view plan --seed-slice 1500:6 --barbs 3000:3 --size 480x360 \
+    -o "$OUT/wind-map.png" && echo "$OUT/wind-map.png"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --seed-slice 1500:6 --size 480x360 \
+    -o "$OUT/paths.png" && echo "$OUT/paths.png"
+
 step "The same lit frame raycast on the GPU (OpenGL 3.3 through EGL, no display; here Mesa's llvmpipe, a CPU: slow)" \
      "vsv-render $OUT/storm.vsv --species CLW,SNOW --light --slice z=1500 --slice-species Q --renderer gl"
 if "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --slice z=1500 --slice-species Q --size 320x240 \
@@ -281,4 +288,4 @@ for _ in range(100):
 else
     printf '\n(the web-server demo needs lighttpd: sh tools/deps.sh --install)\n'
 fi
-printf '\nDone: %s/storm.vsv, storm.png, section.svg, iso.png, cloud.gltf, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"
+printf '\nDone: %s/storm.vsv, storm.png, section.svg, iso.png, cloud.gltf, paths.png, wind-map.png, frame*.png, storm.mp4, vdb/*.vdb, play-*.png and cave.png\n' "$OUT"
