@@ -84,6 +84,8 @@ static const char usage[] =
     "      --seed-slice HEIGHT:EVERY[:COLOUR]  a path from every EVERY-th column\n"
     "      --traj-from T       the air leaves at step or time T (default: the first)\n"
     "      --traj-for DURATION  followed so long (1h30m; default: to the last step)\n"
+    "      --streamlines       the paths are streamlines of each frame's wind held\n"
+    "                          still, drawn whole (--traj-for of travel, default 1h)\n"
     "      --barbs HEIGHT[:EVERY]  wind arrows on a horizontal plane from every\n"
     "                          EVERY-th column (default: about 24 across); an arrow\n"
     "                          of 20 m/s spans EVERY columns\n"
@@ -122,7 +124,7 @@ static int write_png(const char *path, const float *rgba, int w, int h, const fl
 }
 
 /* clang-format off */ /* (a table, laid out by hand) */
-enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE, O_ISO, O_TRAJ, O_SEEDLINE, O_SEEDSLICE, O_TRAJFROM, O_TRAJFOR, O_BARBS, O_TUBER };
+enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE, O_ISO, O_TRAJ, O_SEEDLINE, O_SEEDSLICE, O_TRAJFROM, O_TRAJFOR, O_BARBS, O_TUBER, O_STREAM };
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
     {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -143,7 +145,7 @@ static const struct option longopts[] = {
     {"trajectory", required_argument, 0, O_TRAJ}, {"seed-line", required_argument, 0, O_SEEDLINE},
     {"seed-slice", required_argument, 0, O_SEEDSLICE}, {"traj-from", required_argument, 0, O_TRAJFROM},
     {"traj-for", required_argument, 0, O_TRAJFOR}, {"barbs", required_argument, 0, O_BARBS},
-    {"tube-radius", required_argument, 0, O_TUBER},
+    {"tube-radius", required_argument, 0, O_TUBER}, {"streamlines", no_argument, 0, O_STREAM},
     {"version", no_argument, 0, 'V'},          {0, 0, 0, 0}};
 /* clang-format on */
 
@@ -324,7 +326,8 @@ static int parse_args(int argc, char **argv, render_args *ra)
         case O_TRAJFROM:
         case O_TRAJFOR:
         case O_BARBS:
-        case O_TUBER: {
+        case O_TUBER:
+        case O_STREAM: {
             char msg[512];
             for (int i = 0; longopts[i].name; i++)
                 if (longopts[i].val == c && vsv_flow_opt(&ra->flow, longopts[i].name, optarg, msg, sizeof msg))

@@ -21,6 +21,12 @@ typedef struct flow_path {
     float rgb[3];
 } flow_path;
 
+/* A seed added by vsv_flow_add (streamlines: traced again every step). */
+typedef struct flow_seed {
+    double s[3];
+    float rgb[3];
+} flow_seed;
+
 struct vsv_flow {
     vsv_file *f;
     const vsv_meta *m;
@@ -39,6 +45,12 @@ struct vsv_flow {
     vsv_decoder *d;
     vsv_volume *ve, *vn;
     int barb_step; /* the step ve and vn hold, or -1 */
+    /* streamlines: the handle frozen at each step's time, the step the
+     * paths are of (-1: none), and the seeds vsv_flow_add gave */
+    vsv_traj *tr;
+    int sl_step;
+    flow_seed *extra;
+    int nextra;
 };
 
 /* Parses "LAT,LON,HEIGHT" (HEIGHT with an optional trailing m) at s into p;
@@ -121,6 +133,10 @@ int vsv_flow_opt(vsv_flow_opts *o, const char *opt, const char *arg, char *msg, 
 {
     const char *why = NULL;
     int64_t d = 0;
+    if (!strcmp(opt, "streamlines")) {
+        o->steady = 1;
+        return 0;
+    }
     if (!strcmp(opt, "traj-from")) {
         vsv_timesel sel;
         char w[256];
@@ -184,6 +200,8 @@ void vsv_flow_free(vsv_flow *fl)
     vsv_volume_free(fl->ve);
     vsv_volume_free(fl->vn);
     vsv_decoder_free(fl->d);
+    vsv_traj_free(fl->tr);
+    free(fl->extra);
     free(fl);
 }
 
@@ -274,6 +292,55 @@ static int seed_all(vsv_flow *fl, vsv_traj *tr, double from, double to, char *ms
     return rc;
 }
 
+/* Streamlines of step's wind from every seed (once per step). */
+static int streamlines(vsv_flow *fl, int step, char *msg, size_t cap)
+{
+    if (step == fl->sl_step)
+        return 0;
+    for (int i = 0; i < fl->npaths; i++)
+        vsv_traj_path_clear(&fl->paths[i].p);
+    fl->npaths = 0, fl->sl_step = -1;
+    const double T = (double)vsv_file_time(fl->f, step);
+    const double to = T + (double)(fl->o.dur > 0 ? fl->o.dur : VSV_FLOW_STREAM);
+    int rc = fl->tr ? 0 : vsv_traj_create(fl->f, &fl->tr);
+    if (!rc)
+        rc = vsv_traj_freeze(fl->tr, T);
+    if (!rc)
+        rc = seed_all(fl, fl->tr, T, to, msg, cap);
+    for (int k = 0; k < fl->nextra && !rc; k++)
+        rc = add_path(fl, fl->tr, fl->extra[k].s, T, to, fl->extra[k].rgb, 0);
+    if (rc && !msg[0])
+        snprintf(msg, cap, "%s", fl->tr ? vsv_traj_error(fl->tr) : vsv_strerror(rc));
+    fl->sl_step = rc ? -1 : step;
+    return rc;
+}
+
+/* vsv_flow_add with --streamlines: the seed kept, traced from the next
+ * frame on (here once, to check it). */
+static int add_steady(vsv_flow *fl, const double seed[3], int step, char *msg, size_t cap)
+{
+    flow_seed *e = realloc(fl->extra, (size_t)(fl->nextra + 1) * sizeof *e);
+    if (!e) {
+        snprintf(msg, cap, "out of memory");
+        return VSV_ENOMEM;
+    }
+    fl->extra = e;
+    flow_seed *k = &e[fl->nextra];
+    memcpy(k->s, seed, sizeof k->s);
+    vsv_colour_parse(palette[(fl->o.ntraj + fl->o.nline + fl->o.nslice + fl->nextra) % 8], k->rgb);
+    int rc = fl->tr ? 0 : vsv_traj_create(fl->f, &fl->tr);
+    const double T = (double)vsv_file_time(fl->f, step);
+    if (!rc && !(rc = vsv_traj_freeze(fl->tr, T)))
+        rc = add_path(fl, fl->tr, seed, T, T + 1, k->rgb, 1);
+    if (rc) {
+        snprintf(msg, cap, "%s", rc == VSV_EINVAL ? "outside the grid or under the ground" : vsv_strerror(rc));
+        return rc;
+    }
+    fl->nextra++;
+    fl->sl_step = -1; /* traced again, whole, with the others */
+    return 0;
+}
+
 int vsv_flow_add(vsv_flow *fl, const double seed[3], int step, char *msg, size_t cap)
 {
     vsv_file_info info;
@@ -282,6 +349,8 @@ int vsv_flow_add(vsv_flow *fl, const double seed[3], int step, char *msg, size_t
         snprintf(msg, cap, "no step %d", step);
         return VSV_EINVAL;
     }
+    if (fl->o.steady)
+        return add_steady(fl, seed, step, msg, cap);
     const double from = (double)vsv_file_time(fl->f, step), last = (double)vsv_file_time(fl->f, info.nsteps - 1);
     const double to = fl->o.dur > 0 && from + (double)fl->o.dur < last ? from + (double)fl->o.dur : last;
     float rgb[3];
@@ -308,7 +377,7 @@ int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg
         snprintf(msg, cap, "out of memory");
         return VSV_ENOMEM;
     }
-    fl->f = f, fl->m = vsv_file_meta(f), fl->o = *o, fl->barb_step = -1;
+    fl->f = f, fl->m = vsv_file_meta(f), fl->o = *o, fl->barb_step = -1, fl->sl_step = -1;
     const vsv_meta *m = fl->m;
     if (vsv_meta_vector(m, VSV_WIND, fl->wind)) {
         snprintf(msg, cap, "no wind stored");
@@ -319,6 +388,9 @@ int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg
     fl->radius = o->radius > 0 ? o->radius : fmax(wx, wy) / 300;
     if (!o->ntraj && !o->nline && !o->nslice)
         return 0;
+    msg[0] = 0;
+    if (o->steady) /* the first step's, to check the seeds */
+        return streamlines(fl, 0, msg, cap);
     vsv_file_info info;
     vsv_file_info_get(f, &info);
     int64_t *times = malloc((size_t)info.nsteps * sizeof *times);
@@ -456,7 +528,10 @@ int vsv_flow_frame(vsv_flow *fl, int step, int trajectories, int barbs, const vs
 {
     int nl = 0, rc = 0;
     size_t nx = 0;
-    const double T = (double)vsv_file_time(fl->f, step);
+    msg[0] = 0;
+    if (trajectories && fl->o.steady) /* drawn whole */
+        rc = streamlines(fl, step, msg, cap);
+    const double T = fl->o.steady ? INFINITY : (double)vsv_file_time(fl->f, step);
     for (int i = 0; trajectories && i < fl->npaths && !rc; i++)
         if ((rc = path_line(fl, &fl->paths[i], T, &nl, &nx)))
             snprintf(msg, cap, "out of memory");

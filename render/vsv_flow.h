@@ -34,9 +34,10 @@ typedef struct vsv_flow_opts {
     const char *from; /* --traj-from T (a step or a time; default the first step) */
     int64_t dur;      /* --traj-for DURATION (seconds; 0: to the last step) */
     double radius;    /* --tube-radius METRES (0: the default) */
+    int steady;       /* --streamlines: each frame's paths are streamlines of its wind */
 } vsv_flow_opts;
 
-/* Takes option opt (without its dashes: "trajectory", "seed-line",
+/* Takes option opt (without its dashes: "trajectory", "seed-line", "streamlines" (arg unused),
  * "seed-slice", "barbs", "traj-from", "traj-for", "tube-radius") and its
  * argument into o. 0, or VSV_EINVAL with "--opt ARG: why" in msg. */
 int vsv_flow_opt(vsv_flow_opts *o, const char *opt, const char *arg, char *msg, size_t cap);
@@ -53,6 +54,12 @@ typedef struct vsv_flow vsv_flow;
  * it with vsv_flow_free either way. */
 #define VSV_FLOW_EVERY 300
 int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg, size_t cap);
+/* With --streamlines the paths are instead streamlines of each frame's
+ * wind, held still (vsv_traj_freeze), from every seed for --traj-for of
+ * travel (default VSV_FLOW_STREAM seconds), drawn whole; --traj-from is
+ * unused. They are integrated when a frame of another step is asked for
+ * (the first at open, to check the seeds). */
+#define VSV_FLOW_STREAM 3600
 void vsv_flow_free(vsv_flow *fl);
 /* The lines of step `step` (time vsv_file_time): each trajectory from its
  * seed up to that time (the point at that time interpolated between the

@@ -37,6 +37,10 @@ for s in 1 2; do
     expect "--trajectory from step 0, step $s" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/t$s.png" $R -t $s \
         --trajectory 40,-100,3000 --traj-from 0 --traj-for 3h
 done
+# streamlines: the wind of the frame's step held still, the whole path drawn
+# from the first frame on (a trajectory from step 0 shows nothing there)
+expect "--streamlines at step 0 for 2 h of travel" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/st0.png" $R -t 0 \
+    --trajectory 40,-100,3000 --streamlines --traj-for 2h
 expect "--seed-slice 3000:10" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/ss.png" $R -t 1 --seed-slice 3000:10:cyan
 expect "--seed-line 3 seeds" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/sl.png" $R -t 1 \
     --seed-line 39.9,-100.1,3000:40.1,-100.1,3000:3
@@ -97,6 +101,11 @@ for s, km in ((1, 18), (2, 36)):
     assert row[int(np.ceil(sx)) + 1:int(ex) - 1].all(), ("a gap along it", s)
     print(f"step {s}: from pixel {xs.min()} to {xs.max()} (want {sx:.1f} to {ex:.1f}), rows {ys.min()}..{ys.max()}")
 assert not drawn("t0").any(), "a trajectory drawn before its start"
+D = drawn("st0")
+ys, xs = np.nonzero(D)
+sx, sy, ex = px(0), py(0), px(36000)
+assert len(xs) and abs(xs.min() - sx) <= 2.5 and -2.5 <= xs.max() - ex <= 1, ("streamline", xs.min(), xs.max(), sx, ex)
+print(f"streamline at step 0: from pixel {xs.min()} to {xs.max()} (want {sx:.1f} to {ex:.1f})")
 # seeds every 10th column from the 5th: 4 x 3 paths, each on its row from its seed
 D = drawn("ss")
 ys, xs = np.nonzero(D)

@@ -60,6 +60,7 @@
     "      --seed-slice HEIGHT:EVERY[:COLOUR]  a path from every EVERY-th column\n"                                    \
     "      --traj-from T       the air leaves at step or time T (default: the first)\n"                                \
     "      --traj-for DURATION  followed so long (1h30m; default: to the last step)\n"                                 \
+    "      --streamlines       streamlines of the wind shown, held still, drawn whole\n"                               \
     "      --barbs HEIGHT[:EVERY]  wind arrows on a horizontal plane (20 m/s spans\n"                                  \
     "                          EVERY columns)\n"                                                                       \
     "      --tube-radius M     the tubes' radius in metres (default: 1/300 of the domain)\n"
@@ -67,6 +68,7 @@
     {"trajectory", required_argument, 0, (v)}, {"seed-line", required_argument, 0, (v)},                               \
         {"seed-slice", required_argument, 0, (v)}, {"traj-from", required_argument, 0, (v)},                           \
         {"traj-for", required_argument, 0, (v)}, {"barbs", required_argument, 0, (v)},                                 \
+        {"streamlines", no_argument, 0, (v)},                                                                          \
     {                                                                                                                  \
         "tube-radius", required_argument, 0, (v)                                                                       \
     }
