@@ -463,14 +463,16 @@ static void test_ground(world *w)
 static void test_sw_playing(const char *label, world *w, int nsteps, int first, int light)
 {
     const vsv_meta *m = vsv_file_meta(w->f);
-    vsv_layer layers[8];
-    for (int i = first; i < w->n; i++)
-        layers[i - first] = (vsv_layer){w->vol[i], &w->tf[i], 1, 1};
+    vsv_layer layers[16];
+    int nl = 0;
+    for (int i = first; i < w->n; i++) /* (the wind's components are not drawn) */
+        if (!vsv_meta_var_in_vector(m, i))
+            layers[nl++] = (vsv_layer){w->vol[i], &w->tf[i], 1, 1};
     vsv_scene sc;
     memset(&sc, 0, sizeof sc);
     sc.meta = m;
     sc.layers = layers;
-    sc.nlayers = w->n - first;
+    sc.nlayers = nl;
     sc.exaggeration = 4;
     if (light) /* shading reads across brick faces: a change reaches the neighbours */
         vsv_scene_sun(&sc, 135, 40);
