@@ -373,7 +373,7 @@ $(B)/vsv-nc-check: $(B)/convert/vsv-nc-check.o
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CONVERT_EXT)
 $(B)/vsv-gshhg: $(B)/render/vsv-gshhg.o
 	$(link)
-	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(call pkglibs,netcdf) -lm
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(call pkglibs,netcdf) -lm $(SANFLAGS)
 $(B)/vsv-vdb-reader: $(B)/interop/vsv-vdb-reader.o $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT)
