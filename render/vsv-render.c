@@ -190,6 +190,7 @@ typedef struct render_run {
     vsv_gl_context *glc;
     vsv_gl *gl;
     vsv_flow *flow; /* trajectories and wind arrows, or NULL */
+    float *rgba, *depth, *img, *zimg; /* a frame's buffers (here: reachable at an exit on an error) */
 } render_run;
 
 /* Reads the options into ra (set to the defaults by main); 1 after --help. */
@@ -581,9 +582,10 @@ static void render_frames(const render_args *ra, render_run *run, char *staged)
     vsv_tf *slice_tf = &run->slice_tf;
     vsv_gl *const gl = run->gl;
     vsv_decoder *d = NULL;
-    float *rgba = malloc((size_t)width * height * 4 * sizeof(float));
-    float *depth = malloc((size_t)width * height * sizeof(float));
-    float *img = malloc((size_t)ow * height * 4 * sizeof(float)), *zimg = malloc((size_t)ow * height * sizeof(float));
+    float *rgba = run->rgba = malloc((size_t)width * height * 4 * sizeof(float));
+    float *depth = run->depth = malloc((size_t)width * height * sizeof(float));
+    float *img = run->img = malloc((size_t)ow * height * 4 * sizeof(float));
+    float *zimg = run->zimg = malloc((size_t)ow * height * sizeof(float));
     if (vsv_decoder_create(run->f, &d) || !rgba || !depth || !img || !zimg)
         vsv_cli_die(1, "out of memory");
     for (int t = a; t <= run->b; t++) {
