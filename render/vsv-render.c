@@ -189,7 +189,7 @@ typedef struct render_run {
     vsv_renderer *r;
     vsv_gl_context *glc;
     vsv_gl *gl;
-    vsv_flow *flow; /* trajectories and wind arrows, or NULL */
+    vsv_flow *flow;                   /* trajectories and wind arrows, or NULL */
     float *rgba, *depth, *img, *zimg; /* a frame's buffers (here: reachable at an exit on an error) */
 } render_run;
 
