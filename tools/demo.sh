@@ -133,13 +133,13 @@ step "Isosurfaces at the model's own heights: cloud water at 0.05 g/kg, snow at 
 "$B/vsv-export" "$OUT/storm.vsv" --iso CLW:5e-5 --gltf "$OUT/cloud.gltf"
 
 step "The wind: the air's paths from every 6th column at 1500 m (lit tubes drawn up to the frame's time, an arrowhead where the air is then) and wind arrows at 3000 m (an arrow as long as their spacing is 20 m/s)" \
-     "vsv-render $OUT/storm.vsv --species CLW,SNOW --view plan --seed-slice 1500:6 --barbs 3000:3; ... --light (oblique); ... --streamlines; vsv-query ... --trajectory 50,-125,1500 --for 3h --every 1h --csv"
+     "vsv-render $OUT/storm.vsv --species CLW,SNOW --view plan --seed-slice 1500:6 --barbs 3000:3; ... --light (oblique); ... --streamlines --traj-for 8h; vsv-query ... --trajectory 50,-125,1500 --for 3h --every 1h --csv"
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --view plan --seed-slice 1500:6 --barbs 3000:3 --size 480x360 \
     -o "$OUT/wind-map.png" && echo "$OUT/wind-map.png"
 "$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --seed-slice 1500:6 --size 480x360 \
     -o "$OUT/paths.png" && echo "$OUT/paths.png"
-"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --seed-slice 1500:6 --streamlines --size 480x360 \
-    -o "$OUT/streamlines.png" && echo "$OUT/streamlines.png (streamlines of the 03Z wind, 1 h of travel)"
+"$B/vsv-render" -q "$OUT/storm.vsv" --species CLW,SNOW --light --seed-slice 1500:6 --streamlines --traj-for 8h --size 480x360 \
+    -o "$OUT/streamlines.png" && echo "$OUT/streamlines.png (streamlines of the 03Z wind, 8 h of travel)"
 "$B/vsv-query" "$OUT/storm.vsv" --trajectory 50,-125,1500 --for 3h --every 1h --csv
 
 step "The same lit frame raycast on the GPU (OpenGL 3.3 through EGL, no display; here Mesa's llvmpipe, a CPU: slow)" \
