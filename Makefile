@@ -566,6 +566,8 @@ $(B)/bench/bench_volpack: $(B)/bench/bench_volpack.o $(B)/bench/vp_match.o $(B)/
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lvolpack
 $(B)/bench/bench_classify: $(B)/bench/bench_classify.o $(B)/bench/vp_match.o $(B)/bench/bench_stats.o $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lvolpack
+$(B)/bench/bench_tubes: $(B)/bench/bench_tubes.o $(B)/bench/bench_stats.o $(TEST_LIBS)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT)
 $(B)/bench/bench_codec $(B)/bench/bench_size: $(B)/bench/%: $(B)/bench/%.o $(B)/bench/bench_data.o $(TEST_LIBS)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(ALL_EXT) -lzfp
 

@@ -6,6 +6,7 @@
  * walk, 1 km a step: trajectories of 200 recorded points), radius 1/300 of
  * the domain, arrowheads; frames 512 x 384 on 2 threads, the oblique view,
  * raycast. Prints medians for 0, 10, 100 and 400 paths. */
+#include "bench_stats.h"
 #include "vsv_render.h"
 
 #include <math.h>
@@ -21,12 +22,6 @@ static double now(void)
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return ts.tv_sec + ts.tv_nsec * 1e-9;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
 }
 
 int main(int argc, char **argv)
@@ -78,8 +73,9 @@ int main(int argc, char **argv)
                 return 1;
             t[k] = now() - t0;
         }
-        qsort(t, (size_t)R, sizeof *t, cmp);
-        const double med = t[R / 2];
+        double st[3];
+        bench_stats(t, R, st);
+        const double med = st[0];
         if (!c)
             base = med;
         printf("%4d paths (%7d triangles): %7.1f ms a frame, %+7.1f ms for the tubes\n", counts[c],
