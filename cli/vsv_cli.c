@@ -242,6 +242,9 @@ const char vsv_cli_pack_help[] = "Packing:\n"
                                  "  --log-decades D|LIST log scale spans at most D decades below the maximum\n"
                                  "                       (default 3 for 8 bits, 6 for 16 bits)\n"
                                  "  --codec C[:LEVEL]    zstd (default, level 3) or none\n"
+                                 "  --format N           the newest format version to write: 4 (default; dense\n"
+                                 "                       bricks Rice-coded where smaller), 3 (for readers before\n"
+                                 "                       format 4) or 1 (no 3-D prediction)\n"
                                  "  --threads N          encoder threads (default: all cores)\n";
 
 void vsv_cli_pack_init(vsv_cli_pack *p)
@@ -285,6 +288,11 @@ int vsv_cli_pack_option(vsv_cli_pack *p, int id, const char *arg)
         }
         return 1;
     }
+    case VSV_CLI_PACK_FORMAT:
+        if (vsv_cli_int(arg, 1, 4, &v) || v == 2)
+            vsv_cli_usage_error("--format %s: must be 4, 3 or 1", arg);
+        p->opts.predict = v == 4 ? 2 : v == 3 ? 1 : 0;
+        return 1;
     case VSV_CLI_PACK_BITS: p->bits = arg; return 1;
     case VSV_CLI_PACK_SCALE: p->scale = arg; return 1;
     case VSV_CLI_PACK_THRESHOLD: p->threshold = arg; return 1;

@@ -109,6 +109,7 @@ enum {
     VSV_CLI_PACK_RANGE,
     VSV_CLI_PACK_DECADES,
     VSV_CLI_PACK_CODEC,
+    VSV_CLI_PACK_FORMAT,
     VSV_CLI_PACK_THREADS
 };
 #define VSV_CLI_PACK_LONGOPTS                                                                                          \
@@ -117,7 +118,7 @@ enum {
         {"threshold", required_argument, 0, VSV_CLI_PACK_THRESHOLD},                                                   \
         {"range", required_argument, 0, VSV_CLI_PACK_RANGE},                                                           \
         {"log-decades", required_argument, 0, VSV_CLI_PACK_DECADES},                                                   \
-        {"codec", required_argument, 0, VSV_CLI_PACK_CODEC},                                                           \
+        {"codec", required_argument, 0, VSV_CLI_PACK_CODEC}, {"format", required_argument, 0, VSV_CLI_PACK_FORMAT},    \
     {                                                                                                                  \
         "threads", required_argument, 0, VSV_CLI_PACK_THREADS                                                          \
     }

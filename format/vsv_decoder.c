@@ -47,6 +47,7 @@ int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
     d->raw = malloc(2 * n);
     d->codes = malloc(2 * n);
     d->scratch = malloc(2 * n);
+    d->rice = f->major >= 4 ? calloc(1, vsv_rice_max(16, n) + VSV_RICE_PAD) : NULL;
     d->state = calloc((size_t)f->meta.nvars, sizeof *d->state);
     d->state_step = calloc((size_t)f->meta.nvars, sizeof *d->state_step);
     /* one mask per placement of a moving grid: GRID's, then each MOVE's */
@@ -54,7 +55,8 @@ int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
     d->under = calloc((size_t)f->meta.nmoves + 1, sizeof *d->under);
     for (int i = 0; d->under && !urc && i <= f->meta.nmoves; i++)
         d->under[i] = under_ground(&f->meta, i ? f->meta.moves[i - 1].terrain : f->meta.terrain, &urc);
-    if (urc || !d->under || !d->dctx || !d->raw || !d->codes || !d->scratch || !d->state || !d->state_step) {
+    if (urc || !d->under || !d->dctx || !d->raw || !d->codes || !d->scratch || (f->major >= 4 && !d->rice) ||
+        !d->state || !d->state_step) {
         vsv_decoder_free(d);
         *out = NULL;
         return VSV_ENOMEM;
@@ -73,6 +75,7 @@ void vsv_decoder_free(vsv_decoder *d)
     free(d->raw);
     free(d->codes);
     free(d->scratch);
+    free(d->rice);
     if (d->state)
         for (int s = 0; s < d->f->meta.nvars; s++)
             free(d->state[s]);
@@ -125,8 +128,8 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
      * chunk, but the mapping may have changed since (a file cut or
      * rewritten while it is read); the chunk's extent is the table's copy */
     const uint64_t csize = vsv_rd64(f->toc + (size_t)t * VSV_TOC_ENTRY_SIZE + 8);
-    if (kind > (f->major >= 2 ? VSV_BRICK_DELTA3 : VSV_BRICK_DELTA) || off > csize || size > csize - off || !size ||
-        (f->codec != VSV_CODEC_ZSTD && size != raw)) {
+    if (kind > vsv_file_last_kind(f) || off > csize || size > csize - off || !size ||
+        (f->codec != VSV_CODEC_ZSTD && kind < VSV_BRICK_ABS3R && size != raw)) {
         vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d: brick entry changed after it was checked",
                 f->name, t, s, b);
         return VSV_ECORRUPT;
@@ -148,7 +151,19 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
         return VSV_ECORRUPT;
     }
     const unsigned char *src = p;
-    if (f->codec == VSV_CODEC_ZSTD) {
+    if (kind >= VSV_BRICK_ABS3R) { /* read from a padded copy (vsv_rice_decode reads past the end) */
+        const size_t cells = (size_t)ext[0] * ext[1] * ext[2];
+        if (size <= vsv_rice_max(bits, cells)) {
+            memcpy(d->rice, p, size);
+            memset(d->rice + size, 0, VSV_RICE_PAD);
+        }
+        if (size > vsv_rice_max(bits, cells) || vsv_rice_decode(bits, ext, d->rice, size, d->raw)) {
+            vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d (offset %llu): payload does not decode",
+                    f->name, t, s, b, (unsigned long long)(p - f->data));
+            return VSV_ECODEC;
+        }
+        src = d->raw;
+    } else if (f->codec == VSV_CODEC_ZSTD) {
         size_t got = ZSTD_decompressDCtx(d->dctx, d->raw, raw, p, size);
         if (ZSTD_isError(got) || got != raw) {
             vsv_msg(d->err, sizeof d->err,
@@ -158,7 +173,7 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
         }
         src = d->raw;
     }
-    vsv_brick_inverse(bits, kind, src, f->lay.brick, ext, codes, d->scratch, back);
+    vsv_brick_inverse(bits, vsv_brick_predictor(kind), src, f->lay.brick, ext, codes, d->scratch, back);
     return 0;
 }
 
@@ -253,20 +268,12 @@ static const float *lut_of(vsv_file *f, int s)
     return l;
 }
 
-/* Not under ThreadSanitizer: the ifunc resolver that picks the clone runs
- * while the dynamic linker relocates the program, before libtsan is set up,
- * and GCC instruments it, so every program crashed at load (SIGSEGV). */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
-#define VSV_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define VSV_CLONES
-#endif
-
 /* Linear 16-bit codes to values by the rule of SPEC.md §6 itself, in double
  * as vsv_quant_value does (so bit-identical to the table), with f = 1 when
  * code 0 means no data: a loop the compiler vectorises (the table lookup it
  * replaces, 256 kB, one load a voxel, was a third of a full decode). */
-VSV_CLONES static void dequant_linear16(double lo, double step, int f, const uint16_t *codes, size_t n, float *out)
+VSV_CLONES("avx2")
+static void dequant_linear16(double lo, double step, int f, const uint16_t *codes, size_t n, float *out)
 {
     if (f) {
         const float nan = NAN;

@@ -92,8 +92,8 @@ int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err,
         vsv_msg(err, cap, "unknown codec %d", o->codec);
         return VSV_EINVAL;
     }
-    if (o->predict != 0 && o->predict != 1) {
-        vsv_msg(err, cap, "predict %d: must be 0 (format 1) or 1 (format 2)", o->predict);
+    if (o->predict < 0 || o->predict > 2) {
+        vsv_msg(err, cap, "predict %d: must be 0 (format 1), 1 (format 2 or 3) or 2 (format 4)", o->predict);
         return VSV_EINVAL;
     }
     if (o->codec == VSV_CODEC_ZSTD && (o->level < 1 || o->level > ZSTD_maxCLevel())) {
@@ -235,13 +235,13 @@ int vsv_pack_plan_finish(vsv_pack_plan *p, int nsteps, const int64_t *times, con
     for (int i = 0; i < p->meta.nheights; i++)
         coded |= p->meta.heights[i].form == VSV_HEIGHTS_STORED;
     coded = coded && p->opts.predict;
-    const int major = coded ? 3 : p->opts.predict || p->meta.nmoves ? 2 : 1;
+    const int major = p->opts.predict >= 2 ? 4 : coded ? 3 : p->opts.predict || p->meta.nmoves ? 2 : 1;
     vsv_wr16(h + 8, (uint16_t)major);
     /* 3.1: a vector (an attribute "vector:NAME"; older readers see only species) */
     int vector = 0;
     for (int a = 0; a < p->meta.nattrs; a++)
         vector |= !strncmp(p->meta.attr_keys[a], VSV_VECTOR_ATTR, strlen(VSV_VECTOR_ATTR));
-    vsv_wr16(h + 10, major == 3 ? vector : major == 2 ? p->meta.nmoves > 0 : p->meta.nheights > 0);
+    vsv_wr16(h + 10, major == 4 ? 0 : major == 3 ? vector : major == 2 ? p->meta.nmoves > 0 : p->meta.nheights > 0);
     vsv_wr32(h + 12, VSV_HEADER_SIZE);
     vsv_wr64(h + 16, file_size);
     vsv_wr64(h + 24, VSV_HEADER_SIZE);
@@ -404,6 +404,15 @@ int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *con
                         kind = k3;
                         psize = s3;
                         payload = e->z3;
+                    }
+                    if (p->opts.predict >= 2) { /* the same residuals Rice-coded (format 4) */
+                        unsigned char *zr = payload == e->z ? e->z3 : e->z;
+                        const size_t sr = vsv_rice_encode(q->bits, ext, e->raw3, zr, psize - 1);
+                        if (sr) {
+                            kind = k3 + 2;
+                            psize = sr;
+                            payload = zr;
+                        }
                     }
                 }
             }

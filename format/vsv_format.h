@@ -28,8 +28,8 @@ VSV_API_BEGIN
 /* The newest format read and written: 3.x (coded heights) only in files that
  * store heights, 2.x otherwise; 1.x is read, and written on request. 3.1: a
  * vector species (the wind, vsv_vector.h). */
-#define VSV_FORMAT_MAJOR 3
-#define VSV_FORMAT_MINOR 1
+#define VSV_FORMAT_MAJOR 4
+#define VSV_FORMAT_MINOR 0
 
 /* Error codes: fallible calls return 0 or one of these. Values never change. */
 enum {
@@ -296,8 +296,8 @@ typedef struct vsv_pack_opts {
     int keyframe;       /* keyframe interval K >= 1 (default 8) */
     int codec;          /* VSV_CODEC_* (default zstd) */
     int level;          /* zstd level (default 3) */
-    int predict;        /* 1 (default): bricks may use the 3-D kinds where
-                           smaller (format 2.0); 0: format 1.x */
+    int predict;        /* 2 (default): bricks may use the 3-D kinds, Rice-coded
+                           too, where smaller (format 4); 1: format 2 or 3; 0: 1.x */
     int threads;        /* encoder threads; 0 = all cores */
     vsv_pack_var *vars; /* nvars entries or NULL for defaults; borrowed during create */
 } vsv_pack_opts;
@@ -397,15 +397,13 @@ void vsv_chunk_encoder_free(vsv_chunk_encoder *e);
 
 typedef struct vsv_file vsv_file;
 
-/* Brick kinds in a chunk's brick table (SPEC.md "Brick entry"). */
-enum {
-    VSV_BRICK_EMPTY = 0,
-    VSV_BRICK_UNCHANGED = 1,
-    VSV_BRICK_ABS = 2,
-    VSV_BRICK_DELTA = 3,
-    VSV_BRICK_ABS3 = 4,
-    VSV_BRICK_DELTA3 = 5 /* format 2 */
-};
+/* Brick kinds in a chunk's brick table (SPEC.md "Brick entry"); ABS3 and
+ * DELTA3 from format 2, ABS3R and DELTA3R (the same residuals Rice-coded)
+ * from format 4. Absolute kinds need no earlier step; delta kinds change it. */
+enum { VSV_BRICK_EMPTY, VSV_BRICK_UNCHANGED, VSV_BRICK_ABS, VSV_BRICK_DELTA, VSV_BRICK_ABS3, VSV_BRICK_DELTA3 };
+enum { VSV_BRICK_ABS3R = 6, VSV_BRICK_DELTA3R = 7 };
+static inline int vsv_brick_absolute(int kind) { return kind >= 0 && !(kind & 1); }
+static inline int vsv_brick_delta(int kind) { return kind > VSV_BRICK_UNCHANGED && (kind & 1); }
 
 /* Facts about an open file: plain info filled by vsv_file_info. */
 typedef struct vsv_file_info {

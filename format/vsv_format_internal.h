@@ -74,12 +74,20 @@ int vsv_pack_opts_check(const vsv_pack_opts *o, const vsv_meta *meta, char *err,
 /* Brick payload transform (SPEC.md §7) of the ext[0] x ext[1] x ext[2] cells
  * inside the grid of a B^3 brick array of `bits`-bit codes. */
 size_t vsv_brick_raw_bytes(int bits, const int ext[3]);
-/* Kinds with a payload; kinds a decoder starts from (no earlier step needed). */
-static inline int vsv_brick_stored(int kind) { return kind >= VSV_BRICK_ABS && kind <= VSV_BRICK_DELTA3; }
-static inline int vsv_brick_absolute(int kind)
-{
-    return kind == VSV_BRICK_EMPTY || kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
-}
+/* A function built twice, for the named target and the default, the one
+ * the CPU can run picked at load. Not under ThreadSanitizer: the ifunc
+ * resolver runs while the dynamic linker relocates the program, before
+ * libtsan is set up, and GCC instruments it (every program crashed at load). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
+#define VSV_CLONES(target) __attribute__((target_clones(target, "default")))
+#else
+#define VSV_CLONES(target)
+#endif
+
+/* Kinds with a payload. */
+static inline int vsv_brick_stored(int kind) { return kind >= VSV_BRICK_ABS && kind <= VSV_BRICK_DELTA3R; }
+/* The predictor of a kind: ABS3R and DELTA3R code ABS3's and DELTA3's residuals. */
+static inline int vsv_brick_predictor(int kind) { return kind >= VSV_BRICK_ABS3R ? kind - 2 : kind; }
 void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *prev, int B, const int ext[3],
                        unsigned char *out);
 /* Inverse in place: ABS and ABS3 overwrite the cells inside the grid, DELTA
@@ -88,5 +96,19 @@ void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *
  * the residuals wrap modulo 2^bits, so the step is exactly undone). */
 void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state,
                        uint16_t *scratch, int undo);
+
+/* The Rice-coded kinds' payload (SPEC.md §7 "Rice coding") of the residual
+ * planes of vsv_brick_forward (n cells, lo then hi bytes for 16 bits):
+ * encode returns its size, or 0 when it would not fit in cap bytes; decode
+ * fills the planes, 0 or -1 when the payload breaks a rule of §7. It reads
+ * up to VSV_RICE_PAD bytes past the payload (the caller's copy, padded);
+ * a valid payload is at most vsv_rice_max bytes. */
+enum { VSV_RICE_CONTEXTS = 20, VSV_RICE_STREAMS = 4, VSV_RICE_PAD = 256 };
+static inline size_t vsv_rice_max(int bits, size_t n)
+{
+    return VSV_RICE_CONTEXTS + 4 * (VSV_RICE_STREAMS - 1) + n * (8 + (size_t)bits) / 8 + VSV_RICE_STREAMS;
+}
+size_t vsv_rice_encode(int bits, const int ext[3], const unsigned char *planes, unsigned char *out, size_t cap);
+int vsv_rice_decode(int bits, const int ext[3], const unsigned char *in, size_t size, unsigned char *planes);
 
 #endif

@@ -373,13 +373,12 @@ static const unsigned char *chunk_index(vsv_file *f, int t, char *msg, size_t ca
             const int kind = be[0];
             const uint64_t off = vsv_rd64(be + 8);
             const uint32_t size = vsv_rd32(be + 16);
-            /* the 3-D kinds only in format 2; a keyframe holds absolute kinds */
-            int ok = kind <= (f->major >= 2 ? VSV_BRICK_DELTA3 : VSV_BRICK_DELTA) && !be[1] && !be[2] && !be[3] &&
-                     !vsv_rd32(be + 20) &&
-                     !(key && (kind == VSV_BRICK_UNCHANGED || kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3));
+            /* the 3-D kinds from format 2, the Rice-coded from 4; a keyframe holds absolute kinds */
+            int ok = kind <= vsv_file_last_kind(f) && !be[1] && !be[2] && !be[3] && !vsv_rd32(be + 20) &&
+                     !(key && !vsv_brick_absolute(kind));
             if (vsv_brick_stored(kind)) {
                 ok = ok && off == expect && size > 0 && size <= csize - off &&
-                     (f->codec == VSV_CODEC_ZSTD || size == raw);
+                     (f->codec == VSV_CODEC_ZSTD || kind >= VSV_BRICK_ABS3R || size == raw);
                 expect = vsv_align_up(off + size, VSV_ALIGN);
             } else {
                 ok = ok && !off && !size && !vsv_rd32(be + 4);

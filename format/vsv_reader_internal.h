@@ -21,7 +21,7 @@ struct vsv_file {
     vsv_quant *quant;
     vsv_layout lay;
     int nsteps, keyframe, codec;
-    int major, minor;   /* major 1, or 2: the 3-D brick kinds may appear */
+    int major, minor;   /* major 2: the 3-D brick kinds may appear, 4: the Rice-coded ones */
     unsigned char *toc; /* a copy of the table of contents, checked at open:
                          * never read from the mapping again (a file cut
                          * meanwhile would read zeros: every chunk at 0) */
@@ -41,13 +41,20 @@ struct vsv_decoder {
     ZSTD_DCtx *dctx;
     unsigned char *raw;
     uint16_t *codes;
-    uint16_t *scratch; /* a brick: DELTA3's differences */
-    uint16_t **state;  /* per species: codes of all bricks at state_step */
+    uint16_t *scratch;   /* a brick: DELTA3's differences */
+    unsigned char *rice; /* format 4: a Rice-coded payload's padded copy */
+    uint16_t **state;    /* per species: codes of all bricks at state_step */
     int *state_step;
     uint16_t **under; /* per placement (GRID's, then each MOVE's), per column: how
                          many levels lie below the ground (NULL: none) */
     char err[512];
 };
+
+/* The last brick kind a file of f's major may hold. */
+static inline int vsv_file_last_kind(const vsv_file *f)
+{
+    return f->major >= 4 ? VSV_BRICK_DELTA3R : f->major >= 2 ? VSV_BRICK_DELTA3 : VSV_BRICK_DELTA;
+}
 
 /* Makes bytes [off, off + n) of f resident (a byte source; nothing to do for
  * a mapped file), fetching up to `ahead` more if that is cheap; 0 or a VSV_E*

@@ -60,7 +60,7 @@ void vsv_pack_opts_init(vsv_pack_opts *o)
     o->keyframe = 8;
     o->codec = VSV_CODEC_ZSTD;
     o->level = 3;
-    o->predict = 1;
+    o->predict = 2;
 }
 
 const char *vsv_writer_error(const vsv_writer *w) { return w ? w->err : "out of memory"; }

@@ -127,7 +127,7 @@ static long payloads_in(vsv_pager *p, int s, int b, int a, int z, int *absolute)
             return k;
         n += k >= VSV_BRICK_ABS;
         if (t > a)
-            *absolute |= k == VSV_BRICK_ABS || k == VSV_BRICK_ABS3 || k == VSV_BRICK_EMPTY;
+            *absolute |= vsv_brick_absolute(k);
     }
     return n;
 }
@@ -204,9 +204,7 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
             int u = step + 1, k = VSV_BRICK_UNCHANGED;
             while (u < p->info.nsteps && (k = vsv_pager_kind(p, u, s, b)) == VSV_BRICK_UNCHANGED)
                 u++;
-            c = u < p->info.nsteps && (k == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3)
-                    ? vsv_cache_lookup(p, s + ns, b, u)
-                    : -1;
+            c = u < p->info.nsteps && vsv_brick_delta(k) ? vsv_cache_lookup(p, s + ns, b, u) : -1;
             half = 1;
             if (c >= 0 &&
                 (p->ent[c].state != READY || p->ent[c].pins || p->ent[c].lo != step || !(p->ent[c].halves & 2)))
@@ -229,7 +227,7 @@ int vsv_pager_job_make(vsv_pager *p, job *j, int s, int b, int step)
     int rc = 0, a = step; /* the brick's last absolute state at or before step */
     for (;; a--) {
         const int k = vsv_pager_kind(p, a, s, b);
-        if (k == VSV_BRICK_ABS || k == VSV_BRICK_ABS3 || k == VSV_BRICK_EMPTY)
+        if (vsv_brick_absolute(k))
             break;
         if (k < 0 || a == 0) { /* keyframes hold absolute states: a == 0 is damage */
             rc = k < 0 ? k : VSV_ECORRUPT;
@@ -311,8 +309,7 @@ int vsv_pager_job_prewalk(vsv_pager *p, job *j)
             if (T->codes && T->step > v && payloads_in(p, s, b, v, T->step, &absolute) >= 0 && !absolute)
                 continue; /* undoing from the track is as cheap */
             int a = v, k;
-            while ((k = vsv_pager_kind(p, a, s, b)) == VSV_BRICK_DELTA || k == VSV_BRICK_DELTA3 ||
-                   k == VSV_BRICK_UNCHANGED)
+            while (vsv_brick_delta(k = vsv_pager_kind(p, a, s, b)) || k == VSV_BRICK_UNCHANGED)
                 if (--a < 0)
                     break;
             if (a < 0 || k < 0 || k == VSV_BRICK_EMPTY)

@@ -41,5 +41,5 @@ side "WRF allvars (QCLOUD, QICE, QSNOW)" "$(data wrf/wrf_d01_allvars_cropped.nc)
 # the file says where its levels are
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/nat.vsv" --vertical native --vars CLW
 expect "vsv-info on a file with per-column heights" 0 "$B/vsv-info" "$T/nat.vsv"
-has "vsv-info says the format is 3.1 (its terrain and land use coded, the wind a vector)" "$T/out" "format 3.1"
+has "vsv-info says the format is 4.0 (its terrain and land use coded, the wind a vector, Rice-coded bricks)" "$T/out" "format 4.0"
 has "vsv-info names the heights" "$T/out" "per-column heights"

@@ -34,7 +34,7 @@ read -r WK WLAT WLON WVAL WI WJ < "$T/wrf"
 
 expect "the moving nest converts (native levels)" 0 "$B/vsv-convert" -q --vertical native -o "$T/n.vsv" "$K"
 expect "vsv-info" 0 "$B/vsv-info" "$T/n.vsv"
-has "it is format 3.1 (heights and terrain coded, the wind a vector)" "$T/out" ".vsv format 3.1"
+has "it is format 4.0 (heights and terrain coded, the wind a vector, dense bricks Rice-coded)" "$T/out" ".vsv format 4.0"
 expect "vsv-info" 0 "$B/vsv-info" "$T/n.vsv"
 has "and lists 3 more placements" "$T/out" "moves       a moving nest: 3 more placements"
 has "the 21Z one where WRF puts it" "$T/out" "from 2005-08-28T21:00:00Z  SW 22.803N 93.003W  (-15, +12 cells)"

@@ -15,7 +15,7 @@ for tool in vsv-extract vsv-pack vsv-info; do
     expect "$tool --help exits 0" 0 "$B/$tool" --help
     has "$tool --help prints usage on stdout" "$T/out" "Usage: $tool"
     expect "$tool --version exits 0" 0 "$B/$tool" --version
-    has "$tool --version names the format" "$T/out" "format 3.1"
+    has "$tool --version names the format" "$T/out" "format 4.0"
     expect "$tool with an unknown option exits 2" 2 "$B/$tool" --no-such-option
     has "$tool misuse points to --help" "$T/err" "Try '$tool --help'"
 done

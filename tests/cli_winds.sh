@@ -33,9 +33,12 @@ for t in vsv-convert vsv-extract; do
     has "$t --help lists --no-winds" "$T/out" "--no-winds"
 done
 
-# the crop: the wind stored by default, a vector, format 3.1
+# the crop: the wind stored by default, a vector, format 4.0 (3.1 with --format 3)
 expect "crop: vsv-convert stores the wind by default" 0 "$B/vsv-convert" -q "$CROP" -o "$T/w.vsv"
 expect "... vsv-info" 0 "$B/vsv-info" "$T/w.vsv"
+has "... format 4.0" "$T/out" ".vsv format 4.0"
+expect "... --format 3" 0 "$B/vsv-convert" -q --format 3 "$CROP" -o "$T/w3.vsv"
+expect "... vsv-info" 0 "$B/vsv-info" "$T/w3.vsv"
 has "... format 3.1 (a vector)" "$T/out" ".vsv format 3.1"
 has "... the vector line" "$T/out" "vector      wind: wind_east wind_north wind_up (east, north, up; earth-relative)"
 has "... what the model's winds were" "$T/out" "U, V on dot points (the mean of the 4 around a cross point)"
@@ -69,7 +72,8 @@ if grep -q wind_ "$T/out" || ! grep -q '"vectors": {}' "$T/out"; then
 else
     pass "... --no-winds: no wind species, no vector"
 fi
-expect "... vsv-info (text)" 0 "$B/vsv-info" "$T/n.vsv"
+expect "... --format 3" 0 "$B/vsv-convert" -q --format 3 --no-winds "$CROP" -o "$T/n3.vsv"
+expect "... vsv-info (text)" 0 "$B/vsv-info" "$T/n3.vsv"
 has "... a file without a vector stays format 3.0" "$T/out" ".vsv format 3.0"
 "$B/vsv-extract" "$CROP" 2> /dev/null | "$B/vsv-pack" -q -o "$T/e.vsv" 2> /dev/null
 same "vsv-extract | vsv-pack stores the same wind (the same bytes)" "$T/w.vsv" "$T/e.vsv"

@@ -184,9 +184,9 @@ static void test_damage(void)
         vsv_file_free(f);
     }
     memcpy(bad, good, n);
-    bad[8] = 4; /* 1 to 3 are read */
+    bad[8] = VSV_FORMAT_MAJOR + 1; /* 1 to VSV_FORMAT_MAJOR are read */
     f = NULL;
-    rc = vsv_file_open_mem(bad, n, "v4.vsv", &f);
+    rc = vsv_file_open_mem(bad, n, "v5.vsv", &f);
     CHECK(rc == VSV_EVERSION, "a future major version is refused", "%s", vsv_file_error(f));
     vsv_file_free(f);
     free(good);

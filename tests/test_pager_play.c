@@ -65,7 +65,7 @@ static void test_advance(vsv_file *f, const char *label)
             memset(state, 0, n * sizeof *state);
             for (int t = 0; t < in.nsteps && !bad; t++) {
                 const int kind = vsv_file_brick_kind(f, t, s, b);
-                deltas += kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3;
+                deltas += vsv_brick_delta(kind);
                 if (vsv_decoder_brick_advance(d, t, s, b, state) || vsv_decoder_brick_codes(d, t, s, b, ref) ||
                     memcmp(state, ref, n * sizeof *ref))
                     bad = 1 + t;
@@ -79,7 +79,7 @@ static void test_advance(vsv_file *f, const char *label)
     CHECK(vsv_decoder_brick_advance(d, in.nsteps, 0, 0, state) == VSV_ERANGE, "advance past the last step: VSV_ERANGE",
           " ");
     /* undoing: from every step's codes, retreat gives the previous step's */
-    int kinds[6] = {0};
+    int kinds[8] = {0};
     bad = checked = 0;
     for (int s = 0; s < in.nspecies; s++)
         for (int b = 0; b < in.nbricks; b++)
@@ -88,7 +88,7 @@ static void test_advance(vsv_file *f, const char *label)
                 vsv_decoder_brick_codes(d, t, s, b, state);
                 vsv_decoder_brick_codes(d, t - 1, s, b, ref);
                 const int rc = vsv_decoder_brick_retreat(d, t, s, b, state);
-                if (kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3 || kind == VSV_BRICK_EMPTY) {
+                if (vsv_brick_absolute(kind)) {
                     bad = rc != VSV_EINVAL ? 1 + t : 0;
                     continue;
                 }
@@ -97,13 +97,15 @@ static void test_advance(vsv_file *f, const char *label)
                     bad = 1 + t;
                 checked++;
             }
-    snprintf(
-        name, sizeof name,
-        "%s: vsv_decoder_brick_retreat undoes a step exactly (DELTA, DELTA3, UNCHANGED); an absolute state: VSV_EINVAL",
-        label);
-    CHECK(!bad && kinds[VSV_BRICK_DELTA] > 0 && kinds[VSV_BRICK_DELTA3] > 0 && kinds[VSV_BRICK_UNCHANGED] > 0, name,
-          "(%d undone: %d DELTA, %d DELTA3, %d UNCHANGED; first bad step %d)", checked, kinds[VSV_BRICK_DELTA],
-          kinds[VSV_BRICK_DELTA3], kinds[VSV_BRICK_UNCHANGED], bad - 1);
+    snprintf(name, sizeof name,
+             "%s: vsv_decoder_brick_retreat undoes a step exactly (DELTA, DELTA3/3R, UNCHANGED); an absolute state: "
+             "VSV_EINVAL",
+             label);
+    CHECK(!bad && kinds[VSV_BRICK_DELTA] > 0 && kinds[VSV_BRICK_DELTA3] + kinds[VSV_BRICK_DELTA3R] > 0 &&
+              kinds[VSV_BRICK_UNCHANGED] > 0,
+          name, "(%d undone: %d DELTA, %d DELTA3, %d DELTA3R, %d UNCHANGED; first bad step %d)", checked,
+          kinds[VSV_BRICK_DELTA], kinds[VSV_BRICK_DELTA3], kinds[VSV_BRICK_DELTA3R], kinds[VSV_BRICK_UNCHANGED],
+          bad - 1);
     free(state);
     free(ref);
     vsv_decoder_free(d);
@@ -116,7 +118,7 @@ static uint64_t payloads(vsv_file *f, int s, int a, int b, int nbricks)
     for (int t = a; t <= b; t++)
         for (int k = 0; k < nbricks; k++) {
             const int kind = vsv_file_brick_kind(f, t, s, k);
-            n += kind >= VSV_BRICK_ABS; /* a payload: ABS, DELTA, ABS3, DELTA3 */
+            n += kind >= VSV_BRICK_ABS; /* a payload: ABS, DELTA and the 3-D kinds */
         }
     return n;
 }
@@ -217,8 +219,7 @@ static void test_counts(const char *path)
     for (int t = 0; t < ns; t++)
         for (int b = 0; b < nb; b++) {
             const int kind = vsv_file_brick_kind(f, t, 1, b);
-            dense &= t % K ? kind == VSV_BRICK_DELTA || kind == VSV_BRICK_DELTA3
-                           : kind == VSV_BRICK_ABS || kind == VSV_BRICK_ABS3;
+            dense &= t % K ? vsv_brick_delta(kind) : vsv_brick_absolute(kind) && kind != VSV_BRICK_EMPTY;
         }
     CHECK(dense, "species 1 of the series: every brick a delta at every step off the keyframes", " ");
     const uint64_t all = payloads(f, 1, 0, ns - 1, nb);

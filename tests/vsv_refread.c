@@ -49,7 +49,7 @@ int ref_open(ref_file *rf, const unsigned char *d, size_t n, char *err, size_t c
     if (n < 160 || memcmp(d, "\x89VSV\r\n\x1a\n", 8))
         FAIL("not a .vsv file");
     const unsigned major = (unsigned)get(d + 8, 2);
-    if (major < 1 || major > 3 || get(d + 12, 4) != 128)
+    if (major < 1 || major > 4 || get(d + 12, 4) != 128)
         FAIL("version/header size");
     if (ref_crc32c(d, 124) != get(d + 124, 4))
         FAIL("header crc");
@@ -141,6 +141,80 @@ static unsigned nodes_of(const ref_file *rf)
     }
 }
 
+/* Kinds 6 and 7 (SPEC.md §7 "Rice coding"): the zigzagged residuals of a box
+ * of ex x ey x ez cells, one bit at a time, into buf as planes (low bytes,
+ * then high bytes for 16 bits); 0 or -1. */
+static int rice_planes(const unsigned char *p, size_t size, unsigned bits, unsigned ex, unsigned ey, unsigned ez,
+                       unsigned char *buf)
+{
+    const size_t n = (size_t)ex * ey * ez, head = 20 + 12;
+    if (size < head)
+        return -1;
+    size_t start[5], end[4];
+    start[0] = head;
+    for (int t = 0; t < 3; t++) {
+        end[t] = start[t] + get(p + 20 + 4 * t, 4);
+        if (end[t] > size)
+            return -1;
+        start[t + 1] = end[t];
+    }
+    end[3] = size;
+    size_t pos[4]; /* bit positions */
+    for (int t = 0; t < 4; t++)
+        pos[t] = 8 * start[t];
+    unsigned *z = calloc(n ? n : 1, sizeof *z);
+    if (!z)
+        return -1;
+    int bad = 0;
+#define BIT(t) (pos[t] < 8 * end[t] ? (p[pos[t] >> 3] >> (pos[t] & 7)) & 1 : (bad = 1, 0u))
+    for (unsigned k = 0; k < ez && !bad; k++)
+        for (unsigned j = 0; j < ey && !bad; j++)
+            for (unsigned i = 0; i < ex && !bad; i++) {
+                unsigned t = 0;
+                if (j > 0) {
+                    t += 2 * z[i + ex * (j - 1 + ey * k)];
+                    t += i > 0 ? z[i - 1 + ex * (j - 1 + ey * k)] : 0;
+                    t += i + 1 < ex ? z[i + 1 + ex * (j - 1 + ey * k)] : 0;
+                }
+                t += k > 0 ? 2 * z[i + ex * (j + ey * (k - 1))] : 0;
+                unsigned q = 0;
+                while (t >> q)
+                    q++;
+                const unsigned K = p[q], st = i % 4;
+                if (K > bits)
+                    bad = 1;
+                unsigned u = 0;
+                while (u < 8 && !bad && BIT(st) == 0) {
+                    u++;
+                    pos[st]++;
+                }
+                unsigned v = 0;
+                if (u < 8) {
+                    pos[st]++; /* the one that ends the run of zeros */
+                    for (unsigned b = 0; b < K && !bad; b++, pos[st]++)
+                        v |= BIT(st) << b;
+                    v += u << K;
+                } else {
+                    for (unsigned b = 0; b < bits && !bad; b++, pos[st]++)
+                        v |= BIT(st) << b;
+                }
+                if (v >> bits)
+                    bad = 1;
+                z[i + ex * (j + ey * k)] = v;
+            }
+    for (int t = 0; t < 4 && !bad; t++) /* each stream ends in its last byte, zero bits after the last code */
+        for (bad = (pos[t] + 7) / 8 != end[t]; !bad && pos[t] < 8 * end[t]; pos[t]++)
+            bad = BIT(t);
+#undef BIT
+    for (size_t m = 0; m < n; m++) {
+        buf[m] = (unsigned char)z[m];
+        if (bits == 16)
+            buf[n + m] = (unsigned char)(z[m] >> 8);
+    }
+    free(z);
+    return bad ? -1 : 0;
+}
+
 int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, float *values, char *err, size_t cap)
 {
     const unsigned B = rf->brick;
@@ -183,8 +257,12 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
             }
             if (kind == 1)
                 continue;
-            /* kinds 4 (ABS3) and 5 (DELTA3) from major 2 on; absolute kinds at keyframes */
-            if (kind > (rf->major >= 2 ? 5u : 3u) || (u % rf->keyframe == 0 && kind != 2 && kind != 4)) {
+            /* kinds 4 (ABS3) and 5 (DELTA3) from major 2 on, 6 and 7 (their Rice-coded forms)
+             * from 4; absolute kinds at keyframes */
+            if (kind > (rf->major >= 4   ? 7u
+                        : rf->major >= 2 ? 5u
+                                         : 3u) ||
+                (u % rf->keyframe == 0 && kind != 2 && kind != 4 && kind != 6)) {
                 free(state);
                 free(buf);
                 FAIL("chunk %u brick %u kind %u", u, b, kind);
@@ -203,7 +281,17 @@ int ref_decode(const ref_file *rf, unsigned t, unsigned s, uint16_t *codes, floa
                 free(buf);
                 FAIL("chunk %u brick %u payload crc", u, b);
             }
-            if (rf->codec == 1) {
+            if (kind >= 6) {
+                const unsigned box[3] = {rf->nx - (b % bx) * B < B ? rf->nx - (b % bx) * B : B,
+                                         rf->ny - (b / bx % by) * B < B ? rf->ny - (b / bx % by) * B : B,
+                                         rf->nz - (b / (bx * by)) * B < B ? rf->nz - (b / (bx * by)) * B : B};
+                if (rice_planes(p, size, sp->bits, box[0], box[1], box[2], buf)) {
+                    free(state);
+                    free(buf);
+                    FAIL("chunk %u brick %u rice", u, b);
+                }
+                kind -= 2; /* the residuals of kind 4 or 5 */
+            } else if (rf->codec == 1) {
                 size_t got = ZSTD_decompress(buf, raw, p, size);
                 if (ZSTD_isError(got) || got != raw) {
                     free(state);

@@ -18,7 +18,7 @@ typedef struct ref_file {
     const unsigned char *d;
     size_t n;
     unsigned nx, ny, nz, brick, keyframe, codec, nsteps, nspecies;
-    unsigned major; /* 1, or 2: brick kinds 4 and 5 allowed */
+    unsigned major; /* 1; 2: brick kinds 4 and 5 allowed; 4: 6 and 7 too */
     ref_species *sp;
     uint64_t toc;
 } ref_file;

@@ -159,7 +159,7 @@ cases.append(("s-octree-upper.vsv", reseal(g, [c1]), "chunk 1, species 0: octree
 # header fields out of range, CRCs intact
 g = bytearray(good)
 struct.pack_into("<H", g, 8, 9)
-cases.append(("s-version.vsv", reseal(g), "format version 9.%d is not readable by this version (1.x to 3.x)" % struct.unpack_from("<H", good, 10)[0]))
+cases.append(("s-version.vsv", reseal(g), "format version 9.%d is not readable by this version (1.x to 4.x)" % struct.unpack_from("<H", good, 10)[0]))
 g = bytearray(good)
 g[100] = 1
 cases.append(("s-reserved.vsv", reseal(g), "header has unknown size or non-zero reserved fields"))
