@@ -3,14 +3,14 @@
  * sparse; its 4 periods), a real WRF file (Katrina: QVAPOR, QCLOUD; 4 times)
  * and gen-plume's plume (two steps).
  *
- * Per data set, all its species in one file: .vsv at format 1 (each code
- * predicted from the cell before it) and format 2 (the 3-D Lorenzo kinds
- * chosen per brick where smaller); netCDF-4 with deflate (level 4, shuffle
+ * Per data set, all its species in one file: .vsv at format 3 (the 3-D
+ * Lorenzo kinds chosen per brick where smaller, zstd) and format 4 (the
+ * same residuals Rice-coded where that is smaller still, the default); netCDF-4 with deflate (level 4, shuffle
  * on) of the same quantised values (what the .vsv decodes to); ZFP 1.0
  * fixed-accuracy (Debian libzfp-dev) of the original floats, per species
  * with the tolerance the .vsv states (its max_abs_error). Printed: the
  * sizes, the ratios, the largest errors actually made against the
- * originals, and the format-2 file's full decode on one core (best of 3).
+ * originals, and both files' full decode on one core (best of 3).
  * Usage:
  *   bench_codec SHARED_DIR PLUME_DIR WORK_DIR
  *   bench_codec --decode FILE.vsv PASSES   (the decode alone, to profile) */
@@ -98,18 +98,18 @@ static size_t zfp_size(const bench_data *d, const float *in, double tol, double 
 
 static void run(const bench_data *d, const char *work)
 {
-    char v1[1024], v2[1024], ncp[1024];
-    snprintf(v1, sizeof v1, "%s/f1.vsv", work);
-    snprintf(v2, sizeof v2, "%s/f2.vsv", work);
+    char v1[1024], v2[1024], ncp[1024]; /* v1: format 3; v2: format 4 */
+    snprintf(v1, sizeof v1, "%s/f3.vsv", work);
+    snprintf(v2, sizeof v2, "%s/f4.vsv", work);
     snprintf(ncp, sizeof ncp, "%s/q.nc", work);
-    if (bench_data_write(d, 0, d->nv, 0, v1) || bench_data_write(d, 0, d->nv, 1, v2))
+    if (bench_data_write(d, 0, d->nv, 1, v1) || bench_data_write(d, 0, d->nv, 2, v2))
         exit(1);
     const size_t n = bench_cells(d), total = n * d->nv * d->nt;
     float *q = malloc(total * sizeof *q);
     vsv_file *f = NULL;
     vsv_decoder *dec = NULL;
-    /* the full decode, all steps in order, one core, best of 3: format 1,
-     * then format 2 (whose values are kept) */
+    /* the full decode, all steps in order, one core, best of 3: format 3,
+     * then format 4 (whose values are kept) */
     double best = 1e30, best1 = 1e30;
     for (int rep = 0; rep < 6; rep++) {
         if (rep == 0 || rep == 3) {
@@ -224,13 +224,13 @@ int main(int argc, char **argv)
     char mm5[1024], wrf[1024];
     snprintf(mm5, sizeof mm5, "%s/data/mm5/run1/MMOUT_DOMAIN1", argv[1]);
     snprintf(wrf, sizeof wrf, "%s/data/wrf/katrina_ci_test_file.nc", argv[1]);
-    printf("Sizes in bytes. ZFP: fixed-accuracy at each species' bound, (largest error / bound). .vsv 2: (largest\n"
-           "error / bound) of the decoded values against the originals. Decode: the format-2 file, all steps and\n"
-           "species in order, M voxels/s of one thread's CPU time, best of 3. The terrain and land use a .vsv\n"
-           "carries are left out (the peers' files have the species only).\n\n");
+    printf("Sizes in bytes. ZFP: fixed-accuracy at each species' bound, (largest error / bound). .vsv 4: (largest\n"
+           "error / bound) of the decoded values against the originals. .vsv 3: the same codes, zstd only. Decode:\n"
+           "all steps and species in order, M voxels/s of one thread's CPU time, best of 3. The terrain and land\n"
+           "use a .vsv carries are left out (the peers' files have the species only).\n\n");
     printf(
-        "| data | grid | netCDF-4 deflate 4 + shuffle | ZFP fixed-accuracy (err/bound) | .vsv 1 | .vsv 2 (err/bound) "
-        "| .vsv 2 / netCDF-4 | .vsv 2 / ZFP | .vsv 2 / .vsv 1 | decode M voxels/s, .vsv 2 (.vsv 1) |\n"
+        "| data | grid | netCDF-4 deflate 4 + shuffle | ZFP fixed-accuracy (err/bound) | .vsv 3 | .vsv 4 (err/bound) "
+        "| .vsv 4 / netCDF-4 | .vsv 4 / ZFP | .vsv 4 / .vsv 3 | decode M voxels/s, .vsv 4 (.vsv 3) |\n"
         "|---|---|---|---|---|---|---|---|---|---|\n");
     const char *mv[] = {"Q", "CLW", "SNOW"}, *wv[] = {"QVAPOR", "QCLOUD"};
     const char *only[] = {"Q", "CLW", "SNOW"}, *plume[] = {"plume_t0.f32", "plume_t1.f32"};

@@ -12,7 +12,7 @@ ${CC:-cc} -O2 -o "$W/gen_volume" "$SHARED/tools/gen-plume/gen_volume.c" -lm
 printf '%s cores; %s; load %s\n\n' "$(nproc)" "$(date -u +%Y-%m-%d)" "$(cut -d' ' -f1-3 /proc/loadavg)"
 BENCH_CODEC_KEEP=1 "$B/bench/bench_codec" "$SHARED" "$W" "$W"
 # Where the decode's time goes, printed (perf, when installed): the
-# format-2 files of the run above decoded alone, one thread, sampled; the
+# format-4 files of the run above decoded alone, one thread, sampled; the
 # shares by where the code lives (libzstd: zstd's decoding; bench_codec: the
 # library's own decoder, linked in; the kernel: page faults) and the five
 # largest functions.
