@@ -584,6 +584,7 @@ bench: all $(BENCH_BIN)
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_traj.sh
 	$(Q)$(B)/bench/bench_tubes
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play.sh
+	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_play_real.sh || echo "(the real player's x8 skipped)"
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_http.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vdb.sh
 	$(Q)B=$(B) SHARED=$(SHARED) sh bench/bench_vtk.sh || echo "(VTK comparison skipped)"

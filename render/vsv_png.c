@@ -5,22 +5,66 @@
 #include <errno.h>
 #include <math.h>
 #include <png.h>
+#include <pthread.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+/* The byte of a value v in [0, 1]: lrintf(255 v^(1/2.2)), sRGB-ish gamma. */
+static unsigned char gamma_byte(float v) { return (unsigned char)lrintf(powf(v, 1 / 2.2f) * 255); }
+
+/* gamma_byte without a powf a pixel: from[k], the smallest float giving byte
+ * k (found once by bisection over the floats in [0, 1], which order as their
+ * bit patterns); guess[c], the byte of the smallest value of cell c of 1024
+ * equal cells. A value's byte: its cell's guess, moved up past every
+ * from[] it reaches (a few steps in the darkest cells) — gamma_byte's exactly. */
+static float from[257];
+static unsigned char guess[1025];
+static pthread_once_t gamma_once = PTHREAD_ONCE_INIT;
+
+static void gamma_init(void)
+{
+    from[0] = 0;
+    for (int k = 1; k <= 255; k++) {
+        uint32_t lo = 0, hi = 0x3f800000u; /* bits of 0 and of 1: gamma_byte(1) = 255 >= k */
+        while (lo < hi) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            float v;
+            memcpy(&v, &mid, sizeof v);
+            if (gamma_byte(v) >= k)
+                hi = mid;
+            else
+                lo = mid + 1;
+        }
+        memcpy(&from[k], &lo, sizeof lo);
+    }
+    from[256] = INFINITY;
+    for (int c = 0; c <= 1024; c++)
+        guess[c] = gamma_byte(c / 1024.0f);
+}
+
+static inline unsigned char to_byte(float v)
+{
+    if (!(v > 0))
+        return 0;
+    if (v >= 1)
+        return 255;
+    unsigned k = guess[(int)(v * 1024)];
+    while (v >= from[k + 1])
+        k++;
+    return (unsigned char)k;
+}
+
 void vsv_image_rgb8(const float *rgba, int w, int h, const float bg[3], unsigned char *rgb)
 {
+    pthread_once(&gamma_once, gamma_init);
     for (size_t i = 0; i < (size_t)w * h; i++) {
         const float *p = rgba + 4 * i;
-        for (int c = 0; c < 3; c++) {
-            /* premultiplied over the background, then sRGB-ish gamma */
-            float v = p[c] + (1 - p[3]) * bg[c];
-            v = v <= 0 ? 0 : v >= 1 ? 1 : powf(v, 1 / 2.2f);
-            rgb[3 * i + c] = (unsigned char)lrintf(v * 255);
-        }
+        for (int c = 0; c < 3; c++) /* premultiplied over the background, then the gamma */
+            rgb[3 * i + c] = to_byte(p[c] + (1 - p[3]) * bg[c]);
     }
 }
 

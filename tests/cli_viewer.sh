@@ -84,6 +84,15 @@ ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \
 expect "vsv-play runs a script in a real window (Xvfb) and quit exits 0" 0 \
     xvfb-run -a -s "-screen 0 1024x768x24" "$B/vsv-play" "$T/crop.vsv" --size 480x320 --script "$T/play.script"
 has "it reports the pager's statistics" "$T/err" "bricks decoded"
+# one second of playing: the frames drawn then, how many showed an earlier step than the clock's
+# and how many of those the step of the frame before (counted in order: stalled <= late <= frames)
+line=$(grep "frames drawn while playing" "$T/err" || true)
+set -- $(echo "$line" | sed -n 's/.* \([0-9]*\) frames drawn while playing: \([0-9]*\) late.*, \([0-9]*\) of them stalled.*/\1 \2 \3/p')
+if [ $# -eq 3 ] && [ "$1" -ge 3 ] && [ "$2" -le "$1" ] && [ "$3" -le "$2" ]; then
+    pass "it counts the frames drawn while playing, the late and the stalled ones"
+else
+    fail "it counts the frames drawn while playing, the late and the stalled ones" "$line"
+fi
 for i in 1 2 3 4 5 6 7 8 9; do
     [ -s "$T/s$i.png" ] || fail "screenshot $i written" "missing"
 done

@@ -1,13 +1,14 @@
 /* test_picture.c — what the picture shows (issue 20): the ground's water
  * from the model's own land use in a plan view; lat/lon grids on the
  * sphere; every model's water field; the hydrometeors' colours; the views
- * and their framing. */
+ * and their framing; the bytes of a float image (the gamma). */
 #include "vsv_convert.h"
 #include "vsv_format.h"
 #include "vsv_render.h"
 #include "vsv_testlib.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -280,8 +281,48 @@ static void test_views(void)
     vsv_source_free(src);
 }
 
+/* vsv_image_rgb8's bytes are lrintf(255 v^(1/2.2)) of the value over the
+ * background, clamped to [0, 1]: every 61st float in [0, 1] (and every float
+ * of the darkest values, where the bytes change fastest), each channel. */
+static void test_gamma(void)
+{
+    enum { N = 1 << 16 };
+    float *px = malloc(N * 4 * sizeof *px);
+    unsigned char *rgb = malloc(N * 3);
+    const float bg[3] = {0, 0.25f, 1};
+    long bad = 0, tried = 0;
+    for (uint32_t base = 0; base < 0x3f800000u + 2 * 61 * N; base += 61 * N) {
+        for (uint32_t i = 0; i < N; i++) {
+            const uint32_t b = base + 61 * i;
+            float v;
+            memcpy(&v, &b, sizeof v);
+            px[4 * i] = v, px[4 * i + 1] = v - 0.25f, px[4 * i + 2] = -v, px[4 * i + 3] = 1;
+        }
+        vsv_image_rgb8(px, N, 1, bg, rgb);
+        for (uint32_t i = 0; i < N; i++)
+            for (int c = 0; c < 3; c++) {
+                const float v = px[4 * i + c] + (1 - px[4 * i + 3]) * bg[c];
+                const unsigned char want = v <= 0 ? 0 : v >= 1 ? 255 : (unsigned char)lrintf(powf(v, 1 / 2.2f) * 255);
+                bad += rgb[3 * i + c] != want;
+                tried++;
+            }
+    }
+    for (uint32_t b = 0x3a000000u; b < 0x3a000000u + N; b++) { /* around 4.9e-4: bytes 8-9 */
+        float v;
+        memcpy(&v, &b, sizeof v);
+        const float one[4] = {v, 0, 0, 1};
+        vsv_image_rgb8(one, 1, 1, (const float[3]){0, 0, 0}, rgb);
+        bad += rgb[0] != (unsigned char)lrintf(powf(v, 1 / 2.2f) * 255);
+        tried++;
+    }
+    CHECK(!bad, "the image's bytes are the gamma formula's exactly", "(%ld of %ld differ)", bad, tried);
+    free(px);
+    free(rgb);
+}
+
 int main(void)
 {
+    test_gamma();
     test_views();
     test_colours();
     test_water_sources();

@@ -115,6 +115,8 @@ typedef struct app {
     double mx, my;
     int drag; /* 1 orbit, 2 pan */
     int shots;
+    long frames, late, stalled; /* drawn while playing; of them, behind the clock's step; still the last one's */
+    int last_shown, last_clock;
 } app;
 
 static void run(app *a, const char *action)
@@ -620,6 +622,13 @@ static int play_loop(app *a, const play_args *o, const script_line *lines, int n
             vsv_cli_die(1, "%s", vsv_player_error(p));
         ndamaged += say_news(p, o);
         last = now;
+        if (vsv_player_clock(p)->playing) { /* late: not the clock's step; stalled: still the last frame's */
+            const int shown = vsv_player_shown_step(p), clk = vsv_player_clock(p)->step;
+            a->frames++;
+            a->late += shown != clk;
+            a->stalled += shown != clk && shown == a->last_shown && clk != a->last_clock;
+            a->last_shown = shown, a->last_clock = clk;
+        }
         int fw, fh;
         glfwGetFramebufferSize(a->win, &fw, &fh);
         if (fw < 1 || fh < 1) {
@@ -681,7 +690,7 @@ int main(int argc, char **argv)
     glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
     char title[1100];
     snprintf(title, sizeof title, "vsv-play: %s", o.po.path);
-    app a = {p, NULL, 0, 0, 0, 0};
+    app a = {.p = p, .last_shown = -1, .last_clock = -1};
     if (!(a.win = glfwCreateWindow(o.width, o.height, title, NULL, NULL)))
         vsv_cli_die(1, "cannot open a window (OpenGL not available)");
     glfwMakeContextCurrent(a.win);
@@ -707,6 +716,11 @@ int main(int argc, char **argv)
                 (unsigned long long)st.bricks_decoded, st.bytes_decoded / 1e6, st.decode_seconds,
                 (unsigned long long)st.payloads_decoded, (unsigned long long)st.hits, (unsigned long long)st.misses,
                 (unsigned long long)st.stalls, st.peak_bytes / 1048576.0, st.budget / 1048576.0);
+        if (a.frames)
+            fprintf(stderr,
+                    "vsv-play: %ld frames drawn while playing: %ld late (the clock's step not decoded in time, an "
+                    "earlier one shown), %ld of them stalled (the last frame's step again)\n",
+                    a.frames, a.late, a.stalled);
         if (st.transfer_failures)
             fprintf(stderr, "vsv-play: %s: %llu transfers failed (each tried again)\n", o.po.path,
                     (unsigned long long)st.transfer_failures);
