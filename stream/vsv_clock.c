@@ -204,3 +204,25 @@ int vsv_clock_ahead(const vsv_clock *c, double frame, int *steps, int max)
     }
     return n;
 }
+
+int vsv_clock_stride(const vsv_clock *c, double frame, int prev)
+{
+    if (!c->playing || c->nsteps < 3 || !(frame > 0))
+        return 1;
+    const double per = (double)(c->times[c->nsteps - 1] - c->times[0]) / (c->nsteps - 1);
+    const double r = per > 0 ? fabs(c->rate * c->speed) * frame / per : 0; /* steps a frame spans */
+    int k = prev >= 1 ? prev : 1;
+    if (r < k || r >= k + 1.25)
+        k = r >= k + 1.25 ? (int)floor(r - 0.25) : (int)floor(r);
+    return k >= 2 ? k : 1;
+}
+
+int vsv_clock_stride_step(const vsv_clock *c, int t, int k)
+{
+    if (k <= 1 || t < 0 || t >= c->nsteps)
+        return t;
+    if (c->speed > 0)
+        return t - t % k;
+    const int up = t + (k - t % k) % k;
+    return up < c->nsteps ? up : c->nsteps - 1;
+}

@@ -67,6 +67,18 @@ int vsv_clock_step_at(const vsv_clock *c, double t);
  * step a step forward would show.
  * Fills up to max and returns how many (0 at a stopping end). */
 int vsv_clock_ahead(const vsv_clock *c, double frame, int *steps, int max);
+/* Playing so fast that a frame, `frame` wall seconds, spans several steps:
+ * the stride k at which to show them, every k-th step, so that the steps
+ * shown (and decoded ahead for the next frames) stay the same from frame
+ * to frame whatever the frame times. k never exceeds the steps a frame
+ * spans (each frame shows a new step); it changes from `prev` only when
+ * that falls below k or reaches k + 1.25 (frame times vary). 1 when
+ * paused or a frame spans under 2 steps. */
+int vsv_clock_stride(const vsv_clock *c, double frame, int prev);
+/* The step to show for step t at stride k: the last multiple of k at or
+ * before t in the direction of play (forward: t rounded down; backward:
+ * up, at most the last step). */
+int vsv_clock_stride_step(const vsv_clock *c, int t, int k);
 
 VSV_API_END
 

@@ -611,8 +611,64 @@ static void test_clock_ahead(void)
           "(%d of %d agree)", agree, tries);
 }
 
+/* Playing so fast that a frame spans several steps: the stride, with its
+ * hysteresis, and the steps shown at it; then a run of frames whose times
+ * vary by +-25 %: each frame's step is one the frame before listed ahead. */
+static void test_clock_stride(void)
+{
+    int64_t times[40];
+    for (int i = 0; i < 40; i++)
+        times[i] = 300 * i;
+    vsv_clock c;
+    vsv_clock_init(&c, times, 40, 1200); /* four steps a second at x1 */
+    vsv_clock_set_speed(&c, 8);          /* 32 steps a second */
+    CHECK(vsv_clock_stride(&c, 0.08, 1) == 1, "paused: stride 1");
+    vsv_clock_play(&c);
+    const int k1 = vsv_clock_stride(&c, 1.5 / 32, 1), k2 = vsv_clock_stride(&c, 2.4 / 32, 1),
+              k3 = vsv_clock_stride(&c, 2.2 / 32, 1), k4 = vsv_clock_stride(&c, 3.1 / 32, 2),
+              k5 = vsv_clock_stride(&c, 3.3 / 32, 2), k6 = vsv_clock_stride(&c, 1.9 / 32, 2);
+    CHECK(k1 == 1 && k2 == 2 && k3 == 1 && k4 == 2 && k5 == 3 && k6 == 1,
+          "stride: 1.5 steps a frame 1; 2.4 from 1: 2; 2.2 from 1 stays 1; 3.1 from 2 stays 2; 3.3: 3; 1.9: 1",
+          "(%d %d %d %d %d %d)", k1, k2, k3, k4, k5, k6);
+    const int f7 = vsv_clock_stride_step(&c, 7, 3);
+    vsv_clock_set_speed(&c, -8);
+    const int b7 = vsv_clock_stride_step(&c, 7, 3), b38 = vsv_clock_stride_step(&c, 38, 4);
+    CHECK(f7 == 6 && b7 == 9 && b38 == 39, "stride steps: forward 7 -> 6, backward 7 -> 9, 38 -> 39 (the last)",
+          "(%d %d %d)", f7, b7, b38);
+    /* frames of 60 to 100 ms at x8, looping: 1.9 to 3.2 steps a frame */
+    vsv_clock_seek_step(&c, 0);
+    vsv_clock_set_speed(&c, 8);
+    c.ends = VSV_CLOCK_LOOP;
+    vsv_clock_play(&c);
+    uint64_t rng = 5;
+    int k = 1, listed = 1, stalls = 0, prev = -1, ahead[VSV_CLOCK_HORIZON], na = 0;
+    double smooth = 0.08;
+    for (int f = 0; f < 400; f++) {
+        const double dt = 0.06 + 0.04 * (double)(vsv_test_rand(&rng) % 1000) / 1000;
+        vsv_clock_tick(&c, dt);
+        smooth = 0.75 * smooth + 0.25 * dt;
+        k = vsv_clock_stride(&c, smooth, k);
+        const int t = vsv_clock_stride_step(&c, c.step, k);
+        int in = t == prev;
+        for (int i = 0; i < na && !in; i++)
+            in = ahead[i] == t;
+        listed &= in || f < 2;
+        stalls += t == prev;
+        prev = t;
+        int s[VSV_CLOCK_HORIZON];
+        const int n = vsv_clock_ahead(&c, smooth, s, VSV_CLOCK_HORIZON);
+        for (int i = 0; i < n; i++)
+            s[i] = vsv_clock_stride_step(&c, s[i], k);
+        memcpy(ahead, s, (size_t)n * sizeof *s);
+        na = n;
+    }
+    CHECK(k == 2 && listed, "x8 at 60-100 ms a frame: stride 2; every frame's step listed ahead the frame before",
+          "(stride %d, %d frames kept the step before)", k, stalls);
+}
+
 int main(void)
 {
+    test_clock_stride();
     const char *path = vsv_test_tmp("stream-series.vsv");
     if (write_series(path) == 0) {
         test_pager(path);

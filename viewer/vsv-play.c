@@ -623,7 +623,7 @@ static int play_loop(app *a, const play_args *o, const script_line *lines, int n
         ndamaged += say_news(p, o);
         last = now;
         if (vsv_player_clock(p)->playing) { /* late: not the clock's step; stalled: still the last frame's */
-            const int shown = vsv_player_shown_step(p), clk = vsv_player_clock(p)->step;
+            const int shown = vsv_player_shown_step(p), clk = vsv_player_target_step(p);
             a->frames++;
             a->late += shown != clk;
             a->stalled += shown != clk && shown == a->last_shown && clk != a->last_clock;

@@ -249,7 +249,8 @@ int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_
         return -1;
     }
     snprintf(p->path, sizeof p->path, "%s", o->path);
-    p->shown = -1;
+    p->shown = p->target = -1;
+    p->stride = 1;
     p->bg[0] = 0.02f, p->bg[1] = 0.03f, p->bg[2] = 0.06f;
     if (vsv_file_open_any(o->path, o->http, &p->f)) {
         snprintf(err, cap, "%s", p->f ? vsv_file_error(p->f) : "cannot open");
@@ -558,11 +559,22 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
     vsv_clock_tick(c, dt);
     if (dt > 0) /* the time between frames, smoothed: when the next frames come */
         p->frame = p->frame > 0 ? 0.75 * p->frame + 0.25 * fmin(dt, 0.25) : fmin(dt, 0.25);
-    const int target = c->step;
+    /* a frame spanning several steps shows every stride-th: the steps decoded
+     * ahead for the next frames are then the ones they show */
+    p->stride = vsv_clock_stride(c, p->frame, p->stride);
+    const int target = p->target = vsv_clock_stride_step(c, c->step, p->stride);
     const int dir = !c->playing ? 0 : c->speed > 0 ? 1 : -1;
     const unsigned char *need = needed(p);
-    int next[VSV_PAGER_AHEAD + 1];
-    const int nn = vsv_clock_ahead(c, p->frame > 0 ? p->frame : 1.0 / 30, next, VSV_PAGER_AHEAD + 1);
+    int next[VSV_PAGER_AHEAD + 1], nn = 0;
+    const int n0 = vsv_clock_ahead(c, p->frame > 0 ? p->frame : 1.0 / 30, next, VSV_PAGER_AHEAD + 1);
+    for (int i = 0; i < n0; i++) { /* each once, at the stride */
+        const int t = vsv_clock_stride_step(c, next[i], p->stride);
+        int seen = t == target;
+        for (int j = 0; j < nn && !seen; j++)
+            seen = next[j] == t;
+        if (!seen)
+            next[nn++] = t;
+    }
     vsv_pager_playhead(p->pager, target, dir, next, nn, need);
     vsv_pager_stats st;
     vsv_pager_stats_get(p->pager, &st);

@@ -278,6 +278,9 @@ const vsv_clock *vsv_player_clock(const vsv_player *p);
 /* The file's metadata, borrowed until vsv_player_free. */
 const vsv_meta *vsv_player_meta(const vsv_player *p);
 int vsv_player_shown_step(const vsv_player *p);
+/* The step the player means to show now: the clock's, or when a frame spans
+ * several steps the one of every k-th at or before it (vsv_clock_stride). */
+int vsv_player_target_step(const vsv_player *p);
 /* The time of step t (seconds since 1970, UTC); 0 outside the file. */
 int64_t vsv_player_step_time(const vsv_player *p, int t);
 void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st);

@@ -28,6 +28,8 @@ struct vsv_player {
     unsigned char *want; /* per species: visible */
     int selected;
     int shown;    /* the step on screen; -1 before the first */
+    int target;   /* the step meant to be on screen (the clock's, at the stride) */
+    int stride;   /* playing fast: every stride-th step shown (vsv_clock_stride) */
     double frame; /* wall seconds between updates (smoothed); 0 before the second */
     char **bad;   /* per step: why it cannot be decoded, or NULL */
     int news;     /* a step found damaged and not yet taken, or -1 */
