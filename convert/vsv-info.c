@@ -331,6 +331,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     vsv_json_set(bricks, "grid", bd);
     const long long total = (long long)info.nbricks * info.nspecies * info.nsteps;
     vsv_json_set(bricks, "stored", vsv_json_int((long long)cnt.stored_bricks));
+    vsv_json_set(bricks, "rice_coded", vsv_json_int((long long)cnt.rice_bricks));
     vsv_json_set(bricks, "nonempty", vsv_json_int((long long)cnt.nonempty_bricks));
     vsv_json_set(bricks, "total", vsv_json_int(total));
     vsv_json_set(bricks, "octree_levels", vsv_json_int(info.octree_levels));
@@ -466,9 +467,12 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     const long long total = (long long)info.nbricks * info.nspecies * info.nsteps;
     printf("  bricks      %d^3, %d x %d x %d per step and species, %d octree levels\n", info.brick, info.bricks[0],
            info.bricks[1], info.bricks[2], info.octree_levels);
-    printf("              %llu non-empty of %lld (%.1f %%); %llu payloads stored\n",
+    printf("              %llu non-empty of %lld (%.1f %%); %llu payloads stored",
            (unsigned long long)cnt.nonempty_bricks, total,
            total ? 100.0 * (double)cnt.nonempty_bricks / (double)total : 0, (unsigned long long)cnt.stored_bricks);
+    if (info.major >= 4)
+        printf(", %llu of them Rice-coded", (unsigned long long)cnt.rice_bricks);
+    printf("\n");
     printf("  keyframes   every %d steps; codec %s\n", info.keyframe, info.codec == VSV_CODEC_ZSTD ? "zstd" : "none");
     const double raw = (double)m->nx * m->ny * m->nz * 4.0 * m->nvars * info.nsteps;
     human_bytes(raw, a, sizeof a);

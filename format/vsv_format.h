@@ -421,6 +421,7 @@ typedef struct vsv_file_info {
 /* Brick counts over the whole file: plain info filled by vsv_file_count. */
 typedef struct vsv_file_counts {
     uint64_t stored_bricks;   /* bricks with a payload (ABS or DELTA) */
+    uint64_t rice_bricks;     /* of them, Rice-coded (ABS3R, DELTA3R: format 4) */
     uint64_t nonempty_bricks; /* bricks whose state is not all code 0 */
     uint64_t payload_bytes;
     int damaged_chunks; /* chunks whose index failed its checks (not

@@ -492,6 +492,7 @@ void vsv_file_count(vsv_file *f, vsv_file_counts *out)
                     const unsigned char *be = vsv_file_brick_entry(f, c, s, b);
                     if (vsv_brick_stored(be[0])) {
                         f->stored++;
+                        f->rice += be[0] >= VSV_BRICK_ABS3R;
                         f->payload += vsv_rd32(be + 16);
                     }
                     if (vsv_rd16(oct + 4 * (size_t)b + 2) > 0)
@@ -505,6 +506,7 @@ void vsv_file_count(vsv_file *f, vsv_file_counts *out)
         f->counted = 1;
     }
     out->stored_bricks = f->stored;
+    out->rice_bricks = f->rice;
     out->nonempty_bricks = f->nonempty;
     out->payload_bytes = f->payload;
     out->damaged_chunks = f->damaged;

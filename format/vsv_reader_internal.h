@@ -30,7 +30,7 @@ struct vsv_file {
     float **lut;           /* per species: 2^bits values, built on first use */
     pthread_mutex_t lock;
     int counted, damaged;
-    uint64_t stored, nonempty, payload;
+    uint64_t stored, rice, nonempty, payload;
     uint64_t uid;         /* unique in the process: brick keys (vsv_file_brick_key) */
     vsv_byte_source *src; /* NULL: a mapped local file, every byte resident */
     uint64_t *span_end;   /* with src: per (step, species), where its payloads end */

@@ -37,9 +37,15 @@ done
 expect "crop: vsv-convert stores the wind by default" 0 "$B/vsv-convert" -q "$CROP" -o "$T/w.vsv"
 expect "... vsv-info" 0 "$B/vsv-info" "$T/w.vsv"
 has "... format 4.0" "$T/out" ".vsv format 4.0"
+# the dense wind's bricks take the Rice coding; vsv-info counts them
+n=$(sed -n 's/.*payloads stored, \([0-9]*\) of them Rice-coded.*/\1/p' "$T/out")
+[ "${n:-0}" -gt 0 ] && pass "... vsv-info counts the Rice-coded payloads ($n)" ||
+    fail "... vsv-info counts the Rice-coded payloads" "$(grep payloads "$T/out")"
 expect "... --format 3" 0 "$B/vsv-convert" -q --format 3 "$CROP" -o "$T/w3.vsv"
 expect "... vsv-info" 0 "$B/vsv-info" "$T/w3.vsv"
 has "... format 3.1 (a vector)" "$T/out" ".vsv format 3.1"
+grep -q "Rice-coded" "$T/out" && fail "... format 3: no Rice-coded payloads" "$(grep payloads "$T/out")" ||
+    pass "... format 3: no Rice-coded payloads"
 has "... the vector line" "$T/out" "vector      wind: wind_east wind_north wind_up (east, north, up; earth-relative)"
 has "... what the model's winds were" "$T/out" "U, V on dot points (the mean of the 4 around a cross point)"
 "$B/vsv-info" --json "$T/w.vsv" > "$T/w.json"
