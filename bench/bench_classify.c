@@ -44,7 +44,7 @@ static double cpu(void)
 
 static void run(vp_series *S, int rounds)
 {
-    unsigned char *image = malloc(SIZE * SIZE * 2);
+    unsigned char *image = malloc(SIZE * SIZE * 4);
     vpContext *vpc = vp_setup(S, image);
     vsv_layer layer;
     vsv_scene sc;

@@ -27,7 +27,7 @@ int vp_series_open(vp_series *S, const char *name, const char *path, const char 
     S->hi = q->hi > q->lo ? q->hi : q->lo + 1;
     /* the matched opacity curve over the 8-bit range */
     char text[512], msg[128];
-    int k = snprintf(text, sizeof text, "colormap greys\nrange %.9g %.9g\nopacity", S->lo, S->hi);
+    int k = snprintf(text, sizeof text, "colormap viridis\nrange %.9g %.9g\nopacity", S->lo, S->hi);
     for (int i = 0; i < 16; i++)
         k += snprintf(text + k, sizeof text - (size_t)k, " %.6f", -log(1 - 0.95 * i / 15.0) / 3);
     snprintf(text + k, sizeof text - (size_t)k, "\n");
@@ -66,6 +66,8 @@ int vp_series_open(vp_series *S, const char *name, const char *path, const char 
     S->iso.landuse = NULL;
     S->iso.nheights = 0;
     S->iso.heights = NULL;
+    S->iso.nmoves = 0; /* a moving nest: the grid where it is, not every place it stands */
+    S->iso.moves = NULL;
     return 0;
 }
 
@@ -105,18 +107,19 @@ vpContext *vp_setup(const vp_series *S, unsigned char *image)
     vpSetVoxelField(vpc, 1, 1, 2, 255);
     vp_step(vpc, S, 0);
     /* per voxel of level i: our colour and our opacity over one cell */
-    static float ramp[256], shade[256];
+    static float ramp[256], shade[256][3];
     for (int i = 0; i < 256; i++) {
         float rgba[4];
         vsv_tf_eval(&S->tf, (float)(S->lo + (S->hi - S->lo) * i / 255.0), rgba);
         ramp[i] = (float)(1 - exp(-3.0 * rgba[3]));
-        shade[i] = 255 * rgba[0]; /* VolPack's colours run 0..255 */
+        for (int c = 0; c < 3; c++)
+            shade[i][c] = 255 * rgba[c]; /* VolPack's colours run 0..255: three channels */
     }
     vpSetClassifierTable(vpc, 0, 1, ramp, sizeof ramp);
-    vp_check(vpc, vpSetLookupShader(vpc, 1, 1, 0, shade, sizeof shade, 0, NULL, 0));
+    vp_check(vpc, vpSetLookupShader(vpc, 3, 1, 0, &shade[0][0], sizeof shade, 0, NULL, 0));
     vpSetd(vpc, VP_MIN_VOXEL_OPACITY, 1.0 / 255);
     vpSetd(vpc, VP_MAX_RAY_OPACITY, 0.998);
-    vpSetImage(vpc, image, VP_SIZE, VP_SIZE, VP_SIZE * 2, VP_LUMINANCEA);
+    vpSetImage(vpc, image, VP_SIZE, VP_SIZE, VP_SIZE * 4, VP_RGBA);
     vpCurrentMatrix(vpc, VP_PROJECT);
     vpIdentityMatrix(vpc);
     /* 1.5 times the volume's longest side across, as our camera; moved by
@@ -182,7 +185,7 @@ void vp_camera(const vsv_scene *sc, int v, vsv_camera *cam)
  * y = -1 to row 0); ours at the top. */
 static const unsigned char *vp_row(const unsigned char *vp, int y)
 {
-    return vp + 2 * (size_t)(VP_SIZE - 1 - y) * VP_SIZE;
+    return vp + 4 * (size_t)(VP_SIZE - 1 - y) * VP_SIZE;
 }
 
 double vp_psnr(const unsigned char *vp, const float *ours)
@@ -190,18 +193,20 @@ double vp_psnr(const unsigned char *vp, const float *ours)
     double se = 0;
     for (int y = 0; y < VP_SIZE; y++)
         for (int x = 0; x < VP_SIZE; x++) {
-            const unsigned char *a = vp_row(vp, y) + 2 * x;
+            const unsigned char *a = vp_row(vp, y) + 4 * x;
             const float *b = ours + 4 * ((size_t)y * VP_SIZE + x);
-            const double dl = a[0] - 255.0 * fmin(1, b[0]), da = a[1] - 255.0 * fmin(1, b[3]);
-            se += dl * dl + da * da;
+            for (int c = 0; c < 4; c++) {
+                const double d = a[c] - 255.0 * fmin(1, b[c]);
+                se += d * d;
+            }
         }
-    const double mse = se / (2.0 * VP_SIZE * VP_SIZE);
+    const double mse = se / (4.0 * VP_SIZE * VP_SIZE);
     return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : INFINITY;
 }
 
 int vp_dump(const char *path, const unsigned char *vp, const float *ours)
 {
-    /* left VolPack's picture, right ours (luminance over black), each row
+    /* left VolPack's picture, right ours (colour over black), each row
      * of both the same row of the image */
     unsigned char *rgb = malloc((size_t)VP_SIZE * 2 * VP_SIZE * 3);
     if (!rgb)
@@ -209,9 +214,10 @@ int vp_dump(const char *path, const unsigned char *vp, const float *ours)
     for (int y = 0; y < VP_SIZE; y++)
         for (int x = 0; x < VP_SIZE; x++) {
             unsigned char *l = rgb + 3 * ((size_t)y * 2 * VP_SIZE + x), *r = l + 3 * VP_SIZE;
-            const float b = (float)fmin(1, ours[4 * ((size_t)y * VP_SIZE + x)]);
-            l[0] = l[1] = l[2] = vp_row(vp, y)[2 * x];
-            r[0] = r[1] = r[2] = (unsigned char)lrintf(255 * b);
+            for (int c = 0; c < 3; c++) {
+                l[c] = vp_row(vp, y)[4 * x + c];
+                r[c] = (unsigned char)lrintf(255 * fmin(1, ours[4 * ((size_t)y * VP_SIZE + x) + c]));
+            }
         }
     char err[256];
     const int rc = vsv_png_write(path, rgb, 2 * VP_SIZE, VP_SIZE, err, sizeof err);

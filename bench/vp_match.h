@@ -5,11 +5,12 @@
  * Both sides see the same 8-bit volume of each step (a species quantised to
  * 0..255 over the series' range: VolPack's density, and on our side the
  * float values it stands for), in cubic cells. Opacity is matched per unit
- * length: our transfer function's opacity curve o(t) (colour map greys, 16
+ * length: our transfer function's opacity curve o(t) (colour map viridis, 16
  * samples of o(t) = -ln(1 - 0.95 t) / 3, linear between) makes a cell of
  * length 1 as opaque as 1 - e^(-3 o) (VSV_SIGMA_PER_CELL = 3), and VolPack,
  * which composites one sample per voxel step, gets exactly that per voxel
- * (and the same grey) from a table built by evaluating our transfer function
+ * (and the same colour, VolPack in 3-channel colour: its shading table
+ * gives red, green and blue) from a table built by evaluating our transfer function
  * at each of the 256 levels (VolPack corrects a voxel's opacity a to
  * 1 - (1 - a)^L for the length L of the ray in a slice, voxels as unit, as
  * we do). Ray termination 0.998 on both; VolPack skips voxels of opacity
@@ -47,7 +48,7 @@ typedef struct vp_series {
 int vp_series_open(vp_series *S, const char *name, const char *path, const char *species, int first, int n);
 void vp_series_free(vp_series *S);
 /* VolPack on step 0 with the matched tables, rendering into image
- * (VP_SIZE^2 luminance-alpha bytes). */
+ * (VP_SIZE^2 RGBA pixels, 4 bytes each). */
 vpContext *vp_setup(const vp_series *S, unsigned char *image);
 /* Loads step t's voxels into VolPack (raw; classify after). */
 void vp_step(vpContext *vpc, const vp_series *S, int t);
@@ -59,9 +60,9 @@ void vp_check(vpContext *vpc, int rc);
  * and the camera of view v. */
 void vp_scene(const vp_series *S, vsv_layer *layer, vsv_scene *sc);
 void vp_camera(const vsv_scene *sc, int v, vsv_camera *cam);
-/* PSNR (dB, 8-bit scale) between VolPack's premultiplied luminance-alpha
- * image and ours (premultiplied RGBA floats; greys, so red stands for
- * the luminance), over both channels; INFINITY when equal. */
+/* PSNR (dB, 8-bit scale) between VolPack's premultiplied RGBA image and
+ * ours (premultiplied RGBA floats), over the four channels; INFINITY when
+ * equal. */
 double vp_psnr(const unsigned char *vp, const float *ours);
 /* Writes a closed-form volume to path: species "box", one step, an
  * off-centre box of values rising along x in an otherwise empty grid of
