@@ -43,6 +43,27 @@ static double now(void)
 
 enum { FRAMES = 8, REPEAT = 16 }; /* 8 views, each timed 16 times */
 
+/* The three render the views in turn, REPEAT rounds: per round each one's
+ * wall and CPU seconds a frame. */
+static void time_rounds(vpContext *vpc, vsv_renderer *const r[2], const vsv_scene *sc, const vsv_camera *cams,
+                        float *img, double wall[3][REPEAT], double cput[3][REPEAT])
+{
+    for (int rep = 0; rep < REPEAT; rep++) {
+        double t = now(), c = cpu();
+        for (int k = 0; k < FRAMES; k++) {
+            vp_view(vpc, k);
+            vp_check(vpc, vpRenderClassifiedVolume(vpc));
+        }
+        wall[0][rep] = (now() - t) / FRAMES, cput[0][rep] = (cpu() - c) / FRAMES;
+        for (int i = 0; i < 2; i++) {
+            t = now(), c = cpu();
+            for (int k = 0; k < FRAMES; k++)
+                vsv_render(r[i], sc, &cams[k], img, NULL);
+            wall[1 + i][rep] = (now() - t) / FRAMES, cput[1 + i][rep] = (cpu() - c) / FRAMES;
+        }
+    }
+}
+
 int main(int argc, char **argv)
 {
     vp_series S;
@@ -139,20 +160,7 @@ int main(int argc, char **argv)
      * thread's, whose renderer works on the caller's thread; for two threads
      * only the caller's share, so no CPU figure is given: wall time) */
     double wall[3][REPEAT], cput[3][REPEAT];
-    for (int rep = 0; rep < REPEAT; rep++) {
-        double t = now(), c = cpu();
-        for (int k = 0; k < FRAMES; k++) {
-            vp_view(vpc, k);
-            vp_check(vpc, vpRenderClassifiedVolume(vpc));
-        }
-        wall[0][rep] = (now() - t) / FRAMES, cput[0][rep] = (cpu() - c) / FRAMES;
-        for (int i = 0; i < 2; i++) {
-            t = now(), c = cpu();
-            for (int k = 0; k < FRAMES; k++)
-                vsv_render(r[i], &sc, &cams[k], img, NULL);
-            wall[1 + i][rep] = (now() - t) / FRAMES, cput[1 + i][rep] = (cpu() - c) / FRAMES;
-        }
-    }
+    time_rounds(vpc, r, &sc, cams, img, wall, cput);
     printf("volume: %s %s step %d, %dx%dx%d 8-bit (%.0f%% of voxels above 0); image %dx%d, parallel projection, %d "
            "views, %d rounds, the three renderers in turn; the pictures: PSNR %.1f dB the lowest of the views, "
            "%.1f dB their mean (%s)\n\n",
