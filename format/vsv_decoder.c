@@ -152,12 +152,12 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
     }
     const unsigned char *src = p;
     if (kind >= VSV_BRICK_ABS3R) { /* read from a padded copy (vsv_rice_decode reads past the end) */
-        const size_t cells = (size_t)ext[0] * ext[1] * ext[2];
-        if (size <= vsv_rice_max(bits, cells)) {
+        const int fits = size <= vsv_rice_max(bits, (size_t)ext[0] * ext[1] * ext[2]);
+        if (fits) {
             memcpy(d->rice, p, size);
             memset(d->rice + size, 0, VSV_RICE_PAD);
         }
-        if (size > vsv_rice_max(bits, cells) || vsv_rice_decode(bits, ext, d->rice, size, d->raw)) {
+        if (!fits || vsv_rice_decode(bits, ext, d->rice, size, d->raw)) {
             vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d (offset %llu): payload does not decode",
                     f->name, t, s, b, (unsigned long long)(p - f->data));
             return VSV_ECODEC;

@@ -27,6 +27,7 @@ struct vsv_chunk_encoder {
     const vsv_pack_plan *p;
     uint16_t *cur, *prev;
     unsigned char *raw, *z, *raw3, *z3; /* a payload; the 3-D kind's */
+    unsigned char *ctx;                 /* the Rice coding's contexts, a cell each */
     size_t zcap;
     uint16_t *nodes;
     ZSTD_CCtx *cctx;
@@ -282,9 +283,10 @@ int vsv_chunk_encoder_create(const vsv_pack_plan *p, vsv_chunk_encoder **out)
     e->z = malloc(e->zcap);
     e->raw3 = malloc(2 * n);
     e->z3 = malloc(e->zcap);
+    e->ctx = malloc(n);
     e->nodes = calloc(2 * L->nnodes, 2);
     e->cctx = ZSTD_createCCtx();
-    return e->cur && e->prev && e->raw && e->z && e->raw3 && e->z3 && e->nodes && e->cctx ? 0 : VSV_ENOMEM;
+    return e->cur && e->prev && e->raw && e->z && e->raw3 && e->z3 && e->ctx && e->nodes && e->cctx ? 0 : VSV_ENOMEM;
 }
 
 void vsv_chunk_encoder_free(vsv_chunk_encoder *e)
@@ -297,6 +299,7 @@ void vsv_chunk_encoder_free(vsv_chunk_encoder *e)
     free(e->z);
     free(e->raw3);
     free(e->z3);
+    free(e->ctx);
     free(e->nodes);
     ZSTD_freeCCtx(e->cctx);
     vsv_buf_free(&e->out);
@@ -407,7 +410,7 @@ int vsv_chunk_encode(vsv_chunk_encoder *e, int t, int64_t time, const float *con
                     }
                     if (p->opts.predict >= 2) { /* the same residuals Rice-coded (format 4) */
                         unsigned char *zr = payload == e->z ? e->z3 : e->z;
-                        const size_t sr = vsv_rice_encode(q->bits, ext, e->raw3, zr, psize - 1);
+                        const size_t sr = vsv_rice_encode(q->bits, ext, e->raw3, e->ctx, zr, psize - 1);
                         if (sr) {
                             kind = k3 + 2;
                             psize = sr;

@@ -100,7 +100,8 @@ void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const
 /* The Rice-coded kinds' payload (SPEC.md §7 "Rice coding") of the residual
  * planes of vsv_brick_forward (n cells, lo then hi bytes for 16 bits):
  * encode returns its size, or 0 when it would not fit in cap bytes; decode
- * fills the planes, 0 or -1 when the payload breaks a rule of §7. It reads
+ * fills the planes, 0 or -1 when the payload breaks a rule of §7. Encode
+ * keeps every cell's context in ctx (n bytes, the caller's). Decode reads
  * up to VSV_RICE_PAD bytes past the payload (the caller's copy, padded);
  * a valid payload is at most vsv_rice_max bytes. */
 enum { VSV_RICE_CONTEXTS = 20, VSV_RICE_STREAMS = 4, VSV_RICE_PAD = 256 };
@@ -108,7 +109,8 @@ static inline size_t vsv_rice_max(int bits, size_t n)
 {
     return VSV_RICE_CONTEXTS + 4 * (VSV_RICE_STREAMS - 1) + n * (8 + (size_t)bits) / 8 + VSV_RICE_STREAMS;
 }
-size_t vsv_rice_encode(int bits, const int ext[3], const unsigned char *planes, unsigned char *out, size_t cap);
+size_t vsv_rice_encode(int bits, const int ext[3], const unsigned char *planes, unsigned char *ctx, unsigned char *out,
+                       size_t cap);
 int vsv_rice_decode(int bits, const int ext[3], const unsigned char *in, size_t size, unsigned char *planes);
 
 #endif

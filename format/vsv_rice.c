@@ -67,17 +67,18 @@ static int put(writer *w, uint64_t v, int count)
     return 0;
 }
 
-/* Each context's parameter into kk: the one of the fewest bits over its cells. */
-static void choose(int bits, const int ext[3], const unsigned char *planes, unsigned char *kk)
+/* Every cell's context into ctx (n bytes), and each context's parameter into
+ * kk: the one of the fewest bits over its cells. */
+static void choose(int bits, const int ext[3], const unsigned char *planes, unsigned char *ctx, unsigned char *kk)
 {
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
     uint64_t cost[VSV_RICE_CONTEXTS][17];
     memset(cost, 0, sizeof cost);
-    unsigned char q[64];
     for (int k = 0; k < ext[2]; k++)
         for (int j = 0; j < ext[1]; j++) {
-            row_contexts(bits, planes, n, ext, j, k, q);
             const size_t m0 = ((size_t)k * ext[1] + j) * ext[0];
+            unsigned char *q = ctx + m0;
+            row_contexts(bits, planes, n, ext, j, k, q);
             for (int i = 0; i < ext[0]; i++) {
                 const unsigned z = zat(bits, planes, n, m0 + i);
                 for (int r = 0; r <= bits; r++)
@@ -95,17 +96,15 @@ static void choose(int bits, const int ext[3], const unsigned char *planes, unsi
 
 /* Stream s of the payload (the cells i of every row with i mod 4 = s) at
  * w, which ends where the output does; 0, or -1 when it does not fit. */
-static int put_stream(int bits, const int ext[3], const unsigned char *planes, const unsigned char *kk, int s,
-                      writer *w)
+static int put_stream(int bits, const int ext[3], const unsigned char *planes, const unsigned char *ctx,
+                      const unsigned char *kk, int s, writer *w)
 {
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
-    unsigned char q[64];
     for (int k = 0; k < ext[2]; k++)
         for (int j = 0; j < ext[1]; j++) {
-            row_contexts(bits, planes, n, ext, j, k, q);
             const size_t m0 = ((size_t)k * ext[1] + j) * ext[0];
             for (int i = s; i < ext[0]; i += VSV_RICE_STREAMS) {
-                const unsigned z = zat(bits, planes, n, m0 + i), r = kk[q[i]], u = z >> r;
+                const unsigned z = zat(bits, planes, n, m0 + i), r = kk[ctx[m0 + i]], u = z >> r;
                 const int bad = u < ESCAPE ? put(w, 1u << u, (int)u + 1) || put(w, z & ((1u << r) - 1), (int)r)
                                            : put(w, 0, ESCAPE) || put(w, z, bits);
                 if (bad)
@@ -115,16 +114,17 @@ static int put_stream(int bits, const int ext[3], const unsigned char *planes, c
     return w->n ? put(w, 0, 8 - w->n) : 0;
 }
 
-size_t vsv_rice_encode(int bits, const int ext[3], const unsigned char *planes, unsigned char *out, size_t cap)
+size_t vsv_rice_encode(int bits, const int ext[3], const unsigned char *planes, unsigned char *ctx, unsigned char *out,
+                       size_t cap)
 {
     const size_t head = VSV_RICE_CONTEXTS + 4 * (VSV_RICE_STREAMS - 1);
     if (cap < head)
         return 0;
-    choose(bits, ext, planes, out);
+    choose(bits, ext, planes, ctx, out);
     writer w = {out + head, out + cap, 0, 0};
     for (int s = 0; s < VSV_RICE_STREAMS; s++) {
         unsigned char *start = w.p;
-        if (put_stream(bits, ext, planes, out, s, &w))
+        if (put_stream(bits, ext, planes, ctx, out, s, &w))
             return 0;
         if (s < VSV_RICE_STREAMS - 1)
             vsv_wr32(out + VSV_RICE_CONTEXTS + 4 * s, (uint32_t)(w.p - start));

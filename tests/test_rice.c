@@ -48,7 +48,7 @@ static int decode(int bits, const int ext[3], const unsigned char *p, size_t siz
 
 static void test_coder(void)
 {
-    static unsigned char in[2 * MAXN], out[2 * MAXN], pay[3 * 2 * MAXN + 64];
+    static unsigned char in[2 * MAXN], out[2 * MAXN], pay[3 * 2 * MAXN + 64], ctx[MAXN];
     const int shapes[][3] = {{1, 1, 1}, {2, 1, 1}, {5, 3, 2}, {31, 7, 3}, {32, 32, 15}, {33, 2, 2}, {64, 64, 64}};
     uint64_t st = 11;
     int same = 1, fits = 1, tried = 0;
@@ -59,7 +59,7 @@ static void test_coder(void)
                 const int *ext = shapes[s];
                 const size_t n = (size_t)ext[0] * ext[1] * ext[2];
                 fill(bits, n, mix, &st, in);
-                const size_t size = vsv_rice_encode(bits, ext, in, pay, sizeof pay);
+                const size_t size = vsv_rice_encode(bits, ext, in, ctx, pay, sizeof pay);
                 fits &= size > 0 && size <= vsv_rice_max(bits, n);
                 worst = size > worst ? size : worst;
                 memset(out, 0x5A, sizeof out);
@@ -73,11 +73,11 @@ static void test_coder(void)
     const int ext[3] = {32, 32, 15};
     const size_t n = 32 * 32 * 15;
     fill(16, n, 2, &st, in);
-    const size_t size = vsv_rice_encode(16, ext, in, pay, sizeof pay);
+    const size_t size = vsv_rice_encode(16, ext, in, ctx, pay, sizeof pay);
     memset(pay + size / 2, 0xEE, 16);
-    CHECK(vsv_rice_encode(16, ext, in, pay, size / 2) == 0 && pay[size / 2] == 0xEE,
+    CHECK(vsv_rice_encode(16, ext, in, ctx, pay, size / 2) == 0 && pay[size / 2] == 0xEE,
           "an encoder whose output would pass its cap gives 0 and stays within it");
-    vsv_rice_encode(16, ext, in, pay, sizeof pay);
+    vsv_rice_encode(16, ext, in, ctx, pay, sizeof pay);
     CHECK(decode(16, ext, pay, size, out) == 0, "the payload again decodes");
     CHECK(decode(16, ext, pay, size - 1, out) == -1, "a payload cut by a byte is refused");
     pay[size] = 0;
@@ -95,7 +95,7 @@ static void test_coder(void)
     /* bits after the last code: a one in the last byte's unused bits */
     const int one[3] = {1, 1, 1};
     in[0] = 0; /* one zero: a code of one bit (Rice parameter 0), seven zero bits after it */
-    const size_t s1 = vsv_rice_encode(8, one, in, pay, sizeof pay);
+    const size_t s1 = vsv_rice_encode(8, one, in, ctx, pay, sizeof pay);
     CHECK(s1 == VSV_RICE_CONTEXTS + 12 + 1 && decode(8, one, pay, s1, out) == 0 && out[0] == 0,
           "one cell: a head and one byte", "(%zu bytes)", s1);
     pay[s1 - 1] |= 0x80;
