@@ -7,8 +7,9 @@
 # threads, ROUNDS rounds. Each run prints the frames drawn while playing, how
 # many were late (the clock's step not decoded in time: an earlier decoded
 # step shown) and how many of those stalled (the picture of the frame
-# before again while the clock moved on), and the pager's stalls (species
-# gets that found a brick missing). Needs xvfb (Debian xvfb).
+# before again while the clock moved on), how many waited for their step
+# (a quarter of a frame at most) and the longest wait, and the pager's
+# stalls (species gets that found a brick missing). Needs xvfb (Debian xvfb).
 set -eu
 B=${B:-build}
 SHARED=${SHARED:-../shared}
@@ -32,8 +33,8 @@ printf '%s cores; %s UTC; load %s; %s\n\n' "$(nproc)" "$(date -u '+%Y-%m-%d %H:%
     "$(cut -d' ' -f1-3 /proc/loadavg)" "$("$B/vsv-info" "$W/m5.vsv" | head -1 | sed 's/.*: //')"
 echo "vsv-play m5.vsv --cache-mb $MB --loop on --threads N --script (speed 8 or -8 from 0.6 s, quit at 4.6 s)"
 echo
-echo "| direction | threads | round | frames drawn while playing | late frames | stalled frames | pager stalls |"
-echo "|---|---|---|---|---|---|---|"
+echo "| direction | threads | round | frames drawn while playing | late frames | stalled frames | frames that waited | longest wait, ms | pager stalls |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for threads in 1 2; do
     for dir in fwd back; do
         r=1
@@ -44,9 +45,10 @@ for threads in 1 2; do
                 exit 1
             }
             frames=$(sed -n 's/.* \([0-9]*\) frames drawn while playing: \([0-9]*\) late.*, \([0-9]*\) of them stalled.*/\1 \2 \3/p' "$W/out")
+            waits=$(sed -n 's/.* \([0-9]*\) waited for their step, at most \([0-9]*\) ms.*/\1 \2/p' "$W/out")
             stalls=$(sed -n 's/.* \([0-9]*\) stalls, cache peak.*/\1/p' "$W/out")
-            set -- $frames
-            echo "| $([ $dir = fwd ] && echo forward || echo backward) | $threads | $r | ${1:-?} | ${2:-?} | ${3:-?} | ${stalls:-?} |"
+            set -- $frames $waits
+            echo "| $([ $dir = fwd ] && echo forward || echo backward) | $threads | $r | ${1:-?} | ${2:-?} | ${3:-?} | ${4:-?} | ${5:-?} | ${stalls:-?} |"
             r=$((r + 1))
         done
     done

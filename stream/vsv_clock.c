@@ -212,8 +212,8 @@ int vsv_clock_stride(const vsv_clock *c, double frame, int prev)
     const double per = (double)(c->times[c->nsteps - 1] - c->times[0]) / (c->nsteps - 1);
     const double r = per > 0 ? fabs(c->rate * c->speed) * frame / per : 0; /* steps a frame spans */
     int k = prev >= 1 ? prev : 1;
-    if (r < k || r >= k + 1.25)
-        k = r >= k + 1.25 ? (int)floor(r - 0.25) : (int)floor(r);
+    if (r < k || r >= 1.2 * (k + 1)) /* (then r / k in [1.2, 2.4): a change of 1/6 to go back) */
+        k = (int)floor(r / 1.2);
     return k >= 2 ? k : 1;
 }
 
@@ -225,4 +225,45 @@ int vsv_clock_stride_step(const vsv_clock *c, int t, int k)
         return t - t % k;
     const int up = t + (k - t % k) % k;
     return up < c->nsteps ? up : c->nsteps - 1;
+}
+
+/* Appends t to steps[0 .. *n - 1] unless there, or the one shown, or full. */
+static void add_once(int *steps, int *n, int max, int shown, int t)
+{
+    int seen = t == shown;
+    for (int j = 0; j < *n && !seen; j++)
+        seen = steps[j] == t;
+    if (!seen && *n < max)
+        steps[(*n)++] = t;
+}
+
+int vsv_clock_ahead_stride(const vsv_clock *c, double frame, int k, int *steps, int max)
+{
+    int pred[VSV_CLOCK_HORIZON], all[VSV_CLOCK_HORIZON], na = 0, n = 0;
+    max = max < VSV_CLOCK_HORIZON ? max : VSV_CLOCK_HORIZON;
+    const int shown = vsv_clock_stride_step(c, c->step, k), np = vsv_clock_ahead(c, frame, pred, max);
+    if (c->playing && frame > 0) { /* every step: frames shorter than the shortest interval */
+        double gap = frame * fabs(c->rate * c->speed);
+        for (int i = 1; i < c->nsteps; i++)
+            if (c->times[i] > c->times[i - 1])
+                gap = fmin(gap, 0.5 * (double)(c->times[i] - c->times[i - 1]));
+        na = vsv_clock_ahead(c, gap / fabs(c->rate * c->speed), all,
+                             (int)fmin(VSV_CLOCK_HORIZON, (double)max * (k > 1 ? k : 1)));
+    }
+    for (int i = 0; i < na; i++)
+        all[i] = vsv_clock_stride_step(c, all[i], k);
+    /* each predicted step, then the ones on the way to it */
+    int j = 0;
+    for (int i = 0; i < np; i++) {
+        const int t = vsv_clock_stride_step(c, pred[i], k);
+        add_once(steps, &n, max, shown, t);
+        int m = j;
+        while (m < na && all[m] != t)
+            m++;
+        for (; m < na && j <= m; j++)
+            add_once(steps, &n, max, shown, all[j]);
+    }
+    for (; j < na; j++)
+        add_once(steps, &n, max, shown, all[j]);
+    return n;
 }

@@ -72,13 +72,20 @@ int vsv_clock_ahead(const vsv_clock *c, double frame, int *steps, int max);
  * shown (and decoded ahead for the next frames) stay the same from frame
  * to frame whatever the frame times. k never exceeds the steps a frame
  * spans (each frame shows a new step); it changes from `prev` only when
- * that falls below k or reaches k + 1.25 (frame times vary). 1 when
- * paused or a frame spans under 2 steps. */
+ * that falls below k or reaches 1.2 (k + 1), to r / 1.2 rounded down (frame
+ * times vary: a stride that changed would find the steps decoded ahead not
+ * wanted). 1 when paused or a frame spans under 2.4 steps. */
 int vsv_clock_stride(const vsv_clock *c, double frame, int prev);
 /* The step to show for step t at stride k: the last multiple of k at or
  * before t in the direction of play (forward: t rounded down; backward:
  * up, at most the last step). */
 int vsv_clock_stride_step(const vsv_clock *c, int t, int k);
+/* The steps to decode ahead at stride k: the ones the next frames, `frame`
+ * apart, will show (vsv_clock_ahead at stride k), each followed by the
+ * steps at stride k on the clock's way to it that it jumps over, then the
+ * rest of them: a frame shorter than the ones before finds its step
+ * listed too. Each once, nearest first, the one shown left out; up to max. */
+int vsv_clock_ahead_stride(const vsv_clock *c, double frame, int k, int *steps, int max);
 
 VSV_API_END
 

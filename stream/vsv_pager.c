@@ -5,6 +5,7 @@
  * or FAILED; it counts as pinned while it is decoded. */
 #include "vsv_pager_internal.h"
 
+#include <math.h>
 #include <pthread.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -518,21 +519,17 @@ int vsv_pager_get(vsv_pager *p, int step, int s, int wait, vsv_volume *v)
     return rc;
 }
 
-int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species)
+/* vsv_pager_ready under the lock. */
+static int ready_locked(vsv_pager *p, int step, const unsigned char *species)
 {
-    if (step < 0 || step >= p->info.nsteps)
-        return 0;
-    pthread_mutex_lock(&p->mu);
     int ok = 1;
     for (int s = 0; s < p->info.nspecies && ok == 1; s++) {
         if (species && !species[s])
             continue;
         int rc = 0;
         const int *def = vsv_pager_defs(p, step, s, &rc);
-        if (!def) {
-            ok = rc == VSV_EAGAIN ? 0 : -1; /* not fetched yet; or failed its checks, or its fetch */
-            break;
-        }
+        if (!def)
+            return rc == VSV_EAGAIN ? 0 : -1; /* not fetched yet; or failed its checks, or its fetch */
         for (int b = 0; b < p->info.nbricks && ok == 1; b++) {
             if (def[b] < 0)
                 continue;
@@ -540,6 +537,31 @@ int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species)
             ok = e < 0 || p->ent[e].state == LOADING ? 0 : p->ent[e].state == READY ? 1 : -1;
         }
     }
+    return ok;
+}
+
+int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species)
+{
+    return vsv_pager_wait_ready(p, step, species, 0);
+}
+
+int vsv_pager_wait_ready(vsv_pager *p, int step, const unsigned char *species, double seconds)
+{
+    if (step < 0 || step >= p->info.nsteps)
+        return 0;
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until); /* (the condition's clock) */
+    const double s = seconds > 0 ? fmin(seconds, 10.0) : 0;
+    const long ns = until.tv_nsec + (long)((s - floor(s)) * 1e9);
+    until.tv_sec += (time_t)floor(s) + ns / 1000000000L;
+    until.tv_nsec = ns % 1000000000L;
+    pthread_mutex_lock(&p->mu);
+    int ok = ready_locked(p, step, species);
+    /* each brick a worker finishes wakes the wait (p->ready) */
+    while (ok == 0 && s > 0 && pthread_cond_timedwait(&p->ready, &p->mu, &until) == 0)
+        ok = ready_locked(p, step, species);
+    if (ok == 0 && s > 0)
+        ok = ready_locked(p, step, species);
     pthread_mutex_unlock(&p->mu);
     return ok;
 }

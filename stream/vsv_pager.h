@@ -159,6 +159,10 @@ void vsv_pager_put(vsv_pager *p, vsv_volume *v);
  * checks, or a transfer for it failed: vsv_pager_get of it says why); else
  * 0. Never waits for a transfer. */
 int vsv_pager_ready(vsv_pager *p, int step, const unsigned char *species);
+/* As vsv_pager_ready, but while the answer is 0 waits up to `seconds`
+ * (at most 10) for the workers to decode what is missing: for a step the
+ * playhead lists (a step nobody decodes just costs the wait). */
+int vsv_pager_wait_ready(vsv_pager *p, int step, const unsigned char *species, double seconds);
 
 void vsv_pager_stats_get(vsv_pager *p, vsv_pager_stats *st);
 /* Counts a stall the caller saw (a step it wanted was not decoded in time). */

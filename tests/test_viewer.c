@@ -393,6 +393,41 @@ static void test_skipping(const char *path, vsv_player_opts o)
     vsv_player_free(p);
 }
 
+/* Frames that draw take 0.1 s at x8 (3.2 steps), one in ten 0.02 s (a
+ * cheap picture); a frame that finds nothing new to draw, 0.01 s. The
+ * stride follows the drawing frames (2: even steps shown), not the mean of
+ * all, which the quick idle frames after a cheap picture pull down */
+static void test_idle_frames(const char *path, vsv_player_opts o)
+{
+    o.path = path;
+    o.cache_bytes = (size_t)1 << 30;
+    vsv_player *p = NULL;
+    char err[512];
+    if (!CHECK(vsv_player_open(&o, &p, err, sizeof err) == 0, "the player opens the 5-minute series", "(%s)", err))
+        return;
+    vsv_player_update(p, 0, 1);
+    act(p, "loop on");
+    act(p, "speed 8");
+    act(p, "play");
+    vsv_camera cam;
+    vsv_player_camera(p, 48, 32, &cam);
+    double dur = 0.1;
+    int odd = 0, idle = 0, drawn = 0, last = -1;
+    for (int f = 0; f < 200; f++) {
+        vsv_player_update(p, dur, 0);
+        odd += f >= 20 && vsv_player_target_step(p) % 2;
+        vsv_player_image(p, &cam, err, sizeof err);
+        const int shown = vsv_player_shown_step(p), drew = shown != last;
+        last = shown;
+        drawn += drew, idle += !drew;
+        dur = !drew ? 0.01 : drawn % 10 ? 0.1 : 0.02;
+    }
+    CHECK(odd == 0 && idle >= 20 && drawn >= 20,
+          "drawing frames of 3.2 steps, quick idle ones between: every other step shown",
+          "(%d odd steps meant, %d idle frames, %d drawn)", odd, idle, drawn);
+    vsv_player_free(p);
+}
+
 int main(void)
 {
     test_freevr_layout();
@@ -422,7 +457,7 @@ int main(void)
     snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --time-res 5m samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
              getenv("B") ? getenv("B") : "build", path5);
     if (CHECK(system(cmd) == 0, "convert the bundled MM5 sample at 5-minute steps", " "))
-        test_skipping(path5, o);
+        test_skipping(path5, o), test_idle_frames(path5, o);
     o.path = "/nonexistent/x.vsv";
     CHECK(vsv_player_open(&o, &p, err, sizeof err) == -1 && strstr(err, "/nonexistent/x.vsv"),
           "a missing file is an error naming it", "(%s)", err);

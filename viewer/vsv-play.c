@@ -116,6 +116,8 @@ typedef struct app {
     int drag; /* 1 orbit, 2 pan */
     int shots;
     long frames, late, stalled; /* drawn while playing; of them, behind the clock's step; still the last one's */
+    long waits;                 /* frames that waited for their step's bricks */
+    double waited;              /* the longest wait, seconds */
     int last_shown, last_clock;
 } app;
 
@@ -626,6 +628,8 @@ static int play_loop(app *a, const play_args *o, const script_line *lines, int n
             const int shown = vsv_player_shown_step(p), clk = vsv_player_target_step(p);
             a->frames++;
             a->late += shown != clk;
+            a->waits += vsv_player_waited(p) > 0;
+            a->waited = fmax(a->waited, vsv_player_waited(p));
             a->stalled += shown != clk && shown == a->last_shown && clk != a->last_clock;
             a->last_shown = shown, a->last_clock = clk;
         }
@@ -719,8 +723,9 @@ int main(int argc, char **argv)
         if (a.frames)
             fprintf(stderr,
                     "vsv-play: %ld frames drawn while playing: %ld late (the clock's step not decoded in time, an "
-                    "earlier one shown), %ld of them stalled (the last frame's step again)\n",
-                    a.frames, a.late, a.stalled);
+                    "earlier one shown), %ld of them stalled (the last frame's step again); %ld waited for their "
+                    "step, at most %.0f ms\n",
+                    a.frames, a.late, a.stalled, a.waits, 1e3 * a.waited);
         if (st.transfer_failures)
             fprintf(stderr, "vsv-play: %s: %llu transfers failed (each tried again)\n", o.po.path,
                     (unsigned long long)st.transfer_failures);

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <time.h>
 
 /* The grid as it lies at the step shown: a moving nest's placement then
  * (p->placed holds one view per placement). */
@@ -557,24 +558,21 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
 {
     vsv_clock *c = &p->clock;
     vsv_clock_tick(c, dt);
-    if (dt > 0) /* the time between frames, smoothed: when the next frames come */
+    /* the time between frames that draw, smoothed: when the next pictures
+     * come (a frame that found nothing new to draw takes a few ms and says
+     * nothing of the next one's time) */
+    if (dt > 0 && !p->idle)
         p->frame = p->frame > 0 ? 0.75 * p->frame + 0.25 * fmin(dt, 0.25) : fmin(dt, 0.25);
+    p->idle = 0;
+    p->waited = 0;
     /* a frame spanning several steps shows every stride-th: the steps decoded
      * ahead for the next frames are then the ones they show */
     p->stride = vsv_clock_stride(c, p->frame, p->stride);
     const int target = p->target = vsv_clock_stride_step(c, c->step, p->stride);
     const int dir = !c->playing ? 0 : c->speed > 0 ? 1 : -1;
     const unsigned char *need = needed(p);
-    int next[VSV_PAGER_AHEAD + 1], nn = 0;
-    const int n0 = vsv_clock_ahead(c, p->frame > 0 ? p->frame : 1.0 / 30, next, VSV_PAGER_AHEAD + 1);
-    for (int i = 0; i < n0; i++) { /* each once, at the stride */
-        const int t = vsv_clock_stride_step(c, next[i], p->stride);
-        int seen = t == target;
-        for (int j = 0; j < nn && !seen; j++)
-            seen = next[j] == t;
-        if (!seen)
-            next[nn++] = t;
-    }
+    int next[VSV_PAGER_AHEAD + 1];
+    const int nn = vsv_clock_ahead_stride(c, p->frame > 0 ? p->frame : 1.0 / 30, p->stride, next, VSV_PAGER_AHEAD + 1);
     vsv_pager_playhead(p->pager, target, dir, next, nn, need);
     vsv_pager_stats st;
     vsv_pager_stats_get(p->pager, &st);
@@ -582,6 +580,16 @@ int vsv_player_update(vsv_player *p, double dt, int exact)
      * shown, nothing is decoded ahead, so decode on demand */
     if (exact || !c->playing || p->shown < 0 || target == p->shown || st.prefetch_depth == 0 || p->bad[target] ||
         vsv_pager_ready(p->pager, target, need)) /* (-1, failed: decoded here to say why) */
+        return show_checked(p, target);
+    /* not decoded yet, the workers on it (the playhead): a quarter of a
+     * frame's wait for it, a frame a little later rather than the picture
+     * of the frame before again (not for a URL: a transfer may stall) */
+    struct timespec t0, t1;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    const int got = !p->nowait && vsv_pager_wait_ready(p->pager, target, need, 0.25 * p->frame);
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    p->waited = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    if (got)
         return show_checked(p, target);
     /* playing and the clock's step is not decoded yet: the newest decoded
      * step on the way there, else the one shown stays */
@@ -663,8 +671,10 @@ const unsigned char *vsv_player_image(vsv_player *p, const vsv_camera *cam, char
     }
     colour_slices(p);
     vsv_player_wind_lines(p);
-    if (!p->dirty && !memcmp(cam, &p->last_cam, sizeof *cam))
+    if (!p->dirty && !memcmp(cam, &p->last_cam, sizeof *cam)) {
+        p->idle = 1; /* (a frame that drew nothing: not counted in p->frame) */
         return p->rgb;
+    }
     vsv_scene sc = scene(p);
     if (p->ro.kind == VSV_RENDER_GL && p->gl) {
         if (vsv_gl_render(p->gl, &sc, cam, p->rgba, p->depth)) {

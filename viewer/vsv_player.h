@@ -281,6 +281,9 @@ int vsv_player_shown_step(const vsv_player *p);
 /* The step the player means to show now: the clock's, or when a frame spans
  * several steps the one of every k-th at or before it (vsv_clock_stride). */
 int vsv_player_target_step(const vsv_player *p);
+/* Wall seconds the last vsv_player_update waited for its step's bricks
+ * (playing, a quarter of a frame at most; 0 when it did not wait). */
+double vsv_player_waited(const vsv_player *p);
 /* The time of step t (seconds since 1970, UTC); 0 outside the file. */
 int64_t vsv_player_step_time(const vsv_player *p, int t);
 void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st);

@@ -27,12 +27,14 @@ struct vsv_player {
     vsv_layer *layers;   /* per species */
     unsigned char *want; /* per species: visible */
     int selected;
-    int shown;    /* the step on screen; -1 before the first */
-    int target;   /* the step meant to be on screen (the clock's, at the stride) */
-    int stride;   /* playing fast: every stride-th step shown (vsv_clock_stride) */
-    double frame; /* wall seconds between updates (smoothed); 0 before the second */
-    char **bad;   /* per step: why it cannot be decoded, or NULL */
-    int news;     /* a step found damaged and not yet taken, or -1 */
+    int shown;     /* the step on screen; -1 before the first */
+    int target;    /* the step meant to be on screen (the clock's, at the stride) */
+    int stride;    /* playing fast: every stride-th step shown (vsv_clock_stride) */
+    double frame;  /* wall seconds between updates (smoothed); 0 before the second */
+    int idle;      /* the last frame drew nothing new (vsv_player_image) */
+    double waited; /* wall seconds the last update waited for its step */
+    char **bad;    /* per step: why it cannot be decoded, or NULL */
+    int news;      /* a step found damaged and not yet taken, or -1 */
     double exaggeration;
     int terrain;
     /* camera: an orbit about the scene centre (dist 0: the box filling the

@@ -77,6 +77,7 @@ const vsv_clock *vsv_player_clock(const vsv_player *p) { return &p->clock; }
 const vsv_meta *vsv_player_meta(const vsv_player *p) { return p->m; }
 int vsv_player_shown_step(const vsv_player *p) { return p->shown; }
 int vsv_player_target_step(const vsv_player *p) { return p->target; }
+double vsv_player_waited(const vsv_player *p) { return p->waited; }
 int64_t vsv_player_step_time(const vsv_player *p, int t) { return t >= 0 && t < p->clock.nsteps ? p->times[t] : 0; }
 void vsv_player_pager_stats(const vsv_player *p, vsv_pager_stats *st) { vsv_pager_stats_get(p->pager, st); }
 
