@@ -188,21 +188,26 @@ static const unsigned char *vp_row(const unsigned char *vp, int y)
     return vp + 4 * (size_t)(VP_SIZE - 1 - y) * VP_SIZE;
 }
 
-double vp_psnr(const unsigned char *vp, const float *ours)
+/* ours as floats (f) or bytes (b) */
+static double psnr(const unsigned char *vp, const float *f, const unsigned char *b)
 {
     double se = 0;
     for (int y = 0; y < VP_SIZE; y++)
         for (int x = 0; x < VP_SIZE; x++) {
             const unsigned char *a = vp_row(vp, y) + 4 * x;
-            const float *b = ours + 4 * ((size_t)y * VP_SIZE + x);
+            const size_t i = 4 * ((size_t)y * VP_SIZE + x);
             for (int c = 0; c < 4; c++) {
-                const double d = a[c] - 255.0 * fmin(1, b[c]);
+                const double d = a[c] - (f ? 255.0 * fmin(1, f[i + c]) : b[i + c]);
                 se += d * d;
             }
         }
     const double mse = se / (4.0 * VP_SIZE * VP_SIZE);
     return mse > 0 ? 10 * log10(255.0 * 255.0 / mse) : INFINITY;
 }
+
+double vp_psnr(const unsigned char *vp, const float *ours) { return psnr(vp, ours, NULL); }
+
+double vp_psnr8(const unsigned char *vp, const unsigned char *ours) { return psnr(vp, NULL, ours); }
 
 int vp_dump(const char *path, const unsigned char *vp, const float *ours)
 {

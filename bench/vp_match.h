@@ -64,6 +64,8 @@ void vp_camera(const vsv_scene *sc, int v, vsv_camera *cam);
  * ours (premultiplied RGBA floats), over the four channels; INFINITY when
  * equal. */
 double vp_psnr(const unsigned char *vp, const float *ours);
+/* The same against ours as premultiplied 8-bit RGBA (vsv_render_rgba8). */
+double vp_psnr8(const unsigned char *vp, const unsigned char *ours);
 /* Writes a closed-form volume to path: species "box", one step, an
  * off-centre box of values rising along x in an otherwise empty grid of
  * three different lengths (a swapped, mirrored or shifted axis shows in

@@ -70,6 +70,7 @@ void vsv_renderer_free(vsv_renderer *r)
     free(r->build);
     free(r->ground);
     free(r->surf);
+    free(r->f32);
     vsv_sw_free(r->sw);
     vsv_native_free(&r->native);
     vsv_rc_meshes_free(r);
@@ -140,7 +141,9 @@ int vsv_render_surfaces(vsv_renderer *r, const vsv_scene **psc, const vsv_camera
     return in->nisos > 0 || in->nlines > 0 ? vsv_rc_meshes(r, in, cam) : 0;
 }
 
-int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth)
+/* vsv_render, into floats or (rgba8) bytes */
+static int render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, unsigned char *rgba8,
+                  float *depth)
 {
     int rc0 = vsv_render_surfaces(r, &sc, cam);
     if (rc0)
@@ -148,7 +151,7 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     const int sliced = sc->nslices > 0 || sc->nisos > 0 || sc->nlines > 0; /* surfaces inside the volume: raycast */
     if (r->o.kind == VSV_RENDER_SHEARWARP && !sliced) {
         int rows = 0, bricks = 0, classify = 0;
-        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, depth, r->ground, &rows, &bricks, &classify);
+        int rc = vsv_sw_begin(r->sw, sc, &r->g, cam, rgba, rgba8, depth, r->ground, &rows, &bricks, &classify);
         if (!rc && classify) {
             struct timespec t0, t1;
             clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -170,6 +173,11 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     int rc = vsv_rc_prepare_frame(r, sc, 1);
     if (rc)
         return rc;
+    if (rgba8) { /* the raycaster's floats, then bytes */
+        if (vsv_sw_grow((void **)&r->f32, &r->f32_cap, 4 * (size_t)cam->width * cam->height, sizeof(float)))
+            return VSV_ENOMEM;
+        rgba = r->f32;
+    }
     if (r->nbuild) {
         struct timespec t0, t1;
         clock_gettime(CLOCK_MONOTONIC, &t0);
@@ -185,7 +193,19 @@ int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, floa
     r->tiles_x = (cam->width + VSV_RC_TILE - 1) / VSV_RC_TILE;
     r->ntiles = r->tiles_x * ((cam->height + VSV_RC_TILE - 1) / VSV_RC_TILE);
     vsv_pool_run(&r->pool, vsv_rc_tile, r, r->ntiles);
+    if (rgba8)
+        vsv_sw_bytes(rgba, 4 * (size_t)cam->width * cam->height, rgba8);
     return 0;
+}
+
+int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth)
+{
+    return render(r, sc, cam, rgba, NULL, depth);
+}
+
+int vsv_render_rgba8(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, unsigned char *rgba, float *depth)
+{
+    return rgba ? render(r, sc, cam, NULL, rgba, depth) : VSV_EINVAL;
 }
 
 double vsv_renderer_rebuild_seconds(const vsv_renderer *r)

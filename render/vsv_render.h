@@ -317,6 +317,12 @@ void vsv_renderer_free(vsv_renderer *r);
  * for AVX2, FMA and F16C, chosen the same way (the two differ by rounding,
  * under 1e-5). */
 int vsv_render(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, float *rgba, float *depth);
+/* vsv_render's picture as premultiplied 8-bit RGBA (w*h*4 bytes, each
+ * channel round(255 v), v clamped to [0, 1]: VolPack's and OpenGL's
+ * convention), rgba not NULL. The shear-warp writes the bytes row by row
+ * as it warps (the float picture never exists whole: a quarter of the
+ * memory written); the raycaster converts its floats at the end. */
+int vsv_render_rgba8(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, unsigned char *rgba, float *depth);
 
 /* Seconds the last rebuild of precomputed state took, redone when the time
  * step changes. Shear-warp: classifying the species into the copy for one

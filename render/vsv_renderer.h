@@ -17,6 +17,8 @@ struct vsv_renderer {
     const vsv_scene *sc;
     const vsv_camera *cam;
     float *rgba, *depth;
+    float *f32; /* vsv_render_rgba8 beside the raycaster: its float picture */
+    size_t f32_cap;
     vsv_geo g;
     int ntiles, tiles_x;
     /* skipping (vsv_rc_prepare_skip): per block, the skip distances, scratch

@@ -41,8 +41,8 @@ typedef float v4 __attribute__((vector_size(16)));
 /* pixels in a row of the intermediate image: border, w pixels, two of border */
 static size_t img_stride(const vsv_sw *sw) { return (size_t)sw->w + 3; }
 
-int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out, float *depth,
-                 const vsv_ground *ground, int *rows, int *bricks, int *classify)
+int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *out,
+                 unsigned char *out8, float *depth, const vsv_ground *ground, int *rows, int *bricks, int *classify)
 {
     sw->ground = ground;
     if (sw->n[0] != g->nx || sw->n[1] != g->ny || sw->n[2] != g->nz) {
@@ -117,9 +117,12 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
         vsv_sw_grow((void **)&sw->boxes, &sw->boxes_cap, 4 * ((size_t)sw->h / VSV_SW_BAND + 1), sizeof(int)))
         return VSV_ENOMEM;
     /* per thread: two scanlines' runs (uint16) or a band's group links; a
-     * band's planes or a row's perspective deltas */
+     * band's planes or a row's perspective deltas; a final row's floats
+     * (bytes out) */
     const size_t ng = vsv_sw_par_groups(sw->w), nl = VSV_SW_BAND * (ng + 1);
-    const size_t ni = (size_t)sw->na + 4 > nl ? (size_t)sw->na + 4 : nl, nf = VSV_SW_BAND * 4 * ng * VSV_SW_LANES;
+    const size_t ni = (size_t)sw->na + 4 > nl ? (size_t)sw->na + 4 : nl;
+    size_t nf = VSV_SW_BAND * 4 * ng * VSV_SW_LANES;
+    nf = out8 && 4 * (size_t)cam->width > nf ? 4 * (size_t)cam->width : nf;
     for (int t = 0; t < sw->max_threads; t++) {
         size_t ci = sw->scratch_cap, cf = sw->dscratch_cap;
         if (vsv_sw_grow((void **)&sw->scratch[t], &ci, ni, sizeof(int)) ||
@@ -139,6 +142,7 @@ int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_ca
     sw->cam = cam;
     vsv_rays_init(&sw->rays, cam);
     sw->out = out;
+    sw->out8 = out8;
     sw->depth = depth;
     *rows = sw->persp ? sw->h : (sw->h + VSV_SW_BAND - 1) / VSV_SW_BAND;
     int rc = vsv_sw_classification_for(sw, sc, c);
@@ -300,7 +304,7 @@ static void row_rays(const vsv_sw *sw, int py, double o0[3], double o1[3], doubl
  * perspective, 0 for parallel rays) at an intermediate-image point; bilinear
  * there, the point clamped into the image's empty border (no test per
  * pixel); the ground behind. */
-static void warp_row(vsv_sw *sw, int py)
+static void warp_row(vsv_sw *sw, int py, int thread)
 {
     const vsv_geo *g = sw->g;
     const vsv_camera *cam = sw->cam;
@@ -309,7 +313,10 @@ static void warp_row(vsv_sw *sw, int py)
     double o0[3], o1[3], d0[3], d1[3];
     row_rays(sw, py, o0, o1, d0, d1);
     const double kp = sw->persp ? sw->kref : 0;
-    float *const out = sw->out + 4 * (size_t)py * cam->width;
+    /* bytes out: the row's floats in the thread's scratch (in its cache),
+     * then bytes; cleared pixels straight to bytes */
+    unsigned char *const out8 = sw->out8 ? sw->out8 + 4 * (size_t)py * cam->width : NULL;
+    float *const out = out8 ? sw->dscratch[thread] : sw->out + 4 * (size_t)py * cam->width;
     float *dep = sw->depth ? sw->depth + (size_t)py * cam->width : NULL;
     if (dep)
         for (int px = 0; px < cam->width; px++)
@@ -352,8 +359,13 @@ static void warp_row(vsv_sw *sw, int py)
     }
     if (p1 < p0)
         p0 = cam->width, p1 = cam->width - 1;
-    memset(out, 0, sizeof(float) * 4 * p0);
-    memset(out + 4 * (p1 + 1), 0, sizeof(float) * 4 * (cam->width - 1 - p1));
+    if (out8 && !g->terrain) {
+        memset(out8, 0, 4 * (size_t)p0);
+        memset(out8 + 4 * (p1 + 1), 0, 4 * (size_t)(cam->width - 1 - p1));
+    } else {
+        memset(out, 0, sizeof(float) * 4 * p0);
+        memset(out + 4 * (p1 + 1), 0, sizeof(float) * 4 * (cam->width - 1 - p1));
+    }
     if (!sw->persp) /* eight pixels a step (vsv_sw_row.c) */
         (sw->simd ? vsv_sw_par_warp_avx2 : vsv_sw_par_warp)(sw->img, W, w, h, x0 + 1, y0 + 1, ddx, ddy, p0, p1, out);
     /* perspective: border coordinates (pixel i at i + 1) clamped into [0, w +
@@ -373,10 +385,8 @@ static void warp_row(vsv_sw *sw, int py)
         const v4 *s0 = (const v4 *)(sw->img + 4 * ((size_t)yi * W + xi)), *s1 = s0 + W;
         *(v4 *)(out + 4 * px) = (1 - fy) * ((1 - fx) * s0[0] + fx * s0[1]) + fy * ((1 - fx) * s1[0] + fx * s1[1]);
     }
-    if (!g->terrain)
-        return;
-    const vsv_ground *gr = sw->ground + (size_t)py * cam->width;
-    for (int px = 0; px < cam->width; px++) {
+    const vsv_ground *gr = g->terrain ? sw->ground + (size_t)py * cam->width : NULL;
+    for (int px = 0; gr && px < cam->width; px++) {
         if (!(gr[px].t < INFINITY))
             continue;
         float *dst = out + 4 * px;
@@ -386,6 +396,10 @@ static void warp_row(vsv_sw *sw, int py)
         if (dep)
             dep[px] = gr[px].t;
     }
+    if (out8 && gr)
+        vsv_sw_bytes(out, 4 * (size_t)cam->width, out8);
+    else if (out8 && p1 >= p0) /* (the others cleared above) */
+        vsv_sw_bytes(out + 4 * p0, 4 * (size_t)(p1 - p0 + 1), out8 + 4 * p0);
 }
 
 /* Final rows job * VSV_SW_WARP_ROWS onwards: a thread's rows adjacent, so
@@ -393,9 +407,8 @@ static void warp_row(vsv_sw *sw, int py)
 void vsv_sw_warp_rows(void *p, int job, int thread)
 {
     vsv_sw *sw = p;
-    (void)thread;
     for (int py = job * VSV_SW_WARP_ROWS; py < (job + 1) * VSV_SW_WARP_ROWS && py < sw->cam->height; py++)
-        warp_row(sw, py);
+        warp_row(sw, py, thread);
 }
 
 vsv_sw *vsv_sw_create(int max_threads, int simd)

@@ -10,6 +10,9 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 /* Shear-warp in phases so the pool can run all but begin. begin sets up the
  * view (*rows = the compositing jobs: intermediate rows, or bands of
@@ -26,8 +29,8 @@
 typedef struct vsv_sw vsv_sw;
 vsv_sw *vsv_sw_create(int max_threads, int simd);
 void vsv_sw_free(vsv_sw *sw);
-int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *rgba, float *depth,
-                 const vsv_ground *ground, int *rows, int *bricks, int *classify);
+int vsv_sw_begin(vsv_sw *sw, const vsv_scene *sc, const vsv_geo *g, const vsv_camera *cam, float *rgba,
+                 unsigned char *rgba8, float *depth, const vsv_ground *ground, int *rows, int *bricks, int *classify);
 void vsv_sw_classify_brick(void *sw, int j, int thread);
 void vsv_sw_classify_slice(void *sw, int j, int thread);
 void vsv_sw_classified(vsv_sw *sw, double seconds);
@@ -187,6 +190,7 @@ struct vsv_sw {
     const vsv_camera *cam;
     vsv_rays rays;
     float *out, *depth;
+    unsigned char *out8; /* or the picture in bytes, row by row (vsv_render_rgba8) */
     const vsv_ground *ground;
     int c, a, b, na, nb, nc, w, h, front, dk;
     double sa, sb, ta, tb, delta, dv[3];
@@ -196,6 +200,29 @@ struct vsv_sw {
     double eye[3], wsz[3];
     double build_seconds;
 };
+
+/* n premultiplied float channels to bytes: round(255 v), v clamped to [0, 1]
+ * (NaN as 0, halves up); vsv_render_rgba8's rule. */
+static inline void vsv_sw_bytes(const float *f, size_t n, unsigned char *o)
+{
+    size_t i = 0;
+#ifdef __SSE2__
+    const __m128 k = _mm_set1_ps(255), h = _mm_set1_ps(0.5f), z = _mm_setzero_ps(), one = _mm_set1_ps(1);
+    for (; i + 16 <= n; i += 16) { /* sixteen at a time; max, then min, take NaN to 0 */
+        __m128i q[4];
+        for (int j = 0; j < 4; j++) {
+            const __m128 v = _mm_min_ps(_mm_max_ps(_mm_loadu_ps(f + i + 4 * j), z), one);
+            q[j] = _mm_cvttps_epi32(_mm_add_ps(_mm_mul_ps(v, k), h));
+        }
+        _mm_storeu_si128((__m128i *)(o + i),
+                         _mm_packus_epi16(_mm_packs_epi32(q[0], q[1]), _mm_packs_epi32(q[2], q[3])));
+    }
+#endif
+    for (; i < n; i++) {
+        const float v = f[i] > 0 ? (f[i] < 1 ? f[i] : 1) : 0;
+        o[i] = (unsigned char)(v * 255 + 0.5f);
+    }
+}
 
 /* Grows *p (of *cap elements of elem bytes) to need: 0, or -1 out of memory. */
 static inline int vsv_sw_grow(void **p, size_t *cap, size_t need, size_t elem)

@@ -309,6 +309,57 @@ static void test_simd_paths(world *w)
     }
 }
 
+/* vsv_render_rgba8: the bytes of vsv_render's floats, round(255 v) clamped,
+ * from the shear-warp (parallel rays and perspective, with and without the
+ * terrain, which it writes row by row) and the raycaster, on an image whose
+ * width is no multiple of sixteen. */
+static void test_rgba8(world *w)
+{
+    enum { SW = 101, SH = 67 };
+    const vsv_layer layers[2] = {{w->vol[0], &w->tf[0], 1, 1}, {w->vol[1], &w->tf[1], 0.7f, 1}};
+    float *f = malloc(sizeof(float) * 4 * SW * SH), *d0 = malloc(sizeof(float) * SW * SH),
+          *d1 = malloc(sizeof(float) * SW * SH);
+    unsigned char *b = malloc(4 * SW * SH), *want = malloc(4 * SW * SH);
+    int cases = 0, same = 0, mid = 0;
+    for (int kind = 0; kind < 2; kind++)
+        for (int view = 0; view < 4; view++) {
+            vsv_scene sc = {.meta = vsv_file_meta(w->f), .layers = layers, .nlayers = 2, .exaggeration = 1};
+            sc.show_terrain = view & 1;
+            vsv_camera cam;
+            vsv_camera_orbit(&cam, &sc, 200 + 40 * view, 25, 0, SW, SH);
+            if (view >= 2) { /* parallel rays */
+                cam.fov_deg = 0;
+                cam.ortho_height = 0.8 * fabs(cam.pos[2]) + 1;
+            }
+            vsv_render_opts o;
+            vsv_render_opts_init(&o);
+            o.kind = kind ? VSV_RENDER_SHEARWARP : VSV_RENDER_RAYCAST;
+            o.threads = 2;
+            vsv_renderer *r = NULL;
+            if (vsv_renderer_create(&o, &r) || vsv_render(r, &sc, &cam, f, d0) ||
+                vsv_render_rgba8(r, &sc, &cam, b, d1)) {
+                vsv_renderer_free(r);
+                continue;
+            }
+            for (int i = 0; i < 4 * SW * SH; i++) {
+                const float v = f[i] > 0 ? (f[i] < 1 ? f[i] : 1) : 0;
+                want[i] = (unsigned char)(v * 255 + 0.5f);
+                mid += want[i] > 0 && want[i] < 255;
+            }
+            cases++;
+            same += !memcmp(b, want, 4 * SW * SH) && !memcmp(d0, d1, sizeof(float) * SW * SH);
+            if (view == 0 && kind)
+                CHECK(vsv_render_rgba8(r, &sc, &cam, NULL, NULL) == VSV_EINVAL, "vsv_render_rgba8 without an image",
+                      "is VSV_EINVAL");
+            vsv_renderer_free(r);
+        }
+    CHECK(cases == 8 && same == 8 && mid > 1000,
+          "8-bit RGBA: vsv_render's floats as bytes, round(255 v), from the shear-warp and the raycaster, "
+          "perspective and parallel, with and without the terrain",
+          "(%d of %d the same; %d channels strictly between 0 and 255)", same, cases, mid);
+    free(f), free(d0), free(d1), free(b), free(want);
+}
+
 /* The raycaster's sampling copy: every brick with one more cell along each
  * axis holds the cells of the grid (past its end, the last cell again); a
  * volume loaded with another step is sampled anew by the same renderer. */
@@ -375,6 +426,7 @@ static void test_synthetic(void)
     rules("synthetic", &w);
     test_sampling_copy(&w);
     test_simd_paths(&w);
+    test_rgba8(&w);
     const int sw3[3] = {0, 1, 2};
     sw_rules("synthetic", &w, sw3, 3);
     test_eye_inside(&w);
