@@ -242,13 +242,13 @@ int vsv_clock_ahead_stride(const vsv_clock *c, double frame, int k, int *steps, 
     int pred[VSV_CLOCK_HORIZON], all[VSV_CLOCK_HORIZON], na = 0, n = 0;
     max = max < VSV_CLOCK_HORIZON ? max : VSV_CLOCK_HORIZON;
     const int shown = vsv_clock_stride_step(c, c->step, k), np = vsv_clock_ahead(c, frame, pred, max);
-    if (c->playing && frame > 0) { /* every step: frames shorter than the shortest interval */
-        double gap = frame * fabs(c->rate * c->speed);
+    const double v = fabs(c->rate * c->speed); /* model seconds a wall second */
+    if (c->playing && frame > 0 && v > 0) {    /* every step: frames shorter than the shortest interval */
+        double gap = frame * v;
         for (int i = 1; i < c->nsteps; i++)
             if (c->times[i] > c->times[i - 1])
                 gap = fmin(gap, 0.5 * (double)(c->times[i] - c->times[i - 1]));
-        na = vsv_clock_ahead(c, gap / fabs(c->rate * c->speed), all,
-                             (int)fmin(VSV_CLOCK_HORIZON, (double)max * (k > 1 ? k : 1)));
+        na = vsv_clock_ahead(c, gap / v, all, (int)fmin(VSV_CLOCK_HORIZON, (double)max * (k > 1 ? k : 1)));
     }
     for (int i = 0; i < na; i++)
         all[i] = vsv_clock_stride_step(c, all[i], k);
