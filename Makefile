@@ -604,11 +604,15 @@ deps:
 # (tools/deb.sh; it installs what it needs first, as root). `make
 # test-deb`: on a fresh clone, make deb, install the packages with apt-get,
 # use them from /, purge them; and make install PREFIX=/usr/local for
-# python3 (tests/cli_deb.sh; root, changes the system, run by CI)
+# python3 (tests/cli_deb.sh; root, changes the system, run by CI); its
+# tally at the end, and a FAIL fails the goal
 deb:
 	$(Q)B=$(B) sh tools/deb.sh
 test-deb:
-	$(Q)B=$(B) SHARED=$(SHARED) sh tests/cli_deb.sh
+	$(Q)mkdir -p $(B) && { B=$(B) SHARED=$(SHARED) sh tests/cli_deb.sh; echo $$? > $(B)/test-deb.rc; } 2>&1 | \
+	  tee $(B)/test-deb.log; \
+	  echo "$$(grep -c '^PASS' $(B)/test-deb.log) passed, $$(grep -c '^FAIL' $(B)/test-deb.log) failed"; \
+	  [ "$$(cat $(B)/test-deb.rc)" = 0 ] && ! grep -q '^FAIL' $(B)/test-deb.log
 
 # `make fuzz`: every target built with clang's libFuzzer, ASan and UBSan
 # (build-fuzz/), then run FUZZ_SECONDS each from its seed corpus

@@ -115,7 +115,7 @@ expect "the packaged vsv-convert converts the bundled MM5 sample" 0 \
 expect "a C program builds against the installed headers and library" 0 \
     env -C / sh -c "cc -o '$T/hello' '$T/hello.c' \$(pkg-config --cflags --libs vesuvius)"
 expect "and reads the sample" 0 env -C / "$T/hello" "$T/crop.vsv"
-has "with the installed version" "$T/out" "$V 4 steps 5 species"
+has "with the installed version" "$T/out" "$V 4 steps 8 species"
 lib=$(ldd "$T/hello" | sed -n 's/.*libvesuvius.so.0 => \([^ ]*\).*/\1/p')
 case $lib in /usr/lib/*/libvesuvius.so.0 | /lib/*/libvesuvius.so.0) pass "linked to the packaged $lib" ;;
 *) fail "linked to the packaged libvesuvius.so.0" "'$lib'" ;; esac
@@ -125,7 +125,7 @@ has "naming the file" "$T/err" "damaged netCDF-4/HDF5 file: the HDF5 library cra
 expect "/usr/bin/python3 -c 'import vesuvius' from / reads the sample" 0 env -C / -i PATH=/usr/bin:/bin $PY -c \
     'import sys, numpy, vesuvius; f = vesuvius.open(sys.argv[1]); c = f.read("CLW", 3)
 print(vesuvius.__file__, vesuvius.version, len(f.times), len(f.species), c.shape, numpy.nanmax(c) > 0)' "$T/crop.vsv"
-has "the packaged module, 4 steps, 5 species" "$T/out" "/usr/lib/python3/dist-packages/vesuvius/__init__.py $V 4 5"
+has "the packaged module, 4 steps, 8 species (five and the wind)" "$T/out" "/usr/lib/python3/dist-packages/vesuvius/__init__.py $V 4 8"
 has "and cloud water in it" "$T/out" "True"
 
 # the FreeVR back end against the installed libvesuvius-dev (README,
@@ -184,7 +184,7 @@ d=$($PY "$TOP/tools/pydir.py" /usr/local)
 expect "/usr/bin/python3 -c 'import vesuvius' from / with no PYTHONPATH reads the sample" 0 env -C / -i PATH=/usr/bin:/bin \
     $PY -c 'import sys, vesuvius; f = vesuvius.open(sys.argv[1]); print(vesuvius.__file__, len(f.times), len(f.species))' \
     "$T/crop.vsv"
-has "the module installed in $d" "$T/out" "$d/vesuvius/__init__.py 4 5"
+has "the module installed in $d" "$T/out" "$d/vesuvius/__init__.py 4 8"
 expect "/usr/local/bin/vsv-info --version" 0 env -C / /usr/local/bin/vsv-info --version
 has "says $V" "$T/out" "vsv-info (Vesuvius $V)"
 make -s -C "$TOP" --no-print-directory B="$B" uninstall PREFIX=/usr/local > "$T/install.log" 2>&1
