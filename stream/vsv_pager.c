@@ -549,19 +549,21 @@ int vsv_pager_wait_ready(vsv_pager *p, int step, const unsigned char *species, d
 {
     if (step < 0 || step >= p->info.nsteps)
         return 0;
-    struct timespec until;
-    clock_gettime(CLOCK_REALTIME, &until); /* (the condition's clock) */
-    const double s = seconds > 0 ? fmin(seconds, 10.0) : 0;
-    const long ns = until.tv_nsec + (long)((s - floor(s)) * 1e9);
-    until.tv_sec += (time_t)floor(s) + ns / 1000000000L;
-    until.tv_nsec = ns % 1000000000L;
     pthread_mutex_lock(&p->mu);
     int ok = ready_locked(p, step, species);
-    /* each brick a worker finishes wakes the wait (p->ready) */
-    while (ok == 0 && s > 0 && pthread_cond_timedwait(&p->ready, &p->mu, &until) == 0)
-        ok = ready_locked(p, step, species);
-    if (ok == 0 && s > 0)
-        ok = ready_locked(p, step, species);
+    if (ok == 0 && seconds > 0) { /* each brick a worker finishes wakes the wait (p->ready) */
+        struct timespec until;
+        clock_gettime(CLOCK_REALTIME, &until); /* (the condition's clock) */
+        const double s = fmin(seconds, 10.0);
+        const long ns = until.tv_nsec + (long)((s - floor(s)) * 1e9);
+        until.tv_sec += (time_t)floor(s) + ns / 1000000000L;
+        until.tv_nsec = ns % 1000000000L;
+        int rc = 0;
+        while (ok == 0 && rc == 0) {
+            rc = pthread_cond_timedwait(&p->ready, &p->mu, &until);
+            ok = ready_locked(p, step, species);
+        }
+    }
     pthread_mutex_unlock(&p->mu);
     return ok;
 }
