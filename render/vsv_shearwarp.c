@@ -425,6 +425,7 @@ vsv_sw *vsv_sw_create(int max_threads, int simd)
     }
     sw->max_threads = max_threads; /* the opacity table: vsv_renderer_create */
     sw->simd = simd;
+    sw->solo = -1;
     return sw;
 }
 
@@ -436,6 +437,7 @@ void vsv_sw_free(vsv_sw *sw)
         free(sw->vox[c]);
         free(sw->fps[c]);
         free(sw->ivl[c]);
+        free(sw->held[c]);
     }
     free(sw->img);
     free(sw->link);
@@ -455,6 +457,7 @@ void vsv_sw_free(vsv_sw *sw)
     }
     free(sw->cacc);
     free(sw->cls);
+    free(sw->pos);
     free(sw->ckeys);
     free(sw->cok);
     free(sw->bnz);

@@ -119,12 +119,37 @@ void vsv_sw_par_warp(const float *img, size_t W, int w, int h, double x0, double
 void vsv_sw_par_warp_avx2(const float *img, size_t W, int w, int h, double x0, double y0, double dx, double dy, int p0,
                           int p1, float *out);
 
-/* a layer's classification table: VSV_SW_SUB entries per step of the
- * transfer function's */
+/* a layer's classification table: entry 0 transparent (below the range,
+ * no data), then VSV_SW_SUB entries per step of the transfer function's */
 #define VSV_SW_SUB 16
 /* slices a classification job copies into (B is a multiple) */
 #define VSV_SW_GROUP 8
-#define VSV_SW_NTAB ((VSV_TF_LUT - 1) * VSV_SW_SUB + 1)
+#define VSV_SW_NTAB ((VSV_TF_LUT - 1) * VSV_SW_SUB + 2)
+/* A layer's table t for transfer function tf at opacity o (times the
+ * copy's scale): entry 1 + i the species rule at position i / VSV_SW_SUB
+ * of tf's table (linear between its entries), the four half floats packed
+ * in 64 bits (the copy's plane order), 0 where the extinction is not above
+ * 0 (vsv_sw_classify.c) */
+void vsv_sw_table(const vsv_tf *tf, float o, uint64_t *t);
+/* The entry of a layer's table for value v at x (v itself on a linear
+ * scale, its logarithm on a log scale) of a transfer function of range
+ * lo, base (float)tf->base, inv (float)tf->inv: 1 + round(x' VSV_SW_SUB), x'
+ * its position in the transfer function's table (within 1/32 of a step
+ * of the exact lookup); 0 below the range or without data (NaN). */
+static inline uint16_t vsv_sw_position(float v, float x, float lo, float base, float inv)
+{
+    float p = (x - base) * inv;
+    p = p > 0 ? p : 0; /* NaN too (selected away below): converted in range */
+    p = p < VSV_TF_LUT - 1 ? p : VSV_TF_LUT - 1;
+    return (uint16_t)(v >= lo ? 1 + (int)(p * VSV_SW_SUB + 0.5f) : 0);
+}
+typedef uint16_t vsv_sw_h8 __attribute__((vector_size(16)));
+/* vsv_sw_position for a row of n values v (at x), eight a vector: the
+ * entries of the i-th eight to out + 512 i (a row of 8^3-cell blocks of a
+ * classified brick), lane by lane the smallest and largest so far into
+ * mn[i], mx[i] (vsv_sw_table.c) */
+void vsv_sw_positions(const float *v, const float *x, int n, float lo, float base, float inv, uint16_t *out,
+                      vsv_sw_h8 *mn, vsv_sw_h8 *mx);
 
 /* The renderer's state (vsv_shearwarp.c: the frame; vsv_sw_classify.c: the
  * classification). */
@@ -150,6 +175,14 @@ struct vsv_sw {
     size_t keys_cap[3], nkeys[3], cur_cap;
     int nbk, shift, bdim[3]; /* the brick layout */
     int *jobs, njobs, full;  /* the slices to copy bricks into; all of them */
+    /* per axis: the layout its copy was last built in (na, nb, nc, the
+     * brick shift; wipe: another now, the copy cleared whole), and per
+     * brick and block of 8^3 cells (bnz's order), 1 when the copy may hold
+     * a cell of it that is not 0 (what a build clears where the block has
+     * nothing to see now; the rest of the copy is 0 already) */
+    int layout[3][4], wipe;
+    unsigned char *held[3];
+    size_t held_cap[3];
     size_t jobs_cap;
     /* the classified bricks (per brick B^3 cells of four half floats, in
      * the volume's order) shared by the three axes, the keys they were
@@ -165,6 +198,15 @@ struct vsv_sw {
     size_t bnz_cap;
     uint64_t *ltab; /* per layer, VSV_SW_NTAB classified positions */
     size_t ltab_cap;
+    /* one visible layer, no lighting: the classified bricks as entries of
+     * its table (2 bytes a cell at micro()'s place; cls unused), read
+     * through the table as they are copied into an axis's slices; solo is
+     * that layer, -1 otherwise; nzc[i], how many of its first i entries
+     * are not transparent */
+    uint16_t *pos;
+    size_t pos_cap;
+    uint32_t nzc[VSV_SW_NTAB + 1];
+    int solo;
     /* per thread: sums of four channels over a brick's row */
     double **cacc;
     size_t cacc_cap;

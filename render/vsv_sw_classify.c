@@ -54,20 +54,30 @@ static uint64_t scene_key(const vsv_scene *sc)
  * equal values), else the load's gen (every brick changes with a load). */
 static uint64_t brick_key(const vsv_volume *v, int b) { return !v ? 0 : v->bkey && v->gen ? v->bkey[b] : v->gen; }
 
-/* Entry i of a layer's table: the species rule at transfer-function
- * position i / VSV_SW_SUB, o the layer's opacity times the copy's scale
- * (the four half floats packed in 64 bits, vsv_sw.h's plane order). */
-static uint64_t table_entry(const vsv_tf *tf, int i, float o)
+/* Per layer, the classification of VSV_SW_SUB positions per step of its
+ * transfer function's table (sw->ltab), and whether one layer alone is
+ * shown without lighting (sw->solo, sw->nzc): 0 or VSV_ENOMEM. */
+static int layer_tables(vsv_sw *sw, const vsv_scene *sc)
 {
-    const int x = i / VSV_SW_SUB < VSV_TF_LUT - 1 ? i / VSV_SW_SUB : VSV_TF_LUT - 2;
-    const float f = (float)(i - x * VSV_SW_SUB) / VSV_SW_SUB, *a = tf->lut[x], *b = tf->lut[x + 1];
-    float rgba[4];
-    for (int ch = 0; ch < 4; ch++)
-        rgba[ch] = a[ch] + (b[ch] - a[ch]) * f;
-    const float s = rgba[3] * o; /* in units of sigma_unit / scale */
-    return s > 0 ? (uint64_t)vsv_half(s * rgba[0]) | (uint64_t)vsv_half(s * rgba[1]) << 16 |
-                       (uint64_t)vsv_half(s * rgba[2]) << 32 | (uint64_t)vsv_half(s) << 48
-                 : 0;
+    if (vsv_sw_grow((void **)&sw->ltab, &sw->ltab_cap, (size_t)sc->nlayers * VSV_SW_NTAB, sizeof *sw->ltab))
+        return VSV_ENOMEM;
+    int seen = 0;
+    sw->solo = -1;
+    for (int l = 0; l < sc->nlayers; l++) {
+        const vsv_layer *L = &sc->layers[l];
+        uint64_t *t = sw->ltab + (size_t)l * VSV_SW_NTAB;
+        if (L->tf)
+            vsv_sw_table(L->tf, L->opacity * sw->scale, t);
+        else
+            memset(t, 0, VSV_SW_NTAB * sizeof *t);
+        if (L->visible && L->opacity > 0 && L->vol && L->tf && seen++ == 0)
+            sw->solo = l;
+    }
+    if (seen != 1 || sc->light)
+        sw->solo = -1;
+    for (int i = 0; sw->solo >= 0 && i < VSV_SW_NTAB; i++)
+        sw->nzc[i + 1] = sw->nzc[i] + (sw->ltab[(size_t)sw->solo * VSV_SW_NTAB + i] != 0);
+    return 0;
 }
 
 /* Checks the classification against the scene (invalidating every axis's
@@ -97,15 +107,8 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
         if (smax > 0)
             frexp(smax, &e);
         sw->scale = ldexpf(1, 14 - (e < -40 ? -40 : e > 40 ? 40 : e));
-        /* per layer, the classification of VSV_SW_SUB positions per step of
-         * its transfer function's table */
-        if (vsv_sw_grow((void **)&sw->ltab, &sw->ltab_cap, (size_t)sc->nlayers * VSV_SW_NTAB, sizeof *sw->ltab))
+        if (layer_tables(sw, sc))
             return VSV_ENOMEM;
-        for (int l = 0; l < sc->nlayers; l++) {
-            const vsv_layer *L = &sc->layers[l];
-            for (int i = 0; i < VSV_SW_NTAB; i++)
-                sw->ltab[(size_t)l * VSV_SW_NTAB + i] = L->tf ? table_entry(L->tf, i, L->opacity * sw->scale) : 0;
-        }
     }
     const size_t na = sw->n[vsv_sw_axis_a(c)], nb = sw->n[vsv_sw_axis_b(c)], nc = sw->n[c];
     if (!sw->valid[c] &&
@@ -129,7 +132,8 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
         vsv_sw_grow((void **)&sw->ckeys, &sw->ckeys_cap, nkeys + 1, sizeof *sw->ckeys) ||
         vsv_sw_grow((void **)&sw->jobs, &sw->jobs_cap, nc, sizeof *sw->jobs) ||
         vsv_sw_grow((void **)&sw->cjobs, &sw->cjobs_cap, nbk, sizeof *sw->cjobs) ||
-        vsv_sw_grow((void **)&sw->cls, &sw->cls_cap, nbk * B3, sizeof *sw->cls) ||
+        (sw->solo < 0 ? vsv_sw_grow((void **)&sw->cls, &sw->cls_cap, nbk * B3, sizeof *sw->cls)
+                      : vsv_sw_grow((void **)&sw->pos, &sw->pos_cap, nbk * B3, sizeof *sw->pos)) ||
         vsv_sw_grow((void **)&sw->bnz, &sw->bnz_cap, nbk * (B3 >> 9 ? B3 >> 9 : 1), 1))
         return VSV_ENOMEM;
     if (sw->cnkeys != nkeys || !sw->cvalid) {
@@ -195,6 +199,17 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
     sw->cvalid = 1;
     sw->cnkeys = nkeys;
     sw->full = full;
+    /* a copy built in another layout (or never), or of no volume (one
+     * brick, transparent, no blocks): cleared whole, holding nothing */
+    const int layout[4] = {(int)na, (int)nb, (int)nc, sw->shift};
+    const size_t nheld = nbk * (B3 >> 9 ? B3 >> 9 : 1);
+    sw->wipe = full && (!v0 || memcmp(layout, sw->layout[c], sizeof layout));
+    if (sw->wipe) {
+        if (vsv_sw_grow((void **)&sw->held[c], &sw->held_cap[c], nheld, 1))
+            return VSV_ENOMEM;
+        memset(sw->held[c], 0, nheld);
+        memcpy(sw->layout[c], layout, sizeof layout);
+    }
     if (!any)
         return 0;
     /* the slabs of B slices (bricks with the same index along c) holding a
@@ -243,16 +258,14 @@ static int merge_footprints(const uint16_t *A, const uint16_t *B, uint16_t *out)
 static void slice_footprints(vsv_sw *sw, int k, int thread);
 
 /* One cell's classification from one layer's table t (a value v at
- * transfer-function position x reads entry round(x VSV_SW_SUB): within
+ * transfer-function position x reads entry 1 + round(x VSV_SW_SUB): within
  * 1/32 of a table step of the exact lookup, and no arithmetic per cell
  * beyond the position). */
 static inline uint64_t classify_one(const vsv_tf *tf, const uint64_t *t, float v)
 {
     if (!(v >= tf->lo)) /* below the range, or no data (NaN) */
         return 0;
-    float x = ((tf->scale == VSV_SCALE_LOG ? logf(v) : v) - (float)tf->base) * (float)tf->inv;
-    x = x < VSV_TF_LUT - 1 ? x : VSV_TF_LUT - 1;
-    return t[(int)(x * VSV_SW_SUB + 0.5f)];
+    return t[vsv_sw_position(v, tf->scale == VSV_SCALE_LOG ? logf(v) : v, tf->lo, (float)tf->base, (float)tf->inv)];
 }
 
 /* The lighting factor of layer L's value v at cell idx: central
@@ -307,6 +320,48 @@ static void block_flags(vsv_sw *sw, int bno, const uint64_t *out, int ex, int ey
             }
 }
 
+/* Brick bno of the solo layer (ex x ey x ez cells inside the grid) as its
+ * table's entries (sw->pos, micro()'s order) and its blocks' flags: a
+ * block is marked when the entries from its smallest to its largest hold
+ * one not transparent (exactly when it holds one value, as most blocks of a
+ * sparse field do; else it may be marked with nothing to see, which costs
+ * a scan, never a voxel). */
+static void classify_positions(vsv_sw *sw, int bno, int ex, int ey, int ez, int thread)
+{
+    const vsv_layer *L = &sw->sc->layers[sw->solo];
+    const vsv_tf *tf = L->tf;
+    const int sh = sw->shift, B = 1 << sh, nm = sh - 3, nblk = 1 << (3 * nm);
+    const float *src = L->vol->bricks[bno], e = L->vol->empty_value;
+    const float flo = tf->lo, base = (float)tf->base, inv = (float)tf->inv;
+    const int lg = tf->scale == VSV_SCALE_LOG;
+    uint16_t *const out = sw->pos + ((size_t)bno << (3 * sh));
+    vsv_sw_h8 lo[512], hi[512];                 /* per block, lane by lane */
+    float *const x = (float *)sw->cacc[thread]; /* B values: a row's logarithms, or the empty row */
+    for (int i = 0; i < nblk; i++)
+        lo[i] = (vsv_sw_h8){0} + UINT16_MAX, hi[i] = (vsv_sw_h8){0};
+    if (!src)
+        for (int i = 0; i < B; i++)
+            x[B + i] = e, x[i] = lg ? logf(e) : e;
+    for (int k = 0; k < ez; k++)
+        for (int jj = 0; jj < ey; jj++) {
+            const float *v = src ? src + ((size_t)k << (2 * sh)) + ((size_t)jj << sh) : x + B;
+            if (src && lg)
+                for (int i = 0; i < ex; i++)
+                    x[i] = logf(v[i]);
+            const size_t bk = ((size_t)(k >> 3) << (2 * nm)) + ((size_t)(jj >> 3) << nm);
+            vsv_sw_positions(v, lg || !src ? x : v, ex, flo, base, inv, out + micro(0, jj, k, sh), lo + bk, hi + bk);
+        }
+    unsigned char *const f = sw->bnz + ((size_t)bno << (3 * nm));
+    for (int i = 0; i < nblk; i++) {
+        uint16_t a = UINT16_MAX, z = 0;
+        for (int k = 0; k < 8; k++) {
+            a = lo[i][k] < a ? lo[i][k] : a;
+            z = hi[i][k] > z ? hi[i][k] : z;
+        }
+        f[i] = a <= z && sw->nzc[z + 1] > sw->nzc[a];
+    }
+}
+
 /* Job j: brick sw->cjobs[j] classified once for every axis: the species
  * rule summed over the layers that are not clear in it, per cell four half
  * floats (extinction-weighted red, green, blue, then extinction) at
@@ -323,6 +378,10 @@ void vsv_sw_classify_brick(void *p, int j, int thread)
     const int ex = sw->n[0] - (bi << sh) < B ? sw->n[0] - (bi << sh) : B;
     const int ey = sw->n[1] - (bj << sh) < B ? sw->n[1] - (bj << sh) : B;
     const int ez = sw->n[2] - (bk << sh) < B ? sw->n[2] - (bk << sh) : B;
+    if (sw->solo >= 0) {
+        classify_positions(sw, bno, ex, ey, ez, thread);
+        return;
+    }
     int nl = 0, last = -1;
     for (int l = 0; l < sc->nlayers; l++)
         if (!sw->clear[l * nbk + bno])
@@ -392,6 +451,38 @@ void vsv_sw_classify_brick(void *p, int j, int thread)
     block_flags(sw, bno, out, ex, ey, ez);
 }
 
+/* The first n <= 8 cells of a scanline (its four planes P apart) from
+ * their classifications: eight by a transpose of 16-bit lanes. */
+static inline void put8(uint16_t *row, size_t P, int n, const uint64_t v[8])
+{
+#ifdef __SSE2__
+    if (n == 8) {
+        __m128i x[4], y[4];
+        for (int i = 0; i < 4; i++) /* red, green, blue, extinction of cells 2i, 2i + 1 */
+            x[i] = _mm_set_epi64x((long long)v[2 * i + 1], (long long)v[2 * i]);
+        for (int i = 0; i < 2; i++) { /* r0 r2 g0 g2 b0 b2 e0 e2, r1 r3 g1 g3 ... (and 4-7) */
+            y[2 * i] = _mm_unpacklo_epi16(x[2 * i], x[2 * i + 1]);
+            y[2 * i + 1] = _mm_unpackhi_epi16(x[2 * i], x[2 * i + 1]);
+        }
+        for (int i = 0; i < 2; i++) { /* r0-r3 g0-g3, b0-b3 e0-e3 (and 4-7) */
+            x[2 * i] = _mm_unpacklo_epi16(y[2 * i], y[2 * i + 1]);
+            x[2 * i + 1] = _mm_unpackhi_epi16(y[2 * i], y[2 * i + 1]);
+        }
+        _mm_storeu_si128((__m128i *)row, _mm_unpacklo_epi64(x[0], x[2]));
+        _mm_storeu_si128((__m128i *)(row + P), _mm_unpackhi_epi64(x[0], x[2]));
+        _mm_storeu_si128((__m128i *)(row + 2 * P), _mm_unpacklo_epi64(x[1], x[3]));
+        _mm_storeu_si128((__m128i *)(row + 3 * P), _mm_unpackhi_epi64(x[1], x[3]));
+        return;
+    }
+#endif
+    for (int i = 0; i < n; i++) {
+        row[i] = (uint16_t)v[i];
+        row[P + i] = (uint16_t)(v[i] >> 16);
+        row[2 * P + i] = (uint16_t)(v[i] >> 32);
+        row[3 * P + i] = (uint16_t)(v[i] >> 48);
+    }
+}
+
 /* Job j: slices sw->jobs[j] .. + VSV_SW_GROUP - 1 of the current axis
  * (those that exist): the classified bricks they need again copied in (a
  * brick every layer leaves transparent zeroed; when the copy is built
@@ -408,7 +499,7 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
     const int c = sw->c, a = vsv_sw_axis_a(c), b = vsv_sw_axis_b(c), na = sw->n[a], nb = sw->n[b];
     const int k0 = sw->jobs[j], k1 = k0 + VSV_SW_GROUP < sw->n[c] ? k0 + VSV_SW_GROUP : sw->n[c];
     const size_t P = VSV_SW_PLANE(na), scan = 4 * P, nbk = (size_t)sw->nbk;
-    if (sw->full)
+    if (sw->wipe)
         memset(sw->vox[c] + (size_t)k0 * (nb + 2) * scan, 0, (size_t)(k1 - k0) * (nb + 2) * scan * sizeof(uint16_t));
     const unsigned char *dirty = sw->clear + nbk * sc->nlayers, *zero = dirty + nbk;
     const int sh = sw->shift, B = 1 << sh, m = B - 1, stride[3] = {1, sw->bdim[0], sw->bdim[0] * sw->bdim[1]};
@@ -416,53 +507,50 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
     const int st[3] = {1, 8, 64}, nm = sh - 3;
     const size_t ba[3] = {512, (size_t)512 << nm, (size_t)512 << (2 * nm)};
     const int kn = k1 - k0;
+    const uint64_t *const lt = sw->solo >= 0 ? sw->ltab + (size_t)sw->solo * VSV_SW_NTAB : NULL;
     for (int ib0 = 0; ib0 < nb; ib0 += B) {
         const int nbt = nb - ib0 < B ? nb - ib0 : B;
         for (int ia0 = 0; ia0 < na; ia0 += B) {
             const int nat = na - ia0 < B ? na - ia0 : B;
             const int bno = (ia0 >> sh) * stride[a] + (ib0 >> sh) * stride[b] + (k0 >> sh) * stride[c];
-            if (!dirty[bno] || (zero[bno] && sw->full))
+            if (!dirty[bno] || (zero[bno] && sw->wipe))
                 continue;
             uint16_t *const base = sw->vox[c] + ((size_t)k0 * (nb + 2) + ib0 + 1) * scan + VSV_SW_PAD + ia0;
             const size_t kstep = (size_t)(nb + 2) * scan;
-            if (zero[bno]) {
-                for (int kk = 0; kk < kn; kk++)
-                    for (int jb = 0; jb < nbt; jb++)
-                        for (int ch = 0; ch < 4; ch++)
-                            memset(base + kk * kstep + jb * scan + ch * P, 0, nat * sizeof *base);
-                continue;
-            }
-            /* the group's layer of blocks, block by block (a block with no
-             * cell to see: zeros, already there when the slice was cleared) */
-            const uint64_t *const cb = sw->cls + ((size_t)bno << (3 * sh)) + ((size_t)((k0 & m) >> 3) * ba[c]);
-            const unsigned char *const fb =
-                sw->bnz + ((size_t)bno << (3 * nm)) + ((size_t)((k0 & m) >> 3) * (ba[c] >> 9));
+            /* the group's layer of blocks, block by block: a block with no
+             * cell to see (all of a brick every layer leaves transparent)
+             * cleared where the copy held something, else left as it is */
+            const size_t cb = ((size_t)bno << (3 * sh)) + ((size_t)((k0 & m) >> 3) * ba[c]);
+            const size_t fo = ((size_t)bno << (3 * nm)) + ((size_t)((k0 & m) >> 3) * (ba[c] >> 9));
+            const unsigned char *const fb = zero[bno] ? NULL : sw->bnz + fo;
+            unsigned char *const held = sw->held[c] + fo;
             for (int mb = 0; mb < nbt; mb += 8)
                 for (int ma = 0; ma < nat; ma += 8) {
                     const size_t bo = (size_t)(mb >> 3) * ba[b] + (size_t)(ma >> 3) * ba[a];
-                    const uint64_t *blk = cb + bo;
+                    const size_t blk = cb + bo;
                     const int ea = nat - ma < 8 ? nat - ma : 8, eb = nbt - mb < 8 ? nbt - mb : 8;
-                    if (!fb[bo >> 9]) {
-                        if (!sw->full)
+                    if (!fb || !fb[bo >> 9]) {
+                        if (held[bo >> 9])
                             for (int kk = 0; kk < kn; kk++)
                                 for (int jb = 0; jb < eb; jb++)
                                     for (int ch = 0; ch < 4; ch++)
                                         memset(base + kk * kstep + (size_t)(mb + jb) * scan + ch * P + ma, 0,
                                                (size_t)ea * sizeof *base);
+                        held[bo >> 9] = 0;
                         continue;
                     }
                     for (int kk = 0; kk < kn; kk++)
                         for (int jb = 0; jb < eb; jb++) {
                             uint16_t *const row = base + kk * kstep + (size_t)(mb + jb) * scan + ma;
-                            const uint64_t *t = blk + kk * st[c] + jb * st[b];
-                            for (int ja = 0; ja < ea; ja++) {
-                                const uint64_t v = t[ja * st[a]];
-                                row[ja] = (uint16_t)v;
-                                row[P + ja] = (uint16_t)(v >> 16);
-                                row[2 * P + ja] = (uint16_t)(v >> 32);
-                                row[3 * P + ja] = (uint16_t)(v >> 48);
-                            }
+                            const size_t t = blk + (size_t)kk * st[c] + (size_t)jb * st[b];
+                            uint64_t v[8];
+                            for (int ja = 0; ja < 8; ja++)
+                                v[ja] = ja >= ea ? 0
+                                        : lt     ? lt[sw->pos[t + (size_t)ja * st[a]]]
+                                                 : sw->cls[t + (size_t)ja * st[a]];
+                            put8(row, P, ea, v);
                         }
+                    held[bo >> 9] = 1;
                 }
         }
     }

@@ -28,6 +28,46 @@ static void test_half(void)
     CHECK(worst <= 1.0001, "half floats: every value within half a unit in the last place", "worst %g", worst);
 }
 
+/* The shear-warp's classification table: every entry the species rule at
+ * its position, worked out here one at a time, bit for bit; over colour
+ * maps, opacity ramps and opacities that reach the half floats' top
+ * (65504) and fall below their smallest normal (2^-14, then 0). */
+static void test_sw_table(void)
+{
+    static const char *const text[] = {"colormap clouds\nrange 0 1\nopacity 0 0.1 0.5 1\n",
+                                       "colormap magma\nrange 0 1\nopacity 1 0 0 0.3 0.7\n",
+                                       "colormap greys\nrange 0 1\nopacity 0.02 0.02\n"};
+    static const float ops[] = {1, 1e-3f, 3e-5f, 300, 1e5f};
+    static uint64_t t[VSV_SW_NTAB];
+    long bad = 0, nonzero = 0, top = 0;
+    for (size_t n = 0; n < sizeof text / sizeof *text; n++) {
+        vsv_tf tf;
+        char msg[128];
+        if (!CHECK(vsv_tf_parse(&tf, text[n], msg, sizeof msg) == 0, "table: transfer function parses", "%s", msg))
+            return;
+        for (size_t j = 0; j < sizeof ops / sizeof *ops; j++) {
+            vsv_sw_table(&tf, ops[j], t);
+            bad += t[0] != 0;
+            for (int i = 0; i < VSV_SW_NTAB - 1; i++) {
+                const int x = i / VSV_SW_SUB < VSV_TF_LUT - 1 ? i / VSV_SW_SUB : VSV_TF_LUT - 2;
+                const float f = (float)(i - x * VSV_SW_SUB) / VSV_SW_SUB;
+                float c[4];
+                for (int ch = 0; ch < 4; ch++)
+                    c[ch] = tf.lut[x][ch] + (tf.lut[x + 1][ch] - tf.lut[x][ch]) * f;
+                const float s = c[3] * ops[j];
+                const uint64_t want = s > 0 ? (uint64_t)vsv_half(s * c[0]) | (uint64_t)vsv_half(s * c[1]) << 16 |
+                                                  (uint64_t)vsv_half(s * c[2]) << 32 | (uint64_t)vsv_half(s) << 48
+                                            : 0;
+                bad += t[1 + i] != want;
+                nonzero += want != 0;
+                top += want >> 48 == 0x7BFF;
+            }
+        }
+    }
+    CHECK(bad == 0 && nonzero > 10000 && top > 1000, "the shear-warp's table: every entry the rule at its position",
+          "%ld wrong, %ld not 0, %ld at the top", bad, nonzero, top);
+}
+
 static void test_tf(void)
 {
     vsv_tf tf;
@@ -118,6 +158,7 @@ int main(void)
 {
     test_exr();
     test_half();
+    test_sw_table();
     test_tf();
     return vsv_test_done();
 }
