@@ -106,16 +106,19 @@ static inline void row_slice(const vsv_sw_par *p, const uint16_t *iv, int nfp, c
     float *const ar = acc, *const ag = acc + span, *const ab = acc + 2 * span, *const aa = acc + 3 * span;
     const size_t P = p->plane;
     const vf d = splat(p->delta);
-    for (int q = 0; q < nfp; q++) {
+    /* the intervals are sorted, but two can share a group: each group
+     * once, from the first after the last one composited */
+    for (int q = 0, next = 0; q < nfp; q++) {
         int x0 = iv[2 * q] - ip0, x1 = iv[2 * q + 1] - ip0;
         if (x0 < 0)
             x0 = 0;
         if (x1 > p->w - 1)
             x1 = p->w - 1;
-        if (x0 > x1)
+        const int ge = x1 / VSV_SW_LANES, g0 = x0 / VSV_SW_LANES > next ? x0 / VSV_SW_LANES : next;
+        if (x0 > x1 || g0 > ge)
             continue;
-        const int ge = x1 / VSV_SW_LANES;
-        for (int g = open_group(link, x0 / VSV_SW_LANES); g <= ge; g = open_group(link, g + 1)) {
+        next = ge + 1;
+        for (int g = open_group(link, g0); g <= ge; g = open_group(link, g + 1)) {
             const int x = g * VSV_SW_LANES;
             const uint16_t *t0 = r0 + x, *t1 = r1 + x;
             vf c[4];

@@ -75,6 +75,7 @@ static double cone(int i, int j, int k)
     return 1 - sqrt((i - c) * (i - c) + (j - c) * (j - c) + (k - c) * (k - c)) / R;
 }
 static double uniform(int i, int j, int k) { return (void)i, (void)j, (void)k, 0.5; }
+static double comb(int i, int j, int k) { return (void)j, (void)k, i % 3 ? 0 : 0.5; }
 
 /* Renders sc from straight above (orthographic, the domain filling the
  * image) with renderer kind; a new image. */
@@ -510,6 +511,43 @@ static void test_slab_closed_form(void)
  * nothing. */
 static double ramp_x(int i, int j, int k) { return (void)j, (void)k, i / 15.0; }
 
+/* Columns one cell wide, two cells apart (every third x), 0.5 all the way
+ * down 10 levels, seen from straight above by shear-warp: a pixel's ray
+ * meets at most a column's extinction (the slices' samples interpolate
+ * between a column and the empty cells beside it), so no pixel is more
+ * opaque than over the uniform slab of 0.5 seen the same way. Each such
+ * scanline's footprint is a run of short intervals, several in a group of
+ * eight pixels: a group composited once per interval broke the bound. */
+static void test_comb(void)
+{
+    vsv_meta m;
+    grid(&m, N, N, 10, 1000);
+    vsv_volume *cv = make_volume(N, N, 10, comb), *uv = make_volume(N, N, 10, uniform);
+    vsv_tf tf;
+    char msg[128];
+    CHECK(vsv_tf_parse(&tf, "colormap viridis\nrange 0.2 1\nopacity 0 1\n", msg, sizeof msg) == 0, "comb: tf", "%s",
+          msg);
+    vsv_layer L = {cv, &tf, 0.1f, 1};
+    vsv_scene sc = {.meta = &m, .layers = &L, .nlayers = 1, .exaggeration = 1, .show_terrain = 0};
+    float *a = render_plan(&sc, VSV_RENDER_SHEARWARP);
+    L.vol = uv;
+    float *b = render_plan(&sc, VSV_RENDER_SHEARWARP);
+    double amax = 0, bmax = 0;
+    int shown = 0;
+    for (int i = 0; a && b && i < W * H; i++) {
+        amax = fmax(amax, a[4 * i + 3]);
+        bmax = fmax(bmax, b[4 * i + 3]);
+        shown += a[4 * i + 3] > 0.1f;
+    }
+    CHECK(a && b && bmax > 0.6 && amax <= bmax + 1e-4 && shown > W * H / 10,
+          "comb: shear-warp composites each pixel once a slice where footprints lie closer than a group",
+          "(comb's largest alpha %.4f, the slab's %.4f, %d pixels)", amax, bmax, shown);
+    free(a);
+    free(b);
+    free_volume(cv);
+    free_volume(uv);
+}
+
 static void test_slice_extreme(void)
 {
     static const double sp[][2] = {{1, 1e4}, {1e-3, 1e6}, {1e6, 1e-3}};
@@ -544,6 +582,7 @@ int main(void)
 {
     test_lit_sphere();
     test_slab_closed_form();
+    test_comb();
     test_slice_linear();
     test_slice_heights();
     test_slice_extreme();
