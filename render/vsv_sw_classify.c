@@ -54,6 +54,18 @@ static uint64_t scene_key(const vsv_scene *sc)
  * equal values), else the load's gen (every brick changes with a load). */
 static uint64_t brick_key(const vsv_volume *v, int b) { return !v ? 0 : v->bkey && v->gen ? v->bkey[b] : v->gen; }
 
+/* Grows *p (of *cap half floats) to need as new zeros: 1, or 0 when it
+ * holds need already (unchanged), -1 out of memory. */
+static int grow_zeros(uint16_t **p, size_t *cap, size_t need)
+{
+    if (need <= *cap)
+        return 0;
+    free(*p);
+    *p = calloc(need, sizeof **p);
+    *cap = *p ? need : 0;
+    return *p ? 1 : -1;
+}
+
 /* Per layer, the classification of VSV_SW_SUB positions per step of its
  * transfer function's table (sw->ltab), and whether one layer alone is
  * shown without lighting (sw->solo, sw->nzc): 0 or VSV_ENOMEM. */
@@ -111,10 +123,12 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
             return VSV_ENOMEM;
     }
     const size_t na = sw->n[vsv_sw_axis_a(c)], nb = sw->n[vsv_sw_axis_b(c)], nc = sw->n[c];
-    if (!sw->valid[c] &&
-        (vsv_sw_grow((void **)&sw->vox[c], &sw->vox_cap[c], nc * (nb + 2) * 4 * VSV_SW_PLANE(na), sizeof(uint16_t)) ||
-         vsv_sw_grow((void **)&sw->fps[c], &sw->fps_cap[c], nc * (nb + 1), sizeof(vsv_sw_fp)) ||
-         vsv_sw_grow((void **)&sw->ivl[c], &sw->ivl_cap[c], nc * (nb + 1) * (na + 4), sizeof(uint16_t))))
+    /* a copy made larger is allocated anew, zeros (pages the build never
+     * writes are never touched) */
+    const int fresh = sw->valid[c] ? 0 : grow_zeros(&sw->vox[c], &sw->vox_cap[c], nc * (nb + 2) * 4 * VSV_SW_PLANE(na));
+    if (fresh < 0 || (!sw->valid[c] &&
+                      (vsv_sw_grow((void **)&sw->fps[c], &sw->fps_cap[c], nc * (nb + 1), sizeof(vsv_sw_fp)) ||
+                       vsv_sw_grow((void **)&sw->ivl[c], &sw->ivl_cap[c], nc * (nb + 1) * (na + 4), sizeof(uint16_t)))))
         return VSV_ENOMEM;
     sw->sc = sc;
     /* the brick layout (every layer's volume has the first one's, or is
@@ -200,11 +214,12 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
     sw->cnkeys = nkeys;
     sw->full = full;
     /* a copy built in another layout (or never), or of no volume (one
-     * brick, transparent, no blocks): cleared whole, holding nothing */
+     * brick, transparent, no blocks): cleared whole, holding nothing (a
+     * new one is zeros already) */
     const int layout[4] = {(int)na, (int)nb, (int)nc, sw->shift};
     const size_t nheld = nbk * (B3 >> 9 ? B3 >> 9 : 1);
-    sw->wipe = full && (!v0 || memcmp(layout, sw->layout[c], sizeof layout));
-    if (sw->wipe) {
+    sw->wipe = full && !fresh && (!v0 || memcmp(layout, sw->layout[c], sizeof layout));
+    if (sw->wipe || fresh) {
         if (vsv_sw_grow((void **)&sw->held[c], &sw->held_cap[c], nheld, 1))
             return VSV_ENOMEM;
         memset(sw->held[c], 0, nheld);
