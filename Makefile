@@ -533,8 +533,8 @@ ifeq ($(TSAN),1)
 # isosurfaces (extracted on the pool);
 # any data race or lock-order inversion ThreadSanitizer sees is a failure
 # (they run the tools too)
-TSAN_TESTS = test_format test_format_damage test_stream test_pager_play test_pager_io test_render test_viewer test_room \
-  test_advect test_picture test_iso test_iso_draw
+TSAN_TESTS = test_format test_format_damage test_stream test_pager_play test_pager_io test_render test_render_sw test_viewer \
+  test_room test_advect test_picture test_iso test_iso_draw
 test-run: $(TOOL_BIN) $(patsubst %,$(B)/tests/%,$(TSAN_TESTS))
 	$(Q)B=$(B) SHARED=$(SHARED) TESTS="$(TSAN_TESTS)" NOASLR=1 \
 	  TSAN_OPTIONS="halt_on_error=1 exitcode=66 second_deadlock_stack=1 $(TSAN_OPTIONS)" sh tests/run.sh

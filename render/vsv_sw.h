@@ -176,7 +176,8 @@ struct vsv_sw {
     int nbk, shift, bdim[3]; /* the brick layout */
     int *jobs, njobs, full;  /* the slices to copy bricks into; all of them */
     /* per axis: the layout its copy was last built in (na, nb, nc, the
-     * brick shift; wipe: another now, the copy cleared whole), and per
+     * brick shift; wipe: 1 another now, the copy cleared whole, or 2 the
+     * copy new zeros: either way it holds nothing), and per
      * brick and block of 8^3 cells (bnz's order), 1 when the copy may hold
      * a cell of it that is not 0 (what a build clears where the block has
      * nothing to see now; the rest of the copy is 0 already) */

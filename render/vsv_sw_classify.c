@@ -218,8 +218,8 @@ int vsv_sw_classification_for(vsv_sw *sw, const vsv_scene *sc, int c)
      * new one is zeros already) */
     const int layout[4] = {(int)na, (int)nb, (int)nc, sw->shift};
     const size_t nheld = nbk * (B3 >> 9 ? B3 >> 9 : 1);
-    sw->wipe = full && !fresh && (!v0 || memcmp(layout, sw->layout[c], sizeof layout));
-    if (sw->wipe || fresh) {
+    sw->wipe = fresh ? 2 : full && (!v0 || memcmp(layout, sw->layout[c], sizeof layout));
+    if (sw->wipe) {
         if (vsv_sw_grow((void **)&sw->held[c], &sw->held_cap[c], nheld, 1))
             return VSV_ENOMEM;
         memset(sw->held[c], 0, nheld);
@@ -514,7 +514,7 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
     const int c = sw->c, a = vsv_sw_axis_a(c), b = vsv_sw_axis_b(c), na = sw->n[a], nb = sw->n[b];
     const int k0 = sw->jobs[j], k1 = k0 + VSV_SW_GROUP < sw->n[c] ? k0 + VSV_SW_GROUP : sw->n[c];
     const size_t P = VSV_SW_PLANE(na), scan = 4 * P, nbk = (size_t)sw->nbk;
-    if (sw->wipe)
+    if (sw->wipe == 1)
         memset(sw->vox[c] + (size_t)k0 * (nb + 2) * scan, 0, (size_t)(k1 - k0) * (nb + 2) * scan * sizeof(uint16_t));
     const unsigned char *dirty = sw->clear + nbk * sc->nlayers, *zero = dirty + nbk;
     const int sh = sw->shift, B = 1 << sh, m = B - 1, stride[3] = {1, sw->bdim[0], sw->bdim[0] * sw->bdim[1]};

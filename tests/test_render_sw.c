@@ -186,8 +186,56 @@ static void test_sequence(const char *species, int mode)
     unlink(path);
 }
 
+/* A scene whose layer has no volume (a step the player could not decode)
+ * as a new renderer's first frame, then the volume: nothing drawn, then a
+ * new renderer's bytes (a copy allocated as zeros for a grid without
+ * bricks was read as if it had them: a crash). */
+static void test_no_volume(void)
+{
+    const char *path = vsv_test_tmp("render-sw-none.vsv");
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
+             getenv("B") ? getenv("B") : "build", path);
+    sample s;
+    vsv_tf t;
+    if (!CHECK(system(cmd) == 0 && sample_load(&s, path, "CLW") == 0 &&
+                   tf(&t, "colormap clouds\nrange 0 0.0005\nopacity 0 0.5 1\n") == 0,
+               "no volume: the sample loads"))
+        return;
+    vsv_layer layer = {NULL, &t, 1, 1};
+    vsv_scene sc;
+    memset(&sc, 0, sizeof sc);
+    sc.meta = vsv_file_meta(s.f);
+    sc.layers = &layer;
+    sc.nlayers = 1;
+    sc.exaggeration = 4;
+    vsv_camera cam;
+    vsv_camera_orbit(&cam, &sc, 200, 80, 0, W, H);
+    cam.fov_deg = 0;
+    cam.ortho_height = 2e5;
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    o.kind = VSV_RENDER_SHEARWARP;
+    o.threads = 2;
+    vsv_renderer *r = NULL, *fresh = NULL;
+    unsigned char *a = malloc(4 * W * H), *b = malloc(4 * W * H);
+    int ok = a && b && !vsv_renderer_create(&o, &r) && !vsv_render_rgba8(r, &sc, &cam, a, NULL);
+    CHECK(ok && visible(a) == 0, "no volume: a new renderer's first frame draws nothing", "%d", ok ? visible(a) : -1);
+    layer.vol = s.vol[2];
+    ok = ok && !vsv_render_rgba8(r, &sc, &cam, a, NULL) && !vsv_renderer_create(&o, &fresh) &&
+         !vsv_render_rgba8(fresh, &sc, &cam, b, NULL);
+    CHECK(ok && !differ(a, b) && visible(a) > 0, "no volume, then the volume: a new renderer's bytes");
+    vsv_renderer_free(fresh);
+    vsv_renderer_free(r);
+    free(a);
+    free(b);
+    sample_free(&s);
+    unlink(path);
+}
+
 int main(void)
 {
+    test_no_volume();
     test_sequence("CLW", 0);
     test_sequence("CLW", 1);
     test_sequence("SNOW", 0);
