@@ -76,6 +76,27 @@ static int visible(const unsigned char *a)
     return n;
 }
 
+/* The shear-warp on two threads */
+static vsv_render_opts sw_opts(void)
+{
+    vsv_render_opts o;
+    vsv_render_opts_init(&o);
+    o.kind = VSV_RENDER_SHEARWARP;
+    o.threads = 2;
+    return o;
+}
+
+/* Draws sc through r into a and through a new renderer into b: 0 or -1. */
+static int with_new(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam, unsigned char *a, unsigned char *b)
+{
+    const vsv_render_opts o = sw_opts();
+    vsv_renderer *fresh = NULL;
+    const int ok = !vsv_render_rgba8(r, sc, cam, a, NULL) && !vsv_renderer_create(&o, &fresh) &&
+                   !vsv_render_rgba8(fresh, sc, cam, b, NULL);
+    vsv_renderer_free(fresh);
+    return ok ? 0 : -1;
+}
+
 static void test_sequence(const char *species, int mode)
 {
     const char *path = vsv_test_tmp("render-sw.vsv");
@@ -124,10 +145,7 @@ static void test_sequence(const char *species, int mode)
     const frame seq[] = {{1, 0, 0, 1}, {2, 0, 0, 1},    {2, 2, 0, 1}, {2, 2, 0, 0.4f}, {2, 2, 1, 0.4f},
                          {3, 2, 1, 1}, {3, 0, 1, 1},    {3, 0, 0, 1}, {1, 1, 2, 1},    {0, 1, 2, 0.7f},
                          {3, 2, 2, 1}, {2, 2, 0, 0.7f}, {1, 0, 0, 1}, {2, 0, 4, 1},    {2, 2, 0, 1}};
-    vsv_render_opts o;
-    vsv_render_opts_init(&o);
-    o.kind = VSV_RENDER_SHEARWARP;
-    o.threads = 2;
+    const vsv_render_opts o = sw_opts();
     vsv_renderer *r = NULL, *fresh = NULL;
     unsigned char *a = malloc(4 * W * H), *b = malloc(4 * W * H);
     int ok = a && b && !vsv_renderer_create(&o, &r), bad = -1, seen = 0;
@@ -136,10 +154,7 @@ static void test_sequence(const char *species, int mode)
         layers[0].vol = layers[1].vol = s.vol[fr->step % s.nsteps];
         layers[0].tf = &tfs[fr->tf];
         layers[0].opacity = fr->opacity;
-        ok = !vsv_render_rgba8(r, &sc, &cam[fr->view], a, NULL) && !vsv_renderer_create(&o, &fresh) &&
-             !vsv_render_rgba8(fresh, &sc, &cam[fr->view], b, NULL);
-        vsv_renderer_free(fresh);
-        fresh = NULL;
+        ok = !with_new(r, &sc, &cam[fr->view], a, b);
         seen += visible(a) > 0;
         if (ok && bad < 0 && differ(a, b))
             bad = (int)i;
@@ -163,10 +178,7 @@ static void test_sequence(const char *species, int mode)
         layers[0].vol = layers[1].vol = n.vol[1];
         sc.meta = vsv_file_meta(n.f);
         for (int v = 0; v < 3 && ok; v += 2) {
-            ok = !vsv_render_rgba8(r, &sc, &cam[v], a, NULL) && !vsv_renderer_create(&o, &fresh) &&
-                 !vsv_render_rgba8(fresh, &sc, &cam[v], b, NULL);
-            vsv_renderer_free(fresh);
-            fresh = NULL;
+            ok = !with_new(r, &sc, &cam[v], a, b);
             if (ok && bad < 0 && differ(a, b))
                 bad = 100 + v;
         }
@@ -213,19 +225,14 @@ static void test_no_volume(void)
     vsv_camera_orbit(&cam, &sc, 200, 80, 0, W, H);
     cam.fov_deg = 0;
     cam.ortho_height = 2e5;
-    vsv_render_opts o;
-    vsv_render_opts_init(&o);
-    o.kind = VSV_RENDER_SHEARWARP;
-    o.threads = 2;
-    vsv_renderer *r = NULL, *fresh = NULL;
+    const vsv_render_opts o = sw_opts();
+    vsv_renderer *r = NULL;
     unsigned char *a = malloc(4 * W * H), *b = malloc(4 * W * H);
     int ok = a && b && !vsv_renderer_create(&o, &r) && !vsv_render_rgba8(r, &sc, &cam, a, NULL);
     CHECK(ok && visible(a) == 0, "no volume: a new renderer's first frame draws nothing", "%d", ok ? visible(a) : -1);
     layer.vol = s.vol[2];
-    ok = ok && !vsv_render_rgba8(r, &sc, &cam, a, NULL) && !vsv_renderer_create(&o, &fresh) &&
-         !vsv_render_rgba8(fresh, &sc, &cam, b, NULL);
+    ok = ok && !with_new(r, &sc, &cam, a, b);
     CHECK(ok && !differ(a, b) && visible(a) > 0, "no volume, then the volume: a new renderer's bytes");
-    vsv_renderer_free(fresh);
     vsv_renderer_free(r);
     free(a);
     free(b);
