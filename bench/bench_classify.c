@@ -43,7 +43,14 @@ static double cpu(void)
     return ts.tv_sec + ts.tv_nsec * 1e-9;
 }
 
-static void run(vp_series *S, int rounds)
+/* A volume's ratios to VolPack (classification, playing) and whether the
+ * pictures matched, for the summary. */
+typedef struct ratios {
+    double cls, play;
+    int matched;
+} ratios;
+
+static ratios run(vp_series *S, int rounds)
 {
     unsigned char *image = malloc(SIZE * SIZE * 4);
     vpContext *vpc = vp_setup(S, image);
@@ -172,6 +179,27 @@ static void run(vp_series *S, int rounds)
     free(img);
     vpDestroyContext(vpc);
     free(image);
+    return (ratios){c0[0] / c1[0], vbest[0] / p2[0], pmin >= 35};
+}
+
+/* One line of the summary: the worst and best of n ratios (those of
+ * matched pictures) beside the goal, and the volumes below it. */
+static void summary(const char *what, const double *x, const char *const *names, const int *matched, int n)
+{
+    int lo = -1, hi = -1;
+    for (int i = 0; i < n; i++)
+        if (matched[i]) {
+            lo = lo < 0 || x[i] < x[lo] ? i : lo;
+            hi = hi < 0 || x[i] > x[hi] ? i : hi;
+        }
+    if (lo < 0)
+        return;
+    printf("%s: worst %.2f× (%s), best %.2f× (%s); ", what, x[lo], names[lo], x[hi], names[hi]);
+    int below = 0;
+    for (int i = 0; i < n; i++)
+        if (matched[i] && x[i] < 1.5)
+            printf("%s%s %.2f×", below++ ? ", " : "the 1.5× goal not met on ", names[i], x[i]);
+    printf("%s\n", below ? "" : "the 1.5× goal met on every volume");
 }
 
 int main(int argc, char **argv)
@@ -208,14 +236,22 @@ int main(int argc, char **argv)
                 {"WRF Katrina QCLOUD", wrf, "QCLOUD", 1, 3},
                 {"gen-plume plume", plume, "plume", 0, 2},
                 {"gen-plume haze", haze, "plume", 0, 2}};
-    for (size_t i = 0; i < sizeof sets / sizeof sets[0]; i++) {
+    enum { NSETS = sizeof sets / sizeof sets[0] };
+    double cls[NSETS], play[NSETS];
+    const char *names[NSETS];
+    int matched[NSETS], n = 0;
+    for (size_t i = 0; i < NSETS; i++) {
         if ((argc > 4 && !strstr(sets[i].name, argv[4])) || (sets[i].path == wrf && access(wrf, R_OK)))
             continue;
         vp_series S;
         if (vp_series_open(&S, sets[i].name, sets[i].path, sets[i].species, sets[i].first, sets[i].n))
             return 1;
-        run(&S, rounds);
+        const ratios r = run(&S, rounds);
+        cls[n] = r.cls, play[n] = r.play, matched[n] = r.matched, names[n++] = sets[i].name;
         vp_series_free(&S);
     }
+    printf("\nWorst beside best, × VolPack (one thread's CPU; volumes whose pictures matched):\n");
+    summary("classification", cls, names, matched, n);
+    summary("playing", play, names, matched, n);
     return 0;
 }
