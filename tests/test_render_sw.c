@@ -41,6 +41,16 @@ static int sample_load(sample *s, const char *path, const char *name)
     return 0;
 }
 
+/* The bundled MM5 sample converted with vsv-convert's opts to path, then
+ * species NAME loaded: 0 or -1. */
+static int sample_open(sample *s, const char *opts, const char *path, const char *name)
+{
+    char cmd[1024];
+    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q %s samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
+             getenv("B") ? getenv("B") : "build", opts, path);
+    return system(cmd) == 0 ? sample_load(s, path, name) : (memset(s, 0, sizeof *s), -1);
+}
+
 static void sample_free(sample *s)
 {
     for (int t = 0; t < STEPS; t++)
@@ -100,11 +110,9 @@ static int with_new(vsv_renderer *r, const vsv_scene *sc, const vsv_camera *cam,
 static void test_sequence(const char *species, int mode)
 {
     const char *path = vsv_test_tmp("render-sw.vsv");
-    char cmd[1024], name[200];
-    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
-             getenv("B") ? getenv("B") : "build", path);
+    char name[200];
     sample s;
-    if (!CHECK(system(cmd) == 0 && sample_load(&s, path, species) == 0, "the MM5 sample converts and loads", "%s",
+    if (!CHECK(sample_open(&s, "--vertical even", path, species) == 0, "the MM5 sample converts and loads", "%s",
                species))
         return;
     /* the species' values span 0 .. hi: a wide range, one of its top
@@ -170,10 +178,8 @@ static void test_sequence(const char *species, int mode)
     }
     /* 24 even levels next: another grid, the copies laid out anew */
     sample n;
-    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --nz 24 samples/mm5/MMOUT_DOMAIN1_CROP -o %s.native",
-             getenv("B") ? getenv("B") : "build", path);
     snprintf(name, sizeof name, "%s.native", path);
-    if (ok && CHECK(system(cmd) == 0 && sample_load(&n, name, species) == 0, "the sample on 24 levels loads")) {
+    if (ok && CHECK(sample_open(&n, "--nz 24", name, species) == 0, "the sample on 24 levels loads")) {
         layers[0].tf = &tfs[0];
         layers[0].vol = layers[1].vol = n.vol[1];
         sc.meta = vsv_file_meta(n.f);
@@ -205,12 +211,9 @@ static void test_sequence(const char *species, int mode)
 static void test_no_volume(void)
 {
     const char *path = vsv_test_tmp("render-sw-none.vsv");
-    char cmd[1024];
-    snprintf(cmd, sizeof cmd, "%s/vsv-convert -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o %s",
-             getenv("B") ? getenv("B") : "build", path);
     sample s;
     vsv_tf t;
-    if (!CHECK(system(cmd) == 0 && sample_load(&s, path, "CLW") == 0 &&
+    if (!CHECK(sample_open(&s, "--vertical even", path, "CLW") == 0 &&
                    tf(&t, "colormap clouds\nrange 0 0.0005\nopacity 0 0.5 1\n") == 0,
                "no volume: the sample loads"))
         return;
