@@ -225,13 +225,10 @@ int local_temp(rank *r, const char *what)
     if (!dir || !*dir)
         dir = "/tmp";
     char name[4096];
-    snprintf(name, sizeof name, "%s/vsv-convert-mpi.%s.XXXXXX", dir, what);
-    int fd = mkstemp(name);
-    if (fd < 0) {
+    snprintf(name, sizeof name, "%s/vsv-convert-mpi.%s", dir, what);
+    const int fd = vsv_output_scratch(name, NULL);
+    if (fd < 0)
         rank_fail(r, "%s: cannot create a %s file: %s", dir, what, strerror(errno));
-        return -1;
-    }
-    unlink(name);
     return fd;
 }
 

@@ -87,23 +87,6 @@ static int said(vsv_writer *w, int rc, const char *fmt, ...)
     return rc;
 }
 
-/* A temporary file in the directory of `path` (so rename is atomic). */
-static int make_temp(const char *path, const char *suffix, char **name_out)
-{
-    size_t n = strlen(path) + strlen(suffix) + 16;
-    char *name = malloc(n);
-    if (!name)
-        return -1;
-    snprintf(name, n, "%s%sXXXXXX", path, suffix);
-    int fd = mkstemp(name);
-    if (fd < 0) {
-        free(name);
-        return -1;
-    }
-    *name_out = name;
-    return fd;
-}
-
 static int create_body(vsv_writer *w, const char *path, const vsv_meta *meta, const vsv_pack_opts *opts)
 {
     w->path = strdup(path);
@@ -133,12 +116,9 @@ static int create_body(vsv_writer *w, const char *path, const vsv_meta *meta, co
     w->opts.vars = w->vars;
     vsv_pack_stats_init(w->st, nv);
     w->cells = (size_t)meta->nx * (size_t)meta->ny * (size_t)meta->nz;
-    char *spool_name = NULL;
-    w->spool_fd = make_temp(path, ".spool.", &spool_name);
+    w->spool_fd = vsv_output_scratch(path, ".spool");
     if (w->spool_fd < 0)
         return fail_errno(w, "cannot create a temporary file beside it");
-    unlink(spool_name);
-    free(spool_name);
     return 0;
 }
 
