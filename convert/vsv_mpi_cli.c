@@ -224,11 +224,14 @@ int local_temp(rank *r, const char *what)
     const char *dir = getenv("TMPDIR");
     if (!dir || !*dir)
         dir = "/tmp";
-    char name[4096];
+    char name[4096], tmp[4200];
     snprintf(name, sizeof name, "%s/vsv-convert-mpi.%s", dir, what);
-    const int fd = vsv_output_scratch(name, NULL);
+    /* a listed temporary unlinked at once: a signal in between leaves nothing */
+    const int fd = vsv_output_temp(name, NULL, tmp, sizeof tmp);
     if (fd < 0)
         rank_fail(r, "%s: cannot create a %s file: %s", dir, what, strerror(errno));
+    else
+        vsv_output_discard(tmp);
     return fd;
 }
 

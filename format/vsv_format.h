@@ -718,10 +718,6 @@ unsigned vsv_output_mode(void);
  * (caller buffer of cap bytes). The descriptor (close-on-exec), or -1 with
  * errno. */
 int vsv_output_temp(const char *path, const char *suffix, char *tmp, size_t cap);
-/* An anonymous scratch file beside path: made as a listed temporary and
- * unlinked at once, so a signal in between leaves nothing. The descriptor
- * (close-on-exec), or -1 with errno. */
-int vsv_output_scratch(const char *path, const char *suffix);
 /* fsync and close fd: 0, or -1 with errno (a full disk or a failed write
  * shows here at the latest). */
 int vsv_output_seal(int fd);

@@ -176,15 +176,6 @@ void vsv_output_discard(const char *tmp)
     vsv_output_forget(tmp);
 }
 
-int vsv_output_scratch(const char *path, const char *suffix)
-{
-    char tmp[4200];
-    const int fd = vsv_output_temp(path, suffix, tmp, sizeof tmp);
-    if (fd >= 0)
-        vsv_output_discard(tmp);
-    return fd;
-}
-
 int vsv_output_seal(int fd)
 {
     int rc = fsync(fd);

@@ -116,9 +116,13 @@ static int create_body(vsv_writer *w, const char *path, const vsv_meta *meta, co
     w->opts.vars = w->vars;
     vsv_pack_stats_init(w->st, nv);
     w->cells = (size_t)meta->nx * (size_t)meta->ny * (size_t)meta->nz;
-    w->spool_fd = vsv_output_scratch(path, ".spool");
+    /* the spool: a listed temporary unlinked at once (a signal in between
+     * leaves nothing) */
+    char tmp[4200];
+    w->spool_fd = vsv_output_temp(path, ".spool", tmp, sizeof tmp);
     if (w->spool_fd < 0)
         return fail_errno(w, "cannot create a temporary file beside it");
+    vsv_output_discard(tmp);
     return 0;
 }
 
