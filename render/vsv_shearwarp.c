@@ -300,6 +300,52 @@ static void row_rays(const vsv_sw *sw, int py, double o0[3], double o1[3], doubl
     }
 }
 
+/* The pixels [*p0, *p1] of a final row of width pixels (parallel rays)
+ * whose point (x0 + px dx, y0 + px dy) can meet a band's box of pixels with
+ * alpha > 0, [bx0, bx1] x [by0, by1]: a point (x, y) reads pixels floor(x),
+ * floor(x) + 1, so when bx0 - 1 <= x < bx1 + 1 and likewise y (a pixel more
+ * each side, for rounding); the hull over the bands the row's points pass,
+ * empty (p1 < p0) when none. Per band, not over their union: a row across a
+ * sparse field meets the boxes of few bands, and those only in part. */
+static void par_span(const vsv_sw *sw, double x0, double y0, double dx, double dy, int width, int *p0, int *p1)
+{
+    const int nband = (sw->h + VSV_SW_BAND - 1) / VSV_SW_BAND;
+    const double ya = y0, yb = y0 + (width - 1) * dy, ymin = ya < yb ? ya : yb, ymax = ya < yb ? yb : ya;
+    const double f0 = floor((ymin - 2) / VSV_SW_BAND), f1 = floor((ymax + 2) / VSV_SW_BAND);
+    const int i0 = !(f0 > 0)    ? 0
+                   : f0 < nband ? (int)f0
+                                : nband,
+              i1 = !(f1 < nband - 1) ? nband - 1
+                   : f1 > 0          ? (int)f1
+                                     : 0;
+    const double v0[2] = {x0, y0}, dv[2] = {dx, dy}, inv[2] = {dx != 0 ? 1 / dx : 0, dy != 0 ? 1 / dy : 0};
+    int lo = width, hi = -1;
+    for (int i = i0; i <= i1; i++) {
+        const int *bb = sw->boxes + 4 * i;
+        if (bb[0] > bb[1])
+            continue;
+        double e_lo = 0, e_hi = width - 1;
+        const double lim0[2] = {bb[0] - 1.0, bb[2] - 1.0}, lim1[2] = {bb[1] + 1.0, bb[3] + 1.0};
+        for (int k = 0; k < 2; k++) {
+            if (dv[k] == 0) {
+                if (!(v0[k] >= lim0[k] && v0[k] < lim1[k]))
+                    e_hi = -1;
+                continue;
+            }
+            const double e0 = (lim0[k] - v0[k]) * inv[k], e1 = (lim1[k] - v0[k]) * inv[k];
+            const double el = (e0 < e1 ? e0 : e1) - 1, eh = (e0 < e1 ? e1 : e0) + 1;
+            e_lo = el > e_lo ? el : e_lo;
+            e_hi = eh < e_hi ? eh : e_hi;
+        }
+        if (!(e_lo <= e_hi))
+            continue;
+        const int l = (int)floor(e_lo), h = (int)ceil(e_hi);
+        lo = l < lo ? l : lo;
+        hi = h > hi ? h : hi;
+    }
+    *p0 = lo, *p1 = hi;
+}
+
 /* Final row py: each pixel's ray meets the reference plane (k = kref for
  * perspective, 0 for parallel rays) at an intermediate-image point; bilinear
  * there, the point clamped into the image's empty border (no test per
@@ -322,40 +368,18 @@ static void warp_row(vsv_sw *sw, int py, int thread)
         for (int px = 0; px < cam->width; px++)
             dep[px] = INFINITY;
     /* the pixels whose point can fall where the image is not empty: all of
-     * them for perspective, an interval for parallel rays (the point moves
-     * linearly; the others are cleared): a point (x, y) reads pixels floor(x),
-     * floor(x) + 1, so it can meet the box of pixels with alpha > 0, [bx0,
-     * bx1] x [by0, by1], when bx0 - 1 <= x < bx1 + 1 and likewise y */
+     * them for perspective, for parallel rays those whose point (it moves
+     * linearly) meets a band's box of pixels with alpha > 0 (the others are
+     * cleared) */
     int p0 = 0, p1 = cam->width - 1;
     double x0 = 0, y0 = 0, ddx = 0, ddy = 0;
     if (!sw->persp) {
-        int box[4] = {INT_MAX, -1, INT_MAX, -1};
-        for (int i = 0; i < (h + VSV_SW_BAND - 1) / VSV_SW_BAND; i++) {
-            const int *bb = sw->boxes + 4 * i;
-            box[0] = bb[0] < box[0] ? bb[0] : box[0];
-            box[1] = bb[1] > box[1] ? bb[1] : box[1];
-            box[2] = bb[2] < box[2] ? bb[2] : box[2];
-            box[3] = bb[3] > box[3] ? bb[3] : box[3];
-        }
         const double t = (kp - o0[c]) / d0[c];
         x0 = o0[a] + t * d0[a] + sw->ta, y0 = o0[b] + t * d0[b] + sw->tb;
         const double tx = (kp - o0[c] - o1[c]) / d0[c];
         ddx = o0[a] + o1[a] + tx * d0[a] + sw->ta - x0, ddy = o0[b] + o1[b] + tx * d0[b] + sw->tb - y0;
-        double lo = 0, hi = box[0] <= box[1] ? cam->width - 1 : -1;
-        const double v0[2] = {x0, y0}, dv[2] = {ddx, ddy};
-        const double lim0[2] = {box[0] - 1.0, box[2] - 1.0}, lim1[2] = {box[1] + 1.0, box[3] + 1.0};
-        for (int i = 0; i < 2; i++) {
-            if (dv[i] == 0) {
-                if (v0[i] < lim0[i] || v0[i] >= lim1[i])
-                    hi = -1;
-                continue;
-            }
-            const double e0 = (lim0[i] - v0[i]) / dv[i], e1 = (lim1[i] - v0[i]) / dv[i];
-            lo = fmax(lo, fmin(e0, e1) - 1);
-            hi = fmin(hi, fmax(e0, e1) + 1);
-        }
-        p0 = (int)fmax(0, floor(lo));
-        p1 = (int)fmin(cam->width - 1, ceil(hi));
+        par_span(sw, x0, y0, ddx, ddy, cam->width, &p0, &p1);
+        p0 -= p0 % VSV_SW_LANES; /* groups of eight from a multiple of eight: a pixel's point never depends on p0 */
     }
     if (p1 < p0)
         p0 = cam->width, p1 = cam->width - 1;
