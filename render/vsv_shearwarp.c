@@ -309,15 +309,11 @@ static void row_rays(const vsv_sw *sw, int py, double o0[3], double o1[3], doubl
  * sparse field meets the boxes of few bands, and those only in part. */
 static void par_span(const vsv_sw *sw, double x0, double y0, double dx, double dy, int width, int *p0, int *p1)
 {
-    const int nband = (sw->h + VSV_SW_BAND - 1) / VSV_SW_BAND;
+    /* the bands the row's y can reach (NaN: all of them) */
+    const int last = (sw->h + VSV_SW_BAND - 1) / VSV_SW_BAND - 1;
     const double ya = y0, yb = y0 + (width - 1) * dy, ymin = ya < yb ? ya : yb, ymax = ya < yb ? yb : ya;
     const double f0 = floor((ymin - 2) / VSV_SW_BAND), f1 = floor((ymax + 2) / VSV_SW_BAND);
-    const int i0 = !(f0 > 0)    ? 0
-                   : f0 < nband ? (int)f0
-                                : nband,
-              i1 = !(f1 < nband - 1) ? nband - 1
-                   : f1 > 0          ? (int)f1
-                                     : 0;
+    const int i0 = f0 > 0 ? (f0 < last ? (int)f0 : last) : 0, i1 = f1 < last ? (f1 >= 0 ? (int)f1 : -1) : last;
     const double v0[2] = {x0, y0}, dv[2] = {dx, dy}, inv[2] = {dx != 0 ? 1 / dx : 0, dy != 0 ? 1 / dy : 0};
     int lo = width, hi = -1;
     for (int i = i0; i <= i1; i++) {
