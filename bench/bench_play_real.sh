@@ -49,8 +49,22 @@ for threads in 1 2; do
             stalls=$(sed -n 's/.* \([0-9]*\) stalls, cache peak.*/\1/p' "$W/out")
             set -- $frames $waits
             echo "| $([ $dir = fwd ] && echo forward || echo backward) | $threads | $r | ${1:-?} | ${2:-?} | ${3:-?} | ${4:-?} | ${5:-?} | ${stalls:-?} |"
+            echo "$dir $threads $r ${3:--1}" >>"$W/stalled"
             r=$((r + 1))
         done
     done
 done
+# worst beside best against the goal (issue #36, item 5): x8 both ways
+# without a stalled frame (a run whose count could not be read: -1, and a miss)
+awk -v mb="$MB" '
+    $4 < 0 { bad++; unread++; n++; next }
+    { d = ($1 == "fwd" ? "forward" : "backward") ", " $2 " thread" ($2 == 1 ? "" : "s") ", round " $3
+      if (!seen || $4 > hi) { hi = $4; hin = d }
+      if (!seen || $4 < lo) { lo = $4; lon = d }
+      seen = 1; bad += $4 != 0; n++ }
+    END { printf "\nStalled frames at x8, %s MiB, both ways: ", mb
+          if (seen) printf "worst %d (%s), best %d (%s); ", hi, hin, lo, lon
+          if (unread) printf "%d runs whose count could not be read; ", unread
+          if (bad) printf "the goal of 0 not met in %d of %d runs\n", bad, n
+          else printf "0 in all %d runs: the goal met\n", n }' "$W/stalled"
 printf '\nload %s at the end\n' "$(cut -d' ' -f1-3 /proc/loadavg)"

@@ -211,7 +211,20 @@ static void print_row(const char *name, const row *r, int total)
            (double)r->vsv / r->zcal, (double)r->vsv / r->f32);
 }
 
-static int run(const bench_data *d, const char *work)
+/* What the summary keeps of a data set: its totals' ratios, and its
+ * species' ratios to CF int16 (the issue's goals). */
+enum { MAX_SETS = 8, MAX_SPECIES = 64 };
+typedef struct summary {
+    const char *name[MAX_SETS];
+    double i16[MAX_SETS], zcal[MAX_SETS];
+    int real[MAX_SETS], n;
+    char sname[MAX_SPECIES][32]; /* species of real files */
+    const char *sptr[MAX_SPECIES], *sset[MAX_SPECIES];
+    double s16[MAX_SPECIES];
+    int ns;
+} summary;
+
+static int run(const bench_data *d, const char *work, int real, summary *sum)
 {
     char vp[1024], np[1024];
     snprintf(vp, sizeof vp, "%s/s.vsv", work);
@@ -234,6 +247,12 @@ static int run(const bench_data *d, const char *work)
         r.i16 = write_nc(d, v, v + 1, NULL, bound, np, &r.e_i16);
         zfp_row(d, v, bound[v], &r);
         print_row(d->meta.vars[v].name, &r, 0);
+        if (real && sum->ns < MAX_SPECIES) {
+            snprintf(sum->sname[sum->ns], sizeof sum->sname[0], "%s", d->meta.vars[v].name);
+            sum->sptr[sum->ns] = sum->sname[sum->ns];
+            sum->sset[sum->ns] = d->name;
+            sum->s16[sum->ns++] = (double)r.vsv / r.i16;
+        }
         tot.e_i16 = fmax(tot.e_i16, r.e_i16);
         tot.e_zfp = fmax(tot.e_zfp, r.e_zfp);
         tot.e_zcal = fmax(tot.e_zcal, r.e_zcal);
@@ -245,6 +264,12 @@ static int run(const bench_data *d, const char *work)
     double e = 0;
     tot.i16 = write_nc(d, 0, d->nv, NULL, bound, np, &e);
     print_row("**all**", &tot, 1);
+    if (sum->n < MAX_SETS) {
+        sum->name[sum->n] = d->name;
+        sum->i16[sum->n] = (double)tot.vsv / tot.i16;
+        sum->zcal[sum->n] = (double)tot.vsv / tot.zcal;
+        sum->real[sum->n++] = real;
+    }
     printf("\nThe .vsv of all species: %llu bytes of brick payloads (%.1f %%) in %llu stored bricks, the rest chunk "
            "indexes (octree and brick entries), metadata and table of contents.\n",
            (unsigned long long)counts.payload_bytes, 100.0 * counts.payload_bytes / tot.vsv,
@@ -253,6 +278,34 @@ static int run(const bench_data *d, const char *work)
     remove(vp);
     remove(np);
     return 0;
+}
+
+/* One line: the worst and best of the real files' ratios x[] (n of them,
+ * named name[], of the files in set[] when set is given) beside the goal,
+ * and those above it. */
+static void worst_best(const char *what, const char *const *name, const char *const *set, const double *x,
+                       const int *real, int n, double goal)
+{
+    int lo = -1, hi = -1, above = 0;
+    for (int i = 0; i < n; i++)
+        if (real[i]) {
+            hi = hi < 0 || x[i] > x[hi] ? i : hi;
+            lo = lo < 0 || x[i] < x[lo] ? i : lo;
+            above += x[i] > goal;
+        }
+    if (lo < 0)
+        return;
+    printf("- %s: worst %.3f× (%s%s%s), best %.3f× (%s%s%s); ", what, x[hi], name[hi], set ? ", " : "",
+           set ? set[hi] : "", x[lo], name[lo], set ? ", " : "", set ? set[lo] : "");
+    if (!above) {
+        printf("<= %.2f× on every one: met\n", goal);
+        return;
+    }
+    printf("above %.2f× (not met) on %d of them:", goal, above);
+    for (int i = 0, k = 0; i < n; i++)
+        if (real[i] && x[i] > goal)
+            printf("%s %s%s%s %.3f×", k++ ? "," : "", name[i], set ? " of " : "", set ? set[i] : "", x[i]);
+    printf("\n");
 }
 
 int main(int argc, char **argv)
@@ -272,6 +325,7 @@ int main(int argc, char **argv)
            "tolerance as a multiple of the bound. Ratios under 1: the .vsv is smaller. The .vsv: as written\n"
            "by default (format 4: Lorenzo residuals, Rice-coded or zstd per brick, whichever is smaller).\n");
     int rc = 0;
+    summary sum = {0};
     for (size_t i = 0; i < sizeof files / sizeof files[0]; i++) {
         char path[1024];
         snprintf(path, sizeof path, "%s/%s", argv[1], files[i][1]);
@@ -280,14 +334,27 @@ int main(int argc, char **argv)
             printf("\n%s: %s absent, skipped\n", files[i][0], path);
             continue;
         }
-        rc |= bench_data_source(&d, files[i][0], path, NULL, 0) || run(&d, argv[3]);
+        rc |= bench_data_source(&d, files[i][0], path, NULL, 0) || run(&d, argv[3], 1, &sum);
         bench_data_free(&d);
     }
     static const char *const plume[] = {"plume_t0.f32", "plume_t1.f32"}, *haze[] = {"plume_haze.f32"};
     bench_data d;
-    rc |= bench_data_plume(&d, "gen-plume plume (sparse)", argv[2], plume, 2) || run(&d, argv[3]);
+    rc |= bench_data_plume(&d, "gen-plume plume (sparse)", argv[2], plume, 2) || run(&d, argv[3], 0, &sum);
     bench_data_free(&d);
-    rc |= bench_data_plume(&d, "gen-plume haze (dense)", argv[2], haze, 1) || run(&d, argv[3]);
+    rc |= bench_data_plume(&d, "gen-plume haze (dense)", argv[2], haze, 1) || run(&d, argv[3], 0, &sum);
     bench_data_free(&d);
+    /* the issue's goals, on the real files (the synthetic ones beside) */
+    printf("\nWorst beside best, the .vsv over its peer (real model output; issue 36's goals: in total <= 0.35× CF "
+           "int16\nnetCDF-4 and <= 0.5× calibrated ZFP on each real file, no species above 0.6× CF int16):\n\n");
+    int ones[MAX_SPECIES];
+    for (int i = 0; i < MAX_SPECIES; i++)
+        ones[i] = 1;
+    worst_best("in total × CF int16 netCDF-4", sum.name, NULL, sum.i16, sum.real, sum.n, 0.35);
+    worst_best("in total × calibrated ZFP", sum.name, NULL, sum.zcal, sum.real, sum.n, 0.5);
+    worst_best("per species × CF int16 netCDF-4", sum.sptr, sum.sset, sum.s16, ones, sum.ns, 0.6);
+    for (int i = 0; i < sum.n; i++)
+        if (!sum.real[i])
+            printf("- %s (synthetic, not part of the goals): in total %.3f× CF int16, %.3f× calibrated ZFP\n",
+                   sum.name[i], sum.i16[i], sum.zcal[i]);
     return rc != 0;
 }
