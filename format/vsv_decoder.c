@@ -212,7 +212,10 @@ int vsv_decoder_brick_retreat(vsv_decoder *d, int step, int s, int b, uint16_t *
     return apply_checked(d, c, step, s, b, be, codes, 1);
 }
 
-int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
+/* vsv_decoder_brick_codes, the cells outside the grid zeroed when outside
+ * is set, else left as they are (a whole volume's decode never reads them:
+ * neither zeroed nor, for the first time, touched). */
+static int brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *codes, int outside)
 {
     vsv_file *f = d->f;
     int rc = vsv_file_check_args(f, step, s, b, d->err, sizeof d->err);
@@ -220,7 +223,7 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
         return rc;
     int org[3], ext[3];
     vsv_layout_box(&f->lay, b, org, ext);
-    if (ext[0] < f->lay.brick || ext[1] < f->lay.brick || ext[2] < f->lay.brick)
+    if (outside && (ext[0] < f->lay.brick || ext[1] < f->lay.brick || ext[2] < f->lay.brick))
         memset(codes, 0, (size_t)f->lay.brick * f->lay.brick * f->lay.brick * sizeof *codes);
     /* walk back to the brick's last absolute state (never past a keyframe) */
     int t0 = step;
@@ -247,6 +250,11 @@ int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *co
             return rc;
     }
     return 0;
+}
+
+int vsv_decoder_brick_codes(vsv_decoder *d, int step, int s, int b, uint16_t *codes)
+{
+    return brick_codes(d, step, s, b, codes, 1);
 }
 
 static const float *lut_of(vsv_file *f, int s)
@@ -371,7 +379,7 @@ int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out)
             for (int t = prev + 1; t <= step && !rc; t++)
                 rc = vsv_decoder_brick_advance(d, t, s, b, codes);
         } else if (prev != step) {
-            rc = vsv_decoder_brick_codes(d, step, s, b, codes);
+            rc = brick_codes(d, step, s, b, codes, 0);
         }
         if (rc)
             return rc;
