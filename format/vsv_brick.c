@@ -82,10 +82,13 @@ void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *
  * r[i] + x[i - 1] + T[i] - T[i - 1]: T and the differences a row at a time
  * (vectorised), then one running sum. In uint16 arithmetic (mod 2^16; 8-bit
  * values are masked as each row is done, which leaves every later sum right
- * mod 2^8). The values land in out (a B^3 array); ABS3 decodes into the
+ * mod 2^8). The residuals come from the planes in (z16 NULL) or from z16, a
+ * value a cell. The values land in out (a B^3 array); ABS3 decodes into the
  * state itself, DELTA3 into scratch (the rebuilt differences are the next
  * rows' neighbours), each row added to the state while it is in cache. */
-static void inverse3(int bits, const unsigned char *in, int B, const int ext[3], uint16_t *out, uint16_t *add, int undo)
+static inline __attribute__((always_inline)) void inverse3(int bits, const unsigned char *in, const uint16_t *z16,
+                                                           int B, const int ext[3], uint16_t *out, uint16_t *add,
+                                                           int undo)
 {
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];
     const unsigned char *lo = in, *hi = in + n;
@@ -102,7 +105,13 @@ static void inverse3(int bits, const unsigned char *in, int B, const int ext[3],
             t[0] = 0;
             for (int i = 0; i < ex; i++)
                 t[i + 1] = (uint16_t)(up[i] + back[i] - ub[i]);
-            if (bits == 8) {
+            if (z16) {
+                for (int i = 0; i < ex; i++) {
+                    const unsigned z = z16[i];
+                    d[i] = (uint16_t)(((z >> 1) ^ (0u - (z & 1))) + t[i + 1] - t[i]);
+                }
+                z16 += ex;
+            } else if (bits == 8) {
                 for (int i = 0; i < ex; i++) {
                     const unsigned z = lo[i];
                     d[i] = (uint16_t)(((z >> 1) ^ (0u - (z & 1))) + t[i + 1] - t[i]);
@@ -132,14 +141,25 @@ static void inverse3(int bits, const unsigned char *in, int B, const int ext[3],
         }
 }
 
+VSV_CLONES("avx2")
+void vsv_brick_inverse_z(int bits, int kind, const uint16_t *z, int B, const int ext[3], uint16_t *state,
+                         uint16_t *scratch, int undo)
+{
+    if (kind == VSV_BRICK_ABS3)
+        inverse3(bits, NULL, z, B, ext, state, NULL, 0);
+    else
+        inverse3(bits, NULL, z, B, ext, scratch, state, undo);
+}
+
+VSV_CLONES("avx2")
 void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state,
                        uint16_t *scratch, int undo)
 {
     if (kind == VSV_BRICK_ABS3 || kind == VSV_BRICK_DELTA3) {
         if (kind == VSV_BRICK_ABS3)
-            inverse3(bits, in, B, ext, state, NULL, 0);
+            inverse3(bits, in, NULL, B, ext, state, NULL, 0);
         else
-            inverse3(bits, in, B, ext, scratch, state, undo);
+            inverse3(bits, in, NULL, B, ext, scratch, state, undo);
         return;
     }
     const size_t n = (size_t)ext[0] * ext[1] * ext[2];

@@ -47,6 +47,7 @@ int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
     d->raw = malloc(2 * n);
     d->codes = malloc(2 * n);
     d->scratch = malloc(2 * n);
+    d->zres = f->major >= 4 ? malloc(2 * n) : NULL;
     d->rice = f->major >= 4 ? calloc(1, vsv_rice_max(16, n) + VSV_RICE_PAD) : NULL;
     d->state = calloc((size_t)f->meta.nvars, sizeof *d->state);
     d->state_step = calloc((size_t)f->meta.nvars, sizeof *d->state_step);
@@ -55,8 +56,8 @@ int vsv_decoder_create(vsv_file *f, vsv_decoder **out)
     d->under = calloc((size_t)f->meta.nmoves + 1, sizeof *d->under);
     for (int i = 0; d->under && !urc && i <= f->meta.nmoves; i++)
         d->under[i] = under_ground(&f->meta, i ? f->meta.moves[i - 1].terrain : f->meta.terrain, &urc);
-    if (urc || !d->under || !d->dctx || !d->raw || !d->codes || !d->scratch || (f->major >= 4 && !d->rice) ||
-        !d->state || !d->state_step) {
+    if (urc || !d->under || !d->dctx || !d->raw || !d->codes || !d->scratch ||
+        (f->major >= 4 && (!d->rice || !d->zres)) || !d->state || !d->state_step) {
         vsv_decoder_free(d);
         *out = NULL;
         return VSV_ENOMEM;
@@ -75,6 +76,7 @@ void vsv_decoder_free(vsv_decoder *d)
     free(d->raw);
     free(d->codes);
     free(d->scratch);
+    free(d->zres);
     free(d->rice);
     if (d->state)
         for (int s = 0; s < d->f->meta.nvars; s++)
@@ -157,12 +159,13 @@ static int apply(vsv_decoder *d, const unsigned char *c, int t, int s, int b, co
             memcpy(d->rice, p, size);
             memset(d->rice + size, 0, VSV_RICE_PAD);
         }
-        if (!fits || vsv_rice_decode(bits, ext, d->rice, size, d->raw)) {
+        if (!fits || vsv_rice_decode(bits, ext, d->rice, size, d->zres)) {
             vsv_msg(d->err, sizeof d->err, "%s: chunk %d, species %d, brick %d (offset %llu): payload does not decode",
                     f->name, t, s, b, (unsigned long long)(p - f->data));
             return VSV_ECODEC;
         }
-        src = d->raw;
+        vsv_brick_inverse_z(bits, vsv_brick_predictor(kind), d->zres, f->lay.brick, ext, codes, d->scratch, back);
+        return 0;
     } else if (f->codec == VSV_CODEC_ZSTD) {
         size_t got = ZSTD_decompressDCtx(d->dctx, d->raw, raw, p, size);
         if (ZSTD_isError(got) || got != raw) {
@@ -279,46 +282,58 @@ static const float *lut_of(vsv_file *f, int s)
 /* Linear 16-bit codes to values by the rule of SPEC.md §6 itself, in double
  * as vsv_quant_value does (so bit-identical to the table), with f = 1 when
  * code 0 means no data: a loop the compiler vectorises (the table lookup it
- * replaces, 256 kB, one load a voxel, was a third of a full decode). */
+ * replaces, 256 kB, one load a voxel, was a third of a full decode). rows
+ * rows of n codes, cs apart, to rows of n values, os apart. */
 VSV_CLONES("avx2")
-static void dequant_linear16(double lo, double step, int f, const uint16_t *codes, size_t n, float *out)
+static void dequant_linear16(double lo, double step, int f, const uint16_t *codes, size_t n, int rows, size_t cs,
+                             float *out, size_t os)
 {
-    if (f) {
-        const float nan = NAN;
-        uint32_t qnan;
-        memcpy(&qnan, &nan, sizeof qnan);
-        for (size_t i = 0; i < n; i++) { /* select without a branch */
-            const int c = codes[i];
-            const float v = (float)(lo + (double)(c - 1) * step);
-            uint32_t u;
-            memcpy(&u, &v, sizeof u);
-            const uint32_t none = 0u - (uint32_t)(c == 0);
-            u = (u & ~none) | (qnan & none);
-            memcpy(&out[i], &u, sizeof u);
+    const float nan = NAN;
+    uint32_t qnan;
+    memcpy(&qnan, &nan, sizeof qnan);
+    for (int r = 0; r < rows; r++, codes += cs, out += os) {
+        if (f) {
+            for (size_t i = 0; i < n; i++) { /* select without a branch */
+                const int c = codes[i];
+                const float v = (float)(lo + (double)(c - 1) * step);
+                uint32_t u;
+                memcpy(&u, &v, sizeof u);
+                const uint32_t none = 0u - (uint32_t)(c == 0);
+                u = (u & ~none) | (qnan & none);
+                memcpy(&out[i], &u, sizeof u);
+            }
+        } else {
+            for (size_t i = 0; i < n; i++)
+                out[i] = (float)(lo + (double)codes[i] * step);
         }
-    } else {
-        for (size_t i = 0; i < n; i++)
-            out[i] = (float)(lo + (double)codes[i] * step);
     }
 }
 
-void vsv_file_dequantise(const vsv_file *cf, int s, const uint16_t *codes, size_t n, float *out)
+/* vsv_file_dequantise of rows rows of n codes, cs apart, to rows os apart. */
+static void dequantise_rows(vsv_file *f, int s, const uint16_t *codes, size_t n, int rows, size_t cs, float *out,
+                            size_t os)
 {
-    vsv_file *f = (vsv_file *)cf;
     const vsv_quant *q = &f->quant[s];
     if (q->scale == VSV_SCALE_LINEAR && q->bits == 16) {
         const int m = q->missing ? 1 : 0; /* step = vsv_quant_value's */
-        dequant_linear16(q->lo, (q->hi - q->lo) / (65535.0 - m), m, codes, n, out);
+        dequant_linear16(q->lo, (q->hi - q->lo) / (65535.0 - m), m, codes, n, rows, cs, out, os);
         return;
     }
     const float *l = lut_of(f, s);
-    if (l) {
-        for (size_t i = 0; i < n; i++)
-            out[i] = l[codes[i]];
-    } else {
-        for (size_t i = 0; i < n; i++)
-            out[i] = vsv_quant_value(q, codes[i]);
+    for (int r = 0; r < rows; r++, codes += cs, out += os) {
+        if (l) {
+            for (size_t i = 0; i < n; i++)
+                out[i] = l[codes[i]];
+        } else {
+            for (size_t i = 0; i < n; i++)
+                out[i] = vsv_quant_value(q, codes[i]);
+        }
     }
+}
+
+void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t n, float *out)
+{
+    dequantise_rows((vsv_file *)f, s, codes, n, 1, 0, out, 0);
 }
 
 /* The mask of the placement in force at step (NULL: nothing below ground). */
@@ -385,11 +400,10 @@ int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out)
             return rc;
         int org[3], ext[3];
         vsv_layout_box(L, b, org, ext);
-        for (int k = 0; k < ext[2]; k++)
-            for (int j = 0; j < ext[1]; j++)
-                vsv_file_dequantise(f, s, codes + ((size_t)k * L->brick + j) * L->brick, (size_t)ext[0],
-                                    out + ((size_t)(org[2] + k) * f->meta.ny + (size_t)(org[1] + j)) * f->meta.nx +
-                                        org[0]);
+        for (int k = 0; k < ext[2]; k++) /* a plane of the brick a call */
+            dequantise_rows(f, s, codes + (size_t)k * L->brick * L->brick, (size_t)ext[0], ext[1], (size_t)L->brick,
+                            out + ((size_t)(org[2] + k) * f->meta.ny + (size_t)org[1]) * f->meta.nx + org[0],
+                            (size_t)f->meta.nx);
     }
     d->state_step[s] = step;
     const uint16_t *under = step_under(d, step);

@@ -27,7 +27,7 @@ struct vsv_chunk_encoder {
     const vsv_pack_plan *p;
     uint16_t *cur, *prev;
     unsigned char *raw, *z, *raw3, *z3; /* a payload; the 3-D kind's */
-    unsigned char *ctx;                 /* the Rice coding's contexts, a cell each */
+    unsigned char *ctx;                 /* the Rice coding's scratch: 3 bytes a cell */
     size_t zcap;
     uint16_t *nodes;
     ZSTD_CCtx *cctx;
@@ -283,7 +283,7 @@ int vsv_chunk_encoder_create(const vsv_pack_plan *p, vsv_chunk_encoder **out)
     e->z = malloc(e->zcap);
     e->raw3 = malloc(2 * n);
     e->z3 = malloc(e->zcap);
-    e->ctx = malloc(n);
+    e->ctx = malloc(3 * n);
     e->nodes = calloc(2 * L->nnodes, 2);
     e->cctx = ZSTD_createCCtx();
     return e->cur && e->prev && e->raw && e->z && e->raw3 && e->z3 && e->ctx && e->nodes && e->cctx ? 0 : VSV_ENOMEM;

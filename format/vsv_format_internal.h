@@ -96,21 +96,27 @@ void vsv_brick_forward(int bits, int kind, const uint16_t *cur, const uint16_t *
  * the residuals wrap modulo 2^bits, so the step is exactly undone). */
 void vsv_brick_inverse(int bits, int kind, const unsigned char *in, int B, const int ext[3], uint16_t *state,
                        uint16_t *scratch, int undo);
+/* The same for ABS3 and DELTA3 from residuals a value a cell (z, as
+ * vsv_rice_decode gives them) rather than planes. */
+void vsv_brick_inverse_z(int bits, int kind, const uint16_t *z, int B, const int ext[3], uint16_t *state,
+                         uint16_t *scratch, int undo);
 
 /* The Rice-coded kinds' payload (SPEC.md §7 "Rice coding") of the residual
  * planes of vsv_brick_forward (n cells, lo then hi bytes for 16 bits):
  * encode returns its size, or 0 when it would not fit in cap bytes; decode
- * fills the planes, 0 or -1 when the payload breaks a rule of §7. Encode
- * keeps every cell's context in ctx (n bytes, the caller's). Decode reads
- * up to VSV_RICE_PAD bytes past the payload (the caller's copy, padded);
- * a valid payload is at most vsv_rice_max bytes. */
+ * gives the residuals a value a cell (z, n of them), 0 or -1 when the
+ * payload breaks a rule of §7. Encode works in the caller's scratch (3n
+ * bytes, aligned as malloc's: the residuals a value a cell, then every
+ * cell's context). Decode reads up to VSV_RICE_PAD bytes past the payload
+ * (the caller's copy, padded); a valid payload is at most vsv_rice_max
+ * bytes. */
 enum { VSV_RICE_CONTEXTS = 20, VSV_RICE_STREAMS = 4, VSV_RICE_PAD = 256 };
 static inline size_t vsv_rice_max(int bits, size_t n)
 {
     return VSV_RICE_CONTEXTS + 4 * (VSV_RICE_STREAMS - 1) + n * (8 + (size_t)bits) / 8 + VSV_RICE_STREAMS;
 }
-size_t vsv_rice_encode(int bits, const int ext[3], const unsigned char *planes, unsigned char *ctx, unsigned char *out,
+size_t vsv_rice_encode(int bits, const int ext[3], const unsigned char *planes, void *scratch, unsigned char *out,
                        size_t cap);
-int vsv_rice_decode(int bits, const int ext[3], const unsigned char *in, size_t size, unsigned char *planes);
+int vsv_rice_decode(int bits, const int ext[3], const unsigned char *in, size_t size, uint16_t *z);
 
 #endif

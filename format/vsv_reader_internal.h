@@ -43,6 +43,7 @@ struct vsv_decoder {
     uint16_t *codes;
     uint16_t *scratch;   /* a brick: DELTA3's differences */
     unsigned char *rice; /* format 4: a Rice-coded payload's padded copy */
+    uint16_t *zres;      /* and its residuals, a value a cell */
     uint16_t **state;    /* per species: codes of all bricks at state_step */
     int *state_step;
     uint16_t **under; /* per placement (GRID's, then each MOVE's), per column: how

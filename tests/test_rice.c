@@ -35,20 +35,34 @@ static void fill(int bits, size_t n, int mix, uint64_t *st, unsigned char *plane
     }
 }
 
-/* A payload's padded copy, as the decoder reads it. */
+/* A payload's padded copy, as the decoder reads it, decoded; its
+ * residuals (a value a cell) as planes (-2: a value past 8 bits given). */
 static int decode(int bits, const int ext[3], const unsigned char *p, size_t size, unsigned char *planes)
 {
     static unsigned char pad[3 * 2 * MAXN + 4096];
+    static uint16_t z[MAXN];
     if (size > sizeof pad - VSV_RICE_PAD)
         return -1;
     memcpy(pad, p, size);
     memset(pad + size, 0xA5, VSV_RICE_PAD); /* whatever follows a payload: never part of it */
-    return vsv_rice_decode(bits, ext, pad, size, planes);
+    const size_t n = (size_t)ext[0] * ext[1] * ext[2];
+    for (size_t m = 0; m < n; m++)
+        z[m] = 0x5A5A;
+    const int rc = vsv_rice_decode(bits, ext, pad, size, z);
+    for (size_t m = 0; m < n && rc == 0; m++) {
+        if (bits == 8 && z[m] > 0xff)
+            return -2;
+        planes[m] = (unsigned char)z[m];
+        if (bits == 16)
+            planes[n + m] = (unsigned char)(z[m] >> 8);
+    }
+    return rc;
 }
 
 static void test_coder(void)
 {
-    static unsigned char in[2 * MAXN], out[2 * MAXN], pay[3 * 2 * MAXN + 64], ctx[MAXN];
+    static unsigned char in[2 * MAXN], out[2 * MAXN], pay[3 * 2 * MAXN + 64];
+    static uint16_t ctx[3 * MAXN / 2]; /* the encoder's scratch */
     const int shapes[][3] = {{1, 1, 1}, {2, 1, 1}, {5, 3, 2}, {31, 7, 3}, {32, 32, 15}, {33, 2, 2}, {64, 64, 64}};
     uint64_t st = 11;
     int same = 1, fits = 1, tried = 0;
