@@ -336,6 +336,33 @@ void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t
     dequantise_rows((vsv_file *)f, s, codes, n, 1, 0, out, 0);
 }
 
+/* n copies of v at out. */
+static void fill(float *out, size_t n, float v)
+{
+    for (size_t i = 0; i < n; i++)
+        out[i] = v;
+}
+
+void vsv_file_dequantise_brick(const vsv_file *cf, int s, int b, const uint16_t *codes, float *out)
+{
+    vsv_file *f = (vsv_file *)cf;
+    const size_t B = (size_t)f->lay.brick;
+    int org[3], ext[3];
+    vsv_layout_box(&f->lay, b, org, ext);
+    const float ev = vsv_quant_value(&f->quant[s], 0);
+    for (int k = 0; k < (int)B; k++) { /* inside the grid a plane's rows a call; the rest filled */
+        float *const plane = out + (size_t)k * B * B;
+        if (k >= ext[2]) {
+            fill(plane, B * B, ev);
+            continue;
+        }
+        dequantise_rows(f, s, codes + (size_t)k * B * B, (size_t)ext[0], ext[1], B, plane, B);
+        for (int j = 0; j < ext[1] && ext[0] < (int)B; j++)
+            fill(plane + j * B + ext[0], B - (size_t)ext[0], ev);
+        fill(plane + (size_t)ext[1] * B, (B - (size_t)ext[1]) * B, ev);
+    }
+}
+
 /* The mask of the placement in force at step (NULL: nothing below ground). */
 static const uint16_t *step_under(const vsv_decoder *d, int step)
 {
@@ -354,7 +381,7 @@ int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out)
         return rc;
     const vsv_layout *L = &d->f->lay;
     const int n = L->brick;
-    vsv_file_dequantise(d->f, s, d->codes, (size_t)n * n * n, out);
+    vsv_file_dequantise_brick(d->f, s, b, d->codes, out);
     const uint16_t *under = step_under(d, step);
     if (under) { /* below the ground: no data, whatever the species */
         int org[3], ext[3];

@@ -548,8 +548,11 @@ int vsv_decoder_brick(vsv_decoder *d, int step, int s, int b, float *out);
  * NaN, no data, for every species in the cells below the ground (even
  * heights over a terrain: a centre below it; SPEC.md "No data"). */
 int vsv_decoder_volume(vsv_decoder *d, int step, int s, float *out);
-/* Dequantise n codes of species s into floats. */
+/* Dequantise n codes of species s into floats; or the brick^3 codes of
+ * brick b, the cells outside the grid the empty value (code 0's) whatever
+ * their codes. */
 void vsv_file_dequantise(const vsv_file *f, int s, const uint16_t *codes, size_t n, float *out);
+void vsv_file_dequantise_brick(const vsv_file *f, int s, int b, const uint16_t *codes, float *out);
 
 /* ------------------------------------------------------- decoded volumes */
 
@@ -599,11 +602,9 @@ int vsv_volume_create(const vsv_file *f, vsv_volume **out);
  * NULL and borrowed volumes are left alone. */
 void vsv_volume_free(vsv_volume *v);
 /* Decodes (step, s) into v (a volume of vsv_volume_create, else VSV_EINVAL)
- * through decoder d; the next step of the same species costs one delta per
- * brick. */
+ * through decoder d; the next step of the same species: a delta a brick. */
 int vsv_volume_load(vsv_volume *v, vsv_decoder *d, int step, int s);
-/* A new vsv_volume.gen (1, 2, ...: unique in the process), for whatever
- * fills a volume. */
+/* A new vsv_volume.gen (1, 2, ...: unique in the process), for fillers. */
 uint64_t vsv_volume_new_gen(void);
 /* The key of a brick of species s of f whose codes were last set at step
  * def (its last entry other than UNCHANGED; -1 for an EMPTY brick): every

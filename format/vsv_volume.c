@@ -135,16 +135,7 @@ int vsv_volume_load(vsv_volume *pv, vsv_decoder *d, int step, int s)
             continue;
         }
         float *dst = v->store + (size_t)b * n;
-        vsv_file_dequantise(f, s, codes, n, dst);
-        /* cells outside the grid read as the empty value */
-        int org[3], ext[3];
-        vsv_layout_box(L, b, org, ext);
-        if (ext[0] < L->brick || ext[1] < L->brick || ext[2] < L->brick)
-            for (int k = 0; k < L->brick; k++)
-                for (int j = 0; j < L->brick; j++)
-                    for (int i = 0; i < L->brick; i++)
-                        if (i >= ext[0] || j >= ext[1] || k >= ext[2])
-                            dst[((size_t)k * L->brick + j) * L->brick + i] = pv->empty_value;
+        vsv_file_dequantise_brick(f, s, b, codes, dst); /* outside the grid: the empty value */
         pv->bricks[b] = dst;
     }
     pv->step = step;

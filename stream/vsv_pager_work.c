@@ -373,16 +373,7 @@ int vsv_pager_job_run(vsv_pager *p, vsv_decoder *d, job *j, uint16_t *scratch, c
                 return rc;
             }
         }
-        float *out = j->out[i];
-        vsv_file_dequantise(p->f, j->s, codes, cells, out);
-        if (partial) { /* outside the grid: the empty value */
-            const float ev = vsv_quant_value(vsv_file_quant(p->f, j->s), 0);
-            for (int k = 0; k < n; k++)
-                for (int jj = 0; jj < n; jj++)
-                    for (int ii = 0; ii < n; ii++)
-                        if (ii >= ext[0] || jj >= ext[1] || k >= ext[2])
-                            out[((size_t)k * n + jj) * n + ii] = ev;
-        }
+        vsv_file_dequantise_brick(p->f, j->s, j->b, codes, j->out[i]); /* outside the grid: the empty value */
     }
     while (c < j->nck) { /* a walk that only keeps states (vsv_pager_job_prewalk) */
         const int rc = vsv_decoder_brick_advance(d, ++t, j->s, j->b, codes);
