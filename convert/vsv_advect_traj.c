@@ -48,16 +48,23 @@ static inline float fmax3abs(const float k[3])
 /* Moves p along the wind from interval time s over dur (> 0) of the
  * interval, forward (dir 1) or back (dir -1); k1 is the wind at p and s.
  * Returns 0, or 1 when the trajectory left the grid sideways (the air came
- * from, or goes to, outside it: nothing there is known). */
+ * from, or goes to, outside it: nothing there is known), and 1 too when it
+ * would cross more cells than 16 times across the grid within the interval
+ * or meets a wind that is not finite: the row of a latitude-longitude grid
+ * at a pole, whose cells have no width, makes any wind there infinite or
+ * near it in cells, and its steps of at most a cell would never end. */
 static int trajectory(const vsv_advect *a, float p[3], const float k1_in[3], float s, float dur, float dir)
 {
     const float hi[3] = {(float)(a->nx - 1), (float)(a->ny - 1), (float)(a->nz - 1)};
+    const int most = 16 * (a->nx + a->ny + a->nz);
     float k1[3] = {k1_in[0], k1_in[1], k1_in[2]};
-    for (int steps = 0; dur > 0 && steps < 1000000; steps++) {
+    for (int steps = 0; dur > 0; steps++) {
         float k2[3], m[3];
         if (steps)
             wind_at(a, p, s, k1);
         const float vm = fmax3abs(k1);
+        if (steps == most || !(vm < INFINITY))
+            return 1;
         const float h = vm * dur > 1 ? 1 / vm : dur; /* at most one cell a step */
         for (int d = 0; d < 3; d++)
             m[d] = p[d] + dir * k1[d] * (h / 2);

@@ -368,6 +368,48 @@ static void test_map_scale(void)
     vsv_meta_clear(&m);
 }
 
+/* A latitude-longitude grid whose last row lies on the North Pole: its
+ * cells have no width, so a wind there is (near) infinite in cells. The
+ * interpolation ends (it stepped a millionth of a cell at a time there, for
+ * minutes on a global grid), and the pole row, whose trajectories cannot be
+ * followed, is linear interpolation's. */
+static void test_pole(void)
+{
+    static const char *const names[] = {"CLW", VSV_WIND_U, VSV_WIND_V};
+    vsv_meta m;
+    grid(&m, names, 3);
+    m.proj.kind = VSV_PROJ_LATLON;
+    m.spacing[0] = m.spacing[1] = 2;
+    m.origin[0] = 0, m.origin[1] = 90 - 2 * (NY - 1); /* row NY - 1 at 90N */
+    float *a[3], *b[3];
+    for (int v = 0; v < 3; v++) {
+        a[v] = malloc(NC * sizeof(float));
+        b[v] = malloc(NC * sizeof(float));
+    }
+    cloud(a[0], 10, 8), cloud(b[0], 22, 8);
+    fill(a[1], 20), fill(b[1], 20), fill(a[2], 5), fill(b[2], 5);
+    for (int k = 0; k < NZ; k++) /* at the pole the wind turns from cell to cell */
+        for (int i = 0; i < NX; i++)
+            a[1][(k * NY + NY - 1) * NX + i] = b[1][(k * NY + NY - 1) * NX + i] = i & 1 ? -20 : 20;
+    frames adv = {0, 1, {0}, {{0}}};
+    const int rc = run(VSV_TIME_ADVECT, &m, (const float *const *)a, (const float *const *)b, &adv);
+    double e = 1;
+    if (rc == 0 && adv.n == 5) {
+        e = 0;
+        for (int k = 0; k < NZ; k++)
+            for (int i = 0; i < NX; i++) {
+                const int c = (k * NY + NY - 1) * NX + i;
+                e = fmax(e, fabs(adv.f[2][0][c] - (a[0][c] + ((double)b[0][c] - a[0][c]) * 0.5)));
+            }
+    }
+    CHECK(e < 1e-6, "advect on a grid reaching the pole: it ends, the pole row linear interpolation's",
+          "rc %d, %d frames, max difference %.3g", rc, adv.n, e);
+    frames_free(&adv);
+    for (int v = 0; v < 3; v++)
+        free(a[v]), free(b[v]);
+    vsv_meta_clear(&m);
+}
+
 /* Most of a hydrometeor's grid is +0, and a sample whose 8 cells are all
  * +0 is answered without reading them: the same cloud (cut at 1e-3) on a +0 background
  * and on a 1e-30 one (where that shortcut never applies), carried through a
@@ -566,5 +608,6 @@ int main(void)
     test_zero_shortcut();
     test_meta_and_errors();
     test_map_scale();
+    test_pole();
     return vsv_test_done();
 }
