@@ -88,6 +88,16 @@ void vsv_cli_die(int code, const char *fmt, ...)
     exit(code);
 }
 
+void vsv_cli_stdout_done(void)
+{
+    const int before = ferror(stdout) ? errno : 0; /* a write that failed already: its reason */
+    errno = 0;
+    if (fflush(stdout) == 0 && !ferror(stdout))
+        return;
+    const int e = errno ? errno : before;
+    vsv_cli_die(1, "standard output: %s", e ? strerror(e) : "not all of it written");
+}
+
 void vsv_cli_usage_error(const char *fmt, ...)
 {
     va_list ap;

@@ -23,6 +23,9 @@ void vsv_cli_hold_signals(int on);
 const char *vsv_cli_tool(void);
 /* "tool: message" on stderr, then exit(code). */
 void vsv_cli_die(int code, const char *fmt, ...) __attribute__((format(printf, 2, 3), noreturn));
+/* Standard output flushed: when any of what went to it was not written
+ * (a full disk, a closed pipe), "tool: standard output: why" and exit(1). */
+void vsv_cli_stdout_done(void);
 /* "tool: message\nTry 'tool --help'." and exit(2). */
 void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
 /* Refuses (exit 2, before anything is written) an output that is one of the

@@ -141,6 +141,7 @@ int main(int argc, char **argv)
             printf("\n");
             vsv_source_free(src);
         }
+        vsv_cli_stdout_done();
         return status;
     }
     vsv_run *run = NULL;

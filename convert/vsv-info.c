@@ -629,5 +629,6 @@ int main(int argc, char **argv)
         free(stats);
         vsv_file_free(f);
     }
+    vsv_cli_stdout_done();
     return status;
 }

@@ -342,8 +342,7 @@ static int run_trajectories(const query_args *qa)
         vsv_json_print(stdout, root, 1);
         vsv_json_free(root);
     }
-    if (fflush(stdout) || ferror(stdout))
-        vsv_cli_die(1, "writing the output failed");
+    vsv_cli_stdout_done();
     vsv_traj_free(tr);
     vsv_file_free(f);
     return 0;
@@ -579,8 +578,7 @@ int main(int argc, char **argv)
         vsv_json_print(stdout, run.root, 1);
         vsv_json_free(run.root);
     }
-    if (fflush(stdout) || ferror(stdout))
-        vsv_cli_die(1, "writing the output failed");
+    vsv_cli_stdout_done();
     free(run.width);
     free(run.sel);
     vsv_query_free(run.q);

@@ -225,8 +225,10 @@ static void species(const vsv_meta *m, plot_args *a)
 static void write_csv(const vsv_plot *p, const char *path)
 {
     if (!strcmp(path, "-")) {
-        if (vsv_plot_csv(p, stdout))
-            vsv_cli_die(1, "writing the output failed");
+        if (vsv_plot_csv(p, stdout)) {
+            vsv_cli_stdout_done(); /* dies saying why, when the output failed */
+            vsv_cli_die(1, "standard output: not all of it written");
+        }
         return;
     }
     char tmp[4200];

@@ -90,6 +90,18 @@ if mkfifo "$T/fifo"; then
     wait
 fi
 expect "vsv-info on the packed sample" 0 "$B/vsv-info" "$T/a.vsv"
+# standard output that cannot be written (a full disk): exit 1, saying so
+for args in "vsv-info $T/a.vsv" "vsv-info --json $T/a.vsv" "vsv-info -f grid.nx $T/a.vsv" "vsv-extract --list $CTL"; do
+    set -- $args
+    tool=$1
+    shift
+    case $1 in -*) what="$tool $1" ;; *) what=$tool ;; esac
+    "$B/$tool" "$@" < /dev/null > /dev/full 2> "$T/err"
+    rc=$?
+    [ "$rc" = 1 ] && pass "$what to a full standard output exits 1" ||
+        fail "$what to a full standard output exits 1" "exit $rc; stderr: $(head -c 300 "$T/err")"
+    has "... saying so" "$T/err" "$tool: standard output: No space left on device"
+done
 has "human summary shows the grid" "$T/out" "72 x 46 x 7 cells"
 has "human summary shows the species" "$T/out" "Geopotential Heights"
 has "human summary shows the compression ratio" "$T/out" "ratio"
