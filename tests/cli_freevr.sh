@@ -117,13 +117,17 @@ echo "windows drawn (or 60 s passed) at $(date +%T)" >> "$O/log"
 # shows another picture (a step lasts 2 s and a lap of four 8 s, so the
 # step shown changes; on a loaded machine paging the next step can take
 # longer, so the wait for the change is long, 40 s, and not a measure)
+# A dump is replaced whole (renamed over), never written in place: a hard
+# link is a snapshot of it that needs no disk space (a copy on a full disk
+# would leave an empty file)
+snap() { for f in "$O"/dump/*.ppm; do ln -f "$f" "$1/" 2> /dev/null; done; }
 mkdir -p "$O/shot1" "$O/shot2"
 t1=$(date +%s%3N)
-cp "$O"/dump/*.ppm "$O/shot1/" 2> /dev/null
+snap "$O/shot1"
 f1=$(frame "$O/shot1/$CHECK.ppm")
 sleep 2.5
 while :; do
-    cp "$O"/dump/*.ppm "$O/shot2/" 2> /dev/null
+    snap "$O/shot2"
     [ "$(frame "$O/shot2/$CHECK.ppm")" -gt "${f1:-0}" ] 2> /dev/null &&
         ! $SHOT same "$O/shot1/$CHECK.ppm" "$O/shot2/$CHECK.ppm" 2> /dev/null && break
     [ $(($(date +%s%3N) - t1)) -gt 40000 ] && break
@@ -180,7 +184,8 @@ layout() { # NAME "WINDOWS" "FACING" ARGS...: runs one layout and checks it
         fail "$name: FreeVR gets only configuration strings" "$(grep -m1 "cannot understand" "$O/stderr")"
     fi
     for w in $WINDOWS; do
-        [ -s "$O/shot2/$w.ppm" ] || fail "$name: the $w window draws frames" "no dump of it"
+        [ -s "$O/shot2/$w.ppm" ] || fail "$name: the $w window draws frames" \
+            "no dump of it; dumps: $(cd "$O/dump" && ls -l | tr '\n' ' ' | head -c 600); $(tr '\n' ' ' < "$O/log"); $(df -k "$O" | tail -1)"
     done
     for w in $facing; do
         s=$($SHOT shown "$O/shot2/$w.ppm" 2> /dev/null)

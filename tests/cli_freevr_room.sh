@@ -238,7 +238,7 @@ done
 VSV=$T/nav.vsv
 ln -s "$T/crop.vsv" "$VSV"
 cat > "$T/nav.sh" << 'EOS'
-snap() { sleep 0.8; cp "$O/dump/simulator.ppm" "$O/$1.ppm"; }
+snap() { sleep 0.8; ln -f "$O/dump/simulator.ppm" "$O/$1.ppm"; } # (a dump is renamed over, never rewritten)
 stick() { # X Y SECONDS [BUTTON]: the joystick held there (the pointer while space is down)
     [ -n "${4:-}" ] && xdotool mousedown "$4"
     xdotool mousemove "$1" "$2" keydown space
@@ -298,7 +298,7 @@ VSV=$T/wind.vsv
     printf '  input "seed" = "2switch(keyboard:key[t])"; }\n'
 } > "$T/wind1.rc"
 cat > "$T/wind.sh" << 'EOS'
-snap() { sleep 1; cp "$O/dump/windw.ppm" "$O/$1.ppm"; }
+snap() { sleep 1; ln -f "$O/dump/windw.ppm" "$O/$1.ppm"; }
 press() { xdotool mousemove 150 150 keydown "$1"; sleep 0.2; xdotool keyup "$1"; }
 snap s0
 press 1
