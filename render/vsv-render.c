@@ -125,6 +125,21 @@ static int write_png(const char *path, const float *rgba, int w, int h, const fl
 
 /* clang-format off */ /* (a table, laid out by hand) */
 enum { O_TIMES = 1000, O_TF, O_SIZE, O_BG, O_NOTERRAIN, O_THREADS, O_LOOKAT, O_STEREO, O_MOVIE, O_FPS, O_VIEW, O_RANGE, O_COLORMAP, O_LOG, O_LIGHT, O_NOLIGHT, O_SLICE, O_SLICESP, O_SLICECM, O_NOANNOT, O_ANNOT, O_GPUMB, O_SLICERANGE, O_ISO, O_TRAJ, O_SEEDLINE, O_SEEDSLICE, O_TRAJFROM, O_TRAJFOR, O_BARBS, O_TUBER, O_STREAM };
+/* "R,G,B", each from 0 to 1, nothing after; 0 or -1. */
+static int parse_rgb(const char *s, float rgb[3])
+{
+    for (int i = 0; i < 3; i++) {
+        char *end;
+        errno = 0;
+        const double v = strtod(s, &end);
+        if (errno || end == s || !(v >= 0 && v <= 1) || *end != (i < 2 ? ',' : '\0'))
+            return -1;
+        rgb[i] = (float)v;
+        s = end + 1;
+    }
+    return 0;
+}
+
 static const struct option longopts[] = {
     {"output", required_argument, 0, 'o'},     {"time", required_argument, 0, 't'},
     {"times", required_argument, 0, O_TIMES},  {"species", required_argument, 0, 's'},
@@ -238,8 +253,8 @@ static int parse_args(int argc, char **argv, render_args *ra)
                 vsv_cli_usage_error("--exaggerate %s: a number above 0 and at most %d", optarg, VSV_MAX_EXAGGERATION);
             break;
         case O_BG:
-            if (sscanf(optarg, "%f,%f,%f", &ra->bg[0], &ra->bg[1], &ra->bg[2]) != 3)
-                vsv_cli_usage_error("--background %s: expected R,G,B", optarg);
+            if (parse_rgb(optarg, ra->bg))
+                vsv_cli_usage_error("--background %s: expected R,G,B, each from 0 to 1", optarg);
             break;
         case O_NOTERRAIN: ra->terrain = 0; break;
         case O_LIGHT:

@@ -14,6 +14,12 @@ has "usage printed" "$T/out" "Usage: vsv-render"
 expect "vsv-render without -o exits 2" 2 "$B/vsv-render" "$T/storm.vsv"
 expect "vsv-render --renderer nope exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --renderer nope
 expect "an unknown species exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --species NOPE
+expect "--background above 1 exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 2,0,0
+has "and says each is from 0 to 1" "$T/err" "--background 2,0,0: expected R,G,B, each from 0 to 1"
+expect "--background with trailing text exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 0,0,0.5x
+expect "--background with a negative exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 0,-0.1,0
+[ ! -e "$T/x.png" ] && pass "and no picture is written" || fail "and no picture is written" "$T/x.png is there"
+expect "--background 0,0,1 renders" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/bg.png" --background 0,0,1 --size 64x48
 expect "a render of the last step" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/last.png" --size 320x240
 if [ "$(head -c 8 "$T/last.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && [ "$(png_size "$T/last.png")" = "320 240" ]; then
     pass "a 320x240 PNG is written"; else fail "a 320x240 PNG is written" "$(png_size "$T/last.png")"; fi
