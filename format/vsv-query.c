@@ -140,8 +140,12 @@ static int parse_args(int argc, char **argv, query_args *qa)
         case 't': qa->time = optarg; break;
         case O_TIMES: qa->times = optarg; break;
         case O_INTERP: qa->interp = VSV_INTERP_LINEAR; break;
-        case O_CSV: qa->fmt = FMT_CSV; break;
-        case O_JSON: qa->fmt = FMT_JSON; break;
+        case O_CSV:
+        case O_JSON:
+            if (qa->fmt != FMT_TABLE && qa->fmt != (c == O_CSV ? FMT_CSV : FMT_JSON))
+                vsv_cli_usage_error("--csv and --json: one output format at a time");
+            qa->fmt = c == O_CSV ? FMT_CSV : FMT_JSON;
+            break;
         case O_TRAJ:
             if (qa->ntraj == MAX_TRAJ)
                 vsv_cli_usage_error("at most %d --trajectory options", MAX_TRAJ);

@@ -15,6 +15,9 @@ expect "no point exits 2" 2 "$Q" "$T/crop.vsv"
 expect "two points exit 2" 2 "$Q" "$T/crop.vsv" --at 46,-116 --cell 1,2
 expect "a malformed --at exits 2" 2 "$Q" "$T/crop.vsv" --at 46
 expect "a fractional --cell exits 2" 2 "$Q" "$T/crop.vsv" --cell 1.5,2
+expect "--csv with --json exits 2" 2 "$Q" "$T/crop.vsv" --cell 1,2 --csv --json
+has "and says one format at a time" "$T/err" "--csv and --json: one output format at a time"
+expect "--json twice is one format" 0 "$Q" "$T/crop.vsv" --cell 1,2 --json --json
 expect "an unknown species exits 2" 2 "$Q" "$T/crop.vsv" --at 46,-116 -s NOPE
 expect "a point outside the grid exits 1" 1 "$Q" "$T/crop.vsv" --at 41.88,-87.63
 has "naming the grid's range" "$T/err" "41.88,-87.63 is outside the grid (39 x 39 cells spanning latitude 42.515..56.454, longitude -133.825..-112.199)"
