@@ -274,11 +274,11 @@ const char *vsv_duration_why(const char *s)
     if (rc == VSV_ERANGE && body[0] == 'P' && iso_duration(body + 1, &v) == VSV_ERANGE)
         return "years and months have no fixed length: give days, hours, minutes or seconds";
     if (rc == VSV_ERANGE && s[0] == '-')
-        return "a negative duration: the step must be more than zero";
+        return "a negative duration: it must be more than zero";
     if (rc == VSV_ERANGE && (body[0] == 'P' ? iso_duration(body + 1, &v) : unit_duration(body, &v)) == 0 && v > 0)
         return "longer than 10000 years (no file spans more)";
     if (rc == VSV_ERANGE)
-        return "a duration of zero: the step must be more than zero";
+        return "a duration of zero: it must be more than zero";
     return "expected a duration with its units, largest first: 30s, 10m, 1h30m, 1d, or ISO 8601 PT1H30M";
 }
 

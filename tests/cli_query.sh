@@ -18,6 +18,8 @@ expect "a fractional --cell exits 2" 2 "$Q" "$T/crop.vsv" --cell 1.5,2
 expect "--csv with --json exits 2" 2 "$Q" "$T/crop.vsv" --cell 1,2 --csv --json
 has "and says one format at a time" "$T/err" "--csv and --json: one output format at a time"
 expect "--json twice is one format" 0 "$Q" "$T/crop.vsv" --cell 1,2 --json --json
+expect "--for 0h exits 2" 2 "$Q" "$T/crop.vsv" --trajectory 46,-116,1000 --for 0h
+has "and says a length must be more than zero (not 'the step')" "$T/err" "--for 0h: a duration of zero: it must be more than zero"
 expect "an unknown species exits 2" 2 "$Q" "$T/crop.vsv" --at 46,-116 -s NOPE
 expect "a point outside the grid exits 1" 1 "$Q" "$T/crop.vsv" --at 41.88,-87.63
 has "naming the grid's range" "$T/err" "41.88,-87.63 is outside the grid (39 x 39 cells spanning latitude 42.515..56.454, longitude -133.825..-112.199)"
