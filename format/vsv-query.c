@@ -311,6 +311,19 @@ static int run_trajectories(const query_args *qa)
     }
     if (qa->steady && vsv_traj_freeze(tr, from))
         vsv_cli_die(1, "%s: --streamline: %s", path, vsv_traj_error(tr));
+    /* every path before any row: a seed that fails leaves no output */
+    vsv_traj_path *paths = calloc((size_t)qa->ntraj, sizeof *paths);
+    if (!paths)
+        vsv_cli_die(1, "%s: out of memory", path);
+    for (int i = 0; i < qa->ntraj; i++) {
+        double v[3], seed[3];
+        parse_list(qa->traj[i], v);
+        int rc = vsv_proj_forward(&m->proj, v[0], v[1], &seed[0], &seed[1]);
+        seed[2] = v[2];
+        if (rc || (rc = vsv_traj_run(tr, seed, from, to, every, &paths[i])))
+            vsv_cli_die(1, "%s: --trajectory %s: %s", path, qa->traj[i],
+                        rc == VSV_EINVAL ? vsv_traj_error(tr) : vsv_strerror(rc));
+    }
     const int cal = vsv_meta_calendar(m);
     vsv_json *root = NULL, *arr = NULL;
     if (qa->fmt == FMT_JSON) {
@@ -325,22 +338,16 @@ static int run_trajectories(const query_args *qa)
                "height", "x", "y", "east", "north", "up");
     }
     for (int i = 0; i < qa->ntraj; i++) {
-        double v[3], seed[3];
-        vsv_traj_path p = {0};
-        parse_list(qa->traj[i], v);
-        int rc = vsv_proj_forward(&m->proj, v[0], v[1], &seed[0], &seed[1]);
-        seed[2] = v[2];
-        if (rc || (rc = vsv_traj_run(tr, seed, from, to, every, &p)))
-            vsv_cli_die(1, "%s: --trajectory %s: %s", path, qa->traj[i],
-                        rc == VSV_EINVAL ? vsv_traj_error(tr) : vsv_strerror(rc));
-        print_path(qa, cal, i, &p, arr);
-        if (p.end != VSV_TRAJ_END_TIME) {
+        const vsv_traj_path *p = &paths[i];
+        print_path(qa, cal, i, p, arr);
+        if (p->end != VSV_TRAJ_END_TIME) {
             char iso[48];
-            format_when(cal, p.pts[p.n - 1].t, iso, sizeof iso);
-            fprintf(stderr, "vsv-query: %s: trajectory %s %s at %s\n", path, qa->traj[i], end_words[p.end], iso);
+            format_when(cal, p->pts[p->n - 1].t, iso, sizeof iso);
+            fprintf(stderr, "vsv-query: %s: trajectory %s %s at %s\n", path, qa->traj[i], end_words[p->end], iso);
         }
-        vsv_traj_path_clear(&p);
+        vsv_traj_path_clear(&paths[i]);
     }
+    free(paths);
     if (root) {
         vsv_json_set(root, "trajectories", arr);
         vsv_json_print(stdout, root, 1);

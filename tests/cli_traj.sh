@@ -67,6 +67,10 @@ has "saying so" "$T/err" "the grid has no map projection"
 expect "a seed outside the grid exits 1" 1 "$Q" "$T/east.vsv" --trajectory 45,-100,300
 has "naming the seed" "$T/err" "--trajectory 45,-100,300: seed x"
 has "and why" "$T/err" "is outside the grid at 2020-01-01T00:00:00Z"
+for f in --csv --json ""; do
+    expect "a good seed then one outside the grid${f:+ ($f)} exits 1" 1 "$Q" "$T/east.vsv" --trajectory 40,-100.5,300 --trajectory 45,-100,300 $f
+    [ ! -s "$T/out" ] && pass "and writes nothing${f:+ ($f)}" || fail "and writes nothing${f:+ ($f)}" "$(head -c 200 "$T/out")"
+done
 expect "a seed above the top exits 1" 1 "$Q" "$T/east.vsv" --trajectory 40,-100,900
 has "above the grid's top" "$T/err" "above the grid's top"
 expect "--from after the file exits 1" 1 "$Q" "$T/east.vsv" --trajectory 40,-100,300 --from 2020-01-02
