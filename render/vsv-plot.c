@@ -221,18 +221,20 @@ static void species(const vsv_meta *m, plot_args *a)
     free(sel);
 }
 
-/* The values as CSV into path ("-": standard output), all or nothing. */
-static void write_csv(const vsv_plot *p, const char *path)
+/* The values as CSV on standard output. */
+static void print_csv(const vsv_plot *p)
 {
-    if (!strcmp(path, "-")) {
-        if (vsv_plot_csv(p, stdout)) {
-            vsv_cli_stdout_done(); /* dies saying why, when the output failed */
-            vsv_cli_die(1, "standard output: not all of it written");
-        }
-        return;
+    if (vsv_plot_csv(p, stdout)) {
+        vsv_cli_stdout_done(); /* dies saying why, when the output failed */
+        vsv_cli_die(1, "standard output: not all of it written");
     }
-    char tmp[4200];
-    const int fd = vsv_output_temp(path, NULL, tmp, sizeof tmp);
+}
+
+/* The values as CSV into a temporary file beside path, written whole and
+ * synced, its name into tmp: published once the plot is. */
+static void stage_csv(const vsv_plot *p, const char *path, char *tmp, size_t cap)
+{
+    const int fd = vsv_output_temp(path, NULL, tmp, cap);
     FILE *fp = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (!fp) {
         const int e = errno;
@@ -242,7 +244,7 @@ static void write_csv(const vsv_plot *p, const char *path)
     }
     int bad = vsv_plot_csv(p, fp) || fsync(fileno(fp));
     const int e = errno;
-    if (fclose(fp) || bad || vsv_output_publish(tmp, path)) {
+    if (fclose(fp) || bad) {
         const int e2 = bad ? e : errno;
         vsv_output_discard(tmp);
         vsv_cli_die(1, "%s: cannot write: %s", path, strerror(e2));
@@ -272,10 +274,23 @@ int main(int argc, char **argv)
     int rc = vsv_plot_create(f, &a.o, &p, msg, sizeof msg);
     if (rc)
         vsv_cli_die(rc == VSV_EINVAL ? 2 : 1, "%s: %s %s: %s", a.path, what, arg, msg);
-    if ((rc = vsv_plot_write(p, a.out, msg, sizeof msg)))
+    /* both outputs or neither: the CSV staged first, published after the plot */
+    char tmp[4200] = "";
+    const int to_file = a.csv && strcmp(a.csv, "-");
+    if (to_file)
+        stage_csv(p, a.csv, tmp, sizeof tmp);
+    if ((rc = vsv_plot_write(p, a.out, msg, sizeof msg))) {
+        if (to_file)
+            vsv_output_discard(tmp);
         vsv_cli_die(1, "%s", msg);
-    if (a.csv)
-        write_csv(p, a.csv);
+    }
+    if (to_file && vsv_output_publish(tmp, a.csv)) {
+        const int e = errno;
+        vsv_output_discard(tmp);
+        vsv_cli_die(1, "%s: cannot write: %s (the plot %s is written)", a.csv, strerror(e), a.out);
+    }
+    if (a.csv && !to_file)
+        print_csv(p);
     vsv_plot_free(p);
     vsv_file_free(f);
     return 0;

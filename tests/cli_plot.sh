@@ -194,6 +194,11 @@ expect "a time outside the run exits 1" 1 $P --profile 50,-120 --time 9 -o "$T/x
 expect "a missing file exits 1" 1 "$B/vsv-plot" "$T/none.vsv" --profile 50,-120 -o "$T/x.svg"
 expect "an output in a missing folder exits 1" 1 $P --profile 50,-120 -o "$T/no/x.svg"
 has "... naming it" "$T/err" "$T/no/x.svg"
+# the plot and its CSV: both or neither
+expect "a CSV in a missing folder exits 1" 1 $P --profile 50,-120 -o "$T/x.svg" --csv "$T/no/x.csv"
+has "... naming it" "$T/err" "$T/no/x.csv: cannot create"
+expect "a plot in a missing folder with a CSV exits 1" 1 $P --profile 50,-120 -o "$T/no/x.svg" --csv "$T/x.csv"
+[ ! -e "$T/x.csv" ] && pass "... and leaves no CSV" || fail "... and leaves no CSV" "$T/x.csv exists"
 [ ! -e "$T/x.svg" ] && pass "no output after an error" || fail "no output after an error" "$T/x.svg exists"
 left=$(ls "$T" | grep -c '\.tmp\.')
 [ "$left" = 0 ] && pass "no temporary left behind" || fail "no temporary left behind" "$(ls "$T" | grep '\.tmp\.')"
