@@ -69,8 +69,11 @@ int main(int argc, char **argv)
     vsv_source_opts_init(&so);
     while ((c = getopt_long(argc, argv, "v:t:lwhV", longopts, NULL)) != -1) {
         int h = vsv_source_cli_option(&so, c, optarg);
-        if (h < 0)
-            vsv_cli_usage_error("bad value '%s' for a vertical-grid option", optarg);
+        if (h < 0) {
+            char why[256];
+            vsv_source_cli_why(c, optarg, why, sizeof why);
+            vsv_cli_usage_error("%s", why);
+        }
         if (h)
             continue;
         switch (c) {

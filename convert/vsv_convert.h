@@ -127,8 +127,9 @@ enum {
     "                       height/pressure file as the vertical coordinate, wind as U\n"                              \
     "                       and V, TEMP, HUMIDITY, KV, cloud/rain (CWC RWC ...), PRESS;\n"                             \
     "                       each checked against the file's grid, layers and hours\n"                                  \
-    "  --proj lcc|pstereo|mercator|latlon --lat0 D --lon0 D --lat1 D --lat2 D\n"                                       \
-    "                       the projection of a CAMx 5 file (its header has none)\n"                                   \
+    "  --proj NAME --lat0 D --lon0 D --lat1 D --lat2 D  the projection of a CAMx 5\n"                                  \
+    "                       file (its header has none): lcc, pstereo, mercator,\n"                                     \
+    "                       tmerc, albers or latlon\n"                                                                 \
     "OpenVDB sequences (one .vdb per step, given in time order):\n"                                                    \
     "  --time-step DURATION the spacing of the steps (e.g. 10m, 1h) of files without\n"                                \
     "                       \"time\" metadata (files from vsv-export have it; a file\n"                                \
@@ -136,6 +137,9 @@ enum {
     "  --time-start ISO     the time of the first file (required with --time-step)\n"
 /* 1 if id was one of these options, 0 if not, -1 for a bad value. */
 int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg);
+/* Why arg is a bad value for option id ("--proj utm: expected latlon, lcc,
+ * ..."), into msg (cap bytes). */
+void vsv_source_cli_why(int id, const char *arg, char *msg, size_t cap);
 /* Checks the options together once all are given (a projection with the
  * parameters it needs, --time-step with --time-start); 0, or VSV_EINVAL with
  * the reason in msg (caller buffer of cap bytes). */

@@ -61,8 +61,11 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
     int c;
     while ((c = getopt_long(argc, argv, "o:r:i:v:t:qhV", longopts, NULL)) != -1) {
         int h = vsv_source_cli_option(&a->so, c, optarg);
-        if (h < 0)
-            vsv_cli_usage_error("bad value '%s' for a vertical-grid option", optarg);
+        if (h < 0) {
+            char why[256];
+            vsv_source_cli_why(c, optarg, why, sizeof why);
+            vsv_cli_usage_error("%s", why);
+        }
         if (h || vsv_cli_pack_option(&a->pack, c, optarg))
             continue;
         switch (c) {

@@ -204,6 +204,39 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
     }
 }
 
+void vsv_source_cli_why(int id, const char *arg, char *msg, size_t cap)
+{
+    static const char *const names[] = {"vertical", "nz",   "ztop", "heights",   "proj",       "lat0",
+                                        "lon0",     "lat1", "lat2", "time-step", "time-start", "met"};
+    const int k = id - VSV_SOURCE_OPT_VERTICAL;
+    const char *why = "a bad value";
+    char projs[128] = "";
+    switch (id) {
+    case VSV_SOURCE_OPT_VERTICAL: why = "expected native or even"; break;
+    case VSV_SOURCE_OPT_NZ: why = "expected a whole number of levels from 1 to 4096"; break;
+    case VSV_SOURCE_OPT_ZTOP: why = "expected metres above 0 and below 1000000"; break;
+    case VSV_SOURCE_OPT_LAT0:
+    case VSV_SOURCE_OPT_LON0:
+    case VSV_SOURCE_OPT_LAT1:
+    case VSV_SOURCE_OPT_LAT2: why = "expected degrees from -360 to 360"; break;
+    case VSV_SOURCE_OPT_TIME_STEP: why = vsv_duration_why(arg); break;
+    case VSV_SOURCE_OPT_TIME_START: why = "expected an ISO 8601 time, e.g. 2005-08-28T00:00:00Z"; break;
+    case VSV_SOURCE_OPT_PROJ: {
+        size_t n = (size_t)snprintf(projs, sizeof projs, "expected");
+        for (int p = VSV_PROJ_LATLON; p < VSV_PROJ_COUNT && n < sizeof projs; p++)
+            n += (size_t)snprintf(projs + n, sizeof projs - n, "%s %s", p == VSV_PROJ_LATLON ? "" : ",",
+                                  vsv_proj_name(p));
+        why = projs;
+        break;
+    }
+    default: break;
+    }
+    if (k >= 0 && k < (int)(sizeof names / sizeof names[0]))
+        snprintf(msg, cap, "--%s %s: %s", names[k], arg ? arg : "", why);
+    else
+        snprintf(msg, cap, "%s: %s", arg ? arg : "", why);
+}
+
 int vsv_source_opts_check(const vsv_source_opts *o, char *msg, size_t cap)
 {
     static const char *const pn[] = {"--lat0", "--lon0", "--lat1", "--lat2"};

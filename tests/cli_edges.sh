@@ -54,6 +54,12 @@ expect "--proj lcc without parameters exits 2" 2 "$B/vsv-convert" --vertical eve
 has "--proj names what it needs" "$T/err" "--proj lcc needs --lat0 --lon0 --lat1"
 if [ ! -e "$T/p.vsv" ]; then pass "nothing written after --proj lcc alone"; else fail "nothing written after --proj lcc alone" "exists"; fi
 expect "--lat1 without --proj exits 2" 2 "$B/vsv-extract" --vertical even --lat1 33 "$C"
+expect "--proj with an unknown name exits 2" 2 "$B/vsv-convert" --proj utm "$C" -o "$T/p.vsv"
+has "and lists the projections (not 'a vertical-grid option')" "$T/err" "vsv-convert: --proj utm: expected latlon, lcc, pstereo, mercator, tmerc, albers"
+expect "--lat0 with no number exits 2" 2 "$B/vsv-extract" --proj lcc --lat0 north "$C"
+has "and names the option" "$T/err" "vsv-extract: --lat0 north: expected degrees from -360 to 360"
+expect "--nz 0 exits 2" 2 "$B/vsv-convert" --nz 0 "$C" -o "$T/p.vsv"
+has "and says the range" "$T/err" "--nz 0: expected a whole number of levels from 1 to 4096"
 expect "--proj lcc with its parameters converts" 0 "$B/vsv-convert" --vertical even -q --proj lcc --lat0 40 --lon0 -97 --lat1 33 --lat2 45 "$C" -o "$T/p.vsv"
 expect "--heights on an MM5 file exits 1" 1 "$B/vsv-convert" --vertical even --heights "$D/camx/test.height_pressure" samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/h.vsv"
 has "--heights is named as CAMx-only" "$T/err" "--heights is for CAMx files; this is a MM5 v3 file"
