@@ -390,6 +390,31 @@ void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta)
     p->opts.vars = vars;
 }
 
+void vsv_cli_pack_note_range(const vsv_cli_pack *p, const char *name, int v, const vsv_quant *q)
+{
+    if (vsv_cli_quiet() || !p->opts.vars || !q || !(p->opts.vars[v].lo < p->opts.vars[v].hi))
+        return;
+    if (q->data_max > q->hi)
+        fprintf(stderr, "%s: note: %s: values up to %.6g lie above --range's top, %.6g, and are stored as it\n",
+                tool_name, name, q->data_max, q->hi);
+    if (q->scale == VSV_SCALE_LINEAR && q->data_min < q->lo)
+        fprintf(stderr, "%s: note: %s: values down to %.6g lie below --range's bottom, %.6g, and are stored as it\n",
+                tool_name, name, q->data_min, q->lo);
+}
+
+void vsv_cli_pack_note_file(const vsv_cli_pack *p, const char *path)
+{
+    if (vsv_cli_quiet() || !p->range)
+        return;
+    vsv_file *f = NULL;
+    if (!vsv_file_open(path, &f)) {
+        const vsv_meta *m = vsv_file_meta(f);
+        for (int v = 0; v < m->nvars; v++)
+            vsv_cli_pack_note_range(p, m->vars[v].name, v, vsv_file_quant(f, v));
+    }
+    vsv_file_free(f);
+}
+
 int vsv_cli_species(const vsv_meta *m, const char *list, const char *path, int *sel)
 {
     int n = 0;

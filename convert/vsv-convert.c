@@ -99,6 +99,7 @@ int main(int argc, char **argv)
     if (vsv_writer_finish(w, vsv_cli_progress, "vsv-convert: encoding"))
         vsv_cli_writer_die(w, a.out);
     vsv_writer_free(w);
+    vsv_cli_pack_note_file(&a.pack, a.out);
     vsv_meta_clear(&out);
     for (int v = 0; v < meta->nvars; v++)
         free(fields[v]);

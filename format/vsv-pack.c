@@ -96,6 +96,7 @@ int main(int argc, char **argv)
     if ((rc = vsv_writer_finish(w, vsv_cli_progress, "vsv-pack: encoding")))
         vsv_cli_writer_die(w, out);
     vsv_writer_free(w);
+    vsv_cli_pack_note_file(&pack, out);
     for (int v = 0; v < meta->nvars; v++)
         free(fields[v]);
     vsv_stream_reader_free(r);

@@ -67,6 +67,10 @@ expect "--stats on 3 ranks" 0 $MPIRUN -np 3 "$MPI" -q --stats --time-res 10m "$T
 n=$(grep -cE "^ +[0-9]+ +[0-9]+ +[0-9.]+ +[0-9.]+ +[0-9.]+$" "$T/out")
 [ "$n" = 3 ] && pass "--stats has a row for each of 3 ranks" || fail "--stats has a row for each of 3 ranks" "$(cat "$T/out")"
 has "--stats sums up the steps" "$T/out" "19 steps on 3 ranks"
+# a --range the values go beyond: the note once, from rank 0 (as vsv-convert's)
+expect "--range narrower than the data on 2 ranks" 0 $MPIRUN -np 2 "$MPI" --vars CLW --range CLW=0:1e-4 "$T"/crop_0? -o "$T/clip.vsv"
+n=$(grep -c "note: CLW: values up to 0.000596868 lie above --range's top, 0.0001, and are stored as it" "$T/err")
+[ "$n" = 1 ] && pass "... noted once" || fail "... noted once" "$n times: $(head -c 300 "$T/err")"
 
 # the real MM5 run (143x208, 4 periods of 60 min) cut into its periods
 MMOUT=$(data mm5/run1/MMOUT_DOMAIN1)

@@ -164,6 +164,18 @@ expect "vsv-extract --list --vertical even of a CMAQ file" 0 "$B/vsv-extract" --
 has "... 3 model layers resampled onto 40 even levels" "$T/out" "grid 6 x 5, 3 model layers (resampled onto 40 even levels)"
 expect "vsv-extract --list of the MM5 crop" 0 "$B/vsv-extract" --list samples/mm5/MMOUT_DOMAIN1_CROP
 has "... its 15 half-sigma layers" "$T/out" "MM5 v3, grid 39 x 39 x 15, 4 times"
+# a --range the values go beyond: converted, with a note for each side
+expect "vsv-convert --range narrower than the data" 0 "$B/vsv-convert" samples/mm5/MMOUT_DOMAIN1_CROP --vars CLW,Q \
+    --range CLW=0:1e-4,Q=0.001:0.01 -o "$T/clip.vsv"
+has "... notes the values above its top" "$T/err" "vsv-convert: note: CLW: values up to 0.000596868 lie above --range's top, 0.0001, and are stored as it"
+has "... and those below its bottom" "$T/err" "vsv-convert: note: Q: values down to 1.11111e-14 lie below --range's bottom, 0.001, and are stored as it"
+expect "vsv-convert -q --range: no note" 0 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP --vars CLW --range CLW=0:1e-4 -o "$T/clip2.vsv"
+[ ! -s "$T/err" ] && pass "... standard error empty" || fail "... standard error empty" "$(head -c 200 "$T/err")"
+expect "vsv-convert --range wider than the data" 0 "$B/vsv-convert" samples/mm5/MMOUT_DOMAIN1_CROP --vars CLW --range CLW=0:0.01 -o "$T/clip3.vsv"
+grep -q "note:" "$T/err" && fail "... no note" "$(grep -m1 note: "$T/err")" || pass "... no note"
+"$B/vsv-extract" --vars CLW samples/mm5/MMOUT_DOMAIN1_CROP > "$T/clw.fs"
+expect "vsv-pack --range narrower than the data" 0 "$B/vsv-pack" --range CLW=0:1e-4 -o "$T/clip4.vsv" "$T/clw.fs"
+has "... notes it too" "$T/err" "vsv-pack: note: CLW: values up to 0.000596868 lie above --range's top, 0.0001"
 expect "vsv-info --json --stats" 0 "$B/vsv-info" --json --stats "$T/a.vsv"
 if $PY -c "
 import json,sys
