@@ -481,7 +481,8 @@ static int path_line(vsv_flow *fl, const flow_path *P, double T, int *nl, size_t
     return 0;
 }
 
-/* The wind arrows of every --barbs plane at step. */
+/* The wind arrows of every --barbs plane at step; VSV_ERANGE (msg says
+ * which) when a plane has none, the others drawn. */
 static int barb_lines(vsv_flow *fl, int step, int *nl, size_t *nx, char *msg, size_t cap)
 {
     const vsv_meta *m = fl->m;
@@ -499,6 +500,7 @@ static int barb_lines(vsv_flow *fl, int step, int *nl, size_t *nx, char *msg, si
     fl->barb_step = step;
     const vsv_meta placed = vsv_meta_placed(m, vsv_file_time(fl->f, step));
     const float white[3] = {0.92f, 0.92f, 0.92f};
+    int empty = 0;
     for (int b = 0; b < fl->o.nbarbs; b++) {
         double z;
         int every = 0, na = 0;
@@ -512,15 +514,23 @@ static int barb_lines(vsv_flow *fl, int step, int *nl, size_t *nx, char *msg, si
         /* VSV_FLOW_BARB m/s spans the arrows' spacing */
         const double spacing = every * fmax(m->spacing[0] * fl->ux, m->spacing[1] * fl->uy);
         double top;
-        if (vsv_wind_arrows(&placed, fl->ve, fl->vn, z, every, spacing / VSV_FLOW_BARB, fl->xyz + *nx, most, &na, &top))
+        if (vsv_wind_arrows(&placed, fl->ve, fl->vn, z, every, spacing / VSV_FLOW_BARB, fl->xyz + *nx, most, &na,
+                            &top)) {
+            snprintf(msg, cap, "--barbs %s: the wind cannot be drawn there", fl->o.barbs[b]);
             return VSV_EINVAL;
+        }
+        if (!na && !empty) /* (the other planes still drawn) */
+            snprintf(msg, cap,
+                     "--barbs %s: no column drawn has air at that height (above the grid's top or under the ground)",
+                     fl->o.barbs[b]);
+        empty |= !na;
         for (int a = 0; a < na; a++) {
             fl->off[*nl] = *nx + 6 * (size_t)a;
             fl->lines[(*nl)++] = (vsv_scene_line){NULL, 2, fl->radius * 0.6, 1, {white[0], white[1], white[2]}};
         }
         *nx += 6 * (size_t)na;
     }
-    return 0;
+    return empty ? VSV_ERANGE : 0;
 }
 
 int vsv_flow_frame(vsv_flow *fl, int step, int trajectories, int barbs, const vsv_scene_line **lines, int *n, char *msg,
@@ -540,6 +550,6 @@ int vsv_flow_frame(vsv_flow *fl, int step, int trajectories, int barbs, const vs
     for (int i = 0; i < nl; i++) /* the points are in place: the lines' pointers */
         fl->lines[i].xyz = fl->xyz + fl->off[i];
     *lines = fl->lines;
-    *n = rc ? 0 : nl;
+    *n = rc && rc != VSV_ERANGE ? 0 : nl;
     return rc;
 }

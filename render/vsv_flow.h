@@ -67,8 +67,10 @@ void vsv_flow_free(vsv_flow *fl);
  * `barbs`, the wind arrows of each --barbs plane at that step (the wind
  * decoded with the flow's own decoder). *lines (borrowed until the next
  * call or free) and *n. Tubes are `radius` world metres (--tube-radius,
- * else 1/300 of the domain's larger side), arrows 0.6 of that. 0, or a
- * read error with the reason in msg. */
+ * else 1/300 of the domain's larger side), arrows 0.6 of that. 0, a read
+ * error with the reason in msg, or VSV_ERANGE when a --barbs plane has no
+ * arrow there (no air at its height: msg says which; the rest is drawn and
+ * *n counts it). */
 int vsv_flow_frame(vsv_flow *fl, int step, int trajectories, int barbs, const vsv_scene_line **lines, int *n, char *msg,
                    size_t cap);
 /* One more trajectory: the air at projected (x, y) and height z (as

@@ -33,6 +33,9 @@ has "... says so" "$T/err" "--trajectory 50,-100,3000: outside the grid"
 
 expect "the bare plan view" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/bare.png" $R -t 2
 expect "--barbs 2000:4" 0 "$B/vsv-render" "$T/w10.vsv" -o "$T/barbs.png" $R -t 2 --barbs 2000:4
+expect "--barbs above the grid's top: exit 1" 1 "$B/vsv-render" "$T/w10.vsv" -o "$T/x.png" $R -t 2 --barbs 2000:4 --barbs 90000
+has "... naming the plane" "$T/err" "--barbs 90000: no column drawn has air at that height (above the grid's top or under the ground)"
+[ -e "$T/x.png" ] && fail "... and no image" "x.png" || pass "... and no image"
 for s in 1 2; do
     expect "--trajectory from step 0, step $s" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/t$s.png" $R -t $s \
         --trajectory 40,-100,3000 --traj-from 0 --traj-for 3h

@@ -53,7 +53,7 @@ static int cyan(const unsigned char *a)
     return n;
 }
 
-static vsv_player *open_player(const char *path, const char *traj, char *err, size_t cap)
+static vsv_player *open_player_barbs(const char *path, const char *traj, const char *barbs, char *err, size_t cap)
 {
     vsv_player_opts o;
     vsv_player_opts_init(&o);
@@ -65,7 +65,14 @@ static vsv_player *open_player(const char *path, const char *traj, char *err, si
     if (traj &&
         (vsv_player_option(&o, "trajectory", traj, err, cap) || vsv_player_option(&o, "traj-from", "0", err, cap)))
         return NULL;
+    if (barbs && vsv_player_option(&o, "barbs", barbs, err, cap))
+        return NULL;
     return vsv_player_open(&o, &p, err, cap) ? NULL : p;
+}
+
+static vsv_player *open_player(const char *path, const char *traj, char *err, size_t cap)
+{
+    return open_player_barbs(path, traj, NULL, err, cap);
 }
 
 int main(void)
@@ -105,7 +112,18 @@ int main(void)
     CHECK(act(p, "trajectory 50 -100 3000") != 0 && act(p, "trajectory 40 -100") != 0,
           "a seed outside the grid, or without a height, refused", " ");
     vsv_player_free(p);
-    free(on), free(off), free(again), free(early), free(more), free(later);
+    /* a --barbs plane above the grid's top: no arrows, the path still drawn */
+    p = open_player_barbs(path, "40,-100,3000", "90000", err, sizeof err);
+    unsigned char *hi = NULL;
+    if (CHECK(p != NULL, "the player opens with --barbs above the top", "(%s)", err)) {
+        act(p, "view plan");
+        act(p, "seek 2");
+        hi = shot(p);
+        CHECK(hi && !differ(hi, on), "a --barbs plane with no air: the path drawn as without it", "(%d pixels differ)",
+              differ(hi, on));
+    }
+    vsv_player_free(p);
+    free(on), free(off), free(again), free(early), free(more), free(later), free(hi);
     p = open_player(calm, "40,-100,3000", err, sizeof err);
     CHECK(!p && strstr(err, "player-nowind.vsv: no wind stored"), "a file without wind refused", "(%s)", err);
     vsv_player_free(p);

@@ -83,8 +83,10 @@ void vsv_player_wind_lines(vsv_player *p)
         return;
     memcpy(p->lines_key, key, sizeof key);
     char why[512];
-    if (vsv_flow_frame(p->flow, p->shown, 1, 1, &p->lines, &p->nlines, why, sizeof why))
-        p->nlines = 0; /* (a read error: the step shows without its wind) */
+    const int rc = vsv_flow_frame(p->flow, p->shown, 1, 1, &p->lines, &p->nlines, why, sizeof why);
+    if (rc && rc != VSV_ERANGE)
+        p->nlines = 0; /* (a read error: the step shows without its wind; a plane
+                          with no air at its height just shows no arrows) */
     p->dirty = 1;
 }
 
