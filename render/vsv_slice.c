@@ -136,6 +136,10 @@ int vsv_slice_parse(const vsv_meta *m, const char *spec, vsv_slice *s, char *msg
             return VSV_EINVAL;
         }
     }
+    if (line && !(hypot((s->xy[1][0] - s->xy[0][0]) * g.idx, (s->xy[1][1] - s->xy[0][1]) * g.idy) >= 0.5)) {
+        snprintf(msg, cap, "slice %s: the line is shorter than half a cell (a section needs two distinct ends)", spec);
+        return VSV_EINVAL;
+    }
     for (int i = 0; i + 1 < n && !inside; i++) { /* exactly: a grid 1 mm wide is crossed too */
         double f0, f1;
         inside = vsv_segment_clip(s->xy[i], s->xy[i + 1], g.bmin, g.bmax, &f0, &f1);

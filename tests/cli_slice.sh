@@ -31,6 +31,8 @@ expect "--slice z=50000 exits 2" 2 $R -o "$T/x.png" --slice z=50000
 has "--slice z=50000 names the grid's heights" "$T/err" "outside the grid's heights"
 expect "--slice depth=3 exits 2" 2 $R -o "$T/x.png" --slice depth=3
 expect "--slice line=45,-125 (one point) exits 2" 2 $R -o "$T/x.png" --slice line=45,-125
+expect "--slice line with both ends at one point exits 2" 2 $R -o "$T/x.png" --slice line=46,-116:46,-116
+has "... saying the line is too short" "$T/err" "--slice line=46,-116:46,-116: the line is shorter than half a cell"
 expect "--slice-species NOPE exits 2" 2 $R -o "$T/x.png" --slice z=1500 --slice-species NOPE
 expect "--slice-colormap nope exits 2" 2 $R -o "$T/x.png" --slice z=1500 --slice-colormap nope
 expect "--slice-colormap magma" 0 $R -o "$T/magma.png" --slice z=1500 --slice-species Q --slice-colormap magma
