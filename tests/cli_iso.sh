@@ -110,6 +110,11 @@ cmp -s "$T/rc.png" "$T/none.png" && fail "the isosurface shows" "the picture is 
 expect "vsv-render --iso NOPE:1 exits 2" 2 "$B/vsv-render" -q "$T/a.vsv" --iso NOPE:1 -o "$T/x.png"
 has "naming the file's species" "$T/err" "vsv-render: --iso NOPE:1: no species NOPE (the file has Q, CLW"
 [ -e "$T/x.png" ] && fail "vsv-render: nothing written" "x.png" || pass "vsv-render: nothing written"
+# a value no cell reaches (kg/kg given as g/kg): exit 1, the species' range named
+expect "vsv-render --iso beyond the data exits 1" 1 "$B/vsv-render" -q "$T/a.vsv" --iso CLW:0.05 -o "$T/x.png"
+has "... no surface, the range named" "$T/err" "--iso CLW:0.05: no surface: CLW runs from 0 to 0.000596868 kg/kg in this file"
+expect "vsv-render --iso below the data exits 1" 1 "$B/vsv-render" -q "$T/a.vsv" --iso CLW:-1 -o "$T/x.png"
+[ -e "$T/x.png" ] && fail "... and no image" "x.png" || pass "... and no image"
 
 # vsv-play --iso: the shared option; its screenshot is vsv-render's picture
 expect "vsv-play --iso NOPE:1 exits 2" 2 "$B/vsv-play" "$T/a.vsv" --iso NOPE:1
