@@ -386,6 +386,11 @@ int vsv_flow_open(vsv_file *f, const vsv_flow_opts *o, vsv_flow **out, char *msg
     vsv_scene_units(m, &fl->ux, &fl->uy);
     const double wx = m->nx * m->spacing[0] * fl->ux, wy = m->ny * m->spacing[1] * fl->uy;
     fl->radius = o->radius > 0 ? o->radius : fmax(wx, wy) / 300;
+    if (fl->radius > fmax(wx, wy) / 10) { /* (tubes that bury the domain show nothing of it) */
+        snprintf(msg, cap, "--tube-radius %g: more than a tenth of the domain's larger side (%.0f m)", fl->radius,
+                 fmax(wx, wy));
+        return VSV_EINVAL;
+    }
     if (!o->ntraj && !o->nline && !o->nslice)
         return 0;
     msg[0] = 0;

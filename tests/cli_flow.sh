@@ -36,6 +36,10 @@ expect "--barbs 2000:4" 0 "$B/vsv-render" "$T/w10.vsv" -o "$T/barbs.png" $R -t 2
 expect "--barbs above the grid's top: exit 1" 1 "$B/vsv-render" "$T/w10.vsv" -o "$T/x.png" $R -t 2 --barbs 2000:4 --barbs 90000
 has "... naming the plane" "$T/err" "--barbs 90000: no column drawn has air at that height (above the grid's top or under the ground)"
 [ -e "$T/x.png" ] && fail "... and no image" "x.png" || pass "... and no image"
+expect "--tube-radius 0: exit 2" 2 "$B/vsv-render" "$T/w10.vsv" -o "$T/x.png" $R -t 2 --barbs 2000:4 --tube-radius 0
+expect "--tube-radius wider than a tenth of the domain: exit 1" 1 "$B/vsv-render" "$T/w10.vsv" -o "$T/x.png" $R -t 2 --barbs 2000:4 --tube-radius 1e9
+has "... saying so" "$T/err" "--tube-radius 1e+09: more than a tenth of the domain's larger side"
+expect "--tube-radius 2000 draws" 0 "$B/vsv-render" "$T/w10.vsv" -o "$T/fat.png" $R -t 2 --barbs 2000:4 --tube-radius 2000
 for s in 1 2; do
     expect "--trajectory from step 0, step $s" 0 "$B/vsv-render" "$T/w.vsv" -o "$T/t$s.png" $R -t $s \
         --trajectory 40,-100,3000 --traj-from 0 --traj-for 3h
