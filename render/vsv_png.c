@@ -139,5 +139,5 @@ double vsv_scene_default_exaggeration(const vsv_scene *sc)
     s.exaggeration = 1;
     vsv_scene_bounds(&s, mn, mx);
     const double wide = fmax(mx[0] - mn[0], mx[1] - mn[1]), tall = mx[2] - fmin(mn[2], 0);
-    return tall > 0 ? fmax(1, round(0.2 * wide / tall)) : 1;
+    return tall > 0 ? fmin(VSV_MAX_EXAGGERATION, fmax(1, round(0.2 * wide / tall))) : 1;
 }

@@ -433,7 +433,7 @@ void vsv_march_counts(const vsv_march_layer *L, int cnt[VSV_TF_LUT + 1]);
 int vsv_march_clear(const vsv_march_layer *L, const int *cnt, float lo, float hi);
 
 /* The vertical exaggeration that makes the domain a fifth as tall as wide
- * (at least 1): the tools' default. */
+ * (at least 1, at most VSV_MAX_EXAGGERATION): the tools' default. */
 double vsv_scene_default_exaggeration(const vsv_scene *sc);
 
 /* ------------------------------------------------------------ isosurfaces

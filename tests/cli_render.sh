@@ -20,6 +20,10 @@ expect "--background with trailing text exits 2" 2 "$B/vsv-render" "$T/storm.vsv
 expect "--background with a negative exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 0,-0.1,0
 [ ! -e "$T/x.png" ] && pass "and no picture is written" || fail "and no picture is written" "$T/x.png is there"
 expect "--background 0,0,1 renders" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/bg.png" --background 0,0,1 --size 64x48
+# the default exaggeration of a grid one 20 m level tall (8320 by the rule): at most --exaggerate's 1000
+"$B/vsv-convert" -q --vertical even --nz 1 --ztop 20 samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/flat.vsv"
+expect "a grid 20 m tall renders" 0 "$B/vsv-render" "$T/flat.vsv" -o "$T/flat.png" --size 64x48
+has "... exaggerated 1000 times, the most --exaggerate takes" "$T/err" "exaggeration 1000"
 expect "a render of the last step" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/last.png" --size 320x240
 if [ "$(head -c 8 "$T/last.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] && [ "$(png_size "$T/last.png")" = "320 240" ]; then
     pass "a 320x240 PNG is written"; else fail "a 320x240 PNG is written" "$(png_size "$T/last.png")"; fi
