@@ -195,6 +195,16 @@ void vsv_tf_format(const vsv_tf *tf, char *buf, size_t cap)
         snprintf(buf + n, cap - (size_t)n, "\n");
 }
 
+/* The first byte of s that no text holds (a control byte but tab, CR and
+ * LF), or -1. */
+static int binary_byte(const char *s)
+{
+    for (const unsigned char *c = (const unsigned char *)s; *c; c++)
+        if ((*c < 0x20 && *c != '\t' && *c != '\r' && *c != '\n') || *c == 0x7f)
+            return *c;
+    return -1;
+}
+
 int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t cap, char *msg, size_t msgcap)
 {
     char why[300];
@@ -210,6 +220,12 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
     while (fgets(line, sizeof line, fp)) {
         char name[128], word[64];
         lineno++;
+        const int b = binary_byte(line);
+        if (b >= 0) { /* (never echoed: a binary file's bytes would garble the terminal) */
+            snprintf(msg, msgcap, "line %d: byte 0x%02x: not a text file of transfer functions", lineno, b);
+            fclose(fp);
+            return VSV_EINVAL;
+        }
         if (sscanf(line, " species %127s", name) == 1) {
             in = !strcmp(name, species);
             found |= in;

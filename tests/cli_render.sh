@@ -41,6 +41,11 @@ if ! cmp -s "$T/tf.png" "$T/f0006.png" 2>/dev/null; then pass "the transfer func
 printf 'species CLW\ncolormap rainbow\n' > "$T/bad.txt"
 expect "a bad transfer-function file exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/bad.txt"
 has "the bad line is named" "$T/err" "line 2: unknown colour map"
+# a binary file as --tf: named by line and byte, its bytes never echoed
+printf '\177ELF\002\001\001\000\033[2J\n' > "$T/bin.tf"
+expect "a binary file as --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/bin.tf"
+has "... saying it is not text" "$T/err" "bin.tf: line 1: byte 0x7f: not a text file of transfer functions"
+LC_ALL=C grep -q "$(printf '\033')" "$T/err" && fail "... no escape byte echoed" "$(cat -v "$T/err")" || pass "... no escape byte echoed"
 expect "the same frame twice is identical" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/again.png" --size 320x240 --threads 1
 if cmp -s "$T/last.png" "$T/again.png"; then pass "1 thread and all threads write the same PNG"; else fail "1 thread and all threads write the same PNG" "differ"; fi
 expect "a damaged .vsv exits 1" 1 "$B/vsv-render" tests/golden/bad/payload.vsv -o "$T/x.png" --time 1
