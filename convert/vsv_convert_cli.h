@@ -42,10 +42,10 @@ typedef struct vsv_convert_args {
 /* The formats the conversion tools read, for their --help (vsv-extract,
  * vsv-convert, vsv-convert-mpi; vsv-info describes all but OpenVDB). */
 #define VSV_CLI_MODEL_FORMATS                                                                                          \
-    "  MM5 v3 (MMOUT, TERRAIN, REGRID/INTERPB, INTERPF; BDYOUT and LOWBDY hold no\n"                                   \
-    "  volumes), WRF netCDF (wrfout), CAMx UAM-IV (AVERAGE, INSTANT, AIRQUALITY,\n"                                    \
-    "  EMISSIONS), IOAPI netCDF (CMAQ CONC/ACONC, CAMx netCDF), CF netCDF (e.g.\n"                                     \
-    "  from vsv-export --netcdf), GrADS .ctl + data"
+    "  MM5 v3 (MMOUT, REGRID/INTERPB, INTERPF; TERRAIN, BDYOUT and LOWBDY hold no\n"                                   \
+    "  volumes: listed, never converted), WRF netCDF (wrfout), CAMx UAM-IV (AVERAGE,\n"                                \
+    "  INSTANT, AIRQUALITY, EMISSIONS), IOAPI netCDF (CMAQ CONC/ACONC, CAMx netCDF),\n"                                \
+    "  CF netCDF (e.g. from vsv-export --netcdf), GrADS .ctl + data"
 #define VSV_CLI_VDB_FORMAT ",\n  and OpenVDB .vdb sequences (one file per step, float grids).\n"
 
 /* The option list of --help, shared by both tools. */
