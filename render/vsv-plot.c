@@ -41,7 +41,7 @@ static const char usage[] =
     "  -t, --time T            the step of a section or profile, or a series of one\n"
     "                          step: an index or an ISO time (default: the last)\n"
     "      --times A:B         a series' steps (indices or ISO times; default: all)\n"
-    "      --size WxH          pixels (PDF: points; default 800x600)\n"
+    "      --size WxH          pixels (PDF: points; default 800x600; 200x150 to 8192x8192)\n"
     "      --colormap NAME     the section's colours (default viridis): viridis, magma,\n"
     "                          cividis, inferno, plasma, clouds, rain, ice, snow,\n"
     "                          graupel, greys; for lines, their colours spread over it\n"

@@ -54,7 +54,7 @@ static const char usage[] =
     "      --look-at EX,EY,EZ,TX,TY,TZ  eye and target in metres (projection x, y;\n"
     "                          height above sea level), instead of --camera\n"
     "      --stereo            a side-by-side pair, left eye on the left (twice as wide)\n"
-    "      --size WxH          image size (default 800x600)\n"
+    "      --size WxH          image size (default 800x600; at most 16384x16384)\n"
     "  -x, --exaggerate N      vertical exaggeration (default: a domain 1/5 as tall as wide)\n"
     "      --background R,G,B  0..1 (default 0.02,0.03,0.06)\n"
     "      --no-terrain        do not draw the ground\n"
@@ -246,7 +246,7 @@ static int parse_args(int argc, char **argv, render_args *ra)
         case O_SIZE:
             if (sscanf(optarg, "%dx%d", &ra->width, &ra->height) != 2 || ra->width < 1 || ra->height < 1 ||
                 ra->width > 16384 || ra->height > 16384)
-                vsv_cli_usage_error("--size %s: expected WxH", optarg);
+                vsv_cli_usage_error("--size %s: expected WxH, 1x1 to 16384x16384", optarg);
             break;
         case 'x':
             if (vsv_cli_double(optarg, &ra->exag) || !(ra->exag > 0) || ra->exag > VSV_MAX_EXAGGERATION)

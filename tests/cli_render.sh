@@ -19,6 +19,9 @@ has "and says each is from 0 to 1" "$T/err" "--background 2,0,0: expected R,G,B,
 expect "--background with trailing text exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 0,0,0.5x
 expect "--background with a negative exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 0,-0.1,0
 [ ! -e "$T/x.png" ] && pass "and no picture is written" || fail "and no picture is written" "$T/x.png is there"
+expect "--size 99999x5 exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --size 99999x5
+has "... naming the limits" "$T/err" "--size 99999x5: expected WxH, 1x1 to 16384x16384"
+has "--help states them" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "image size (default 800x600; at most 16384x16384)"
 expect "--background 0,0,1 renders" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/bg.png" --background 0,0,1 --size 64x48
 # the default exaggeration of a grid one 20 m level tall (8320 by the rule): at most --exaggerate's 1000
 "$B/vsv-convert" -q --vertical even --nz 1 --ztop 20 samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/flat.vsv"

@@ -37,7 +37,7 @@ static const char usage[] =
     "      --gpu-mb N          the GPU raycaster's brick memory (default 512)\n"
     "      --cache-mb N        decoded-brick cache budget (default: a quarter of RAM)\n"
     "      --threads N         render threads (default: all cores)\n"
-    "      --size WxH          window size (default 960x600)\n"
+    "      --size WxH          window size (default 960x600; 16x16 to 16384x16384)\n"
     "      --render-scale F    render at F times the window size (default 1)\n"
     "  -x, --exaggerate N      vertical exaggeration (default: as vsv-render)\n"
     "      --rate SECONDS      model seconds per wall second at x1 (default: 4 steps/s)\n"
@@ -333,7 +333,7 @@ static int parse_args(int argc, char **argv, play_args *o)
         case O_SIZE:
             if (sscanf(optarg, "%dx%d", &width, &height) != 2 || width < 16 || height < 16 || width > 16384 ||
                 height > 16384)
-                vsv_cli_usage_error("--size: WxH, 16..16384");
+                vsv_cli_usage_error("--size %s: expected WxH, 16x16 to 16384x16384", optarg);
             break;
         case O_SCALE:
             if (vsv_cli_double(optarg, &scale) || !(scale >= 0.05 && scale <= 4))
