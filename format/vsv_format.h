@@ -658,7 +658,7 @@ const char *vsv_meta_height_units(const vsv_meta *m);
 
 /* A point of a grid: plain info filled by vsv_point_locate / vsv_point_cell. */
 typedef struct vsv_point {
-    double pos[3];           /* fractional cell coordinates of the point */
+    double pos[3];           /* fractional cell coordinates (x in [0, nx) round the globe) */
     int cell[3];             /* the nearest cell */
     double lat, lon, height; /* the nearest cell's centre (height as
                                 vsv_meta_cell_height; lat/lon NaN without
@@ -688,10 +688,10 @@ const char *vsv_query_error(const vsv_query *q);
 /* The decoded value of species s at step and cell (i, j, k) (exactly what
  * vsv_decoder_volume gives for that cell). */
 int vsv_query_cell(vsv_query *q, int step, int s, int i, int j, int k, float *v);
-/* The value at fractional cell coordinates pos: VSV_INTERP_NEAREST takes
- * the nearest cell; VSV_INTERP_LINEAR blends the eight cells around pos
- * trilinearly (clamped to the edge cells; NaN when a cell with weight is
- * NaN, i.e. no data). */
+/* The value at fractional cell coordinates pos: VSV_INTERP_NEAREST takes the
+ * nearest cell; VSV_INTERP_LINEAR blends the eight around pos trilinearly
+ * (clamped to the edge cells, but x round a global longitude-latitude grid;
+ * NaN when a cell with weight is NaN, i.e. no data). */
 enum { VSV_INTERP_NEAREST = 0, VSV_INTERP_LINEAR = 1 };
 int vsv_query_sample(vsv_query *q, int step, int s, const double pos[3], int interp, float *v);
 

@@ -116,11 +116,20 @@ static void edge_range(const vsv_meta *m, double *la0, double *la1, double *lo0,
     }
 }
 
+/* Whether the grid's columns go round the globe: longitude and latitude
+ * whose nx cells span 360 degrees, the last cell beside the first. */
+static int periodic_x(const vsv_meta *m)
+{
+    return m->proj.kind == VSV_PROJ_LATLON && m->nx > 1 && fabs(m->nx * m->spacing[0] - 360) <= 360e-6;
+}
+
 static void fill_centre(const vsv_meta *m, int64_t time, vsv_point *p)
 {
     for (int a = 0; a < 3; a++) {
         const int n = a == 0 ? m->nx : a == 1 ? m->ny : m->nz;
         long c = lround(p->pos[a]);
+        if (a == 0 && periodic_x(m))
+            c %= n; /* (pos in [0, n): the half cell past the last is the first's) */
         p->cell[a] = (int)(c < 0 ? 0 : c >= n ? n - 1 : c);
     }
     if (vsv_meta_cell_latlon(m, p->cell[0], p->cell[1], &p->lat, &p->lon))
@@ -156,9 +165,9 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
                 lon, m->nx, m->ny, la0, la1, lo0, lo1);
         return VSV_ERANGE;
     }
-    p->pos[0] = fmin(fmax(fi, 0), m->nx - 1);
+    p->pos[0] = periodic_x(m) ? fi - m->nx * floor(fi / m->nx) : fmin(fmax(fi, 0), m->nx - 1);
     p->pos[1] = fmin(fmax(fj, 0), m->ny - 1);
-    const int ci = (int)lround(p->pos[0]), cj = (int)lround(p->pos[1]);
+    const int ci = (int)(lround(p->pos[0]) % m->nx), cj = (int)lround(p->pos[1]);
     if (isnan(height)) {
         p->pos[2] = lowest_above_ground(m, ci, cj);
     } else {
@@ -202,6 +211,7 @@ struct vsv_query {
     vsv_file *f;
     vsv_decoder *d;
     int brick, shift, bdim[3], nx, ny, nz;
+    int periodic;            /* x goes round the globe (periodic_x) */
     int key[QUERY_SLOTS][3]; /* step, species, brick; step -1 = empty */
     float *slot[QUERY_SLOTS];
     int next; /* the slot to reuse next (round robin) */
@@ -225,6 +235,7 @@ int vsv_query_create(vsv_file *f, vsv_query **out)
     q->nx = m->nx;
     q->ny = m->ny;
     q->nz = m->nz;
+    q->periodic = periodic_x(m);
     const size_t n = (size_t)q->brick * q->brick * q->brick;
     int rc = vsv_decoder_create(f, &q->d);
     for (int s = 0; s < QUERY_SLOTS && !rc; s++) {
@@ -286,21 +297,27 @@ int vsv_query_cell(vsv_query *q, int step, int s, int i, int j, int k, float *v)
 int vsv_query_sample(vsv_query *q, int step, int s, const double pos[3], int interp, float *v)
 {
     const int n[3] = {q->nx, q->ny, q->nz};
+    /* round the globe, x is taken modulo nx: the last cell's neighbour is the first */
+    const double x = q->periodic ? pos[0] - n[0] * floor(pos[0] / n[0]) : pos[0];
     if (interp == VSV_INTERP_NEAREST) {
         int c[3];
         for (int a = 0; a < 3; a++) {
-            long r = lround(pos[a]);
+            long r = lround(a ? pos[a] : x);
+            if (a == 0 && q->periodic)
+                r %= n[0];
             c[a] = (int)(r < 0 ? 0 : r >= n[a] ? n[a] - 1 : r);
         }
         return vsv_query_cell(q, step, s, c[0], c[1], c[2], v);
     }
-    /* trilinear: the cells around pos, clamped to the grid, weights in double */
+    /* trilinear: the cells around pos, clamped to the grid (but round the
+     * globe), weights in double */
     int lo[3], hi[3];
     double w[3];
     for (int a = 0; a < 3; a++) {
-        const double p = fmin(fmax(pos[a], 0), n[a] - 1);
+        const int wrap = a == 0 && q->periodic;
+        const double p = wrap ? x : fmin(fmax(pos[a], 0), n[a] - 1);
         lo[a] = (int)floor(p);
-        hi[a] = lo[a] + 1 < n[a] ? lo[a] + 1 : lo[a];
+        hi[a] = wrap ? (lo[a] + 1) % n[a] : lo[a] + 1 < n[a] ? lo[a] + 1 : lo[a];
         w[a] = p - lo[a];
     }
     double sum = 0;

@@ -378,6 +378,61 @@ static void test_nodata(void)
     vsv_file_free(f);
 }
 
+/* A global longitude-latitude grid (12 columns of 30 degrees from 0 east):
+ * the column past the last is the first, for the nearest cell and for
+ * trilinear blending across the seam, and a point west of 0 is found. */
+static void test_round_the_globe(void)
+{
+    enum { NX = 12, NY = 5, NZ = 2 };
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = NX, m.ny = NY, m.nz = NZ;
+    m.proj.kind = VSV_PROJ_LATLON;
+    m.origin[0] = 0, m.origin[1] = -60;
+    m.spacing[0] = m.spacing[1] = 30, m.spacing[2] = 1000;
+    vsv_meta_add_var(&m, "T", "K", "the column index times 10");
+    float v[NX * NY * NZ];
+    for (int c = 0; c < NX * NY * NZ; c++)
+        v[c] = (float)(10 * (c % NX));
+    const char *path = vsv_test_tmp("globe.vsv");
+    vsv_writer *w = NULL;
+    const float *fields[1] = {v};
+    vsv_file *f = NULL;
+    vsv_query *q = NULL;
+    int ok = !vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) &&
+             !vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    if (!CHECK(ok && !vsv_file_open(path, &f) && !vsv_query_create(f, &q), "a global grid written and opened")) {
+        vsv_meta_clear(&m);
+        vsv_query_free(q);
+        vsv_file_free(f);
+        return;
+    }
+    const vsv_meta *fm = vsv_file_meta(f);
+    /* cell centres at 0, 30, ... 330 east: 340 is a third of the way from
+     * the last (110) to the first (0), 355 and -5 five sixths */
+    const double lons[] = {340, 355, -5, 359, 0};
+    const int cell[] = {11, 0, 0, 0, 0};
+    const double want[] = {110 * 2 / 3.0, 110 / 6.0, 110 / 6.0, 110 / 30.0, 0};
+    for (int i = 0; i < 5; i++) {
+        vsv_point pt;
+        char msg[256] = "";
+        float lin = -1, near = -1;
+        int rc = vsv_point_locate(fm, 0, lons[i], 500, &pt, msg, sizeof msg);
+        if (!rc)
+            rc = vsv_query_sample(q, 0, 0, pt.pos, VSV_INTERP_LINEAR, &lin) ||
+                 vsv_query_sample(q, 0, 0, pt.pos, VSV_INTERP_NEAREST, &near);
+        const double wl = want[i];
+        CHECK(rc == 0 && pt.cell[0] == cell[i] && fabs(lin - wl) < 1e-3 && near == 10 * cell[i],
+              "round the globe: longitude blends across the seam",
+              "%g: rc %d (%s), cell %d, trilinear %.6g (want %.6g), nearest %g", lons[i], rc, msg, pt.cell[0], lin, wl,
+              near);
+    }
+    vsv_meta_clear(&m);
+    vsv_query_free(q);
+    vsv_file_free(f);
+}
+
 int main(void)
 {
     test_mm5_positions();
@@ -386,5 +441,6 @@ int main(void)
     test_wrf_positions("wrf/katrina_ci_test_file.nc");
     test_values();
     test_nodata();
+    test_round_the_globe();
     return vsv_test_done();
 }
