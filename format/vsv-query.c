@@ -423,7 +423,7 @@ static void open_query(const query_args *qa, query_run *run)
         if (!vsv_point_locate_at(m, vsv_file_time(run->f, t), arg[0], arg[1], qa->at ? arg[2] : NAN, &run->pt, NULL, 0))
             rc = 0;
     if (rc)
-        vsv_cli_die(1, "%s: %s", path, msg);
+        vsv_cli_die(1, "%s: %s%s", path, msg, rc == VSV_EUNSUPPORTED ? " (give a cell: --cell I,J[,K])" : "");
     run->k0 = qa->profile ? 0 : -1;
     run->k1 = qa->profile ? m->nz - 1 : -1;
 

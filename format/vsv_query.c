@@ -147,7 +147,7 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
 {
     const vsv_meta placed = vsv_meta_placed(grid, time), *m = &placed; /* a moving grid where it is then */
     if (m->proj.kind == VSV_PROJ_NONE) {
-        vsv_msg(msg, cap, "the grid has no map projection: no latitude/longitude is known (use a cell)");
+        vsv_msg(msg, cap, "the grid has no map projection: no latitude/longitude is known");
         return VSV_EUNSUPPORTED;
     }
     double x = NAN, y = NAN;

@@ -273,7 +273,8 @@ int main(int argc, char **argv)
     const char *arg = a.section ? a.section : a.series ? a.series : a.profile;
     int rc = vsv_plot_create(f, &a.o, &p, msg, sizeof msg);
     if (rc)
-        vsv_cli_die(rc == VSV_EINVAL ? 2 : 1, "%s: %s %s: %s", a.path, what, arg, msg);
+        vsv_cli_die(rc == VSV_EINVAL ? 2 : 1, "%s: %s %s: %s%s", a.path, what, arg, msg,
+                    rc == VSV_EUNSUPPORTED ? " (vsv-convert --proj gives a CAMx 5 grid its projection)" : "");
     /* both outputs or neither: the CSV staged first, published after the plot */
     char tmp[4200] = "";
     const int to_file = a.csv && strcmp(a.csv, "-");

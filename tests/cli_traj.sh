@@ -64,6 +64,10 @@ expect "a file without wind exits 1" 1 "$Q" "$T/nowind.vsv" --trajectory 40,-100
 has "naming what is missing" "$T/err" "nowind.vsv: no wind stored (convert with --winds)"
 expect "a grid without a projection exits 1" 1 "$Q" "$T/flat.vsv" --trajectory 40,-100,300
 has "saying so" "$T/err" "the grid has no map projection"
+expect "--at on a grid without a projection exits 1" 1 "$Q" "$T/flat.vsv" --at 40,-100
+has "... pointing to --cell" "$T/err" "no latitude/longitude is known (give a cell: --cell I,J[,K])"
+expect "vsv-plot --profile on it exits 1" 1 "$B/vsv-plot" "$T/flat.vsv" --profile 40,-100 --species wind_east -o "$T/x.svg"
+has "... pointing to --proj, not to a --cell it lacks" "$T/err" "no latitude/longitude is known (vsv-convert --proj gives a CAMx 5 grid its projection)"
 expect "a seed outside the grid exits 1" 1 "$Q" "$T/east.vsv" --trajectory 45,-100,300
 has "naming the seed" "$T/err" "--trajectory 45,-100,300: seed x"
 has "and why" "$T/err" "is outside the grid at 2020-01-01T00:00:00Z"
