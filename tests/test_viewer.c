@@ -79,6 +79,15 @@ static void test_actions(vsv_player *p)
     const char *s2 = vsv_player_take_screenshot(p);
     CHECK(!shot && s2 && !strcmp(s2, "/tmp/x.png") && !vsv_player_take_screenshot(p),
           "a screenshot action is handed to the display once", " ");
+    act(p, "screenshot   /tmp/my shots/frame 1.png  ");
+    const char *t3 = vsv_player_take_screenshot(p);
+    char s3[256] = "";
+    snprintf(s3, sizeof s3, "%s", t3 ? t3 : "none"); /* (the player's buffer: the next action reuses it) */
+    act(p, "screenshot \"/tmp/q.png\"");
+    const char *s4 = vsv_player_take_screenshot(p);
+    CHECK(!strcmp(s3, "/tmp/my shots/frame 1.png") && s4 && !strcmp(s4, "/tmp/q.png"),
+          "a screenshot's name is the rest of the line (blanks inside kept), quotes around it dropped", "(%s, %s)", s3,
+          s4 ? s4 : "none");
     CHECK(!vsv_player_quit(p) && !act(p, "quit") && vsv_player_quit(p), "quit", " ");
 }
 

@@ -187,6 +187,26 @@ static int do_camera(vsv_player *p, const char *verb, const char *a1, const char
     return 0;
 }
 
+/* The rest of action after its verb, as one file name: blanks at its ends
+ * dropped, then one pair of double quotes around it; into out. 0, or -1
+ * when there is none or it does not fit. */
+static int rest_as_name(const char *action, char *out, size_t cap)
+{
+    const char *s = action + strspn(action, " \t\r\n");
+    s += strcspn(s, " \t\r\n");
+    s += strspn(s, " \t\r\n");
+    size_t n = strlen(s);
+    while (n && strchr(" \t\r\n", s[n - 1]))
+        n--;
+    if (n >= 2 && s[0] == '"' && s[n - 1] == '"')
+        s++, n -= 2;
+    if (!n || n >= cap)
+        return -1;
+    memcpy(out, s, n);
+    out[n] = 0;
+    return 0;
+}
+
 int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
 {
     char buf[1100], *save = NULL;
@@ -235,9 +255,8 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
     } else if (!strcmp(verb, "help")) {
         p->help = !p->help;
     } else if (!strcmp(verb, "screenshot")) {
-        NEED(a1, "screenshot: needs a FILE.png");
-        snprintf(p->shot, sizeof p->shot, "%s", a1);
-        p->shot_pending = 1;
+        NEED(a1 && !rest_as_name(action, p->shot, sizeof p->shot), "screenshot: needs a FILE.png");
+        p->shot_pending = 1; /* (the whole rest of the line: a name may hold blanks) */
     } else if (!strcmp(verb, "quit")) {
         p->quit = 1;
     } else {
