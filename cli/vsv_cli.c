@@ -390,9 +390,15 @@ void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta)
     p->opts.vars = vars;
 }
 
-void vsv_cli_pack_note_range(const vsv_cli_pack *p, const char *name, int v, const vsv_quant *q)
+void vsv_cli_pack_note(const vsv_cli_pack *p, const char *name, int v, const vsv_quant *q)
 {
-    if (vsv_cli_quiet() || !p->opts.vars || !q || !(p->opts.vars[v].lo < p->opts.vars[v].hi))
+    if (vsv_cli_quiet() || !q)
+        return;
+    if (!(q->data_min <= q->data_max)) {
+        fprintf(stderr, "%s: note: %s: no finite value at any step: every cell is no data\n", tool_name, name);
+        return;
+    }
+    if (!p->opts.vars || !(p->opts.vars[v].lo < p->opts.vars[v].hi))
         return;
     if (q->data_max > q->hi)
         fprintf(stderr, "%s: note: %s: values up to %.6g lie above --range's top, %.6g, and are stored as it\n",
@@ -404,13 +410,13 @@ void vsv_cli_pack_note_range(const vsv_cli_pack *p, const char *name, int v, con
 
 void vsv_cli_pack_note_file(const vsv_cli_pack *p, const char *path)
 {
-    if (vsv_cli_quiet() || !p->range)
+    if (vsv_cli_quiet())
         return;
     vsv_file *f = NULL;
     if (!vsv_file_open(path, &f)) {
         const vsv_meta *m = vsv_file_meta(f);
         for (int v = 0; v < m->nvars; v++)
-            vsv_cli_pack_note_range(p, m->vars[v].name, v, vsv_file_quant(f, v));
+            vsv_cli_pack_note(p, m->vars[v].name, v, vsv_file_quant(f, v));
     }
     vsv_file_free(f);
 }

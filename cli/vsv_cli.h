@@ -102,11 +102,11 @@ int vsv_cli_pack_option(vsv_cli_pack *p, int id, const char *arg);
 /* Builds opts.vars for the variables of meta (caller frees opts.vars with
  * free()); exits 2 naming an unknown species. */
 void vsv_cli_pack_resolve(vsv_cli_pack *p, const vsv_meta *meta);
-/* Unless quiet, a note on standard error for each species whose values went
- * beyond its --range (q: its quantisation as written, data_min/data_max the
- * values seen): those above the top are stored as the top, and (linear) those
- * below the bottom as the bottom. */
-void vsv_cli_pack_note_range(const vsv_cli_pack *p, const char *name, int v, const vsv_quant *q);
+/* Unless quiet, notes on standard error about species v as written (q: its
+ * quantisation, data_min/data_max the values seen): no finite value at all
+ * (every cell no data: an expression that fits no value, say), or values
+ * beyond its --range (stored as the top, and, linear, as the bottom). */
+void vsv_cli_pack_note(const vsv_cli_pack *p, const char *name, int v, const vsv_quant *q);
 /* The same for every species of the file just written at path. */
 void vsv_cli_pack_note_file(const vsv_cli_pack *p, const char *path);
 

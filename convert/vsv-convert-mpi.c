@@ -464,7 +464,7 @@ int main(int argc, char **argv)
     rank_check(r, -1);
     publish(r);
     for (int v = 0; !r->me && v < r->meta->nvars; v++)
-        vsv_cli_pack_note_range(&r->a.pack, r->meta->vars[v].name, v, vsv_pack_plan_quant(plan, v));
+        vsv_cli_pack_note(&r->a.pack, r->meta->vars[v].name, v, vsv_pack_plan_quant(plan, v));
     if (r->a.stats)
         print_stats(r, mpi_now() - r->t_start);
     vsv_pack_plan_free(plan);

@@ -148,7 +148,10 @@ int main(int argc, char **argv)
         return status;
     }
     vsv_run *run = NULL;
-    if (vsv_run_open((const char *const *)argv + optind, argc - optind, &so, vars, times, &run))
+    char *picked = vsv_convert_vars(vars, derive, nderive);
+    const int orc = vsv_run_open((const char *const *)argv + optind, argc - optind, &so, picked, times, &run);
+    free(picked);
+    if (orc)
         vsv_cli_die(1, "%s", vsv_run_error(run));
     if (*vsv_run_note(run))
         fprintf(stderr, "vsv-extract: %s\n", vsv_run_note(run));

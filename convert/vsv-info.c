@@ -24,7 +24,7 @@ static const char usage[] =
     "  -j, --json           one JSON object per file (a stable contract for scripts)\n"
     "  -f, --field PATH     print one value of the JSON, e.g. grid.nx, times.0,\n"
     "                       species.1.max_abs_error or species.CLW.max_abs_error,\n"
-    "                       bricks.stored\n"
+    "                       bricks.stored; repeatable: a line each, in order\n"
     "  -s, --stats          add min/max/mean per species and time over the cells\n"
     "                       with data (decodes all)\n"
     "  -c, --check          verify every checksum and padding byte, decode\n"
@@ -458,8 +458,11 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
            "description");
     for (int s = 0; s < m->nvars; s++) {
         const vsv_quant *q = vsv_file_quant(f, s);
-        printf("    %-10s %-12s %12.5g %12.5g %5d %7s %12.3g  %s\n", m->vars[s].name, m->vars[s].units, q->data_min,
-               q->data_max, q->bits, scale_name(q->scale), q->max_abs_error, m->vars[s].description);
+        char mn[32] = "no value", mx[32] = "no value"; /* (no finite value seen: every cell no data) */
+        if (q->data_min <= q->data_max)
+            snprintf(mn, sizeof mn, "%.5g", q->data_min), snprintf(mx, sizeof mx, "%.5g", q->data_max);
+        printf("    %-10s %-12s %12s %12s %5d %7s %12.3g  %s\n", m->vars[s].name, m->vars[s].units, mn, mx, q->bits,
+               scale_name(q->scale), q->max_abs_error, m->vars[s].description);
     }
     if (vsv_meta_attr(m, VSV_ATTR_RESAMPLED))
         printf("              min and max are of the values resampled onto even heights, not the model's own\n");
@@ -491,6 +494,18 @@ static void print_human(vsv_file *f, const char *path, const stat_row *stats)
     }
 }
 
+/* Each of the n fields of root, a line each, when all are there; else
+ * none, and the first missing. */
+static const char *print_fields(const vsv_json *root, const char *const *fields, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (!vsv_json_path(root, fields[i]))
+            return fields[i];
+    for (int i = 0; i < n; i++)
+        vsv_json_print_plain(stdout, vsv_json_path(root, fields[i]));
+    return NULL;
+}
+
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-info");
@@ -501,12 +516,16 @@ int main(int argc, char **argv)
                                              {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
                                              {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
     /* clang-format on */
-    int json = 0, want_stats = 0, check = 0, c;
-    const char *field = NULL;
+    int json = 0, want_stats = 0, check = 0, c, nfields = 0;
+    const char *fields[64], *field = NULL; /* (field: the first, or none) */
     while ((c = getopt_long(argc, argv, "jf:scqhV", longopts, NULL)) != -1) {
         switch (c) {
         case 'j': json = 1; break;
-        case 'f': field = optarg; break;
+        case 'f':
+            if (nfields == 64)
+                vsv_cli_usage_error("-f %s: at most 64 fields", optarg);
+            fields[nfields++] = optarg, field = fields[0];
+            break;
         case 's': want_stats = 1; break;
         case 'c': check = 1; break;
         case 'q': vsv_cli_set_quiet(1); break;
@@ -543,10 +562,9 @@ int main(int argc, char **argv)
                     vsv_json_set(root, "file", vsv_json_string(path));
                     vsv_json_set(root, "format", vsv_json_string(vsv_source_format(src)));
                     vsv_json_set(root, "summary", vsv_json_string(text ? text : ""));
-                    const vsv_json *v = field ? vsv_json_path(root, field) : root;
-                    if (v)
-                        field ? vsv_json_print_plain(stdout, v) : vsv_json_print(stdout, v, 1);
-                    else
+                    if (!field)
+                        vsv_json_print(stdout, root, 1);
+                    else if (print_fields(root, fields, nfields))
                         status = 2;
                     vsv_json_free(root);
                 } else {
@@ -613,12 +631,11 @@ int main(int argc, char **argv)
             if (!root)
                 vsv_cli_die(1, "out of memory");
             if (field) {
-                const vsv_json *v = vsv_json_path(root, field);
-                if (!v) {
+                const char *none = print_fields(root, fields, nfields);
+                if (none) {
                     vsv_json_free(root);
-                    vsv_cli_usage_error("-f %s: no such field (see vsv-info --json)", field);
+                    vsv_cli_usage_error("-f %s: no such field (see vsv-info --json)", none);
                 }
-                vsv_json_print_plain(stdout, v);
             } else {
                 vsv_json_print(stdout, root, 1);
             }

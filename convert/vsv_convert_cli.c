@@ -120,6 +120,35 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
         vsv_cli_usage_error("--winds with --no-winds: the winds are for --interp advect or wind only");
     a->inputs = (const char *const *)argv + optind;
     a->ninputs = argc - optind;
+    a->vars = vsv_convert_vars(a->vars, a->derive, a->nderive); /* (lives as long as the program) */
+}
+
+char *vsv_convert_vars(const char *vars, const char *const *derive, int nderive)
+{
+    if (!vars)
+        return NULL;
+    char *out = malloc(strlen(vars) + 1);
+    if (!out)
+        vsv_cli_die(1, "out of memory");
+    size_t n = 0;
+    int first = 1;
+    for (const char *t = vars;; t++) { /* each name, empty ones too (the run says they are none) */
+        const size_t len = strcspn(t, ",");
+        int derived = 0;
+        for (int i = 0; i < nderive && !derived; i++)
+            derived = len && strcspn(derive[i], "=") == len && !strncmp(derive[i], t, len);
+        if (!derived) {
+            if (!first)
+                out[n++] = ',';
+            memcpy(out + n, t, len);
+            n += len, first = 0;
+        }
+        t += len;
+        if (!*t)
+            break;
+    }
+    out[n] = 0;
+    return out;
 }
 
 void vsv_convert_derive(const vsv_convert_args *a, vsv_run *run)

@@ -55,6 +55,19 @@ expect "crop: a user expression with units" 0 "$B/vsv-convert" -q --vars CLW \
 expect "... vsv-info" 0 "$B/vsv-info" --json "$T/expr.vsv"
 has "... its units" "$T/out" '"units": "g/kg"'
 has "... its formula" "$T/out" '"derived twice": "2*CLW + 0*\"SNOW\""'
+# a derived name in --vars asks for nothing more (it is written anyway)
+expect "crop: --vars naming the derived variable" 0 "$B/vsv-convert" -q --vars twice,CLW \
+    --derive 'twice=2*CLW' "$CROP" -o "$T/named.vsv"
+"$B/vsv-info" -f species.0.name -f species.1.name -f species.2.name "$T/named.vsv" > "$T/out" # (-f repeats)
+[ "$(tr '\n' ' ' < "$T/out")" = "CLW twice wind_east " ] && pass "... CLW, then twice, then the wind" ||
+    fail "... CLW, then twice, then the wind" "$(tr '\n' ' ' < "$T/out")"
+expect "vsv-extract too" 0 sh -c "'$B/vsv-extract' --vars twice --derive 'twice=2*CLW' '$CROP' > '$T/named.fs'"
+# an expression no value fits: written, every cell no data, and said
+expect "crop: a derived variable with no finite value" 0 "$B/vsv-convert" --vars '' \
+    --derive 'bad=log(0-CLW-1)' "$CROP" -o "$T/bad.vsv"
+has "... a note says so" "$T/err" "vsv-convert: note: bad: no finite value at any step: every cell is no data"
+expect "... vsv-info" 0 "$B/vsv-info" "$T/bad.vsv"
+has "... shows no value, not inf and -inf" "$T/out" "    bad                         no value     no value"
 if [ $have_py = 1 ] && PYTHONPATH="$B/python" "$PY" -c '
 import sys, numpy, vesuvius
 f = vesuvius.open(sys.argv[1])

@@ -147,6 +147,10 @@ expect "-f species.T.max_abs_error (by name)" 0 "$B/vsv-info" -f species.T.max_a
 same "... is species 3's" "$T/out" "$T/byindex"
 expect "-f species.NOPE.units: no such species, exit 2" 2 "$B/vsv-info" -f species.NOPE.units "$T/a.vsv"
 has "... saying so" "$T/err" "-f species.NOPE.units: no such field"
+expect "vsv-info -f twice" 0 "$B/vsv-info" -f grid.nx -f species.0.name "$T/a.vsv"
+[ "$(tr '\n' ' ' < "$T/out")" = "72 U " ] && pass "... a line each, in order" || fail "... a line each, in order" "$(tr '\n' ' ' < "$T/out")"
+expect "vsv-info -f a field then a missing one exits 2" 2 "$B/vsv-info" -f grid.nx -f nope "$T/a.vsv"
+[ ! -s "$T/out" ] && pass "... printing none" || fail "... printing none" "$(cat "$T/out")"
 # numbers at the edges (issue 33): an exaggeration of 1e308 overflowed the
 # heap, a cell index of 10^20 was read as -2147483648
 expect "vsv-render -x 1e308 exits 2" 2 "$B/vsv-render" "$T/a.vsv" -x 1e308 -o "$T/x.png"
