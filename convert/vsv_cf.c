@@ -414,15 +414,21 @@ static int cf_describe(vsv_source *s, int nc, int above_ground)
     if (!text[0])
         att_str(nc, NC_GLOBAL, "title", text, sizeof text);
     snprintf(g->run, sizeof g->run, "%s", text);
-    /* run metadata vsv-export stored as vsv_attr_KEY (spaces in keys became _) */
+    /* run metadata vsv-export stored as vsv_attr_KEY (spaces and colons in
+     * keys became _): the vectors' and the wind source's keys restored, so
+     * that the wind is the wind again (vsv_vector.h) */
     int natts = 0;
     nc_inq_natts(nc, &natts);
     for (int i = 0; i < natts; i++) {
-        char an[NC_MAX_NAME + 1], val[256];
+        char an[NC_MAX_NAME + 1], val[256], key[NC_MAX_NAME + 8];
         if (nc_inq_attname(nc, NC_GLOBAL, i, an) || strncmp(an, "vsv_attr_", 9) || !an[9])
             continue;
         att_str(nc, NC_GLOBAL, an, val, sizeof val);
-        if (val[0] && !vsv_meta_attr(g, an + 9) && vsv_meta_add_attr(g, an + 9, val) < 0) /* (the reader's own first) */
+        if (!strncmp(an + 9, "vector_", 7) && an[16])
+            snprintf(key, sizeof key, "%s%s", VSV_VECTOR_ATTR, an + 16);
+        else
+            snprintf(key, sizeof key, "%s", !strcmp(an + 9, "wind_source") ? VSV_WIND_SOURCE_ATTR : an + 9);
+        if (val[0] && !vsv_meta_attr(g, key) && vsv_meta_add_attr(g, key, val) < 0) /* (the reader's own first) */
             return VSV_ENOMEM;
     }
     if (above_ground && !vsv_meta_attr(g, VSV_ATTR_DATUM) && vsv_meta_add_attr(g, VSV_ATTR_DATUM, "ground") < 0)

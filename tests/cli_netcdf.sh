@@ -62,6 +62,13 @@ done
 "$B/vsv-info" --stats "$T/crop.vsv" | sed -n '/statistics/,$p' > "$T/s1"
 "$B/vsv-info" --stats "$T/back.vsv" | sed -n '/statistics/,$p' > "$T/s2"
 same "and every species' min/max/mean at every step" "$T/s1" "$T/s2"
+# the wind is the wind again: its vector and source restored, a trajectory the same
+expect "the round trip's vsv-info" 0 "$B/vsv-info" "$T/back.vsv"
+has "... names the wind vector" "$T/out" "vector      wind: wind_east wind_north wind_up (east, north, up; earth-relative)"
+has "... and its source" "$T/out" "wind source U V W (MM5 v3"
+"$B/vsv-query" "$T/crop.vsv" --trajectory 50,-120,3000 --for 1h --csv > "$T/a" 2>&1
+"$B/vsv-query" "$T/back.vsv" --trajectory 50,-120,3000 --for 1h --csv > "$T/b" 2>&1
+same "... a trajectory through it equals the original's" "$T/a" "$T/b"
 expect "one step, two species" 0 "$B/vsv-export" -q "$T/crop.vsv" --netcdf "$T/one.nc" --time 2 --species SNOW,CLW
 timeout 120 ncdump -h "$T/one.nc" > "$T/h"
 has "time = 1" "$T/h" "time = 1 ;"
