@@ -506,6 +506,54 @@ static const char *print_fields(const vsv_json *root, const char *const *fields,
     return NULL;
 }
 
+/* path, not a .vsv file, as a model file: 1 when described (2 when a
+ * field of -f is missing), -1 when said why not (a damaged model file, or
+ * a file of no format known), 0 when the caller's to say (unreadable, or
+ * OpenVDB). */
+static int model_file(const char *path, int json, const char *const *fields, int nfields)
+{
+    vsv_source *src = NULL;
+    const int src_rc = vsv_source_open(path, NULL, &src);
+    int r = 0;
+    if (src_rc == 0) {
+        char *text = vsv_source_summary(src);
+        r = 1;
+        if (json || nfields) {
+            vsv_json *root = vsv_json_object();
+            vsv_json_set(root, "file", vsv_json_string(path));
+            vsv_json_set(root, "format", vsv_json_string(vsv_source_format(src)));
+            vsv_json_set(root, "summary", vsv_json_string(text ? text : ""));
+            const char *none = nfields ? print_fields(root, fields, nfields) : NULL;
+            if (!nfields)
+                vsv_json_print(stdout, root, 1);
+            else if (none) {
+                fprintf(stderr, "vsv-info: -f %s: no such field (see vsv-info --json %s)\n", none, path);
+                r = 2;
+            }
+            vsv_json_free(root);
+        } else if (text) {
+            printf("%s: %s", path, text);
+        } else { /* a reader without a summary of its own */
+            printf("%s: %s (vsv-extract --list shows its fields and times)\n", path, vsv_source_format(src));
+        }
+        free(text);
+    } else if (src_rc != VSV_EIO && (src_rc != VSV_ENOTVSV || !is_vdb(path))) {
+        /* a model file, damaged (its reader's message, not ".vsv"), or neither: both readers' words */
+        const char *e = vsv_source_error(src);
+        const size_t pl = strlen(path);
+        if (src_rc == VSV_ENOTVSV && !strncmp(e, path, pl) && !strncmp(e + pl, ": ", 2))
+            e += pl + 2;
+        fflush(stdout);
+        if (src_rc == VSV_ENOTVSV)
+            fprintf(stderr, "vsv-info: %s: not a .vsv file; %s\n", path, e);
+        else
+            fprintf(stderr, "vsv-info: %s\n", e);
+        r = -1;
+    }
+    vsv_source_free(src);
+    return r;
+}
+
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-info");
@@ -543,43 +591,12 @@ int main(int argc, char **argv)
         vsv_file *f = NULL;
         int rc = vsv_file_open_any(path, &vsv_cli_http, &f);
         if (rc == VSV_ENOTVSV && !check && !vsv_is_url(path)) {
-            /* a model file? describe it */
-            vsv_source *src = NULL;
-            const int src_rc = vsv_source_open(path, NULL, &src);
-            if (src_rc != 0 && src_rc != VSV_ENOTVSV && src_rc != VSV_EIO) {
-                /* a model file, damaged: its reader's message, not ".vsv" */
-                fflush(stdout);
-                fprintf(stderr, "vsv-info: %s\n", vsv_source_error(src));
-                vsv_source_free(src);
-                vsv_file_free(f);
-                status = 1;
-                continue;
-            }
-            if (src_rc == 0) {
-                char *text = vsv_source_summary(src);
-                if (json || field) {
-                    vsv_json *root = vsv_json_object();
-                    vsv_json_set(root, "file", vsv_json_string(path));
-                    vsv_json_set(root, "format", vsv_json_string(vsv_source_format(src)));
-                    vsv_json_set(root, "summary", vsv_json_string(text ? text : ""));
-                    if (!field)
-                        vsv_json_print(stdout, root, 1);
-                    else if (print_fields(root, fields, nfields))
-                        status = 2;
-                    vsv_json_free(root);
-                } else {
-                    if (text)
-                        printf("%s: %s", path, text);
-                    else /* a reader without a summary of its own */
-                        printf("%s: %s (vsv-extract --list shows its fields and times)\n", path,
-                               vsv_source_format(src));
-                }
-                free(text);
-                vsv_source_free(src);
+            const int mrc = model_file(path, json, fields, nfields);
+            if (mrc) { /* described, or said why not */
+                status = mrc < 0 ? 1 : mrc == 2 ? 2 : status;
                 vsv_file_free(f);
                 continue;
             }
-            vsv_source_free(src);
         }
         if (rc == VSV_ENOTVSV && is_vdb(path)) { /* interop's format: vsv-info does not load OpenVDB */
             fflush(stdout);

@@ -57,6 +57,11 @@ int vsv_nc_guard(vsv_source *s, int limit_s);
  * attribute value it declares lies inside the file; -1 with what and where
  * in msg otherwise; 1 when fp is not a classic netCDF file. */
 int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap);
+/* The netCDF-4/HDF5 file open as fp, size bytes long (vsv_nc_hdf5.c): -1
+ * with both lengths in msg when it is shorter than its superblock's
+ * end-of-file address says; 0 when not (or the superblock is not one this
+ * knows); 1 when fp is not an HDF5 file. */
+int vsv_nc_hdf5_check(FILE *fp, uint64_t size, char *msg, size_t cap);
 /* Opens an IOAPI netCDF file already open as nc (detected by vsv_netcdf_ops). */
 int vsv_ioapi_open(vsv_source *s, int nc);
 

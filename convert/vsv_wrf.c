@@ -136,7 +136,8 @@ static int netcdf_open(vsv_source *s)
     int bad = 0;
     struct stat st;
     if (fp && !fstat(fileno(fp), &st) && !fseeko(fp, 0, SEEK_SET))
-        bad = vsv_nc_classic_check(fp, (uint64_t)st.st_size, msg, sizeof msg) < 0;
+        bad = vsv_nc_classic_check(fp, (uint64_t)st.st_size, msg, sizeof msg) < 0 ||
+              vsv_nc_hdf5_check(fp, (uint64_t)st.st_size, msg, sizeof msg) < 0;
     if (fp)
         fclose(fp);
     if (bad)

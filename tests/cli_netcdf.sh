@@ -62,6 +62,13 @@ done
 "$B/vsv-info" --stats "$T/crop.vsv" | sed -n '/statistics/,$p' > "$T/s1"
 "$B/vsv-info" --stats "$T/back.vsv" | sed -n '/statistics/,$p' > "$T/s2"
 same "and every species' min/max/mean at every step" "$T/s1" "$T/s2"
+# a copy cut short (a download that did not finish): named with both lengths
+head -c 300000 "$T/crop.nc" > "$T/cut.nc"
+full=$(stat -c %s "$T/crop.nc")
+expect "a netCDF-4 file cut short exits 1" 1 "$B/vsv-convert" -q "$T/cut.nc" -o "$T/x.vsv"
+has "... saying so, with both lengths" "$T/err" "cut.nc: cut short: 300000 bytes of the $full its HDF5 superblock declares"
+expect "vsv-info on it exits 1" 1 "$B/vsv-info" "$T/cut.nc"
+has "... the same words" "$T/err" "cut short: 300000 bytes of the $full"
 # the wind is the wind again: its vector and source restored, a trajectory the same
 expect "the round trip's vsv-info" 0 "$B/vsv-info" "$T/back.vsv"
 has "... names the wind vector" "$T/out" "vector      wind: wind_east wind_north wind_up (east, north, up; earth-relative)"

@@ -394,6 +394,15 @@ has "the directory is named" "$T/err" "a directory, not a regular file: refused"
 echo "just some text" > "$T/text.vsv"
 expect "vsv-info on a text file exits 1" 1 "$B/vsv-info" "$T/text.vsv"
 has "text file is not a .vsv file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv file"
+has "... nor a model file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv file; not an MM5 v3 file, nor another format Vesuvius reads"
+expect "vsv-info -f of a field a model file lacks exits 2" 2 "$B/vsv-info" -f nope samples/mm5/MMOUT_DOMAIN1_CROP
+has "... saying so" "$T/err" "vsv-info: -f nope: no such field"
+if command -v ncgen > /dev/null; then
+    printf 'netcdf other { dimensions: x = 2 ; variables: float a(x) ; data: a = 1, 2 ; }\n' > "$T/other.cdl"
+    ncgen -o "$T/other.nc" "$T/other.cdl"
+    expect "vsv-info on a netCDF file of no known kind exits 1" 1 "$B/vsv-info" "$T/other.nc"
+    has "... saying what it is not" "$T/err" "other.nc: not a .vsv file; a netCDF file that is none of WRF output"
+fi
 expect "vsv-info on a missing file exits 1" 1 "$B/vsv-info" "$T/missing.vsv"
 
 # bad streams leave nothing behind
