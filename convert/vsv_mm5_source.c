@@ -146,12 +146,46 @@ static int plev_heights(vsv_source *s, mm5src *x, int t)
     return 0;
 }
 
+/* Native pressure levels: every time's heights in every column, H's, the
+ * surface level (0) at the ground; a level H puts under the ground (REGRID
+ * extrapolates there) is squeezed 1 cm above the one below, so heights
+ * rise, and its cells are empty (plev_read). */
+static int plev_native_heights(vsv_source *s, mm5src *x)
+{
+    const size_t plane = (size_t)x->nx * x->ny;
+    float *z = malloc(plane * (size_t)x->KP * sizeof *z);
+    if (!z)
+        return VSV_ENOMEM;
+    int rc = 0;
+    for (int t = 0; t < s->ntimes && !rc; t++) {
+        if ((rc = plev_heights(s, x, t)))
+            break;
+        for (size_t c = 0; c < plane; c++)
+            for (int k = 0; k < x->KP; k++) {
+                const size_t i = (size_t)k * plane + c;
+                z[i] = k ? fmaxf(x->hraw[i], z[i - plane] + 0.01f) : x->hraw[c];
+            }
+        rc = vsv_source_native_heights(s, t, z);
+    }
+    free(z);
+    x->plan_t = -1;
+    return rc;
+}
+
 static int plev_read(vsv_source *s, mm5src *x, const vsv_field_info *fi, int t, float *out)
 {
     const size_t plane = (size_t)x->nx * x->ny;
     int rc;
-    if (!x->even)
-        return plev_volume(s, x, x->period_of[t], fi->name, out);
+    if (!x->even) { /* the file's levels; those under the ground empty */
+        if ((x->plan_t != t && (rc = plev_heights(s, x, t))) ||
+            (rc = plev_volume(s, x, x->period_of[t], fi->name, out)))
+            return rc;
+        for (int k = 1; k < x->KP; k++)
+            for (size_t c = 0; c < plane; c++)
+                if (!(x->hraw[(size_t)k * plane + c] > x->hraw[c]))
+                    out[(size_t)k * plane + c] = NAN;
+        return 0;
+    }
     if (x->plan_t != t) {
         if ((rc = plev_heights(s, x, t)))
             return rc;
@@ -534,9 +568,9 @@ static int mm5_open(vsv_source *s)
     } else {
         rc = mm5_sigma_axis(s, x, &b, sig);
     }
-    if (rc || (rc = mm5_fields(s, x)))
+    if (rc || (rc = mm5_fields(s, x)) || (rc = mm5_times(s, x)))
         return rc;
-    return mm5_times(s, x);
+    return x->plev && !x->even ? plev_native_heights(s, x) : 0;
 }
 
 /* A sigma-level field at time t as a native cross volume into x->nat,

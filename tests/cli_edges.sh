@@ -33,6 +33,18 @@ assert d["grid"]["vertical"]["kind"] == "even" and len(d["times"]) == 2
 assert 190 < d["species"][0]["min"] < d["species"][0]["max"] < 310
 PY
     then pass "REGRID .vsv: T U V RH H and the wind on even heights, 2 times"; else fail "REGRID .vsv: T U V RH H and the wind on even heights, 2 times" "see above"; fi
+    # native levels: each column's own heights (H), the surface level at the
+    # ground, the levels under it (1000-825 hPa at Denver) empty, squeezed 1 cm apart
+    expect "REGRID on native levels converts" 0 "$B/vsv-convert" -q --vars T "$R/REGRID_DOMAIN1" -o "$T/regrid-n.vsv"
+    expect "... vsv-info" 0 "$B/vsv-info" "$T/regrid-n.vsv"
+    has "... per-column heights stored" "$T/out" "per-column heights stored, 1 record"
+    expect "... a profile at Denver" 0 "$B/vsv-query" "$T/regrid-n.vsv" --profile 40,-105 -t 0 --csv
+    if awk -F, 'NR == 2 { ok = $7 > 1720 && $7 < 1730 && $8 > 270 } NR >= 3 && NR <= 9 { ok = ok && $8 == "NaN" && $7 - prev > 0.005 && $7 - prev < 0.015 }
+        NR == 10 { ok = ok && $7 > 2020 && $7 < 2026 && $8 > 270 } { prev = $7 } END { exit !ok }' "$T/out"; then
+        pass "... the ground at 1727 m, 7 levels under it empty, 2023 m next"
+    else
+        fail "... the ground at 1727 m, 7 levels under it empty, 2023 m next" "$(sed -n '1,10p' "$T/out" | tr '\n' ' ')"
+    fi
     expect "vsv-extract --list on BDYOUT" 0 "$B/vsv-extract" --list "$R/BDYOUT_DOMAIN1"
     has "BDYOUT slabs named as not volumes" "$T/out" "UEB        YSB D        15 kPa m/s          U-component of velocity          east boundary  (boundary slab, not a volume)"
     expect "vsv-info on BDYOUT" 0 "$B/vsv-info" "$R/BDYOUT_DOMAIN1"
