@@ -30,6 +30,10 @@ int vsv_camx_landuse(vsv_source *s, const char *path);
  * from the terrain) of the reference state. VSV_ENOTFOUND in a file without
  * sigma levels, a reference state or PP, or not MM5. */
 int vsv_mm5_pressure(vsv_source *s, int t, float *out);
+/* The summary of MM5 file m, open as s (IX x JX dot points), for vsv-info
+ * (vsv_mm5_summary.c): a string the caller frees, or NULL. */
+struct vsv_mm5;
+char *vsv_mm5_summary(const vsv_source *s, const struct vsv_mm5 *m, int IX, int JX);
 
 extern const vsv_source_ops vsv_grads_ops;
 extern const vsv_source_ops vsv_mm5_ops;
