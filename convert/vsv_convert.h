@@ -138,7 +138,7 @@ enum {
 /* 1 if id was one of these options, 0 if not, -1 for a bad value. */
 int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg);
 /* Why arg is a bad value for option id ("--proj utm: expected latlon, lcc,
- * ..."), into msg (cap bytes). */
+ * ..."), into msg (caller buffer of cap bytes). */
 void vsv_source_cli_why(int id, const char *arg, char *msg, size_t cap);
 /* Checks the options together once all are given (a projection with the
  * parameters it needs, --time-step with --time-start); 0, or VSV_EINVAL with

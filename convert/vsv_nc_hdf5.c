@@ -19,8 +19,9 @@ static uint64_t le(const unsigned char *p, int n)
 
 int vsv_nc_hdf5_check(FILE *fp, uint64_t size, char *msg, size_t cap)
 {
-    unsigned char b[64];
-    if (fseeko(fp, 0, SEEK_SET) || fread(b, 1, sizeof b, fp) < 16 || memcmp(b, "\x89HDF\r\n\x1a\n", 8))
+    unsigned char b[64] = {0};
+    const size_t got = fseeko(fp, 0, SEEK_SET) ? 0 : fread(b, 1, sizeof b, fp);
+    if (got < 8 || memcmp(b, "\x89HDF\r\n\x1a\n", 8))
         return 1;
     /* versions 0 and 1: sizes of offsets at byte 13, then the base, free
      * space, end-of-file addresses from byte 24 (28 in version 1); versions
@@ -36,6 +37,10 @@ int vsv_nc_hdf5_check(FILE *fp, uint64_t size, char *msg, size_t cap)
         return 0; /* a later version: the library's to judge */
     if (!(o == 2 || o == 4 || o == 8) || at + 3 * o > (int)sizeof b)
         return 0;
+    if (got < (size_t)(at + 3 * o)) { /* (the superblock itself cut) */
+        snprintf(msg, cap, "cut short: %llu bytes, inside its HDF5 superblock", (unsigned long long)got);
+        return -1;
+    }
     const uint64_t base = le(b + at, o), eof = le(b + at + 2 * o, o);
     const uint64_t undefined = o == 8 ? UINT64_MAX : (UINT64_C(1) << (8 * o)) - 1;
     if (base == undefined || eof == undefined || eof > undefined - base)

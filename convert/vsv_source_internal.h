@@ -31,7 +31,7 @@ int vsv_camx_landuse(vsv_source *s, const char *path);
  * sigma levels, a reference state or PP, or not MM5. */
 int vsv_mm5_pressure(vsv_source *s, int t, float *out);
 /* The summary of MM5 file m, open as s (IX x JX dot points), for vsv-info
- * (vsv_mm5_summary.c): a string the caller frees, or NULL. */
+ * (vsv_mm5_summary.c): a string (caller frees with free()), or NULL. */
 struct vsv_mm5;
 char *vsv_mm5_summary(const vsv_source *s, const struct vsv_mm5 *m, int IX, int JX);
 

@@ -129,7 +129,7 @@ static void fill_centre(const vsv_meta *m, int64_t time, vsv_point *p)
         const int n = a == 0 ? m->nx : a == 1 ? m->ny : m->nz;
         long c = lround(p->pos[a]);
         if (a == 0 && periodic_x(m))
-            c %= n; /* (pos in [0, n): the half cell past the last is the first's) */
+            c = (c % n + n) % n; /* (the half cell past the last is the first's) */
         p->cell[a] = (int)(c < 0 ? 0 : c >= n ? n - 1 : c);
     }
     if (vsv_meta_cell_latlon(m, p->cell[0], p->cell[1], &p->lat, &p->lon))
@@ -165,9 +165,9 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
                 lon, m->nx, m->ny, la0, la1, lo0, lo1);
         return VSV_ERANGE;
     }
-    p->pos[0] = periodic_x(m) ? fi - m->nx * floor(fi / m->nx) : fmin(fmax(fi, 0), m->nx - 1);
+    p->pos[0] = periodic_x(m) ? fi : fmin(fmax(fi, 0), m->nx - 1); /* (round the globe: -0.5..nx-0.5) */
     p->pos[1] = fmin(fmax(fj, 0), m->ny - 1);
-    const int ci = (int)(lround(p->pos[0]) % m->nx), cj = (int)lround(p->pos[1]);
+    const int ci = (int)((lround(p->pos[0]) + m->nx) % m->nx), cj = (int)lround(p->pos[1]);
     if (isnan(height)) {
         p->pos[2] = lowest_above_ground(m, ci, cj);
     } else {
@@ -297,8 +297,14 @@ int vsv_query_cell(vsv_query *q, int step, int s, int i, int j, int k, float *v)
 int vsv_query_sample(vsv_query *q, int step, int s, const double pos[3], int interp, float *v)
 {
     const int n[3] = {q->nx, q->ny, q->nz};
-    /* round the globe, x is taken modulo nx: the last cell's neighbour is the first */
-    const double x = q->periodic ? pos[0] - n[0] * floor(pos[0] / n[0]) : pos[0];
+    /* round the globe, x is taken modulo nx into [0, nx): the last cell's
+     * neighbour is the first (a value that is not finite: cell 0) */
+    double x = pos[0];
+    if (q->periodic) {
+        x = fmod(pos[0], n[0]);
+        x = x < 0 ? x + n[0] : x;
+        x = x >= 0 && x < n[0] ? x : 0;
+    }
     if (interp == VSV_INTERP_NEAREST) {
         int c[3];
         for (int a = 0; a < 3; a++) {

@@ -69,6 +69,9 @@ expect "a netCDF-4 file cut short exits 1" 1 "$B/vsv-convert" -q "$T/cut.nc" -o 
 has "... saying so, with both lengths" "$T/err" "cut.nc: cut short: 300000 bytes of the $full its HDF5 superblock declares"
 expect "vsv-info on it exits 1" 1 "$B/vsv-info" "$T/cut.nc"
 has "... the same words" "$T/err" "cut short: 300000 bytes of the $full"
+head -c 30 "$T/crop.nc" > "$T/cut30.nc"
+expect "cut inside its superblock (30 bytes) exits 1" 1 "$B/vsv-convert" -q "$T/cut30.nc" -o "$T/x.vsv"
+has "... saying so" "$T/err" "cut30.nc: cut short: 30 bytes, inside its HDF5 superblock"
 # the wind is the wind again: its vector and source restored, a trajectory the same
 expect "the round trip's vsv-info" 0 "$B/vsv-info" "$T/back.vsv"
 has "... names the wind vector" "$T/out" "vector      wind: wind_east wind_north wind_up (east, north, up; earth-relative)"

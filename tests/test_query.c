@@ -428,6 +428,23 @@ static void test_round_the_globe(void)
               "%g: rc %d (%s), cell %d, trilinear %.6g (want %.6g), nearest %g", lons[i], rc, msg, pt.cell[0], lin, wl,
               near);
     }
+    /* positions a caller may hand in: a hair below 0, exactly nx, not finite */
+    const double edge[3][3] = {{-1e-17, 2, 1}, {NX, 2, 1}, {NAN, 2, 1}};
+    for (int i = 0; i < 3; i++) {
+        float lin = -1, near = -1;
+        const int rc = vsv_query_sample(q, 0, 0, edge[i], VSV_INTERP_LINEAR, &lin) ||
+                       vsv_query_sample(q, 0, 0, edge[i], VSV_INTERP_NEAREST, &near);
+        CHECK(rc == 0 && fabsf(lin) < 1e-3f && near == 0, "round the globe: x of -1e-17, nx or NaN is column 0",
+              "case %d: rc %d, trilinear %g, nearest %g", i, rc, lin, near);
+    }
+    /* a point a hair west of 0 east lies at x just below 0, not just below nx
+     * (a section from there to 10 east goes the short way) */
+    vsv_point pt;
+    char msg[256] = "";
+    const int lrc = vsv_point_locate(fm, 0, -0.3, 500, &pt, msg, sizeof msg);
+    CHECK(lrc == 0 && pt.pos[0] < 0 && pt.pos[0] > -0.02 && pt.cell[0] == 0,
+          "round the globe: 359.7 east is at x -0.01, cell 0", "rc %d (%s): x %g, cell %d", lrc, msg, pt.pos[0],
+          pt.cell[0]);
     vsv_meta_clear(&m);
     vsv_query_free(q);
     vsv_file_free(f);

@@ -79,6 +79,12 @@ static void test_actions(vsv_player *p)
     const char *s2 = vsv_player_take_screenshot(p);
     CHECK(!shot && s2 && !strcmp(s2, "/tmp/x.png") && !vsv_player_take_screenshot(p),
           "a screenshot action is handed to the display once", " ");
+    char longname[1100] = "screenshot ", err2[256] = "";
+    memset(longname + 11, 'a', 1050);
+    longname[1061] = 0;
+    const int lrc = vsv_player_do(p, longname, err2, sizeof err2);
+    CHECK(lrc != 0 && strstr(err2, "screenshot: a name of at most 1023 bytes") && !vsv_player_take_screenshot(p),
+          "a screenshot name too long for the player is refused as such", "(rc %d: %s)", lrc, err2);
     act(p, "screenshot   /tmp/my shots/frame 1.png  ");
     const char *t3 = vsv_player_take_screenshot(p);
     char s3[256] = "";

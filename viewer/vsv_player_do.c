@@ -255,7 +255,9 @@ int vsv_player_do(vsv_player *p, const char *action, char *err, size_t cap)
     } else if (!strcmp(verb, "help")) {
         p->help = !p->help;
     } else if (!strcmp(verb, "screenshot")) {
-        NEED(a1 && !rest_as_name(action, p->shot, sizeof p->shot), "screenshot: needs a FILE.png");
+        NEED(a1, "screenshot: needs a FILE.png");
+        NEED(!rest_as_name(action, p->shot, sizeof p->shot), "screenshot: a name of at most %zu bytes",
+             sizeof p->shot - 1);
         p->shot_pending = 1; /* (the whole rest of the line: a name may hold blanks) */
     } else if (!strcmp(verb, "quit")) {
         p->quit = 1;
