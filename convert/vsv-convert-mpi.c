@@ -473,6 +473,7 @@ int main(int argc, char **argv)
     if (r->chunk_fd >= 0)
         close(r->chunk_fd);
     free(r->a.pack.opts.vars);
+    free((char *)r->a.vars); /* (vsv_convert_vars's copy) */
     free(r->times);
     free(r->sizes);
     free(r->st);

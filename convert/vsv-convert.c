@@ -105,6 +105,7 @@ int main(int argc, char **argv)
         free(fields[v]);
     free(fields);
     free(a.pack.opts.vars);
+    free((char *)a.vars); /* (vsv_convert_vars's copy) */
     vsv_run_free(run);
     return 0;
 }

@@ -21,7 +21,9 @@ enum { VSV_CLI_MAX_DERIVE = 32 };
     "                       theta, rh (formulas in the man page and the file);\n"                                      \
     "                       repeatable\n"
 
-/* What the command line asked for: plain info over argv's strings. */
+/* What the command line asked for: plain info over argv's strings, but
+ * vars (--vars less the derived names: vsv_convert_vars's copy, which the
+ * program frees with free()). */
 typedef struct vsv_convert_args {
     const char *out, *vars, *times;
     int64_t dt;                /* --time-res in seconds, 0 for none */
