@@ -309,6 +309,19 @@ static void test_values(void)
 
 /* Trilinear beside a no-data cell (vsv_format.h: NaN only when a cell with
  * non-zero weight is NaN): a small grid whose cell (3,2,1) is NaN. */
+/* One step of species 0 (v) on grid m written to name, opened and queried:
+ * 1, or 0 with *f and *q as far as they got (free both either way). */
+static int one_step_file(const vsv_meta *m, const float *v, const char *name, vsv_file **f, vsv_query **q)
+{
+    const char *path = vsv_test_tmp(name);
+    vsv_writer *w = NULL;
+    const float *fields[1] = {v};
+    const int ok = !vsv_writer_create(path, m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) &&
+                   !vsv_writer_finish(w, NULL, NULL);
+    vsv_writer_free(w);
+    return ok && !vsv_file_open(path, f) && !vsv_query_create(*f, q);
+}
+
 static void test_nodata(void)
 {
     enum { NX = 8, NY = 6, NZ = 4 };
@@ -321,17 +334,11 @@ static void test_nodata(void)
     for (int c = 0; c < NX * NY * NZ; c++)
         v[c] = (float)(10 + c % NX + 2 * (c / NX % NY) + 3 * (c / NX / NY));
     v[(1 * NY + 2) * NX + 3] = NAN;
-    const char *path = vsv_test_tmp("nodata.vsv");
-    vsv_writer *w = NULL;
-    const float *fields[1] = {v};
     vsv_file *f = NULL;
     vsv_query *q = NULL;
-    int ok = !vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) &&
-             !vsv_writer_finish(w, NULL, NULL);
-    vsv_writer_free(w);
+    const int ok = one_step_file(&m, v, "nodata.vsv", &f, &q);
     vsv_meta_clear(&m);
-    if (!CHECK(ok && !vsv_file_open(path, &f) && !vsv_query_create(f, &q),
-               "a grid with a no-data cell written and opened")) {
+    if (!CHECK(ok, "a grid with a no-data cell written and opened")) {
         vsv_query_free(q);
         vsv_file_free(f);
         return;
@@ -394,15 +401,9 @@ static void test_round_the_globe(void)
     float v[NX * NY * NZ];
     for (int c = 0; c < NX * NY * NZ; c++)
         v[c] = (float)(10 * (c % NX));
-    const char *path = vsv_test_tmp("globe.vsv");
-    vsv_writer *w = NULL;
-    const float *fields[1] = {v};
     vsv_file *f = NULL;
     vsv_query *q = NULL;
-    int ok = !vsv_writer_create(path, &m, NULL, &w) && !vsv_writer_add_step(w, 0, fields) &&
-             !vsv_writer_finish(w, NULL, NULL);
-    vsv_writer_free(w);
-    if (!CHECK(ok && !vsv_file_open(path, &f) && !vsv_query_create(f, &q), "a global grid written and opened")) {
+    if (!CHECK(one_step_file(&m, v, "globe.vsv", &f, &q), "a global grid written and opened")) {
         vsv_meta_clear(&m);
         vsv_query_free(q);
         vsv_file_free(f);
