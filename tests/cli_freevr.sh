@@ -98,7 +98,8 @@ if ! command -v xvfb-run > /dev/null || ! command -v xdotool > /dev/null; then
 fi
 
 # ------------------------------------------------------------- the layouts
-cat > "$T/session.sh" << 'EOS'
+cp "$TOP/tests/freevr_grab.sh" "$T/session.sh"
+cat >> "$T/session.sh" << 'EOS'
 # runs inside xvfb-run: the back end, two dumps 2.5-5.5 s apart, then Escape
 O=$1
 shift
@@ -117,10 +118,8 @@ echo "windows drawn (or 60 s passed) at $(date +%T)" >> "$O/log"
 # shows another picture (a step lasts 2 s and a lap of four 8 s, so the
 # step shown changes; on a loaded machine paging the next step can take
 # longer, so the wait for the change is long, 40 s, and not a measure)
-# A dump is replaced whole (renamed over), never written in place: a hard
-# link is a snapshot of it that needs no disk space (a copy on a full disk
-# would leave an empty file)
-snap() { for f in "$O"/dump/*.ppm; do ln -f "$f" "$1/" 2> /dev/null; done; }
+# (a copy on a full disk would leave an empty file: grab links)
+snap() { for f in "$O"/dump/*.ppm; do grab "$f" "$1/${f##*/}"; done; }
 mkdir -p "$O/shot1" "$O/shot2"
 t1=$(date +%s%3N)
 snap "$O/shot1"

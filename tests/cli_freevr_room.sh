@@ -121,7 +121,8 @@ expect "--trace to a directory: usage error" 2 "$BIN" "$T/crop.vsv" --trace "$T"
 # session NAME SCRIPT ARGS...: runs the back end under Xvfb with SCRIPT (sh,
 # sourced with $pid the back end's) driving it, then Escape; the result in
 # $T/NAME/result ("exit N", or what went wrong)
-cat > "$T/session.sh" << 'EOS'
+cp "$TOP/tests/freevr_grab.sh" "$T/session.sh"
+cat >> "$T/session.sh" << 'EOS'
 O=$1 DRIVE=$2
 shift 2
 mkdir -p "$O/dump"
@@ -238,7 +239,7 @@ done
 VSV=$T/nav.vsv
 ln -s "$T/crop.vsv" "$VSV"
 cat > "$T/nav.sh" << 'EOS'
-snap() { sleep 0.8; ln -f "$O/dump/simulator.ppm" "$O/$1.ppm"; } # (a dump is renamed over, never rewritten)
+snap() { sleep 0.8; grab "$O/dump/simulator.ppm" "$O/$1.ppm"; }
 stick() { # X Y SECONDS [BUTTON]: the joystick held there (the pointer while space is down)
     [ -n "${4:-}" ] && xdotool mousedown "$4"
     xdotool mousemove "$1" "$2" keydown space
@@ -298,7 +299,7 @@ VSV=$T/wind.vsv
     printf '  input "seed" = "2switch(keyboard:key[t])"; }\n'
 } > "$T/wind1.rc"
 cat > "$T/wind.sh" << 'EOS'
-snap() { sleep 1; ln -f "$O/dump/windw.ppm" "$O/$1.ppm"; }
+snap() { sleep 1; grab "$O/dump/windw.ppm" "$O/$1.ppm"; }
 press() { xdotool mousemove 150 150 keydown "$1"; sleep 0.2; xdotool keyup "$1"; }
 snap s0
 press 1
