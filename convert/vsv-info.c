@@ -206,26 +206,31 @@ static void print_moves(const vsv_meta *m)
     }
 }
 
-/* The steps' times and the interval between them. */
-static void json_set_times(vsv_json *root, vsv_file *f, int nsteps)
+/* The steps' times (time(h, t) for t < nsteps, on m's calendar) and the
+ * interval between them: of a .vsv file or of a model file. */
+static void json_set_times(vsv_json *root, const vsv_meta *m, int64_t (*time)(const void *, int), const void *h,
+                           int nsteps)
 {
     char buf[64];
     vsv_json *times = vsv_json_array();
     for (int t = 0; t < nsteps; t++) {
-        vsv_cal_format(vsv_meta_calendar(vsv_file_meta(f)), vsv_file_time(f, t), buf, sizeof buf);
+        vsv_cal_format(vsv_meta_calendar(m), time(h, t), buf, sizeof buf);
         vsv_json_push(times, vsv_json_string(buf));
     }
     vsv_json_set(root, "times", times);
     /* the interval of regular steps, null when irregular or a single step */
     /* (differences checked: a file's times may lie anywhere in int64) */
     int64_t step = 0, d;
-    if (nsteps > 1 && __builtin_sub_overflow(vsv_file_time(f, 1), vsv_file_time(f, 0), &step))
+    if (nsteps > 1 && __builtin_sub_overflow(time(h, 1), time(h, 0), &step))
         step = 0;
     for (int t = 2; t < nsteps && step; t++)
-        if (__builtin_sub_overflow(vsv_file_time(f, t), vsv_file_time(f, t - 1), &d) || d != step)
+        if (__builtin_sub_overflow(time(h, t), time(h, t - 1), &d) || d != step)
             step = 0;
     vsv_json_set(root, "time_step", step ? vsv_json_int(step) : vsv_json_null());
 }
+
+static int64_t file_time(const void *f, int t) { return vsv_file_time(f, t); }
+static int64_t source_time(const void *s, int t) { return vsv_source_time(s, t); }
 
 /* The vectors of m (SPEC.md §4 "Vectors"): to json (an object NAME: [east,
  * north, up], up null for a horizontal one) or printed when json is NULL. */
@@ -317,7 +322,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     vsv_json_set(root, "grid", json_grid(m));
     json_set_projection(root, m);
     json_set_moves(root, m);
-    json_set_times(root, f, info.nsteps);
+    json_set_times(root, m, file_time, f, info.nsteps);
     vsv_json_set(root, "species", json_species(f));
     vsv_json *vec = vsv_json_object();
     vectors(m, vec);
@@ -506,6 +511,39 @@ static const char *print_fields(const vsv_json *root, const char *const *fields,
     return NULL;
 }
 
+/* A model file's JSON: its format, grid, projection, times and fields (the
+ * keys of a .vsv file's where they mean the same), and its summary text. */
+static vsv_json *model_json(const vsv_source *src, const char *path, const char *text)
+{
+    const vsv_meta *m = vsv_source_grid(src);
+    vsv_json *root = vsv_json_object();
+    vsv_json_set(root, "file", vsv_json_string(path));
+    vsv_json_set(root, "format", vsv_json_string(vsv_source_format(src)));
+    vsv_json *from = vsv_json_object();
+    vsv_json_set(from, "model", vsv_json_string(m->model));
+    vsv_json_set(from, "run", vsv_json_string(m->run));
+    vsv_json_set(root, "source", from);
+    vsv_json_set(root, "grid", json_grid(m));
+    json_set_projection(root, m);
+    json_set_times(root, m, source_time, src, vsv_source_ntimes(src));
+    vsv_json *fields = vsv_json_array();
+    for (int i = 0; i < vsv_source_nfields(src); i++) {
+        const vsv_field_info *fi = vsv_source_field(src, i);
+        vsv_json *fj = vsv_json_object();
+        vsv_json_set(fj, "name", vsv_json_string(fi->name));
+        vsv_json_set(fj, "units", vsv_json_string(fi->units));
+        vsv_json_set(fj, "description", vsv_json_string(fi->description));
+        vsv_json_set(fj, "levels", vsv_json_int(fi->nlevels));
+        vsv_json_set(fj, "volume", vsv_json_bool(fi->is_volume));
+        vsv_json_set(fj, "default", vsv_json_bool(fi->is_default));
+        vsv_json_set(fj, "role", fi->role[0] ? vsv_json_string(fi->role) : vsv_json_null());
+        vsv_json_push(fields, fj);
+    }
+    vsv_json_set(root, "fields", fields);
+    vsv_json_set(root, "summary", vsv_json_string(text ? text : ""));
+    return root;
+}
+
 /* path, not a .vsv file, as a model file: 1 when described (2 when a
  * field of -f is missing), -1 when said why not (a damaged model file, or
  * a file of no format known), 0 when the caller's to say (unreadable, or
@@ -519,10 +557,7 @@ static int model_file(const char *path, int json, const char *const *fields, int
         char *text = vsv_source_summary(src);
         r = 1;
         if (json || nfields) {
-            vsv_json *root = vsv_json_object();
-            vsv_json_set(root, "file", vsv_json_string(path));
-            vsv_json_set(root, "format", vsv_json_string(vsv_source_format(src)));
-            vsv_json_set(root, "summary", vsv_json_string(text ? text : ""));
+            vsv_json *root = model_json(src, path, text);
             const char *none = nfields ? print_fields(root, fields, nfields) : NULL;
             if (!nfields)
                 vsv_json_print(stdout, root, 1);

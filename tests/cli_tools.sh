@@ -397,6 +397,10 @@ has "text file is not a .vsv file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv f
 has "... nor a model file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv file; not an MM5 v3 file, nor another format Vesuvius reads"
 expect "vsv-info -f of a field a model file lacks exits 2" 2 "$B/vsv-info" -f nope samples/mm5/MMOUT_DOMAIN1_CROP
 has "... saying so" "$T/err" "vsv-info: -f nope: no such field"
+expect "vsv-info -f on a model file: grid, times and fields" 0 "$B/vsv-info" -f grid.nz -f times.3 -f fields.4.name \
+    -f fields.4.volume -f projection.name samples/mm5/MMOUT_DOMAIN1_CROP
+printf "15\n1995-10-24T03:00:00Z\nCLW\ntrue\nlcc\n" > "$T/want"
+same "... each its value" "$T/out" "$T/want"
 if command -v ncgen > /dev/null; then
     printf 'netcdf other { dimensions: x = 2 ; variables: float a(x) ; data: a = 1, 2 ; }\n' > "$T/other.cdl"
     ncgen -o "$T/other.nc" "$T/other.cdl"
