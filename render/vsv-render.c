@@ -457,13 +457,8 @@ static void make_layers(const render_args *ra, render_run *run)
         char msg[1024];
         if (vsv_iso_parse(m, ra->iso_specs[i], &iso[i], msg, sizeof msg))
             vsv_cli_usage_error("%s", msg);
-        /* a value no cell of the file reaches draws nothing: a wrong unit, most likely */
-        const vsv_quant *q = vsv_file_quant(run->f, iso[i].species);
-        const double lo = fmin(fmin(q->lo, q->data_min), q->scale == VSV_SCALE_LOG ? 0 : q->lo);
-        const double hi = fmax(q->hi, q->data_max);
-        if (!(iso[i].value > lo && iso[i].value < hi))
-            vsv_cli_die(1, "%s: --iso %s: no surface: %s runs from %g to %g %s in this file", path, ra->iso_specs[i],
-                        m->vars[iso[i].species].name, q->data_min, q->data_max, m->vars[iso[i].species].units);
+        if (vsv_iso_in_range(run->f, ra->iso_specs[i], &iso[i], msg, sizeof msg))
+            vsv_cli_die(1, "%s: %s", path, msg);
     }
     int nl = 0, slice_layer = 0;
     for (int s = 0; s < m->nvars; s++) {

@@ -74,3 +74,17 @@ int vsv_iso_parse(const vsv_meta *m, const char *arg, vsv_iso_spec *spec, char *
     }
     return 0;
 }
+
+int vsv_iso_in_range(const vsv_file *f, const char *arg, const vsv_iso_spec *spec, char *msg, size_t cap)
+{
+    const vsv_meta *m = vsv_file_meta(f);
+    const vsv_quant *q = vsv_file_quant(f, spec->species);
+    /* the values seen and the range coded (a log scale codes from 0) */
+    const double lo = fmin(fmin(q->lo, q->data_min), q->scale == VSV_SCALE_LOG ? 0 : q->lo);
+    const double hi = fmax(q->hi, q->data_max);
+    if (spec->value > lo && spec->value < hi)
+        return 0;
+    snprintf(msg, cap, "--iso %s: no surface: %s runs from %g to %g %s in this file", arg, m->vars[spec->species].name,
+             q->data_min, q->data_max, m->vars[spec->species].units);
+    return VSV_ERANGE;
+}

@@ -119,6 +119,8 @@ expect "vsv-render --iso below the data exits 1" 1 "$B/vsv-render" -q "$T/a.vsv"
 # vsv-play --iso: the shared option; its screenshot is vsv-render's picture
 expect "vsv-play --iso NOPE:1 exits 2" 2 "$B/vsv-play" "$T/a.vsv" --iso NOPE:1
 has "in vsv-render's words" "$T/err" "--iso NOPE:1: no species NOPE (the file has Q, CLW"
+expect "vsv-play --iso beyond the data exits 1" 1 "$B/vsv-play" "$T/a.vsv" --iso CLW:0.05
+has "... no surface, the range named, as vsv-render" "$T/err" "vsv-play: $T/a.vsv: --iso CLW:0.05: no surface: CLW runs from 0 to 0.000596868 kg/kg in this file"
 if [ -x "$B/vsv-play" ] && command -v xvfb-run > /dev/null && "$PYTHON" -c "import numpy, PIL" 2> /dev/null; then
     printf '0.2 seek 1\n0.4 screenshot %s\n0.6 quit\n' "$T/p.png" > "$T/play.script"
     ASAN_OPTIONS=${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0 \

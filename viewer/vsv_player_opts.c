@@ -36,6 +36,11 @@ int vsv_player_open_isos(vsv_player *p, const vsv_player_opts *o, char *err, siz
         vsv_iso_spec sp;
         if (vsv_iso_parse(p->m, o->isos[i], &sp, err, cap))
             return VSV_EINVAL;
+        char why[600];
+        if (vsv_iso_in_range(p->f, o->isos[i], &sp, why, sizeof why)) {
+            snprintf(err, cap, "%s: %s", o->path, why);
+            return -1;
+        }
         p->isos[p->nisos++] = (vsv_scene_iso){sp.species, sp.value, {sp.rgb[0], sp.rgb[1], sp.rgb[2]}};
     }
     return 0;
