@@ -195,14 +195,51 @@ void vsv_tf_format(const vsv_tf *tf, char *buf, size_t cap)
         snprintf(buf + n, cap - (size_t)n, "\n");
 }
 
-/* The first byte of s that no text holds (a control byte but tab, CR and
- * LF), or -1. */
-static int binary_byte(const char *s)
+/* The first byte of the n bytes at s that no text holds, or -1: a control
+ * byte but tab, CR and LF (NUL among them), DEL, or a byte that is not
+ * part of a well-formed UTF-8 character (µg/m³ in a comment is text; a
+ * PNG's 0x89 is not). A character cut by the end of a full buffer (full:
+ * the line goes on) is left to the next piece. */
+static int binary_byte(const unsigned char *s, size_t n, int full)
 {
-    for (const unsigned char *c = (const unsigned char *)s; *c; c++)
-        if ((*c < 0x20 && *c != '\t' && *c != '\r' && *c != '\n') || *c == 0x7f)
-            return *c;
+    for (size_t i = 0; i < n; i++) {
+        const unsigned c = s[i];
+        if ((c < 0x20 && c != '\t' && c != '\r' && c != '\n') || c == 0x7f)
+            return (int)c;
+        if (c < 0x80)
+            continue;
+        const size_t more = c >= 0xc2 && c <= 0xdf ? 1 : c >= 0xe0 && c <= 0xef ? 2 : c >= 0xf0 && c <= 0xf4 ? 3 : 0;
+        if (!more)
+            return (int)c;
+        for (size_t k = 1; k <= more; k++) {
+            if (i + k >= n) {
+                if (full)
+                    return -1;
+                return (int)c;
+            }
+            if ((s[i + k] & 0xc0) != 0x80)
+                return (int)c;
+        }
+        i += more;
+    }
     return -1;
+}
+
+/* Reads one line (or the first cap - 1 bytes of a longer one) into line,
+ * NUL-terminated, its length in *len (a NUL inside counts: fgets would
+ * hide it). 0 at the end of the file. */
+static int read_line(FILE *fp, char *line, size_t cap, size_t *len)
+{
+    size_t n = 0;
+    int c = 0;
+    while (n + 1 < cap && (c = getc(fp)) != EOF) {
+        line[n++] = (char)c;
+        if (c == '\n')
+            break;
+    }
+    line[n] = 0;
+    *len = n;
+    return n > 0;
 }
 
 int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t cap, char *msg, size_t msgcap)
@@ -217,12 +254,13 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
     int in = 0, found = 0, any = 0, lineno = 0, emitted = 0;
     size_t n = 0;
     buf[0] = 0;
-    while (fgets(line, sizeof line, fp)) {
+    size_t len;
+    while (read_line(fp, line, sizeof line, &len)) {
         char name[128], word[64];
         lineno++;
-        const int b = binary_byte(line);
+        const int b = binary_byte((const unsigned char *)line, len, len + 1 == sizeof line && line[len - 1] != '\n');
         if (b >= 0) { /* (never echoed: a binary file's bytes would garble the terminal) */
-            snprintf(msg, msgcap, "line %d: byte 0x%02x: not a text file of transfer functions", lineno, b);
+            snprintf(msg, msgcap, "line %d: byte 0x%02x: not a text file of transfer functions (ASCII or UTF-8)", lineno, b);
             fclose(fp);
             return VSV_EINVAL;
         }

@@ -49,6 +49,15 @@ printf '\177ELF\002\001\001\000\033[2J\n' > "$T/bin.tf"
 expect "a binary file as --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/bin.tf"
 has "... saying it is not text" "$T/err" "bin.tf: line 1: byte 0x7f: not a text file of transfer functions"
 LC_ALL=C grep -q "$(printf '\033')" "$T/err" && fail "... no escape byte echoed" "$(cat -v "$T/err")" || pass "... no escape byte echoed"
+# a PNG as --tf (its first line has no control byte, only 0x89) and a NUL
+printf '\211PNG\r\n\032\n' > "$T/png.tf"
+expect "a PNG as --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/png.tf"
+has "... at its first byte" "$T/err" "png.tf: line 1: byte 0x89: not a text file of transfer functions (ASCII or UTF-8)"
+printf 'species CLW\000junk\ncolormap rain\n' > "$T/nul.tf"
+expect "a NUL in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/nul.tf"
+has "... naming it" "$T/err" "nul.tf: line 1: byte 0x00: not a text file"
+printf '# 10 \302\265g/m\302\263, caf\303\251\nspecies CLW\ncolormap rain\n' > "$T/utf8.tf"
+expect "UTF-8 in a --tf comment is text" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/utf8.png" --tf "$T/utf8.tf" --size 64x48
 expect "the same frame twice is identical" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/again.png" --size 320x240 --threads 1
 if cmp -s "$T/last.png" "$T/again.png"; then pass "1 thread and all threads write the same PNG"; else fail "1 thread and all threads write the same PNG" "differ"; fi
 expect "a damaged .vsv exits 1" 1 "$B/vsv-render" tests/golden/bad/payload.vsv -o "$T/x.png" --time 1
