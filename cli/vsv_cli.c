@@ -128,6 +128,21 @@ void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n)
                 vsv_file_kind(so.st_mode));
         exit(2);
     }
+    /* in a sticky folder (/tmp) only a file's or the folder's owner may
+     * replace it: the rename at the end would fail after all the work (and
+     * after vsv-plot had published its plot beside the CSV) */
+    char dir[4200];
+    snprintf(dir, sizeof dir, "%s", out);
+    char *slash = strrchr(dir, '/');
+    if (slash)
+        slash[slash == dir] = 0;
+    struct stat sd;
+    const uid_t me = geteuid();
+    if (me && so.st_uid != me && !stat(slash ? dir : ".", &sd) && (sd.st_mode & S_ISVTX) && sd.st_uid != me) {
+        fprintf(stderr, "%s: %s: another user's file in a sticky folder (as /tmp): it cannot be replaced\n", tool_name,
+                out);
+        exit(1);
+    }
     for (int i = 0; i < n; i++)
         if (inputs[i] && !stat(inputs[i], &si) && si.st_dev == so.st_dev && si.st_ino == so.st_ino) {
             fprintf(stderr, "%s: output %s is the input %s (the same file%s): refusing to overwrite it\n", tool_name,

@@ -202,6 +202,22 @@ expect "a plot in a missing folder with a CSV exits 1" 1 $P --profile 50,-120 -o
 [ ! -e "$T/x.svg" ] && pass "no output after an error" || fail "no output after an error" "$T/x.svg exists"
 left=$(ls "$T" | grep -c '\.tmp\.')
 [ "$left" = 0 ] && pass "no temporary left behind" || fail "no temporary left behind" "$(ls "$T" | grep '\.tmp\.')"
+# a CSV the final rename could not replace (another user's, in a sticky
+# folder): refused before the plot is written (as root: run as nobody)
+S=$T/sticky
+NOBODY="setpriv --reuid=nobody --regid=nogroup --clear-groups"
+mkdir -p "$S" && chmod 711 "$T" && chmod 1777 "$S" && cp "$T/s.vsv" "$S/in.vsv" && chmod 644 "$S/in.vsv"
+echo old > "$S/q.csv"
+if [ "$(id -u)" = 0 ] && $NOBODY "$B/vsv-plot" --version > /dev/null 2>&1 && $NOBODY test -r "$S/in.vsv"; then
+    expect "a CSV another user owns in a sticky folder exits 1" 1 $NOBODY "$B/vsv-plot" "$S/in.vsv" --profile 50,-120 \
+        -o "$S/q.svg" --csv "$S/q.csv"
+    has "... saying why" "$T/err" "vsv-plot: $S/q.csv: another user's file in a sticky folder (as /tmp): it cannot be replaced"
+    [ ! -e "$S/q.svg" ] && [ "$(cat "$S/q.csv")" = old ] && [ "$(ls "$S" | wc -l)" = 2 ] &&
+        pass "... before the plot is written (the CSV kept, nothing left)" ||
+        fail "... before the plot is written (the CSV kept, nothing left)" "$(ls "$S")"
+else
+    skip "a CSV another user owns in a sticky folder" "not root, or setpriv cannot run the tool as nobody"
+fi
 
 # ------------------------------------------------------ every option written up
 "$B/vsv-plot" --help > "$T/help"
