@@ -11,8 +11,18 @@ trap 'rm -rf "$T"' EXIT
 expect "vsv-export --help names --netcdf" 0 "$B/vsv-export" --help
 has "--netcdf OUT.nc" "$T/out" "--netcdf OUT.nc"
 expect "--vdb and --netcdf together exit 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/a%d.vdb" --netcdf "$T/a.nc"
-expect "--netcdf onto the input exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/crop.vsv"
+ln "$T/crop.vsv" "$T/same.nc"
+expect "--netcdf onto the input exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/same.nc"
 has "naming it" "$T/err" "is the input"
+# an output named as another kind of file: refused before anything is read
+expect "--netcdf with a .vsv name exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/out.vsv"
+has "... saying whose name it is" "$T/err" "vsv-export: --netcdf $T/out.vsv: the name of a Vesuvius file (.vsv); --netcdf writes netCDF-4 (.nc)"
+expect "--vdb with a .nc name exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/v_%d.NC"
+has "... any case" "$T/err" "--vdb $T/v_%d.NC: the name of a netCDF file (.nc); --vdb writes OpenVDB (.vdb)"
+expect "--gltf with a .ply name exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --iso CLW:5e-5 --gltf "$T/c.ply"
+has "... naming both" "$T/err" "--gltf $T/c.ply: the name of a PLY mesh (.ply); --gltf writes glTF 2.0 (.gltf)"
+[ ! -e "$T/out.vsv" ] && [ ! -e "$T/c.ply" ] && pass "... and nothing written" || fail "... and nothing written" "$(ls "$T")"
+expect "--netcdf with a name of no known kind is the user's" 0 "$B/vsv-export" -q "$T/crop.vsv" --netcdf "$T/any.cdf" --time 0
 expect "into a missing folder exits 1" 1 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/nope/x.nc"
 has "saying why" "$T/err" "cannot create a temporary file beside it"
 echo "keep me" > "$T/old.nc"
