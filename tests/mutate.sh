@@ -55,7 +55,7 @@ verdict() {
     for t in "$@"; do
         runone "$t" < /dev/null > run.log 2>&1
         rc=$?
-        f=$(grep -m 1 '^FAIL ' run.log | cut -c 1-160)
+        f=$(grep -a -m 1 '^FAIL ' run.log | cut -c 1-160)
         if [ -n "$f" ]; then echo "$t: $f"; return; fi
         if [ $rc -ne 0 ]; then echo "$t: exit $rc"; return; fi
     done
