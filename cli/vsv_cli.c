@@ -136,9 +136,10 @@ void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n)
     char *slash = strrchr(dir, '/');
     if (slash)
         slash[slash == dir] = 0;
-    struct stat sd;
+    struct stat sd, sl; /* (the name's owner: a symlink's own) */
     const uid_t me = geteuid();
-    if (me && so.st_uid != me && !stat(slash ? dir : ".", &sd) && (sd.st_mode & S_ISVTX) && sd.st_uid != me) {
+    if (me && !lstat(out, &sl) && sl.st_uid != me && !stat(slash ? dir : ".", &sd) && (sd.st_mode & S_ISVTX) &&
+        sd.st_uid != me) {
         fprintf(stderr, "%s: %s: another user's file in a sticky folder (as /tmp): it cannot be replaced\n", tool_name,
                 out);
         exit(1);
