@@ -118,31 +118,40 @@ FILE *vsv_cli_open_input(const char *path, const char *mode, int pipes)
     return fp;
 }
 
-void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n)
+/* In a sticky folder (/tmp) only the owner of a name (a symlink's own,
+ * dangling or not) or of the folder may replace it: the rename at the end
+ * would fail after all the work (and after vsv-plot had published its plot
+ * beside the CSV), so such an output exits 1 before. */
+static void refuse_sticky(const char *out)
 {
-    struct stat so, si;
-    if (!out || stat(out, &so))
+    struct stat sl, sd;
+    const uid_t me = geteuid();
+    if (!me || lstat(out, &sl) || sl.st_uid == me)
         return;
-    if (!S_ISREG(so.st_mode)) { /* the output would replace it */
-        fprintf(stderr, "%s: output %s is %s, not a regular file: refusing to replace it\n", tool_name, out,
-                vsv_file_kind(so.st_mode));
-        exit(2);
-    }
-    /* in a sticky folder (/tmp) only a file's or the folder's owner may
-     * replace it: the rename at the end would fail after all the work (and
-     * after vsv-plot had published its plot beside the CSV) */
     char dir[4200];
     snprintf(dir, sizeof dir, "%s", out);
     char *slash = strrchr(dir, '/');
     if (slash)
         slash[slash == dir] = 0;
-    struct stat sd, sl; /* (the name's owner: a symlink's own) */
-    const uid_t me = geteuid();
-    if (me && !lstat(out, &sl) && sl.st_uid != me && !stat(slash ? dir : ".", &sd) && (sd.st_mode & S_ISVTX) &&
-        sd.st_uid != me) {
+    if (!stat(slash ? dir : ".", &sd) && (sd.st_mode & S_ISVTX) && sd.st_uid != me) {
         fprintf(stderr, "%s: %s: another user's file in a sticky folder (as /tmp): it cannot be replaced\n", tool_name,
                 out);
         exit(1);
+    }
+}
+
+void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n)
+{
+    struct stat so, si;
+    if (!out)
+        return;
+    refuse_sticky(out);
+    if (stat(out, &so))
+        return;
+    if (!S_ISREG(so.st_mode)) { /* the output would replace it */
+        fprintf(stderr, "%s: output %s is %s, not a regular file: refusing to replace it\n", tool_name, out,
+                vsv_file_kind(so.st_mode));
+        exit(2);
     }
     for (int i = 0; i < n; i++)
         if (inputs[i] && !stat(inputs[i], &si) && si.st_dev == so.st_dev && si.st_ino == so.st_ino) {

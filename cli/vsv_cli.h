@@ -32,9 +32,9 @@ void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 
  * inputs: the same path, a hard link or a symlink to it (same device and
  * inode); NULL inputs are skipped. A missing output is never an input. Also
  * refuses an output that exists and is not a regular file (a directory,
- * /dev/null): writing it would replace it. An output that is another
- * user's file in a sticky folder (/tmp), which the final rename could not
- * replace, exits 1. */
+ * /dev/null): writing it would replace it. An output name that is another
+ * user's in a sticky folder (/tmp; a symlink's own owner, dangling or
+ * not), which the final rename could not replace, exits 1. */
 void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n);
 /* Opens an input the tool reads as text or a stream, checked: a regular
  * file, and with pipes != 0 also a FIFO (a field stream's writer on the other

@@ -502,9 +502,10 @@ typedef struct vsv_iso_spec {
  * the option and, for an unknown species, the file's). */
 int vsv_iso_parse(const vsv_meta *m, const char *arg, vsv_iso_spec *spec, char *msg, size_t cap);
 /* Whether spec's value lies inside the range its species spans in f (the
- * values seen and the range coded): 0, or VSV_ERANGE with msg saying so
- * and naming that range (a value no cell reaches draws nothing: a wrong
- * unit, most likely). arg: the option's text, for the message. */
+ * values seen and the range coded): 0, or VSV_ERANGE with the reason in
+ * msg (caller buffer of cap bytes), naming that range (a value no cell
+ * reaches draws nothing: a wrong unit, most likely). arg: the option's
+ * text, for the message. */
 int vsv_iso_in_range(const vsv_file *f, const char *arg, const vsv_iso_spec *spec, char *msg, size_t cap);
 
 /* The formats vsv_iso_write writes. */

@@ -196,11 +196,11 @@ void vsv_tf_format(const vsv_tf *tf, char *buf, size_t cap)
 }
 
 /* The first byte of the n bytes at s that no text holds, or -1: a control
- * byte but tab, CR and LF (NUL among them), DEL, or a byte that is not
- * part of a well-formed UTF-8 character (µg/m³ in a comment is text; a
- * PNG's 0x89 is not). A character cut by the end of a full buffer (full:
- * the line goes on) is left to the next piece. */
-static int binary_byte(const unsigned char *s, size_t n, int full)
+ * byte but tab, CR and LF (NUL among them), DEL, a C1 control (U+0080..9F,
+ * which terminals act on), or a byte that is not part of a well-formed
+ * UTF-8 character (no overlong forms, surrogates or values past U+10FFFF):
+ * µg/m³ in a comment is text, a PNG's 0x89 is not. */
+static int binary_byte(const unsigned char *s, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
         const unsigned c = s[i];
@@ -208,31 +208,35 @@ static int binary_byte(const unsigned char *s, size_t n, int full)
             return (int)c;
         if (c < 0x80)
             continue;
-        const size_t more = c >= 0xc2 && c <= 0xdf ? 1 : c >= 0xe0 && c <= 0xef ? 2 : c >= 0xf0 && c <= 0xf4 ? 3 : 0;
-        if (!more)
+        /* the continuation bytes and the second one's range, by lead byte */
+        size_t more = 0;
+        unsigned lo = 0x80, hi = 0xbf;
+        if (c >= 0xc2 && c <= 0xdf)
+            more = 1, lo = c == 0xc2 ? 0xa0 : 0x80;
+        else if (c >= 0xe0 && c <= 0xef)
+            more = 2, lo = c == 0xe0 ? 0xa0 : 0x80, hi = c == 0xed ? 0x9f : 0xbf;
+        else if (c >= 0xf0 && c <= 0xf4)
+            more = 3, lo = c == 0xf0 ? 0x90 : 0x80, hi = c == 0xf4 ? 0x8f : 0xbf;
+        if (!more || i + more >= n || s[i + 1] < lo || s[i + 1] > hi)
             return (int)c;
-        for (size_t k = 1; k <= more; k++) {
-            if (i + k >= n) {
-                if (full)
-                    return -1;
-                return (int)c;
-            }
+        for (size_t k = 2; k <= more; k++)
             if ((s[i + k] & 0xc0) != 0x80)
                 return (int)c;
-        }
         i += more;
     }
     return -1;
 }
 
-/* Reads one line (or the first cap - 1 bytes of a longer one) into line,
- * NUL-terminated, its length in *len (a NUL inside counts: fgets would
- * hide it). 0 at the end of the file. */
+/* Reads one line into line (cap bytes), NUL-terminated, its length with
+ * the newline in *len (a NUL inside counts: fgets would hide it). 1, 0 at
+ * the end of the file, -1 for a line of cap bytes or more. */
 static int read_line(FILE *fp, char *line, size_t cap, size_t *len)
 {
     size_t n = 0;
     int c = 0;
-    while (n + 1 < cap && (c = getc(fp)) != EOF) {
+    while ((c = getc(fp)) != EOF) {
+        if (n + 1 >= cap)
+            return -1;
         line[n++] = (char)c;
         if (c == '\n')
             break;
@@ -250,17 +254,21 @@ int vsv_tf_file_block(const char *path, const char *species, char *buf, size_t c
         snprintf(msg, msgcap, "%s: %s", path, why);
         return VSV_EIO;
     }
-    char line[512];
-    int in = 0, found = 0, any = 0, lineno = 0, emitted = 0;
-    size_t n = 0;
+    char line[4096];
+    int in = 0, found = 0, any = 0, lineno = 0, emitted = 0, got;
+    size_t n = 0, len;
     buf[0] = 0;
-    size_t len;
-    while (read_line(fp, line, sizeof line, &len)) {
+    while ((got = read_line(fp, line, sizeof line, &len))) {
         char name[128], word[64];
         lineno++;
-        const int b = binary_byte((const unsigned char *)line, len, len + 1 == sizeof line && line[len - 1] != '\n');
-        if (b >= 0) { /* (never echoed: a binary file's bytes would garble the terminal) */
-            snprintf(msg, msgcap, "line %d: byte 0x%02x: not a text file of transfer functions (ASCII or UTF-8)", lineno, b);
+        const int b = got < 0 ? -1 : binary_byte((const unsigned char *)line, len);
+        if (got < 0 || b >= 0) { /* (never echoed: a binary file's bytes would garble the terminal) */
+            if (got < 0)
+                snprintf(msg, msgcap, "line %d: longer than %zu bytes: not a text file of transfer functions", lineno,
+                         sizeof line - 1);
+            else
+                snprintf(msg, msgcap, "line %d: byte 0x%02x: not a text file of transfer functions (ASCII or UTF-8)",
+                         lineno, b);
             fclose(fp);
             return VSV_EINVAL;
         }

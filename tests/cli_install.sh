@@ -111,12 +111,15 @@ for t in $tools; do
     v=$("$R$P/bin/$t" --version 2>&1)
     case $v in "$t (Vesuvius "*") format "[0-9]*.[0-9]*) pass "$t --version: $v" ;; *) fail "$t --version" "$v" ;; esac
 done
-# every tool's installed manual names every long option of its --help
+# every tool's installed manual names every long option of its --help, as
+# a whole name (\-\-time is not found in \-\-times nor \-\-time\-res)
+end='([^a-z0-9\]|\\f|$)'
 for t in $tools; do
     n=0 miss=""
     for o in $("$R$P/bin/$t" --help 2>&1 | grep -oE -- '--[a-z][a-z0-9-]*' | sort -u); do
         n=$((n + 1))
-        grep -qF -- "$(echo "$o" | sed 's/-/\\-/g')" "$R$P/share/man/man1/$t.1" 2> /dev/null || miss="$miss $o"
+        pat=$(printf '%s' "$o" | sed 's/-/\\\\-/g')
+        grep -qE -- "$pat$end" "$R$P/share/man/man1/$t.1" 2> /dev/null || miss="$miss $o"
     done
     [ -z "$miss" ] && [ $n -ge 3 ] && pass "$t(1) names every option of --help ($n)" ||
         fail "$t(1) names every option of --help" "$n options; missing:$miss"

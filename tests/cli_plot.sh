@@ -215,6 +215,17 @@ if [ "$(id -u)" = 0 ] && $NOBODY "$B/vsv-plot" --version > /dev/null 2>&1 && $NO
     [ ! -e "$S/q.svg" ] && [ "$(cat "$S/q.csv")" = old ] && [ "$(ls "$S" | wc -l)" = 2 ] &&
         pass "... before the plot is written (the CSV kept, nothing left)" ||
         fail "... before the plot is written (the CSV kept, nothing left)" "$(ls "$S")"
+    # the name's owner counts: root's dangling symlink is refused, nobody's
+    # own symlink to root's file is nobody's to replace
+    ln -s "$S/nothere.csv" "$S/dq.csv"
+    expect "root's dangling symlink as the CSV exits 1" 1 $NOBODY "$B/vsv-plot" "$S/in.vsv" --profile 50,-120 \
+        -o "$S/dq.svg" --csv "$S/dq.csv"
+    has "... before the plot" "$T/err" "$S/dq.csv: another user's file in a sticky folder"
+    [ ! -e "$S/dq.svg" ] && pass "... and no plot" || fail "... and no plot" "$S/dq.svg written"
+    $NOBODY ln -s "$S/q.csv" "$S/mine.csv"
+    expect "one's own symlink to another's file is replaced" 0 $NOBODY "$B/vsv-plot" "$S/in.vsv" --profile 50,-120 \
+        -o "$S/m.svg" --csv "$S/mine.csv"
+    rm -f "$S/mine.csv" "$S/m.svg"
 else
     skip "a CSV another user owns in a sticky folder" "not root, or setpriv cannot run the tool as nobody"
 fi

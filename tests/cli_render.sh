@@ -58,6 +58,17 @@ expect "a NUL in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --
 has "... naming it" "$T/err" "nul.tf: line 1: byte 0x00: not a text file"
 printf '# 10 \302\265g/m\302\263, caf\303\251\nspecies CLW\ncolormap rain\n' > "$T/utf8.tf"
 expect "UTF-8 in a --tf comment is text" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/utf8.png" --tf "$T/utf8.tf" --size 64x48
+# a C1 control (CSI, which terminals act on) and an overlong form are not text
+printf '\302\23331mRED\n' > "$T/c1.tf"
+expect "a C1 control in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/c1.tf"
+has "... naming its byte" "$T/err" "c1.tf: line 1: byte 0xc2: not a text file"
+printf 'species CLW\n# \340\200\257\n' > "$T/long.tf"
+expect "an overlong UTF-8 form in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/long.tf"
+has "... naming its line" "$T/err" "long.tf: line 2: byte 0xe0: not a text file"
+# a long comment (characters across byte 511) is one line: the error after it at its line
+{ printf '#'; head -c 509 /dev/zero | tr '\0' a; printf '\302\265\342\202\254\nspecies CLW\ncolormap rain\nbogus 1\n'; } > "$T/wide.tf"
+expect "a long UTF-8 comment in --tf" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/wide.tf" --species CLW
+has "... the error after it at its own line" "$T/err" "wide.tf: transfer function of CLW: line 4: unknown key 'bogus'"
 expect "the same frame twice is identical" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/again.png" --size 320x240 --threads 1
 if cmp -s "$T/last.png" "$T/again.png"; then pass "1 thread and all threads write the same PNG"; else fail "1 thread and all threads write the same PNG" "differ"; fi
 expect "a damaged .vsv exits 1" 1 "$B/vsv-render" tests/golden/bad/payload.vsv -o "$T/x.png" --time 1

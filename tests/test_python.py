@@ -103,6 +103,26 @@ class Sample(unittest.TestCase):
             np.testing.assert_array_equal(self.f.read("SNOW", t), want, err_msg=repr(t))
         np.testing.assert_array_equal(self.f.heights(np.int64(3)), self.f.heights(3))
 
+    def test_aware_datetimes_are_their_utc_time(self):
+        from datetime import datetime, timedelta, timezone
+        minus2 = timezone(timedelta(hours=-2))
+        # 00:00 at UTC-2 is 02:00Z; 22:00 the day before at UTC-2 is 00:00Z
+        np.testing.assert_array_equal(self.f.read("SNOW", datetime(1995, 10, 24, 0, tzinfo=minus2)),
+                                      self.f.read("SNOW", 2))
+        np.testing.assert_array_equal(self.f.read("SNOW", datetime(1995, 10, 23, 22, tzinfo=minus2)),
+                                      self.f.read("SNOW", 0))
+        with self.assertRaisesRegex(vesuvius.Error, "after the last step"):
+            self.f.read("SNOW", datetime(1995, 10, 24, 2, tzinfo=minus2))  # 04:00Z
+        np.testing.assert_array_equal(self.f.read("SNOW", datetime(1995, 10, 24, 2, tzinfo=timezone.utc)),
+                                      self.f.read("SNOW", 2))
+
+    def test_query_refuses_what_vsv_query_refuses(self):
+        for lat, lon, h, what in ((float("nan"), 0, None, "latitude nan"), (41.88, -447.63, None, "longitude -447.63"),
+                                  (41.88, 632.37, None, "longitude 632.37"), (95, 0, None, "latitude 95"),
+                                  (46, -116, float("nan"), "height nan")):
+            with self.assertRaisesRegex(ValueError, what):
+                self.f.query(lat, lon, h)
+
     def test_species_index_bounds(self):
         """Species by index: 0..7 of eight (five and the wind's three), the last one
         included; 8 and -1 refused by name."""
@@ -195,6 +215,9 @@ class Sample(unittest.TestCase):
             self.skipTest("xarray not installed")
         ds = self.f.to_xarray(["CLW", "SNOW"])
         self.assertEqual(dict(ds.sizes), {"time": 4, "z": 40, "y": 39, "x": 39})
+        self.assertEqual(list(self.f.to_xarray("CLW").data_vars)[0], "CLW")
+        with self.assertRaisesRegex(ValueError, "no species named"):
+            self.f.to_xarray([])
         self.assertEqual(ds["SNOW"].attrs["units"], "kg/kg")
         np.testing.assert_array_equal(ds["SNOW"].values[2], self.f.read("SNOW", 2))
         self.assertEqual(ds["lat"].shape, (39, 39))

@@ -139,8 +139,9 @@ int vsv_player_iso_option(vsv_player_opts *o, const char *arg, char *msg, size_t
 /* Opens the file and starts the pager and the renderer. 0; -1 with the
  * reason in err ("FILE: what"); or VSV_EINVAL when an option does not fit
  * the file (a species, slice, slice species, isosurface or colour map: misuse, as
- * vsv-render takes it), the reason in err. On failure *out is NULL (what
- * was made is freed). */
+ * vsv-render takes it), the reason in err; VSV_ERANGE for an isosurface
+ * at a value the file never reaches ("FILE: --iso ...: no surface: ...").
+ * On failure *out is NULL (what was made is freed). */
 int vsv_player_open(const vsv_player_opts *o, vsv_player **out, char *err, size_t cap);
 void vsv_player_free(vsv_player *p);
 

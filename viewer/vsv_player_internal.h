@@ -92,7 +92,8 @@ struct vsv_player {
 int vsv_player_use_renderer(vsv_player *p, int kind, char *why, size_t cap);
 
 /* The isosurfaces of o (--iso), parsed against p's file into p->isos:
- * 0, or VSV_EINVAL with the reason in err (vsv_player_opts.c). */
+ * 0, VSV_EINVAL with the reason in err, or VSV_ERANGE (a value the file
+ * never reaches; "FILE: --iso ...: no surface: ...") (vsv_player_opts.c). */
 int vsv_player_open_isos(vsv_player *p, const vsv_player_opts *o, char *err, size_t cap);
 /* The trajectories and wind arrows of o, integrated through p's file
  * (vsv_flow_open): 0, or -1 with "FILE: why" in err ("no wind stored"). */

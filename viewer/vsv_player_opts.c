@@ -37,9 +37,10 @@ int vsv_player_open_isos(vsv_player *p, const vsv_player_opts *o, char *err, siz
         if (vsv_iso_parse(p->m, o->isos[i], &sp, err, cap))
             return VSV_EINVAL;
         char why[600];
-        if (vsv_iso_in_range(p->f, o->isos[i], &sp, why, sizeof why)) {
+        const int rc = vsv_iso_in_range(p->f, o->isos[i], &sp, why, sizeof why);
+        if (rc) {
             snprintf(err, cap, "%s: %s", o->path, why);
-            return -1;
+            return rc;
         }
         p->isos[p->nisos++] = (vsv_scene_iso){sp.species, sp.value, {sp.rgb[0], sp.rgb[1], sp.rgb[2]}};
     }

@@ -99,6 +99,8 @@ class File:
         if isinstance(time, (np.datetime64,)):
             time = str(time.astype("datetime64[s]")) + "Z"
         elif hasattr(time, "strftime"):  # datetime.datetime, or a cftime date
+            if getattr(time, "tzinfo", None) is not None and time.utcoffset() is not None:
+                time = (time - time.utcoffset()).replace(tzinfo=None)  # an aware datetime: its UTC time
             time = time.strftime("%Y-%m-%dT%H:%M:%SZ")
         elif isinstance(time, (np.integer,)):
             time = int(time)
@@ -164,7 +166,16 @@ class File:
         else:
             if lat is None or lon is None:
                 raise TypeError("query: lat and lon, or cell=(i, j[, k])")
-            c, la, lo, h, vals, pos = self._f._query(float(lat), float(lon), height, interp=interp)
+            lat, lon = float(lat), float(lon)
+            # vsv-query's limits, in its words
+            if not -90 <= lat <= 90:
+                raise ValueError("query: latitude %r: a number within -90..90" % lat)
+            if not -360 <= lon <= 360:
+                raise ValueError("query: longitude %r: a number within -360..360" % lon)
+            if height is not None and not np.isfinite(float(height)):
+                raise ValueError("query: height %r: a finite number of metres (None: the lowest level above "
+                                 "the ground)" % height)
+            c, la, lo, h, vals, pos = self._f._query(lat, lon, height, interp=interp)
         return Point(c, la, lo, h, pos, self.times, vals)
 
     def trajectory(self, lat, lon, height, start, end, every=None):
@@ -216,8 +227,15 @@ class File:
         if g["moves"]:
             raise Error("the grid moves (a moving nest, grid['moves']): a Dataset holds one placement; "
                         "read() the steps of each placement apart")
-        names = species or self.names
+        if isinstance(species, str):
+            species = [species]
+        names = self.names if species is None else list(species)
+        if not names:
+            raise ValueError("to_xarray: no species named (None: every species)")
         sp = {s.name: s for s in self.species}
+        for n in names:
+            if n not in sp:
+                raise KeyError("to_xarray: no species %r (the file has %s)" % (n, ", ".join(self.names)))
         nt = len(self.times)
         data = {}
         for n in names:
