@@ -265,7 +265,7 @@ int vsv_stream_reader_open(FILE *fp, const char *name, vsv_stream_reader **out);
 /* Borrowed, valid until the reader is freed. */
 const vsv_meta *vsv_stream_reader_meta(const vsv_stream_reader *r);
 /* Reads the next frame into fields (nvars pointers to nx*ny*nz floats each,
- * caller buffers). Returns 1 with a frame, 0 at the end marker, < 0 on error. */
+ * caller buffers). 1 with a frame, 0 at the end marker, < 0 on error (bytes after the marker too). */
 int vsv_stream_reader_next(vsv_stream_reader *r, int64_t *time, float *const *fields);
 /* Message for the last error ("where" included); borrowed. */
 const char *vsv_stream_reader_error(const vsv_stream_reader *r);

@@ -127,6 +127,20 @@ int vsv_stream_reader_next(vsv_stream_reader *r, int64_t *time, float *const *fi
             return VSV_ECORRUPT;
         }
         r->ended = 1;
+        /* a stream ends at its marker: bytes after it are a second stream
+         * (two commands' output joined) or damage, never dropped unsaid */
+        if (getc(r->fp) != EOF) {
+            vsv_msg(r->err, sizeof r->err,
+                    "%s: bytes after the end marker at byte %llu (two streams joined? one vsv-extract reads "
+                    "several files)",
+                    r->name, (unsigned long long)r->offset);
+            return VSV_ECORRUPT;
+        }
+        if (ferror(r->fp)) {
+            vsv_msg(r->err, sizeof r->err, "%s: read error after the end marker at byte %llu: %s", r->name,
+                    (unsigned long long)r->offset, strerror(errno));
+            return VSV_EIO;
+        }
         return 0;
     }
     if (memcmp(h, "FRAM", 4) || vsv_rd32(h + 4) != 0) {

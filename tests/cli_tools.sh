@@ -68,6 +68,15 @@ if [ -z "${SANFLAGS:-}" ]; then
 fi
 expect "vsv-pack from a file argument" 0 "$B/vsv-pack" -q -o "$T/b.vsv" "$T/stream"
 if cmp -s "$T/a.vsv" "$T/b.vsv"; then pass "stdin and file input give identical files"; else fail "stdin and file input give identical files" "differ"; fi
+# two streams joined (two commands' output in one pipe): refused, never the
+# first alone (the second was dropped without a word)
+cat "$T/stream" "$T/stream" > "$T/joined"
+for tool in vsv-pack vsv-interp; do
+    case $tool in vsv-pack) a="-q -o $T/joined.vsv" ;; *) a="--time-res 1h" ;; esac
+    expect "$tool on two joined streams exits 1" 1 "$B/$tool" $a "$T/joined"
+    has "... saying where the second begins" "$T/err" "$tool: $T/joined: bytes after the end marker at byte $(wc -c < "$T/stream")"
+done
+[ ! -e "$T/joined.vsv" ] && pass "vsv-pack writes nothing then" || fail "vsv-pack writes nothing then" "joined.vsv exists"
 # a stream named on the command line: a regular file or a pipe; a
 # directory or a device is refused naming it (issue 18)
 mkdir "$T/adir"
