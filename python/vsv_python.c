@@ -560,15 +560,17 @@ static PyObject *mod_open(PyObject *mod, PyObject *args)
 }
 
 /* _write(path, grid, projection, times, names, units, descriptions, arrays,
- *        terrain, bits, scale): arrays are C-contiguous float32 (nt, nz, ny, nx). */
+ *        terrain, levels, heights, bits, scale): arrays are C-contiguous
+ *        float32 (nt, nz, ny, nx); heights a list of (time, bytes of nz*ny*nx
+ *        float32): each column's level heights from that time on. */
 static PyObject *mod_write(PyObject *mod, PyObject *args)
 {
     (void)mod;
-    PyObject *pathobj, *grid, *proj, *times, *names, *units, *descs, *arrays, *terrain, *levels;
+    PyObject *pathobj, *grid, *proj, *times, *names, *units, *descs, *arrays, *terrain, *levels, *hts;
     int bits, scale;
-    if (!PyArg_ParseTuple(args, "O&O!O!OO!O!O!O!OOii", PyUnicode_FSConverter, &pathobj, &PyTuple_Type, &grid,
+    if (!PyArg_ParseTuple(args, "O&O!O!OO!O!O!O!OOO!ii", PyUnicode_FSConverter, &pathobj, &PyTuple_Type, &grid,
                           &PyTuple_Type, &proj, &times, &PyList_Type, &names, &PyList_Type, &units, &PyList_Type,
-                          &descs, &PyList_Type, &arrays, &terrain, &levels, &bits, &scale))
+                          &descs, &PyList_Type, &arrays, &terrain, &levels, &PyList_Type, &hts, &bits, &scale))
         return NULL;
     vsv_meta m;
     vsv_meta_init(&m);
@@ -627,6 +629,19 @@ static PyObject *mod_write(PyObject *mod, PyObject *args)
         }
         memcpy(m.terrain, PyArray_DATA(ta), (size_t)m.nx * m.ny * sizeof(float));
         Py_DECREF(ta);
+    }
+    for (Py_ssize_t i = 0; i < PyList_GET_SIZE(hts); i++) {
+        long long ht;
+        Py_buffer zb;
+        if (!PyArg_ParseTuple(PyList_GET_ITEM(hts, i), "Ly*", &ht, &zb))
+            goto done;
+        const int bad = zb.len != (Py_ssize_t)((size_t)m.nx * m.ny * m.nz * sizeof(float)) ||
+                        vsv_meta_add_heights(&m, ht, zb.buf, NULL, NULL);
+        PyBuffer_Release(&zb);
+        if (bad) {
+            PyErr_SetString(VsvError, "heights: (times, nz, ny, nx) finite, increasing up every column");
+            goto done;
+        }
     }
     char msg[512];
     if (vsv_meta_validate(&m, msg, sizeof msg)) {
@@ -691,36 +706,15 @@ done:
     return result;
 }
 
-static PyObject *mod_proj_kind(PyObject *mod, PyObject *arg)
-{
-    (void)mod;
-    const char *name = PyUnicode_AsUTF8(arg);
-    if (!name)
-        return NULL;
-    for (int k = 0; k < VSV_PROJ_COUNT; k++)
-        if (!strcmp(name, vsv_proj_name(k)))
-            return PyLong_FromLong(k);
-    return PyErr_Format(VsvError, "unknown projection '%s' (none, latlon, lcc, pstereo, mercator, tmerc, albers)",
-                        name);
-}
-
-/* _cf(model, name, units) -> (UDUNITS units, standard_name or None,
- * comment or None): the export's words for a species (vsv_cf_names.c). */
-static PyObject *mod_cf(PyObject *mod, PyObject *args)
-{
-    (void)mod;
-    const char *model, *name, *units, *comment;
-    if (!PyArg_ParseTuple(args, "sss", &model, &name, &units))
-        return NULL;
-    const char *sn = vsv_cf_standard_name(model, name, units, &comment);
-    return Py_BuildValue("(szz)", vsv_cf_units(units), sn, comment);
-}
+/* vsv_python_names.c: a projection's kind by name, the CF export's words */
+PyObject *vsv_py_proj_kind(PyObject *mod, PyObject *arg);
+PyObject *vsv_py_cf(PyObject *mod, PyObject *args);
 
 static PyMethodDef mod_methods[] = {
-    {"_cf", mod_cf, METH_VARARGS, "the CF export's units and standard name of a species"},
+    {"_cf", vsv_py_cf, METH_VARARGS, "the CF export's units and standard name of a species"},
     {"open", mod_open, METH_VARARGS, "open(path[, cache_dir]) -> File"},
     {"_write", mod_write, METH_VARARGS, "the writer core (see vesuvius.write)"},
-    {"_proj_kind", mod_proj_kind, METH_O, "projection kind of a name"},
+    {"_proj_kind", vsv_py_proj_kind, METH_O, "projection kind of a name, or -1"},
     {NULL, NULL, 0, NULL}};
 
 static struct PyModuleDef moddef = {

@@ -116,6 +116,32 @@ class Sample(unittest.TestCase):
         np.testing.assert_array_equal(self.f.read("SNOW", datetime(1995, 10, 24, 2, tzinfo=timezone.utc)),
                                       self.f.read("SNOW", 2))
 
+    def test_write_keeps_per_column_heights(self):
+        """A File's grid with per-column heights (native MM5 levels) is written with
+        them (heights=, terrain=): every cell's height and the terrain come back, and
+        a point's cell is the original's; without heights= it is refused (its levels
+        would stand at their mean height in every column)."""
+        native = os.path.join(TMP, "crop-native-w.vsv")
+        tool("vsv-convert", "-q", "--vars", "CLW", "samples/mm5/MMOUT_DOMAIN1_CROP", "-o", native)
+        f = vesuvius.open(native)
+        n = len(f.times)
+        self.assertTrue(f.grid["column_heights"])
+        c = np.stack([f.read("CLW", t) for t in range(n)])
+        out = os.path.join(TMP, "w-heights.vsv")
+        with self.assertRaisesRegex(vesuvius.Error, "per-column heights"):
+            vesuvius.write(out, grid=f.grid, projection=f.projection, times=f.times, fields={"CLW2": 2 * c})
+        self.assertFalse(os.path.exists(out))
+        h = np.stack([f.heights(t) for t in range(n)])
+        vesuvius.write(out, grid=f.grid, projection=f.projection, times=f.times, fields={"CLW2": 2 * c},
+                       terrain=f.terrain, heights=h)
+        g = vesuvius.open(out)
+        np.testing.assert_array_equal(np.stack([g.heights(t) for t in range(n)]), h)
+        np.testing.assert_array_equal(g.terrain, f.terrain)
+        self.assertEqual(g.query(46, -116, 1200).cell, f.query(46, -116, 1200).cell)
+        with self.assertRaisesRegex(vesuvius.Error, "heights: "):
+            vesuvius.write(out, grid=f.grid, projection=f.projection, times=f.times, fields={"CLW2": 2 * c},
+                           heights=h[:, ::-1])  # decreasing upward
+
     def test_query_refuses_what_vsv_query_refuses(self):
         for lat, lon, h, what in ((float("nan"), 0, None, "latitude nan"), (41.88, -447.63, None, "longitude -447.63"),
                                   (41.88, 632.37, None, "longitude 632.37"), (95, 0, None, "latitude 95"),

@@ -299,7 +299,7 @@ def open(path, cache_dir=None):
 
 
 def write(path, grid, times, fields, projection=None, units=None, descriptions=None, terrain=None,
-          levels=None, bits=16, scale="linear"):
+          levels=None, heights=None, bits=16, scale="linear"):
     """Writes a .vsv with the library's writer (quantised, bricked, compressed; the file
     appears only when complete).
 
@@ -311,7 +311,10 @@ def write(path, grid, times, fields, projection=None, units=None, descriptions=N
     fields: {name: array (ntimes, nz, ny, nx)}, non-finite = no data
     units, descriptions: {name: text}; terrain: (ny, nx) metres (on even heights, cells
     whose centre lies below it hold no data: they read back NaN, whatever was written);
-    levels: (nz,) heights for vertical="native"; bits 8 or 16; scale "linear" or "log".
+    levels: (nz,) heights for vertical="native"; heights: (ntimes, nz, ny, nx) every
+    cell's height at each step, for native levels that vary by column (as File.heights(t)
+    gives them: a File's grid with column_heights needs them, or its levels would stand
+    at their mean height in every column); bits 8 or 16; scale "linear" or "log".
     """
     if not fields:
         raise Error("write: no fields")
@@ -327,10 +330,25 @@ def write(path, grid, times, fields, projection=None, units=None, descriptions=N
     g = (int(grid["nx"]), int(grid["ny"]), int(grid["nz"]), tuple(float(v) for v in grid["origin"]),
          tuple(float(v) for v in grid["spacing"]), vk)
     p = projection or {"kind": "none"}
-    pj = (_vesuvius._proj_kind(p.get("kind", "none")), float(p.get("lat0", 0)), float(p.get("lon0", 0)),
+    kind = _vesuvius._proj_kind(p.get("kind", "none"))
+    if kind < 0:
+        raise Error("unknown projection '%s' (none, latlon, lcc, pstereo, mercator, tmerc, albers)" % p.get("kind"))
+    pj = (kind, float(p.get("lat0", 0)), float(p.get("lon0", 0)),
           float(p.get("lat1", 0)), float(p.get("lat2", p.get("lat1", 0))), float(p.get("radius", 0)))
     if levels is None and vk in (1, 3):
         levels = grid.get("levels")
+    hts = []
+    if heights is not None:
+        h = np.asarray(heights, dtype=np.float32)
+        if vk != 1 or h.shape != (len(t), g[2], g[1], g[0]):
+            raise Error("write: heights: (%d, %d, %d, %d) (times, nz, ny, nx), with vertical native"
+                        % (len(t), g[2], g[1], g[0]))
+        for i in range(len(t)):  # a record where they change (valid from its time on)
+            if i == 0 or not np.array_equal(h[i], h[i - 1]):
+                hts.append((int(t[i]), np.ascontiguousarray(h[i]).tobytes()))
+    elif grid.get("column_heights"):
+        raise Error("write: the grid has per-column heights (grid['column_heights']): give heights= "
+                    "(np.stack([f.heights(t) for t in range(len(f.times))])), or a grid without them")
     names = list(fields)
     arrays = [np.ascontiguousarray(fields[n], dtype=np.float32) for n in names]
     arrays = [a[np.newaxis] if a.ndim == 3 and len(t) == 1 else a for a in arrays]
@@ -339,5 +357,5 @@ def write(path, grid, times, fields, projection=None, units=None, descriptions=N
     if scale not in ("linear", "log"):
         raise Error("write: scale must be linear or log")
     _vesuvius._write(path, g, pj, t, names, [units.get(n, "") for n in names],
-                     [descriptions.get(n, "") for n in names], arrays, terrain, levels, int(bits),
+                     [descriptions.get(n, "") for n in names], arrays, terrain, levels, hts, int(bits),
                      1 if scale == "log" else 0)
