@@ -238,7 +238,7 @@ static const char *const end_words[] = {"", "left the grid sideways", "met the g
                                         "ran out of the file's times"};
 
 /* One path's rows: CSV or table lines, or a JSON object pushed onto arr. */
-static void print_path(const query_args *qa, int cal, int which, const vsv_traj_path *p, vsv_json *arr)
+static void print_path(const query_args *qa, int cal, int which, const vsv_traj_path *p, vsv_json *arr, int has_up)
 {
     vsv_json *pts = qa->fmt == FMT_JSON ? vsv_json_array() : NULL;
     for (int i = 0; i < p->n; i++) {
@@ -255,18 +255,19 @@ static void print_path(const query_args *qa, int cal, int which, const vsv_traj_
             vsv_json_set(o, "y", vsv_json_number(q->y));
             vsv_json_set(o, "east", vsv_json_number(q->east));
             vsv_json_set(o, "north", vsv_json_number(q->north));
-            vsv_json_set(o, "up", vsv_json_number(q->up));
+            vsv_json_set(o, "up", has_up ? vsv_json_number(q->up) : vsv_json_null());
             vsv_json_push(pts, o);
         } else if (qa->fmt == FMT_CSV) {
             if (qa->ntraj > 1)
                 printf("%d,", which + 1);
-            printf("%s,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", iso, q->lat, q->lon, q->z, q->x, q->y, q->east,
-                   q->north, q->up);
+            printf("%s,%.6f,%.6f,%.9g,%.9g,%.9g,%.9g,%.9g,", iso, q->lat, q->lon, q->z, q->x, q->y, q->east, q->north);
+            has_up ? printf("%.9g\n", q->up) : puts("NaN");
         } else {
             if (qa->ntraj > 1)
                 printf("%4d ", which + 1);
-            printf("%-24s %10.4f %11.4f %10.2f %12.1f %12.1f %8.3f %8.3f %8.4f\n", iso, q->lat, q->lon, q->z, q->x,
-                   q->y, q->east, q->north, q->up);
+            printf("%-24s %10.4f %11.4f %10.2f %12.1f %12.1f %8.3f %8.3f ", iso, q->lat, q->lon, q->z, q->x, q->y,
+                   q->east, q->north);
+            has_up ? printf("%8.4f\n", q->up) : printf("%8s\n", "NaN");
         }
     }
     if (pts) {
@@ -337,9 +338,13 @@ static int run_trajectories(const query_args *qa)
         printf("%s%-24s %10s %11s %10s %12s %12s %8s %8s %8s\n", qa->ntraj > 1 ? "path " : "", "time", "lat", "lon",
                "height", "x", "y", "east", "north", "up");
     }
+    /* a wind with no vertical component has no "up" (null, NaN): 0 would
+     * claim a measured calm */
+    int wind[3];
+    const int has_up = !vsv_meta_vector(m, VSV_WIND, wind) && wind[2] >= 0;
     for (int i = 0; i < qa->ntraj; i++) {
         const vsv_traj_path *p = &paths[i];
-        print_path(qa, cal, i, p, arr);
+        print_path(qa, cal, i, p, arr, has_up);
         if (p->end != VSV_TRAJ_END_TIME) {
             char iso[48];
             format_when(cal, p->pts[p->n - 1].t, iso, sizeof iso);

@@ -158,6 +158,20 @@ assert f.vectors["wind"] == ("wind_east", "wind_north", None)' "$T/g.vsv"; then
     elif [ $have_py = 1 ]; then
         fail "... Python read(\"wind\") is (2, nz, ny, nx)" "see above"
     fi
+    # a trajectory through it has no vertical wind: "up" is no data, not 0
+    expect "... a trajectory" 0 "$B/vsv-query" "$T/g.vsv" --trajectory 41.88,-87.63,500 --for 6h --csv
+    [ "$(sed -n '2s/.*,//p' "$T/out")" = NaN ] && pass "... its up is NaN in CSV (no vertical wind)" ||
+        fail "... its up is NaN in CSV (no vertical wind)" "$(sed -n 2p "$T/out")"
+    expect "... as JSON" 0 "$B/vsv-query" "$T/g.vsv" --trajectory 41.88,-87.63,500 --for 6h --json
+    has "... its up is null" "$T/out" '"up": null'
+    if [ $have_py = 1 ] && PYTHONPATH="$B/python" "$PY" -c '
+import sys, numpy as np, vesuvius
+r = vesuvius.open(sys.argv[1]).trajectory(41.88, -87.63, 500, 0, 1)
+assert np.isnan(r["up"]).all() and np.isfinite(r["east"]).all(), r["up"]' "$T/g.vsv"; then
+        pass "... Python: up is NaN"
+    elif [ $have_py = 1 ]; then
+        fail "... Python: up is NaN" "see above"
+    fi
 fi
 
 # netCDF: CF standard names

@@ -187,7 +187,8 @@ class File:
         and at the end. The scheme and its step rule are vsv-query(1)'s (RK4, Courant
         0.5). Returns a dict of arrays, the seed first: time (datetime64[ms]; in a file
         of another calendar, cftime dates), seconds (since 1970 in the file's calendar),
-        lat, lon, height, x, y (projected), east, north, up (float32, m/s), and "end":
+        lat, lon, height, x, y (projected), east, north, up (float32, m/s; up NaN for a
+        horizontal wind), and "end":
         why it stopped ("time", "edge", "ground", "top", "data")."""
         if isinstance(every, np.timedelta64):
             every = every / np.timedelta64(1, "s")
@@ -198,6 +199,8 @@ class File:
         cols, end_ = r
         out = {k: np.asarray(v, dtype=np.float32 if k in ("east", "north", "up") else np.float64)
                for k, v in cols.items()}
+        if self.vectors.get("wind", (None, None, None))[2] is None:
+            out["up"][:] = np.nan  # a horizontal wind has no vertical component (0 would claim a calm)
         cal = self._f.grid["calendar"]
         if cal == "standard":
             out["time"] = np.round(out["seconds"] * 1000).astype(np.int64).astype("datetime64[ms]")
