@@ -213,6 +213,11 @@ static int split(const char *spec, char *name, size_t ncap, const char **expr, s
             return vsv_msg(msg, cap, "--derive '%s': units longer than %zu characters", spec, ucap - 1), VSV_EINVAL;
         snprintf(units, ucap, "%s", colon + 1);
         *elen = (size_t)(colon - (eq + 1));
+        for (const unsigned char *u = (const unsigned char *)units; *u; u++)
+            if (*u < 0x20 || *u == 0x7f) /* (the file would refuse them, naming only a variable number) */
+                return vsv_msg(msg, cap, "--derive %s: its units hold control byte 0x%02x (at character %d)", name, *u,
+                               (int)(u - (const unsigned char *)units) + 1),
+                       VSV_EINVAL;
     }
     if (eq && *elen > 200)
         return vsv_msg(msg, cap, "--derive '%s': the expression is longer than 200 characters", spec), VSV_EINVAL;

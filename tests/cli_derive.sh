@@ -114,6 +114,8 @@ refuse "a missing parenthesis" "--derive 'X=(T+1:K': expected ')' at character 7
 refuse "a name of the file's" "--derive 'T=CLW': T is taken" --derive 'T=CLW'
 refuse "a name twice" "--derive 'c=RNW': c is taken" --derive 'c=CLW' --derive 'c=RNW'
 refuse "a wind name" "wind.u is taken" --derive 'wind.u=U'
+refuse "a control byte in the units" "vsv-convert: --derive X: its units hold control byte 0x09 (at character 2)" \
+    --derive "$(printf 'X=T:K\ttab')"
 refuse "a bad name" "the name must be 1 to 55 letters" --derive '2x=CLW'
 refuse "an expression named as a built-in" "--derive 'theta=T': theta is a built-in's name" --derive 'theta=T'
 refuse "an unknown built-in" "--derive 'dewpoint': no such built-in (condensate, wind_speed, theta, rh)" \
