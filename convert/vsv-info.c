@@ -164,6 +164,17 @@ static void json_set_projection(vsv_json *root, const vsv_meta *m)
     vsv_json_set(root, "corners", corners);
 }
 
+/* The source (model and run), the grid, the projection and the corners. */
+static void json_set_place(vsv_json *root, const vsv_meta *m)
+{
+    vsv_json *src = vsv_json_object();
+    vsv_json_set(src, "model", vsv_json_string(m->model));
+    vsv_json_set(src, "run", vsv_json_string(m->run));
+    vsv_json_set(root, "source", src);
+    vsv_json_set(root, "grid", json_grid(m));
+    json_set_projection(root, m);
+}
+
 /* A moving nest's placements after the first (SPEC.md "MOVE"): from when,
  * its south-west corner, and how many cells it moved from GRID's place. */
 static void json_set_moves(vsv_json *root, const vsv_meta *m)
@@ -315,12 +326,7 @@ static vsv_json *build_json(vsv_file *f, const char *path, const stat_row *stats
     vsv_json_set(root, "file", vsv_json_string(path));
     snprintf(buf, sizeof buf, "%d.%d", info.major, info.minor);
     vsv_json_set(root, "format_version", vsv_json_string(buf));
-    vsv_json *src = vsv_json_object();
-    vsv_json_set(src, "model", vsv_json_string(m->model));
-    vsv_json_set(src, "run", vsv_json_string(m->run));
-    vsv_json_set(root, "source", src);
-    vsv_json_set(root, "grid", json_grid(m));
-    json_set_projection(root, m);
+    json_set_place(root, m);
     json_set_moves(root, m);
     json_set_times(root, m, file_time, f, info.nsteps);
     vsv_json_set(root, "species", json_species(f));
@@ -519,12 +525,7 @@ static vsv_json *model_json(const vsv_source *src, const char *path, const char 
     vsv_json *root = vsv_json_object();
     vsv_json_set(root, "file", vsv_json_string(path));
     vsv_json_set(root, "format", vsv_json_string(vsv_source_format(src)));
-    vsv_json *from = vsv_json_object();
-    vsv_json_set(from, "model", vsv_json_string(m->model));
-    vsv_json_set(from, "run", vsv_json_string(m->run));
-    vsv_json_set(root, "source", from);
-    vsv_json_set(root, "grid", json_grid(m));
-    json_set_projection(root, m);
+    json_set_place(root, m);
     json_set_times(root, m, source_time, src, vsv_source_ntimes(src));
     vsv_json *fields = vsv_json_array();
     for (int i = 0; i < vsv_source_nfields(src); i++) {
