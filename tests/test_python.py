@@ -142,6 +142,15 @@ class Sample(unittest.TestCase):
             vesuvius.write(out, grid=f.grid, projection=f.projection, times=f.times, fields={"CLW2": 2 * c},
                            heights=h[:, ::-1])  # decreasing upward
 
+    def test_write_errors_name_the_file(self):
+        g = {"nx": 2, "ny": 2, "nz": 2, "origin": (0, 0, 0), "spacing": (1, 1, 1)}
+        bad = os.path.join(TMP, "nodir", "x.vsv")
+        with self.assertRaisesRegex(vesuvius.Error, "^write: %s: cannot create" % bad):
+            vesuvius.write(bad, grid=g, times=[0, 60], fields={"a": np.zeros((2, 2, 2, 2))})
+        with self.assertRaisesRegex(vesuvius.Error, r"x2.vsv: times: step 1 \(1970-01-01T00:00:00Z\) does not come "
+                                    r"after step 0 \(1970-01-01T00:01:00Z\)"):
+            vesuvius.write(os.path.join(TMP, "x2.vsv"), grid=g, times=[60, 0], fields={"a": np.zeros((2, 2, 2, 2))})
+
     def test_query_refuses_what_vsv_query_refuses(self):
         for lat, lon, h, what in ((float("nan"), 0, None, "latitude nan"), (41.88, -447.63, None, "longitude -447.63"),
                                   (41.88, 632.37, None, "longitude 632.37"), (95, 0, None, "latitude 95"),

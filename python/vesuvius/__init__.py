@@ -15,6 +15,7 @@ A thin layer over the C library (libvesuvius): the same decoder, the same
 point location and sampling as the vsv-* tools. Errors are vesuvius.Error
 carrying the library's message.
 """
+import os
 from collections import namedtuple
 
 import numpy as np
@@ -359,6 +360,17 @@ def write(path, grid, times, fields, projection=None, units=None, descriptions=N
     descriptions = descriptions or {}
     if scale not in ("linear", "log"):
         raise Error("write: scale must be linear or log")
-    _vesuvius._write(path, g, pj, t, names, [units.get(n, "") for n in names],
-                     [descriptions.get(n, "") for n in names], arrays, terrain, levels, hts, int(bits),
-                     1 if scale == "log" else 0)
+    where = os.fsdecode(path)
+    for i in range(1, len(t)):
+        if t[i] <= t[i - 1]:
+            iso = [str(np.datetime64(int(v), "s")) + "Z" for v in (t[i - 1], t[i])]
+            raise Error("write: %s: times: step %d (%s) does not come after step %d (%s)"
+                        % (where, i, iso[1], i - 1, iso[0]))
+    try:
+        _vesuvius._write(path, g, pj, t, names, [units.get(n, "") for n in names],
+                         [descriptions.get(n, "") for n in names], arrays, terrain, levels, hts, int(bits),
+                         1 if scale == "log" else 0)
+    except Error as e:  # the writer's words, with the file they are about
+        if str(e).startswith(where):
+            raise
+        raise Error("write: %s: %s" % (where, e)) from None
