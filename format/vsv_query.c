@@ -158,11 +158,26 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
         for (int w = -1; w <= 1 && !(fi >= -0.5 && fi <= ex); w += 2)
             fi = (x + 360.0 * w - m->origin[0]) / m->spacing[0];
     if (rc || !(fi >= -0.5 && fi <= ex && fj >= -0.5 && fj <= ey)) {
-        double la0, la1, lo0, lo1;
+        double la0, la1, lo0, lo1, c[4][2];
         edge_range(m, &la0, &la1, &lo0, &lo1);
-        vsv_msg(msg, cap,
-                "%.5g,%.5g is outside the grid (%d x %d cells spanning latitude %.3f..%.3f, longitude %.3f..%.3f)", lat,
-                lon, m->nx, m->ny, la0, la1, lo0, lo1);
+        /* on a map projection the edges are no parallels and meridians: a
+         * point inside the box of the span may lie outside, so the corners
+         * (cell centres) are named too */
+        for (int k = 0; k < 4; k++)
+            if (vsv_meta_cell_latlon(m, k & 1 ? m->nx - 1 : 0, k & 2 ? m->ny - 1 : 0, &c[k][0], &c[k][1]))
+                c[k][0] = c[k][1] = NAN;
+        if (m->proj.kind == VSV_PROJ_LATLON)
+            vsv_msg(msg, cap,
+                    "%.5g,%.5g is outside the grid (%d x %d cells spanning latitude %.3f..%.3f, longitude %.3f..%.3f)",
+                    lat, lon, m->nx, m->ny, la0, la1, lo0, lo1);
+        else
+            vsv_msg(msg, cap,
+                    "%.5g,%.5g is outside the grid (%d x %d cells spanning latitude %.3f..%.3f, longitude %.3f..%.3f; "
+                    "the %s grid's edges are not parallels or meridians; corner cells SW %.3f,%.3f SE %.3f,%.3f NW "
+                    "%.3f,%.3f "
+                    "NE %.3f,%.3f)",
+                    lat, lon, m->nx, m->ny, la0, la1, lo0, lo1, vsv_proj_name(m->proj.kind), c[0][0], c[0][1], c[1][0],
+                    c[1][1], c[2][0], c[2][1], c[3][0], c[3][1]);
         return VSV_ERANGE;
     }
     p->pos[0] = periodic_x(m) ? fi : fmin(fmax(fi, 0), m->nx - 1); /* (round the globe: -0.5..nx-0.5) */

@@ -22,7 +22,8 @@ expect "--for 0h exits 2" 2 "$Q" "$T/crop.vsv" --trajectory 46,-116,1000 --for 0
 has "and says a length must be more than zero (not 'the step')" "$T/err" "--for 0h: a duration of zero: it must be more than zero"
 expect "an unknown species exits 2" 2 "$Q" "$T/crop.vsv" --at 46,-116 -s NOPE
 expect "a point outside the grid exits 1" 1 "$Q" "$T/crop.vsv" --at 41.88,-87.63
-has "naming the grid's range" "$T/err" "41.88,-87.63 is outside the grid (39 x 39 cells spanning latitude 42.515..56.454, longitude -133.825..-112.199)"
+has "naming the grid's range" "$T/err" "41.88,-87.63 is outside the grid (39 x 39 cells spanning latitude 42.515..56.454, longitude -133.825..-112.199;"
+has "... and, its edges no parallels, its corners" "$T/err" "the lcc grid's edges are not parallels or meridians; corner cells SW 42.702,-127.319 SE 45.612,-112.440 NW 52.871,-133.512 NE 56.287,-115.867)"
 expect "a height above the grid exits 1" 1 "$Q" "$T/crop.vsv" --at 46,-116,30000
 has "naming the levels" "$T/err" "height 30000 m is outside the grid's levels"
 expect "a time after the run exits 1" 1 "$Q" "$T/crop.vsv" --at 46,-116 --time 1995-10-25T00:00:00Z
