@@ -204,9 +204,11 @@ left=$(ls "$T" | grep -c '\.tmp\.')
 [ "$left" = 0 ] && pass "no temporary left behind" || fail "no temporary left behind" "$(ls "$T" | grep '\.tmp\.')"
 # a CSV the final rename could not replace (another user's, in a sticky
 # folder): refused before the plot is written (as root: run as nobody)
-S=$T/sticky
+# (in /tmp itself: make test's TMPDIR is private, and nobody must reach it)
+S=$(mktemp -d /tmp/vsv-plot-sticky.XXXXXX)
+trap 'rm -rf "$T" "$S"' EXIT
 NOBODY="setpriv --reuid=nobody --regid=nogroup --clear-groups"
-mkdir -p "$S" && chmod 711 "$T" && chmod 1777 "$S" && cp "$T/s.vsv" "$S/in.vsv" && chmod 644 "$S/in.vsv"
+chmod 1777 "$S" && cp "$T/s.vsv" "$S/in.vsv" && chmod 644 "$S/in.vsv"
 echo old > "$S/q.csv"
 if [ "$(id -u)" = 0 ] && $NOBODY "$B/vsv-plot" --version > /dev/null 2>&1 && $NOBODY test -r "$S/in.vsv"; then
     expect "a CSV another user owns in a sticky folder exits 1" 1 $NOBODY "$B/vsv-plot" "$S/in.vsv" --profile 50,-120 \
