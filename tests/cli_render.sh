@@ -49,22 +49,21 @@ printf '\177ELF\002\001\001\000\033[2J\n' > "$T/bin.tf"
 expect "a binary file as --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/bin.tf"
 has "... saying it is not text" "$T/err" "bin.tf: line 1: byte 0x7f: not a text file of transfer functions"
 LC_ALL=C grep -q "$(printf '\033')" "$T/err" && fail "... no escape byte echoed" "$(cat -v "$T/err")" || pass "... no escape byte echoed"
-# a PNG as --tf (its first line has no control byte, only 0x89) and a NUL
-printf '\211PNG\r\n\032\n' > "$T/png.tf"
-expect "a PNG as --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/png.tf"
-has "... at its first byte" "$T/err" "png.tf: line 1: byte 0x89: not a text file of transfer functions (ASCII or UTF-8)"
-printf 'species CLW\000junk\ncolormap rain\n' > "$T/nul.tf"
-expect "a NUL in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/nul.tf"
-has "... naming it" "$T/err" "nul.tf: line 1: byte 0x00: not a text file"
+# tf_refused NAME BYTES WHAT MESSAGE: a --tf file of these bytes (printf
+# escapes) exits 1 saying MESSAGE
+tf_refused() {
+    printf "$2" > "$T/$1.tf"
+    expect "$3 in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/$1.tf"
+    has "... $4" "$T/err" "$1.tf: $4"
+}
+# a PNG (its first line has no control byte, only 0x89), a NUL, a C1
+# control (CSI, which terminals act on) and an overlong form are not text
+tf_refused png '\211PNG\r\n\032\n' "a PNG" "line 1: byte 0x89: not a text file of transfer functions (ASCII or UTF-8)"
+tf_refused nul 'species CLW\000junk\ncolormap rain\n' "a NUL" "line 1: byte 0x00: not a text file"
+tf_refused c1 '\302\23331mRED\n' "a C1 control" "line 1: byte 0xc2: not a text file"
+tf_refused long 'species CLW\n# \340\200\257\n' "an overlong UTF-8 form" "line 2: byte 0xe0: not a text file"
 printf '# 10 \302\265g/m\302\263, caf\303\251\nspecies CLW\ncolormap rain\n' > "$T/utf8.tf"
 expect "UTF-8 in a --tf comment is text" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/utf8.png" --tf "$T/utf8.tf" --size 64x48
-# a C1 control (CSI, which terminals act on) and an overlong form are not text
-printf '\302\23331mRED\n' > "$T/c1.tf"
-expect "a C1 control in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/c1.tf"
-has "... naming its byte" "$T/err" "c1.tf: line 1: byte 0xc2: not a text file"
-printf 'species CLW\n# \340\200\257\n' > "$T/long.tf"
-expect "an overlong UTF-8 form in --tf exits 1" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/long.tf"
-has "... naming its line" "$T/err" "long.tf: line 2: byte 0xe0: not a text file"
 # a long comment (characters across byte 511) is one line: the error after it at its line
 { printf '#'; head -c 509 /dev/zero | tr '\0' a; printf '\302\265\342\202\254\nspecies CLW\ncolormap rain\nbogus 1\n'; } > "$T/wide.tf"
 expect "a long UTF-8 comment in --tf" 1 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --tf "$T/wide.tf" --species CLW
