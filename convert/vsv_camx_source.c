@@ -403,4 +403,13 @@ static char *camx_summary(vsv_source *s)
     return (char *)b.p;
 }
 
-const vsv_source_ops vsv_camx_ops = {"CAMx UAM-IV", camx_probe, camx_open, camx_read, camx_close, camx_summary, NULL};
+/* A met field's companion file; a species' is the average file itself. */
+static const char *camx_field_path(const vsv_source *s, int field)
+{
+    const camx *c = s->priv;
+    const int nspec = vsv_uamiv_header_get(c->u)->nspec;
+    return field >= nspec && field < s->nfields ? vsv_camxmet_path(c->met[c->fmet[field - nspec]]) : s->path;
+}
+
+const vsv_source_ops vsv_camx_ops = {"CAMx UAM-IV", camx_probe,   camx_open, camx_read,
+                                     camx_close,    camx_summary, NULL,      camx_field_path};

@@ -608,6 +608,6 @@ static char *cf_summary(vsv_source *s)
     return (char *)b.p;
 }
 
-const vsv_source_ops vsv_cf_ops = {"CF netCDF", NULL, NULL, cf_read, cf_close, cf_summary, NULL};
+const vsv_source_ops vsv_cf_ops = {"CF netCDF", NULL, NULL, cf_read, cf_close, cf_summary, NULL, NULL};
 
 int vsv_cf_open(vsv_source *s, int nc) { return cf_open(s, nc); }

@@ -69,6 +69,9 @@ int vsv_source_nfields(const vsv_source *s);
 /* Field i (NULL outside 0..nfields-1), borrowed. */
 const vsv_field_info *vsv_source_field(const vsv_source *s, int i);
 int vsv_source_find_field(const vsv_source *s, const char *name);
+/* The path of the file field i is read from: the source's own, or a
+ * companion's (CAMx --met); borrowed, valid until free. */
+const char *vsv_source_field_path(const vsv_source *s, int i);
 int vsv_source_ntimes(const vsv_source *s);
 /* The time of step t (0 outside 0..ntimes-1). */
 int64_t vsv_source_time(const vsv_source *s, int t);

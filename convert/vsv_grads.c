@@ -451,4 +451,4 @@ static void grads_close(vsv_source *s)
     free(g);
 }
 
-const vsv_source_ops vsv_grads_ops = {"GrADS", grads_probe, grads_open, grads_read, grads_close, NULL, NULL};
+const vsv_source_ops vsv_grads_ops = {"GrADS", grads_probe, grads_open, grads_read, grads_close, NULL, NULL, NULL};

@@ -390,4 +390,4 @@ static char *ioapi_summary(vsv_source *s)
     return (char *)b.p;
 }
 
-const vsv_source_ops vsv_ioapi_ops = {"IOAPI", NULL, NULL, ioapi_read, ioapi_close, ioapi_summary, NULL};
+const vsv_source_ops vsv_ioapi_ops = {"IOAPI", NULL, NULL, ioapi_read, ioapi_close, ioapi_summary, NULL, NULL};

@@ -709,4 +709,4 @@ static char *mm5_summary(vsv_source *s)
     return vsv_mm5_summary(s, x->m, x->IX, x->JX);
 }
 
-const vsv_source_ops vsv_mm5_ops = {"MM5 v3", mm5_probe, mm5_open, mm5_read, mm5_close, mm5_summary, mm5_heights};
+const vsv_source_ops vsv_mm5_ops = {"MM5 v3", mm5_probe, mm5_open, mm5_read, mm5_close, mm5_summary, mm5_heights, NULL};

@@ -565,10 +565,14 @@ static int wind_source(vsv_run *r, const char *companion, const vsv_source_opts 
     return 0;
 }
 
-/* The name of the file the winds come from, without its directory. */
+/* The name of the file the winds come from (--winds, or the file of the
+ * run's first source holding the first component: a CAMx met companion),
+ * without its directory. */
 static const char *wind_file(const vsv_run *r, const char *companion)
 {
-    const char *from = companion ? companion : r->path[0], *base = strrchr(from, '/');
+    const char *from = companion ? companion
+                                 : vsv_source_field_path(r->src[0], vsv_source_find_field(r->src[0], r->wname[0])),
+               *base = strrchr(from, '/');
     return base ? base + 1 : from;
 }
 

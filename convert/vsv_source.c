@@ -18,6 +18,11 @@ const vsv_field_info *vsv_source_field(const vsv_source *s, int i)
 int vsv_source_ntimes(const vsv_source *s) { return s->ntimes; }
 int64_t vsv_source_time(const vsv_source *s, int t) { return t >= 0 && t < s->ntimes ? s->times[t] : 0; }
 
+const char *vsv_source_field_path(const vsv_source *s, int i)
+{
+    return s->ops->field_path ? s->ops->field_path(s, i) : s->path;
+}
+
 int vsv_source_find_field(const vsv_source *s, const char *name)
 {
     for (int i = 0; i < s->nfields; i++)

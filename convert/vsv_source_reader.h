@@ -24,6 +24,9 @@ typedef struct vsv_source_ops {
     /* --vertical native only: the levels' heights at time t per column
      * (nx*ny*nz, m above sea level); may be NULL (no per-column heights) */
     int (*heights)(vsv_source *s, int t, float *out);
+    /* the file field comes from, when it is not s->path (a companion);
+     * may be NULL (every field is in s->path) */
+    const char *(*field_path)(const vsv_source *s, int field);
 } vsv_source_ops;
 
 struct vsv_source {

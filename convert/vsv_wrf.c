@@ -645,4 +645,5 @@ static char *wrf_summary(vsv_source *s)
 }
 
 /* WRF's read/close/summary; the open of every netCDF file starts here. */
-const vsv_source_ops vsv_netcdf_ops = {"WRF", nc_probe, netcdf_open, wrf_read, wrf_close, wrf_summary, wrf_heights};
+const vsv_source_ops vsv_netcdf_ops = {"WRF",     nc_probe,    netcdf_open, wrf_read,
+                                       wrf_close, wrf_summary, wrf_heights, NULL};

@@ -179,6 +179,6 @@ static char *summary(vsv_source *s)
     return t;
 }
 
-static const vsv_source_ops vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, summary, NULL};
+static const vsv_source_ops vdb_ops = {"OpenVDB", probe, open_vdb, read_vdb, close_vdb, summary, NULL, NULL};
 
 int vsv_vdb_source_register(void) { return vsv_source_register(&vdb_ops); }

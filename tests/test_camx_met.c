@@ -226,7 +226,7 @@ static void test_advect_winds(void)
         rc = vsv_run_add_winds(r, NULL, &o);
     const vsv_meta *m = rc ? NULL : vsv_run_meta(r);
     CHECK(m && m->nvars == 4 && !strcmp(m->vars[2].name, VSV_WIND_U) && !strcmp(m->vars[3].name, VSV_WIND_V) &&
-              strstr(vsv_meta_attr(m, VSV_WINDS_ATTR), "U V of adv.avrg (CAMx"),
+              strstr(vsv_meta_attr(m, VSV_WINDS_ATTR), "U V of test.wind (CAMx"),
           "advect: CAMx winds from the real wind companion (U, V; no W)", "(%s)", rc ? vsv_run_error(r) : "");
     if (m) {
         float *f[2][4];
@@ -252,6 +252,27 @@ static void test_advect_winds(void)
             for (int v = 0; v < 4; v++)
                 free(f[t][v]);
     }
+    vsv_run_free(r);
+}
+
+/* The stored winds of a CAMx run with --met: the wind companion's U and V,
+ * and the attribute saying where they came from names it (it named the
+ * average file). */
+static void test_stored_winds(void)
+{
+    const char *avrg = write_avrg("store.avrg", 3, 2, 0, 0);
+    const char *paths[1] = {avrg};
+    vsv_source_opts o;
+    vsv_source_opts_init(&o);
+    o.met = vsv_test_shared("camx");
+    vsv_run *r = NULL;
+    int rc = vsv_run_open(paths, 1, &o, "O3", NULL, &r);
+    if (!rc)
+        rc = vsv_run_store_winds(r, NULL, &o);
+    const vsv_meta *m = rc ? NULL : vsv_run_meta(r);
+    const char *from = m ? vsv_meta_attr(m, VSV_WIND_SOURCE_ATTR) : NULL;
+    CHECK(from && strstr(from, "U V (CAMx UAM-IV") && strstr(from, ") of test.wind") && !strstr(from, "store.avrg"),
+          "stored CAMx winds: their source names the wind file", "(%s)", from ? from : vsv_run_error(r));
     vsv_run_free(r);
 }
 
@@ -334,6 +355,7 @@ int main(void)
     test_landuse_fifo();
     test_met_dir();
     test_advect_winds();
+    test_stored_winds();
     test_mismatch();
     test_zone();
     test_derive_met();
