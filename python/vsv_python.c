@@ -321,8 +321,11 @@ static PyObject *File_species(FileObject *self, void *unused)
         return NULL;
     for (int s = 0; s < m->nvars; s++) {
         const vsv_quant *q = vsv_file_quant(self->f, s);
-        PyObject *o = Py_BuildValue("(sssddddiss)", m->vars[s].name, m->vars[s].units, m->vars[s].description,
-                                    q->max_abs_error, q->data_min, q->data_max, q->threshold, q->bits,
+        /* no finite value seen (every cell no data): None, not inf and -inf */
+        const int seen = q->data_min <= q->data_max;
+        PyObject *o = Py_BuildValue("(sssdNNdiss)", m->vars[s].name, m->vars[s].units, m->vars[s].description,
+                                    q->max_abs_error, seen ? PyFloat_FromDouble(q->data_min) : Py_NewRef(Py_None),
+                                    seen ? PyFloat_FromDouble(q->data_max) : Py_NewRef(Py_None), q->threshold, q->bits,
                                     q->scale == VSV_SCALE_LOG ? "log" : "linear", q->missing ? "nan" : "zero");
         if (!o) {
             Py_DECREF(l);

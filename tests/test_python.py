@@ -364,6 +364,19 @@ class Sample(unittest.TestCase):
         self.assertEqual([s.name for s in vesuvius.open(out).species], ["N" * 63, "ozone \u00b5g"])
         json.loads(tool("vsv-info", "--json", out))
 
+    def test_species_without_a_value_has_no_range(self):
+        """A species with no finite value anywhere has no range: data_min and data_max are
+        None (they were inf and -inf), as vsv-info says "no value" and --json null."""
+        g = {"nx": 4, "ny": 3, "nz": 2, "origin": (0, 0, 100), "spacing": (1000, 1000, 200)}
+        a = np.full((1, 2, 3, 4), np.nan, np.float32)
+        out = os.path.join(TMP, "allnan.vsv")
+        vesuvius.write(out, grid=g, times=[0], fields={"E": a, "F": np.ones_like(a)})
+        e, f = vesuvius.open(out).species
+        self.assertEqual((e.data_min, e.data_max), (None, None))
+        self.assertEqual((f.data_min, f.data_max), (1.0, 1.0))
+        sp = json.loads(tool("vsv-info", "--json", out))["species"]
+        self.assertEqual((sp[0]["min"], sp[0]["max"]), (None, None))
+
     def test_write_refuses_times_beyond_the_years(self):
         """A time outside the years 1..9999 is refused (INT64_MIN reached netCDF as a
         time axis before, issue 33)."""

@@ -28,7 +28,8 @@ version = _vesuvius.version
 
 Species = namedtuple("Species", "name units description max_abs_error data_min data_max threshold bits scale empty")
 Species.__doc__ = """One species: its name and units, the quantisation's bound on |decoded - model value|
-(max_abs_error), the finite range the writer saw, bits (8/16), scale (linear/log) and what
+(max_abs_error), the finite range the writer saw (data_min, data_max: None when it saw no
+finite value), bits (8/16), scale (linear/log) and what
 an empty cell decodes to ("zero", or "nan" for no data)."""
 Point = namedtuple("Point", "cell lat lon height position times values")
 Point.__doc__ = """A point query: the nearest cell (i, j, k) and its centre's lat/lon/height, the
