@@ -658,7 +658,7 @@ const char *vsv_meta_height_units(const vsv_meta *m);
 
 /* A point of a grid: plain info filled by vsv_point_locate / vsv_point_cell. */
 typedef struct vsv_point {
-    double pos[3];           /* fractional cell coordinates (x -0.5..nx-0.5 round the globe) */
+    double pos[3];           /* fractional cell coordinates, -0.5..n-0.5 */
     int cell[3];             /* the nearest cell */
     double lat, lon, height; /* the nearest cell's centre (height as
                                 vsv_meta_cell_height; lat/lon NaN without

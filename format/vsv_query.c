@@ -180,9 +180,12 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
                     c[1][1], c[2][0], c[2][1], c[3][0], c[3][1]);
         return VSV_ERANGE;
     }
-    p->pos[0] = periodic_x(m) ? fi : fmin(fmax(fi, 0), m->nx - 1); /* (round the globe: -0.5..nx-0.5) */
-    p->pos[1] = fmin(fmax(fj, 0), m->ny - 1);
-    const int ci = (int)((lround(p->pos[0]) + m->nx) % m->nx), cj = (int)lround(p->pos[1]);
+    /* where the point is, -0.5..n-0.5 (the edge cells' outer halves
+     * included: the samplers clamp); its column the nearest centre's */
+    p->pos[0] = fi;
+    p->pos[1] = fj;
+    const int ci = periodic_x(m) ? (int)((lround(fi) + m->nx) % m->nx) : (int)fmin(fmax(lround(fi), 0), m->nx - 1),
+              cj = (int)fmin(fmax(lround(fj), 0), m->ny - 1);
     if (isnan(height)) {
         p->pos[2] = lowest_above_ground(m, ci, cj);
     } else {
@@ -193,7 +196,7 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
                     *u ? " " : "", u, r[0], r[1], *u ? " " : "", u);
             return VSV_ERANGE;
         }
-        p->pos[2] = fmin(fmax(kf, 0), m->nz - 1);
+        p->pos[2] = kf;
     }
     fill_centre(m, time, p);
     return 0;

@@ -385,6 +385,29 @@ static void test_nodata(void)
     vsv_file_free(f);
 }
 
+/* A point in an edge cell's outer half: its position is where it is
+ * (past the last centre, before the first), its cell the edge's (the
+ * position was clamped to the centres, so vsv-query --json put a point
+ * 0.3 cells east of the last centre on it). */
+static void test_edge_positions(void)
+{
+    vsv_meta m;
+    vsv_meta_init(&m);
+    m.nx = 6, m.ny = 4, m.nz = 3;
+    m.proj.kind = VSV_PROJ_LATLON;
+    m.spacing[0] = m.spacing[1] = 1, m.spacing[2] = 1000;
+    vsv_point p;
+    char msg[256] = "";
+    int rc = vsv_point_locate(&m, -0.4, 5.3, 2400, &p, msg, sizeof msg);
+    CHECK(rc == 0 && fabs(p.pos[0] - 5.3) < 1e-9 && fabs(p.pos[1] + 0.4) < 1e-9 && fabs(p.pos[2] - 2.4) < 1e-9 &&
+              p.cell[0] == 5 && p.cell[1] == 0 && p.cell[2] == 2,
+          "a point in the edge cells' outer halves is at 5.3,-0.4,2.4, cell 5,0,2",
+          "rc %d (%s): %g,%g,%g cell %d,%d,%d", rc, msg, p.pos[0], p.pos[1], p.pos[2], p.cell[0], p.cell[1], p.cell[2]);
+    rc = vsv_point_locate(&m, -0.6, 5.3, 2400, &p, msg, sizeof msg);
+    CHECK(rc == VSV_ERANGE, "half a cell and more past the edge is outside", "rc %d", rc);
+    vsv_meta_clear(&m);
+}
+
 /* A global longitude-latitude grid (12 columns of 30 degrees from 0 east):
  * the column past the last is the first, for the nearest cell and for
  * trilinear blending across the seam, and a point west of 0 is found. */
@@ -460,5 +483,6 @@ int main(void)
     test_values();
     test_nodata();
     test_round_the_globe();
+    test_edge_positions();
     return vsv_test_done();
 }
