@@ -159,8 +159,12 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
     c.at = 4;
     c.w = magic[3] == 5 ? 8 : 4;
     uint64_t recs, n, len, ndims, type, recsize = 0, recbegin = UINT64_MAX;
-    int nrec = 0, big = 0;
+    int nrec = 0, big = 0, huge_any = 0;
     char nm[64], owner[96];
+    /* where the data ends: the largest end of a fixed variable, and of a
+     * record variable's part of the first record (fix_end, rec_end) */
+    uint64_t fix_end = 0, rec_end = 0;
+    char fix_name[64] = "", rec_name[64] = "";
     if (take(&c, c.w, &recs, "record count") || list(&c, 0x0A, 2 * c.w, "dimension list", &n))
         return -1;
     uint64_t recdim = UINT64_MAX; /* the dimension of length 0: the records */
@@ -193,10 +197,22 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
         if (type < 1 || type > (c.w == 8 ? 11u : 6u))
             return fail(&c, "netCDF header: variable \"%s\" at offset %llu has an unknown type %llu", nm,
                         (unsigned long long)from, (unsigned long long)type);
-        if (first == recdim && recdim != UINT64_MAX) {
+        const int rec = first == recdim && recdim != UINT64_MAX, huge = c.w == 4 && len == UINT32_MAX;
+        huge_any |= huge; /* a size too large for the field */
+        /* a size is rounded up to 4 bytes: types of 1 and 2 bytes may end
+         * up to 3 bytes before it */
+        const uint64_t pad = type <= 3 || type == 7 || type == 8 ? 3 : 0;
+        if (len > pad && begin <= UINT64_MAX - len) {
+            uint64_t *const end = rec ? &rec_end : &fix_end;
+            if (begin + len - pad > *end) {
+                *end = begin + len - pad;
+                snprintf(rec ? rec_name : fix_name, sizeof fix_name, "%s", nm);
+            }
+        }
+        if (rec) {
             nrec++;
+            big |= huge;
             recsize = len > UINT64_MAX - recsize ? UINT64_MAX : recsize + len;
-            big |= c.w == 4 && len == UINT32_MAX; /* a size too large for the field */
             if (begin < recbegin)
                 recbegin = begin;
         }
@@ -215,5 +231,18 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
                     "the end of the file (%llu bytes)",
                     (unsigned long long)recs, (unsigned long long)recsize, (unsigned long long)recbegin,
                     (unsigned long long)size);
+    /* and the file holds every variable's data: libnetcdf reads a file cut
+     * inside its data as zeros past the end, without an error */
+    if (huge_any)
+        return 0;
+    if (fix_end > size)
+        return fail(&c, "netCDF: the file is cut short: variable \"%s\"'s data ends at byte %llu, the file has %llu",
+                    fix_name, (unsigned long long)fix_end, (unsigned long long)size);
+    if (nrec && recs && (recs - 1) * recsize <= size && rec_end + (recs - 1) * recsize > size)
+        return fail(&c,
+                    "netCDF: the file is cut short: record %llu of %llu (variable \"%s\") ends at byte %llu, the "
+                    "file has %llu",
+                    (unsigned long long)recs, (unsigned long long)recs, rec_name,
+                    (unsigned long long)(rec_end + (recs - 1) * recsize), (unsigned long long)size);
     return 0;
 }

@@ -298,6 +298,20 @@ has "the record count, the record size and the file size are named" "$T/err" "vs
 C=tests/corpus/netcdf/records-streaming.nc
 expect "a netCDF file whose streaming record count overruns the file exits 1" 1 "$B/vsv-info" "$C"
 has "the streaming count is named" "$T/err" "vsv-info: $C: netCDF header: the file declares 4294967295 records of at least 5732 bytes from offset 6288, past the end of the file (17177 bytes)"
+# a classic netCDF file cut inside its data (its last record): libnetcdf
+# reads the missing bytes as zeros without an error, so a CMAQ file cut
+# 2 bytes short converted with exit 0 and zeros in its last step; the
+# header's variables are held to the file's size (CDF-1 and CDF-2)
+head -c 2410 tests/corpus/netcdf/ioapi-cmaq.nc > "$T/cut-cmaq.nc"
+expect "a CMAQ file cut inside its last record exits 1" 1 "$B/vsv-convert" "$T/cut-cmaq.nc" -o "$T/cut-cmaq.vsv"
+has "the cut, its record and the sizes are named" "$T/err" "vsv-convert: $T/cut-cmaq.nc: netCDF: the file is cut short: record 2 of 2 (variable \"PM25\") ends at byte 2412, the file has 2410"
+[ ! -e "$T/cut-cmaq.vsv" ] && pass "no output is left from the cut file" || fail "no output is left from the cut file" "$T/cut-cmaq.vsv exists"
+head -c $(($(wc -c < tests/corpus/netcdf/wrf-crop.nc) - 1000)) tests/corpus/netcdf/wrf-crop.nc > "$T/cut-wrf.nc"
+expect "a WRF file (64-bit offsets) cut 1000 bytes short exits 1" 1 "$B/vsv-info" "$T/cut-wrf.nc"
+has "vsv-info says it is cut short" "$T/err" "vsv-info: $T/cut-wrf.nc: netCDF: the file is cut short: record"
+head -c 25596 tests/corpus/netcdf/katrina-crop.nc > "$T/cut-fixed.nc" # (of 26596: no records, fixed sizes)
+expect "a WRF file without records cut 1000 bytes short exits 1" 1 "$B/vsv-info" "$T/cut-fixed.nc"
+has "the last variable and the sizes are named" "$T/err" "vsv-info: $T/cut-fixed.nc: netCDF: the file is cut short: variable \"XLONG_V\"'s data ends at byte 26596, the file has 25596"
 # found by the fuzz campaign: a variable of type 12 (NC_STRING) in a
 # 64-bit-offset file: libnetcdf divided by its 0-byte value size (SIGFPE)
 C=tests/corpus/netcdf/var-type-string.nc
