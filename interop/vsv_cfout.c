@@ -384,6 +384,8 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
         att_text(&w, vh, "positive", "up");
         if (has_proj && !latlon)
             att_text(&w, vh, "coordinates", "lat lon");
+        if (has_proj)
+            att_text(&w, vh, "grid_mapping", "crs");
     }
     const char *coords = has_proj && !latlon ? (colh ? "lat lon height" : "lat lon") : (colh ? "height" : NULL);
     if (m->terrain) {
@@ -391,8 +393,8 @@ int vsv_cf_write_here(const char *target, const char *path, vsv_file *f, const i
         att_text(&w, vter, "standard_name", "surface_altitude");
         att_text(&w, vter, "long_name", "terrain height");
         att_text(&w, vter, "units", "m");
-        if (coords)
-            att_text(&w, vter, "coordinates", coords);
+        if (has_proj && !latlon) /* (not height: a coordinate has no dimension its variable lacks) */
+            att_text(&w, vter, "coordinates", "lat lon");
         if (has_proj)
             att_text(&w, vter, "grid_mapping", "crs");
     }

@@ -19,8 +19,9 @@ Rules (CF-1.8 sections in brackets):
     whose heights are above the ground (vsv_attr_vertical_datum "ground")
     says height, every other says altitude; a per-column height variable
     has the same standard_name as z.
- 5. Every name in a coordinates attribute is a variable of the file, and a
-    grid_mapping names a variable with grid_mapping_name [5, 5.6].
+ 5. Every name in a coordinates attribute is a variable of the file whose
+    dimensions are among the variable's, and a grid_mapping names a
+    variable with grid_mapping_name [5, 5.6].
  6. _FillValue has its variable's type [2.5.1].
 Prints "PASS rule ..." / "FAIL rule ...: why" lines; exits 1 on a failure.
 """
@@ -92,6 +93,10 @@ def main(path):
         if "coordinates" in attrs:
             missing = [c for c in v.coordinates.split() if c not in nc.variables]
             check("5 %s: coordinates exist" % name, not missing, " ".join(missing))
+            wider = [c for c in v.coordinates.split()
+                     if c in nc.variables and not set(nc.variables[c].dimensions) <= set(v.dimensions)]
+            check("5 %s: each coordinate's dimensions are the variable's" % name, not wider,
+                  " ".join("%s%s" % (c, nc.variables[c].dimensions) for c in wider))
         if "grid_mapping" in attrs:
             gm = nc.variables.get(v.grid_mapping)
             check("5 %s: grid_mapping %s" % (name, v.grid_mapping),
