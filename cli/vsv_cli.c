@@ -109,6 +109,12 @@ void vsv_cli_usage_error(const char *fmt, ...)
     exit(2);
 }
 
+void vsv_cli_getopt_failed(void)
+{
+    fprintf(stderr, "Try '%s --help'.\n", tool_name);
+    exit(2);
+}
+
 FILE *vsv_cli_open_input(const char *path, const char *mode, int pipes)
 {
     char why[256];

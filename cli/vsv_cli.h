@@ -28,6 +28,9 @@ void vsv_cli_die(int code, const char *fmt, ...) __attribute__((format(printf, 2
 void vsv_cli_stdout_done(void);
 /* "tool: message\nTry 'tool --help'." and exit(2). */
 void vsv_cli_usage_error(const char *fmt, ...) __attribute__((format(printf, 1, 2), noreturn));
+/* After getopt_long has said what was wrong (an unknown option, a missing
+ * argument): "Try 'tool --help'." and exit(2). */
+void vsv_cli_getopt_failed(void) __attribute__((noreturn));
 /* Refuses (exit 2, before anything is written) an output that is one of the
  * inputs: the same path, a hard link or a symlink to it (same device and
  * inode); NULL inputs are skipped. A missing output is never an input. Also

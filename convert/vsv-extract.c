@@ -67,6 +67,7 @@ int main(int argc, char **argv)
     int list = 0, c, add_winds = 0, no_winds = 0;
     vsv_source_opts so;
     vsv_source_opts_init(&so);
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "v:t:lwhV", longopts, NULL)) != -1) {
         int h = vsv_source_cli_option(&so, c, optarg);
         if (h < 0) {
@@ -90,7 +91,7 @@ int main(int argc, char **argv)
             break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (optind >= argc)

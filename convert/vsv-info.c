@@ -602,6 +602,7 @@ int main(int argc, char **argv)
     /* clang-format on */
     int json = 0, want_stats = 0, check = 0, c, nfields = 0;
     const char *fields[64], *field = NULL; /* (field: the first, or none) */
+    argv[0] = (char *)vsv_cli_tool();      /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "jf:scqhV", longopts, NULL)) != -1) {
         switch (c) {
         case 'j': json = 1; break;
@@ -616,7 +617,7 @@ int main(int argc, char **argv)
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (optind >= argc)

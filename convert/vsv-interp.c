@@ -62,6 +62,7 @@ int main(int argc, char **argv)
     int c;
     vsv_interp_opts io = {VSV_TIME_LINEAR, 0};
     long nth;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "r:i:j:hV", longopts, NULL)) != -1) {
         switch (c) {
         case 'i':
@@ -79,7 +80,7 @@ int main(int argc, char **argv)
             break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (!dt)

@@ -59,6 +59,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
     vsv_cli_pack_init(&a->pack);
     vsv_source_opts_init(&a->so);
     int c;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "o:r:i:v:t:qhV", longopts, NULL)) != -1) {
         int h = vsv_source_cli_option(&a->so, c, optarg);
         if (h < 0) {
@@ -101,7 +102,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
             fputs(vsv_cli_pack_help, stdout);
             exit(0);
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (!a->out)

@@ -37,6 +37,7 @@ int main(int argc, char **argv)
     vsv_cli_pack_init(&pack);
     const char *out = NULL;
     int c;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "o:qhV", longopts, NULL)) != -1) {
         if (vsv_cli_pack_option(&pack, c, optarg))
             continue;
@@ -48,7 +49,7 @@ int main(int argc, char **argv)
             fputs(vsv_cli_pack_help, stdout);
             return 0;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (!out)

@@ -131,6 +131,7 @@ static int parse_args(int argc, char **argv, query_args *qa)
         {"streamline", no_argument, 0, O_STEADY}, {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
     /* clang-format on */
     int c;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "s:t:hV", longopts, NULL)) != -1) {
         switch (c) {
         case O_AT: qa->at = optarg; break;
@@ -160,7 +161,7 @@ static int parse_args(int argc, char **argv, query_args *qa)
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     return 0;

@@ -177,6 +177,7 @@ int main(int argc, char **argv)
     /* clang-format on */
     const char *out = NULL, *ncout = NULL, *time = NULL, *times = NULL, *species = NULL, *iso[3] = {NULL, NULL, NULL};
     int c;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "t:s:qhV", longopts, NULL)) != -1) {
         switch (c) {
         case O_VDB: out = optarg; break;
@@ -191,7 +192,7 @@ int main(int argc, char **argv)
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 0;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     for (int i = 1; i < 3; i++)

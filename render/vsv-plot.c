@@ -105,6 +105,7 @@ static void parse_args(int argc, char **argv, plot_args *a)
         {"help", no_argument, 0, 'h'},               {"version", no_argument, 0, 'V'}, {0, 0, 0, 0}};
     /* clang-format on */
     int c;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "o:s:t:hV", longopts, NULL)) != -1) {
         switch (c) {
         case O_SECTION: a->section = optarg; break;
@@ -124,7 +125,7 @@ static void parse_args(int argc, char **argv, plot_args *a)
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); exit(0);
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (optind != argc - 1)

@@ -212,6 +212,7 @@ typedef struct render_run {
 static int parse_args(int argc, char **argv, render_args *ra)
 {
     int c;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "o:t:s:c:x:r:qhV", longopts, NULL)) != -1) {
         long v;
         switch (c) {
@@ -350,7 +351,7 @@ static int parse_args(int argc, char **argv, render_args *ra)
                     vsv_cli_usage_error("%s", msg);
             break;
         }
-        default: vsv_cli_usage_error("unknown option");
+        default: vsv_cli_getopt_failed();
         }
     }
     return 0;

@@ -30,7 +30,7 @@ has "--help lists --stats" "$T/out" "--stats"
 expect "vsv-convert-mpi --version exits 0" 0 $MPIRUN -np 2 "$MPI" --version
 has "--version names the tool" "$T/out" "vsv-convert-mpi (Vesuvius"
 expect "a bad option exits 2" 2 $MPIRUN -np 2 "$MPI" --bogus -o "$T/x.vsv" samples/mm5/MMOUT_DOMAIN1_CROP
-n=$(grep -c "unknown option" "$T/err")
+n=$(grep -c "unrecognized option" "$T/err")
 [ "$n" = 1 ] && pass "the usage error is said once" || fail "the usage error is said once" "$n times: $(cat "$T/err")"
 cp samples/mm5/MMOUT_DOMAIN1_CROP "$T/in.mm5"
 expect "an output that is an input exits 2" 2 $MPIRUN -np 2 "$MPI" "$T/in.mm5" -o "$T/in.mm5"

@@ -19,6 +19,16 @@ for tool in vsv-extract vsv-pack vsv-info; do
     expect "$tool with an unknown option exits 2" 2 "$B/$tool" --no-such-option
     has "$tool misuse points to --help" "$T/err" "Try '$tool --help'"
 done
+# an option without its argument: getopt's line naming the tool, then the
+# pointer to --help, nothing else (an "unknown option" line followed, for
+# an option every tool knows)
+for ta in "vsv-export --netcdf" "vsv-convert --output" "vsv-render --fps" "vsv-query --cell" "vsv-info --field" \
+    "vsv-plot --series" "vsv-extract --times" "vsv-interp --time-res" "vsv-pack --brick"; do
+    tool=${ta%% *} opt=${ta#* }
+    expect "$tool $opt without its argument exits 2" 2 "$B/$tool" "$opt"
+    printf "%s: option '%s' requires an argument\nTry '%s --help'.\n" "$tool" "$opt" "$tool" > "$T/want"
+    same "... and says so in two lines naming $tool" "$T/want" "$T/err"
+done
 # every tool's --help names every format it reads and writes (#17): one row
 # a tool, the phrases its help must hold
 helpfmt() { # TOOL PHRASE...

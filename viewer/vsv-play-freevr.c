@@ -473,6 +473,7 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
     /* clang-format on */
     a->budget = (size_t)1 << 30;
     int c, li = 0;
+    ours[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(nours, ours, "s:r:x:hV", longopts, &li)) != -1) {
         long v;
         double d;
@@ -556,7 +557,7 @@ static int parse_args(int argc, char **argv, freevr_args *a, run *r)
             free(fv);
             return 1;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("see --help");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (optind != nours - 1)

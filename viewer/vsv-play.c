@@ -291,6 +291,7 @@ static int parse_args(int argc, char **argv, play_args *o)
     const char *script = NULL, *view = NULL;
     unsigned parts = VSV_ANNOT_ALL;
     int li = 0;
+    argv[0] = (char *)vsv_cli_tool(); /* getopt's messages name the tool as ours do */
     while ((c = getopt_long(argc, argv, "s:r:x:qhV", longopts, &li)) != -1) {
         long v;
         double d;
@@ -395,7 +396,7 @@ static int parse_args(int argc, char **argv, play_args *o)
         case VSV_CLI_CACHE_DIR: vsv_cli_cache_dir(optarg); break;
         case 'h': fputs(usage, stdout); return 1;
         case 'V': vsv_cli_version();
-        default: vsv_cli_usage_error("see --help");
+        default: vsv_cli_getopt_failed();
         }
     }
     if (optind != argc - 1)
