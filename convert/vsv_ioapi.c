@@ -119,6 +119,34 @@ static int ioapi_times(vsv_source *s, int nc, int tflag)
     return 0;
 }
 
+/* FILEDESC as one line into out: IOAPI writes it as up to 60 lines of 80
+ * characters padded with blanks (4800 in all); each non-blank line
+ * trimmed, joined by "; ", control bytes and non-ASCII as blanks. */
+static void file_description(int nc, char *out, size_t cap)
+{
+    size_t len, n = 0;
+    out[0] = 0;
+    char *fd = NULL;
+    if (nc_inq_attlen(nc, NC_GLOBAL, "FILEDESC", &len) != NC_NOERR || len > 65536 || !(fd = malloc(len + 1)) ||
+        nc_get_att_text(nc, NC_GLOBAL, "FILEDESC", fd) != NC_NOERR) {
+        free(fd);
+        return;
+    }
+    fd[len] = 0;
+    for (size_t at = 0; at < len; at += 80) { /* a line: 80 characters, or up to the end */
+        size_t a = at, b = at + 80 < len ? at + 80 : len;
+        for (size_t i = a; i < b; i++)
+            fd[i] = fd[i] > 0x20 && fd[i] < 0x7f ? fd[i] : ' ';
+        while (a < b && fd[a] == ' ')
+            a++;
+        while (b > a && fd[b - 1] == ' ')
+            b--;
+        if (b > a && n + 2 + (b - a) < cap)
+            n += (size_t)snprintf(out + n, cap - n, "%s%.*s", n ? "; " : "", (int)(b - a), fd + a);
+    }
+    free(fd);
+}
+
 /* The grid and its projection (GDTYP), its plan position, and the model
  * and run it describes. */
 static int ioapi_grid(vsv_source *s, const ioapi *a)
@@ -178,11 +206,7 @@ static int ioapi_grid(vsv_source *s, const ioapi *a)
     const int camx = nc_inq_attlen(nc, NC_GLOBAL, "CAMx_NAME", &(size_t){0}) == NC_NOERR ||
                      nc_inq_attlen(nc, NC_GLOBAL, "CPROJ", &(size_t){0}) == NC_NOERR;
     snprintf(g->model, sizeof g->model, "%s", camx ? "CAMx (IOAPI netCDF)" : "CMAQ (IOAPI netCDF)");
-    char fd[200] = "";
-    size_t fl;
-    if (nc_inq_attlen(nc, NC_GLOBAL, "FILEDESC", &fl) == NC_NOERR && fl < sizeof fd)
-        nc_get_att_text(nc, NC_GLOBAL, "FILEDESC", fd);
-    snprintf(g->run, sizeof g->run, "%s", fd);
+    file_description(nc, g->run, sizeof g->run);
     char buf[64];
     snprintf(buf, sizeof buf, "%d", gdtyp);
     vsv_meta_add_attr(g, "GDTYP", buf);

@@ -74,7 +74,9 @@ static int write_ioapi(const char *path, const spec *sp)
     const float vgtop = 5000, vgl[NZ + 1] = {1.0f, 0.995f, 0.985f, 0.96f, 0.9f, 0.8f};
     nc_put_att_float(nc, NC_GLOBAL, "VGTOP", NC_FLOAT, 1, &vgtop);
     nc_put_att_float(nc, NC_GLOBAL, "VGLVLS", NC_FLOAT, NZ + 1, vgl);
-    nc_put_att_text(nc, NC_GLOBAL, "FILEDESC", 20, "Vesuvius IOAPI test ");
+    char desc[60 * 80 + 1]; /* as IOAPI writes it: 60 lines of 80 characters, blank-padded */
+    snprintf(desc, sizeof desc, "%-80s%-80s%-4640s", "Vesuvius IOAPI test", "  second line", "");
+    nc_put_att_text(nc, NC_GLOBAL, "FILEDESC", 4800, desc);
     nc_enddef(nc);
     float *buf = malloc(sizeof(float) * NX * NY * NZ);
     for (int t = 0; t < NT; t++) {
@@ -170,6 +172,8 @@ static void check(const char *label, const spec *sp)
     CHECK(vsv_source_ntimes(src) == NT && vsv_source_time(src, 0) == vsv_time_from_civil(2016, 6, 30, 0, 0, 0) &&
               vsv_source_time(src, 2) == vsv_time_from_civil(2016, 6, 30, 2, 0, 0),
           name);
+    snprintf(name, sizeof name, "%s: FILEDESC's 60 lines of 80 as one, trimmed", label);
+    CHECK(!strcmp(g->run, "Vesuvius IOAPI test; second line"), name, "'%s'", g->run);
     const vsv_field_info *o3 = vsv_source_field(src, vsv_source_find_field(src, "O3"));
     const vsv_field_info *pm = vsv_source_field(src, vsv_source_find_field(src, "PM25"));
     snprintf(name, sizeof name, "%s: species O3 (ppmV), PM25 (micrograms/m**3)", label);
