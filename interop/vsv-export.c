@@ -169,8 +169,7 @@ int main(int argc, char **argv)
     enum { O_VDB = 1000, O_TIMES, O_NETCDF, O_ISO, O_PLY, O_GLTF };
     static const struct option longopts[] = {{"vdb", required_argument, 0, O_VDB},   {"netcdf", required_argument, 0, O_NETCDF},
                                              {"iso", required_argument, 0, O_ISO},   {"ply", required_argument, 0, O_PLY},
-                                             {"gltf", required_argument, 0, O_GLTF},
-                                             {"time", required_argument, 0, 't'},
+                                             {"gltf", required_argument, 0, O_GLTF}, {"time", required_argument, 0, 't'},
                                              {"times", required_argument, 0, O_TIMES}, {"species", required_argument, 0, 's'},
                                              {"quiet", no_argument, 0, 'q'},          {"help", no_argument, 0, 'h'}, {"cache-dir", required_argument, 0, VSV_CLI_CACHE_DIR},
                                              {"version", no_argument, 0, 'V'},        {0, 0, 0, 0}};
