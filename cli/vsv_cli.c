@@ -460,10 +460,15 @@ int vsv_cli_species(const vsv_meta *m, const char *list, const char *path, int *
             sel[n++] = s;
         return n;
     }
-    char *copy = strdup(list), *save = NULL;
+    char *copy = strdup(list);
     if (!copy)
         vsv_cli_die(1, "out of memory");
-    for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
+    for (char *it = copy, *next; it; it = next) {
+        next = strchr(it, ',');
+        if (next)
+            *next++ = 0;
+        if (!*it)
+            vsv_cli_usage_error("--species %s: an empty species name", list);
         const int s = vsv_meta_find_var(m, it);
         if (s < 0)
             vsv_cli_usage_error("--species: %s has no species '%s'", path, it);

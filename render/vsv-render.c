@@ -426,23 +426,9 @@ static void make_layers(const render_args *ra, render_run *run)
             vsv_cli_usage_error("--%.*s: %s has no species '%s'", (int)strcspn(ra->changes[i].line, " "),
                                 !strncmp(ra->changes[i].line, "scale", 5) ? "log" : ra->changes[i].line, path,
                                 ra->changes[i].species);
-    if (species) {
-        char *copy = strdup(species), *save = NULL;
-        for (char *it = copy ? strtok_r(copy, ",", &save) : NULL; it; it = strtok_r(NULL, ",", &save)) {
-            char *colon = strchr(it, ':');
-            double op = 1;
-            if (colon) {
-                *colon = 0;
-                if (vsv_cli_double(colon + 1, &op) || op < 0)
-                    vsv_cli_usage_error("--species %s: opacity must be a number >= 0", species);
-            }
-            const int s = vsv_meta_find_var(m, it);
-            if (s < 0)
-                vsv_cli_usage_error("--species: %s has no species '%s'", path, it);
-            opac[s] = (float)op;
-        }
-        free(copy);
-    }
+    char why[512];
+    if (species && vsv_species_parse(m, species, path, opac, why, sizeof why))
+        vsv_cli_usage_error("%s", why);
     int slice_var = -1;
     const char *slice_species = ra->slice_species;
     if (ra->nslice_specs) { /* the slices' species: named, or the first drawn */

@@ -11,6 +11,8 @@ has "the help names --vdb" "$T/out" "--vdb OUT"
 expect "vsv-export without --vdb exits 2" 2 "$B/vsv-export" "$T/crop.vsv"
 expect "several steps without %04d exit 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/one.vdb"
 expect "an unknown species exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/x%d.vdb" --species NOPE
+expect "a list ending in a comma exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --vdb "$T/x%d.vdb" --species CLW,
+has "and says the name is empty" "$T/err" "vsv-export: --species CLW,: an empty species name"
 expect "a damaged .vsv exits 1" 1 "$B/vsv-export" tests/golden/bad/payload.vsv --vdb "$T/bad%d.vdb"
 has "naming the damage" "$T/err" "checksum"
 expect "every step of two species" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/s_%04d.vdb" --species CLW,SNOW

@@ -14,6 +14,10 @@ has "usage printed" "$T/out" "Usage: vsv-render"
 expect "vsv-render without -o exits 2" 2 "$B/vsv-render" "$T/storm.vsv"
 expect "vsv-render --renderer nope exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --renderer nope
 expect "an unknown species exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --species NOPE
+expect "a species named twice exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --species CLW,SNOW:0.5,CLW
+has "and names it (as vsv-export and vsv-query do)" "$T/err" "vsv-render: --species: 'CLW' named twice"
+expect "an empty name in --species exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --species CLW,
+has "and says so" "$T/err" "vsv-render: --species CLW,: an empty species name"
 expect "--background above 1 exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 2,0,0
 has "and says each is from 0 to 1" "$T/err" "--background 2,0,0: expected R,G,B, each from 0 to 1"
 expect "--background with trailing text exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --background 0,0,0.5x

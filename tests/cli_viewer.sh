@@ -30,6 +30,8 @@ has "and says what it is not" "$T/err" "vsv-play: "
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/crop.vsv"
 expect "vsv-play --species with an unknown name exits 2 (misuse, as in vsv-render)" 2 "$B/vsv-play" "$T/crop.vsv" --species NOPE
 has "and names the species" "$T/err" "'NOPE'"
+expect "vsv-play --species naming one twice exits 2" 2 "$B/vsv-play" "$T/crop.vsv" --species CLW:0.3,CLW
+has "and names it" "$T/err" "--species: 'CLW' named twice"
 printf '0.1 play\nsoon quit\n' > "$T/bad.script"
 expect "a script line without a time exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T/bad.script"
 has "naming the line" "$T/err" "line 2"

@@ -111,41 +111,6 @@ int vsv_player_use_renderer(vsv_player *p, int kind, char *why, size_t cap)
     return 0;
 }
 
-/* The opacities --species asks for (NAME[:OPACITY],...) into opac: 0, VSV_EINVAL or -1 (out of memory), the reason
- * in err. */
-static int species_opacities(const vsv_player *p, const vsv_player_opts *o, float *opac, char *err, size_t cap)
-{
-    char *copy = strdup(o->species), *save = NULL;
-    int rc = 0;
-    if (!copy) {
-        snprintf(err, cap, "out of memory");
-        return -1;
-    }
-    for (char *it = strtok_r(copy, ",", &save); it; it = strtok_r(NULL, ",", &save)) {
-        char *colon = strchr(it, ':');
-        double op = 1;
-        if (colon) {
-            *colon = 0;
-            char *end;
-            op = strtod(colon + 1, &end);
-            if (*end || !(op >= 0)) {
-                snprintf(err, cap, "--species %s: opacity must be a number >= 0", o->species);
-                rc = VSV_EINVAL;
-                break;
-            }
-        }
-        const int s = vsv_meta_find_var(p->m, it);
-        if (s < 0) {
-            snprintf(err, cap, "--species: %s has no species '%s'", o->path, it);
-            rc = VSV_EINVAL;
-            break;
-        }
-        opac[s] = (float)op;
-    }
-    free(copy);
-    return rc;
-}
-
 /* Each species' transfer function, volume and layer, shown as --species says: 0 or -1 / VSV_EINVAL, the reason in
  * err. */
 static int open_species(vsv_player *p, const vsv_player_opts *o, char *err, size_t cap)
@@ -158,7 +123,7 @@ static int open_species(vsv_player *p, const vsv_player_opts *o, char *err, size
     }
     for (int s = 0; s < p->ns; s++) /* -1: hidden (v shows it) */
         opac[s] = !o->species && vsv_meta_default_shown(p->m, s) ? 1 : -1;
-    if (o->species && (rc = species_opacities(p, o, opac, err, cap)))
+    if (o->species && (rc = vsv_species_parse(p->m, o->species, o->path, opac, err, cap)))
         goto fail;
     for (int i = 0; i < o->ntf_changes; i++)
         if (vsv_meta_find_var(p->m, o->tf_changes[i].species) < 0) {
