@@ -115,6 +115,28 @@ void vsv_cli_getopt_failed(void)
     exit(2);
 }
 
+void vsv_cli_output_kind(const char *opt, const char *name, const char *exts, const char *writes)
+{
+    static const struct {
+        const char *ext, *kind;
+    } kinds[] = {{".vsv", "a Vesuvius file"},     {".vdb", "an OpenVDB file"}, {".nc", "a netCDF file"},
+                 {".nc4", "a netCDF file"},       {".ply", "a PLY mesh"},      {".gltf", "a glTF scene"},
+                 {".glb", "a binary glTF scene"}, {".png", "a PNG image"},     {".exr", "an OpenEXR image"},
+                 {".svg", "an SVG image"},        {".pdf", "a PDF document"},  {".csv", "a CSV table"},
+                 {".npy", "a numpy array"},       {".mp4", "an MP4 movie"}};
+    const char *base = strrchr(name, '/'), *dot = strrchr(base ? base : name, '.');
+    for (size_t i = 0; dot && i < sizeof kinds / sizeof *kinds; i++) {
+        if (strcasecmp(dot, kinds[i].ext))
+            continue;
+        const size_t n = strlen(kinds[i].ext);
+        for (const char *e = exts; (e = strstr(e, kinds[i].ext)); e += n)
+            if (!e[n] || e[n] == ' ')
+                return; /* one of its own */
+        vsv_cli_usage_error("%s %s: the name of %s (%s); %s writes %s", opt, name, kinds[i].kind, kinds[i].ext, opt,
+                            writes);
+    }
+}
+
 FILE *vsv_cli_open_input(const char *path, const char *mode, int pipes)
 {
     char why[256];

@@ -39,6 +39,12 @@ void vsv_cli_getopt_failed(void) __attribute__((noreturn));
  * user's in a sticky folder (/tmp; a symlink's own owner, dangling or
  * not), which the final rename could not replace, exits 1. */
 void vsv_cli_refuse_input(const char *out, const char *const *inputs, int n);
+/* Refuses (exit 2) an output name whose extension is another kind's than
+ * the option writes (x.nc for a .vsv, x.vsv for netCDF: a file others
+ * would take for what it is not); exts: the extensions it writes, space
+ * separated (".nc .nc4"); writes: what, for the message ("netCDF-4
+ * (.nc)"). A name with no extension known here is the user's choice. */
+void vsv_cli_output_kind(const char *opt, const char *name, const char *exts, const char *writes);
 /* Opens an input the tool reads as text or a stream, checked: a regular
  * file, and with pipes != 0 also a FIFO (a field stream's writer on the other
  * end); a directory, device or socket exits 1 with "tool: path: what". */

@@ -107,6 +107,7 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
     }
     if (!a->out)
         vsv_cli_usage_error("no output file (-o OUT.vsv)");
+    vsv_cli_output_kind("-o", a->out, ".vsv", "a .vsv file");
     if (optind >= argc)
         vsv_cli_usage_error("no input file");
     char tmsg[300];

@@ -54,6 +54,7 @@ int main(int argc, char **argv)
     }
     if (!out)
         vsv_cli_usage_error("no output file (-o OUT.vsv)");
+    vsv_cli_output_kind("-o", out, ".vsv", "a .vsv file");
     if (argc - optind > 1)
         vsv_cli_usage_error("one input stream at most");
     const char *in_name = optind < argc ? argv[optind] : "(stdin)";

@@ -55,27 +55,6 @@ static const char usage[] =
     "  -V, --version           print versions\n";
 /* clang-format on */
 
-/* Refuses (exit 2) an output name of option opt whose extension belongs
- * to another kind of file this tool or the others write or read (--netcdf
- * x.vdb would write netCDF under an OpenVDB name; x.vsv would be taken
- * for a .vsv file); a name with no such extension is the user's choice. */
-static void check_name(const char *opt, const char *writes, const char *name)
-{
-    static const struct {
-        const char *ext, *opt, *kind;
-    } kinds[] = {{".vdb", "--vdb", "an OpenVDB file"},  {".nc", "--netcdf", "a netCDF file"},
-                 {".nc4", "--netcdf", "a netCDF file"}, {".ply", "--ply", "a PLY mesh"},
-                 {".gltf", "--gltf", "a glTF scene"},   {".glb", NULL, "a binary glTF scene"},
-                 {".vsv", NULL, "a Vesuvius file"},     {".png", NULL, "a PNG image"},
-                 {".exr", NULL, "an OpenEXR image"},    {".svg", NULL, "an SVG image"},
-                 {".pdf", NULL, "a PDF document"},      {".csv", NULL, "a CSV table"}};
-    const char *base = strrchr(name, '/'), *dot = strrchr(base ? base : name, '.');
-    for (size_t i = 0; dot && i < sizeof kinds / sizeof *kinds; i++)
-        if (!strcasecmp(dot, kinds[i].ext) && (!kinds[i].opt || strcmp(kinds[i].opt, opt)))
-            vsv_cli_usage_error("%s %s: the name of %s (%s); %s writes %s", opt, name, kinds[i].kind, kinds[i].ext, opt,
-                                writes);
-}
-
 /* --netcdf: the selected species and steps into one CF netCDF file. */
 static int export_netcdf(int argc, char **argv, vsv_file *f, const char *path, const char *ncout, int *sel, int n,
                          int a, int b)
@@ -196,11 +175,12 @@ int main(int argc, char **argv)
     }
     for (int i = 1; i < 3; i++)
         if (iso[i])
-            check_name(i == 1 ? "--ply" : "--gltf", i == 1 ? "PLY (.ply)" : "glTF 2.0 (.gltf)", iso[i]);
+            vsv_cli_output_kind(i == 1 ? "--ply" : "--gltf", iso[i], i == 1 ? ".ply" : ".gltf",
+                                i == 1 ? "PLY (.ply)" : "glTF 2.0 (.gltf)");
     if (out)
-        check_name("--vdb", "OpenVDB (.vdb)", out);
+        vsv_cli_output_kind("--vdb", out, ".vdb", "OpenVDB (.vdb)");
     if (ncout)
-        check_name("--netcdf", "netCDF-4 (.nc)", ncout);
+        vsv_cli_output_kind("--netcdf", ncout, ".nc .nc4", "netCDF-4 (.nc)");
     if (iso[0] || iso[1] || iso[2])
         return export_iso(argc, argv, iso, out || ncout || times || species, time);
     if (!out == !ncout)

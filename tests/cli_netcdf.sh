@@ -22,6 +22,11 @@ has "... any case" "$T/err" "--vdb $T/v_%d.NC: the name of a netCDF file (.nc); 
 expect "--gltf with a .ply name exits 2" 2 "$B/vsv-export" "$T/crop.vsv" --iso CLW:5e-5 --gltf "$T/c.ply"
 has "... naming both" "$T/err" "--gltf $T/c.ply: the name of a PLY mesh (.ply); --gltf writes glTF 2.0 (.gltf)"
 [ ! -e "$T/out.vsv" ] && [ ! -e "$T/c.ply" ] && pass "... and nothing written" || fail "... and nothing written" "$(ls "$T")"
+expect "vsv-convert -o x.nc exits 2" 2 "$B/vsv-convert" samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/conv.nc"
+has "... as vsv-export says it" "$T/err" "vsv-convert: -o $T/conv.nc: the name of a netCDF file (.nc); -o writes a .vsv file"
+expect "vsv-pack -o x.PNG exits 2" 2 "$B/vsv-pack" -o "$T/pack.PNG" /dev/null
+has "... in any case" "$T/err" "vsv-pack: -o $T/pack.PNG: the name of a PNG image (.png); -o writes a .vsv file"
+[ ! -e "$T/conv.nc" ] && [ ! -e "$T/pack.PNG" ] && pass "... and nothing written" || fail "... and nothing written" "$(ls "$T")"
 expect "--netcdf with a name of no known kind is the user's" 0 "$B/vsv-export" -q "$T/crop.vsv" --netcdf "$T/any.cdf" --time 0
 expect "into a missing folder exits 1" 1 "$B/vsv-export" "$T/crop.vsv" --netcdf "$T/nope/x.nc"
 has "saying why" "$T/err" "cannot create a temporary file beside it"
