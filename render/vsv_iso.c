@@ -34,6 +34,8 @@ typedef struct iso_scratch {
     float *val;      /* (B + 3)^3 samples: the brick's points and one more each way */
     uint32_t *stamp; /* (B + 1)^3 * 7 edges: which brick visit set the slot */
     uint32_t *slot;  /* vertex index of the edge's crossing */
+    float *fsum;     /* per vertex of the brick: its triangles' normals summed (agree_with_faces) */
+    int fcap;
     uint32_t visit;
     int err;
 } iso_scratch;
@@ -97,6 +99,7 @@ static void free_scratch(vsv_iso *s)
         free(s->scr[t].val);
         free(s->scr[t].stamp);
         free(s->scr[t].slot);
+        free(s->scr[t].fsum);
         memset(&s->scr[t], 0, sizeof s->scr[t]);
     }
     s->brick = 0;
@@ -335,6 +338,44 @@ static void fill_block(iso_job *J)
         }
 }
 
+/* Each vertex normal of brick o made to face as its triangles do: where
+ * the gradient's points against the sum of its triangles' (area-weighted)
+ * normals, that sum instead. Central differences reach a point beyond the
+ * edge's two, so across a layer one or two cells thick (most clouds on a
+ * model's levels) the gradient can point into the cloud: the triangles,
+ * wound from the edge's own samples, never do. 0, or -1 out of memory. */
+static int agree_with_faces(iso_scratch *S, iso_brick *o)
+{
+    if (o->nv > S->fcap) {
+        float *f = realloc(S->fsum, (size_t)o->nv * 3 * sizeof *f);
+        if (!f)
+            return -1;
+        S->fsum = f, S->fcap = o->nv;
+    }
+    float *const sum = S->fsum, *const P = o->pos, *const N = o->nrm;
+    memset(sum, 0, (size_t)o->nv * 3 * sizeof *sum);
+    for (int t = 0; t < o->nt; t++) {
+        const uint32_t *v = o->tri + 3 * t;
+        double u[3], w[3];
+        for (int x = 0; x < 3; x++)
+            u[x] = (double)P[3 * v[1] + x] - P[3 * v[0] + x], w[x] = (double)P[3 * v[2] + x] - P[3 * v[0] + x];
+        const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        for (int c = 0; c < 3; c++)
+            for (int x = 0; x < 3; x++)
+                sum[3 * v[c] + x] += (float)n[x];
+    }
+    for (int i = 0; i < o->nv; i++) {
+        float *const n = N + 3 * i, *const f = sum + 3 * i;
+        if (n[0] * f[0] + n[1] * f[1] + n[2] * f[2] >= 0)
+            continue;
+        double d[3] = {f[0], f[1], f[2]};
+        vsv_normalize(d);
+        for (int x = 0; x < 3; x++)
+            n[x] = (float)d[x];
+    }
+    return 0;
+}
+
 static void brick_job(void *ctx, int item, int thread)
 {
     vsv_iso *s = ctx;
@@ -364,6 +405,10 @@ static void brick_job(void *ctx, int item, int thread)
                     J.out->done = 0;
                     return;
                 }
+    if (agree_with_faces(J.scr, J.out)) {
+        J.scr->err = 1;
+        J.out->done = 0;
+    }
 }
 
 /* --------------------------------------------------------------- the driver */

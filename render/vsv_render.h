@@ -449,10 +449,14 @@ double vsv_scene_default_exaggeration(const vsv_scene *sc);
  * metres above sea level not exaggerated, at each column's own heights
  * where the file has per-column native levels (a vertex on a vertical edge
  * lies at the height interpolated in its column), else on the renderers'
- * even axis (vsv_scene_geo). Normals are unit, down the field's gradient
- * (central differences between neighbouring points, in world units): out
- * of a cloud, as the lighting rule's. Triangles wind counter-clockwise seen
- * from the side their normals face. Bricks none of whose points straddle
+ * even axis (vsv_scene_geo). Triangles wind counter-clockwise seen from
+ * their front, which faces the values below VALUE: out of a cloud. Normals
+ * are unit, down the field's gradient (central differences between
+ * neighbouring points, in world units), as the lighting rule's; where that
+ * points against the vertex's triangles (across a layer a cell or two
+ * thick the differences reach past it), their summed normal instead. (At a
+ * fold sharper than a right angle a triangle can still face away from one
+ * of its corners' normals.) Bricks none of whose points straddle
  * VALUE (the volumes' bmin/bmax of the brick and the next one along each
  * axis) are skipped; a brick whose values and neighbours' are unchanged
  * since the last extraction of the same value (the volumes' brick keys, or

@@ -335,6 +335,47 @@ done:
     vsv_meta_clear(&m);
 }
 
+/* Two layers one cell thick (f 1 at level 5, 10 at level 7, else 0; a
+ * bump of level 5 in the middle): at VALUE 0.5 the top of the lower layer
+ * lies between its own 1 and a 0, but the central difference at the 0
+ * reaches the 10 above and points down, into the layer. Every normal
+ * faces as its triangles do (the gradient's pointed into the layer on
+ * its whole top). */
+static double layers(const double *c, int i, int j, int k)
+{
+    (void)c;
+    const int bump = i > 8 && i < 14 && j > 8 && j < 14;
+    return k == 7 ? 10 : k == 5 || (bump && k == 4) ? 1 : 0;
+}
+
+static void test_thin_layers(void)
+{
+    vsv_meta m;
+    grid(&m, 24, 22, 12, 1000, 250);
+    vsv_volume *v = make_volume(24, 22, 12, layers, NULL);
+    vsv_iso *s = NULL;
+    if (!CHECK(vsv_iso_create(2, &s) == 0 && vsv_iso_extract(s, &m, v, 0.5f) == 0, "thin layers: extracted"))
+        goto done;
+    mesh M = gather(s);
+    size_t against = 0;
+    for (size_t t = 0; t < M.nt; t++) {
+        double n[3];
+        if (!(tri_area(&M, t, n) > 0))
+            continue;
+        for (int c = 0; c < 3; c++) {
+            const float *vn = M.nrm + 3 * M.tri[3 * t + c];
+            against += vn[0] * n[0] + vn[1] * n[1] + vn[2] * n[2] < 0;
+        }
+    }
+    CHECK(M.nt > 1000 && against == 0, "thin layers: every vertex normal faces as its triangles",
+          "(%zu triangles, %zu corners against)", M.nt, against);
+    mesh_free(&M);
+done:
+    vsv_iso_free(s);
+    free_volume(v);
+    vsv_meta_clear(&m);
+}
+
 /* Native levels with per-column heights 50 i + 10 j + 125 + 250 k and
  * f = k: VALUE 3.5 lies halfway between levels 3 and 4 in every column,
  * at 50 i + 10 j + 1000 m, wherever the vertex is. */
@@ -486,6 +527,7 @@ int main(void)
 {
     test_sphere();
     test_plane();
+    test_thin_layers();
     test_native();
     test_nothing();
     test_nodata();
