@@ -149,6 +149,28 @@ static int attrs(cur *c, const char *owner)
     return 0;
 }
 
+/* The bytes of a variable's values: the product of its dimensions' lengths
+ * (the record dimension's left out) times its type's size, as libnetcdf
+ * sizes it (the header's own size field is redundant and may be rounded);
+ * UINT64_MAX when not known (an unknown dimension, or too large). */
+static uint64_t values_size(const uint64_t *dimlen, uint64_t ndimlen, const uint64_t *ids, uint64_t ndims,
+                            uint64_t recdim, uint64_t type)
+{
+    static const int tsize[] = {0, 1, 1, 2, 4, 4, 8, 1, 2, 4, 8, 8};
+    uint64_t bytes = (uint64_t)tsize[type];
+    for (uint64_t d = 0; d < ndims; d++) {
+        if (d == 0 && ids[0] == recdim)
+            continue;
+        if (ids[d] >= ndimlen)
+            return UINT64_MAX;
+        const uint64_t l = dimlen[ids[d]];
+        if (l && bytes > UINT64_MAX / 2 / l)
+            return UINT64_MAX;
+        bytes *= l;
+    }
+    return bytes;
+}
+
 int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
 {
     unsigned char magic[4];
@@ -159,20 +181,29 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
     c.at = 4;
     c.w = magic[3] == 5 ? 8 : 4;
     uint64_t recs, n, len, ndims, type, recsize = 0, recbegin = UINT64_MAX;
-    int nrec = 0, big = 0, huge_any = 0;
+    int nrec = 0, big = 0;
     char nm[64], owner[96];
-    /* where the data ends: the largest end of a fixed variable, and of a
-     * record variable's part of the first record (fix_end, rec_end) */
-    uint64_t fix_end = 0, rec_end = 0;
+    /* where the data ends, from the dimensions' lengths: the largest end of
+     * a fixed variable (fix_end), of a record variable's values in the
+     * first record (rec_end), and a record's size (rec_pad: the values of
+     * each record variable rounded up to 4 bytes; rec_one: of the only one,
+     * not rounded). known: every size could be worked out */
+    enum { MAXDIMS = 1024 }; /* libnetcdf's NC_MAX_DIMS */
+    uint64_t dimlen[MAXDIMS], ids[MAXDIMS], fix_end = 0, rec_end = 0, rec_pad = 0, rec_one = 0;
+    int known = 1;
     char fix_name[64] = "", rec_name[64] = "";
     if (take(&c, c.w, &recs, "record count") || list(&c, 0x0A, 2 * c.w, "dimension list", &n))
         return -1;
+    const uint64_t ndimlen = n < MAXDIMS ? n : MAXDIMS;
+    known = n <= MAXDIMS;
     uint64_t recdim = UINT64_MAX; /* the dimension of length 0: the records */
     for (uint64_t i = 0; i < n; i++) {
         if (name(&c, "dimension", nm, sizeof nm) || take(&c, c.w, &len, "dimension length"))
             return -1;
         if (len == 0 && recdim == UINT64_MAX)
             recdim = i;
+        if (i < MAXDIMS)
+            dimlen[i] = len;
     }
     if (attrs(&c, "the file") || list(&c, 0x0B, 5 * c.w + 8, "variable list", &n))
         return -1;
@@ -187,9 +218,16 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
                         nm, (unsigned long long)from, (unsigned long long)ndims, (unsigned long long)c.size);
         snprintf(owner, sizeof owner, "variable \"%s\"", nm);
         uint64_t first = UINT64_MAX, begin;
-        if ((ndims && take(&c, c.w, &first, "variable dimension")) ||
-            skip(&c, (ndims ? ndims - 1 : 0) * (uint64_t)c.w, from, "variable", nm) || attrs(&c, owner) ||
-            take(&c, 4, &type, "variable type") || take(&c, c.w, &len, "variable size") ||
+        for (uint64_t d = 0; d < ndims; d++) {
+            uint64_t id;
+            if (take(&c, c.w, &id, "variable dimension"))
+                return -1;
+            if (d == 0)
+                first = id;
+            if (d < MAXDIMS)
+                ids[d] = id;
+        }
+        if (attrs(&c, owner) || take(&c, 4, &type, "variable type") || take(&c, c.w, &len, "variable size") ||
             take(&c, magic[3] == 1 ? 4 : 8, &begin, "variable offset"))
             return -1;
         /* libnetcdf sizes a variable of a type the format lacks as 0 bytes
@@ -197,21 +235,23 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
         if (type < 1 || type > (c.w == 8 ? 11u : 6u))
             return fail(&c, "netCDF header: variable \"%s\" at offset %llu has an unknown type %llu", nm,
                         (unsigned long long)from, (unsigned long long)type);
-        const int rec = first == recdim && recdim != UINT64_MAX, huge = c.w == 4 && len == UINT32_MAX;
-        huge_any |= huge; /* a size too large for the field */
-        /* a size is rounded up to 4 bytes: types of 1 and 2 bytes may end
-         * up to 3 bytes before it */
-        const uint64_t pad = type <= 3 || type == 7 || type == 8 ? 3 : 0;
-        if (len > pad && begin <= UINT64_MAX - len) {
+        const int rec = first == recdim && recdim != UINT64_MAX;
+        const uint64_t vs =
+            ndims <= MAXDIMS ? values_size(dimlen, ndimlen, ids, ndims, rec ? recdim : UINT64_MAX, type) : UINT64_MAX;
+        if (vs == UINT64_MAX || begin > UINT64_MAX / 4 - vs) {
+            known = 0;
+        } else if (vs) {
             uint64_t *const end = rec ? &rec_end : &fix_end;
-            if (begin + len - pad > *end) {
-                *end = begin + len - pad;
+            if (begin + vs > *end) {
+                *end = begin + vs;
                 snprintf(rec ? rec_name : fix_name, sizeof fix_name, "%s", nm);
             }
+            if (rec)
+                rec_pad += (vs + 3) & ~(uint64_t)3, rec_one = vs;
         }
         if (rec) {
             nrec++;
-            big |= huge;
+            big |= c.w == 4 && len == UINT32_MAX; /* a size too large for the field */
             recsize = len > UINT64_MAX - recsize ? UINT64_MAX : recsize + len;
             if (begin < recbegin)
                 recbegin = begin;
@@ -233,16 +273,19 @@ int vsv_nc_classic_check(FILE *fp, uint64_t size, char *msg, size_t cap)
                     (unsigned long long)size);
     /* and the file holds every variable's data: libnetcdf reads a file cut
      * inside its data as zeros past the end, without an error */
-    if (huge_any)
+    if (!known)
         return 0;
     if (fix_end > size)
         return fail(&c, "netCDF: the file is cut short: variable \"%s\"'s data ends at byte %llu, the file has %llu",
                     fix_name, (unsigned long long)fix_end, (unsigned long long)size);
-    if (nrec && recs && (recs - 1) * recsize <= size && rec_end + (recs - 1) * recsize > size)
+    const uint64_t rs = nrec == 1 ? rec_one : rec_pad; /* a record's bytes */
+    if (nrec && recs && (rec_end > size || (rs && recs - 1 > (size - rec_end) / rs))) {
+        const uint64_t last = rs && recs - 1 > (UINT64_MAX - rec_end) / rs ? UINT64_MAX : rec_end + (recs - 1) * rs;
         return fail(&c,
                     "netCDF: the file is cut short: record %llu of %llu (variable \"%s\") ends at byte %llu, the "
                     "file has %llu",
-                    (unsigned long long)recs, (unsigned long long)recs, rec_name,
-                    (unsigned long long)(rec_end + (recs - 1) * recsize), (unsigned long long)size);
+                    (unsigned long long)recs, (unsigned long long)recs, rec_name, (unsigned long long)last,
+                    (unsigned long long)size);
+    }
     return 0;
 }

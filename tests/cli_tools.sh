@@ -322,6 +322,27 @@ has "vsv-info says it is cut short" "$T/err" "vsv-info: $T/cut-wrf.nc: netCDF: t
 head -c 25596 tests/corpus/netcdf/katrina-crop.nc > "$T/cut-fixed.nc" # (of 26596: no records, fixed sizes)
 expect "a WRF file without records cut 1000 bytes short exits 1" 1 "$B/vsv-info" "$T/cut-fixed.nc"
 has "the last variable and the sizes are named" "$T/err" "vsv-info: $T/cut-fixed.nc: netCDF: the file is cut short: variable \"XLONG_V\"'s data ends at byte 26596, the file has 25596"
+# the sizes are the values' own, from the dimensions: one float record
+# variable cut by a byte is short; a byte variable's padding is no data
+if command -v ncgen > /dev/null; then
+    printf 'netcdf a { dimensions: t = UNLIMITED ; x = 3 ; variables: float v(t, x) ; data: v = %s ; }\n' \
+        "$(seq -s , 1 21)" > "$T/rec1.cdl"
+    ncgen -k classic -o "$T/rec1.nc" "$T/rec1.cdl"
+    head -c $(($(wc -c < "$T/rec1.nc") - 1)) "$T/rec1.nc" > "$T/rec1-cut.nc"
+    expect "one float record variable cut by a byte exits 1" 1 "$B/vsv-info" "$T/rec1-cut.nc"
+    has "... cut short, its last record named" "$T/err" "netCDF: the file is cut short: record 7 of 7 (variable \"v\") ends at byte 180, the file has 179"
+    printf 'netcdf c { dimensions: t = UNLIMITED ; x = 3 ; variables: float f(t) ; byte b(t, x) ; data: f = 1,2,3 ; b = 1,2,3,4,5,6,7,8,9 ; }\n' > "$T/pad.cdl"
+    ncgen -k 64-bit-offset -o "$T/pad.nc" "$T/pad.cdl"
+    head -c $(($(wc -c < "$T/pad.nc") - 1)) "$T/pad.nc" > "$T/pad-1.nc"
+    "$B/vsv-info" "$T/pad-1.nc" > /dev/null 2> "$T/err"
+    if grep -q "cut short" "$T/err"; then fail "a byte variable's last padding byte cut is no data lost" "$(cat "$T/err")"
+    else pass "a byte variable's last padding byte cut is no data lost"; fi
+    head -c $(($(wc -c < "$T/pad.nc") - 2)) "$T/pad.nc" > "$T/pad-2.nc"
+    expect "... but a byte of its values is" 1 "$B/vsv-info" "$T/pad-2.nc"
+    has "... cut short" "$T/err" "netCDF: the file is cut short: record 3 of 3 (variable \"b\")"
+else
+    echo "SKIP netCDF cut by a byte: no ncgen (netcdf-bin)"
+fi
 # found by the fuzz campaign: a variable of type 12 (NC_STRING) in a
 # 64-bit-offset file: libnetcdf divided by its 0-byte value size (SIGFPE)
 C=tests/corpus/netcdf/var-type-string.nc
