@@ -119,30 +119,39 @@ static int ioapi_times(vsv_source *s, int nc, int tflag)
     return 0;
 }
 
-/* FILEDESC as one line into out: IOAPI writes it as up to 60 lines of 80
- * characters padded with blanks (4800 in all); each non-blank line
- * trimmed, joined by "; ", control bytes and non-ASCII as blanks. */
+/* FILEDESC as one line into out: IOAPI writes it as 60 lines of 80
+ * characters padded with blanks (4800 in all), each non-blank line
+ * trimmed and joined by "; " up to the first that does not fit; text of
+ * another length is one line, trimmed. Control bytes and non-ASCII are
+ * blanks. */
 static void file_description(int nc, char *out, size_t cap)
 {
     size_t len, n = 0;
     out[0] = 0;
     char *fd = NULL;
-    if (nc_inq_attlen(nc, NC_GLOBAL, "FILEDESC", &len) != NC_NOERR || len > 65536 || !(fd = malloc(len + 1)) ||
-        nc_get_att_text(nc, NC_GLOBAL, "FILEDESC", fd) != NC_NOERR) {
+    if (nc_inq_attlen(nc, NC_GLOBAL, "FILEDESC", &len) != NC_NOERR || len > ((size_t)1 << 20) ||
+        !(fd = malloc(len + 1)) || nc_get_att_text(nc, NC_GLOBAL, "FILEDESC", fd) != NC_NOERR) {
         free(fd);
         return;
     }
     fd[len] = 0;
-    for (size_t at = 0; at < len; at += 80) { /* a line: 80 characters, or up to the end */
-        size_t a = at, b = at + 80 < len ? at + 80 : len;
+    const size_t width = len % 80 ? len : 80; /* a line */
+    for (size_t at = 0; at < len; at += width) {
+        size_t a = at, b = at + width < len ? at + width : len;
         for (size_t i = a; i < b; i++)
             fd[i] = fd[i] > 0x20 && fd[i] < 0x7f ? fd[i] : ' ';
         while (a < b && fd[a] == ' ')
             a++;
         while (b > a && fd[b - 1] == ' ')
             b--;
-        if (b > a && n + 2 + (b - a) < cap)
-            n += (size_t)snprintf(out + n, cap - n, "%s%.*s", n ? "; " : "", (int)(b - a), fd + a);
+        if (b == a)
+            continue;
+        if (n + 2 + (b - a) >= cap) { /* the first line cut to fit; no later one */
+            if (!n)
+                snprintf(out, cap, "%.*s", (int)(b - a), fd + a);
+            break;
+        }
+        n += (size_t)snprintf(out + n, cap - n, "%s%.*s", n ? "; " : "", (int)(b - a), fd + a);
     }
     free(fd);
 }

@@ -141,6 +141,18 @@ static int drop_vectors(const vsv_meta *m, const char *path, int *sel, int n)
     return kept;
 }
 
+/* Each output named as the kind of file its option writes (misuse
+ * otherwise: vsv_cli_output_kind). */
+static void output_kinds(const char *vdb, const char *nc, const char *const iso[3])
+{
+    const char *const name[4] = {vdb, nc, iso[1], iso[2]}, *const opt[4] = {"--vdb", "--netcdf", "--ply", "--gltf"},
+                      *const ext[4] = {".vdb", ".nc .nc4", ".ply", ".gltf"},
+                      *const what[4] = {"OpenVDB (.vdb)", "netCDF-4 (.nc)", "PLY (.ply)", "glTF 2.0 (.gltf)"};
+    for (int i = 0; i < 4; i++)
+        if (name[i])
+            vsv_cli_output_kind(opt[i], name[i], ext[i], what[i]);
+}
+
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-export");
@@ -173,14 +185,7 @@ int main(int argc, char **argv)
         default: vsv_cli_getopt_failed();
         }
     }
-    for (int i = 1; i < 3; i++)
-        if (iso[i])
-            vsv_cli_output_kind(i == 1 ? "--ply" : "--gltf", iso[i], i == 1 ? ".ply" : ".gltf",
-                                i == 1 ? "PLY (.ply)" : "glTF 2.0 (.gltf)");
-    if (out)
-        vsv_cli_output_kind("--vdb", out, ".vdb", "OpenVDB (.vdb)");
-    if (ncout)
-        vsv_cli_output_kind("--netcdf", ncout, ".nc .nc4", "netCDF-4 (.nc)");
+    output_kinds(out, ncout, iso);
     if (iso[0] || iso[1] || iso[2])
         return export_iso(argc, argv, iso, out || ncout || times || species, time);
     if (!out == !ncout)

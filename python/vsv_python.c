@@ -310,6 +310,10 @@ static PyObject *File_times(FileObject *self, void *unused)
     return (PyObject *)a;
 }
 
+/* One end of a species' range: a float, or None when the writer saw no
+ * finite value (a new reference). */
+static PyObject *range_end(int seen, double v) { return seen ? PyFloat_FromDouble(v) : (Py_INCREF(Py_None), Py_None); }
+
 static PyObject *File_species(FileObject *self, void *unused)
 {
     (void)unused;
@@ -323,10 +327,10 @@ static PyObject *File_species(FileObject *self, void *unused)
         const vsv_quant *q = vsv_file_quant(self->f, s);
         /* no finite value seen (every cell no data): None, not inf and -inf */
         const int seen = q->data_min <= q->data_max;
-        PyObject *o = Py_BuildValue("(sssdNNdiss)", m->vars[s].name, m->vars[s].units, m->vars[s].description,
-                                    q->max_abs_error, seen ? PyFloat_FromDouble(q->data_min) : Py_NewRef(Py_None),
-                                    seen ? PyFloat_FromDouble(q->data_max) : Py_NewRef(Py_None), q->threshold, q->bits,
-                                    q->scale == VSV_SCALE_LOG ? "log" : "linear", q->missing ? "nan" : "zero");
+        PyObject *o =
+            Py_BuildValue("(sssdNNdiss)", m->vars[s].name, m->vars[s].units, m->vars[s].description, q->max_abs_error,
+                          range_end(seen, q->data_min), range_end(seen, q->data_max), q->threshold, q->bits,
+                          q->scale == VSV_SCALE_LOG ? "log" : "linear", q->missing ? "nan" : "zero");
         if (!o) {
             Py_DECREF(l);
             return NULL;

@@ -427,7 +427,10 @@ static void make_layers(const render_args *ra, render_run *run)
                                 !strncmp(ra->changes[i].line, "scale", 5) ? "log" : ra->changes[i].line, path,
                                 ra->changes[i].species);
     char why[512];
-    if (species && vsv_species_parse(m, species, path, opac, why, sizeof why))
+    const int src = species ? vsv_species_parse(m, species, path, opac, why, sizeof why) : 0;
+    if (src == VSV_ENOMEM)
+        vsv_cli_die(1, "%s", why);
+    if (src)
         vsv_cli_usage_error("%s", why);
     int slice_var = -1;
     const char *slice_species = ra->slice_species;

@@ -346,11 +346,12 @@ static void fill_block(iso_job *J)
  * wound from the edge's own samples, never do. 0, or -1 out of memory. */
 static int agree_with_faces(iso_scratch *S, iso_brick *o)
 {
-    if (o->nv > S->fcap) {
-        float *f = realloc(S->fsum, (size_t)o->nv * 3 * sizeof *f);
+    if (o->nv > S->fcap) { /* grown by doubling, kept across bricks and steps */
+        const int want = o->nv > 2 * S->fcap ? o->nv : 2 * S->fcap;
+        float *f = realloc(S->fsum, (size_t)want * 3 * sizeof *f);
         if (!f)
             return -1;
-        S->fsum = f, S->fcap = o->nv;
+        S->fsum = f, S->fcap = want;
     }
     float *const sum = S->fsum, *const P = o->pos, *const N = o->nrm;
     memset(sum, 0, (size_t)o->nv * 3 * sizeof *sum);

@@ -505,10 +505,12 @@ typedef struct vsv_iso_spec {
  * VSV_EINVAL with the reason in msg (caller buffer of cap bytes; it names
  * the option and, for an unknown species, the file's). */
 int vsv_iso_parse(const vsv_meta *m, const char *arg, vsv_iso_spec *spec, char *msg, size_t cap);
-/* Parses --species NAME[:OPACITY],... against m's species: each named
- * species' opacity (a number >= 0; 1 without one) into opac (m->nvars
- * floats; the others untouched). 0, or VSV_EINVAL with the reason in msg
- * (an empty name, a species file lacks, one named twice, a bad opacity). */
+/* Parses --species NAME[:OPACITY],... against m's species (file: its name,
+ * for messages): each named species' opacity (a finite number >= 0; 1
+ * without one) into opac (caller array of m->nvars floats; the others
+ * untouched). 0, or VSV_EINVAL (an empty name, a species the file lacks,
+ * one named twice, a bad opacity) or VSV_ENOMEM with the reason in msg
+ * (caller buffer of cap bytes). */
 int vsv_species_parse(const vsv_meta *m, const char *list, const char *file, float *opac, char *msg, size_t cap);
 /* Whether spec's value lies inside the range its species spans in f (the
  * values seen and the range coded): 0, or VSV_ERANGE with the reason in

@@ -3,6 +3,7 @@
  * vsv-play-freevr). */
 #include "vsv_render.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,8 +31,8 @@ int vsv_species_parse(const vsv_meta *m, const char *list, const char *file, flo
         if (!*item) {
             snprintf(msg, cap, "--species %s: an empty species name", list);
             rc = VSV_EINVAL;
-        } else if (colon && (end == colon + 1 || *end || !(op >= 0) || op > 1e30)) {
-            snprintf(msg, cap, "--species %s: opacity must be a number >= 0", list);
+        } else if (colon && (end == colon + 1 || *end || !(op >= 0) || !isfinite(op))) {
+            snprintf(msg, cap, "--species %s: opacity must be a finite number >= 0", list);
             rc = VSV_EINVAL;
         } else if (s < 0) {
             snprintf(msg, cap, "--species: %s has no species '%s'", file, item);
