@@ -522,7 +522,7 @@ static int cf_open(vsv_source *s, int nc)
 {
     cf *c = calloc(1, sizeof *c);
     if (!c) {
-        nc_close(nc);
+        vsv_nc_close(nc);
         return VSV_ENOMEM;
     }
     s->priv = c;
@@ -582,7 +582,7 @@ static void cf_close(vsv_source *s)
     cf *c = s->priv;
     if (!c)
         return;
-    nc_close(c->nc);
+    vsv_nc_close(c->nc);
     free(c->varid);
     free(c->tmp);
     free(c);

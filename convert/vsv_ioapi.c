@@ -322,7 +322,7 @@ int vsv_ioapi_open(vsv_source *s, int nc)
 {
     ioapi *a = calloc(1, sizeof *a);
     if (!a) {
-        nc_close(nc);
+        vsv_nc_close(nc);
         return VSV_ENOMEM;
     }
     s->priv = a;
@@ -389,7 +389,7 @@ static void ioapi_close(vsv_source *s)
     ioapi *a = s->priv;
     if (!a)
         return;
-    nc_close(a->nc);
+    vsv_nc_close(a->nc);
     free(a->varid);
     free(a->zm);
     free(a->nat);

@@ -46,6 +46,14 @@ extern const vsv_source_ops vsv_ioapi_ops;
  * unless the variable has exactly that shape; the error names the variable
  * and both shapes. */
 int vsv_nc_read(vsv_source *s, int nc, int var, const char *name, int t, const size_t *shape, int n, float *out);
+/* The netCDF files the readers hold (vsv_nc_file.c): vsv_nc_open opens
+ * s->path with libnetcdf into *nc (0, or an error in s) and remembers its
+ * size; vsv_nc_cut(nc) is 1 when the file is shorter now than then (libnetcdf
+ * reads past the end as zeros: values read since are not the file's);
+ * vsv_nc_close closes it. */
+int vsv_nc_open(vsv_source *s, int *nc);
+int vsv_nc_cut(int nc);
+void vsv_nc_close(int nc);
 /* CF netCDF (convert/vsv_cf.c): 1 if the open file nc says Conventions
  * "CF-…"; the open of such a file (detected by vsv_netcdf_ops). */
 extern const vsv_source_ops vsv_cf_ops;

@@ -85,6 +85,8 @@ int vsv_nc_read(vsv_source *s, int nc, int var, const char *name, int t, const s
     for (int d = 0; d < n; d++)
         count[lead + d] = shape[d];
     const int rc = nc_get_vara_float(nc, var, start, count, out);
+    if (vsv_nc_cut(nc)) /* read as zeros, or failed, past the new end */
+        return vsv_source_fail(s, VSV_ETRUNC, "reading variable %s at time %d: %s", name, t, VSV_CUT_TEXT);
     if (rc)
         return vsv_source_fail(s, VSV_ECORRUPT, "reading variable %s at time %d: %s", name, t, nc_strerror(rc));
     return 0;
@@ -144,8 +146,8 @@ static int netcdf_open(vsv_source *s)
         return vsv_source_fail(s, VSV_ECORRUPT, "%s", msg);
     if (got == 8 && !memcmp(head, "\x89HDF\r\n\x1a\n", 8) && (rc = vsv_nc_guard(s, VSV_NC_GUARD_LIMIT)))
         return rc;
-    if ((rc = nc_open(s->path, NC_NOWRITE, &nc)))
-        return vsv_source_fail(s, VSV_ECORRUPT, "netCDF: %s (opening it)", nc_strerror(rc));
+    if ((rc = vsv_nc_open(s, &nc)))
+        return rc;
     int tv;
     if (has_att(nc, "MAP_PROJ") && nc_inq_varid(nc, "Times", &tv) == NC_NOERR)
         return wrf_open(s, nc);
@@ -158,7 +160,7 @@ static int netcdf_open(vsv_source *s)
         s->ops = &vsv_cf_ops;
         return vsv_cf_open(s, nc);
     }
-    nc_close(nc);
+    vsv_nc_close(nc);
     return vsv_source_fail(s, VSV_ENOTVSV,
                            "a netCDF file that is none of WRF output (MAP_PROJ, Times), IOAPI/CMAQ, CAMx netCDF or "
                            "CF-convention netCDF (Conventions \"CF-...\")");
@@ -532,7 +534,7 @@ static int wrf_open(vsv_source *s, int nc)
 {
     wrf *w = calloc(1, sizeof *w);
     if (!w) {
-        nc_close(nc);
+        vsv_nc_close(nc);
         return VSV_ENOMEM;
     }
     s->priv = w;
@@ -613,7 +615,7 @@ static void wrf_close(vsv_source *s)
     wrf *w = s->priv;
     if (!w)
         return;
-    nc_close(w->nc);
+    vsv_nc_close(w->nc);
     free(w->varid);
     free(w->stag);
     free(w->zw);

@@ -5,8 +5,9 @@
  * MM5 reader and the MM5 source past the cut (a SIGBUS the guard turns into
  * zeros), a small field in the rest of the page at the new end (zeros
  * without a signal: the file's size says so), the CAMx UAM-IV reader and a
- * CAMx met file (files under a page). No timing: each file is cut in
- * process, between the open and the read. */
+ * CAMx met file (files under a page); and the netCDF sources (WRF, IOAPI,
+ * CF; classic and netCDF-4), which libnetcdf reads. No timing: each file is
+ * cut in process, between the open and the read. */
 #include "vsv_convert.h"
 #include "vsv_mm5.h"
 #include "vsv_testlib.h"
@@ -91,31 +92,6 @@ done:
     vsv_mm5_free(m);
 }
 
-static void test_mm5_source(void)
-{
-    size_t size;
-    const char *path = copy_of(MM5, "src.mm5", &size);
-    if (!path)
-        return;
-    vsv_source_opts o;
-    vsv_source_opts_init(&o);
-    vsv_source *s = NULL;
-    float *vol = NULL;
-    if (!CHECK(vsv_source_open(path, &o, &s) == 0, "MM5 source: open", "%s", vsv_source_error(s)))
-        goto done;
-    const vsv_meta *g = vsv_source_grid(s);
-    vol = malloc((size_t)g->nx * g->ny * g->nz * sizeof *vol);
-    if (!CHECK(vol && truncate(path, (off_t)(size / 2)) == 0, "MM5 source: cut it in half"))
-        goto done;
-    const int rc = vsv_source_read(s, 0, vsv_source_ntimes(s) - 1, vol);
-    CHECK(rc == VSV_ETRUNC && says_cut(vsv_source_error(s), path),
-          "MM5 source: the last time past the cut is VSV_ETRUNC, \"PATH: truncated while reading\"", "rc %d: %s", rc,
-          vsv_source_error(s));
-done:
-    free(vol);
-    vsv_source_free(s);
-}
-
 static void test_uamiv(void)
 {
     size_t size;
@@ -159,12 +135,50 @@ done:
     vsv_camxmet_free(m);
 }
 
+/* A model source (src: a path from the checkout's root) opened, cut to
+ * 1/part of its size, then its first field's last time read: VSV_ETRUNC,
+ * "PATH: " then the truncation text, or (what non-NULL) "PATH: " what ...
+ * the truncation text. */
+static void test_source(const char *src, const char *name, int part, const char *what)
+{
+    size_t size;
+    const char *path = copy_of(src, name, &size);
+    if (!path)
+        return;
+    vsv_source_opts o;
+    vsv_source_opts_init(&o);
+    vsv_source *s = NULL;
+    float *vol = NULL;
+    if (!CHECK(vsv_source_open(path, &o, &s) == 0, "source: open", "%s: %s", name, vsv_source_error(s)))
+        goto done;
+    const vsv_meta *g = vsv_source_grid(s);
+    vol = malloc((size_t)g->nx * g->ny * g->nz * sizeof *vol);
+    if (!CHECK(vol && truncate(path, (off_t)(size / (size_t)part)) == 0, "source: cut it", "%s", name))
+        goto done;
+    const int rc = vsv_source_read(s, 0, vsv_source_ntimes(s) - 1, vol);
+    const char *e = vsv_source_error(s);
+    const size_t n = strlen(path), ne = strlen(e), nc = strlen(CUT);
+    const int ok = what ? !strncmp(e, path, n) && !strncmp(e + n, ": ", 2) && !strncmp(e + n + 2, what, strlen(what)) &&
+                              ne > nc && !strcmp(e + ne - nc, CUT)
+                        : says_cut(e, path);
+    CHECK(rc == VSV_ETRUNC && ok, "source: the last time after the cut is VSV_ETRUNC, named (netCDF: it was zeros)",
+          "%s: rc %d: %s", name, rc, e);
+done:
+    free(vol);
+    vsv_source_free(s);
+}
+
 int main(void)
 {
     test_mm5();
     test_mm5_page_tail();
-    test_mm5_source();
+    test_source(MM5, "src.mm5", 2, NULL);
     test_uamiv();
     test_camxmet();
+    /* libnetcdf: WRF, IOAPI and CF classic files, a netCDF-4 WRF file */
+    test_source("tests/corpus/netcdf/wrf-crop.nc", "cut-wrf.nc", 3, "reading variable ");
+    test_source("tests/corpus/netcdf/ioapi-cmaq.nc", "cut-ioapi.nc", 3, "reading variable ");
+    test_source("tests/corpus/netcdf/contour-crop.nc", "cut-cf.nc", 3, "reading variable ");
+    test_source(vsv_test_shared("wrf/katrina_ci_test_file.nc"), "cut-katrina.nc", 3, "reading variable ");
     return vsv_test_done();
 }
