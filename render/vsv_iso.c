@@ -34,7 +34,7 @@ typedef struct iso_scratch {
     float *val;      /* (B + 3)^3 samples: the brick's points and one more each way */
     uint32_t *stamp; /* (B + 1)^3 * 7 edges: which brick visit set the slot */
     uint32_t *slot;  /* vertex index of the edge's crossing */
-    float *fsum;     /* per vertex of the brick: its triangles' normals summed (agree_with_faces) */
+    double *fsum;    /* per vertex of the brick: its triangles' normals summed (agree_with_faces) */
     int fcap;
     uint32_t visit;
     int err;
@@ -200,6 +200,32 @@ static uint32_t add_vertex(iso_brick *o, const double p[3], const double n[3])
     return (uint32_t)o->nv++;
 }
 
+/* Where the surface crosses the edge from local point (a, b, c) in
+ * direction dir (corner bits): p, between the edge's ends p0 and p1, at
+ * the fraction returned. */
+static double edge_cut(const iso_job *J, int a, int b, int c, int dir, double p0[3], double p1[3], double p[3])
+{
+    const int a1 = a + (dir & 1), b1 = b + (dir >> 1 & 1), c1 = c + (dir >> 2 & 1);
+    const double f0 = sample(J, a, b, c), f1 = sample(J, a1, b1, c1);
+    const double t = (J->value - f0) / (f1 - f0);
+    point_pos(J, J->i0 + a, J->j0 + b, J->k0 + c, p0);
+    point_pos(J, J->i0 + a1, J->j0 + b1, J->k0 + c1, p1);
+    for (int x = 0; x < 3; x++)
+        p[x] = p0[x] + t * (p1[x] - p0[x]);
+    return t;
+}
+
+/* The slot of the edge from local point (a, b, c) in direction dir among
+ * the brick's edges (both ends among its points), or -1 when it is not
+ * one of them. */
+static ptrdiff_t edge_key(const iso_job *J, int a, int b, int c, int dir)
+{
+    const int a1 = a + (dir & 1), b1 = b + (dir >> 1 & 1), c1 = c + (dir >> 2 & 1);
+    if (a < 0 || b < 0 || c < 0 || a1 >= J->n[0] || b1 >= J->n[1] || c1 >= J->n[2])
+        return -1;
+    return (ptrdiff_t)(((size_t)a + (size_t)(J->n[0]) * ((size_t)b + (size_t)J->n[1] * c)) * 7 + (size_t)(dir - 1));
+}
+
 /* The vertex where the surface crosses the edge from local point (a, b, c)
  * in direction dir (corner bits), made once per brick: the same two
  * samples in the same order give the same position and normal in every
@@ -207,25 +233,20 @@ static uint32_t add_vertex(iso_brick *o, const double p[3], const double n[3])
 static uint32_t edge_vertex(iso_job *J, int a, int b, int c, int dir)
 {
     iso_scratch *S = J->scr;
-    const size_t key = ((size_t)a + (size_t)(J->n[0]) * ((size_t)b + (size_t)J->n[1] * c)) * 7 + (size_t)(dir - 1);
+    const size_t key = (size_t)edge_key(J, a, b, c, dir);
     if (S->stamp[key] == S->visit)
         return S->slot[key];
     const int a1 = a + (dir & 1), b1 = b + (dir >> 1 & 1), c1 = c + (dir >> 2 & 1);
-    const double f0 = sample(J, a, b, c), f1 = sample(J, a1, b1, c1);
-    const double t = (J->value - f0) / (f1 - f0);
     double p0[3], p1[3], g0[3], g1[3], p[3], n[3];
-    point_pos(J, J->i0 + a, J->j0 + b, J->k0 + c, p0);
-    point_pos(J, J->i0 + a1, J->j0 + b1, J->k0 + c1, p1);
+    const double t = edge_cut(J, a, b, c, dir, p0, p1, p);
     gradient(J, a, b, c, g0);
     gradient(J, a1, b1, c1, g1);
-    for (int x = 0; x < 3; x++) {
-        p[x] = p0[x] + t * (p1[x] - p0[x]);
+    for (int x = 0; x < 3; x++)
         n[x] = -(g0[x] + t * (g1[x] - g0[x])); /* down the gradient: out of the cloud */
-    }
     vsv_normalize(n);
     const double len = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
     if (!(len > 0.5)) { /* no gradient to go by: along the edge, toward the point below */
-        const double sg = f1 > f0 ? -1 : 1;
+        const double sg = sample(J, a1, b1, c1) > sample(J, a, b, c) ? -1 : 1;
         for (int x = 0; x < 3; x++)
             n[x] = sg * (p1[x] - p0[x]);
         vsv_normalize(n);
@@ -271,11 +292,51 @@ static int add_tri(iso_brick *o, uint32_t a, uint32_t b, uint32_t c, const doubl
     return 0;
 }
 
+/* A cube beside the brick's (a neighbour's, lower corner (a, b, c)) cut
+ * by one tetrahedron (ncut crossings on the edges ends, walking around;
+ * `in` a corner above): its triangles' normals, wound as add_tri winds
+ * them, added to sum for those of their corners the brick has as vertices
+ * (the edges on the faces it shares). */
+static void halo_tris(const iso_job *J, int a, int b, int c, const int ends[4][2], int ncut, const double in[3],
+                      double *sum)
+{
+    const iso_scratch *S = J->scr;
+    float P[4][3]; /* as the brick that makes the vertex stores it */
+    uint32_t id[4];
+    int any = 0;
+    for (int q = 0; q < ncut; q++) {
+        const int lo = ends[q][0] & ends[q][1], dir = (ends[q][0] | ends[q][1]) ^ lo;
+        const int la = a + (lo & 1), lb = b + (lo >> 1 & 1), lc = c + (lo >> 2 & 1);
+        double p0[3], p1[3], p[3];
+        edge_cut(J, la, lb, lc, dir, p0, p1, p);
+        for (int x = 0; x < 3; x++)
+            P[q][x] = (float)p[x];
+        const ptrdiff_t key = edge_key(J, la, lb, lc, dir);
+        id[q] = key >= 0 && S->stamp[key] == S->visit ? S->slot[key] : UINT32_MAX;
+        any |= id[q] != UINT32_MAX;
+    }
+    for (int t = 0; any && t < ncut - 2; t++) { /* (0, 1, 2), then (0, 2, 3) */
+        const int v1 = t + 1, v2 = t + 2;
+        double u[3], w[3], q[3];
+        for (int x = 0; x < 3; x++)
+            u[x] = (double)P[v1][x] - P[0][x], w[x] = (double)P[v2][x] - P[0][x], q[x] = in[x] - P[0][x];
+        double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
+        const double sg = n[0] * q[0] + n[1] * q[1] + n[2] * q[2] > 0 ? -1 : 1;
+        for (int k = 0; k < 3; k++) {
+            const uint32_t i = id[k ? t + k : 0];
+            for (int x = 0; i != UINT32_MAX && x < 3; x++)
+                sum[3 * i + x] += sg * n[x];
+        }
+    }
+}
+
 /* Marching tetrahedra over one cube (local lower corner (a, b, c)): per
  * tetrahedron, one corner apart from the others (above or below) cuts one
  * triangle, two and two a quad of two. A corner is above when its value is
- * greater than the surface's; NaN (no data) leaves the cube out. */
-static int cube(iso_job *J, int a, int b, int c)
+ * greater than the surface's; NaN (no data) leaves the cube out. With halo
+ * (a cube beside the brick's), no triangle is made: their normals are
+ * added to halo (halo_tris). */
+static inline __attribute__((always_inline)) int cube(iso_job *J, int a, int b, int c, double *halo)
 {
     float f[8];
     int above = 0, nan = 0;
@@ -310,14 +371,18 @@ static int cube(iso_job *J, int a, int b, int c)
             memcpy(ends, w, sizeof w);
             ncut = 4;
         }
+        double in[3];
+        const int u0 = up[0];
+        point_pos(J, J->i0 + a + (u0 & 1), J->j0 + b + (u0 >> 1 & 1), J->k0 + c + (u0 >> 2 & 1), in);
+        if (halo) {
+            halo_tris(J, a, b, c, (const int(*)[2])ends, ncut, in, halo);
+            continue;
+        }
         uint32_t e[4];
         for (int q = 0; q < ncut; q++) {
             const int lo = ends[q][0] & ends[q][1], hi = ends[q][0] | ends[q][1];
             e[q] = edge_vertex(J, a + (lo & 1), b + (lo >> 1 & 1), c + (lo >> 2 & 1), hi ^ lo);
         }
-        double in[3];
-        const int u0 = up[0];
-        point_pos(J, J->i0 + a + (u0 & 1), J->j0 + b + (u0 >> 1 & 1), J->k0 + c + (u0 >> 2 & 1), in);
         if (add_tri(J->out, e[0], e[1], e[2], in) || (ncut == 4 && add_tri(J->out, e[0], e[2], e[3], in)))
             return -1;
     }
@@ -338,22 +403,30 @@ static void fill_block(iso_job *J)
         }
 }
 
-/* Each vertex normal of brick o made to face as its triangles do: where
+/* Each vertex normal of the brick made to face as its triangles do: where
  * the gradient's points against the sum of its triangles' (area-weighted)
  * normals, that sum instead. Central differences reach a point beyond the
  * edge's two, so across a layer one or two cells thick (most clouds on a
  * model's levels) the gradient can point into the cloud: the triangles,
- * wound from the edge's own samples, never do. 0, or -1 out of memory. */
-static int agree_with_faces(iso_scratch *S, iso_brick *o)
+ * wound from the edge's own samples, never do. A vertex on a face the brick
+ * shares with another has triangles in both: the cubes beside the brick
+ * (the neighbours' along the faces it shares, whose points its sample
+ * block holds) add theirs, so both bricks give it one normal. 0, or -1 out
+ * of memory. */
+static int agree_with_faces(iso_job *J)
 {
+    iso_scratch *S = J->scr;
+    iso_brick *o = J->out;
     if (o->nv > S->fcap) { /* grown by doubling, kept across bricks and steps */
         const int want = o->nv > 2 * S->fcap ? o->nv : 2 * S->fcap;
-        float *f = realloc(S->fsum, (size_t)want * 3 * sizeof *f);
+        double *f = realloc(S->fsum, (size_t)want * 3 * sizeof *f);
         if (!f)
             return -1;
         S->fsum = f, S->fcap = want;
     }
-    float *const sum = S->fsum, *const P = o->pos, *const N = o->nrm;
+    double *const sum = S->fsum;
+    const float *const P = o->pos;
+    float *const N = o->nrm;
     memset(sum, 0, (size_t)o->nv * 3 * sizeof *sum);
     for (int t = 0; t < o->nt; t++) {
         const uint32_t *v = o->tri + 3 * t;
@@ -363,10 +436,23 @@ static int agree_with_faces(iso_scratch *S, iso_brick *o)
         const double n[3] = {u[1] * w[2] - u[2] * w[1], u[2] * w[0] - u[0] * w[2], u[0] * w[1] - u[1] * w[0]};
         for (int c = 0; c < 3; c++)
             for (int x = 0; x < 3; x++)
-                sum[3 * v[c] + x] += (float)n[x];
+                sum[3 * v[c] + x] += n[x];
     }
+    /* the cubes beside: one layer out on each side where the grid goes on */
+    const int g0[3] = {J->i0, J->j0, J->k0}, gn[3] = {J->v->nx, J->v->ny, J->v->nz};
+    int lo[3], hi[3];
+    for (int x = 0; x < 3; x++) {
+        lo[x] = g0[x] > 0 ? -1 : 0;
+        hi[x] = g0[x] + J->n[x] < gn[x] ? J->n[x] - 1 : J->n[x] - 2;
+    }
+    for (int c = lo[2]; o->nv && c <= hi[2]; c++)
+        for (int b = lo[1]; b <= hi[1]; b++)
+            for (int a = lo[0]; a <= hi[0]; a++)
+                if (a < 0 || b < 0 || c < 0 || a > J->n[0] - 2 || b > J->n[1] - 2 || c > J->n[2] - 2)
+                    cube(J, a, b, c, sum);
     for (int i = 0; i < o->nv; i++) {
-        float *const n = N + 3 * i, *const f = sum + 3 * i;
+        float *const n = N + 3 * i;
+        const double *const f = sum + 3 * i;
         if (n[0] * f[0] + n[1] * f[1] + n[2] * f[2] >= 0)
             continue;
         double d[3] = {f[0], f[1], f[2]};
@@ -401,12 +487,12 @@ static void brick_job(void *ctx, int item, int thread)
     for (int c = 0; c + 1 < J.n[2]; c++)
         for (int b = 0; b + 1 < J.n[1]; b++)
             for (int a = 0; a + 1 < J.n[0]; a++)
-                if (cube(&J, a, b, c)) {
+                if (cube(&J, a, b, c, NULL)) {
                     J.scr->err = 1;
                     J.out->done = 0;
                     return;
                 }
-    if (agree_with_faces(J.scr, J.out)) {
+    if (agree_with_faces(&J)) {
         J.scr->err = 1;
         J.out->done = 0;
     }

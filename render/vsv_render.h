@@ -454,9 +454,11 @@ double vsv_scene_default_exaggeration(const vsv_scene *sc);
  * are unit, down the field's gradient (central differences between
  * neighbouring points, in world units), as the lighting rule's; where that
  * points against the vertex's triangles (across a layer a cell or two
- * thick the differences reach past it), their summed normal instead. (At a
- * fold sharper than a right angle a triangle can still face away from one
- * of its corners' normals.) Bricks none of whose points straddle
+ * thick the differences reach past it), their summed normal instead: all
+ * of them, those of both bricks for a vertex on their common face, so the
+ * two bricks' copies of it have one normal. (At a fold sharper than a
+ * right angle a triangle can still face away from one of its corners'
+ * normals.) Bricks none of whose points straddle
  * VALUE (the volumes' bmin/bmax of the brick and the next one along each
  * axis) are skipped; a brick whose values and neighbours' are unchanged
  * since the last extraction of the same value (the volumes' brick keys, or

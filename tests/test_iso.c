@@ -376,6 +376,48 @@ done:
     vsv_meta_clear(&m);
 }
 
+/* A layer one cell thick that steps between levels 5 and 6 along lines
+ * across both faces between bricks: vertices on those faces where the
+ * gradient points into the layer and the surface bends there. */
+static double steps(const double *c, int i, int j, int k)
+{
+    (void)c;
+    return k == 5 + (i * 7 + j * 3) / 11 % 2 ? 1 : 0;
+}
+
+/* A vertex that two bricks both make (their common face) gets one normal:
+ * each brick's rule for normals sees the triangles of both (it saw its own
+ * alone: a shading seam where they differed), from the same float
+ * positions, far from the projection's origin as real grids are. */
+static void test_seams(double (*f)(const double *, int, int, int), const char *what)
+{
+    vsv_meta m;
+    grid(&m, 24, 22, 12, 1013.7, 250);
+    m.origin[0] = -1971620.3, m.origin[1] = 1821000.7; /* a float's step there: 0.125 m */
+    vsv_volume *v = make_volume(24, 22, 12, f, NULL);
+    vsv_iso *s = NULL;
+    if (!CHECK(vsv_iso_create(2, &s) == 0 && vsv_iso_extract(s, &m, v, 0.5f) == 0, "seams: extracted", "%s", what))
+        goto done;
+    mesh M = gather(s);
+    uint32_t *id = weld(&M);
+    size_t shared = 0, differ = 0;
+    for (size_t i = 0; i < M.nv; i++) {
+        if (id[i] == i)
+            continue;
+        const float *a = M.nrm + 3 * i, *b = M.nrm + 3 * id[i];
+        shared++;
+        differ += fabs(a[0] - b[0]) + fabs(a[1] - b[1]) + fabs(a[2] - b[2]) > 1e-5;
+    }
+    CHECK(shared > 50 && differ == 0, "seams: a vertex two bricks make has one normal", "%s: %zu shared, %zu differ",
+          what, shared, differ);
+    free(id);
+    mesh_free(&M);
+done:
+    vsv_iso_free(s);
+    free_volume(v);
+    vsv_meta_clear(&m);
+}
+
 /* Native levels with per-column heights 50 i + 10 j + 125 + 250 k and
  * f = k: VALUE 3.5 lies halfway between levels 3 and 4 in every column,
  * at 50 i + 10 j + 1000 m, wherever the vertex is. */
@@ -528,6 +570,8 @@ int main(void)
     test_sphere();
     test_plane();
     test_thin_layers();
+    test_seams(layers, "thin layers");
+    test_seams(steps, "a stepped layer");
     test_native();
     test_nothing();
     test_nodata();
