@@ -573,9 +573,20 @@ void vsv_sw_classify_slice(void *p, int j, int thread)
         slice_footprints(sw, k, thread);
 }
 
-/* Whether one of the four 16-bit lanes of w is 0 (the lanes are
- * extinctions: half floats >= 0, so no lane has its top bit set). */
-static inline int has_zero16(uint64_t w) { return ((w - 0x0001000100010001ull) & ~w & 0x8000800080008000ull) != 0; }
+/* Bit i set when cell i of the eight from e is not transparent (its
+ * extinction, a half float >= 0, above 0). */
+static inline unsigned seen8(const uint16_t *e)
+{
+#ifdef __SSE2__
+    const __m128i z = _mm_cmpeq_epi16(_mm_loadu_si128((const __m128i *)e), _mm_setzero_si128());
+    return ~(unsigned)_mm_movemask_epi8(_mm_packs_epi16(z, z)) & 0xffu;
+#else
+    unsigned m = 0;
+    for (int i = 0; i < 8; i++)
+        m |= (unsigned)(e[i] > 0) << i;
+    return m;
+#endif
+}
 
 /* The footprints of slice k's scanline pairs from its classified copy. */
 static void slice_footprints(vsv_sw *sw, int k, int thread)
@@ -612,7 +623,7 @@ static void slice_footprints(vsv_sw *sw, int k, int thread)
             const unsigned char *fb = sw->bnz + ((size_t)bno << (3 * nm)) + (size_t)((ib & m) >> 3) * (bs[b] >> 9) +
                                       (size_t)((k & m) >> 3) * (bs[c] >> 9);
             for (int s0 = ia0; s0 < end; s0 += 8) {
-                const int s1 = end - s0 < 8 ? end : s0 + 8;
+                const int n = end - s0 < 8 ? end - s0 : 8;
                 if (!fb[(size_t)((s0 & m) >> 3) * (bs[a] >> 9)]) {
                     if (open) {
                         iv[1 + cnt++] = (uint16_t)s0;
@@ -620,23 +631,20 @@ static void slice_footprints(vsv_sw *sw, int k, int thread)
                     }
                     continue;
                 }
-                if (s1 - s0 == 8) { /* all eight as the run so far: nothing to mark */
-                    uint64_t w[2];
-                    memcpy(w, ext + s0, sizeof w);
-                    if (open ? !has_zero16(w[0]) && !has_zero16(w[1]) : !(w[0] | w[1]))
-                        continue;
-                }
-                for (int ia = s0; ia < s1; ia++)
-                    if ((ext[ia] > 0) != open) {
-                        iv[1 + cnt++] = (uint16_t)ia;
-                        open = !open;
-                    }
+                /* a run starts or ends at each cell unlike the one before
+                 * (the eight read past the row's end are its padding) */
+                const unsigned in = (1u << n) - 1, seen = seen8(ext + s0) & in;
+                for (unsigned t = (seen ^ (seen << 1 | (unsigned)open)) & in; t; t &= t - 1)
+                    iv[1 + cnt++] = (uint16_t)(s0 + __builtin_ctz(t));
+                open = (int)(seen >> (n - 1) & 1);
             }
         }
         if (open)
             iv[1 + cnt++] = (uint16_t)na;
         iv[0] = (uint16_t)(cnt / 2);
-        fps[ib] = (vsv_sw_fp){at, (uint32_t)merge_footprints(runs[(ib + 1) & 1], iv, ivl + at)}; /* pair (ib - 1, ib) */
+        const uint16_t *prev = runs[(ib + 1) & 1];
+        fps[ib] = (vsv_sw_fp){at, prev[0] || cnt ? (uint32_t)merge_footprints(prev, iv, ivl + at)
+                                                 : 0}; /* pair (ib - 1, ib) */
         at += 2 * fps[ib].n;
     }
     fps[nb] = (vsv_sw_fp){at, (uint32_t)merge_footprints(runs[(nb + 1) & 1], NULL, ivl + at)}; /* pair (nb - 1, nb) */
