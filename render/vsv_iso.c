@@ -301,7 +301,9 @@ static void halo_tris(const iso_job *J, int a, int b, int c, const int ends[4][2
                       double *sum)
 {
     const iso_scratch *S = J->scr;
-    float P[4][3]; /* as the brick that makes the vertex stores it */
+    /* as the brick that makes the vertex stores it: floats (GCC 12.2 at -O2
+     * was seen to drop (float) rounding stored into a double array) */
+    float P[4][3];
     uint32_t id[4];
     int any = 0;
     for (int q = 0; q < ncut; q++) {
