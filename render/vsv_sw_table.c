@@ -41,13 +41,16 @@ void vsv_sw_table(const vsv_tf *tf, float o, uint64_t *t)
             for (int ch = 0; ch < 4; ch++)
                 c[ch] = a[ch] + (b[ch] - a[ch]) * f;
             const sw_v8f s = c[3] * o, sr = s * c[0], sg = s * c[1], sb = s * c[2]; /* in units of sigma_unit / scale */
-            const sw_v8i on = s > 0;
+            const sw_v8u on = (sw_v8u)(s > 0);
             sw_v8u r, g, bl, e;
             half8(&sr, &r), half8(&sg, &g), half8(&sb, &bl), half8(&s, &e);
+            /* entry k: red | green << 16 (rg[k]) | blue << 32 | extinction << 48 (be[k]) */
+            const sw_v8u rg = (r | g << 16) & on, be = (bl | e << 16) & on;
+            const sw_v8u lo = __builtin_shuffle(rg, be, (sw_v8u){0, 8, 1, 9, 2, 10, 3, 11});
+            const sw_v8u hi = __builtin_shuffle(rg, be, (sw_v8u){4, 12, 5, 13, 6, 14, 7, 15});
             uint64_t *const out = t + 1 + VSV_SW_SUB * x + 8 * half;
-            for (int k = 0; k < 8; k++)
-                out[k] =
-                    on[k] ? (uint64_t)r[k] | (uint64_t)g[k] << 16 | (uint64_t)bl[k] << 32 | (uint64_t)e[k] << 48 : 0;
+            memcpy(out, &lo, sizeof lo);
+            memcpy(out + 4, &hi, sizeof hi);
         }
     const float *a = tf->lut[VSV_TF_LUT - 1], s = a[3] * o; /* the last: the table's end */
     t[VSV_SW_NTAB - 1] = s > 0 ? (uint64_t)vsv_half(s * a[0]) | (uint64_t)vsv_half(s * a[1]) << 16 |
