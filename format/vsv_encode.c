@@ -151,12 +151,15 @@ int vsv_pack_plan_create(const vsv_meta *meta, const vsv_pack_opts *opts, const 
     p->quant = calloc((size_t)ns, sizeof *p->quant);
     if (!p->quant)
         return VSV_ENOMEM;
+    /* no data the grid can place: below the ground of even heights over a
+     * terrain (SPEC.md §4) */
+    const int placed = meta->vert_kind == VSV_VERT_EVEN && meta->terrain && !vsv_meta_above_ground(meta);
     for (int s = 0; s < ns; s++) {
         vsv_pack_var dflt;
         vsv_pack_var_init(&dflt);
         const vsv_pack_stats *st = &stats[s];
         vsv_quant_plan(&p->quant[s], p->opts.vars ? &p->opts.vars[s] : &dflt, st->min, st->max,
-                       st->minpos < INFINITY ? st->minpos : 0, st->nonfinite > 0);
+                       st->minpos < INFINITY ? st->minpos : 0, st->nonfinite > 0 ? (placed ? 1 : 2) : 0);
     }
     p->opts.vars = NULL;
     vsv_layout_init(&p->lay, meta->nx, meta->ny, meta->nz, p->opts.brick);

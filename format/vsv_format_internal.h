@@ -57,8 +57,11 @@ unsigned vsv_quant_code(const vsv_quant *q, float v);
 void vsv_quant_row(const vsv_quant *q, const float *src, size_t n, uint16_t *dst, unsigned *mn, unsigned *mx);
 /* All 2^bits decoded values, bit-identical to vsv_quant_value. */
 void vsv_quant_table(const vsv_quant *q, float *out);
-/* Fills q from per-species options and the observed finite range. */
-/* missing: the data had non-finite (no-data) values. */
+/* Fills q from per-species options and the observed finite range.
+ * missing: 0, the data had no non-finite (no-data) values; 1, it had, and
+ * the grid says where they may be (even heights over a terrain: cells
+ * below the ground read as no data whatever their code); 2, it had, and
+ * the codes alone must say so. */
 void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double dmax, double minpos, int missing);
 
 /* Fractional level *kf of height h in column (i, j) of m at `time`

@@ -29,8 +29,9 @@ void vsv_quant_plan(vsv_quant *q, const vsv_pack_var *opt, double dmin, double d
         q->hi = fixed ? opt->hi : (!none ? dmax : 2);
         q->threshold = isnan(opt->threshold) ? -INFINITY : opt->threshold;
         /* no-data cells of a field whose smallest value is 0 (a concentration)
-         * share code 0 with the zeros: both mean "nothing here" */
-        q->missing = missing != 0 && (q->lo != 0 || none);
+         * share code 0 with the zeros where the grid tells them apart (below
+         * the ground): both mean "nothing here"; elsewhere code 0 is no data */
+        q->missing = missing == 2 || (missing != 0 && (q->lo != 0 || none));
         const double step = (q->hi - q->lo) / (q->missing ? M - 1 : M);
         err = step / 2;
         if (q->threshold > q->lo && dmin < q->threshold && !q->missing)
