@@ -291,7 +291,8 @@ static int run_trajectories(const query_args *qa)
     const vsv_meta *m = vsv_file_meta(f);
     const int rc0 = vsv_traj_create(f, &tr);
     if (rc0 == VSV_ENOTFOUND)
-        vsv_cli_die(1, "%s: no wind stored (convert with --winds)", path);
+        vsv_cli_die(
+            1, "%s: no wind stored (convert from a file with U and V, without --no-winds, or with --winds FILE)", path);
     if (rc0)
         vsv_cli_die(1, "%s: %s", path, vsv_traj_error(tr));
     if (m->proj.kind == VSV_PROJ_NONE)

@@ -65,8 +65,10 @@ PyObject *vsv_py_trajectory(vsv_file *f, PyObject *args)
     if (!rc)
         rc = vsv_traj_run(t, seed, from, to, every, &p);
     if (rc) {
-        PyObject *e =
-            PyUnicode_FromString(rc == VSV_ENOTFOUND ? "no wind stored (convert with --winds)" : vsv_traj_error(t));
+        PyObject *e = PyUnicode_FromString(
+            rc == VSV_ENOTFOUND
+                ? "no wind stored (convert from a file with U and V, without --no-winds, or with --winds FILE)"
+                : vsv_traj_error(t));
         vsv_traj_free(t);
         return e;
     }

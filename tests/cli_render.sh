@@ -25,6 +25,7 @@ expect "--background with a negative exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -
 [ ! -e "$T/x.png" ] && pass "and no picture is written" || fail "and no picture is written" "$T/x.png is there"
 expect "--size 99999x5 exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --size 99999x5
 has "... naming the limits" "$T/err" "--size 99999x5: expected WxH, 1x1 to 16384x16384"
+expect "--size with text after WxH exits 2" 2 "$B/vsv-render" "$T/storm.vsv" -o "$T/x.png" --size 300x200junk
 has "--help states them" "$(sh -c "$B/vsv-render --help > $T/help; echo $T/help")" "image size (default 800x600; at most 16384x16384)"
 expect "--background 0,0,1 renders" 0 "$B/vsv-render" -q "$T/storm.vsv" -o "$T/bg.png" --background 0,0,1 --size 64x48
 # the default exaggeration of a grid one 20 m level tall (8320 by the rule): at most --exaggerate's 1000

@@ -61,7 +61,7 @@ has "... saying so" "$T/err" "--streamline go with --trajectory"
 
 # errors
 expect "a file without wind exits 1" 1 "$Q" "$T/nowind.vsv" --trajectory 40,-100,300
-has "naming what is missing" "$T/err" "nowind.vsv: no wind stored (convert with --winds)"
+has "naming what is missing" "$T/err" "nowind.vsv: no wind stored (convert from a file with U and V, without --no-winds, or with --winds FILE)"
 expect "a grid without a projection exits 1" 1 "$Q" "$T/flat.vsv" --trajectory 40,-100,300
 has "saying so" "$T/err" "the grid has no map projection"
 expect "--at on a grid without a projection exits 1" 1 "$Q" "$T/flat.vsv" --at 40,-100

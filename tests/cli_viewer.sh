@@ -32,6 +32,7 @@ expect "vsv-play --species with an unknown name exits 2 (misuse, as in vsv-rende
 has "and names the species" "$T/err" "'NOPE'"
 expect "vsv-play --species naming one twice exits 2" 2 "$B/vsv-play" "$T/crop.vsv" --species CLW:0.3,CLW
 has "and names it" "$T/err" "--species: 'CLW' named twice"
+expect "vsv-play --size with text after WxH exits 2" 2 "$B/vsv-play" "$T/crop.vsv" --size 300x200x
 printf '0.1 play\nsoon quit\n' > "$T/bad.script"
 expect "a script line without a time exits 1" 1 "$B/vsv-play" "$T/crop.vsv" --script "$T/bad.script"
 has "naming the line" "$T/err" "line 2"
