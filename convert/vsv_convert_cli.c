@@ -134,8 +134,10 @@ char *vsv_convert_vars(const char *vars, const char *const *derive, int nderive)
         vsv_cli_die(1, "out of memory");
     size_t n = 0;
     int first = 1;
-    for (const char *t = vars;; t++) { /* each name, empty ones too (the run says they are none) */
+    for (const char *t = vars;; t++) {
         const size_t len = strcspn(t, ",");
+        if (!len) /* "", ",", "CLW,": a list made wrong */
+            vsv_cli_usage_error("--vars '%s': an empty name", vars);
         int derived = 0;
         for (int i = 0; i < nderive && !derived; i++)
             derived = len && strcspn(derive[i], "=") == len && !strncmp(derive[i], t, len);
