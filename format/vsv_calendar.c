@@ -70,10 +70,15 @@ static int civil_fields(const char *s, int f[6])
     return 0;
 }
 
+static int month_days(int cal, int m);
+
 int vsv_time_parse(const char *s, int64_t *t)
 {
     int f[6];
     if (civil_fields(s, f))
+        return VSV_EINVAL;
+    const int y = f[0], leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
+    if (f[2] > month_days(VSV_CAL_STANDARD, f[1]) + (f[1] == 2 && leap)) /* 30 February */
         return VSV_EINVAL;
     *t = vsv_time_from_civil(f[0], f[1], f[2], f[3], f[4], f[5]);
     return 0;
@@ -155,8 +160,10 @@ void vsv_cal_format(int cal, int64_t t, char *buf, size_t cap)
 
 int vsv_cal_parse(int cal, const char *s, int64_t *t)
 {
+    if (cal == VSV_CAL_STANDARD)
+        return vsv_time_parse(s, t);
     int f[6];
-    if (civil_fields(s, f) || (cal != VSV_CAL_STANDARD && f[2] > month_days(cal, f[1])))
+    if (civil_fields(s, f) || f[2] > month_days(cal, f[1]))
         return VSV_EINVAL;
     *t = vsv_cal_from_civil(cal, f[0], f[1], f[2], f[3], f[4], f[5]);
     return 0;

@@ -35,6 +35,12 @@ static void test_basics(void)
     CHECK(!vsv_time_parse("1995-10-24T03:00:00Z", &p) && p == 814492800 + 3 * 3600, "ISO time parses");
     CHECK(!vsv_time_parse("1995-10-24_03:00", &p) && p == 814492800 + 3 * 3600, "MM5-style time parses");
     CHECK(vsv_time_parse("1995-13-24", &p) == VSV_EINVAL, "bad month rejected");
+    CHECK(vsv_time_parse("1995-02-30T00:00:00Z", &p) == VSV_EINVAL && vsv_time_parse("1995-04-31", &p) == VSV_EINVAL &&
+              vsv_time_parse("1995-02-29", &p) == VSV_EINVAL && vsv_time_parse("1900-02-29", &p) == VSV_EINVAL,
+          "a day past its month's end rejected (30 February, 31 April, 29 February of 1995 and 1900)");
+    CHECK(!vsv_time_parse("2000-02-29", &p) && p == 951782400 && !vsv_time_parse("1996-02-29T12:00", &p) &&
+              !vsv_time_parse("1995-12-31T24:00:00Z", &p) && p == 820454400,
+          "29 February of a leap year and the end of a year's last day parse");
     /* January and February belong to the year they are in (the algorithm
      * counts years from March) */
     vsv_time_format(vsv_time_from_civil(1996, 2, 29, 12, 0, 0), t, sizeof t);
@@ -42,6 +48,9 @@ static void test_basics(void)
     vsv_time_format(vsv_time_from_civil(2001, 1, 1, 0, 0, 0), t, sizeof t);
     CHECK(!strcmp(t, "2001-01-01T00:00:00Z"), "New Year's Day formats in its own year", "got %s", t);
     /* the other calendars: their own month lengths */
+    CHECK(vsv_cal_parse(VSV_CAL_STANDARD, "1995-02-30T00:00:00Z", &p) == VSV_EINVAL &&
+              !vsv_cal_parse(VSV_CAL_STANDARD, "1996-02-29", &p) && p == 825552000,
+          "standard calendar: 30 February refused, 29 February 1996 read");
     CHECK(!vsv_cal_parse(VSV_CAL_360_DAY, "2001-02-30", &p) &&
               vsv_cal_parse(VSV_CAL_360_DAY, "2001-02-31", &p) == VSV_EINVAL,
           "360_day: February 30 exists, February 31 does not");
