@@ -246,9 +246,9 @@ static int pattern_walk(const char *pattern, long n, char *out, size_t cap, int 
                 int width = 0;
                 while (*q >= '0' && *q <= '9' && width < 100)
                     width = width * 10 + (*q++ - '0');
-                if (*q != 'd' || width > 9 || (zero && !width) || ++*numbers > 1)
+                if (*q != 'd' || width > 9 || zero != (width > 0) || ++*numbers > 1) /* %d, %0Nd */
                     return -1;
-                snprintf(piece, sizeof piece, zero ? "%0*ld" : "%*ld", width, n);
+                snprintf(piece, sizeof piece, "%0*ld", width, n);
                 len = strlen(piece);
                 p = q;
             }

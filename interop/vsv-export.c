@@ -25,7 +25,7 @@ static const char usage[] =
     "named after it, in world units (projected metres, height above sea level;\n"
     "the grid's origin and spacing are the transform), only non-empty cells\n"
     "active, with units, model time (ISO 8601), source model and projection as\n"
-    "metadata. %04d (or another printf integer) numbers the files from 0; a name\n"
+    "metadata. %04d (or %d, %0Nd with N 1-9) numbers the files from 0; a name\n"
     "without one takes a single step.\n"
     "--netcdf writes every selected step into one CF-1.8 netCDF-4 file: the\n"
     "projection as a grid_mapping, 2-D lat/lon, heights, time in seconds since the\n"

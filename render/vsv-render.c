@@ -21,7 +21,7 @@ static const char usage[] =
     "       vsv-render FILE.vsv|URL --movie OUT.mp4 [--fps N] [OPTIONS]\n"
     "Render the species of a .vsv file over its terrain to PNG images, or to OpenEXR\n"
     "(RGBA half, premultiplied, plus a float Z depth channel), by raycasting.\n"
-    "With %04d (or another printf integer) in OUT, every selected step is rendered,\n"
+    "With %04d (or %d, %0Nd with N 1-9) in OUT, every selected step is rendered,\n"
     "numbered from 0.\n"
     "Reads .vsv files (vsv(5)) and transfer-function files (--tf); writes PNG,\n"
     "OpenEXR (.exr) and, through ffmpeg, movies (--movie: MP4/H.264, or H.264 in\n"

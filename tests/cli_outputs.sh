@@ -154,7 +154,7 @@ empty "SIGTERM there: no spool and no output left" "$T/spool"
 # an output name is never a printf format (issue 33): only %d / %0Nd (the
 # frame number, once) and %% (a percent sign); %s and %n crashed or wrote memory
 mkdir "$T/fmt"
-for o in '%s.png' '%n.png' '%d_%d.png' 'x%5.png' '%-4d.png'; do
+for o in '%s.png' '%n.png' '%d_%d.png' 'x%5.png' '%-4d.png' '%4d.png'; do
     expect "vsv-render -o '$o' exits 2" 2 "$B/vsv-render" -q "$T/a.vsv" --times 0:1 --size 32x24 -o "$T/fmt/$o"
 done
 has "... saying what a % may be" "$T/err" "a '%' in the name must be %d or %0Nd (the frame number, once) or %% (a percent sign)"
