@@ -276,6 +276,14 @@ int vsv_cli_pattern_name(const char *pattern, long n, char *out, size_t cap)
     return pattern_walk(pattern, n, out, cap, &numbers) ? -1 : 0;
 }
 
+void vsv_cli_size(const char *arg, const int min[2], const int max[2], int *w, int *h)
+{
+    int used = 0;
+    if (sscanf(arg, "%dx%d%n", w, h, &used) != 2 || arg[used] || *w < min[0] || *h < min[1] || *w > max[0] ||
+        *h > max[1])
+        vsv_cli_usage_error("--size %s: expected WxH, %dx%d to %dx%d", arg, min[0], min[1], max[0], max[1]);
+}
+
 int vsv_cli_double(const char *s, double *out)
 {
     char *end;

@@ -87,6 +87,9 @@ int vsv_cli_pattern(const char *pattern);
  * "%%" as "%") into out; 0, or -1 when it does not fit in cap or is no
  * such pattern. */
 int vsv_cli_pattern_name(const char *pattern, long n, char *out, size_t cap);
+/* --size WxH (arg) into *w, *h, each within [min, max] of its axis;
+ * exits 2 ("--size ARG: expected WxH, MINWxMINH to MAXWxMAXH") otherwise. */
+void vsv_cli_size(const char *arg, const int min[2], const int max[2], int *w, int *h);
 /* Parses an integer in [lo, hi]; 0 or -1. */
 int vsv_cli_int(const char *s, long lo, long hi, long *out);
 /* Parses a double; 0 or -1. */

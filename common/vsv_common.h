@@ -12,6 +12,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 #include <sys/types.h>
 
@@ -96,6 +97,10 @@ void vsv_buf_free(vsv_buf *b);
 const char *vsv_errno_text(int e);
 /* printf into a fixed message buffer. */
 void vsv_msg(char *buf, size_t cap, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+/* Writes s to fp as one CSV field (RFC 4180: quoted when it holds a comma,
+ * a double quote or a line break; vsv_csv.c). */
+void vsv_csv_field(FILE *fp, const char *s);
 /* "path: " followed by the formatted message: the shape of every error a
  * reader keeps for its file. */
 void vsv_vmsg_path(char *buf, size_t cap, const char *path, const char *fmt, va_list ap)

@@ -3,6 +3,7 @@
  * range of times or all, as an aligned table, CSV or JSON. The locating and
  * sampling live in the library (vsv_point_*, vsv_query_*). */
 #include "vsv_cli.h"
+#include "vsv_common.h"
 #include "vsv_traj.h"
 
 #include <getopt.h>
@@ -483,17 +484,19 @@ static void print_head(const query_args *qa, query_run *run)
         /* the header row */
         char hcol[64];
         snprintf(hcol, sizeof hcol, *run->hu ? "%s (%s)" : "%s%s", run->hname, run->hu);
-        if (fmt == FMT_CSV)
-            printf("time,i,j,k,lat,lon,%s", hcol);
-        else
+        if (fmt == FMT_CSV) {
+            fputs("time,i,j,k,lat,lon,", stdout);
+            vsv_csv_field(stdout, hcol);
+        } else
             printf("%-20s %5s %5s %4s %10s %11s %12s", "time", "i", "j", "k", "lat", "lon", hcol);
         for (int l = 0; l < n; l++) {
             char name[160];
             snprintf(name, sizeof name, "%s (%s)", m->vars[sel[l]].name, m->vars[sel[l]].units);
             width[l] = (int)strlen(name) > 13 ? (int)strlen(name) : 13;
-            if (fmt == FMT_CSV)
-                printf(",%s", name);
-            else
+            if (fmt == FMT_CSV) {
+                putchar(',');
+                vsv_csv_field(stdout, name);
+            } else
                 printf(" %*s", width[l], name);
         }
         putchar('\n');

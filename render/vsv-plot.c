@@ -169,10 +169,9 @@ static void check_args(plot_args *a)
         o->lat[0] = v[0], o->lon[0] = v[1];
         o->at_height = n == 3 ? v[2] : NAN;
     }
+    if (a->size)
+        vsv_cli_size(a->size, (const int[2]){200, 150}, (const int[2]){8192, 8192}, &o->size[0], &o->size[1]);
     int used = 0;
-    if (a->size && (sscanf(a->size, "%dx%d%n", &o->size[0], &o->size[1], &used) != 2 || a->size[used] ||
-                    o->size[0] < 200 || o->size[1] < 150 || o->size[0] > 8192 || o->size[1] > 8192))
-        vsv_cli_usage_error("--size %s: expected WxH, 200x150 to 8192x8192", a->size);
     if (a->range && (sscanf(a->range, "%lf:%lf%n", &o->lo, &o->hi, &used) != 2 || a->range[used] || !(o->lo < o->hi) ||
                      !isfinite(o->hi - o->lo)))
         vsv_cli_usage_error("--range %s: expected LO:HI with LO < HI", a->range);

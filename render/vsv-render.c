@@ -244,13 +244,9 @@ static int parse_args(int argc, char **argv, render_args *ra)
                 vsv_cli_usage_error("--view %s: plan, south, west or oblique", optarg);
             ra->dist = 0;
             break;
-        case O_SIZE: {
-            int used = 0;
-            if (sscanf(optarg, "%dx%d%n", &ra->width, &ra->height, &used) != 2 || optarg[used] || ra->width < 1 ||
-                ra->height < 1 || ra->width > 16384 || ra->height > 16384)
-                vsv_cli_usage_error("--size %s: expected WxH, 1x1 to 16384x16384", optarg);
+        case O_SIZE:
+            vsv_cli_size(optarg, (const int[2]){1, 1}, (const int[2]){16384, 16384}, &ra->width, &ra->height);
             break;
-        }
         case 'x':
             if (vsv_cli_double(optarg, &ra->exag) || !(ra->exag > 0) || ra->exag > VSV_MAX_EXAGGERATION)
                 vsv_cli_usage_error("--exaggerate %s: a number above 0 and at most %d", optarg, VSV_MAX_EXAGGERATION);

@@ -453,9 +453,14 @@ void vsv_plot_range(const vsv_plot *p, double *lo, double *hi)
 int vsv_plot_csv(const vsv_plot *p, FILE *fp)
 {
     const int sec = p->o.kind == VSV_PLOT_SECTION;
-    fprintf(fp, "time,%si,j,k,lat,lon,%s", sec ? "distance (km)," : "", p->hname);
-    for (int l = 0; l < p->o.nspecies; l++)
-        fprintf(fp, ",%s (%s)", p->names[l], p->units[l]);
+    fprintf(fp, "time,%si,j,k,lat,lon,", sec ? "distance (km)," : "");
+    vsv_csv_field(fp, p->hname);
+    for (int l = 0; l < p->o.nspecies; l++) {
+        char col[300];
+        snprintf(col, sizeof col, "%s (%s)", p->names[l], p->units[l]);
+        fputc(',', fp);
+        vsv_csv_field(fp, col);
+    }
     fputc('\n', fp);
     for (int r = 0; r < p->nrows; r++) {
         const plot_row *w = &p->rows[r];

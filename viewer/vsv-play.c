@@ -331,13 +331,7 @@ static int parse_args(int argc, char **argv, play_args *o)
                 vsv_cli_usage_error("--threads: 1..64");
             po.threads = (int)v;
             break;
-        case O_SIZE: {
-            int used = 0;
-            if (sscanf(optarg, "%dx%d%n", &width, &height, &used) != 2 || optarg[used] || width < 16 || height < 16 ||
-                width > 16384 || height > 16384)
-                vsv_cli_usage_error("--size %s: expected WxH, 16x16 to 16384x16384", optarg);
-            break;
-        }
+        case O_SIZE: vsv_cli_size(optarg, (const int[2]){16, 16}, (const int[2]){16384, 16384}, &width, &height); break;
         case O_SCALE:
             if (vsv_cli_double(optarg, &scale) || !(scale >= 0.05 && scale <= 4))
                 vsv_cli_usage_error("--render-scale: 0.05..4");
