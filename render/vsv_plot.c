@@ -269,8 +269,10 @@ static int value_range(vsv_plot *p, char *msg, size_t cap)
         vsv_msg(msg, cap, "no value above 0 to put on a log scale");
         return VSV_ERANGE;
     }
-    if (!(lo <= hi))
-        lo = 0, hi = 1; /* nothing but no data */
+    if (!(lo <= hi)) { /* nothing but no data: an empty panel, its scale made up */
+        vsv_msg(msg, cap, "nothing to plot: every value in view is no data (below the ground or outside the levels)");
+        return VSV_ERANGE;
+    }
     if (p->o.log) {
         lo = fmax(lo, hi * 1e-4);
         if (!(hi > lo))

@@ -17,6 +17,13 @@ export LSAN_OPTIONS
 
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
 P="$B/vsv-plot $T/s.vsv"
+# a section whose view is all below the ground: nothing to plot, said (it
+# drew an empty panel with a made-up 0 to 1 scale, exit 0)
+"$B/vsv-convert" -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/even.vsv"
+expect "a section all below the ground exits 1" 1 "$B/vsv-plot" "$T/even.vsv" --section 45,-118:47,-114 -s CLW \
+    --top 100 -o "$T/under.svg"
+has "... saying there is nothing to plot" "$T/err" "nothing to plot: every value in view is no data"
+[ ! -e "$T/under.svg" ] && pass "... and writes no plot" || fail "... and writes no plot" "$T/under.svg exists"
 # texts FILE.svg: what it says, into FILE.txt (class TAB text per line)
 texts() { $PY tests/svgtext.py "$1" > "${1%.svg}.txt" 2> "$T/svgerr" || fail "$1 is SVG" "$(cat "$T/svgerr")"; }
 # col FILE CLASS: the texts of that class, one a line
