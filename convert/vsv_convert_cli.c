@@ -129,14 +129,16 @@ char *vsv_convert_vars(const char *vars, const char *const *derive, int nderive)
 {
     if (!vars)
         return NULL;
+    if (!*vars && !nderive) /* "" asks for the derived variables alone */
+        vsv_cli_usage_error("--vars '': no variable (with --derive: the derived ones alone)");
     char *out = malloc(strlen(vars) + 1);
     if (!out)
         vsv_cli_die(1, "out of memory");
     size_t n = 0;
     int first = 1;
-    for (const char *t = vars;; t++) {
+    for (const char *t = vars; *vars; t++) {
         const size_t len = strcspn(t, ",");
-        if (!len) /* "", ",", "CLW,": a list made wrong */
+        if (!len) /* ",", "CLW,": a list made wrong */
             vsv_cli_usage_error("--vars '%s': an empty name", vars);
         int derived = 0;
         for (int i = 0; i < nderive && !derived; i++)

@@ -61,8 +61,8 @@ void vsv_convert_args_parse(vsv_convert_args *a, int argc, char **argv, const ch
 /* --vars LIST less the names its --derive SPECs give (NAME=... or a
  * built-in's own name): a derived variable is always written, and naming
  * it in --vars too asks for nothing more. A copy (caller frees with
- * free()); NULL when vars is NULL (exits 1 when out of memory, 2 when a
- * name in vars is empty). */
+ * free()); NULL when vars is NULL (exits 1 when out of memory; 2 when a
+ * name in vars is empty, or vars is "" without a derived variable). */
 char *vsv_convert_vars(const char *vars, const char *const *derive, int nderive);
 /* Adds each --derive of a to the run (exits 1 with the reason). */
 void vsv_convert_derive(const vsv_convert_args *a, vsv_run *run);
