@@ -17,6 +17,12 @@ export LSAN_OPTIONS
 
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/s.vsv"
 P="$B/vsv-plot $T/s.vsv"
+# a column name holding a comma or a quote (units from the file) is quoted
+# as RFC 4180 has it, as vsv-query --csv quotes it (cli_query.sh)
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -v CLW --no-winds --derive 'dbl=CLW*2:g,"kg"' -o "$T/odd.vsv"
+expect "--csv of a species whose units hold a comma and quotes" 0 "$B/vsv-plot" "$T/odd.vsv" --profile 46,-116 \
+    -s dbl -t 0 -o "$T/odd.svg" --csv "$T/odd.csv"
+has "... quotes that column" "$T/odd.csv" ',"dbl (g,""kg"")"'
 # a section whose view is all below the ground: nothing to plot, said (it
 # drew an empty panel with a made-up 0 to 1 scale, exit 0)
 "$B/vsv-convert" -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/even.vsv"
