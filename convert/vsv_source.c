@@ -127,6 +127,9 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
                 vsv_source_fail(s, rc, "%s opening it (%s)", vsv_strerror(rc), readers[i]->name);
             return rc;
         }
+    if (vsv_head_is_vsv(head, n))
+        return vsv_source_fail(s, VSV_ENOTVSV,
+                               "a .vsv file already, not model output (vsv-info, vsv-query and vsv-play read it)");
     char more[256] = "";
     for (int i = BUILTIN; i < nreaders; i++)
         snprintf(more + strlen(more), sizeof more - strlen(more), ", %s", readers[i]->name);

@@ -428,6 +428,9 @@ typedef struct vsv_file_counts {
                          * counted above); vsv_file_error names the first */
 } vsv_file_counts;
 
+/* 1 when the n bytes at head begin as a .vsv file does (its magic), else
+ * 0: for tools that read other formats to say what a .vsv given them is. */
+int vsv_head_is_vsv(const void *head, size_t n);
 /* Maps `path` and validates header, metadata, table of contents and end
  * marker (cost independent of the amount of brick data). Caller frees with
  * vsv_file_free. On failure *out may hold a handle whose error says why

@@ -60,6 +60,8 @@ int vsv_all_zero(const unsigned char *p, size_t n, size_t *first)
     return 1;
 }
 
+int vsv_head_is_vsv(const void *head, size_t n) { return n >= 8 && !memcmp(head, VSV_MAGIC, 8); }
+
 static int parse(vsv_file *f)
 {
     const unsigned char *d = f->data;
@@ -68,7 +70,7 @@ static int parse(vsv_file *f)
     int rc = vsv_file_need(f, 0, n < VSV_HEADER_SIZE ? n : VSV_HEADER_SIZE, 65536, f->err, sizeof f->err);
     if (rc)
         return rc;
-    if (n < 8 || memcmp(d, VSV_MAGIC, 8))
+    if (!vsv_head_is_vsv(d, n))
         return vsv_file_fail(f, VSV_ENOTVSV, "not a .vsv file (no .vsv magic at byte 0)");
     if (n < VSV_HEADER_SIZE)
         return vsv_file_fail(f, VSV_ETRUNC, "truncated: %zu bytes, shorter than the %d-byte header", n,

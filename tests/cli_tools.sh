@@ -449,6 +449,9 @@ echo "just some text" > "$T/text.vsv"
 expect "vsv-info on a text file exits 1" 1 "$B/vsv-info" "$T/text.vsv"
 has "text file is not a .vsv file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv file"
 has "... nor a model file" "$T/err" "vsv-info: $T/text.vsv: not a .vsv file; not an MM5 v3 file, nor another format Vesuvius reads"
+expect "vsv-convert given a .vsv file exits 1" 1 "$B/vsv-convert" -q "$T/a.vsv" -o "$T/again.vsv"
+has "... saying it is a .vsv already" "$T/err" "vsv-convert: $T/a.vsv: a .vsv file already, not model output"
+[ ! -e "$T/again.vsv" ] && pass "... writing nothing" || fail "... writing nothing" "again.vsv exists"
 expect "vsv-info -f of a field a model file lacks exits 2" 2 "$B/vsv-info" -f nope samples/mm5/MMOUT_DOMAIN1_CROP
 has "... saying so" "$T/err" "vsv-info: -f nope: no such field"
 expect "vsv-info -f on a model file: grid, times and fields" 0 "$B/vsv-info" -f grid.nz -f times.3 -f fields.4.name \
