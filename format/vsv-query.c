@@ -491,7 +491,8 @@ static void print_head(const query_args *qa, query_run *run)
             printf("%-20s %5s %5s %4s %10s %11s %12s", "time", "i", "j", "k", "lat", "lon", hcol);
         for (int l = 0; l < n; l++) {
             char name[160];
-            snprintf(name, sizeof name, "%s (%s)", m->vars[sel[l]].name, m->vars[sel[l]].units);
+            const vsv_var *v = &m->vars[sel[l]];
+            snprintf(name, sizeof name, *v->units ? "%s (%s)" : "%s%s", v->name, v->units);
             width[l] = (int)strlen(name) > 13 ? (int)strlen(name) : 13;
             if (fmt == FMT_CSV) {
                 putchar(',');

@@ -459,7 +459,7 @@ int vsv_plot_csv(const vsv_plot *p, FILE *fp)
     vsv_csv_field(fp, p->hname);
     for (int l = 0; l < p->o.nspecies; l++) {
         char col[300];
-        snprintf(col, sizeof col, "%s (%s)", p->names[l], p->units[l]);
+        snprintf(col, sizeof col, *p->units[l] ? "%s (%s)" : "%s%s", p->names[l], p->units[l]);
         fputc(',', fp);
         vsv_csv_field(fp, col);
     }

@@ -23,6 +23,11 @@ P="$B/vsv-plot $T/s.vsv"
 expect "--csv of a species whose units hold a comma and quotes" 0 "$B/vsv-plot" "$T/odd.vsv" --profile 46,-116 \
     -s dbl -t 0 -o "$T/odd.svg" --csv "$T/odd.csv"
 has "... quotes that column" "$T/odd.csv" ',"dbl (g,""kg"")"'
+# a species without units: its bare name (it was "bare ()")
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -v CLW --no-winds --derive 'bare=CLW*2' -o "$T/bare.vsv"
+expect "--csv of a species without units" 0 "$B/vsv-plot" "$T/bare.vsv" --profile 46,-116 -s bare -t 0 \
+    -o "$T/bare.svg" --csv "$T/bare.csv"
+if head -n 1 "$T/bare.csv" | grep -q ',bare$'; then pass "... names its column bare"; else fail "... names its column bare" "$(head -n 1 "$T/bare.csv")"; fi
 # a section whose view is all below the ground: nothing to plot, said (it
 # drew an empty panel with a made-up 0 to 1 scale, exit 0)
 "$B/vsv-convert" -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/even.vsv"

@@ -38,6 +38,12 @@ expect "a damaged .vsv exits 1" 1 "$Q" tests/golden/bad/payload.vsv --cell 0,0
 expect "a series at 46N 116W, 3000 m" 0 "$Q" "$T/crop.vsv" --at 46,-116,3000 -s CLW,SNOW --csv
 cp "$T/out" "$T/series.csv"
 has "a header with units" "$T/series.csv" "time,i,j,k,lat,lon,height (m),CLW (kg/kg),SNOW (kg/kg)"
+# a species without units is its bare name (it was "bare ()")
+"$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -v CLW --no-winds --derive 'bare=CLW*2' -o "$T/bare.vsv"
+expect "a species without units, --csv" 0 "$Q" "$T/bare.vsv" --cell 1,1,1 -t 0 --csv
+if head -n 1 "$T/out" | grep -q ',CLW (kg/kg),bare$'; then pass "... its column the bare name"; else fail "... its column the bare name" "$(head -n 1 "$T/out")"; fi
+expect "... and as a table" 0 "$Q" "$T/bare.vsv" --cell 1,1,1 -t 0
+if grep -qF "()" "$T/out"; then fail "... no empty units" "$(head -1 "$T/out")"; else pass "... no empty units"; fi
 # a column name holding a comma or a quote (units from the file) is quoted
 # as RFC 4180 has it (vsv-plot's CSV: cli_plot.sh)
 "$B/vsv-convert" -q samples/mm5/MMOUT_DOMAIN1_CROP -v CLW --no-winds --derive 'dbl=CLW*2:g,"kg"' -o "$T/odd.vsv"
