@@ -694,7 +694,8 @@ int vsv_query_cell(vsv_query *q, int step, int s, int i, int j, int k, float *v)
 /* The value at fractional cell coordinates pos: VSV_INTERP_NEAREST takes the
  * nearest cell; VSV_INTERP_LINEAR blends the eight around pos trilinearly
  * (clamped to the edge cells, but x round a global longitude-latitude grid;
- * NaN when a cell with weight is NaN, i.e. no data). */
+ * cells without data, NaN, left out and the others' weights scaled to sum
+ * to 1; NaN when the nearest cell is). */
 enum { VSV_INTERP_NEAREST = 0, VSV_INTERP_LINEAR = 1 };
 int vsv_query_sample(vsv_query *q, int step, int s, const double pos[3], int interp, float *v);
 

@@ -344,7 +344,12 @@ int vsv_query_sample(vsv_query *q, int step, int s, const double pos[3], int int
         hi[a] = wrap ? (lo[a] + 1) % n[a] : lo[a] + 1 < n[a] ? lo[a] + 1 : lo[a];
         w[a] = p - lo[a];
     }
-    double sum = 0;
+    /* the cells without data (under the ground, or none in the file) are
+     * left out and the others' weights taken as the whole; no data when
+     * the nearest cell (the corner of weight 1/2 or more on every axis, as
+     * lround rounds) has none */
+    const int nearest = (w[0] >= 0.5) | (w[1] >= 0.5) << 1 | (w[2] >= 0.5) << 2;
+    double sum = 0, wsum = 0;
     for (int c = 0; c < 8; c++) {
         const double wx = c & 1 ? w[0] : 1 - w[0], wy = c & 2 ? w[1] : 1 - w[1], wz = c & 4 ? w[2] : 1 - w[2];
         const double wt = wx * wy * wz;
@@ -354,8 +359,14 @@ int vsv_query_sample(vsv_query *q, int step, int s, const double pos[3], int int
         int rc = vsv_query_cell(q, step, s, c & 1 ? hi[0] : lo[0], c & 2 ? hi[1] : lo[1], c & 4 ? hi[2] : lo[2], &cv);
         if (rc)
             return rc;
+        if (cv != cv) {
+            if (c == nearest)
+                return *v = NAN, 0;
+            continue;
+        }
         sum += wt * cv;
+        wsum += wt;
     }
-    *v = (float)sum;
+    *v = (float)(sum / wsum);
     return 0;
 }

@@ -366,8 +366,23 @@ static void test_nodata(void)
           got);
     got = 0;
     rc = vsv_query_sample(q, 0, 0, half, VSV_INTERP_LINEAR, &got);
-    CHECK(rc == 0 && isnan(got), "trilinear at 2.5,2,1 (half its weight on the NaN cell) is NaN", "rc %d: %.9g", rc,
-          got);
+    CHECK(rc == 0 && isnan(got), "trilinear at 2.5,2,1 (the NaN cell nearest, as lround has it) is NaN", "rc %d: %.9g",
+          rc, got);
+    /* nearer cell 2,2,1 than the NaN cell: the cells with data, weighted
+     * anew (it was NaN: a profile near the ground lost its lowest levels) */
+    const double near_left[3] = {2.3, 2, 1}, near_four[3] = {2.3, 2.4, 1};
+    got = 0;
+    rc = vsv_query_sample(q, 0, 0, near_left, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && got == left, "trilinear at 2.3,2,1 (nearest 2,2,1, 0.3 on the NaN cell) is cell 2,2,1's value",
+          "rc %d: %.9g, want %.9g", rc, got, left);
+    float diag = 0;
+    vsv_query_cell(q, 0, 0, 3, 3, 1, &diag);
+    const float want4 = (float)((0.7 * 0.6 * left + 0.7 * 0.4 * up + 0.3 * 0.4 * diag) / (1 - 0.3 * 0.6));
+    got = 0;
+    rc = vsv_query_sample(q, 0, 0, near_four, VSV_INTERP_LINEAR, &got);
+    CHECK(rc == 0 && fabsf(got - want4) < 1e-5f * fabsf(want4),
+          "trilinear at 2.3,2.4,1 blends the three cells with data, weights scaled to 1", "rc %d: %.9g, want %.9g", rc,
+          got, want4);
     /* outside the grid: clamped to the edge cells */
     float corner = 0, far = 0;
     vsv_query_cell(q, 0, 0, 0, 2, 1, &corner);

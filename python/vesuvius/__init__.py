@@ -160,7 +160,9 @@ class File:
         """The values of every species at a point, every step: lat/lon (degrees) and an
         optional height (metres; None = the lowest level above the ground), or
         cell=(i, j[, k]). interp=True blends the eight cells around the point
-        trilinearly; the default is the nearest cell's decoded value. Returns a Point
+        trilinearly (cells without data left out, the others' weights scaled to one;
+        NaN where the nearest cell has none); the default is the nearest cell's
+        decoded value. Returns a Point
         (its cell, lat, lon and height those of the first step; on native levels with
         per-column heights a height's level is found again at every step)."""
         if cell is not None:
