@@ -5,7 +5,10 @@
  * the record layout (record sizes, records per time stamp, the cloud file's
  * label), humidity and diffusivity (the same layout) from the file name.
  * Every record is indexed at open: a file that does not fit the grid, the
- * layer count or the hours is refused there, naming what differs. */
+ * layer count or the hours is refused there, naming what differs. A met
+ * file may hold more layers than the average file (CAMx writes the lowest
+ * layers only, the surface one by default, when 3-D output is off): its
+ * lowest nz are read. */
 #include "vsv_f77.h"
 #include "vsv_uamiv.h"
 
@@ -25,6 +28,7 @@ struct vsv_camxmet {
     size_t n;
     vsv_mapped map;
     int le, kind, nx, ny, nz, nhours, per_hour, nfields, stagger;
+    int mz;        /* the file's own layers: nz or more */
     size_t *rec;   /* payload offset of every record */
     uint32_t *len; /* and its length */
     int nrec;
@@ -86,31 +90,51 @@ static void stamp(const vsv_camxmet *m, int r, float *hhmm, int *date)
 
 static int same_stamp(const vsv_camxmet *m, int a, int b) { return !memcmp(m->d + m->rec[a], m->d + m->rec[b], 8); }
 
-/* Which kind a file of stamped plane records is, from its records per hour. */
+/* 1 when every value of the first hour's records (per of them) could be a
+ * temperature (150 to 350 K): a temperature file with more layers than the
+ * average file is told from a humidity or diffusivity one so. */
+static int temperatures(const vsv_camxmet *m, int per)
+{
+    for (int r = 0; r < per; r++)
+        for (uint32_t i = 8; i + 4 <= m->len[r]; i += 4) {
+            const float v = vsv_f77_f32(m->le, m->d + m->rec[r] + i);
+            if (!(v >= 150 && v <= 350))
+                return 0;
+        }
+    return 1;
+}
+
+/* Which kind a file of stamped plane records is, from its records per hour:
+ * the layouts of the average file's nz layers first, then of more layers
+ * (m->mz), a temperature file told from a height/pressure one by its
+ * values, humidity and diffusivity (one layout) by the file name. */
 static int stamped_kind(vsv_camxmet *m, int per_hour, const char *base, const char *main_name)
 {
     const int nz = m->nz;
-    if (per_hour == 2 * nz) {
-        /* odd records are pressures (mb), falling with height */
-        const float p0 = vsv_f77_f32(m->le, m->d + m->rec[1] + 8);
-        if (p0 > 1 && p0 < 1100)
-            return VSV_MET_ZP;
-    }
+    /* odd records are pressures (mb), falling with height */
+    const float p0 = vsv_f77_f32(m->le, m->d + m->rec[1] + 8);
+    const int zp = per_hour % 2 == 0 && p0 > 1 && p0 < 1100;
+    const int named = strcasestr(base, "hum") || strcasestr(base, "qv") || strcasestr(base, "h2o") ? VSV_MET_HUMID
+                      : strcasestr(base, "diff") || strcasestr(base, "kv")                         ? VSV_MET_KV
+                                                                                                   : -1;
+    if (per_hour == 2 * nz && zp)
+        return VSV_MET_ZP;
     if (per_hour == nz + 1)
         return VSV_MET_TEMP;
-    if (per_hour == nz) {
-        if (strcasestr(base, "hum") || strcasestr(base, "qv") || strcasestr(base, "h2o"))
-            return VSV_MET_HUMID;
-        if (strcasestr(base, "diff") || strcasestr(base, "kv"))
-            return VSV_MET_KV;
+    if (per_hour >= nz && named >= 0)
+        return m->mz = per_hour, named;
+    if (per_hour > nz + 1 && temperatures(m, per_hour))
+        return m->mz = per_hour - 1, VSV_MET_TEMP;
+    if (per_hour > 2 * nz && zp)
+        return m->mz = per_hour / 2, VSV_MET_ZP;
+    if (per_hour == nz || (per_hour > nz && !zp))
         return mfail(m, VSV_EUNSUPPORTED,
                      "%d plane records an hour: humidity or vertical diffusivity, which share one layout; name it "
                      "with 'humid' or 'kv' in the file name",
                      per_hour);
-    }
     return mfail(m, VSV_EINVAL,
                  "%d plane records an hour, which fits no CAMx met file of the %d layer%s of %s (height/pressure "
-                 "needs %d, temperature %d, humidity and diffusivity %d): a different layer count",
+                 "needs %d, temperature %d, humidity and diffusivity %d, or more): fewer layers",
                  per_hour, nz, nz == 1 ? "" : "s", main_name, 2 * nz, nz + 1, nz);
 }
 
@@ -120,7 +144,7 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
     if (!m)
         return VSV_ENOMEM;
     snprintf(m->path, sizeof m->path, "%s", path);
-    m->nx = nx, m->ny = ny, m->nz = nz, m->kind = -1;
+    m->nx = nx, m->ny = ny, m->nz = m->mz = nz, m->kind = -1;
     char why[160];
     const int mapped = vsv_input_map(path, 12, &m->map, why, sizeof why);
     m->d = m->map.data;
@@ -162,16 +186,17 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
         const int cx = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 20),
                   cy = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 24),
                   cz = (int)vsv_f77_u32(m->le, m->d + m->rec[0] + 28);
-        if (cx != nx || cy != ny || cz != nz)
-            return mfail(m, VSV_EINVAL, "cloud/rain grid %d x %d x %d, %s is %d x %d x %d", cx, cy, cz, main_name, nx,
-                         ny, nz);
+        if (cx != nx || cy != ny || cz < nz)
+            return mfail(m, VSV_EINVAL, "cloud/rain grid %d x %d x %d, %s is %d x %d x %d%s", cx, cy, cz, main_name, nx,
+                         ny, nz, cx == nx && cy == ny ? " (a met file may have more layers, not fewer)" : "");
+        m->mz = cz;
         int r = 2;
         while (r < m->nrec && m->len[r] != 8)
             r++;
         m->per_hour = r - 1;
-        if (m->nrec < 2 || m->len[1] != 8 || (m->per_hour - 1) % nz || m->per_hour - 1 < nz)
-            return mfail(m, VSV_ECORRUPT, "cloud/rain records do not repeat per hour as 1 + %d layers x fields", nz);
-        m->nfields = (m->per_hour - 1) / nz;
+        if (m->nrec < 2 || m->len[1] != 8 || (m->per_hour - 1) % cz || m->per_hour - 1 < cz)
+            return mfail(m, VSV_ECORRUPT, "cloud/rain records do not repeat per hour as 1 + %d layers x fields", cz);
+        m->nfields = (m->per_hour - 1) / cz;
         if (m->nfields > 6)
             return mfail(m, VSV_EUNSUPPORTED, "cloud/rain: %d fields per layer (at most 6 known)", m->nfields);
         m->nhours = (m->nrec - 1) / m->per_hour;
@@ -179,16 +204,20 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
             return mfail(m, VSV_ECORRUPT, "cloud/rain: %d records are not whole hours of %d", m->nrec - 1, m->per_hour);
     } else if ((m->len[0] == 8 || m->len[0] == 12) && m->nrec > 1 && m->len[1] == plane) {
         m->kind = VSV_MET_WIND;
-        m->per_hour = 2 + 2 * nz;
+        /* the layers: the planes before the first 4-byte dummy record */
+        int r = 1;
+        while (r < m->nrec && m->len[r] == plane)
+            r++;
+        m->mz = (r - 1) / 2 >= nz && r < m->nrec && m->len[r] == 4 ? (r - 1) / 2 : nz;
+        m->per_hour = 2 + 2 * m->mz;
         if (m->len[0] == 12)
             m->stagger = (int32_t)vsv_f77_u32(m->le, m->d + m->rec[0] + 8) == 1;
         if (m->nrec % m->per_hour || m->len[m->per_hour - 1] != 4 ||
             (m->nrec > m->per_hour && m->len[m->per_hour] != m->len[0]))
-            return mfail(
-                m, VSV_EINVAL,
-                "wind records do not repeat every %d (time, U and V of %d layer%s, dummy): not the layer count "
-                "of %s",
-                m->per_hour, nz, nz == 1 ? "" : "s", main_name);
+            return mfail(m, VSV_EINVAL,
+                         "wind records do not repeat every %d (time, U and V of %d layer%s, dummy): fewer layers than "
+                         "%s, or damaged",
+                         m->per_hour, m->mz, m->mz == 1 ? "" : "s", main_name);
         m->nhours = m->nrec / m->per_hour;
         m->nfields = 2;
     } else if (m->len[0] == 8 + plane) {
@@ -222,7 +251,7 @@ int vsv_camxmet_open(const char *path, int want, int nx, int ny, int nz, const c
     /* every plane record must be a plane of this grid */
     for (int h = 0; h < m->nhours; h++)
         for (int f = 0; f < m->nfields; f++)
-            for (int k = 0; k < nz; k++) {
+            for (int k = 0; k < m->mz; k++) {
                 size_t off;
                 int r = vsv_camxmet_record(m, h, f, k, &off);
                 if (m->len[r] != plane + off)

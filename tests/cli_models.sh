@@ -30,9 +30,11 @@ PY
 then pass "CAMx .vsv: projection, species, units, layer index, time, NO2 max"; else fail "CAMx .vsv: projection, species, units, layer index, time, NO2 max" "see above"; fi
 expect "vsv-info says the vertical axis is layer index" 0 "$B/vsv-info" "$T/camx.vsv"
 has "layer index said" "$T/out" "layer index"
-# the real height/pressure sample has 3 layers and 2 hours; test.uamiv 1 and 1
-expect "a height/pressure file of other layers is refused" 1 "$B/vsv-convert" -q --vertical native --heights "$D/camx/test.height_pressure" --vars O3 "$T/some-name.bin" -o "$T/camx-z.vsv"
-has "layer mismatch names both files" "$T/err" "test.height_pressure: 6 plane records an hour, which fits no CAMx met file of the 1 layer of $T/some-name.bin"
+# the real height/pressure sample has 3 layers and 2 hours; test.uamiv 1 and
+# 1: the surface layer CAMx writes alone, its heights the lowest layer's
+expect "a height/pressure file of more layers gives the lowest" 0 "$B/vsv-convert" -q --vertical native --heights "$D/camx/test.height_pressure" --vars O3 "$T/some-name.bin" -o "$T/camx-z.vsv"
+"$B/vsv-info" "$T/camx-z.vsv" > "$T/info"
+has "... layer 1's middle as its level" "$T/info" "native levels (m): 17.1"
 expect "a wrong heights file is refused" 1 "$B/vsv-convert" -q --heights "$D/camx/test.wind" "$T/some-name.bin" -o "$T/x.vsv"
 expect "--proj with a bad name exits 2" 2 "$B/vsv-convert" --proj nowhere "$T/some-name.bin" -o "$T/x.vsv"
 head -c 3000 "$D/camx/test.uamiv" > "$T/cut.avrg"

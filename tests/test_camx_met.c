@@ -2,7 +2,8 @@
  * ../shared/data/camx (5 x 4 cells, 3 layers, 2 hours): the average file is
  * written by the project's own UAM-IV writer to match them (no real
  * multi-layer CAMx output exists), read with --met DIR and --heights; the
- * real 1-layer test.uamiv against them is refused naming both files; a v6
+ * real 1-layer test.uamiv reads their lowest layer, a 4-layer file is
+ * refused naming both files; a v6
  * header's time zone turns every time into UTC. */
 #include "vsv_convert.h"
 #include "vsv_format.h"
@@ -146,19 +147,47 @@ static void test_mismatch(void)
     vsv_source_opts o;
     vsv_source_opts_init(&o);
     vsv_source *s = NULL;
-    /* the real 1-layer, 1-hour average beside 3-layer companions */
+    /* the real 1-layer, 1-hour average beside 3-layer companions: CAMx
+     * writes the surface layer alone unless asked for 3-D output, so the
+     * companions' lowest layer is read (it was refused) */
     const char *real = vsv_test_shared("camx/test.uamiv");
-    o.heights = vsv_test_shared("camx/test.height_pressure");
+    o.met = vsv_test_shared("camx");
     int rc = vsv_source_open(real, &o, &s);
+    CHECK(rc == 0, "--met with 3-layer companions for the real 1-layer average opens", "(%s)", vsv_source_error(s));
+    if (!rc) {
+        const vsv_meta *g = vsv_source_grid(s);
+        const float top0 = raw("camx/test.height_pressure", 0, 8, 0);
+        CHECK(g->nz == 1 && g->levels && fabs(g->levels[0] - top0 / 2) < 1, "... on the companions' lowest layer",
+              "nz %d, level %g, top %g", g->nz, g->levels ? g->levels[0] : 0, top0);
+        float vol[20];
+        const char *name[] = {"TEMP", "PRESS", "U", "V", "CWC", "KV"};
+        const char *file[] = {"temperature", "height_pressure", "wind", "wind", "cloud_rain", "vertical_diffusivity"};
+        const int rec[] = {1, 1, 1, 2, 2, 0}, skip[] = {8, 8, 0, 0, 0, 8};
+        for (int i = 0; i < 6; i++) {
+            char rel[64];
+            snprintf(rel, sizeof rel, "camx/test.%s", file[i]);
+            const float want = raw(rel, rec[i], skip[i], 7);
+            const int f = vsv_source_find_field(s, name[i]);
+            rc = f < 0 ? -1 : vsv_source_read(s, f, 0, vol);
+            CHECK(rc == 0 && vol[7] == want && isfinite(want), "... its layer 1 of each companion",
+                  "%s: rc %d, %g vs %g in %s", name[i], rc, vol[7], want, rel);
+        }
+    }
+    vsv_source_free(s);
+    /* an average file of more layers than the companions is refused */
+    const char *four = write_avrg("four.avrg", 4, 2, 0, 0);
+    o.met = NULL;
+    o.heights = vsv_test_shared("camx/test.height_pressure");
+    rc = vsv_source_open(four, &o, &s);
     CHECK(rc == VSV_EINVAL && strstr(vsv_source_error(s), "test.height_pressure") &&
-              strstr(vsv_source_error(s), "test.uamiv") && strstr(vsv_source_error(s), "layer"),
-          "--heights with 3 layers for a 1-layer file is refused naming both", "(%s)", vsv_source_error(s));
+              strstr(vsv_source_error(s), "four.avrg") && strstr(vsv_source_error(s), "fewer layers"),
+          "--heights with 3 layers for a 4-layer file is refused naming both", "(%s)", vsv_source_error(s));
     vsv_source_free(s);
     o.heights = NULL;
     o.met = vsv_test_shared("camx");
-    rc = vsv_source_open(real, &o, &s);
-    CHECK(rc == VSV_EINVAL && strstr(vsv_source_error(s), "test.uamiv") && strstr(vsv_source_error(s), "companion"),
-          "--met with 3-layer companions for a 1-layer file is refused naming both", "(%s)", vsv_source_error(s));
+    rc = vsv_source_open(four, &o, &s);
+    CHECK(rc == VSV_EINVAL && strstr(vsv_source_error(s), "four.avrg") && strstr(vsv_source_error(s), "companion"),
+          "--met with 3-layer companions for a 4-layer file is refused naming both", "(%s)", vsv_source_error(s));
     vsv_source_free(s);
     /* right layers, wrong hours: 3 hours against 2 */
     const char *three = write_avrg("three.avrg", 3, 4, 0, 0);
