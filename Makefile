@@ -188,15 +188,15 @@ TOOL_BIN = $(addprefix $(B)/,$(TOOLS))
 HELPERS = vsv-nc-check vsv-vdb-reader vsv-nc-writer vsv-gshhg
 HELPER_BIN = $(addprefix $(B)/,$(HELPERS))
 HELPER_DIR = $(LIBDIR)/vesuvius
-# the programs: each sees cli/ besides its folder's layers; vsv-extract and
-# vsv-convert read .vdb sequences through interop/
+# the programs: each sees cli/ besides its folder's layers; vsv-extract,
+# vsv-convert and vsv-info read .vdb sequences through interop/
 TOOL_OBJ = $(B)/convert/vsv_convert_cli.o $(B)/format/vsv-pack.o $(B)/format/vsv-query.o $(B)/convert/vsv-info.o $(B)/convert/vsv-extract.o $(B)/convert/vsv-interp.o \
            $(B)/convert/vsv-convert.o $(B)/render/vsv-render.o $(B)/render/vsv_movie_cli.o $(B)/interop/vsv-export.o \
            $(B)/render/vsv-plot.o
 $(TOOL_OBJ): XINC = -Icli
 $(B)/render/vsv-render.o: XINC = -Icli -Irender/gl
 $(B)/interop/vsv-export.o: XINC = -Icli -Irender
-$(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o: XINC = -Icli -Iinterop
+$(B)/convert/vsv-extract.o $(B)/convert/vsv-convert.o $(B)/convert/vsv-info.o: XINC = -Icli -Iinterop
 $(B)/convert/vsv-convert-mpi.o $(B)/convert/vsv_mpi_cli.o: XINC = -Icli -Iinterop $(MPI_CFLAGS)
 
 TEST_SRC = $(wildcard tests/test_*.c)
@@ -345,9 +345,9 @@ $(B)/vsv-query: $(B)/format/vsv-query.o $(CLI_A) $(HTTP_A) $(CORE_A)
 $(B)/vsv-interp: $(B)/convert/vsv-interp.o $(CLI_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(CONVERT_EXT)
-$(B)/vsv-info: $(B)/convert/vsv-info.o $(CLI_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
+$(B)/vsv-info: $(B)/convert/vsv-info.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(HTTP_A) $(CORE_A)
 	$(link)
-	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(CONVERT_EXT)
+	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(HTTP_EXT) $(INTEROP_EXT)
 $(B)/vsv-extract: $(B)/convert/vsv-extract.o $(B)/convert/vsv_convert_cli.o $(CLI_A) $(INTEROP_A) $(CONVERT_A) $(CORE_A)
 	$(link)
 	$(Q)$(CC) $(LDFLAGS) -o $@ $^ $(INTEROP_EXT)

@@ -4,6 +4,7 @@
 #include "vsv_cli.h"
 #include "vsv_convert.h"
 #include "vsv_convert_cli.h"
+#include "vsv_vdb.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -17,8 +18,8 @@ static const char usage[] =
     "Describe .vsv files: grid, projection and corner coordinates, times, species\n"
     "with units, ranges and quantisation error, bricks stored, compression ratio.\n"
     "Given a model file instead, describe its own header and fields; it reads,\n"
-    "detected from the content (never the name):\n" VSV_CLI_MODEL_FORMATS ".\n"
-    "OpenVDB .vdb files are vsv-extract's: see vsv-extract --list FILE.vdb.\n"
+    "detected from the content (never the name):\n" VSV_CLI_MODEL_FORMATS ",\n"
+    "  OpenVDB .vdb (a step a file, as vsv-export --vdb writes them).\n"
     "Writes text, or JSON with --json.\n"
     "\n"
     "  -j, --json           one JSON object per file (a stable contract for scripts)\n"
@@ -34,17 +35,6 @@ static const char usage[] =
     "  -h, --help           this help\n"
     "  -V, --version        print versions\n";
 /* clang-format on */
-
-/* Whether path starts with OpenVDB's magic number (0x56444220, 64 bits LE). */
-static int is_vdb(const char *path)
-{
-    unsigned char h[8] = {0};
-    FILE *fp = fopen(path, "rb");
-    const size_t n = fp ? fread(h, 1, sizeof h, fp) : 0;
-    if (fp)
-        fclose(fp);
-    return n == 8 && !memcmp(h, "\x20\x42\x44\x56\0\0\0\0", 8);
-}
 
 static const char *scale_name(int s) { return s == VSV_SCALE_LOG ? "log" : "linear"; }
 static const char *vert_name(int k)
@@ -547,8 +537,7 @@ static vsv_json *model_json(const vsv_source *src, const char *path, const char 
 
 /* path, not a .vsv file, as a model file: 1 when described (2 when a
  * field of -f is missing), -1 when said why not (a damaged model file, or
- * a file of no format known), 0 when the caller's to say (unreadable, or
- * OpenVDB). */
+ * a file of no format known), 0 when the caller's to say (unreadable). */
 static int model_file(const char *path, int json, const char *const *fields, int nfields)
 {
     vsv_source *src = NULL;
@@ -573,7 +562,7 @@ static int model_file(const char *path, int json, const char *const *fields, int
             printf("%s: %s (vsv-extract --list shows its fields and times)\n", path, vsv_source_format(src));
         }
         free(text);
-    } else if (src_rc != VSV_EIO && (src_rc != VSV_ENOTVSV || !is_vdb(path))) {
+    } else if (src_rc != VSV_EIO) {
         /* a model file, damaged (its reader's message, not ".vsv"), or neither: both readers' words */
         const char *e = vsv_source_error(src);
         const size_t pl = strlen(path);
@@ -593,6 +582,7 @@ static int model_file(const char *path, int json, const char *const *fields, int
 int main(int argc, char **argv)
 {
     vsv_cli_init("vsv-info");
+    vsv_vdb_source_register(); /* .vdb files too (interop/) */
     /* clang-format off */ /* (a table, laid out by hand) */
     static const struct option longopts[] = {{"json", no_argument, 0, 'j'},  {"field", required_argument, 0, 'f'},
                                              {"stats", no_argument, 0, 's'}, {"check", no_argument, 0, 'c'},
@@ -634,13 +624,6 @@ int main(int argc, char **argv)
                 vsv_file_free(f);
                 continue;
             }
-        }
-        if (rc == VSV_ENOTVSV && is_vdb(path)) { /* interop's format: vsv-info does not load OpenVDB */
-            fflush(stdout);
-            fprintf(stderr, "vsv-info: %s: an OpenVDB file; vsv-extract --list describes it\n", path);
-            vsv_file_free(f);
-            status = 1;
-            continue;
         }
         if (rc) {
             fflush(stdout);

@@ -46,8 +46,11 @@ expect "a rotated or foreign file is not taken for OpenVDB" 1 "$B/vsv-extract" -
 expect "vsv-extract --list describes a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
 has "its grids" "$T/out" "CLW"
 has "and its time" "$T/out" "times: 1995-10-24T01:00:00Z"
-expect "vsv-info (no OpenVDB in it) on a .vdb exits 1" 1 "$B/vsv-info" "$T/t1.vdb"
-has "naming the tool that reads it" "$T/err" "t1.vdb: an OpenVDB file; vsv-extract --list describes it"
+expect "vsv-info describes a .vdb (it said to ask vsv-extract, exit 1)" 0 "$B/vsv-info" "$T/t1.vdb"
+has "... its grids" "$T/out" "CLW"
+has "... and its time" "$T/out" "time        1995-10-24T01:00:00Z"
+expect "vsv-info --json on a .vdb" 0 "$B/vsv-info" --json "$T/t1.vdb"
+has "... names the format" "$T/out" '"format": "OpenVDB"'
 # damaged .vdb files: OpenVDB has no checksums and can crash on them; the
 # reading runs isolated, so every one is exit 0 (harmless damage) or 1 with a
 # message, never a crash

@@ -53,7 +53,7 @@ helpfmt vsv-convert "$@" OpenVDB ".vsv format"
     export LSAN_OPTIONS
     helpfmt vsv-convert-mpi "$@" OpenVDB ".vsv format"
 )
-helpfmt vsv-info "$@" ".vsv" "vsv-extract --list" JSON
+helpfmt vsv-info "$@" ".vsv" OpenVDB JSON
 helpfmt vsv-interp "Reads and writes the field stream"
 helpfmt vsv-pack "Reads a field stream" ".vsv format"
 helpfmt vsv-render "Reads .vsv" "transfer-function files" PNG OpenEXR ffmpeg MP4
