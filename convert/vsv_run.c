@@ -182,9 +182,14 @@ static int select_vars(vsv_run *r, const char *vars, const char **names)
             if (i < 0 || !vsv_source_field(s0, i)->is_volume) {
                 size_t n = (size_t)snprintf(r->err, sizeof r->err, "%s: %s '%s'; available:", names[0],
                                             i < 0 ? "no variable" : "not a 3-D variable", name);
-                for (int k = 0; k < nf && n < sizeof r->err; k++)
-                    if (vsv_source_field(s0, k)->is_volume)
-                        n += (size_t)snprintf(r->err + n, sizeof r->err - n, " %s", vsv_source_field(s0, k)->name);
+                /* comma-separated, as --vars takes them (a name may hold a
+                 * space: MM5's RAD TEND) */
+                for (int k = 0, first = 1; k < nf && n < sizeof r->err; k++)
+                    if (vsv_source_field(s0, k)->is_volume) {
+                        n += (size_t)snprintf(r->err + n, sizeof r->err - n, "%s %s", first ? "" : ",",
+                                              vsv_source_field(s0, k)->name);
+                        first = 0;
+                    }
                 rc = VSV_ENOTFOUND;
                 break;
             }

@@ -59,7 +59,7 @@ fi
 
 # selections and bad input
 expect "a 2-D field is refused, listing the 3-D ones" 1 "$B/vsv-extract" --vertical even --vars TERRAIN "$CROP"
-has "2-D refusal lists 3-D variables" "$T/err" "not a 3-D variable 'TERRAIN'; available: U V T Q CLW RNW ICE SNOW W"
+has "2-D refusal lists 3-D variables" "$T/err" "not a 3-D variable 'TERRAIN'; available: U, V, T, Q, CLW, RNW, ICE, SNOW, W"
 expect "an unknown variable is refused" 1 "$B/vsv-extract" --vertical even --vars NOPE "$CROP"
 expect "an empty --vars without --derive is misuse" 2 "$B/vsv-convert" -q --vars "" "$CROP" -o "$T/empty.vsv"
 has "... saying so" "$T/err" "vsv-convert: --vars '': no variable (with --derive: the derived ones alone)"

@@ -489,7 +489,7 @@ expect "8-bit file checks" 0 "$B/vsv-info" --check "$T/c.vsv"
 
 # extract options
 expect "vsv-extract --vars with an unknown name exits 1" 1 "$B/vsv-extract" --vertical even --vars T,NOPE "$CTL"
-has "unknown variable lists the available ones" "$T/err" "available: PS U V Z T Q TS P"
+has "unknown variable lists the available ones" "$T/err" "available: PS, U, V, Z, T, Q, TS, P"
 "$B/vsv-extract" --vertical even --vars T --times 1:2 "$CTL" | "$B/vsv-pack" -q -o "$T/d.vsv"
 "$B/vsv-info" -f times "$T/d.vsv" > "$T/out"
 has "--times 1:2 selects two steps" "$T/out" '["1987-01-03T00:00:00Z", "1987-01-04T00:00:00Z"]'
