@@ -103,6 +103,9 @@ int vsv_vdb_write_here(const vsv_vdb_shm::write_request *rq, const vsv_vdb_shm::
         meta.insertMeta("run", text(rq->run, sizeof rq->run));
         meta.insertMeta("projection", text(rq->projection, sizeof rq->projection));
         meta.insertMeta("vertical", text(rq->vertical, sizeof rq->vertical));
+        // the whole grid's index box, [0, grid_size - 1]: a reader keeps the
+        // model's domain (and a step with nothing active is still a grid)
+        meta.insertMeta("grid_size", openvdb::Vec3IMetadata(openvdb::Vec3i(rq->nx, rq->ny, rq->nz)));
         // through a stream of ours, its state checked after the last write
         // and after the close (the writes' errno is not kept by the stream:
         // the caller's sync names the cause when it fails the same way)
@@ -154,6 +157,12 @@ int vsv_vdb_scan_here(const char *const *paths, int n, vsv_vdb_info *info, char 
             const std::string when = fm ? meta_string(*fm, "time") : std::string();
             int64_t t;
             info->times[f] = !when.empty() && !vsv_time_parse(when.c_str(), &t) ? t : INT64_MIN;
+            if (fm) { // a Vesuvius file's whole grid (vsv_vdb_write_here)
+                auto size = fm->getMetadata<openvdb::Vec3IMetadata>("grid_size");
+                if (size && size->value().x() > 0 && size->value().y() > 0 && size->value().z() > 0)
+                    box.expand(
+                        openvdb::CoordBBox(openvdb::Coord(0), openvdb::Coord(size->value()) - openvdb::Coord(1)));
+            }
             if (f == 0 && fm) {
                 std::snprintf(info->model, sizeof info->model, "%s", meta_string(*fm, "source_model").c_str());
                 std::snprintf(info->projection, sizeof info->projection, "%s", meta_string(*fm, "projection").c_str());
@@ -221,7 +230,9 @@ int vsv_vdb_scan_here(const char *const *paths, int n, vsv_vdb_info *info, char 
         return -1;
     }
     if (!info->ngrids || box.empty()) {
-        say(err, cap, std::string(n ? paths[0] : "") + ": no float grid with active voxels in the sequence");
+        say(err, cap,
+            std::string(n ? paths[0] : "") + (info->ngrids ? ": no float grid with active voxels" : ": no float grid") +
+                " in the " + (n == 1 ? "file" : "sequence"));
         vsv_vdb_info_free(info);
         return -1;
     }

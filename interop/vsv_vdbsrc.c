@@ -1,6 +1,6 @@
 /* vsv_vdbsrc.c — OpenVDB files as a source: each .vdb is one time step of
  * a sequence; the grid is the union of the sequence's active bounding boxes
- * (interop/vsv_vdb.h), every float grid a field. Times come from
+ * and of the whole grids vsv-export recorded (interop/vsv_vdb.h), every float grid a field. Times come from
  * --time-step/--time-start, else from each file's "time" metadata (what
  * vsv-export writes). */
 #include "vsv_source_reader.h"
@@ -168,7 +168,7 @@ static char *summary(vsv_source *s)
     if (!t)
         return NULL;
     n += (size_t)snprintf(t + n, cap - n,
-                          "OpenVDB%s%s\n  grid        %d x %d x %d voxels (the active bounding box)\n"
+                          "OpenVDB%s%s\n  grid        %d x %d x %d voxels (the active bounding box, or the grid written)\n"
                           "  origin      %g, %g, %g (centre of the first voxel)\n  voxel       %g x %g x %g\n"
                           "  projection  %s\n  time        %s\n  grids       %d float\n",
                           in->model[0] ? " from " : "", in->model, g->nx, g->ny, g->nz, g->origin[0], g->origin[1],

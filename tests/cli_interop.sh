@@ -25,6 +25,14 @@ timeout 120 vdb_print -m "$T/s_0003.vdb" < /dev/null > "$T/meta" 2>&1
 has "model time as ISO 8601 metadata" "$T/meta" "1995-10-24T03:00:00Z"
 has "the projection as metadata" "$T/meta" "lcc lat0=38"
 expect "one step with --time" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/t1.vdb" --time 1995-10-24T01:00:00Z
+# a step where CLW is 0 everywhere (nothing active: OpenVDB keeps an empty
+# tree) reads alone, on the whole grid vsv-export records (it was refused:
+# "no float grid with active voxels in the sequence")
+expect "an all-zero step exported alone" 0 "$B/vsv-export" -q "$T/crop.vsv" --vdb "$T/zero.vdb" --time 0 --species CLW
+expect "... converts back" 0 "$B/vsv-convert" -q "$T/zero.vdb" -o "$T/zero.vsv"
+"$B/vsv-info" -f grid.nx -f grid.ny -f grid.nz "$T/crop.vsv" > "$T/dims.want"
+"$B/vsv-info" -f grid.nx -f grid.ny -f grid.nz "$T/zero.vsv" > "$T/dims.got"
+same "... on the model's whole grid" "$T/dims.want" "$T/dims.got"
 expect "vsv-extract --list on a .vdb" 0 "$B/vsv-extract" --list "$T/t1.vdb"
 has "lists its grids" "$T/out" "CLW"
 has "at its time" "$T/out" "1995-10-24T01:00:00Z"
