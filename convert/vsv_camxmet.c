@@ -316,6 +316,37 @@ int vsv_camxmet_heights(vsv_camxmet *m, int hour, float *out)
     return vsv_input_cut(&m->map, 1) ? mfail(m, VSV_ETRUNC, VSV_CUT_TEXT) : 0;
 }
 
+/* Whether the 8 bytes at p could be a CAMx time stamp: HHMM (a float,
+ * 0 to 2400), then YYJJJ (JJJ a day of the year). */
+static int stamp_like(int le, const unsigned char *p)
+{
+    const float hhmm = vsv_f77_f32(le, p);
+    const int32_t date = (int32_t)vsv_f77_u32(le, p + 4);
+    return hhmm >= 0 && hhmm <= 2400 && date >= 1 && date <= 99366 && date % 1000 >= 1 && date % 1000 <= 366;
+}
+
+const char *vsv_camx_input_kind(const unsigned char *h, size_t n, int *beside)
+{
+    *beside = 1;
+    if (n < 40)
+        return NULL;
+    const int le = vsv_rd32(h) < (1u << 24);
+    const uint32_t l0 = vsv_f77_u32(le, h);
+    if (l0 == 32 && !memcmp(h + 4, "CAMx", 4))
+        return "a CAMx cloud/rain file";
+    if (l0 == 8 && !memcmp(h + 4, "LUCAT", 5))
+        return "a CAMx land use file";
+    if (h[4] == 'P' && h[8] == 'T' && h[12] == 'S' && h[16] == 'O' && h[20] == 'U' && h[24] == 'R' && h[28] == 'C' &&
+        h[32] == 'E')
+        return *beside = 0, "a CAMx point source file (PTSOURCE): emissions at stacks, not a 3-D grid";
+    if ((l0 == 8 || l0 == 12) && stamp_like(le, h + 4) && vsv_f77_u32(le, h + 8 + l0) % 4 == 0 &&
+        vsv_f77_u32(le, h + 8 + l0) >= 4)
+        return "a CAMx wind file";
+    if (l0 > 8 && (l0 - 8) % 4 == 0 && stamp_like(le, h + 4))
+        return "a CAMx met file (height/pressure, temperature, humidity or diffusivity)";
+    return NULL;
+}
+
 void vsv_camxmet_free(vsv_camxmet *m)
 {
     if (!m)

@@ -1,6 +1,7 @@
 /* vsv_source.c — the source interface: detection by content and dispatch
  * to the readers. */
 #include "vsv_source_internal.h"
+#include "vsv_uamiv.h"
 
 #include <errno.h>
 #include <math.h>
@@ -130,6 +131,11 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
     if (vsv_head_is_vsv(head, n))
         return vsv_source_fail(s, VSV_ENOTVSV,
                                "a .vsv file already, not model output (vsv-info, vsv-query and vsv-play read it)");
+    int beside;
+    const char *camx = vsv_camx_input_kind(head, n, &beside);
+    if (camx)
+        return vsv_source_fail(s, VSV_ENOTVSV, "%s%s", camx,
+                               beside ? ", with no grid of its own: read beside a CAMx average file (--met DIR)" : "");
     char more[256] = "";
     for (int i = BUILTIN; i < nreaders; i++)
         snprintf(more + strlen(more), sizeof more - strlen(more), ", %s", readers[i]->name);

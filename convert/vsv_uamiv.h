@@ -83,5 +83,10 @@ int vsv_camxmet_record(const vsv_camxmet *m, int hour, int field, int layer, siz
 int vsv_camxmet_read(vsv_camxmet *m, int hour, int field, int layer, float *out);
 /* Height/pressure files: layer-top heights (m above ground, nz*nx*ny). */
 int vsv_camxmet_heights(vsv_camxmet *m, int hour, float *out);
+/* What a CAMx input file that is no grid of its own is, from its first n
+ * bytes: a phrase for a message (a static string), or NULL; *beside is 1
+ * for a met or land use file (read beside an average file), 0 for a point
+ * source file. */
+const char *vsv_camx_input_kind(const unsigned char *head, size_t n, int *beside);
 
 #endif

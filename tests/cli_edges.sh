@@ -18,6 +18,17 @@ if [ -f "$D/camx/test.lateral_boundary" ]; then
     has "and says why" "$T/err" "test.lateral_boundary: a CAMx lateral boundary file (BOUNDARY): values on the domain's four edges, not a 3-D grid"
 fi
 
+# CAMx met, land use and point source files are named as what they are (they
+# were "not an MM5 v3 file, nor another format Vesuvius reads")
+for f in wind:"a CAMx wind file, with no grid of its own: read beside a CAMx average file (--met DIR)" \
+    height_pressure:"a CAMx met file (height/pressure, temperature, humidity or diffusivity), with no grid" \
+    cloud_rain:"a CAMx cloud/rain file, with" landuse:"a CAMx land use file, with" \
+    point_source:"a CAMx point source file (PTSOURCE): emissions at stacks, not a 3-D grid"; do
+    [ -f "$D/camx/test.${f%%:*}" ] || continue
+    expect "vsv-info on test.${f%%:*} exits 1" 1 "$B/vsv-info" "$D/camx/test.${f%%:*}"
+    has "... naming it" "$T/err" "test.${f%%:*}: not a .vsv file; ${f#*:}"
+done
+
 if ! absent "MM5 REGRID, BDYOUT and LOWBDY files" mm5/run1/REGRID_DOMAIN1; then
     expect "vsv-extract --list on REGRID" 0 "$B/vsv-extract" --list "$R/REGRID_DOMAIN1"
     has "REGRID T is a default volume on 23 levels" "$T/out" "T          YXP C        23 K                Cross point temperature  [default]"
