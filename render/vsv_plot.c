@@ -256,7 +256,7 @@ static int shown(const vsv_plot *p, double h)
 
 /* The values' range: the options', else the least and greatest drawn (on
  * a log scale the positive ones, at most four decades below the top). */
-static int value_range(vsv_plot *p, char *msg, size_t cap)
+static int value_range(vsv_plot *p, const vsv_file *f, char *msg, size_t cap)
 {
     double lo = INFINITY, hi = -INFINITY;
     for (int r = 0; r < p->nrows; r++)
@@ -278,8 +278,22 @@ static int value_range(vsv_plot *p, char *msg, size_t cap)
         if (!(hi > lo))
             lo = hi / 10;
     } else if (!(hi > lo)) {
-        const double d = lo != 0 ? fabs(lo) * 0.1 : 1;
-        lo = lo != 0 ? lo - d : lo, hi += d;
+        /* one value everywhere in view (no cloud yet: CLW 0): the species'
+         * range over the file, so the bar says where that value stands (a
+         * made-up 0 to 1 read as up to 1 kg/kg); ten per cent either way
+         * when the file holds that one value only */
+        double flo = lo, fhi = hi;
+        for (int l = 0; l < p->o.nspecies; l++) {
+            const vsv_quant *qt = vsv_file_quant(f, p->o.species[l]);
+            if (qt && isfinite(qt->lo) && isfinite(qt->hi))
+                flo = fmin(flo, qt->lo), fhi = fmax(fhi, qt->hi);
+        }
+        if (fhi > flo) {
+            lo = flo, hi = fhi;
+        } else {
+            const double d = lo != 0 ? fabs(lo) * 0.1 : 1;
+            lo = lo != 0 ? lo - d : lo, hi += d;
+        }
     }
     p->lo = isfinite(p->o.lo) ? p->o.lo : lo;
     p->hi = isfinite(p->o.hi) ? p->o.hi : hi;
@@ -424,7 +438,7 @@ int vsv_plot_create(vsv_file *f, const vsv_plot_opts *o, vsv_plot **out, char *m
         p->ytop = o->top;
     }
     words(p, m);
-    if ((rc = value_range(p, msg, cap)))
+    if ((rc = value_range(p, f, msg, cap)))
         goto fail;
     titles(p, f, o->title);
     vsv_query_free(q);

@@ -28,6 +28,11 @@ has "... quotes that column" "$T/odd.csv" ',"dbl (g,""kg"")"'
 expect "--csv of a species without units" 0 "$B/vsv-plot" "$T/bare.vsv" --profile 46,-116 -s bare -t 0 \
     -o "$T/bare.svg" --csv "$T/bare.csv"
 if head -n 1 "$T/bare.csv" | grep -q ',bare$'; then pass "... names its column bare"; else fail "... names its column bare" "$(head -n 1 "$T/bare.csv")"; fi
+# CLW at step 0 is 0 everywhere: the bar spans CLW's range in the file (it
+# spanned a made-up 0 to 1, read as up to 1 kg/kg)
+expect "a section of a field that is 0 everywhere" 0 "$B/vsv-plot" "$T/s.vsv" --section 45,-125:52,-115 -s CLW -t 0 \
+    -o "$T/zero.svg"
+has "... its bar spans the species' range in the file" "$T/zero.svg" ">0.0005<"
 # a section whose view is all below the ground: nothing to plot, said (it
 # drew an empty panel with a made-up 0 to 1 scale, exit 0)
 "$B/vsv-convert" -q --vertical even samples/mm5/MMOUT_DOMAIN1_CROP -o "$T/even.vsv"
