@@ -382,12 +382,22 @@ int vsv_run_select(vsv_run *r, const char *times, int64_t dt)
     if (span >= VSV_RUN_MAX_STEPS)
         return fail(r, VSV_ERANGE, "%s: more than %d output steps", name, VSV_RUN_MAX_STEPS);
     const int n = (int)span + 1;
-    int64_t *grid = malloc((size_t)n * sizeof *grid);
+    int64_t *grid = malloc((size_t)(n + 1) * sizeof *grid);
     if (!grid)
         return fail(r, VSV_ENOMEM, "out of memory");
     for (int k = 0; k < n; k++)
         grid[k] = r->origin + k * dt;
     rc = vsv_timesel_parse(times, grid, n, VSV_TIMESEL_CAL(cal), &sel, msg, sizeof msg);
+    if (rc == VSV_ERANGE && r->ftime[r->nframes - 1] > grid[n - 1]) {
+        /* a range ending after the last output step but within the run (its
+         * last time off the grid: 03:00 every 2h from 00:00) ends at that
+         * step; a mark one second past the run stands after it, so an
+         * index past the steps, a later time or a start there still fail */
+        vsv_timesel s2;
+        grid[n] = r->ftime[r->nframes - 1] + 1;
+        if (!vsv_timesel_parse(times, grid, n + 1, VSV_TIMESEL_CAL(cal), &s2, NULL, 0) && s2.range && s2.last < n)
+            sel = s2, rc = 0;
+    }
     if (!rc) {
         r->win[0] = grid[sel.first], r->win[1] = grid[sel.last];
         if (!sel.exact) {

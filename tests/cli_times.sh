@@ -54,6 +54,16 @@ for d in PT1H30M 90min 5400s PT90M P0DT1H30M 1h30min 1h29m60s; do
     same "--time-res $d is 1h30m" "$T/c90.vsv" "$T/c90b.vsv"
     rm -f "$T/c90b.vsv"
 done
+# a range ending at the run's last time, which is off the 2h grid (00:00,
+# 02:00; the run ends 03:00), ends at the last step (it was "after the last
+# step"); a time past the run, an index past the steps or a start there fail
+expect "--time-res 2h --times to the run's end converts" 0 "$B/vsv-convert" -q --vars T --time-res 2h \
+    --times 1995-10-24T01:00Z:1995-10-24T03:00Z "$CROP" -o "$T/end.vsv"
+"$B/vsv-info" -f times "$T/end.vsv" > "$T/out"
+has "... to the 02:00 step" "$T/out" '["1995-10-24T02:00:00Z"]'
+for t in 1995-10-24T01:00Z:1995-10-24T03:00:01Z 0:2 1995-10-24T03:00Z: 1995-10-24T03:00Z; do
+    expect "--time-res 2h --times $t exits 1" 1 "$B/vsv-convert" -q --vars T --time-res 2h --times "$t" "$CROP" -o "$T/past.vsv"
+done
 expect "--time-res 7m converts" 0 "$B/vsv-convert" --time-res 7m "$CROP" -o "$T/r7.vsv"
 has "model times off the 7m grid are reported" "$T/err" "3 of 4 model times lie between the steps every 7m"
 "$B/vsv-info" "$T/r7.vsv" > "$T/out"
