@@ -301,11 +301,14 @@ static int mm5_header(vsv_source *s, mm5src *x, mm5_base *b)
                         : prog == 8                ? "INTERPB"
                         : prog >= 11 && prog <= 16 ? "MM5"
                                                    : "unknown";
-    char start[40] = "unknown";
+    /* the model's start (MM5's own header; the pre-processors' files leave it
+     * unset and carry their times in the fields' headers: no clause) */
+    char start[48] = "";
     if (vsv_mm5_bhi(m, 5, 11) > 0)
-        snprintf(start, sizeof start, "%04d-%02d-%02dT%02d:%02d:%02dZ", vsv_mm5_bhi(m, 5, 11), vsv_mm5_bhi(m, 6, 11),
-                 vsv_mm5_bhi(m, 7, 11), vsv_mm5_bhi(m, 8, 11), vsv_mm5_bhi(m, 9, 11), vsv_mm5_bhi(m, 10, 11));
-    snprintf(g->run, sizeof g->run, "%s output, domain %d, %d x %d dot points, %.4g km grid, start %s", pname,
+        snprintf(start, sizeof start, ", start %04d-%02d-%02dT%02d:%02d:%02dZ", vsv_mm5_bhi(m, 5, 11),
+                 vsv_mm5_bhi(m, 6, 11), vsv_mm5_bhi(m, 7, 11), vsv_mm5_bhi(m, 8, 11), vsv_mm5_bhi(m, 9, 11),
+                 vsv_mm5_bhi(m, 10, 11));
+    snprintf(g->run, sizeof g->run, "%s output, domain %d, %d x %d dot points, %.4g km grid%s", pname,
              vsv_mm5_bhi(m, 13, 1), x->IX, x->JX, ds / 1000, start);
     char buf[160];
     const double PTOP = vsv_mm5_bhr(m, 2, 2), P00 = vsv_mm5_bhr(m, 2, 5), TS0 = vsv_mm5_bhr(m, 3, 5),

@@ -30,6 +30,8 @@ for f in wind:"a CAMx wind file, with no grid of its own: read beside a CAMx ave
 done
 
 if ! absent "MM5 REGRID, BDYOUT and LOWBDY files" mm5/run1/REGRID_DOMAIN1; then
+    expect "vsv-info on REGRID" 0 "$B/vsv-info" "$R/REGRID_DOMAIN1"
+    has "... no start clause where the header has none (it said 'start unknown')" "$T/out" "(REGRID output, domain 1, 143 x 208 dot points, 32 km grid); 1 big header"
     expect "vsv-extract --list on REGRID" 0 "$B/vsv-extract" --list "$R/REGRID_DOMAIN1"
     has "REGRID T is a default volume on 23 levels" "$T/out" "T          YXP C        23 K                Cross point temperature  [default]"
     has "REGRID 2-D fields say so" "$T/out" "(2-D)"
