@@ -169,6 +169,9 @@ const char *vsv_meta_attr(const vsv_meta *m, const char *key);
 #define VSV_ATTR_DATUM "vertical_datum"
 /* 1 when m's heights are above the ground (VSV_ATTR_DATUM), else 0. */
 int vsv_meta_above_ground(const vsv_meta *m);
+/* 1 when m's columns go round the globe (longitude and latitude whose nx
+ * cells span 360 degrees: the last cell beside the first), else 0. */
+int vsv_meta_periodic_x(const vsv_meta *m);
 /* The attribute that says when the model wrote its outputs, where they
  * came every so often: "every 3600 s from 1995-10-24T00:00:00Z". A step
  * off that grid was interpolated (vsv-convert --time-res). */

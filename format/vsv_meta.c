@@ -138,6 +138,11 @@ int vsv_meta_above_ground(const vsv_meta *m)
     return d && !strcmp(d, "ground");
 }
 
+int vsv_meta_periodic_x(const vsv_meta *m)
+{
+    return m->proj.kind == VSV_PROJ_LATLON && m->nx > 1 && fabs(m->nx * m->spacing[0] - 360) <= 360e-6;
+}
+
 int vsv_meta_outputs(const vsv_meta *m, int64_t *first, int64_t *every)
 {
     const char *v = vsv_meta_attr(m, VSV_ATTR_OUTPUTS);

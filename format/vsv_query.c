@@ -116,19 +116,12 @@ static void edge_range(const vsv_meta *m, double *la0, double *la1, double *lo0,
     }
 }
 
-/* Whether the grid's columns go round the globe: longitude and latitude
- * whose nx cells span 360 degrees, the last cell beside the first. */
-static int periodic_x(const vsv_meta *m)
-{
-    return m->proj.kind == VSV_PROJ_LATLON && m->nx > 1 && fabs(m->nx * m->spacing[0] - 360) <= 360e-6;
-}
-
 static void fill_centre(const vsv_meta *m, int64_t time, vsv_point *p)
 {
     for (int a = 0; a < 3; a++) {
         const int n = a == 0 ? m->nx : a == 1 ? m->ny : m->nz;
         long c = lround(p->pos[a]);
-        if (a == 0 && periodic_x(m))
+        if (a == 0 && vsv_meta_periodic_x(m))
             c = (c % n + n) % n; /* (the half cell past the last is the first's) */
         p->cell[a] = (int)(c < 0 ? 0 : c >= n ? n - 1 : c);
     }
@@ -184,7 +177,8 @@ int vsv_point_locate_at(const vsv_meta *grid, int64_t time, double lat, double l
      * included: the samplers clamp); its column the nearest centre's */
     p->pos[0] = fi;
     p->pos[1] = fj;
-    const int ci = periodic_x(m) ? (int)((lround(fi) + m->nx) % m->nx) : (int)fmin(fmax(lround(fi), 0), m->nx - 1),
+    const int ci = vsv_meta_periodic_x(m) ? (int)((lround(fi) + m->nx) % m->nx)
+                                          : (int)fmin(fmax(lround(fi), 0), m->nx - 1),
               cj = (int)fmin(fmax(lround(fj), 0), m->ny - 1);
     if (isnan(height)) {
         p->pos[2] = lowest_above_ground(m, ci, cj);
@@ -229,7 +223,7 @@ struct vsv_query {
     vsv_file *f;
     vsv_decoder *d;
     int brick, shift, bdim[3], nx, ny, nz;
-    int periodic;            /* x goes round the globe (periodic_x) */
+    int periodic;            /* x goes round the globe (vsv_meta_periodic_x) */
     int key[QUERY_SLOTS][3]; /* step, species, brick; step -1 = empty */
     float *slot[QUERY_SLOTS];
     int next; /* the slot to reuse next (round robin) */
@@ -253,7 +247,7 @@ int vsv_query_create(vsv_file *f, vsv_query **out)
     q->nx = m->nx;
     q->ny = m->ny;
     q->nz = m->nz;
-    q->periodic = periodic_x(m);
+    q->periodic = vsv_meta_periodic_x(m);
     const size_t n = (size_t)q->brick * q->brick * q->brick;
     int rc = vsv_decoder_create(f, &q->d);
     for (int s = 0; s < QUERY_SLOTS && !rc; s++) {

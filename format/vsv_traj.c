@@ -187,14 +187,32 @@ static int cell_value(vsv_traj *t, traj_slot *sl, int c, int i, int j, int k, fl
 }
 
 /* Fractional column (fi, fj) of projected (x, y) on grid m (placed); 0, or
- * VSV_TRAJ_END_EDGE outside its cells. A longitude a turn away counts. */
+ * VSV_TRAJ_END_EDGE outside its cells. A longitude a turn away counts; on a
+ * grid round the globe any number of turns, fi in [0, nx). */
 static int column_of(const vsv_meta *m, double x, double y, double *fi, double *fj)
 {
     *fi = (x - m->origin[0]) / m->spacing[0];
     *fj = (y - m->origin[1]) / m->spacing[1];
+    if (vsv_meta_periodic_x(m) && isfinite(*fi)) {
+        *fi = fmod(*fi, m->nx);
+        *fi = *fi < 0 ? *fi + m->nx : *fi;
+        *fi = *fi < m->nx ? *fi : 0;
+        return *fj >= -0.5 && *fj <= m->ny - 0.5 ? 0 : VSV_TRAJ_END_EDGE;
+    }
     for (int w = -1; m->proj.kind == VSV_PROJ_LATLON && w <= 1 && !(*fi >= -0.5 && *fi <= m->nx - 0.5); w += 2)
         *fi = (x + 360.0 * w - m->origin[0]) / m->spacing[0];
     return *fi >= -0.5 && *fi <= m->nx - 0.5 && *fj >= -0.5 && *fj <= m->ny - 0.5 ? 0 : VSV_TRAJ_END_EDGE;
+}
+
+/* The columns around fractional column fi of m: i0, i1 and the weight of
+ * i1; clamped to the grid's edges, or round the globe (fi in [0, nx)). */
+static void columns_around(const vsv_meta *m, double fi, int *i0, int *i1, double *w)
+{
+    const int wrap = vsv_meta_periodic_x(m);
+    const double p = wrap ? fi : fmin(fmax(fi, 0), m->nx - 1);
+    *i0 = (int)p;
+    *i1 = wrap ? (*i0 + 1) % m->nx : *i0 + 1 < m->nx ? *i0 + 1 : *i0;
+    *w = p - *i0;
 }
 
 /* The ground under (fi, fj) of placed grid m, bilinear in its terrain, or
@@ -208,9 +226,12 @@ static double ground_at(const vsv_meta *m, int vertical, double fi, double fj)
         return 0;
     if (!m->terrain)
         return -INFINITY;
-    const double p = fmin(fmax(fi, 0), m->nx - 1), q = fmin(fmax(fj, 0), m->ny - 1);
-    const int i0 = (int)p, j0 = (int)q, i1 = i0 + 1 < m->nx ? i0 + 1 : i0, j1 = j0 + 1 < m->ny ? j0 + 1 : j0;
-    const double a = p - i0, b = q - j0;
+    const double q = fmin(fmax(fj, 0), m->ny - 1);
+    int i0, i1;
+    double a;
+    columns_around(m, fi, &i0, &i1, &a);
+    const int j0 = (int)q, j1 = j0 + 1 < m->ny ? j0 + 1 : j0;
+    const double b = q - j0;
     const float *g = m->terrain;
     return (1 - b) * ((1 - a) * g[(size_t)j0 * m->nx + i0] + a * g[(size_t)j0 * m->nx + i1]) +
            b * ((1 - a) * g[(size_t)j1 * m->nx + i0] + a * g[(size_t)j1 * m->nx + i1]);
@@ -229,10 +250,12 @@ static int wind_of_step(vsv_traj *t, int step, const double pos[3], double e[3],
     const double ground = ground_at(m, t->vertical, fi, fj);
     if (pos[2] < ground)
         return VSV_TRAJ_END_GROUND;
-    const double p = fmin(fmax(fi, 0), m->nx - 1), q = fmin(fmax(fj, 0), m->ny - 1);
-    const int i0 = (int)p, j0 = (int)q, ci[2] = {i0, i0 + 1 < m->nx ? i0 + 1 : i0},
-              cj[2] = {j0, j0 + 1 < m->ny ? j0 + 1 : j0};
-    const double wi = p - i0, wj = q - j0;
+    const double q = fmin(fmax(fj, 0), m->ny - 1);
+    int ci[2];
+    double wi;
+    columns_around(m, fi, &ci[0], &ci[1], &wi);
+    const int j0 = (int)q, cj[2] = {j0, j0 + 1 < m->ny ? j0 + 1 : j0};
+    const double wj = q - j0;
     traj_slot *sl = slot_for(t, step);
     double sum[3] = {0, 0, 0}, wsum = 0, best = -1;
     for (int c = 0; c < 4; c++) {
@@ -365,9 +388,14 @@ static int push(vsv_traj *t, vsv_traj_path *p, int *cap, double when, const doub
     vsv_traj_point *q = &p->pts[p->n++];
     q->t = when;
     q->x = pos[0];
+    if (vsv_meta_periodic_x(t->m)) { /* round the globe: from the grid's west edge, within one turn */
+        const double west = t->m->origin[0] - t->m->spacing[0] / 2;
+        q->x = west + fmod(pos[0] - west, 360.0);
+        q->x = q->x < west ? q->x + 360 : q->x;
+    }
     q->y = pos[1];
     q->z = pos[2];
-    if (t->m->proj.kind == VSV_PROJ_NONE || vsv_proj_inverse(&t->m->proj, pos[0], pos[1], &q->lat, &q->lon))
+    if (t->m->proj.kind == VSV_PROJ_NONE || vsv_proj_inverse(&t->m->proj, q->x, pos[1], &q->lat, &q->lon))
         q->lat = q->lon = NAN;
     q->east = ev->wind[0];
     q->north = ev->wind[1];

@@ -453,36 +453,54 @@ static int room(vsv_flow *fl, int nl, size_t nx, int n, size_t k)
     return 0;
 }
 
+/* Ends the line of k points at x (none for fewer than two). */
+static void end_line(vsv_flow *fl, const flow_path *P, int *nl, size_t *nx, int k)
+{
+    if (k < 2)
+        return;
+    fl->off[*nl] = *nx;
+    fl->lines[(*nl)++] = (vsv_scene_line){NULL, k, fl->radius, 1, {P->rgb[0], P->rgb[1], P->rgb[2]}};
+    *nx += 3 * (size_t)k;
+}
+
 /* Path P up to time T as a line (none before it starts or when it has one
- * point by then). */
+ * point by then); on a grid round the globe, a line a lap, broken where the
+ * path crosses the map's edge (the points' longitudes are within one turn). */
 static int path_line(vsv_flow *fl, const flow_path *P, double T, int *nl, size_t *nx)
 {
     const vsv_traj_path *p = &P->p;
     if (p->n < 2 || p->pts[0].t > T)
         return 0;
-    if (room(fl, *nl, *nx, 1, (size_t)p->n + 1))
+    if (room(fl, *nl, *nx, p->n, (size_t)p->n + 2))
         return VSV_ENOMEM;
-    double *x = fl->xyz + *nx;
+    const int wrap = vsv_meta_periodic_x(fl->m);
     int k = 0;
     for (int i = 0; i < p->n; i++) {
         const vsv_traj_point *a = &p->pts[i];
-        if (a->t <= T) {
-            x[3 * k] = a->x * fl->ux, x[3 * k + 1] = a->y * fl->uy, x[3 * k + 2] = a->z;
-            k++;
-            continue;
+        const vsv_traj_point *b = i ? &p->pts[i - 1] : a;
+        const int at = a->t <= T;
+        if (wrap && i && fabs(a->x - b->x) > 180) { /* the map's edge: this lap's line ends */
+            end_line(fl, P, nl, nx, k);
+            k = 0;
         }
-        const vsv_traj_point *b = &p->pts[i - 1]; /* the point at T, between b and a */
-        const double f = (T - b->t) / (a->t - b->t);
-        x[3 * k] = (b->x + f * (a->x - b->x)) * fl->ux, x[3 * k + 1] = (b->y + f * (a->y - b->y)) * fl->uy;
-        x[3 * k + 2] = b->z + f * (a->z - b->z);
+        double *x = fl->xyz + *nx + 3 * (size_t)k;
+        if (at) {
+            x[0] = a->x * fl->ux, x[1] = a->y * fl->uy, x[2] = a->z;
+        } else { /* the point at T, between b and a (on b's side of the edge) */
+            const double f = (T - b->t) / (a->t - b->t), dx = wrap ? remainder(a->x - b->x, 360) : a->x - b->x;
+            x[0] = (b->x + f * dx) * fl->ux, x[1] = (b->y + f * (a->y - b->y)) * fl->uy;
+            x[2] = b->z + f * (a->z - b->z);
+            if (k == 0) { /* (it starts a line after the edge: b first) */
+                x[3] = x[0], x[4] = x[1], x[5] = x[2];
+                x[0] = b->x * fl->ux, x[1] = b->y * fl->uy, x[2] = b->z;
+                k++;
+            }
+        }
         k++;
-        break;
+        if (!at)
+            break;
     }
-    if (k < 2)
-        return 0;
-    fl->off[*nl] = *nx;
-    fl->lines[(*nl)++] = (vsv_scene_line){NULL, k, fl->radius, 1, {P->rgb[0], P->rgb[1], P->rgb[2]}};
-    *nx += 3 * (size_t)k;
+    end_line(fl, P, nl, nx, k);
     return 0;
 }
 

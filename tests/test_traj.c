@@ -6,6 +6,7 @@
  * the path stops at the edge, the ground, the top and the end of the
  * file's times with the right end; bad seeds are VSV_EINVAL; the seeding
  * helpers. */
+#include "vsv_flow.h"
 #include "vsv_format.h"
 #include "vsv_testlib.h"
 #include "vsv_traj.h"
@@ -79,6 +80,12 @@ static void east10(int s, double x, double y, double z, float o[3])
 {
     (void)s, (void)x, (void)y, (void)z;
     o[0] = 10, o[1] = 0, o[2] = 0;
+}
+
+static void east100(int s, double x, double y, double z, float o[3])
+{
+    (void)s, (void)x, (void)y, (void)z;
+    o[0] = 100, o[1] = 0, o[2] = 0;
 }
 
 /* 10 m/s east at the first step, 20 at the second */
@@ -316,6 +323,60 @@ done:
     vsv_file_free(f);
 }
 
+/* Round the globe: a 10-degree longitude-latitude grid whose 36 columns
+ * span 360 degrees, 100 m/s east everywhere; a streamline from 350 east on
+ * the equator for one and a half turns keeps going (it ended at the grid's
+ * east edge) and its longitudes stay within a turn of the grid's west edge
+ * (-5: they grew to 890). */
+static void test_globe(void)
+{
+    vsv_meta m;
+    grid(&m, 36, 9, 2, 10);
+    m.proj.kind = VSV_PROJ_LATLON;
+    m.origin[1] = -40;
+    const int64_t times[2] = {0, 3600};
+    vsv_file *f = wind_file("globe.vsv", &m, 2, times, east100);
+    vsv_traj *t = NULL;
+    vsv_traj_path p = {0};
+    if (!CHECK(f && vsv_traj_create(f, &t) == 0 && vsv_traj_freeze(t, 0) == 0, "a global grid: the file opens"))
+        goto done;
+    const double turn = 2 * M_PI * 6370000 / 100; /* seconds a turn at 100 m/s */
+    int rc = run(t, 350, 0, 150, 0, 1.5 * turn, 0, &p);
+    const vsv_traj_point *e = &p.pts[p.n - 1];
+    int within = 1;
+    for (int i = 0; i < p.n; i++)
+        within &= p.pts[i].x >= -5 && p.pts[i].x < 355 && p.pts[i].lon == p.pts[i].x;
+    CHECK(rc == 0 && p.end == VSV_TRAJ_END_TIME && fabs(e->x - 170) < 1e-6 && fabs(e->y) < 1e-9,
+          "round the globe: 1.5 turns east from 350 end at 170 east, on the equator", "rc %d, end %d at x %.9g, y %g",
+          rc, p.end, e->x, e->y);
+    CHECK(within, "... every point's longitude within [-5, 355), the grid's west edge and a turn");
+    /* drawn (vsv-render --trajectory): a line to the map's east edge, then
+     * one on from its west edge (it was one line running off the map) */
+    vsv_flow_opts o = {0};
+    o.traj[o.ntraj++] = "0,350,150";
+    o.steady = 1;
+    o.dur = (int64_t)(0.5 * turn);
+    vsv_flow *fl = NULL;
+    const vsv_scene_line *lines = NULL;
+    char msg[256] = "";
+    int n = 0;
+    rc = vsv_flow_open(f, &o, &fl, msg, sizeof msg);
+    if (!rc)
+        rc = vsv_flow_frame(fl, 0, 1, 0, &lines, &n, msg, sizeof msg);
+    int split = rc == 0 && n == 2 && lines[0].npts > 1 && lines[1].npts > 1;
+    for (int l = 0; split && l < 2; l++)
+        for (int i = 1; i < lines[l].npts; i++)
+            split &= lines[l].xyz[3 * i] > lines[l].xyz[3 * i - 3];
+    CHECK(split && lines[0].xyz[3 * (lines[0].npts - 1)] > lines[1].xyz[0],
+          "... drawn as two lines, east to the map's edge, then on from its west edge", "rc %d (%s), %d lines", rc, msg,
+          n);
+    vsv_flow_free(fl);
+done:
+    vsv_traj_path_clear(&p);
+    vsv_traj_free(t);
+    vsv_file_free(f);
+}
+
 static void test_ground_top(void)
 {
     vsv_meta m;
@@ -496,6 +557,7 @@ int main(void)
     test_lcc();
     test_rotation();
     test_time_varying();
+    test_globe();
     test_ground_top();
     test_no_wind();
     test_horizontal();
