@@ -300,7 +300,7 @@ $(LIBS_A) $(COMMON_A) $(CLI_A) $(PLAYER_A):
 # the one below it and its own dependencies only, and exports exactly the
 # vsv_ names its public headers declare: a version script made from them
 # (everything else, internals and OpenVDB's template code, stays local)
-H_libvesuvius = format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h
+H_libvesuvius = format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_output.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h
 H_libvesuvius-convert = convert/vsv_convert.h convert/vsv_source_reader.h
 H_libvesuvius-render = render/vsv_render.h
 H_libvesuvius-gl = render/gl/vsv_gl.h
@@ -642,7 +642,7 @@ $(B)/fuzz/fuzz_argv: $(B)/tests/fuzz_argv.o $(B)/tests/fuzz_source.o $(ARGV_OBJ)
 # Installed: each library (static, shared with its soname, a pkg-config file)
 # and its public headers under include/vesuvius/ (`#include <vesuvius/vsv_format.h>`,
 # `pkg-config --cflags --libs vesuvius`).
-PUBLIC_H = format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
+PUBLIC_H = format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_output.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h convert/vsv_convert.h convert/vsv_source_reader.h \
            render/vsv_render.h render/vsv_flow.h render/gl/vsv_gl.h interop/vsv_vdb.h interop/vsv_cf.h format/vsv_http.h
 PC_LIBS = vesuvius vesuvius-convert vesuvius-render vesuvius-gl vesuvius-interop vesuvius-http
 pc_desc_vesuvius = The .vsv format (writer, reader, field stream, queries, projections) and the streaming pager

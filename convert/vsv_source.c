@@ -126,6 +126,9 @@ int vsv_source_open(const char *path, const vsv_source_opts *opts, vsv_source **
             const int rc = readers[i]->open(s);
             if (rc && !s->err[0]) /* a reader that gave only the code (out of memory) */
                 vsv_source_fail(s, rc, "%s opening it (%s)", vsv_strerror(rc), readers[i]->name);
+            char bad[200];
+            if (!rc && vsv_meta_check_proj(&s->grid, bad, sizeof bad)) /* a header's map that places nothing */
+                return vsv_source_fail(s, VSV_ECORRUPT, "%s", bad);
             return rc;
         }
     if (vsv_head_is_vsv(head, n))
@@ -207,7 +210,8 @@ int vsv_source_cli_option(vsv_source_opts *o, int id, const char *arg)
     case VSV_SOURCE_OPT_LAT1:
     case VSV_SOURCE_OPT_LAT2: {
         double v = strtod(arg, &end);
-        if (*end || !(v >= -360 && v <= 360))
+        const double lim = id == VSV_SOURCE_OPT_LON0 ? 360 : 90;
+        if (*end || !(v >= -lim && v <= lim))
             return -1;
         double *dst[] = {&o->proj.lat0, &o->proj.lon0, &o->proj.lat1, &o->proj.lat2};
         *dst[id - VSV_SOURCE_OPT_LAT0] = v;
@@ -229,10 +233,10 @@ void vsv_source_cli_why(int id, const char *arg, char *msg, size_t cap)
     case VSV_SOURCE_OPT_VERTICAL: why = "expected native or even"; break;
     case VSV_SOURCE_OPT_NZ: why = "expected a whole number of levels from 1 to 4096"; break;
     case VSV_SOURCE_OPT_ZTOP: why = "expected metres above 0 and below 1000000"; break;
+    case VSV_SOURCE_OPT_LON0: why = "expected degrees from -360 to 360"; break;
     case VSV_SOURCE_OPT_LAT0:
-    case VSV_SOURCE_OPT_LON0:
     case VSV_SOURCE_OPT_LAT1:
-    case VSV_SOURCE_OPT_LAT2: why = "expected degrees from -360 to 360"; break;
+    case VSV_SOURCE_OPT_LAT2: why = "expected a latitude, degrees from -90 to 90"; break;
     case VSV_SOURCE_OPT_TIME_STEP: why = vsv_duration_why(arg); break;
     case VSV_SOURCE_OPT_TIME_START: why = "expected an ISO 8601 time, e.g. 2005-08-28T00:00:00Z"; break;
     case VSV_SOURCE_OPT_PROJ: {

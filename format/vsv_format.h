@@ -238,6 +238,10 @@ uint64_t vsv_meta_water(const vsv_meta *m);
 int vsv_meta_find_var(const vsv_meta *m, const char *name);
 /* Checks dimensions and values for sanity; fills msg (cap bytes) on error. */
 int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap);
+/* The part of it for the projection: its parameters in their ranges and
+ * every corner of the grid (its outer cells' centres) a latitude and
+ * longitude; 0, or VSV_EINVAL saying which is not. */
+int vsv_meta_check_proj(const vsv_meta *m, char *msg, size_t cap);
 
 /* Projection names ("none", "latlon", "lcc", "pstereo", "mercator", "tmerc", "albers"). */
 const char *vsv_proj_name(int kind);
@@ -710,43 +714,6 @@ uint32_t vsv_crc32c(uint32_t crc, const void *buf, size_t len);
 /* Number of online CPUs (>= 1). */
 int vsv_ncpus(void);
 
-/* ------------------------------------------------------ outputs (all or nothing)
- * Every file the libraries and tools write goes to a temporary beside its
- * destination (same directory: the rename is atomic), is synced, and is
- * renamed only when complete; a sequence renames its files only when all
- * are written. Each temporary is listed in one process-wide registry that
- * vsv_output_cleanup empties, so a program's signal handler leaves nothing
- * behind (vsv_output.c). */
-
-/* The mode of a new file: 0666 less the process umask (read once, never by
- * changing it). */
-unsigned vsv_output_mode(void);
-/* Creates and lists a temporary for path ("path.tmp.PID.N" + suffix, which
- * may be NULL; exclusively, with vsv_output_mode()); its name into tmp
- * (caller buffer of cap bytes). The descriptor (close-on-exec), or -1 with
- * errno. */
-int vsv_output_temp(const char *path, const char *suffix, char *tmp, size_t cap);
-/* fsync and close fd: 0, or -1 with errno (a full disk or a failed write
- * shows here at the latest). */
-int vsv_output_seal(int fd);
-/* Renames tmp to path, syncs the directory and unlists tmp: 0, or -1 with
- * errno (tmp then stays listed and in place). */
-int vsv_output_publish(const char *tmp, const char *path);
-/* seal (when fd >= 0) and publish; on failure removes tmp: 0 or -1 with
- * errno. */
-int vsv_output_commit(int fd, const char *tmp, const char *path);
-/* Removes tmp and unlists it. */
-void vsv_output_discard(const char *tmp);
-/* Unlists tmp (when something else renamed or removed it). */
-void vsv_output_forget(const char *tmp);
-/* Lists tmp, a temporary another process made (the ranks of an MPI job
- * share the one rank 0 makes), so vsv_output_cleanup removes it here too;
- * vsv_output_forget unlists it. A name of 1024 bytes or more is not listed. */
-void vsv_output_claim(const char *tmp);
-/* Removes every listed temporary: async-signal-safe, for a program's
- * SIGINT/SIGTERM/SIGHUP handler (vsv_cli.c installs one). */
-void vsv_output_cleanup(void);
-
 VSV_API_END
 
 #ifdef __cplusplus
@@ -754,4 +721,6 @@ VSV_API_END
 #endif
 /* Vector species and the projection's local geometry. */
 #include "vsv_vector.h"
+/* Outputs written all or nothing. */
+#include "vsv_output.h"
 #endif

@@ -201,6 +201,37 @@ static int clean_text(const char *s)
     return 1;
 }
 
+int vsv_meta_check_proj(const vsv_meta *m, char *msg, size_t cap)
+{
+    const vsv_proj *p = &m->proj;
+    if (p->kind == VSV_PROJ_NONE)
+        return 0;
+    const double lat[3] = {p->lat0, p->lat1, p->lat2};
+    static const char *const ln[3] = {"lat0", "lat1", "lat2"};
+    for (int i = 0; i < 3; i++)
+        if (!(fabs(lat[i]) <= 90)) {
+            vsv_msg(msg, cap, "projection %s: %s %g is not a latitude (-90 to 90)", vsv_proj_name(p->kind), ln[i],
+                    lat[i]);
+            return VSV_EINVAL;
+        }
+    if (!(fabs(p->lon0) <= 360) || !(p->radius >= 0 && p->radius < 1e9)) {
+        vsv_msg(msg, cap, "projection %s: lon0 %g (-360 to 360) or radius %g m (0: the default) out of range",
+                vsv_proj_name(p->kind), p->lon0, p->radius);
+        return VSV_EINVAL;
+    }
+    for (int c = 0; c < 4; c++) {
+        const double x = m->origin[0] + (c & 1 ? m->nx - 1 : 0) * m->spacing[0],
+                     y = m->origin[1] + (c & 2 ? m->ny - 1 : 0) * m->spacing[1];
+        double la, lo;
+        if (vsv_proj_inverse(p, x, y, &la, &lo) || !(fabs(la) <= 90)) {
+            vsv_msg(msg, cap, "projection %s: the grid's corner cell at x %g, y %g maps to no latitude and longitude",
+                    vsv_proj_name(p->kind), x, y);
+            return VSV_EINVAL;
+        }
+    }
+    return 0;
+}
+
 int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
 {
     if (m->nx < 1 || m->ny < 1 || m->nz < 1 || m->nx > VSV_MAX_DIM || m->ny > VSV_MAX_DIM || m->nz > VSV_MAX_DIM) {
@@ -238,6 +269,8 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
         vsv_msg(msg, cap, "unknown projection %d", m->proj.kind);
         return VSV_EINVAL;
     }
+    if (vsv_meta_check_proj(m, msg, cap))
+        return VSV_EINVAL;
     for (int i = 0; i < m->nvars; i++) {
         if (!m->vars[i].name[0]) {
             vsv_msg(msg, cap, "variable %d has no name", i);

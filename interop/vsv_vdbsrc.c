@@ -167,13 +167,13 @@ static char *summary(vsv_source *s)
     char *t = malloc(cap);
     if (!t)
         return NULL;
-    n += (size_t)snprintf(t + n, cap - n,
-                          "OpenVDB%s%s\n  grid        %d x %d x %d voxels (the active bounding box, or the grid written)\n"
-                          "  origin      %g, %g, %g (centre of the first voxel)\n  voxel       %g x %g x %g\n"
-                          "  projection  %s\n  time        %s\n  grids       %d float\n",
-                          in->model[0] ? " from " : "", in->model, g->nx, g->ny, g->nz, g->origin[0], g->origin[1],
-                          g->origin[2], g->spacing[0], g->spacing[1], g->spacing[2], vsv_proj_name(g->proj.kind), when,
-                          in->ngrids);
+    n += (size_t)snprintf(
+        t + n, cap - n,
+        "OpenVDB%s%s\n  grid        %d x %d x %d voxels (the active bounding box, or the grid written)\n"
+        "  origin      %g, %g, %g (centre of the first voxel)\n  voxel       %g x %g x %g\n"
+        "  projection  %s\n  time        %s\n  grids       %d float\n",
+        in->model[0] ? " from " : "", in->model, g->nx, g->ny, g->nz, g->origin[0], g->origin[1], g->origin[2],
+        g->spacing[0], g->spacing[1], g->spacing[2], vsv_proj_name(g->proj.kind), when, in->ngrids);
     for (int i = 0; i < in->ngrids && n < cap; i++)
         n += (size_t)snprintf(t + n, cap - n, "    %-12s %s\n", in->names[i], in->units[i][0] ? in->units[i] : "-");
     return t;

@@ -20,7 +20,7 @@ fi
 for f in bin/vsv-info bin/vsv-render bin/vsv-plot lib/libvesuvius.a lib/libvesuvius.so lib/libvesuvius.so.0 \
     lib/libvesuvius-convert.so.0 lib/libvesuvius-render.so.0 lib/libvesuvius-interop.so.0 \
     lib/libvesuvius-convert.a lib/libvesuvius-render.a lib/libvesuvius-interop.a \
-    include/vesuvius/vsv_format.h include/vesuvius/vsv_time.h include/vesuvius/vsv_vector.h include/vesuvius/vsv_traj.h include/vesuvius/vsv_render.h include/vesuvius/vsv_flow.h include/vesuvius/vsv_pager.h \
+    include/vesuvius/vsv_format.h include/vesuvius/vsv_time.h include/vesuvius/vsv_vector.h include/vesuvius/vsv_output.h include/vesuvius/vsv_traj.h include/vesuvius/vsv_render.h include/vesuvius/vsv_flow.h include/vesuvius/vsv_pager.h \
     include/vesuvius/vsv_convert.h include/vesuvius/vsv_vdb.h \
     lib/pkgconfig/vesuvius.pc lib/pkgconfig/vesuvius-convert.pc lib/pkgconfig/vesuvius-render.pc \
     lib/pkgconfig/vesuvius-interop.pc share/man/man1/vsv-play.1 share/man/man1/vsv-info.1 share/man/man1/vsv-plot.1 share/man/man5/vsv.5 \

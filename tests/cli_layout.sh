@@ -60,8 +60,8 @@ check() {
         tool=0
         case $base in vsv-*.c | vsv_*_cli.[ch]) tool=1 ;; esac # programs, and code their tools share
         folders=$(sees "$dir" $tool)
-        # vsv-extract, vsv-convert (and -mpi) read .vdb sequences through interop/
-        case $f in convert/vsv-extract.c | convert/vsv-convert.c | convert/vsv-convert-mpi.c)
+        # vsv-extract, vsv-convert (and -mpi) and vsv-info read .vdb files through interop/
+        case $f in convert/vsv-extract.c | convert/vsv-convert.c | convert/vsv-convert-mpi.c | convert/vsv-info.c)
             folders="$folders interop" ;;
         render/vsv-render.c) folders="$folders gl" ;; # --renderer gl
         interop/vsv-export.c) folders="$folders render" ;; # --iso: the isosurfaces render/ extracts
@@ -214,7 +214,7 @@ exports() { # LIB HEADER...: the exported names no header declares
     nm -D --defined-only "$lib" 2> /dev/null | awk '{ print $NF }' | sort -u > "$T/exported"
     comm -23 "$T/exported" "$T/declared" | tr '\n' ' '
 }
-for spec in "vesuvius format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h" \
+for spec in "vesuvius format/vsv_format.h format/vsv_time.h format/vsv_vector.h format/vsv_output.h format/vsv_traj.h stream/vsv_pager.h stream/vsv_clock.h" \
     "vesuvius-convert convert/vsv_convert.h convert/vsv_source_reader.h" \
     "vesuvius-render render/vsv_render.h render/vsv_flow.h" "vesuvius-interop interop/vsv_vdb.h interop/vsv_cf.h" \
     "vesuvius-http format/vsv_http.h"; do

@@ -37,6 +37,13 @@ expect "a height/pressure file of more layers gives the lowest" 0 "$B/vsv-conver
 has "... layer 1's middle as its level" "$T/info" "native levels (m): 17.1"
 expect "a wrong heights file is refused" 1 "$B/vsv-convert" -q --heights "$D/camx/test.wind" "$T/some-name.bin" -o "$T/x.vsv"
 expect "--proj with a bad name exits 2" 2 "$B/vsv-convert" --proj nowhere "$T/some-name.bin" -o "$T/x.vsv"
+# a latitude past the pole (it wrote a file whose every latitude was NaN)
+expect "--lat0 100 exits 2" 2 "$B/vsv-convert" --proj lcc --lat0 100 --lon0 0 --lat1 30 "$T/some-name.bin" -o "$T/x.vsv"
+has "... naming the range" "$T/err" "--lat0 100: expected a latitude, degrees from -90 to 90"
+# a lat-lon IOAPI grid placed in metres (XORIG -36000): refused as a map
+# that places nothing (it converted, the grid starting at -24000 degrees)
+expect "a lat-lon grid south of the pole exits 1" 1 "$B/vsv-info" tests/corpus/netcdf/ioapi-latlon.nc
+has "... saying so" "$T/err" "ioapi-latlon.nc: projection latlon: the grid's corner cell at x -30000, y -24000 maps to no latitude and longitude"
 head -c 3000 "$D/camx/test.uamiv" > "$T/cut.avrg"
 expect "a cut CAMx file exits 1" 1 "$B/vsv-extract" "$T/cut.avrg"
 has "cut CAMx names sizes" "$T/err" "does not divide into hours"
