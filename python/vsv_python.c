@@ -221,6 +221,28 @@ static PyObject *File_brick_kind(FileObject *self, PyObject *args)
     return PyLong_FromLong(k);
 }
 
+/* Whether brick b of (species, time) holds code 0 in every cell (its
+ * octree node's largest code is 0), whatever its kind: an UNCHANGED brick
+ * of an empty one, a delta to nothing. */
+static PyObject *File_brick_empty(FileObject *self, PyObject *args)
+{
+    PyObject *sp, *tm;
+    int b;
+    if (!PyArg_ParseTuple(args, "OOi", &sp, &tm, &b) || check_open(self))
+        return NULL;
+    const int s = species_of(self, sp), t = s < 0 ? -1 : step_of(self, tm);
+    if (t < 0)
+        return NULL;
+    if (b < 0 || b >= self->info.nbricks)
+        return PyErr_Format(VsvError, "brick %d out of range (0..%d)", b, self->info.nbricks - 1);
+    const unsigned char *oct = vsv_file_octree(self->f, t, s, NULL);
+    if (!oct)
+        return fail(vsv_file_error(self->f));
+    unsigned mn, mx;
+    vsv_octree_node(oct, (size_t)b, &mn, &mx);
+    return PyBool_FromLong(mx == 0);
+}
+
 /* The values of species at a point, every step: (cell, lat, lon, height,
  * {name: float32 array over steps}). */
 static PyObject *File_query(FileObject *self, PyObject *args, PyObject *kw)
@@ -501,6 +523,8 @@ static PyMethodDef File_methods[] = {
      "heights(time) -> float64 (nz, ny, nx): every cell's height at that step (per-column where the file has them)"},
     {"brick_kind", (PyCFunction)File_brick_kind, METH_VARARGS,
      "brick_kind(species, time, brick) -> 0 EMPTY .. 3 DELTA"},
+    {"brick_empty", (PyCFunction)File_brick_empty, METH_VARARGS,
+     "brick_empty(species, time, brick) -> True when every cell holds code 0 (nothing there)"},
     {"_query", (PyCFunction)(void (*)(void))File_query, METH_VARARGS | METH_KEYWORDS, "the point query core"},
     {"_trajectory", (PyCFunction)File_traj, METH_VARARGS, "the trajectory core (vsv_python_traj.c)"},
     {"close", (PyCFunction)File_close, METH_NOARGS, "close() releases the mapping"},

@@ -145,7 +145,7 @@ class File:
         without ever holding the whole volume."""
         t = self._step(time)
         for b in range(self.grid["nbricks"]):
-            if self._f.brick_kind(species, t, b) == 0:  # EMPTY: every cell holds code 0
+            if self._f.brick_empty(species, t, b):  # every cell code 0, whatever the brick's kind
                 continue
             a, org = self.read_brick(species, t, b)
             yield org, a
