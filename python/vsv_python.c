@@ -650,7 +650,8 @@ static PyObject *mod_write(PyObject *mod, PyObject *args)
         Py_DECREF(la);
     }
     if (terrain != Py_None) {
-        PyArrayObject *ta = (PyArrayObject *)PyArray_FROMANY(terrain, NPY_FLOAT32, 2, 2, NPY_ARRAY_CARRAY);
+        PyArrayObject *ta =
+            (PyArrayObject *)PyArray_FROMANY(terrain, NPY_FLOAT32, 2, 2, NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST);
         if (!ta)
             goto done;
         if (PyArray_DIM(ta, 0) != m.ny || PyArray_DIM(ta, 1) != m.nx || vsv_meta_alloc_terrain(&m)) {

@@ -287,8 +287,9 @@ class Sample(unittest.TestCase):
         b[1, 10:20, 5:9, 7:30] = 2.5
         times = np.array(["2020-06-01T00:00", "2020-06-01T00:10", "2020-06-01T00:20"], dtype="datetime64[s]")
         out = os.path.join(TMP, "written.vsv")
+        # the terrain as float64, numpy's default (it was refused: a cast not 'safe')
         vesuvius.write(out, grid=g, projection=self.f.projection, times=times, fields={"A": a, "B": b},
-                       units={"A": "kg/kg", "B": "ppm"}, terrain=self.f.terrain)
+                       units={"A": "kg/kg", "B": "ppm"}, terrain=self.f.terrain.astype(np.float64))
         w = vesuvius.open(out)
         np.testing.assert_array_equal(w.times, times)
         self.assertEqual([(s.name, s.units) for s in w.species], [("A", "kg/kg"), ("B", "ppm")])
