@@ -210,8 +210,10 @@ static int def_species(cfw *w, vsv_file *f, const int *sel, int n, int *vid, con
             nc_ok(w, nc_def_var_fill(w->nc, vid[l], 0, &nan), "_FillValue");
         }
         att_text(w, vid[l], "long_name", v->description[0] ? v->description : v->name);
+        /* no units given: none written (an empty one reads as dimensionless) */
         const char *vunits = vsv_cf_units(v->units), *comment;
-        att_text(w, vid[l], "units", vunits);
+        if (vunits[0])
+            att_text(w, vid[l], "units", vunits);
         if (strcmp(vunits, v->units)) {
             att_text(w, vid[l], "vsv_units_original", v->units);
             respelt++;

@@ -36,6 +36,11 @@ cf mm5 --vars T,Q,CLW,RNW,SNOW,ICE samples/mm5/MMOUT_DOMAIN1_CROP
 has "MM5 CLW is cloud_liquid_water_mixing_ratio" "$T/mm5.h" 'CLW:standard_name = "cloud_liquid_water_mixing_ratio"'
 has "MM5 Q is humidity_mixing_ratio" "$T/mm5.h" 'Q:standard_name = "humidity_mixing_ratio"'
 has "MM5 T is air_temperature" "$T/mm5.h" 'T:standard_name = "air_temperature"'
+# a species without units (GrADS's, a derived one without :UNITS) has no
+# units attribute (it got units = "", which UDUNITS reads as dimensionless)
+cf bare --vars CLW --no-winds --derive 'bare=CLW*2' samples/mm5/MMOUT_DOMAIN1_CROP
+if grep -q 'bare:units' "$T/bare.h"; then fail "a species without units has no units attribute" "$(grep 'bare:units' "$T/bare.h")"; else pass "a species without units has no units attribute"; fi
+has "... the others keep theirs" "$T/bare.h" 'CLW:units = "kg/kg"'
 has "MM5 RNW is the mass fraction of rain" "$T/mm5.h" 'RNW:standard_name = "mass_fraction_of_rain_in_air"'
 has "... and says it is the model's mixing ratio" "$T/mm5.h" "RNW:comment = \"the model\'s mixing ratio (per kg of dry air)"
 has "MM5 heights are altitudes (terrain under them)" "$T/mm5.h" 'z:standard_name = "altitude"'
