@@ -255,9 +255,21 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
         vsv_msg(msg, cap, "unknown vertical kind %d", m->vert_kind);
         return VSV_EINVAL;
     }
+    const char *vk = m->vert_kind == VSV_VERT_NATIVE ? "native levels" : "coordinate levels";
     if (m->vert_kind != VSV_VERT_EVEN && m->vert_kind != VSV_VERT_INDEX && !m->levels) {
-        vsv_msg(msg, cap, "vertical kind %d needs levels", m->vert_kind);
+        vsv_msg(msg, cap, "%s need their levels", vk);
         return VSV_EINVAL;
+    }
+    /* heights rise with k (level 0 drawn lowest); a coordinate (pressure)
+     * may fall instead, but one way throughout */
+    for (int k = 1; m->levels && (m->vert_kind == VSV_VERT_NATIVE || m->vert_kind == VSV_VERT_COORD) && k < m->nz;
+         k++) {
+        const double d = m->levels[k] - m->levels[k - 1], d0 = m->levels[1] - m->levels[0];
+        if (!(m->vert_kind == VSV_VERT_NATIVE ? d > 0 : d * d0 > 0)) {
+            vsv_msg(msg, cap, "%s: level %d (%g) after level %d (%g): they must %s", vk, k, m->levels[k], k - 1,
+                    m->levels[k - 1], m->vert_kind == VSV_VERT_NATIVE ? "rise with k" : "run one way");
+            return VSV_EINVAL;
+        }
     }
     for (int i = 0; i < m->nmoves; i++)
         if (!m->moves[i].terrain != !m->terrain) {

@@ -150,6 +150,15 @@ class Sample(unittest.TestCase):
         with self.assertRaisesRegex(vesuvius.Error, r"x2.vsv: times: step 1 \(1970-01-01T00:00:00Z\) does not come "
                                     r"after step 0 \(1970-01-01T00:01:00Z\)"):
             vesuvius.write(os.path.join(TMP, "x2.vsv"), grid=g, times=[60, 0], fields={"a": np.zeros((2, 2, 2, 2))})
+        # native levels falling with k were taken (level 0 at 3000 m drawn lowest);
+        # none at all was "vertical kind 1 needs levels"
+        native = dict(g, vertical="native")
+        with self.assertRaisesRegex(vesuvius.Error, r"x3.vsv: native levels: level 1 \(1000\) after level 0 "
+                                    r"\(3000\): they must rise with k"):
+            vesuvius.write(os.path.join(TMP, "x3.vsv"), grid=native, times=[0], fields={"a": np.zeros((2, 2, 2))},
+                           levels=[3000, 1000])
+        with self.assertRaisesRegex(vesuvius.Error, "x4.vsv: native levels need their levels"):
+            vesuvius.write(os.path.join(TMP, "x4.vsv"), grid=native, times=[0], fields={"a": np.zeros((2, 2, 2))})
 
     def test_query_refuses_what_vsv_query_refuses(self):
         for lat, lon, h, what in ((float("nan"), 0, None, "latitude nan"), (41.88, -447.63, None, "longitude -447.63"),
