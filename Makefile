@@ -242,13 +242,13 @@ ifneq ($(strip $(PY_MISSING)),)
 	@echo "note: the Python module is not built: $(PY_MISSING)"
 endif
 
-$(B)/python/vsv_python.o $(B)/python/vsv_python_traj.o $(B)/python/vsv_python_names.o: $(B)/python/%.o: python/%.c
+$(B)/python/vsv_python.o $(B)/python/vsv_python_traj.o $(B)/python/vsv_python_names.o $(B)/python/vsv_python_write.o: $(B)/python/%.o: python/%.c
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  CC      $<")
 	$(Q)$(CC) $(CFLAGS_ALL) -I$(PY_INC) -I$(PY_NUMPY_INC) -c $< -o $@
 
-$(B)/python/vsv_python.o $(B)/python/vsv_python_traj.o $(B)/python/vsv_python_names.o: INC = -Iformat -Icommon
-$(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(B)/python/vsv_python_traj.o $(B)/python/vsv_python_names.o $(HTTP_A) $(CORE_A)
+$(B)/python/vsv_python.o $(B)/python/vsv_python_traj.o $(B)/python/vsv_python_names.o $(B)/python/vsv_python_write.o: INC = -Iformat -Icommon
+$(B)/python/vesuvius/_vesuvius$(PY_EXT): $(B)/python/vsv_python.o $(B)/python/vsv_python_traj.o $(B)/python/vsv_python_names.o $(B)/python/vsv_python_write.o $(HTTP_A) $(CORE_A)
 	@mkdir -p $(dir $@)
 	@$(if $(Q),echo "  LD      $@")
 	$(Q)$(CC) $(LDFLAGS) -shared -o $@ $^ -Wl,--as-needed $(HTTP_EXT) $(CORE_EXT)

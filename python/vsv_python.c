@@ -7,6 +7,7 @@
 #define PY_SSIZE_T_CLEAN
 #include <Python.h>
 #define NPY_NO_DEPRECATED_API NPY_1_7_API_VERSION
+#define PY_ARRAY_UNIQUE_SYMBOL vsv_py_numpy_api /* (vsv_python_write.c uses it too) */
 #include <numpy/arrayobject.h>
 
 #include "vsv_format.h"
@@ -18,6 +19,8 @@
 #include <string.h>
 
 static PyObject *VsvError;
+PyObject *vsv_py_error(void);
+PyObject *vsv_py_error(void) { return VsvError; }
 
 /* A File may be used by several Python threads: reads decode without the
  * GIL, so the decoder and the query (state of their own) are used under
@@ -204,17 +207,29 @@ static PyObject *File_read_brick(FileObject *self, PyObject *args, PyObject *kw)
     return Py_BuildValue("(N(iii)(iii))", (PyObject *)a, org[2], org[1], org[0], ext[2], ext[1], ext[0]);
 }
 
-static PyObject *File_brick_kind(FileObject *self, PyObject *args)
+/* The (species, time, brick) arguments of brick_kind and brick_empty: 0,
+ * or -1 with the exception set. */
+static int brick_args(FileObject *self, PyObject *args, int *s, int *t, int *b)
 {
     PyObject *sp, *tm;
-    int b;
-    if (!PyArg_ParseTuple(args, "OOi", &sp, &tm, &b) || check_open(self))
+    if (!PyArg_ParseTuple(args, "OOi", &sp, &tm, b) || check_open(self))
+        return -1;
+    *s = species_of(self, sp);
+    *t = *s < 0 ? -1 : step_of(self, tm);
+    if (*t < 0)
+        return -1;
+    if (*b < 0 || *b >= self->info.nbricks) {
+        PyErr_Format(VsvError, "brick %d out of range (0..%d)", *b, self->info.nbricks - 1);
+        return -1;
+    }
+    return 0;
+}
+
+static PyObject *File_brick_kind(FileObject *self, PyObject *args)
+{
+    int s, t, b;
+    if (brick_args(self, args, &s, &t, &b))
         return NULL;
-    const int s = species_of(self, sp), t = s < 0 ? -1 : step_of(self, tm);
-    if (t < 0)
-        return NULL;
-    if (b < 0 || b >= self->info.nbricks)
-        return PyErr_Format(VsvError, "brick %d out of range (0..%d)", b, self->info.nbricks - 1);
     const int k = vsv_file_brick_kind(self->f, t, s, b);
     if (k < 0)
         return fail(vsv_file_error(self->f));
@@ -226,15 +241,9 @@ static PyObject *File_brick_kind(FileObject *self, PyObject *args)
  * of an empty one, a delta to nothing. */
 static PyObject *File_brick_empty(FileObject *self, PyObject *args)
 {
-    PyObject *sp, *tm;
-    int b;
-    if (!PyArg_ParseTuple(args, "OOi", &sp, &tm, &b) || check_open(self))
+    int s, t, b;
+    if (brick_args(self, args, &s, &t, &b))
         return NULL;
-    const int s = species_of(self, sp), t = s < 0 ? -1 : step_of(self, tm);
-    if (t < 0)
-        return NULL;
-    if (b < 0 || b >= self->info.nbricks)
-        return PyErr_Format(VsvError, "brick %d out of range (0..%d)", b, self->info.nbricks - 1);
     const unsigned char *oct = vsv_file_octree(self->f, t, s, NULL);
     if (!oct)
         return fail(vsv_file_error(self->f));
@@ -590,153 +599,8 @@ static PyObject *mod_open(PyObject *mod, PyObject *args)
     return (PyObject *)self;
 }
 
-/* _write(path, grid, projection, times, names, units, descriptions, arrays,
- *        terrain, levels, heights, bits, scale): arrays are C-contiguous
- *        float32 (nt, nz, ny, nx); heights a list of (time, bytes of nz*ny*nx
- *        float32): each column's level heights from that time on. */
-static PyObject *mod_write(PyObject *mod, PyObject *args)
-{
-    (void)mod;
-    PyObject *pathobj, *grid, *proj, *times, *names, *units, *descs, *arrays, *terrain, *levels, *hts;
-    int bits, scale;
-    if (!PyArg_ParseTuple(args, "O&O!O!OO!O!O!O!OOO!ii", PyUnicode_FSConverter, &pathobj, &PyTuple_Type, &grid,
-                          &PyTuple_Type, &proj, &times, &PyList_Type, &names, &PyList_Type, &units, &PyList_Type,
-                          &descs, &PyList_Type, &arrays, &terrain, &levels, &PyList_Type, &hts, &bits, &scale))
-        return NULL;
-    vsv_meta m;
-    vsv_meta_init(&m);
-    vsv_writer *w = NULL;
-    PyArrayObject *tarr = NULL;
-    PyObject *result = NULL;
-    const float **fields = NULL;
-    vsv_pack_var *vars = NULL;
-    int vk = 0;
-    if (!PyArg_ParseTuple(grid, "iii(ddd)(ddd)i", &m.nx, &m.ny, &m.nz, &m.origin[0], &m.origin[1], &m.origin[2],
-                          &m.spacing[0], &m.spacing[1], &m.spacing[2], &vk) ||
-        !PyArg_ParseTuple(proj, "iddddd", &m.proj.kind, &m.proj.lat0, &m.proj.lon0, &m.proj.lat1, &m.proj.lat2,
-                          &m.proj.radius))
-        goto done;
-    m.vert_kind = vk;
-    snprintf(m.vert_units, sizeof m.vert_units, "%s", vk == VSV_VERT_INDEX ? "" : "m");
-    snprintf(m.model, sizeof m.model, "Python");
-    snprintf(m.run, sizeof m.run, "written by vesuvius.write");
-    const Py_ssize_t nv = PyList_GET_SIZE(names);
-    for (Py_ssize_t v = 0; v < nv; v++) {
-        const char *n = PyUnicode_AsUTF8(PyList_GET_ITEM(names, v)), *u = PyUnicode_AsUTF8(PyList_GET_ITEM(units, v)),
-                   *d = PyUnicode_AsUTF8(PyList_GET_ITEM(descs, v));
-        if (!n || !u || !d)
-            goto done;
-        if (strlen(n) > 63 || strlen(u) > 63 || strlen(d) > 127) {
-            PyErr_Format(VsvError,
-                         "species '%s': names and units are at most 63 bytes, descriptions 127 (%zu, %zu, %zu)", n,
-                         strlen(n), strlen(u), strlen(d));
-            goto done;
-        }
-        if (vsv_meta_add_var(&m, n, u, d) < 0) {
-            PyErr_Format(VsvError, "cannot add species '%s'", n);
-            goto done;
-        }
-    }
-    if (levels != Py_None) {
-        PyArrayObject *la = (PyArrayObject *)PyArray_FROMANY(levels, NPY_FLOAT64, 1, 1, NPY_ARRAY_CARRAY);
-        if (!la)
-            goto done;
-        if (PyArray_DIM(la, 0) != m.nz || vsv_meta_alloc_levels(&m)) {
-            Py_DECREF(la);
-            PyErr_SetString(VsvError, "levels: one height per level (nz)");
-            goto done;
-        }
-        memcpy(m.levels, PyArray_DATA(la), (size_t)m.nz * sizeof(double));
-        Py_DECREF(la);
-    }
-    if (terrain != Py_None) {
-        PyArrayObject *ta =
-            (PyArrayObject *)PyArray_FROMANY(terrain, NPY_FLOAT32, 2, 2, NPY_ARRAY_CARRAY | NPY_ARRAY_FORCECAST);
-        if (!ta)
-            goto done;
-        if (PyArray_DIM(ta, 0) != m.ny || PyArray_DIM(ta, 1) != m.nx || vsv_meta_alloc_terrain(&m)) {
-            Py_DECREF(ta);
-            PyErr_SetString(VsvError, "terrain: an (ny, nx) array");
-            goto done;
-        }
-        memcpy(m.terrain, PyArray_DATA(ta), (size_t)m.nx * m.ny * sizeof(float));
-        Py_DECREF(ta);
-    }
-    for (Py_ssize_t i = 0; i < PyList_GET_SIZE(hts); i++) {
-        long long ht;
-        Py_buffer zb;
-        if (!PyArg_ParseTuple(PyList_GET_ITEM(hts, i), "Ly*", &ht, &zb))
-            goto done;
-        const int bad = zb.len != (Py_ssize_t)((size_t)m.nx * m.ny * m.nz * sizeof(float)) ||
-                        vsv_meta_add_heights(&m, ht, zb.buf, NULL, NULL);
-        PyBuffer_Release(&zb);
-        if (bad) {
-            PyErr_SetString(VsvError, "heights: (times, nz, ny, nx) finite, increasing up every column");
-            goto done;
-        }
-    }
-    char msg[512];
-    if (vsv_meta_validate(&m, msg, sizeof msg)) {
-        PyErr_SetString(VsvError, msg);
-        goto done;
-    }
-    tarr = (PyArrayObject *)PyArray_FROMANY(times, NPY_INT64, 1, 1, NPY_ARRAY_CARRAY);
-    if (!tarr)
-        goto done;
-    const npy_intp nt = PyArray_DIM(tarr, 0);
-    const size_t cells = (size_t)m.nx * m.ny * m.nz;
-    for (Py_ssize_t v = 0; v < nv; v++) {
-        PyArrayObject *a = (PyArrayObject *)PyList_GET_ITEM(arrays, v);
-        if (!PyArray_Check(a) || PyArray_TYPE(a) != NPY_FLOAT32 || !PyArray_IS_C_CONTIGUOUS(a) ||
-            PyArray_NDIM(a) != 4 || PyArray_DIM(a, 0) != nt || PyArray_DIM(a, 1) != m.nz || PyArray_DIM(a, 2) != m.ny ||
-            PyArray_DIM(a, 3) != m.nx) {
-            PyErr_Format(VsvError, "field '%s': expected float32 (%ld, %d, %d, %d) (times, nz, ny, nx)", m.vars[v].name,
-                         (long)nt, m.nz, m.ny, m.nx);
-            goto done;
-        }
-    }
-    fields = PyMem_Calloc((size_t)nv + 1, sizeof *fields);
-    vars = PyMem_Calloc((size_t)nv + 1, sizeof *vars);
-    if (!fields || !vars) {
-        PyErr_NoMemory();
-        goto done;
-    }
-    vsv_pack_opts o;
-    vsv_pack_opts_init(&o);
-    for (Py_ssize_t v = 0; v < nv; v++) {
-        vsv_pack_var_init(&vars[v]);
-        vars[v].bits = bits;
-        vars[v].scale = scale;
-    }
-    o.vars = vars;
-    const char *path = PyBytes_AS_STRING(pathobj);
-    int rc = vsv_writer_create(path, &m, &o, &w);
-    const int64_t *tv = PyArray_DATA(tarr);
-    for (npy_intp t = 0; !rc && t < nt; t++) {
-        for (Py_ssize_t v = 0; v < nv; v++)
-            fields[v] = (const float *)PyArray_DATA((PyArrayObject *)PyList_GET_ITEM(arrays, v)) + (size_t)t * cells;
-        Py_BEGIN_ALLOW_THREADS rc = vsv_writer_add_step(w, tv[t], fields);
-        Py_END_ALLOW_THREADS
-    }
-    if (!rc) {
-        Py_BEGIN_ALLOW_THREADS rc = vsv_writer_finish(w, NULL, NULL);
-        Py_END_ALLOW_THREADS
-    }
-    if (rc) {
-        PyErr_SetString(VsvError, w ? vsv_writer_error(w) : vsv_strerror(rc));
-        goto done;
-    }
-    result = Py_None;
-    Py_INCREF(result);
-done:
-    vsv_writer_free(w);
-    PyMem_Free(fields);
-    PyMem_Free(vars);
-    Py_XDECREF(tarr);
-    vsv_meta_clear(&m);
-    Py_DECREF(pathobj);
-    return result;
-}
+/* vsv_python_write.c: vesuvius.write's C core */
+PyObject *vsv_py_write(PyObject *mod, PyObject *args);
 
 /* vsv_python_names.c: a projection's kind by name, the CF export's words */
 PyObject *vsv_py_proj_kind(PyObject *mod, PyObject *arg);
@@ -745,7 +609,7 @@ PyObject *vsv_py_cf(PyObject *mod, PyObject *args);
 static PyMethodDef mod_methods[] = {
     {"_cf", vsv_py_cf, METH_VARARGS, "the CF export's units and standard name of a species"},
     {"open", mod_open, METH_VARARGS, "open(path[, cache_dir]) -> File"},
-    {"_write", mod_write, METH_VARARGS, "the writer core (see vesuvius.write)"},
+    {"_write", vsv_py_write, METH_VARARGS, "the writer core (see vesuvius.write)"},
     {"_proj_kind", vsv_py_proj_kind, METH_O, "projection kind of a name, or -1"},
     {NULL, NULL, 0, NULL}};
 
