@@ -111,9 +111,15 @@ static int temperatures(const vsv_camxmet *m, int per)
 static int stamped_kind(vsv_camxmet *m, int per_hour, const char *base, const char *main_name)
 {
     const int nz = m->nz;
-    /* odd records are pressures (mb), falling with height */
-    const float p0 = vsv_f77_f32(m->le, m->d + m->rec[1] + 8);
-    const int zp = per_hour % 2 == 0 && p0 > 1 && p0 < 1100;
+    /* height/pressure: even records are layer-top heights (m), rising, odd
+     * ones pressures (mb), falling (at the first cell) */
+    const float p0 = per_hour >= 2 ? vsv_f77_f32(m->le, m->d + m->rec[1] + 8) : 0;
+    int zp = per_hour % 2 == 0 && p0 > 1 && p0 < 1100;
+    if (zp && per_hour >= 4) {
+        const float h0 = vsv_f77_f32(m->le, m->d + m->rec[0] + 8), h1 = vsv_f77_f32(m->le, m->d + m->rec[2] + 8),
+                    p1 = vsv_f77_f32(m->le, m->d + m->rec[3] + 8);
+        zp = h0 > 0 && h1 > h0 && p1 < p0;
+    }
     const int named = strcasestr(base, "hum") || strcasestr(base, "qv") || strcasestr(base, "h2o") ? VSV_MET_HUMID
                       : strcasestr(base, "diff") || strcasestr(base, "kv")                         ? VSV_MET_KV
                                                                                                    : -1;

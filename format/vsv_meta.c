@@ -261,9 +261,11 @@ int vsv_meta_validate(const vsv_meta *m, char *msg, size_t cap)
         return VSV_EINVAL;
     }
     /* heights rise with k (level 0 drawn lowest); a coordinate (pressure)
-     * may fall instead, but one way throughout */
-    for (int k = 1; m->levels && (m->vert_kind == VSV_VERT_NATIVE || m->vert_kind == VSV_VERT_COORD) && k < m->nz;
-         k++) {
+     * may fall instead, but one way throughout. Native levels with heights
+     * per column are those columns' means, in no order of their own (MM5
+     * REGRID: the ground's mean height, then 1000 hPa's, lower) */
+    const int ordered = m->vert_kind == VSV_VERT_COORD || (m->vert_kind == VSV_VERT_NATIVE && !m->nheights);
+    for (int k = 1; m->levels && ordered && k < m->nz; k++) {
         const double d = m->levels[k] - m->levels[k - 1], d0 = m->levels[1] - m->levels[0];
         if (!(m->vert_kind == VSV_VERT_NATIVE ? d > 0 : d * d0 > 0)) {
             vsv_msg(msg, cap, "%s: level %d (%g) after level %d (%g): they must %s", vk, k, m->levels[k], k - 1,

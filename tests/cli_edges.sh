@@ -82,7 +82,7 @@ expect "--lat1 without --proj exits 2" 2 "$B/vsv-extract" --vertical even --lat1
 expect "--proj with an unknown name exits 2" 2 "$B/vsv-convert" --proj utm "$C" -o "$T/p.vsv"
 has "and lists the projections (not 'a vertical-grid option')" "$T/err" "vsv-convert: --proj utm: expected latlon, lcc, pstereo, mercator, tmerc, albers"
 expect "--lat0 with no number exits 2" 2 "$B/vsv-extract" --proj lcc --lat0 north "$C"
-has "and names the option" "$T/err" "vsv-extract: --lat0 north: expected degrees from -360 to 360"
+has "and names the option" "$T/err" "vsv-extract: --lat0 north: expected a latitude, degrees from -90 to 90"
 expect "--nz 0 exits 2" 2 "$B/vsv-convert" --nz 0 "$C" -o "$T/p.vsv"
 has "and says the range" "$T/err" "--nz 0: expected a whole number of levels from 1 to 4096"
 expect "--proj lcc with its parameters converts" 0 "$B/vsv-convert" --vertical even -q --proj lcc --lat0 40 --lon0 -97 --lat1 33 --lat2 45 "$C" -o "$T/p.vsv"
